@@ -1,0 +1,46 @@
+#include "app.hpp"
+
+#include "embedded_machine.hpp"
+
+namespace pkm::app {
+
+Machine load_machine_or_default(const std::string& path) {
+  if (path.empty()) return parse_machine(kEmbeddedMachineToml, std::string(kEmbeddedMachineName));
+  return load_machine(path);
+}
+
+Pose pose_from_arguments(const Machine& machine, const std::vector<double>& values) {
+  const Dof dof = machine.kinematics().dof();
+  int needed = 0;  // every controlled position coordinate must be given; angles default to home
+  for (int axis = 0; axis < 3; ++axis) {
+    if (dof.controls(axis)) needed = axis + 1;
+  }
+  if (static_cast<int>(values.size()) < needed || values.size() > kPoseSize) {
+    std::string names;
+    for (int axis = 0; axis < kPoseSize; ++axis) {
+      if (dof.controls(axis))
+        names += std::string(names.empty() ? "" : " ") + std::string(kAxisNames[axis]);
+    }
+    throw CommandError("this machine takes the pose as " + names + " (mm, deg); got " +
+                       std::to_string(values.size()) + " numbers");
+  }
+  Vector6d pose = machine.home().as_vector();
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    pose[static_cast<int>(i)] = i < 3 ? values[i] : degrees_to_radians(values[i]);
+  }
+  return Pose::from_vector(pose);
+}
+
+double joint_to_interface(const JointSpec& joint, double value) {
+  return joint.kind == JointKind::rotary ? radians_to_degrees(value) : value;
+}
+
+double joint_from_interface(const JointSpec& joint, double value) {
+  return joint.kind == JointKind::rotary ? degrees_to_radians(value) : value;
+}
+
+const char* joint_unit(const JointSpec& joint) {
+  return joint.kind == JointKind::rotary ? "deg" : "mm";
+}
+
+}  // namespace pkm::app

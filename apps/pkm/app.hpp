@@ -1,0 +1,32 @@
+// Shared pieces of the command-line layer.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "pkm/machine/machine.hpp"
+
+namespace pkm::app {
+
+// A failure the user caused (bad pose, unreachable target): message to stderr, exit status 1.
+class CommandError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The machine named by -m, or the embedded default (the paper's hexapod) when none is given.
+Machine load_machine_or_default(const std::string& path);
+
+// x y z [a b c] in mm and deg from the command line; missing coordinates take the home pose's.
+Pose pose_from_arguments(const Machine& machine, const std::vector<double>& values);
+
+// Interface units: joints in mm or deg, poses in mm and deg.
+double joint_to_interface(const JointSpec& joint, double value);
+double joint_from_interface(const JointSpec& joint, double value);
+const char* joint_unit(const JointSpec& joint);
+
+void register_kinematics_commands(CLI::App& app);
+
+}  // namespace pkm::app

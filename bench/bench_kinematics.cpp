@@ -1,0 +1,130 @@
+// IK and FK per model: ns per pose, single calls and batches, FK warm-started along a path.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <vector>
+
+#include "pkm/machine/machine.hpp"
+
+namespace pkm {
+namespace {
+
+constexpr int kPoses = 1024;
+
+Machine load(const std::string& file) {
+  return load_machine(std::filesystem::path(PKM_SOURCE_DIR) / "examples" / "machines" / file);
+}
+
+// A small helix about home, 0.1 mm apart (a 1 ms servo step at 6 m/min), with a slow tilt on
+// machines that control orientation: the poses FK meets along a tool path.
+std::vector<Pose> path_about_home(const Machine& machine) {
+  std::vector<Pose> poses;
+  const Dof dof = machine.kinematics().dof();
+  const double radius_mm = 10.0;
+  for (int i = 0; i < kPoses; ++i) {
+    const double phase = 0.1 * i / radius_mm;
+    Vector6d values = machine.home().as_vector();
+    int used = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!dof.controls(axis)) continue;
+      if (used == 0) values[axis] += radius_mm * (std::cos(phase) - 1.0);
+      if (used == 1) values[axis] += radius_mm * std::sin(phase);
+      if (used == 2) values[axis] += 0.01 * i;
+      ++used;
+    }
+    if (dof.any_rotation()) {
+      values[3] += degrees_to_radians(3.0) * std::sin(phase);
+      values[4] += degrees_to_radians(3.0) * (1.0 - std::cos(phase));
+    }
+    poses.push_back(Pose::from_vector(values));
+  }
+  return poses;
+}
+
+void inverse_single(benchmark::State& state, const std::string& file) {
+  const Machine machine = load(file);
+  const std::vector<Pose> poses = path_about_home(machine);
+  JointVector joints;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(machine.kinematics().inverse(poses[i], joints));
+    benchmark::DoNotOptimize(joints.data());
+    i = (i + 1) % poses.size();
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void inverse_batch(benchmark::State& state, const std::string& file) {
+  const Machine machine = load(file);
+  const std::vector<Pose> poses = path_about_home(machine);
+  std::vector<JointVector> joints(poses.size());
+  std::vector<Status> statuses(poses.size());
+  for (auto _ : state) {
+    machine.kinematics().inverse_batch(poses, joints, statuses);
+    benchmark::DoNotOptimize(joints.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(poses.size()));
+}
+
+void forward_along_path(benchmark::State& state, const std::string& file) {
+  const Machine machine = load(file);
+  const std::vector<Pose> poses = path_about_home(machine);
+  std::vector<JointVector> joints(poses.size());
+  std::vector<Status> statuses(poses.size());
+  machine.kinematics().inverse_batch(poses, joints, statuses);
+  std::vector<Pose> solved(poses.size());
+  int64_t succeeded = 0;
+  for (auto _ : state) {
+    machine.kinematics().forward_path(joints, poses.front(), solved, statuses);
+    for (const Status& status : statuses) succeeded += status.ok() ? 1 : 0;
+    benchmark::DoNotOptimize(solved.data());
+  }
+  const int64_t attempted = state.iterations() * static_cast<int64_t>(poses.size());
+  state.SetItemsProcessed(attempted);
+  state.counters["success_pct"] =
+      100.0 * static_cast<double>(succeeded) / static_cast<double>(attempted);
+}
+
+void forward_from_home(benchmark::State& state, const std::string& file) {
+  const Machine machine = load(file);
+  std::vector<Pose> poses = path_about_home(machine);
+  std::vector<JointVector> joints(poses.size());
+  std::vector<Status> statuses(poses.size());
+  machine.kinematics().inverse_batch(poses, joints, statuses);
+  std::size_t i = 0;
+  int64_t succeeded = 0;
+  for (auto _ : state) {
+    Pose pose = machine.home();
+    succeeded += machine.kinematics().forward(joints[i], pose).ok() ? 1 : 0;
+    benchmark::DoNotOptimize(pose);
+    i = (i + 1) % poses.size();
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["success_pct"] =
+      100.0 * static_cast<double>(succeeded) / static_cast<double>(state.iterations());
+}
+
+const char* const kMachines[] = {"hektor.toml",       "matrix-mill.toml", "triaglide.toml",
+                                 "linear-delta.toml", "hexaglide.toml",   "hexapod-bit.toml",
+                                 "mach3-formula.toml"};
+
+const bool kRegistered = [] {
+  for (const char* file : kMachines) {
+    const std::string name = std::string(file).substr(0, std::string(file).find('.'));
+    benchmark::RegisterBenchmark(("inverse/" + name).c_str(), inverse_single, std::string(file));
+    benchmark::RegisterBenchmark(("inverse_batch/" + name).c_str(), inverse_batch,
+                                 std::string(file));
+    benchmark::RegisterBenchmark(("forward_path/" + name).c_str(), forward_along_path,
+                                 std::string(file));
+    benchmark::RegisterBenchmark(("forward_from_home/" + name).c_str(), forward_from_home,
+                                 std::string(file));
+  }
+  return true;
+}();
+
+}  // namespace
+}  // namespace pkm
+
+BENCHMARK_MAIN();

@@ -1,0 +1,155 @@
+#include "pkm/kinematics/formula.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace pkm {
+
+FormulaKinematics::FormulaKinematics(FormulaDefinition definition)
+    : definition_(std::move(definition)) {
+  if (definition_.formulas.empty() || definition_.formulas.size() > kMaxJoints) {
+    throw std::invalid_argument("a formula machine needs 1 to " + std::to_string(kMaxJoints) +
+                                " formulas");
+  }
+  for (const int axis : definition_.axes) dof_ = dof_.with(axis);
+  build_parsers();
+}
+
+void FormulaKinematics::build_parsers() {
+  // Constants live in a vector sized once, so the addresses bound into muparser stay valid.
+  constant_values_.clear();
+  for (const auto& constant : definition_.constants) constant_values_.push_back(constant.second);
+  parsers_.clear();
+  parsers_.reserve(definition_.formulas.size());
+  for (const auto& [joint, expression] : definition_.formulas) {
+    mu::Parser& parser = parsers_.emplace_back();
+    try {
+      for (const int axis : definition_.axes) {
+        parser.DefineVar(std::string(kAxisNames[axis]), &pose_variables_[axis]);
+      }
+      for (std::size_t i = 0; i < definition_.constants.size(); ++i) {
+        parser.DefineVar(definition_.constants[i].first, &constant_values_[i]);
+      }
+      parser.DefineConst("PI", std::numbers::pi);
+      parser.SetExpr(expression);
+      pose_variables_.fill(0.0);
+      parser.Eval();  // parses now, so a bad formula fails at load, not mid-job
+    } catch (const mu::Parser::exception_type& error) {
+      throw FormulaError(joint, error.GetMsg());
+    }
+  }
+}
+
+Status FormulaKinematics::inverse(const Pose& pose, JointVector& joints) const {
+  if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
+  for (const int axis : definition_.axes) {
+    pose_variables_[axis] = axis < 3 ? pose.position_mm[axis] / definition_.mm_per_unit
+                                     : radians_to_degrees(pose.orientation_rad[axis - 3]);
+  }
+  joints.resize(joint_count());
+  for (int i = 0; i < joint_count(); ++i) {
+    double value = 0.0;
+    try {
+      value = parsers_[i].Eval();
+    } catch (const mu::Parser::exception_type&) {
+      return Status::failure(StatusCode::unreachable, i);
+    }
+    // A formula that has no real value here (sqrt of a negative) means the pose is out of reach.
+    if (!std::isfinite(value)) return Status::failure(StatusCode::unreachable, i);
+    joints[i] = value * definition_.mm_per_unit;
+  }
+  return Status::success();
+}
+
+Status FormulaKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
+  if (joints.size() != joint_count()) return Status::failure(StatusCode::invalid_input);
+  return solve_forward_newton(*this, joints, pose_inout, forward_options_);
+}
+
+Status FormulaKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
+  return numerical_jacobian(*this, pose, d_joints_d_pose);
+}
+
+int FormulaKinematics::assembly_mode(const Pose& pose) const {
+  if (static_cast<int>(definition_.axes.size()) != joint_count()) return 0;
+  JointJacobian jacobian;
+  if (!numerical_jacobian(*this, pose, jacobian).ok()) return 0;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxJoints, kPoseSize> square(
+      joint_count(), joint_count());
+  for (int k = 0; k < joint_count(); ++k) square.col(k) = jacobian.col(definition_.axes[k]);
+  return square.determinant() >= 0.0 ? 1 : -1;
+}
+
+std::vector<Parameter> FormulaKinematics::parameters() const {
+  std::vector<Parameter> result;
+  for (const auto& [name, value] : definition_.constants) result.push_back({name, value, ""});
+  return result;
+}
+
+void FormulaKinematics::set_parameters(std::span<const double> values) {
+  if (values.size() != definition_.constants.size()) {
+    throw std::invalid_argument("formula machine takes " +
+                                std::to_string(definition_.constants.size()) + " parameters");
+  }
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) throw std::invalid_argument("constants must be finite");
+  }
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    definition_.constants[i].second = values[i];
+    constant_values_[i] = values[i];
+  }
+}
+
+std::unique_ptr<Kinematics> make_formula_kinematics(const ModelConfig& config) {
+  FormulaDefinition definition;
+  definition.mm_per_unit = config.mm_per_file_unit();
+  for (const std::string& name : config.string_list("axes")) {
+    const int axis = axis_index(name);
+    if (axis < 0) config.fail("axes", "'" + name + "' is not one of x, y, z, a, b, c");
+    for (const int seen : definition.axes) {
+      if (seen == axis) config.fail("axes", "'" + name + "' is listed twice");
+    }
+    definition.axes.push_back(axis);
+  }
+  if (definition.axes.empty()) config.fail("axes", "needs at least one axis");
+  if (config.has("constants")) {
+    for (const auto& [name, value] : config.number_table("constants")) {
+      if (axis_index(name) >= 0) {
+        config.fail("constants", "'" + name + "' would hide the axis of the same name");
+      }
+      definition.constants.emplace_back(name, value);
+    }
+  }
+  // Formulas are keyed by joint name; order them as the [[joints]] tables are.
+  const auto formulas = config.string_table("formulas");
+  for (const std::string& joint : config.joint_names()) {
+    bool found = false;
+    for (const auto& [name, expression] : formulas) {
+      if (name == joint) {
+        definition.formulas.emplace_back(name, expression);
+        found = true;
+      }
+    }
+    if (!found) config.fail("formulas", "joint '" + joint + "' has no formula");
+  }
+  for (const auto& [name, expression] : formulas) {
+    bool known = false;
+    for (const std::string& joint : config.joint_names()) known = known || joint == name;
+    if (!known) config.fail("formulas." + name, "names no joint of this machine");
+  }
+  if (static_cast<int>(definition.formulas.size()) != static_cast<int>(definition.axes.size())) {
+    config.fail("axes", "needs one axis per joint: " + std::to_string(definition.axes.size()) +
+                            " axes for " + std::to_string(definition.formulas.size()) + " joints");
+  }
+  try {
+    return std::make_unique<FormulaKinematics>(std::move(definition));
+  } catch (const FormulaError& error) {
+    config.fail("formulas." + error.joint(), error.what());
+  } catch (const std::invalid_argument& error) {
+    config.fail("formulas", error.what());
+  }
+}
+
+}  // namespace pkm

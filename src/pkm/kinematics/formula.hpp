@@ -1,0 +1,77 @@
+// Mach3-style formula axes: one expression per joint in the pose coordinates, evaluated by
+// muparser. FK by damped Newton with a central-difference Jacobian.
+#pragma once
+
+#include <muParser.h>
+
+#include <array>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pkm/kinematics/kinematics.hpp"
+#include "pkm/kinematics/model_config.hpp"
+
+namespace pkm {
+
+struct FormulaDefinition {
+  std::vector<int> axes;  // pose indices the formulas may use (and the machine controls)
+  std::vector<std::pair<std::string, double>> constants;
+  std::vector<std::pair<std::string, std::string>>
+      formulas;  // joint name -> expression, in joint order
+  // Formulas see lengths in the machine file's units (mm or inch) and angles in degrees, as a
+  // Mach3 user typing them would; joint values come back in the same length unit.
+  double mm_per_unit = 1.0;
+};
+
+// Raised for an expression muparser refuses; names the joint and the position in the expression.
+class FormulaError : public std::runtime_error {
+ public:
+  FormulaError(std::string joint, std::string message)
+      : std::runtime_error(message), joint_(std::move(joint)) {}
+  const std::string& joint() const { return joint_; }
+
+ private:
+  std::string joint_;
+};
+
+// Not re-entrant: the parsers read the pose from member variables. Give each thread its clone().
+class FormulaKinematics final : public Kinematics {
+ public:
+  explicit FormulaKinematics(FormulaDefinition definition);
+  FormulaKinematics(const FormulaKinematics& other) : FormulaKinematics(other.definition_) {
+    forward_options_ = other.forward_options_;
+  }
+  FormulaKinematics& operator=(const FormulaKinematics&) = delete;
+
+  std::string_view type() const override { return "formula"; }
+  int joint_count() const override { return static_cast<int>(definition_.formulas.size()); }
+  Dof dof() const override { return dof_; }
+  Status inverse(const Pose& pose, JointVector& joints) const override;
+  Status forward(const JointVector& joints, Pose& pose_inout) const override;
+  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
+  // Sign of det(d joints / d pose): formulas such as Hektor's are met by mirror-image poses
+  // (above and below the anchors), and only the home pose's side is the machine's.
+  int assembly_mode(const Pose& pose) const override;
+  std::vector<Parameter> parameters() const override;
+  void set_parameters(std::span<const double> values) override;
+  std::unique_ptr<Kinematics> clone() const override {
+    return std::make_unique<FormulaKinematics>(*this);
+  }
+
+  const FormulaDefinition& definition() const { return definition_; }
+
+ private:
+  void build_parsers();
+
+  FormulaDefinition definition_;
+  Dof dof_;
+  std::vector<mu::Parser> parsers_;
+  // Variable storage bound into the parsers: x y z (file units), a b c (deg), then constants.
+  mutable std::array<double, kPoseSize> pose_variables_{};
+  std::vector<double> constant_values_;
+};
+
+std::unique_ptr<Kinematics> make_formula_kinematics(const ModelConfig& config);
+
+}  // namespace pkm

@@ -1,0 +1,327 @@
+#include "pkm/kinematics/glide.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace pkm {
+
+namespace {
+// A strut closer than this (relative) to perpendicular to its rail is at a singularity: the
+// carriage's motion no longer moves the platform.
+constexpr double kMinRelativeDiscriminant = 1e-12;
+
+constexpr std::array<const char*, 3> kComponent = {"x", "y", "z"};
+}  // namespace
+
+GlideKinematics::GlideKinematics(std::vector<GlideRail> rails, Dof dof)
+    : rails_(std::move(rails)), dof_(dof) {
+  validate(rails_, dof_);
+}
+
+void GlideKinematics::validate(std::vector<GlideRail>& rails, Dof dof) {
+  const int count = static_cast<int>(rails.size());
+  if (dof == Dof::all()) {
+    if (count != 6) throw std::invalid_argument("a glide with orientation needs exactly 6 rails");
+  } else if (dof.any_rotation() || dof.count() != count || count < 2 || count > 3) {
+    throw std::invalid_argument("a translating glide needs 2 or 3 rails, one per controlled axis");
+  }
+  for (int i = 0; i < count; ++i) {
+    GlideRail& rail = rails[i];
+    const std::string which = "rail " + std::to_string(i + 1);
+    if (!rail.origin_mm.allFinite() || !rail.attach_mm.allFinite() || !rail.direction.allFinite() ||
+        !std::isfinite(rail.strut_mm)) {
+      throw std::invalid_argument(which + " has a non-finite value");
+    }
+    const double norm = rail.direction.norm();
+    if (norm == 0.0) throw std::invalid_argument(which + ": direction is the zero vector");
+    rail.direction /= norm;
+    if (!(rail.strut_mm > 0.0)) throw std::invalid_argument(which + ": strut must be positive");
+    if (rail.branch != 1 && rail.branch != -1) {
+      throw std::invalid_argument(which + ": branch must be +1 or -1");
+    }
+  }
+}
+
+Pose GlideKinematics::controlled_part(const Pose& pose) const {
+  Pose part;
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    if (!dof_.controls(axis)) continue;
+    if (axis < 3) {
+      part.position_mm[axis] = pose.position_mm[axis];
+    } else {
+      part.orientation_rad[axis - 3] = pose.orientation_rad[axis - 3];
+    }
+  }
+  return part;
+}
+
+Status GlideKinematics::inverse(const Pose& pose, JointVector& joints) const {
+  if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
+  const Pose part = controlled_part(pose);
+  const bool rotates = dof_.any_rotation();
+  const Eigen::Matrix3d rotation =
+      rotates ? rotation_from_abc(part.orientation_rad) : Eigen::Matrix3d::Identity();
+  joints.resize(joint_count());
+  for (int i = 0; i < joint_count(); ++i) {
+    const GlideRail& rail = rails_[i];
+    const Eigen::Vector3d foot = part.position_mm + rotation * rail.attach_mm - rail.origin_mm;
+    const double along = rail.direction.dot(foot);
+    const double discriminant = along * along - foot.squaredNorm() + rail.strut_mm * rail.strut_mm;
+    if (discriminant < 0.0) return Status::failure(StatusCode::unreachable, i);
+    if (discriminant <= kMinRelativeDiscriminant * rail.strut_mm * rail.strut_mm) {
+      return Status::failure(StatusCode::singular, i);
+    }
+    joints[i] = along + rail.branch * std::sqrt(discriminant);
+  }
+  return Status::success();
+}
+
+Status GlideKinematics::inverse_and_jacobian(const Pose& pose, JointVector& joints,
+                                             JointJacobian& d_joints_d_pose) const {
+  const Status status = inverse(pose, joints);
+  if (!status.ok()) return status;
+  const Pose part = controlled_part(pose);
+  const bool rotates = dof_.any_rotation();
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  std::array<Eigen::Matrix3d, 3> rotation_derivatives{};
+  if (rotates) rotation_and_derivatives_abc(part.orientation_rad, rotation, rotation_derivatives);
+  d_joints_d_pose.setZero(joint_count(), kPoseSize);
+  for (int i = 0; i < joint_count(); ++i) {
+    const GlideRail& rail = rails_[i];
+    const Eigen::Vector3d foot = part.position_mm + rotation * rail.attach_mm - rail.origin_mm;
+    // |foot - q*direction| = strut; differentiating gives dq = strut_vector . dfoot / (strut .
+    // dir).
+    const Eigen::Vector3d strut_vector = foot - joints[i] * rail.direction;
+    const Eigen::Vector3d gradient = strut_vector / strut_vector.dot(rail.direction);
+    for (int axis = 0; axis < 3; ++axis) {
+      if (dof_.controls(axis)) d_joints_d_pose(i, axis) = gradient[axis];
+    }
+    if (rotates) {
+      for (int k = 0; k < 3; ++k) {
+        d_joints_d_pose(i, 3 + k) = gradient.dot(rotation_derivatives[k] * rail.attach_mm);
+      }
+    }
+  }
+  return Status::success();
+}
+
+Status GlideKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
+  JointVector joints;
+  return inverse_and_jacobian(pose, joints, d_joints_d_pose);
+}
+
+int GlideKinematics::assembly_mode(const Pose& pose) const {
+  if (dof_.any_rotation()) return 0;
+  JointVector joints;
+  if (!inverse(pose, joints).ok()) return 0;
+  const Pose part = controlled_part(pose);
+  std::array<Eigen::Vector3d, 3> strut;
+  for (int i = 0; i < joint_count(); ++i) {
+    strut[i] = part.position_mm + rails_[i].attach_mm - rails_[i].origin_mm -
+               joints[i] * rails_[i].direction;
+  }
+  double orientation = 0.0;
+  if (joint_count() == 3) {
+    orientation = strut[0].dot(strut[1].cross(strut[2]));
+  } else {
+    int plane[2] = {0, 1};
+    for (int axis = 0, n = 0; axis < 3; ++axis) {
+      if (dof_.controls(axis)) plane[n++] = axis;
+    }
+    orientation = strut[0][plane[0]] * strut[1][plane[1]] - strut[0][plane[1]] * strut[1][plane[0]];
+  }
+  return orientation >= 0.0 ? 1 : -1;
+}
+
+Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pose_inout) const {
+  // Sphere i: the tip lies at distance strut_i from carriage_i - attach_i.
+  std::array<Eigen::Vector3d, 3> centre;
+  std::array<double, 3> radius{};
+  for (int i = 0; i < joint_count(); ++i) {
+    centre[i] = rails_[i].origin_mm + joints[i] * rails_[i].direction - rails_[i].attach_mm;
+    radius[i] = rails_[i].strut_mm;
+  }
+  std::array<Eigen::Vector3d, 2> candidates;
+  if (joint_count() == 3) {
+    const Eigen::Vector3d span_12 = centre[1] - centre[0];
+    const double d = span_12.norm();
+    if (d == 0.0) return Status::failure(StatusCode::singular);
+    const Eigen::Vector3d ex = span_12 / d;
+    const Eigen::Vector3d span_13 = centre[2] - centre[0];
+    const double i = ex.dot(span_13);
+    Eigen::Vector3d ey = span_13 - i * ex;
+    const double j = ey.norm();
+    if (j <= 1e-9 * d) return Status::failure(StatusCode::singular);
+    ey /= j;
+    const Eigen::Vector3d ez = ex.cross(ey);
+    const double x = (radius[0] * radius[0] - radius[1] * radius[1] + d * d) / (2.0 * d);
+    const double y =
+        (radius[0] * radius[0] - radius[2] * radius[2] + i * i + j * j) / (2.0 * j) - i * x / j;
+    const double z_squared = radius[0] * radius[0] - x * x - y * y;
+    if (z_squared < 0.0) return Status::failure(StatusCode::unreachable);
+    const double z = std::sqrt(z_squared);
+    candidates = {centre[0] + x * ex + y * ey + z * ez, centre[0] + x * ex + y * ey - z * ez};
+  } else {
+    // Two rails: circles in the plane of the two controlled axes; the third coordinate is 0.
+    std::array<int, 2> plane{};
+    int off_plane = 0;
+    for (int axis = 0, n = 0; axis < 3; ++axis) {
+      if (dof_.controls(axis)) {
+        plane[n++] = axis;
+      } else {
+        off_plane = axis;
+      }
+    }
+    std::array<Eigen::Vector2d, 2> centre_2d;
+    std::array<double, 2> radius_2d{};
+    for (int k = 0; k < 2; ++k) {
+      centre_2d[k] = {centre[k][plane[0]], centre[k][plane[1]]};
+      const double in_plane_squared =
+          radius[k] * radius[k] - centre[k][off_plane] * centre[k][off_plane];
+      if (in_plane_squared < 0.0) return Status::failure(StatusCode::unreachable, k);
+      radius_2d[k] = std::sqrt(in_plane_squared);
+    }
+    const Eigen::Vector2d span = centre_2d[1] - centre_2d[0];
+    const double d = span.norm();
+    if (d == 0.0) return Status::failure(StatusCode::singular);
+    const double along =
+        (radius_2d[0] * radius_2d[0] - radius_2d[1] * radius_2d[1] + d * d) / (2.0 * d);
+    const double across_squared = radius_2d[0] * radius_2d[0] - along * along;
+    if (across_squared < 0.0) return Status::failure(StatusCode::unreachable);
+    const Eigen::Vector2d ex = span / d;
+    const Eigen::Vector2d ey(-ex.y(), ex.x());
+    const double across = std::sqrt(across_squared);
+    for (int k = 0; k < 2; ++k) {
+      const Eigen::Vector2d point = centre_2d[0] + along * ex + (k == 0 ? across : -across) * ey;
+      candidates[k] = Eigen::Vector3d::Zero();
+      candidates[k][plane[0]] = point.x();
+      candidates[k][plane[1]] = point.y();
+    }
+  }
+  // Both intersections satisfy the strut lengths; only those whose carriages sit on the
+  // configured branch reproduce the joint readings. Of those, the one on the seed's side of the
+  // centres (the seed's assembly mode) wins, however far the seed is; nearest only breaks a tie.
+  const double scale = 1.0 + joints.cwiseAbs().maxCoeff();
+  const Eigen::Vector3d seed = controlled_part(pose_inout).position_mm;
+  const double seed_side =
+      (seed - 0.5 * (candidates[0] + candidates[1])).dot(candidates[0] - candidates[1]);
+  double best_score = std::numeric_limits<double>::infinity();
+  Pose best = pose_inout;
+  for (int k = 0; k < 2; ++k) {
+    const Eigen::Vector3d& candidate = candidates[k];
+    Pose trial = pose_inout;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (dof_.controls(axis)) trial.position_mm[axis] = candidate[axis];
+    }
+    JointVector check;
+    if (!inverse(trial, check).ok()) continue;
+    if ((check - joints).cwiseAbs().maxCoeff() > 1e-6 * scale) continue;
+    const bool same_side = (k == 0) == (seed_side >= 0.0);
+    const double score = (same_side ? 0.0 : 1e300) + (candidate - seed).norm();
+    if (score < best_score) {
+      best_score = score;
+      best = trial;
+    }
+  }
+  const double best_distance = best_score;
+  if (!std::isfinite(best_distance)) return Status::failure(StatusCode::unreachable);
+  // The closed form loses a few digits to cancellation; Newton from it restores full precision.
+  const Status polished = solve_forward_newton(*this, joints, best, forward_options_);
+  if (!polished.ok()) return polished;
+  pose_inout = best;
+  return Status::success();
+}
+
+Status GlideKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
+  if (joints.size() != joint_count() || !all_finite(joints) || !all_finite(pose_inout)) {
+    return Status::failure(StatusCode::invalid_input);
+  }
+  if (!dof_.any_rotation()) return forward_translating(joints, pose_inout);
+  return solve_forward_newton(*this, joints, pose_inout, forward_options_);
+}
+
+std::vector<Parameter> GlideKinematics::parameters() const {
+  std::vector<Parameter> result;
+  for (std::size_t i = 0; i < rails_.size(); ++i) {
+    const GlideRail& rail = rails_[i];
+    const std::string prefix = "rail" + std::to_string(i + 1) + ".";
+    for (int k = 0; k < 3; ++k)
+      result.push_back({prefix + "origin." + kComponent[k], rail.origin_mm[k], "mm"});
+    for (int k = 0; k < 3; ++k)
+      result.push_back({prefix + "direction." + kComponent[k], rail.direction[k], ""});
+    result.push_back({prefix + "strut", rail.strut_mm, "mm"});
+    for (int k = 0; k < 3; ++k)
+      result.push_back({prefix + "attach." + kComponent[k], rail.attach_mm[k], "mm"});
+  }
+  return result;
+}
+
+void GlideKinematics::set_parameters(std::span<const double> values) {
+  constexpr std::size_t kPerRail = 10;
+  if (values.size() != kPerRail * rails_.size()) {
+    throw std::invalid_argument("glide takes " + std::to_string(kPerRail * rails_.size()) +
+                                " parameters");
+  }
+  std::vector<GlideRail> rails = rails_;
+  for (std::size_t i = 0; i < rails.size(); ++i) {
+    const double* v = values.data() + kPerRail * i;
+    rails[i].origin_mm = {v[0], v[1], v[2]};
+    rails[i].direction = {v[3], v[4], v[5]};
+    rails[i].strut_mm = v[6];
+    rails[i].attach_mm = {v[7], v[8], v[9]};
+  }
+  validate(rails, dof_);
+  rails_ = std::move(rails);
+}
+
+std::unique_ptr<Kinematics> make_glide_kinematics(const ModelConfig& config) {
+  std::vector<GlideRail> rails;
+  for (const auto& rail_config : config.table_list("rails")) {
+    GlideRail rail;
+    rail.origin_mm = rail_config->length_vector3("origin");
+    const std::vector<double> direction = rail_config->number_list("direction");
+    if (direction.size() != 3) rail_config->fail("direction", "needs 3 numbers [x, y, z]");
+    rail.direction = {direction[0], direction[1], direction[2]};
+    rail.strut_mm = rail_config->length("strut");
+    rail.attach_mm = rail_config->length_vector3("attach");
+    const double branch = rail_config->number_or("branch", 1.0);
+    if (branch != 1.0 && branch != -1.0) rail_config->fail("branch", "must be 1 or -1");
+    rail.branch = static_cast<int>(branch);
+    if (rail.direction.norm() == 0.0) rail_config->fail("direction", "must not be zero");
+    if (!(rail.strut_mm > 0.0)) rail_config->fail("strut", "must be a positive length");
+    rails.push_back(rail);
+  }
+  const bool orientation = config.boolean_or("orientation", false);
+  Dof dof;
+  if (orientation) {
+    if (rails.size() != 6) {
+      config.fail("rails", "orientation = true needs exactly 6 rails, found " +
+                               std::to_string(rails.size()));
+    }
+    if (config.has("axes")) config.fail("axes", "only a translating glide chooses its axes");
+    dof = Dof::all();
+  } else if (config.has("axes")) {
+    for (const std::string& name : config.string_list("axes")) {
+      const int axis = axis_index(name);
+      if (axis < 0 || axis > 2) config.fail("axes", "'" + name + "' is not one of x, y, z");
+      dof = dof.with(axis);
+    }
+  } else {
+    dof = rails.size() == 2 ? Dof::planar_xy() : Dof::translation();
+  }
+  if (!orientation &&
+      (static_cast<int>(rails.size()) != dof.count() || rails.size() < 2 || rails.size() > 3)) {
+    config.fail("rails", "a translating glide needs one rail per axis (2 or 3), found " +
+                             std::to_string(rails.size()) + " rails for " +
+                             std::to_string(dof.count()) + " axes");
+  }
+  try {
+    return std::make_unique<GlideKinematics>(std::move(rails), dof);
+  } catch (const std::invalid_argument& error) {
+    config.fail("rails", error.what());
+  }
+}
+
+}  // namespace pkm

@@ -1,0 +1,59 @@
+// Fixed-length struts between a platform and carriages on straight rails: biglide (2 rails),
+// triaglide and linear delta (3 rails, translating platform), hexaglide (6 rails, full pose).
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "pkm/kinematics/kinematics.hpp"
+#include "pkm/kinematics/model_config.hpp"
+
+namespace pkm {
+
+struct GlideRail {
+  Eigen::Vector3d origin_mm = Eigen::Vector3d::Zero();   // where the carriage reading is 0
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  // unit vector of increasing reading
+  double strut_mm = 0.0;                                 // strut length between joint centres
+  Eigen::Vector3d attach_mm = Eigen::Vector3d::Zero();   // strut end, platform frame, tool tip at 0
+  int branch = 1;  // +1: carriage ahead of the strut's foot along `direction`; -1: behind
+};
+
+class GlideKinematics final : public Kinematics {
+ public:
+  // `dof` is translation-only (2 or 3 axes, one per rail) or Dof::all() with six rails.
+  GlideKinematics(std::vector<GlideRail> rails, Dof dof);
+
+  std::string_view type() const override { return "glide"; }
+  int joint_count() const override { return static_cast<int>(rails_.size()); }
+  Dof dof() const override { return dof_; }
+  Status inverse(const Pose& pose, JointVector& joints) const override;
+  Status forward(const JointVector& joints, Pose& pose_inout) const override;
+  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
+  Status inverse_and_jacobian(const Pose& pose, JointVector& joints,
+                              JointJacobian& d_joints_d_pose) const override;
+  // Translating glides: the side of the plane (line, with 2 rails) through the carriages' strut
+  // ends on which the platform hangs, i.e. the sign of det[strut vectors].
+  int assembly_mode(const Pose& pose) const override;
+  std::vector<Parameter> parameters() const override;
+  void set_parameters(std::span<const double> values) override;
+  std::unique_ptr<Kinematics> clone() const override {
+    return std::make_unique<GlideKinematics>(*this);
+  }
+
+  const std::vector<GlideRail>& rails() const { return rails_; }
+
+ private:
+  // The pose as this model reads it: uncontrolled coordinates are zero.
+  Pose controlled_part(const Pose& pose) const;
+  // Closed-form FK of a translating platform: intersection of the spheres (3 rails) or circles
+  // (2 rails) around each carriage, the candidate matching every rail's branch nearest the seed.
+  Status forward_translating(const JointVector& joints, Pose& pose_inout) const;
+  static void validate(std::vector<GlideRail>& rails, Dof dof);
+
+  std::vector<GlideRail> rails_;
+  Dof dof_;
+};
+
+std::unique_ptr<Kinematics> make_glide_kinematics(const ModelConfig& config);
+
+}  // namespace pkm

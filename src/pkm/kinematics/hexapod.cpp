@@ -1,0 +1,216 @@
+#include "pkm/kinematics/hexapod.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace pkm {
+
+namespace {
+constexpr std::array<const char*, 3> kComponent = {"x", "y", "z"};
+}
+
+HexapodGeometry HexapodGeometry::semi_regular(double base_radius_mm, double platform_radius_mm,
+                                              double side_ratio, double tool_length_mm) {
+  if (!(base_radius_mm > 0.0) || !(platform_radius_mm > 0.0)) {
+    throw std::invalid_argument("hexagon radii must be positive");
+  }
+  if (!(side_ratio > 0.0) || !(side_ratio <= 1.0)) {
+    throw std::invalid_argument("side_ratio (short:long side) must be in (0, 1]");
+  }
+  // Short and long sides subtend 2h and 120 deg - 2h; chord ratio sin(h) / sin(60 deg - h) = k.
+  const double half_short_angle = std::atan(std::numbers::sqrt3 * side_ratio / (2.0 + side_ratio));
+  const double third = 2.0 * std::numbers::pi / 3.0;
+  HexapodGeometry geometry;
+  geometry.tool_length_mm = tool_length_mm;
+  for (int pair = 0; pair < 3; ++pair) {
+    const double base_centre = third * pair;
+    const double platform_before = base_centre - third / 2.0;  // platform pair on the left
+    const double platform_after = base_centre + third / 2.0;   // platform pair on the right
+    const double base_angles[2] = {base_centre - half_short_angle, base_centre + half_short_angle};
+    const double platform_angles[2] = {platform_before + half_short_angle,
+                                       platform_after - half_short_angle};
+    for (int k = 0; k < 2; ++k) {
+      geometry.base_mm[2 * pair + k] = {base_radius_mm * std::cos(base_angles[k]),
+                                        base_radius_mm * std::sin(base_angles[k]), 0.0};
+      geometry.platform_mm[2 * pair + k] = {platform_radius_mm * std::cos(platform_angles[k]),
+                                            platform_radius_mm * std::sin(platform_angles[k]), 0.0};
+    }
+  }
+  return geometry;
+}
+
+HexapodKinematics::HexapodKinematics(const HexapodGeometry& geometry) : geometry_(geometry) {
+  update_derived();
+}
+
+void HexapodKinematics::update_derived() {
+  if (!std::isfinite(geometry_.tool_length_mm)) {
+    throw std::invalid_argument("tool_length must be finite");
+  }
+  for (int i = 0; i < 6; ++i) {
+    if (!geometry_.base_mm[i].allFinite() || !geometry_.platform_mm[i].allFinite() ||
+        !std::isfinite(geometry_.leg_offset_mm[i])) {
+      throw std::invalid_argument("leg " + std::to_string(i + 1) + " has a non-finite joint");
+    }
+    platform_from_tip_mm_.col(i) =
+        geometry_.platform_mm[i] + Eigen::Vector3d(0.0, 0.0, geometry_.tool_length_mm);
+    base_mm_.col(i) = geometry_.base_mm[i];
+    leg_offset_mm_[i] = geometry_.leg_offset_mm[i];
+  }
+}
+
+void HexapodKinematics::leg_lengths(const Eigen::Vector3d& position_mm,
+                                    const Eigen::Matrix3d& rotation, JointVector& joints) const {
+  const Eigen::Matrix<double, 3, 6> legs =
+      (rotation * platform_from_tip_mm_).colwise() + position_mm - base_mm_;
+  joints = legs.colwise().norm().transpose() + leg_offset_mm_;
+}
+
+Status HexapodKinematics::inverse(const Pose& pose, JointVector& joints) const {
+  if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
+  leg_lengths(pose.position_mm, rotation_from_abc(pose.orientation_rad), joints);
+  return Status::success();
+}
+
+void HexapodKinematics::inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
+                                      std::span<Status> statuses) const {
+  if (joints.size() < poses.size() || statuses.size() < poses.size()) {
+    throw std::invalid_argument("inverse_batch: output spans shorter than the input");
+  }
+  // Along a path with a fixed tool attitude (the paper's "fixed attitude mode") the rotation is
+  // computed once; its sines and cosines are most of the cost of a pose.
+  Eigen::Vector3d rotation_angles = Eigen::Vector3d::Constant(std::nan(""));
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const Pose& pose = poses[i];
+    if (!all_finite(pose)) {
+      statuses[i] = Status::failure(StatusCode::invalid_input);
+      continue;
+    }
+    if (pose.orientation_rad != rotation_angles) {
+      rotation_angles = pose.orientation_rad;
+      rotation = rotation_from_abc(rotation_angles);
+    }
+    leg_lengths(pose.position_mm, rotation, joints[i]);
+    statuses[i] = Status::success();
+  }
+}
+
+Status HexapodKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
+  if (joints.size() != 6) return Status::failure(StatusCode::invalid_input);
+  return solve_forward_newton(*this, joints, pose_inout, forward_options_);
+}
+
+Status HexapodKinematics::inverse_and_jacobian(const Pose& pose, JointVector& joints,
+                                               JointJacobian& d_joints_d_pose) const {
+  if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
+  Eigen::Matrix3d rotation;
+  std::array<Eigen::Matrix3d, 3> rotation_derivatives;
+  rotation_and_derivatives_abc(pose.orientation_rad, rotation, rotation_derivatives);
+  joints.resize(6);
+  d_joints_d_pose.resize(6, kPoseSize);
+  for (int i = 0; i < 6; ++i) {
+    const Eigen::Vector3d leg =
+        pose.position_mm + rotation * platform_from_tip_mm_.col(i) - base_mm_.col(i);
+    const double length = leg.norm();
+    if (length == 0.0) return Status::failure(StatusCode::singular, i);
+    joints[i] = length + leg_offset_mm_[i];
+    const Eigen::Vector3d unit = leg / length;
+    d_joints_d_pose.block<1, 3>(i, 0) = unit.transpose();
+    for (int k = 0; k < 3; ++k) {
+      d_joints_d_pose(i, 3 + k) = unit.dot(rotation_derivatives[k] * platform_from_tip_mm_.col(i));
+    }
+  }
+  return Status::success();
+}
+
+Status HexapodKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
+  JointVector joints;
+  return inverse_and_jacobian(pose, joints, d_joints_d_pose);
+}
+
+std::vector<Parameter> HexapodKinematics::parameters() const {
+  std::vector<Parameter> result;
+  for (int i = 0; i < 6; ++i) {
+    const std::string prefix = "leg" + std::to_string(i + 1) + ".";
+    for (int k = 0; k < 3; ++k) {
+      result.push_back({prefix + "base." + kComponent[k], geometry_.base_mm[i][k], "mm"});
+    }
+    for (int k = 0; k < 3; ++k) {
+      result.push_back({prefix + "platform." + kComponent[k], geometry_.platform_mm[i][k], "mm"});
+    }
+    result.push_back({prefix + "offset", geometry_.leg_offset_mm[i], "mm"});
+  }
+  result.push_back({"tool_length", geometry_.tool_length_mm, "mm"});
+  return result;
+}
+
+void HexapodKinematics::set_parameters(std::span<const double> values) {
+  constexpr std::size_t kPerLeg = 7;
+  if (values.size() != 6 * kPerLeg + 1) {
+    throw std::invalid_argument("hexapod takes " + std::to_string(6 * kPerLeg + 1) + " parameters");
+  }
+  HexapodGeometry geometry = geometry_;
+  for (int i = 0; i < 6; ++i) {
+    const double* v = values.data() + kPerLeg * i;
+    geometry.base_mm[i] = {v[0], v[1], v[2]};
+    geometry.platform_mm[i] = {v[3], v[4], v[5]};
+    geometry.leg_offset_mm[i] = v[6];
+  }
+  geometry.tool_length_mm = values[6 * kPerLeg];
+  const HexapodGeometry previous = geometry_;
+  geometry_ = geometry;
+  try {
+    update_derived();
+  } catch (...) {
+    geometry_ = previous;
+    update_derived();
+    throw;
+  }
+}
+
+std::unique_ptr<Kinematics> make_hexapod_kinematics(const ModelConfig& config) {
+  const bool explicit_joints = config.has("base") || config.has("platform");
+  const bool shorthand =
+      config.has("base_radius") || config.has("platform_radius") || config.has("side_ratio");
+  if (explicit_joints && shorthand) {
+    config.fail(config.has("base_radius") ? "base_radius" : "side_ratio",
+                "give either base/platform joint lists or the base_radius/platform_radius/"
+                "side_ratio shorthand, not both");
+  }
+  const double tool_length = config.length("tool_length");
+  HexapodGeometry geometry;
+  if (shorthand) {
+    try {
+      geometry = HexapodGeometry::semi_regular(config.length("base_radius"),
+                                               config.length("platform_radius"),
+                                               config.number("side_ratio"), tool_length);
+    } catch (const std::invalid_argument& error) {
+      config.fail("side_ratio", error.what());
+    }
+  } else {
+    const auto base = config.length_vector3_list("base");
+    const auto platform = config.length_vector3_list("platform");
+    if (base.size() != 6) config.fail("base", "needs exactly 6 points [x, y, z]");
+    if (platform.size() != 6) config.fail("platform", "needs exactly 6 points [x, y, z]");
+    for (int i = 0; i < 6; ++i) {
+      geometry.base_mm[i] = base[i];
+      geometry.platform_mm[i] = platform[i];
+    }
+    geometry.tool_length_mm = tool_length;
+  }
+  if (config.has("leg_offsets")) {
+    const std::vector<double> offsets = config.length_list("leg_offsets");
+    if (offsets.size() != 6) config.fail("leg_offsets", "needs exactly 6 lengths");
+    for (int i = 0; i < 6; ++i) geometry.leg_offset_mm[i] = offsets[i];
+  }
+  try {
+    return std::make_unique<HexapodKinematics>(geometry);
+  } catch (const std::invalid_argument& error) {
+    config.fail(shorthand ? "base_radius" : "base", error.what());
+  }
+}
+
+}  // namespace pkm

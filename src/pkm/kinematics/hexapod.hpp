@@ -1,0 +1,67 @@
+// Stewart/Gough hexapod: six telescopic legs between base joints (world frame) and platform
+// joints (platform frame). The tool tip is at (0, 0, -tool_length) in the platform frame.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+
+#include "pkm/kinematics/kinematics.hpp"
+#include "pkm/kinematics/model_config.hpp"
+
+namespace pkm {
+
+struct HexapodGeometry {
+  std::array<Eigen::Vector3d, 6> base_mm;      // base joint centres, world frame
+  std::array<Eigen::Vector3d, 6> platform_mm;  // platform joint centres, platform frame
+  double tool_length_mm = 0.0;
+  // Added to each leg's geometric length (joint centre to joint centre) to give its joint reading.
+  std::array<double, 6> leg_offset_mm{};
+
+  // The semi-regular hexagons of the literature: joints on circles of the given radii, in pairs
+  // whose short side is `side_ratio` times the long side; the platform's pairs sit 60 deg from
+  // the base's so that each base pair feeds two different platform pairs. Base pair k is centred
+  // at 120*k deg from +X; leg 2k joins that pair's first joint, leg 2k+1 its second.
+  static HexapodGeometry semi_regular(double base_radius_mm, double platform_radius_mm,
+                                      double side_ratio, double tool_length_mm);
+};
+
+class HexapodKinematics final : public Kinematics {
+ public:
+  explicit HexapodKinematics(const HexapodGeometry& geometry);
+
+  std::string_view type() const override { return "hexapod"; }
+  int joint_count() const override { return 6; }
+  Dof dof() const override { return Dof::all(); }
+  Status inverse(const Pose& pose, JointVector& joints) const override;
+  Status forward(const JointVector& joints, Pose& pose_inout) const override;
+  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
+  Status inverse_and_jacobian(const Pose& pose, JointVector& joints,
+                              JointJacobian& d_joints_d_pose) const override;
+  std::vector<Parameter> parameters() const override;
+  void set_parameters(std::span<const double> values) override;
+  std::unique_ptr<Kinematics> clone() const override {
+    return std::make_unique<HexapodKinematics>(*this);
+  }
+  void inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
+                     std::span<Status> statuses) const override;
+
+  const HexapodGeometry& geometry() const { return geometry_; }
+
+ private:
+  void update_derived();
+  // Leg lengths for a known rotation; the shared core of inverse and inverse_batch.
+  void leg_lengths(const Eigen::Vector3d& position_mm, const Eigen::Matrix3d& rotation,
+                   JointVector& joints) const;
+
+  HexapodGeometry geometry_;
+  // Columns: platform joints measured from the tool tip, platform frame (platform + (0, 0,
+  // tool_length)); base joints, world frame; leg offsets. Matrix form lets Eigen do the six legs
+  // as one product.
+  Eigen::Matrix<double, 3, 6> platform_from_tip_mm_;
+  Eigen::Matrix<double, 3, 6> base_mm_;
+  Eigen::Matrix<double, 6, 1> leg_offset_mm_;
+};
+
+std::unique_ptr<Kinematics> make_hexapod_kinematics(const ModelConfig& config);
+
+}  // namespace pkm

@@ -1,0 +1,280 @@
+#include "pkm/kinematics/kinematics.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+namespace pkm {
+
+std::string_view status_name(StatusCode code) {
+  switch (code) {
+    case StatusCode::ok:
+      return "ok";
+    case StatusCode::unreachable:
+      return "unreachable";
+    case StatusCode::joint_limit:
+      return "joint limit";
+    case StatusCode::singular:
+      return "singular";
+    case StatusCode::not_converged:
+      return "forward kinematics did not converge";
+    case StatusCode::branch_changed:
+      return "forward kinematics jumped to another assembly branch";
+    case StatusCode::other_assembly:
+      return "unreachable without passing a singularity (another assembly mode than home's)";
+    case StatusCode::invalid_input:
+      return "invalid input (NaN or infinite)";
+  }
+  return "unknown";
+}
+
+std::string describe(const Status& status, std::span<const std::string> joint_names) {
+  std::string text(status_name(status.code));
+  if (status.joint >= 0) {
+    text += " (joint ";
+    if (status.joint < static_cast<int>(joint_names.size())) {
+      text += "'" + joint_names[status.joint] + "'";
+    } else {
+      text += std::to_string(status.joint + 1);
+    }
+    text += ")";
+  }
+  return text;
+}
+
+bool all_finite(const Pose& pose) {
+  return pose.position_mm.allFinite() && pose.orientation_rad.allFinite();
+}
+
+bool all_finite(const JointVector& joints) {
+  return joints.allFinite();
+}
+
+Status Kinematics::inverse_and_jacobian(const Pose& pose, JointVector& joints,
+                                        JointJacobian& d_joints_d_pose) const {
+  const Status status = inverse(pose, joints);
+  if (!status.ok()) return status;
+  return jacobian(pose, d_joints_d_pose);
+}
+
+void Kinematics::inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
+                               std::span<Status> statuses) const {
+  if (joints.size() < poses.size() || statuses.size() < poses.size()) {
+    throw std::invalid_argument("inverse_batch: output spans shorter than the input");
+  }
+  for (std::size_t i = 0; i < poses.size(); ++i) statuses[i] = inverse(poses[i], joints[i]);
+}
+
+void Kinematics::forward_path(std::span<const JointVector> joints, const Pose& seed,
+                              std::span<Pose> poses, std::span<Status> statuses) const {
+  if (poses.size() < joints.size() || statuses.size() < joints.size()) {
+    throw std::invalid_argument("forward_path: output spans shorter than the input");
+  }
+  Pose previous = seed;
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    Pose pose = previous;
+    statuses[i] = forward(joints[i], pose);
+    poses[i] = pose;
+    if (statuses[i].ok()) previous = pose;
+  }
+}
+
+namespace {
+
+using ReducedJacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxJoints, 6>;
+using ReducedSquare = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+using ReducedVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
+
+struct ControlledAxes {
+  std::array<int, kPoseSize> index{};
+  int count = 0;
+  explicit ControlledAxes(Dof dof) {
+    for (int axis = 0; axis < kPoseSize; ++axis) {
+      if (dof.controls(axis)) index[count++] = axis;
+    }
+  }
+};
+
+ReducedJacobian reduce(const JointJacobian& full, const ControlledAxes& axes) {
+  ReducedJacobian reduced(full.rows(), axes.count);
+  for (int k = 0; k < axes.count; ++k) reduced.col(k) = full.col(axes.index[k]);
+  return reduced;
+}
+
+// LU of a square Jacobian, for Newton steps J step = -residual. Six-by-six (every 6-DOF model)
+// goes through Eigen's fixed-size LU, faster than the dynamic one.
+struct Factorization {
+  Eigen::PartialPivLU<Eigen::Matrix<double, 6, 6>> six;
+  Eigen::PartialPivLU<ReducedSquare> other;
+  bool is_six = false;
+  bool valid = false;
+  double det_sign = 0.0;
+
+  void compute(const JointJacobian& jacobian, const ControlledAxes& axes) {
+    is_six = axes.count == kPoseSize;
+    if (is_six) {
+      six.compute(Eigen::Matrix<double, 6, 6>(jacobian.topRows<6>()));
+      det_sign = std::copysign(1.0, six.determinant());
+    } else {
+      other.compute(reduce(jacobian, axes));
+      det_sign = std::copysign(1.0, other.determinant());
+    }
+    valid = true;
+  }
+  ReducedVector solve(const JointVector& residual) const {
+    if (is_six) return six.solve(-residual.head<6>());
+    return other.solve(-residual);
+  }
+};
+
+double determinant_sign(const JointJacobian& jacobian, const ControlledAxes& axes) {
+  if (axes.count == kPoseSize) {
+    return std::copysign(1.0, Eigen::Matrix<double, 6, 6>(jacobian.topRows<6>()).determinant());
+  }
+  return std::copysign(1.0, reduce(jacobian, axes).determinant());
+}
+
+double max_abs(const JointVector& v) {
+  return v.size() == 0 ? 0.0 : v.cwiseAbs().maxCoeff();
+}
+
+}  // namespace
+
+Status solve_forward_newton(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
+                            const ForwardOptions& options) {
+  if (!all_finite(joints) || !all_finite(pose_inout)) {
+    return Status::failure(StatusCode::invalid_input);
+  }
+  const ControlledAxes axes(model.dof());
+  const int joint_count = model.joint_count();
+  const bool square = axes.count == joint_count;
+  Vector6d x = pose_inout.as_vector();
+  JointVector at_x(joint_count);
+  JointJacobian jacobian_at_x(joint_count, kPoseSize);
+  if (!model.inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian_at_x).ok()) {
+    return Status::failure(StatusCode::not_converged);  // the seed itself is outside the workspace
+  }
+  bool jacobian_current = true;  // jacobian_at_x belongs to x (not to an earlier iterate)
+  JointVector residual = at_x - joints;
+  double cost = residual.squaredNorm();
+
+  // Square systems take Newton steps through an LU of J, kept while it keeps paying: a step that
+  // cuts the residual tenfold or more does not need a new factorisation (the chord method). That
+  // halves the work along paths, where the seed is a servo step from the answer. A step that
+  // fails falls back to Marquardt-damped normal equations.
+  Factorization factorization;
+  double seed_det_sign = 0.0;
+  double last_det_sign = 0.0;
+  JointVector at_trial(joint_count);
+  JointJacobian jacobian_at_trial(joint_count, kPoseSize);
+  double lambda = 0.0;
+  bool converged = false;
+  for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
+    if (max_abs(residual) <= options.tolerance_mm) {
+      converged = true;
+      break;
+    }
+    bool stepped = false;
+    for (int attempt = 0; attempt < 40 && !stepped; ++attempt) {
+      const bool newton = square && lambda == 0.0;
+      if (!newton && !jacobian_current) {
+        if (!model.inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian_at_x).ok()) break;
+        jacobian_current = true;
+        factorization.valid = false;
+      }
+      ReducedVector step;
+      if (newton) {
+        if (!factorization.valid) {
+          factorization.compute(jacobian_at_x, axes);
+          last_det_sign = factorization.det_sign;
+          if (seed_det_sign == 0.0) seed_det_sign = last_det_sign;
+        }
+        step = factorization.solve(residual);
+      } else {
+        const ReducedJacobian reduced = reduce(jacobian_at_x, axes);
+        ReducedSquare damped = reduced.transpose() * reduced;
+        damped.diagonal() += lambda * damped.diagonal();
+        step = damped.ldlt().solve(-(reduced.transpose() * residual));
+      }
+      Vector6d trial = x;
+      for (int k = 0; k < axes.count; ++k) trial[axes.index[k]] += step[k];
+      const Pose trial_pose = Pose::from_vector(trial);
+      const bool reached =
+          step.allFinite() &&
+          (newton ? model.inverse(trial_pose, at_trial)
+                  : model.inverse_and_jacobian(trial_pose, at_trial, jacobian_at_trial))
+              .ok();
+      const double trial_cost = reached ? (at_trial - joints).squaredNorm() : INFINITY;
+      if (trial_cost < cost) {
+        const bool fast = trial_cost <= 0.01 * cost;  // residual cut at least tenfold
+        x = trial;
+        residual = at_trial - joints;
+        cost = trial_cost;
+        stepped = true;
+        if (!newton) {
+          jacobian_at_x = jacobian_at_trial;
+          jacobian_current = true;
+          factorization.valid = false;
+          lambda = lambda < 1e-9 ? 0.0 : lambda * 0.1;
+        } else if (!fast) {
+          jacobian_current = false;
+          factorization.valid = false;
+        } else {
+          jacobian_current = false;  // the factorisation stays, from an earlier iterate
+        }
+        if (!jacobian_current && !factorization.valid) {
+          if (!model.inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian_at_x).ok()) break;
+          jacobian_current = true;
+        }
+      } else if (newton && !jacobian_current) {
+        // A stale factorisation may be all that failed: refresh it before damping.
+        if (!model.inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian_at_x).ok()) break;
+        jacobian_current = true;
+        factorization.valid = false;
+      } else {
+        lambda = lambda == 0.0 ? 1e-6 : lambda * 10.0;
+      }
+    }
+    if (!stepped) break;
+  }
+  if (!converged && max_abs(residual) > options.tolerance_mm) {
+    return Status::failure(StatusCode::not_converged);
+  }
+  // The last factorisation is from at most a few converging steps before the solution; a change
+  // of sign of det J between seed and there means the iteration crossed a singularity.
+  if (square && seed_det_sign != 0.0) {
+    const double final_sign =
+        factorization.valid
+            ? last_det_sign
+            : (jacobian_current ? determinant_sign(jacobian_at_x, axes) : last_det_sign);
+    if (final_sign != seed_det_sign) return Status::failure(StatusCode::branch_changed);
+  }
+  pose_inout = Pose::from_vector(x);
+  return Status::success();
+}
+
+Status numerical_jacobian(const Kinematics& model, const Pose& pose,
+                          JointJacobian& d_joints_d_pose) {
+  const int joints = model.joint_count();
+  d_joints_d_pose.setZero(joints, kPoseSize);
+  const Vector6d x = pose.as_vector();
+  JointVector plus(joints), minus(joints);
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    if (!model.dof().controls(axis)) continue;
+    // Steps near the cube root of machine epsilon balance truncation and rounding error.
+    const double step = axis < 3 ? 1e-5 * std::max(1.0, std::abs(x[axis])) : 1e-6;
+    Vector6d shifted = x;
+    shifted[axis] = x[axis] + step;
+    Status status = model.inverse(Pose::from_vector(shifted), plus);
+    if (!status.ok()) return status;
+    shifted[axis] = x[axis] - step;
+    status = model.inverse(Pose::from_vector(shifted), minus);
+    if (!status.ok()) return status;
+    d_joints_d_pose.col(axis) = (plus - minus) / (2.0 * step);
+  }
+  return Status::success();
+}
+
+}  // namespace pkm

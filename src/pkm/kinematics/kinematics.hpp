@@ -1,0 +1,122 @@
+// The one interface every kinematic model answers (DESIGN.md, "Kinematics interface").
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "pkm/geometry/pose.hpp"
+
+namespace pkm {
+
+// Nine joints cover every model here (a hexapod has six, a matrix mill three plus pass-through
+// rotary axes); the fixed upper bound keeps joint vectors on the stack in the per-sample path.
+inline constexpr int kMaxJoints = 9;
+using JointVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxJoints, 1>;
+// d joints / d pose: one row per joint, one column per pose coordinate x y z (mm) a b c (rad).
+// Columns of coordinates the model does not control are zero.
+using JointJacobian = Eigen::Matrix<double, Eigen::Dynamic, kPoseSize, 0, kMaxJoints, kPoseSize>;
+
+enum class StatusCode {
+  ok,
+  unreachable,     // the geometry cannot reach the pose (strut too short, circles do not meet)
+  joint_limit,     // reachable, but a joint would leave [min, max] of the machine file
+  singular,        // at or too close to a singular configuration
+  not_converged,   // forward kinematics did not converge within its iteration cap
+  branch_changed,  // forward kinematics converged on another assembly branch than its seed
+  other_assembly,  // the pose needs another assembly mode than the machine's (home's)
+  invalid_input,   // NaN or infinite input
+};
+
+struct Status {
+  StatusCode code = StatusCode::ok;
+  int joint = -1;  // the joint (strut, leg, cable) the failure concerns; -1 when none
+
+  constexpr bool ok() const { return code == StatusCode::ok; }
+  static constexpr Status success() { return {}; }
+  static constexpr Status failure(StatusCode code, int joint = -1) { return {code, joint}; }
+};
+
+std::string_view status_name(StatusCode code);
+// A sentence for a user: "unreachable (joint 3)" style, with the joint's name where given.
+std::string describe(const Status& status, std::span<const std::string> joint_names = {});
+
+enum class JointKind { linear, rotary };  // linear joints in mm; rotary in rad inside, deg outside
+
+// A named geometric parameter, the unit of calibration.
+struct Parameter {
+  std::string name;
+  double value = 0.0;
+  std::string unit;  // "mm", "rad" or "" for dimensionless
+};
+
+// Settings of the iterative forward solvers.
+struct ForwardOptions {
+  double tolerance_mm = 1e-11;  // largest joint residual accepted as converged
+  int max_iterations = 50;
+};
+
+class Kinematics {
+ public:
+  virtual ~Kinematics() = default;
+
+  virtual std::string_view type() const = 0;
+  virtual int joint_count() const = 0;
+  virtual Dof dof() const = 0;
+  virtual JointKind joint_kind(int /*joint*/) const { return JointKind::linear; }
+
+  // IK. Never writes NaN: a failed pose returns a status and leaves `joints` unspecified.
+  virtual Status inverse(const Pose& pose, JointVector& joints) const = 0;
+  // FK. `pose_inout` is the seed on entry (the previous pose along a path, or home); coordinates
+  // the model does not control are left as seeded.
+  virtual Status forward(const JointVector& joints, Pose& pose_inout) const = 0;
+  virtual Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const = 0;
+  // Both at once, sharing the work (one rotation, one set of strut vectors): what every Newton
+  // iteration of FK asks for. The default calls the two.
+  virtual Status inverse_and_jacobian(const Pose& pose, JointVector& joints,
+                                      JointJacobian& d_joints_d_pose) const;
+  // +1 or -1: which of the model's mirror-image assembly modes the pose is in, for models whose
+  // IK alone cannot tell (a triaglide's platform below or above its carriages); 0 where the model
+  // has a single mode or the check would cost more than it is worth in the per-sample path.
+  virtual int assembly_mode(const Pose& /*pose*/) const { return 0; }
+
+  virtual std::vector<Parameter> parameters() const = 0;
+  // Values in the order and units of parameters(); throws std::invalid_argument when the new
+  // geometry is impossible (e.g. a singular matrix).
+  virtual void set_parameters(std::span<const double> values) = 0;
+
+  virtual std::unique_ptr<Kinematics> clone() const = 0;
+
+  const ForwardOptions& forward_options() const { return forward_options_; }
+  void set_forward_options(const ForwardOptions& options) { forward_options_ = options; }
+
+  // Batch entry points. Defaults loop over the single-pose calls; models with a cheap closed form
+  // override them. forward_path seeds each sample with the previous solution, as along a tool path.
+  virtual void inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
+                             std::span<Status> statuses) const;
+  void forward_path(std::span<const JointVector> joints, const Pose& seed, std::span<Pose> poses,
+                    std::span<Status> statuses) const;
+
+ protected:
+  ForwardOptions forward_options_;
+};
+
+// True when every entry is finite.
+bool all_finite(const Pose& pose);
+bool all_finite(const JointVector& joints);
+
+// Damped Newton (Levenberg-Marquardt) forward kinematics over the model's controlled
+// coordinates, with the model's own inverse and jacobian. Refuses a solution on the other side of
+// a singularity from the seed (sign of det J changed), which is how an iteration shows it jumped to
+// another assembly branch.
+Status solve_forward_newton(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
+                            const ForwardOptions& options);
+
+// Central-difference Jacobian of model.inverse, for models without an analytic one.
+Status numerical_jacobian(const Kinematics& model, const Pose& pose,
+                          JointJacobian& d_joints_d_pose);
+
+}  // namespace pkm

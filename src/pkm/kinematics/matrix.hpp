@@ -1,0 +1,48 @@
+// LinuxCNC matrixkins: joint = C * axis for x y z; further axes pass through unchanged.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "pkm/kinematics/kinematics.hpp"
+#include "pkm/kinematics/model_config.hpp"
+
+namespace pkm {
+
+class MatrixKinematics final : public Kinematics {
+ public:
+  // `passthrough_axes` are pose indices (3..5) appended as joints after x y z, in order.
+  MatrixKinematics(const Eigen::Matrix3d& coefficients, std::vector<int> passthrough_axes);
+
+  std::string_view type() const override { return "matrix"; }
+  int joint_count() const override { return 3 + static_cast<int>(passthrough_axes_.size()); }
+  Dof dof() const override { return dof_; }
+  JointKind joint_kind(int joint) const override {
+    return joint < 3 ? JointKind::linear : JointKind::rotary;
+  }
+  Status inverse(const Pose& pose, JointVector& joints) const override;
+  Status forward(const JointVector& joints, Pose& pose_inout) const override;
+  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
+  std::vector<Parameter> parameters() const override;
+  void set_parameters(std::span<const double> values) override;
+  std::unique_ptr<Kinematics> clone() const override {
+    return std::make_unique<MatrixKinematics>(*this);
+  }
+
+  const Eigen::Matrix3d& coefficients() const { return coefficients_; }
+  // Largest ratio of singular values accepted: beyond it FK would amplify a joint error of 1 um
+  // into more than 1 m of tool motion, which is a typo in the file, not a machine.
+  static constexpr double kMaxConditionNumber = 1e6;
+
+ private:
+  void set_coefficients(const Eigen::Matrix3d& coefficients);
+
+  Eigen::Matrix3d coefficients_;
+  Eigen::Matrix3d inverse_coefficients_;
+  std::vector<int> passthrough_axes_;
+  Dof dof_;
+};
+
+std::unique_ptr<Kinematics> make_matrix_kinematics(const ModelConfig& config);
+
+}  // namespace pkm

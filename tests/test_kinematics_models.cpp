@@ -1,0 +1,194 @@
+// Hand-computed cases for every model, and differential checks between models that must agree.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/glide.hpp"
+#include "pkm/kinematics/hexapod.hpp"
+#include "pkm/kinematics/matrix.hpp"
+#include "test_support.hpp"
+
+namespace pkm {
+namespace {
+
+using test::load_example;
+
+TEST(CablePlotter, SourceDocumentWorkedExample) {
+  // d = 100, x = 34, y = -40 gives a = 52.498, b = 77.175 (the Mach3 document's CAD check).
+  const Machine hektor = load_example("hektor.toml");
+  JointVector joints;
+  ASSERT_TRUE(hektor.inverse(Pose::from_mm_deg(34, -40, 0), joints).ok());
+  EXPECT_NEAR(joints[0], 52.498, 5e-4);
+  EXPECT_NEAR(joints[1], 77.175, 5e-4);
+  EXPECT_DOUBLE_EQ(joints[0], std::sqrt(34.0 * 34.0 + 40.0 * 40.0));
+  EXPECT_DOUBLE_EQ(joints[1], std::sqrt(66.0 * 66.0 + 40.0 * 40.0));
+}
+
+TEST(CablePlotter, ForwardTakesTheLowerIntersection) {
+  // 60 and 80 from anchors 100 apart: a 3-4-5 triangle, the pen at (36, -48), not (36, +48).
+  const CablePlotterKinematics plotter({100.0, 0.0, 0.0});
+  JointVector joints(2);
+  joints << 60.0, 80.0;
+  Pose pose;
+  ASSERT_TRUE(plotter.forward(joints, pose).ok());
+  EXPECT_DOUBLE_EQ(pose.position_mm.x(), 36.0);
+  EXPECT_DOUBLE_EQ(pose.position_mm.y(), -48.0);
+}
+
+TEST(CablePlotter, CableOffsetsShiftTheJointReadings) {
+  const CablePlotterKinematics plotter({100.0, 2.5, -1.0});
+  JointVector joints;
+  ASSERT_TRUE(plotter.inverse(Pose::from_mm_deg(36, -48, 0), joints).ok());
+  EXPECT_DOUBLE_EQ(joints[0], 62.5);
+  EXPECT_DOUBLE_EQ(joints[1], 79.0);
+}
+
+TEST(Formula, Mach3FormulasAgreeWithTheCablePlotterModel) {
+  const Machine formula = load_example("mach3-formula.toml");
+  const Machine plotter = load_example("hektor.toml");
+  std::mt19937_64 rng(11);
+  for (const Pose& pose : test::sample_reachable_poses(plotter, 2000, rng)) {
+    JointVector from_formula, from_model;
+    ASSERT_TRUE(formula.inverse(pose, from_formula).ok());
+    ASSERT_TRUE(plotter.inverse(pose, from_model).ok());
+    EXPECT_NEAR(from_formula[0], from_model[0], 1e-12);
+    EXPECT_NEAR(from_formula[1], from_model[1], 1e-12);
+  }
+}
+
+TEST(Matrix, JointIsMatrixTimesAxis) {
+  const Machine mill = load_example("matrix-mill.toml");
+  JointVector joints;
+  ASSERT_TRUE(mill.inverse(Pose::from_mm_deg(100, 50, -20), joints).ok());
+  EXPECT_NEAR(joints[0], 100.0 + 0.0003 * 50 - 0.0001 * -20, 1e-12);  // 100.017
+  EXPECT_NEAR(joints[1], 50.0, 1e-12);
+  EXPECT_NEAR(joints[2], 0.0002 * 100 - 20.0, 1e-12);  // -19.98
+  Pose back = mill.home();
+  ASSERT_TRUE(mill.forward(joints, back).ok());
+  EXPECT_LT((back.position_mm - Eigen::Vector3d(100, 50, -20)).norm(), 1e-12);
+}
+
+TEST(Matrix, ExtraAxesPassThrough) {
+  Eigen::Matrix3d skew = Eigen::Matrix3d::Identity();
+  skew(0, 1) = 0.01;
+  const MatrixKinematics model(skew, {3});  // x y z plus a rotary A joint
+  JointVector joints;
+  ASSERT_TRUE(model.inverse(Pose::from_mm_deg(10, 20, 30, 45), joints).ok());
+  ASSERT_EQ(joints.size(), 4);
+  EXPECT_DOUBLE_EQ(joints[0], 10.2);
+  EXPECT_DOUBLE_EQ(joints[3], M_PI / 4);
+  EXPECT_EQ(model.joint_kind(3), JointKind::rotary);
+}
+
+TEST(Matrix, SingularMatrixIsRefused) {
+  Eigen::Matrix3d singular;
+  singular << 1, 2, 3, 2, 4, 6, 0, 0, 1;
+  EXPECT_THROW(MatrixKinematics(singular, {}), std::invalid_argument);
+}
+
+TEST(Glide, LinearDeltaHandComputed) {
+  // Tip at (0, 0, 100): every effector joint is 200 - 40 = 160 mm from its tower, so each
+  // carriage sits at 100 + sqrt(300^2 - 160^2) = 353.7716 mm.
+  const Machine delta = load_example("linear-delta.toml");
+  JointVector joints;
+  ASSERT_TRUE(delta.inverse(delta.home(), joints).ok());
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(joints[i], 100.0 + std::sqrt(64400.0), 1e-12);
+}
+
+TEST(Glide, ParallelTriaglideHandComputed) {
+  // Home tip (0, 0, 200). Rail 2 at (y, z) = (0, 700): strut foot 450 mm below, carriage at
+  // sqrt(500^2 - 450^2). Rail 1 at (-350, 600), joint (0, -60, 250): offsets (290, -350).
+  const Machine triaglide = load_example("triaglide.toml");
+  JointVector joints;
+  ASSERT_TRUE(triaglide.inverse(triaglide.home(), joints).ok());
+  EXPECT_NEAR(joints[1], std::sqrt(500.0 * 500.0 - 450.0 * 450.0), 1e-12);
+  EXPECT_NEAR(joints[0], std::sqrt(500.0 * 500.0 - 290.0 * 290.0 - 350.0 * 350.0), 1e-12);
+  EXPECT_NEAR(joints[2], joints[0], 1e-12);
+}
+
+TEST(Glide, BiglideRoundTripAndBranches) {
+  // Two rails on the X axis; the left carriage behind its strut (branch -1), the right ahead.
+  std::vector<GlideRail> rails(2);
+  rails[0] = {{0, 0, 0}, {1, 0, 0}, 200.0, {-20, 0, 0}, -1};
+  rails[1] = {{0, 0, 0}, {1, 0, 0}, 200.0, {20, 0, 0}, 1};
+  const GlideKinematics biglide(rails, Dof::planar_xy());
+  JointVector joints;
+  ASSERT_TRUE(biglide.inverse(Pose::from_mm_deg(30, -120, 0), joints).ok());
+  EXPECT_NEAR(joints[0], 10.0 - 160.0, 1e-12);  // 30 - 20 - sqrt(200^2 - 120^2)
+  EXPECT_NEAR(joints[1], 50.0 + 160.0, 1e-12);
+  Pose pose = Pose::from_mm_deg(0, -100, 0);
+  ASSERT_TRUE(biglide.forward(joints, pose).ok());
+  EXPECT_NEAR(pose.position_mm.x(), 30.0, 1e-12);
+  EXPECT_NEAR(pose.position_mm.y(), -120.0, 1e-12);
+  // Seeded above the rails, FK finds the mirror pose: both satisfy the struts and branches.
+  pose = Pose::from_mm_deg(0, 100, 0);
+  ASSERT_TRUE(biglide.forward(joints, pose).ok());
+  EXPECT_NEAR(pose.position_mm.y(), 120.0, 1e-12);
+}
+
+TEST(Hexapod, SemiRegularHexagonsHaveThePapersShape) {
+  const HexapodGeometry geometry = HexapodGeometry::semi_regular(500, 400, 0.365, 30);
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(geometry.base_mm[i].norm(), 500.0, 1e-12);
+    EXPECT_NEAR(geometry.platform_mm[i].norm(), 400.0, 1e-12);
+  }
+  const double base_short = (geometry.base_mm[0] - geometry.base_mm[1]).norm();
+  const double base_long = (geometry.base_mm[1] - geometry.base_mm[2]).norm();
+  EXPECT_NEAR(base_short / base_long, 0.365, 1e-12);
+  // Platform pairs are legs (1, 6), (2, 3), (4, 5): rotated 60 deg against the base pairs.
+  const double platform_short = (geometry.platform_mm[1] - geometry.platform_mm[2]).norm();
+  const double platform_long = (geometry.platform_mm[0] - geometry.platform_mm[1]).norm();
+  EXPECT_NEAR(platform_short / platform_long, 0.365, 1e-12);
+}
+
+TEST(Hexapod, HomeLegLengthsByLawOfCosines) {
+  const Machine hexapod = load_example("hexapod-bit.toml");
+  JointVector joints;
+  ASSERT_TRUE(hexapod.inverse(hexapod.home(), joints).ok());
+  // Leg 1 joins base joint at -h to platform joint at -60 deg + h, platform 1030 mm up.
+  const double h = std::atan(std::sqrt(3.0) * 0.365 / 2.365);
+  const double angle = M_PI / 3 - 2 * h;
+  const double expected = std::sqrt(500.0 * 500.0 + 400.0 * 400.0 -
+                                    2 * 500.0 * 400.0 * std::cos(angle) + 1030.0 * 1030.0);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(joints[i], expected, 1e-9) << "leg " << i + 1;
+}
+
+TEST(Hexapod, ThreeFoldSymmetry) {
+  // Turning the whole machine state by 120 deg about Z (position T*p, attitude T*R*T^-1) maps
+  // leg i onto leg i+2.
+  const Machine hexapod = load_example("hexapod-bit.toml");
+  std::mt19937_64 rng(3);
+  for (const Pose& pose : test::sample_reachable_poses(hexapod, 200, rng, 10.0)) {
+    const Eigen::Matrix3d turn =
+        Eigen::AngleAxisd(2 * M_PI / 3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Matrix3d rotated =
+        turn * rotation_from_abc(pose.orientation_rad) * turn.transpose();
+    Pose turned;
+    turned.position_mm = turn * pose.position_mm;
+    const Eigen::Vector3d zyx = rotated.eulerAngles(2, 1, 0);
+    turned.orientation_rad = {zyx[2], zyx[1], zyx[0]};
+    JointVector original, after;
+    ASSERT_TRUE(hexapod.kinematics().inverse(pose, original).ok());
+    ASSERT_TRUE(hexapod.kinematics().inverse(turned, after).ok());
+    for (int i = 0; i < 6; ++i) EXPECT_NEAR(after[(i + 2) % 6], original[i], 1e-9);
+  }
+}
+
+TEST(Parameters, RoundTripThroughSetParameters) {
+  for (const std::string& file : test::example_machine_files()) {
+    Machine machine = load_example(file);
+    const std::vector<Parameter> parameters = machine.kinematics().parameters();
+    std::vector<double> values;
+    for (const Parameter& p : parameters) values.push_back(p.value);
+    JointVector before, after;
+    ASSERT_TRUE(machine.kinematics().inverse(machine.home(), before).ok()) << file;
+    machine.kinematics().set_parameters(values);
+    ASSERT_TRUE(machine.kinematics().inverse(machine.home(), after).ok()) << file;
+    EXPECT_LT((before - after).cwiseAbs().maxCoeff(), 1e-12) << file;
+  }
+}
+
+}  // namespace
+}  // namespace pkm
