@@ -1,0 +1,72 @@
+// The per-sample path allocates nothing: IK, Jacobian and FK along a path are counted against a
+// replaced global operator new. A separate executable, so the counter sees only this test.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "test_support.hpp"
+
+namespace {
+std::atomic<long> allocations{0};
+}
+
+void* operator new(std::size_t size) {
+  ++allocations;
+  if (void* memory = std::malloc(size == 0 ? 1 : size)) return memory;
+  throw std::bad_alloc();
+}
+void operator delete(void* memory) noexcept {
+  std::free(memory);
+}
+void operator delete(void* memory, std::size_t) noexcept {
+  std::free(memory);
+}
+
+namespace pkm {
+namespace {
+
+TEST(AllocationCounter, SeesAnAllocation) {
+  const long before = allocations.load();
+  std::string* text = new std::string(100, 'x');
+  volatile char first = (*text)[0];
+  delete text;
+  EXPECT_EQ(first, 'x');
+  EXPECT_GE(allocations.load() - before, 2);  // the string object and its buffer
+}
+
+class NoAllocation : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(NoAllocation, InverseJacobianAndForwardAllocateNothing) {
+  const Machine machine = test::load_example(GetParam());
+  std::mt19937_64 rng(1);
+  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 200, rng, 10.0, 0.05);
+  std::vector<JointVector> joints(poses.size());
+  std::vector<Status> statuses(poses.size());
+  JointJacobian jacobian;
+  const Kinematics& kinematics = machine.kinematics();
+  const long before = allocations.load();
+  kinematics.inverse_batch(poses, joints, statuses);
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    Pose pose = poses[i];
+    pose.position_mm.x() += 0.01;  // a servo step away: the seed FK gets along a path
+    kinematics.inverse(poses[i], joints[i]);
+    kinematics.jacobian(poses[i], jacobian);
+    kinematics.forward(joints[i], pose);
+    machine.inverse(poses[i], joints[i]);
+  }
+  EXPECT_EQ(allocations.load() - before, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, NoAllocation, ::testing::ValuesIn(test::example_machine_files()),
+                         [](const auto& test_info) {
+                           std::string name = test_info.param.substr(0, test_info.param.find('.'));
+                           for (char& c : name) {
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           }
+                           return name;
+                         });
+
+}  // namespace
+}  // namespace pkm
