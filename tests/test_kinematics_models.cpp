@@ -176,6 +176,29 @@ TEST(Hexapod, ThreeFoldSymmetry) {
   }
 }
 
+TEST(Batch, InverseBatchEqualsSingleCalls) {
+  // Varying and fixed attitude (the hexapod batch reuses its rotation), and a NaN in the middle.
+  for (const std::string& file : test::example_machine_files()) {
+    const Machine machine = load_example(file);
+    std::mt19937_64 rng(17);
+    std::vector<Pose> poses = test::sample_reachable_poses(machine, 300, rng, 15.0);
+    for (std::size_t i = 100; i < 200; ++i) poses[i].orientation_rad = poses[99].orientation_rad;
+    poses[150].position_mm.y() = std::nan("");
+    std::vector<JointVector> batch(poses.size());
+    std::vector<Status> statuses(poses.size());
+    machine.kinematics().inverse_batch(poses, batch, statuses);
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      JointVector single;
+      const Status status = machine.kinematics().inverse(poses[i], single);
+      ASSERT_EQ(statuses[i].code, status.code) << file << " pose " << i;
+      if (status.ok()) {
+        EXPECT_LT((batch[i] - single).cwiseAbs().maxCoeff(), 1e-12) << file;
+      }
+    }
+    EXPECT_EQ(statuses[150].code, StatusCode::invalid_input) << file;
+  }
+}
+
 TEST(Parameters, RoundTripThroughSetParameters) {
   for (const std::string& file : test::example_machine_files()) {
     Machine machine = load_example(file);

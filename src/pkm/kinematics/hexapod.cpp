@@ -61,16 +61,12 @@ void HexapodKinematics::update_derived() {
   }
 }
 
-void HexapodKinematics::leg_lengths(const Eigen::Vector3d& position_mm,
-                                    const Eigen::Matrix3d& rotation, JointVector& joints) const {
-  const Eigen::Matrix<double, 3, 6> legs =
-      (rotation * platform_from_tip_mm_).colwise() + position_mm - base_mm_;
-  joints = legs.colwise().norm().transpose() + leg_offset_mm_;
-}
-
 Status HexapodKinematics::inverse(const Pose& pose, JointVector& joints) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
-  leg_lengths(pose.position_mm, rotation_from_abc(pose.orientation_rad), joints);
+  const Eigen::Matrix<double, 3, 6> legs =
+      (rotation_from_abc(pose.orientation_rad) * platform_from_tip_mm_).colwise() +
+      pose.position_mm - base_mm_;
+  joints = legs.colwise().norm().transpose() + leg_offset_mm_;
   return Status::success();
 }
 
@@ -79,10 +75,11 @@ void HexapodKinematics::inverse_batch(std::span<const Pose> poses, std::span<Joi
   if (joints.size() < poses.size() || statuses.size() < poses.size()) {
     throw std::invalid_argument("inverse_batch: output spans shorter than the input");
   }
-  // Along a path with a fixed tool attitude (the paper's "fixed attitude mode") the rotation is
-  // computed once; its sines and cosines are most of the cost of a pose.
+  // Along a path with a fixed tool attitude (the paper's "fixed attitude mode") the rotated
+  // platform, less the base, is the same for every pose: each leg is then one vector sum and a
+  // norm. The rotation's sines and cosines are most of the cost of a pose with a varying attitude.
   Eigen::Vector3d rotation_angles = Eigen::Vector3d::Constant(std::nan(""));
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Matrix<double, 3, 6> rotated_from_base;
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const Pose& pose = poses[i];
     if (!all_finite(pose)) {
@@ -91,9 +88,10 @@ void HexapodKinematics::inverse_batch(std::span<const Pose> poses, std::span<Joi
     }
     if (pose.orientation_rad != rotation_angles) {
       rotation_angles = pose.orientation_rad;
-      rotation = rotation_from_abc(rotation_angles);
+      rotated_from_base = rotation_from_abc(rotation_angles) * platform_from_tip_mm_ - base_mm_;
     }
-    leg_lengths(pose.position_mm, rotation, joints[i]);
+    joints[i] = (rotated_from_base.colwise() + pose.position_mm).colwise().norm().transpose() +
+                leg_offset_mm_;
     statuses[i] = Status::success();
   }
 }

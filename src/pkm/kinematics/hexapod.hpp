@@ -49,10 +49,6 @@ class HexapodKinematics final : public Kinematics {
 
  private:
   void update_derived();
-  // Leg lengths for a known rotation; the shared core of inverse and inverse_batch.
-  void leg_lengths(const Eigen::Vector3d& position_mm, const Eigen::Matrix3d& rotation,
-                   JointVector& joints) const;
-
   HexapodGeometry geometry_;
   // Columns: platform joints measured from the tool tip, platform frame (platform + (0, 0,
   // tool_length)); base joints, world frame; leg offsets. Matrix form lets Eigen do the six legs
