@@ -28,5 +28,6 @@ double joint_from_interface(const JointSpec& joint, double value);
 const char* joint_unit(const JointSpec& joint);
 
 void register_kinematics_commands(CLI::App& app);
+void register_calibrate_commands(CLI::App& app);
 
 }  // namespace pkm::app

@@ -30,6 +30,7 @@ class MatrixKinematics final : public Kinematics {
   }
 
   const Eigen::Matrix3d& coefficients() const { return coefficients_; }
+  const std::vector<int>& passthrough_axes() const { return passthrough_axes_; }
   // Largest ratio of singular values accepted: beyond it FK would amplify a joint error of 1 um
   // into more than 1 m of tool motion, which is a typo in the file, not a machine.
   static constexpr double kMaxConditionNumber = 1e6;

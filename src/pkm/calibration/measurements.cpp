@@ -1,0 +1,147 @@
+#include "pkm/calibration/measurements.hpp"
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace pkm {
+
+namespace {
+
+struct Field {
+  std::string text;
+  int column = 1;  // 1-based character column where the field starts
+};
+
+std::vector<Field> split_csv_line(const std::string& line) {
+  std::vector<Field> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    const std::size_t end = comma == std::string::npos ? line.size() : comma;
+    std::string text = line.substr(start, end - start);
+    const std::size_t first = text.find_first_not_of(" \t");
+    const std::size_t last = text.find_last_not_of(" \t\r");
+    text = first == std::string::npos ? "" : text.substr(first, last - first + 1);
+    fields.push_back(
+        {text, static_cast<int>(start + (first == std::string::npos ? 0 : first)) + 1});
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return fields;
+}
+
+}  // namespace
+
+std::vector<Measurement> parse_measurements_csv(const std::string& text,
+                                                const std::string& source_name,
+                                                const Machine& machine) {
+  const auto fail = [&](int line, int column, const std::string& message) {
+    throw MeasurementFileError(source_name + ":" + std::to_string(line) + ":" +
+                               std::to_string(column) + ": " + message);
+  };
+  std::istringstream in(text);
+  std::string line;
+  int line_number = 0;
+  // Header: which column is which joint or pose coordinate.
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") != std::string::npos) break;
+  }
+  if (line_number == 0 || line.find_first_not_of(" \t\r") == std::string::npos) {
+    fail(1, 1, "empty file: expected a header row such as j_left,j_right,x,y");
+  }
+  const std::vector<Field> header = split_csv_line(line);
+  const int joint_count = static_cast<int>(machine.joints().size());
+  std::vector<int> joint_of_column(header.size(), -1);
+  std::vector<int> axis_of_column(header.size(), -1);
+  std::vector<bool> joint_seen(static_cast<std::size_t>(joint_count), false);
+  std::array<bool, kPoseSize> axis_seen{};
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    const std::string& name = header[c].text;
+    if (name == "t" || name == "line") continue;
+    bool known = false;
+    for (int j = 0; j < joint_count; ++j) {
+      if (name == "j_" + machine.joints()[j].name) {
+        if (joint_seen[j])
+          fail(line_number, header[c].column, "column '" + name + "' appears twice");
+        joint_of_column[c] = j;
+        joint_seen[j] = true;
+        known = true;
+      }
+    }
+    const int axis = axis_index(name);
+    if (!known && axis >= 0 && name.size() == 1 &&
+        std::islower(static_cast<unsigned char>(name[0]))) {
+      if (!machine.kinematics().dof().controls(axis)) {
+        fail(line_number, header[c].column,
+             "column '" + name + "': this machine does not control " + name);
+      }
+      if (axis_seen[axis])
+        fail(line_number, header[c].column, "column '" + name + "' appears twice");
+      axis_of_column[c] = axis;
+      axis_seen[axis] = true;
+      known = true;
+    }
+    if (!known) {
+      fail(line_number, header[c].column,
+           "unknown column '" + name + "' (expected j_<joint name>, x y z a b c, t or line)");
+    }
+  }
+  for (int j = 0; j < joint_count; ++j) {
+    if (!joint_seen[j]) fail(line_number, 1, "no column 'j_" + machine.joints()[j].name + "'");
+  }
+  bool any_axis = false;
+  for (const bool seen : axis_seen) any_axis = any_axis || seen;
+  if (!any_axis) fail(line_number, 1, "no measured pose column (x y z a b c)");
+
+  std::vector<Measurement> measurements;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const std::vector<Field> fields = split_csv_line(line);
+    if (fields.size() != header.size()) {
+      fail(line_number, 1,
+           "has " + std::to_string(fields.size()) + " fields; the header has " +
+               std::to_string(header.size()));
+    }
+    Measurement measurement;
+    measurement.joints.resize(joint_count);
+    measurement.measured = axis_seen;
+    measurement.line = line_number;
+    for (std::size_t c = 0; c < fields.size(); ++c) {
+      if (joint_of_column[c] < 0 && axis_of_column[c] < 0) continue;
+      double value = 0.0;
+      const std::string& field = fields[c].text;
+      const auto result = std::from_chars(field.data(), field.data() + field.size(), value);
+      if (field.empty() || result.ec != std::errc() || result.ptr != field.data() + field.size()) {
+        fail(line_number, fields[c].column, "'" + field + "' is not a number");
+      }
+      if (!std::isfinite(value)) fail(line_number, fields[c].column, "must be finite");
+      if (joint_of_column[c] >= 0) {
+        const JointSpec& joint = machine.joints()[joint_of_column[c]];
+        measurement.joints[joint_of_column[c]] =
+            joint.kind == JointKind::rotary ? degrees_to_radians(value) : value;
+      } else {
+        const int axis = axis_of_column[c];
+        measurement.pose[axis] = axis < 3 ? value : degrees_to_radians(value);
+      }
+    }
+    measurements.push_back(measurement);
+  }
+  if (measurements.empty()) fail(line_number, 1, "no measurements after the header");
+  return measurements;
+}
+
+std::vector<Measurement> read_measurements_csv(const std::filesystem::path& path,
+                                               const Machine& machine) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw MeasurementFileError(path.string() + ":0:0: cannot open the file");
+  std::ostringstream text;
+  text << file.rdbuf();
+  return parse_measurements_csv(text.str(), path.string(), machine);
+}
+
+}  // namespace pkm

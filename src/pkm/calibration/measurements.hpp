@@ -1,0 +1,36 @@
+// Calibration measurements: joint readings with the tool pose measured at them.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "pkm/machine/machine.hpp"
+
+namespace pkm {
+
+struct Measurement {
+  JointVector joints;                      // mm (rad for rotary joints)
+  Vector6d pose = Vector6d::Zero();        // x y z mm, a b c rad; only measured ones are used
+  std::array<bool, kPoseSize> measured{};  // which pose coordinates were measured
+  int line = 0;                            // source line, for reports
+};
+
+// An error in a measurement file, located as file:line:column.
+class MeasurementFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Reads a CSV with a header row: one column per joint named `j_` + its name (mm, deg for rotary
+// joints) and the measured pose coordinates `x y z` (mm) and `a b c` (deg), any subset of those
+// the machine controls. Columns `t` and `line` (as in plan output) are ignored; any other column
+// is an error, as is a missing joint column, a non-number or NaN.
+std::vector<Measurement> read_measurements_csv(const std::filesystem::path& path,
+                                               const Machine& machine);
+std::vector<Measurement> parse_measurements_csv(const std::string& text,
+                                                const std::string& source_name,
+                                                const Machine& machine);
+
+}  // namespace pkm

@@ -1,0 +1,213 @@
+#include "pkm/machine/machine_writer.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+#include <vector>
+
+#include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/formula.hpp"
+#include "pkm/kinematics/glide.hpp"
+#include "pkm/kinematics/hexapod.hpp"
+#include "pkm/kinematics/matrix.hpp"
+
+namespace pkm {
+
+namespace {
+
+std::string number(double value) {
+  char text[32];
+  const auto result = std::to_chars(text, text + sizeof text, value);
+  std::string written(text, result.ptr);
+  // Keep floats recognisable as floats in TOML.
+  if (written.find_first_of(".en") == std::string::npos) written += ".0";
+  return written;
+}
+
+// A TOML basic string.
+std::string quoted(const std::string& text) {
+  std::string result = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      result += '\\';
+      result += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char escape[8];
+      std::snprintf(escape, sizeof escape, "\\u%04x", c);
+      result += escape;
+    } else {
+      result += c;
+    }
+  }
+  return result + "\"";
+}
+
+class Writer {
+ public:
+  explicit Writer(LengthUnit units) : per_mm_(units == LengthUnit::inch ? 1.0 / 25.4 : 1.0) {}
+
+  void line(const std::string& text) { out_ << text << "\n"; }
+  void length(const std::string& key, double mm) { line(key + " = " + number(mm * per_mm_)); }
+  void value(const std::string& key, double value) { line(key + " = " + number(value)); }
+  void lengths(const std::string& key, const double* mm, int count) {
+    std::string text = key + " = [";
+    for (int i = 0; i < count; ++i) text += (i ? ", " : "") + number(mm[i] * per_mm_);
+    line(text + "]");
+  }
+  void vector3(const std::string& key, const Eigen::Vector3d& v, bool is_length) {
+    const double scale = is_length ? per_mm_ : 1.0;
+    line(key + " = [" + number(v.x() * scale) + ", " + number(v.y() * scale) + ", " +
+         number(v.z() * scale) + "]");
+  }
+  void points(const std::string& key, const std::array<Eigen::Vector3d, 6>& points) {
+    line(key + " = [");
+    for (const Eigen::Vector3d& p : points) {
+      line("  [" + number(p.x() * per_mm_) + ", " + number(p.y() * per_mm_) + ", " +
+           number(p.z() * per_mm_) + "],");
+    }
+    line("]");
+  }
+  double per_mm() const { return per_mm_; }
+  std::string text() const { return out_.str(); }
+
+ private:
+  double per_mm_;
+  std::ostringstream out_;
+};
+
+std::string axis_list(Dof dof) {
+  std::string text = "[";
+  for (int axis = 0, n = 0; axis < kPoseSize; ++axis) {
+    if (dof.controls(axis))
+      text += std::string(n++ ? ", " : "") + "\"" + std::string(kAxisNames[axis]) + "\"";
+  }
+  return text + "]";
+}
+
+}  // namespace
+
+std::string kinematics_toml(const Kinematics& kinematics, LengthUnit units) {
+  Writer w(units);
+  w.line("[kinematics]");
+  w.line("type = \"" + std::string(kinematics.type()) + "\"");
+  const ForwardOptions defaults;
+  if (kinematics.forward_options().tolerance_mm != defaults.tolerance_mm) {
+    w.length("forward_tolerance", kinematics.forward_options().tolerance_mm);
+  }
+  if (kinematics.forward_options().max_iterations != defaults.max_iterations) {
+    w.line("forward_max_iterations = " +
+           std::to_string(kinematics.forward_options().max_iterations));
+  }
+  if (const auto* matrix = dynamic_cast<const MatrixKinematics*>(&kinematics)) {
+    const Eigen::Matrix3d& c = matrix->coefficients();
+    w.line("matrix = [");
+    for (int row = 0; row < 3; ++row) {
+      w.line("  [" + number(c(row, 0)) + ", " + number(c(row, 1)) + ", " + number(c(row, 2)) +
+             "],");
+    }
+    w.line("]");
+    if (!matrix->passthrough_axes().empty()) {
+      std::string list = "passthrough = [";
+      for (const int axis : matrix->passthrough_axes()) {
+        list += std::string(list.back() == '[' ? "" : ", ") + "\"" + std::string(kAxisNames[axis]) +
+                "\"";
+      }
+      w.line(list + "]");
+    }
+  } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&kinematics)) {
+    const CablePlotterGeometry& g = plotter->geometry();
+    w.length("anchor_distance", g.anchor_distance_mm);
+    const double offsets[2] = {g.left_cable_offset_mm, g.right_cable_offset_mm};
+    w.lengths("cable_offsets", offsets, 2);
+  } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&kinematics)) {
+    const bool orientation = glide->dof().any_rotation();
+    w.line(std::string("orientation = ") + (orientation ? "true" : "false"));
+    if (!orientation) w.line("axes = " + axis_list(glide->dof()));
+    for (const GlideRail& rail : glide->rails()) {
+      w.line("");
+      w.line("[[kinematics.rails]]");
+      w.vector3("origin", rail.origin_mm, true);
+      w.vector3("direction", rail.direction, false);
+      w.length("strut", rail.strut_mm);
+      w.vector3("attach", rail.attach_mm, true);
+      w.line("branch = " + std::to_string(rail.branch));
+    }
+  } else if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&kinematics)) {
+    const HexapodGeometry& g = hexapod->geometry();
+    w.points("base", g.base_mm);
+    w.points("platform", g.platform_mm);
+    w.length("tool_length", g.tool_length_mm);
+    w.lengths("leg_offsets", g.leg_offset_mm.data(), 6);
+  } else if (const auto* formula = dynamic_cast<const FormulaKinematics*>(&kinematics)) {
+    const FormulaDefinition& d = formula->definition();
+    w.line("axes = " + axis_list(formula->dof()));
+    w.line("");
+    w.line("[kinematics.constants]");
+    for (const auto& [name, value] : d.constants) w.value(name, value);
+    w.line("");
+    w.line("[kinematics.formulas]");
+    for (const auto& [joint, expression] : d.formulas) {
+      w.line(joint + " = " + quoted(expression));
+    }
+  }
+  return w.text();
+}
+
+std::string replace_kinematics_section(const std::string& original_text,
+                                       const std::string& source_name, const Kinematics& kinematics,
+                                       LengthUnit units) {
+  // Where the section starts and ends comes from the parser, not from scanning text: a line
+  // beginning with '[' may as well be a row of a multi-line array.
+  toml::table document;
+  try {
+    document = toml::parse(original_text, source_name);
+  } catch (const toml::parse_error& error) {
+    throw MachineFileError(source_name, static_cast<int>(error.source().begin.line), "(syntax)",
+                           std::string(error.description()));
+  }
+  const toml::table* section = document.get_as<toml::table>("kinematics");
+  if (section == nullptr || section->is_inline()) {
+    throw MachineFileError(source_name, 1, "kinematics",
+                           "cannot rewrite this file: it has no [kinematics] table header");
+  }
+  const auto first_line = static_cast<std::size_t>(section->source().begin.line);
+  std::size_t next_line = std::numeric_limits<std::size_t>::max();
+  const auto consider = [&](const toml::node& node) {
+    const auto line = static_cast<std::size_t>(node.source().begin.line);
+    if (line > first_line && line < next_line) next_line = line;
+  };
+  for (const auto& [key, node] : document) {
+    if (key.str() == "kinematics") continue;
+    if (const toml::table* table = node.as_table(); table != nullptr && !table->is_inline()) {
+      consider(*table);
+    } else if (const toml::array* array = node.as_array();
+               array != nullptr && array->is_array_of_tables()) {
+      for (const toml::node& element : *array) consider(element);
+    }
+  }
+  std::vector<std::string> lines;
+  {
+    std::istringstream in(original_text);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+  }
+  const std::size_t begin = first_line - 1;  // 0-based
+  std::size_t end = std::min(lines.size(), next_line - 1);
+  // Comments and blank lines just before the next table belong to that table.
+  while (end > begin + 1) {
+    const std::string& previous = lines[end - 1];
+    const auto first = previous.find_first_not_of(" \t\r");
+    if (first != std::string::npos && previous[first] != '#') break;
+    --end;
+  }
+  std::string text;
+  for (std::size_t i = 0; i < begin; ++i) text += lines[i] + "\n";
+  text += kinematics_toml(kinematics, units);
+  for (std::size_t i = end; i < lines.size(); ++i) text += lines[i] + "\n";
+  return text;
+}
+
+}  // namespace pkm

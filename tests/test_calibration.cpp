@@ -1,0 +1,308 @@
+// Calibration: the matrixkins formulas by hand, machine files written back, and least-squares
+// fits that recover a known geometry from noisy synthetic measurements.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include "pkm/calibration/geometry_fit.hpp"
+#include "pkm/calibration/matrix_calibration.hpp"
+#include "pkm/kinematics/matrix.hpp"
+#include "pkm/machine/machine_writer.hpp"
+#include "test_support.hpp"
+
+namespace pkm {
+namespace {
+
+TEST(MatrixCalibration, EachFormulaByHand) {
+  MatrixMeasurements m;
+  m.diagonals = {{141.5, 141.2}};
+  m.widths = {{100.02, 100.0}};
+  m.x_to_spindle = {{0.02, 200.0}};
+  m.y_to_spindle = {{-0.03, 150.0}};
+  m.z_tilt_x = {{0.01, 100.0}};
+  m.z_tilt_y = {{-0.004, 80.0}};
+  const Eigen::Matrix3d c = calibrate_matrix(m);
+  EXPECT_DOUBLE_EQ(c(0, 1), (141.2 * 141.2 - 141.5 * 141.5) / (2 * 141.5 * 141.2));
+  EXPECT_NEAR(c(0, 1), -0.0021223936, 1e-10);
+  EXPECT_NEAR(c(1, 1), 1.0002, 1e-15);
+  EXPECT_DOUBLE_EQ(c(2, 0), 0.0001);
+  EXPECT_DOUBLE_EQ(c(2, 1), -0.0002);
+  EXPECT_DOUBLE_EQ(c(0, 2), -0.0001);
+  EXPECT_DOUBLE_EQ(c(1, 2), 0.00005);
+  EXPECT_EQ(c(0, 0), 1.0);
+  EXPECT_EQ(c(1, 0), 0.0);
+  EXPECT_EQ(c(2, 2), 1.0);
+}
+
+TEST(MatrixCalibration, RecalibrationAddsToTheOldValues) {
+  // The mill's file has C_xy = 0.0003, C_xz = -0.0001: new adjustments add to them.
+  const Machine mill = test::load_example("matrix-mill.toml");
+  const auto& start = dynamic_cast<const MatrixKinematics&>(mill.kinematics()).coefficients();
+  MatrixMeasurements m;
+  m.diagonals = {{141.5, 141.2}};
+  m.z_tilt_x = {{0.01, 100.0}};
+  const Eigen::Matrix3d c = calibrate_matrix(m, start);
+  EXPECT_DOUBLE_EQ(c(0, 1), 0.0003 + (141.2 * 141.2 - 141.5 * 141.5) / (2 * 141.5 * 141.2));
+  EXPECT_DOUBLE_EQ(c(0, 2), -0.0001 - 0.0001);
+  EXPECT_DOUBLE_EQ(c(2, 0), 0.0002);  // untouched
+  // A scale re-calibration multiplies the scale already in effect.
+  Eigen::Matrix3d scaled = Eigen::Matrix3d::Identity();
+  scaled(1, 1) = 1.01;
+  MatrixMeasurements widths;
+  widths.widths = {{100.0, 101.0}};
+  EXPECT_DOUBLE_EQ(calibrate_matrix(widths, scaled)(1, 1), 1.01 + 1.01 * (100.0 / 101.0 - 1.0));
+}
+
+TEST(MatrixCalibration, ImpossibleMeasurementsNameTheFlag) {
+  MatrixMeasurements zero_travel;
+  zero_travel.x_to_spindle = {{0.02, 0.0}};
+  EXPECT_THROW(
+      {
+        try {
+          calibrate_matrix(zero_travel);
+        } catch (const std::invalid_argument& error) {
+          EXPECT_NE(std::string(error.what()).find("--x-to-spindle"), std::string::npos);
+          throw;
+        }
+      },
+      std::invalid_argument);
+  MatrixMeasurements negative;
+  negative.diagonals = {{-1.0, 1.0}};
+  EXPECT_THROW(calibrate_matrix(negative), std::invalid_argument);
+  MatrixMeasurements nan;
+  nan.widths = {{std::nan(""), 1.0}};
+  EXPECT_THROW(calibrate_matrix(nan), std::invalid_argument);
+}
+
+TEST(MatrixCalibration, LinuxcncLines) {
+  Eigen::Matrix3d c = Eigen::Matrix3d::Identity();
+  c(0, 1) = -0.0021;
+  const std::string lines = linuxcnc_setp_lines(c);
+  EXPECT_NE(lines.find("setp matrixkins.C_xx 1\n"), std::string::npos);
+  EXPECT_NE(lines.find("setp matrixkins.C_xy -0.0021\n"), std::string::npos);
+  EXPECT_NE(lines.find("setp matrixkins.C_zz 1\n"), std::string::npos);
+}
+
+TEST(MachineWriter, EveryExampleRoundTripsThroughItsKinematicsSection) {
+  for (const std::string& file : test::example_machine_files()) {
+    const Machine machine = test::load_example(file);
+    std::ifstream in(test::example_machine_path(file));
+    const std::string original((std::istreambuf_iterator<char>(in)), {});
+    const std::string rewritten =
+        replace_kinematics_section(original, file, machine.kinematics(), machine.units());
+    const Machine reread = parse_machine(rewritten, file);
+    const auto before = machine.kinematics().parameters();
+    const auto after = reread.kinematics().parameters();
+    ASSERT_EQ(before.size(), after.size()) << file;
+    for (std::size_t i = 0; i < before.size(); ++i) {
+      EXPECT_EQ(before[i].name, after[i].name);
+      EXPECT_DOUBLE_EQ(before[i].value, after[i].value) << file << " " << before[i].name;
+    }
+    EXPECT_EQ(reread.joint_names(), machine.joint_names()) << file;
+    EXPECT_EQ(reread.name(), machine.name()) << file;
+  }
+}
+
+// Measurements of a machine whose true geometry is the nominal one plus `delta`.
+std::vector<Measurement> synthetic_measurements(const Machine& nominal,
+                                                const std::vector<double>& truth, int count,
+                                                double noise_mm, std::mt19937_64& rng,
+                                                bool measure_angles = true) {
+  std::unique_ptr<Kinematics> true_model = nominal.kinematics().clone();
+  true_model->set_parameters(truth);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<Measurement> data;
+  for (const Pose& pose : test::sample_reachable_poses(nominal, 4 * count, rng, 10.0, 0.05)) {
+    if (static_cast<int>(data.size()) == count) break;
+    Measurement m;
+    if (!true_model->inverse(pose, m.joints).ok()) continue;
+    m.pose = pose.as_vector();
+    for (int axis = 0; axis < kPoseSize; ++axis) {
+      const bool controlled = nominal.kinematics().dof().controls(axis);
+      m.measured[axis] = controlled && (axis < 3 || measure_angles);
+      if (m.measured[axis]) m.pose[axis] += (axis < 3 ? noise_mm : noise_mm / 100.0) * noise(rng);
+    }
+    m.line = static_cast<int>(data.size()) + 2;
+    data.push_back(m);
+  }
+  return data;
+}
+
+struct FitCase {
+  std::string file;
+  std::vector<std::string> parameters;  // patterns to fit
+  double perturbation;                  // size of the true deviation of each fitted parameter
+};
+
+std::ostream& operator<<(std::ostream& out, const FitCase& c) {
+  return out << c.file;
+}
+
+class RecoversKnownGeometry : public ::testing::TestWithParam<FitCase> {};
+
+TEST_P(RecoversKnownGeometry, WithinThreeSigmaAndDownToTheNoise) {
+  const FitCase& c = GetParam();
+  Machine machine = test::load_example(c.file);
+  std::mt19937_64 rng(42);
+  const std::vector<Parameter> parameters = machine.kinematics().parameters();
+  std::vector<double> truth;
+  std::uniform_real_distribution<double> sign(-1.0, 1.0);
+  FitOptions options;
+  options.parameters = c.parameters;
+  // Perturb exactly the parameters the case fits.
+  Machine probe = machine;
+  const FitReport selection = fit_geometry(probe.kinematics(), probe.home(),
+                                           synthetic_measurements(
+                                               machine,
+                                               [&] {
+                                                 std::vector<double> v;
+                                                 for (const Parameter& p : parameters)
+                                                   v.push_back(p.value);
+                                                 return v;
+                                               }(),
+                                               50, 0.0, rng),
+                                           options);
+  std::vector<std::string> fitted_names;
+  for (const ParameterEstimate& p : selection.parameters) fitted_names.push_back(p.name);
+  for (const Parameter& p : parameters) {
+    const bool fitted =
+        std::find(fitted_names.begin(), fitted_names.end(), p.name) != fitted_names.end();
+    truth.push_back(p.value + (fitted ? c.perturbation * sign(rng) : 0.0));
+  }
+  const double noise_mm = 0.005;
+  const std::vector<Measurement> data = synthetic_measurements(machine, truth, 150, noise_mm, rng);
+  const FitReport report = fit_geometry(machine.kinematics(), machine.home(), data, options);
+
+  EXPECT_TRUE(report.converged);
+  EXPECT_TRUE(report.held.empty()) << "first held: " << report.held.front();
+  int measured_per_row = 0;
+  for (const bool measured : data.front().measured) measured_per_row += measured ? 1 : 0;
+  const double noise_level = noise_mm * std::sqrt(static_cast<double>(measured_per_row));
+  EXPECT_GT(report.rms_before_mm, 10 * noise_level) << "the perturbation must be visible";
+  EXPECT_LT(report.rms_after_mm, 1.3 * noise_level);
+  EXPECT_GT(report.rms_after_mm, 0.6 * noise_level);
+  for (const ParameterEstimate& p : report.parameters) {
+    const std::size_t index = static_cast<std::size_t>(
+        std::find_if(parameters.begin(), parameters.end(),
+                     [&](const Parameter& q) { return q.name == p.name; }) -
+        parameters.begin());
+    EXPECT_GT(p.standard_deviation, 0.0) << p.name;
+    EXPECT_LE(std::abs(p.fitted - truth[index]), 3.0 * p.standard_deviation + 1e-12)
+        << p.name << " fitted " << p.fitted << " true " << truth[index] << " sd "
+        << p.standard_deviation;
+  }
+}
+
+const FitCase kFitCases[] = {
+    {"hektor.toml", {}, 0.5},
+    {"wall-plotter.toml", {}, 2.0},
+    {"matrix-mill.toml", {}, 1e-3},
+    {"triaglide.toml", {"rail*.strut", "rail*.origin.*"}, 0.5},
+    {"triaglide-fanned.toml", {"rail*.strut", "rail*.origin.*"}, 0.5},
+    {"linear-delta.toml", {"rail*.strut", "rail*.origin.*"}, 0.5},
+    {"hexaglide.toml", {"rail*.strut", "rail*.origin.z"}, 0.5},
+    {"hexapod-bit.toml", {"leg*.offset", "leg*.base.*"}, 0.5},
+    {"mach3-formula.toml", {"d"}, 3.0},
+};
+
+INSTANTIATE_TEST_SUITE_P(Examples, RecoversKnownGeometry, ::testing::ValuesIn(kFitCases),
+                         [](const auto& test_info) {
+                           std::string name =
+                               test_info.param.file.substr(0, test_info.param.file.find('.'));
+                           for (char& ch : name) {
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           }
+                           return name;
+                         });
+
+TEST(GeometryFit, ReportsWhatTheDataCannotIdentify) {
+  // Every measurement at z = 0: the z column of C never acts on the data.
+  Machine mill = test::load_example("matrix-mill.toml");
+  std::vector<Measurement> data;
+  for (int i = 0; i < 40; ++i) {
+    Measurement m;
+    const Pose pose = Pose::from_mm_deg(20.0 + 13.0 * i, 10.0 + 9.0 * (i % 7), 0.0);
+    ASSERT_TRUE(mill.kinematics().inverse(pose, m.joints).ok());
+    m.pose = pose.as_vector();
+    m.measured = {true, true, true, false, false, false};
+    m.line = i + 2;
+    data.push_back(m);
+  }
+  const FitReport report = fit_geometry(mill.kinematics(), mill.home(), data, {});
+  std::vector<std::string> held = report.held;
+  std::sort(held.begin(), held.end());
+  EXPECT_EQ(held, (std::vector<std::string>{"C_xz", "C_yz", "C_zz"}));
+  ASSERT_FALSE(report.indistinguishable.empty());
+  for (const ParameterEstimate& p : report.parameters) {
+    if (!p.free) {
+      EXPECT_EQ(p.fitted, p.nominal) << p.name << " must stay at its nominal value";
+    }
+  }
+  EXPECT_LT(report.rms_after_mm, 1e-9);
+}
+
+TEST(GeometryFit, HexapodWithEveryParameterHoldsTheUnidentifiableOnes) {
+  // Positions only: the platform's own frame (its orientation, the tool length against the
+  // platform joints' height) is not in the data. The fit must hold those and still fit.
+  Machine hexapod = test::load_example("hexapod-bit.toml");
+  std::mt19937_64 rng(8);
+  std::vector<double> truth;
+  std::normal_distribution<double> deviation(0.0, 0.3);
+  for (const Parameter& p : hexapod.kinematics().parameters())
+    truth.push_back(p.value + deviation(rng));
+  const auto data = synthetic_measurements(hexapod, truth, 200, 0.0, rng, false);
+  const FitReport report = fit_geometry(hexapod.kinematics(), hexapod.home(), data, {});
+  EXPECT_FALSE(report.held.empty());
+  EXPECT_FALSE(report.indistinguishable.empty());
+  EXPECT_GT(report.rms_before_mm, 0.1);
+  EXPECT_LT(report.rms_after_mm, 1e-6);
+}
+
+TEST(GeometryFit, UnknownParameterNameIsAnError) {
+  Machine hektor = test::load_example("hektor.toml");
+  std::mt19937_64 rng(1);
+  std::vector<double> nominal;
+  for (const Parameter& p : hektor.kinematics().parameters()) nominal.push_back(p.value);
+  const auto data = synthetic_measurements(hektor, nominal, 10, 0.0, rng);
+  FitOptions options;
+  options.parameters = {"anchor_distanse"};
+  EXPECT_THROW(fit_geometry(hektor.kinematics(), hektor.home(), data, options), FitError);
+}
+
+TEST(Measurements, CsvErrorsNameLineAndColumn) {
+  const Machine hektor = test::load_example("hektor.toml");
+  const auto error_of = [&](const std::string& text) {
+    try {
+      parse_measurements_csv(text, "data.csv", hektor);
+    } catch (const MeasurementFileError& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(error_of("j_left,j_right,x,y\n60,80,36,-48\n"), "accepted");
+  EXPECT_EQ(error_of("j_left,j_right,x,y\n60,eighty,36,-48\n"),
+            "data.csv:2:4: 'eighty' is not a number");
+  EXPECT_EQ(error_of("j_left,j_rigth,x,y\n"),
+            "data.csv:1:8: unknown column 'j_rigth' (expected j_<joint name>, x y z a b c, t or "
+            "line)");
+  EXPECT_EQ(error_of("j_left,j_right,x,z\n"),
+            "data.csv:1:18: column 'z': this machine does not control z");
+  EXPECT_EQ(error_of("j_left,x,y\n"), "data.csv:1:1: no column 'j_right'");
+  EXPECT_EQ(error_of("j_left,j_right,x,y\n60,80,36\n"),
+            "data.csv:2:1: has 3 fields; the header has 4");
+  EXPECT_EQ(error_of("j_left,j_right,x,y\n60,80,nan,-48\n"), "data.csv:2:7: must be finite");
+  EXPECT_EQ(error_of("j_left,j_right\n"), "data.csv:1:1: no measured pose column (x y z a b c)");
+  const auto data =
+      parse_measurements_csv("t,line,j_left,j_right,x,y\n0,1,60,80,36,-48\n", "data.csv", hektor);
+  ASSERT_EQ(data.size(), 1u);
+  EXPECT_EQ(data[0].joints[1], 80.0);
+  EXPECT_EQ(data[0].pose[1], -48.0);
+  EXPECT_TRUE(data[0].measured[0]);
+  EXPECT_FALSE(data[0].measured[2]);
+}
+
+}  // namespace
+}  // namespace pkm
