@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
   CLI::App app{"pkmkit: drive parallel-kinematic machines from Cartesian G-code", "pkm"};
   app.require_subcommand(1);
   pkm::app::register_kinematics_commands(app);
+  pkm::app::register_gcode_commands(app);
   pkm::app::register_calibrate_commands(app);
   try {
     app.parse(argc, argv);

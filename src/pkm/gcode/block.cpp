@@ -1,0 +1,562 @@
+#include "pkm/gcode/block.hpp"
+
+#include <cctype>
+#include <cmath>
+#include <numbers>
+
+namespace pkm::gcode {
+
+namespace {
+
+constexpr double kEqualTolerance = 1e-4;  // LinuxCNC's EQ/NE compare within this
+
+// O-word keywords, a keyword before any other it is a prefix of ("endsub" before "end...").
+constexpr std::string_view kOKeywords[] = {"endsub", "endwhile", "endif",  "endrepeat", "elseif",
+                                           "else",   "sub",      "call",   "return",    "do",
+                                           "while",  "if",       "repeat", "break",     "continue"};
+
+double degrees(double radians) {
+  return radians * 180.0 / std::numbers::pi;
+}
+double radians(double degrees) {
+  return degrees * std::numbers::pi / 180.0;
+}
+
+enum class Operator {
+  none,
+  power,
+  times,
+  divide,
+  modulo,
+  plus,
+  minus,
+  eq,
+  ne,
+  gt,
+  ge,
+  lt,
+  le,
+  and_,
+  or_,
+  xor_
+};
+
+int precedence(Operator op) {
+  switch (op) {
+    case Operator::power:
+      return 6;
+    case Operator::times:
+    case Operator::divide:
+    case Operator::modulo:
+      return 5;
+    case Operator::plus:
+    case Operator::minus:
+      return 4;
+    case Operator::eq:
+    case Operator::ne:
+    case Operator::gt:
+    case Operator::ge:
+    case Operator::lt:
+    case Operator::le:
+      return 3;
+    case Operator::and_:
+    case Operator::or_:
+    case Operator::xor_:
+      return 2;
+    case Operator::none:
+      return 0;
+  }
+  return 0;
+}
+
+class Reader {
+ public:
+  Reader(const std::string& line, const Parameters& parameters)
+      : line_(line), parameters_(parameters) {}
+
+  Block read() {
+    Block block;
+    skip_space();
+    if (at_end()) return block;
+    if (line_[pos_] == '%') {
+      block.percent = true;
+      return block;
+    }
+    if (line_[pos_] == '/') {
+      block.block_delete = true;
+      ++pos_;
+    }
+    while (true) {
+      const char c = peek();
+      if (c == 0) break;
+      const int column = static_cast<int>(pos_) + 1;
+      if (c == '(') {
+        block.comments.push_back({read_comment(), column});
+      } else if (c == ';') {
+        block.comments.push_back({line_.substr(pos_ + 1), column});
+        pos_ = line_.size();
+      } else if (c == 'n' && block.empty && block.n_label.empty()) {
+        ++pos_;
+        block.n_label = read_digits(column);
+        // A line number counts as content only together with other words.
+      } else if (c == 'o') {
+        if (!block.empty) fail(column, "an O-word must come first on its line");
+        block.o_word = read_o_word(column);
+        block.empty = false;
+      } else if (c == '#') {
+        block.assignments.push_back(read_assignment(column));
+        block.empty = false;
+      } else if (c == 'g' || c == 'm') {
+        ++pos_;
+        const double value = read_real();
+        const double tenths = value * 10.0;
+        if (std::abs(tenths - std::round(tenths)) > 1e-3 || value < 0.0) {
+          fail(column, std::string("bad ") + static_cast<char>(std::toupper(c)) + " code");
+        }
+        (c == 'g' ? block.g_codes : block.m_codes)
+            .push_back({static_cast<int>(std::lround(tenths)), column});
+        block.empty = false;
+      } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '@' || c == '^') {
+        ++pos_;
+        const int index = slot(c, column);
+        if (block.words[index]) {
+          fail(column, std::string("multiple ") + display(c) + " words on one line");
+        }
+        block.words[index] = Word{read_real(), column};
+        block.empty = false;
+      } else {
+        fail(column, std::string("bad character '") + line_[pos_] + "' used");
+      }
+      if (block.o_word) {
+        // Only a comment may follow an O-word's arguments.
+        const char rest = peek();
+        if (rest != 0 && rest != '(' && rest != ';') {
+          fail(static_cast<int>(pos_) + 1, "unexpected text after the O-word");
+        }
+      }
+    }
+    return block;
+  }
+
+ private:
+  static char display(char c) {
+    return static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  }
+
+  // Words use the slot of their letter; G and M are codes, so their slots hold the polar radius
+  // '@' and angle '^'.
+  int slot(char c, int column) {
+    if (c == '@') return 'g' - 'a';
+    if (c == '^') return 'm' - 'a';
+    static constexpr std::string_view kWords = "abcdefhijklpqrstuvwxyz";
+    if (kWords.find(c) == std::string_view::npos) {
+      fail(column, std::string("bad character '") + display(c) + "' used");
+    }
+    return c - 'a';
+  }
+
+  [[noreturn]] void fail(int column, const std::string& message) const {
+    throw SyntaxError{column, message};
+  }
+
+  bool at_end() const { return pos_ >= line_.size(); }
+  void skip_space() {
+    while (pos_ < line_.size() &&
+           (line_[pos_] == ' ' || line_[pos_] == '\t' || line_[pos_] == '\r')) {
+      ++pos_;
+    }
+  }
+  char peek() {
+    skip_space();
+    return at_end() ? 0 : static_cast<char>(std::tolower(static_cast<unsigned char>(line_[pos_])));
+  }
+  bool accept(char c) {
+    if (peek() != c) return false;
+    ++pos_;
+    return true;
+  }
+  // A word of letters (operator or function name), spaces between letters ignored.
+  bool accept_word(std::string_view word) {
+    const std::size_t saved = pos_;
+    for (const char expected : word) {
+      if (peek() != expected) {
+        pos_ = saved;
+        return false;
+      }
+      ++pos_;
+    }
+    return true;
+  }
+
+  std::string read_comment() {
+    const int column = static_cast<int>(pos_) + 1;
+    const std::size_t close = line_.find(')', pos_ + 1);
+    if (close == std::string::npos) fail(column, "unclosed comment");
+    const std::size_t open = line_.find('(', pos_ + 1);
+    if (open != std::string::npos && open < close)
+      fail(static_cast<int>(open) + 1, "nested comment");
+    std::string text = line_.substr(pos_ + 1, close - pos_ - 1);
+    pos_ = close + 1;
+    return text;
+  }
+
+  std::string read_digits(int column) {
+    std::string digits;
+    while (true) {
+      const char c = peek();
+      if (!std::isdigit(static_cast<unsigned char>(c))) break;
+      digits += c;
+      ++pos_;
+    }
+    if (digits.empty()) fail(column, "bad format of line number");
+    return digits;
+  }
+
+  double read_number() {
+    const int column = static_cast<int>(pos_) + 1;
+    std::string text;
+    bool dot = false;
+    while (true) {
+      const char c = peek();
+      if (std::isdigit(static_cast<unsigned char>(c))) {
+        text += c;
+      } else if (c == '.' && !dot) {
+        dot = true;
+        text += c;
+      } else {
+        break;
+      }
+      ++pos_;
+    }
+    if (text.empty() || text == ".") fail(column, "bad number format");
+    return std::strtod(text.c_str(), nullptr);
+  }
+
+  double read_real() {
+    const int column = static_cast<int>(pos_) + 1;
+    const char c = peek();
+    if (c == '[') {
+      ++pos_;
+      return read_expression();
+    }
+    if (c == '#') {
+      ++pos_;
+      return read_parameter_value(column);
+    }
+    if (c == '-') {
+      ++pos_;
+      return -read_real();
+    }
+    if (c == '+') {
+      ++pos_;
+      return read_real();
+    }
+    if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') return read_number();
+    if (std::isalpha(static_cast<unsigned char>(c))) return read_function(column);
+    if (c == 0) fail(column, "a value is missing at the end of the line");
+    fail(column, std::string("bad number format: '") + line_[pos_] + "'");
+  }
+
+  std::string read_name(int column) {
+    // After '<': up to '>', spaces removed, lower case.
+    std::string name;
+    while (!at_end() && line_[pos_] != '>') {
+      const char c = line_[pos_++];
+      if (c != ' ' && c != '\t')
+        name += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    }
+    if (at_end()) fail(column, "named parameter not terminated by '>'");
+    ++pos_;
+    if (name.empty()) fail(column, "empty parameter name");
+    return name;
+  }
+
+  int read_parameter_number(int column) {
+    const double value = read_real();
+    const double rounded = std::round(value);
+    if (std::abs(value - rounded) > 1e-4 || !parameters_.valid_number(static_cast<int>(rounded))) {
+      fail(column, "parameter number out of range");
+    }
+    return static_cast<int>(rounded);
+  }
+
+  double read_parameter_value(int column) {
+    if (peek() == '<') {
+      ++pos_;
+      const std::string name = read_name(column);
+      const std::optional<double> value = parameters_.named(name);
+      if (!value) fail(column, "named parameter #<" + name + "> not defined");
+      return *value;
+    }
+    return parameters_.numbered(read_parameter_number(column));
+  }
+
+  Assignment read_assignment(int column) {
+    ++pos_;  // '#'
+    Assignment assignment;
+    assignment.column = column;
+    if (peek() == '<') {
+      ++pos_;
+      assignment.name = read_name(column);
+    } else {
+      assignment.number = read_parameter_number(column);
+    }
+    if (!accept('=')) fail(static_cast<int>(pos_) + 1, "equal sign missing in parameter setting");
+    assignment.value = read_real();
+    return assignment;
+  }
+
+  double read_function(int column) {
+    static constexpr std::string_view kNames[] = {"abs", "acos", "asin", "atan",  "cos",
+                                                  "exp", "fix",  "fup",  "ln",    "round",
+                                                  "sin", "sqrt", "tan",  "exists"};
+    std::string name;
+    for (const std::string_view candidate : kNames) {
+      if (accept_word(candidate)) {
+        name = candidate;  // no name is a prefix of another, so the first match is the one
+        break;
+      }
+    }
+    if (name.empty()) fail(column, "unknown word or function where a value is expected");
+    if (peek() != '[') fail(static_cast<int>(pos_) + 1, "left bracket missing after " + name);
+    ++pos_;
+    if (name == "exists") {
+      if (!accept('#') || !accept('<')) fail(column, "EXISTS needs a named parameter");
+      const std::string parameter = read_name(column);
+      if (!accept(']')) fail(static_cast<int>(pos_) + 1, "right bracket missing after EXISTS");
+      return parameters_.exists(parameter) ? 1.0 : 0.0;
+    }
+    const double argument = read_expression();
+    if (name == "atan") {
+      if (!accept('/')) fail(static_cast<int>(pos_) + 1, "slash missing after first ATAN argument");
+      if (!accept('['))
+        fail(static_cast<int>(pos_) + 1, "left bracket missing after slash with ATAN");
+      const double second = read_expression();
+      return degrees(std::atan2(argument, second));
+    }
+    if (name == "abs") return std::abs(argument);
+    if (name == "acos") {
+      if (argument < -1.0 || argument > 1.0) fail(column, "argument to ACOS out of range");
+      return degrees(std::acos(argument));
+    }
+    if (name == "asin") {
+      if (argument < -1.0 || argument > 1.0) fail(column, "argument to ASIN out of range");
+      return degrees(std::asin(argument));
+    }
+    if (name == "cos") return std::cos(radians(argument));
+    if (name == "sin") return std::sin(radians(argument));
+    if (name == "tan") return std::tan(radians(argument));
+    if (name == "exp") return std::exp(argument);
+    if (name == "fix") return std::floor(argument);
+    if (name == "fup") return std::ceil(argument);
+    if (name == "round") return static_cast<double>(std::lround(argument));
+    if (name == "ln") {
+      if (argument <= 0.0) fail(column, "zero or negative argument to LN");
+      return std::log(argument);
+    }
+    if (argument < 0.0) fail(column, "negative argument to SQRT");
+    return std::sqrt(argument);
+  }
+
+  Operator read_operator() {
+    const char c = peek();
+    switch (c) {
+      case '*':
+        ++pos_;
+        if (peek() == '*') {
+          ++pos_;
+          return Operator::power;
+        }
+        return Operator::times;
+      case '/':
+        ++pos_;
+        return Operator::divide;
+      case '+':
+        ++pos_;
+        return Operator::plus;
+      case '-':
+        ++pos_;
+        return Operator::minus;
+      default:
+        break;
+    }
+    static constexpr std::pair<std::string_view, Operator> kWords[] = {
+        {"mod", Operator::modulo}, {"eq", Operator::eq},    {"ne", Operator::ne},
+        {"gt", Operator::gt},      {"ge", Operator::ge},    {"lt", Operator::lt},
+        {"le", Operator::le},      {"and", Operator::and_}, {"or", Operator::or_},
+        {"xor", Operator::xor_}};
+    for (const auto& [word, op] : kWords) {
+      if (accept_word(word)) return op;
+    }
+    return Operator::none;
+  }
+
+  double apply(Operator op, double left, double right, int column) {
+    switch (op) {
+      case Operator::power:
+        if (left < 0.0 && std::floor(right) != right) {
+          fail(column, "attempt to raise a negative number to a non-integer power");
+        }
+        return std::pow(left, right);
+      case Operator::times:
+        return left * right;
+      case Operator::divide:
+        if (right == 0.0) fail(column, "attempt to divide by zero");
+        return left / right;
+      case Operator::modulo: {
+        if (right == 0.0) fail(column, "attempt to divide by zero");
+        double result = std::fmod(left, right);
+        if (result < 0.0) result += std::abs(right);
+        return result;
+      }
+      case Operator::plus:
+        return left + right;
+      case Operator::minus:
+        return left - right;
+      case Operator::eq:
+        return std::abs(left - right) < kEqualTolerance ? 1.0 : 0.0;
+      case Operator::ne:
+        return std::abs(left - right) >= kEqualTolerance ? 1.0 : 0.0;
+      case Operator::gt:
+        return left > right ? 1.0 : 0.0;
+      case Operator::ge:
+        return left >= right ? 1.0 : 0.0;
+      case Operator::lt:
+        return left < right ? 1.0 : 0.0;
+      case Operator::le:
+        return left <= right ? 1.0 : 0.0;
+      case Operator::and_:
+        return (left != 0.0 && right != 0.0) ? 1.0 : 0.0;
+      case Operator::or_:
+        return (left != 0.0 || right != 0.0) ? 1.0 : 0.0;
+      case Operator::xor_:
+        return ((left != 0.0) != (right != 0.0)) ? 1.0 : 0.0;
+      case Operator::none:
+        break;
+    }
+    return 0.0;
+  }
+
+  // After '[': operands and binary operators up to the matching ']', evaluated with LinuxCNC's
+  // precedence, left to right within a level.
+  double read_expression() {
+    const int column = static_cast<int>(pos_);
+    std::vector<double> values{read_real()};
+    std::vector<std::pair<Operator, int>> operators;
+    while (true) {
+      if (peek() == ']') {
+        ++pos_;
+        break;
+      }
+      if (at_end()) fail(column, "unclosed expression: ']' missing");
+      const int op_column = static_cast<int>(pos_) + 1;
+      const Operator op = read_operator();
+      if (op == Operator::none) fail(op_column, "unknown operation in expression");
+      while (!operators.empty() && precedence(operators.back().first) >= precedence(op)) {
+        const double right = values.back();
+        values.pop_back();
+        values.back() =
+            apply(operators.back().first, values.back(), right, operators.back().second);
+        operators.pop_back();
+      }
+      operators.emplace_back(op, op_column);
+      values.push_back(read_real());
+    }
+    while (!operators.empty()) {
+      const double right = values.back();
+      values.pop_back();
+      values.back() = apply(operators.back().first, values.back(), right, operators.back().second);
+      operators.pop_back();
+    }
+    return values.back();
+  }
+
+  OWord read_o_word(int column) {
+    ++pos_;  // 'o'
+    OWord o;
+    o.column = column;
+    if (peek() == '<') {
+      ++pos_;
+      o.label = "<" + read_name(column) + ">";
+    } else if (peek() == '[') {
+      ++pos_;
+      o.label = std::to_string(std::lround(read_expression()));
+    } else {
+      o.label = read_digits(column);
+      o.label.erase(0, std::min(o.label.find_first_not_of('0'), o.label.size() - 1));
+    }
+    for (const std::string_view keyword : kOKeywords) {
+      if (accept_word(keyword)) {
+        o.keyword = keyword;
+        break;
+      }
+    }
+    if (o.keyword.empty()) fail(static_cast<int>(pos_) + 1, "unknown O-word keyword");
+    if (o.keyword == "call") {
+      while (peek() == '[') {
+        ++pos_;
+        o.arguments.push_back(read_expression());
+      }
+    } else if (peek() == '[') {
+      ++pos_;
+      o.value = read_expression();
+    }
+    return o;
+  }
+
+  const std::string& line_;
+  const Parameters& parameters_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace
+
+Block read_block(const std::string& line, const Parameters& parameters) {
+  return Reader(line, parameters).read();
+}
+
+std::string o_word_keyword(const std::string& line, std::string* label) {
+  // Letters and digits with spaces, tabs and comments removed, lower case.
+  std::string compact;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (c == '(') {
+      const std::size_t close = line.find(')', i);
+      if (close == std::string::npos) break;
+      i = close;
+      continue;
+    }
+    if (c == ';') break;
+    if (c == ' ' || c == '\t' || c == '\r') continue;
+    compact += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  std::size_t pos = 0;
+  if (pos < compact.size() && compact[pos] == '/') ++pos;
+  if (pos < compact.size() && compact[pos] == 'n') {
+    ++pos;
+    while (pos < compact.size() && std::isdigit(static_cast<unsigned char>(compact[pos]))) ++pos;
+  }
+  if (pos >= compact.size() || compact[pos] != 'o') return {};
+  ++pos;
+  std::string name;
+  if (pos < compact.size() && compact[pos] == '<') {
+    const std::size_t close = compact.find('>', pos);
+    if (close == std::string::npos) return {};
+    name = compact.substr(pos, close - pos + 1);
+    pos = close + 1;
+  } else {
+    const std::size_t start = pos;
+    while (pos < compact.size() && std::isdigit(static_cast<unsigned char>(compact[pos]))) ++pos;
+    name = compact.substr(start, pos - start);
+    name.erase(0, std::min(name.find_first_not_of('0'), name.size() == 0 ? 0 : name.size() - 1));
+  }
+  for (const std::string_view keyword : kOKeywords) {
+    if (compact.compare(pos, keyword.size(), keyword) == 0) {
+      if (label != nullptr) *label = name;
+      return std::string(keyword);
+    }
+  }
+  return {};
+}
+
+}  // namespace pkm::gcode

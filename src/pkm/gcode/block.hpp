@@ -1,0 +1,73 @@
+// One line of RS274/NGC read into its words, as LinuxCNC reads it: case-insensitive, spaces and
+// tabs ignored outside comments, expressions and parameters evaluated when the line is read
+// (parameter assignments take effect after the whole line is read).
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pkm/gcode/gcode_error.hpp"
+#include "pkm/gcode/parameters.hpp"
+
+namespace pkm::gcode {
+
+struct Comment {
+  std::string text;  // as written, without the parentheses
+  int column = 0;
+};
+
+struct Assignment {
+  int number = 0;    // numbered parameter, or 0
+  std::string name;  // named parameter (lower case), or empty
+  double value = 0.0;
+  int column = 0;
+};
+
+struct Word {
+  double value = 0.0;
+  int column = 0;
+};
+
+// A G or M code times ten, so G64.1 is 641 and G1 is 10.
+struct Code {
+  int tenths = 0;
+  int column = 0;
+};
+
+struct OWord {
+  std::string label;    // "100" or "<name>" lower case, as written between o and the keyword
+  std::string keyword;  // sub, endsub, call, return, do, while, endwhile, if, elseif, else,
+                        // endif, repeat, endrepeat, break, continue
+  std::vector<double> arguments;  // call arguments
+  std::optional<double> value;    // condition, repeat count, or return value
+  int column = 0;
+};
+
+struct Block {
+  bool empty = true;                          // nothing but whitespace or comments
+  bool block_delete = false;                  // starts with '/'
+  bool percent = false;                       // a '%' line
+  std::string n_label;                        // digits of the N word as written, or empty
+  std::array<std::optional<Word>, 26> words;  // letters other than G, M, N, O
+  std::vector<Code> g_codes;
+  std::vector<Code> m_codes;
+  std::vector<Comment> comments;
+  std::vector<Assignment> assignments;
+  std::optional<OWord> o_word;
+
+  const std::optional<Word>& word(char letter) const { return words[letter - 'a']; }
+  bool has(char letter) const { return words[letter - 'a'].has_value(); }
+  double value(char letter) const { return words[letter - 'a']->value; }
+};
+
+// Reads `line` (one physical line, without its line end). Throws SyntaxError with the column of
+// the problem.
+Block read_block(const std::string& line, const Parameters& parameters);
+
+// The keyword of an O-word line (and its label), without evaluating anything: what control flow
+// needs of the lines it skips. Empty when the line is no O-word line.
+std::string o_word_keyword(const std::string& line, std::string* label = nullptr);
+
+}  // namespace pkm::gcode

@@ -1,0 +1,69 @@
+// The canonical commands a G-code program means, in the vocabulary of LinuxCNC's canonical
+// machining interface: what the planner consumes and `pkm gcode --canon` prints.
+#pragma once
+
+#include <array>
+#include <string>
+
+namespace pkm::gcode {
+
+// Axis order of every position: x y z a b c u v w.
+inline constexpr int kAxes = 9;
+using Position = std::array<double, kAxes>;
+
+enum class Plane { xy, xz, yz };
+enum class LengthUnits { inch, mm };
+enum class FeedMode { units_per_minute, inverse_time };
+
+enum class CanonKind {
+  traverse,          // STRAIGHT_TRAVERSE to `end`
+  feed,              // STRAIGHT_FEED to `end`
+  arc,               // ARC_FEED to `end` about `center` in `plane`, `turns` (+ ccw, - cw)
+  dwell,             // DWELL `value` seconds
+  set_feed_rate,     // `value` in length units per minute (or inverse time)
+  set_feed_mode,     // `feed_mode`
+  select_plane,      // `plane`
+  use_length_units,  // `units`
+  comment,           // `text`
+  message,           // `text` of a (MSG, ...) comment
+  spindle_speed,     // `value` rpm
+  spindle_clockwise,
+  spindle_counterclockwise,
+  spindle_stop,
+  mist_on,
+  mist_off,
+  flood_on,
+  flood_off,
+  select_tool,         // `integer` tool number
+  change_tool,         // `integer` tool number
+  tool_length_offset,  // `end` holds the offset per axis
+  g5x_offset,          // `integer` coordinate system 1..9, `end` its offsets
+  g92_offset,          // `end`
+  path_control,        // `integer` 61 exact path, 611 exact stop, 64 continuous with `value` P
+  program_stop,        // M0
+  optional_stop,       // M1
+  program_end,         // M2, M30, or the end of the file
+  event,               // a code with no meaning off a real machine, passed on: `text`
+};
+
+struct Canon {
+  CanonKind kind = CanonKind::comment;
+  int line = 0;                         // source line of the block
+  std::string n_label;                  // its N word as written ("" when none)
+  LengthUnits units = LengthUnits::mm;  // the units of every length below
+  Position end{};  // program coordinates (current work offsets applied by the machine)
+  Plane plane = Plane::xy;
+  std::array<double, 2> center{};  // arc centre in the plane's first and second axis
+  int turns = 0;
+  double value = 0.0;
+  double value2 = 0.0;
+  int integer = 0;
+  FeedMode feed_mode = FeedMode::units_per_minute;
+  std::string text;
+};
+
+// The command in the text form of LinuxCNC's `rs274 -g` (numbers as %.4f), without the leading
+// sequence number and N label.
+std::string canon_text(const Canon& canon);
+
+}  // namespace pkm::gcode

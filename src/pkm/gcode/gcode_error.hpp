@@ -1,0 +1,36 @@
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace pkm::gcode {
+
+// An error in a G-code program, located as file:line:column (line and column from 1).
+class GcodeError : public std::runtime_error {
+ public:
+  GcodeError(std::string file, int line, int column, const std::string& message)
+      : std::runtime_error(file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " +
+                           message),
+        file_(std::move(file)),
+        line_(line),
+        column_(column),
+        message_(message) {}
+  const std::string& file() const { return file_; }
+  int line() const { return line_; }
+  int column() const { return column_; }
+  const std::string& message() const { return message_; }
+
+ private:
+  std::string file_;
+  int line_;
+  int column_;
+  std::string message_;
+};
+
+// Raised inside the reader with a column only; the interpreter adds file and line.
+struct SyntaxError {
+  int column;
+  std::string message;
+};
+
+}  // namespace pkm::gcode

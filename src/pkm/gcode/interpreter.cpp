@@ -1,0 +1,1247 @@
+#include "pkm/gcode/interpreter.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "pkm/gcode/gcode_error.hpp"
+
+namespace pkm::gcode {
+
+namespace {
+
+constexpr double kMmPerInch = 25.4;
+constexpr int kX = 0, kY = 1, kZ = 2;
+
+// Codes times ten, by modal group; a block may hold at most one code of each group.
+int g_group(int code) {
+  switch (code) {
+    case 0:
+    case 10:
+    case 20:
+    case 30:
+    case 330:
+    case 331:
+    case 760:
+    case 730:
+    case 800:
+    case 810:
+    case 820:
+    case 830:
+    case 840:
+    case 850:
+    case 860:
+    case 870:
+    case 880:
+    case 890:
+    case 382:
+    case 383:
+    case 384:
+    case 385:
+      return 1;
+    case 40:
+    case 100:
+    case 280:
+    case 281:
+    case 300:
+    case 301:
+    case 530:
+    case 920:
+    case 921:
+    case 922:
+    case 923:
+      return 0;
+    case 170:
+    case 180:
+    case 190:
+      return 2;
+    case 900:
+    case 910:
+      return 3;
+    case 901:
+    case 911:
+      return 4;
+    case 930:
+    case 940:
+    case 950:
+      return 5;
+    case 200:
+    case 210:
+      return 6;
+    case 400:
+    case 410:
+    case 411:
+    case 420:
+    case 421:
+      return 7;
+    case 430:
+    case 431:
+    case 432:
+    case 490:
+      return 8;
+    case 980:
+    case 990:
+      return 10;
+    case 540:
+    case 550:
+    case 560:
+    case 570:
+    case 580:
+    case 590:
+    case 591:
+    case 592:
+    case 593:
+      return 12;
+    case 610:
+    case 611:
+    case 640:
+      return 13;
+    case 960:
+    case 970:
+      return 14;
+    case 70:
+    case 80:
+      return 15;
+    default:
+      return -1;
+  }
+}
+
+int m_group(int code) {
+  switch (code) {
+    case 0:
+    case 10:
+    case 20:
+    case 300:
+    case 600:
+      return 4;
+    case 60:
+    case 610:
+      return 6;
+    case 30:
+    case 40:
+    case 50:
+    case 190:
+      return 7;
+    case 70:
+    case 80:
+    case 90:
+      return 8;
+    case 480:
+    case 490:
+    case 500:
+    case 510:
+    case 520:
+    case 530:
+      return 9;
+    case 620:
+    case 630:
+    case 640:
+    case 650:
+    case 660:
+    case 670:
+    case 680:
+      return 5;
+    default:
+      return code >= 1000 && code <= 1990 ? 10 : -1;
+  }
+}
+
+std::string code_name(char letter, int tenths) {
+  std::string name(1, letter);
+  name += std::to_string(tenths / 10);
+  if (tenths % 10 != 0) name += "." + std::to_string(tenths % 10);
+  return name;
+}
+
+bool is_linear(int axis) {
+  return axis < 3 || axis >= 6;
+}
+
+}  // namespace
+
+struct Interpreter::State {
+  struct Mark {
+    std::streampos position;
+    int line = 0;
+  };
+
+  // The source, read a line at a time.
+  std::ifstream file;
+  std::string file_name;
+  Mark next{std::streampos(0), 1};
+  Mark current;  // the line being executed
+
+  const InterpreterOptions& options;
+  std::vector<Warning>& warnings;
+  const CanonSink* sink = nullptr;
+  Parameters parameters;
+
+  // Modal state. Lengths are in program units (those of G20/G21) where they are program
+  // coordinates, in mm where they are offsets kept for the machine.
+  LengthUnits units = LengthUnits::mm;
+  Plane plane = Plane::xy;
+  bool absolute = true;
+  bool arc_absolute = false;
+  FeedMode feed_mode = FeedMode::units_per_minute;
+  double feed = 0.0;
+  double speed = 0.0;
+  int motion = 0;  // G code times ten of the active motion mode, -1 after G80
+  bool retract_to_old = true;
+  Position pos{};  // program coordinates
+  int coord_system = 1;
+  Position g92_mm{};
+  Position tool_offset_mm{};
+  int tool_in_spindle = 0;
+  int selected_tool = 0;
+  int path_mode = 64;
+  double path_tolerance = 0.0;
+  bool cutter_comp = false;
+
+  // Canned cycles: sticky words and the level the current series started from.
+  double cycle_r = 0.0, cycle_z = 0.0, cycle_q = 0.0, cycle_p = 0.0;
+  double cycle_old_cc = 0.0;
+  bool cycle_series = false;
+  bool motion_changed = false;  // this block changes the motion mode
+
+  // Control flow.
+  struct Frame {
+    enum class Type {
+      if_,
+      while_,
+      do_,
+      repeat,
+    } type;
+    std::string label;
+    Mark start;          // the line that opened the frame
+    long remaining = 0;  // repeat count
+    bool taken = false;  // an if branch already ran
+  };
+  std::vector<Frame> flow;
+  struct Call {
+    std::string label;
+    Mark return_to;
+    std::size_t flow_depth;
+  };
+  std::vector<Call> calls;
+  std::map<std::string, Mark> subroutines;
+  bool percent_program = false;
+  bool ended = false;
+  bool saw_end = false;
+
+  State(const std::filesystem::path& path, const InterpreterOptions& opts,
+        std::vector<Warning>& warns)
+      : file(path, std::ios::binary), file_name(path.string()), options(opts), warnings(warns) {
+    if (!file) throw GcodeError(file_name, 0, 0, "cannot open the program");
+    // G54 offsets start at zero; #5220 holds the active coordinate system.
+    parameters.set_numbered(5220, 1.0);
+  }
+
+  // ---- source -------------------------------------------------------------------------
+  bool read_line(std::string& line) {
+    current = next;
+    file.clear();
+    file.seekg(next.position);
+    if (!std::getline(file, line)) return false;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    next.position = file.tellg();
+    if (next.position == std::streampos(-1)) {
+      file.clear();
+      file.seekg(0, std::ios::end);
+      next.position = file.tellg();
+    }
+    next.line = current.line + 1;
+    return true;
+  }
+  void jump(const Mark& mark) { next = mark; }
+  Mark after(const Mark& mark) {
+    const Mark saved_next = next, saved_current = current;
+    next = mark;
+    std::string ignored;
+    read_line(ignored);
+    const Mark result = next;
+    next = saved_next;
+    current = saved_current;
+    return result;
+  }
+
+  [[noreturn]] void fail(int column, const std::string& message) const {
+    throw GcodeError(file_name, current.line, column, message);
+  }
+  void warn(const std::string& message) { warnings.push_back({current.line, message}); }
+
+  // ---- units ----------------------------------------------------------------------------
+  double to_mm(double value) const {
+    return units == LengthUnits::inch ? value * kMmPerInch : value;
+  }
+  double from_mm(double value) const {
+    return units == LengthUnits::inch ? value / kMmPerInch : value;
+  }
+  double axis_from_mm(int axis, double value) const {
+    return is_linear(axis) ? from_mm(value) : value;
+  }
+  double axis_to_mm(int axis, double value) const { return is_linear(axis) ? to_mm(value) : value; }
+
+  Position g5x_mm(int system) const {
+    Position offset{};
+    for (int axis = 0; axis < kAxes; ++axis) {
+      offset[axis] = parameters.numbered(5201 + 20 * system + axis);
+    }
+    return offset;
+  }
+  // Everything between program and machine coordinates, mm.
+  Position total_offset_mm() const {
+    const Position g5x = g5x_mm(coord_system);
+    Position total{};
+    for (int axis = 0; axis < kAxes; ++axis) {
+      total[axis] = g5x[axis] + g92_mm[axis] + tool_offset_mm[axis];
+    }
+    return total;
+  }
+
+  // ---- output ---------------------------------------------------------------------------
+  Canon make(CanonKind kind, const Block& block) const {
+    Canon c;
+    c.kind = kind;
+    c.line = current.line;
+    c.n_label = block.n_label;
+    c.units = units;
+    c.plane = plane;
+    c.end = pos;
+    return c;
+  }
+  void emit(const Canon& canon) { (*sink)(canon); }
+  void emit(CanonKind kind, const Block& block) { emit(make(kind, block)); }
+  void emit_offsets(const Block& block) {
+    Canon g5x = make(CanonKind::g5x_offset, block);
+    g5x.integer = coord_system;
+    const Position offset = g5x_mm(coord_system);
+    for (int axis = 0; axis < kAxes; ++axis) g5x.end[axis] = axis_from_mm(axis, offset[axis]);
+    emit(g5x);
+    Canon g92 = make(CanonKind::g92_offset, block);
+    for (int axis = 0; axis < kAxes; ++axis) g92.end[axis] = axis_from_mm(axis, g92_mm[axis]);
+    emit(g92);
+  }
+
+  // Moves the program position so the machine position stays put when offsets change.
+  void reexpress(const Position& old_total_mm) {
+    const Position now = total_offset_mm();
+    for (int axis = 0; axis < kAxes; ++axis) {
+      pos[axis] += axis_from_mm(axis, old_total_mm[axis] - now[axis]);
+    }
+  }
+
+  void run(const CanonSink& output);
+  void execute_line(const std::string& line);
+  void execute_o_word(const Block& block);
+  void execute_block(const Block& block);
+  void skip_to(const std::string& label, std::initializer_list<std::string_view> keywords,
+               std::string* found_keyword, int column);
+  Mark find_subroutine(const std::string& label, int column);
+  Position target(const Block& block, bool machine_coordinates) const;
+  void straight(CanonKind kind, const Block& block, const Position& end);
+  void arc(const Block& block, int code, const Position& end);
+  void cycle(const Block& block, int code, const Position& end);
+  void go_home(const Block& block, int code);
+  void set_coordinates(const Block& block);
+  void require_feed(const Block& block, int column) const;
+};
+
+void Interpreter::State::run(const CanonSink& output) {
+  sink = &output;
+  std::string line;
+  bool first_content = true;
+  while (!ended && read_line(line)) {
+    if (first_content) {
+      const auto first = line.find_first_not_of(" \t");
+      if (first == std::string::npos) continue;
+      first_content = false;
+      if (line[first] == '%') {
+        percent_program = true;
+        continue;
+      }
+    }
+    execute_line(line);
+  }
+  if (!saw_end) {
+    warnings.push_back({current.line,
+                        "program has no M2, M30 or closing %: ended at the end of "
+                        "the file"});
+    Block none;
+    emit(CanonKind::program_end, none);
+  }
+}
+
+void Interpreter::State::execute_line(const std::string& line) {
+  Block block;
+  try {
+    block = read_block(line, parameters);
+  } catch (const SyntaxError& error) {
+    fail(error.column, error.message);
+  }
+  if (block.percent) {
+    if (percent_program) {
+      saw_end = true;
+      ended = true;
+      Block none;
+      emit(CanonKind::program_end, none);
+      return;
+    }
+    fail(1, "'%' only opens and closes a program");
+  }
+  if (block.block_delete && options.block_delete) return;
+  if (block.o_word) {
+    execute_o_word(block);
+    return;
+  }
+  execute_block(block);
+}
+
+void Interpreter::State::skip_to(const std::string& label,
+                                 std::initializer_list<std::string_view> keywords,
+                                 std::string* found_keyword, int column) {
+  const int start_line = current.line;
+  std::string line;
+  while (read_line(line)) {
+    std::string found_label;
+    const std::string keyword = o_word_keyword(line, &found_label);
+    if (keyword.empty() || found_label != label) continue;
+    for (const std::string_view wanted : keywords) {
+      if (keyword == wanted) {
+        if (found_keyword != nullptr) *found_keyword = keyword;
+        return;
+      }
+    }
+  }
+  std::string names;
+  for (const std::string_view k : keywords) names += (names.empty() ? "" : "/") + std::string(k);
+  throw GcodeError(file_name, start_line, column, "o" + label + ": no matching " + names);
+}
+
+Interpreter::State::Mark Interpreter::State::find_subroutine(const std::string& label, int column) {
+  const auto known = subroutines.find(label);
+  if (known != subroutines.end()) return known->second;
+  // Not yet seen: look for its definition further on, then come back.
+  const Mark saved_next = next, saved_current = current;
+  std::string line;
+  while (read_line(line)) {
+    std::string found;
+    if (o_word_keyword(line, &found) == "sub") {
+      subroutines.emplace(found, current);
+      if (found == label) {
+        next = saved_next;
+        current = saved_current;
+        return subroutines[label];
+      }
+    }
+  }
+  next = saved_next;
+  current = saved_current;
+  fail(column, "unknown subroutine o" + label);
+}
+
+void Interpreter::State::execute_o_word(const Block& block) {
+  // Parameters set on the O-word line take effect first (LinuxCNC has none there in practice).
+  for (const Assignment& a : block.assignments) {
+    if (a.name.empty())
+      parameters.set_numbered(a.number, a.value);
+    else
+      parameters.set_named(a.name, a.value);
+  }
+  const OWord& o = *block.o_word;
+  const auto value_of = [&]() {
+    if (!o.value) fail(o.column, "o" + o.label + " " + o.keyword + " needs a [value]");
+    return *o.value;
+  };
+  if (o.keyword == "sub") {
+    subroutines.emplace(o.label, current);
+    skip_to(o.label, {"endsub"}, nullptr, o.column);
+  } else if (o.keyword == "call") {
+    const Mark sub = find_subroutine(o.label, o.column);
+    calls.push_back({o.label, next, flow.size()});
+    parameters.push_scope(o.arguments);
+    jump(after(sub));
+  } else if (o.keyword == "endsub" || o.keyword == "return") {
+    if (calls.empty()) {
+      if (o.keyword == "endsub") fail(o.column, "o" + o.label + " endsub outside a subroutine");
+      fail(o.column, "o" + o.label + " return outside a subroutine");
+    }
+    if (o.value) parameters.set_named("_value", *o.value);
+    const Call call = calls.back();
+    calls.pop_back();
+    flow.resize(std::min(flow.size(), call.flow_depth));
+    parameters.pop_scope();
+    jump(call.return_to);
+  } else if (o.keyword == "if") {
+    if (value_of() != 0.0) {
+      flow.push_back({Frame::Type::if_, o.label, current, 0, true});
+    } else {
+      flow.push_back({Frame::Type::if_, o.label, current, 0, false});
+      // Find the branch that runs: elseif (re-evaluated when reached), else, or endif.
+      std::string keyword;
+      skip_to(o.label, {"elseif", "else", "endif"}, &keyword, o.column);
+      jump(current);  // execute that line itself
+    }
+  } else if (o.keyword == "elseif" || o.keyword == "else") {
+    if (flow.empty() || flow.back().type != Frame::Type::if_ || flow.back().label != o.label) {
+      fail(o.column, "o" + o.label + " " + o.keyword + " without its if");
+    }
+    Frame& frame = flow.back();
+    if (frame.taken) {
+      skip_to(o.label, {"endif"}, nullptr, o.column);
+      flow.pop_back();
+    } else if (o.keyword == "else" || value_of() != 0.0) {
+      frame.taken = true;
+    } else {
+      skip_to(o.label, {"elseif", "else", "endif"}, nullptr, o.column);
+      jump(current);
+    }
+  } else if (o.keyword == "endif") {
+    if (!flow.empty() && flow.back().type == Frame::Type::if_ && flow.back().label == o.label) {
+      flow.pop_back();
+    }
+  } else if (o.keyword == "do") {
+    flow.push_back({Frame::Type::do_, o.label, current, 0, false});
+  } else if (o.keyword == "while") {
+    if (!flow.empty() && flow.back().type == Frame::Type::do_ && flow.back().label == o.label) {
+      // The end of a do-while loop.
+      if (value_of() != 0.0) {
+        jump(after(flow.back().start));
+      } else {
+        flow.pop_back();
+      }
+    } else if (value_of() != 0.0) {
+      if (flow.empty() || flow.back().type != Frame::Type::while_ || flow.back().label != o.label) {
+        flow.push_back({Frame::Type::while_, o.label, current, 0, false});
+      }
+    } else {
+      if (!flow.empty() && flow.back().type == Frame::Type::while_ &&
+          flow.back().label == o.label) {
+        flow.pop_back();
+      }
+      skip_to(o.label, {"endwhile"}, nullptr, o.column);
+    }
+  } else if (o.keyword == "endwhile") {
+    if (flow.empty() || flow.back().type != Frame::Type::while_ || flow.back().label != o.label) {
+      fail(o.column, "o" + o.label + " endwhile without its while");
+    }
+    jump(flow.back().start);  // re-evaluates the condition
+  } else if (o.keyword == "repeat") {
+    const long count = std::lround(value_of());
+    if (count <= 0) {
+      skip_to(o.label, {"endrepeat"}, nullptr, o.column);
+    } else {
+      flow.push_back({Frame::Type::repeat, o.label, current, count, false});
+    }
+  } else if (o.keyword == "endrepeat") {
+    if (flow.empty() || flow.back().type != Frame::Type::repeat || flow.back().label != o.label) {
+      fail(o.column, "o" + o.label + " endrepeat without its repeat");
+    }
+    if (--flow.back().remaining > 0) {
+      jump(after(flow.back().start));
+    } else {
+      flow.pop_back();
+    }
+  } else if (o.keyword == "break" || o.keyword == "continue") {
+    while (!flow.empty() && flow.back().label != o.label) flow.pop_back();
+    if (flow.empty() || flow.back().type == Frame::Type::if_) {
+      fail(o.column, "o" + o.label + " " + o.keyword + " outside its loop");
+    }
+    Frame frame = flow.back();
+    if (o.keyword == "break") {
+      flow.pop_back();
+      const char* end = frame.type == Frame::Type::repeat ? "endrepeat"
+                        : frame.type == Frame::Type::do_  ? "while"
+                                                          : "endwhile";
+      skip_to(o.label, {end}, nullptr, o.column);
+    } else if (frame.type == Frame::Type::while_) {
+      jump(frame.start);
+    } else if (frame.type == Frame::Type::repeat) {
+      skip_to(o.label, {"endrepeat"}, nullptr, o.column);
+      jump(current);
+    } else {
+      skip_to(o.label, {"while"}, nullptr, o.column);
+      jump(current);
+    }
+  }
+}
+
+Position Interpreter::State::target(const Block& block, bool machine_coordinates) const {
+  static constexpr char kLetters[kAxes] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
+  Position end = pos;
+  const Position offsets = total_offset_mm();
+  for (int axis = 0; axis < kAxes; ++axis) {
+    if (!block.has(kLetters[axis])) continue;
+    const double value = block.value(kLetters[axis]);
+    if (machine_coordinates) {
+      end[axis] = value - axis_from_mm(axis, offsets[axis]);
+    } else {
+      end[axis] = absolute ? value : pos[axis] + value;
+    }
+  }
+  // Polar coordinates: @ radius, ^ angle (deg) in the XY plane.
+  const auto& radius = block.words['g' - 'a'];
+  const auto& angle = block.words['m' - 'a'];
+  if (radius || angle) {
+    if (!radius || !angle)
+      fail((radius ? *radius : *angle).column, "polar coordinates need both @ and ^");
+    const double r = radius->value;
+    const double a = angle->value * std::numbers::pi / 180.0;
+    if (absolute) {
+      end[kX] = r * std::cos(a);
+      end[kY] = r * std::sin(a);
+    } else {
+      end[kX] = pos[kX] + r * std::cos(a);
+      end[kY] = pos[kY] + r * std::sin(a);
+    }
+  }
+  return end;
+}
+
+void Interpreter::State::require_feed(const Block& block, int column) const {
+  if (feed_mode == FeedMode::inverse_time) {
+    if (!block.has('f')) fail(column, "F word missing with inverse time (G93) motion");
+  } else if (feed <= 0.0) {
+    fail(column, "cannot do a feed move with zero feed rate: give an F word");
+  }
+}
+
+void Interpreter::State::straight(CanonKind kind, const Block& block, const Position& end) {
+  Canon canon = make(kind, block);
+  canon.end = end;
+  emit(canon);
+  pos = end;
+}
+
+void Interpreter::State::arc(const Block& block, int code, const Position& end) {
+  int first = 0, second = 1;
+  char first_offset = 'i', second_offset = 'j';
+  switch (plane) {
+    case Plane::xy:
+      first = kX, second = kY, first_offset = 'i', second_offset = 'j';
+      break;
+    case Plane::xz:
+      first = kZ, second = kX, first_offset = 'k', second_offset = 'i';
+      break;
+    case Plane::yz:
+      first = kY, second = kZ, first_offset = 'j', second_offset = 'k';
+      break;
+  }
+  const int column = block.g_codes.empty() ? 1 : block.g_codes.front().column;
+  const double start_1 = pos[first], start_2 = pos[second];
+  const double end_1 = end[first], end_2 = end[second];
+  double centre_1 = 0.0, centre_2 = 0.0;
+  const bool inch = units == LengthUnits::inch;
+  int turns = code == 20 ? -1 : 1;
+  if (block.has('p')) {
+    const double p = block.value('p');
+    if (p < 1.0 || p != std::floor(p))
+      fail(block.word('p')->column, "P must be a whole number of turns, 1 or more");
+    turns *= static_cast<int>(p);
+  }
+  if (block.has('r')) {
+    const double radius = block.value('r');
+    if (end_1 == start_1 && end_2 == start_2) {
+      fail(block.word('r')->column,
+           "an R arc's end point equals its start: the centre is undefined");
+    }
+    const double abs_radius = std::abs(radius);
+    const double mid_1 = (end_1 + start_1) / 2.0, mid_2 = (end_2 + start_2) / 2.0;
+    double half = std::hypot(mid_1 - end_1, mid_2 - end_2);
+    const double tolerance = inch ? 0.0005 : 0.005;
+    if (half - abs_radius > tolerance) {
+      fail(block.word('r')->column, "arc radius too small to reach the end point");
+    }
+    if (half / abs_radius > 1.0 - 1e-12) half = abs_radius;
+    const double direction = std::atan2(end_2 - start_2, end_1 - start_1);
+    const double theta = ((code == 20 && radius > 0) || (code == 30 && radius < 0))
+                             ? direction - std::numbers::pi / 2
+                             : direction + std::numbers::pi / 2;
+    const double offset = abs_radius * std::cos(std::asin(half / abs_radius));
+    centre_1 = mid_1 + offset * std::cos(theta);
+    centre_2 = mid_2 + offset * std::sin(theta);
+  } else {
+    if (!block.has(first_offset) && !block.has(second_offset)) {
+      fail(column, "R, I, J, K words all missing for the arc");
+    }
+    const double i = block.has(first_offset) ? block.value(first_offset) : 0.0;
+    const double j = block.has(second_offset) ? block.value(second_offset) : 0.0;
+    centre_1 = arc_absolute ? i : start_1 + i;
+    centre_2 = arc_absolute ? j : start_2 + j;
+    const double radius = std::hypot(centre_1 - start_1, centre_2 - start_2);
+    const double radius2 = std::hypot(centre_1 - end_1, centre_2 - end_2);
+    const double abs_tolerance = (inch ? 0.001 : 0.01) * 2.0 * std::numbers::sqrt2;
+    if (radius < 0.1 * abs_tolerance || radius2 < 0.1 * abs_tolerance)
+      fail(column, "zero radius arc");
+    const double abs_err = std::abs(radius - radius2);
+    const double rel_err = abs_err / std::max(radius, radius2);
+    if (abs_err > abs_tolerance && rel_err > 0.001) {
+      char message[256];
+      std::snprintf(message, sizeof message,
+                    "radius to end of arc differs from radius to start: r1=%.4f r2=%.4f "
+                    "(LinuxCNC accepts %.4f or 0.1%%)",
+                    radius, radius2, abs_tolerance);
+      fail(column, message);
+    }
+  }
+  Canon canon = make(CanonKind::arc, block);
+  canon.end = end;
+  canon.center = {centre_1, centre_2};
+  canon.turns = turns;
+  emit(canon);
+  pos = end;
+}
+
+void Interpreter::State::cycle(const Block& block, int code, const Position& end) {
+  int first = kX, second = kY, normal = kZ;
+  char normal_letter = 'z';
+  switch (plane) {
+    case Plane::xy:
+      break;
+    case Plane::xz:
+      first = kZ, second = kX, normal = kY, normal_letter = 'y';
+      break;
+    case Plane::yz:
+      first = kY, second = kZ, normal = kX, normal_letter = 'x';
+      break;
+  }
+  const int column = block.g_codes.empty() ? 1 : block.g_codes.front().column;
+  if (block.has('r')) {
+    cycle_r = block.value('r');
+  } else if (motion_changed) {
+    fail(column, "R clearance plane unspecified in cycle");
+  }
+  if (block.has(normal_letter)) {
+    cycle_z = block.value(normal_letter);
+  } else if (motion_changed) {
+    fail(column, std::string(1, static_cast<char>(std::toupper(normal_letter))) +
+                     " value unspecified in cycle");
+  }
+  if (block.has('q')) cycle_q = block.value('q');
+  if (block.has('p')) cycle_p = block.value('p');
+  if ((code == 830 || code == 730) && !(cycle_q > 0.0))
+    fail(column, "Q must be positive for G83/G73");
+  require_feed(block, column);
+  if (!cycle_series) {
+    cycle_old_cc = pos[normal];
+    cycle_series = true;
+  }
+  const long repeats = block.has('l') ? std::lround(block.value('l')) : 1;
+  double r = cycle_r, bottom = cycle_z;
+  if (!absolute) {
+    r = cycle_old_cc + cycle_r;
+    bottom = r + cycle_z;
+  }
+  if (bottom > r) fail(column, "cycle bottom is above the R plane");
+  const double clear = (retract_to_old && cycle_old_cc > r) ? cycle_old_cc : r;
+  const double delta = units == LengthUnits::inch ? 0.010 : 0.254;  // peck clearance
+  auto move = [&](CanonKind kind, double a, double b, double c) {
+    Position p = pos;
+    p[first] = a;
+    p[second] = b;
+    p[normal] = c;
+    straight(kind, block, p);
+  };
+  if (pos[normal] < r) move(CanonKind::traverse, pos[first], pos[second], r);
+  // In G91 each repetition moves on by the programmed increment.
+  const double step_1 = end[first] - pos[first], step_2 = end[second] - pos[second];
+  double at_1 = pos[first], at_2 = pos[second];
+  for (long repeat = 0; repeat < repeats; ++repeat) {
+    if (absolute) {
+      at_1 = end[first];
+      at_2 = end[second];
+    } else {
+      at_1 += step_1;
+      at_2 += step_2;
+    }
+    move(CanonKind::traverse, at_1, at_2, pos[normal]);
+    if (pos[normal] != r) move(CanonKind::traverse, at_1, at_2, r);
+    switch (code) {
+      case 810:
+        move(CanonKind::feed, at_1, at_2, bottom);
+        break;
+      case 820: {
+        move(CanonKind::feed, at_1, at_2, bottom);
+        Canon dwell = make(CanonKind::dwell, block);
+        dwell.value = cycle_p;
+        emit(dwell);
+        break;
+      }
+      case 830:
+      case 730: {
+        double depth = r;
+        while (true) {
+          depth = std::max(depth - cycle_q, bottom);
+          move(CanonKind::feed, at_1, at_2, depth);
+          if (depth <= bottom) break;
+          if (code == 830) {
+            move(CanonKind::traverse, at_1, at_2, r);
+            move(CanonKind::traverse, at_1, at_2, depth + delta);
+          } else {
+            move(CanonKind::traverse, at_1, at_2, depth + delta);
+          }
+        }
+        break;
+      }
+      case 850:
+        move(CanonKind::feed, at_1, at_2, bottom);
+        move(CanonKind::feed, at_1, at_2, r);
+        break;
+      case 890: {
+        move(CanonKind::feed, at_1, at_2, bottom);
+        Canon dwell = make(CanonKind::dwell, block);
+        dwell.value = cycle_p;
+        emit(dwell);
+        move(CanonKind::feed, at_1, at_2, r);
+        break;
+      }
+      default:
+        fail(column, code_name('G', code) + " is not supported (spindle-synchronised cycle)");
+    }
+    move(CanonKind::traverse, at_1, at_2, clear);
+  }
+}
+
+void Interpreter::State::go_home(const Block& block, int code) {
+  // G28/G30: through the programmed axes' intermediate point, then to the stored position
+  // (#5161.. / #5181.., machine coordinates) of those axes, or of all axes when none is given.
+  const int base = code == 280 ? 5161 : 5181;
+  static constexpr char kLetters[kAxes] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
+  bool any = false;
+  for (const char letter : kLetters) any = any || block.has(letter);
+  const Position intermediate = target(block, false);
+  if (any) straight(CanonKind::traverse, block, intermediate);
+  const Position offsets = total_offset_mm();
+  Position home = pos;
+  for (int axis = 0; axis < kAxes; ++axis) {
+    if (any && !block.has(kLetters[axis])) continue;
+    home[axis] = axis_from_mm(axis, parameters.numbered(base + axis) - offsets[axis]);
+  }
+  straight(CanonKind::traverse, block, home);
+}
+
+void Interpreter::State::set_coordinates(const Block& block) {
+  // G10 L1/L2/L10/L20.
+  static constexpr char kLetters[kAxes] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
+  const int column = block.g_codes.front().column;
+  if (!block.has('l')) fail(column, "G10 needs an L word");
+  const long l = std::lround(block.value('l'));
+  if (!block.has('p')) fail(column, "G10 needs a P word");
+  const long p = std::lround(block.value('p'));
+  if (l == 2 || l == 20) {
+    const int system = p == 0 ? coord_system : static_cast<int>(p);
+    if (system < 1 || system > 9) fail(block.word('p')->column, "G10 P must be 0..9");
+    const Position old_total = total_offset_mm();
+    for (int axis = 0; axis < kAxes; ++axis) {
+      if (!block.has(kLetters[axis])) continue;
+      const int number = 5201 + 20 * system + axis;
+      double value = axis_to_mm(axis, block.value(kLetters[axis]));
+      if (l == 20) {
+        // The current point gets the given coordinate in that system.
+        const Position g5x = g5x_mm(coord_system);
+        const double machine =
+            axis_to_mm(axis, pos[axis]) + g5x[axis] + g92_mm[axis] + tool_offset_mm[axis];
+        value = machine - value - g92_mm[axis] - tool_offset_mm[axis];
+      }
+      parameters.set_numbered(number, value);
+    }
+    if (system == coord_system) {
+      reexpress(old_total);
+      emit_offsets(block);
+    }
+  } else if (l == 1 || l == 10) {
+    if (!options.tool_table) fail(column, "G10 L1/L10 needs a tool table");
+    auto& table = const_cast<ToolTable&>(*options.tool_table);
+    ToolEntry& entry = table[static_cast<int>(p)];
+    entry.number = static_cast<int>(p);
+    for (int axis = 0; axis < kAxes; ++axis) {
+      if (block.has(kLetters[axis]))
+        entry.offset[axis] = axis_to_mm(axis, block.value(kLetters[axis]));
+    }
+    if (block.has('r')) entry.diameter = 2.0 * to_mm(block.value('r'));
+  } else {
+    fail(block.word('l')->column, "G10 L" + std::to_string(l) + " is not supported");
+  }
+}
+
+void Interpreter::State::execute_block(const Block& block) {
+  // Parameters set on the line take effect before it runs, with the values read before them.
+  for (const Assignment& a : block.assignments) {
+    if (a.name.empty())
+      parameters.set_numbered(a.number, a.value);
+    else
+      parameters.set_named(a.name, a.value);
+  }
+  for (const Comment& comment : block.comments) {
+    std::string text = comment.text;
+    std::string lower = text;
+    for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const auto first = lower.find_first_not_of(" \t");
+    if (first != std::string::npos && lower.compare(first, 4, "msg,") == 0) {
+      Canon message = make(CanonKind::message, block);
+      message.text = text.substr(first + 4);
+      emit(message);
+    } else {
+      Canon c = make(CanonKind::comment, block);
+      c.text = text;
+      emit(c);
+    }
+  }
+  if (block.empty) return;
+
+  // Modal groups: at most one code of each in a block.
+  std::map<int, Code> g_by_group, m_by_group;
+  for (const Code& code : block.g_codes) {
+    const int group = g_group(code.tenths);
+    if (group < 0) fail(code.column, "unknown G code " + code_name('G', code.tenths));
+    const auto [it, inserted] = g_by_group.emplace(group, code);
+    if (!inserted && group != 0) {
+      fail(code.column, "two G codes of one modal group: " + code_name('G', it->second.tenths) +
+                            " and " + code_name('G', code.tenths));
+    }
+    if (!inserted && group == 0) fail(code.column, "two non-modal G codes on one line");
+  }
+  for (const Code& code : block.m_codes) {
+    int group = m_group(code.tenths);
+    if (group < 0) {
+      // Codes with no meaning off a real machine (M280 pen servo, M200+) are passed on.
+      Canon event = make(CanonKind::event, block);
+      event.text = code_name('M', code.tenths) + " passed on";
+      warn(code_name('M', code.tenths) + " has no meaning here; passed on as an event");
+      emit(event);
+      continue;
+    }
+    if (group == 8 && m_by_group.count(8) && (code.tenths == 70 || code.tenths == 80) &&
+        (m_by_group[8].tenths == 70 || m_by_group[8].tenths == 80)) {
+      group = 80;  // M7 and M8 may share a line
+    }
+    const auto [it, inserted] = m_by_group.emplace(group, code);
+    if (!inserted) {
+      fail(code.column, "two M codes of one modal group: " + code_name('M', it->second.tenths) +
+                            " and " + code_name('M', code.tenths));
+    }
+  }
+  const auto g_in = [&](int group) -> std::optional<Code> {
+    const auto found = g_by_group.find(group);
+    if (found == g_by_group.end()) return std::nullopt;
+    return found->second;
+  };
+  const std::optional<Code> non_modal = g_in(0);
+  std::optional<Code> motion_code = g_in(1);
+  static constexpr char kAxisLetters[] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
+  bool has_axis = block.words['g' - 'a'].has_value() || block.words['m' - 'a'].has_value();
+  for (const char letter : kAxisLetters) has_axis = has_axis || block.has(letter);
+
+  // 1. feed mode, feed, speed, tool.
+  if (const auto code = g_in(5)) {
+    if (code->tenths == 950) fail(code->column, "G95 (feed per revolution) is not supported");
+    feed_mode = code->tenths == 930 ? FeedMode::inverse_time : FeedMode::units_per_minute;
+    Canon c = make(CanonKind::set_feed_mode, block);
+    c.feed_mode = feed_mode;
+    emit(c);
+  }
+  if (block.has('f')) {
+    const double f = block.value('f');
+    if (f < 0.0) fail(block.word('f')->column, "negative F word");
+    feed = f;
+    if (feed_mode == FeedMode::units_per_minute) {
+      Canon c = make(CanonKind::set_feed_rate, block);
+      c.value = f;
+      emit(c);
+    }
+  }
+  if (block.has('s')) {
+    if (block.value('s') < 0.0) fail(block.word('s')->column, "negative spindle speed");
+    speed = block.value('s');
+    Canon c = make(CanonKind::spindle_speed, block);
+    c.value = speed;
+    emit(c);
+  }
+  if (block.has('t')) {
+    const long t = std::lround(block.value('t'));
+    if (t < 0) fail(block.word('t')->column, "negative tool number");
+    if (options.tool_table && t != 0 && !options.tool_table->count(static_cast<int>(t))) {
+      fail(block.word('t')->column,
+           "requested tool " + std::to_string(t) + " not found in the tool table");
+    }
+    if (!options.tool_table && t != 0)
+      warn("T" + std::to_string(t) + " without a tool table: no offsets known");
+    selected_tool = static_cast<int>(t);
+    Canon c = make(CanonKind::select_tool, block);
+    c.integer = selected_tool;
+    emit(c);
+  }
+  // 2. tool change, spindle, coolant, overrides.
+  if (m_by_group.count(6)) {
+    const Code code = m_by_group[6];
+    if (code.tenths == 60) {
+      Canon c = make(CanonKind::change_tool, block);
+      c.integer = selected_tool;
+      emit(c);
+    }
+    tool_in_spindle = code.tenths == 610 ? static_cast<int>(block.has('q') ? block.value('q') : 0)
+                                         : selected_tool;
+  }
+  if (m_by_group.count(7)) {
+    const int code = m_by_group[7].tenths;
+    if (code == 30) emit(CanonKind::spindle_clockwise, block);
+    if (code == 40) emit(CanonKind::spindle_counterclockwise, block);
+    if (code == 50) emit(CanonKind::spindle_stop, block);
+  }
+  for (const int group : {8, 80}) {
+    if (!m_by_group.count(group)) continue;
+    const int code = m_by_group[group].tenths;
+    if (code == 70) emit(CanonKind::mist_on, block);
+    if (code == 80) emit(CanonKind::flood_on, block);
+    if (code == 90) {
+      emit(CanonKind::mist_off, block);
+      emit(CanonKind::flood_off, block);
+    }
+  }
+  for (const int group : {9, 5, 10}) {
+    if (!m_by_group.count(group)) continue;
+    const int code = m_by_group[group].tenths;
+    Canon event = make(CanonKind::event, block);
+    event.text = code_name('M', code);
+    if (group == 10) warn(code_name('M', code) + " (user M-code) passed on as an event");
+    emit(event);
+  }
+  // 3. dwell.
+  if (non_modal && non_modal->tenths == 40) {
+    if (!block.has('p')) fail(non_modal->column, "G4 needs a P word (seconds)");
+    if (block.value('p') < 0.0) fail(block.word('p')->column, "negative dwell");
+    Canon c = make(CanonKind::dwell, block);
+    c.value = block.value('p');
+    emit(c);
+  }
+  // 4. plane, units, cutter compensation, tool length.
+  if (const auto code = g_in(2)) {
+    plane = code->tenths == 170 ? Plane::xy : code->tenths == 180 ? Plane::xz : Plane::yz;
+    emit(CanonKind::select_plane, block);
+  }
+  if (const auto code = g_in(6)) {
+    const LengthUnits wanted = code->tenths == 200 ? LengthUnits::inch : LengthUnits::mm;
+    if (wanted != units) {
+      const double factor = wanted == LengthUnits::inch ? 1.0 / kMmPerInch : kMmPerInch;
+      for (int axis = 0; axis < kAxes; ++axis) {
+        if (is_linear(axis)) pos[axis] *= factor;
+      }
+      feed *= factor;
+      units = wanted;
+    }
+    emit(CanonKind::use_length_units, block);
+  }
+  if (const auto code = g_in(7)) {
+    if (code->tenths != 400) {
+      fail(code->column,
+           code_name('G', code->tenths) + " (cutter radius compensation) is not supported yet");
+    }
+    cutter_comp = false;
+  }
+  if (const auto code = g_in(8)) {
+    const Position old_total = total_offset_mm();
+    Position offset{};
+    if (code->tenths == 430) {
+      const int tool =
+          block.has('h') ? static_cast<int>(std::lround(block.value('h'))) : tool_in_spindle;
+      if (tool != 0) {
+        if (options.tool_table && !options.tool_table->count(tool)) {
+          fail(code->column, "tool " + std::to_string(tool) + " for G43 not in the tool table");
+        }
+        if (options.tool_table) offset = options.tool_table->at(tool).offset;
+      }
+    } else if (code->tenths == 431) {
+      for (int axis = 0; axis < kAxes; ++axis) {
+        if (block.has(kAxisLetters[axis]))
+          offset[axis] = axis_to_mm(axis, block.value(kAxisLetters[axis]));
+      }
+      has_axis = false;  // the axis words were the offset
+    } else if (code->tenths == 432) {
+      fail(code->column, "G43.2 is not supported");
+    }
+    tool_offset_mm = offset;
+    reexpress(old_total);
+    Canon c = make(CanonKind::tool_length_offset, block);
+    for (int axis = 0; axis < kAxes; ++axis) c.end[axis] = axis_from_mm(axis, offset[axis]);
+    emit(c);
+  }
+  // 5. coordinate system, path control, distance modes, retract mode.
+  if (const auto code = g_in(12)) {
+    static constexpr int kCodes[] = {540, 550, 560, 570, 580, 590, 591, 592, 593};
+    const int system =
+        static_cast<int>(std::find(std::begin(kCodes), std::end(kCodes), code->tenths) -
+                         std::begin(kCodes)) +
+        1;
+    if (cutter_comp)
+      fail(code->column, "cannot change coordinate systems with cutter compensation on");
+    const Position old_total = total_offset_mm();
+    coord_system = system;
+    parameters.set_numbered(5220, system);
+    reexpress(old_total);
+    emit_offsets(block);
+  }
+  if (const auto code = g_in(13)) {
+    path_mode = code->tenths == 640 ? 64 : code->tenths == 610 ? 61 : 611;
+    path_tolerance = code->tenths == 640 && block.has('p') ? block.value('p') : 0.0;
+    Canon c = make(CanonKind::path_control, block);
+    c.integer = path_mode;
+    c.value = path_tolerance;
+    c.value2 = block.has('q') ? block.value('q') : 0.0;
+    emit(c);
+  }
+  if (const auto code = g_in(3)) absolute = code->tenths == 900;
+  if (const auto code = g_in(4)) arc_absolute = code->tenths == 901;
+  if (const auto code = g_in(10)) retract_to_old = code->tenths == 980;
+  if (const auto code = g_in(14)) {
+    if (code->tenths == 960) fail(code->column, "G96 (constant surface speed) is not supported");
+  }
+  if (const auto code = g_in(15)) {
+    (void)code;  // lathe radius/diameter mode: no effect on these machines
+  }
+  // 6. home, coordinate data, axis offsets.
+  bool axes_used = false;
+  if (non_modal) {
+    const int code = non_modal->tenths;
+    if (code == 100) {
+      set_coordinates(block);
+      axes_used = true;
+    } else if (code == 280 || code == 300) {
+      go_home(block, code);
+      axes_used = true;
+    } else if (code == 281 || code == 301) {
+      // Store the current machine position as the G28/G30 home.
+      const Position offsets = total_offset_mm();
+      for (int axis = 0; axis < kAxes; ++axis) {
+        parameters.set_numbered((code == 281 ? 5161 : 5181) + axis,
+                                axis_to_mm(axis, pos[axis]) + offsets[axis]);
+      }
+    } else if (code == 920) {
+      const Position old_total = total_offset_mm();
+      for (int axis = 0; axis < kAxes; ++axis) {
+        if (!block.has(kAxisLetters[axis])) continue;
+        g92_mm[axis] += axis_to_mm(axis, pos[axis] - block.value(kAxisLetters[axis]));
+        parameters.set_numbered(5211 + axis, g92_mm[axis]);
+      }
+      parameters.set_numbered(5210, 1.0);
+      reexpress(old_total);
+      emit_offsets(block);
+      axes_used = true;
+    } else if (code == 921 || code == 922) {
+      const Position old_total = total_offset_mm();
+      g92_mm = {};
+      if (code == 921) {
+        for (int axis = 0; axis < kAxes; ++axis) parameters.set_numbered(5211 + axis, 0.0);
+        parameters.set_numbered(5210, 0.0);
+      }
+      reexpress(old_total);
+      emit_offsets(block);
+    } else if (code == 923) {
+      const Position old_total = total_offset_mm();
+      for (int axis = 0; axis < kAxes; ++axis) g92_mm[axis] = parameters.numbered(5211 + axis);
+      reexpress(old_total);
+      emit_offsets(block);
+    }
+  }
+  // 7. motion.
+  const bool machine_coordinates = non_modal && non_modal->tenths == 530;
+  const bool previous_cycle = motion >= 730 && motion != 800;
+  motion_changed = false;
+  if (motion_code) {
+    const int code = motion_code->tenths;
+    motion_changed = code != motion;
+    if (code == 800) {
+      cycle_series = false;
+    }
+    motion = code;
+  }
+  if (!axes_used && has_axis) {
+    if (motion < 0 || motion == 800) {
+      fail(1, "axis words with no motion mode active (after G80, give G0 or G1)");
+    }
+    const Position end = target(block, machine_coordinates);
+    const int column = motion_code ? motion_code->column : 1;
+    switch (motion) {
+      case 0:
+        straight(CanonKind::traverse, block, end);
+        break;
+      case 10:
+        require_feed(block, column);
+        straight(CanonKind::feed, block, end);
+        break;
+      case 20:
+      case 30:
+        require_feed(block, column);
+        arc(block, motion, end);
+        break;
+      case 330:
+      case 331:
+      case 760: {
+        Canon event = make(CanonKind::event, block);
+        event.text = code_name('G', motion) + " (spindle-synchronised motion) passed on";
+        warn(event.text);
+        emit(event);
+        if (motion == 330) pos = end;
+        break;
+      }
+      case 382:
+      case 383:
+      case 384:
+      case 385:
+        fail(column, "G38 probing is not supported");
+      default:
+        if (motion >= 730) {
+          cycle(block, motion, end);
+        } else {
+          fail(column, "motion mode " + code_name('G', motion) + " is not supported");
+        }
+    }
+  } else if (motion_code && (motion_code->tenths == 20 || motion_code->tenths == 30) &&
+             !axes_used) {
+    // An arc with no axis words is a full circle if it has centre words.
+    if (block.has('i') || block.has('j') || block.has('k')) {
+      require_feed(block, motion_code->column);
+      arc(block, motion, pos);
+    }
+  }
+  if (!motion_code || motion_code->tenths < 730) {
+    if (previous_cycle && motion < 730) cycle_series = false;
+  }
+  // 8. stop and end.
+  if (m_by_group.count(4)) {
+    const int code = m_by_group[4].tenths;
+    if (code == 0) emit(CanonKind::program_stop, block);
+    if (code == 10) emit(CanonKind::optional_stop, block);
+    if (code == 600) emit(CanonKind::program_stop, block);
+    if (code == 20 || code == 300) {
+      // LinuxCNC resets the modal state at the program end.
+      const Position old_total = total_offset_mm();
+      coord_system = 1;
+      g92_mm = {};
+      reexpress(old_total);
+      plane = Plane::xy;
+      absolute = true;
+      feed_mode = FeedMode::units_per_minute;
+      motion = 10;
+      cycle_series = false;
+      emit_offsets(block);
+      emit(CanonKind::select_plane, block);
+      emit(CanonKind::spindle_stop, block);
+      emit(CanonKind::program_end, block);
+      saw_end = true;
+      ended = true;
+    }
+  }
+}
+
+Interpreter::Interpreter(std::filesystem::path program, InterpreterOptions options)
+    : program_(std::move(program)), options_(std::move(options)) {}
+
+Interpreter::~Interpreter() = default;
+
+void Interpreter::run(const CanonSink& sink) {
+  warnings_.clear();
+  state_ = std::make_unique<State>(program_, options_, warnings_);
+  state_->run(sink);
+}
+
+}  // namespace pkm::gcode

@@ -1,0 +1,54 @@
+// RS274/NGC as LinuxCNC reads it, streamed: the program is read a line at a time (control flow
+// seeks back in the file), and each canonical command goes to a sink as soon as it is made, so a
+// program of any length runs in constant memory.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pkm/gcode/block.hpp"
+#include "pkm/gcode/canon.hpp"
+#include "pkm/gcode/tool_table.hpp"
+
+namespace pkm::gcode {
+
+struct InterpreterOptions {
+  std::optional<ToolTable> tool_table;  // without one, T words select tools with no offsets
+  bool block_delete = false;            // skip lines starting with '/'
+};
+
+struct Warning {
+  int line = 0;
+  std::string message;
+};
+
+using CanonSink = std::function<void(const Canon&)>;
+
+class Interpreter {
+ public:
+  Interpreter(std::filesystem::path program, InterpreterOptions options = {});
+  ~Interpreter();
+  Interpreter(const Interpreter&) = delete;
+  Interpreter& operator=(const Interpreter&) = delete;
+
+  // Runs the program to its end, handing every canonical command to `sink`. Throws GcodeError
+  // (file:line:column) at the first error; what was handed on before it stands.
+  void run(const CanonSink& sink);
+
+  const std::vector<Warning>& warnings() const { return warnings_; }
+
+ private:
+  struct State;
+  std::filesystem::path program_;
+  InterpreterOptions options_;
+  std::unique_ptr<State> state_;
+  std::vector<Warning> warnings_;
+};
+
+}  // namespace pkm::gcode

@@ -1,0 +1,52 @@
+#include "pkm/gcode/parameters.hpp"
+
+namespace pkm::gcode {
+
+Parameters::Parameters() : numbered_(kCount, 0.0), scopes_(1) {}
+
+double Parameters::numbered(int number) const {
+  if (number <= kLocalNumbered && scopes_.size() > 1) return scopes_.back().numbered[number];
+  return numbered_[number];
+}
+
+void Parameters::set_numbered(int number, double value) {
+  if (number <= kLocalNumbered && scopes_.size() > 1) {
+    scopes_.back().numbered[number] = value;
+  } else {
+    numbered_[number] = value;
+  }
+}
+
+std::optional<double> Parameters::named(const std::string& lower_name) const {
+  if (!lower_name.empty() && lower_name[0] == '_') {
+    const auto found = globals_.find(lower_name);
+    if (found == globals_.end()) return std::nullopt;
+    return found->second;
+  }
+  const auto& locals = scopes_.back().named;
+  const auto found = locals.find(lower_name);
+  if (found == locals.end()) return std::nullopt;
+  return found->second;
+}
+
+void Parameters::set_named(const std::string& lower_name, double value) {
+  if (!lower_name.empty() && lower_name[0] == '_') {
+    globals_[lower_name] = value;
+  } else {
+    scopes_.back().named[lower_name] = value;
+  }
+}
+
+void Parameters::push_scope(const std::vector<double>& arguments) {
+  Scope scope;
+  for (std::size_t i = 0; i < arguments.size() && i < kLocalNumbered; ++i) {
+    scope.numbered[i + 1] = arguments[i];
+  }
+  scopes_.push_back(std::move(scope));
+}
+
+void Parameters::pop_scope() {
+  if (scopes_.size() > 1) scopes_.pop_back();
+}
+
+}  // namespace pkm::gcode

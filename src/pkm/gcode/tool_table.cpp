@@ -1,0 +1,69 @@
+#include "pkm/gcode/tool_table.hpp"
+
+#include <cctype>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "pkm/gcode/gcode_error.hpp"
+
+namespace pkm::gcode {
+
+ToolTable parse_tool_table(const std::string& text, const std::string& source_name) {
+  ToolTable table;
+  std::istringstream in(text);
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const std::size_t semicolon = line.find(';');
+    std::string comment;
+    if (semicolon != std::string::npos) {
+      comment = line.substr(semicolon + 1);
+      line.resize(semicolon);
+    }
+    ToolEntry entry;
+    entry.comment = comment;
+    bool has_tool = false;
+    std::size_t pos = 0;
+    while (pos < line.size()) {
+      const char c = static_cast<char>(std::toupper(static_cast<unsigned char>(line[pos])));
+      if (c == ' ' || c == '\t' || c == '\r') {
+        ++pos;
+        continue;
+      }
+      const int column = static_cast<int>(pos) + 1;
+      char* end = nullptr;
+      const double value = std::strtod(line.c_str() + pos + 1, &end);
+      if (end == line.c_str() + pos + 1) {
+        throw GcodeError(source_name, number, column,
+                         std::string("tool table: '") + line[pos] + "' needs a number");
+      }
+      static constexpr std::string_view kAxisLetters = "XYZABCUVW";
+      if (c == 'T') {
+        entry.number = static_cast<int>(value);
+        has_tool = true;
+      } else if (c == 'P') {
+        entry.pocket = static_cast<int>(value);
+      } else if (c == 'D') {
+        entry.diameter = value;
+      } else if (kAxisLetters.find(c) != std::string_view::npos) {
+        entry.offset[kAxisLetters.find(c)] = value;
+      } else if (c != 'I' && c != 'J' && c != 'Q') {  // lathe angles and orientation: unused
+        throw GcodeError(source_name, number, column,
+                         std::string("tool table: unknown word '") + line[pos] + "'");
+      }
+      pos = static_cast<std::size_t>(end - line.c_str());
+    }
+    if (has_tool) table[entry.number] = entry;
+  }
+  return table;
+}
+
+ToolTable read_tool_table(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw GcodeError(path.string(), 0, 0, "cannot open the tool table");
+  std::ostringstream text;
+  text << file.rdbuf();
+  return parse_tool_table(text.str(), path.string());
+}
+
+}  // namespace pkm::gcode

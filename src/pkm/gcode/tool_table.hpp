@@ -1,0 +1,26 @@
+// LinuxCNC tool tables (.tbl): one tool per line, "T1 P1 Z0.511 D0.125 ;comment".
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "pkm/gcode/canon.hpp"
+
+namespace pkm::gcode {
+
+struct ToolEntry {
+  int number = 0;
+  int pocket = 0;
+  Position offset{};  // X Y Z A B C U V W offsets, in the table's units (those of the program)
+  double diameter = 0.0;
+  std::string comment;
+};
+
+using ToolTable = std::map<int, ToolEntry>;
+
+// Throws GcodeError (file:line:column) on a malformed line.
+ToolTable read_tool_table(const std::filesystem::path& path);
+ToolTable parse_tool_table(const std::string& text, const std::string& source_name);
+
+}  // namespace pkm::gcode
