@@ -13,6 +13,7 @@ namespace {
 struct GcodeOptions {
   std::string program;
   std::string tool_table;
+  std::string tool_table_units = "mm";
   bool canon = false;
   bool block_delete = false;
 };
@@ -23,7 +24,9 @@ void run_gcode(const GcodeOptions& options) {
   interpreter_options.block_delete = options.block_delete;
   try {
     if (!options.tool_table.empty()) {
-      interpreter_options.tool_table = gcode::read_tool_table(options.tool_table);
+      interpreter_options.tool_table = gcode::read_tool_table(
+          options.tool_table,
+          options.tool_table_units == "inch" ? gcode::LengthUnits::inch : gcode::LengthUnits::mm);
     }
     gcode::Interpreter interpreter(options.program, interpreter_options);
     // The preamble rs274 prints when its canonical interface starts.
@@ -64,6 +67,11 @@ void register_gcode_commands(CLI::App& app) {
   command->add_flag("--canon", options->canon,
                     "Print the canonical commands as LinuxCNC's rs274 -g does");
   command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl)");
+  command
+      ->add_option("--tool-table-units", options->tool_table_units,
+                   "Units of the tool table's lengths: mm (default) or inch (as LinuxCNC's "
+                   "stand-alone rs274 reads them)")
+      ->check(CLI::IsMember({"mm", "inch"}));
   command->add_flag("--block-delete", options->block_delete, "Skip lines starting with '/'");
   command->add_option("program", options->program, "The G-code file")->required();
   command->callback([options] { run_gcode(*options); });

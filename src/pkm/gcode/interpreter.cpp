@@ -579,21 +579,23 @@ Position Interpreter::State::target(const Block& block, bool machine_coordinates
       end[axis] = absolute ? value : pos[axis] + value;
     }
   }
-  // Polar coordinates: @ radius, ^ angle (deg) in the XY plane.
+  // Polar coordinates about the origin in XY: @ radius, ^ angle (deg). A missing one keeps the
+  // current point's; in G91 both are increments to the current point's.
   const auto& radius = block.words['g' - 'a'];
   const auto& angle = block.words['m' - 'a'];
   if (radius || angle) {
-    if (!radius || !angle)
-      fail((radius ? *radius : *angle).column, "polar coordinates need both @ and ^");
-    const double r = radius->value;
-    const double a = angle->value * std::numbers::pi / 180.0;
+    const double current_radius = std::hypot(pos[kX], pos[kY]);
+    const double current_angle = std::atan2(pos[kY], pos[kX]) * 180.0 / std::numbers::pi;
+    double r = current_radius, a = current_angle;
     if (absolute) {
-      end[kX] = r * std::cos(a);
-      end[kY] = r * std::sin(a);
+      if (radius) r = radius->value;
+      if (angle) a = angle->value;
     } else {
-      end[kX] = pos[kX] + r * std::cos(a);
-      end[kY] = pos[kY] + r * std::sin(a);
+      if (radius) r += radius->value;
+      if (angle) a += angle->value;
     }
+    end[kX] = r * std::cos(a * std::numbers::pi / 180.0);
+    end[kY] = r * std::sin(a * std::numbers::pi / 180.0);
   }
   return end;
 }
@@ -809,8 +811,8 @@ void Interpreter::State::go_home(const Block& block, int code) {
   static constexpr char kLetters[kAxes] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
   bool any = false;
   for (const char letter : kLetters) any = any || block.has(letter);
-  const Position intermediate = target(block, false);
-  if (any) straight(CanonKind::traverse, block, intermediate);
+  // The intermediate move is made even when it goes nowhere, as LinuxCNC makes it.
+  straight(CanonKind::traverse, block, target(block, false));
   const Position offsets = total_offset_mm();
   Position home = pos;
   for (int axis = 0; axis < kAxes; ++axis) {
@@ -895,6 +897,12 @@ void Interpreter::State::execute_block(const Block& block) {
     const int group = g_group(code.tenths);
     if (group < 0) fail(code.column, "unknown G code " + code_name('G', code.tenths));
     const auto [it, inserted] = g_by_group.emplace(group, code);
+    if (!inserted && group == 1 && (it->second.tenths == 800 || code.tenths == 800)) {
+      // "G80 G0": the cycle ends and the other motion mode takes over, as LinuxCNC allows.
+      if (it->second.tenths == 800) it->second = code;
+      cycle_series = false;
+      continue;
+    }
     if (!inserted && group != 0) {
       fail(code.column, "two G codes of one modal group: " + code_name('G', it->second.tenths) +
                             " and " + code_name('G', code.tenths));
@@ -1039,7 +1047,6 @@ void Interpreter::State::execute_block(const Block& block) {
     cutter_comp = false;
   }
   if (const auto code = g_in(8)) {
-    const Position old_total = total_offset_mm();
     Position offset{};
     if (code->tenths == 430) {
       const int tool =
@@ -1059,8 +1066,8 @@ void Interpreter::State::execute_block(const Block& block) {
     } else if (code->tenths == 432) {
       fail(code->column, "G43.2 is not supported");
     }
+    // The program position stays: the machine makes up the new length on the next move.
     tool_offset_mm = offset;
-    reexpress(old_total);
     Canon c = make(CanonKind::tool_length_offset, block);
     for (int axis = 0; axis < kAxes; ++axis) c.end[axis] = axis_from_mm(axis, offset[axis]);
     emit(c);
@@ -1154,7 +1161,9 @@ void Interpreter::State::execute_block(const Block& block) {
     }
     motion = code;
   }
-  if (!axes_used && has_axis) {
+  // An explicit G0..G3 moves even without axis words (to where it is, as LinuxCNC does).
+  const bool explicit_move = motion_code && motion_code->tenths <= 30;
+  if (!axes_used && (has_axis || explicit_move)) {
     if (motion < 0 || motion == 800) {
       fail(1, "axis words with no motion mode active (after G80, give G0 or G1)");
     }
@@ -1194,13 +1203,6 @@ void Interpreter::State::execute_block(const Block& block) {
         } else {
           fail(column, "motion mode " + code_name('G', motion) + " is not supported");
         }
-    }
-  } else if (motion_code && (motion_code->tenths == 20 || motion_code->tenths == 30) &&
-             !axes_used) {
-    // An arc with no axis words is a full circle if it has centre words.
-    if (block.has('i') || block.has('j') || block.has('k')) {
-      require_feed(block, motion_code->column);
-      arc(block, motion, pos);
     }
   }
   if (!motion_code || motion_code->tenths < 730) {

@@ -9,7 +9,9 @@
 
 namespace pkm::gcode {
 
-ToolTable parse_tool_table(const std::string& text, const std::string& source_name) {
+ToolTable parse_tool_table(const std::string& text, const std::string& source_name,
+                           LengthUnits units) {
+  const double to_mm = units == LengthUnits::inch ? 25.4 : 1.0;
   ToolTable table;
   std::istringstream in(text);
   std::string line;
@@ -44,9 +46,10 @@ ToolTable parse_tool_table(const std::string& text, const std::string& source_na
       } else if (c == 'P') {
         entry.pocket = static_cast<int>(value);
       } else if (c == 'D') {
-        entry.diameter = value;
+        entry.diameter = value * to_mm;
       } else if (kAxisLetters.find(c) != std::string_view::npos) {
-        entry.offset[kAxisLetters.find(c)] = value;
+        const std::size_t axis = kAxisLetters.find(c);
+        entry.offset[axis] = (axis < 3 || axis >= 6) ? value * to_mm : value;
       } else if (c != 'I' && c != 'J' && c != 'Q') {  // lathe angles and orientation: unused
         throw GcodeError(source_name, number, column,
                          std::string("tool table: unknown word '") + line[pos] + "'");
@@ -58,12 +61,12 @@ ToolTable parse_tool_table(const std::string& text, const std::string& source_na
   return table;
 }
 
-ToolTable read_tool_table(const std::filesystem::path& path) {
+ToolTable read_tool_table(const std::filesystem::path& path, LengthUnits units) {
   std::ifstream file(path, std::ios::binary);
   if (!file) throw GcodeError(path.string(), 0, 0, "cannot open the tool table");
   std::ostringstream text;
   text << file.rdbuf();
-  return parse_tool_table(text.str(), path.string());
+  return parse_tool_table(text.str(), path.string(), units);
 }
 
 }  // namespace pkm::gcode

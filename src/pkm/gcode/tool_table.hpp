@@ -12,15 +12,17 @@ namespace pkm::gcode {
 struct ToolEntry {
   int number = 0;
   int pocket = 0;
-  Position offset{};  // X Y Z A B C U V W offsets, in the table's units (those of the program)
+  Position offset{};  // X Y Z A B C U V W offsets, mm (deg for A B C)
   double diameter = 0.0;
   std::string comment;
 };
 
 using ToolTable = std::map<int, ToolEntry>;
 
-// Throws GcodeError (file:line:column) on a malformed line.
-ToolTable read_tool_table(const std::filesystem::path& path);
-ToolTable parse_tool_table(const std::string& text, const std::string& source_name);
+// Throws GcodeError (file:line:column) on a malformed line. `units` are those of the table's
+// lengths, LinuxCNC's machine units: mm here; LinuxCNC's stand-alone rs274 reads them as inches.
+ToolTable read_tool_table(const std::filesystem::path& path, LengthUnits units = LengthUnits::mm);
+ToolTable parse_tool_table(const std::string& text, const std::string& source_name,
+                           LengthUnits units = LengthUnits::mm);
 
 }  // namespace pkm::gcode
