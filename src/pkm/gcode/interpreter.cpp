@@ -171,6 +171,7 @@ struct Interpreter::State {
   std::string file_name;
   Mark next{std::streampos(0), 1};
   Mark current;  // the line being executed
+  bool jumped = true;  // the stream is not at `next`
 
   const InterpreterOptions& options;
   std::vector<Warning>& warnings;
@@ -240,27 +241,31 @@ struct Interpreter::State {
   // ---- source -------------------------------------------------------------------------
   bool read_line(std::string& line) {
     current = next;
-    file.clear();
-    file.seekg(next.position);
-    if (!std::getline(file, line)) return false;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    next.position = file.tellg();
-    if (next.position == std::streampos(-1)) {
+    if (jumped) {
+      // Only a jump repositions the stream: seeking flushes its buffer.
       file.clear();
-      file.seekg(0, std::ios::end);
-      next.position = file.tellg();
+      file.seekg(next.position);
+      jumped = false;
     }
+    if (!std::getline(file, line)) return false;
+    // Binary mode: the next line starts after this one and its '\n' (none at the end of file).
+    next.position = current.position +
+                    static_cast<std::streamoff>(line.size() + (file.eof() ? 0 : 1));
+    if (!line.empty() && line.back() == '\r') line.pop_back();
     next.line = current.line + 1;
     return true;
   }
-  void jump(const Mark& mark) { next = mark; }
+  void jump(const Mark& mark) {
+    next = mark;
+    jumped = true;
+  }
   Mark after(const Mark& mark) {
     const Mark saved_next = next, saved_current = current;
-    next = mark;
+    jump(mark);
     std::string ignored;
     read_line(ignored);
     const Mark result = next;
-    next = saved_next;
+    jump(saved_next);
     current = saved_current;
     return result;
   }
@@ -429,13 +434,13 @@ Interpreter::State::Mark Interpreter::State::find_subroutine(const std::string& 
     if (o_word_keyword(line, &found) == "sub") {
       subroutines.emplace(found, current);
       if (found == label) {
-        next = saved_next;
+        jump(saved_next);
         current = saved_current;
         return subroutines[label];
       }
     }
   }
-  next = saved_next;
+  jump(saved_next);
   current = saved_current;
   fail(column, "unknown subroutine o" + label);
 }
