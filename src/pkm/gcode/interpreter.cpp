@@ -188,7 +188,7 @@ struct Interpreter::State {
   double feed = 0.0;
   double speed = 0.0;
   int motion = 0;  // G code times ten of the active motion mode, -1 after G80
-  bool retract_to_old = true;
+  bool retract_to_old = false;  // G99 (retract to R) until G98, as LinuxCNC starts
   Position pos{};  // program coordinates
   int coord_system = 1;
   Position g92_mm{};
@@ -200,7 +200,8 @@ struct Interpreter::State {
   bool cutter_comp = false;
 
   // Canned cycles: sticky words and the level the current series started from.
-  double cycle_r = 0.0, cycle_z = 0.0, cycle_q = 0.0, cycle_p = 0.0;
+  double cycle_r = 0.0, cycle_z = 0.0;  // mm
+  double cycle_q = 0.0, cycle_p = 0.0;
   double cycle_old_cc = 0.0;
   bool cycle_series = false;
   bool motion_changed = false;  // this block changes the motion mode
@@ -713,16 +714,26 @@ void Interpreter::State::cycle(const Block& block, int code, const Position& end
       break;
   }
   const int column = block.g_codes.empty() ? 1 : block.g_codes.front().column;
+  // Sticky R and Z are kept in mm, as LinuxCNC keeps them in machine units: read back in
+  // inches they may differ from the written value in the last bit, which decides whether the
+  // cycle first climbs to R (rs274's output shows it).
+  double r_value = 0.0, z_value = 0.0;
   if (block.has('r')) {
-    cycle_r = block.value('r');
+    r_value = block.value('r');
+    cycle_r = to_mm(r_value);
   } else if (motion_changed) {
     fail(column, "R clearance plane unspecified in cycle");
+  } else {
+    r_value = from_mm(cycle_r);
   }
   if (block.has(normal_letter)) {
-    cycle_z = block.value(normal_letter);
+    z_value = block.value(normal_letter);
+    cycle_z = to_mm(z_value);
   } else if (motion_changed) {
     fail(column, std::string(1, static_cast<char>(std::toupper(normal_letter))) +
                      " value unspecified in cycle");
+  } else {
+    z_value = from_mm(cycle_z);
   }
   if (block.has('q')) cycle_q = block.value('q');
   if (block.has('p')) cycle_p = block.value('p');
@@ -734,10 +745,10 @@ void Interpreter::State::cycle(const Block& block, int code, const Position& end
     cycle_series = true;
   }
   const long repeats = block.has('l') ? std::lround(block.value('l')) : 1;
-  double r = cycle_r, bottom = cycle_z;
+  double r = r_value, bottom = z_value;
   if (!absolute) {
-    r = cycle_old_cc + cycle_r;
-    bottom = r + cycle_z;
+    r = cycle_old_cc + r_value;
+    bottom = r + z_value;
   }
   if (bottom > r) fail(column, "cycle bottom is above the R plane");
   const double clear = (retract_to_old && cycle_old_cc > r) ? cycle_old_cc : r;
@@ -749,7 +760,8 @@ void Interpreter::State::cycle(const Block& block, int code, const Position& end
     p[normal] = c;
     straight(kind, block, p);
   };
-  if (pos[normal] < r) move(CanonKind::traverse, pos[first], pos[second], r);
+  // Below R when the series began: every block of the series climbs to R first (even from R).
+  if (cycle_old_cc < r) move(CanonKind::traverse, pos[first], pos[second], r);
   // In G91 each repetition moves on by the programmed increment.
   const double step_1 = end[first] - pos[first], step_2 = end[second] - pos[second];
   double at_1 = pos[first], at_2 = pos[second];
