@@ -233,8 +233,8 @@ class Reader {
   }
 
   double read_real() {
-    const int column = static_cast<int>(pos_) + 1;
     const char c = peek();
+    const int column = static_cast<int>(pos_) + 1;
     if (c == '[') {
       ++pos_;
       return read_expression();

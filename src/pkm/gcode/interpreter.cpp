@@ -170,7 +170,7 @@ struct Interpreter::State {
   std::ifstream file;
   std::string file_name;
   Mark next{std::streampos(0), 1};
-  Mark current;  // the line being executed
+  Mark current;        // the line being executed
   bool jumped = true;  // the stream is not at `next`
 
   const InterpreterOptions& options;
@@ -187,9 +187,9 @@ struct Interpreter::State {
   FeedMode feed_mode = FeedMode::units_per_minute;
   double feed = 0.0;
   double speed = 0.0;
-  int motion = 0;  // G code times ten of the active motion mode, -1 after G80
+  int motion = 0;               // G code times ten of the active motion mode, -1 after G80
   bool retract_to_old = false;  // G99 (retract to R) until G98, as LinuxCNC starts
-  Position pos{};  // program coordinates
+  Position pos{};               // program coordinates
   int coord_system = 1;
   Position g92_mm{};
   Position tool_offset_mm{};
@@ -250,8 +250,8 @@ struct Interpreter::State {
     }
     if (!std::getline(file, line)) return false;
     // Binary mode: the next line starts after this one and its '\n' (none at the end of file).
-    next.position = current.position +
-                    static_cast<std::streamoff>(line.size() + (file.eof() ? 0 : 1));
+    next.position =
+        current.position + static_cast<std::streamoff>(line.size() + (file.eof() ? 0 : 1));
     if (!line.empty() && line.back() == '\r') line.pop_back();
     next.line = current.line + 1;
     return true;

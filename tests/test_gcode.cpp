@@ -1,0 +1,214 @@
+// The G-code interpreter: expressions by hand, control flow, motion, and a table of errors that
+// must name file:line:column and what is wrong.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "pkm/gcode/gcode_error.hpp"
+#include "pkm/gcode/interpreter.hpp"
+
+namespace pkm::gcode {
+namespace {
+
+struct Result {
+  std::vector<Canon> canon;
+  std::string error;  // "file:line:column: message" without the file, or empty
+  int line = 0, column = 0;
+  std::vector<Warning> warnings;
+};
+
+Result interpret(const std::string& program, InterpreterOptions options = {}) {
+  static int counter = 0;
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() /
+      ("pkm-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".ngc");
+  std::ofstream(path, std::ios::binary) << program;
+  Result result;
+  Interpreter interpreter(path, std::move(options));
+  try {
+    interpreter.run([&](const Canon& canon) { result.canon.push_back(canon); });
+  } catch (const GcodeError& error) {
+    result.error = error.message();
+    result.line = error.line();
+    result.column = error.column();
+    EXPECT_EQ(error.file(), path.string());
+  }
+  result.warnings = interpreter.warnings();
+  std::filesystem::remove(path);
+  return result;
+}
+
+std::vector<Canon> motion(const Result& result) {
+  std::vector<Canon> moves;
+  for (const Canon& c : result.canon) {
+    if (c.kind == CanonKind::traverse || c.kind == CanonKind::feed || c.kind == CanonKind::arc) {
+      moves.push_back(c);
+    }
+  }
+  return moves;
+}
+
+// The X the program's last move reaches.
+double last_x(const std::string& program) {
+  const Result result = interpret(program + "\nM2\n");
+  EXPECT_EQ(result.error, "") << program;
+  const auto moves = motion(result);
+  return moves.empty() ? std::nan("") : moves.back().end[0];
+}
+
+TEST(Expressions, ByHand) {
+  EXPECT_DOUBLE_EQ(last_x("G0 X[2+3*4]"), 14.0);
+  EXPECT_DOUBLE_EQ(last_x("G0 X[2**3**2]"), 64.0);  // left to right: (2**3)**2
+  EXPECT_DOUBLE_EQ(last_x("G0 X[7 MOD 3]"), 1.0);
+  EXPECT_DOUBLE_EQ(last_x("G0 X[-7 MOD 3]"), 2.0);      // LinuxCNC's MOD is never negative
+  EXPECT_DOUBLE_EQ(last_x("G0 X[1 EQ 1.00005]"), 1.0);  // EQ within 1e-4
+  EXPECT_DOUBLE_EQ(last_x("G0 X[ATAN[1]/[1]]"), 45.0);
+  EXPECT_DOUBLE_EQ(last_x("G0 X[SQRT[16] + ABS[-2]]"), 6.0);
+  EXPECT_DOUBLE_EQ(last_x("G0 X[ROUND[2.5]]"), 3.0);
+  EXPECT_DOUBLE_EQ(last_x("G0 X[FIX[-2.5]]"), -3.0);
+  EXPECT_DOUBLE_EQ(last_x("G0 X[FUP[2.1]]"), 3.0);
+  EXPECT_DOUBLE_EQ(last_x("G0 X[1 + 2 GT 2]"), 1.0);    // + binds tighter than GT
+  EXPECT_DOUBLE_EQ(last_x("G0 X[1 AND 0 OR 1]"), 1.0);  // left to right
+  EXPECT_NEAR(last_x("G0 X[SIN[30]]"), 0.5, 1e-15);     // degrees
+  EXPECT_NEAR(last_x("G0 X[ACOS[0]]"), 90.0, 1e-12);
+  EXPECT_DOUBLE_EQ(last_x("G0 X - [1 + 1]"), -2.0);
+  EXPECT_DOUBLE_EQ(last_x("g0 x 1 0 . 5"), 10.5);  // spaces vanish, case ignored
+  EXPECT_DOUBLE_EQ(last_x("G0 X.5"), 0.5);
+}
+
+TEST(Parameters, NumberedNamedAndScopes) {
+  EXPECT_DOUBLE_EQ(last_x("#1=5\n#2=[#1*2]\nG0 X#2"), 10.0);
+  // A line reads every value before it sets any; the last setting of a parameter wins.
+  EXPECT_DOUBLE_EQ(last_x("#1=5 #1=7 G0 X#1"), 0.0);
+  EXPECT_DOUBLE_EQ(last_x("#1=5 #1=7\nG0 X#1"), 7.0);
+  EXPECT_DOUBLE_EQ(last_x("#<depth>=3\nG0 X#<de pth>"), 3.0);
+  EXPECT_DOUBLE_EQ(last_x("#3=4\n#4=3\nG0 X##4"), 4.0);  // #[#4]
+  EXPECT_DOUBLE_EQ(last_x("#<_g>=1\nG0 X[EXISTS[#<_g>] + EXISTS[#<nope>]]"), 1.0);
+}
+
+TEST(ControlFlow, SubroutinesLoopsAndConditions) {
+  EXPECT_DOUBLE_EQ(last_x("o<add> sub\no<add> return [#1 + #2]\no<add> endsub\n"
+                          "o<add> call [2] [3]\nG0 X#<_value>"),
+                   5.0);
+  // Subroutine locals do not leak; #1 outside is untouched.
+  EXPECT_DOUBLE_EQ(last_x("#1=9\no1 sub\n#1=2\n#<local>=4\no1 endsub\no1 call [7]\n"
+                          "G0 X[#1 + EXISTS[#<local>]]"),
+                   9.0);
+  EXPECT_DOUBLE_EQ(last_x("#1=0\no2 while [#1 LT 5]\n#1=[#1+1]\no2 endwhile\nG0 X#1"), 5.0);
+  EXPECT_DOUBLE_EQ(last_x("#1=0\no3 do\n#1=[#1+2]\no3 while [#1 LT 7]\nG0 X#1"), 8.0);
+  EXPECT_DOUBLE_EQ(last_x("#1=0\no4 repeat [4]\n#1=[#1+3]\no4 endrepeat\nG0 X#1"), 12.0);
+  EXPECT_DOUBLE_EQ(last_x("#1=2\no5 if [#1 EQ 1]\nG0 X1\no5 elseif [#1 EQ 2]\nG0 X2\n"
+                          "o5 else\nG0 X3\no5 endif"),
+                   2.0);
+  EXPECT_DOUBLE_EQ(last_x("#1=0\no6 while [1]\n#1=[#1+1]\no7 if [#1 GE 3]\no6 break\no7 endif\n"
+                          "o6 endwhile\nG0 X#1"),
+                   3.0);
+  // A subroutine defined after its call is found.
+  EXPECT_DOUBLE_EQ(last_x("o7 call [4]\nG0 X#<_value>\nM2\no7 sub\no7 return [#1*#1]\no7 endsub"),
+                   16.0);
+}
+
+TEST(Motion, ArcsUnitsAndOffsets) {
+  const Result result = interpret(
+      "G21 G17 G90\nG0 X0 Y0 Z0\nG1 F100 X10\nG3 X0 Y10 R10\nG18 G2 X20 Z0 I10 K0\n"
+      "G20\nG0 X1\nG92 X0\nG0 X1\nG91 G0 X1\nG90 G54 G10 L2 P1 X2\nG0 X0\nM2\n");
+  ASSERT_EQ(result.error, "");
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 8u);
+  // G3 R10 from (10, 0) to (0, 10): the quarter circle about the origin, counterclockwise.
+  EXPECT_EQ(moves[2].kind, CanonKind::arc);
+  EXPECT_NEAR(moves[2].center[0], 0.0, 1e-12);
+  EXPECT_NEAR(moves[2].center[1], 0.0, 1e-12);
+  EXPECT_EQ(moves[2].turns, 1);
+  // G18: first axis Z, second X; the centre from K and I.
+  EXPECT_EQ(moves[3].plane, Plane::xz);
+  EXPECT_NEAR(moves[3].center[0], 0.0, 1e-12);   // z + K
+  EXPECT_NEAR(moves[3].center[1], 10.0, 1e-12);  // x + I
+  EXPECT_EQ(moves[3].turns, -1);
+  // Inches: X1 is 1 inch; G92 X0 there makes the next X1 one more inch on.
+  EXPECT_EQ(moves[4].units, LengthUnits::inch);
+  EXPECT_DOUBLE_EQ(moves[4].end[0], 1.0);
+  EXPECT_DOUBLE_EQ(moves[5].end[0], 1.0);
+  EXPECT_DOUBLE_EQ(moves[6].end[0], 2.0);  // G91: one more
+  // G10 L2 P1 X2 (inches, 50.8 mm) moves the G54 origin; X0 is then 2 inches from machine 0.
+  EXPECT_NEAR(moves[7].end[0], 0.0, 1e-12);
+}
+
+TEST(Events, CodesWithNoMeaningHereArePassedOnWithAWarning) {
+  const Result result = interpret("G21\nM280 P0 S90\nM101\nG0 X1\n");  // and no program end
+  ASSERT_EQ(result.error, "");
+  int events = 0;
+  for (const Canon& c : result.canon) events += c.kind == CanonKind::event ? 1 : 0;
+  EXPECT_EQ(events, 2);
+  ASSERT_EQ(result.warnings.size(), 3u);
+  EXPECT_NE(result.warnings[0].message.find("M280"), std::string::npos);
+  EXPECT_NE(result.warnings[2].message.find("no M2"), std::string::npos);
+  EXPECT_EQ(result.canon.back().kind, CanonKind::program_end);
+}
+
+struct ErrorCase {
+  std::string name;
+  std::string program;
+  int line;
+  int column;
+  std::string message;
+};
+
+std::ostream& operator<<(std::ostream& out, const ErrorCase& c) {
+  return out << c.name;
+}
+
+class GcodeErrors : public ::testing::TestWithParam<ErrorCase> {};
+
+TEST_P(GcodeErrors, NameLineColumnAndWhat) {
+  const ErrorCase& c = GetParam();
+  const Result result = interpret(c.program);
+  EXPECT_NE(result.error.find(c.message), std::string::npos) << result.error;
+  EXPECT_EQ(result.line, c.line) << result.error;
+  EXPECT_EQ(result.column, c.column) << result.error;
+}
+
+const ErrorCase kErrors[] = {
+    {"unknown_g_code", "G21\nG0 X1 G5.3\n", 2, 7, "unknown G code G5.3"},
+    {"bad_character", "G21\nG1 X1 $ F100\n", 2, 7, "bad character '$'"},
+    {"g_without_number", "G21\nG1 X1 G F100\n", 2, 9, "unknown word or function"},
+    {"two_codes_one_group", "G21\nG0 G1 X1 F100\n", 2, 4,
+     "two G codes of one modal group: G0 and G1"},
+    {"two_m_codes_one_group", "M3 M4\n", 1, 4, "two M codes of one modal group: M3 and M4"},
+    {"multiple_words", "G0 X1 X2\n", 1, 7, "multiple X words"},
+    {"arc_end_not_on_circle", "G21 G0 X0 Y0\nG2 X10 Y0 I5.5 J0 F100\n", 2, 1,
+     "radius to end of arc differs from radius to start"},
+    {"r_arc_too_small", "G21 G0 X0 Y0\nG2 X30 Y0 R10 F100\n", 2, 11,
+     "arc radius too small to reach the end point"},
+    {"arc_without_centre", "G21\nG2 X10 F100\n", 2, 1, "R, I, J, K words all missing"},
+    {"undefined_named_parameter", "G0 X#<nowhere>\n", 1, 5,
+     "named parameter #<nowhere> not defined"},
+    {"unterminated_comment", "G0 X1 (no end\n", 1, 7, "unclosed comment"},
+    {"unterminated_expression", "G0 X[1+2\n", 1, 5, "unclosed expression"},
+    {"division_by_zero", "G0 X[1/0]\n", 1, 7, "attempt to divide by zero"},
+    {"feed_without_rate", "G21\nG1 X10\n", 2, 1, "zero feed rate"},
+    {"inverse_time_without_f", "G93 G1 X10 F1\nG1 X20\n", 2, 1, "F word missing with inverse time"},
+    {"negative_sqrt", "G0 X[SQRT[-1]]\n", 1, 6, "negative argument to SQRT"},
+    {"unknown_subroutine", "o<nosuch> call\n", 1, 1, "unknown subroutine o<nosuch>"},
+    {"endwhile_without_while", "o1 endwhile\n", 1, 1, "endwhile without its while"},
+    {"if_without_endif", "o2 if [0]\nG0 X1\n", 1, 1, "no matching elseif/else/endif"},
+    {"cycle_without_r", "G21 G0 Z5\nG81 X1 Z-1 F100\n", 2, 1, "R clearance plane unspecified"},
+    {"axis_words_after_g80", "G80\nX1\n", 2, 1, "no motion mode"},
+    {"g10_without_p", "G10 L2 X1\n", 1, 1, "G10 needs a P word"},
+    {"percent_in_the_middle", "G0 X1\n%\n", 2, 1, "'%' only opens and closes a program"},
+    {"o_word_not_first", "G0 X1 o100 sub\n", 1, 7, "an O-word must come first"},
+};
+
+INSTANTIATE_TEST_SUITE_P(Table, GcodeErrors, ::testing::ValuesIn(kErrors),
+                         [](const auto& test_info) { return test_info.param.name; });
+
+TEST(GcodeErrors, MissingFileIsAnError) {
+  Interpreter interpreter("/nonexistent/program.ngc");
+  EXPECT_THROW(interpreter.run([](const Canon&) {}), GcodeError);
+}
+
+}  // namespace
+}  // namespace pkm::gcode
