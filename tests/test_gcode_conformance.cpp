@@ -1,7 +1,8 @@
 // Differential test against LinuxCNC's rs274: every program of the real corpus, and the
 // project's own test programs, must give the same motion (STRAIGHT_TRAVERSE, STRAIGHT_FEED,
-// ARC_FEED, DWELL) as `rs274 -t TOOLTABLE -g`, line for line, numbers within one unit of the
-// fourth decimal rs274 prints. Where rs274 stops with an error, its motion up to there counts.
+// STRAIGHT_PROBE, ARC_FEED, DWELL) as `rs274 -t TOOLTABLE -g`, line for line, numbers within one
+// unit of the fourth decimal rs274 prints. Where rs274 stops with an error, its motion up to there
+// counts.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -68,7 +69,8 @@ std::map<std::string, std::string> unsupported() {
 
 bool is_motion(const std::string& text) {
   return text.rfind("STRAIGHT_TRAVERSE(", 0) == 0 || text.rfind("STRAIGHT_FEED(", 0) == 0 ||
-         text.rfind("ARC_FEED(", 0) == 0 || text.rfind("DWELL(", 0) == 0;
+         text.rfind("STRAIGHT_PROBE(", 0) == 0 || text.rfind("ARC_FEED(", 0) == 0 ||
+         text.rfind("DWELL(", 0) == 0;
 }
 
 struct ProgramRun {
@@ -122,7 +124,8 @@ ProgramRun run_pkm(const fs::path& program) {
   try {
     interpreter.run([&](const Canon& canon) {
       if (canon.kind == CanonKind::traverse || canon.kind == CanonKind::feed ||
-          canon.kind == CanonKind::arc || canon.kind == CanonKind::dwell) {
+          canon.kind == CanonKind::probe || canon.kind == CanonKind::arc ||
+          canon.kind == CanonKind::dwell) {
         run.motion.push_back(canon_text(canon));
       }
     });

@@ -18,6 +18,7 @@ enum class FeedMode { units_per_minute, inverse_time };
 enum class CanonKind {
   traverse,          // STRAIGHT_TRAVERSE to `end`
   feed,              // STRAIGHT_FEED to `end`
+  probe,             // STRAIGHT_PROBE towards `end` (G38.x): a feed move that stops on contact
   arc,               // ARC_FEED to `end` about `center` in `plane`, `turns` (+ ccw, - cw)
   dwell,             // DWELL `value` seconds
   set_feed_rate,     // `value` in length units per minute (or inverse time)

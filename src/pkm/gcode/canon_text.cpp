@@ -51,6 +51,8 @@ std::string canon_text(const Canon& c) {
       return "STRAIGHT_TRAVERSE(" + six(c.end) + ")";
     case CanonKind::feed:
       return "STRAIGHT_FEED(" + six(c.end) + ")";
+    case CanonKind::probe:
+      return "STRAIGHT_PROBE(" + six(c.end) + ")";
     case CanonKind::arc: {
       int first = 0, second = 0, normal = 0;
       plane_axes(c.plane, first, second, normal);

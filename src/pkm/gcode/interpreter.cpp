@@ -762,13 +762,23 @@ void Interpreter::State::cycle(const Block& block, int code, const Position& end
   };
   // Below R when the series began: every block of the series climbs to R first (even from R).
   if (cycle_old_cc < r) move(CanonKind::traverse, pos[first], pos[second], r);
-  // In G91 each repetition moves on by the programmed increment.
+  // In G91 each repetition moves on by the programmed increment; with polar words the
+  // increment is in radius and angle, applied to each hole's polar coordinates in turn.
   const double step_1 = end[first] - pos[first], step_2 = end[second] - pos[second];
+  const auto& polar_radius = block.words['g' - 'a'];
+  const auto& polar_angle = block.words['m' - 'a'];
+  const bool polar = !absolute && plane == Plane::xy && (polar_radius || polar_angle);
   double at_1 = pos[first], at_2 = pos[second];
   for (long repeat = 0; repeat < repeats; ++repeat) {
     if (absolute) {
       at_1 = end[first];
       at_2 = end[second];
+    } else if (polar) {
+      const double radius = std::hypot(at_1, at_2) + (polar_radius ? polar_radius->value : 0.0);
+      const double angle = std::atan2(at_2, at_1) +
+                           (polar_angle ? polar_angle->value * std::numbers::pi / 180.0 : 0.0);
+      at_1 = radius * std::cos(angle);
+      at_2 = radius * std::sin(angle);
     } else {
       at_1 += step_1;
       at_2 += step_2;
@@ -1212,8 +1222,28 @@ void Interpreter::State::execute_block(const Block& block) {
       case 382:
       case 383:
       case 384:
-      case 385:
-        fail(column, "G38 probing is not supported");
+      case 385: {
+        // Probing as LinuxCNC's stand-alone interpreter simulates it: the probe trips at the
+        // target (#5061.. hold it), and the tool backs off 0.01 inch towards the start.
+        require_feed(block, column);
+        double length = 0.0;
+        for (int axis = 0; axis < 3; ++axis)
+          length += (end[axis] - pos[axis]) * (end[axis] - pos[axis]);
+        length = std::sqrt(length);
+        if (length == 0.0) fail(column, "probe start and end points must differ");
+        Canon probe = make(CanonKind::probe, block);
+        probe.end = end;
+        emit(probe);
+        const double back_off = units == LengthUnits::inch ? 0.01 : 0.254;
+        for (int axis = 0; axis < kAxes; ++axis) parameters.set_numbered(5061 + axis, end[axis]);
+        parameters.set_numbered(5070, 0.0);
+        Position after_probe = end;
+        for (int axis = 0; axis < 3; ++axis) {
+          after_probe[axis] = end[axis] - back_off * (end[axis] - pos[axis]) / length;
+        }
+        pos = after_probe;
+        break;
+      }
       default:
         if (motion >= 730) {
           cycle(block, motion, end);
