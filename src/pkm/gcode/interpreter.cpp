@@ -783,7 +783,8 @@ void Interpreter::State::cycle(const Block& block, int code, const Position& end
       at_1 += step_1;
       at_2 += step_2;
     }
-    move(CanonKind::traverse, at_1, at_2, pos[normal]);
+    // Across to the hole at the current height, or at R where that is higher.
+    move(CanonKind::traverse, at_1, at_2, std::max(pos[normal], r));
     if (pos[normal] != r) move(CanonKind::traverse, at_1, at_2, r);
     switch (code) {
       case 810:
@@ -817,12 +818,13 @@ void Interpreter::State::cycle(const Block& block, int code, const Position& end
         move(CanonKind::feed, at_1, at_2, r);
         break;
       case 890: {
+        // G89 feeds all the way out to the clearance height (G85 feeds to R, then traverses).
         move(CanonKind::feed, at_1, at_2, bottom);
         Canon dwell = make(CanonKind::dwell, block);
         dwell.value = cycle_p;
         emit(dwell);
-        move(CanonKind::feed, at_1, at_2, r);
-        break;
+        move(CanonKind::feed, at_1, at_2, clear);
+        continue;
       }
       default:
         fail(column, code_name('G', code) + " is not supported (spindle-synchronised cycle)");
