@@ -6,7 +6,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
+#include "pkm/gcode/block.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/gcode/interpreter.hpp"
 
@@ -77,6 +79,25 @@ TEST(Expressions, ByHand) {
   EXPECT_DOUBLE_EQ(last_x("G0 X - [1 + 1]"), -2.0);
   EXPECT_DOUBLE_EQ(last_x("g0 x 1 0 . 5"), 10.5);  // spaces vanish, case ignored
   EXPECT_DOUBLE_EQ(last_x("G0 X.5"), 0.5);
+}
+
+TEST(Numbers, ReadExactlyAsStrtodReadsThem) {
+  // The reader's fast path (an exact mantissa over an exact power of ten) must round as strtod.
+  std::mt19937_64 rng(12);
+  std::uniform_int_distribution<int> digit(0, 9), length(1, 17), point(0, 17);
+  const Parameters parameters;
+  for (int trial = 0; trial < 20000; ++trial) {
+    std::string text;
+    const int digits = length(rng);
+    const int dot = point(rng);
+    for (int i = 0; i < digits; ++i) {
+      if (i == dot) text += '.';
+      text += static_cast<char>('0' + digit(rng));
+    }
+    const Block block = read_block("X" + text, parameters);
+    ASSERT_TRUE(block.has('x')) << text;
+    EXPECT_EQ(block.value('x'), std::strtod(text.c_str(), nullptr)) << text;
+  }
 }
 
 TEST(Parameters, NumberedNamedAndScopes) {

@@ -1,12 +1,24 @@
 #include "pkm/gcode/block.hpp"
 
 #include <cctype>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 namespace pkm::gcode {
 
 namespace {
+
+constexpr char lower(char c) {
+  return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c;
+}
+constexpr bool is_digit(char c) {
+  return c >= '0' && c <= '9';
+}
+constexpr bool is_alpha(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z');
+}
 
 constexpr double kEqualTolerance = 1e-4;  // LinuxCNC's EQ/NE compare within this
 
@@ -74,13 +86,13 @@ class Reader {
   Reader(const std::string& line, const Parameters& parameters)
       : line_(line), parameters_(parameters) {}
 
-  Block read() {
-    Block block;
+  void read(Block& block) {
+    block.clear();
     skip_space();
-    if (at_end()) return block;
+    if (at_end()) return;
     if (line_[pos_] == '%') {
       block.percent = true;
-      return block;
+      return;
     }
     if (line_[pos_] == '/') {
       block.block_delete = true;
@@ -116,7 +128,7 @@ class Reader {
         (c == 'g' ? block.g_codes : block.m_codes)
             .push_back({static_cast<int>(std::lround(tenths)), column});
         block.empty = false;
-      } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '@' || c == '^') {
+      } else if (is_alpha(c) || c == '@' || c == '^') {
         ++pos_;
         const int index = slot(c, column);
         if (block.words[index]) {
@@ -135,7 +147,6 @@ class Reader {
         }
       }
     }
-    return block;
   }
 
  private:
@@ -168,7 +179,7 @@ class Reader {
   }
   char peek() {
     skip_space();
-    return at_end() ? 0 : static_cast<char>(std::tolower(static_cast<unsigned char>(line_[pos_])));
+    return at_end() ? 0 : lower(line_[pos_]);
   }
   bool accept(char c) {
     if (peek() != c) return false;
@@ -204,7 +215,7 @@ class Reader {
     std::string digits;
     while (true) {
       const char c = peek();
-      if (!std::isdigit(static_cast<unsigned char>(c))) break;
+      if (!is_digit(c)) break;
       digits += c;
       ++pos_;
     }
@@ -213,23 +224,51 @@ class Reader {
   }
 
   double read_number() {
+    // Digits and one point, spaces between them ignored ("1 0 . 5" is 10.5), parsed by
+    // from_chars from a buffer on the stack: no allocation per number.
     const int column = static_cast<int>(pos_) + 1;
-    std::string text;
+    char text[64];
+    std::size_t length = 0;
     bool dot = false;
     while (true) {
       const char c = peek();
-      if (std::isdigit(static_cast<unsigned char>(c))) {
-        text += c;
-      } else if (c == '.' && !dot) {
-        dot = true;
-        text += c;
-      } else {
-        break;
-      }
+      if (!is_digit(c) && !(c == '.' && !dot)) break;
+      dot = dot || c == '.';
+      if (length == sizeof text) fail(column, "number too long");
+      text[length++] = c;
       ++pos_;
     }
-    if (text.empty() || text == ".") fail(column, "bad number format");
-    return std::strtod(text.c_str(), nullptr);
+    if (length == 0 || (length == 1 && dot)) fail(column, "bad number format");
+    // Clinger's fast path: up to 15 significant digits and 22 decimals make the mantissa and the
+    // power of ten exact doubles, so one division is correctly rounded, as strtod would be.
+    static constexpr double kPowersOfTen[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                              1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                              1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+    std::uint64_t mantissa = 0;
+    int digits = 0, decimals = 0;
+    bool after_dot = false, exact = true;
+    for (std::size_t i = 0; i < length; ++i) {
+      if (text[i] == '.') {
+        after_dot = true;
+        continue;
+      }
+      if (digits == 0 && text[i] == '0') {
+        if (after_dot) ++decimals;
+        continue;
+      }
+      if (++digits > 15) {
+        exact = false;
+        break;
+      }
+      mantissa = mantissa * 10 + static_cast<std::uint64_t>(text[i] - '0');
+      if (after_dot) ++decimals;
+    }
+    if (exact && decimals <= 22) {
+      return static_cast<double>(mantissa) / kPowersOfTen[decimals];
+    }
+    double value = 0.0;
+    std::from_chars(text, text + length, value);
+    return value;
   }
 
   double read_real() {
@@ -251,8 +290,8 @@ class Reader {
       ++pos_;
       return read_real();
     }
-    if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') return read_number();
-    if (std::isalpha(static_cast<unsigned char>(c))) return read_function(column);
+    if (is_digit(c) || c == '.') return read_number();
+    if (is_alpha(c)) return read_function(column);
     if (c == 0) fail(column, "a value is missing at the end of the line");
     fail(column, std::string("bad number format: '") + line_[pos_] + "'");
   }
@@ -511,8 +550,14 @@ class Reader {
 
 }  // namespace
 
+void read_block(const std::string& line, const Parameters& parameters, Block& block) {
+  Reader(line, parameters).read(block);
+}
+
 Block read_block(const std::string& line, const Parameters& parameters) {
-  return Reader(line, parameters).read();
+  Block block;
+  read_block(line, parameters, block);
+  return block;
 }
 
 std::string o_word_keyword(const std::string& line, std::string* label) {

@@ -58,6 +58,19 @@ struct Block {
   std::optional<OWord> o_word;
 
   const std::optional<Word>& word(char letter) const { return words[letter - 'a']; }
+  // Back to an empty block, keeping the vectors' storage (one Block serves every line).
+  void clear() {
+    empty = true;
+    block_delete = false;
+    percent = false;
+    n_label.clear();
+    words.fill(std::nullopt);
+    g_codes.clear();
+    m_codes.clear();
+    comments.clear();
+    assignments.clear();
+    o_word.reset();
+  }
   bool has(char letter) const { return words[letter - 'a'].has_value(); }
   double value(char letter) const { return words[letter - 'a']->value; }
 };
@@ -65,6 +78,8 @@ struct Block {
 // Reads `line` (one physical line, without its line end). Throws SyntaxError with the column of
 // the problem.
 Block read_block(const std::string& line, const Parameters& parameters);
+// The same into an existing block, reusing its storage.
+void read_block(const std::string& line, const Parameters& parameters, Block& block);
 
 // The keyword of an O-word line (and its label), without evaluating anything: what control flow
 // needs of the lines it skips. Empty when the line is no O-word line.

@@ -227,6 +227,7 @@ struct Interpreter::State {
   };
   std::vector<Call> calls;
   std::map<std::string, Mark> subroutines;
+  Block block_;  // the line being executed; one block's storage serves every line
   bool percent_program = false;
   bool ended = false;
   bool saw_end = false;
@@ -379,9 +380,9 @@ void Interpreter::State::run(const CanonSink& output) {
 }
 
 void Interpreter::State::execute_line(const std::string& line) {
-  Block block;
+  Block& block = block_;
   try {
-    block = read_block(line, parameters);
+    read_block(line, parameters, block);
   } catch (const SyntaxError& error) {
     fail(error.column, error.message);
   }
@@ -575,7 +576,7 @@ void Interpreter::State::execute_o_word(const Block& block) {
 Position Interpreter::State::target(const Block& block, bool machine_coordinates) const {
   static constexpr char kLetters[kAxes] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
   Position end = pos;
-  const Position offsets = total_offset_mm();
+  const Position offsets = machine_coordinates ? total_offset_mm() : Position{};
   for (int axis = 0; axis < kAxes; ++axis) {
     if (!block.has(kLetters[axis])) continue;
     const double value = block.value(kLetters[axis]);
@@ -921,22 +922,25 @@ void Interpreter::State::execute_block(const Block& block) {
   if (block.empty) return;
 
   // Modal groups: at most one code of each in a block.
-  std::map<int, Code> g_by_group, m_by_group;
+  std::array<std::optional<Code>, 16> g_by_group;
+  std::array<std::optional<Code>, 12> m_by_group;  // 11: M7 and M8 on one line
   for (const Code& code : block.g_codes) {
     const int group = g_group(code.tenths);
     if (group < 0) fail(code.column, "unknown G code " + code_name('G', code.tenths));
-    const auto [it, inserted] = g_by_group.emplace(group, code);
-    if (!inserted && group == 1 && (it->second.tenths == 800 || code.tenths == 800)) {
+    std::optional<Code>& slot = g_by_group[group];
+    if (!slot) {
+      slot = code;
+      continue;
+    }
+    if (group == 1 && (slot->tenths == 800 || code.tenths == 800)) {
       // "G80 G0": the cycle ends and the other motion mode takes over, as LinuxCNC allows.
-      if (it->second.tenths == 800) it->second = code;
+      if (slot->tenths == 800) slot = code;
       cycle_series = false;
       continue;
     }
-    if (!inserted && group != 0) {
-      fail(code.column, "two G codes of one modal group: " + code_name('G', it->second.tenths) +
-                            " and " + code_name('G', code.tenths));
-    }
-    if (!inserted && group == 0) fail(code.column, "two non-modal G codes on one line");
+    if (group == 0) fail(code.column, "two non-modal G codes on one line");
+    fail(code.column, "two G codes of one modal group: " + code_name('G', slot->tenths) + " and " +
+                          code_name('G', code.tenths));
   }
   for (const Code& code : block.m_codes) {
     int group = m_group(code.tenths);
@@ -948,21 +952,18 @@ void Interpreter::State::execute_block(const Block& block) {
       emit(event);
       continue;
     }
-    if (group == 8 && m_by_group.count(8) && (code.tenths == 70 || code.tenths == 80) &&
-        (m_by_group[8].tenths == 70 || m_by_group[8].tenths == 80)) {
-      group = 80;  // M7 and M8 may share a line
+    if (group == 8 && m_by_group[8] && (code.tenths == 70 || code.tenths == 80) &&
+        (m_by_group[8]->tenths == 70 || m_by_group[8]->tenths == 80)) {
+      group = 11;  // M7 and M8 may share a line
     }
-    const auto [it, inserted] = m_by_group.emplace(group, code);
-    if (!inserted) {
-      fail(code.column, "two M codes of one modal group: " + code_name('M', it->second.tenths) +
+    std::optional<Code>& slot = m_by_group[group];
+    if (slot) {
+      fail(code.column, "two M codes of one modal group: " + code_name('M', slot->tenths) +
                             " and " + code_name('M', code.tenths));
     }
+    slot = code;
   }
-  const auto g_in = [&](int group) -> std::optional<Code> {
-    const auto found = g_by_group.find(group);
-    if (found == g_by_group.end()) return std::nullopt;
-    return found->second;
-  };
+  const auto g_in = [&](int group) -> const std::optional<Code>& { return g_by_group[group]; };
   const std::optional<Code> non_modal = g_in(0);
   std::optional<Code> motion_code = g_in(1);
   static constexpr char kAxisLetters[] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
@@ -1009,8 +1010,8 @@ void Interpreter::State::execute_block(const Block& block) {
     emit(c);
   }
   // 2. tool change, spindle, coolant, overrides.
-  if (m_by_group.count(6)) {
-    const Code code = m_by_group[6];
+  if (m_by_group[6].has_value()) {
+    const Code code = *m_by_group[6];
     if (code.tenths == 60) {
       Canon c = make(CanonKind::change_tool, block);
       c.integer = selected_tool;
@@ -1019,15 +1020,15 @@ void Interpreter::State::execute_block(const Block& block) {
     tool_in_spindle = code.tenths == 610 ? static_cast<int>(block.has('q') ? block.value('q') : 0)
                                          : selected_tool;
   }
-  if (m_by_group.count(7)) {
-    const int code = m_by_group[7].tenths;
+  if (m_by_group[7].has_value()) {
+    const int code = m_by_group[7]->tenths;
     if (code == 30) emit(CanonKind::spindle_clockwise, block);
     if (code == 40) emit(CanonKind::spindle_counterclockwise, block);
     if (code == 50) emit(CanonKind::spindle_stop, block);
   }
-  for (const int group : {8, 80}) {
-    if (!m_by_group.count(group)) continue;
-    const int code = m_by_group[group].tenths;
+  for (const int group : {8, 11}) {
+    if (!m_by_group[group].has_value()) continue;
+    const int code = m_by_group[group]->tenths;
     if (code == 70) emit(CanonKind::mist_on, block);
     if (code == 80) emit(CanonKind::flood_on, block);
     if (code == 90) {
@@ -1036,8 +1037,8 @@ void Interpreter::State::execute_block(const Block& block) {
     }
   }
   for (const int group : {9, 5, 10}) {
-    if (!m_by_group.count(group)) continue;
-    const int code = m_by_group[group].tenths;
+    if (!m_by_group[group].has_value()) continue;
+    const int code = m_by_group[group]->tenths;
     Canon event = make(CanonKind::event, block);
     event.text = code_name('M', code);
     if (group == 10) warn(code_name('M', code) + " (user M-code) passed on as an event");
@@ -1258,8 +1259,8 @@ void Interpreter::State::execute_block(const Block& block) {
     if (previous_cycle && motion < 730) cycle_series = false;
   }
   // 8. stop and end.
-  if (m_by_group.count(4)) {
-    const int code = m_by_group[4].tenths;
+  if (m_by_group[4].has_value()) {
+    const int code = m_by_group[4]->tenths;
     if (code == 0) emit(CanonKind::program_stop, block);
     if (code == 10) emit(CanonKind::optional_stop, block);
     if (code == 600) emit(CanonKind::program_stop, block);
