@@ -30,5 +30,6 @@ const char* joint_unit(const JointSpec& joint);
 void register_kinematics_commands(CLI::App& app);
 void register_calibrate_commands(CLI::App& app);
 void register_gcode_commands(CLI::App& app);
+void register_plan_commands(CLI::App& app);
 
 }  // namespace pkm::app

@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   pkm::app::register_kinematics_commands(app);
   pkm::app::register_gcode_commands(app);
+  pkm::app::register_plan_commands(app);
   pkm::app::register_calibrate_commands(app);
   try {
     app.parse(argc, argv);

@@ -56,7 +56,7 @@ struct Canon {
   Plane plane = Plane::xy;
   std::array<double, 2> center{};  // arc centre in the plane's first and second axis
   int turns = 0;
-  double value = 0.0;
+  double value = 0.0;  // moves: the F word in effect (units/min, or 1/min in inverse time)
   double value2 = 0.0;
   int integer = 0;
   FeedMode feed_mode = FeedMode::units_per_minute;

@@ -238,6 +238,7 @@ struct Interpreter::State {
     if (!file) throw GcodeError(file_name, 0, 0, "cannot open the program");
     // G54 offsets start at zero; #5220 holds the active coordinate system.
     parameters.set_numbered(5220, 1.0);
+    pos = options.start_position;
   }
 
   // ---- source -------------------------------------------------------------------------
@@ -618,6 +619,8 @@ void Interpreter::State::require_feed(const Block& block, int column) const {
 void Interpreter::State::straight(CanonKind kind, const Block& block, const Position& end) {
   Canon canon = make(kind, block);
   canon.end = end;
+  canon.value = feed;  // the F in effect: the planner's programmed speed (or inverse time)
+  canon.feed_mode = feed_mode;
   emit(canon);
   pos = end;
 }
@@ -695,6 +698,8 @@ void Interpreter::State::arc(const Block& block, int code, const Position& end) 
   }
   Canon canon = make(CanonKind::arc, block);
   canon.end = end;
+  canon.value = feed;
+  canon.feed_mode = feed_mode;
   canon.center = {centre_1, centre_2};
   canon.turns = turns;
   emit(canon);

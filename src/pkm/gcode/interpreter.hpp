@@ -21,6 +21,9 @@ namespace pkm::gcode {
 struct InterpreterOptions {
   std::optional<ToolTable> tool_table;  // without one, T words select tools with no offsets
   bool block_delete = false;            // skip lines starting with '/'
+  // Where the machine is when the program starts, program coordinates in mm and deg (LinuxCNC
+  // starts from the machine's position; rs274 from 0). Axes a program never names stay there.
+  Position start_position{};
 };
 
 struct Warning {

@@ -4,58 +4,70 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
-#include <string>
 
 namespace pkm {
 
-namespace {
-[[noreturn]] void fail(const std::filesystem::path& path, const std::string& what, int error) {
-  throw std::runtime_error("cannot write " + path.string() + ": " + what + ": " +
-                           std::strerror(error));
-}
-}  // namespace
-
-void write_file_atomically(const std::filesystem::path& path, std::string_view content) {
+AtomicFileWriter::AtomicFileWriter(std::filesystem::path path) : path_(std::move(path)) {
   const std::filesystem::path directory =
-      path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+      path_.has_parent_path() ? path_.parent_path() : std::filesystem::path(".");
   std::string name = ".";
-  name.append(path.filename().string()).append(".tmp-XXXXXX");
-  std::string temporary = (directory / name).string();
-  const int descriptor = ::mkstemp(temporary.data());
-  if (descriptor < 0) fail(path, "creating a temporary file in " + directory.string(), errno);
-  const auto abandon = [&](const std::string& what) {
-    const int error = errno;
-    ::close(descriptor);
-    ::unlink(temporary.c_str());
-    fail(path, what, error);
-  };
-  std::size_t written = 0;
-  while (written < content.size()) {
-    const ssize_t n = ::write(descriptor, content.data() + written, content.size() - written);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      abandon("writing");
-    }
-    written += static_cast<std::size_t>(n);
-  }
-  if (::fsync(descriptor) != 0) abandon("flushing");
+  name.append(path_.filename().string()).append(".tmp-XXXXXX");
+  temporary_ = (directory / name).string();
+  const int descriptor = ::mkstemp(temporary_.data());
+  if (descriptor < 0) fail("creating a temporary file in " + directory.string(), errno);
   // mkstemp creates 0600; an output file should have the usual permissions.
   const mode_t mask = ::umask(0);
   ::umask(mask);
-  if (::fchmod(descriptor, 0666 & ~mask) != 0) abandon("setting permissions");
-  if (::close(descriptor) != 0) {
+  ::fchmod(descriptor, 0666 & ~mask);
+  stream_ = ::fdopen(descriptor, "w+b");
+  if (stream_ == nullptr) {
     const int error = errno;
-    ::unlink(temporary.c_str());
-    fail(path, "closing", error);
+    ::close(descriptor);
+    ::unlink(temporary_.c_str());
+    fail("opening the temporary file", error);
   }
-  if (::rename(temporary.c_str(), path.c_str()) != 0) {
-    const int error = errno;
-    ::unlink(temporary.c_str());
-    fail(path, "renaming the temporary file into place", error);
+}
+
+AtomicFileWriter::~AtomicFileWriter() {
+  if (committed_) return;
+  if (stream_ != nullptr) std::fclose(stream_);
+  ::unlink(temporary_.c_str());
+}
+
+void AtomicFileWriter::fail(const std::string& what, int error) const {
+  throw std::runtime_error("cannot write " + path_.string() + ": " + what + ": " +
+                           std::strerror(error));
+}
+
+void AtomicFileWriter::write(std::string_view bytes) {
+  if (std::fwrite(bytes.data(), 1, bytes.size(), stream_) != bytes.size()) fail("writing", errno);
+}
+
+void AtomicFileWriter::write_at(long offset, std::string_view bytes) {
+  const long end = std::ftell(stream_);
+  if (std::fseek(stream_, offset, SEEK_SET) != 0) fail("seeking", errno);
+  write(bytes);
+  if (std::fseek(stream_, end, SEEK_SET) != 0) fail("seeking", errno);
+}
+
+void AtomicFileWriter::commit() {
+  if (std::fflush(stream_) != 0) fail("flushing", errno);
+  if (::fsync(::fileno(stream_)) != 0) fail("flushing to disk", errno);
+  const int closed = std::fclose(stream_);
+  stream_ = nullptr;
+  if (closed != 0) fail("closing", errno);
+  if (::rename(temporary_.c_str(), path_.c_str()) != 0) {
+    fail("renaming the temporary file into place", errno);
   }
+  committed_ = true;
+}
+
+void write_file_atomically(const std::filesystem::path& path, std::string_view content) {
+  AtomicFileWriter file(path);
+  file.write(content);
+  file.commit();
 }
 
 }  // namespace pkm

@@ -1,0 +1,127 @@
+// pkm plan: G-code to joint samples at the servo period.
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "app.hpp"
+#include "pkm/gcode/gcode_error.hpp"
+#include "pkm/io/sample_files.hpp"
+
+namespace pkm::app {
+
+namespace {
+
+struct PlanCommandOptions {
+  std::string machine;
+  std::string program;
+  std::string output;
+  std::string report;
+  std::string tool_table;
+  double period_s = 0.001;
+  std::vector<double> start;
+};
+
+nlohmann::json report_json(const Machine& machine, const motion::PlanReport& report,
+                           const PlanCommandOptions& options) {
+  nlohmann::json joints = nlohmann::json::array();
+  for (std::size_t i = 0; i < machine.joints().size(); ++i) {
+    const JointSpec& joint = machine.joints()[i];
+    const motion::JointStatistics& s = report.joints[i];
+    joints.push_back({{"name", joint.name},
+                      {"unit", joint_unit(joint)},
+                      {"min", joint_to_interface(joint, s.min)},
+                      {"max", joint_to_interface(joint, s.max)},
+                      {"limit_min", joint_to_interface(joint, joint.min)},
+                      {"limit_max", joint_to_interface(joint, joint.max)},
+                      {"peak_velocity", joint_to_interface(joint, s.peak_velocity)},
+                      {"max_velocity", joint_to_interface(joint, joint.max_velocity)},
+                      {"peak_acceleration", joint_to_interface(joint, s.peak_acceleration)},
+                      {"max_acceleration", joint_to_interface(joint, joint.max_acceleration)}});
+  }
+  nlohmann::json limits = nlohmann::json::array();
+  for (const motion::FeedLimit& limit : report.feed_limits) {
+    limits.push_back({{"line", limit.line},
+                      {"joint", machine.joints()[static_cast<std::size_t>(limit.joint)].name},
+                      {"programmed_mm_per_min", limit.programmed_mm_per_s * 60.0},
+                      {"allowed_mm_per_min", limit.allowed_mm_per_s * 60.0}});
+  }
+  return {{"machine", machine.name()},
+          {"program", options.program},
+          {"period_s", options.period_s},
+          {"duration_s", report.duration_s},
+          {"samples", report.samples},
+          {"path_length_mm", report.path_length_mm},
+          {"joints", joints},
+          {"feed_limited_by_joints", limits}};
+}
+
+void run_plan(const PlanCommandOptions& options) {
+  const Machine machine = load_machine_or_default(options.machine);
+  motion::PlanOptions plan_options;
+  plan_options.period_s = options.period_s;
+  if (!options.start.empty()) plan_options.start = pose_from_arguments(machine, options.start);
+  gcode::InterpreterOptions interpreter_options;
+  std::unique_ptr<SampleFile> output;
+  motion::PlanReport report;
+  try {
+    if (!options.tool_table.empty()) {
+      interpreter_options.tool_table = gcode::read_tool_table(options.tool_table);
+    }
+    output = SampleFile::open(options.output, machine);
+    report =
+        motion::plan_program(machine, options.program, interpreter_options, plan_options, *output);
+  } catch (const gcode::GcodeError& error) {
+    throw CommandError(error.what());
+  } catch (const motion::PlanError& error) {
+    throw CommandError(error.what());
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(error.what());
+  }
+  output->commit();
+  const nlohmann::json json = report_json(machine, report, options);
+  if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
+  for (const gcode::Warning& warning : report.warnings) {
+    std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", options.program.c_str(), warning.line,
+                 warning.message.c_str());
+  }
+  std::printf("%s: %ld samples, %.3f s, path %.3f mm on %s\n", options.output.c_str(),
+              report.samples, report.duration_s, report.path_length_mm, machine.name().c_str());
+  for (std::size_t i = 0; i < machine.joints().size(); ++i) {
+    const JointSpec& joint = machine.joints()[i];
+    const motion::JointStatistics& s = report.joints[i];
+    std::printf("  %-10s %10.3f .. %10.3f %s, peak %8.2f of %.1f %s/s, %9.1f of %.1f %s/s^2\n",
+                joint.name.c_str(), joint_to_interface(joint, s.min),
+                joint_to_interface(joint, s.max), joint_unit(joint),
+                joint_to_interface(joint, s.peak_velocity),
+                joint_to_interface(joint, joint.max_velocity), joint_unit(joint),
+                joint_to_interface(joint, s.peak_acceleration),
+                joint_to_interface(joint, joint.max_acceleration), joint_unit(joint));
+  }
+  if (!report.feed_limits.empty()) {
+    std::printf(
+        "  feed lowered by joint limits on %zu moves (first at line %d, joint %s)\n",
+        report.feed_limits.size(), report.feed_limits.front().line,
+        machine.joints()[static_cast<std::size_t>(report.feed_limits.front().joint)].name.c_str());
+  }
+}
+
+}  // namespace
+
+void register_plan_commands(CLI::App& app) {
+  auto options = std::make_shared<PlanCommandOptions>();
+  CLI::App* command = app.add_subcommand(
+      "plan",
+      "Joint positions at every servo period for a G-code job (time-division interpolation)");
+  command->add_option("-m,--machine", options->machine, "Machine file (default: embedded hexapod)");
+  command->add_option("program", options->program, "The G-code job")->required();
+  command->add_option("-o,--output", options->output, "Samples: OUT.csv or OUT.npy")->required();
+  command->add_option("--period", options->period_s, "Interpolation period, s (default 0.001)")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--report", options->report, "Write the plan report as JSON");
+  command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl, mm)");
+  command->add_option("--start", options->start, "Start pose x y z [a b c] (default: home)")
+      ->expected(2, 6);
+  command->callback([options] { run_plan(*options); });
+}
+
+}  // namespace pkm::app

@@ -1,0 +1,27 @@
+// Sample tables on disk: CSV with a header row, or NPY (float64, one row per sample). Columns:
+// t (s), line, x y z (mm), a b c (deg) where the machine controls orientation, then j_<name> per
+// joint (mm, deg for rotary joints).
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pkm/io/atomic_file.hpp"
+#include "pkm/machine/machine.hpp"
+#include "pkm/motion/planner.hpp"
+
+namespace pkm {
+
+std::vector<std::string> sample_columns(const Machine& machine);
+
+class SampleFile : public motion::SampleSink {
+ public:
+  // The format follows the extension: .csv or .npy. Throws std::invalid_argument for another.
+  static std::unique_ptr<SampleFile> open(const std::filesystem::path& path,
+                                          const Machine& machine);
+  virtual void commit() = 0;  // complete the file and move it into place
+};
+
+}  // namespace pkm

@@ -1,0 +1,78 @@
+// Time-division interpolation: every move of a G-code program split into equal time steps of
+// the interpolation period, the tool pose at the end of each step turned into joint values by
+// inverse kinematics, streamed to a sink.
+//
+// This first planner stops exactly at the end of every move (G61 behaviour) with a trapezoidal,
+// acceleration-limited speed profile; the feed of each move is lowered where a joint would
+// exceed its velocity or acceleration limit.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "pkm/gcode/interpreter.hpp"
+#include "pkm/machine/machine.hpp"
+
+namespace pkm::motion {
+
+struct Sample {
+  double time_s = 0.0;
+  int line = 0;                      // G-code line of the move
+  Vector6d pose = Vector6d::Zero();  // x y z (mm) a b c (rad)
+  JointVector joints;                // mm (rad for rotary joints)
+};
+
+// Where samples go: a file, a test, a controller.
+class SampleSink {
+ public:
+  virtual ~SampleSink() = default;
+  virtual void write(const Sample& sample) = 0;
+};
+
+struct PlanOptions {
+  double period_s = 0.001;    // LinuxCNC's servo period
+  std::optional<Pose> start;  // default: the machine's home
+};
+
+struct JointStatistics {
+  double min = 0.0, max = 0.0;     // position reached
+  double peak_velocity = 0.0;      // per s, from successive samples
+  double peak_acceleration = 0.0;  // per s^2
+};
+
+// A move whose feed a joint lowered.
+struct FeedLimit {
+  int line = 0;
+  int joint = 0;
+  double programmed_mm_per_s = 0.0;
+  double allowed_mm_per_s = 0.0;
+};
+
+struct PlanReport {
+  double duration_s = 0.0;
+  long samples = 0;
+  double path_length_mm = 0.0;
+  std::vector<JointStatistics> joints;
+  std::vector<FeedLimit> feed_limits;
+  std::vector<gcode::Warning> warnings;
+};
+
+// A move the machine cannot make, with the G-code line and the reason (joint, limit).
+class PlanError : public std::runtime_error {
+ public:
+  PlanError(std::string file, int line, const std::string& message)
+      : std::runtime_error(file + ":" + std::to_string(line) + ": " + message), line_(line) {}
+  int line() const { return line_; }
+
+ private:
+  int line_;
+};
+
+PlanReport plan_program(const Machine& machine, const std::filesystem::path& program,
+                        const gcode::InterpreterOptions& interpreter_options,
+                        const PlanOptions& options, SampleSink& sink);
+
+}  // namespace pkm::motion

@@ -1,0 +1,33 @@
+// One move of the tool in machine coordinates (mm, rad): a line, an arc or helix, or a dwell.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "pkm/geometry/pose.hpp"
+
+namespace pkm::motion {
+
+enum class SegmentKind { line, arc, dwell };
+
+struct Segment {
+  SegmentKind kind = SegmentKind::line;
+  int line = 0;                       // G-code source line
+  bool rapid = false;                 // G0: at the machine's highest feed
+  Vector6d start = Vector6d::Zero();  // x y z (mm) a b c (rad)
+  Vector6d end = Vector6d::Zero();
+  double feed_mm_per_s = 0.0;  // programmed tool-tip speed (0 for rapids and dwells)
+  double dwell_s = 0.0;
+
+  // Arcs: centre, the plane's two in-plane axes and its normal, signed sweep (rad, + ccw).
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  int first_axis = 0, second_axis = 1, normal_axis = 2;
+  double sweep_rad = 0.0;
+
+  // Length of the tool tip's path (mm); moves of the angles only are measured in degrees as
+  // LinuxCNC does for a feed of rotary axes alone.
+  double length() const;
+  // The pose at fraction u of the path (0 = start, 1 = end); angles linear in u.
+  Vector6d at(double u) const;
+};
+
+}  // namespace pkm::motion

@@ -1,0 +1,213 @@
+// Time-division interpolation: samples on the programmed path, speeds and accelerations within
+// their limits, closed-form durations, joints equal to IK of every sample, limits named by line.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "pkm/io/sample_files.hpp"
+#include "pkm/motion/planner.hpp"
+#include "test_support.hpp"
+
+namespace pkm::motion {
+namespace {
+
+struct Collect final : SampleSink {
+  std::vector<Sample> samples;
+  void write(const Sample& sample) override { samples.push_back(sample); }
+};
+
+std::filesystem::path write_program(const std::string& text) {
+  static int counter = 0;
+  const auto path =
+      std::filesystem::temp_directory_path() /
+      ("pkm-motion-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".ngc");
+  std::ofstream(path) << text;
+  return path;
+}
+
+PlanReport plan(const Machine& machine, const std::string& program, Collect& out,
+                double period = 0.001) {
+  const auto path = write_program(program);
+  PlanOptions options;
+  options.period_s = period;
+  PlanReport report;
+  try {
+    report = plan_program(machine, path, {}, options, out);
+  } catch (...) {
+    std::filesystem::remove(path);
+    throw;
+  }
+  std::filesystem::remove(path);
+  return report;
+}
+
+TEST(Plan, LineSamplesLieOnTheLineAndTheDurationIsClosedForm) {
+  // Hexapod: 1000 mm/s^2. G1 X50 at F3000 (50 mm/s) from home: ramps of 0.05 s over 1.25 mm
+  // each, 47.5 mm cruising at 50 mm/s: 1.05 s.
+  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  Collect out;
+  const PlanReport report = plan(hexapod, "G21 G90\nG1 F3000 X50 Y0 Z1000\nM2\n", out);
+  EXPECT_NEAR(report.duration_s, 1.05, 1e-12);
+  EXPECT_NEAR(report.path_length_mm, 50.0, 1e-12);
+  ASSERT_EQ(out.samples.size(), 1051u);  // t = 0, 0.001, ..., 1.050 (the end)
+  double peak_speed = 0.0, peak_acceleration = 0.0, previous_speed = 0.0;
+  for (std::size_t k = 0; k < out.samples.size(); ++k) {
+    const Sample& s = out.samples[k];
+    EXPECT_LE(std::abs(s.pose[1]), 1e-9);
+    EXPECT_LE(std::abs(s.pose[2] - 1000.0), 1e-9);
+    EXPECT_NEAR(s.time_s, std::min(0.001 * static_cast<double>(k), 1.05), 1e-12);
+    if (k == 0) continue;
+    const double dt = s.time_s - out.samples[k - 1].time_s;
+    const double speed = (s.pose[0] - out.samples[k - 1].pose[0]) / dt;
+    peak_speed = std::max(peak_speed, speed);
+    if (k > 1)
+      peak_acceleration = std::max(peak_acceleration, std::abs(speed - previous_speed) / dt);
+    previous_speed = speed;
+  }
+  EXPECT_LE(peak_speed, 50.0 * (1 + 1e-9));
+  EXPECT_GT(peak_speed, 49.99);
+  EXPECT_LE(peak_acceleration, 1000.0 * (1 + 1e-6));
+  EXPECT_DOUBLE_EQ(out.samples.back().pose[0], 50.0);
+}
+
+TEST(Plan, ArcSamplesStayOnTheirRadius) {
+  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  Collect out;
+  plan(hexapod, "G21 G90 G17\nG0 X40 Y0 Z1000\nG3 X-40 Y0 I-40 J0 Z1005 F1200\nM2\n", out);
+  int on_arc = 0;
+  for (const Sample& s : out.samples) {
+    if (s.line != 3) continue;
+    ++on_arc;
+    EXPECT_NEAR(std::hypot(s.pose[0], s.pose[1]), 40.0, 1e-9);
+    // The helix rises linearly with the angle swept.
+    const double angle = std::atan2(s.pose[1], s.pose[0]);
+    EXPECT_NEAR(s.pose[2], 1000.0 + 5.0 * (angle < 0 ? angle + 2 * M_PI : angle) / M_PI, 1e-9);
+  }
+  EXPECT_GT(on_arc, 100);
+}
+
+TEST(Plan, EverySamplesJointsAreTheIkOfItsPose) {
+  for (const std::string& file : test::example_machine_files()) {
+    const Machine machine = test::load_example(file);
+    const Vector6d home = machine.home().as_vector();
+    // A small square around home in the first two controlled axes, then back.
+    int axes[2] = {-1, -1};
+    for (int axis = 0, n = 0; axis < 3 && n < 2; ++axis) {
+      if (machine.kinematics().dof().controls(axis)) axes[n++] = axis;
+    }
+    const char letters[] = {'X', 'Y', 'Z'};
+    const auto word = [&](int n, double offset) {
+      return std::string(1, letters[axes[n]]) + std::to_string(home[axes[n]] + offset);
+    };
+    std::string program = "G21 G90 F600\n";
+    program += "G1 " + word(0, 5) + " " + word(1, 0) + "\n";
+    program += "G1 " + word(0, 5) + " " + word(1, 5) + "\n";
+    program += "G0 " + word(0, 0) + " " + word(1, 0) + "\nM2\n";
+    Collect out;
+    const PlanReport report = plan(machine, program, out);
+    for (const Sample& s : out.samples) {
+      JointVector joints;
+      ASSERT_TRUE(machine.inverse(Pose::from_vector(s.pose), joints).ok()) << file;
+      EXPECT_LT((joints - s.joints).cwiseAbs().maxCoeff(), 1e-12) << file;
+    }
+    for (std::size_t i = 0; i < machine.joints().size(); ++i) {
+      const JointSpec& joint = machine.joints()[i];
+      EXPECT_GE(report.joints[i].min, joint.min) << file;
+      EXPECT_LE(report.joints[i].max, joint.max) << file;
+      EXPECT_LE(report.joints[i].peak_velocity, joint.max_velocity) << file << " " << joint.name;
+      EXPECT_LE(report.joints[i].peak_acceleration, joint.max_acceleration * (1 + 1e-6))
+          << file << " " << joint.name;
+    }
+  }
+}
+
+TEST(Plan, JointVelocityLimitsLowerTheFeed) {
+  // Hektor's cables allow 60 mm/s; with its Cartesian limit raised, a 6000 mm/min (100 mm/s)
+  // move must slow down for them.
+  std::ifstream in(test::example_machine_path("hektor.toml"));
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  text.replace(text.find("max_feed = 2400.0"), 17, "max_feed = 12000.0");
+  const Machine hektor = parse_machine(text, "fast-hektor.toml");
+  Collect out;
+  const PlanReport report = plan(hektor, "G21 G90\nG1 F6000 X80 Y-50\nM2\n", out);
+  ASSERT_FALSE(report.feed_limits.empty());
+  EXPECT_EQ(report.feed_limits.front().line, 2);
+  for (const JointStatistics& joint : report.joints) EXPECT_LE(joint.peak_velocity, 60.0);
+}
+
+TEST(Plan, UnreachableMoveNamesItsLine) {
+  const Machine hektor = test::load_example("hektor.toml");
+  Collect out;
+  try {
+    plan(hektor, "G21 G90\nG1 F600 X50 Y-60\nG1 X50 Y10\nM2\n", out);
+    FAIL() << "a move above the anchors was planned";
+  } catch (const PlanError& error) {
+    EXPECT_EQ(error.line(), 3);
+    EXPECT_NE(std::string(error.what()).find("leaves the machine's reach"), std::string::npos)
+        << error.what();
+  }
+}
+
+TEST(Plan, DwellHoldsThePose) {
+  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  Collect out;
+  const PlanReport report = plan(hexapod, "G21\nG4 P0.25\nM2\n", out);
+  EXPECT_NEAR(report.duration_s, 0.25, 1e-12);
+  EXPECT_EQ(out.samples.size(), 251u);
+  for (const Sample& s : out.samples) EXPECT_EQ(s.pose, hexapod.home().as_vector());
+}
+
+TEST(SampleFiles, NpyHasItsShapeAndColumns) {
+  const Machine hektor = test::load_example("hektor.toml");
+  const auto path =
+      std::filesystem::temp_directory_path() / ("pkm-" + std::to_string(::getpid()) + ".npy");
+  {
+    auto file = SampleFile::open(path, hektor);
+    Sample s;
+    s.time_s = 0.5;
+    s.line = 7;
+    s.pose << 34, -40, 0, 0, 0, 0;
+    ASSERT_TRUE(hektor.inverse(Pose::from_vector(s.pose), s.joints).ok());
+    file->write(s);
+    file->write(s);
+    file->commit();
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  std::filesystem::remove(path);
+  ASSERT_EQ(bytes.substr(0, 6), "\x93NUMPY");
+  const std::size_t header_length =
+      static_cast<unsigned char>(bytes[8]) + 256u * static_cast<unsigned char>(bytes[9]);
+  const std::string header = bytes.substr(10, header_length);
+  EXPECT_EQ((10 + header_length) % 64, 0u);
+  EXPECT_NE(header.find("'shape': (                   2, 7)"), std::string::npos) << header;
+  ASSERT_EQ(bytes.size(), 10 + header_length + 2 * 7 * sizeof(double));
+  double row[7];
+  std::memcpy(row, bytes.data() + 10 + header_length, sizeof row);
+  EXPECT_EQ(row[0], 0.5);
+  EXPECT_EQ(row[1], 7.0);
+  EXPECT_EQ(row[2], 34.0);
+  EXPECT_NEAR(row[5], 52.498, 5e-4);  // columns t line x y z j_left j_right
+  EXPECT_EQ(sample_columns(hektor),
+            (std::vector<std::string>{"t", "line", "x", "y", "z", "j_left", "j_right"}));
+}
+
+TEST(SampleFiles, AnUncommittedFileLeavesNothing) {
+  const Machine hektor = test::load_example("hektor.toml");
+  const auto path =
+      std::filesystem::temp_directory_path() / ("pkm-" + std::to_string(::getpid()) + ".csv");
+  { auto file = SampleFile::open(path, hektor); }
+  EXPECT_FALSE(std::filesystem::exists(path));
+  for (const auto& entry : std::filesystem::directory_iterator(path.parent_path())) {
+    EXPECT_EQ(
+        entry.path().filename().string().find(".pkm-" + std::to_string(::getpid()) + ".csv.tmp"),
+        std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace pkm::motion
