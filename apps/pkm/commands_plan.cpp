@@ -3,7 +3,11 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
+#include <filesystem>
+
 #include "app.hpp"
+#include "embedded_machine.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/io/sample_files.hpp"
 
@@ -19,6 +23,7 @@ struct PlanCommandOptions {
   std::string tool_table;
   double period_s = 0.001;
   std::vector<double> start;
+  std::string display_name;  // how to name the job in the summary (default: its path)
 };
 
 nlohmann::json report_json(const Machine& machine, const motion::PlanReport& report,
@@ -55,6 +60,12 @@ nlohmann::json report_json(const Machine& machine, const motion::PlanReport& rep
           {"feed_limited_by_joints", limits}};
 }
 
+// Samples nobody keeps: `pkm demo` without -o.
+struct DiscardSamples final : SampleFile {
+  void write(const motion::Sample&) override {}
+  void commit() override {}
+};
+
 void run_plan(const PlanCommandOptions& options) {
   const Machine machine = load_machine_or_default(options.machine);
   motion::PlanOptions plan_options;
@@ -67,7 +78,8 @@ void run_plan(const PlanCommandOptions& options) {
     if (!options.tool_table.empty()) {
       interpreter_options.tool_table = gcode::read_tool_table(options.tool_table);
     }
-    output = SampleFile::open(options.output, machine);
+    output = options.output.empty() ? std::make_unique<DiscardSamples>()
+                                    : SampleFile::open(options.output, machine);
     report =
         motion::plan_program(machine, options.program, interpreter_options, plan_options, *output);
   } catch (const gcode::GcodeError& error) {
@@ -84,7 +96,10 @@ void run_plan(const PlanCommandOptions& options) {
     std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", options.program.c_str(), warning.line,
                  warning.message.c_str());
   }
-  std::printf("%s: %ld samples, %.3f s, path %.3f mm on %s\n", options.output.c_str(),
+  std::printf("%s: %ld samples, %.3f s, path %.3f mm on %s\n",
+              !options.output.empty()         ? options.output.c_str()
+              : !options.display_name.empty() ? options.display_name.c_str()
+                                              : options.program.c_str(),
               report.samples, report.duration_s, report.path_length_mm, machine.name().c_str());
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
     const JointSpec& joint = machine.joints()[i];
@@ -105,9 +120,38 @@ void run_plan(const PlanCommandOptions& options) {
   }
 }
 
+// The embedded job on the embedded machine: the paper's sphere on the paper's hexapod.
+void run_demo(PlanCommandOptions options) {
+  const std::filesystem::path job = std::filesystem::temp_directory_path() /
+                                    ("pkm-demo-sphere-" + std::to_string(::getpid()) + ".ngc");
+  write_file_atomically(job, kEmbeddedJob);
+  options.program = job.string();
+  options.display_name = "sphere.ngc";
+  std::printf(
+      "pkm demo: the sphere test part of the interpolation paper (examples/jobs/sphere.ngc)\n"
+      "on its Stewart platform (examples/machines/hexapod-bit.toml)\n");
+  try {
+    run_plan(options);
+  } catch (...) {
+    std::filesystem::remove(job);
+    throw;
+  }
+  std::filesystem::remove(job);
+}
+
 }  // namespace
 
 void register_plan_commands(CLI::App& app) {
+  auto demo = std::make_shared<PlanCommandOptions>();
+  CLI::App* demo_command = app.add_subcommand(
+      "demo", "The embedded default: the paper's sphere planned on the paper's hexapod");
+  demo_command->add_option("-o,--output", demo->output,
+                           "Also write the samples: OUT.csv or OUT.npy");
+  demo_command->add_option("--report", demo->report, "Write the plan report as JSON");
+  demo_command->add_option("--period", demo->period_s, "Interpolation period, s (default 0.001)")
+      ->check(CLI::PositiveNumber);
+  demo_command->callback([demo] { run_demo(*demo); });
+
   auto options = std::make_shared<PlanCommandOptions>();
   CLI::App* command = app.add_subcommand(
       "plan",
