@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -159,6 +160,136 @@ TEST(Plan, DwellHoldsThePose) {
   EXPECT_NEAR(report.duration_s, 0.25, 1e-12);
   EXPECT_EQ(out.samples.size(), 251u);
   for (const Sample& s : out.samples) EXPECT_EQ(s.pose, hexapod.home().as_vector());
+}
+
+// The tool tip's peak speed and acceleration (vector finite differences over the samples).
+std::pair<double, double> peak_speed_and_acceleration(const std::vector<Sample>& samples) {
+  double peak_speed = 0.0, peak_acceleration = 0.0;
+  Eigen::Vector3d previous_velocity = Eigen::Vector3d::Zero();
+  double previous_dt = 0.0;
+  for (std::size_t k = 1; k < samples.size(); ++k) {
+    const double dt = samples[k].time_s - samples[k - 1].time_s;
+    if (dt <= 0.0) continue;
+    const Eigen::Vector3d velocity =
+        (samples[k].pose.head<3>() - samples[k - 1].pose.head<3>()) / dt;
+    peak_speed = std::max(peak_speed, velocity.norm());
+    if (k > 1) {
+      peak_acceleration = std::max(
+          peak_acceleration, (velocity - previous_velocity).norm() / (0.5 * (dt + previous_dt)));
+    }
+    previous_velocity = velocity;
+    previous_dt = dt;
+  }
+  return {peak_speed, peak_acceleration};
+}
+
+double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                           const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double u = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (a + u * ab - p).norm();
+}
+
+TEST(LookAhead, ShortCamSegmentsRunAtTheProgrammedFeed) {
+  // A circle of radius 20 mm as 0.1 mm chords at F600 (10 mm/s): G64 must not stop at each one.
+  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  std::string program = "G21 G90 G64 P0.01\nG1 F600 X20 Y0 Z1000\n";
+  const int chords = static_cast<int>(2 * M_PI * 20 / 0.1);
+  for (int i = 1; i <= chords; ++i) {
+    const double angle = 2 * M_PI * i / chords;
+    program += "X" + std::to_string(20 * std::cos(angle)) + " Y" +
+               std::to_string(20 * std::sin(angle)) + "\n";
+  }
+  program += "M2\n";
+  Collect out;
+  const PlanReport report = plan(hexapod, program, out);
+  // 20 + 125.66 mm at 10 mm/s and its ramps (14.57 s), not 1,257 stops.
+  EXPECT_LT(report.duration_s, 14.6);
+  // The 90 deg corner into the circle is rounded within 0.01 mm: 0.015 mm shorter.
+  EXPECT_NEAR(report.path_length_mm, 20.0 + 2 * M_PI * 20, 0.02);
+  std::vector<Sample> circle;
+  for (const Sample& s : out.samples) {
+    if (s.line >= 3) circle.push_back(s);
+  }
+  const auto [speed, acceleration] = peak_speed_and_acceleration(out.samples);
+  EXPECT_LE(speed, 10.0 * (1 + 1e-9));
+  EXPECT_LE(acceleration, 1000.0 * 1.01);
+  // In the middle of the circle the tool runs at the programmed feed.
+  const std::size_t from = circle.size() / 4, to = 3 * circle.size() / 4;
+  double path = 0.0;
+  for (std::size_t k = from + 1; k <= to; ++k) {
+    path += (circle[k].pose.head<3>() - circle[k - 1].pose.head<3>()).norm();
+  }
+  EXPECT_GT(path / (circle[to].time_s - circle[from].time_s), 9.9);
+}
+
+TEST(LookAhead, CornersStayWithinTheTolerance) {
+  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const std::vector<Eigen::Vector3d> corners = {
+      {0, 0, 1000}, {30, 0, 1000}, {30, 20, 1000}, {0, 20, 1005}, {0, 0, 1000}};
+  std::string program = "G21 G90 G64 P0.05\nG1 F3000 X0 Y0 Z1000\n";
+  for (std::size_t i = 1; i < corners.size(); ++i) {
+    program += "X" + std::to_string(corners[i].x()) + " Y" + std::to_string(corners[i].y()) + " Z" +
+               std::to_string(corners[i].z()) + "\n";
+  }
+  program += "M2\n";
+  Collect out;
+  plan(hexapod, program, out);
+  double worst = 0.0;
+  double slowest_at_corner = 1e9;
+  for (std::size_t k = 1; k < out.samples.size(); ++k) {
+    const Eigen::Vector3d p = out.samples[k].pose.head<3>();
+    double nearest = 1e9;
+    for (std::size_t i = 1; i < corners.size(); ++i) {
+      nearest = std::min(nearest, distance_to_segment(p, corners[i - 1], corners[i]));
+    }
+    worst = std::max(worst, nearest);
+    if ((p - corners[1]).norm() < 0.5) {
+      const double speed = (p - out.samples[k - 1].pose.head<3>()).norm() /
+                           (out.samples[k].time_s - out.samples[k - 1].time_s);
+      slowest_at_corner = std::min(slowest_at_corner, speed);
+    }
+  }
+  EXPECT_LE(worst, 0.05 + 1e-9);
+  EXPECT_GT(worst, 0.01);             // it did round the corners
+  EXPECT_GT(slowest_at_corner, 1.0);  // ...without stopping
+  const auto [speed, acceleration] = peak_speed_and_acceleration(out.samples);
+  EXPECT_LE(speed, 50.0 * (1 + 1e-9));
+  EXPECT_LE(acceleration, 1000.0 * 1.01);
+}
+
+TEST(LookAhead, ExactStopModeStopsAtEveryCorner) {
+  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  Collect out;
+  const PlanReport report = plan(hexapod, "G21 G90 G61\nG1 F3000 X0 Y0 Z1000\nX30\nY20\nM2\n", out);
+  // Two rest-to-rest moves: 30 mm and 20 mm at 50 mm/s and 1000 mm/s^2.
+  EXPECT_NEAR(report.duration_s, (0.1 + (30 - 2.5) / 50.0) + (0.1 + (20 - 2.5) / 50.0), 1e-9);
+  for (const Sample& s : out.samples) {
+    EXPECT_LE(distance_to_segment(s.pose.head<3>(), {0, 0, 1000}, {30, 0, 1000}) *
+                  distance_to_segment(s.pose.head<3>(), {30, 0, 1000}, {30, 20, 1000}),
+              1e-12);
+  }
+}
+
+TEST(Paper, TheSphereStaysWithinEveryLegLimit) {
+  // The demo job: legs within 600..1500 mm, their speeds and accelerations within their limits
+  // (measured by finite differences over the 1 ms samples), the tool path as generated.
+  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  struct Count final : SampleSink {
+    long n = 0;
+    void write(const Sample&) override { ++n; }
+  } count;
+  const PlanReport report = plan_program(
+      hexapod, std::filesystem::path(PKM_SOURCE_DIR) / "examples" / "jobs" / "sphere.ngc", {}, {},
+      count);
+  EXPECT_EQ(count.n, report.samples);
+  EXPECT_NEAR(report.path_length_mm, 4077.779, 0.001);
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_GE(report.joints[i].min, 600.0);
+    EXPECT_LE(report.joints[i].max, 1500.0);
+    EXPECT_LE(report.joints[i].peak_velocity, 150.0);
+    EXPECT_LE(report.joints[i].peak_acceleration, 1500.0);
+  }
 }
 
 TEST(SampleFiles, NpyHasItsShapeAndColumns) {

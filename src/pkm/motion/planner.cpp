@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <numbers>
 
 #include "pkm/motion/segment.hpp"
@@ -12,39 +13,76 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-// Rest-to-rest speed profile with a constant acceleration limit: accelerate, cruise, brake.
+// Speed profile along one piece: from the entry speed, accelerate to the peak, cruise, and brake
+// to the exit speed, at a constant acceleration limit. The planner's passes guarantee that the
+// exit speed can be reached from the entry speed within the piece.
 struct Profile {
-  double length = 0.0, peak_speed = 0.0, acceleration = 0.0;
-  double accelerate_s = 0.0, cruise_s = 0.0, duration_s = 0.0;
+  double length = 0.0, entry_speed = 0.0, peak_speed = 0.0, exit_speed = 0.0;
+  double acceleration = 0.0;
+  double accelerate_s = 0.0, cruise_s = 0.0, brake_s = 0.0, duration_s = 0.0;
+  double accelerate_mm = 0.0, cruise_mm = 0.0;
 
-  static Profile trapezoid(double length, double speed, double acceleration) {
+  static Profile make(double length, double entry, double exit, double max_speed,
+                      double acceleration) {
     Profile p;
     p.length = length;
+    p.entry_speed = entry;
+    p.exit_speed = exit;
     p.acceleration = acceleration;
     if (length <= 0.0) return p;
-    const double ramp_length = speed * speed / acceleration;  // both ramps together
-    if (ramp_length >= length) {
-      p.peak_speed = std::sqrt(length * acceleration);
-      p.accelerate_s = p.peak_speed / acceleration;
-    } else {
-      p.peak_speed = speed;
-      p.accelerate_s = speed / acceleration;
-      p.cruise_s = (length - ramp_length) / speed;
-    }
-    p.duration_s = 2.0 * p.accelerate_s + p.cruise_s;
+    const double peak_squared = std::min(
+        max_speed * max_speed, (2.0 * acceleration * length + entry * entry + exit * exit) / 2.0);
+    p.peak_speed = std::max({std::sqrt(std::max(peak_squared, 0.0)), entry, exit});
+    p.accelerate_s = (p.peak_speed - entry) / acceleration;
+    p.brake_s = (p.peak_speed - exit) / acceleration;
+    p.accelerate_mm = (p.peak_speed * p.peak_speed - entry * entry) / (2.0 * acceleration);
+    const double brake_mm = (p.peak_speed * p.peak_speed - exit * exit) / (2.0 * acceleration);
+    p.cruise_mm = std::max(0.0, length - p.accelerate_mm - brake_mm);
+    p.cruise_s = p.peak_speed > 0.0 ? p.cruise_mm / p.peak_speed : 0.0;
+    p.duration_s = p.accelerate_s + p.cruise_s + p.brake_s;
     return p;
   }
 
   double distance(double t) const {
     if (t <= 0.0) return 0.0;
     if (t >= duration_s) return length;
-    if (t < accelerate_s) return 0.5 * acceleration * t * t;
-    const double ramp = 0.5 * acceleration * accelerate_s * accelerate_s;
-    if (t < accelerate_s + cruise_s) return ramp + peak_speed * (t - accelerate_s);
-    const double remaining = duration_s - t;
-    return length - 0.5 * acceleration * remaining * remaining;
+    if (t < accelerate_s) return entry_speed * t + 0.5 * acceleration * t * t;
+    if (t < accelerate_s + cruise_s) return accelerate_mm + peak_speed * (t - accelerate_s);
+    const double braking = t - accelerate_s - cruise_s;
+    return std::min(length, accelerate_mm + cruise_mm + peak_speed * braking -
+                                0.5 * acceleration * braking * braking);
   }
 };
+
+// A move ready for speed planning: its limits, and the speeds it is entered and left at.
+struct Piece {
+  Segment segment;
+  double length = 0.0;
+  double max_speed = 0.0;
+  double acceleration = 0.0;
+  bool stop_after = false;
+  double max_exit_speed = 1e300;  // where the joints' rates jump at the junction to the next
+  double entry_speed = 0.0, exit_speed = 0.0;
+};
+
+// Direction of travel at the start (at_end false) or end of a segment's position path.
+Eigen::Vector3d tangent(const Segment& segment, bool at_end) {
+  const double a = at_end ? 1.0 - 1e-6 : 0.0, b = at_end ? 1.0 : 1e-6;
+  const Eigen::Vector3d d = segment.at(b).head<3>() - segment.at(a).head<3>();
+  const double n = d.norm();
+  return n > 0.0 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::Zero();
+}
+
+// G64 without P still keeps corners this close to the programmed path (mm).
+constexpr double kDefaultBlendTolerance = 0.01;
+// Directions within this angle (rad) join without a blend or a stop.
+constexpr double kTangentAngle = 1e-3;
+// Pieces held back for look-ahead: enough to brake from any feed over CAM-sized segments.
+constexpr std::size_t kWindow = 512;
+constexpr std::size_t kKeep = 256;
+// Share of a joint's acceleration limit the moves may use; the rest absorbs the change of its
+// rate at junctions passed without stopping, which happens within one servo period.
+constexpr double kMoveAccelerationShare = 0.8;
 
 double to_mm(gcode::LengthUnits units) {
   return units == gcode::LengthUnits::inch ? 25.4 : 1.0;
@@ -72,6 +110,11 @@ class Planner {
   void on_canon(const gcode::Canon& canon) {
     using gcode::CanonKind;
     switch (canon.kind) {
+      case CanonKind::path_control:
+        path_mode_ = canon.integer;
+        blend_tolerance_mm_ =
+            canon.value > 0.0 ? canon.value * to_mm(canon.units) : kDefaultBlendTolerance;
+        break;
       case CanonKind::g5x_offset:
         store_offset(canon, g5x_mm_);
         break;
@@ -91,11 +134,11 @@ class Planner {
         segment.start = pose_;
         segment.end = machine_pose(canon, canon.end);
         set_feed(canon, segment);
-        run(segment);
+        add(segment);
         break;
       }
       case CanonKind::arc:
-        run(arc_segment(canon));
+        add(arc_segment(canon));
         break;
       case CanonKind::dwell: {
         Segment segment;
@@ -103,7 +146,9 @@ class Planner {
         segment.line = canon.line;
         segment.start = segment.end = pose_;
         segment.dwell_s = canon.value;
-        run(segment);
+        flush(true);
+        entry_speed_ = 0.0;
+        run_dwell(segment);
         break;
       }
       default:
@@ -112,6 +157,7 @@ class Planner {
   }
 
   PlanReport finish() {
+    flush(true);
     // The last sample lands exactly on the end of the program.
     if (last_sample_time_ < time_) emit(time_, last_line_, pose_);
     report_.duration_s = time_;
@@ -191,6 +237,8 @@ class Planner {
   // C keep it within amax everywhere. A 1 % margin covers the sampling of the derivatives.
   void limit_by_joints(const Segment& segment, double length, double& speed, double& acceleration) {
     constexpr double kMargin = 0.99;
+    // Joint accelerations along the moves use this share of each limit; the rest is left for the
+    // change of rate at junctions where the moves join without stopping (limit_junction).
     const int points = std::clamp(static_cast<int>(std::ceil(length / 0.5)), 8, 512);
     const double step = length / points;
     const int joint_count = static_cast<int>(machine_.joints().size());
@@ -224,7 +272,7 @@ class Planner {
     for (int i = 0; i < joint_count; ++i) {
       const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
       const double max_velocity = kMargin * joint.max_velocity;
-      const double max_acceleration = kMargin * joint.max_acceleration;
+      const double max_acceleration = kMoveAccelerationShare * joint.max_acceleration;
       if (slope_max[i] > 0.0 && max_velocity / slope_max[i] < speed) {
         speed = max_velocity / slope_max[i];
         limiting = i;
@@ -236,7 +284,7 @@ class Planner {
     }
     for (int i = 0; i < joint_count; ++i) {
       const double max_acceleration =
-          kMargin * machine_.joints()[static_cast<std::size_t>(i)].max_acceleration;
+          kMoveAccelerationShare * machine_.joints()[static_cast<std::size_t>(i)].max_acceleration;
       if (slope_max[i] > 0.0) {
         const double left = max_acceleration - curvature_max[i] * speed * speed;
         acceleration = std::min(acceleration, left / slope_max[i]);
@@ -247,42 +295,196 @@ class Planner {
     }
   }
 
-  void run(const Segment& segment) {
+  void add(const Segment& segment) {
     last_line_ = segment.line;
-    double duration = 0.0;
-    Profile profile;
-    double length = segment.length();
-    if (segment.kind == SegmentKind::dwell) {
-      duration = segment.dwell_s;
-    } else if (length > 0.0) {
-      const double max_feed = machine_.cartesian().max_feed_mm_per_min / 60.0;
-      double speed = segment.rapid ? max_feed : std::min(segment.feed_mm_per_s, max_feed);
-      if (!(speed > 0.0)) throw PlanError(file_, segment.line, "a feed move with no feed rate");
-      double acceleration = machine_.cartesian().max_acceleration_mm_per_s2;
-      limit_by_joints(segment, length, speed, acceleration);
-      profile = Profile::trapezoid(length, speed, acceleration);
-      duration = profile.duration_s;
-      if ((segment.end.head<3>() - segment.start.head<3>()).norm() > 0.0 ||
-          segment.kind == SegmentKind::arc) {
-        report_.path_length_mm += length;
-      }
-    } else {
-      pose_ = segment.end;
+    Piece piece;
+    piece.segment = segment;
+    piece.length = segment.length();
+    if (piece.length <= 0.0) {
+      pose_ = segment.end;  // a move to where the tool is: nothing to plan
       return;
     }
+    const double max_feed = machine_.cartesian().max_feed_mm_per_min / 60.0;
+    piece.max_speed = segment.rapid ? max_feed : std::min(segment.feed_mm_per_s, max_feed);
+    if (!(piece.max_speed > 0.0)) {
+      throw PlanError(file_, segment.line, "a feed move with no feed rate");
+    }
+    piece.acceleration = machine_.cartesian().max_acceleration_mm_per_s2;
+    if (segment.kind == SegmentKind::arc) limit_by_curvature(piece, arc_radius(segment));
+    limit_by_joints(segment, piece.length, piece.max_speed, piece.acceleration);
+    if (!pieces_.empty()) join(pieces_.back(), piece);
+    pieces_.push_back(piece);
+    pose_ = segment.end;
+    if (pieces_.size() >= kWindow) flush(false);
+  }
+
+  static double arc_radius(const Segment& s) {
+    return std::hypot(s.start[s.first_axis] - s.centre[s.first_axis],
+                      s.start[s.second_axis] - s.centre[s.second_axis]);
+  }
+
+  // On a curve of radius r the tool's acceleration is the tangential one plus v^2/r across:
+  // v^2/r <= a/2 and a tangential of 0.866 a keep the sum within a.
+  static void limit_by_curvature(Piece& piece, double radius) {
+    if (radius <= 0.0) return;
+    piece.max_speed = std::min(piece.max_speed, std::sqrt(0.5 * piece.acceleration * radius));
+    piece.acceleration *= std::sqrt(0.75);
+  }
+
+  // Joins `next` to `previous`: straight on where they are tangent, through a blend arc within
+  // the G64 tolerance where two lines meet at an angle, with a stop everywhere else.
+  void join(Piece& previous, Piece& next) {
+    const Eigen::Vector3d out = tangent(previous.segment, true);
+    const Eigen::Vector3d in = tangent(next.segment, false);
+    const bool same_kind = previous.segment.rapid == next.segment.rapid;
+    if (path_mode_ != 64 || !same_kind || out.isZero() || in.isZero()) {
+      previous.stop_after = true;
+      return;
+    }
+    const double angle = std::acos(std::clamp(out.dot(in), -1.0, 1.0));
+    if (angle <= kTangentAngle) {
+      // Tangent: the speed carries over, as far as the joints' rates allow.
+      limit_junction(previous, next.segment, next.length);
+      return;
+    }
+    if (previous.segment.kind != SegmentKind::line || next.segment.kind != SegmentKind::line ||
+        angle > std::numbers::pi - 1e-3) {
+      previous.stop_after = true;
+      return;
+    }
+    // The arc tangent to both lines that strays at most the tolerance from them (its middle is
+    // r (1 - cos(angle/2)) from either line) and takes at most half of either.
+    const double half = angle / 2.0;
+    const double tolerance_radius = blend_tolerance_mm_ / (1.0 - std::cos(half));
+    const double length_radius = 0.5 * std::min(previous.length, next.length) / std::tan(half);
+    const double radius = std::min(tolerance_radius, length_radius);
+    if (!(radius > 1e-9)) {
+      previous.stop_after = true;
+      return;
+    }
+    const double cut = radius * std::tan(half);
+    const Eigen::Vector3d corner = previous.segment.end.head<3>();
+    Segment blend;
+    blend.kind = SegmentKind::blend;
+    blend.line = next.segment.line;
+    blend.rapid = next.segment.rapid;
+    blend.feed_mm_per_s = next.segment.feed_mm_per_s;
+    blend.start = previous.segment.at((previous.length - cut) / previous.length);
+    blend.end = next.segment.at(cut / next.length);
+    blend.centre = corner + (in - out).normalized() * (radius / std::cos(half));
+    blend.radius_mm = radius;
+    blend.axis_u = (blend.start.head<3>() - blend.centre).normalized();
+    blend.axis_v = out;
+    blend.sweep_rad = angle;
+    previous.segment.end = blend.start;
+    previous.length -= cut;
+    next.segment.start = blend.end;
+    next.length -= cut;
+    Piece piece;
+    piece.segment = blend;
+    piece.length = blend.length();
+    piece.max_speed = std::min(previous.max_speed, next.max_speed);
+    piece.acceleration = std::min(previous.acceleration, next.acceleration);
+    limit_by_curvature(piece, radius);
+    limit_by_joints(blend, piece.length, piece.max_speed, piece.acceleration);
+    limit_junction(previous, blend, piece.length);
+    limit_junction(piece, next.segment, next.length);
+    pieces_.push_back(piece);
+  }
+
+  // A joint whose rate along the path (dq/ds) differs across a junction would change its
+  // velocity in one servo period: the junction speed keeps that change within what its
+  // acceleration allows in a period.
+  void limit_junction(Piece& before, const Segment& after, double after_length) {
+    const auto rate = [&](const Segment& segment, double length, bool at_end) {
+      const double ds = std::min(1e-3, 0.01 * length);
+      const double from = at_end ? 1.0 - ds / length : 0.0;
+      const double to = at_end ? 1.0 : ds / length;
+      JointVector q0, q1;
+      const Status a = machine_.inverse(Pose::from_vector(segment.at(from)), q0);
+      const Status b = machine_.inverse(Pose::from_vector(segment.at(to)), q1);
+      if (!a.ok() || !b.ok()) {
+        throw PlanError(
+            file_, segment.line,
+            "the move leaves the machine's reach: " + machine_.describe(a.ok() ? b : a));
+      }
+      return JointVector((q1 - q0) / ds);
+    };
+    const JointVector out = rate(before.segment, before.length, true);
+    const JointVector in = rate(after, after_length, false);
+    for (int i = 0; i < out.size(); ++i) {
+      const double jump = std::abs(in[i] - out[i]);
+      if (jump <= 0.0) continue;
+      const double allowed = (1.0 - kMoveAccelerationShare) *
+                             machine_.joints()[static_cast<std::size_t>(i)].max_acceleration *
+                             options_.period_s / jump;
+      before.max_exit_speed = std::min(before.max_exit_speed, allowed);
+    }
+  }
+
+  // Plans the speeds of the buffered pieces (braking to a stop at the end of the buffer, which
+  // later pieces can only relax) and emits them; keeps the last kKeep for the next look-ahead
+  // unless `all`.
+  void flush(bool all) {
+    const std::size_t n = pieces_.size();
+    if (n == 0) return;
+    // Backward: the fastest each piece may be entered and still brake in time.
+    double exit = 0.0;
+    for (std::size_t i = n; i-- > 0;) {
+      Piece& p = pieces_[i];
+      if (p.stop_after) exit = 0.0;
+      exit = std::min(exit, p.max_exit_speed);
+      p.exit_speed = exit;
+      double entry = std::sqrt(exit * exit + 2.0 * p.acceleration * p.length);
+      entry = std::min(entry, p.max_speed);
+      if (i > 0) entry = std::min(entry, pieces_[i - 1].max_speed);
+      p.entry_speed = entry;
+      exit = entry;
+    }
+    // Forward: the fastest each piece can be reached.
+    double speed = entry_speed_;
+    for (std::size_t i = 0; i < n; ++i) {
+      Piece& p = pieces_[i];
+      p.entry_speed = std::min(p.entry_speed, speed);
+      p.exit_speed = std::min(
+          p.exit_speed, std::sqrt(p.entry_speed * p.entry_speed + 2.0 * p.acceleration * p.length));
+      speed = p.exit_speed;
+    }
+    const std::size_t emit_count = all ? n : n - std::min(n, kKeep);
+    for (std::size_t i = 0; i < emit_count; ++i) {
+      run_piece(pieces_.front());
+      entry_speed_ = pieces_.front().exit_speed;
+      pieces_.pop_front();
+    }
+  }
+
+  void run_piece(const Piece& piece) {
+    const Segment& segment = piece.segment;
+    if (segment.kind != SegmentKind::line ||
+        (segment.end.head<3>() - segment.start.head<3>()).norm() > 0.0) {
+      report_.path_length_mm += piece.length;  // moves of the angles alone are no path
+    }
+    const Profile profile = Profile::make(piece.length, piece.entry_speed, piece.exit_speed,
+                                          piece.max_speed, piece.acceleration);
+    sample_until(time_ + profile.duration_s, segment.line,
+                 [&](double t) { return segment.at(profile.distance(t - time_) / piece.length); });
+  }
+
+  void run_dwell(const Segment& segment) {
+    last_line_ = segment.line;
+    sample_until(time_ + segment.dwell_s, segment.line, [&](double) { return segment.start; });
+  }
+
+  // Samples on the multiples of the period up to `end` (time division), then moves on.
+  template <class PoseAt>
+  void sample_until(double end, int line, const PoseAt& pose_at) {
     const double period = options_.period_s;
-    const double start = time_;
-    const double end = start + duration;
-    // Samples fall on multiples of the period: time division.
     for (long k = next_sample_; static_cast<double>(k) * period < end; ++k) {
       const double t = static_cast<double>(k) * period;
-      const double u =
-          segment.kind == SegmentKind::dwell ? 1.0 : profile.distance(t - start) / length;
-      emit(t, segment.line, segment.kind == SegmentKind::dwell ? segment.start : segment.at(u));
+      emit(t, line, pose_at(t));
       next_sample_ = k + 1;
     }
     time_ = end;
-    pose_ = segment.end;
   }
 
   void emit(double t, int line, const Vector6d& pose) {
@@ -329,6 +531,10 @@ class Planner {
   Vector6d g5x_mm_ = Vector6d::Zero(), g92_mm_ = Vector6d::Zero(), tool_mm_ = Vector6d::Zero();
   double time_ = 0.0;
   long next_sample_ = 1;  // the sample at t = 0 is the start
+  std::deque<Piece> pieces_;
+  double entry_speed_ = 0.0;  // the speed the first buffered piece is entered at
+  int path_mode_ = 64;        // LinuxCNC starts in G64
+  double blend_tolerance_mm_ = kDefaultBlendTolerance;
   double last_sample_time_ = 0.0;
   double last_dt_ = 0.0;
   int last_line_ = 0;

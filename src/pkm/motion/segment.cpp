@@ -13,6 +13,8 @@ double Segment::length() const {
       if (position > 0.0) return position;
       return radians_to_degrees((end.tail<3>() - start.tail<3>()).norm());
     }
+    case SegmentKind::blend:
+      return radius_mm * sweep_rad;
     case SegmentKind::arc: {
       const double radius = std::hypot(start[first_axis] - centre[first_axis],
                                        start[second_axis] - centre[second_axis]);
@@ -24,6 +26,13 @@ double Segment::length() const {
 }
 
 Vector6d Segment::at(double u) const {
+  if (kind == SegmentKind::blend) {
+    Vector6d pose = start + u * (end - start);  // the angles blend linearly
+    if (u >= 1.0) return end;
+    const double angle = u * sweep_rad;
+    pose.head<3>() = centre + radius_mm * (std::cos(angle) * axis_u + std::sin(angle) * axis_v);
+    return pose;
+  }
   if (kind != SegmentKind::arc) return start + u * (end - start);
   Vector6d pose = start + u * (end - start);  // the normal axis and the angles are linear
   const double start_angle =

@@ -7,7 +7,7 @@
 
 namespace pkm::motion {
 
-enum class SegmentKind { line, arc, dwell };
+enum class SegmentKind { line, arc, blend, dwell };
 
 struct Segment {
   SegmentKind kind = SegmentKind::line;
@@ -22,6 +22,11 @@ struct Segment {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   int first_axis = 0, second_axis = 1, normal_axis = 2;
   double sweep_rad = 0.0;
+
+  // Blends: a circular arc in any plane rounding the corner between two lines, from centre +
+  // radius * axis_u to centre + radius * (cos(sweep) axis_u + sin(sweep) axis_v).
+  double radius_mm = 0.0;
+  Eigen::Vector3d axis_u = Eigen::Vector3d::UnitX(), axis_v = Eigen::Vector3d::UnitY();
 
   // Length of the tool tip's path (mm); moves of the angles only are measured in degrees as
   // LinuxCNC does for a feed of rotary axes alone.
