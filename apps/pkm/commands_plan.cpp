@@ -1,4 +1,6 @@
 // pkm plan: G-code to joint samples at the servo period.
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -60,6 +62,46 @@ nlohmann::json report_json(const Machine& machine, const motion::PlanReport& rep
           {"feed_limited_by_joints", limits}};
 }
 
+// A progress bar on stderr when it is a terminal: the fraction of the program's lines planned.
+class ProgressBar {
+ public:
+  explicit ProgressBar(const std::string& program) {
+    if (::isatty(STDERR_FILENO) == 0) return;
+    std::FILE* file = std::fopen(program.c_str(), "rb");
+    if (file == nullptr) return;
+    char buffer[1 << 16];
+    std::size_t n = 0;
+    while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) {
+      lines_ += std::count(buffer, buffer + n, '\n');
+    }
+    std::fclose(file);
+    active_ = lines_ > 10000;  // short jobs finish before a bar helps
+  }
+  ~ProgressBar() { clear(); }
+  void clear() {
+    if (shown_) std::fprintf(stderr, "\r%60s\r", "");
+    shown_ = false;
+    active_ = false;
+  }
+  void update(int line) {
+    if (!active_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (shown_ && now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    shown_ = true;
+    const double fraction = std::min(1.0, static_cast<double>(line) / static_cast<double>(lines_));
+    const int filled = static_cast<int>(fraction * 30);
+    std::fprintf(stderr, "\r[%.*s%*s] %3.0f%%  line %d of %ld", filled,
+                 "==============================", 30 - filled, "", 100.0 * fraction, line, lines_);
+    std::fflush(stderr);
+  }
+
+ private:
+  long lines_ = 0;
+  bool active_ = false, shown_ = false;
+  std::chrono::steady_clock::time_point last_;
+};
+
 // Samples nobody keeps: `pkm demo` without -o.
 struct DiscardSamples final : SampleFile {
   void write(const motion::Sample&) override {}
@@ -71,6 +113,8 @@ void run_plan(const PlanCommandOptions& options) {
   motion::PlanOptions plan_options;
   plan_options.period_s = options.period_s;
   if (!options.start.empty()) plan_options.start = pose_from_arguments(machine, options.start);
+  ProgressBar progress(options.program);
+  plan_options.on_line = [&progress](int line) { progress.update(line); };
   gcode::InterpreterOptions interpreter_options;
   std::unique_ptr<SampleFile> output;
   motion::PlanReport report;
@@ -89,6 +133,7 @@ void run_plan(const PlanCommandOptions& options) {
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
+  progress.clear();
   output->commit();
   const nlohmann::json json = report_json(machine, report, options);
   if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");

@@ -556,7 +556,14 @@ PlanReport plan_program(const Machine& machine, const std::filesystem::path& pro
     start_here.start_position[axis] = axis < 3 ? start[axis] : radians_to_degrees(start[axis]);
   }
   gcode::Interpreter interpreter(program, start_here);
-  interpreter.run([&](const gcode::Canon& canon) { planner.on_canon(canon); });
+  int line = 0;
+  interpreter.run([&](const gcode::Canon& canon) {
+    if (options.on_line && canon.line != line) {
+      line = canon.line;
+      options.on_line(line);
+    }
+    planner.on_canon(canon);
+  });
   PlanReport report = planner.finish();
   report.warnings = interpreter.warnings();
   return report;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -35,6 +36,8 @@ class SampleSink {
 struct PlanOptions {
   double period_s = 0.001;    // LinuxCNC's servo period
   std::optional<Pose> start;  // default: the machine's home
+  // Called with the G-code line being planned, once per change of line: for progress.
+  std::function<void(int line)> on_line;
 };
 
 struct JointStatistics {
