@@ -1,5 +1,6 @@
 #include "pkm/gcode/block.hpp"
 
+#include <array>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -159,8 +160,13 @@ class Reader {
   int slot(char c, int column) {
     if (c == '@') return 'g' - 'a';
     if (c == '^') return 'm' - 'a';
-    static constexpr std::string_view kWords = "abcdefhijklpqrstuvwxyz";
-    if (kWords.find(c) == std::string_view::npos) {
+    // Letters that are words: all but G and M (codes), N (line number) and O (control flow).
+    static constexpr std::array<bool, 26> kIsWord = [] {
+      std::array<bool, 26> table{};
+      for (const char w : std::string_view("abcdefhijklpqrstuvwxyz")) table[w - 'a'] = true;
+      return table;
+    }();
+    if (c < 'a' || c > 'z' || !kIsWord[c - 'a']) {
       fail(column, std::string("bad character '") + display(c) + "' used");
     }
     return c - 'a';
@@ -224,48 +230,40 @@ class Reader {
   }
 
   double read_number() {
-    // Digits and one point, spaces between them ignored ("1 0 . 5" is 10.5), parsed by
-    // from_chars from a buffer on the stack: no allocation per number.
-    const int column = static_cast<int>(pos_) + 1;
-    char text[64];
-    std::size_t length = 0;
-    bool dot = false;
-    while (true) {
-      const char c = peek();
-      if (!is_digit(c) && !(c == '.' && !dot)) break;
-      dot = dot || c == '.';
-      if (length == sizeof text) fail(column, "number too long");
-      text[length++] = c;
-      ++pos_;
-    }
-    if (length == 0 || (length == 1 && dot)) fail(column, "bad number format");
-    // Clinger's fast path: up to 15 significant digits and 22 decimals make the mantissa and the
-    // power of ten exact doubles, so one division is correctly rounded, as strtod would be.
+    // Digits and one point, spaces between them ignored ("1 0 . 5" is 10.5). Up to 15
+    // significant digits and 22 decimals take Clinger's exact fast path: the mantissa and the
+    // power of ten are exact doubles, so one division rounds correctly, as strtod would.
     static constexpr double kPowersOfTen[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
                                               1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
                                               1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+    const int column = static_cast<int>(pos_) + 1;
+    char text[64];
+    std::size_t length = 0;
     std::uint64_t mantissa = 0;
     int digits = 0, decimals = 0;
-    bool after_dot = false, exact = true;
-    for (std::size_t i = 0; i < length; ++i) {
-      if (text[i] == '.') {
-        after_dot = true;
-        continue;
-      }
-      if (digits == 0 && text[i] == '0') {
-        if (after_dot) ++decimals;
-        continue;
-      }
-      if (++digits > 15) {
-        exact = false;
+    bool dot = false, exact = true;
+    const std::size_t size = line_.size();
+    while (pos_ < size) {
+      const char c = line_[pos_];
+      if (c >= '0' && c <= '9') {
+        if (digits > 0 || c != '0') {
+          if (++digits > 15) exact = false;
+          mantissa = mantissa * 10 + static_cast<std::uint64_t>(c - '0');
+        }
+        if (dot) ++decimals;
+      } else if (c == '.' && !dot) {
+        dot = true;
+      } else if (c != ' ' && c != '\t') {
         break;
       }
-      mantissa = mantissa * 10 + static_cast<std::uint64_t>(text[i] - '0');
-      if (after_dot) ++decimals;
+      if (c != ' ' && c != '\t') {
+        if (length == sizeof text) fail(column, "number too long");
+        text[length++] = c;
+      }
+      ++pos_;
     }
-    if (exact && decimals <= 22) {
-      return static_cast<double>(mantissa) / kPowersOfTen[decimals];
-    }
+    if (length == 0 || (length == 1 && dot)) fail(column, "bad number format");
+    if (exact && decimals <= 22) return static_cast<double>(mantissa) / kPowersOfTen[decimals];
     double value = 0.0;
     std::from_chars(text, text + length, value);
     return value;
