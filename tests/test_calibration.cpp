@@ -210,12 +210,7 @@ const FitCase kFitCases[] = {
 
 INSTANTIATE_TEST_SUITE_P(Examples, RecoversKnownGeometry, ::testing::ValuesIn(kFitCases),
                          [](const auto& test_info) {
-                           std::string name =
-                               test_info.param.file.substr(0, test_info.param.file.find('.'));
-                           for (char& ch : name) {
-                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                           }
-                           return name;
+                           return test::test_name(test_info.param.file);
                          });
 
 TEST(GeometryFit, ReportsWhatTheDataCannotIdentify) {

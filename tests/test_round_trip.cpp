@@ -159,13 +159,7 @@ TEST_P(EveryExampleMachine, ForwardAlongAPathAlwaysSucceeds) {
 
 INSTANTIATE_TEST_SUITE_P(Examples, EveryExampleMachine,
                          ::testing::ValuesIn(test::example_machine_files()),
-                         [](const auto& test_info) {
-                           std::string name = test_info.param.substr(0, test_info.param.find('.'));
-                           for (char& c : name) {
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           }
-                           return name;
-                         });
+                         [](const auto& test_info) { return test::test_name(test_info.param); });
 
 }  // namespace
 }  // namespace pkm

@@ -2,6 +2,7 @@
 
 #include <Eigen/SVD>
 #include <algorithm>
+#include <cctype>
 #include <stdexcept>
 
 namespace pkm::test {
@@ -34,6 +35,14 @@ double dexterity(const Kinematics& kinematics, const Pose& pose) {
   }
   const Eigen::VectorXd singular_values = reduced.jacobiSvd().singularValues();
   return singular_values.minCoeff() / singular_values.maxCoeff();
+}
+
+std::string test_name(const std::string& file_name) {
+  std::string name = file_name.substr(0, file_name.find('.'));
+  for (char& c : name) {
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  }
+  return name;
 }
 
 std::vector<Pose> sample_reachable_poses(const Machine& machine, int count, std::mt19937_64& rng,

@@ -13,6 +13,8 @@ std::filesystem::path example_machine_path(const std::string& file_name);
 Machine load_example(const std::string& file_name);
 // File names of every machine in examples/machines, sorted.
 std::vector<std::string> example_machine_files();
+// A file name as a GoogleTest parameter name: its stem, non-alphanumerics as '_'.
+std::string test_name(const std::string& file_name);
 
 // Ratio of smallest to largest singular value of d joints / d pose over the controlled
 // coordinates, angles scaled by 100 mm/rad: 0 at a singularity, 1 where every direction of tool

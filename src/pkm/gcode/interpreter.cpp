@@ -341,6 +341,7 @@ struct Interpreter::State {
 
   void run(const CanonSink& output);
   void execute_line(const std::string& line);
+  void apply_assignments(const Block& block);
   void execute_o_word(const Block& block);
   void execute_block(const Block& block);
   void skip_to(const std::string& label, std::initializer_list<std::string_view> keywords,
@@ -448,14 +449,19 @@ Interpreter::State::Mark Interpreter::State::find_subroutine(const std::string& 
   fail(column, "unknown subroutine o" + label);
 }
 
-void Interpreter::State::execute_o_word(const Block& block) {
-  // Parameters set on the O-word line take effect first (LinuxCNC has none there in practice).
+// Parameters set on a line take effect before it runs, with every value read before them.
+void Interpreter::State::apply_assignments(const Block& block) {
   for (const Assignment& a : block.assignments) {
-    if (a.name.empty())
+    if (a.name.empty()) {
       parameters.set_numbered(a.number, a.value);
-    else
+    } else {
       parameters.set_named(a.name, a.value);
+    }
   }
+}
+
+void Interpreter::State::execute_o_word(const Block& block) {
+  apply_assignments(block);  // LinuxCNC programs set none on O-word lines in practice
   const OWord& o = *block.o_word;
   const auto value_of = [&]() {
     if (!o.value) fail(o.column, "o" + o.label + " " + o.keyword + " needs a [value]");
@@ -902,13 +908,7 @@ void Interpreter::State::set_coordinates(const Block& block) {
 }
 
 void Interpreter::State::execute_block(const Block& block) {
-  // Parameters set on the line take effect before it runs, with the values read before them.
-  for (const Assignment& a : block.assignments) {
-    if (a.name.empty())
-      parameters.set_numbered(a.number, a.value);
-    else
-      parameters.set_named(a.name, a.value);
-  }
+  apply_assignments(block);
   for (const Comment& comment : block.comments) {
     std::string text = comment.text;
     std::string lower = text;
