@@ -153,6 +153,21 @@ TEST(Plan, UnreachableMoveNamesItsLine) {
   }
 }
 
+TEST(Plan, OriginPlacesTheProgramOnTheMachine) {
+  // A drawing made about (0, 0), placed 700 mm right of and 800 mm below the left anchor.
+  const Machine plotter = test::load_example("wall-plotter.toml");
+  Collect out;
+  const auto path = write_program("G21 G90 F3000\nG1 X10 Y-5\nG1 Y5\nM2\n");
+  PlanOptions options;
+  options.origin << 700, -800, 0, 0, 0, 0;
+  plan_program(plotter, path, {}, options, out);
+  std::filesystem::remove(path);
+  EXPECT_NEAR(out.samples.back().pose[0], 710.0, 1e-12);
+  EXPECT_NEAR(out.samples.back().pose[1], -795.0, 1e-12);
+  // The machine starts at home (750, -700): the first move runs from there to (710, -805).
+  EXPECT_EQ(out.samples.front().pose.head<2>(), Eigen::Vector2d(750, -700));
+}
+
 TEST(Plan, DwellHoldsThePose) {
   const Machine hexapod = test::load_example("hexapod-bit.toml");
   Collect out;

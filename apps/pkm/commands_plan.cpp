@@ -25,6 +25,7 @@ struct PlanCommandOptions {
   std::string tool_table;
   double period_s = 0.001;
   std::vector<double> start;
+  std::vector<double> origin;
   std::string display_name;  // how to name the job in the summary (default: its path)
 };
 
@@ -113,6 +114,10 @@ void run_plan(const PlanCommandOptions& options) {
   motion::PlanOptions plan_options;
   plan_options.period_s = options.period_s;
   if (!options.start.empty()) plan_options.start = pose_from_arguments(machine, options.start);
+  for (std::size_t i = 0; i < options.origin.size(); ++i) {
+    plan_options.origin[static_cast<int>(i)] =
+        i < 3 ? options.origin[i] : degrees_to_radians(options.origin[i]);
+  }
   ProgressBar progress(options.program);
   plan_options.on_line = [&progress](int line) { progress.update(line); };
   gcode::InterpreterOptions interpreter_options;
@@ -209,6 +214,11 @@ void register_plan_commands(CLI::App& app) {
   command->add_option("--report", options->report, "Write the plan report as JSON");
   command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl, mm)");
   command->add_option("--start", options->start, "Start pose x y z [a b c] (default: home)")
+      ->expected(2, 6);
+  command
+      ->add_option("--origin", options->origin,
+                   "Where the program's X0 Y0 Z0 sits in machine coordinates, x y [z [a b c]] "
+                   "(mm, deg; default 0)")
       ->expected(2, 6);
   command->callback([options] { run_plan(*options); });
 }

@@ -178,7 +178,7 @@ class Planner {
     for (int axis = 0; axis < 6; ++axis) {
       const double value =
           axis < 3 ? program[axis] * to_mm(canon.units) : degrees_to_radians(program[axis]);
-      pose[axis] = value + g5x_mm_[axis] + g92_mm_[axis] + tool_mm_[axis];
+      pose[axis] = value + options_.origin[axis] + g5x_mm_[axis] + g92_mm_[axis] + tool_mm_[axis];
     }
     return pose;
   }
@@ -210,7 +210,7 @@ class Planner {
         segment.first_axis = 1, segment.second_axis = 2, segment.normal_axis = 0;
         break;
     }
-    const Vector6d offset = g5x_mm_ + g92_mm_ + tool_mm_;
+    const Vector6d offset = options_.origin + g5x_mm_ + g92_mm_ + tool_mm_;
     const double scale = to_mm(canon.units);
     segment.centre[segment.first_axis] = canon.center[0] * scale + offset[segment.first_axis];
     segment.centre[segment.second_axis] = canon.center[1] * scale + offset[segment.second_axis];
@@ -551,7 +551,8 @@ PlanReport plan_program(const Machine& machine, const std::filesystem::path& pro
   Planner planner(machine, options, sink, program.string());
   // The program starts where the machine is: axes it never names stay at the start pose.
   gcode::InterpreterOptions start_here = interpreter_options;
-  const Vector6d start = (options.start ? *options.start : machine.home()).as_vector();
+  const Vector6d start =
+      (options.start ? *options.start : machine.home()).as_vector() - options.origin;
   for (int axis = 0; axis < 6; ++axis) {
     start_here.start_position[axis] = axis < 3 ? start[axis] : radians_to_degrees(start[axis]);
   }

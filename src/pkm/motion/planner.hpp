@@ -36,6 +36,9 @@ class SampleSink {
 struct PlanOptions {
   double period_s = 0.001;    // LinuxCNC's servo period
   std::optional<Pose> start;  // default: the machine's home
+  // Where the program's origin (X0 Y0 Z0 before any G54..G59.3/G92 offset) sits in machine
+  // coordinates: mm and rad. Places a drawing made about (0, 0) on a plotter hanging below.
+  Vector6d origin = Vector6d::Zero();
   // Called with the G-code line being planned, once per change of line: for progress.
   std::function<void(int line)> on_line;
 };
