@@ -168,6 +168,47 @@ TEST(Plan, OriginPlacesTheProgramOnTheMachine) {
   EXPECT_EQ(out.samples.front().pose.head<2>(), Eigen::Vector2d(750, -700));
 }
 
+// How far the tool axis strays from the great circle between its first and last direction over
+// the samples of `line`, and whether it moves on steadily along it.
+std::pair<double, bool> tool_axis_off_great_circle(const std::vector<Sample>& samples, int line) {
+  std::vector<Eigen::Vector3d> axes;
+  for (const Sample& s : samples) {
+    if (s.line == line) axes.push_back(rotation_from_abc(s.pose.tail<3>()).col(2));
+  }
+  const Eigen::Vector3d normal = axes.front().cross(axes.back()).normalized();
+  double off = 0.0, previous_angle = -1.0;
+  bool monotonic = true;
+  for (const Eigen::Vector3d& axis : axes) {
+    off = std::max(off, std::abs(axis.dot(normal)));
+    const double angle = std::acos(std::clamp(axis.dot(axes.front()), -1.0, 1.0));
+    monotonic = monotonic && angle >= previous_angle - 1e-12;
+    previous_angle = angle;
+  }
+  return {off, monotonic};
+}
+
+TEST(Plan, GreatCircleAttitudeKeepsTheToolAxisOnItsGreatCircle) {
+  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const std::string program = "G21 G90 F600\nG1 X0 Y0 Z1000 A0 B0 C0\nG1 X10 A30 B20 C10\nM2\n";
+  const auto path = write_program(program);
+  Collect great, linear;
+  PlanOptions options;
+  options.great_circle_attitude = true;
+  plan_program(hexapod, path, {}, options, great);
+  plan_program(hexapod, path, {}, {}, linear);
+  std::filesystem::remove(path);
+  const auto [off_great, steady] = tool_axis_off_great_circle(great.samples, 3);
+  EXPECT_LT(off_great, 1e-12);
+  EXPECT_TRUE(steady);
+  // LinuxCNC's linear A B C takes the axis off that circle: the test can tell the two apart.
+  EXPECT_GT(tool_axis_off_great_circle(linear.samples, 3).first, 1e-3);
+  // Both end exactly on the programmed attitude.
+  const Vector6d end = great.samples.back().pose;
+  EXPECT_NEAR(radians_to_degrees(end[3]), 30.0, 1e-9);
+  EXPECT_NEAR(radians_to_degrees(end[4]), 20.0, 1e-9);
+  EXPECT_NEAR(radians_to_degrees(end[5]), 10.0, 1e-9);
+}
+
 TEST(Plan, DwellHoldsThePose) {
   const Machine hexapod = test::load_example("hexapod-bit.toml");
   Collect out;

@@ -26,6 +26,7 @@ struct PlanCommandOptions {
   double period_s = 0.001;
   std::vector<double> start;
   std::vector<double> origin;
+  std::string attitude = "linear";
   std::string display_name;  // how to name the job in the summary (default: its path)
 };
 
@@ -118,6 +119,7 @@ void run_plan(const PlanCommandOptions& options) {
     plan_options.origin[static_cast<int>(i)] =
         i < 3 ? options.origin[i] : degrees_to_radians(options.origin[i]);
   }
+  plan_options.great_circle_attitude = options.attitude == "great-circle";
   ProgressBar progress(options.program);
   plan_options.on_line = [&progress](int line) { progress.update(line); };
   gcode::InterpreterOptions interpreter_options;
@@ -220,6 +222,11 @@ void register_plan_commands(CLI::App& app) {
                    "Where the program's X0 Y0 Z0 sits in machine coordinates, x y [z [a b c]] "
                    "(mm, deg; default 0)")
       ->expected(2, 6);
+  command
+      ->add_option("--attitude", options->attitude,
+                   "Tool attitude within a move: linear (A B C, as LinuxCNC) or great-circle "
+                   "(the tool axis along a great circle)")
+      ->check(CLI::IsMember({"linear", "great-circle"}));
   command->callback([options] { run_plan(*options); });
 }
 

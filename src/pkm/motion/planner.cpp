@@ -133,6 +133,7 @@ class Planner {
         segment.rapid = canon.kind == CanonKind::traverse;
         segment.start = pose_;
         segment.end = machine_pose(canon, canon.end);
+        segment.great_circle_attitude = options_.great_circle_attitude;
         set_feed(canon, segment);
         add(segment);
         break;
@@ -199,6 +200,7 @@ class Planner {
     segment.line = canon.line;
     segment.start = pose_;
     segment.end = machine_pose(canon, canon.end);
+    segment.great_circle_attitude = options_.great_circle_attitude;
     switch (canon.plane) {
       case gcode::Plane::xy:
         segment.first_axis = 0, segment.second_axis = 1, segment.normal_axis = 2;

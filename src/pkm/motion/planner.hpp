@@ -39,6 +39,9 @@ struct PlanOptions {
   // Where the program's origin (X0 Y0 Z0 before any G54..G59.3/G92 offset) sits in machine
   // coordinates: mm and rad. Places a drawing made about (0, 0) on a plotter hanging below.
   Vector6d origin = Vector6d::Zero();
+  // The tool axis along a great circle within each move (the paper's variable attitude) instead
+  // of A B C interpolated linearly (LinuxCNC's way, the default).
+  bool great_circle_attitude = false;
   // Called with the G-code line being planned, once per change of line: for progress.
   std::function<void(int line)> on_line;
 };

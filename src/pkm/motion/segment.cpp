@@ -1,5 +1,7 @@
 #include "pkm/motion/segment.hpp"
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 namespace pkm::motion {
@@ -25,6 +27,45 @@ double Segment::length() const {
   return 0.0;
 }
 
+namespace {
+
+// A B C of a rotation (R = Rz(C) Ry(B) Rx(A)), each the one of its 2 pi family nearest `near`.
+Eigen::Vector3d abc_near(const Eigen::Matrix3d& r, const Eigen::Vector3d& near) {
+  Eigen::Vector3d abc(std::atan2(r(2, 1), r(2, 2)), -std::asin(std::clamp(r(2, 0), -1.0, 1.0)),
+                      std::atan2(r(1, 0), r(0, 0)));
+  for (int i = 0; i < 3; ++i) {
+    abc[i] += 2.0 * M_PI * std::round((near[i] - abc[i]) / (2.0 * M_PI));
+  }
+  return abc;
+}
+
+}  // namespace
+
+Eigen::Vector3d Segment::attitude_at(double u) const {
+  const Eigen::Vector3d start_abc = start.tail<3>(), end_abc = end.tail<3>();
+  const Eigen::Vector3d linear = start_abc + u * (end_abc - start_abc);
+  if (!great_circle_attitude || start_abc == end_abc || u <= 0.0 || u >= 1.0) {
+    return u >= 1.0 ? end_abc : (u <= 0.0 ? start_abc : linear);
+  }
+  const Eigen::Matrix3d r0 = rotation_from_abc(start_abc);
+  const Eigen::Matrix3d r1 = rotation_from_abc(end_abc);
+  const Eigen::Vector3d axis0 = r0.col(2), axis1 = r1.col(2);
+  // The tilt that turns the tool axis along the great circle, and the spin left over about it.
+  const Eigen::Vector3d normal = axis0.cross(axis1);
+  const double tilt = std::atan2(normal.norm(), axis0.dot(axis1));
+  const Eigen::Matrix3d full_tilt =
+      normal.norm() > 1e-12 ? Eigen::AngleAxisd(tilt, normal.normalized()).toRotationMatrix()
+                            : Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d residual = (full_tilt * r0).transpose() * r1;  // a turn about +Z
+  const double spin = std::atan2(residual(1, 0), residual(0, 0));
+  const Eigen::Matrix3d partial_tilt =
+      normal.norm() > 1e-12 ? Eigen::AngleAxisd(u * tilt, normal.normalized()).toRotationMatrix()
+                            : Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d r =
+      partial_tilt * r0 * Eigen::AngleAxisd(u * spin, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return abc_near(r, linear);
+}
+
 Vector6d Segment::at(double u) const {
   if (kind == SegmentKind::blend) {
     Vector6d pose = start + u * (end - start);  // the angles blend linearly
@@ -33,8 +74,13 @@ Vector6d Segment::at(double u) const {
     pose.head<3>() = centre + radius_mm * (std::cos(angle) * axis_u + std::sin(angle) * axis_v);
     return pose;
   }
-  if (kind != SegmentKind::arc) return start + u * (end - start);
-  Vector6d pose = start + u * (end - start);  // the normal axis and the angles are linear
+  if (kind != SegmentKind::arc) {
+    Vector6d pose = start + u * (end - start);
+    if (great_circle_attitude) pose.tail<3>() = attitude_at(u);
+    return pose;
+  }
+  Vector6d pose = start + u * (end - start);  // the normal axis is linear
+  if (great_circle_attitude) pose.tail<3>() = attitude_at(u);
   const double start_angle =
       std::atan2(start[second_axis] - centre[second_axis], start[first_axis] - centre[first_axis]);
   const double start_radius =

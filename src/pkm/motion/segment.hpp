@@ -16,6 +16,10 @@ struct Segment {
   Vector6d start = Vector6d::Zero();  // x y z (mm) a b c (rad)
   Vector6d end = Vector6d::Zero();
   double feed_mm_per_s = 0.0;  // programmed tool-tip speed (0 for rapids and dwells)
+  // Attitude along the move: A B C linear in u (LinuxCNC's way), or the tool axis (the
+  // platform's +Z) along the great circle between its start and end directions at a constant
+  // rate, the spin about it shared out evenly (the paper's variable attitude).
+  bool great_circle_attitude = false;
   double dwell_s = 0.0;
 
   // Arcs: centre, the plane's two in-plane axes and its normal, signed sweep (rad, + ccw).
@@ -31,8 +35,11 @@ struct Segment {
   // Length of the tool tip's path (mm); moves of the angles only are measured in degrees as
   // LinuxCNC does for a feed of rotary axes alone.
   double length() const;
-  // The pose at fraction u of the path (0 = start, 1 = end); angles linear in u.
+  // The pose at fraction u of the path (0 = start, 1 = end).
   Vector6d at(double u) const;
+
+ private:
+  Eigen::Vector3d attitude_at(double u) const;
 };
 
 }  // namespace pkm::motion
