@@ -75,6 +75,46 @@ TEST(Plan, LineSamplesLieOnTheLineAndTheDurationIsClosedForm) {
   EXPECT_DOUBLE_EQ(out.samples.back().pose[0], 50.0);
 }
 
+TEST(Plan, JerkLimitedRampsAreSCurves) {
+  // J = 100,000 mm/s^3 reaches 1000 mm/s^2 in 0.01 s; each ramp to 50 mm/s takes
+  // 50/1000 + 1000/100000 = 0.06 s over 1.5 mm; 47 mm cruising at 50 mm/s: 1.06 s in all.
+  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const auto path = write_program("G21 G90\nG1 F3000 X50 Y0 Z1000\nM2\n");
+  PlanOptions options;
+  options.jerk_mm_per_s3 = 100000.0;
+  Collect out;
+  const PlanReport report = plan_program(hexapod, path, {}, options, out);
+  std::filesystem::remove(path);
+  EXPECT_NEAR(report.duration_s, 1.06, 1e-9);
+  double peak_jerk = 0.0, peak_acceleration = 0.0;
+  const double t = 0.001;
+  for (std::size_t k = 3; k + 1 < out.samples.size(); ++k) {
+    const double x0 = out.samples[k - 3].pose[0], x1 = out.samples[k - 2].pose[0];
+    const double x2 = out.samples[k - 1].pose[0], x3 = out.samples[k].pose[0];
+    peak_jerk = std::max(peak_jerk, std::abs(x3 - 3 * x2 + 3 * x1 - x0) / (t * t * t));
+    peak_acceleration = std::max(peak_acceleration, std::abs(x3 - 2 * x2 + x1) / (t * t));
+  }
+  EXPECT_LE(peak_jerk, 100000.0 * 1.001);
+  EXPECT_GT(peak_jerk, 90000.0);
+  EXPECT_LE(peak_acceleration, 1000.0 * 1.001);
+  EXPECT_GT(peak_acceleration, 990.0);
+  EXPECT_DOUBLE_EQ(out.samples.back().pose[0], 50.0);
+}
+
+TEST(Plan, ShortJerkLimitedRampsNeverReachFullAcceleration) {
+  // J = 10,000 mm/s^3 and a change of 50 mm/s: a^2/J = 100 > 50, so the acceleration peaks at
+  // sqrt(50 * 10000) = 707 mm/s^2 and each ramp takes 2 * 0.0707 s over 3.536 mm.
+  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const auto path = write_program("G21 G90\nG1 F3000 X50 Y0 Z1000\nM2\n");
+  PlanOptions options;
+  options.jerk_mm_per_s3 = 10000.0;
+  Collect out;
+  const PlanReport report = plan_program(hexapod, path, {}, options, out);
+  std::filesystem::remove(path);
+  const double ramp_s = 2.0 * std::sqrt(50.0 / 10000.0);
+  EXPECT_NEAR(report.duration_s, 2 * ramp_s + (50.0 - 50.0 * ramp_s) / 50.0, 1e-9);
+}
+
 TEST(Plan, ArcSamplesStayOnTheirRadius) {
   const Machine hexapod = test::load_example("hexapod-bit.toml");
   Collect out;

@@ -27,6 +27,7 @@ struct PlanCommandOptions {
   std::vector<double> start;
   std::vector<double> origin;
   std::string attitude = "linear";
+  double jerk = 0.0;
   std::string display_name;  // how to name the job in the summary (default: its path)
 };
 
@@ -120,6 +121,7 @@ void run_plan(const PlanCommandOptions& options) {
         i < 3 ? options.origin[i] : degrees_to_radians(options.origin[i]);
   }
   plan_options.great_circle_attitude = options.attitude == "great-circle";
+  plan_options.jerk_mm_per_s3 = options.jerk;
   ProgressBar progress(options.program);
   plan_options.on_line = [&progress](int line) { progress.update(line); };
   gcode::InterpreterOptions interpreter_options;
@@ -227,6 +229,10 @@ void register_plan_commands(CLI::App& app) {
                    "Tool attitude within a move: linear (A B C, as LinuxCNC) or great-circle "
                    "(the tool axis along a great circle)")
       ->check(CLI::IsMember({"linear", "great-circle"}));
+  command
+      ->add_option("--jerk", options->jerk,
+                   "Tool-tip jerk limit, mm/s^3: S-curve speed changes (default: none)")
+      ->check(CLI::NonNegativeNumber);
   command->callback([options] { run_plan(*options); });
 }
 

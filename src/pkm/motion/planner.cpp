@@ -13,31 +13,92 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-// Speed profile along one piece: from the entry speed, accelerate to the peak, cruise, and brake
-// to the exit speed, at a constant acceleration limit. The planner's passes guarantee that the
-// exit speed can be reached from the entry speed within the piece.
+// A change of speed at an acceleration limit and, optionally, a jerk limit (0: none). With a jerk
+// limit the acceleration rises and falls linearly (an S-curve); its velocity is symmetric about
+// the ramp's middle, so a ramp covers the mean of its two speeds times its duration.
+struct Ramp {
+  double acceleration = 0.0;
+  double jerk = 0.0;
+
+  // The acceleration reached and the time at constant acceleration, for a change of `change`.
+  void shape(double change, double& peak_acceleration, double& jerk_s, double& constant_s) const {
+    peak_acceleration =
+        jerk > 0.0 ? std::min(acceleration, std::sqrt(change * jerk)) : acceleration;
+    jerk_s = jerk > 0.0 ? peak_acceleration / jerk : 0.0;
+    constant_s = peak_acceleration > 0.0 ? std::max(0.0, change / peak_acceleration - jerk_s) : 0.0;
+  }
+  double time(double from, double to) const {
+    double peak = 0.0, jerk_s = 0.0, constant_s = 0.0;
+    shape(std::abs(to - from), peak, jerk_s, constant_s);
+    return 2.0 * jerk_s + constant_s;
+  }
+  double distance(double from, double to) const { return 0.5 * (from + to) * time(from, to); }
+  // The highest speed reachable from `from` within `length` (or the highest speed from which
+  // `from` can be reached: the same by symmetry).
+  double reachable(double from, double length) const {
+    if (jerk <= 0.0) return std::sqrt(from * from + 2.0 * acceleration * length);
+    double low = from, high = from + std::sqrt(2.0 * acceleration * length) + 1.0;
+    for (int i = 0; i < 60; ++i) {
+      const double middle = 0.5 * (low + high);
+      (distance(from, middle) <= length ? low : high) = middle;
+    }
+    return low;
+  }
+  // Distance covered `t` seconds into the ramp from `from` to `to`.
+  double position(double from, double to, double t) const {
+    const double sign = to >= from ? 1.0 : -1.0;
+    double peak = 0.0, jerk_s = 0.0, constant_s = 0.0;
+    shape(std::abs(to - from), peak, jerk_s, constant_s);
+    if (jerk_s == 0.0) return from * t + 0.5 * sign * peak * t * t;
+    const double j = sign * jerk;
+    if (t <= jerk_s) return from * t + j * t * t * t / 6.0;
+    const double v1 = from + 0.5 * j * jerk_s * jerk_s;
+    const double x1 = from * jerk_s + j * jerk_s * jerk_s * jerk_s / 6.0;
+    if (t <= jerk_s + constant_s) {
+      const double u = t - jerk_s;
+      return x1 + v1 * u + 0.5 * sign * peak * u * u;
+    }
+    const double v2 = v1 + sign * peak * constant_s;
+    const double x2 = x1 + v1 * constant_s + 0.5 * sign * peak * constant_s * constant_s;
+    const double u = std::min(t - jerk_s - constant_s, jerk_s);
+    return x2 + v2 * u + 0.5 * sign * peak * u * u - j * u * u * u / 6.0;
+  }
+};
+
+// Speed profile along one piece: from the entry speed up to the peak, cruise, and down to the
+// exit speed. The planner's passes guarantee that the exit speed can be reached from the entry
+// speed within the piece.
 struct Profile {
   double length = 0.0, entry_speed = 0.0, peak_speed = 0.0, exit_speed = 0.0;
-  double acceleration = 0.0;
+  Ramp ramp;
   double accelerate_s = 0.0, cruise_s = 0.0, brake_s = 0.0, duration_s = 0.0;
   double accelerate_mm = 0.0, cruise_mm = 0.0;
 
   static Profile make(double length, double entry, double exit, double max_speed,
-                      double acceleration) {
+                      const Ramp& ramp) {
     Profile p;
     p.length = length;
     p.entry_speed = entry;
     p.exit_speed = exit;
-    p.acceleration = acceleration;
+    p.ramp = ramp;
     if (length <= 0.0) return p;
-    const double peak_squared = std::min(
-        max_speed * max_speed, (2.0 * acceleration * length + entry * entry + exit * exit) / 2.0);
-    p.peak_speed = std::max({std::sqrt(std::max(peak_squared, 0.0)), entry, exit});
-    p.accelerate_s = (p.peak_speed - entry) / acceleration;
-    p.brake_s = (p.peak_speed - exit) / acceleration;
-    p.accelerate_mm = (p.peak_speed * p.peak_speed - entry * entry) / (2.0 * acceleration);
-    const double brake_mm = (p.peak_speed * p.peak_speed - exit * exit) / (2.0 * acceleration);
-    p.cruise_mm = std::max(0.0, length - p.accelerate_mm - brake_mm);
+    const auto fits = [&](double peak) {
+      return ramp.distance(entry, peak) + ramp.distance(peak, exit) <= length;
+    };
+    double low = std::max(entry, exit), high = std::max(low, max_speed);
+    if (fits(high)) {
+      low = high;
+    } else {
+      for (int i = 0; i < 60; ++i) {
+        const double middle = 0.5 * (low + high);
+        (fits(middle) ? low : high) = middle;
+      }
+    }
+    p.peak_speed = low;
+    p.accelerate_s = ramp.time(entry, p.peak_speed);
+    p.brake_s = ramp.time(p.peak_speed, exit);
+    p.accelerate_mm = ramp.distance(entry, p.peak_speed);
+    p.cruise_mm = std::max(0.0, length - p.accelerate_mm - ramp.distance(p.peak_speed, exit));
     p.cruise_s = p.peak_speed > 0.0 ? p.cruise_mm / p.peak_speed : 0.0;
     p.duration_s = p.accelerate_s + p.cruise_s + p.brake_s;
     return p;
@@ -46,11 +107,11 @@ struct Profile {
   double distance(double t) const {
     if (t <= 0.0) return 0.0;
     if (t >= duration_s) return length;
-    if (t < accelerate_s) return entry_speed * t + 0.5 * acceleration * t * t;
+    if (t < accelerate_s) return ramp.position(entry_speed, peak_speed, t);
     if (t < accelerate_s + cruise_s) return accelerate_mm + peak_speed * (t - accelerate_s);
     const double braking = t - accelerate_s - cruise_s;
-    return std::min(length, accelerate_mm + cruise_mm + peak_speed * braking -
-                                0.5 * acceleration * braking * braking);
+    return std::min(length,
+                    accelerate_mm + cruise_mm + ramp.position(peak_speed, exit_speed, braking));
   }
 };
 
@@ -437,7 +498,7 @@ class Planner {
       if (p.stop_after) exit = 0.0;
       exit = std::min(exit, p.max_exit_speed);
       p.exit_speed = exit;
-      double entry = std::sqrt(exit * exit + 2.0 * p.acceleration * p.length);
+      double entry = ramp_for(p).reachable(exit, p.length);
       entry = std::min(entry, p.max_speed);
       if (i > 0) entry = std::min(entry, pieces_[i - 1].max_speed);
       p.entry_speed = entry;
@@ -448,8 +509,7 @@ class Planner {
     for (std::size_t i = 0; i < n; ++i) {
       Piece& p = pieces_[i];
       p.entry_speed = std::min(p.entry_speed, speed);
-      p.exit_speed = std::min(
-          p.exit_speed, std::sqrt(p.entry_speed * p.entry_speed + 2.0 * p.acceleration * p.length));
+      p.exit_speed = std::min(p.exit_speed, ramp_for(p).reachable(p.entry_speed, p.length));
       speed = p.exit_speed;
     }
     const std::size_t emit_count = all ? n : n - std::min(n, kKeep);
@@ -460,6 +520,10 @@ class Planner {
     }
   }
 
+  Ramp ramp_for(const Piece& piece) const {
+    return Ramp{piece.acceleration, options_.jerk_mm_per_s3};
+  }
+
   void run_piece(const Piece& piece) {
     const Segment& segment = piece.segment;
     if (segment.kind != SegmentKind::line ||
@@ -467,7 +531,7 @@ class Planner {
       report_.path_length_mm += piece.length;  // moves of the angles alone are no path
     }
     const Profile profile = Profile::make(piece.length, piece.entry_speed, piece.exit_speed,
-                                          piece.max_speed, piece.acceleration);
+                                          piece.max_speed, ramp_for(piece));
     sample_until(time_ + profile.duration_s, segment.line,
                  [&](double t) { return segment.at(profile.distance(t - time_) / piece.length); });
   }

@@ -42,6 +42,9 @@ struct PlanOptions {
   // The tool axis along a great circle within each move (the paper's variable attitude) instead
   // of A B C interpolated linearly (LinuxCNC's way, the default).
   bool great_circle_attitude = false;
+  // Tool-tip jerk limit, mm/s^3: accelerations rise and fall linearly (S-curves). 0: none,
+  // accelerations switch at once (trapezoidal profiles, as LinuxCNC's planner).
+  double jerk_mm_per_s3 = 0.0;
   // Called with the G-code line being planned, once per change of line: for progress.
   std::function<void(int line)> on_line;
 };
