@@ -6,12 +6,11 @@
 #include <numbers>
 
 #include "pkm/motion/segment.hpp"
+#include "pkm/motion/segment_builder.hpp"
 
 namespace pkm::motion {
 
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // A change of speed at an acceleration limit and, optionally, a jerk limit (0: none). With a jerk
 // limit the acceleration rises and falls linearly (an S-curve); its velocity is symmetric about
@@ -145,15 +144,16 @@ constexpr std::size_t kKeep = 256;
 // rate at junctions passed without stopping, which happens within one servo period.
 constexpr double kMoveAccelerationShare = 0.8;
 
-double to_mm(gcode::LengthUnits units) {
-  return units == gcode::LengthUnits::inch ? 25.4 : 1.0;
-}
-
 class Planner {
  public:
   Planner(const Machine& machine, const PlanOptions& options, SampleSink& sink, std::string file)
-      : machine_(machine), options_(options), sink_(sink), file_(std::move(file)) {
-    pose_ = (options.start ? *options.start : machine.home()).as_vector();
+      : machine_(machine),
+        options_(options),
+        sink_(sink),
+        file_(std::move(file)),
+        builder_((options.start ? *options.start : machine.home()).as_vector(), options.origin,
+                 options.great_circle_attitude) {
+    pose_ = builder_.pose();
     const int joints = static_cast<int>(machine.joints().size());
     report_.joints.resize(static_cast<std::size_t>(joints));
     JointVector start_joints;
@@ -169,52 +169,14 @@ class Planner {
   }
 
   void on_canon(const gcode::Canon& canon) {
-    using gcode::CanonKind;
-    switch (canon.kind) {
-      case CanonKind::path_control:
-        path_mode_ = canon.integer;
-        blend_tolerance_mm_ =
-            canon.value > 0.0 ? canon.value * to_mm(canon.units) : kDefaultBlendTolerance;
-        break;
-      case CanonKind::g5x_offset:
-        store_offset(canon, g5x_mm_);
-        break;
-      case CanonKind::g92_offset:
-        store_offset(canon, g92_mm_);
-        break;
-      case CanonKind::tool_length_offset:
-        store_offset(canon, tool_mm_);
-        break;
-      case CanonKind::traverse:
-      case CanonKind::feed:
-      case CanonKind::probe: {
-        Segment segment;
-        segment.kind = SegmentKind::line;
-        segment.line = canon.line;
-        segment.rapid = canon.kind == CanonKind::traverse;
-        segment.start = pose_;
-        segment.end = machine_pose(canon, canon.end);
-        segment.great_circle_attitude = options_.great_circle_attitude;
-        set_feed(canon, segment);
-        add(segment);
-        break;
-      }
-      case CanonKind::arc:
-        add(arc_segment(canon));
-        break;
-      case CanonKind::dwell: {
-        Segment segment;
-        segment.kind = SegmentKind::dwell;
-        segment.line = canon.line;
-        segment.start = segment.end = pose_;
-        segment.dwell_s = canon.value;
-        flush(true);
-        entry_speed_ = 0.0;
-        run_dwell(segment);
-        break;
-      }
-      default:
-        break;
+    std::optional<Segment> segment = builder_.take(canon);
+    if (!segment) return;
+    if (segment->kind == SegmentKind::dwell) {
+      flush(true);
+      entry_speed_ = 0.0;
+      run_dwell(*segment);
+    } else {
+      add(*segment);
     }
   }
 
@@ -227,73 +189,6 @@ class Planner {
   }
 
  private:
-  void store_offset(const gcode::Canon& canon, Vector6d& offset) {
-    for (int axis = 0; axis < 6; ++axis) {
-      offset[axis] =
-          axis < 3 ? canon.end[axis] * to_mm(canon.units) : degrees_to_radians(canon.end[axis]);
-    }
-  }
-
-  // Program coordinates (program units, deg) to the machine pose (mm, rad).
-  Vector6d machine_pose(const gcode::Canon& canon, const gcode::Position& program) const {
-    Vector6d pose;
-    for (int axis = 0; axis < 6; ++axis) {
-      const double value =
-          axis < 3 ? program[axis] * to_mm(canon.units) : degrees_to_radians(program[axis]);
-      pose[axis] = value + options_.origin[axis] + g5x_mm_[axis] + g92_mm_[axis] + tool_mm_[axis];
-    }
-    return pose;
-  }
-
-  void set_feed(const gcode::Canon& canon, Segment& segment) const {
-    if (segment.rapid) return;
-    if (canon.feed_mode == gcode::FeedMode::inverse_time) {
-      segment.feed_mm_per_s = segment.length() * canon.value / 60.0;  // done in 1/F minutes
-    } else {
-      const bool angles_only = (segment.end.head<3>() - segment.start.head<3>()).norm() == 0.0;
-      segment.feed_mm_per_s = canon.value * (angles_only ? 1.0 : to_mm(canon.units)) / 60.0;
-    }
-  }
-
-  Segment arc_segment(const gcode::Canon& canon) {
-    Segment segment;
-    segment.kind = SegmentKind::arc;
-    segment.line = canon.line;
-    segment.start = pose_;
-    segment.end = machine_pose(canon, canon.end);
-    segment.great_circle_attitude = options_.great_circle_attitude;
-    switch (canon.plane) {
-      case gcode::Plane::xy:
-        segment.first_axis = 0, segment.second_axis = 1, segment.normal_axis = 2;
-        break;
-      case gcode::Plane::xz:
-        segment.first_axis = 2, segment.second_axis = 0, segment.normal_axis = 1;
-        break;
-      case gcode::Plane::yz:
-        segment.first_axis = 1, segment.second_axis = 2, segment.normal_axis = 0;
-        break;
-    }
-    const Vector6d offset = options_.origin + g5x_mm_ + g92_mm_ + tool_mm_;
-    const double scale = to_mm(canon.units);
-    segment.centre[segment.first_axis] = canon.center[0] * scale + offset[segment.first_axis];
-    segment.centre[segment.second_axis] = canon.center[1] * scale + offset[segment.second_axis];
-    const auto angle_of = [&](const Vector6d& p) {
-      return std::atan2(p[segment.second_axis] - segment.centre[segment.second_axis],
-                        p[segment.first_axis] - segment.centre[segment.first_axis]);
-    };
-    double sweep = angle_of(segment.end) - angle_of(segment.start);
-    if (canon.turns > 0) {
-      while (sweep <= 1e-12) sweep += kTwoPi;
-      sweep += kTwoPi * (canon.turns - 1);
-    } else {
-      while (sweep >= -1e-12) sweep -= kTwoPi;
-      sweep -= kTwoPi * (-canon.turns - 1);
-    }
-    segment.sweep_rad = sweep;
-    set_feed(canon, segment);
-    return segment;
-  }
-
   // The feed and acceleration that keep every joint within its limits along a move. With q(s)
   // a joint along the path, its acceleration is q' s'' + q'' s'^2: bounding |q'| by S and |q''|
   // by C over the move (sampled every 0.5 mm), speed^2 C <= amax / 2 and accel S <= amax - speed^2
@@ -400,7 +295,7 @@ class Planner {
     const Eigen::Vector3d out = tangent(previous.segment, true);
     const Eigen::Vector3d in = tangent(next.segment, false);
     const bool same_kind = previous.segment.rapid == next.segment.rapid;
-    if (path_mode_ != 64 || !same_kind || out.isZero() || in.isZero()) {
+    if (builder_.path_mode() != 64 || !same_kind || out.isZero() || in.isZero()) {
       previous.stop_after = true;
       return;
     }
@@ -418,7 +313,9 @@ class Planner {
     // The arc tangent to both lines that strays at most the tolerance from them (its middle is
     // r (1 - cos(angle/2)) from either line) and takes at most half of either.
     const double half = angle / 2.0;
-    const double tolerance_radius = blend_tolerance_mm_ / (1.0 - std::cos(half));
+    const double tolerance = builder_.blend_tolerance_mm() > 0.0 ? builder_.blend_tolerance_mm()
+                                                                 : kDefaultBlendTolerance;
+    const double tolerance_radius = tolerance / (1.0 - std::cos(half));
     const double length_radius = 0.5 * std::min(previous.length, next.length) / std::tan(half);
     const double radius = std::min(tolerance_radius, length_radius);
     if (!(radius > 1e-9)) {
@@ -592,15 +489,13 @@ class Planner {
   const PlanOptions& options_;
   SampleSink& sink_;
   std::string file_;
+  SegmentBuilder builder_;  // before pose_: the constructor takes the start from it
   PlanReport report_;
   Vector6d pose_ = Vector6d::Zero();
-  Vector6d g5x_mm_ = Vector6d::Zero(), g92_mm_ = Vector6d::Zero(), tool_mm_ = Vector6d::Zero();
   double time_ = 0.0;
   long next_sample_ = 1;  // the sample at t = 0 is the start
   std::deque<Piece> pieces_;
   double entry_speed_ = 0.0;  // the speed the first buffered piece is entered at
-  int path_mode_ = 64;        // LinuxCNC starts in G64
-  double blend_tolerance_mm_ = kDefaultBlendTolerance;
   double last_sample_time_ = 0.0;
   double last_dt_ = 0.0;
   int last_line_ = 0;

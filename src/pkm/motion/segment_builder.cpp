@@ -1,0 +1,134 @@
+#include "pkm/motion/segment_builder.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace pkm::motion {
+
+namespace {
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+double to_mm(gcode::LengthUnits units) {
+  return units == gcode::LengthUnits::inch ? 25.4 : 1.0;
+}
+}  // namespace
+
+SegmentBuilder::SegmentBuilder(const Vector6d& start, const Vector6d& origin,
+                               bool great_circle_attitude)
+    : pose_(start), origin_(origin), great_circle_attitude_(great_circle_attitude) {}
+
+std::optional<Segment> SegmentBuilder::take(const gcode::Canon& canon) {
+  using gcode::CanonKind;
+  switch (canon.kind) {
+    case CanonKind::path_control:
+      path_mode_ = canon.integer;
+      blend_tolerance_mm_ = canon.value > 0.0 ? canon.value * to_mm(canon.units) : 0.0;
+      return std::nullopt;
+    case CanonKind::g5x_offset:
+      store_offset(canon, g5x_mm_);
+      return std::nullopt;
+    case CanonKind::g92_offset:
+      store_offset(canon, g92_mm_);
+      return std::nullopt;
+    case CanonKind::tool_length_offset:
+      store_offset(canon, tool_mm_);
+      return std::nullopt;
+    case CanonKind::traverse:
+    case CanonKind::feed:
+    case CanonKind::probe: {
+      Segment segment;
+      segment.kind = SegmentKind::line;
+      segment.line = canon.line;
+      segment.rapid = canon.kind == CanonKind::traverse;
+      segment.start = pose_;
+      segment.end = machine_pose(canon);
+      segment.great_circle_attitude = great_circle_attitude_;
+      set_feed(canon, segment);
+      pose_ = segment.end;
+      return segment;
+    }
+    case CanonKind::arc: {
+      Segment segment = arc_segment(canon);
+      pose_ = segment.end;
+      return segment;
+    }
+    case CanonKind::dwell: {
+      Segment segment;
+      segment.kind = SegmentKind::dwell;
+      segment.line = canon.line;
+      segment.start = segment.end = pose_;
+      segment.dwell_s = canon.value;
+      return segment;
+    }
+    default:
+      return std::nullopt;
+  }
+}
+
+void SegmentBuilder::store_offset(const gcode::Canon& canon, Vector6d& offset) const {
+  for (int axis = 0; axis < 6; ++axis) {
+    offset[axis] =
+        axis < 3 ? canon.end[axis] * to_mm(canon.units) : degrees_to_radians(canon.end[axis]);
+  }
+}
+
+// Program coordinates (program units, deg) to the machine pose (mm, rad).
+Vector6d SegmentBuilder::machine_pose(const gcode::Canon& canon) const {
+  Vector6d pose;
+  for (int axis = 0; axis < 6; ++axis) {
+    const double value =
+        axis < 3 ? canon.end[axis] * to_mm(canon.units) : degrees_to_radians(canon.end[axis]);
+    pose[axis] = value + origin_[axis] + g5x_mm_[axis] + g92_mm_[axis] + tool_mm_[axis];
+  }
+  return pose;
+}
+
+void SegmentBuilder::set_feed(const gcode::Canon& canon, Segment& segment) const {
+  if (segment.rapid) return;
+  if (canon.feed_mode == gcode::FeedMode::inverse_time) {
+    segment.feed_mm_per_s = segment.length() * canon.value / 60.0;  // done in 1/F minutes
+  } else {
+    const bool angles_only = (segment.end.head<3>() - segment.start.head<3>()).norm() == 0.0;
+    segment.feed_mm_per_s = canon.value * (angles_only ? 1.0 : to_mm(canon.units)) / 60.0;
+  }
+}
+
+Segment SegmentBuilder::arc_segment(const gcode::Canon& canon) const {
+  Segment segment;
+  segment.kind = SegmentKind::arc;
+  segment.line = canon.line;
+  segment.start = pose_;
+  segment.end = machine_pose(canon);
+  segment.great_circle_attitude = great_circle_attitude_;
+  switch (canon.plane) {
+    case gcode::Plane::xy:
+      segment.first_axis = 0, segment.second_axis = 1, segment.normal_axis = 2;
+      break;
+    case gcode::Plane::xz:
+      segment.first_axis = 2, segment.second_axis = 0, segment.normal_axis = 1;
+      break;
+    case gcode::Plane::yz:
+      segment.first_axis = 1, segment.second_axis = 2, segment.normal_axis = 0;
+      break;
+  }
+  const Vector6d offset = origin_ + g5x_mm_ + g92_mm_ + tool_mm_;
+  const double scale = to_mm(canon.units);
+  segment.centre[segment.first_axis] = canon.center[0] * scale + offset[segment.first_axis];
+  segment.centre[segment.second_axis] = canon.center[1] * scale + offset[segment.second_axis];
+  const auto angle_of = [&](const Vector6d& p) {
+    return std::atan2(p[segment.second_axis] - segment.centre[segment.second_axis],
+                      p[segment.first_axis] - segment.centre[segment.first_axis]);
+  };
+  double sweep = angle_of(segment.end) - angle_of(segment.start);
+  if (canon.turns > 0) {
+    while (sweep <= 1e-12) sweep += kTwoPi;
+    sweep += kTwoPi * (canon.turns - 1);
+  } else {
+    while (sweep >= -1e-12) sweep -= kTwoPi;
+    sweep -= kTwoPi * (-canon.turns - 1);
+  }
+  segment.sweep_rad = sweep;
+  set_feed(canon, segment);
+  return segment;
+}
+
+}  // namespace pkm::motion

@@ -1,0 +1,41 @@
+// Canonical commands to moves in machine coordinates: the offsets a program sets, its units, its
+// feed modes and arcs, turned into segments (mm, rad). Shared by every consumer of a program's
+// path (the planner, the joint-space post-processor).
+#pragma once
+
+#include <optional>
+
+#include "pkm/gcode/canon.hpp"
+#include "pkm/motion/segment.hpp"
+
+namespace pkm::motion {
+
+class SegmentBuilder {
+ public:
+  // `start`: the machine pose the program starts from; `origin`: where the program's origin sits
+  // in machine coordinates (both mm, rad).
+  SegmentBuilder(const Vector6d& start, const Vector6d& origin, bool great_circle_attitude);
+
+  // The move a command makes (line, arc, dwell), or nothing for the commands that only change
+  // state (offsets, path control, ...), which the builder keeps.
+  std::optional<Segment> take(const gcode::Canon& canon);
+
+  const Vector6d& pose() const { return pose_; }  // where the last move ended
+  int path_mode() const { return path_mode_; }    // 61, 611 or 64 (G61, G61.1, G64)
+  double blend_tolerance_mm() const { return blend_tolerance_mm_; }  // G64 P, or 0
+
+ private:
+  void store_offset(const gcode::Canon& canon, Vector6d& offset) const;
+  Vector6d machine_pose(const gcode::Canon& canon) const;
+  void set_feed(const gcode::Canon& canon, Segment& segment) const;
+  Segment arc_segment(const gcode::Canon& canon) const;
+
+  Vector6d pose_;
+  Vector6d origin_;
+  bool great_circle_attitude_;
+  Vector6d g5x_mm_ = Vector6d::Zero(), g92_mm_ = Vector6d::Zero(), tool_mm_ = Vector6d::Zero();
+  int path_mode_ = 64;  // LinuxCNC starts in G64
+  double blend_tolerance_mm_ = 0.0;
+};
+
+}  // namespace pkm::motion
