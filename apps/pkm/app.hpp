@@ -31,5 +31,6 @@ void register_kinematics_commands(CLI::App& app);
 void register_calibrate_commands(CLI::App& app);
 void register_gcode_commands(CLI::App& app);
 void register_plan_commands(CLI::App& app);
+void register_post_commands(CLI::App& app);
 
 }  // namespace pkm::app

@@ -1,0 +1,110 @@
+// pkm post: joint-space G-code with the tool tip's deviation bounded.
+#include <cstdio>
+#include <memory>
+
+#include "app.hpp"
+#include "pkm/gcode/gcode_error.hpp"
+#include "pkm/io/atomic_file.hpp"
+#include "pkm/post/joint_program.hpp"
+
+namespace pkm::app {
+
+namespace {
+
+struct PostCommandOptions {
+  std::string machine;
+  std::string program;
+  std::string output;
+  std::string dialect = "linuxcnc";
+  std::string tool_table;
+  double tolerance_mm = 0.01;
+  std::vector<double> origin;
+};
+
+// Text for inside a G-code comment: parentheses would end or nest it.
+std::string comment_safe(std::string text) {
+  for (char& c : text) {
+    if (c == '(') c = '[';
+    if (c == ')') c = ']';
+  }
+  return text;
+}
+
+// The header is written first with room for the numbers known only at the end, then rewritten.
+std::string header(const Machine& machine, const PostCommandOptions& options,
+                   const post::PostReport* report) {
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "(joint-space program by pkmkit for %.120s)\n"
+                "(from %.200s, dialect %s)\n"
+                "(tolerance %12.6f mm; verified maximum deviation %12.6f mm, %10ld blocks)\n",
+                comment_safe(machine.name()).c_str(), comment_safe(options.program).c_str(),
+                options.dialect.c_str(), options.tolerance_mm,
+                report ? report->max_deviation_mm : 0.0, report ? report->blocks : 0L);
+  return text;
+}
+
+void run_post(const PostCommandOptions& options) {
+  const Machine machine = load_machine_or_default(options.machine);
+  post::PostOptions post_options;
+  post_options.tolerance_mm = options.tolerance_mm;
+  post_options.dialect = options.dialect == "grbl"    ? post::Dialect::grbl
+                         : options.dialect == "mach3" ? post::Dialect::mach3
+                                                      : post::Dialect::linuxcnc;
+  for (std::size_t i = 0; i < options.origin.size(); ++i) {
+    post_options.origin[static_cast<int>(i)] =
+        i < 3 ? options.origin[i] : degrees_to_radians(options.origin[i]);
+  }
+  gcode::InterpreterOptions interpreter_options;
+  AtomicFileWriter file(options.output);
+  file.write(header(machine, options, nullptr));
+  post::PostReport report;
+  try {
+    if (!options.tool_table.empty()) {
+      interpreter_options.tool_table = gcode::read_tool_table(options.tool_table);
+    }
+    report = post::post_program(machine, options.program, interpreter_options, post_options,
+                                [&](const std::string& line) { file.write(line + "\n"); });
+  } catch (const gcode::GcodeError& error) {
+    throw CommandError(error.what());
+  } catch (const post::PostError& error) {
+    throw CommandError(error.what());
+  }
+  file.write_at(0, header(machine, options, &report));
+  file.commit();
+  for (const gcode::Warning& warning : report.warnings) {
+    std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", options.program.c_str(), warning.line,
+                 warning.message.c_str());
+  }
+  std::printf(
+      "%s: %ld blocks for %ld moves, verified maximum deviation %.6f mm (line %d), "
+      "tolerance %.6f mm\n",
+      options.output.c_str(), report.blocks, report.moves, report.max_deviation_mm,
+      report.max_deviation_line, options.tolerance_mm);
+}
+
+}  // namespace
+
+void register_post_commands(CLI::App& app) {
+  auto options = std::make_shared<PostCommandOptions>();
+  CLI::App* command = app.add_subcommand(
+      "post", "Joint-space G-code for controllers without kinematics, within a tolerance");
+  command->add_option("-m,--machine", options->machine, "Machine file (default: embedded hexapod)");
+  command->add_option("program", options->program, "The Cartesian G-code job")->required();
+  command->add_option("-o,--output", options->output, "The joint-space program to write")
+      ->required();
+  command
+      ->add_option("--tolerance", options->tolerance_mm,
+                   "Largest tool-tip deviation from the programmed path, mm (default 0.01)")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--dialect", options->dialect, "linuxcnc (default), mach3 or grbl")
+      ->check(CLI::IsMember({"linuxcnc", "mach3", "grbl"}));
+  command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl, mm)");
+  command
+      ->add_option("--origin", options->origin,
+                   "Where the program's X0 Y0 Z0 sits in machine coordinates (mm, deg)")
+      ->expected(2, 6);
+  command->callback([options] { run_post(*options); });
+}
+
+}  // namespace pkm::app
