@@ -141,30 +141,67 @@ class Poster {
     return worst;
   }
 
-  // Halves the move until each piece's joint-linear path stays within the tolerance.
-  void split(const Segment& segment, double u0, double u1, const JointVector& q0,
-             const JointVector& q1, int depth) {
-    const double worst = deviation(segment, u0, u1, q0, q1);
-    if (worst <= options_.tolerance_mm) {
-      write_block(segment, u0, u1, q0, q1, worst);
-      return;
-    }
-    if (depth >= kMaxDepth) {
-      throw PostError(file_, segment.line,
-                      "cannot keep within " + std::to_string(options_.tolerance_mm) +
-                          " mm here (a singularity, or a tolerance below the dialect's " +
-                          std::to_string(rules_.decimals) + " decimals)");
-    }
-    const double middle = 0.5 * (u0 + u1);
-    JointVector q_middle;
-    const Status status = machine_.inverse(Pose::from_vector(segment.at(middle)), q_middle);
+  // The joints at fraction u of a move, as the controller will read them.
+  JointVector joints_at(const Segment& segment, double u) const {
+    JointVector q;
+    const Status status = machine_.inverse(Pose::from_vector(segment.at(u)), q);
     if (!status.ok()) {
       throw PostError(file_, segment.line,
                       "the move leaves the machine's reach: " + machine_.describe(status));
     }
-    q_middle = rounded(q_middle);
-    split(segment, u0, middle, q0, q_middle, depth + 1);
-    split(segment, middle, u1, q_middle, q1, depth + 1);
+    return rounded(q);
+  }
+
+  // Covers the move greedily with blocks as long as the tolerance allows: from each block's
+  // start, the furthest end (found by halving, then bisection) whose joint-linear move stays
+  // within the tolerance. Block lengths follow how sharply the kinematics bends the path.
+  void split(const Segment& segment, double u0, double /*u1*/, const JointVector& q_start,
+             const JointVector& q_end, int /*depth*/) {
+    JointVector q0 = q_start;
+    double start = u0;
+    while (start < 1.0) {
+      const double rest = deviation(segment, start, 1.0, q0, q_end);
+      if (rest <= options_.tolerance_mm) {
+        write_block(segment, start, 1.0, q0, q_end, rest);
+        return;
+      }
+      double step = 0.5 * (1.0 - start);
+      double good = -1.0, good_deviation = 0.0;
+      JointVector q_good;
+      for (int halvings = 0; halvings < kMaxDepth; ++halvings, step *= 0.5) {
+        const JointVector q = joints_at(segment, start + step);
+        const double d = deviation(segment, start, start + step, q0, q);
+        if (d <= options_.tolerance_mm) {
+          good = start + step;
+          good_deviation = d;
+          q_good = q;
+          break;
+        }
+      }
+      if (good < 0.0) {
+        throw PostError(file_, segment.line,
+                        "cannot keep within " + std::to_string(options_.tolerance_mm) +
+                            " mm here (a singularity, or a tolerance below the dialect's " +
+                            std::to_string(rules_.decimals) + " decimals)");
+      }
+      // Between `good` (within) and twice the step (not, or the end): bisect for the furthest.
+      double bad = std::min(1.0, start + 2.0 * step);
+      for (int i = 0; i < 10; ++i) {
+        const double middle = 0.5 * (good + bad);
+        const JointVector q = joints_at(segment, middle);
+        const double d = deviation(segment, start, middle, q0, q);
+        if (d <= options_.tolerance_mm) {
+          good = middle;
+          good_deviation = d;
+          q_good = q;
+        } else {
+          bad = middle;
+        }
+      }
+      write_block(segment, start, good, q0, q_good, good_deviation);
+      q0 = q_good;
+      start = good;
+    }
   }
 
   void write_block(const Segment& segment, double u0, double u1, const JointVector& q0,
