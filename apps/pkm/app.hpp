@@ -32,5 +32,6 @@ void register_calibrate_commands(CLI::App& app);
 void register_gcode_commands(CLI::App& app);
 void register_plan_commands(CLI::App& app);
 void register_post_commands(CLI::App& app);
+void register_verify_commands(CLI::App& app);
 
 }  // namespace pkm::app

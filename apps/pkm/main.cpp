@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   pkm::app::register_gcode_commands(app);
   pkm::app::register_plan_commands(app);
   pkm::app::register_post_commands(app);
+  pkm::app::register_verify_commands(app);
   pkm::app::register_calibrate_commands(app);
   try {
     app.parse(argc, argv);
