@@ -5,9 +5,12 @@
 #include <unistd.h>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
+#include "pkm/kinematics/formula.hpp"
 #include "pkm/motion/segment_builder.hpp"
 #include "pkm/post/joint_program.hpp"
+#include "pkm/post/mach3_export.hpp"
 #include "pkm/verify/joint_path.hpp"
 #include "test_support.hpp"
 
@@ -218,6 +221,44 @@ TEST(Post, FewerBlocksThanUniformSplitting) {
   std::cout << "[ blocks   ] adaptive " << adaptive << ", uniform " << uniform << " (ratio "
             << static_cast<double>(uniform) / static_cast<double>(adaptive) << ")\n";
   EXPECT_LT(adaptive, uniform);
+}
+
+}  // namespace
+}  // namespace pkm::post
+
+namespace pkm::post {
+namespace {
+
+TEST(ExportMach3, FormulasReproduceTheMachinesInverseKinematics) {
+  // Each exported formula, evaluated by muparser as a formula machine would, gives the joints of
+  // the machine's own model at random poses; the Hektor formulas read as the source document's.
+  for (const std::string& file :
+       {std::string("hektor.toml"), std::string("wall-plotter.toml"),
+        std::string("matrix-mill.toml"), std::string("triaglide.toml"),
+        std::string("triaglide-fanned.toml"), std::string("linear-delta.toml"),
+        std::string("mach3-formula.toml")}) {
+    const Machine machine = test::load_example(file);
+    const auto formulas = mach3_formulas(machine);
+    FormulaDefinition definition;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (machine.kinematics().dof().controls(axis)) definition.axes.push_back(axis);
+    }
+    for (std::size_t i = 0; i < formulas.size(); ++i) {
+      definition.formulas.emplace_back(machine.joints()[i].name, formulas[i].second);
+    }
+    const FormulaKinematics exported(definition);
+    std::mt19937_64 rng(4);
+    for (const Pose& pose : test::sample_reachable_poses(machine, 200, rng)) {
+      JointVector expected, actual;
+      ASSERT_TRUE(machine.kinematics().inverse(pose, expected).ok());
+      ASSERT_TRUE(exported.inverse(pose, actual).ok()) << file;
+      EXPECT_LT((expected - actual).cwiseAbs().maxCoeff(), 1e-9) << file;
+    }
+  }
+  const auto hektor = mach3_formulas(test::load_example("hektor.toml"));
+  EXPECT_EQ(hektor[0], (std::pair<char, std::string>{'a', "sqrt((x^2) + (y^2))"}));
+  EXPECT_EQ(hektor[1], (std::pair<char, std::string>{'b', "sqrt(((100 - x)^2) + (y^2))"}));
+  EXPECT_THROW(mach3_formulas(test::load_example("hexapod-bit.toml")), std::invalid_argument);
 }
 
 }  // namespace

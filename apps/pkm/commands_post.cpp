@@ -6,6 +6,7 @@
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/io/atomic_file.hpp"
 #include "pkm/post/joint_program.hpp"
+#include "pkm/post/mach3_export.hpp"
 
 namespace pkm::app {
 
@@ -86,6 +87,28 @@ void run_post(const PostCommandOptions& options) {
 }  // namespace
 
 void register_post_commands(CLI::App& app) {
+  auto export_machine = std::make_shared<std::string>();
+  CLI::App* export_command =
+      app.add_subcommand("export", "Export a machine for another controller");
+  export_command->require_subcommand(1);
+  CLI::App* mach3 = export_command->add_subcommand(
+      "mach3", "Mach3 formula-axis equations, for machines whose IK is a closed formula");
+  mach3->add_option("-m,--machine", *export_machine, "Machine file (default: embedded hexapod)");
+  mach3->callback([export_machine] {
+    const Machine machine = load_machine_or_default(*export_machine);
+    std::vector<std::pair<char, std::string>> formulas;
+    try {
+      formulas = post::mach3_formulas(machine);
+    } catch (const std::invalid_argument& error) {
+      throw CommandError(std::string(error.what()) + " (" + machine.source() + ")");
+    }
+    std::printf("(Mach3 formula axis correction for %s: enable formulas, then)\n",
+                machine.name().c_str());
+    for (const auto& [letter, expression] : formulas) {
+      std::printf("f(%c) = %s\n", letter, expression.c_str());
+    }
+  });
+
   auto options = std::make_shared<PostCommandOptions>();
   CLI::App* command = app.add_subcommand(
       "post", "Joint-space G-code for controllers without kinematics, within a tolerance");
