@@ -175,6 +175,85 @@ TEST(Verify, FlagsACoarseJointProgramAtItsLine) {
   EXPECT_TRUE(report.violations.empty());
 }
 
+// The fewest equal pieces per move whose joint-linear blocks keep within `tolerance`, and the
+// adaptive post's block count, for a job of straight moves through `corners` (x y of the
+// machine's first two controlled axes, the rest at home).
+std::pair<long, long> adaptive_and_uniform(const Machine& machine,
+                                           const std::vector<Eigen::Vector2d>& corners,
+                                           double tolerance) {
+  int axes[2] = {0, 1};
+  for (int axis = 0, n = 0; axis < 3 && n < 2; ++axis) {
+    if (machine.kinematics().dof().controls(axis)) axes[n++] = axis;
+  }
+  const char letters[] = "XYZ";
+  const auto job = temp_file("uniform-job.ngc");
+  {
+    std::ofstream out(job);
+    out << "G21 G90 F600\n";
+    for (const Eigen::Vector2d& c : corners) {
+      out << "G1 " << letters[axes[0]] << c.x() << " " << letters[axes[1]] << c.y() << "\n";
+    }
+    out << "M2\n";
+  }
+  PostOptions options;
+  options.tolerance_mm = tolerance;
+  long adaptive = 0;
+  post_program(machine, job, {}, options, [&](const std::string& line) {
+    if (line.rfind("G1", 0) == 0 || line.rfind("G93", 0) == 0) ++adaptive;
+  });
+  const auto path = programmed_path(machine, job);
+  std::filesystem::remove(job);
+  const Vector6d home = machine.home().as_vector();
+  const auto uniform_deviation = [&](int pieces) {
+    std::vector<JointVector> blocks;
+    JointVector q;
+    EXPECT_TRUE(machine.inverse(machine.home(), q).ok());
+    blocks.push_back(q);
+    Eigen::Vector2d previous(home[axes[0]], home[axes[1]]);
+    for (const Eigen::Vector2d& c : corners) {
+      for (int k = 1; k <= pieces; ++k) {
+        const Eigen::Vector2d p = previous + (k / static_cast<double>(pieces)) * (c - previous);
+        Vector6d pose = home;
+        pose[axes[0]] = p.x();
+        pose[axes[1]] = p.y();
+        EXPECT_TRUE(machine.inverse(Pose::from_vector(pose), q).ok());
+        blocks.push_back(q);
+      }
+      previous = c;
+    }
+    return std::pair{dense_deviation(machine, blocks, path), static_cast<long>(blocks.size()) - 1};
+  };
+  int low = 1, high = 1;
+  while (uniform_deviation(high).first > tolerance) {
+    low = high;
+    high *= 2;
+  }
+  while (high - low > 1) {
+    const int middle = (low + high) / 2;
+    (uniform_deviation(middle).first > tolerance ? low : high) = middle;
+  }
+  return {adaptive, uniform_deviation(high).second};
+}
+
+TEST(Post, BlocksAgainstUniformSplittingOnEveryMachine) {
+  // A square of 2 x 16 mm about home: reports the ratio per machine; adaptive is never worse.
+  for (const std::string& file : test::example_machine_files()) {
+    const Machine machine = test::load_example(file);
+    int axes[2] = {0, 1};
+    for (int axis = 0, n = 0; axis < 3 && n < 2; ++axis) {
+      if (machine.kinematics().dof().controls(axis)) axes[n++] = axis;
+    }
+    const Vector6d home = machine.home().as_vector();
+    const double x = home[axes[0]], y = home[axes[1]];
+    const auto [adaptive, uniform] = adaptive_and_uniform(
+        machine, {{x + 16, y}, {x + 16, y + 16}, {x - 16, y + 16}, {x - 16, y}, {x, y}}, 0.001);
+    std::cout << "[ blocks   ] " << file << ": adaptive " << adaptive << ", uniform " << uniform
+              << " (ratio " << static_cast<double>(uniform) / static_cast<double>(adaptive)
+              << ")\n";
+    EXPECT_LE(adaptive, uniform) << file;
+  }
+}
+
 TEST(Post, FewerBlocksThanUniformSplitting) {
   // Hektor near its anchors bends its joint paths far more than in the middle: adaptive splits
   // spend blocks there only. Uniform: the smallest equal split per move that also meets 0.01 mm.
