@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "pkm/geometry/distance.hpp"
 #include "pkm/io/sample_files.hpp"
 #include "pkm/motion/planner.hpp"
 #include "test_support.hpp"
@@ -277,13 +278,6 @@ std::pair<double, double> peak_speed_and_acceleration(const std::vector<Sample>&
     previous_dt = dt;
   }
   return {peak_speed, peak_acceleration};
-}
-
-double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                           const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double u = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-  return (a + u * ab - p).norm();
 }
 
 TEST(LookAhead, ShortCamSegmentsRunAtTheProgrammedFeed) {

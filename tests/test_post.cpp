@@ -7,6 +7,7 @@
 #include <fstream>
 #include <random>
 
+#include "pkm/geometry/distance.hpp"
 #include "pkm/kinematics/formula.hpp"
 #include "pkm/motion/segment_builder.hpp"
 #include "pkm/post/joint_program.hpp"
@@ -45,15 +46,7 @@ std::vector<std::vector<Eigen::Vector3d>> programmed_path(const Machine& machine
 double distance_to_path(const Eigen::Vector3d& p,
                         const std::vector<std::vector<Eigen::Vector3d>>& path) {
   double nearest = INFINITY;
-  for (const auto& points : path) {
-    for (std::size_t k = 1; k < points.size(); ++k) {
-      const Eigen::Vector3d ab = points[k] - points[k - 1];
-      const double squared = ab.squaredNorm();
-      const double u =
-          squared > 0 ? std::clamp((p - points[k - 1]).dot(ab) / squared, 0.0, 1.0) : 0.0;
-      nearest = std::min(nearest, (points[k - 1] + u * ab - p).norm());
-    }
-  }
+  for (const auto& points : path) nearest = std::min(nearest, distance_to_polyline(p, points));
   return nearest;
 }
 

@@ -320,6 +320,11 @@ struct Interpreter::State {
   }
   void emit(const Canon& canon) { (*sink)(canon); }
   void emit(CanonKind kind, const Block& block) { emit(make(kind, block)); }
+  void dwell(const Block& block, double seconds) {
+    Canon c = make(CanonKind::dwell, block);
+    c.value = seconds;
+    emit(c);
+  }
   void emit_offsets(const Block& block) {
     Canon g5x = make(CanonKind::g5x_offset, block);
     g5x.integer = coord_system;
@@ -802,13 +807,10 @@ void Interpreter::State::cycle(const Block& block, int code, const Position& end
       case 810:
         move(CanonKind::feed, at_1, at_2, bottom);
         break;
-      case 820: {
+      case 820:
         move(CanonKind::feed, at_1, at_2, bottom);
-        Canon dwell = make(CanonKind::dwell, block);
-        dwell.value = cycle_p;
-        emit(dwell);
+        dwell(block, cycle_p);
         break;
-      }
       case 830:
       case 730: {
         double depth = r;
@@ -832,9 +834,7 @@ void Interpreter::State::cycle(const Block& block, int code, const Position& end
       case 890: {
         // G89 feeds all the way out to the clearance height (G85 feeds to R, then traverses).
         move(CanonKind::feed, at_1, at_2, bottom);
-        Canon dwell = make(CanonKind::dwell, block);
-        dwell.value = cycle_p;
-        emit(dwell);
+        dwell(block, cycle_p);
         move(CanonKind::feed, at_1, at_2, clear);
         continue;
       }
@@ -1053,9 +1053,7 @@ void Interpreter::State::execute_block(const Block& block) {
   if (non_modal && non_modal->tenths == 40) {
     if (!block.has('p')) fail(non_modal->column, "G4 needs a P word (seconds)");
     if (block.value('p') < 0.0) fail(block.word('p')->column, "negative dwell");
-    Canon c = make(CanonKind::dwell, block);
-    c.value = block.value('p');
-    emit(c);
+    dwell(block, block.value('p'));
   }
   // 4. plane, units, cutter compensation, tool length.
   if (const auto code = g_in(2)) {

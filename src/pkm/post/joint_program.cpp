@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "pkm/geometry/distance.hpp"
 #include "pkm/motion/segment_builder.hpp"
 
 namespace pkm::post {
@@ -16,14 +17,6 @@ using motion::SegmentKind;
 constexpr int kCheckPoints = 32;  // interior points of a block checked by FK
 constexpr int kPathPoints = 64;   // polyline of the programmed sub-path the distance is taken to
 constexpr int kMaxDepth = 40;     // halvings of one move before giving up
-
-double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                           const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double squared = ab.squaredNorm();
-  const double u = squared > 0.0 ? std::clamp((p - a).dot(ab) / squared, 0.0, 1.0) : 0.0;
-  return (a + u * ab - p).norm();
-}
 
 class Poster {
  public:
@@ -130,12 +123,7 @@ class Poster {
       Pose pose = Pose::from_vector(segment.at(u0 + (u1 - u0) * lambda));  // FK's seed
       const JointVector q = q0 + lambda * (q1 - q0);
       if (!machine_.forward(q, pose).ok()) return INFINITY;
-      double nearest = INFINITY;
-      for (int m = 0; m < kPathPoints; ++m) {
-        nearest = std::min(nearest,
-                           distance_to_segment(pose.position_mm, path[static_cast<std::size_t>(m)],
-                                               path[static_cast<std::size_t>(m) + 1]));
-      }
+      const double nearest = distance_to_polyline(pose.position_mm, path);
       worst = std::max(worst, nearest);
     }
     return worst;

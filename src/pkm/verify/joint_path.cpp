@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string_view>
 
+#include "pkm/geometry/distance.hpp"
 #include "pkm/motion/segment_builder.hpp"
 
 namespace pkm::verify {
@@ -20,15 +21,7 @@ struct PathPiece {
 };
 
 double distance_to_piece(const Eigen::Vector3d& p, const PathPiece& piece) {
-  double nearest = INFINITY;
-  for (std::size_t k = 1; k < piece.points.size(); ++k) {
-    const Eigen::Vector3d& a = piece.points[k - 1];
-    const Eigen::Vector3d ab = piece.points[k] - a;
-    const double squared = ab.squaredNorm();
-    const double u = squared > 0.0 ? std::clamp((p - a).dot(ab) / squared, 0.0, 1.0) : 0.0;
-    nearest = std::min(nearest, (a + u * ab - p).norm());
-  }
-  return nearest;
+  return distance_to_polyline(p, piece.points);
 }
 
 std::vector<PathPiece> read_job(const Machine& machine, const std::filesystem::path& job,
