@@ -136,6 +136,7 @@ class Reader {
           fail(column, std::string("multiple ") + display(c) + " words on one line");
         }
         block.words[index] = Word{read_real(), column};
+        block.letters |= 1u << index;
         block.empty = false;
       } else {
         fail(column, std::string("bad character '") + line_[pos_] + "' used");
@@ -237,33 +238,40 @@ class Reader {
                                               1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
                                               1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
     const int column = static_cast<int>(pos_) + 1;
-    char text[64];
-    std::size_t length = 0;
+    const std::size_t begin = pos_;
     std::uint64_t mantissa = 0;
-    int digits = 0, decimals = 0;
-    bool dot = false, exact = true;
+    int digits = 0, decimals = 0, characters = 0;
+    bool dot = false;
     const std::size_t size = line_.size();
     while (pos_ < size) {
       const char c = line_[pos_];
       if (c >= '0' && c <= '9') {
         if (digits > 0 || c != '0') {
-          if (++digits > 15) exact = false;
+          ++digits;
           mantissa = mantissa * 10 + static_cast<std::uint64_t>(c - '0');
         }
-        if (dot) ++decimals;
+        decimals += dot ? 1 : 0;
+        ++characters;
       } else if (c == '.' && !dot) {
         dot = true;
+        ++characters;
       } else if (c != ' ' && c != '\t') {
         break;
       }
-      if (c != ' ' && c != '\t') {
-        if (length == sizeof text) fail(column, "number too long");
-        text[length++] = c;
-      }
       ++pos_;
     }
-    if (length == 0 || (length == 1 && dot)) fail(column, "bad number format");
-    if (exact && decimals <= 22) return static_cast<double>(mantissa) / kPowersOfTen[decimals];
+    if (characters == 0 || (characters == 1 && dot)) fail(column, "bad number format");
+    if (digits <= 15 && decimals <= 22) {
+      return static_cast<double>(mantissa) / kPowersOfTen[decimals];
+    }
+    // Longer numbers: strtod's rounding through from_chars, spaces left out.
+    char text[64];
+    std::size_t length = 0;
+    for (std::size_t i = begin; i < pos_; ++i) {
+      if (line_[i] == ' ' || line_[i] == '\t') continue;
+      if (length == sizeof text) fail(column, "number too long");
+      text[length++] = line_[i];
+    }
     double value = 0.0;
     std::from_chars(text, text + length, value);
     return value;

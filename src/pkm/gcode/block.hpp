@@ -4,6 +4,8 @@
 #pragma once
 
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,6 +53,7 @@ struct Block {
   bool percent = false;                       // a '%' line
   std::string n_label;                        // digits of the N word as written, or empty
   std::array<std::optional<Word>, 26> words;  // letters other than G, M, N, O
+  std::uint32_t letters = 0;                  // bit per slot of `words` in use
   std::vector<Code> g_codes;
   std::vector<Code> m_codes;
   std::vector<Comment> comments;
@@ -64,7 +67,11 @@ struct Block {
     block_delete = false;
     percent = false;
     n_label.clear();
-    words.fill(std::nullopt);
+    // Only the slots in use: most lines hold a few words of 26.
+    for (std::uint32_t used = letters; used != 0; used &= used - 1) {
+      words[static_cast<std::size_t>(std::countr_zero(used))].reset();
+    }
+    letters = 0;
     g_codes.clear();
     m_codes.clear();
     comments.clear();
