@@ -8,10 +8,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 
 #include "pkm/geometry/distance.hpp"
 #include "pkm/io/sample_files.hpp"
 #include "pkm/motion/planner.hpp"
+#include "pkm/motion/segment_builder.hpp"
 #include "test_support.hpp"
 
 namespace pkm::motion {
@@ -45,6 +47,20 @@ PlanReport plan(const Machine& machine, const std::string& program, Collect& out
   }
   std::filesystem::remove(path);
   return report;
+}
+
+TEST(SegmentBuilder, ProgramStartsAtTheMachinePoseSeenFromItsOrigin) {
+  gcode::InterpreterOptions options;
+  options.block_delete = true;
+  Vector6d start_mm_rad, origin_mm_rad;
+  start_mm_rad << 10.0, 20.0, 30.0, std::numbers::pi / 2.0, 0.0, -std::numbers::pi / 4.0;
+  origin_mm_rad << 1.0, -2.0, 3.0, 0.0, std::numbers::pi / 6.0, 0.0;
+  const gcode::InterpreterOptions started = starting_at(options, start_mm_rad, origin_mm_rad);
+  const double expected_mm_deg[6] = {9.0, 22.0, 27.0, 90.0, -30.0, -45.0};
+  for (int axis = 0; axis < 6; ++axis) {
+    EXPECT_NEAR(started.start_position[axis], expected_mm_deg[axis], 1e-12) << "axis " << axis;
+  }
+  EXPECT_TRUE(started.block_delete);  // the other options pass through
 }
 
 TEST(Plan, LineSamplesLieOnTheLineAndTheDurationIsClosedForm) {

@@ -26,11 +26,8 @@ std::filesystem::path temp_file(const std::string& name) {
 // The programmed path, densely sampled per move.
 std::vector<std::vector<Eigen::Vector3d>> programmed_path(const Machine& machine,
                                                           const std::filesystem::path& job) {
-  gcode::InterpreterOptions options;
   const Vector6d home = machine.home().as_vector();
-  for (int axis = 0; axis < 6; ++axis) {
-    options.start_position[axis] = axis < 3 ? home[axis] : radians_to_degrees(home[axis]);
-  }
+  const gcode::InterpreterOptions options = motion::starting_at({}, home, Vector6d::Zero());
   motion::SegmentBuilder builder(home, Vector6d::Zero(), false);
   std::vector<std::vector<Eigen::Vector3d>> path;
   gcode::Interpreter(job, options).run([&](const gcode::Canon& canon) {

@@ -511,13 +511,10 @@ PlanReport plan_program(const Machine& machine, const std::filesystem::path& pro
   if (!(options.period_s > 0.0)) throw std::invalid_argument("the period must be positive");
   Planner planner(machine, options, sink, program.string());
   // The program starts where the machine is: axes it never names stay at the start pose.
-  gcode::InterpreterOptions start_here = interpreter_options;
-  const Vector6d start =
-      (options.start ? *options.start : machine.home()).as_vector() - options.origin;
-  for (int axis = 0; axis < 6; ++axis) {
-    start_here.start_position[axis] = axis < 3 ? start[axis] : radians_to_degrees(start[axis]);
-  }
-  gcode::Interpreter interpreter(program, start_here);
+  gcode::Interpreter interpreter(
+      program,
+      starting_at(interpreter_options,
+                  (options.start ? *options.start : machine.home()).as_vector(), options.origin));
   int line = 0;
   interpreter.run([&](const gcode::Canon& canon) {
     if (options.on_line && canon.line != line) {

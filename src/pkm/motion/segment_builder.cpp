@@ -12,6 +12,16 @@ double to_mm(gcode::LengthUnits units) {
 }
 }  // namespace
 
+gcode::InterpreterOptions starting_at(gcode::InterpreterOptions options, const Vector6d& start,
+                                      const Vector6d& origin) {
+  const Vector6d from_origin = start - origin;
+  for (int axis = 0; axis < 6; ++axis) {
+    options.start_position[axis] =
+        axis < 3 ? from_origin[axis] : radians_to_degrees(from_origin[axis]);
+  }
+  return options;
+}
+
 SegmentBuilder::SegmentBuilder(const Vector6d& start, const Vector6d& origin,
                                bool great_circle_attitude)
     : pose_(start), origin_(origin), great_circle_attitude_(great_circle_attitude) {}

@@ -6,9 +6,16 @@
 #include <optional>
 
 #include "pkm/gcode/canon.hpp"
+#include "pkm/gcode/interpreter.hpp"
 #include "pkm/motion/segment.hpp"
 
 namespace pkm::motion {
+
+// `options` for a program that starts where the machine is: `start` (machine pose, mm, rad) seen
+// from the program's `origin`, in the interpreter's start units (mm, deg), so the axes a program
+// never names stay at the start pose.
+gcode::InterpreterOptions starting_at(gcode::InterpreterOptions options, const Vector6d& start,
+                                      const Vector6d& origin);
 
 class SegmentBuilder {
  public:

@@ -264,12 +264,10 @@ PostReport post_program(const Machine& machine, const std::filesystem::path& pro
                         const std::function<void(const std::string&)>& write_line) {
   if (!(options.tolerance_mm > 0.0)) throw std::invalid_argument("the tolerance must be positive");
   Poster poster(machine, options, write_line, program.string());
-  gcode::InterpreterOptions start_here = interpreter_options;
-  const Vector6d start = machine.home().as_vector() - options.origin;
-  for (int axis = 0; axis < 6; ++axis) {
-    start_here.start_position[axis] = axis < 3 ? start[axis] : radians_to_degrees(start[axis]);
-  }
-  gcode::Interpreter interpreter(program, start_here);
+  // The program starts where the machine is: axes it never names stay at home.
+  gcode::Interpreter interpreter(
+      program,
+      motion::starting_at(interpreter_options, machine.home().as_vector(), options.origin));
   interpreter.run([&](const gcode::Canon& canon) { poster.on_canon(canon); });
   PostReport report = poster.finish();
   report.warnings = interpreter.warnings();

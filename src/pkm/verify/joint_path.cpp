@@ -26,12 +26,8 @@ double distance_to_piece(const Eigen::Vector3d& p, const PathPiece& piece) {
 
 std::vector<PathPiece> read_job(const Machine& machine, const std::filesystem::path& job,
                                 const VerifyOptions& options) {
-  gcode::InterpreterOptions interpreter_options;
-  const Vector6d start = machine.home().as_vector() - options.origin;
-  for (int axis = 0; axis < 6; ++axis) {
-    interpreter_options.start_position[axis] =
-        axis < 3 ? start[axis] : radians_to_degrees(start[axis]);
-  }
+  const gcode::InterpreterOptions interpreter_options =
+      motion::starting_at({}, machine.home().as_vector(), options.origin);
   motion::SegmentBuilder builder(machine.home().as_vector(), options.origin, false);
   std::vector<PathPiece> path;
   gcode::Interpreter(job, interpreter_options).run([&](const gcode::Canon& canon) {
