@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 #include "test_support.hpp"
@@ -252,6 +253,19 @@ const BadFileCase kCases[] = {
 
 INSTANTIATE_TEST_SUITE_P(Cases, BadMachineFile, ::testing::ValuesIn(kCases),
                          [](const auto& test_info) { return test_info.param.name; });
+
+TEST(JointSpec, InterfaceUnitsAreMillimetresAndDegrees) {
+  JointSpec rotary;
+  rotary.kind = JointKind::rotary;
+  EXPECT_NEAR(rotary.to_interface(std::numbers::pi / 4.0), 45.0, 1e-12);
+  EXPECT_NEAR(rotary.from_interface(-90.0), -std::numbers::pi / 2.0, 1e-15);
+  EXPECT_STREQ(rotary.interface_unit(), "deg");
+  JointSpec linear;
+  linear.kind = JointKind::linear;
+  EXPECT_EQ(linear.to_interface(12.5), 12.5);
+  EXPECT_EQ(linear.from_interface(-3.25), -3.25);
+  EXPECT_STREQ(linear.interface_unit(), "mm");
+}
 
 TEST(MachineFile, InchFilesAreConvertedToMillimetres) {
   std::string text = read_example("hektor.toml");

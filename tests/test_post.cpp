@@ -56,9 +56,7 @@ std::vector<JointVector> joint_blocks(const Machine& machine, const std::filesys
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
     const JointSpec& joint = machine.joints()[i];
     const int index = static_cast<int>(std::string("XYZABCUVW").find(joint.axis_letter));
-    options.start_position[index] = joint.kind == JointKind::rotary
-                                        ? radians_to_degrees(home[static_cast<int>(i)])
-                                        : home[static_cast<int>(i)];
+    options.start_position[index] = joint.to_interface(home[static_cast<int>(i)]);
   }
   blocks.push_back(home);
   gcode::Interpreter(file, options).run([&](const gcode::Canon& canon) {
@@ -67,7 +65,7 @@ std::vector<JointVector> joint_blocks(const Machine& machine, const std::filesys
     for (std::size_t i = 0; i < machine.joints().size(); ++i) {
       const JointSpec& joint = machine.joints()[i];
       const double value = canon.end[std::string("XYZABCUVW").find(joint.axis_letter)];
-      q[static_cast<int>(i)] = joint.kind == JointKind::rotary ? degrees_to_radians(value) : value;
+      q[static_cast<int>(i)] = joint.from_interface(value);
     }
     blocks.push_back(q);
   });

@@ -31,16 +31,4 @@ Pose pose_from_arguments(const Machine& machine, const std::vector<double>& valu
   return Pose::from_vector(pose);
 }
 
-double joint_to_interface(const JointSpec& joint, double value) {
-  return joint.kind == JointKind::rotary ? radians_to_degrees(value) : value;
-}
-
-double joint_from_interface(const JointSpec& joint, double value) {
-  return joint.kind == JointKind::rotary ? degrees_to_radians(value) : value;
-}
-
-const char* joint_unit(const JointSpec& joint) {
-  return joint.kind == JointKind::rotary ? "deg" : "mm";
-}
-
 }  // namespace pkm::app

@@ -22,11 +22,6 @@ Machine load_machine_or_default(const std::string& path);
 // x y z [a b c] in mm and deg from the command line; missing coordinates take the home pose's.
 Pose pose_from_arguments(const Machine& machine, const std::vector<double>& values);
 
-// Interface units: joints in mm or deg, poses in mm and deg.
-double joint_to_interface(const JointSpec& joint, double value);
-double joint_from_interface(const JointSpec& joint, double value);
-const char* joint_unit(const JointSpec& joint);
-
 void register_kinematics_commands(CLI::App& app);
 void register_calibrate_commands(CLI::App& app);
 void register_gcode_commands(CLI::App& app);

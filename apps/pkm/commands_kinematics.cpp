@@ -59,7 +59,7 @@ void run_ik(const IkOptions& options) {
   if (options.json) {
     nlohmann::json values = nlohmann::json::array();
     for (int i = 0; i < joints.size(); ++i) {
-      values.push_back(joint_to_interface(machine.joints()[i], joints[i]));
+      values.push_back(machine.joints()[i].to_interface(joints[i]));
     }
     std::cout << nlohmann::json{{"joints", values}, {"names", machine.joint_names()}}.dump()
               << "\n";
@@ -67,8 +67,8 @@ void run_ik(const IkOptions& options) {
   }
   for (int i = 0; i < joints.size(); ++i) {
     const JointSpec& joint = machine.joints()[i];
-    std::printf("%s = %.6f %s\n", joint.name.c_str(), joint_to_interface(joint, joints[i]),
-                joint_unit(joint));
+    std::printf("%s = %.6f %s\n", joint.name.c_str(), joint.to_interface(joints[i]),
+                joint.interface_unit());
   }
 }
 
@@ -80,7 +80,7 @@ void run_fk(const FkOptions& options) {
   }
   JointVector joints(static_cast<int>(options.joints.size()));
   for (std::size_t i = 0; i < options.joints.size(); ++i) {
-    joints[static_cast<int>(i)] = joint_from_interface(machine.joints()[i], options.joints[i]);
+    joints[static_cast<int>(i)] = machine.joints()[i].from_interface(options.joints[i]);
   }
   Pose pose = options.seed.empty() ? machine.home() : pose_from_arguments(machine, options.seed);
   const Status status = machine.forward(joints, pose);
@@ -107,12 +107,12 @@ void run_check(const CheckOptions& options) {
       const JointSpec& joint = machine.joints()[i];
       joints.push_back({{"name", joint.name},
                         {"axis", std::string(1, joint.axis_letter)},
-                        {"unit", joint_unit(joint)},
-                        {"min", joint_to_interface(joint, joint.min)},
-                        {"max", joint_to_interface(joint, joint.max)},
-                        {"max_velocity", joint_to_interface(joint, joint.max_velocity)},
-                        {"max_acceleration", joint_to_interface(joint, joint.max_acceleration)},
-                        {"home", joint_to_interface(joint, home_joints[static_cast<int>(i)])}});
+                        {"unit", joint.interface_unit()},
+                        {"min", joint.to_interface(joint.min)},
+                        {"max", joint.to_interface(joint.max)},
+                        {"max_velocity", joint.to_interface(joint.max_velocity)},
+                        {"max_acceleration", joint.to_interface(joint.max_acceleration)},
+                        {"home", joint.to_interface(home_joints[static_cast<int>(i)])}});
     }
     nlohmann::json extent = nlohmann::json::object();
     for (const AxisExtent& e : extents) {
@@ -145,13 +145,13 @@ void run_check(const CheckOptions& options) {
   std::printf("\n  joints (position at home, limits, max velocity and acceleration):\n");
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
     const JointSpec& joint = machine.joints()[i];
-    const char* unit = joint_unit(joint);
+    const char* unit = joint.interface_unit();
     std::printf("    %-10s %c  %12.4f %s  in [%.4f, %.4f]  %.1f %s/s  %.1f %s/s^2\n",
                 joint.name.c_str(), joint.axis_letter,
-                joint_to_interface(joint, home_joints[static_cast<int>(i)]), unit,
-                joint_to_interface(joint, joint.min), joint_to_interface(joint, joint.max),
-                joint_to_interface(joint, joint.max_velocity), unit,
-                joint_to_interface(joint, joint.max_acceleration), unit);
+                joint.to_interface(home_joints[static_cast<int>(i)]), unit,
+                joint.to_interface(joint.min), joint.to_interface(joint.max),
+                joint.to_interface(joint.max_velocity), unit,
+                joint.to_interface(joint.max_acceleration), unit);
   }
   std::printf("  cartesian: max feed %.1f mm/min, max acceleration %.1f mm/s^2\n",
               machine.cartesian().max_feed_mm_per_min,

@@ -38,15 +38,15 @@ nlohmann::json report_json(const Machine& machine, const motion::PlanReport& rep
     const JointSpec& joint = machine.joints()[i];
     const motion::JointStatistics& s = report.joints[i];
     joints.push_back({{"name", joint.name},
-                      {"unit", joint_unit(joint)},
-                      {"min", joint_to_interface(joint, s.min)},
-                      {"max", joint_to_interface(joint, s.max)},
-                      {"limit_min", joint_to_interface(joint, joint.min)},
-                      {"limit_max", joint_to_interface(joint, joint.max)},
-                      {"peak_velocity", joint_to_interface(joint, s.peak_velocity)},
-                      {"max_velocity", joint_to_interface(joint, joint.max_velocity)},
-                      {"peak_acceleration", joint_to_interface(joint, s.peak_acceleration)},
-                      {"max_acceleration", joint_to_interface(joint, joint.max_acceleration)}});
+                      {"unit", joint.interface_unit()},
+                      {"min", joint.to_interface(s.min)},
+                      {"max", joint.to_interface(s.max)},
+                      {"limit_min", joint.to_interface(joint.min)},
+                      {"limit_max", joint.to_interface(joint.max)},
+                      {"peak_velocity", joint.to_interface(s.peak_velocity)},
+                      {"max_velocity", joint.to_interface(joint.max_velocity)},
+                      {"peak_acceleration", joint.to_interface(s.peak_acceleration)},
+                      {"max_acceleration", joint.to_interface(joint.max_acceleration)}});
   }
   nlohmann::json limits = nlohmann::json::array();
   for (const motion::FeedLimit& limit : report.feed_limits) {
@@ -159,12 +159,11 @@ void run_plan(const PlanCommandOptions& options) {
     const JointSpec& joint = machine.joints()[i];
     const motion::JointStatistics& s = report.joints[i];
     std::printf("  %-10s %10.3f .. %10.3f %s, peak %8.2f of %.1f %s/s, %9.1f of %.1f %s/s^2\n",
-                joint.name.c_str(), joint_to_interface(joint, s.min),
-                joint_to_interface(joint, s.max), joint_unit(joint),
-                joint_to_interface(joint, s.peak_velocity),
-                joint_to_interface(joint, joint.max_velocity), joint_unit(joint),
-                joint_to_interface(joint, s.peak_acceleration),
-                joint_to_interface(joint, joint.max_acceleration), joint_unit(joint));
+                joint.name.c_str(), joint.to_interface(s.min), joint.to_interface(s.max),
+                joint.interface_unit(), joint.to_interface(s.peak_velocity),
+                joint.to_interface(joint.max_velocity), joint.interface_unit(),
+                joint.to_interface(s.peak_acceleration), joint.to_interface(joint.max_acceleration),
+                joint.interface_unit());
   }
   if (!report.feed_limits.empty()) {
     std::printf(

@@ -121,9 +121,8 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
       }
       if (!std::isfinite(value)) fail(line_number, fields[c].column, "must be finite");
       if (joint_of_column[c] >= 0) {
-        const JointSpec& joint = machine.joints()[joint_of_column[c]];
         measurement.joints[joint_of_column[c]] =
-            joint.kind == JointKind::rotary ? degrees_to_radians(value) : value;
+            machine.joints()[joint_of_column[c]].from_interface(value);
       } else {
         const int axis = axis_of_column[c];
         measurement.pose[axis] = axis < 3 ? value : degrees_to_radians(value);

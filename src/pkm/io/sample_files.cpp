@@ -26,8 +26,7 @@ class RowBuilder {
       for (int axis = 3; axis < 6; ++axis) row[n++] = radians_to_degrees(s.pose[axis]);
     }
     for (int i = 0; i < s.joints.size(); ++i) {
-      const bool rotary = machine_.joints()[static_cast<std::size_t>(i)].kind == JointKind::rotary;
-      row[n++] = rotary ? radians_to_degrees(s.joints[i]) : s.joints[i];
+      row[n++] = machine_.joints()[static_cast<std::size_t>(i)].to_interface(s.joints[i]);
     }
     return n;
   }

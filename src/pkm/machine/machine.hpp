@@ -24,6 +24,15 @@ struct JointSpec {
   double max_velocity = 0.0;
   double max_acceleration = 0.0;
   char axis_letter = 'X';  // letter of this joint in joint-space G-code
+
+  // Joint values cross the interfaces (files, joint-space G-code, command line) in mm or deg.
+  double to_interface(double internal_value) const {
+    return kind == JointKind::rotary ? radians_to_degrees(internal_value) : internal_value;
+  }
+  double from_interface(double interface_value) const {
+    return kind == JointKind::rotary ? degrees_to_radians(interface_value) : interface_value;
+  }
+  const char* interface_unit() const { return kind == JointKind::rotary ? "deg" : "mm"; }
 };
 
 struct CartesianLimits {

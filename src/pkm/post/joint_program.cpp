@@ -101,10 +101,8 @@ class Poster {
     JointVector result = q;
     const double scale = std::pow(10.0, rules_.decimals);
     for (int i = 0; i < q.size(); ++i) {
-      const bool rotary = machine_.joints()[static_cast<std::size_t>(i)].kind == JointKind::rotary;
-      const double value = rotary ? radians_to_degrees(q[i]) : q[i];
-      const double written = std::round(value * scale) / scale;
-      result[i] = rotary ? degrees_to_radians(written) : written;
+      const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
+      result[i] = joint.from_interface(std::round(joint.to_interface(q[i]) * scale) / scale);
     }
     return result;
   }
@@ -202,8 +200,8 @@ class Poster {
     char number[48];
     for (int i = 0; i < q1.size(); ++i) {
       const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
-      const double value = joint.kind == JointKind::rotary ? radians_to_degrees(q1[i]) : q1[i];
-      std::snprintf(number, sizeof number, " %c%.*f", joint.axis_letter, rules_.decimals, value);
+      std::snprintf(number, sizeof number, " %c%.*f", joint.axis_letter, rules_.decimals,
+                    joint.to_interface(q1[i]));
       line += number;
     }
     if (!segment.rapid) {

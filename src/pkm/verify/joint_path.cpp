@@ -62,9 +62,8 @@ VerifyReport verify_joint_program(const Machine& machine, const std::filesystem:
   if (!machine.inverse(machine.home(), previous).ok()) throw VerifyError("home is not usable");
   gcode::InterpreterOptions interpreter_options;
   for (int i = 0; i < joint_count; ++i) {
-    const bool rotary = machine.joints()[static_cast<std::size_t>(i)].kind == JointKind::rotary;
     interpreter_options.start_position[index_of_joint[static_cast<std::size_t>(i)]] =
-        rotary ? radians_to_degrees(previous[i]) : previous[i];
+        machine.joints()[static_cast<std::size_t>(i)].to_interface(previous[i]);
   }
   VerifyReport report;
   double sum_of_squares = 0.0;
