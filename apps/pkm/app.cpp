@@ -24,11 +24,14 @@ Pose pose_from_arguments(const Machine& machine, const std::vector<double>& valu
     throw CommandError("this machine takes the pose as " + names + " (mm, deg); got " +
                        std::to_string(values.size()) + " numbers");
   }
-  Vector6d pose = machine.home().as_vector();
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    pose[static_cast<int>(i)] = i < 3 ? values[i] : degrees_to_radians(values[i]);
+  return Pose::from_vector(pose_vector_over(machine.home().as_vector(), values));
+}
+
+Vector6d pose_vector_over(Vector6d base, const std::vector<double>& values) {
+  for (std::size_t i = 0; i < values.size() && i < kPoseSize; ++i) {
+    base[static_cast<int>(i)] = i < 3 ? values[i] : degrees_to_radians(values[i]);
   }
-  return Pose::from_vector(pose);
+  return base;
 }
 
 }  // namespace pkm::app

@@ -22,6 +22,9 @@ Machine load_machine_or_default(const std::string& path);
 // x y z [a b c] in mm and deg from the command line; missing coordinates take the home pose's.
 Pose pose_from_arguments(const Machine& machine, const std::vector<double>& values);
 
+// `base` (mm, rad) with its leading coordinates replaced by `values` (x y z a b c, mm and deg).
+Vector6d pose_vector_over(Vector6d base, const std::vector<double>& values);
+
 void register_kinematics_commands(CLI::App& app);
 void register_calibrate_commands(CLI::App& app);
 void register_gcode_commands(CLI::App& app);

@@ -116,10 +116,7 @@ void run_plan(const PlanCommandOptions& options) {
   motion::PlanOptions plan_options;
   plan_options.period_s = options.period_s;
   if (!options.start.empty()) plan_options.start = pose_from_arguments(machine, options.start);
-  for (std::size_t i = 0; i < options.origin.size(); ++i) {
-    plan_options.origin[static_cast<int>(i)] =
-        i < 3 ? options.origin[i] : degrees_to_radians(options.origin[i]);
-  }
+  plan_options.origin = pose_vector_over(plan_options.origin, options.origin);
   plan_options.great_circle_attitude = options.attitude == "great-circle";
   plan_options.jerk_mm_per_s3 = options.jerk;
   ProgressBar progress(options.program);

@@ -52,10 +52,7 @@ void run_post(const PostCommandOptions& options) {
   post_options.dialect = options.dialect == "grbl"    ? post::Dialect::grbl
                          : options.dialect == "mach3" ? post::Dialect::mach3
                                                       : post::Dialect::linuxcnc;
-  for (std::size_t i = 0; i < options.origin.size(); ++i) {
-    post_options.origin[static_cast<int>(i)] =
-        i < 3 ? options.origin[i] : degrees_to_radians(options.origin[i]);
-  }
+  post_options.origin = pose_vector_over(post_options.origin, options.origin);
   gcode::InterpreterOptions interpreter_options;
   AtomicFileWriter file(options.output);
   file.write(header(machine, options, nullptr));

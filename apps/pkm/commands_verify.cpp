@@ -24,10 +24,7 @@ struct VerifyCommandOptions {
 void run_verify(const VerifyCommandOptions& options) {
   const Machine machine = load_machine_or_default(options.machine);
   verify::VerifyOptions verify_options;
-  for (std::size_t i = 0; i < options.origin.size(); ++i) {
-    verify_options.origin[static_cast<int>(i)] =
-        i < 3 ? options.origin[i] : degrees_to_radians(options.origin[i]);
-  }
+  verify_options.origin = pose_vector_over(verify_options.origin, options.origin);
   verify::VerifyReport report;
   try {
     report = verify::verify_joint_program(machine, options.joints, options.job, verify_options);
