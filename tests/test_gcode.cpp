@@ -11,6 +11,7 @@
 #include "pkm/gcode/block.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/gcode/interpreter.hpp"
+#include "pkm/gcode/tool_table.hpp"
 
 namespace pkm::gcode {
 namespace {
@@ -170,6 +171,82 @@ TEST(Events, CodesWithNoMeaningHereArePassedOnWithAWarning) {
   EXPECT_EQ(result.canon.back().kind, CanonKind::program_end);
 }
 
+TEST(CutterCompensation, CornersByHand) {
+  // A 20 mm square, tool diameter 2 mm: first on the right going clockwise (inside the square:
+  // concave corners end each line where the offset lines cross), then on the left (outside:
+  // convex corners are rounded about the programmed corner).
+  const Result result = interpret(
+      "G21 G0 X-10 Y-10\nG42.1 D2\nG1 X0 Y0 F100\nY20\nX20\nG4 P1\nY0\nG40\nG0 X-10 Y-10\n"
+      "G41.1 D2\nG1 X0 Y0\nY20\nX20\nM2\n");
+  ASSERT_EQ(result.error, "");
+  std::vector<Canon> moves;
+  for (const Canon& c : result.canon) {
+    if (c.kind == CanonKind::traverse || c.kind == CanonKind::feed || c.kind == CanonKind::arc ||
+        c.kind == CanonKind::dwell) {
+      moves.push_back(c);
+    }
+  }
+  struct Expected {
+    CanonKind kind;
+    double x, y;
+    double centre_x = 0.0, centre_y = 0.0;
+    int turns = 0;
+  };
+  const double h = std::sqrt(0.5);          // the entry lines run at 45 degrees
+  const double cross = std::sqrt(2.0) - 1;  // 1/tan(67.5 deg): where x = -1 meets the entry
+  const Expected expected[] = {
+      {CanonKind::traverse, -10, -10},
+      // Right of the entry line, one radius square to it at its end; then a convex corner.
+      {CanonKind::feed, h, -h},
+      {CanonKind::arc, 1, 0, 0, 0, 1},
+      // Concave corners: each line stops one radius short (90 degree corner, radius 1).
+      {CanonKind::feed, 1, 19},
+      {CanonKind::feed, 19, 19},
+      {CanonKind::dwell, 0, 0},  // held behind the move whose end the next move settled
+      {CanonKind::feed, 19, 0},  // G40: the last move ends where the tool is
+      {CanonKind::traverse, -10, -10},
+      // Left: the entry line is cut back to where it meets x = -1 (a 45 degree concave join).
+      {CanonKind::feed, -1, cross},
+      {CanonKind::feed, -1, 20},
+      {CanonKind::arc, 0, 21, 0, 20, -1},
+      {CanonKind::feed, 20, 21},
+  };
+  ASSERT_EQ(moves.size(), std::size(expected));
+  for (std::size_t i = 0; i < moves.size(); ++i) {
+    SCOPED_TRACE("move " + std::to_string(i));
+    EXPECT_EQ(moves[i].kind, expected[i].kind);
+    if (expected[i].kind == CanonKind::dwell) {
+      EXPECT_DOUBLE_EQ(moves[i].value, 1.0);
+      continue;
+    }
+    EXPECT_NEAR(moves[i].end[0], expected[i].x, 1e-12);
+    EXPECT_NEAR(moves[i].end[1], expected[i].y, 1e-12);
+    if (expected[i].kind == CanonKind::arc) {
+      EXPECT_NEAR(moves[i].center[0], expected[i].centre_x, 1e-12);
+      EXPECT_NEAR(moves[i].center[1], expected[i].centre_y, 1e-12);
+      EXPECT_EQ(moves[i].turns, expected[i].turns);
+    }
+  }
+}
+
+TEST(CutterCompensation, DiameterFromTheToolTableAndWarningForNone) {
+  InterpreterOptions options;
+  options.tool_table = parse_tool_table("T3 P3 D4.0\n", "test.tbl");
+  // G41 D3: radius 2 mm from the table; the entry ends 2 mm left of (10, 0).
+  const Result with_d = interpret("G21 G0 X0 Y0\nG41 D3\nG1 X10 F100\nG40\nM2\n", options);
+  ASSERT_EQ(with_d.error, "");
+  EXPECT_NEAR(motion(with_d)[1].end[1], 2.0, 1e-12);
+  // Without D: the tool in the spindle. Tool 0 has no diameter: a warning, moves as programmed.
+  const Result none = interpret("G21 G0 X0 Y0\nG41\nG1 X10 F100\nG40\nM2\n", options);
+  ASSERT_EQ(none.error, "");
+  EXPECT_NEAR(motion(none)[1].end[1], 0.0, 1e-12);
+  ASSERT_FALSE(none.warnings.empty());
+  EXPECT_NE(none.warnings[0].message.find("not offset"), std::string::npos);
+  const Result spindle = interpret("G21 T3 M6\nG0 X0 Y0\nG42\nG1 X10 F100\nG40\nM2\n", options);
+  ASSERT_EQ(spindle.error, "");
+  EXPECT_NEAR(motion(spindle)[1].end[1], -2.0, 1e-12);
+}
+
 struct ErrorCase {
   std::string name;
   std::string program;
@@ -221,6 +298,22 @@ const ErrorCase kErrors[] = {
     {"g10_without_p", "G10 L2 X1\n", 1, 1, "G10 needs a P word"},
     {"percent_in_the_middle", "G0 X1\n%\n", 2, 1, "'%' only opens and closes a program"},
     {"o_word_not_first", "G0 X1 o100 sub\n", 1, 7, "an O-word must come first"},
+    {"compensation_twice", "G21 G41.1 D2\nG42.1 D2\n", 2, 1, "already on"},
+    {"compensation_in_yz", "G19 G41.1 D2\n", 1, 5, "XY (G17) or XZ (G18) plane only"},
+    {"d_without_compensation", "G21 G1 D3 X1 F100\n", 1, 8, "D word with no G41"},
+    {"compensation_without_tool_table", "G21 G41 D3\n", 1, 9, "needs a tool table"},
+    {"compensation_entry_too_short", "G21 G0 X0 Y0\nG41.1 D4\nG1 X1 F100\n", 3, 1,
+     "entry move is not longer than the tool radius"},
+    {"arc_after_compensation_off", "G21 G0 X0 Y0\nG41.1 D2\nG1 X10 F100\nG40\nG2 X20 I5\n", 5, 1,
+     "must be straight"},
+    {"g28_with_compensation", "G21 G41.1 D2\nG28\n", 2, 1, "cannot use G28 or G30"},
+    {"cycle_with_compensation", "G21 G0 Z5\nG41.1 D2\nG81 X1 Z-1 R1 F100\n", 3, 1,
+     "cannot use G81 (canned cycle)"},
+    {"g53_with_compensation", "G21 G0 X0 Y0\nG41.1 D2\nG1 X10 F100\nG53 G0 X20\n", 4, 1,
+     "cannot use G53"},
+    {"plane_change_with_compensation", "G21 G41.1 D2\nG18\n", 2, 1, "cannot change planes"},
+    {"compensated_tool_does_not_fit", "G21 G0 X0 Y-10\nG41.1 D10\nG1 X0 Y0 F100\nX10\nY1\nX0\n", 6,
+     1, "cannot be cut without gouging"},
 };
 
 INSTANTIATE_TEST_SUITE_P(Table, GcodeErrors, ::testing::ValuesIn(kErrors),

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <numbers>
 #include <string>
 
 namespace pkm::gcode {
@@ -14,6 +15,12 @@ using Position = std::array<double, kAxes>;
 enum class Plane { xy, xz, yz };
 enum class LengthUnits { inch, mm };
 enum class FeedMode { units_per_minute, inverse_time };
+
+// LinuxCNC's tolerance on the two radii of a centre-format arc (and on the arcs cutter
+// compensation makes), in `units`: 0.02*sqrt(2) mm or 0.002*sqrt(2) inch.
+inline double arc_radius_tolerance(LengthUnits units) {
+  return (units == LengthUnits::inch ? 0.001 : 0.01) * 2.0 * std::numbers::sqrt2;
+}
 
 enum class CanonKind {
   traverse,          // STRAIGHT_TRAVERSE to `end`

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "pkm/gcode/cutter_compensation.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 
 namespace pkm::gcode {
@@ -197,7 +198,14 @@ struct Interpreter::State {
   int selected_tool = 0;
   int path_mode = 64;
   double path_tolerance = 0.0;
-  bool cutter_comp = false;
+  // G41/G42: moves go through it, and every other command too (it holds them behind a move
+  // whose end the next move settles). `pos` stays the programmed point.
+  CutterCompensation compensation;
+  bool straight_exit = false;  // offset moves ended at G40: the next move must be straight
+  int move_column = 1;         // where the block's motion is, for errors found making it
+  // After G40 the tool stays off the programmed point until the next move. A tool change
+  // takes the machine's position as the program's (LinuxCNC re-reads it), so it matters then.
+  std::optional<Position> tool_off_path;
 
   // Canned cycles: sticky words and the level the current series started from.
   double cycle_r = 0.0, cycle_z = 0.0;  // mm
@@ -318,7 +326,7 @@ struct Interpreter::State {
     c.end = pos;
     return c;
   }
-  void emit(const Canon& canon) { (*sink)(canon); }
+  void emit(const Canon& canon) { compensation.pass(canon); }
   void emit(CanonKind kind, const Block& block) { emit(make(kind, block)); }
   void dwell(const Block& block, double seconds) {
     Canon c = make(CanonKind::dwell, block);
@@ -354,6 +362,29 @@ struct Interpreter::State {
   Mark find_subroutine(const std::string& label, int column);
   Position target(const Block& block, bool machine_coordinates) const;
   void straight(CanonKind kind, const Block& block, const Position& end);
+  // A move through cutter compensation, from the programmed point `pos`.
+  void offset(const Canon& move, void (CutterCompensation::*method)(Canon, const Position&)) {
+    try {
+      (compensation.*method)(move, pos);
+    } catch (const CompensationError& error) {
+      fail(move_column, error.what());
+    }
+  }
+  void start_compensation(const Block& block, const Code& code);
+  // Held commands go out (program stops and ends): the last offset move ends where the tool is.
+  void release_compensation(int column) {
+    try {
+      compensation.flush();
+    } catch (const CompensationError& error) {
+      fail(column, error.what());
+    }
+  }
+  // Codes LinuxCNC refuses while compensation is on: they would move the path under it.
+  void refuse_with_compensation(const Code& code, const std::string& what) const {
+    if (compensation.on()) {
+      fail(code.column, "cannot " + what + " with cutter radius compensation on (G40 first)");
+    }
+  }
   void arc(const Block& block, int code, const Position& end);
   void cycle(const Block& block, int code, const Position& end);
   void go_home(const Block& block, int code);
@@ -363,6 +394,7 @@ struct Interpreter::State {
 
 void Interpreter::State::run(const CanonSink& output) {
   sink = &output;
+  compensation.reset(output);
   std::string line;
   bool first_content = true;
   while (!ended && read_line(line)) {
@@ -378,6 +410,8 @@ void Interpreter::State::run(const CanonSink& output) {
     execute_line(line);
   }
   if (!saw_end) {
+    // The moves compensation still holds are part of the program (rs274 would drop them).
+    release_compensation(1);
     warnings.push_back({current.line,
                         "program has no M2, M30 or closing %: ended at the end of "
                         "the file"});
@@ -397,6 +431,7 @@ void Interpreter::State::execute_line(const std::string& line) {
     if (percent_program) {
       saw_end = true;
       ended = true;
+      release_compensation(1);
       Block none;
       emit(CanonKind::program_end, none);
       return;
@@ -632,7 +667,13 @@ void Interpreter::State::straight(CanonKind kind, const Block& block, const Posi
   canon.end = end;
   canon.value = feed;  // the F in effect: the planner's programmed speed (or inverse time)
   canon.feed_mode = feed_mode;
-  emit(canon);
+  straight_exit = false;
+  tool_off_path.reset();
+  if (compensation.offsetting()) {
+    offset(canon, &CutterCompensation::straight);
+  } else {
+    emit(canon);
+  }
   pos = end;
 }
 
@@ -651,6 +692,9 @@ void Interpreter::State::arc(const Block& block, int code, const Position& end) 
       break;
   }
   const int column = block.g_codes.empty() ? 1 : block.g_codes.front().column;
+  if (straight_exit) {
+    fail(column, "the move after G40 (cutter compensation off) must be straight, not an arc");
+  }
   const double start_1 = pos[first], start_2 = pos[second];
   const double end_1 = end[first], end_2 = end[second];
   double centre_1 = 0.0, centre_2 = 0.0;
@@ -693,7 +737,7 @@ void Interpreter::State::arc(const Block& block, int code, const Position& end) 
     centre_2 = arc_absolute ? j : start_2 + j;
     const double radius = std::hypot(centre_1 - start_1, centre_2 - start_2);
     const double radius2 = std::hypot(centre_1 - end_1, centre_2 - end_2);
-    const double abs_tolerance = (inch ? 0.001 : 0.01) * 2.0 * std::numbers::sqrt2;
+    const double abs_tolerance = arc_radius_tolerance(units);
     if (radius < 0.1 * abs_tolerance || radius2 < 0.1 * abs_tolerance)
       fail(column, "zero radius arc");
     const double abs_err = std::abs(radius - radius2);
@@ -713,7 +757,12 @@ void Interpreter::State::arc(const Block& block, int code, const Position& end) 
   canon.feed_mode = feed_mode;
   canon.center = {centre_1, centre_2};
   canon.turns = turns;
-  emit(canon);
+  tool_off_path.reset();
+  if (compensation.offsetting()) {
+    offset(canon, &CutterCompensation::arc);
+  } else {
+    emit(canon);
+  }
   pos = end;
 }
 
@@ -845,6 +894,59 @@ void Interpreter::State::cycle(const Block& block, int code, const Position& end
   }
 }
 
+void Interpreter::State::start_compensation(const Block& block, const Code& code) {
+  const std::string name = code_name('G', code.tenths);
+  if (plane == Plane::yz) {
+    fail(code.column, "cutter radius compensation works in the XY (G17) or XZ (G18) plane only");
+  }
+  if (compensation.on()) fail(code.column, "cutter radius compensation is already on (G40 first)");
+  const auto& d = block.word('d');
+  double radius = 0.0;  // program units
+  if (code.tenths == 411 || code.tenths == 421) {
+    // G41.1/G42.1: the D word is the tool's diameter.
+    if (!d) fail(code.column, name + " needs a D word: the tool diameter");
+    radius = d->value / 2.0;
+    if (const auto& l = block.word('l')) {
+      if (plane != Plane::xz) {
+        fail(l->column, name + " with an L word (lathe tool orientation) needs the XZ plane (G18)");
+      }
+      if (l->value != 0.0 && l->value != 9.0) {
+        fail(l->column, "lathe tool orientations are not supported: L0 or L9 (a round tool) only");
+      }
+    }
+  } else {
+    // G41/G42: the D word names a tool in the table; without one, the tool in the spindle.
+    int tool = tool_in_spindle;
+    const int column = d ? d->column : code.column;
+    if (d) {
+      const double number = std::round(d->value);
+      if (std::abs(d->value - number) >= 1e-4) {
+        fail(d->column, name + " needs D to be a whole number: a tool in the tool table");
+      }
+      if (number < 0.0) fail(d->column, "negative D word (tool number)");
+      tool = static_cast<int>(number);
+    }
+    if (tool != 0) {
+      if (!options.tool_table) {
+        fail(column, name + " needs a tool table (--tool-table) for the diameter of tool " +
+                         std::to_string(tool));
+      }
+      const auto entry = options.tool_table->find(tool);
+      if (entry == options.tool_table->end()) {
+        fail(column, "tool " + std::to_string(tool) + " for " + name + " is not in the tool table");
+      }
+      radius = from_mm(entry->second.diameter) / 2.0;
+    }
+    if (radius == 0.0) {
+      warn(name + " with tool " + std::to_string(tool) +
+           " of zero diameter: the moves are not offset");
+    }
+  }
+  compensation.turn_on(
+      code.tenths == 410 || code.tenths == 411 ? CompensationSide::left : CompensationSide::right,
+      radius, plane);
+}
+
 void Interpreter::State::go_home(const Block& block, int code) {
   // G28/G30: through the programmed axes' intermediate point, then to the stored position
   // (#5161.. / #5181.., machine coordinates) of those axes, or of all axes when none is given.
@@ -874,6 +976,9 @@ void Interpreter::State::set_coordinates(const Block& block) {
   if (l == 2 || l == 20) {
     const int system = p == 0 ? coord_system : static_cast<int>(p);
     if (system < 1 || system > 9) fail(block.word('p')->column, "G10 P must be 0..9");
+    if (system == coord_system) {
+      refuse_with_compensation(block.g_codes.front(), "change the active coordinate system");
+    }
     const Position old_total = total_offset_mm();
     for (int axis = 0; axis < kAxes; ++axis) {
       if (!block.has(kLetters[axis])) continue;
@@ -1017,11 +1122,14 @@ void Interpreter::State::execute_block(const Block& block) {
   // 2. tool change, spindle, coolant, overrides.
   if (m_by_group[6].has_value()) {
     const Code code = *m_by_group[6];
+    refuse_with_compensation(code, "change tools");
     if (code.tenths == 60) {
       Canon c = make(CanonKind::change_tool, block);
       c.integer = selected_tool;
       emit(c);
     }
+    if (tool_off_path) pos = *tool_off_path;
+    tool_off_path.reset();
     tool_in_spindle = code.tenths == 610 ? static_cast<int>(block.has('q') ? block.value('q') : 0)
                                          : selected_tool;
   }
@@ -1057,7 +1165,11 @@ void Interpreter::State::execute_block(const Block& block) {
   }
   // 4. plane, units, cutter compensation, tool length.
   if (const auto code = g_in(2)) {
-    plane = code->tenths == 170 ? Plane::xy : code->tenths == 180 ? Plane::xz : Plane::yz;
+    const Plane wanted = code->tenths == 170   ? Plane::xy
+                         : code->tenths == 180 ? Plane::xz
+                                               : Plane::yz;
+    if (wanted != plane) refuse_with_compensation(*code, "change planes");
+    plane = wanted;
     emit(CanonKind::select_plane, block);
   }
   if (const auto code = g_in(6)) {
@@ -1069,17 +1181,27 @@ void Interpreter::State::execute_block(const Block& block) {
       }
       feed *= factor;
       units = wanted;
+      compensation.rescale(factor, units);
     }
     emit(CanonKind::use_length_units, block);
   }
   if (const auto code = g_in(7)) {
-    if (code->tenths != 400) {
-      fail(code->column,
-           code_name('G', code->tenths) + " (cutter radius compensation) is not supported yet");
+    if (code->tenths == 400) {
+      try {
+        const Position tool = compensation.tool_position(pos);
+        straight_exit = compensation.turn_off();
+        if (straight_exit) tool_off_path = tool;
+      } catch (const CompensationError& error) {
+        fail(code->column, error.what());
+      }
+    } else {
+      start_compensation(block, *code);
     }
-    cutter_comp = false;
+  } else if (const auto& d = block.word('d')) {
+    fail(d->column, "D word with no G41, G42, G41.1 or G42.1 to use it");
   }
   if (const auto code = g_in(8)) {
+    refuse_with_compensation(*code, "change the tool length offset");
     Position offset{};
     if (code->tenths == 430) {
       const int tool =
@@ -1112,8 +1234,7 @@ void Interpreter::State::execute_block(const Block& block) {
         static_cast<int>(std::find(std::begin(kCodes), std::end(kCodes), code->tenths) -
                          std::begin(kCodes)) +
         1;
-    if (cutter_comp)
-      fail(code->column, "cannot change coordinate systems with cutter compensation on");
+    refuse_with_compensation(*code, "change coordinate systems");
     const Position old_total = total_offset_mm();
     coord_system = system;
     parameters.set_numbered(5220, system);
@@ -1121,6 +1242,7 @@ void Interpreter::State::execute_block(const Block& block) {
     emit_offsets(block);
   }
   if (const auto code = g_in(13)) {
+    refuse_with_compensation(*code, "change the path control mode");
     path_mode = code->tenths == 640 ? 64 : code->tenths == 610 ? 61 : 611;
     path_tolerance = code->tenths == 640 && block.has('p') ? block.value('p') : 0.0;
     Canon c = make(CanonKind::path_control, block);
@@ -1142,6 +1264,11 @@ void Interpreter::State::execute_block(const Block& block) {
   bool axes_used = false;
   if (non_modal) {
     const int code = non_modal->tenths;
+    if (code == 280 || code == 300) refuse_with_compensation(*non_modal, "use G28 or G30");
+    if (code >= 920 && code <= 923) refuse_with_compensation(*non_modal, "change axis offsets");
+    if (code == 530 && compensation.offsetting()) {
+      fail(non_modal->column, "cannot use G53 with cutter radius compensation on (G40 first)");
+    }
     if (code == 100) {
       set_coordinates(block);
       axes_used = true;
@@ -1202,6 +1329,12 @@ void Interpreter::State::execute_block(const Block& block) {
     }
     const Position end = target(block, machine_coordinates);
     const int column = motion_code ? motion_code->column : 1;
+    move_column = column;
+    if (compensation.on() && motion >= 380 && motion != 800) {
+      fail(column, "cannot use " + code_name('G', motion) +
+                       (motion < 390 ? " (probing)" : " (canned cycle)") +
+                       " with cutter radius compensation on (G40 first)");
+    }
     switch (motion) {
       case 0:
         straight(CanonKind::traverse, block, end);
@@ -1264,6 +1397,7 @@ void Interpreter::State::execute_block(const Block& block) {
   // 8. stop and end.
   if (m_by_group[4].has_value()) {
     const int code = m_by_group[4]->tenths;
+    release_compensation(m_by_group[4]->column);
     if (code == 0) emit(CanonKind::program_stop, block);
     if (code == 10) emit(CanonKind::optional_stop, block);
     if (code == 600) emit(CanonKind::program_stop, block);
@@ -1278,6 +1412,8 @@ void Interpreter::State::execute_block(const Block& block) {
       feed_mode = FeedMode::units_per_minute;
       motion = 10;
       cycle_series = false;
+      compensation.turn_off();  // nothing is held any more: the stop released it
+      straight_exit = false;
       emit_offsets(block);
       emit(CanonKind::select_plane, block);
       emit(CanonKind::spindle_stop, block);
