@@ -21,6 +21,16 @@ constexpr bool is_alpha(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z');
 }
 
+// Space, tab and carriage return separate words (a table: the reader asks for every character).
+constexpr std::array<bool, 256> kBlank = [] {
+  std::array<bool, 256> table{};
+  table[' '] = table['\t'] = table['\r'] = true;
+  return table;
+}();
+constexpr bool is_blank(char c) {
+  return kBlank[static_cast<unsigned char>(c)];
+}
+
 constexpr double kEqualTolerance = 1e-4;  // LinuxCNC's EQ/NE compare within this
 
 // O-word keywords, a keyword before any other it is a prefix of ("endsub" before "end...").
@@ -82,10 +92,12 @@ int precedence(Operator op) {
   return 0;
 }
 
+// Reads one line. The line is a std::string, so a NUL follows its last character: scanning
+// loops stop on it without a separate bounds check.
 class Reader {
  public:
   Reader(const std::string& line, const Parameters& parameters)
-      : line_(line), parameters_(parameters) {}
+      : line_(line), data_(line.c_str()), parameters_(parameters) {}
 
   void read(Block& block) {
     block.clear();
@@ -103,6 +115,12 @@ class Reader {
       const char c = peek();
       if (c == 0) break;
       const int column = static_cast<int>(pos_) + 1;
+      if (c >= 'a' && c <= 'z' && kIsWord[static_cast<std::size_t>(c - 'a')]) {
+        // Most words are a letter and a number: first in line.
+        ++pos_;
+        read_word(block, c - 'a', column);
+        continue;
+      }
       if (c == '(') {
         block.comments.push_back({read_comment(), column});
       } else if (c == ';') {
@@ -116,6 +134,11 @@ class Reader {
         if (!block.empty) fail(column, "an O-word must come first on its line");
         block.o_word = read_o_word(column);
         block.empty = false;
+        // Only a comment may follow an O-word's arguments.
+        const char rest = peek();
+        if (rest != 0 && rest != '(' && rest != ';') {
+          fail(static_cast<int>(pos_) + 1, "unexpected text after the O-word");
+        }
       } else if (c == '#') {
         block.assignments.push_back(read_assignment(column));
         block.empty = false;
@@ -129,24 +152,14 @@ class Reader {
         (c == 'g' ? block.g_codes : block.m_codes)
             .push_back({static_cast<int>(std::lround(tenths)), column});
         block.empty = false;
-      } else if (is_alpha(c) || c == '@' || c == '^') {
+      } else if (c == '@' || c == '^') {
+        // Polar radius and angle use the slots of G and M, which are codes, not words.
         ++pos_;
-        const int index = slot(c, column);
-        if (block.words[index]) {
-          fail(column, std::string("multiple ") + display(c) + " words on one line");
-        }
-        block.words[index] = Word{read_real(), column};
-        block.letters |= 1u << index;
-        block.empty = false;
+        read_word(block, c == '@' ? 'g' - 'a' : 'm' - 'a', column);
+      } else if (is_alpha(c)) {
+        fail(column, std::string("bad character '") + display(c) + "' used");
       } else {
         fail(column, std::string("bad character '") + line_[pos_] + "' used");
-      }
-      if (block.o_word) {
-        // Only a comment may follow an O-word's arguments.
-        const char rest = peek();
-        if (rest != 0 && rest != '(' && rest != ';') {
-          fail(static_cast<int>(pos_) + 1, "unexpected text after the O-word");
-        }
       }
     }
   }
@@ -156,21 +169,23 @@ class Reader {
     return static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   }
 
-  // Words use the slot of their letter; G and M are codes, so their slots hold the polar radius
-  // '@' and angle '^'.
-  int slot(char c, int column) {
-    if (c == '@') return 'g' - 'a';
-    if (c == '^') return 'm' - 'a';
-    // Letters that are words: all but G and M (codes), N (line number) and O (control flow).
-    static constexpr std::array<bool, 26> kIsWord = [] {
-      std::array<bool, 26> table{};
-      for (const char w : std::string_view("abcdefhijklpqrstuvwxyz")) table[w - 'a'] = true;
-      return table;
-    }();
-    if (c < 'a' || c > 'z' || !kIsWord[c - 'a']) {
-      fail(column, std::string("bad character '") + display(c) + "' used");
+  // Letters that are words: all but G and M (codes), N (line number) and O (control flow).
+  static constexpr std::array<bool, 26> kIsWord = [] {
+    std::array<bool, 26> table{};
+    for (const char w : std::string_view("abcdefhijklpqrstuvwxyz")) table[w - 'a'] = true;
+    return table;
+  }();
+
+  // The value of the word in `slot` (its letter's), which the line may give once.
+  void read_word(Block& block, int slot, int column) {
+    std::optional<Word>& word = block.words[static_cast<std::size_t>(slot)];
+    if (word) {
+      const char letter = slot == 'g' - 'a' ? '@' : slot == 'm' - 'a' ? '^' : 'a' + slot;
+      fail(column, std::string("multiple ") + display(letter) + " words on one line");
     }
-    return c - 'a';
+    word = Word{read_real(), column};
+    block.letters |= 1u << slot;
+    block.empty = false;
   }
 
   [[noreturn]] void fail(int column, const std::string& message) const {
@@ -179,14 +194,14 @@ class Reader {
 
   bool at_end() const { return pos_ >= line_.size(); }
   void skip_space() {
-    while (pos_ < line_.size() &&
-           (line_[pos_] == ' ' || line_[pos_] == '\t' || line_[pos_] == '\r')) {
-      ++pos_;
-    }
+    std::size_t at = pos_;
+    while (is_blank(data_[at])) ++at;
+    pos_ = at;
   }
+  // The next character, lower case; 0 at the end of the line.
   char peek() {
     skip_space();
-    return at_end() ? 0 : lower(line_[pos_]);
+    return lower(data_[pos_]);
   }
   bool accept(char c) {
     if (peek() != c) return false;
@@ -231,29 +246,58 @@ class Reader {
   }
 
   double read_number() {
-    // Digits and one point, spaces between them ignored ("1 0 . 5" is 10.5). Up to 15
-    // significant digits and 22 decimals take Clinger's exact fast path: the mantissa and the
-    // power of ten are exact doubles, so one division rounds correctly, as strtod would.
+    // Almost every number is digits, maybe a point, more digits, with no space inside: read
+    // those in one pass. Clinger's fast path is exact: with the mantissa below 2^53 and at most
+    // 22 decimals, mantissa and power of ten are exact doubles and one division rounds
+    // correctly, as strtod would.
     static constexpr double kPowersOfTen[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
                                               1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
                                               1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-    const int column = static_cast<int>(pos_) + 1;
+    constexpr std::uint64_t kExactMantissa = std::uint64_t{1} << 53;
+    const char* const data = data_;
     const std::size_t begin = pos_;
+    std::size_t at = begin;
     std::uint64_t mantissa = 0;
-    int digits = 0, decimals = 0, characters = 0;
+    while (is_digit(data[at])) {
+      mantissa = mantissa * 10 + static_cast<std::uint64_t>(data[at] - '0');
+      ++at;
+    }
+    const std::size_t whole_digits = at - begin;
+    std::size_t decimals = 0;
+    if (data[at] == '.') {
+      const std::size_t first_decimal = ++at;
+      while (is_digit(data[at])) {
+        mantissa = mantissa * 10 + static_cast<std::uint64_t>(data[at] - '0');
+        ++at;
+      }
+      decimals = at - first_decimal;
+    }
+    // A space ends the number unless more of it follows ("1 0 . 5").
+    std::size_t next = at;
+    while (data[next] == ' ' || data[next] == '\t') ++next;
+    const bool continues = next != at && (is_digit(data[next]) || data[next] == '.');
+    if (!continues && whole_digits + decimals > 0 && whole_digits + decimals <= 19 &&
+        mantissa <= kExactMantissa && decimals <= 22) {
+      pos_ = at;
+      return static_cast<double>(mantissa) / kPowersOfTen[decimals];
+    }
+    return read_spaced_or_long_number();
+  }
+
+  // A number with spaces inside ("1 0 . 5" is 10.5, as LinuxCNC reads it), or too long for the
+  // fast path: strtod's rounding through from_chars.
+  [[gnu::noinline]] double read_spaced_or_long_number() {
+    const int column = static_cast<int>(pos_) + 1;
+    char text[64];
+    std::size_t length = 0;
+    int characters = 0;
     bool dot = false;
-    const std::size_t size = line_.size();
-    while (pos_ < size) {
+    while (pos_ < line_.size()) {
       const char c = line_[pos_];
-      if (c >= '0' && c <= '9') {
-        if (digits > 0 || c != '0') {
-          ++digits;
-          mantissa = mantissa * 10 + static_cast<std::uint64_t>(c - '0');
-        }
-        decimals += dot ? 1 : 0;
-        ++characters;
-      } else if (c == '.' && !dot) {
-        dot = true;
+      if (is_digit(c) || (c == '.' && !dot)) {
+        if (length == sizeof text) fail(column, "number too long");
+        text[length++] = c;
+        dot = dot || c == '.';
         ++characters;
       } else if (c != ' ' && c != '\t') {
         break;
@@ -261,17 +305,6 @@ class Reader {
       ++pos_;
     }
     if (characters == 0 || (characters == 1 && dot)) fail(column, "bad number format");
-    if (digits <= 15 && decimals <= 22) {
-      return static_cast<double>(mantissa) / kPowersOfTen[decimals];
-    }
-    // Longer numbers: strtod's rounding through from_chars, spaces left out.
-    char text[64];
-    std::size_t length = 0;
-    for (std::size_t i = begin; i < pos_; ++i) {
-      if (line_[i] == ' ' || line_[i] == '\t') continue;
-      if (length == sizeof text) fail(column, "number too long");
-      text[length++] = line_[i];
-    }
     double value = 0.0;
     std::from_chars(text, text + length, value);
     return value;
@@ -279,6 +312,17 @@ class Reader {
 
   double read_real() {
     const char c = peek();
+    if (is_digit(c) || c == '.') return read_number();
+    if (c == '-') {
+      ++pos_;
+      return -read_real();
+    }
+    return read_other_real(c);
+  }
+
+  // Expressions, parameters, functions and signs: kept out of read_real, which reads plain
+  // numbers, so that stays small.
+  [[gnu::noinline]] double read_other_real(char c) {
     const int column = static_cast<int>(pos_) + 1;
     if (c == '[') {
       ++pos_;
@@ -288,15 +332,10 @@ class Reader {
       ++pos_;
       return read_parameter_value(column);
     }
-    if (c == '-') {
-      ++pos_;
-      return -read_real();
-    }
     if (c == '+') {
       ++pos_;
       return read_real();
     }
-    if (is_digit(c) || c == '.') return read_number();
     if (is_alpha(c)) return read_function(column);
     if (c == 0) fail(column, "a value is missing at the end of the line");
     fail(column, std::string("bad number format: '") + line_[pos_] + "'");
@@ -550,6 +589,7 @@ class Reader {
   }
 
   const std::string& line_;
+  const char* data_;  // line_.c_str(): NUL-terminated
   const Parameters& parameters_;
   std::size_t pos_ = 0;
 };

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <numbers>
 
 #include "pkm/gcode/cutter_compensation.hpp"
@@ -148,6 +151,26 @@ int m_group(int code) {
   }
 }
 
+// The codes of one block by modal group. One instance serves every block: starting a block
+// clears a mask, not the slots (most blocks hold no code at all).
+template <std::size_t Groups>
+class CodesByGroup {
+ public:
+  const Code* operator[](int group) const {
+    return (present_ >> group) & 1u ? &codes_[static_cast<std::size_t>(group)] : nullptr;
+  }
+  void set(int group, const Code& code) {
+    codes_[static_cast<std::size_t>(group)] = code;
+    present_ |= 1u << group;
+  }
+  void clear() { present_ = 0; }
+
+ private:
+  static_assert(Groups <= 32);
+  std::array<Code, Groups> codes_{};
+  std::uint32_t present_ = 0;
+};
+
 std::string code_name(char letter, int tenths) {
   std::string name(1, letter);
   name += std::to_string(tenths / 10);
@@ -159,20 +182,73 @@ bool is_linear(int axis) {
   return axis < 3 || axis >= 6;
 }
 
+// The program's lines, cut from large reads of the file. Control flow jumps back and forth; a
+// jump into what was last read costs nothing, any other seeks.
+class LineSource {
+ public:
+  explicit LineSource(const std::filesystem::path& path) : file_(std::fopen(path.c_str(), "rb")) {}
+  bool is_open() const { return file_ != nullptr; }
+
+  // The line starting at byte `offset` into `line`, without its "\n" or "\r\n". Returns the
+  // offset of the line after it, or nothing at the end of the file.
+  std::optional<std::int64_t> read(std::int64_t offset, std::string& line) {
+    if (offset < buffer_offset_ || offset > buffer_offset_ + static_cast<std::int64_t>(filled_)) {
+      ::fseeko(file_.get(), static_cast<off_t>(offset), SEEK_SET);
+      buffer_offset_ = offset;
+      filled_ = 0;
+      at_end_ = false;
+    }
+    std::size_t begin = static_cast<std::size_t>(offset - buffer_offset_);
+    while (true) {
+      const char* start = buffer_.data() + begin;
+      const std::size_t available = filled_ - begin;
+      const auto* newline = static_cast<const char*>(std::memchr(start, '\n', available));
+      if (newline != nullptr || at_end_) {
+        if (newline == nullptr && available == 0) return std::nullopt;
+        const std::size_t length =
+            newline != nullptr ? static_cast<std::size_t>(newline - start) : available;
+        line.assign(start, length);
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        return offset + static_cast<std::int64_t>(length + (newline != nullptr ? 1 : 0));
+      }
+      // Keep the unfinished line at the front and read on (a longer line grows the buffer).
+      // The file stays positioned at buffer_offset_ + filled_.
+      std::memmove(buffer_.data(), start, available);
+      buffer_offset_ += static_cast<std::int64_t>(begin);
+      filled_ = available;
+      begin = 0;
+      if (filled_ == buffer_.size()) buffer_.resize(2 * buffer_.size());
+      const std::size_t count =
+          std::fread(buffer_.data() + filled_, 1, buffer_.size() - filled_, file_.get());
+      filled_ += count;
+      at_end_ = count == 0;
+    }
+  }
+
+ private:
+  struct Close {
+    void operator()(std::FILE* file) const { std::fclose(file); }
+  };
+  std::unique_ptr<std::FILE, Close> file_;
+  std::vector<char> buffer_ = std::vector<char>(std::size_t{1} << 16);
+  std::int64_t buffer_offset_ = 0;  // the file offset of buffer_[0]
+  std::size_t filled_ = 0;          // bytes of buffer_ read from the file
+  bool at_end_ = false;             // the file ends after them
+};
+
 }  // namespace
 
 struct Interpreter::State {
   struct Mark {
-    std::streampos position;
+    std::int64_t position = 0;  // byte offset in the file
     int line = 0;
   };
 
   // The source, read a line at a time.
-  std::ifstream file;
+  LineSource source;
   std::string file_name;
-  Mark next{std::streampos(0), 1};
-  Mark current;        // the line being executed
-  bool jumped = true;  // the stream is not at `next`
+  Mark next{0, 1};
+  Mark current;  // the line being executed
 
   const InterpreterOptions& options;
   std::vector<Warning>& warnings;
@@ -236,14 +312,16 @@ struct Interpreter::State {
   std::vector<Call> calls;
   std::map<std::string, Mark> subroutines;
   Block block_;  // the line being executed; one block's storage serves every line
+  CodesByGroup<16> g_by_group;
+  CodesByGroup<12> m_by_group;  // 11: M7 and M8 on one line
   bool percent_program = false;
   bool ended = false;
   bool saw_end = false;
 
   State(const std::filesystem::path& path, const InterpreterOptions& opts,
         std::vector<Warning>& warns)
-      : file(path, std::ios::binary), file_name(path.string()), options(opts), warnings(warns) {
-    if (!file) throw GcodeError(file_name, 0, 0, "cannot open the program");
+      : source(path), file_name(path.string()), options(opts), warnings(warns) {
+    if (!source.is_open()) throw GcodeError(file_name, 0, 0, "cannot open the program");
     // G54 offsets start at zero; #5220 holds the active coordinate system.
     parameters.set_numbered(5220, 1.0);
     pos = options.start_position;
@@ -252,24 +330,12 @@ struct Interpreter::State {
   // ---- source -------------------------------------------------------------------------
   bool read_line(std::string& line) {
     current = next;
-    if (jumped) {
-      // Only a jump repositions the stream: seeking flushes its buffer.
-      file.clear();
-      file.seekg(next.position);
-      jumped = false;
-    }
-    if (!std::getline(file, line)) return false;
-    // Binary mode: the next line starts after this one and its '\n' (none at the end of file).
-    next.position =
-        current.position + static_cast<std::streamoff>(line.size() + (file.eof() ? 0 : 1));
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    next.line = current.line + 1;
+    const auto following = source.read(next.position, line);
+    if (!following) return false;
+    next = {*following, current.line + 1};
     return true;
   }
-  void jump(const Mark& mark) {
-    next = mark;
-    jumped = true;
-  }
+  void jump(const Mark& mark) { next = mark; }
   Mark after(const Mark& mark) {
     const Mark saved_next = next, saved_current = current;
     jump(mark);
@@ -1032,19 +1098,19 @@ void Interpreter::State::execute_block(const Block& block) {
   if (block.empty) return;
 
   // Modal groups: at most one code of each in a block.
-  std::array<std::optional<Code>, 16> g_by_group;
-  std::array<std::optional<Code>, 12> m_by_group;  // 11: M7 and M8 on one line
+  g_by_group.clear();
+  m_by_group.clear();
   for (const Code& code : block.g_codes) {
     const int group = g_group(code.tenths);
     if (group < 0) fail(code.column, "unknown G code " + code_name('G', code.tenths));
-    std::optional<Code>& slot = g_by_group[group];
+    const Code* slot = g_by_group[group];
     if (!slot) {
-      slot = code;
+      g_by_group.set(group, code);
       continue;
     }
     if (group == 1 && (slot->tenths == 800 || code.tenths == 800)) {
       // "G80 G0": the cycle ends and the other motion mode takes over, as LinuxCNC allows.
-      if (slot->tenths == 800) slot = code;
+      if (slot->tenths == 800) g_by_group.set(group, code);
       cycle_series = false;
       continue;
     }
@@ -1066,16 +1132,15 @@ void Interpreter::State::execute_block(const Block& block) {
         (m_by_group[8]->tenths == 70 || m_by_group[8]->tenths == 80)) {
       group = 11;  // M7 and M8 may share a line
     }
-    std::optional<Code>& slot = m_by_group[group];
-    if (slot) {
+    if (const Code* slot = m_by_group[group]) {
       fail(code.column, "two M codes of one modal group: " + code_name('M', slot->tenths) +
                             " and " + code_name('M', code.tenths));
     }
-    slot = code;
+    m_by_group.set(group, code);
   }
-  const auto g_in = [&](int group) -> const std::optional<Code>& { return g_by_group[group]; };
-  const std::optional<Code> non_modal = g_in(0);
-  std::optional<Code> motion_code = g_in(1);
+  const auto g_in = [&](int group) { return g_by_group[group]; };
+  const Code* const non_modal = g_in(0);
+  const Code* const motion_code = g_in(1);
   static constexpr char kAxisLetters[] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
   bool has_axis = block.words['g' - 'a'].has_value() || block.words['m' - 'a'].has_value();
   for (const char letter : kAxisLetters) has_axis = has_axis || block.has(letter);
@@ -1120,7 +1185,7 @@ void Interpreter::State::execute_block(const Block& block) {
     emit(c);
   }
   // 2. tool change, spindle, coolant, overrides.
-  if (m_by_group[6].has_value()) {
+  if (m_by_group[6]) {
     const Code code = *m_by_group[6];
     refuse_with_compensation(code, "change tools");
     if (code.tenths == 60) {
@@ -1133,14 +1198,14 @@ void Interpreter::State::execute_block(const Block& block) {
     tool_in_spindle = code.tenths == 610 ? static_cast<int>(block.has('q') ? block.value('q') : 0)
                                          : selected_tool;
   }
-  if (m_by_group[7].has_value()) {
+  if (m_by_group[7]) {
     const int code = m_by_group[7]->tenths;
     if (code == 30) emit(CanonKind::spindle_clockwise, block);
     if (code == 40) emit(CanonKind::spindle_counterclockwise, block);
     if (code == 50) emit(CanonKind::spindle_stop, block);
   }
   for (const int group : {8, 11}) {
-    if (!m_by_group[group].has_value()) continue;
+    if (!m_by_group[group]) continue;
     const int code = m_by_group[group]->tenths;
     if (code == 70) emit(CanonKind::mist_on, block);
     if (code == 80) emit(CanonKind::flood_on, block);
@@ -1150,7 +1215,7 @@ void Interpreter::State::execute_block(const Block& block) {
     }
   }
   for (const int group : {9, 5, 10}) {
-    if (!m_by_group[group].has_value()) continue;
+    if (!m_by_group[group]) continue;
     const int code = m_by_group[group]->tenths;
     Canon event = make(CanonKind::event, block);
     event.text = code_name('M', code);
@@ -1395,7 +1460,7 @@ void Interpreter::State::execute_block(const Block& block) {
     if (previous_cycle && motion < 730) cycle_series = false;
   }
   // 8. stop and end.
-  if (m_by_group[4].has_value()) {
+  if (m_by_group[4]) {
     const int code = m_by_group[4]->tenths;
     release_compensation(m_by_group[4]->column);
     if (code == 0) emit(CanonKind::program_stop, block);
