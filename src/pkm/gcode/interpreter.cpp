@@ -164,6 +164,7 @@ class CodesByGroup {
     present_ |= 1u << group;
   }
   void clear() { present_ = 0; }
+  bool any() const { return present_ != 0; }
 
  private:
   static_assert(Groups <= 32);
@@ -312,6 +313,7 @@ struct Interpreter::State {
   std::vector<Call> calls;
   std::map<std::string, Mark> subroutines;
   Block block_;  // the line being executed; one block's storage serves every line
+  Canon move_;   // see next_move()
   CodesByGroup<16> g_by_group;
   CodesByGroup<12> m_by_group;  // 11: M7 and M8 on one line
   bool percent_program = false;
@@ -391,6 +393,25 @@ struct Interpreter::State {
     c.plane = plane;
     c.end = pos;
     return c;
+  }
+  // The move being made: one Canon serves every move, keeping its strings' storage.
+  Canon& next_move(CanonKind kind, const Block& block) {
+    move_.kind = kind;
+    move_.line = current.line;
+    if (block.n_label.empty()) {
+      move_.n_label.clear();  // most lines have no N word: no call into the string's assign
+    } else {
+      move_.n_label = block.n_label;
+    }
+    move_.units = units;
+    move_.plane = plane;
+    move_.center = {};
+    move_.turns = 0;
+    move_.value = move_.value2 = 0.0;
+    move_.integer = 0;
+    move_.feed_mode = FeedMode::units_per_minute;
+    move_.text.clear();
+    return move_;
   }
   void emit(const Canon& canon) { compensation.pass(canon); }
   void emit(CanonKind kind, const Block& block) { emit(make(kind, block)); }
@@ -688,11 +709,24 @@ void Interpreter::State::execute_o_word(const Block& block) {
 
 Position Interpreter::State::target(const Block& block, bool machine_coordinates) const {
   static constexpr char kLetters[kAxes] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
+  // The axis of each word slot (-1: not an axis), and the slots that are axes.
+  static constexpr auto kAxisOfSlot = [] {
+    std::array<int, 26> axis_of{};
+    axis_of.fill(-1);
+    for (int axis = 0; axis < kAxes; ++axis) axis_of[kLetters[axis] - 'a'] = axis;
+    return axis_of;
+  }();
+  static constexpr std::uint32_t kAxisSlots = [] {
+    std::uint32_t mask = 0;
+    for (const char letter : kLetters) mask |= 1u << (letter - 'a');
+    return mask;
+  }();
   Position end = pos;
   const Position offsets = machine_coordinates ? total_offset_mm() : Position{};
-  for (int axis = 0; axis < kAxes; ++axis) {
-    if (!block.has(kLetters[axis])) continue;
-    const double value = block.value(kLetters[axis]);
+  for (std::uint32_t used = block.letters & kAxisSlots; used != 0; used &= used - 1) {
+    const int slot = std::countr_zero(used);
+    const int axis = kAxisOfSlot[static_cast<std::size_t>(slot)];
+    const double value = block.words[static_cast<std::size_t>(slot)]->value;
     if (machine_coordinates) {
       end[axis] = value - axis_from_mm(axis, offsets[axis]);
     } else {
@@ -729,7 +763,7 @@ void Interpreter::State::require_feed(const Block& block, int column) const {
 }
 
 void Interpreter::State::straight(CanonKind kind, const Block& block, const Position& end) {
-  Canon canon = make(kind, block);
+  Canon& canon = next_move(kind, block);
   canon.end = end;
   canon.value = feed;  // the F in effect: the planner's programmed speed (or inverse time)
   canon.feed_mode = feed_mode;
@@ -817,7 +851,7 @@ void Interpreter::State::arc(const Block& block, int code, const Position& end) 
       fail(column, message);
     }
   }
-  Canon canon = make(CanonKind::arc, block);
+  Canon& canon = next_move(CanonKind::arc, block);
   canon.end = end;
   canon.value = feed;
   canon.feed_mode = feed_mode;
@@ -1142,8 +1176,13 @@ void Interpreter::State::execute_block(const Block& block) {
   const Code* const non_modal = g_in(0);
   const Code* const motion_code = g_in(1);
   static constexpr char kAxisLetters[] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
-  bool has_axis = block.words['g' - 'a'].has_value() || block.words['m' - 'a'].has_value();
-  for (const char letter : kAxisLetters) has_axis = has_axis || block.has(letter);
+  // Axis words and the polar words, which use the slots of G and M.
+  static constexpr std::uint32_t kAxisSlots = [] {
+    std::uint32_t mask = (1u << ('g' - 'a')) | (1u << ('m' - 'a'));
+    for (const char letter : kAxisLetters) mask |= 1u << (letter - 'a');
+    return mask;
+  }();
+  bool has_axis = (block.letters & kAxisSlots) != 0;
 
   // 1. feed mode, feed, speed, tool.
   if (const auto code = g_in(5)) {
@@ -1184,43 +1223,45 @@ void Interpreter::State::execute_block(const Block& block) {
     c.integer = selected_tool;
     emit(c);
   }
-  // 2. tool change, spindle, coolant, overrides.
-  if (m_by_group[6]) {
-    const Code code = *m_by_group[6];
-    refuse_with_compensation(code, "change tools");
-    if (code.tenths == 60) {
-      Canon c = make(CanonKind::change_tool, block);
-      c.integer = selected_tool;
-      emit(c);
+  // 2. tool change, spindle, coolant, overrides (most blocks have no M code).
+  if (m_by_group.any()) {
+    if (m_by_group[6]) {
+      const Code code = *m_by_group[6];
+      refuse_with_compensation(code, "change tools");
+      if (code.tenths == 60) {
+        Canon c = make(CanonKind::change_tool, block);
+        c.integer = selected_tool;
+        emit(c);
+      }
+      if (tool_off_path) pos = *tool_off_path;
+      tool_off_path.reset();
+      tool_in_spindle = code.tenths == 610 ? static_cast<int>(block.has('q') ? block.value('q') : 0)
+                                           : selected_tool;
     }
-    if (tool_off_path) pos = *tool_off_path;
-    tool_off_path.reset();
-    tool_in_spindle = code.tenths == 610 ? static_cast<int>(block.has('q') ? block.value('q') : 0)
-                                         : selected_tool;
-  }
-  if (m_by_group[7]) {
-    const int code = m_by_group[7]->tenths;
-    if (code == 30) emit(CanonKind::spindle_clockwise, block);
-    if (code == 40) emit(CanonKind::spindle_counterclockwise, block);
-    if (code == 50) emit(CanonKind::spindle_stop, block);
-  }
-  for (const int group : {8, 11}) {
-    if (!m_by_group[group]) continue;
-    const int code = m_by_group[group]->tenths;
-    if (code == 70) emit(CanonKind::mist_on, block);
-    if (code == 80) emit(CanonKind::flood_on, block);
-    if (code == 90) {
-      emit(CanonKind::mist_off, block);
-      emit(CanonKind::flood_off, block);
+    if (m_by_group[7]) {
+      const int code = m_by_group[7]->tenths;
+      if (code == 30) emit(CanonKind::spindle_clockwise, block);
+      if (code == 40) emit(CanonKind::spindle_counterclockwise, block);
+      if (code == 50) emit(CanonKind::spindle_stop, block);
     }
-  }
-  for (const int group : {9, 5, 10}) {
-    if (!m_by_group[group]) continue;
-    const int code = m_by_group[group]->tenths;
-    Canon event = make(CanonKind::event, block);
-    event.text = code_name('M', code);
-    if (group == 10) warn(code_name('M', code) + " (user M-code) passed on as an event");
-    emit(event);
+    for (const int group : {8, 11}) {
+      if (!m_by_group[group]) continue;
+      const int code = m_by_group[group]->tenths;
+      if (code == 70) emit(CanonKind::mist_on, block);
+      if (code == 80) emit(CanonKind::flood_on, block);
+      if (code == 90) {
+        emit(CanonKind::mist_off, block);
+        emit(CanonKind::flood_off, block);
+      }
+    }
+    for (const int group : {9, 5, 10}) {
+      if (!m_by_group[group]) continue;
+      const int code = m_by_group[group]->tenths;
+      Canon event = make(CanonKind::event, block);
+      event.text = code_name('M', code);
+      if (group == 10) warn(code_name('M', code) + " (user M-code) passed on as an event");
+      emit(event);
+    }
   }
   // 3. dwell.
   if (non_modal && non_modal->tenths == 40) {
@@ -1228,102 +1269,105 @@ void Interpreter::State::execute_block(const Block& block) {
     if (block.value('p') < 0.0) fail(block.word('p')->column, "negative dwell");
     dwell(block, block.value('p'));
   }
-  // 4. plane, units, cutter compensation, tool length.
-  if (const auto code = g_in(2)) {
-    const Plane wanted = code->tenths == 170   ? Plane::xy
-                         : code->tenths == 180 ? Plane::xz
-                                               : Plane::yz;
-    if (wanted != plane) refuse_with_compensation(*code, "change planes");
-    plane = wanted;
-    emit(CanonKind::select_plane, block);
+  if (!g_in(7) && block.word('d')) {
+    fail(block.word('d')->column, "D word with no G41, G42, G41.1 or G42.1 to use it");
   }
-  if (const auto code = g_in(6)) {
-    const LengthUnits wanted = code->tenths == 200 ? LengthUnits::inch : LengthUnits::mm;
-    if (wanted != units) {
-      const double factor = wanted == LengthUnits::inch ? 1.0 / kMmPerInch : kMmPerInch;
-      for (int axis = 0; axis < kAxes; ++axis) {
-        if (is_linear(axis)) pos[axis] *= factor;
-      }
-      feed *= factor;
-      units = wanted;
-      compensation.rescale(factor, units);
+  // 4. plane, units, cutter compensation, tool length; 5. coordinate system, path control,
+  // distance modes, retract mode (most blocks have no G code).
+  if (g_by_group.any()) {
+    if (const auto code = g_in(2)) {
+      const Plane wanted = code->tenths == 170   ? Plane::xy
+                           : code->tenths == 180 ? Plane::xz
+                                                 : Plane::yz;
+      if (wanted != plane) refuse_with_compensation(*code, "change planes");
+      plane = wanted;
+      emit(CanonKind::select_plane, block);
     }
-    emit(CanonKind::use_length_units, block);
-  }
-  if (const auto code = g_in(7)) {
-    if (code->tenths == 400) {
-      try {
-        const Position tool = compensation.tool_position(pos);
-        straight_exit = compensation.turn_off();
-        if (straight_exit) tool_off_path = tool;
-      } catch (const CompensationError& error) {
-        fail(code->column, error.what());
-      }
-    } else {
-      start_compensation(block, *code);
-    }
-  } else if (const auto& d = block.word('d')) {
-    fail(d->column, "D word with no G41, G42, G41.1 or G42.1 to use it");
-  }
-  if (const auto code = g_in(8)) {
-    refuse_with_compensation(*code, "change the tool length offset");
-    Position offset{};
-    if (code->tenths == 430) {
-      const int tool =
-          block.has('h') ? static_cast<int>(std::lround(block.value('h'))) : tool_in_spindle;
-      if (tool != 0) {
-        if (options.tool_table && !options.tool_table->count(tool)) {
-          fail(code->column, "tool " + std::to_string(tool) + " for G43 not in the tool table");
+    if (const auto code = g_in(6)) {
+      const LengthUnits wanted = code->tenths == 200 ? LengthUnits::inch : LengthUnits::mm;
+      if (wanted != units) {
+        const double factor = wanted == LengthUnits::inch ? 1.0 / kMmPerInch : kMmPerInch;
+        for (int axis = 0; axis < kAxes; ++axis) {
+          if (is_linear(axis)) pos[axis] *= factor;
         }
-        if (options.tool_table) offset = options.tool_table->at(tool).offset;
+        feed *= factor;
+        units = wanted;
+        compensation.rescale(factor, units);
       }
-    } else if (code->tenths == 431) {
-      for (int axis = 0; axis < kAxes; ++axis) {
-        if (block.has(kAxisLetters[axis]))
-          offset[axis] = axis_to_mm(axis, block.value(kAxisLetters[axis]));
-      }
-      has_axis = false;  // the axis words were the offset
-    } else if (code->tenths == 432) {
-      fail(code->column, "G43.2 is not supported");
+      emit(CanonKind::use_length_units, block);
     }
-    // The program position stays: the machine makes up the new length on the next move.
-    tool_offset_mm = offset;
-    Canon c = make(CanonKind::tool_length_offset, block);
-    for (int axis = 0; axis < kAxes; ++axis) c.end[axis] = axis_from_mm(axis, offset[axis]);
-    emit(c);
-  }
-  // 5. coordinate system, path control, distance modes, retract mode.
-  if (const auto code = g_in(12)) {
-    static constexpr int kCodes[] = {540, 550, 560, 570, 580, 590, 591, 592, 593};
-    const int system =
-        static_cast<int>(std::find(std::begin(kCodes), std::end(kCodes), code->tenths) -
-                         std::begin(kCodes)) +
-        1;
-    refuse_with_compensation(*code, "change coordinate systems");
-    const Position old_total = total_offset_mm();
-    coord_system = system;
-    parameters.set_numbered(5220, system);
-    reexpress(old_total);
-    emit_offsets(block);
-  }
-  if (const auto code = g_in(13)) {
-    refuse_with_compensation(*code, "change the path control mode");
-    path_mode = code->tenths == 640 ? 64 : code->tenths == 610 ? 61 : 611;
-    path_tolerance = code->tenths == 640 && block.has('p') ? block.value('p') : 0.0;
-    Canon c = make(CanonKind::path_control, block);
-    c.integer = path_mode;
-    c.value = path_tolerance;
-    c.value2 = block.has('q') ? block.value('q') : 0.0;
-    emit(c);
-  }
-  if (const auto code = g_in(3)) absolute = code->tenths == 900;
-  if (const auto code = g_in(4)) arc_absolute = code->tenths == 901;
-  if (const auto code = g_in(10)) retract_to_old = code->tenths == 980;
-  if (const auto code = g_in(14)) {
-    if (code->tenths == 960) fail(code->column, "G96 (constant surface speed) is not supported");
-  }
-  if (const auto code = g_in(15)) {
-    (void)code;  // lathe radius/diameter mode: no effect on these machines
+    if (const auto code = g_in(7)) {
+      if (code->tenths == 400) {
+        try {
+          const Position tool = compensation.tool_position(pos);
+          straight_exit = compensation.turn_off();
+          if (straight_exit) tool_off_path = tool;
+        } catch (const CompensationError& error) {
+          fail(code->column, error.what());
+        }
+      } else {
+        start_compensation(block, *code);
+      }
+    }
+    if (const auto code = g_in(8)) {
+      refuse_with_compensation(*code, "change the tool length offset");
+      Position offset{};
+      if (code->tenths == 430) {
+        const int tool =
+            block.has('h') ? static_cast<int>(std::lround(block.value('h'))) : tool_in_spindle;
+        if (tool != 0) {
+          if (options.tool_table && !options.tool_table->count(tool)) {
+            fail(code->column, "tool " + std::to_string(tool) + " for G43 not in the tool table");
+          }
+          if (options.tool_table) offset = options.tool_table->at(tool).offset;
+        }
+      } else if (code->tenths == 431) {
+        for (int axis = 0; axis < kAxes; ++axis) {
+          if (block.has(kAxisLetters[axis]))
+            offset[axis] = axis_to_mm(axis, block.value(kAxisLetters[axis]));
+        }
+        has_axis = false;  // the axis words were the offset
+      } else if (code->tenths == 432) {
+        fail(code->column, "G43.2 is not supported");
+      }
+      // The program position stays: the machine makes up the new length on the next move.
+      tool_offset_mm = offset;
+      Canon c = make(CanonKind::tool_length_offset, block);
+      for (int axis = 0; axis < kAxes; ++axis) c.end[axis] = axis_from_mm(axis, offset[axis]);
+      emit(c);
+    }
+    if (const auto code = g_in(12)) {
+      static constexpr int kCodes[] = {540, 550, 560, 570, 580, 590, 591, 592, 593};
+      const int system =
+          static_cast<int>(std::find(std::begin(kCodes), std::end(kCodes), code->tenths) -
+                           std::begin(kCodes)) +
+          1;
+      refuse_with_compensation(*code, "change coordinate systems");
+      const Position old_total = total_offset_mm();
+      coord_system = system;
+      parameters.set_numbered(5220, system);
+      reexpress(old_total);
+      emit_offsets(block);
+    }
+    if (const auto code = g_in(13)) {
+      refuse_with_compensation(*code, "change the path control mode");
+      path_mode = code->tenths == 640 ? 64 : code->tenths == 610 ? 61 : 611;
+      path_tolerance = code->tenths == 640 && block.has('p') ? block.value('p') : 0.0;
+      Canon c = make(CanonKind::path_control, block);
+      c.integer = path_mode;
+      c.value = path_tolerance;
+      c.value2 = block.has('q') ? block.value('q') : 0.0;
+      emit(c);
+    }
+    if (const auto code = g_in(3)) absolute = code->tenths == 900;
+    if (const auto code = g_in(4)) arc_absolute = code->tenths == 901;
+    if (const auto code = g_in(10)) retract_to_old = code->tenths == 980;
+    if (const auto code = g_in(14)) {
+      if (code->tenths == 960) fail(code->column, "G96 (constant surface speed) is not supported");
+    }
+    if (const auto code = g_in(15)) {
+      (void)code;  // lathe radius/diameter mode: no effect on these machines
+    }
   }
   // 6. home, coordinate data, axis offsets.
   bool axes_used = false;
