@@ -133,6 +133,18 @@ TEST(ControlFlow, SubroutinesLoopsAndConditions) {
                    16.0);
 }
 
+TEST(ControlFlow, JumpsAcrossReadsInLongCrlfPrograms) {
+  // The source is read 64 KB at a time: a subroutine 500 KB before its call, a line longer
+  // than one read, and a loop jumping back within what was read, all with CRLF line ends.
+  std::string program = "o<twice> sub\r\n#<_v> = [#1 * 2]\r\no<twice> endsub\r\n";
+  for (int i = 0; i < 20000; ++i) program += "(padding line " + std::to_string(i) + ")\r\n";
+  program += "(" + std::string(100000, 'x') + ")\r\n";
+  program +=
+      "#1=0\r\no1 while [#1 LT 3]\r\no<twice> call [#1]\r\n#1=[#1+1]\r\no1 endwhile\r\n"
+      "G0 X[#<_v> + #1]";
+  EXPECT_DOUBLE_EQ(last_x(program), 7.0);  // the last call doubled 2; #1 is 3
+}
+
 TEST(Motion, ArcsUnitsAndOffsets) {
   const Result result = interpret(
       "G21 G17 G90\nG0 X0 Y0 Z0\nG1 F100 X10\nG3 X0 Y10 R10\nG18 G2 X20 Z0 I10 K0\n"

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <stdexcept>
 
 namespace pkm::gcode {
 
@@ -96,8 +97,8 @@ int precedence(Operator op) {
 // loops stop on it without a separate bounds check.
 class Reader {
  public:
-  Reader(const std::string& line, const Parameters& parameters)
-      : line_(line), data_(line.c_str()), parameters_(parameters) {}
+  Reader(std::string_view line, const Parameters& parameters)
+      : line_(line), data_(line.data()), parameters_(parameters) {}
 
   void read(Block& block) {
     block.clear();
@@ -124,7 +125,7 @@ class Reader {
       if (c == '(') {
         block.comments.push_back({read_comment(), column});
       } else if (c == ';') {
-        block.comments.push_back({line_.substr(pos_ + 1), column});
+        block.comments.push_back({std::string(line_.substr(pos_ + 1)), column});
         pos_ = line_.size();
       } else if (c == 'n' && block.empty && block.n_label.empty()) {
         ++pos_;
@@ -228,7 +229,7 @@ class Reader {
     const std::size_t open = line_.find('(', pos_ + 1);
     if (open != std::string::npos && open < close)
       fail(static_cast<int>(open) + 1, "nested comment");
-    std::string text = line_.substr(pos_ + 1, close - pos_ - 1);
+    std::string text(line_.substr(pos_ + 1, close - pos_ - 1));
     pos_ = close + 1;
     return text;
   }
@@ -588,25 +589,28 @@ class Reader {
     return o;
   }
 
-  const std::string& line_;
-  const char* data_;  // line_.c_str(): NUL-terminated
+  std::string_view line_;
+  const char* data_;  // line_.data(), a NUL after its last character
   const Parameters& parameters_;
   std::size_t pos_ = 0;
 };
 
 }  // namespace
 
-void read_block(const std::string& line, const Parameters& parameters, Block& block) {
+void read_block(std::string_view line, const Parameters& parameters, Block& block) {
+  if (line.data()[line.size()] != '\0') {
+    throw std::invalid_argument("read_block: the line must be followed by a NUL");
+  }
   Reader(line, parameters).read(block);
 }
 
 Block read_block(const std::string& line, const Parameters& parameters) {
   Block block;
-  read_block(line, parameters, block);
+  read_block(std::string_view(line), parameters, block);
   return block;
 }
 
-std::string o_word_keyword(const std::string& line, std::string* label) {
+std::string o_word_keyword(std::string_view line, std::string* label) {
   // Letters and digits with spaces, tabs and comments removed, lower case.
   std::string compact;
   for (std::size_t i = 0; i < line.size(); ++i) {

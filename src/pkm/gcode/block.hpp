@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "pkm/gcode/gcode_error.hpp"
@@ -85,11 +86,12 @@ struct Block {
 // Reads `line` (one physical line, without its line end). Throws SyntaxError with the column of
 // the problem.
 Block read_block(const std::string& line, const Parameters& parameters);
-// The same into an existing block, reusing its storage.
-void read_block(const std::string& line, const Parameters& parameters, Block& block);
+// The same into an existing block, reusing its storage. The line must be followed by a NUL
+// (line.data()[line.size()] == '\0', as for a std::string): the reader scans up to it.
+void read_block(std::string_view line, const Parameters& parameters, Block& block);
 
 // The keyword of an O-word line (and its label), without evaluating anything: what control flow
 // needs of the lines it skips. Empty when the line is no O-word line.
-std::string o_word_keyword(const std::string& line, std::string* label = nullptr);
+std::string o_word_keyword(std::string_view line, std::string* label = nullptr);
 
 }  // namespace pkm::gcode

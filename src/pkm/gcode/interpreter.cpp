@@ -190,9 +190,15 @@ class LineSource {
   explicit LineSource(const std::filesystem::path& path) : file_(std::fopen(path.c_str(), "rb")) {}
   bool is_open() const { return file_ != nullptr; }
 
-  // The line starting at byte `offset` into `line`, without its "\n" or "\r\n". Returns the
-  // offset of the line after it, or nothing at the end of the file.
-  std::optional<std::int64_t> read(std::int64_t offset, std::string& line) {
+  // The line starting at byte `offset`, without its "\n" or "\r\n", as a view into the
+  // buffer with a NUL after it (what the block reader needs); valid until the next read.
+  // Returns it and the offset of the line after it, or nothing at the end of the file.
+  std::optional<std::pair<std::string_view, std::int64_t>> read(std::int64_t offset) {
+    if (patched_ != nullptr) {
+      // The previous line's NUL stood on its line end; a jump back must find that again.
+      *patched_ = patched_character_;
+      patched_ = nullptr;
+    }
     if (offset < buffer_offset_ || offset > buffer_offset_ + static_cast<std::int64_t>(filled_)) {
       ::fseeko(file_.get(), static_cast<off_t>(offset), SEEK_SET);
       buffer_offset_ = offset;
@@ -201,16 +207,21 @@ class LineSource {
     }
     std::size_t begin = static_cast<std::size_t>(offset - buffer_offset_);
     while (true) {
-      const char* start = buffer_.data() + begin;
+      char* start = buffer_.data() + begin;
       const std::size_t available = filled_ - begin;
-      const auto* newline = static_cast<const char*>(std::memchr(start, '\n', available));
+      char* newline = static_cast<char*>(std::memchr(start, '\n', available));
       if (newline != nullptr || at_end_) {
         if (newline == nullptr && available == 0) return std::nullopt;
-        const std::size_t length =
+        std::size_t length =
             newline != nullptr ? static_cast<std::size_t>(newline - start) : available;
-        line.assign(start, length);
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        return offset + static_cast<std::int64_t>(length + (newline != nullptr ? 1 : 0));
+        const std::int64_t following =
+            offset + static_cast<std::int64_t>(length + (newline != nullptr ? 1 : 0));
+        if (length > 0 && start[length - 1] == '\r') --length;
+        // The buffer always has a byte to spare after what was read: the NUL fits.
+        patched_ = start + length;
+        patched_character_ = *patched_;
+        *patched_ = '\0';
+        return std::pair{std::string_view(start, length), following};
       }
       // Keep the unfinished line at the front and read on (a longer line grows the buffer).
       // The file stays positioned at buffer_offset_ + filled_.
@@ -218,9 +229,9 @@ class LineSource {
       buffer_offset_ += static_cast<std::int64_t>(begin);
       filled_ = available;
       begin = 0;
-      if (filled_ == buffer_.size()) buffer_.resize(2 * buffer_.size());
+      if (filled_ + 1 >= buffer_.size()) buffer_.resize(2 * buffer_.size());
       const std::size_t count =
-          std::fread(buffer_.data() + filled_, 1, buffer_.size() - filled_, file_.get());
+          std::fread(buffer_.data() + filled_, 1, buffer_.size() - 1 - filled_, file_.get());
       filled_ += count;
       at_end_ = count == 0;
     }
@@ -235,6 +246,8 @@ class LineSource {
   std::int64_t buffer_offset_ = 0;  // the file offset of buffer_[0]
   std::size_t filled_ = 0;          // bytes of buffer_ read from the file
   bool at_end_ = false;             // the file ends after them
+  char* patched_ = nullptr;         // where the last line's NUL stands
+  char patched_character_ = 0;      // and what stood there
 };
 
 }  // namespace
@@ -330,18 +343,20 @@ struct Interpreter::State {
   }
 
   // ---- source -------------------------------------------------------------------------
-  bool read_line(std::string& line) {
+  // The next line into `line`, a view valid until the next read.
+  bool read_line(std::string_view& line) {
     current = next;
-    const auto following = source.read(next.position, line);
-    if (!following) return false;
-    next = {*following, current.line + 1};
+    const auto read = source.read(next.position);
+    if (!read) return false;
+    line = read->first;
+    next = {read->second, current.line + 1};
     return true;
   }
   void jump(const Mark& mark) { next = mark; }
   Mark after(const Mark& mark) {
     const Mark saved_next = next, saved_current = current;
     jump(mark);
-    std::string ignored;
+    std::string_view ignored;
     read_line(ignored);
     const Mark result = next;
     jump(saved_next);
@@ -440,7 +455,7 @@ struct Interpreter::State {
   }
 
   void run(const CanonSink& output);
-  void execute_line(const std::string& line);
+  void execute_line(std::string_view line);
   void apply_assignments(const Block& block);
   void execute_o_word(const Block& block);
   void execute_block(const Block& block);
@@ -482,7 +497,7 @@ struct Interpreter::State {
 void Interpreter::State::run(const CanonSink& output) {
   sink = &output;
   compensation.reset(output);
-  std::string line;
+  std::string_view line;
   bool first_content = true;
   while (!ended && read_line(line)) {
     if (first_content) {
@@ -507,7 +522,7 @@ void Interpreter::State::run(const CanonSink& output) {
   }
 }
 
-void Interpreter::State::execute_line(const std::string& line) {
+void Interpreter::State::execute_line(std::string_view line) {
   Block& block = block_;
   try {
     read_block(line, parameters, block);
@@ -537,7 +552,7 @@ void Interpreter::State::skip_to(const std::string& label,
                                  std::initializer_list<std::string_view> keywords,
                                  std::string* found_keyword, int column) {
   const int start_line = current.line;
-  std::string line;
+  std::string_view line;
   while (read_line(line)) {
     std::string found_label;
     const std::string keyword = o_word_keyword(line, &found_label);
@@ -559,7 +574,7 @@ Interpreter::State::Mark Interpreter::State::find_subroutine(const std::string& 
   if (known != subroutines.end()) return known->second;
   // Not yet seen: look for its definition further on, then come back.
   const Mark saved_next = next, saved_current = current;
-  std::string line;
+  std::string_view line;
   while (read_line(line)) {
     std::string found;
     if (o_word_keyword(line, &found) == "sub") {
