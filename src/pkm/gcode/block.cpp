@@ -274,9 +274,12 @@ class Reader {
       decimals = at - first_decimal;
     }
     // A space ends the number unless more of it follows ("1 0 . 5").
-    std::size_t next = at;
-    while (data[next] == ' ' || data[next] == '\t') ++next;
-    const bool continues = next != at && (is_digit(data[next]) || data[next] == '.');
+    bool continues = false;
+    if (data[at] == ' ' || data[at] == '\t') {
+      std::size_t next = at + 1;
+      while (data[next] == ' ' || data[next] == '\t') ++next;
+      continues = is_digit(data[next]) || data[next] == '.';
+    }
     if (!continues && whole_digits + decimals > 0 && whole_digits + decimals <= 19 &&
         mantissa <= kExactMantissa && decimals <= 22) {
       pos_ = at;

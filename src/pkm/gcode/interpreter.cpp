@@ -737,14 +737,20 @@ Position Interpreter::State::target(const Block& block, bool machine_coordinates
     return mask;
   }();
   Position end = pos;
-  const Position offsets = machine_coordinates ? total_offset_mm() : Position{};
-  for (std::uint32_t used = block.letters & kAxisSlots; used != 0; used &= used - 1) {
-    const int slot = std::countr_zero(used);
-    const int axis = kAxisOfSlot[static_cast<std::size_t>(slot)];
-    const double value = block.words[static_cast<std::size_t>(slot)]->value;
-    if (machine_coordinates) {
-      end[axis] = value - axis_from_mm(axis, offsets[axis]);
-    } else {
+  const std::uint32_t axes = block.letters & kAxisSlots;
+  if (machine_coordinates) {
+    const Position offsets = total_offset_mm();
+    for (std::uint32_t used = axes; used != 0; used &= used - 1) {
+      const int slot = std::countr_zero(used);
+      const int axis = kAxisOfSlot[static_cast<std::size_t>(slot)];
+      end[axis] =
+          block.words[static_cast<std::size_t>(slot)]->value - axis_from_mm(axis, offsets[axis]);
+    }
+  } else {
+    for (std::uint32_t used = axes; used != 0; used &= used - 1) {
+      const int slot = std::countr_zero(used);
+      const int axis = kAxisOfSlot[static_cast<std::size_t>(slot)];
+      const double value = block.words[static_cast<std::size_t>(slot)]->value;
       end[axis] = absolute ? value : pos[axis] + value;
     }
   }
