@@ -259,16 +259,18 @@ class Reader {
     const std::size_t begin = pos_;
     std::size_t at = begin;
     std::uint64_t mantissa = 0;
-    while (is_digit(data[at])) {
-      mantissa = mantissa * 10 + static_cast<std::uint64_t>(data[at] - '0');
+    // One unsigned compare per character: anything below '0' wraps round to a large value.
+    unsigned digit = 0;
+    while ((digit = static_cast<unsigned char>(data[at]) - unsigned{'0'}) <= 9) {
+      mantissa = mantissa * 10 + digit;
       ++at;
     }
     const std::size_t whole_digits = at - begin;
     std::size_t decimals = 0;
     if (data[at] == '.') {
       const std::size_t first_decimal = ++at;
-      while (is_digit(data[at])) {
-        mantissa = mantissa * 10 + static_cast<std::uint64_t>(data[at] - '0');
+      while ((digit = static_cast<unsigned char>(data[at]) - unsigned{'0'}) <= 9) {
+        mantissa = mantissa * 10 + digit;
         ++at;
       }
       decimals = at - first_decimal;

@@ -420,12 +420,9 @@ struct Interpreter::State {
     }
     move_.units = units;
     move_.plane = plane;
+    // Moves set value and feed_mode themselves and never value2, integer or text.
     move_.center = {};
     move_.turns = 0;
-    move_.value = move_.value2 = 0.0;
-    move_.integer = 0;
-    move_.feed_mode = FeedMode::units_per_minute;
-    move_.text.clear();
     return move_;
   }
   void emit(const Canon& canon) { compensation.pass(canon); }
@@ -1134,6 +1131,25 @@ void Interpreter::State::set_coordinates(const Block& block) {
 }
 
 void Interpreter::State::execute_block(const Block& block) {
+  // Most lines of a CAM program are bare axis words continuing a G0 or G1: nothing but the move
+  // to make. (The general path below makes the same move; this one skips its checks.)
+  static constexpr std::uint32_t kAxisWords = [] {
+    std::uint32_t mask = 0;
+    for (const char letter : {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'}) {
+      mask |= 1u << (letter - 'a');
+    }
+    return mask;
+  }();
+  if ((motion == 0 || motion == 10) && block.letters != 0 && (block.letters & ~kAxisWords) == 0 &&
+      block.g_codes.empty() && block.m_codes.empty() && block.comments.empty() &&
+      block.assignments.empty()) {
+    motion_changed = false;
+    move_column = 1;
+    const Position end = target(block, false);
+    if (motion == 10) require_feed(block, 1);
+    straight(motion == 0 ? CanonKind::traverse : CanonKind::feed, block, end);
+    return;
+  }
   apply_assignments(block);
   for (const Comment& comment : block.comments) {
     std::string text = comment.text;
