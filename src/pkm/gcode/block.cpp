@@ -32,6 +32,45 @@ constexpr bool is_blank(char c) {
   return kBlank[static_cast<unsigned char>(c)];
 }
 
+// A plain number at `p`: digits with at most one point, no space inside, exact by Clinger's fast
+// path (a mantissa below 2^53 and at most 22 decimals are exact doubles, so one division
+// rounds correctly, as strtod would). Returns the end of the number and sets `value`, or
+// returns nullptr for anything else (the general reader takes it). `p` is NUL-terminated.
+inline const char* scan_plain_number(const char* p, double& value) {
+  static constexpr double kPowersOfTen[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                            1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                            1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  constexpr std::uint64_t kExactMantissa = std::uint64_t{1} << 53;
+  const char* const begin = p;
+  std::uint64_t mantissa = 0;
+  // One unsigned compare per character: anything below '0' wraps round to a large value.
+  unsigned digit = 0;
+  while ((digit = static_cast<unsigned char>(*p) - unsigned{'0'}) <= 9) {
+    mantissa = mantissa * 10 + digit;
+    ++p;
+  }
+  std::size_t digits = static_cast<std::size_t>(p - begin);
+  std::size_t decimals = 0;
+  if (*p == '.') {
+    const char* const first_decimal = ++p;
+    while ((digit = static_cast<unsigned char>(*p) - unsigned{'0'}) <= 9) {
+      mantissa = mantissa * 10 + digit;
+      ++p;
+    }
+    decimals = static_cast<std::size_t>(p - first_decimal);
+    digits += decimals;
+  }
+  if (digits == 0 || digits > 19 || mantissa > kExactMantissa || decimals > 22) return nullptr;
+  if (*p == ' ' || *p == '\t') {
+    // A space ends the number unless more of it follows ("1 0 . 5" is 10.5).
+    const char* next = p + 1;
+    while (*next == ' ' || *next == '\t') ++next;
+    if (is_digit(*next) || *next == '.') return nullptr;
+  }
+  value = static_cast<double>(mantissa) / kPowersOfTen[decimals];
+  return p;
+}
+
 constexpr double kEqualTolerance = 1e-4;  // LinuxCNC's EQ/NE compare within this
 
 // O-word keywords, a keyword before any other it is a prefix of ("endsub" before "end...").
@@ -184,7 +223,7 @@ class Reader {
       const char letter = slot == 'g' - 'a' ? '@' : slot == 'm' - 'a' ? '^' : 'a' + slot;
       fail(column, std::string("multiple ") + display(letter) + " words on one line");
     }
-    word = Word{read_real(), column};
+    word = Word{read_value(), column};
     block.letters |= 1u << slot;
     block.empty = false;
   }
@@ -246,46 +285,29 @@ class Reader {
     return digits;
   }
 
+  // A word's value: a plain number, maybe negative, read with the position in a register;
+  // anything else by read_real().
+  double read_value() {
+    const char* p = data_ + pos_;
+    while (is_blank(*p)) ++p;
+    const bool negative = *p == '-';
+    if (negative) {
+      ++p;
+      while (is_blank(*p)) ++p;
+    }
+    double value = 0.0;
+    if (const char* end = scan_plain_number(p, value)) {
+      pos_ = static_cast<std::size_t>(end - data_);
+      return negative ? -value : value;
+    }
+    return read_real();
+  }
+
   double read_number() {
-    // Almost every number is digits, maybe a point, more digits, with no space inside: read
-    // those in one pass. Clinger's fast path is exact: with the mantissa below 2^53 and at most
-    // 22 decimals, mantissa and power of ten are exact doubles and one division rounds
-    // correctly, as strtod would.
-    static constexpr double kPowersOfTen[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                              1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-                                              1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-    constexpr std::uint64_t kExactMantissa = std::uint64_t{1} << 53;
-    const char* const data = data_;
-    const std::size_t begin = pos_;
-    std::size_t at = begin;
-    std::uint64_t mantissa = 0;
-    // One unsigned compare per character: anything below '0' wraps round to a large value.
-    unsigned digit = 0;
-    while ((digit = static_cast<unsigned char>(data[at]) - unsigned{'0'}) <= 9) {
-      mantissa = mantissa * 10 + digit;
-      ++at;
-    }
-    const std::size_t whole_digits = at - begin;
-    std::size_t decimals = 0;
-    if (data[at] == '.') {
-      const std::size_t first_decimal = ++at;
-      while ((digit = static_cast<unsigned char>(data[at]) - unsigned{'0'}) <= 9) {
-        mantissa = mantissa * 10 + digit;
-        ++at;
-      }
-      decimals = at - first_decimal;
-    }
-    // A space ends the number unless more of it follows ("1 0 . 5").
-    bool continues = false;
-    if (data[at] == ' ' || data[at] == '\t') {
-      std::size_t next = at + 1;
-      while (data[next] == ' ' || data[next] == '\t') ++next;
-      continues = is_digit(data[next]) || data[next] == '.';
-    }
-    if (!continues && whole_digits + decimals > 0 && whole_digits + decimals <= 19 &&
-        mantissa <= kExactMantissa && decimals <= 22) {
-      pos_ = at;
-      return static_cast<double>(mantissa) / kPowersOfTen[decimals];
+    double value = 0.0;
+    if (const char* end = scan_plain_number(data_ + pos_, value)) {
+      pos_ = static_cast<std::size_t>(end - data_);
+      return value;
     }
     return read_spaced_or_long_number();
   }
