@@ -163,8 +163,10 @@ class Reader {
       }
       if (c == '(') {
         block.comments.push_back({read_comment(), column});
+        block.plain = false;
       } else if (c == ';') {
         block.comments.push_back({std::string(line_.substr(pos_ + 1)), column});
+        block.plain = false;
         pos_ = line_.size();
       } else if (c == 'n' && block.empty && block.n_label.empty()) {
         ++pos_;
@@ -174,6 +176,7 @@ class Reader {
         if (!block.empty) fail(column, "an O-word must come first on its line");
         block.o_word = read_o_word(column);
         block.empty = false;
+        block.plain = false;
         // Only a comment may follow an O-word's arguments.
         const char rest = peek();
         if (rest != 0 && rest != '(' && rest != ';') {
@@ -182,6 +185,7 @@ class Reader {
       } else if (c == '#') {
         block.assignments.push_back(read_assignment(column));
         block.empty = false;
+        block.plain = false;
       } else if (c == 'g' || c == 'm') {
         ++pos_;
         const double value = read_real();
@@ -189,6 +193,7 @@ class Reader {
         if (std::abs(tenths - std::round(tenths)) > 1e-3 || value < 0.0) {
           fail(column, std::string("bad ") + static_cast<char>(std::toupper(c)) + " code");
         }
+        block.plain = false;
         (c == 'g' ? block.g_codes : block.m_codes)
             .push_back({static_cast<int>(std::lround(tenths)), column});
         block.empty = false;

@@ -49,10 +49,11 @@ struct OWord {
 };
 
 struct Block {
-  bool empty = true;                          // nothing but whitespace or comments
-  bool block_delete = false;                  // starts with '/'
-  bool percent = false;                       // a '%' line
-  std::string n_label;                        // digits of the N word as written, or empty
+  bool empty = true;          // nothing but whitespace or comments
+  bool block_delete = false;  // starts with '/'
+  bool percent = false;       // a '%' line
+  bool plain = true;          // words only: no codes, comments, assignments or O-word
+  std::string n_label;        // digits of the N word as written, or empty
   std::array<std::optional<Word>, 26> words;  // letters other than G, M, N, O
   std::uint32_t letters = 0;                  // bit per slot of `words` in use
   std::vector<Code> g_codes;
@@ -67,6 +68,7 @@ struct Block {
     empty = true;
     block_delete = false;
     percent = false;
+    plain = true;
     n_label.clear();
     // Only the slots in use: most lines hold a few words of 26.
     for (std::uint32_t used = letters; used != 0; used &= used - 1) {

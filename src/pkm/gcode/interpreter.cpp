@@ -1140,9 +1140,8 @@ void Interpreter::State::execute_block(const Block& block) {
     }
     return mask;
   }();
-  if ((motion == 0 || motion == 10) && block.letters != 0 && (block.letters & ~kAxisWords) == 0 &&
-      block.g_codes.empty() && block.m_codes.empty() && block.comments.empty() &&
-      block.assignments.empty()) {
+  if (block.plain && (motion == 0 || motion == 10) && block.letters != 0 &&
+      (block.letters & ~kAxisWords) == 0) {
     motion_changed = false;
     move_column = 1;
     const Position end = target(block, false);
