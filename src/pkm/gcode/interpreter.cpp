@@ -189,6 +189,8 @@ class LineSource {
  public:
   explicit LineSource(const std::filesystem::path& path) : file_(std::fopen(path.c_str(), "rb")) {}
   bool is_open() const { return file_ != nullptr; }
+  // A read or seek failed (read() then returned nothing, as at the end of the file).
+  bool failed() const { return failed_; }
 
   // The line starting at byte `offset`, without its "\n" or "\r\n", as a view into the
   // buffer with a NUL after it (what the block reader needs); valid until the next read.
@@ -200,7 +202,10 @@ class LineSource {
       patched_ = nullptr;
     }
     if (offset < buffer_offset_ || offset > buffer_offset_ + static_cast<std::int64_t>(filled_)) {
-      ::fseeko(file_.get(), static_cast<off_t>(offset), SEEK_SET);
+      if (::fseeko(file_.get(), static_cast<off_t>(offset), SEEK_SET) != 0) {
+        failed_ = true;
+        return std::nullopt;
+      }
       buffer_offset_ = offset;
       filled_ = 0;
       at_end_ = false;
@@ -234,6 +239,10 @@ class LineSource {
           std::fread(buffer_.data() + filled_, 1, buffer_.size() - 1 - filled_, file_.get());
       filled_ += count;
       at_end_ = count == 0;
+      if (at_end_ && std::ferror(file_.get()) != 0) {
+        failed_ = true;
+        return std::nullopt;
+      }
     }
   }
 
@@ -248,6 +257,7 @@ class LineSource {
   bool at_end_ = false;             // the file ends after them
   char* patched_ = nullptr;         // where the last line's NUL stands
   char patched_character_ = 0;      // and what stood there
+  bool failed_ = false;
 };
 
 }  // namespace
@@ -347,10 +357,16 @@ struct Interpreter::State {
   bool read_line(std::string_view& line) {
     current = next;
     const auto read = source.read(next.position);
-    if (!read) return false;
+    if (!read) {
+      if (source.failed()) cannot_read();
+      return false;
+    }
     line = read->first;
     next = {read->second, current.line + 1};
     return true;
+  }
+  [[noreturn, gnu::cold, gnu::noinline]] void cannot_read() const {
+    fail(0, "cannot read the program");
   }
   void jump(const Mark& mark) { next = mark; }
   Mark after(const Mark& mark) {
