@@ -241,6 +241,23 @@ TEST(CutterCompensation, CornersByHand) {
   }
 }
 
+TEST(CutterCompensation, InverseTimeBecomesTheProgrammedMovesRate) {
+  // G93: F60 on the 14.142 mm entry means 848.5 mm/min; F30 on the 20 mm line 600 mm/min, for
+  // the corner arc and the offset line alike (each piece would otherwise take 1/F minutes).
+  const Result result =
+      interpret("G21 G0 X-10 Y-10\nG93 G42.1 D2\nG1 X0 Y0 F60\nY20 F30\nG40\nG94\nM2\n");
+  ASSERT_EQ(result.error, "");
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 4u);
+  EXPECT_EQ(moves[2].kind, CanonKind::arc);
+  EXPECT_NEAR(moves[1].value, 60.0 * std::sqrt(200.0), 1e-9);
+  EXPECT_DOUBLE_EQ(moves[2].value, 600.0);
+  EXPECT_DOUBLE_EQ(moves[3].value, 600.0);
+  for (std::size_t i = 1; i < moves.size(); ++i) {
+    EXPECT_EQ(moves[i].feed_mode, FeedMode::units_per_minute) << i;
+  }
+}
+
 TEST(CutterCompensation, DiameterFromTheToolTableAndWarningForNone) {
   InterpreterOptions options;
   options.tool_table = parse_tool_table("T3 P3 D4.0\n", "test.tbl");

@@ -58,6 +58,26 @@ double swept_angle(PlanePoint start, PlanePoint centre, int turns, PlanePoint en
   return to - from + (turns + 1) * 2.0 * kPi;
 }
 
+// The length of a straight move from `start` to `end`: through X Y Z, or through the other axes
+// when those stay (as LinuxCNC measures an inverse-time move).
+double straight_length(const Position& start, const Position& end) {
+  double linear = 0.0, other = 0.0;
+  for (int axis = 0; axis < kAxes; ++axis) {
+    const double step = end[axis] - start[axis];
+    (axis < 3 ? linear : other) += step * step;
+  }
+  return linear > 0.0 ? std::sqrt(linear) : std::sqrt(other);
+}
+
+// In inverse time (G93) F says how long the programmed move takes. The compensated path is
+// longer or shorter and may gain a corner arc, so, as LinuxCNC does, F becomes the feed rate
+// that gives the programmed move that time, and every piece of it runs at that rate.
+void to_feed_rate(Canon& move, double programmed_length) {
+  if (move.feed_mode != FeedMode::inverse_time) return;
+  move.feed_mode = FeedMode::units_per_minute;
+  move.value *= programmed_length;
+}
+
 // asin/acos argument out of range: the corner has no point where the offset paths meet.
 void require_fit(double cosine_or_sine, const char* what) {
   if (cosine_or_sine > 1.0 || cosine_or_sine < -1.0) {
@@ -215,6 +235,7 @@ void CutterCompensation::enter_arc(Canon move, const Position& start) {
 }
 
 void CutterCompensation::straight(Canon move, const Position& start) {
+  if (move.kind == CanonKind::feed) to_feed_rate(move, straight_length(start, move.end));
   if (entering_) {
     enter_straight(move, start);
     return;
@@ -297,6 +318,13 @@ void CutterCompensation::straight(Canon move, const Position& start) {
 }
 
 void CutterCompensation::arc(Canon move, const Position& start) {
+  {
+    const PlanePoint from = in_plane(start), centre = centre_of(move);
+    const double around =
+        distance(centre, from) * swept_angle(from, centre, move.turns, in_plane(move.end));
+    const int normal = normal_axis(plane_);
+    to_feed_rate(move, std::hypot(around, move.end[normal] - start[normal]));
+  }
   if (entering_) {
     enter_arc(move, start);
     return;
