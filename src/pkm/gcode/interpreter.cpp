@@ -475,7 +475,13 @@ struct Interpreter::State {
   void skip_to(const std::string& label, std::initializer_list<std::string_view> keywords,
                std::string* found_keyword, int column);
   Mark find_subroutine(const std::string& label, int column);
-  Position target(const Block& block, bool machine_coordinates) const;
+  // Where the block's axis words lead, into `end` (the current point where a word is missing).
+  void target(const Block& block, bool machine_coordinates, Position& end) const;
+  Position target(const Block& block, bool machine_coordinates) const {
+    Position end;
+    target(block, machine_coordinates, end);
+    return end;
+  }
   void straight(CanonKind kind, const Block& block, const Position& end);
   // A move through cutter compensation, from the programmed point `pos`.
   void offset(const Canon& move, void (CutterCompensation::*method)(Canon, const Position&)) {
@@ -504,7 +510,10 @@ struct Interpreter::State {
   void cycle(const Block& block, int code, const Position& end);
   void go_home(const Block& block, int code);
   void set_coordinates(const Block& block);
-  void require_feed(const Block& block, int column) const;
+  void require_feed(const Block& block, int column) const {
+    if (feed_mode == FeedMode::inverse_time ? !block.has('f') : !(feed > 0.0)) missing_feed(column);
+  }
+  [[noreturn, gnu::cold, gnu::noinline]] void missing_feed(int column) const;
 };
 
 void Interpreter::State::run(const CanonSink& output) {
@@ -735,7 +744,7 @@ void Interpreter::State::execute_o_word(const Block& block) {
   }
 }
 
-Position Interpreter::State::target(const Block& block, bool machine_coordinates) const {
+void Interpreter::State::target(const Block& block, bool machine_coordinates, Position& end) const {
   static constexpr char kLetters[kAxes] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
   // The axis of each word slot (-1: not an axis), and the slots that are axes.
   static constexpr auto kAxisOfSlot = [] {
@@ -749,7 +758,7 @@ Position Interpreter::State::target(const Block& block, bool machine_coordinates
     for (const char letter : kLetters) mask |= 1u << (letter - 'a');
     return mask;
   }();
-  Position end = pos;
+  end = pos;
   const std::uint32_t axes = block.letters & kAxisSlots;
   if (machine_coordinates) {
     const Position offsets = total_offset_mm();
@@ -785,20 +794,18 @@ Position Interpreter::State::target(const Block& block, bool machine_coordinates
     end[kX] = r * std::cos(a * std::numbers::pi / 180.0);
     end[kY] = r * std::sin(a * std::numbers::pi / 180.0);
   }
-  return end;
 }
 
-void Interpreter::State::require_feed(const Block& block, int column) const {
+void Interpreter::State::missing_feed(int column) const {
   if (feed_mode == FeedMode::inverse_time) {
-    if (!block.has('f')) fail(column, "F word missing with inverse time (G93) motion");
-  } else if (feed <= 0.0) {
-    fail(column, "cannot do a feed move with zero feed rate: give an F word");
+    fail(column, "F word missing with inverse time (G93) motion");
   }
+  fail(column, "cannot do a feed move with zero feed rate: give an F word");
 }
 
 void Interpreter::State::straight(CanonKind kind, const Block& block, const Position& end) {
   Canon& canon = next_move(kind, block);
-  canon.end = end;
+  if (&end != &canon.end) canon.end = end;
   canon.value = feed;  // the F in effect: the planner's programmed speed (or inverse time)
   canon.feed_mode = feed_mode;
   straight_exit = false;
@@ -1160,9 +1167,9 @@ void Interpreter::State::execute_block(const Block& block) {
       (block.letters & ~kAxisWords) == 0) {
     motion_changed = false;
     move_column = 1;
-    const Position end = target(block, false);
     if (motion == 10) require_feed(block, 1);
-    straight(motion == 0 ? CanonKind::traverse : CanonKind::feed, block, end);
+    target(block, false, move_.end);  // built in place: straight() finds it there
+    straight(motion == 0 ? CanonKind::traverse : CanonKind::feed, block, move_.end);
     return;
   }
   apply_assignments(block);
