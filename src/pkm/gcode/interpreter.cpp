@@ -17,6 +17,22 @@ namespace {
 constexpr double kMmPerInch = 25.4;
 constexpr int kX = 0, kY = 1, kZ = 2;
 
+// The axis letters in Position order, the word slots (Block::words) they use, and the axis of
+// each slot (-1: not an axis). The polar words @ and ^ use the slots of G and M.
+constexpr char kAxisLetters[kAxes] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
+constexpr std::uint32_t kAxisSlots = [] {
+  std::uint32_t mask = 0;
+  for (const char letter : kAxisLetters) mask |= 1u << (letter - 'a');
+  return mask;
+}();
+constexpr std::array<int, 26> kAxisOfSlot = [] {
+  std::array<int, 26> axis_of{};
+  axis_of.fill(-1);
+  for (int axis = 0; axis < kAxes; ++axis) axis_of[kAxisLetters[axis] - 'a'] = axis;
+  return axis_of;
+}();
+constexpr std::uint32_t kPolarSlots = (1u << ('g' - 'a')) | (1u << ('m' - 'a'));
+
 // Codes times ten, by modal group; a block may hold at most one code of each group.
 int g_group(int code) {
   switch (code) {
@@ -745,19 +761,6 @@ void Interpreter::State::execute_o_word(const Block& block) {
 }
 
 void Interpreter::State::target(const Block& block, bool machine_coordinates, Position& end) const {
-  static constexpr char kLetters[kAxes] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
-  // The axis of each word slot (-1: not an axis), and the slots that are axes.
-  static constexpr auto kAxisOfSlot = [] {
-    std::array<int, 26> axis_of{};
-    axis_of.fill(-1);
-    for (int axis = 0; axis < kAxes; ++axis) axis_of[kLetters[axis] - 'a'] = axis;
-    return axis_of;
-  }();
-  static constexpr std::uint32_t kAxisSlots = [] {
-    std::uint32_t mask = 0;
-    for (const char letter : kLetters) mask |= 1u << (letter - 'a');
-    return mask;
-  }();
   end = pos;
   const std::uint32_t axes = block.letters & kAxisSlots;
   if (machine_coordinates) {
@@ -1092,15 +1095,13 @@ void Interpreter::State::go_home(const Block& block, int code) {
   // G28/G30: through the programmed axes' intermediate point, then to the stored position
   // (#5161.. / #5181.., machine coordinates) of those axes, or of all axes when none is given.
   const int base = code == 280 ? 5161 : 5181;
-  static constexpr char kLetters[kAxes] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
-  bool any = false;
-  for (const char letter : kLetters) any = any || block.has(letter);
+  const bool any = (block.letters & kAxisSlots) != 0;
   // The intermediate move is made even when it goes nowhere, as LinuxCNC makes it.
   straight(CanonKind::traverse, block, target(block, false));
   const Position offsets = total_offset_mm();
   Position home = pos;
   for (int axis = 0; axis < kAxes; ++axis) {
-    if (any && !block.has(kLetters[axis])) continue;
+    if (any && !block.has(kAxisLetters[axis])) continue;
     home[axis] = axis_from_mm(axis, parameters.numbered(base + axis) - offsets[axis]);
   }
   straight(CanonKind::traverse, block, home);
@@ -1108,7 +1109,6 @@ void Interpreter::State::go_home(const Block& block, int code) {
 
 void Interpreter::State::set_coordinates(const Block& block) {
   // G10 L1/L2/L10/L20.
-  static constexpr char kLetters[kAxes] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
   const int column = block.g_codes.front().column;
   if (!block.has('l')) fail(column, "G10 needs an L word");
   const long l = std::lround(block.value('l'));
@@ -1122,9 +1122,9 @@ void Interpreter::State::set_coordinates(const Block& block) {
     }
     const Position old_total = total_offset_mm();
     for (int axis = 0; axis < kAxes; ++axis) {
-      if (!block.has(kLetters[axis])) continue;
+      if (!block.has(kAxisLetters[axis])) continue;
       const int number = 5201 + 20 * system + axis;
-      double value = axis_to_mm(axis, block.value(kLetters[axis]));
+      double value = axis_to_mm(axis, block.value(kAxisLetters[axis]));
       if (l == 20) {
         // The current point gets the given coordinate in that system.
         const Position g5x = g5x_mm(coord_system);
@@ -1144,8 +1144,8 @@ void Interpreter::State::set_coordinates(const Block& block) {
     ToolEntry& entry = table[static_cast<int>(p)];
     entry.number = static_cast<int>(p);
     for (int axis = 0; axis < kAxes; ++axis) {
-      if (block.has(kLetters[axis]))
-        entry.offset[axis] = axis_to_mm(axis, block.value(kLetters[axis]));
+      if (block.has(kAxisLetters[axis]))
+        entry.offset[axis] = axis_to_mm(axis, block.value(kAxisLetters[axis]));
     }
     if (block.has('r')) entry.diameter = 2.0 * to_mm(block.value('r'));
   } else {
@@ -1156,15 +1156,8 @@ void Interpreter::State::set_coordinates(const Block& block) {
 void Interpreter::State::execute_block(const Block& block) {
   // Most lines of a CAM program are bare axis words continuing a G0 or G1: nothing but the move
   // to make. (The general path below makes the same move; this one skips its checks.)
-  static constexpr std::uint32_t kAxisWords = [] {
-    std::uint32_t mask = 0;
-    for (const char letter : {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'}) {
-      mask |= 1u << (letter - 'a');
-    }
-    return mask;
-  }();
   if (block.plain && (motion == 0 || motion == 10) && block.letters != 0 &&
-      (block.letters & ~kAxisWords) == 0) {
+      (block.letters & ~kAxisSlots) == 0) {
     motion_changed = false;
     move_column = 1;
     if (motion == 10) require_feed(block, 1);
@@ -1234,14 +1227,7 @@ void Interpreter::State::execute_block(const Block& block) {
   const auto g_in = [&](int group) { return g_by_group[group]; };
   const Code* const non_modal = g_in(0);
   const Code* const motion_code = g_in(1);
-  static constexpr char kAxisLetters[] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
-  // Axis words and the polar words, which use the slots of G and M.
-  static constexpr std::uint32_t kAxisSlots = [] {
-    std::uint32_t mask = (1u << ('g' - 'a')) | (1u << ('m' - 'a'));
-    for (const char letter : kAxisLetters) mask |= 1u << (letter - 'a');
-    return mask;
-  }();
-  bool has_axis = (block.letters & kAxisSlots) != 0;
+  bool has_axis = (block.letters & (kAxisSlots | kPolarSlots)) != 0;
 
   // 1. feed mode, feed, speed, tool.
   if (const auto code = g_in(5)) {
