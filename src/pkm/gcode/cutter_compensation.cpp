@@ -250,7 +250,8 @@ void CutterCompensation::straight(Canon move, const Position& start) {
   const bool left = side_ == CompensationSide::left;
   const double to_side = left ? kHalfPi : -kHalfPi;
   // The direction from the programmed corner to the tool is square to the path arriving there;
-  // `turn` is how far the path turns towards the tool's side (0: straight on, pi: reversing).
+  // `turn` is how far the path turns away from the tool's side: 0 straight on, up to pi an
+  // outside corner, below 0 (or past pi) an inside one.
   double tool_direction = direction_of(corner, tool_);
   double heading = direction_of(corner, to);
   double turn = 0.0;
