@@ -184,6 +184,22 @@ void CutterCompensation::end_held_at(PlanePoint end) {
   set_start(end);
 }
 
+void CutterCompensation::round_corner(const Canon& move, const Position& start, PlanePoint corner,
+                                      PlanePoint to) {
+  // The axis normal to the plane stays where it is until the move itself; the other axes reach
+  // their end values on the corner already, as LinuxCNC has it.
+  Canon around = move;
+  set_in_plane(around.end, to);
+  around.end[normal_axis(plane_)] = start[normal_axis(plane_)];
+  if (move.kind != CanonKind::traverse) {
+    around.kind = CanonKind::arc;
+    around.center = {corner.first, corner.second};
+    around.turns = side_ == CompensationSide::left ? -1 : 1;
+  }
+  (*out_)(around);
+  set_start(to);
+}
+
 void CutterCompensation::enter_straight(Canon move, const Position& start) {
   // The tool ends one radius off the programmed end, square to the line from where it starts.
   const PlanePoint from = in_plane(start), to = in_plane(move.end);
@@ -276,16 +292,7 @@ void CutterCompensation::straight(Canon move, const Position& start) {
     // it goes straight to where the arc would end.
     const PlanePoint around_to = step(corner, radius_, heading + to_side);
     end_held_at(tool_);
-    Canon around = move;
-    set_in_plane(around.end, around_to);
-    around.end[normal_axis(plane_)] = start[normal_axis(plane_)];
-    if (move.kind == CanonKind::feed) {
-      around.kind = CanonKind::arc;
-      around.center = {corner.first, corner.second};
-      around.turns = left ? -1 : 1;
-    }
-    (*out_)(around);
-    set_start(around_to);
+    round_corner(move, start, corner, around_to);
   } else if (concave && !after_arc) {
     // Inside corner after a line: that line ends where the two offset lines cross.
     const double half_corner = (turn + kPi) / 2.0;
@@ -388,13 +395,7 @@ void CutterCompensation::arc(Canon move, const Position& start) {
     // Outside corner: an arc about the programmed corner to where the tool starts the arc.
     const PlanePoint around_to = step(corner, radius_, tool_side_at_start);
     release();
-    Canon around = move;
-    set_in_plane(around.end, around_to);
-    around.end[normal_axis(plane_)] = start[normal_axis(plane_)];
-    around.center = {corner.first, corner.second};
-    around.turns = left ? -1 : 1;
-    (*out_)(around);
-    set_start(around_to);
+    round_corner(move, start, corner, around_to);
   } else {
     release();
     set_start(tool_);

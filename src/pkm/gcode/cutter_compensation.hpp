@@ -97,6 +97,9 @@ class CutterCompensation {
     start_known_ = true;
   }
 
+  // Goes round an outside corner of the programmed path at `corner`, from the tool's position
+  // to `to`: an arc about the corner, or for a traverse (there is no rapid arc) straight there.
+  void round_corner(const Canon& move, const Position& start, PlanePoint corner, PlanePoint to);
   void enter_straight(Canon move, const Position& start);
   void enter_arc(Canon move, const Position& start);
 

@@ -499,22 +499,31 @@ struct Interpreter::State {
     return end;
   }
   void straight(CanonKind kind, const Block& block, const Position& end);
-  // A move through cutter compensation, from the programmed point `pos`.
-  void offset(const Canon& move, void (CutterCompensation::*method)(Canon, const Position&)) {
+  // Runs `action` on cutter compensation; a path it refuses is an error at `column`.
+  template <class Action>
+  void compensating(int column, Action&& action) {
     try {
-      (compensation.*method)(move, pos);
+      action();
     } catch (const CompensationError& error) {
-      fail(move_column, error.what());
+      fail(column, error.what());
     }
+  }
+  // Hands a move on, through cutter compensation (made by `compensate`, from the programmed
+  // point `pos`) when that offsets moves, and makes its end the programmed point.
+  void send_move(const Canon& move,
+                 void (CutterCompensation::*compensate)(Canon, const Position&)) {
+    tool_off_path.reset();
+    if (compensation.offsetting()) {
+      compensating(move_column, [&] { (compensation.*compensate)(move, pos); });
+    } else {
+      emit(move);
+    }
+    pos = move.end;
   }
   void start_compensation(const Block& block, const Code& code);
   // Held commands go out (program stops and ends): the last offset move ends where the tool is.
   void release_compensation(int column) {
-    try {
-      compensation.flush();
-    } catch (const CompensationError& error) {
-      fail(column, error.what());
-    }
+    compensating(column, [&] { compensation.flush(); });
   }
   // Codes LinuxCNC refuses while compensation is on: they would move the path under it.
   void refuse_with_compensation(const Code& code, const std::string& what) const {
@@ -812,13 +821,7 @@ void Interpreter::State::straight(CanonKind kind, const Block& block, const Posi
   canon.value = feed;  // the F in effect: the planner's programmed speed (or inverse time)
   canon.feed_mode = feed_mode;
   straight_exit = false;
-  tool_off_path.reset();
-  if (compensation.offsetting()) {
-    offset(canon, &CutterCompensation::straight);
-  } else {
-    emit(canon);
-  }
-  pos = end;
+  send_move(canon, &CutterCompensation::straight);
 }
 
 void Interpreter::State::arc(const Block& block, int code, const Position& end) {
@@ -901,13 +904,7 @@ void Interpreter::State::arc(const Block& block, int code, const Position& end) 
   canon.feed_mode = feed_mode;
   canon.center = {centre_1, centre_2};
   canon.turns = turns;
-  tool_off_path.reset();
-  if (compensation.offsetting()) {
-    offset(canon, &CutterCompensation::arc);
-  } else {
-    emit(canon);
-  }
-  pos = end;
+  send_move(canon, &CutterCompensation::arc);
 }
 
 void Interpreter::State::cycle(const Block& block, int code, const Position& end) {
@@ -1343,13 +1340,9 @@ void Interpreter::State::execute_block(const Block& block) {
     }
     if (const auto code = g_in(7)) {
       if (code->tenths == 400) {
-        try {
-          const Position tool = compensation.tool_position(pos);
-          straight_exit = compensation.turn_off();
-          if (straight_exit) tool_off_path = tool;
-        } catch (const CompensationError& error) {
-          fail(code->column, error.what());
-        }
+        const Position tool = compensation.tool_position(pos);
+        compensating(code->column, [&] { straight_exit = compensation.turn_off(); });
+        if (straight_exit) tool_off_path = tool;
       } else {
         start_compensation(block, *code);
       }
