@@ -34,10 +34,8 @@ std::filesystem::path write_program(const std::string& text) {
 }
 
 PlanReport plan(const Machine& machine, const std::string& program, Collect& out,
-                double period = 0.001) {
+                const PlanOptions& options = {}) {
   const auto path = write_program(program);
-  PlanOptions options;
-  options.period_s = period;
   PlanReport report;
   try {
     report = plan_program(machine, path, {}, options, out);
@@ -96,12 +94,10 @@ TEST(Plan, JerkLimitedRampsAreSCurves) {
   // J = 100,000 mm/s^3 reaches 1000 mm/s^2 in 0.01 s; each ramp to 50 mm/s takes
   // 50/1000 + 1000/100000 = 0.06 s over 1.5 mm; 47 mm cruising at 50 mm/s: 1.06 s in all.
   const Machine hexapod = test::load_example("hexapod-bit.toml");
-  const auto path = write_program("G21 G90\nG1 F3000 X50 Y0 Z1000\nM2\n");
   PlanOptions options;
   options.jerk_mm_per_s3 = 100000.0;
   Collect out;
-  const PlanReport report = plan_program(hexapod, path, {}, options, out);
-  std::filesystem::remove(path);
+  const PlanReport report = plan(hexapod, "G21 G90\nG1 F3000 X50 Y0 Z1000\nM2\n", out, options);
   EXPECT_NEAR(report.duration_s, 1.06, 1e-9);
   double peak_jerk = 0.0, peak_acceleration = 0.0;
   const double t = 0.001;
@@ -122,12 +118,10 @@ TEST(Plan, ShortJerkLimitedRampsNeverReachFullAcceleration) {
   // J = 10,000 mm/s^3 and a change of 50 mm/s: a^2/J = 100 > 50, so the acceleration peaks at
   // sqrt(50 * 10000) = 707 mm/s^2 and each ramp takes 2 * 0.0707 s over 3.536 mm.
   const Machine hexapod = test::load_example("hexapod-bit.toml");
-  const auto path = write_program("G21 G90\nG1 F3000 X50 Y0 Z1000\nM2\n");
   PlanOptions options;
   options.jerk_mm_per_s3 = 10000.0;
   Collect out;
-  const PlanReport report = plan_program(hexapod, path, {}, options, out);
-  std::filesystem::remove(path);
+  const PlanReport report = plan(hexapod, "G21 G90\nG1 F3000 X50 Y0 Z1000\nM2\n", out, options);
   const double ramp_s = 2.0 * std::sqrt(50.0 / 10000.0);
   EXPECT_NEAR(report.duration_s, 2 * ramp_s + (50.0 - 50.0 * ramp_s) / 50.0, 1e-9);
 }
@@ -214,11 +208,9 @@ TEST(Plan, OriginPlacesTheProgramOnTheMachine) {
   // A drawing made about (0, 0), placed 700 mm right of and 800 mm below the left anchor.
   const Machine plotter = test::load_example("wall-plotter.toml");
   Collect out;
-  const auto path = write_program("G21 G90 F3000\nG1 X10 Y-5\nG1 Y5\nM2\n");
   PlanOptions options;
   options.origin << 700, -800, 0, 0, 0, 0;
-  plan_program(plotter, path, {}, options, out);
-  std::filesystem::remove(path);
+  plan(plotter, "G21 G90 F3000\nG1 X10 Y-5\nG1 Y5\nM2\n", out, options);
   EXPECT_NEAR(out.samples.back().pose[0], 710.0, 1e-12);
   EXPECT_NEAR(out.samples.back().pose[1], -795.0, 1e-12);
   // The machine starts at home (750, -700): the first move runs from there to (710, -805).
@@ -247,13 +239,11 @@ std::pair<double, bool> tool_axis_off_great_circle(const std::vector<Sample>& sa
 TEST(Plan, GreatCircleAttitudeKeepsTheToolAxisOnItsGreatCircle) {
   const Machine hexapod = test::load_example("hexapod-bit.toml");
   const std::string program = "G21 G90 F600\nG1 X0 Y0 Z1000 A0 B0 C0\nG1 X10 A30 B20 C10\nM2\n";
-  const auto path = write_program(program);
   Collect great, linear;
   PlanOptions options;
   options.great_circle_attitude = true;
-  plan_program(hexapod, path, {}, options, great);
-  plan_program(hexapod, path, {}, {}, linear);
-  std::filesystem::remove(path);
+  plan(hexapod, program, great, options);
+  plan(hexapod, program, linear);
   const auto [off_great, steady] = tool_axis_off_great_circle(great.samples, 3);
   EXPECT_LT(off_great, 1e-12);
   EXPECT_TRUE(steady);
