@@ -228,7 +228,7 @@ class Reader {
       const char letter = slot == 'g' - 'a' ? '@' : slot == 'm' - 'a' ? '^' : 'a' + slot;
       fail(column, std::string("multiple ") + display(letter) + " words on one line");
     }
-    word = Word{read_value(), column};
+    word = Word{read_real(), column};
     block.letters |= 1u << slot;
     block.empty = false;
   }
@@ -290,33 +290,6 @@ class Reader {
     return digits;
   }
 
-  // A word's value: a plain number, maybe negative, read with the position in a register;
-  // anything else by read_real().
-  double read_value() {
-    const char* p = data_ + pos_;
-    while (is_blank(*p)) ++p;
-    const bool negative = *p == '-';
-    if (negative) {
-      ++p;
-      while (is_blank(*p)) ++p;
-    }
-    double value = 0.0;
-    if (const char* end = scan_plain_number(p, value)) {
-      pos_ = static_cast<std::size_t>(end - data_);
-      return negative ? -value : value;
-    }
-    return read_real();
-  }
-
-  double read_number() {
-    double value = 0.0;
-    if (const char* end = scan_plain_number(data_ + pos_, value)) {
-      pos_ = static_cast<std::size_t>(end - data_);
-      return value;
-    }
-    return read_spaced_or_long_number();
-  }
-
   // A number with spaces inside ("1 0 . 5" is 10.5, as LinuxCNC reads it), or too long for the
   // fast path: strtod's rounding through from_chars.
   [[gnu::noinline]] double read_spaced_or_long_number() {
@@ -343,19 +316,33 @@ class Reader {
     return value;
   }
 
+  // A value: a plain number, maybe negative, read with the position in a register; anything
+  // else (expressions, parameters, functions, signs, numbers with spaces) as below.
   double read_real() {
+    const char* p = data_ + pos_;
+    while (is_blank(*p)) ++p;
+    const bool negative = *p == '-';
+    if (negative) {
+      ++p;
+      while (is_blank(*p)) ++p;
+    }
+    double value = 0.0;
+    if (const char* end = scan_plain_number(p, value)) {
+      pos_ = static_cast<std::size_t>(end - data_);
+      return negative ? -value : value;
+    }
+    return read_other_real();
+  }
+
+  // Everything but a plain number: signs, numbers with spaces inside, expressions, parameters
+  // and functions; kept out of read_real so that stays small.
+  [[gnu::noinline]] double read_other_real() {
     const char c = peek();
-    if (is_digit(c) || c == '.') return read_number();
     if (c == '-') {
       ++pos_;
       return -read_real();
     }
-    return read_other_real(c);
-  }
-
-  // Expressions, parameters, functions and signs: kept out of read_real, which reads plain
-  // numbers, so that stays small.
-  [[gnu::noinline]] double read_other_real(char c) {
+    if (is_digit(c) || c == '.') return read_spaced_or_long_number();
     const int column = static_cast<int>(pos_) + 1;
     if (c == '[') {
       ++pos_;
