@@ -101,6 +101,21 @@ const BadFileCase kCases[] = {
      {{"axis = \"B\"", "axis = \"B\"\nsteps = 80 # <-"}},
      "joints[2].steps",
      "unknown key"},
+    {"tool_z_unknown",
+     "wall-plotter.toml",
+     {{"home = [750.0, -700.0]", "home = [750.0, -700.0]\n[tool]\nz = \"laser\" # <-"}},
+     "tool.z",
+     "must be \"pen\" or \"ignore\""},
+    {"tool_on_a_machine_with_z",
+     "linear-delta.toml",
+     {{"[cartesian]", "[tool]\nz = \"pen\" # <-\n[cartesian]"}},
+     "tool.z",
+     "moves in Z itself"},
+    {"tool_negative_delay",
+     "wall-plotter.toml",
+     {{"home = [750.0, -700.0]", "home = [750.0, -700.0]\n[tool]\nz = \"pen\"\ndelay = -1 # <-"}},
+     "tool.delay",
+     "between 0 and 60 s"},
     {"unknown_type",
      "hektor.toml",
      {{"type = \"cable_plotter\"", "type = \"scara\" # <-"}},
@@ -282,6 +297,23 @@ TEST(MachineFile, EveryExampleLoads) {
     EXPECT_NO_THROW(test::load_example(file)) << file;
   }
   EXPECT_EQ(test::example_machine_files().size(), 10u);
+}
+
+TEST(MachineFile, ToolChannelOfAPenPlotter) {
+  const std::string text = read_example("wall-plotter.toml") +
+                           "\n[tool]\nz = \"pen\"\ndown_below = 0.5\ndown = \"M280 P0 S30\"\n"
+                           "up = \"M280 P0 S90\"\ndelay = 0.15\n";
+  const Machine machine = parse_machine(text, "pen.toml");
+  EXPECT_EQ(machine.tool().z, ToolZ::pen);
+  EXPECT_DOUBLE_EQ(machine.tool().down_below_mm, 0.5);
+  EXPECT_EQ(machine.tool().down_command, "M280 P0 S30");
+  EXPECT_EQ(machine.tool().up_command, "M280 P0 S90");
+  EXPECT_DOUBLE_EQ(machine.tool().delay_s, 0.15);
+  EXPECT_TRUE(machine.tool().pen_down(0.49));
+  EXPECT_FALSE(machine.tool().pen_down(0.5));
+  const Machine copy = machine;  // NOLINT(performance-unnecessary-copy-initialization)
+  EXPECT_EQ(copy.tool().z, ToolZ::pen);
+  EXPECT_EQ(load_machine(test::example_machine_path("wall-plotter.toml")).tool().z, ToolZ::none);
 }
 
 TEST(MachineFile, MissingFileIsAnError) {

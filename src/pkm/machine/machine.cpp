@@ -35,6 +35,7 @@ Machine::Machine(const Machine& other)
       joint_names_(other.joint_names_),
       cartesian_(other.cartesian_),
       home_(other.home_),
+      tool_(other.tool_),
       home_assembly_mode_(other.home_assembly_mode_) {}
 
 Machine& Machine::operator=(const Machine& other) {
@@ -124,6 +125,36 @@ Pose read_home(const TomlSection& cartesian, const Kinematics& kinematics) {
   return Pose::from_vector(pose);
 }
 
+// The optional [tool] table: the pen channel of machines that do not move in Z.
+ToolChannel read_tool(const TomlSection& tool, const Kinematics& kinematics) {
+  ToolChannel channel;
+  const std::string z = tool.string("z");
+  if (z == "pen") {
+    channel.z = ToolZ::pen;
+  } else if (z == "ignore") {
+    channel.z = ToolZ::ignore;
+  } else {
+    tool.fail("z", "must be \"pen\" or \"ignore\", not \"" + z + "\"");
+  }
+  if (kinematics.dof().controls(2)) {
+    tool.fail("z", "this machine moves in Z itself; a [tool] channel is for machines that do not");
+  }
+  channel.down_below_mm = tool.length_or("down_below", 0.0);
+  if (tool.has("down")) channel.down_command = tool.string("down");
+  if (tool.has("up")) channel.up_command = tool.string("up");
+  channel.delay_s = tool.number_or("delay", 0.0);
+  if (!(channel.delay_s >= 0.0 && channel.delay_s <= 60.0)) {
+    tool.fail("delay", "must be between 0 and 60 s");
+  }
+  for (const auto* key : {"down", "up"}) {
+    const std::string& command = key[0] == 'd' ? channel.down_command : channel.up_command;
+    if (command.find_first_of("\n\r") != std::string::npos) {
+      tool.fail(key, "must be one line of G-code");
+    }
+  }
+  return channel;
+}
+
 }  // namespace
 
 Machine parse_machine(std::string_view toml_text, const std::string& source_name) {
@@ -206,9 +237,13 @@ Machine parse_machine(std::string_view toml_text, const std::string& source_name
   }
   const Pose home = read_home(cartesian_section, *kinematics);
 
+  ToolChannel tool;
+  if (root.has("tool")) tool = read_tool(root.section("tool"), *kinematics);
+
   tracker->check_all_read();
   Machine machine(name, source_name, units, std::move(kinematics), std::move(joints), cartesian,
                   home);
+  machine.set_tool(std::move(tool));
   JointVector home_joints;
   const Status home_status = machine.inverse(home, home_joints);
   if (!home_status.ok()) {

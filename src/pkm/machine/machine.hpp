@@ -35,6 +35,25 @@ struct JointSpec {
   const char* interface_unit() const { return kind == JointKind::rotary ? "deg" : "mm"; }
 };
 
+// What a machine without a Z joint does with the program's Z (the machine file's [tool] table).
+// A plotter's pen: programmed Z below `down_below_mm` puts the pen down, at or above lifts it; the
+// commands are written by post and the delay is spent by plan (a dwell) and post (G4).
+enum class ToolZ {
+  none,    // no [tool] table: Z is an ordinary coordinate (a joint of the model, or ignored)
+  pen,     // Z drives the pen channel
+  ignore,  // Z is dropped: no pen, no joint
+};
+struct ToolChannel {
+  ToolZ z = ToolZ::none;
+  double down_below_mm = 0.0;
+  std::string down_command = "M3 S1000";
+  std::string up_command = "M5";
+  double delay_s = 0.0;
+
+  // Whether the program's Z (mm, machine coordinates) leaves the pen on the paper.
+  bool pen_down(double z_mm) const { return z_mm < down_below_mm; }
+};
+
 struct CartesianLimits {
   double max_feed_mm_per_min = 0.0;
   double max_acceleration_mm_per_s2 = 0.0;
@@ -59,6 +78,8 @@ class Machine {
   const std::vector<std::string>& joint_names() const { return joint_names_; }
   const CartesianLimits& cartesian() const { return cartesian_; }
   const Pose& home() const { return home_; }
+  const ToolChannel& tool() const { return tool_; }
+  void set_tool(ToolChannel tool) { tool_ = std::move(tool); }
 
   // IK, then the assembly mode of home, then the joint limits of the machine file.
   Status inverse(const Pose& pose, JointVector& joints) const;
@@ -77,6 +98,7 @@ class Machine {
   std::vector<std::string> joint_names_;
   CartesianLimits cartesian_;
   Pose home_;
+  ToolChannel tool_;
   int home_assembly_mode_ = 0;
 };
 
