@@ -2,10 +2,12 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "pkm/gcode/tool_table.hpp"
 #include "pkm/machine/machine.hpp"
 
 namespace pkm::app {
@@ -24,6 +26,15 @@ Pose pose_from_arguments(const Machine& machine, const std::vector<double>& valu
 
 // `base` (mm, rad) with its leading coordinates replaced by `values` (x y z a b c, mm and deg).
 Vector6d pose_vector_over(Vector6d base, const std::vector<double>& values);
+
+// --tool-table FILE and --tool-table-units mm|inch, as post and verify take them.
+struct ToolTableOptions {
+  std::string path;
+  std::string units = "mm";
+};
+void add_tool_table_options(CLI::App& command, ToolTableOptions& options);
+// The table the options name, or none without a file. Throws gcode::GcodeError (file:line).
+std::optional<gcode::ToolTable> read_tool_table(const ToolTableOptions& options);
 
 void register_kinematics_commands(CLI::App& app);
 void register_calibrate_commands(CLI::App& app);

@@ -17,7 +17,7 @@ struct PostCommandOptions {
   std::string program;
   std::string output;
   std::string dialect = "linuxcnc";
-  std::string tool_table;
+  ToolTableOptions tool_table;
   double tolerance_mm = 0.01;
   std::vector<double> origin;
 };
@@ -58,9 +58,7 @@ void run_post(const PostCommandOptions& options) {
   file.write(header(machine, options, nullptr));
   post::PostReport report;
   try {
-    if (!options.tool_table.empty()) {
-      interpreter_options.tool_table = gcode::read_tool_table(options.tool_table);
-    }
+    interpreter_options.tool_table = read_tool_table(options.tool_table);
     report = post::post_program(machine, options.program, interpreter_options, post_options,
                                 [&](const std::string& line) { file.write(line + "\n"); });
   } catch (const gcode::GcodeError& error) {
@@ -119,7 +117,7 @@ void register_post_commands(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   command->add_option("--dialect", options->dialect, "linuxcnc (default), mach3 or grbl")
       ->check(CLI::IsMember({"linuxcnc", "mach3", "grbl"}));
-  command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl, mm)");
+  add_tool_table_options(*command, options->tool_table);
   command
       ->add_option("--origin", options->origin,
                    "Where the program's X0 Y0 Z0 sits in machine coordinates (mm, deg)")
