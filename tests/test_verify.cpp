@@ -280,6 +280,31 @@ TEST(Verify, FollowsStackedHelixPassesOverOneCircle) {
   fs::remove(joints);
 }
 
+TEST(Verify, PassesTheSphereDemoOnTheHexapod) {
+  // pkm demo's job: circles of latitude, each a closed contour, stacked up a sphere with the tool
+  // tilted along the surface normal. Verify once lost its place on them by 16 mm.
+  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const fs::path sphere = fs::path(PKM_SOURCE_DIR) / "examples" / "jobs" / "sphere.ngc";
+  const fs::path joints =
+      write_lines("sphere-joints.ngc", posted(hexapod, sphere, Vector6d::Zero(), 0.01));
+  const VerifyReport report = verify(hexapod, joints, sphere, Vector6d::Zero(), 0.0105);
+  EXPECT_TRUE(report.passed()) << report.max_deviation_mm;
+  EXPECT_NEAR(report.job_length_mm, 4077.779, 1e-3);  // as pkm demo plans it
+  EXPECT_GT(report.max_deviation_mm, 0.0099);
+  // The first two circles and the step between them, checked independently.
+  std::ifstream in(sphere);
+  std::string line, text;
+  for (int n = 1; n <= 21 && std::getline(in, line); ++n) text += line + "\n";
+  const fs::path part = write_file("sphere-part.ngc", text + "M2\n");
+  const fs::path part_joints =
+      write_lines("sphere-part-joints.ngc", posted(hexapod, part, Vector6d::Zero(), 0.01));
+  const VerifyReport part_report = verify(hexapod, part_joints, part, Vector6d::Zero(), 0.0105);
+  const double independent = independent_max_mm(hexapod, part_joints, part, Vector6d::Zero());
+  EXPECT_GT(independent, 0.009);
+  EXPECT_NEAR(part_report.max_deviation_mm, independent, 0.01 * independent);
+  for (const fs::path& file : {joints, part, part_joints}) fs::remove(file);
+}
+
 // ---- what verify must catch ------------------------------------------------------------------
 
 TEST(Verify, CatchesOneBlockOffByFiftyMicronsAtItsLine) {

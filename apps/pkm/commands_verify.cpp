@@ -27,7 +27,8 @@ struct VerifyCommandOptions {
 double tolerance_of(const VerifyCommandOptions& options) {
   if (options.tolerance_mm != 0.0) {
     if (!std::isfinite(options.tolerance_mm) || !(options.tolerance_mm > 0.0)) {
-      throw CommandError("--tolerance must be a positive number of mm");
+      throw CommandError("--tolerance " + std::to_string(options.tolerance_mm) +
+                         ": must be a positive number of mm");
     }
     return options.tolerance_mm;
   }
