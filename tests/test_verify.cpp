@@ -261,6 +261,32 @@ TEST(Verify, FollowsALineRetracedWithThePenUp) {
   fs::remove(joints);
 }
 
+TEST(Verify, HoldsOneBlockAgainstSeveralShortMoves) {
+  // Twenty collinear moves of 0.5 mm (as CAM output splits a line) traced by two blocks of 5 mm.
+  const Machine plotter = test::load_example("wall-plotter.toml");
+  std::string text = "G0 X0 Y0\nF400\n";
+  for (int k = 1; k <= 20; ++k) text += "G1 X" + std::to_string(0.5 * k) + "\n";
+  const fs::path job = write_file("short-moves.ngc", text + "M2\n");
+  std::vector<std::string> lines = {"G21 G90 G94 F3000"};
+  blocks_along(plotter, 750, -700, 600, -800, lines, 1.0);
+  const int first_draw_line = static_cast<int>(lines.size()) + 1;
+  blocks_along(plotter, 600, -800, 610, -800, lines, 5.0);
+  lines.push_back("M2");
+  const fs::path joints = write_lines("short-moves-joints.ngc", lines);
+  const VerifyReport report = verify(plotter, joints, job, kSheet, 0.01);
+  EXPECT_TRUE(report.passed()) << report.max_deviation_mm;
+  EXPECT_NEAR(report.traced_mm, std::hypot(150.0, 100.0) + 10.0, 1e-4);  // 5 decimals
+  // The 5 mm chords in joint space bow away from the line: the most in the second block, which
+  // verify holds against the moves of job lines 13 to 22.
+  EXPECT_GT(report.max_deviation_mm, 1e-3);
+  EXPECT_GE(report.max_deviation_joint_line, first_draw_line);
+  EXPECT_GE(report.max_deviation_job_line, 3);
+  const double independent = independent_max_mm(plotter, joints, job, kSheet);
+  EXPECT_NEAR(report.max_deviation_mm, independent, 0.01 * independent);
+  fs::remove(job);
+  fs::remove(joints);
+}
+
 TEST(Verify, FollowsStackedHelixPassesOverOneCircle) {
   // The same circle of 30 mm twice, 1 mm apart in Z, on a linear delta (which controls Z).
   const Machine delta = test::load_example("linear-delta.toml");
