@@ -41,6 +41,13 @@ double tolerance_of(const VerifyCommandOptions& options) {
   return *header;
 }
 
+// mm with 7 decimals: a deviation just above a tolerance of 0.01 shows as 0.0100145, not 0.010000.
+std::string mm(double value, int decimals = 7) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  return text;
+}
+
 std::string joint_name(const Machine& machine, int joint) {
   return joint >= 0 ? machine.joints()[static_cast<std::size_t>(joint)].name : "";
 }
@@ -93,7 +100,7 @@ void print_summary(const Machine& machine, const char* what, const char* unit,
   const verify::Violation& w = summary.worst;
   std::string first;
   for (const verify::Violation& v : summary.first) first += " " + std::to_string(v.line);
-  std::printf("  %s: %ld; worst at line %d (job line %d): %s%s%.6f %s%s%.6f; first at lines%s%s\n",
+  std::printf("  %s: %ld; worst at line %d (job line %d): %s%s%.7f %s%s%.7f; first at lines%s%s\n",
               what, summary.count, w.line, w.job_line, joint_name(machine, w.joint).c_str(),
               w.joint >= 0 ? " " : "", w.value, unit,
               w.detail.empty() ? ", limit " : (", " + w.detail + ", limit ").c_str(), w.limit,
@@ -103,8 +110,8 @@ void print_summary(const Machine& machine, const char* what, const char* unit,
 void print_report(const Machine& machine, const VerifyCommandOptions& options,
                   const verify::VerifyReport& report) {
   std::printf(
-      "%s against %s: %ld blocks, job traced %.3f of %.3f mm, deviation max %.6f mm (line %d of "
-      "the joint program, line %d of the job), RMS %.6f mm, tolerance %.6f mm\n",
+      "%s against %s: %ld blocks, job traced %.3f of %.3f mm, deviation max %.7f mm (line %d of "
+      "the joint program, line %d of the job), RMS %.7f mm, tolerance %.7f mm\n",
       options.joints.c_str(), options.job.c_str(), report.blocks, report.traced_mm,
       report.job_length_mm, report.max_deviation_mm, report.max_deviation_joint_line,
       report.max_deviation_job_line, report.rms_deviation_mm, report.tolerance_mm);
@@ -123,15 +130,14 @@ void fail_unless_passed(const VerifyCommandOptions& options, const verify::Verif
                                         std::to_string(report.coverage_stopped_joint_line);
     throw CommandError(where + ": the job " + options.job + " is traced only to line " +
                        std::to_string(report.coverage_stopped_job_line) + " (" +
-                       std::to_string(report.traced_mm) + " of " +
-                       std::to_string(report.job_length_mm) + " mm)");
+                       mm(report.traced_mm, 3) + " of " + mm(report.job_length_mm, 3) + " mm)");
   }
   if (report.deviation.count > 0) {
-    throw CommandError("deviation " + std::to_string(report.max_deviation_mm) +
-                       " mm exceeds the tolerance " + std::to_string(report.tolerance_mm) +
-                       " mm at line " + std::to_string(report.max_deviation_joint_line) + " of " +
-                       options.joints + " (line " + std::to_string(report.max_deviation_job_line) +
-                       " of " + options.job + ")");
+    throw CommandError("deviation " + mm(report.max_deviation_mm) + " mm exceeds the tolerance " +
+                       mm(report.tolerance_mm) + " mm at line " +
+                       std::to_string(report.max_deviation_joint_line) + " of " + options.joints +
+                       " (line " + std::to_string(report.max_deviation_job_line) + " of " +
+                       options.job + ")");
   }
   const long others = report.position.count + report.velocity.count + report.pen.count;
   if (others > 0) {
