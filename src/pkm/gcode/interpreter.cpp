@@ -485,7 +485,16 @@ struct Interpreter::State {
   }
 
   void start(const CanonSink& output);
+  void run(const CanonSink& output);
   bool step();
+  // The next line to execute (blank lines and the opening '%' skipped); false at the end.
+  bool next_line(std::string_view& line);
+  void execute(std::string_view line) {
+    if (!options.event_lines.empty() && is_event_line(line)) return;
+    execute_line(line);
+  }
+  // After the last line: the program end a file without M2, M30 or '%' lacks.
+  void finish();
   bool is_event_line(std::string_view line);
   void execute_line(std::string_view line);
   void apply_assignments(const Block& block);
@@ -549,8 +558,24 @@ void Interpreter::State::start(const CanonSink& output) {
   compensation.reset(output);
 }
 
+void Interpreter::State::run(const CanonSink& output) {
+  start(output);
+  std::string_view line;
+  while (next_line(line)) execute(line);
+  finish();
+}
+
 bool Interpreter::State::step() {
   std::string_view line;
+  if (next_line(line)) {
+    execute(line);
+    return true;
+  }
+  finish();
+  return false;
+}
+
+bool Interpreter::State::next_line(std::string_view& line) {
   while (!ended && read_line(line)) {
     if (first_content) {
       const auto first = line.find_first_not_of(" \t");
@@ -561,10 +586,12 @@ bool Interpreter::State::step() {
         continue;
       }
     }
-    if (!options.event_lines.empty() && is_event_line(line)) return true;
-    execute_line(line);
     return true;
   }
+  return false;
+}
+
+void Interpreter::State::finish() {
   if (!ended && !saw_end) {
     // The moves compensation still holds are part of the program (rs274 would drop them).
     release_compensation(1);
@@ -575,7 +602,6 @@ bool Interpreter::State::step() {
     emit(CanonKind::program_end, none);
   }
   ended = true;
-  return false;
 }
 
 bool Interpreter::State::is_event_line(std::string_view line) {
@@ -1600,9 +1626,9 @@ Interpreter::Interpreter(std::filesystem::path program, InterpreterOptions optio
 Interpreter::~Interpreter() = default;
 
 void Interpreter::run(const CanonSink& sink) {
-  start(sink);
-  while (step()) {
-  }
+  warnings_.clear();
+  state_ = std::make_unique<State>(program_, options_, warnings_);
+  state_->run(sink);
 }
 
 void Interpreter::start(const CanonSink& sink) {
