@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "pkm/gcode/tool_table.hpp"
 #include "pkm/motion/segment_builder.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/verify/job_path.hpp"
@@ -329,6 +330,32 @@ TEST(Verify, PassesTheSphereDemoOnTheHexapod) {
   EXPECT_GT(independent, 0.009);
   EXPECT_NEAR(part_report.max_deviation_mm, independent, 0.01 * independent);
   for (const fs::path& file : {joints, part, part_joints}) fs::remove(file);
+}
+
+TEST(Verify, PlacesTheJobWithItsToolTable) {
+  // G43 lifts the path by tool 1's length (20 mm): verified with the table, 20 mm and more off
+  // without it.
+  const Machine delta = test::load_example("linear-delta.toml");
+  const fs::path table = write_file("tools.tbl", "T1 P1 Z20.0 D6.0 ;end mill\n");
+  const fs::path job =
+      write_file("tool-job.ngc", "T1 M6\nG43 H1\nG0 X0 Y0 Z80\nG1 X30 F600\nG1 Y30\nG0 Z100\nM2\n");
+  gcode::InterpreterOptions with_table;
+  with_table.tool_table = gcode::read_tool_table(table);
+  post::PostOptions post_options;
+  std::vector<std::string> lines;
+  post::post_program(delta, job, with_table, post_options,
+                     [&](const std::string& line) { lines.push_back(line); });
+  const fs::path joints = write_lines("tool-joints.ngc", lines);
+  VerifyOptions options;
+  options.tolerance_mm = 0.0105;
+  options.job_options = with_table;
+  const VerifyReport report = verify_joint_program(delta, joints, job, options);
+  EXPECT_TRUE(report.passed()) << report.max_deviation_mm;
+  options.job_options = {};
+  const VerifyReport without = verify_joint_program(delta, joints, job, options);
+  EXPECT_FALSE(without.passed());
+  EXPECT_GT(without.max_deviation_mm, 19.9);
+  for (const fs::path& file : {table, job, joints}) fs::remove(file);
 }
 
 // ---- what verify must catch ------------------------------------------------------------------
