@@ -1,0 +1,54 @@
+// An upper bound on how far the tool tip of a joint-linear block strays from the piece of the
+// programmed path it stands for, from bounds on the inverse kinematics' second derivatives (the
+// argument is in docs/post.md, "The bound").
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "pkm/machine/machine.hpp"
+#include "pkm/motion/segment.hpp"
+
+namespace pkm::post {
+
+// For each joint, an upper bound on the operator norm of the Hessian of the joint's inverse
+// kinematics over every pose within `radius_mm` of `centre` (mm, rad), in the model's controlled
+// coordinates with rotations scaled by `angle_scale_mm` (mm per rad) so that one norm serves
+// lengths and angles. Infinity where the ball reaches a singularity of the model; nothing for
+// models with no such bound here (formula machines).
+std::optional<std::vector<double>> inverse_hessian_bounds(const Kinematics& model,
+                                                          const Vector6d& centre, double radius_mm,
+                                                          double angle_scale_mm);
+
+// The ends of a joint-linear block: the joints as written (rounded) and as the inverse kinematics
+// gives them at the programmed ends of the piece.
+struct BlockEnds {
+  JointVector written0, exact0;
+  JointVector written1, exact1;
+};
+
+class DeviationBound {
+ public:
+  // `reach_mm`: how far from the programmed point the argument may look for the tool tip (the
+  // same for every block, so that consecutive blocks agree on which pose the machine is in).
+  DeviationBound(const Machine& machine, double reach_mm);
+
+  // False for models without a second-derivative bound: their deviation is sampled instead.
+  bool available() const { return available_; }
+
+  // An upper bound (mm) on the distance between the tool tip of the joint-linear block and the
+  // programmed point at the same fraction of the piece [u0, u1] of `segment`, over the whole
+  // block (so also on its distance to the path), in the coordinates the machine controls.
+  // Infinity when none is found (a long piece over strongly bent kinematics, a singularity).
+  double operator()(const motion::Segment& segment, double u0, double u1,
+                    const BlockEnds& ends) const;
+
+ private:
+  const Machine& machine_;
+  double reach_mm_;
+  std::vector<int> axes_;  // the pose coordinates the model controls
+  double angle_scale_mm_ = 100.0;
+  bool available_ = false;
+};
+
+}  // namespace pkm::post
