@@ -28,15 +28,38 @@ double rotation_curvature(double b_norm_mm, double angle_scale_mm) {
   return 3.0 * b_norm_mm / (angle_scale_mm * angle_scale_mm);
 }
 
-// A cable (or leg) of length l = |p - a|: Hessian (I - n n^T) / l, norm 1 / l.
-std::vector<double> cable_plotter_bounds(const CablePlotterKinematics& model,
-                                         const Vector6d& centre, double radius_mm) {
+// How far a platform point b (mm from the tool tip) moves for a pose change `position` mm and
+// `chord.angle` scaled (each angle's derivative of R b has norm <= |b|).
+double platform_point_change(double position, const Chord& chord, double b_norm_mm,
+                             double angle_scale_mm) {
+  return position + std::sqrt(3.0) * b_norm_mm / angle_scale_mm * chord.angle;
+}
+
+void add(HessianBounds& bounds, double norm, double along) {
+  bounds.norm.push_back(norm);
+  bounds.along.push_back(along);
+}
+
+// A cable (or leg) of length l = |p - a|: Hessian (I - n n^T) / l, norm 1 / l; along v,
+// |v|^2 sin^2 / l = |v|^2 h^2 / l^3 with h the anchor's distance from the line through p along v.
+HessianBounds cable_plotter_bounds(const CablePlotterKinematics& model, const Vector6d& centre,
+                                   double radius_mm, const Chord& chord) {
   const Eigen::Vector2d p(centre[0], centre[1]);
   const double d = model.geometry().anchor_distance_mm;
-  std::vector<double> bounds;
+  HessianBounds bounds;
   for (const Eigen::Vector2d& anchor : {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(d, 0.0)}) {
     const double nearest = (p - anchor).norm() - radius_mm;
-    bounds.push_back(nearest > 0.0 ? 1.0 / nearest : INFINITY);
+    const Eigen::Vector2d v = chord.position.head<2>();
+    const double across =
+        v.norm() > 0.0
+            ? std::abs(v.x() * (p - anchor).y() - v.y() * (p - anchor).x()) / v.norm() + radius_mm
+            : 0.0;
+    if (nearest > 0.0) {
+      add(bounds, 1.0 / nearest,
+          v.squaredNorm() / nearest * std::min(1.0, across * across / (nearest * nearest)));
+    } else {
+      add(bounds, INFINITY, INFINITY);
+    }
   }
   return bounds;
 }
@@ -44,8 +67,8 @@ std::vector<double> cable_plotter_bounds(const CablePlotterKinematics& model,
 // A carriage reading s on a rail (origin o, direction d) whose strut of length L reaches the
 // platform point w: s = d.(w - o) -+ f with f = sqrt(L^2 - |u|^2), u the part of w - o across
 // the rail. Its Hessian in w has norm L^2 / f^3, its gradient norm <= 1 + |u| / f.
-std::vector<double> glide_bounds(const GlideKinematics& model, const Vector6d& centre,
-                                 double radius_mm, double angle_scale_mm) {
+HessianBounds glide_bounds(const GlideKinematics& model, const Vector6d& centre, double radius_mm,
+                           double angle_scale_mm, const Chord& chord) {
   const bool rotating = model.dof().any_rotation();
   Eigen::Vector3d tip = Eigen::Vector3d::Zero();
   for (int axis = 0; axis < 3; ++axis) {
@@ -53,7 +76,7 @@ std::vector<double> glide_bounds(const GlideKinematics& model, const Vector6d& c
   }
   const Eigen::Matrix3d rotation =
       rotating ? rotation_from_abc(Eigen::Vector3d(centre.tail<3>())) : Eigen::Matrix3d::Identity();
-  std::vector<double> bounds;
+  HessianBounds bounds;
   for (const GlideRail& rail : model.rails()) {
     const Eigen::Vector3d relative = tip + rotation * rail.attach_mm - rail.origin_mm;
     const Eigen::Vector3d across = relative - rail.direction.dot(relative) * rail.direction;
@@ -62,53 +85,69 @@ std::vector<double> glide_bounds(const GlideKinematics& model, const Vector6d& c
     const double widest = across.norm() + gain * radius_mm;
     const double strut = rail.strut_mm;
     if (widest >= strut) {
-      bounds.push_back(INFINITY);
+      add(bounds, INFINITY, INFINITY);
       continue;
     }
     const double f = std::sqrt(strut * strut - widest * widest);
     const double hessian_w = strut * strut / (f * f * f);
-    const double gradient_w = 1.0 + widest / f;
-    bounds.push_back(gain * gain * hessian_w +
-                     (rotating ? gradient_w * rotation_curvature(b, angle_scale_mm) : 0.0));
+    const double turning = rotating ? (1.0 + widest / f) * rotation_curvature(b, angle_scale_mm)
+                                    : 0.0;  // the gradient in w times R b's curvature
+    // Only the part of w's change across the rail bends the reading.
+    const Eigen::Vector3d v = chord.position;
+    const double v_across = (v - rail.direction.dot(v) * rail.direction).norm();
+    const double w_change =
+        rotating ? platform_point_change(v_across, chord, b, angle_scale_mm) : v_across;
+    add(bounds, gain * gain * hessian_w + turning,
+        w_change * w_change * hessian_w + turning * chord.angle * chord.angle);
   }
   return bounds;
 }
 
 // A leg l = |t + R b - a| (plus its offset): the cable's 1 / l through the platform point's map,
 // and the rotation's own curvature (the leg's gradient in w is a unit vector).
-std::vector<double> hexapod_bounds(const HexapodKinematics& model, const Vector6d& centre,
-                                   double radius_mm, double angle_scale_mm) {
+HessianBounds hexapod_bounds(const HexapodKinematics& model, const Vector6d& centre,
+                             double radius_mm, double angle_scale_mm, const Chord& chord) {
+  HessianBounds bounds;
   JointVector legs;
-  if (!model.inverse(Pose::from_vector(centre), legs).ok()) return std::vector<double>(6, INFINITY);
+  if (!model.inverse(Pose::from_vector(centre), legs).ok()) {
+    for (int i = 0; i < 6; ++i) add(bounds, INFINITY, INFINITY);
+    return bounds;
+  }
   const HexapodGeometry& geometry = model.geometry();
-  std::vector<double> bounds;
   for (int i = 0; i < 6; ++i) {
     const std::size_t k = static_cast<std::size_t>(i);
     const double b =
         (geometry.platform_mm[k] + Eigen::Vector3d(0.0, 0.0, geometry.tool_length_mm)).norm();
     const double gain = platform_point_gain(b, angle_scale_mm);
     const double shortest = legs[i] - geometry.leg_offset_mm[k] - gain * radius_mm;
-    bounds.push_back(shortest > 0.0 ? gain * gain / shortest + rotation_curvature(b, angle_scale_mm)
-                                    : INFINITY);
+    if (!(shortest > 0.0)) {
+      add(bounds, INFINITY, INFINITY);
+      continue;
+    }
+    const double turning = rotation_curvature(b, angle_scale_mm);
+    const double w_change = platform_point_change(chord.position.norm(), chord, b, angle_scale_mm);
+    add(bounds, gain * gain / shortest + turning,
+        w_change * w_change / shortest + turning * chord.angle * chord.angle);
   }
   return bounds;
 }
 
 // Upper bounds on the speed and acceleration of the programmed piece per unit of the block's
-// fraction (scaled pose norm; angles are linear in u, so only the position curves).
+// fraction (angles are linear in u, so only the position curves).
 struct PieceMotion {
   Vector6d centre;
-  double speed = 0.0;
+  double length = 0.0;  // of the piece (scaled pose norm), at most
   double acceleration = 0.0;
+  Chord chord;  // from the piece's start to its end
 };
 
 PieceMotion piece_motion(const Segment& segment, double u0, double u1, const std::vector<int>& axes,
                          double angle_scale_mm) {
-  double position_speed = 0.0, position_acceleration = 0.0, angle_speed_squared = 0.0;
+  double position_speed = 0.0, position_acceleration = 0.0, angle_speed = 0.0;
   const Vector6d change = segment.end - segment.start;
   for (const int axis : axes) {
     if (axis >= 3) {
-      angle_speed_squared += std::pow(change[axis] * angle_scale_mm, 2);
+      angle_speed += std::pow(change[axis] * angle_scale_mm, 2);
     } else if (segment.kind == SegmentKind::line) {
       position_speed += change[axis] * change[axis];
     }
@@ -130,9 +169,14 @@ PieceMotion piece_motion(const Segment& segment, double u0, double u1, const std
     position_acceleration = segment.radius_mm * sweep * sweep;
   }
   const double du = u1 - u0;
-  return {segment.at(0.5 * (u0 + u1)),
-          std::sqrt(position_speed * position_speed + angle_speed_squared) * du,
-          position_acceleration * du * du};
+  const Vector6d change_of_piece = segment.at(u1) - segment.at(u0);
+  Chord chord;
+  for (const int axis : axes) {
+    if (axis < 3) chord.position[axis] = change_of_piece[axis];
+  }
+  chord.angle = std::sqrt(angle_speed) * du;
+  return {segment.at(0.5 * (u0 + u1)), std::hypot(position_speed, std::sqrt(angle_speed)) * du,
+          position_acceleration * du * du, chord};
 }
 
 double largest_singular_value(const Eigen::MatrixXd& m) {
@@ -142,20 +186,21 @@ double largest_singular_value(const Eigen::MatrixXd& m) {
 
 }  // namespace
 
-std::optional<std::vector<double>> inverse_hessian_bounds(const Kinematics& model,
-                                                          const Vector6d& centre, double radius_mm,
-                                                          double angle_scale_mm) {
+std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, const Vector6d& centre,
+                                                    double radius_mm, double angle_scale_mm,
+                                                    const Chord& chord) {
   if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
-    return cable_plotter_bounds(*plotter, centre, radius_mm);
+    return cable_plotter_bounds(*plotter, centre, radius_mm, chord);
   }
   if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
-    return glide_bounds(*glide, centre, radius_mm, angle_scale_mm);
+    return glide_bounds(*glide, centre, radius_mm, angle_scale_mm, chord);
   }
   if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
-    return hexapod_bounds(*hexapod, centre, radius_mm, angle_scale_mm);
+    return hexapod_bounds(*hexapod, centre, radius_mm, angle_scale_mm, chord);
   }
   if (dynamic_cast<const MatrixKinematics*>(&model) != nullptr) {
-    return std::vector<double>(static_cast<std::size_t>(model.joint_count()), 0.0);  // linear
+    const std::vector<double> zero(static_cast<std::size_t>(model.joint_count()), 0.0);
+    return HessianBounds{zero, zero};  // linear
   }
   return std::nullopt;
 }
@@ -177,69 +222,84 @@ DeviationBound::DeviationBound(const Machine& machine, double reach_mm)
     angle_scale_mm_ = 2.0 * std::max(farthest, 1.0);
   } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
     double farthest = 0.0;
-    for (const GlideRail& rail : glide->rails())
+    for (const GlideRail& rail : glide->rails()) {
       farthest = std::max(farthest, rail.attach_mm.norm());
+    }
     angle_scale_mm_ = 2.0 * std::max(farthest, 1.0);
   }
-  available_ =
-      model.joint_count() == static_cast<int>(axes_.size()) &&
-      inverse_hessian_bounds(model, machine.home().as_vector(), 0.0, angle_scale_mm_).has_value();
+  available_ = model.joint_count() == static_cast<int>(axes_.size()) &&
+               inverse_hessian_bounds(model, machine.home().as_vector(), 0.0, angle_scale_mm_, {})
+                   .has_value();
 }
 
-double DeviationBound::operator()(const Segment& segment, double u0, double u1,
-                                  const BlockEnds& ends) const {
-  if (!available_) return INFINITY;
-  const Kinematics& model = machine_.kinematics();
-  const PieceMotion piece = piece_motion(segment, u0, u1, axes_, angle_scale_mm_);
-  const int n = static_cast<int>(axes_.size());
+// The Jacobian at a pose in scaled coordinates, its inverse's norm and that of the inverse's
+// position rows; nothing where it is singular.
+struct InverseNorms {
+  Eigen::MatrixXd jacobian;
+  double all = 0.0, position = 0.0;
+};
+
+std::optional<InverseNorms> inverse_norms(const Kinematics& model, const Vector6d& pose,
+                                          const std::vector<int>& axes, double angle_scale_mm) {
   JointJacobian full;
-  if (!model.jacobian(Pose::from_vector(piece.centre), full).ok()) return INFINITY;
-  Eigen::MatrixXd jacobian(n, n);
+  if (!model.jacobian(Pose::from_vector(pose), full).ok()) return std::nullopt;
+  const int n = static_cast<int>(axes.size());
+  InverseNorms norms{Eigen::MatrixXd(n, n)};
   std::vector<int> position_rows;
   for (int k = 0; k < n; ++k) {
-    const int axis = axes_[static_cast<std::size_t>(k)];
-    jacobian.col(k) = full.col(axis) / (axis >= 3 ? angle_scale_mm_ : 1.0);
+    const int axis = axes[static_cast<std::size_t>(k)];
+    norms.jacobian.col(k) = full.col(axis) / (axis >= 3 ? angle_scale_mm : 1.0);
     if (axis < 3) position_rows.push_back(k);
   }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(norms.jacobian,
+                                              Eigen::ComputeFullU | Eigen::ComputeFullV);
   const double smallest = svd.singularValues()[n - 1];
-  if (!(smallest > 0.0) || !std::isfinite(smallest)) return INFINITY;
+  if (!(smallest > 0.0) || !std::isfinite(smallest)) return std::nullopt;
   const Eigen::MatrixXd inverse = svd.solve(Eigen::MatrixXd::Identity(n, n));
   Eigen::MatrixXd position_part(static_cast<int>(position_rows.size()), n);
   for (std::size_t r = 0; r < position_rows.size(); ++r) {
     position_part.row(static_cast<int>(r)) = inverse.row(position_rows[r]);
   }
-  const double inverse_norm = 1.0 / smallest;
-  const double position_inverse_norm = largest_singular_value(position_part);
+  norms.all = 1.0 / smallest;
+  norms.position = largest_singular_value(position_part);
+  return norms;
+}
 
-  // Every pose the argument visits lies within the piece's half length plus the reach of the
-  // programmed point at the same fraction (docs/post.md, "The bound").
-  const double radius = 0.5 * piece.speed + reach_mm_;
-  const auto hessians = inverse_hessian_bounds(model, piece.centre, radius, angle_scale_mm_);
+// The argument (docs/post.md, "The bound"): C, the straight chord in pose space between the
+// piece's programmed ends, is within |S''| / 8 of the programmed point at the same fraction. The
+// joint error of the block against IK(C) is its ends' rounding plus the chord error of IK along
+// C, |H[C', C']| / 8 per joint; where the Jacobian stays invertible over the ball of the piece
+// plus the reach, that joint error e moves the tool tip at most |J^-1| |e| from C.
+double DeviationBound::operator()(const Segment& segment, double u0, double u1,
+                                  const BlockEnds& ends) const {
+  if (!available_) return INFINITY;
+  const Kinematics& model = machine_.kinematics();
+  const PieceMotion piece = piece_motion(segment, u0, u1, axes_, angle_scale_mm_);
+  const std::optional<InverseNorms> at_centre =
+      inverse_norms(model, piece.centre, axes_, angle_scale_mm_);
+  if (!at_centre) return INFINITY;
+  const double radius = 0.5 * piece.length + reach_mm_;
+  const auto hessians =
+      inverse_hessian_bounds(model, piece.centre, radius, angle_scale_mm_, piece.chord);
   if (!hessians) return INFINITY;
-  double lipschitz = 0.0;
-  for (const double h : *hessians) lipschitz += h * h;
-  lipschitz = std::sqrt(lipschitz);  // of the Jacobian, per unit of pose distance
-  const double drift = inverse_norm * lipschitz * radius;
+  double lipschitz = 0.0;  // of the Jacobian, per unit of pose distance
+  for (const double h : hessians->norm) lipschitz += h * h;
+  lipschitz = std::sqrt(lipschitz);
+  const double drift = at_centre->all * lipschitz * radius;
   if (!(drift < 1.0)) return INFINITY;
-  const double inverse_bound = inverse_norm / (1.0 - drift);
+  const double inverse_bound = at_centre->all / (1.0 - drift);
   const double position_inverse_bound =
-      position_inverse_norm + inverse_bound * inverse_norm * lipschitz * radius;
-
-  // Per joint: the written ends' rounding, and the chord error of the joint along the
-  // programmed piece, |G''| / 8 with G'' = H[S', S'] + grad . S''.
+      at_centre->position + inverse_bound * at_centre->all * lipschitz * radius;
   double joint_error = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const double h = (*hessians)[static_cast<std::size_t>(i)];
-    const double gradient = jacobian.row(i).norm() + h * radius;
-    const double rounding = std::max(std::abs(ends.written0[i] - ends.exact0[i]),
-                                     std::abs(ends.written1[i] - ends.exact1[i]));
-    const double chord = (h * piece.speed * piece.speed + gradient * piece.acceleration) / 8.0;
-    joint_error += std::pow(rounding + chord, 2);
+  for (std::size_t i = 0; i < hessians->along.size(); ++i) {
+    const int k = static_cast<int>(i);
+    const double rounding = std::max(std::abs(ends.written0[k] - ends.exact0[k]),
+                                     std::abs(ends.written1[k] - ends.exact1[k]));
+    joint_error += std::pow(rounding + hessians->along[i] / 8.0, 2);
   }
   joint_error = std::sqrt(joint_error);
   if (!(inverse_bound * joint_error < reach_mm_)) return INFINITY;
-  return position_inverse_bound * joint_error;
+  return position_inverse_bound * joint_error + piece.acceleration / 8.0;
 }
 
 }  // namespace pkm::post

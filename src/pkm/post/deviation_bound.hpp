@@ -11,14 +11,25 @@
 
 namespace pkm::post {
 
-// For each joint, an upper bound on the operator norm of the Hessian of the joint's inverse
-// kinematics over every pose within `radius_mm` of `centre` (mm, rad), in the model's controlled
-// coordinates with rotations scaled by `angle_scale_mm` (mm per rad) so that one norm serves
-// lengths and angles. Infinity where the ball reaches a singularity of the model; nothing for
-// models with no such bound here (formula machines).
-std::optional<std::vector<double>> inverse_hessian_bounds(const Kinematics& model,
-                                                          const Vector6d& centre, double radius_mm,
-                                                          double angle_scale_mm);
+// A straight move in pose space: its position change (mm, zero in the coordinates the model
+// does not control) and the norm of its angle change (scaled, see below).
+struct Chord {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double angle = 0.0;
+};
+
+// Per joint, over every pose within `radius_mm` of `centre` (mm, rad) in the model's controlled
+// coordinates with rotations scaled by `angle_scale_mm` (mm per rad, so that one norm serves
+// lengths and angles): `norm`, an upper bound on the operator norm of the Hessian of the joint's
+// inverse kinematics, and `along`, on |H[v, v]| for v = `chord`. Infinity where the ball reaches
+// a singularity of the model.
+struct HessianBounds {
+  std::vector<double> norm, along;
+};
+// Nothing for models with no such bound here (formula machines).
+std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, const Vector6d& centre,
+                                                    double radius_mm, double angle_scale_mm,
+                                                    const Chord& chord);
 
 // The ends of a joint-linear block: the joints as written (rounded) and as the inverse kinematics
 // gives them at the programmed ends of the piece.
