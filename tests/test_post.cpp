@@ -5,6 +5,7 @@
 #include <unistd.h>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -206,6 +207,220 @@ TEST(Verify, FlagsACoarseJointProgramAtItsLine) {
   EXPECT_GT(report.max_deviation_mm, 10.0);  // the chord of a 30 mm arc in joint space
   EXPECT_EQ(report.max_deviation_joint_line, 3);
   EXPECT_TRUE(report.violations.empty());
+}
+
+// ---- Coverage: every programmed move traced from its start to its end ----
+
+TEST(Post, FullCircleIsTracedAllRound) {
+  // G2 ending where it starts, radius 10 about (50, -50) on Hektor: the blocks' ends go once
+  // clockwise round the circle. A chord of 2 pi / n keeps within 0.01 mm only for
+  // 10 (1 - cos(pi / n)) <= 0.01, n >= 71: so at least 71 blocks.
+  const Machine hektor = test::load_example("hektor.toml");
+  const auto job = temp_file("circle.ngc");
+  std::ofstream(job) << "G21 G90 F600\nG1 X40 Y-50\nG2 X40 Y-50 I10 J0\nM2\n";
+  const auto output = temp_file("circle-joints.ngc");
+  PostOptions options;
+  options.tolerance_mm = 0.01;
+  const PostReport report = post_to_file(hektor, job, output, options);
+  const std::vector<JointVector> blocks = joint_blocks(hektor, output);
+  ASSERT_EQ(static_cast<long>(blocks.size()) - 1, report.blocks);
+  // The first blocks trace the line to the circle's start (40, -50); the rest go round it.
+  Pose pose = hektor.home();
+  std::size_t first = 1;
+  for (; first < blocks.size(); ++first) {
+    ASSERT_TRUE(hektor.forward(blocks[first], pose).ok());
+    if ((pose.position_mm.head<2>() - Eigen::Vector2d(40.0, -50.0)).norm() < 1e-4) break;
+  }
+  double turned = 0.0, previous = M_PI;
+  for (std::size_t b = first + 1; b < blocks.size(); ++b) {
+    ASSERT_TRUE(hektor.forward(blocks[b], pose).ok());
+    const Eigen::Vector2d from_centre(pose.position_mm.x() - 50.0, pose.position_mm.y() + 50.0);
+    EXPECT_NEAR(from_centre.norm(), 10.0, 1e-4);
+    const double angle = std::atan2(from_centre.y(), from_centre.x());
+    const double step = std::remainder(angle - previous, 2.0 * M_PI);
+    EXPECT_LT(step, 0.0) << "block " << b;  // clockwise, never back
+    turned += step;
+    previous = angle;
+  }
+  EXPECT_NEAR(turned, -2.0 * M_PI, 1e-6);
+  EXPECT_GE(blocks.size() - 1 - first, 71u);
+  EXPECT_LE(dense_deviation(hektor, blocks, programmed_moves(hektor, job)),
+            report.max_deviation_mm);
+  std::filesystem::remove(job);
+  std::filesystem::remove(output);
+}
+
+// The lines of a joint program posted from `job_text`.
+std::vector<std::string> posted_lines(const Machine& machine, const std::string& job_text,
+                                      PostOptions options = {}, PostReport* report_out = nullptr) {
+  const auto job = temp_file("lines-job.ngc");
+  std::ofstream(job) << job_text;
+  std::vector<std::string> lines;
+  const PostReport report = post_program(machine, job, {}, options,
+                                         [&](const std::string& line) { lines.push_back(line); });
+  if (report_out) *report_out = report;
+  std::filesystem::remove(job);
+  return lines;
+}
+
+TEST(Post, ZOnlyMovesOfAPlotterWriteNothingAndM5Once) {
+  // Hektor controls x y only: the Z moves are no blocks; the job's M5 and M2's own spindle stop
+  // give one M5.
+  const Machine hektor = test::load_example("hektor.toml");
+  PostReport report;
+  const auto lines = posted_lines(
+      hektor, "G21 G90 F600\nM3 S1000\nG0 Z5\nG1 X40 Y-50\nG1 Z-1\nG0 Z5\nM5\nM2\n", {}, &report);
+  EXPECT_EQ(report.moves, 4);
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), "M5"), 1);
+  EXPECT_EQ(std::count_if(lines.begin(), lines.end(),
+                          [](const std::string& l) { return l.find(" A") != std::string::npos; }),
+            report.blocks);
+  PostReport without_z;
+  posted_lines(hektor, "G21 G90 F600\nG1 X40 Y-50\nM2\n", {}, &without_z);
+  EXPECT_EQ(report.blocks, without_z.blocks);
+  EXPECT_EQ(lines.back(), "M2");
+}
+
+// ---- Feeds: rounded down, never above a joint's velocity ----
+
+TEST(Post, InverseTimeFeedIsRoundedDown) {
+  // The matrix mill is linear: G1 from home x 300 to x 306 at F700 is one block of 6 mm at
+  // 700 mm/min, 1 / F = 6 / 700 min, F = 116.666..., written 116.666 (nearest would be 116.667,
+  // a shorter block than programmed).
+  const Machine mill = test::load_example("matrix-mill.toml");
+  const auto lines = posted_lines(mill, "G21 G90\nG1 X306 F700\nM2\n");
+  ASSERT_EQ(lines.size(), 4u);  // G21 G90 G94, the block, M2's spindle stop, M2
+  EXPECT_EQ(lines[1].substr(0, 7), "G93 G1 ");
+  EXPECT_EQ(lines[1].substr(lines[1].size() - 9), " F116.666");
+}
+
+// Words of a line of G-code as letter -> value (enough for pkm post's output).
+std::map<char, double> words_of(const std::string& line) {
+  std::map<char, double> words;
+  std::istringstream in(line);
+  std::string word;
+  while (in >> word) words[word[0]] = std::stod(word.substr(1));
+  return words;
+}
+
+TEST(Post, NoJointAboveItsVelocityAfterRounding) {
+  // Hektor with 30 mm/s joints and X Y letters (so every dialect takes it), run at F2400
+  // (40 mm/s): many blocks are limited by a joint, not by the feed. Read back, each G93 block's
+  // joint speeds |dq| F / 60 stay within the limit, and some reach it (within 0.1 %).
+  const std::string text = R"(name = "slow Hektor"
+[kinematics]
+type = "cable_plotter"
+anchor_distance = 100.0
+[[joints]]
+name = "left"
+min = 5.0
+max = 180.0
+max_velocity = 30.0
+max_acceleration = 600.0
+axis = "X"
+[[joints]]
+name = "right"
+min = 5.0
+max = 180.0
+max_velocity = 30.0
+max_acceleration = 600.0
+axis = "Y"
+[cartesian]
+max_feed = 2400.0
+max_acceleration = 500.0
+home = [50.0, -50.0]
+)";
+  const Machine machine = parse_machine(text, "slow-hektor.toml");
+  const std::string job =
+      "G21 G90 F2400\nG1 X10 Y-12\nG1 X90 Y-12\nG2 X50 Y-90 I-20 J-39\nG1 X10 Y-12\nM2\n";
+  for (const Dialect dialect :
+       {Dialect::linuxcnc, Dialect::mach3, Dialect::grbl, Dialect::grblhal}) {
+    PostOptions options;
+    options.dialect = dialect;
+    double previous[2] = {0.0, 0.0};
+    JointVector home;
+    ASSERT_TRUE(machine.inverse(machine.home(), home).ok());
+    previous[0] = home[0];
+    previous[1] = home[1];
+    int at_limit = 0, feed_blocks = 0;
+    for (const std::string& line : posted_lines(machine, job, options)) {
+      if (line.rfind("G1", 0) != 0 && line.rfind("G93", 0) != 0) continue;
+      const auto words = words_of(line.rfind("G93 ", 0) == 0 ? line.substr(4) : line);
+      const double f = words.at('F');
+      const double speed =
+          std::max(std::abs(words.at('X') - previous[0]), std::abs(words.at('Y') - previous[1])) *
+          f / 60.0;
+      EXPECT_LE(speed, 30.0) << dialect_name(dialect) << ": " << line;
+      if (speed > 30.0 * 0.999) ++at_limit;
+      ++feed_blocks;
+      previous[0] = words.at('X');
+      previous[1] = words.at('Y');
+    }
+    EXPECT_GT(at_limit, 10) << dialect_name(dialect) << " of " << feed_blocks;
+  }
+}
+
+// ---- Dialects: axis letters and line length ----
+
+TEST(Post, DialectsRefuseLettersTheyDoNotTake) {
+  const auto message = [](const Machine& machine, Dialect dialect) -> std::string {
+    try {
+      check_axis_letters(machine, dialect);
+    } catch (const std::invalid_argument& error) {
+      return error.what();
+    }
+    return "";
+  };
+  const Machine hektor = test::load_example("hektor.toml");  // A and B
+  EXPECT_EQ(message(hektor, Dialect::grbl),
+            "dialect grbl accepts the axes X Y Z only; the machine writes joint 'left' as A, "
+            "'right' as B: use --dialect linuxcnc or mach3 or grblhal, or change the joints' "
+            "axis letters in the machine file");
+  EXPECT_EQ(message(hektor, Dialect::mach3), "");
+  EXPECT_EQ(message(hektor, Dialect::grblhal), "");
+  const Machine hexapod = test::load_example("hexapod-bit.toml");  // X Y Z A B C
+  EXPECT_NE(message(hexapod, Dialect::grbl).find("'leg4' as A, 'leg5' as B, 'leg6' as C"),
+            std::string::npos);
+  EXPECT_EQ(message(hexapod, Dialect::mach3), "");
+  // U V W: LinuxCNC and grblHAL take them, Mach3 does not.
+  std::string text = R"(name = "glide on U V W"
+[kinematics]
+type = "glide"
+)";
+  const std::string rails[3][2] = {
+      {"[0.0, 200.0, 0.0]", "[0.0, 40.0, 0.0]"},
+      {"[-173.20508075688772, -100.0, 0.0]", "[-34.64101615137755, -20.0, 0.0]"},
+      {"[173.20508075688772, -100.0, 0.0]", "[34.64101615137755, -20.0, 0.0]"}};
+  for (const auto& rail : rails) {
+    text += "[[kinematics.rails]]\norigin = " + rail[0] +
+            "\ndirection = [0.0, 0.0, 1.0]\nstrut = 300.0\nattach = " + rail[1] + "\n";
+  }
+  for (const char* letter : {"U", "V", "W"}) {
+    text += std::string("[[joints]]\nname = \"") + letter +
+            "\"\nmin = 0.0\nmax = 700.0\nmax_velocity = 300.0\nmax_acceleration = 3000.0\n"
+            "axis = \"" +
+            letter + "\"\n";
+  }
+  text += "[cartesian]\nmax_feed = 6000.0\nmax_acceleration = 1000.0\nhome = [0.0, 0.0, 100.0]\n";
+  const Machine uvw = parse_machine(text, "uvw.toml");
+  EXPECT_EQ(message(uvw, Dialect::mach3),
+            "dialect mach3 accepts the axes X Y Z A B C only; the machine writes joint 'U' as U, "
+            "'V' as V, 'W' as W: use --dialect linuxcnc or grblhal, or change the joints' axis "
+            "letters in the machine file");
+  EXPECT_EQ(message(uvw, Dialect::linuxcnc), "");
+  EXPECT_THROW(posted_lines(hektor, "G1 X40 Y-50 F600\nM2\n", {0.01, Dialect::grbl, {}}),
+               std::invalid_argument);
+}
+
+TEST(Post, GrblLinesWithin80Characters) {
+  // The wall plotter at X Y in grbl's 3 decimals, across a drawing of arcs and lines.
+  const Machine plotter = test::load_example("wall-plotter.toml");
+  PostOptions options;
+  options.dialect = Dialect::grbl;
+  const auto lines = posted_lines(
+      plotter, "G21 G90 F3000\nG1 X700 Y-900\nG2 X800 Y-900 I50 J0\nG0 X750 Y-700\nM2\n", options);
+  EXPECT_GT(lines.size(), 10u);
+  for (const std::string& line : lines) EXPECT_LE(line.size(), 80u) << line;
 }
 
 // Joints rounded as the linuxcnc dialect writes them (5 decimals of mm or deg).
