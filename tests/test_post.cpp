@@ -423,6 +423,156 @@ TEST(Post, GrblLinesWithin80Characters) {
   for (const std::string& line : lines) EXPECT_LE(line.size(), 80u) << line;
 }
 
+// ---- The pen channel ----
+
+// A joint program read back: the joints after each block, and where the pen went down (true) or
+// up, as the index of the block it followed; and the dwells.
+struct ReadBack {
+  std::vector<JointVector> blocks;
+  std::vector<std::pair<std::size_t, bool>> pen;
+  std::vector<double> dwells_s;
+};
+
+ReadBack read_back(const Machine& machine, const std::filesystem::path& file) {
+  ReadBack result;
+  JointVector home;
+  EXPECT_TRUE(machine.inverse(machine.home(), home).ok());
+  gcode::InterpreterOptions options;
+  const std::string letters = "XYZABCUVW";
+  for (std::size_t i = 0; i < machine.joints().size(); ++i) {
+    const JointSpec& joint = machine.joints()[i];
+    options.start_position[letters.find(joint.axis_letter)] =
+        joint.to_interface(home[static_cast<int>(i)]);
+  }
+  result.blocks.push_back(home);
+  int last_stop_line = -1;
+  gcode::Interpreter(file, options).run([&](const gcode::Canon& canon) {
+    using gcode::CanonKind;
+    if (canon.kind == CanonKind::spindle_clockwise || canon.kind == CanonKind::spindle_stop) {
+      result.pen.emplace_back(result.blocks.size() - 1, canon.kind == CanonKind::spindle_clockwise);
+      last_stop_line = canon.kind == CanonKind::spindle_stop ? canon.line : -1;
+    } else if (canon.kind == CanonKind::program_end && canon.line == last_stop_line) {
+      result.pen.pop_back();  // M2's own spindle stop, not an M5 of the program
+    } else if (canon.kind == CanonKind::dwell) {
+      result.dwells_s.push_back(canon.value);
+    } else if (canon.kind == CanonKind::traverse || canon.kind == CanonKind::feed) {
+      JointVector q(static_cast<int>(machine.joints().size()));
+      for (std::size_t i = 0; i < machine.joints().size(); ++i) {
+        const JointSpec& joint = machine.joints()[i];
+        q[static_cast<int>(i)] = joint.from_interface(canon.end[letters.find(joint.axis_letter)]);
+      }
+      result.blocks.push_back(q);
+    }
+  });
+  return result;
+}
+
+// Where the job's Z crosses the pen height, from its moves (lines: Z linear along them), in
+// order: the x y there, and whether the pen goes down.
+std::vector<std::pair<Eigen::Vector2d, bool>> job_pen_changes(
+    const std::vector<motion::Segment>& moves, const ToolChannel& tool, bool down) {
+  std::vector<std::pair<Eigen::Vector2d, bool>> changes;
+  for (const motion::Segment& move : moves) {
+    if (tool.pen_down(move.end[2]) == down) continue;
+    EXPECT_EQ(move.kind, motion::SegmentKind::line);
+    const double u = (tool.down_below_mm - move.start[2]) / (move.end[2] - move.start[2]);
+    changes.emplace_back(move.start.head<2>() + u * (move.end.head<2>() - move.start.head<2>()),
+                         !down);
+    down = !down;
+  }
+  return changes;
+}
+
+// The wall plotter with a pen: M3 S1000 down, M5 up, 0.15 s.
+Machine pen_plotter() {
+  Machine machine = test::load_example("wall-plotter.toml");
+  ToolChannel tool;
+  tool.z = ToolZ::pen;
+  tool.delay_s = 0.15;
+  machine.set_tool(tool);
+  return machine;
+}
+
+// Posts the job on the pen plotter in every dialect and checks, read back, that the pen goes
+// down and up exactly where the job's Z crosses 0: after a block whose end is there (within the
+// tolerance), each followed by its G4, and the program starts with the pen up.
+void expect_pen_where_the_job_crosses(const std::filesystem::path& job, const Vector6d& origin) {
+  const Machine machine = pen_plotter();
+  const auto moves = programmed_moves(machine, job, origin);
+  const auto expected = job_pen_changes(moves, machine.tool(), false);
+  ASSERT_GE(expected.size(), 2u);
+  for (const Dialect dialect :
+       {Dialect::linuxcnc, Dialect::mach3, Dialect::grbl, Dialect::grblhal}) {
+    const auto output = temp_file("pen-joints.ngc");
+    PostOptions options;
+    options.dialect = dialect;
+    options.origin = origin;
+    const PostReport report = post_to_file(machine, job, output, options);
+    const ReadBack back = read_back(machine, output);
+    ASSERT_EQ(back.pen.size(), expected.size() + 1) << dialect_name(dialect);
+    EXPECT_EQ(back.pen[0], (std::pair<std::size_t, bool>{0, false}));  // up before moving
+    EXPECT_EQ(back.dwells_s, std::vector<double>(back.pen.size(), 0.15));
+    Pose pose = machine.home();
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+      const auto& [block, down] = back.pen[k + 1];
+      EXPECT_EQ(down, expected[k].second) << k;
+      ASSERT_TRUE(machine.forward(back.blocks[block], pose).ok());
+      EXPECT_LE((pose.position_mm.head<2>() - expected[k].first).norm(), report.max_deviation_mm)
+          << dialect_name(dialect) << " pen change " << k;
+    }
+    std::filesystem::remove(output);
+  }
+}
+
+TEST(PostPen, PenChangesWhereARampCrossesThePenHeight) {
+  // A ramp from Z 1 to Z -1 over 10 mm and back up: down at X 5, up at X 15 (hand-computed).
+  const auto job = temp_file("ramp.ngc");
+  std::ofstream(job) << "G21 G90\nG0 X0 Y0 Z1\nG1 X10 Z-1 F600\nG1 X20 Z1\nM2\n";
+  const Machine machine = pen_plotter();
+  const auto moves = programmed_moves(machine, job, Pose::from_mm_deg(750, -700, 0).as_vector());
+  const auto expected = job_pen_changes(moves, machine.tool(), false);
+  ASSERT_EQ(expected.size(), 2u);
+  EXPECT_LT((expected[0].first - Eigen::Vector2d(755, -700)).norm(), 1e-9);
+  EXPECT_LT((expected[1].first - Eigen::Vector2d(765, -700)).norm(), 1e-9);
+  expect_pen_where_the_job_crosses(job, Pose::from_mm_deg(750, -700, 0).as_vector());
+  std::filesystem::remove(job);
+}
+
+TEST(PostPen, RealDrawingWithPenZ) {
+  // The start of a real Inkscape pen drawing (../shared corpus, Rotrics DexArm header left out):
+  // three paths, pen Z -1 / 5, arcs, placed on the wall 1.1 m below the motors.
+  const std::filesystem::path drawing = std::filesystem::path(PKM_SOURCE_DIR).parent_path() /
+                                        "shared/gcode/real/plotter/dexarm-inkscape/"
+                                        "vitruvianMan.gcode";
+  if (!std::filesystem::exists(drawing)) GTEST_SKIP() << "the real corpus is missing: " << drawing;
+  std::ifstream in(drawing);
+  std::string line, cut;
+  for (int number = 1; std::getline(in, line) && number <= 90; ++number) {
+    if (number >= 9) cut += line + "\n";
+  }
+  const auto job = temp_file("vitruvian.ngc");
+  std::ofstream(job) << cut << "G00 Z 5.0000\nM2\n";
+  expect_pen_where_the_job_crosses(job, Pose::from_mm_deg(750, -1100, 0).as_vector());
+  std::filesystem::remove(job);
+}
+
+TEST(PostPen, ServoCommandsOfThePenPlotterVerbatimAndNoZ) {
+  // examples/machines/pen-plotter.toml: its M280 lines where the pen changes, each with G4 P0.150;
+  // the job's own spindle words are left out (the pen owns the tool), no Z word anywhere.
+  const Machine machine = test::load_example("pen-plotter.toml");
+  PostOptions options;
+  options.origin = Pose::from_mm_deg(750, -700, 0).as_vector();
+  const auto lines = posted_lines(
+      machine, "G21 G90 M3 S500\nG0 X0 Y0 Z5\nG1 Z-1 F600\nG1 X10\nG0 Z5\nM5\nM2\n", options);
+  std::vector<std::string> commands;
+  for (const std::string& l : lines) {
+    EXPECT_EQ(l.find('Z'), std::string::npos) << l;
+    if (l[0] == 'M' || l[0] == 'S' || l.rfind("G4", 0) == 0) commands.push_back(l);
+  }
+  EXPECT_EQ(commands, (std::vector<std::string>{"M280 P0 S90", "G4 P0.150", "M280 P0 S30",
+                                                "G4 P0.150", "M280 P0 S90", "G4 P0.150", "M2"}));
+}
+
 // Joints rounded as the linuxcnc dialect writes them (5 decimals of mm or deg).
 JointVector rounded_as_written(const Machine& machine, const JointVector& q) {
   JointVector result = q;
