@@ -423,6 +423,49 @@ TEST(Post, GrblLinesWithin80Characters) {
   for (const std::string& line : lines) EXPECT_LE(line.size(), 80u) << line;
 }
 
+// ---- Bad inputs: a clear error, nothing written ----
+
+TEST(Post, BadOptionsAreRefusedWithTheirReason) {
+  const Machine hektor = test::load_example("hektor.toml");
+  const std::string job = "G21 G90 F600\nG1 X40 Y-50\nM2\n";
+  struct Case {
+    double tolerance_mm;
+    double origin_x;
+    std::string message;
+  };
+  for (const Case& c : std::vector<Case>{
+           {NAN, 0.0, "the tolerance must be a positive number of mm"},
+           {INFINITY, 0.0, "the tolerance must be a positive number of mm"},
+           {0.0, 0.0, "the tolerance must be a positive number of mm"},
+           {-0.01, 0.0, "the tolerance must be a positive number of mm"},
+           {0.01, NAN, "the origin must be finite (mm, deg)"},
+           {0.01, -INFINITY, "the origin must be finite (mm, deg)"},
+       }) {
+    PostOptions options;
+    options.tolerance_mm = c.tolerance_mm;
+    options.origin[0] = c.origin_x;
+    try {
+      const auto lines = posted_lines(hektor, job, options);
+      ADD_FAILURE() << c.message << ": accepted, " << lines.size() << " lines";
+    } catch (const std::invalid_argument& error) {
+      EXPECT_EQ(std::string(error.what()), c.message);
+    }
+  }
+  // A tolerance the dialect's rounding alone exceeds: located, with the decimals.
+  PostOptions options;
+  options.tolerance_mm = 1e-9;
+  try {
+    posted_lines(hektor, job, options);
+    ADD_FAILURE() << "1e-9 mm accepted";
+  } catch (const PostError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find(":2: cannot keep within 1e-09 mm here (a singularity, or a tolerance "
+                        "too small for joints rounded to 5 decimals)"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 // ---- The pen channel ----
 
 // A joint program read back: the joints after each block, and where the pen went down (true) or

@@ -77,6 +77,13 @@ void refuse_overwriting_inputs(const PostCommandOptions& options) {
 
 void run_post(const PostCommandOptions& options) {
   refuse_overwriting_inputs(options);
+  for (const double value : options.origin) {
+    if (!std::isfinite(value)) {
+      std::string given;
+      for (const double v : options.origin) given += " " + std::to_string(v);
+      throw CommandError("--origin" + given + ": every value must be a finite number (mm, deg)");
+    }
+  }
   const Machine machine = load_machine_or_default(options.machine);
   post::PostOptions post_options;
   post_options.tolerance_mm = options.tolerance_mm;
@@ -100,6 +107,8 @@ void run_post(const PostCommandOptions& options) {
   } catch (const gcode::GcodeError& error) {
     throw CommandError(error.what());
   } catch (const post::PostError& error) {
+    throw CommandError(error.what());
+  } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
   file.write_at(0, header(machine, options, &report));

@@ -98,7 +98,7 @@ class Poster {
   bool pen() const { return machine_.tool().z == ToolZ::pen; }
 
   static std::string format(const char* pattern, double value) {
-    char text[64];
+    char text[160];
     std::snprintf(text, sizeof text, pattern, value);
     return text;
   }
@@ -280,8 +280,9 @@ class Poster {
       }
       if (good < 0.0) {
         throw PostError(file_, segment.line,
-                        "cannot keep within " + std::to_string(options_.tolerance_mm) +
-                            " mm here (a singularity, or a tolerance below the dialect's " +
+                        format("cannot keep within %g mm here (a singularity, or a tolerance too "
+                               "small for joints rounded to ",
+                               options_.tolerance_mm) +
                             std::to_string(rules_.decimals) + " decimals)");
       }
       // Between `good` (within) and twice the step (not, or the end): bisect for the furthest.
@@ -429,7 +430,12 @@ PostReport post_program(const Machine& machine, const std::filesystem::path& pro
                         const gcode::InterpreterOptions& interpreter_options,
                         const PostOptions& options,
                         const std::function<void(const std::string&)>& write_line) {
-  if (!(options.tolerance_mm > 0.0)) throw std::invalid_argument("the tolerance must be positive");
+  if (!(options.tolerance_mm > 0.0) || !std::isfinite(options.tolerance_mm)) {
+    throw std::invalid_argument("the tolerance must be a positive number of mm");
+  }
+  if (!options.origin.allFinite()) {
+    throw std::invalid_argument("the origin must be finite (mm, deg)");
+  }
   check_axis_letters(machine, options.dialect);
   Poster poster(machine, options, write_line, program.string());
   // The program starts where the machine is: axes it never names stay at home.
