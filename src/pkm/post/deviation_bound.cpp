@@ -89,16 +89,22 @@ HessianBounds glide_bounds(const GlideKinematics& model, const Vector6d& centre,
       continue;
     }
     const double f = std::sqrt(strut * strut - widest * widest);
-    const double hessian_w = strut * strut / (f * f * f);
+    const double hessian_w = strut * strut / (f * f * f);  // norm, in w
     const double turning = rotating ? (1.0 + widest / f) * rotation_curvature(b, angle_scale_mm)
                                     : 0.0;  // the gradient in w times R b's curvature
-    // Only the part of w's change across the rail bends the reading.
+    // Only the part x of w's change across the rail bends the reading: |H_w[x, x]| =
+    // |x|^2 / f + (u . x)^2 / f^3, and u . x / |x| moves with the ball's radius (translating).
     const Eigen::Vector3d v = chord.position;
-    const double v_across = (v - rail.direction.dot(v) * rail.direction).norm();
+    const Eigen::Vector3d x = v - rail.direction.dot(v) * rail.direction;
+    double u_along_x = widest;
+    if (!rotating && x.norm() > 0.0) {
+      u_along_x = std::min(widest, std::abs(across.dot(x.normalized())) + radius_mm);
+    }
     const double w_change =
-        rotating ? platform_point_change(v_across, chord, b, angle_scale_mm) : v_across;
+        rotating ? platform_point_change(x.norm(), chord, b, angle_scale_mm) : x.norm();
     add(bounds, gain * gain * hessian_w + turning,
-        w_change * w_change * hessian_w + turning * chord.angle * chord.angle);
+        w_change * w_change * (1.0 / f + u_along_x * u_along_x / (f * f * f)) +
+            turning * chord.angle * chord.angle);
   }
   return bounds;
 }
