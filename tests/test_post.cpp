@@ -464,11 +464,25 @@ TEST(Post, BadOptionsAreRefusedWithTheirReason) {
     ADD_FAILURE() << "1e-9 mm accepted";
   } catch (const PostError& error) {
     EXPECT_NE(std::string(error.what())
-                  .find(":2: cannot keep within 1e-09 mm here (a singularity, or a tolerance "
-                        "too small for joints rounded to 5 decimals)"),
+                  .find(":2: cannot keep within 1e-09 mm here: no block, however short, is "
+                        "(a singularity, or a tolerance too small for joints rounded to 5 "
+                        "decimals)"),
               std::string::npos)
         << error.what();
   }
+}
+
+TEST(Post, ALargeToleranceStillPosts) {
+  // 50 mm on Hektor (100 mm between anchors): the argument's reach stays within 1.5 mm, so the
+  // blocks near the anchors are still bounded, and the bound is within the tolerance.
+  PostOptions options;
+  options.tolerance_mm = 50.0;
+  PostReport report;
+  posted_lines(test::load_example("hektor.toml"),
+               "G21 G90 F600\nG1 X10 Y-12\nG1 X90 Y-12\nG1 X50 Y-90\nG1 X10 Y-12\nM2\n", options,
+               &report);
+  EXPECT_GE(report.blocks, 4);
+  EXPECT_LE(report.max_deviation_mm, 50.0);
 }
 
 // ---- The pen channel ----
@@ -646,7 +660,7 @@ std::pair<long, long> adaptive_and_uniform(const Machine& machine, const std::st
   PostOptions options;
   options.tolerance_mm = tolerance;
   const long adaptive = post_program(machine, job, {}, options, [](const std::string&) {}).blocks;
-  const DeviationBound bound(machine, 10.0 * tolerance);
+  const DeviationBound bound(machine, tolerance);
   long uniform = 0;
   for (const motion::Segment& move : programmed_moves(machine, job)) {
     const auto joints_at = [&](double u) {

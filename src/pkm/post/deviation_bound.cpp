@@ -211,8 +211,8 @@ std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, con
   return std::nullopt;
 }
 
-DeviationBound::DeviationBound(const Machine& machine, double reach_mm)
-    : machine_(machine), reach_mm_(reach_mm) {
+DeviationBound::DeviationBound(const Machine& machine, double tolerance_mm)
+    : machine_(machine), reach_mm_(1.5 * std::min(tolerance_mm, 1.0)) {
   const Kinematics& model = machine.kinematics();
   for (int axis = 0; axis < kPoseSize; ++axis) {
     if (model.dof().controls(axis)) axes_.push_back(axis);

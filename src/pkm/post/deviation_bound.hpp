@@ -40,9 +40,11 @@ struct BlockEnds {
 
 class DeviationBound {
  public:
-  // `reach_mm`: how far from the programmed point the argument may look for the tool tip (the
-  // same for every block, so that consecutive blocks agree on which pose the machine is in).
-  DeviationBound(const Machine& machine, double reach_mm);
+  // For blocks held to `tolerance_mm`: the argument looks for the tool tip within a reach of
+  // 1.5 times it (at most 1.5 mm, so that a large tolerance does not reach past a small
+  // machine's anchors) from the programmed chord, the same for every block, so that
+  // consecutive blocks agree on which pose the machine is in.
+  DeviationBound(const Machine& machine, double tolerance_mm);
 
   // False for models without a second-derivative bound: their deviation is sampled instead.
   bool available() const { return available_; }

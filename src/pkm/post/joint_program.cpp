@@ -66,7 +66,7 @@ class Poster {
         write_line_(write_line),
         file_(std::move(file)),
         builder_(machine.home().as_vector(), options.origin, false),
-        bound_(machine, 10.0 * options.tolerance_mm) {
+        bound_(machine, options.tolerance_mm) {
     JointVector home;
     const Status status = machine_.inverse(machine_.home(), home);
     if (!status.ok()) throw PostError(file_, 0, "home is not usable: " + machine_.describe(status));
@@ -280,8 +280,8 @@ class Poster {
       }
       if (good < 0.0) {
         throw PostError(file_, segment.line,
-                        format("cannot keep within %g mm here (a singularity, or a tolerance too "
-                               "small for joints rounded to ",
+                        format("cannot keep within %g mm here: no block, however short, is "
+                               "(a singularity, or a tolerance too small for joints rounded to ",
                                options_.tolerance_mm) +
                             std::to_string(rules_.decimals) + " decimals)");
       }
