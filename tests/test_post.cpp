@@ -74,10 +74,36 @@ double distance_to_move(Eigen::Vector3d p, const motion::Segment& move, Dof dof)
   return nearest;
 }
 
+// A lower bound on the distance from p to the move, from a sphere around it (controlled
+// coordinates only), to skip the moves that cannot be the nearest.
+double distance_to_move_at_least(const Eigen::Vector3d& p, const motion::Segment& move, Dof dof) {
+  Eigen::Vector3d centre = 0.5 * (move.start.head<3>() + move.end.head<3>());
+  double radius = 0.5 * (move.end.head<3>() - move.start.head<3>()).norm();
+  if (move.kind == motion::SegmentKind::arc) {
+    centre = move.centre;
+    centre[move.normal_axis] = move.start[move.normal_axis];
+    radius = std::max((move.start.head<3>() - centre).norm(), (move.end.head<3>() - centre).norm());
+  }
+  Eigen::Vector3d offset = p - centre;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!dof.controls(axis)) offset[axis] = 0.0;
+  }
+  return offset.norm() - radius;
+}
+
+// The distance from p to the nearest move; `hint`, the nearest for the previous point, is tried
+// first.
 double distance_to_path(const Eigen::Vector3d& p, const std::vector<motion::Segment>& moves,
-                        Dof dof) {
-  double nearest = INFINITY;
-  for (const auto& move : moves) nearest = std::min(nearest, distance_to_move(p, move, dof));
+                        Dof dof, std::size_t& hint) {
+  double nearest = distance_to_move(p, moves[hint], dof);
+  for (std::size_t i = 0; i < moves.size(); ++i) {
+    if (i == hint || distance_to_move_at_least(p, moves[i], dof) >= nearest) continue;
+    const double d = distance_to_move(p, moves[i], dof);
+    if (d < nearest) {
+      nearest = d;
+      hint = i;
+    }
+  }
   return nearest;
 }
 
@@ -112,13 +138,14 @@ double dense_deviation(const Machine& machine, const std::vector<JointVector>& b
                        const std::vector<motion::Segment>& moves, int points = 1000) {
   double worst = 0.0;
   Pose pose = machine.home();
+  std::size_t hint = 0;
   for (std::size_t b = 1; b < blocks.size(); ++b) {
     for (int k = 0; k <= points; ++k) {
       const JointVector q =
           blocks[b - 1] + (k / static_cast<double>(points)) * (blocks[b] - blocks[b - 1]);
       EXPECT_TRUE(machine.forward(q, pose).ok());
-      worst =
-          std::max(worst, distance_to_path(pose.position_mm, moves, machine.kinematics().dof()));
+      worst = std::max(worst,
+                       distance_to_path(pose.position_mm, moves, machine.kinematics().dof(), hint));
     }
   }
   return worst;
