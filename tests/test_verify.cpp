@@ -212,7 +212,7 @@ TEST(Verify, FollowsTheIssuesSquareAClosedContour) {
   EXPECT_NEAR(report.job_length_mm, std::hypot(150.0, 100.0) + std::hypot(5.0, 20.0) + 45.0, 1e-9);
   EXPECT_NEAR(report.traced_mm, report.job_length_mm, 0.011);
   const double independent = independent_max_mm(plotter, joints, job, kSheet);
-  EXPECT_GT(independent, 0.009);
+  EXPECT_GT(independent, 0.001);  // a deviation worth comparing: post's blocks bow this far
   EXPECT_NEAR(report.max_deviation_mm, independent, 0.01 * independent);
   fs::remove(job);
   fs::remove(joints);
@@ -231,7 +231,7 @@ TEST(Verify, FollowsClosedContoursOfARealDrawing) {
   // Z (5 mm up, 1 mm down) is the pen's, not a position of this machine: not a 6 mm deviation.
   EXPECT_LT(report.max_deviation_mm, 0.0105);
   const double independent = independent_max_mm(plotter, joints, job, kSheet);
-  EXPECT_GT(independent, 0.009);
+  EXPECT_GT(independent, 0.001);  // a deviation worth comparing: post's blocks bow this far
   EXPECT_NEAR(report.max_deviation_mm, independent, 0.01 * independent);
   fs::remove(job);
   fs::remove(joints);
@@ -301,35 +301,51 @@ TEST(Verify, FollowsStackedHelixPassesOverOneCircle) {
   EXPECT_TRUE(report.covered);
   EXPECT_NEAR(report.job_length_mm, 30.0 + 2.0 * std::hypot(60.0 * M_PI, 1.0) + 2.0 + 30.0, 1e-6);
   const double independent = independent_max_mm(delta, joints, job, Vector6d::Zero());
-  EXPECT_GT(independent, 0.009);
+  EXPECT_GT(independent, 0.001);  // a deviation worth comparing: post's blocks bow this far
   EXPECT_NEAR(report.max_deviation_mm, independent, 0.01 * independent);
   fs::remove(job);
   fs::remove(joints);
 }
 
-TEST(Verify, PassesTheSphereDemoOnTheHexapod) {
-  // pkm demo's job: circles of latitude, each a closed contour, stacked up a sphere with the tool
-  // tilted along the surface normal. Verify once lost its place on them by 16 mm.
+TEST(Verify, FollowsTheClosedTopCircleOfTheSphereDemo) {
+  // The top circle of pkm demo's sphere (5 deg latitude, 17.4 mm across, the tool tilted along
+  // the surface normal): twelve arcs ending where they start. Verify once lost its place here,
+  // measuring the circle against its own far side: 16.09 mm.
+  std::ifstream in(fs::path(PKM_SOURCE_DIR) / "examples" / "jobs" / "sphere.ngc");
+  std::string line, header, circle;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (n <= 5) header += line + "\n";
+    if (n >= 150 && n <= 163) circle += line + "\n";  // the step up to it, the arcs, the retract
+  }
+  // Its first line, the step up from the circle below, becomes a rapid from home to the circle.
+  const std::size_t step_end = circle.find('\n');
+  ASSERT_EQ(circle.substr(0, 16), "G1 X8.7156 Y0.00");
+  const std::string rapid = "G0" + circle.substr(2, step_end - 2) + "\nF1000\n";
+  const fs::path job =
+      write_file("top-circle.ngc", header + rapid + circle.substr(step_end + 1) + "M2\n");
+  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const fs::path joints =
+      write_lines("top-joints.ngc", posted(hexapod, job, Vector6d::Zero(), 0.01));
+  const VerifyReport report = verify(hexapod, joints, job, Vector6d::Zero(), 0.01);
+  EXPECT_TRUE(report.passed()) << report.max_deviation_mm;
+  EXPECT_NEAR(report.job_length_mm, report.traced_mm, 1e-3);
+  const double independent = independent_max_mm(hexapod, joints, job, Vector6d::Zero());
+  EXPECT_GT(independent, 1e-4);
+  EXPECT_NEAR(report.max_deviation_mm, independent, 0.01 * independent);
+  fs::remove(job);
+  fs::remove(joints);
+}
+
+TEST(Verify, PassesTheWholeSphereDemo) {
   const Machine hexapod = test::load_example("hexapod-bit.toml");
   const fs::path sphere = fs::path(PKM_SOURCE_DIR) / "examples" / "jobs" / "sphere.ngc";
   const fs::path joints =
       write_lines("sphere-joints.ngc", posted(hexapod, sphere, Vector6d::Zero(), 0.01));
-  const VerifyReport report = verify(hexapod, joints, sphere, Vector6d::Zero(), 0.0105);
+  const VerifyReport report = verify(hexapod, joints, sphere, Vector6d::Zero(), 0.01);
   EXPECT_TRUE(report.passed()) << report.max_deviation_mm;
   EXPECT_NEAR(report.job_length_mm, 4077.779, 1e-3);  // as pkm demo plans it
-  EXPECT_GT(report.max_deviation_mm, 0.0099);
-  // The first two circles and the step between them, checked independently.
-  std::ifstream in(sphere);
-  std::string line, text;
-  for (int n = 1; n <= 21 && std::getline(in, line); ++n) text += line + "\n";
-  const fs::path part = write_file("sphere-part.ngc", text + "M2\n");
-  const fs::path part_joints =
-      write_lines("sphere-part-joints.ngc", posted(hexapod, part, Vector6d::Zero(), 0.01));
-  const VerifyReport part_report = verify(hexapod, part_joints, part, Vector6d::Zero(), 0.0105);
-  const double independent = independent_max_mm(hexapod, part_joints, part, Vector6d::Zero());
-  EXPECT_GT(independent, 0.009);
-  EXPECT_NEAR(part_report.max_deviation_mm, independent, 0.01 * independent);
-  for (const fs::path& file : {joints, part, part_joints}) fs::remove(file);
+  EXPECT_NEAR(report.traced_mm, report.job_length_mm, 1e-3);
+  fs::remove(joints);
 }
 
 TEST(Verify, PlacesTheJobWithItsToolTable) {
@@ -514,6 +530,54 @@ TEST(Verify, CatchesThePenDownWhereTheJobLiftsIt) {
   EXPECT_EQ(report.pen.first[1].detail, "pen down where the job lifts it");
   fs::remove(job);
   fs::remove(joints);
+}
+
+TEST(Verify, CatchesAMissingDot) {
+  // A dot: the pen goes down and up without moving. No stretch shows it; the count does.
+  const Machine plotter = pen_plotter();
+  const fs::path job = write_file(
+      "dot.ngc", "G0 X0 Y0\nG1 Z-1 F100\nG0 Z5\nG0 X10\nG1 Z-1\nG1 X20 F400\nG0 Z5\nM2\n");
+  std::vector<std::string> lines = {"G21 G90 G94 F3000"};
+  blocks_along(plotter, 750, -700, 600, -800, lines, 5.0);
+  blocks_along(plotter, 600, -800, 610, -800, lines);  // no dot at the start
+  lines.push_back("M280 P0 S30");
+  blocks_along(plotter, 610, -800, 620, -800, lines);
+  lines.push_back("M280 P0 S90");
+  lines.push_back("M2");
+  const fs::path joints = write_lines("dot-joints.ngc", lines);
+  const VerifyReport report = verify(plotter, joints, job, kSheet, 0.01);
+  EXPECT_EQ(report.deviation.count, 0);
+  ASSERT_EQ(report.pen.count, 1);
+  EXPECT_EQ(report.pen.worst.job_line, 2);  // the job's first pen down
+  EXPECT_EQ(report.pen.worst.value, 1.0);
+  EXPECT_EQ(report.pen.worst.limit, 2.0);
+  fs::remove(job);
+  fs::remove(joints);
+}
+
+TEST(Verify, PassesPostsPenCommandsInEveryDialect) {
+  // The closed contours of the real drawing on the servo-pen plotter: post lifts and lowers the
+  // pen where the job's Z crosses 0, and verify holds every stretch against the job's pen.
+  const std::string cut = real_lines("plotter/inkscape/mandala_cnc_0001.gcode", 351, 404);
+  if (cut.empty()) GTEST_SKIP() << "the real corpus (../shared/gcode/real) is absent";
+  const Machine plotter = test::load_example("pen-plotter.toml");
+  const fs::path job = write_file("pen-cut.ngc", "G21\n" + cut + "M2\n");
+  for (const post::Dialect dialect : {post::Dialect::linuxcnc, post::Dialect::mach3,
+                                      post::Dialect::grbl, post::Dialect::grblhal}) {
+    post::PostOptions options;
+    options.origin = kSheet;
+    options.dialect = dialect;
+    std::vector<std::string> lines;
+    post::post_program(plotter, job, {}, options,
+                       [&](const std::string& line) { lines.push_back(line); });
+    const fs::path joints = write_lines("pen-cut-joints.ngc", lines);
+    const VerifyReport report = verify(plotter, joints, job, kSheet, 0.01);
+    EXPECT_TRUE(report.passed()) << static_cast<int>(dialect) << ": " << report.max_deviation_mm;
+    EXPECT_EQ(report.pen.count, 0);
+    EXPECT_EQ(std::count(lines.begin(), lines.end(), "M280 P0 S30"), 2);  // two contours
+    fs::remove(joints);
+  }
+  fs::remove(job);
 }
 
 TEST(Verify, PenLinesReachTheReaderAsEvents) {

@@ -98,6 +98,7 @@ JobPath::JobPath(const Machine& machine, const std::filesystem::path& job,
                  const gcode::InterpreterOptions& options, const Vector6d& origin)
     : file_(job.string()),
       mask_(position_mask(machine)),
+      tool_(machine.tool()),
       builder_(machine.home().as_vector(), origin, false),
       interpreter_(job, motion::starting_at(options, machine.home().as_vector(), origin)),
       sink_([this](const gcode::Canon& canon) { take(canon); }) {
@@ -127,6 +128,16 @@ void JobPath::take(const gcode::Canon& canon) {
   if (!segment || segment->kind == motion::SegmentKind::dwell || segment->length() <= 0.0) return;
   window_.push_back(make_piece(*segment));
   end_mm_ += window_.back().length_mm;
+  if (tool_.z == ToolZ::pen) count_pen(*segment);
+}
+
+void JobPath::count_pen(const motion::Segment& segment) {
+  const bool down = tool_.pen_down(segment.end[2]);
+  if (down && !pen_down_) {
+    if (pen_downs_ == 0) first_pen_down_line_ = segment.line;
+    ++pen_downs_;
+  }
+  pen_down_ = down;
 }
 
 JobPiece JobPath::make_piece(const motion::Segment& segment) const {

@@ -52,15 +52,21 @@ class JobPath {
   void forget_before(long index);
   // The line of the job's end (its M2, or its last line), once piece() has returned nullptr.
   int end_line() const { return end_line_; }
+  // On a machine with a pen channel: how often the job puts the pen down (starting from up, as a
+  // plotter does) in the moves read so far, and the line of the first time.
+  long pen_downs() const { return pen_downs_; }
+  int first_pen_down_line() const { return first_pen_down_line_; }
   const std::string& file() const { return file_; }
   const std::vector<gcode::Warning>& warnings() const { return interpreter_.warnings(); }
 
  private:
   void take(const gcode::Canon& canon);
   JobPiece make_piece(const motion::Segment& segment) const;
+  void count_pen(const motion::Segment& segment);
 
   std::string file_;
   Eigen::Vector3d mask_;
+  ToolChannel tool_;
   motion::SegmentBuilder builder_;
   gcode::Interpreter interpreter_;
   gcode::CanonSink sink_;
@@ -68,6 +74,9 @@ class JobPath {
   long first_index_ = 0;  // index of window_.front()
   double end_mm_ = 0.0;   // arc length at the end of the last move read
   int end_line_ = 0;
+  bool pen_down_ = false;
+  long pen_downs_ = 0;
+  int first_pen_down_line_ = 0;
   bool ended_ = false;
 };
 

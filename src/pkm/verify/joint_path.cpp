@@ -63,10 +63,12 @@ class Verifier {
 
   void on_canon(const gcode::Canon& canon) {
     using gcode::CanonKind;
-    if (canon.kind == CanonKind::event && tool_.z == ToolZ::pen) {
+    if (canon.kind == CanonKind::event && tool_.z == ToolZ::pen &&
+        (canon.text == tool_.down_command || canon.text == tool_.up_command)) {
       close_pen_stretch();
-      if (canon.text == tool_.down_command) pen_down_ = true;
-      if (canon.text == tool_.up_command) pen_down_ = false;
+      const bool down = canon.text == tool_.down_command;
+      if (down && !pen_down_) ++pen_downs_;
+      pen_down_ = down;
       return;
     }
     if (canon.kind == CanonKind::arc || canon.kind == CanonKind::probe) {
@@ -78,6 +80,7 @@ class Verifier {
   VerifyReport finish() {
     close_pen_stretch();
     const JobCursor::Rest rest = cursor_.rest();
+    check_pen_downs();
     report_.job_length_mm = rest.job_length_mm;
     report_.traced_mm = rest.traced_mm;
     report_.covered = rest.job_length_mm - rest.traced_mm <= options_.tolerance_mm;
@@ -200,9 +203,23 @@ class Verifier {
         0.0,  pen_down_ ? "pen down where the job lifts it" : "pen up where the job draws"};
   }
 
+  // A stretch shorter than the tolerance is within what the position may stray: where a block
+  // ends a hair before a pen change, the next block carries the hair.
   void close_pen_stretch() {
-    if (pen_stretch_open_) report_.pen.add(pen_stretch_);
+    if (pen_stretch_open_ && pen_stretch_.value > options_.tolerance_mm) {
+      report_.pen.add(pen_stretch_);
+    }
     pen_stretch_open_ = false;
+  }
+
+  // Strokes without length (dots) leave no stretch to compare: the pen must at least go down as
+  // often as the job puts it down.
+  void check_pen_downs() {
+    if (tool_.z != ToolZ::pen || pen_downs_ == path_.pen_downs()) return;
+    report_.pen.add({last_line_, path_.first_pen_down_line(), -1, double(pen_downs_),
+                     double(path_.pen_downs()),
+                     "times the pen goes down, where the job puts it down " +
+                         std::to_string(path_.pen_downs()) + " times"});
   }
 
   const Machine& machine_;
@@ -217,6 +234,7 @@ class Verifier {
   JointVector previous_;
   Pose pose_;
   bool pen_down_ = false;  // a plotter starts with its pen up
+  long pen_downs_ = 0;
   bool pen_stretch_open_ = false;
   Violation pen_stretch_;
   int last_line_ = 0;
