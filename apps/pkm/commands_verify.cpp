@@ -70,26 +70,28 @@ nlohmann::json to_json(const Machine& machine, const verify::ViolationSummary& s
 
 void write_report(const Machine& machine, const VerifyCommandOptions& options,
                   const verify::VerifyReport& report) {
-  const nlohmann::json json = {{"joint_program", options.joints},
-                               {"job", options.job},
-                               {"blocks", report.blocks},
-                               {"tolerance_mm", report.tolerance_mm},
-                               {"max_deviation_mm", report.max_deviation_mm},
-                               {"rms_deviation_mm", report.rms_deviation_mm},
-                               {"max_deviation_joint_line", report.max_deviation_joint_line},
-                               {"max_deviation_job_line", report.max_deviation_job_line},
-                               {"coverage",
-                                {{"complete", report.covered},
-                                 {"job_length_mm", report.job_length_mm},
-                                 {"traced_mm", report.traced_mm},
-                                 {"stopped_at_job_line", report.coverage_stopped_job_line},
-                                 {"stopped_at_joint_line", report.coverage_stopped_joint_line}}},
-                               {"violations",
-                                {{"deviation", to_json(machine, report.deviation)},
-                                 {"position", to_json(machine, report.position)},
-                                 {"velocity", to_json(machine, report.velocity)},
-                                 {"pen", to_json(machine, report.pen)}}},
-                               {"passed", report.passed()}};
+  const nlohmann::json json = {
+      {"joint_program", options.joints},
+      {"job", options.job},
+      {"blocks", report.blocks},
+      {"tolerance_mm", report.tolerance_mm},
+      {"max_deviation_mm", report.max_deviation_mm},
+      {"rms_deviation_mm", report.rms_deviation_mm},
+      {"max_deviation_joint_line", report.max_deviation_joint_line},
+      {"max_deviation_job_line", report.max_deviation_job_line},
+      {"coverage",
+       {{"complete", report.covered},
+        {"job_length_mm", report.job_length_mm},
+        {"traced_mm", report.traced_mm},
+        {"stopped_at_job_line", report.coverage_stopped_job_line},
+        {"stopped_at_joint_line", report.coverage_stopped_joint_line}}},
+      {"violations",
+       {{"deviation", to_json(machine, report.deviation)},
+        {"position", to_json(machine, report.position)},
+        {"velocity", to_json(machine, report.velocity)},
+        {"pen", to_json(machine, report.pen)}}},
+      {"pen_downs", {{"joint_program", report.pen_downs}, {"job", report.job_pen_downs}}},
+      {"passed", report.passed()}};
   write_file_atomically(options.report, json.dump(2) + "\n");
 }
 
@@ -98,13 +100,14 @@ void print_summary(const Machine& machine, const char* what, const char* unit,
                    const verify::ViolationSummary& summary) {
   if (summary.count == 0) return;
   const verify::Violation& w = summary.worst;
+  std::string worst =
+      joint_name(machine, w.joint) + (w.joint >= 0 ? " " : "") + mm(w.value) + " " + unit;
+  worst += w.detail.empty() ? ", limit " + mm(w.limit) : " " + w.detail;
   std::string first;
   for (const verify::Violation& v : summary.first) first += " " + std::to_string(v.line);
-  std::printf("  %s: %ld; worst at line %d (job line %d): %s%s%.7f %s%s%.7f; first at lines%s%s\n",
-              what, summary.count, w.line, w.job_line, joint_name(machine, w.joint).c_str(),
-              w.joint >= 0 ? " " : "", w.value, unit,
-              w.detail.empty() ? ", limit " : (", " + w.detail + ", limit ").c_str(), w.limit,
-              first.c_str(), summary.count > static_cast<long>(summary.first.size()) ? " ..." : "");
+  if (summary.count > static_cast<long>(summary.first.size())) first += " ...";
+  std::printf("  %s: %ld; worst at line %d (job line %d): %s; first at lines%s\n", what,
+              summary.count, w.line, w.job_line, worst.c_str(), first.c_str());
 }
 
 void print_report(const Machine& machine, const VerifyCommandOptions& options,
@@ -119,7 +122,11 @@ void print_report(const Machine& machine, const VerifyCommandOptions& options,
   print_summary(machine, "block ends beyond a joint's travel", "(mm or deg)", report.position);
   print_summary(machine, "feed blocks beyond a joint's max_velocity", "(mm/s or deg/s)",
                 report.velocity);
-  print_summary(machine, "pen stretches against the job", "mm", report.pen);
+  print_summary(machine, "pen stretches against the job", "mm with the", report.pen);
+  if (report.pen_downs != report.job_pen_downs) {
+    std::printf("  pen: down %ld times, where the job puts it down %ld times (first at line %d)\n",
+                report.pen_downs, report.job_pen_downs, report.first_job_pen_down_line);
+  }
 }
 
 void fail_unless_passed(const VerifyCommandOptions& options, const verify::VerifyReport& report) {
@@ -140,8 +147,11 @@ void fail_unless_passed(const VerifyCommandOptions& options, const verify::Verif
                        options.job + ")");
   }
   const long others = report.position.count + report.velocity.count + report.pen.count;
-  if (others > 0) {
-    throw CommandError(std::to_string(others) + " joint limit and pen violations (above)");
+  if (others > 0 || report.pen_downs != report.job_pen_downs) {
+    throw CommandError(std::to_string(report.position.count + report.velocity.count) +
+                       " joint limit violations, " + std::to_string(report.pen.count) +
+                       " pen stretches against the job (above)" +
+                       (report.pen_downs != report.job_pen_downs ? ", pen downs differ" : ""));
   }
 }
 

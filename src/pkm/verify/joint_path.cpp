@@ -80,7 +80,9 @@ class Verifier {
   VerifyReport finish() {
     close_pen_stretch();
     const JobCursor::Rest rest = cursor_.rest();
-    check_pen_downs();
+    report_.pen_downs = pen_downs_;
+    report_.job_pen_downs = path_.pen_downs();
+    report_.first_job_pen_down_line = path_.first_pen_down_line();
     report_.job_length_mm = rest.job_length_mm;
     report_.traced_mm = rest.traced_mm;
     report_.covered = rest.job_length_mm - rest.traced_mm <= options_.tolerance_mm;
@@ -210,16 +212,6 @@ class Verifier {
       report_.pen.add(pen_stretch_);
     }
     pen_stretch_open_ = false;
-  }
-
-  // Strokes without length (dots) leave no stretch to compare: the pen must at least go down as
-  // often as the job puts it down.
-  void check_pen_downs() {
-    if (tool_.z != ToolZ::pen || pen_downs_ == path_.pen_downs()) return;
-    report_.pen.add({last_line_, path_.first_pen_down_line(), -1, double(pen_downs_),
-                     double(path_.pen_downs()),
-                     "times the pen goes down, where the job puts it down " +
-                         std::to_string(path_.pen_downs()) + " times"});
   }
 
   const Machine& machine_;

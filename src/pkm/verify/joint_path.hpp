@@ -52,6 +52,11 @@ struct VerifyReport {
   ViolationSummary position;         // block ends beyond a joint's travel
   ViolationSummary velocity;         // feed blocks driving a joint beyond its max_velocity
   ViolationSummary pen;              // stretches drawn with the pen where the job lifts it, or not
+  // Pen downs: strokes without length (dots) leave no stretch, so they are counted. Equal on a
+  // machine without a pen channel (0).
+  long pen_downs = 0;
+  long job_pen_downs = 0;
+  int first_job_pen_down_line = 0;
   // Coverage: the job traced from its start to its end, in order.
   bool covered = false;
   double job_length_mm = 0.0;  // in the coordinates the machine controls
@@ -61,7 +66,7 @@ struct VerifyReport {
 
   bool passed() const {
     return covered && deviation.count == 0 && position.count == 0 && velocity.count == 0 &&
-           pen.count == 0;
+           pen.count == 0 && pen_downs == job_pen_downs;
   }
 };
 
