@@ -1,5 +1,5 @@
 // pkm verify on a large real drawing: the 15,000-line Inkscape mandala of the real corpus, posted
-// for the wall plotter (about 18,000 joint blocks), verified against its job. Items = blocks.
+// for the wall plotter (16,656 joint blocks), verified against its job. Items = blocks.
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
