@@ -1,5 +1,8 @@
 #include "app.hpp"
 
+#include <filesystem>
+#include <system_error>
+
 #include "embedded_machine.hpp"
 
 namespace pkm::app {
@@ -47,6 +50,24 @@ std::optional<gcode::ToolTable> read_tool_table(const ToolTableOptions& options)
   if (options.path.empty()) return std::nullopt;
   return gcode::read_tool_table(
       options.path, options.units == "inch" ? gcode::LengthUnits::inch : gcode::LengthUnits::mm);
+}
+
+void refuse_overwriting_input(const std::string& output,
+                              std::initializer_list<std::pair<std::string, std::string>> inputs) {
+  if (output.empty()) return;
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::path out = fs::weakly_canonical(output, error);
+  for (const auto& [what, path] : inputs) {
+    if (path.empty()) continue;
+    std::error_code same_error, canonical_error;
+    const bool same = fs::equivalent(output, path, same_error) ||
+                      (!error && fs::weakly_canonical(path, canonical_error) == out);
+    if (same) {
+      throw CommandError(output + ": the output is the input file " + path + " (" + what +
+                         "); writing it would destroy the input, so choose another output name");
+    }
+  }
 }
 
 }  // namespace pkm::app

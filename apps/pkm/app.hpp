@@ -2,9 +2,11 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <initializer_list>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pkm/gcode/tool_table.hpp"
@@ -35,6 +37,11 @@ struct ToolTableOptions {
 void add_tool_table_options(CLI::App& command, ToolTableOptions& options);
 // The table the options name, or none without a file. Throws gcode::GcodeError (file:line).
 std::optional<gcode::ToolTable> read_tool_table(const ToolTableOptions& options);
+
+// Refuses to write `output` over one of the inputs ({what, path}: "the job", "job.ngc"): the same
+// file by any path. Inputs that are empty are skipped.
+void refuse_overwriting_input(const std::string& output,
+                              std::initializer_list<std::pair<std::string, std::string>> inputs);
 
 void register_kinematics_commands(CLI::App& app);
 void register_calibrate_commands(CLI::App& app);

@@ -156,6 +156,10 @@ void fail_unless_passed(const VerifyCommandOptions& options, const verify::Verif
 }
 
 void run_verify(const VerifyCommandOptions& options) {
+  refuse_overwriting_input(options.report, {{"the joint program", options.joints},
+                                            {"the job", options.job},
+                                            {"the machine file", options.machine},
+                                            {"the tool table", options.tool_table.path}});
   const Machine machine = load_machine_or_default(options.machine);
   verify::VerifyOptions verify_options;
   verify_options.origin = pose_vector_over(verify_options.origin, options.origin);
