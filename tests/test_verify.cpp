@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <unordered_map>
 
 #include "pkm/gcode/tool_table.hpp"
 #include "pkm/motion/segment_builder.hpp"
@@ -125,42 +126,97 @@ void add_chunks(const std::vector<Eigen::Vector3d>& points, std::vector<Chunk>& 
   }
 }
 
-std::vector<Chunk> programmed_path(const Machine& machine, const fs::path& job,
-                                   const Vector6d& origin) {
+// Pieces of the polyline of a move: one for a line; for an arc, chords whose sagitta is at most
+// 1e-5 mm (0.1 % of a 0.01 mm tolerance).
+int polyline_pieces(const motion::Segment& segment) {
+  if (segment.kind != motion::SegmentKind::arc) return 1;
+  const double radius =
+      std::hypot(segment.start[segment.first_axis] - segment.centre[segment.first_axis],
+                 segment.start[segment.second_axis] - segment.centre[segment.second_axis]);
+  const double chord = std::sqrt(8.0 * 1e-5 * std::max(radius, 1e-6));
+  return std::clamp(static_cast<int>(std::ceil(segment.length() / chord)), 16, 200000);
+}
+
+// The chunks, and a grid of 2 mm cells naming the chunks within 0.5 mm of each.
+struct ProgrammedPath {
+  static constexpr double kCell = 2.0, kMargin = 0.5;
+  std::vector<Chunk> chunks;
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> cells;
+  std::vector<std::size_t> everywhere;  // chunks over too many cells to list: always compared
+
+  static std::int64_t cell_of(double x) { return static_cast<std::int64_t>(std::floor(x / kCell)); }
+  static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (static_cast<std::uint64_t>(x & 0x1fffff) << 42) |
+           (static_cast<std::uint64_t>(y & 0x1fffff) << 21) |
+           static_cast<std::uint64_t>(z & 0x1fffff);
+  }
+  void index(std::size_t c) {
+    const Chunk& chunk = chunks[c];
+    const Eigen::Vector3d span = (chunk.high - chunk.low).array() + 2.0 * kMargin + kCell;
+    if (span.prod() / (kCell * kCell * kCell) > 1e4) {
+      everywhere.push_back(c);
+      return;
+    }
+    for (std::int64_t x = cell_of(chunk.low.x() - kMargin); x <= cell_of(chunk.high.x() + kMargin);
+         ++x) {
+      for (std::int64_t y = cell_of(chunk.low.y() - kMargin);
+           y <= cell_of(chunk.high.y() + kMargin); ++y) {
+        for (std::int64_t z = cell_of(chunk.low.z() - kMargin);
+             z <= cell_of(chunk.high.z() + kMargin); ++z) {
+          cells[key(x, y, z)].push_back(c);
+        }
+      }
+    }
+  }
+};
+
+ProgrammedPath programmed_path(const Machine& machine, const fs::path& job,
+                               const Vector6d& origin) {
   const Vector6d home = machine.home().as_vector();
   const Eigen::Vector3d mask = position_mask(machine);
   motion::SegmentBuilder builder(home, origin, false);
-  std::vector<Chunk> chunks;
+  ProgrammedPath path;
   gcode::Interpreter(job, motion::starting_at({}, home, origin))
       .run([&](const gcode::Canon& canon) {
         const auto segment = builder.take(canon);
         if (!segment || segment->kind == motion::SegmentKind::dwell) return;
         std::vector<Eigen::Vector3d> points;
-        const int count = segment->kind == motion::SegmentKind::arc ? 4000 : 1;
+        const int count = polyline_pieces(*segment);
         for (int k = 0; k <= count; ++k) {
           points.push_back(segment->at(k / double(count)).head<3>().cwiseProduct(mask));
         }
-        add_chunks(points, chunks);
+        add_chunks(points, path.chunks);
       });
-  return chunks;
+  for (std::size_t c = 0; c < path.chunks.size(); ++c) path.index(c);
+  return path;
 }
 
-double distance_to_path(const Eigen::Vector3d& p, const std::vector<Chunk>& chunks) {
+double distance_to_chunk(const Eigen::Vector3d& p, const Chunk& chunk) {
   double nearest = INFINITY;
-  for (int pass = 0; pass < 2 && !std::isfinite(nearest); ++pass) {
-    const double margin = pass == 0 ? 0.5 : INFINITY;  // near chunks first, all if none is near
-    for (const Chunk& chunk : chunks) {
-      if (((p - chunk.high).array() > margin).any() || ((chunk.low - p).array() > margin).any()) {
-        continue;
-      }
-      for (std::size_t k = 1; k < chunk.points.size(); ++k) {
-        const Eigen::Vector3d a = chunk.points[k - 1], ab = chunk.points[k] - a;
-        const double squared = ab.squaredNorm();
-        const double t = squared > 0.0 ? std::clamp((p - a).dot(ab) / squared, 0.0, 1.0) : 0.0;
-        nearest = std::min(nearest, (a + t * ab - p).norm());
-      }
-    }
+  for (std::size_t k = 1; k < chunk.points.size(); ++k) {
+    const Eigen::Vector3d a = chunk.points[k - 1], ab = chunk.points[k] - a;
+    const double squared = ab.squaredNorm();
+    const double t = squared > 0.0 ? std::clamp((p - a).dot(ab) / squared, 0.0, 1.0) : 0.0;
+    nearest = std::min(nearest, (a + t * ab - p).norm());
   }
+  return nearest;
+}
+
+// Exact to the polylines: the chunks of p's cell when one is within the cells' margin, else all.
+double distance_to_path(const Eigen::Vector3d& p, const ProgrammedPath& path) {
+  double nearest = INFINITY;
+  const auto cell = path.cells.find(ProgrammedPath::key(ProgrammedPath::cell_of(p.x()),
+                                                        ProgrammedPath::cell_of(p.y()),
+                                                        ProgrammedPath::cell_of(p.z())));
+  for (const std::size_t c : path.everywhere) {
+    nearest = std::min(nearest, distance_to_chunk(p, path.chunks[c]));
+  }
+  if (cell != path.cells.end()) {
+    for (const std::size_t c : cell->second)
+      nearest = std::min(nearest, distance_to_chunk(p, path.chunks[c]));
+  }
+  if (nearest <= ProgrammedPath::kMargin) return nearest;
+  for (const Chunk& chunk : path.chunks) nearest = std::min(nearest, distance_to_chunk(p, chunk));
   return nearest;
 }
 
@@ -168,7 +224,7 @@ double distance_to_path(const Eigen::Vector3d& p, const std::vector<Chunk>& chun
 // every block, read back by the interpreter (pen lines skipped).
 double independent_max_mm(const Machine& machine, const fs::path& joints, const fs::path& job,
                           const Vector6d& origin) {
-  const std::vector<Chunk> path = programmed_path(machine, job, origin);
+  const ProgrammedPath path = programmed_path(machine, job, origin);
   const Eigen::Vector3d mask = position_mask(machine);
   JointVector previous;
   EXPECT_TRUE(machine.inverse(machine.home(), previous).ok());
