@@ -18,7 +18,7 @@
 namespace pkm::verify {
 
 struct VerifyOptions {
-  double tolerance_mm = 0.0;              // largest deviation accepted (required, > 0)
+  double tolerance_mm = 0.01;             // largest deviation accepted, mm (post's default; > 0)
   Vector6d origin = Vector6d::Zero();     // where the job's X0 Y0 Z0 sits (mm, rad)
   gcode::InterpreterOptions job_options;  // the job's tool table and block delete
 };
