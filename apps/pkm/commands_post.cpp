@@ -116,14 +116,12 @@ void register_post_commands(CLI::App& app) {
   command
       ->add_option("--tolerance", options->tolerance_mm,
                    "Largest tool-tip deviation from the programmed path, mm (default 0.01)")
-      ->check(CLI::PositiveNumber);
+      ->check(number_in(kMinTolerance, kMaxTolerance));
   command->add_option("--dialect", options->dialect, "linuxcnc (default), mach3 or grbl")
       ->check(CLI::IsMember({"linuxcnc", "mach3", "grbl"}));
   command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl, mm)");
-  command
-      ->add_option("--origin", options->origin,
-                   "Where the program's X0 Y0 Z0 sits in machine coordinates (mm, deg)")
-      ->expected(2, 6);
+  add_pose_option(*command, "--origin", options->origin,
+                  "Where the program's X0 Y0 Z0 sits in machine coordinates, mm and deg");
   command->callback([options] { run_post(*options); });
 }
 
