@@ -10,8 +10,8 @@ namespace pkm {
 
 namespace {
 
-// Largest value a measurement may hold, mm or deg: far beyond any machine, and small enough that
-// the fit's arithmetic on it cannot overflow.
+// Largest value a measurement may hold, mm or deg (the message says 1e6): far beyond any
+// machine, and small enough that the fit's arithmetic on it cannot overflow.
 constexpr double kLargestValue = 1e6;
 
 struct Field {
@@ -126,8 +126,7 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
       if (!std::isfinite(value)) fail(line_number, fields[c].column, "must be finite");
       if (std::abs(value) > kLargestValue) {
         fail(line_number, fields[c].column,
-             "'" + field + "' is beyond any machine (at most " + std::to_string(kLargestValue) +
-                 " mm or deg)");
+             "'" + field + "' is beyond any machine (at most 1e6 mm or deg in size)");
       }
       if (joint_of_column[c] >= 0) {
         measurement.joints[joint_of_column[c]] =

@@ -11,8 +11,8 @@
 namespace pkm::gcode {
 
 namespace {
-// Largest number a tool table may hold (mm, inch or deg; tool and pocket numbers): beyond any
-// tool, and small enough that offsets added to coordinates cannot overflow.
+// Largest number a tool table may hold (mm, inch or deg; tool and pocket numbers; the message
+// says 1e6): beyond any tool, and small enough that offsets added to coordinates cannot overflow.
 constexpr double kLargestValue = 1e6;
 }  // namespace
 
@@ -47,12 +47,10 @@ ToolTable parse_tool_table(const std::string& text, const std::string& source_na
                          std::string("tool table: '") + line[pos] + "' needs a number");
       }
       if (!std::isfinite(value) || std::abs(value) > kLargestValue) {
-        throw GcodeError(
-            source_name, number, column,
-            std::string("tool table: ") + line[pos] + " " +
-                line.substr(pos + 1, static_cast<std::size_t>(end - line.c_str()) - pos - 1) +
-                " must be a finite number of at most " +
-                std::to_string(static_cast<long>(kLargestValue)) + " in size");
+        throw GcodeError(source_name, number, column,
+                         std::string("tool table: ") +
+                             line.substr(pos, static_cast<std::size_t>(end - line.c_str()) - pos) +
+                             " must be a finite number of at most 1e6 in size");
       }
       if ((c == 'T' || c == 'P') && (value < 0.0 || value != std::floor(value))) {
         throw GcodeError(
