@@ -170,6 +170,20 @@ TEST(ZFree, ZIsNoPartOfTheLengthThatSetsTheFeed) {
   EXPECT_EQ(ramp.samples.back().pose[2], -20.0);  // Z still follows the program in the pose
 }
 
+TEST(ZFree, ATableThatIgnoresZHasNoPenAndSpendsNoTimeOnZ) {
+  std::ifstream in(kSource / "tests" / "data" / "wall-plotter-pen.toml");
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  text.replace(text.find("z = \"pen\""), 9, "z = \"ignore\"");
+  const Machine ignoring = parse_machine(text, "ignoring.toml");
+  ASSERT_EQ(ignoring.tool().z, ToolZ::ignore);
+  EXPECT_EQ(sample_columns(ignoring),
+            (std::vector<std::string>{"t", "line", "x", "y", "z", "j_left", "j_right"}));
+  Collect out;
+  const PlanReport report =
+      plan_text(ignoring, "G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F600\nG1 X10\nG0 Z5\nM2\n", out, at_home());
+  EXPECT_NEAR(report.duration_s, 1.0125, 1e-9);  // the line alone: no pen, no delay
+}
+
 // The number of times the pen goes down and up along the samples.
 std::pair<int, int> pen_changes(const std::vector<Sample>& samples) {
   int down = 0, up = 0;
