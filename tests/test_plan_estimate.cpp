@@ -170,6 +170,16 @@ TEST(ZFree, ZIsNoPartOfTheLengthThatSetsTheFeed) {
   EXPECT_EQ(ramp.samples.back().pose[2], -20.0);  // Z still follows the program in the pose
 }
 
+TEST(ZFree, AnArcInXZIsMeasuredAlongItsPathInXY) {
+  // A half circle of radius 10 in the XZ plane, from X0 to X20: the plotter travels 20 mm in X.
+  const Machine plotter = test::load_example("wall-plotter.toml");
+  Collect out;
+  const PlanReport report =
+      plan_text(plotter, "G21 G90 G18\nG2 X20 Z0 I10 K0 F600\nM2\n", out, at_home());
+  EXPECT_NEAR(report.path_length_mm, 20.0, 1e-9);
+  EXPECT_NEAR(out.samples.back().pose[0], 770.0, 1e-9);
+}
+
 TEST(ZFree, ATableThatIgnoresZHasNoPenAndSpendsNoTimeOnZ) {
   std::ifstream in(kSource / "tests" / "data" / "wall-plotter-pen.toml");
   std::string text((std::istreambuf_iterator<char>(in)), {});
@@ -348,6 +358,30 @@ std::string npy_header(const fs::path& path, std::string& bytes) {
   const std::size_t length =
       static_cast<unsigned char>(bytes[8]) + 256u * static_cast<unsigned char>(bytes[9]);
   return bytes.substr(10, length);
+}
+
+TEST(SampleFiles, CsvRowsKeepTheirFormat) {
+  // Hektor at (34, -40): cables sqrt(34^2 + 40^2) and sqrt(66^2 + 40^2). Times with 6 decimals,
+  // the line a whole number, everything else with 9: what tools reading these files expect.
+  const Machine hektor = test::load_example("hektor.toml");
+  const fs::path path =
+      fs::temp_directory_path() / ("pkm-row-" + std::to_string(::getpid()) + ".csv");
+  Sample s;
+  s.time_s = 0.5;
+  s.line = 7;
+  s.pose << 34, -40, 0, 0, 0, 0;
+  ASSERT_TRUE(hektor.inverse(Pose::from_vector(s.pose), s.joints).ok());
+  {
+    auto file = SampleFile::open(path, hektor);
+    file->write(s);
+    file->commit();
+  }
+  std::ifstream in(path);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  fs::remove(path);
+  EXPECT_EQ(text,
+            "t,line,x,y,z,j_left,j_right\n"
+            "0.500000,7,34.000000000,-40.000000000,0.000000000,52.497618994,77.175125526\n");
 }
 
 TEST(SampleFiles, APenMachineHasAPenColumnInBothFormats) {
