@@ -181,8 +181,11 @@ std::string size_text(double bytes) {
 
 void print_estimate_head(const Machine& machine, const motion::PlanReport& report,
                          const std::string& name) {
-  std::printf("%s on %s (estimate; no samples made): %.6g s, path %.3f mm\n", name.c_str(),
-              machine.name().c_str(), report.duration_s, report.path_length_mm);
+  // Seconds to the millisecond; an absurd job's (1e152 s) in powers of ten.
+  std::printf(report.duration_s < 1e9
+                  ? "%s on %s (estimate, no samples made): %.3f s, path %.3f mm\n"
+                  : "%s on %s (estimate, no samples made): %.4g s, path %.3f mm\n",
+              name.c_str(), machine.name().c_str(), report.duration_s, report.path_length_mm);
   const double samples = static_cast<double>(report.samples);
   std::printf("  %s%ld samples at the period: NPY %s, CSV about %s\n",
               report.samples >= motion::kSampleCountCap ? "more than " : "", report.samples,

@@ -93,7 +93,7 @@ pkm_cli_refuses(plan_tool_table_nan "tool-table-nan.tbl:3:7: tool table: Znan mu
 add_test(NAME cli.plan_estimate_without_output
          COMMAND ${PKM} plan -m ${PLOTTER} ${SQUARE} --origin 600 -800)
 set_tests_properties(cli.plan_estimate_without_output PROPERTIES PASS_REGULAR_EXPRESSION
-  "square\\.ngc on Wall plotter 1500 \\(estimate; no samples made\\): 11\\.795 s, path 245\\.853 mm\n  11796 samples at the period: NPY 660\\.[0-9] kB")
+  "square\\.ngc on Wall plotter 1500 \\(estimate, no samples made\\): 11\\.795 s, path 245\\.853 mm\n  11796 samples at the period: NPY 660\\.[0-9] kB")
 add_test(NAME cli.gcode_summary COMMAND ${PKM} gcode ${SQUARE})
 set_tests_properties(cli.gcode_summary PROPERTIES PASS_REGULAR_EXPRESSION
   "5 moves, written in mm \\(G21\\).*\n  box +x 0\\.000 \\.\\. 15\\.000, y 0\\.000 \\.\\. 20\\.000, z 0\\.000 \\.\\. 0\\.000 mm\n.*  path +rapid 0\\.000 mm, feed 65\\.616 mm, arc 0\\.000 mm")
