@@ -7,6 +7,7 @@
 
 int main(int argc, char** argv) {
   CLI::App app{"pkmkit: drive parallel-kinematic machines from Cartesian G-code", "pkm"};
+  app.set_version_flag("--version", "pkm (pkmkit) " PKM_VERSION);
   app.require_subcommand(1);
   pkm::app::register_kinematics_commands(app);
   pkm::app::register_gcode_commands(app);
