@@ -67,6 +67,9 @@ pkm_cli_refuses(plan_output_is_the_job "the output .*square.ngc is the job"
                 plan -m ${PLOTTER} ${SQUARE} --origin 600 -800 -o ${CLI_OUT}/./square.ngc)
 pkm_cli_refuses(plan_report_is_the_job "the output .*square.ngc is the job"
                 plan -m ${PLOTTER} ${SQUARE} --origin 600 -800 --report ${SQUARE})
+pkm_cli_refuses(plan_report_is_the_samples "the output .*square.csv is the samples' file"
+                plan -m ${PLOTTER} ${SQUARE} --origin 600 -800 -o ${CLI_OUT}/square.csv
+                --report ${CLI_OUT}/square.csv)
 pkm_cli_refuses(calibrate_fit_output_is_the_data "is the measurements"
                 calibrate fit -m ${CLI_OUT}/hektor.toml ${CLI_OUT}/hektor-measurements.csv
                 -o ${CLI_OUT}/hektor-measurements.csv)
