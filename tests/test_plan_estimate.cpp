@@ -212,6 +212,7 @@ TEST(PenChannel, ThePenChangesAtRestForItsDelay) {
   // Two pen changes of 0.15 s each and the 10 mm line of 1.0125 s; the Z moves take no time.
   EXPECT_NEAR(report.duration_s, 0.3 + 1.0125, 1e-9);
   EXPECT_EQ(pen_changes(out.samples), std::make_pair(1, 1));
+  EXPECT_EQ(report.pen_changes, 2);
   EXPECT_FALSE(out.samples.front().pen_down);  // home's Z 0 is not below down_below 0
   int at_rest_down = 0;
   for (const Sample& s : out.samples) {
@@ -266,6 +267,7 @@ TEST(PenChannel, ARealDrawingLiftsThePenWhereverItsZRises) {
     ASSERT_EQ(s.pen_down, s.pose[2] < 0.0) << "t = " << s.time_s << ", line " << s.line;
   }
   EXPECT_EQ(pen_changes(out.samples), std::make_pair(142, 142));
+  EXPECT_EQ(with_pen.pen_changes, 284);
   EXPECT_EQ(with_pen.path_length_mm, without.path_length_mm);
   // Each change is a stop and 0.15 s of pen: at least 284 * 0.15 s more than without a pen.
   EXPECT_GE(with_pen.duration_s, without.duration_s + 284 * 0.15 - 1e-9);

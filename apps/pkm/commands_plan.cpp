@@ -72,6 +72,7 @@ nlohmann::json report_json(const Machine& machine, const motion::PlanReport& rep
           {"duration_s", report.duration_s},
           {"samples", report.samples},
           {"path_length_mm", report.path_length_mm},
+          {"pen_changes", report.pen_changes},
           {"joints", joints},
           {"feed_limited_by_joints", limits}};
 }
@@ -193,6 +194,20 @@ void print_estimate_head(const Machine& machine, const motion::PlanReport& repor
               size_text(csv_bytes(machine, samples)).c_str());
 }
 
+// The first `count` moves whose feed a joint lowered: what to look at before running the job.
+void print_feed_limits(const Machine& machine, const motion::PlanReport& report,
+                       std::size_t count) {
+  for (std::size_t i = 0; i < report.feed_limits.size() && i < count; ++i) {
+    const motion::FeedLimit& limit = report.feed_limits[i];
+    std::printf("    line %d: F%.1f lowered to F%.1f by joint %s\n", limit.line,
+                limit.programmed_mm_per_s * 60.0, limit.allowed_mm_per_s * 60.0,
+                machine.joints()[static_cast<std::size_t>(limit.joint)].name.c_str());
+  }
+  if (report.feed_limits.size() > count) {
+    std::printf("    and %zu more (--report lists them all)\n", report.feed_limits.size() - count);
+  }
+}
+
 void print_summary(const Machine& machine, const motion::PlanReport& report,
                    const std::string& name, bool estimate) {
   if (estimate) {
@@ -214,12 +229,17 @@ void print_summary(const Machine& machine, const motion::PlanReport& report,
     }
     std::printf("\n");
   }
+  if (machine.tool().z == ToolZ::pen) {
+    std::printf("  pen down or up %d times, %.3f s of pen delay\n", report.pen_changes,
+                report.pen_changes * machine.tool().delay_s);
+  }
   if (!report.feed_limits.empty()) {
     std::printf(
         "  feed lowered by joint limits on %zu moves (first at line %d, joint %s)\n",
         report.feed_limits.size(), report.feed_limits.front().line,
         machine.joints()[static_cast<std::size_t>(report.feed_limits.front().joint)].name.c_str());
   }
+  if (estimate) print_feed_limits(machine, report, 5);
 }
 
 void print_warnings(const PlanCommandOptions& options, const motion::PlanReport& report) {

@@ -489,6 +489,7 @@ class Planner {
     flush(true);
     entry_speed_ = 0.0;
     pen_down_ = down_at_end;
+    ++report_.pen_changes;
     last_line_ = segment.line;
     const Vector6d here = pose_;
     sample_until(time_ + tool.delay_s, segment.line, [&](double) { return here; });

@@ -83,6 +83,7 @@ struct PlanReport {
   std::vector<JointStatistics> joints;
   std::vector<FeedLimit> feed_limits;
   std::vector<gcode::Warning> warnings;
+  int pen_changes = 0;  // times the pen channel went down or up
 };
 
 // A move the machine cannot make, with the G-code line and the reason (joint, limit).
