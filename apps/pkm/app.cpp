@@ -51,15 +51,15 @@ std::string shown(double value) {
 
 }  // namespace
 
-CLI::Validator number_in(double min, double max, bool above_min) {
-  const std::string range = (above_min ? "(" : "[") + shown(min) + ", " + shown(max) + "]";
+CLI::Validator number_in(double min, double max) {
+  const std::string range = "[" + shown(min) + ", " + shown(max) + "]";
   return CLI::Validator(
       [=](std::string& text) -> std::string {
         char* end = nullptr;
         const double value = std::strtod(text.c_str(), &end);
         if (end == text.c_str() || *end != '\0') return "'" + text + "' is not a number";
         if (!std::isfinite(value)) return "'" + text + "' is not a finite number";
-        if (value < min || value > max || (above_min && value == min)) {
+        if (value < min || value > max) {
           return text + " is outside " + range;
         }
         return std::string();

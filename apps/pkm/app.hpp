@@ -27,10 +27,10 @@ Pose pose_from_arguments(const Machine& machine, const std::vector<double>& valu
 // `base` (mm, rad) with its leading coordinates replaced by `values` (x y z a b c, mm and deg).
 Vector6d pose_vector_over(Vector6d base, const std::vector<double>& values);
 
-// The one check of every number read from the command line: it must be finite and within
-// [min, max], `min` itself refused when `above_min` (a period of 0 s). CLI11's own range checks
-// let NaN through. For an option of several numbers it checks each.
-CLI::Validator number_in(double min, double max, bool above_min = false);
+// The one check of every number read from the command line: it must parse whole, be finite and
+// lie within [min, max]. CLI11's own range checks let NaN through. For an option of several
+// numbers it checks each.
+CLI::Validator number_in(double min, double max);
 
 // Largest coordinate accepted from the command line, mm (and deg for a b c): far beyond any
 // machine, small enough that no arithmetic on it overflows.
