@@ -87,8 +87,8 @@ void refuse_overwriting_input(const std::string& output,
     const bool same = fs::equivalent(output, path, same_error) ||
                       (!error && fs::weakly_canonical(path, canonical_error) == out);
     if (same) {
-      throw CommandError("the output " + output + " is " + what + " (" + path +
-                         "): writing it would destroy the input; choose another output name");
+      throw CommandError(output + ": the output is the input file " + path + " (" + what +
+                         "); writing it would destroy the input, so choose another output name");
     }
   }
 }

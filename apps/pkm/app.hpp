@@ -37,7 +37,7 @@ CLI::Validator number_in(double min, double max);
 inline constexpr double kMaxCoordinate = 1e6;
 // Tolerances on the tool tip's path (post, verify), mm: finer than any machine can resolve is
 // refused, because the work to honour it grows without end.
-inline constexpr double kMinTolerance = 1e-4, kMaxTolerance = 100.0;
+inline constexpr double kMinTolerance = 1e-4, kMaxTolerance = 1000.0;
 // The interpolation period, s: a servo loop runs between a few microseconds and a second.
 inline constexpr double kMinPeriod = 1e-6, kMaxPeriod = 1.0;
 

@@ -48,7 +48,7 @@ pkm_cli_refuses(plan_jerk_negative "--jerk: -1 is outside \\[0, 1000000000000\\]
                 plan ${SPHERE} --jerk -1)
 pkm_cli_refuses(plan_max_samples_zero "--max-samples: 0 is outside \\[1, 1e\\+15\\]"
                 plan ${SPHERE} --max-samples 0)
-pkm_cli_refuses(post_tolerance_tiny "--tolerance: 1e-300 is outside \\[0.0001, 100\\]"
+pkm_cli_refuses(post_tolerance_tiny "--tolerance: 1e-300 is outside \\[0.0001, 1000\\]"
                 post ${SPHERE} -o ${CLI_OUT}/never.ngc --tolerance 1e-300)
 
 # A job whose samples would pass the bound is refused before anything is written, with its
@@ -63,20 +63,20 @@ pkm_cli_refuses(plan_past_a_stated_bound "249755 samples at 0.001 s .*more than 
   plan ${SPHERE} -o ${CLI_OUT}/sphere-bounded.csv --max-samples 1000)
 
 # An output is never an input.
-pkm_cli_refuses(plan_output_is_the_job "the output .*square.ngc is the job"
+pkm_cli_refuses(plan_output_is_the_job "square.ngc: the output is the input file .*square.ngc \\(the job\\)"
                 plan -m ${PLOTTER} ${SQUARE} --origin 600 -800 -o ${CLI_OUT}/./square.ngc)
-pkm_cli_refuses(plan_report_is_the_job "the output .*square.ngc is the job"
+pkm_cli_refuses(plan_report_is_the_job "square.ngc: the output is the input file .*square.ngc \\(the job\\)"
                 plan -m ${PLOTTER} ${SQUARE} --origin 600 -800 --report ${SQUARE})
-pkm_cli_refuses(plan_report_is_the_samples "the output .*square.csv is the samples' file"
+pkm_cli_refuses(plan_report_is_the_samples "square.csv: the output is the input file .*square.csv \\(the samples' file\\)"
                 plan -m ${PLOTTER} ${SQUARE} --origin 600 -800 -o ${CLI_OUT}/square.csv
                 --report ${CLI_OUT}/square.csv)
-pkm_cli_refuses(calibrate_fit_output_is_the_data "is the measurements"
+pkm_cli_refuses(calibrate_fit_output_is_the_data "the output is the input file .*hektor-measurements.csv \\(the measurements\\)"
                 calibrate fit -m ${CLI_OUT}/hektor.toml ${CLI_OUT}/hektor-measurements.csv
                 -o ${CLI_OUT}/hektor-measurements.csv)
-pkm_cli_refuses(calibrate_fit_output_is_the_machine "is the machine file"
+pkm_cli_refuses(calibrate_fit_output_is_the_machine "the output is the input file .*hektor.toml \\(the machine file\\)"
                 calibrate fit -m ${CLI_OUT}/hektor.toml ${CLI_OUT}/hektor-measurements.csv
                 -o ${CLI_OUT}/../cli-out/hektor.toml)
-pkm_cli_refuses(calibrate_matrix_output_is_the_machine "is the machine file of --add-to"
+pkm_cli_refuses(calibrate_matrix_output_is_the_machine "the output is the input file .*matrix-mill.toml \\(the machine file of --add-to\\)"
                 calibrate matrix --z-tilt-y 0.004 80 --add-to ${CLI_OUT}/matrix-mill.toml
                 -o ${CLI_OUT}/matrix-mill.toml)
 
