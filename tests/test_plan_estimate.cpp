@@ -251,6 +251,25 @@ TEST(PenChannel, AMoveThatCrossesThePenHeightIsSplitWhereItCrosses) {
   EXPECT_EQ(pen_changes(out.samples), std::make_pair(1, 0));
 }
 
+TEST(PenChannel, AnArcThatDipsBelowThePenHeightDrawsOnlyBelowIt) {
+  // A half circle in XZ of radius 10 about X10 Z1, from X0 to X20 through Z-9: below Z0 between
+  // X 10 - sqrt(99) and X 10 + sqrt(99), where the pen goes down and then up again.
+  const Machine pen = pen_plotter();
+  Collect out;
+  const PlanReport report =
+      plan_text(pen, "G21 G90\nG0 X0 Y0 Z1\nG18 G2 X20 Z1 I10 K0 F600\nM2\n", out, at_home());
+  EXPECT_EQ(report.pen_changes, 2);
+  EXPECT_EQ(pen_changes(out.samples), std::make_pair(1, 1));
+  EXPECT_NEAR(report.path_length_mm, 20.0, 1e-9);
+  for (const Sample& s : out.samples) {
+    EXPECT_EQ(s.pen_down, s.pose[2] < 0.0) << "t = " << s.time_s;
+    if (s.pen_down) {
+      EXPECT_GE(s.pose[0], 760.0 - std::sqrt(99.0) - 1e-9) << "t = " << s.time_s;
+      EXPECT_LE(s.pose[0], 760.0 + std::sqrt(99.0) + 1e-9) << "t = " << s.time_s;
+    }
+  }
+}
+
 TEST(PenChannel, ARealDrawingLiftsThePenWhereverItsZRises) {
   // An Inkscape drawing for a DexArm (pen Z 5 up, -1 down; 142 strokes) on the wall plotter.
   const fs::path job = kCorpus / "plotter" / "dexarm-inkscape" / "vitruvianMan.gcode";

@@ -469,31 +469,24 @@ class Planner {
     sample_until(time_ + segment.dwell_s, segment.line, [&](double) { return segment.start; });
   }
 
-  // A move on a machine with a pen channel: where its Z crosses the pen's height the machine
+  // A move on a machine with a pen channel: wherever its Z crosses the pen's height the machine
   // stops, the pen goes down or up (samples carry the new state from then on) and the pen's
   // delay passes; the move runs on from there.
   void add_with_pen(const Segment& segment) {
     const ToolChannel& tool = machine_.tool();
-    const bool down_at_end = tool.pen_down(segment.end[2]);
-    if (down_at_end == pen_down_) {
-      add(segment);
-      return;
+    double from = 0.0;
+    for (const double crossing : z_crossings(segment, tool.down_below_mm)) {
+      if (crossing > from) add(segment.part(from, crossing));
+      flush(true);
+      entry_speed_ = 0.0;
+      pen_down_ = !pen_down_;
+      ++report_.pen_changes;
+      last_line_ = segment.line;
+      const Vector6d here = pose_;
+      sample_until(time_ + tool.delay_s, segment.line, [&](double) { return here; });
+      from = crossing;
     }
-    // The fraction of the move where the pen changes: the first at which it has its end state.
-    double before = 0.0, after = 1.0;
-    for (int i = 0; i < 60; ++i) {
-      const double middle = 0.5 * (before + after);
-      (tool.pen_down(segment.at(middle)[2]) == down_at_end ? after : before) = middle;
-    }
-    if (after > 0.0) add(segment.part(0.0, after));
-    flush(true);
-    entry_speed_ = 0.0;
-    pen_down_ = down_at_end;
-    ++report_.pen_changes;
-    last_line_ = segment.line;
-    const Vector6d here = pose_;
-    sample_until(time_ + tool.delay_s, segment.line, [&](double) { return here; });
-    if (after < 1.0) add(segment.part(after, 1.0));
+    add(from > 0.0 ? segment.part(from, 1.0) : segment);
   }
 
   // Samples on the multiples of the period up to `end` (time division), then moves on.
