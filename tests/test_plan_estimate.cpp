@@ -52,7 +52,7 @@ class TempProgram {
 };
 
 Machine pen_plotter() {
-  return load_machine(kSource / "tests" / "data" / "wall-plotter-pen.toml");
+  return test::load_example("pen-plotter.toml");
 }
 
 // Drawings made about (0, 0) hang below the wall plotter's anchors with the program's X0 Y0 on its
@@ -181,7 +181,7 @@ TEST(ZFree, AnArcInXZIsMeasuredAlongItsPathInXY) {
 }
 
 TEST(ZFree, ATableThatIgnoresZHasNoPenAndSpendsNoTimeOnZ) {
-  std::ifstream in(kSource / "tests" / "data" / "wall-plotter-pen.toml");
+  std::ifstream in(test::example_machine_path("pen-plotter.toml"));
   std::string text((std::istreambuf_iterator<char>(in)), {});
   text.replace(text.find("z = \"pen\""), 9, "z = \"ignore\"");
   const Machine ignoring = parse_machine(text, "ignoring.toml");
