@@ -117,7 +117,7 @@ class ProgressBar {
   std::chrono::steady_clock::time_point last_;
 };
 
-// Samples nobody keeps: `pkm demo` without -o.
+// Samples nobody keeps: `pkm demo` without -o, and the estimate (which makes none).
 struct DiscardSamples final : SampleFile {
   void write(const motion::Sample&) override {}
   void commit() override {}
