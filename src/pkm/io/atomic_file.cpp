@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <system_error>
 
@@ -65,7 +66,9 @@ long writer_pid(std::string_view suffix) {
   if (dash == std::string_view::npos) return 0;
   long pid = 0;
   const auto [end, error] = std::from_chars(suffix.data(), suffix.data() + dash, pid);
-  return error == std::errc() && end == suffix.data() + dash ? pid : 0;
+  const bool valid = error == std::errc() && end == suffix.data() + dash && pid > 0 &&
+                     pid <= std::numeric_limits<pid_t>::max();
+  return valid ? pid : 0;  // never a group or "every process" for kill() below
 }
 
 bool is_running(long pid) {
