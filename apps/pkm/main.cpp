@@ -23,8 +23,12 @@ void remove_temporaries_on_signals() {
   action.sa_handler = remove_temporaries_and_die;
   action.sa_flags = SA_RESETHAND;
   sigemptyset(&action.sa_mask);
-  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP})
-    sigaction(signal_number, &action, nullptr);
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+    // A signal ignored when pkm started stays ignored: nohup's SIGHUP, a background job's SIGINT.
+    struct sigaction inherited {};
+    sigaction(signal_number, nullptr, &inherited);
+    if (inherited.sa_handler != SIG_IGN) sigaction(signal_number, &action, nullptr);
+  }
 }
 
 void warn_of_stale_temporary(const pkm::StaleTemporary& stale) {
