@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "pkm/io/atomic_file.hpp"
@@ -89,37 +90,45 @@ TEST_F(AtomicFileTest, CommittedOutputIsNoLongerATemporary) {
 
 TEST_F(AtomicFileTest, StaleTemporariesAreRemovedAndReported) {
   const long dead = finished_pid();
+  const std::string me = std::to_string(::getpid());
+  const auto an_hour_ago = fs::file_time_type::clock::now() - std::chrono::hours(1);
   const std::string killed = ".job.csv.tmp-" + std::to_string(dead) + "-AbCdEf";
-  const std::string running = ".job.csv.tmp-" + std::to_string(::getpid()) + "-LiVe12";
+  const std::string running = ".job.csv.tmp-" + me + "-LiVe12";
+  // This process's PID, but written before it started: the PID was reused.
+  const std::string reused = ".job.csv.tmp-" + me + "-ReUsEd";
   const std::string old_style = ".job.csv.tmp-QwErTy";  // pkm before PIDs in names
-  make_file(killed, 1234);
-  make_file(running, 10);
-  make_file(".other.csv.tmp-" + std::to_string(dead) + "-AbCdEf", 10);  // another output's
   // No valid PID (kill() would take it for a process group): judged by age, and it is new.
   const std::string huge_pid = ".job.csv.tmp-99999999999-AbCdEf";
+  const std::string other_output = ".other.csv.tmp-" + std::to_string(dead) + "-AbCdEf";
+  make_file(killed, 1234);
+  make_file(running, 10);
+  fs::last_write_time(make_file(reused, 7), an_hour_ago);
+  fs::last_write_time(make_file(old_style, 5), an_hour_ago);
   make_file(huge_pid, 10);
-  fs::last_write_time(make_file(old_style, 5),
-                      fs::file_time_type::clock::now() - std::chrono::hours(1));
+  make_file(other_output, 10);
   std::vector<StaleTemporary> reported;
   on_stale_temporary([&](const StaleTemporary& stale) { reported.push_back(stale); });
 
-  const std::vector<StaleTemporary> removed = remove_stale_temporaries(directory_ / "job.csv");
+  std::vector<StaleTemporary> removed = remove_stale_temporaries(directory_ / "job.csv");
 
-  ASSERT_EQ(removed.size(), 2u);
-  ASSERT_EQ(reported.size(), 2u);
-  for (const StaleTemporary& stale : removed) {
-    if (stale.pid == 0) {
-      EXPECT_EQ(stale.path, directory_ / old_style);
-      EXPECT_EQ(stale.size_bytes, 5u);
-    } else {
-      EXPECT_EQ(stale.pid, dead);
-      EXPECT_EQ(stale.path, directory_ / killed);
-      EXPECT_EQ(stale.size_bytes, 1234u);
-    }
-    EXPECT_EQ(stale.failure, "");
+  std::sort(removed.begin(), removed.end(),
+            [](const auto& a, const auto& b) { return a.path < b.path; });
+  std::vector<std::tuple<std::string, long, std::string, std::uintmax_t>> expected = {
+      {killed, dead, "pid " + std::to_string(dead) + ", no longer running", 1234},
+      {reused, ::getpid(), "pid " + me + ", now another process", 7},
+      {old_style, 0, "older than this run", 5}};
+  std::sort(expected.begin(), expected.end());  // by name, as removed is by path
+  ASSERT_EQ(removed.size(), expected.size());
+  EXPECT_EQ(reported.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    const auto& [name, pid, why, size] = expected[i];
+    EXPECT_EQ(removed[i].path, directory_ / name);
+    EXPECT_EQ(removed[i].pid, pid);
+    EXPECT_EQ(removed[i].why, why);
+    EXPECT_EQ(removed[i].size_bytes, size);
+    EXPECT_EQ(removed[i].failure, "");
   }
-  std::vector<std::string> kept = {huge_pid, running,
-                                   ".other.csv.tmp-" + std::to_string(dead) + "-AbCdEf"};
+  std::vector<std::string> kept = {running, huge_pid, other_output};
   std::sort(kept.begin(), kept.end());
   EXPECT_EQ(names(), kept);
 }

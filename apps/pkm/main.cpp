@@ -35,19 +35,16 @@ void warn_of_stale_temporary(const pkm::StaleTemporary& stale) {
   const std::string size = stale.size_bytes < 1000000
                                ? std::to_string(stale.size_bytes) + " bytes"
                                : std::to_string(stale.size_bytes / 1000000) + " MB";
-  const std::string writer = stale.pid > 0
-                                 ? "pid " + std::to_string(stale.pid) + ", no longer running"
-                                 : "older than this run";
   if (stale.failure.empty()) {
     std::fprintf(stderr,
                  "pkm: warning: removed %s (%s), a temporary file left by an interrupted run "
                  "(%s)\n",
-                 stale.path.c_str(), size.c_str(), writer.c_str());
+                 stale.path.c_str(), size.c_str(), stale.why.c_str());
   } else {
     std::fprintf(stderr,
                  "pkm: warning: cannot remove %s (%s), a temporary file left by an interrupted "
                  "run (%s): %s\n",
-                 stale.path.c_str(), size.c_str(), writer.c_str(), stale.failure.c_str());
+                 stale.path.c_str(), size.c_str(), stale.why.c_str(), stale.failure.c_str());
   }
 }
 

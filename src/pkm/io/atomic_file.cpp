@@ -9,7 +9,10 @@
 #include <cerrno>
 #include <charconv>
 #include <cstring>
+#include <ctime>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -48,8 +51,8 @@ std::function<void(const StaleTemporary&)>& stale_reporter() {
   return report;
 }
 
-// When this process started, as far as file times go: static initialisation is early enough.
-const std::filesystem::file_time_type kProcessStart = std::filesystem::file_time_type::clock::now();
+// When this run started, s since the epoch (static initialisation is early enough).
+const std::time_t kRunStart_s = std::time(nullptr);
 
 std::string temporary_prefix(const std::filesystem::path& output) {
   return "." + output.filename().string() + ".tmp-";
@@ -75,11 +78,46 @@ bool is_running(long pid) {
   return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
 }
 
-bool is_stale(const std::filesystem::directory_entry& entry, long pid) {
-  if (pid > 0) return !is_running(pid);
-  std::error_code error;
-  const auto modified = entry.last_write_time(error);
-  return !error && modified < kProcessStart;
+// When process `pid` started, s since the epoch, from Linux's /proc; -1 where unknown.
+std::time_t process_start_s(long pid) {
+  std::ifstream process("/proc/" + std::to_string(pid) + "/stat");
+  std::string text;
+  std::getline(process, text);
+  const auto name_end = text.rfind(')');  // the command name may hold spaces and parentheses
+  if (name_end == std::string::npos) return -1;
+  std::istringstream fields(text.substr(name_end + 1));
+  std::string skipped;
+  for (int field = 3; field < 22 && fields >> skipped; ++field) {
+  }
+  long long start_ticks = 0;  // field 22: clock ticks after boot
+  if (!(fields >> start_ticks)) return -1;
+  std::ifstream system("/proc/stat");
+  for (std::string key; system >> key;) {
+    long long boot_s = 0;
+    if (key == "btime" && system >> boot_s) {
+      return static_cast<std::time_t>(boot_s + start_ticks / ::sysconf(_SC_CLK_TCK));
+    }
+  }
+  return -1;
+}
+
+// Last modified before `start_s`, with 2 s to spare: file times, boot time and process start
+// times are each rounded differently.
+bool predates(const struct stat& file, std::time_t start_s) {
+  return start_s >= 0 && file.st_mtime < start_s - 2;
+}
+
+// Why a temporary is stale, or empty when it is not: its writer is gone (its PID runs no more,
+// or runs a process started after the file was last written: the PID was reused, say after a
+// reboot); without a PID in its name, it was last written before this run.
+std::string why_stale(const std::filesystem::path& path, long pid) {
+  struct stat file {};
+  if (::stat(path.c_str(), &file) != 0) return {};
+  if (pid == 0) return predates(file, kRunStart_s) ? "older than this run" : "";
+  const std::string writer = "pid " + std::to_string(pid);
+  if (!is_running(pid)) return writer + ", no longer running";
+  if (predates(file, process_start_s(pid))) return writer + ", now another process";
+  return {};
 }
 
 }  // namespace
@@ -102,9 +140,12 @@ std::vector<StaleTemporary> remove_stale_temporaries(const std::filesystem::path
     const std::string name = entry.path().filename().string();
     if (name.compare(0, prefix.size(), prefix) != 0) continue;
     const long pid = writer_pid(std::string_view(name).substr(prefix.size()));
-    if (!entry.is_regular_file(error) || !is_stale(entry, pid)) continue;
+    if (!entry.is_regular_file(error)) continue;
+    std::string why = why_stale(entry.path(), pid);
+    if (why.empty()) continue;
     // Named as the output is: beside it, without a "./" the user did not write.
-    StaleTemporary stale{output.parent_path() / name, pid, entry.file_size(error), {}};
+    StaleTemporary stale{
+        output.parent_path() / name, pid, std::move(why), entry.file_size(error), {}};
     if (!std::filesystem::remove(entry.path(), error) && error) stale.failure = error.message();
     found.push_back(stale);
   }

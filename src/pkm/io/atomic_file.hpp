@@ -47,13 +47,15 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
 // calls unlink), for the SIGINT/SIGTERM handler of a program: the library installs none itself.
 void remove_open_temporaries() noexcept;
 
-// A temporary beside an output, left by a run that was killed before it could remove it: its
-// writer's PID (in its name) is no longer running, or it has no PID (written by pkm before 0.1)
-// and was last modified before this process started. A temporary whose PID still runs is
-// another run's, and left alone.
+// A temporary beside an output, left by a run that was killed before it could remove it: the
+// PID in its name runs no more, or runs a process started after the file was last written (the
+// PID was reused, say after a reboot); a name without a PID (an older pkm) is stale when it was
+// last written before this process started. A temporary whose writer still runs is another
+// run's, and left alone.
 struct StaleTemporary {
   std::filesystem::path path;
-  long pid = 0;  // of the run that wrote it; 0 when its name carries none
+  long pid = 0;     // of the run that wrote it; 0 when its name carries none
+  std::string why;  // why it is stale: "pid 4242, no longer running", ...
   std::uintmax_t size_bytes = 0;
   std::string failure;  // why it could not be removed; empty when it was
 };
