@@ -16,6 +16,7 @@
 #include "pkm/io/sample_files.hpp"
 #include "pkm/motion/job_summary.hpp"
 #include "pkm/motion/planner.hpp"
+#include "real_corpus.hpp"
 #include "test_support.hpp"
 
 namespace pkm::motion {
@@ -24,7 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kSource = PKM_SOURCE_DIR;
-const fs::path kCorpus = kSource.parent_path() / "shared" / "gcode" / "real";
 
 struct Collect final : SampleSink {
   std::vector<Sample> samples;
@@ -272,8 +272,8 @@ TEST(PenChannel, AnArcThatDipsBelowThePenHeightDrawsOnlyBelowIt) {
 
 TEST(PenChannel, ARealDrawingLiftsThePenWhereverItsZRises) {
   // An Inkscape drawing for a DexArm (pen Z 5 up, -1 down; 142 strokes) on the wall plotter.
-  const fs::path job = kCorpus / "plotter" / "dexarm-inkscape" / "vitruvianMan.gcode";
-  if (!fs::exists(job)) GTEST_SKIP() << "the real corpus (../shared/gcode/real) is not here";
+  PKM_SKIP_WITHOUT_REAL_CORPUS();
+  const fs::path job = test::real_corpus() / "plotter" / "dexarm-inkscape" / "vitruvianMan.gcode";
   const Machine pen = pen_plotter();
   Machine no_pen = test::load_example("wall-plotter.toml");
   PlanOptions options;

@@ -105,5 +105,3 @@ foreach(command plan post verify)
   set_tests_properties(cli.${command}_help_names_the_origin PROPERTIES PASS_REGULAR_EXPRESSION
     "--origin x y \\[z \\[a b c\\]\\] +Where the (program|job)'s X0 Y0 Z0 sits in machine coordinates, mm and deg")
 endforeach()
-add_test(NAME cli.version COMMAND ${PKM} --version)
-set_tests_properties(cli.version PROPERTIES PASS_REGULAR_EXPRESSION "^pkm \\(pkmkit\\) [0-9]+\\.[0-9]+\\.[0-9]+\n$")
