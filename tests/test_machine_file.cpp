@@ -296,7 +296,7 @@ TEST(MachineFile, EveryExampleLoads) {
   for (const std::string& file : test::example_machine_files()) {
     EXPECT_NO_THROW(test::load_example(file)) << file;
   }
-  EXPECT_EQ(test::example_machine_files().size(), 10u);
+  EXPECT_EQ(test::example_machine_files().size(), 15u);
 }
 
 TEST(MachineFile, ToolChannelOfAPenPlotter) {

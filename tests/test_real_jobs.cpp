@@ -1,0 +1,269 @@
+// The real-job table: real jobs of ../shared/gcode/real on the example machines described from
+// real configurations, each placed with an origin, posted in every dialect; pkm verify must pass
+// the joint program, and an independent forward-kinematics check (tests/real_job_check.hpp, at
+// 1,000 points per block) must find nothing above the tolerance and agree with verify's maximum
+// within 1 %. docs/real-jobs.md lists the table and what a run measured.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "pkm/post/joint_program.hpp"
+#include "pkm/verify/joint_path.hpp"
+#include "real_job_check.hpp"
+#include "test_support.hpp"
+
+namespace pkm::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kCorpus = fs::path(PKM_SOURCE_DIR).parent_path() / "shared" / "gcode" / "real";
+constexpr double kToleranceMm = 0.01;
+constexpr int kPointsPerBlock = 1000;
+
+struct RealJob {
+  const char* job;       // relative to the corpus
+  const char* machine;   // in examples/machines
+  double origin[3];      // where the job's X0 Y0 Z0 sits on the machine, mm
+  const char* revisits;  // how the job comes back to where it was ("" when it does not)
+};
+
+// Each job on a machine it suits, placed inside that machine's reach.
+const RealJob kTable[] = {
+    {"plotter/svg2gcode/smooth_curves_circular_interpolation.gcode",
+     "linuxcnc-polargraph-2366.toml",
+     {1000.0, -1200.0, 0.0},
+     "closed curves"},
+    {"plotter/dexarm-inkscape/vitruvianMan.gcode",
+     "linuxcnc-polargraph-2366.toml",
+     {1150.0, -1100.0, 0.0},
+     "closed circles, pen-up travel back across drawn lines"},
+    {"plotter/inkscape/mandala_cnc_0001.gcode",
+     "linuxcnc-polargraph-2366.toml",
+     {1130.0, -1200.0, 0.0},
+     "closed contours, pen-up travel back across drawn lines"},
+    {"cam/maslow/calibration-benchmark-test.nc",
+     "maslow.toml",
+     {1489.2, -1072.6, 0.0},
+     "marks retraced, travel back through the sheet's centre"},
+    {"cam/maslow/Dragon.nc",
+     "maslow.toml",
+     {1489.2, -1072.6, 0.0},
+     "closed profile cut in several passes at the same place"},
+    {"cam/bcnc/sample.gcode", "linuxcnc-ldelta.toml", {-15.0, -12.0, 0.0}, "closed contours"},
+    {"cam/cncjs/jsdc.gcode", "linuxcnc-ldelta.toml", {-50.0, 30.0, 0.0}, "closed contours"},
+    {"cam/pcb2gcode/milldrill.ngc",
+     "linuxcnc-hexapod-sim.toml",
+     {-65.0, 50.0, 480.0},
+     "stacked helices: full circles stepping down in Z"},
+    {"linuxcnc/tort.ngc",
+     "matrix-mill.toml",
+     {300.0, 200.0, -150.0},
+     "helices in G17, G18 and G19 crossing each other"},
+    {"linuxcnc-5axis/boat-xyzac.ngc",
+     "linuxcnc-xyzac-trt.toml",
+     {0.0, 0.0, 0.0},
+     "passes back and forth over the hull"},
+};
+
+struct Case {
+  const RealJob* row;
+  post::Dialect dialect;
+};
+
+const char* dialect_name(post::Dialect dialect) {
+  switch (dialect) {
+    case post::Dialect::linuxcnc:
+      return "linuxcnc";
+    case post::Dialect::mach3:
+      return "mach3";
+    case post::Dialect::grbl:
+      return "grbl";
+  }
+  return "?";
+}
+
+std::string case_name(const Case& c) {
+  return test_name(fs::path(c.row->job).filename().string()) + "_on_" + test_name(c.row->machine) +
+         "_" + dialect_name(c.dialect);
+}
+
+void PrintTo(const Case& c, std::ostream* out) {
+  *out << case_name(c);
+}
+
+// Stock grbl reads X Y Z only: a machine with more joints is posted for LinuxCNC and Mach3.
+bool grbl_takes(const Machine& machine) {
+  for (const JointSpec& joint : machine.joints()) {
+    if (std::string("XYZ").find(joint.axis_letter) == std::string::npos) return false;
+  }
+  return true;
+}
+
+std::vector<Case> cases() {
+  std::vector<Case> all;
+  for (const RealJob& row : kTable) {
+    all.push_back({&row, post::Dialect::linuxcnc});
+    all.push_back({&row, post::Dialect::mach3});
+    if (grbl_takes(load_example(row.machine))) all.push_back({&row, post::Dialect::grbl});
+  }
+  return all;
+}
+
+Vector6d origin_of(const RealJob& row) {
+  Vector6d origin = Vector6d::Zero();
+  origin << row.origin[0], row.origin[1], row.origin[2], 0.0, 0.0, 0.0;
+  return origin;
+}
+
+// Posts the job into `output` (the body pkm post writes after its header).
+post::PostReport post_to_file(const Machine& machine, const fs::path& job,
+                              const post::PostOptions& options, const fs::path& output) {
+  std::ofstream file(output);
+  post::PostReport report = post::post_program(
+      machine, job, {}, options, [&](const std::string& line) { file << line << '\n'; });
+  return report;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+class RealJobTable : public ::testing::TestWithParam<Case> {};
+
+TEST_P(RealJobTable, PostedProgramIsVerifiedAndAgreesWithAnIndependentCheck) {
+  if (!fs::exists(kCorpus)) {
+    GTEST_SKIP() << "the real corpus " << kCorpus.string()
+                 << " is absent (a plain clone without ../shared)";
+  }
+  const RealJob& row = *GetParam().row;
+  const Machine machine = load_example(row.machine);
+  const fs::path job = kCorpus / row.job;
+  const fs::path joints = fs::path(::testing::TempDir()) / (case_name(GetParam()) + ".ngc");
+  post::PostOptions options;
+  options.tolerance_mm = kToleranceMm;
+  options.dialect = GetParam().dialect;
+  options.origin = origin_of(row);
+
+  auto clock = std::chrono::steady_clock::now();
+  const post::PostReport posted = post_to_file(machine, job, options, joints);
+  const double post_s = seconds_since(clock);
+  clock = std::chrono::steady_clock::now();
+  verify::VerifyOptions verify_options;
+  verify_options.origin = options.origin;
+  const verify::VerifyReport verified =
+      verify::verify_joint_program(machine, joints, job, verify_options);
+  const double verify_s = seconds_since(clock);
+  clock = std::chrono::steady_clock::now();
+  const Eigen::Vector3d origin = options.origin.head<3>();
+  const IndependentReport mine =
+      check_independently(machine, programmed_path(job, origin, machine.home().position_mm),
+                          joint_blocks(machine, joints), kPointsPerBlock, kToleranceMm);
+  const double check_s = seconds_since(clock);
+
+  std::printf(
+      "REAL-JOB | %s | %s | %g %g %g | %s | %ld | %.6f | %.6f | post %.1f s, verify %.1f s, "
+      "check %.1f s\n",
+      row.job, row.machine, row.origin[0], row.origin[1], row.origin[2],
+      dialect_name(options.dialect), posted.blocks, verified.max_deviation_mm,
+      mine.max_deviation_mm, post_s, verify_s, check_s);
+
+  // The independent check follows the whole job and finds every point within the tolerance.
+  EXPECT_EQ(mine.blocks, posted.blocks);
+  EXPECT_EQ(mine.lost_at_line, 0) << "no place on the path ahead for the block at this line";
+  EXPECT_TRUE(mine.reached_end) << "the joint program stops before the job's end";
+  EXPECT_EQ(mine.points_over_tolerance, 0)
+      << "worst " << mine.max_deviation_mm << " mm at line " << mine.max_deviation_line;
+  EXPECT_LE(mine.max_deviation_mm, kToleranceMm);
+  EXPECT_LE(mine.max_untraced_mm, 2.0 * kToleranceMm)
+      << "a stretch of the job is not traced, at line " << mine.max_untraced_line;
+  // verify passes it, and its maximum is the independent one within 1 %.
+  EXPECT_LE(verified.max_deviation_mm, kToleranceMm)
+      << "at line " << verified.max_deviation_joint_line << " of the joint program";
+  EXPECT_TRUE(verified.violations.empty()) << verified.violations.size() << " joint violations";
+  EXPECT_NEAR(verified.max_deviation_mm, mine.max_deviation_mm, 0.01 * mine.max_deviation_mm);
+  fs::remove(joints);
+}
+
+INSTANTIATE_TEST_SUITE_P(Real, RealJobTable, ::testing::ValuesIn(cases()),
+                         [](const ::testing::TestParamInfo<Case>& case_info) {
+                           return case_name(case_info.param);
+                         });
+
+// Moves the end of the joint block at `line` by `offset_mm` across the path (in the XY plane):
+// the block's end joints are replaced by those of the displaced tool tip.
+void displace_block_end(const Machine& machine, const fs::path& program, int line,
+                        double offset_mm) {
+  std::ifstream in(program);
+  std::vector<std::string> lines;
+  for (std::string text; std::getline(in, text);) lines.push_back(text);
+  const std::vector<JointBlock> blocks = joint_blocks(machine, program);
+  std::size_t k = 0;
+  while (blocks[k].line != line) ++k;
+  Pose before = machine.home(), after = machine.home();
+  ASSERT_TRUE(machine.forward(blocks[k - 1].joints, before).ok());
+  ASSERT_TRUE(machine.forward(blocks[k].joints, after).ok());
+  const Eigen::Vector3d along = (after.position_mm - before.position_mm).normalized();
+  after.position_mm += offset_mm * Eigen::Vector3d(-along.y(), along.x(), 0.0);
+  JointVector displaced;
+  ASSERT_TRUE(machine.inverse(after, displaced).ok());
+  std::istringstream words(lines[static_cast<std::size_t>(line - 1)]);
+  std::string rewritten;
+  for (std::string word; words >> word;) {
+    for (std::size_t i = 0; i < machine.joints().size(); ++i) {
+      const JointSpec& joint = machine.joints()[i];
+      if (word[0] != joint.axis_letter) continue;
+      char number[48];
+      std::snprintf(number, sizeof number, "%c%.5f", joint.axis_letter,
+                    joint.to_interface(displaced[static_cast<int>(i)]));
+      word = number;
+    }
+    rewritten += (rewritten.empty() ? "" : " ") + word;
+  }
+  lines[static_cast<std::size_t>(line - 1)] = rewritten;
+  std::ofstream out(program);
+  for (const std::string& text : lines) out << text << '\n';
+}
+
+// A joint program off by 0.05 mm in one block is caught at that block's line, by verify and by
+// the independent check alike. The block's end is moved, so the next block starts off the path
+// by as much: the first of the two is the one to report.
+TEST(RealJobTable, ABlockOffByFiveHundredthsIsCaughtAtItsLine) {
+  if (!fs::exists(kCorpus)) {
+    GTEST_SKIP() << "the real corpus " << kCorpus.string()
+                 << " is absent (a plain clone without ../shared)";
+  }
+  const RealJob& row = kTable[0];
+  const Machine machine = load_example(row.machine);
+  const fs::path job = kCorpus / row.job;
+  const fs::path joints = fs::path(::testing::TempDir()) / "real-job-off-by-0.05.ngc";
+  post::PostOptions options;
+  options.tolerance_mm = kToleranceMm;
+  options.origin = origin_of(row);
+  post_to_file(machine, job, options, joints);
+  const std::vector<JointBlock> blocks = joint_blocks(machine, joints);
+  ASSERT_GT(blocks.size(), 100u);
+  const int line = blocks[blocks.size() / 2].line;
+  displace_block_end(machine, joints, line, 0.05);
+
+  verify::VerifyOptions verify_options;
+  verify_options.origin = options.origin;
+  const verify::VerifyReport verified =
+      verify::verify_joint_program(machine, joints, job, verify_options);
+  EXPECT_NEAR(verified.max_deviation_mm, 0.05, 0.002);
+  EXPECT_EQ(verified.max_deviation_joint_line, line);
+  const IndependentReport mine = check_independently(
+      machine, programmed_path(job, options.origin.head<3>(), machine.home().position_mm),
+      joint_blocks(machine, joints), kPointsPerBlock, kToleranceMm);
+  EXPECT_NEAR(mine.max_deviation_mm, 0.05, 0.002);
+  EXPECT_EQ(mine.max_deviation_line, line);
+  EXPECT_TRUE(mine.reached_end);
+  fs::remove(joints);
+}
+
+}  // namespace
+}  // namespace pkm::test
