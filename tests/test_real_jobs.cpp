@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 #include "pkm/post/joint_program.hpp"
@@ -193,6 +194,44 @@ INSTANTIATE_TEST_SUITE_P(Real, RealJobTable, ::testing::ValuesIn(cases()),
                          [](const ::testing::TestParamInfo<Case>& case_info) {
                            return case_name(case_info.param);
                          });
+
+// The independent check itself, on a case computed by hand: a quarter circle of radius 10 mm
+// cut as one joint-linear block on an identity machine is its chord, which misses the arc by the
+// sagitta 10 (1 - cos 45 deg) = 2.928932 mm at its middle, both ways.
+TEST(RealJobTable, TheIndependentCheckMeasuresAChordAgainstItsArc) {
+  const Machine machine = load_example("linuxcnc-xyzac-trt.toml");
+  const fs::path job = fs::path(::testing::TempDir()) / "quarter-circle.ngc";
+  const fs::path joints = fs::path(::testing::TempDir()) / "quarter-circle-chord.ngc";
+  std::ofstream(job) << "G21 G90\nG0 X0 Y0 Z0\nG2 X10 Y-10 I0 J-10 F100\nM2\n";
+  std::ofstream(joints) << "G21 G90 G94\nG0 X0 Y0 Z0 A0 C0\nG1 X10 Y-10 Z0 A0 C0 F100\nM2\n";
+  const IndependentReport report =
+      check_independently(machine, programmed_path(job, Eigen::Vector3d::Zero(), {0, 0, 100}),
+                          joint_blocks(machine, joints), kPointsPerBlock, kToleranceMm);
+  const double sagitta = 10.0 * (1.0 - std::cos(std::numbers::pi / 4.0));
+  EXPECT_EQ(report.blocks, 2);
+  EXPECT_TRUE(report.reached_end);
+  EXPECT_NEAR(report.max_deviation_mm, sagitta, 1e-6);
+  EXPECT_EQ(report.max_deviation_line, 3);
+  EXPECT_NEAR(report.max_untraced_mm, sagitta, 1e-6);
+  EXPECT_GT(report.points_over_tolerance, 900);
+}
+
+// A joint program that cuts a corner short: the corner (10, 0) it never visits is 5 sqrt 2 mm from
+// its diagonal, whose middle is 5 mm from the programmed path.
+TEST(RealJobTable, TheIndependentCheckFindsACornerCutShort) {
+  const Machine machine = load_example("linuxcnc-xyzac-trt.toml");
+  const fs::path job = fs::path(::testing::TempDir()) / "corner.ngc";
+  const fs::path joints = fs::path(::testing::TempDir()) / "corner-cut.ngc";
+  std::ofstream(job) << "G21 G90\nG0 X0 Y0 Z0\nG1 X10 F100\nG1 Y10\nM2\n";
+  std::ofstream(joints) << "G21 G90 G94\nG0 X0 Y0 Z0 A0 C0\nG1 X10 Y10 Z0 A0 C0 F100\nM2\n";
+  const IndependentReport report =
+      check_independently(machine, programmed_path(job, Eigen::Vector3d::Zero(), {0, 0, 100}),
+                          joint_blocks(machine, joints), kPointsPerBlock, kToleranceMm);
+  EXPECT_TRUE(report.reached_end);
+  EXPECT_NEAR(report.max_deviation_mm, 5.0, 1e-9);
+  EXPECT_NEAR(report.max_untraced_mm, 5.0 * std::sqrt(2.0), 1e-9);
+  EXPECT_EQ(report.max_untraced_line, 3);
+}
 
 // Moves the end of the joint block at `line` by `offset_mm` across the path (in the XY plane):
 // the block's end joints are replaced by those of the displaced tool tip.
