@@ -308,10 +308,21 @@ std::vector<JointBlock> joint_blocks(const Machine& machine, const std::filesyst
         joint.to_interface(home[static_cast<int>(i)]);
   }
   std::vector<JointBlock> blocks;
+  gcode::Position last = options.start_position;
   gcode::Interpreter interpreter(program, options);
   interpreter.run([&](const gcode::Canon& canon) {
     if (canon.kind != gcode::CanonKind::traverse && canon.kind != gcode::CanonKind::feed) return;
     JointBlock block{canon.line, home};
+    bool joints_move = false, others_move = false;
+    for (std::size_t slot = 0; slot < letters.size(); ++slot) {
+      const bool joint_axis =
+          std::any_of(machine.joints().begin(), machine.joints().end(),
+                      [&](const JointSpec& j) { return j.axis_letter == letters[slot]; });
+      (joint_axis ? joints_move : others_move) |= canon.end[slot] != last[slot];
+    }
+    last = canon.end;
+    // A move of axes that are no joint's only (a pen servo on Z: `G0 Z90`) is a tool command.
+    if (others_move && !joints_move) return;
     for (std::size_t i = 0; i < machine.joints().size(); ++i) {
       const JointSpec& joint = machine.joints()[i];
       const std::size_t slot = letters.find(joint.axis_letter);

@@ -233,6 +233,18 @@ TEST(RealJobTable, TheIndependentCheckFindsACornerCutShort) {
   EXPECT_EQ(report.max_untraced_line, 3);
 }
 
+// Pen commands that move an axis no joint uses (the 2366 polargraph's servo on Z) are not blocks.
+TEST(RealJobTable, PenServoMovesAreNotJointBlocks) {
+  const Machine machine = load_example("linuxcnc-polargraph-2366.toml");
+  const fs::path joints = fs::path(::testing::TempDir()) / "pen-servo.ngc";
+  std::ofstream(joints) << "G21 G90\nG0 X1300 Y1250\nG0 Z90\nG1 X1310 Y1240 F600\nG0 Z0\nM2\n";
+  const std::vector<JointBlock> blocks = joint_blocks(machine, joints);
+  ASSERT_EQ(blocks.size(), 2u);
+  EXPECT_EQ(blocks[1].line, 4);
+  EXPECT_DOUBLE_EQ(blocks[1].joints[0], 1310.0);
+  EXPECT_DOUBLE_EQ(blocks[1].joints[1], 1240.0);
+}
+
 // Moves the end of the joint block at `line` by `offset_mm` across the path (in the XY plane):
 // the block's end joints are replaced by those of the displaced tool tip.
 void displace_block_end(const Machine& machine, const fs::path& program, int line,
