@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include "pkm/gcode/interpreter.hpp"
 
@@ -102,7 +103,7 @@ class PathWalker {
       const std::optional<PathPlace> next = step(here);
       if (!next) return d_here < kMatchMm ? here : fallback;
       const double d_next = (at(*next) - target).norm();
-      const double h = length_between(here, *next);
+      const double h = 1.01 * length_between(here, *next);  // lengths come from chords
       if (0.5 * (d_here + d_next - h) < kMatchMm) {
         const PathPlace found = refine(here, *next, target);
         if ((at(found) - target).norm() < kMatchMm) return found;
@@ -140,11 +141,7 @@ class PathWalker {
   }
 
   double remaining_mm(const PathPlace& from) const {
-    double rest = (at({from.move, 1.0}) - at(from)).norm();
-    for (std::size_t m = from.move + 1; m < path_.size(); ++m) {
-      rest += (at({m, 1.0}) - at({m, 0.0})).norm();
-    }
-    return rest;
+    return length_between(from, {path_.size() - 1, 1.0});
   }
 
  private:

@@ -233,6 +233,26 @@ TEST(RealJobTable, TheIndependentCheckFindsACornerCutShort) {
   EXPECT_EQ(report.max_untraced_line, 3);
 }
 
+// A joint program cut short, or empty, does not reach the job's end.
+TEST(RealJobTable, TheIndependentCheckSeesATruncatedProgram) {
+  const Machine machine = load_example("linuxcnc-xyzac-trt.toml");
+  const fs::path job = fs::path(::testing::TempDir()) / "square.ngc";
+  const fs::path joints = fs::path(::testing::TempDir()) / "square-cut-short.ngc";
+  const fs::path empty = fs::path(::testing::TempDir()) / "square-empty.ngc";
+  std::ofstream(job) << "G21 G90\nG0 X0 Y0 Z0\nG1 X10 F100\nG1 Y10\nG1 X0\nG1 Y0\nM2\n";
+  std::ofstream(joints) << "G21 G90 G94\nG0 X0 Y0 Z0 A0 C0\nG1 X10 Y0 Z0 A0 C0 F100\nM2\n";
+  std::ofstream(empty) << "G21 G90 G94\nM2\n";
+  const std::vector<PathMove> path = programmed_path(job, Eigen::Vector3d::Zero(), {0, 0, 100});
+  const IndependentReport cut_short = check_independently(
+      machine, path, joint_blocks(machine, joints), kPointsPerBlock, kToleranceMm);
+  EXPECT_FALSE(cut_short.reached_end);
+  EXPECT_NEAR(cut_short.max_deviation_mm, 0.0, 1e-9);  // what it does trace is right
+  const IndependentReport nothing = check_independently(machine, path, joint_blocks(machine, empty),
+                                                        kPointsPerBlock, kToleranceMm);
+  EXPECT_EQ(nothing.blocks, 0);
+  EXPECT_FALSE(nothing.reached_end);
+}
+
 // Pen commands that move an axis no joint uses (the 2366 polargraph's servo on Z) are not blocks.
 TEST(RealJobTable, PenServoMovesAreNotJointBlocks) {
   const Machine machine = load_example("linuxcnc-polargraph-2366.toml");
