@@ -14,6 +14,7 @@
 #include "pkm/post/deviation_bound.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/post/mach3_export.hpp"
+#include "real_corpus.hpp"
 #include "test_support.hpp"
 
 namespace pkm::post {
@@ -608,10 +609,8 @@ TEST(PostPen, PenChangesWhereARampCrossesThePenHeight) {
 TEST(PostPen, RealDrawingWithPenZ) {
   // The start of a real Inkscape pen drawing (../shared corpus, Rotrics DexArm header left out):
   // three paths, pen Z -1 / 5, arcs, placed on the wall 1.1 m below the motors.
-  const std::filesystem::path drawing = std::filesystem::path(PKM_SOURCE_DIR).parent_path() /
-                                        "shared/gcode/real/plotter/dexarm-inkscape/"
-                                        "vitruvianMan.gcode";
-  if (!std::filesystem::exists(drawing)) GTEST_SKIP() << "the real corpus is missing: " << drawing;
+  PKM_SKIP_WITHOUT_REAL_CORPUS();
+  const auto drawing = test::real_corpus() / "plotter/dexarm-inkscape/vitruvianMan.gcode";
   std::ifstream in(drawing);
   std::string line, cut;
   for (int number = 1; std::getline(in, line) && number <= 90; ++number) {

@@ -1,5 +1,8 @@
 #include "app.hpp"
 
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <system_error>
 
@@ -50,6 +53,41 @@ std::optional<gcode::ToolTable> read_tool_table(const ToolTableOptions& options)
   if (options.path.empty()) return std::nullopt;
   return gcode::read_tool_table(
       options.path, options.units == "inch" ? gcode::LengthUnits::inch : gcode::LengthUnits::mm);
+}
+
+namespace {
+
+// A number for messages, as short as it was likely typed.
+std::string shown(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.15g", value);
+  return text;
+}
+
+}  // namespace
+
+CLI::Validator number_in(double min, double max) {
+  const std::string range = "[" + shown(min) + ", " + shown(max) + "]";
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0') return "'" + text + "' is not a number";
+        if (!std::isfinite(value)) return "'" + text + "' is not a finite number";
+        if (value < min || value > max) {
+          return text + " is outside " + range;
+        }
+        return std::string();
+      },
+      range);
+}
+
+CLI::Option* add_pose_option(CLI::App& command, const std::string& name,
+                             std::vector<double>& values, const std::string& description) {
+  return command.add_option(name, values, description)
+      ->expected(2, 6)
+      ->option_text("x y [z [a b c]]")
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
 }
 
 void refuse_overwriting_input(const std::string& output,

@@ -176,7 +176,9 @@ void register_kinematics_commands(CLI::App& app) {
       app.add_subcommand("ik", "Joint values for a tool pose (inverse kinematics)");
   ik_command->add_option("-m,--machine", ik->machine, "Machine file (default: embedded hexapod)");
   ik_command->add_flag("--json", ik->json, "Print {\"joints\": [..], \"names\": [..]}");
-  ik_command->add_option("pose", ik->pose, "x y z [a b c] in mm and deg")->required();
+  ik_command->add_option("pose", ik->pose, "x y z [a b c] in mm and deg")
+      ->required()
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   ik_command->callback([ik] { run_ik(*ik); });
 
   auto fk = std::make_shared<FkOptions>();
@@ -185,9 +187,11 @@ void register_kinematics_commands(CLI::App& app) {
   fk_command->add_option("-m,--machine", fk->machine, "Machine file (default: embedded hexapod)");
   fk_command->add_flag("--json", fk->json, "Print {\"pose\": {\"x\": .., ..}}");
   fk_command->add_option("--seed", fk->seed, "Pose to start from, x y z [a b c] (default: home)")
-      ->expected(2, 6);
+      ->expected(2, 6)
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   fk_command->add_option("joints", fk->joints, "Joint values in mm (deg for rotary joints)")
-      ->required();
+      ->required()
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   fk_command->callback([fk] { run_fk(*fk); });
 
   auto check = std::make_shared<CheckOptions>();

@@ -59,31 +59,10 @@ std::string header(const Machine& machine, const PostCommandOptions& options,
          comment_line("from ", options.program, ", dialect " + options.dialect, width) + numbers;
 }
 
-// Refuses an output that is one of the command's input files, before anything is written.
-void refuse_overwriting_inputs(const PostCommandOptions& options) {
-  namespace fs = std::filesystem;
-  const fs::path output = fs::weakly_canonical(options.output);
-  for (const std::string& input : {options.program, options.machine, options.tool_table.path}) {
-    if (input.empty()) continue;
-    std::error_code error;
-    const bool same =
-        fs::equivalent(options.output, input, error) || output == fs::weakly_canonical(input);
-    if (same) {
-      throw CommandError(options.output + ": the output is the input file " + input +
-                         "; write the joint program to another file");
-    }
-  }
-}
-
 void run_post(const PostCommandOptions& options) {
-  refuse_overwriting_inputs(options);
-  for (const double value : options.origin) {
-    if (!std::isfinite(value)) {
-      std::string given;
-      for (const double v : options.origin) given += " " + std::to_string(v);
-      throw CommandError("--origin" + given + ": every value must be a finite number (mm, deg)");
-    }
-  }
+  refuse_overwriting_input(options.output, {{"the job", options.program},
+                                            {"the machine file", options.machine},
+                                            {"the tool table", options.tool_table.path}});
   const Machine machine = load_machine_or_default(options.machine);
   post::PostOptions post_options;
   post_options.tolerance_mm = options.tolerance_mm;
@@ -156,21 +135,12 @@ void register_post_commands(CLI::App& app) {
   command
       ->add_option("--tolerance", options->tolerance_mm,
                    "Largest tool-tip deviation from the programmed path, mm (default 0.01)")
-      ->check(CLI::Validator(
-          [](const std::string& text) -> std::string {
-            const double value = std::strtod(text.c_str(), nullptr);
-            return std::isfinite(value) && value > 0.0 && value <= 1000.0
-                       ? ""
-                       : "the tolerance must be a number of mm above 0 and up to 1000";
-          },
-          "MM", "tolerance"));
+      ->check(number_in(kMinTolerance, kMaxTolerance));
   command->add_option("--dialect", options->dialect, "linuxcnc (default), mach3, grbl or grblhal")
       ->check(CLI::IsMember({"linuxcnc", "mach3", "grbl", "grblhal"}));
   add_tool_table_options(*command, options->tool_table);
-  command
-      ->add_option("--origin", options->origin,
-                   "Where the program's X0 Y0 Z0 sits in machine coordinates (mm, deg)")
-      ->expected(2, 6);
+  add_pose_option(*command, "--origin", options->origin,
+                  "Where the program's X0 Y0 Z0 sits in machine coordinates, mm and deg");
   command->callback([options] { run_post(*options); });
 }
 

@@ -25,13 +25,7 @@ struct VerifyCommandOptions {
 
 // The tolerance given, or the one post wrote in the joint program's header.
 double tolerance_of(const VerifyCommandOptions& options) {
-  if (options.tolerance_mm != 0.0) {
-    if (!std::isfinite(options.tolerance_mm) || !(options.tolerance_mm > 0.0)) {
-      throw CommandError("--tolerance " + std::to_string(options.tolerance_mm) +
-                         ": must be a positive number of mm");
-    }
-    return options.tolerance_mm;
-  }
+  if (options.tolerance_mm != 0.0) return options.tolerance_mm;  // checked by number_in
   const std::optional<double> header = verify::tolerance_in_header(options.joints);
   if (!header) {
     throw CommandError(options.joints +
@@ -191,12 +185,10 @@ void register_verify_commands(CLI::App& app) {
       ->add_option("--tolerance", options->tolerance_mm,
                    "Exit non-zero when the deviation exceeds this, mm (default: the tolerance in "
                    "the joint program's header)")
-      ->check(CLI::PositiveNumber);
+      ->check(number_in(kMinTolerance, kMaxTolerance));
   command->add_option("--report", options->report, "Write the report as JSON");
-  command
-      ->add_option("--origin", options->origin,
-                   "Where the job's X0 Y0 Z0 sits in machine coordinates (mm, deg)")
-      ->expected(2, 6);
+  add_pose_option(*command, "--origin", options->origin,
+                  "Where the job's X0 Y0 Z0 sits in machine coordinates, mm and deg");
   add_tool_table_options(*command, options->tool_table);
   command->callback([options] { run_verify(*options); });
 }

@@ -17,7 +17,6 @@ using motion::SegmentKind;
 
 constexpr int kSampledPoints = 32;  // FK checks per block where the model has no bound
 constexpr int kMaxDepth = 40;       // halvings of one move before giving up
-constexpr int kPenScan = 64;        // pieces a move is scanned in for pen-height crossings
 constexpr int kFeedDecimals = 3;    // digits after the point of G93 F, more for very slow blocks
 
 // The joints at one point of the programmed path: as the inverse kinematics gives them, and as
@@ -165,26 +164,6 @@ class Poster {
     pen_down_ = down;
   }
 
-  // Where along the move the program's Z crosses the pen height, in order (bisection within
-  // each of kPenScan pieces whose ends disagree).
-  std::vector<double> pen_crossings(const Segment& segment) const {
-    const ToolChannel& tool = machine_.tool();
-    const auto down_at = [&](double u) { return tool.pen_down(segment.at(u)[2]); };
-    std::vector<double> crossings;
-    bool down = down_at(0.0);
-    for (int k = 1; k <= kPenScan; ++k) {
-      double low = static_cast<double>(k - 1) / kPenScan, high = static_cast<double>(k) / kPenScan;
-      if (down_at(high) == down) continue;
-      for (int i = 0; i < 60; ++i) {
-        const double middle = 0.5 * (low + high);
-        (down_at(middle) == down ? low : high) = middle;
-      }
-      crossings.push_back(high);
-      down = !down;
-    }
-    return crossings;
-  }
-
   void move(const Segment& segment) {
     const bool moves = moves_controlled(segment, machine_.kinematics().dof());
     if (moves) {
@@ -197,7 +176,7 @@ class Poster {
     }
     double from = 0.0;
     if (pen()) {
-      for (const double crossing : pen_crossings(segment)) {
+      for (const double crossing : motion::z_crossings(segment, machine_.tool().down_below_mm)) {
         if (moves) trace(segment, from, crossing);
         set_pen(!pen_down_, segment.line);
         from = crossing;
