@@ -14,7 +14,6 @@
 #include "pkm/post/deviation_bound.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/post/mach3_export.hpp"
-#include "pkm/verify/joint_path.hpp"
 #include "real_corpus.hpp"
 #include "test_support.hpp"
 
@@ -214,32 +213,6 @@ TEST_P(PostEveryMachine, NothingAboveTheReportedBoundCheckedDensely) {
 INSTANTIATE_TEST_SUITE_P(Examples, PostEveryMachine,
                          ::testing::ValuesIn(test::example_machine_files()),
                          [](const auto& test_info) { return test::test_name(test_info.param); });
-
-TEST(Verify, FlagsACoarseJointProgramAtItsLine) {
-  // Each move of the job as one joint-linear block: the arc (job line 3) becomes block line 3.
-  const Machine hektor = test::load_example("hektor.toml");
-  const auto job = temp_file("coarse-job.ngc");
-  std::ofstream(job) << "G21 G90 F600\nG1 X20 Y-60\nG2 X80 Y-60 I30 J0\nG1 X50 Y-20\nM2\n";
-  const auto joints = temp_file("coarse-joints.ngc");
-  {
-    std::ofstream out(joints);
-    out << "G21 G90 G94 F600\n";
-    for (const auto& [x, y] :
-         std::vector<std::pair<double, double>>{{20, -60}, {80, -60}, {50, -20}}) {
-      JointVector q;
-      ASSERT_TRUE(hektor.inverse(Pose::from_mm_deg(x, y, 0), q).ok());
-      out << "G1 A" << q[0] << " B" << q[1] << "\n";
-    }
-    out << "M2\n";
-  }
-  const verify::VerifyReport report = verify::verify_joint_program(hektor, joints, job, {});
-  std::filesystem::remove(job);
-  std::filesystem::remove(joints);
-  EXPECT_EQ(report.blocks, 3);
-  EXPECT_GT(report.max_deviation_mm, 10.0);  // the chord of a 30 mm arc in joint space
-  EXPECT_EQ(report.max_deviation_joint_line, 3);
-  EXPECT_TRUE(report.violations.empty());
-}
 
 // ---- Coverage: every programmed move traced from its start to its end ----
 

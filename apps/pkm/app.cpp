@@ -40,6 +40,21 @@ Vector6d pose_vector_over(Vector6d base, const std::vector<double>& values) {
   return base;
 }
 
+void add_tool_table_options(CLI::App& command, ToolTableOptions& options) {
+  command.add_option("--tool-table", options.path, "LinuxCNC tool table (.tbl)");
+  command
+      .add_option("--tool-table-units", options.units,
+                  "Units of the tool table's lengths: mm (default) or inch (as LinuxCNC's "
+                  "stand-alone rs274 reads them)")
+      ->check(CLI::IsMember({"mm", "inch"}));
+}
+
+std::optional<gcode::ToolTable> read_tool_table(const ToolTableOptions& options) {
+  if (options.path.empty()) return std::nullopt;
+  return gcode::read_tool_table(
+      options.path, options.units == "inch" ? gcode::LengthUnits::inch : gcode::LengthUnits::mm);
+}
+
 namespace {
 
 // A number for messages, as short as it was likely typed.

@@ -3,11 +3,13 @@
 
 #include <CLI/CLI.hpp>
 #include <initializer_list>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "pkm/gcode/tool_table.hpp"
 #include "pkm/machine/machine.hpp"
 
 namespace pkm::app {
@@ -26,6 +28,15 @@ Pose pose_from_arguments(const Machine& machine, const std::vector<double>& valu
 
 // `base` (mm, rad) with its leading coordinates replaced by `values` (x y z a b c, mm and deg).
 Vector6d pose_vector_over(Vector6d base, const std::vector<double>& values);
+
+// --tool-table FILE and --tool-table-units mm|inch, as post and verify take them.
+struct ToolTableOptions {
+  std::string path;
+  std::string units = "mm";
+};
+void add_tool_table_options(CLI::App& command, ToolTableOptions& options);
+// The table the options name, or none without a file. Throws gcode::GcodeError (file:line).
+std::optional<gcode::ToolTable> read_tool_table(const ToolTableOptions& options);
 
 // The one check of every number read from the command line: it must parse whole, be finite and
 // lie within [min, max]. CLI11's own range checks let NaN through. For an option of several

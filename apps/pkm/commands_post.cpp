@@ -19,7 +19,7 @@ struct PostCommandOptions {
   std::string program;
   std::string output;
   std::string dialect = "linuxcnc";
-  std::string tool_table;
+  ToolTableOptions tool_table;
   double tolerance_mm = 0.01;
   std::vector<double> origin;
 };
@@ -62,7 +62,7 @@ std::string header(const Machine& machine, const PostCommandOptions& options,
 void run_post(const PostCommandOptions& options) {
   refuse_overwriting_input(options.output, {{"the job", options.program},
                                             {"the machine file", options.machine},
-                                            {"the tool table", options.tool_table}});
+                                            {"the tool table", options.tool_table.path}});
   const Machine machine = load_machine_or_default(options.machine);
   post::PostOptions post_options;
   post_options.tolerance_mm = options.tolerance_mm;
@@ -78,9 +78,7 @@ void run_post(const PostCommandOptions& options) {
   file.write(header(machine, options, nullptr));
   post::PostReport report;
   try {
-    if (!options.tool_table.empty()) {
-      interpreter_options.tool_table = gcode::read_tool_table(options.tool_table);
-    }
+    interpreter_options.tool_table = read_tool_table(options.tool_table);
     report = post::post_program(machine, options.program, interpreter_options, post_options,
                                 [&](const std::string& line) { file.write(line + "\n"); });
   } catch (const gcode::GcodeError& error) {
@@ -140,7 +138,7 @@ void register_post_commands(CLI::App& app) {
       ->check(number_in(kMinTolerance, kMaxTolerance));
   command->add_option("--dialect", options->dialect, "linuxcnc (default), mach3, grbl or grblhal")
       ->check(CLI::IsMember({"linuxcnc", "mach3", "grbl", "grblhal"}));
-  command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl, mm)");
+  add_tool_table_options(*command, options->tool_table);
   add_pose_option(*command, "--origin", options->origin,
                   "Where the program's X0 Y0 Z0 sits in machine coordinates, mm and deg");
   command->callback([options] { run_post(*options); });

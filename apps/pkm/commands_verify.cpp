@@ -1,4 +1,5 @@
 // pkm verify: any joint-space program against the Cartesian job it should follow.
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -17,63 +18,158 @@ struct VerifyCommandOptions {
   std::string joints;
   std::string job;
   std::string report;
-  double tolerance_mm = 0.0;
+  double tolerance_mm = 0.0;  // 0: the one in the joint program's header
   std::vector<double> origin;
+  ToolTableOptions tool_table;
 };
 
+// The tolerance given, or the one post wrote in the joint program's header.
+double tolerance_of(const VerifyCommandOptions& options) {
+  if (options.tolerance_mm != 0.0) return options.tolerance_mm;  // checked by number_in
+  const std::optional<double> header = verify::tolerance_in_header(options.joints);
+  if (!header) {
+    throw CommandError(options.joints +
+                       ": no tolerance to verify against: give --tolerance MM (the joint "
+                       "program's header, where pkm post writes one, has none)");
+  }
+  return *header;
+}
+
+// mm with 7 decimals: a deviation just above a tolerance of 0.01 shows as 0.0100145, not 0.010000.
+std::string mm(double value, int decimals = 7) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  return text;
+}
+
+std::string joint_name(const Machine& machine, int joint) {
+  return joint >= 0 ? machine.joints()[static_cast<std::size_t>(joint)].name : "";
+}
+
+nlohmann::json to_json(const Machine& machine, const verify::Violation& v) {
+  nlohmann::json json = {
+      {"line", v.line}, {"job_line", v.job_line}, {"value", v.value}, {"limit", v.limit}};
+  if (v.joint >= 0) json["joint"] = joint_name(machine, v.joint);
+  if (!v.detail.empty()) json["detail"] = v.detail;
+  return json;
+}
+
+nlohmann::json to_json(const Machine& machine, const verify::ViolationSummary& summary) {
+  nlohmann::json first = nlohmann::json::array();
+  for (const verify::Violation& v : summary.first) first.push_back(to_json(machine, v));
+  nlohmann::json json = {{"count", summary.count}, {"first", first}};
+  if (summary.count > 0) json["worst"] = to_json(machine, summary.worst);
+  return json;
+}
+
+void write_report(const Machine& machine, const VerifyCommandOptions& options,
+                  const verify::VerifyReport& report) {
+  const nlohmann::json json = {
+      {"joint_program", options.joints},
+      {"job", options.job},
+      {"blocks", report.blocks},
+      {"tolerance_mm", report.tolerance_mm},
+      {"max_deviation_mm", report.max_deviation_mm},
+      {"rms_deviation_mm", report.rms_deviation_mm},
+      {"max_deviation_joint_line", report.max_deviation_joint_line},
+      {"max_deviation_job_line", report.max_deviation_job_line},
+      {"coverage",
+       {{"complete", report.covered},
+        {"job_length_mm", report.job_length_mm},
+        {"traced_mm", report.traced_mm},
+        {"stopped_at_job_line", report.coverage_stopped_job_line},
+        {"stopped_at_joint_line", report.coverage_stopped_joint_line}}},
+      {"violations",
+       {{"deviation", to_json(machine, report.deviation)},
+        {"position", to_json(machine, report.position)},
+        {"velocity", to_json(machine, report.velocity)},
+        {"pen", to_json(machine, report.pen)}}},
+      {"pen_downs", {{"joint_program", report.pen_downs}, {"job", report.job_pen_downs}}},
+      {"passed", report.passed()}};
+  write_file_atomically(options.report, json.dump(2) + "\n");
+}
+
+// One line per kind of finding: how many, the worst, the lines of the first few.
+void print_summary(const Machine& machine, const char* what, const char* unit,
+                   const verify::ViolationSummary& summary) {
+  if (summary.count == 0) return;
+  const verify::Violation& w = summary.worst;
+  std::string worst =
+      joint_name(machine, w.joint) + (w.joint >= 0 ? " " : "") + mm(w.value) + " " + unit;
+  worst += w.detail.empty() ? ", limit " + mm(w.limit) : " " + w.detail;
+  std::string first;
+  for (const verify::Violation& v : summary.first) first += " " + std::to_string(v.line);
+  if (summary.count > static_cast<long>(summary.first.size())) first += " ...";
+  std::printf("  %s: %ld; worst at line %d (job line %d): %s; first at lines%s\n", what,
+              summary.count, w.line, w.job_line, worst.c_str(), first.c_str());
+}
+
+void print_report(const Machine& machine, const VerifyCommandOptions& options,
+                  const verify::VerifyReport& report) {
+  std::printf(
+      "%s against %s: %ld blocks, job traced %.3f of %.3f mm, deviation max %.7f mm (line %d of "
+      "the joint program, line %d of the job), RMS %.7f mm, tolerance %.7f mm\n",
+      options.joints.c_str(), options.job.c_str(), report.blocks, report.traced_mm,
+      report.job_length_mm, report.max_deviation_mm, report.max_deviation_joint_line,
+      report.max_deviation_job_line, report.rms_deviation_mm, report.tolerance_mm);
+  print_summary(machine, "blocks beyond the tolerance", "mm", report.deviation);
+  print_summary(machine, "block ends beyond a joint's travel", "(mm or deg)", report.position);
+  print_summary(machine, "feed blocks beyond a joint's max_velocity", "(mm/s or deg/s)",
+                report.velocity);
+  print_summary(machine, "pen stretches against the job", "mm with the", report.pen);
+  if (report.pen_downs != report.job_pen_downs) {
+    std::printf("  pen: down %ld times, where the job puts it down %ld times (first at line %d)\n",
+                report.pen_downs, report.job_pen_downs, report.first_job_pen_down_line);
+  }
+}
+
+void fail_unless_passed(const VerifyCommandOptions& options, const verify::VerifyReport& report) {
+  if (!report.covered) {
+    const std::string where = report.blocks == 0
+                                  ? options.joints + " has no blocks"
+                                  : options.joints + " ends at line " +
+                                        std::to_string(report.coverage_stopped_joint_line);
+    throw CommandError(where + ": the job " + options.job + " is traced only to line " +
+                       std::to_string(report.coverage_stopped_job_line) + " (" +
+                       mm(report.traced_mm, 3) + " of " + mm(report.job_length_mm, 3) + " mm)");
+  }
+  if (report.deviation.count > 0) {
+    throw CommandError("deviation " + mm(report.max_deviation_mm) + " mm exceeds the tolerance " +
+                       mm(report.tolerance_mm) + " mm at line " +
+                       std::to_string(report.max_deviation_joint_line) + " of " + options.joints +
+                       " (line " + std::to_string(report.max_deviation_job_line) + " of " +
+                       options.job + ")");
+  }
+  const long others = report.position.count + report.velocity.count + report.pen.count;
+  if (others > 0 || report.pen_downs != report.job_pen_downs) {
+    throw CommandError(std::to_string(report.position.count + report.velocity.count) +
+                       " joint limit violations, " + std::to_string(report.pen.count) +
+                       " pen stretches against the job (above)" +
+                       (report.pen_downs != report.job_pen_downs ? ", pen downs differ" : ""));
+  }
+}
+
 void run_verify(const VerifyCommandOptions& options) {
+  refuse_overwriting_input(options.report, {{"the joint program", options.joints},
+                                            {"the job", options.job},
+                                            {"the machine file", options.machine},
+                                            {"the tool table", options.tool_table.path}});
   const Machine machine = load_machine_or_default(options.machine);
   verify::VerifyOptions verify_options;
   verify_options.origin = pose_vector_over(verify_options.origin, options.origin);
   verify::VerifyReport report;
   try {
+    verify_options.tolerance_mm = tolerance_of(options);
+    verify_options.job_options.tool_table = read_tool_table(options.tool_table);
     report = verify::verify_joint_program(machine, options.joints, options.job, verify_options);
   } catch (const gcode::GcodeError& error) {
     throw CommandError(error.what());
   } catch (const verify::VerifyError& error) {
     throw CommandError(error.what());
   }
-  const bool over = options.tolerance_mm > 0.0 && report.max_deviation_mm > options.tolerance_mm;
-  if (!options.report.empty()) {
-    nlohmann::json violations = nlohmann::json::array();
-    for (const verify::JointViolation& v : report.violations) {
-      violations.push_back({{"line", v.line},
-                            {"joint", machine.joints()[static_cast<std::size_t>(v.joint)].name},
-                            {"what", v.what},
-                            {"value", v.value},
-                            {"limit", v.limit}});
-    }
-    const nlohmann::json json = {{"joint_program", options.joints},
-                                 {"job", options.job},
-                                 {"blocks", report.blocks},
-                                 {"max_deviation_mm", report.max_deviation_mm},
-                                 {"rms_deviation_mm", report.rms_deviation_mm},
-                                 {"max_deviation_joint_line", report.max_deviation_joint_line},
-                                 {"max_deviation_job_line", report.max_deviation_job_line},
-                                 {"tolerance_mm", options.tolerance_mm},
-                                 {"within_tolerance", !over},
-                                 {"violations", violations}};
-    write_file_atomically(options.report, json.dump(2) + "\n");
-  }
-  std::printf(
-      "%s against %s: %ld blocks, deviation max %.6f mm (line %d of the joint program, "
-      "line %d of the job), RMS %.6f mm\n",
-      options.joints.c_str(), options.job.c_str(), report.blocks, report.max_deviation_mm,
-      report.max_deviation_joint_line, report.max_deviation_job_line, report.rms_deviation_mm);
-  for (const verify::JointViolation& v : report.violations) {
-    std::printf("  line %d: joint %s %s %.6f beyond its limit %.6f\n", v.line,
-                machine.joints()[static_cast<std::size_t>(v.joint)].name.c_str(), v.what.c_str(),
-                v.value, v.limit);
-  }
-  if (over) {
-    throw CommandError("deviation " + std::to_string(report.max_deviation_mm) +
-                       " mm exceeds the tolerance " + std::to_string(options.tolerance_mm) +
-                       " mm at line " + std::to_string(report.max_deviation_joint_line) + " of " +
-                       options.joints);
-  }
-  if (!report.violations.empty()) {
-    throw CommandError(std::to_string(report.violations.size()) + " joint limit violations");
-  }
+  if (!options.report.empty()) write_report(machine, options, report);
+  print_report(machine, options, report);
+  fail_unless_passed(options, report);
 }
 
 }  // namespace
@@ -87,11 +183,13 @@ void register_verify_commands(CLI::App& app) {
   command->add_option("--against", options->job, "The Cartesian job it should follow")->required();
   command
       ->add_option("--tolerance", options->tolerance_mm,
-                   "Exit non-zero when the deviation exceeds this, mm")
+                   "Exit non-zero when the deviation exceeds this, mm (default: the tolerance in "
+                   "the joint program's header)")
       ->check(number_in(kMinTolerance, kMaxTolerance));
   command->add_option("--report", options->report, "Write the report as JSON");
   add_pose_option(*command, "--origin", options->origin,
                   "Where the job's X0 Y0 Z0 sits in machine coordinates, mm and deg");
+  add_tool_table_options(*command, options->tool_table);
   command->callback([options] { run_verify(*options); });
 }
 

@@ -356,6 +356,7 @@ struct Interpreter::State {
   CodesByGroup<16> g_by_group;
   CodesByGroup<12> m_by_group;  // 11: M7 and M8 on one line
   bool percent_program = false;
+  bool first_content = true;  // no line with content read yet
   bool ended = false;
   bool saw_end = false;
 
@@ -483,7 +484,18 @@ struct Interpreter::State {
     }
   }
 
+  void start(const CanonSink& output);
   void run(const CanonSink& output);
+  bool step();
+  // The next line to execute (blank lines and the opening '%' skipped); false at the end.
+  bool next_line(std::string_view& line);
+  void execute(std::string_view line) {
+    if (!options.event_lines.empty() && is_event_line(line)) return;
+    execute_line(line);
+  }
+  // After the last line: the program end a file without M2, M30 or '%' lacks.
+  void finish();
+  bool is_event_line(std::string_view line);
   void execute_line(std::string_view line);
   void apply_assignments(const Block& block);
   void execute_o_word(const Block& block);
@@ -541,11 +553,29 @@ struct Interpreter::State {
   [[noreturn, gnu::cold, gnu::noinline]] void missing_feed(int column) const;
 };
 
-void Interpreter::State::run(const CanonSink& output) {
+void Interpreter::State::start(const CanonSink& output) {
   sink = &output;
   compensation.reset(output);
+}
+
+void Interpreter::State::run(const CanonSink& output) {
+  start(output);
   std::string_view line;
-  bool first_content = true;
+  while (next_line(line)) execute(line);
+  finish();
+}
+
+bool Interpreter::State::step() {
+  std::string_view line;
+  if (next_line(line)) {
+    execute(line);
+    return true;
+  }
+  finish();
+  return false;
+}
+
+bool Interpreter::State::next_line(std::string_view& line) {
   while (!ended && read_line(line)) {
     if (first_content) {
       const auto first = line.find_first_not_of(" \t");
@@ -556,9 +586,13 @@ void Interpreter::State::run(const CanonSink& output) {
         continue;
       }
     }
-    execute_line(line);
+    return true;
   }
-  if (!saw_end) {
+  return false;
+}
+
+void Interpreter::State::finish() {
+  if (!ended && !saw_end) {
     // The moves compensation still holds are part of the program (rs274 would drop them).
     release_compensation(1);
     warnings.push_back({current.line,
@@ -567,6 +601,21 @@ void Interpreter::State::run(const CanonSink& output) {
     Block none;
     emit(CanonKind::program_end, none);
   }
+  ended = true;
+}
+
+bool Interpreter::State::is_event_line(std::string_view line) {
+  const auto first = line.find_first_not_of(" \t\r");
+  if (first == std::string_view::npos) return false;
+  const std::string_view trimmed = line.substr(first, line.find_last_not_of(" \t\r") - first + 1);
+  for (const std::string& event_line : options.event_lines) {
+    if (trimmed != event_line) continue;
+    Canon event = make(CanonKind::event, Block{});
+    event.text = std::string(trimmed);
+    emit(event);
+    return true;
+  }
+  return false;
 }
 
 void Interpreter::State::execute_line(std::string_view line) {
@@ -1580,6 +1629,16 @@ void Interpreter::run(const CanonSink& sink) {
   warnings_.clear();
   state_ = std::make_unique<State>(program_, options_, warnings_);
   state_->run(sink);
+}
+
+void Interpreter::start(const CanonSink& sink) {
+  warnings_.clear();
+  state_ = std::make_unique<State>(program_, options_, warnings_);
+  state_->start(sink);
+}
+
+bool Interpreter::step() {
+  return state_ && state_->step();
 }
 
 }  // namespace pkm::gcode

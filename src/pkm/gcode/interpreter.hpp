@@ -24,6 +24,10 @@ struct InterpreterOptions {
   // Where the machine is when the program starts, program coordinates in mm and deg (LinuxCNC
   // starts from the machine's position; rs274 from 0). Axes a program never names stay there.
   Position start_position{};
+  // Lines handed on as they are, as an `event` with the trimmed line as its text, instead of being
+  // interpreted: codes no rs274 dialect knows that a machine's controller takes (a plotter's pen
+  // commands such as "M280 P0 S30"). A line is one of them when it equals one after trimming.
+  std::vector<std::string> event_lines;
 };
 
 struct Warning {
@@ -43,6 +47,11 @@ class Interpreter {
   // Runs the program to its end, handing every canonical command to `sink`. Throws GcodeError
   // (file:line:column) at the first error; what was handed on before it stands.
   void run(const CanonSink& sink);
+  // The same a line at a time, for a reader that pulls commands as it needs them: start() once,
+  // then each step() executes the next line (handing its commands to `sink`, which must outlive
+  // the steps) and returns false once the program has ended. run() is start() and every step().
+  void start(const CanonSink& sink);
+  bool step();
 
   const std::vector<Warning>& warnings() const { return warnings_; }
 

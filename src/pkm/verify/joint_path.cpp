@@ -2,135 +2,278 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <string_view>
 
-#include "pkm/geometry/distance.hpp"
-#include "pkm/motion/segment_builder.hpp"
+#include "pkm/verify/block_deviation.hpp"
+#include "pkm/verify/job_cursor.hpp"
 
 namespace pkm::verify {
 
 namespace {
 
 constexpr std::string_view kLetters = "XYZABCUVW";
-constexpr int kPathPoints = 256;  // polyline of each programmed move for the distance
+constexpr int kHeaderLines = 10;  // where tolerance_in_header looks
 
-// The programmed path: each move of the job as a dense polyline with its source line.
-struct PathPiece {
-  int line = 0;
-  std::vector<Eigen::Vector3d> points;
-};
-
-double distance_to_piece(const Eigen::Vector3d& p, const PathPiece& piece) {
-  return distance_to_polyline(p, piece.points);
+// How far along the job a block may end: twice the block's own length (a path that wiggles within
+// the tolerance is longer than the tool's), plus a few tolerances for blocks of no length.
+double reach_mm(double block_length_mm, double tolerance_mm) {
+  return 2.0 * block_length_mm + 4.0 * tolerance_mm;
 }
 
-std::vector<PathPiece> read_job(const Machine& machine, const std::filesystem::path& job,
-                                const VerifyOptions& options) {
-  const gcode::InterpreterOptions interpreter_options =
-      motion::starting_at({}, machine.home().as_vector(), options.origin);
-  motion::SegmentBuilder builder(machine.home().as_vector(), options.origin, false);
-  std::vector<PathPiece> path;
-  gcode::Interpreter(job, interpreter_options).run([&](const gcode::Canon& canon) {
-    const auto segment = builder.take(canon);
-    if (!segment || segment->kind == motion::SegmentKind::dwell || segment->length() <= 0.0) {
+// What the job asks of the pen over a range: down (1), up (0), or either (-1, the range crosses
+// `down_below`).
+int pen_asked(const ToolChannel& tool, const PieceRange& range) {
+  const bool down0 = tool.pen_down(range.piece->segment.at(range.u0)[2]);
+  const bool down1 = tool.pen_down(range.piece->segment.at(range.u1)[2]);
+  return down0 == down1 ? int(down0) : -1;
+}
+
+class Verifier {
+ public:
+  Verifier(const Machine& machine, const std::filesystem::path& joints,
+           const std::filesystem::path& job, const VerifyOptions& options)
+      : machine_(machine),
+        tool_(machine.tool()),
+        file_(joints.string()),
+        options_(options),
+        path_(machine, job, options.job_options, options.origin),
+        cursor_(path_),
+        measure_(machine) {
+    if (!path_.piece(0)) throw VerifyError(job.string() + ": the job has no moves to compare with");
+    for (const JointSpec& joint : machine.joints()) {
+      letter_index_.push_back(static_cast<int>(kLetters.find(joint.axis_letter)));
+    }
+    if (!machine.inverse(machine.home(), previous_).ok()) throw VerifyError("home is not usable");
+    pose_ = machine.home();
+    report_.tolerance_mm = options.tolerance_mm;
+  }
+
+  // The joint program starts where the machine is: at home.
+  gcode::InterpreterOptions joint_program_options() const {
+    gcode::InterpreterOptions options;
+    for (std::size_t i = 0; i < letter_index_.size(); ++i) {
+      options.start_position[letter_index_[i]] =
+          machine_.joints()[i].to_interface(previous_[int(i)]);
+    }
+    if (tool_.z == ToolZ::pen) options.event_lines = {tool_.down_command, tool_.up_command};
+    return options;
+  }
+
+  void on_canon(const gcode::Canon& canon) {
+    using gcode::CanonKind;
+    if (canon.kind == CanonKind::event && tool_.z == ToolZ::pen &&
+        (canon.text == tool_.down_command || canon.text == tool_.up_command)) {
+      close_pen_stretch();
+      const bool down = canon.text == tool_.down_command;
+      if (down && !pen_down_) ++pen_downs_;
+      pen_down_ = down;
       return;
     }
-    PathPiece piece;
-    piece.line = segment->line;
-    const int points = segment->kind == motion::SegmentKind::line ? 1 : kPathPoints;
-    for (int k = 0; k <= points; ++k)
-      piece.points.push_back(segment->at(k / double(points)).head<3>());
-    path.push_back(std::move(piece));
-  });
-  return path;
-}
+    if (canon.kind == CanonKind::arc || canon.kind == CanonKind::probe) {
+      fail(canon.line, "joint-space arcs and probes are not verified (only G0 and G1 blocks)");
+    }
+    if (canon.kind == CanonKind::traverse || canon.kind == CanonKind::feed) on_block(canon);
+  }
+
+  VerifyReport finish() {
+    close_pen_stretch();
+    const JobCursor::Rest rest = cursor_.rest();
+    report_.pen_downs = pen_downs_;
+    report_.job_pen_downs = path_.pen_downs();
+    report_.first_job_pen_down_line = path_.first_pen_down_line();
+    report_.job_length_mm = rest.job_length_mm;
+    report_.traced_mm = rest.traced_mm;
+    report_.covered = rest.job_length_mm - rest.traced_mm <= options_.tolerance_mm;
+    if (!report_.covered) {
+      report_.coverage_stopped_job_line = rest.first_line;
+      report_.coverage_stopped_joint_line = last_line_;
+    }
+    report_.rms_deviation_mm =
+        grid_points_ > 0 ? std::sqrt(sum_of_squares_ / static_cast<double>(grid_points_)) : 0.0;
+    return report_;
+  }
+
+ private:
+  [[noreturn]] void fail(int line, const std::string& message) const {
+    throw VerifyError(file_ + ":" + std::to_string(line) + ": " + message);
+  }
+
+  JointVector read_joints(const gcode::Canon& canon) const {
+    const double scale = canon.units == gcode::LengthUnits::inch ? 25.4 : 1.0;
+    JointVector q(static_cast<int>(letter_index_.size()));
+    for (std::size_t i = 0; i < letter_index_.size(); ++i) {
+      const JointSpec& joint = machine_.joints()[i];
+      const double value = canon.end[static_cast<std::size_t>(letter_index_[i])];
+      q[int(i)] = joint.kind == JointKind::rotary ? degrees_to_radians(value) : value * scale;
+    }
+    return q;
+  }
+
+  void check_positions(int line, const JointVector& q) {
+    for (int i = 0; i < q.size(); ++i) {
+      const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
+      if (q[i] < joint.min || q[i] > joint.max) {
+        const double limit = q[i] < joint.min ? joint.min : joint.max;
+        report_.position.add(
+            {line, cursor_.line(), i, joint.to_interface(q[i]), joint.to_interface(limit), ""});
+      }
+    }
+  }
+
+  // G93 blocks take 1/F minutes; G94 moves the joint vector at F per minute; rapids are the
+  // controller's own business.
+  void check_speeds(const gcode::Canon& canon, const JointVector& q) {
+    if (canon.kind != gcode::CanonKind::feed || !(canon.value > 0.0)) return;
+    const double scale = canon.units == gcode::LengthUnits::inch ? 25.4 : 1.0;
+    const double duration = canon.feed_mode == gcode::FeedMode::inverse_time
+                                ? 60.0 / canon.value
+                                : (q - previous_).norm() / (canon.value * scale / 60.0);
+    for (int i = 0; i < q.size() && duration > 0.0; ++i) {
+      const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
+      const double speed = std::abs(q[i] - previous_[i]) / duration;
+      if (speed > joint.max_velocity * (1.0 + 1e-9)) {
+        report_.velocity.add({canon.line, cursor_.line(), i, joint.to_interface(speed),
+                              joint.to_interface(joint.max_velocity), ""});
+      }
+    }
+  }
+
+  void on_block(const gcode::Canon& canon) {
+    const JointVector q = read_joints(canon);
+    check_positions(canon.line, q);
+    check_speeds(canon, q);
+    if (!measure_.sample_grid(previous_, q, pose_)) {
+      fail(canon.line, "no tool pose for these joints (forward kinematics fails along the block)");
+    }
+    const JobPlace end = cursor_.find_end(
+        measure_.end_point(), reach_mm(measure_.grid_length_mm(), options_.tolerance_mm),
+        0.25 * options_.tolerance_mm);
+    cursor_.stretch_to(end, stretch_);
+    BlockDeviation deviation;
+    if (!measure_.measure(stretch_, deviation)) {
+      fail(canon.line, "no tool pose for these joints (forward kinematics fails along the block)");
+    }
+    record(canon.line, deviation);
+    check_pen(canon.line);
+    cursor_.advance(end);
+    previous_ = q;
+    pose_ = measure_.end_pose();
+    last_line_ = canon.line;
+    ++report_.blocks;
+  }
+
+  void record(int line, const BlockDeviation& deviation) {
+    sum_of_squares_ += deviation.sum_of_squares_mm2;
+    grid_points_ += deviation.grid_points;
+    if (deviation.max_mm > report_.max_deviation_mm) {
+      report_.max_deviation_mm = deviation.max_mm;
+      report_.max_deviation_joint_line = line;
+      report_.max_deviation_job_line = deviation.job_line;
+    }
+    if (deviation.max_mm > options_.tolerance_mm) {
+      report_.deviation.add(
+          {line, deviation.job_line, -1, deviation.max_mm, options_.tolerance_mm, ""});
+    }
+  }
+
+  // A stretch drawn with the pen where the job lifts it, or travelled with it up where the job
+  // draws: one violation per stretch of consecutive blocks, its length the value.
+  void check_pen(int line) {
+    if (tool_.z != ToolZ::pen) return;
+    bool wrong = false;
+    double length_mm = 0.0;
+    int job_line = 0;
+    for (const PieceRange& range : stretch_) {
+      const int asked = pen_asked(tool_, range);
+      if (range.u1 <= range.u0 || asked < 0 || asked == int(pen_down_)) continue;
+      if (!wrong) job_line = range.piece->line();
+      wrong = true;
+      length_mm += (range.u1 - range.u0) * range.piece->length_mm;
+    }
+    if (wrong && pen_stretch_open_) {
+      pen_stretch_.value += length_mm;
+      return;
+    }
+    close_pen_stretch();
+    if (!wrong) return;
+    pen_stretch_open_ = true;
+    pen_stretch_ = {
+        line, job_line,
+        -1,   length_mm,
+        0.0,  pen_down_ ? "pen down where the job lifts it" : "pen up where the job draws"};
+  }
+
+  // A stretch shorter than the tolerance is within what the position may stray: where a block
+  // ends a hair before a pen change, the next block carries the hair.
+  void close_pen_stretch() {
+    if (pen_stretch_open_ && pen_stretch_.value > options_.tolerance_mm) {
+      report_.pen.add(pen_stretch_);
+    }
+    pen_stretch_open_ = false;
+  }
+
+  const Machine& machine_;
+  const ToolChannel& tool_;
+  std::string file_;
+  const VerifyOptions& options_;
+  std::vector<int> letter_index_;
+  JobPath path_;
+  JobCursor cursor_;
+  BlockMeasure measure_;
+  std::vector<PieceRange> stretch_;
+  JointVector previous_;
+  Pose pose_;
+  bool pen_down_ = false;  // a plotter starts with its pen up
+  long pen_downs_ = 0;
+  bool pen_stretch_open_ = false;
+  Violation pen_stretch_;
+  int last_line_ = 0;
+  double sum_of_squares_ = 0.0;
+  long grid_points_ = 0;
+  VerifyReport report_;
+};
 
 }  // namespace
 
+void ViolationSummary::add(const Violation& violation) {
+  ++count;
+  if (first.size() < kFirst) first.push_back(violation);
+  if (count == 1 ||
+      std::abs(violation.value - violation.limit) > std::abs(worst.value - worst.limit)) {
+    worst = violation;
+  }
+}
+
 VerifyReport verify_joint_program(const Machine& machine, const std::filesystem::path& joints,
                                   const std::filesystem::path& job, const VerifyOptions& options) {
-  const std::vector<PathPiece> path = read_job(machine, job, options);
-  if (path.empty()) throw VerifyError(job.string() + ": the job has no moves to compare with");
-  const int joint_count = static_cast<int>(machine.joints().size());
-  std::vector<int> index_of_joint(static_cast<std::size_t>(joint_count));
-  for (int i = 0; i < joint_count; ++i) {
-    index_of_joint[static_cast<std::size_t>(i)] =
-        static_cast<int>(kLetters.find(machine.joints()[static_cast<std::size_t>(i)].axis_letter));
+  if (!(options.tolerance_mm > 0.0) || !std::isfinite(options.tolerance_mm)) {
+    throw VerifyError("the tolerance must be a positive number of mm");
   }
-  // The joint program starts where the machine is: at home.
-  JointVector previous;
-  if (!machine.inverse(machine.home(), previous).ok()) throw VerifyError("home is not usable");
-  gcode::InterpreterOptions interpreter_options;
-  for (int i = 0; i < joint_count; ++i) {
-    interpreter_options.start_position[index_of_joint[static_cast<std::size_t>(i)]] =
-        machine.joints()[static_cast<std::size_t>(i)].to_interface(previous[i]);
-  }
-  VerifyReport report;
-  double sum_of_squares = 0.0;
-  long count = 0;
-  std::size_t cursor = 0;  // the path piece the tool was last nearest to
-  Pose pose = machine.home();
-  gcode::Interpreter(joints, interpreter_options).run([&](const gcode::Canon& canon) {
-    if (canon.kind != gcode::CanonKind::traverse && canon.kind != gcode::CanonKind::feed) return;
-    const double scale = canon.units == gcode::LengthUnits::inch ? 25.4 : 1.0;
-    JointVector q(joint_count);
-    for (int i = 0; i < joint_count; ++i) {
-      const JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
-      const double value = canon.end[index_of_joint[static_cast<std::size_t>(i)]];
-      q[i] = joint.kind == JointKind::rotary ? degrees_to_radians(value) : value * scale;
-      if (q[i] < joint.min || q[i] > joint.max) {
-        report.violations.push_back(
-            {canon.line, i, "position", q[i], q[i] < joint.min ? joint.min : joint.max});
-      }
-    }
-    ++report.blocks;
-    // Joint speeds: G93 blocks take 1/F minutes; G94 moves the joint vector at F per minute;
-    // rapids are the controller's own business.
-    if (canon.kind == gcode::CanonKind::feed && canon.value > 0.0) {
-      const double length = (q - previous).norm();
-      const double duration = canon.feed_mode == gcode::FeedMode::inverse_time
-                                  ? 60.0 / canon.value
-                                  : length / (canon.value * scale / 60.0);
-      for (int i = 0; i < joint_count && duration > 0.0; ++i) {
-        const double speed = std::abs(q[i] - previous[i]) / duration;
-        const double limit = machine.joints()[static_cast<std::size_t>(i)].max_velocity;
-        if (speed > limit * (1.0 + 1e-9)) {
-          report.violations.push_back({canon.line, i, "velocity", speed, limit});
-        }
-      }
-    }
-    for (int k = 1; k <= options.points_per_block; ++k) {
-      const JointVector at = previous + (k / double(options.points_per_block)) * (q - previous);
-      if (!machine.kinematics().forward(at, pose).ok()) {
-        throw VerifyError(joints.string() + ":" + std::to_string(canon.line) +
-                          ": no tool pose for these joints (forward kinematics failed)");
-      }
-      // Nearest programmed piece, searched about the cursor: the program follows its job.
-      double nearest = INFINITY;
-      std::size_t nearest_piece = cursor;
-      const std::size_t from = cursor > 2 ? cursor - 2 : 0;
-      const std::size_t to = std::min(path.size(), cursor + 64);
-      for (std::size_t p = from; p < to; ++p) {
-        const double d = distance_to_piece(pose.position_mm, path[p]);
-        if (d < nearest) {
-          nearest = d;
-          nearest_piece = p;
-        }
-      }
-      cursor = nearest_piece;
-      sum_of_squares += nearest * nearest;
-      ++count;
-      if (nearest > report.max_deviation_mm) {
-        report.max_deviation_mm = nearest;
-        report.max_deviation_joint_line = canon.line;
-        report.max_deviation_job_line = path[nearest_piece].line;
-      }
-    }
-    previous = q;
+  Verifier verifier(machine, joints, job, options);
+  gcode::Interpreter(joints, verifier.joint_program_options()).run([&](const gcode::Canon& canon) {
+    verifier.on_canon(canon);
   });
-  report.rms_deviation_mm =
-      count > 0 ? std::sqrt(sum_of_squares / static_cast<double>(count)) : 0.0;
-  return report;
+  return verifier.finish();
+}
+
+std::optional<double> tolerance_in_header(const std::filesystem::path& joints) {
+  std::ifstream in(joints);
+  std::string line;
+  for (int n = 1; n <= kHeaderLines && std::getline(in, line); ++n) {
+    const std::size_t at = line.find("(tolerance ");
+    if (at == std::string::npos) continue;
+    const char* text = line.c_str() + at + 11;
+    char* end = nullptr;
+    const double value = std::strtod(text, &end);
+    if (end == text || !std::isfinite(value) || !(value > 0.0)) {
+      throw VerifyError(joints.string() + ":" + std::to_string(n) +
+                        ": the header's tolerance is not a positive number of mm");
+    }
+    return value;
+  }
+  return std::nullopt;
 }
 
 }  // namespace pkm::verify

@@ -1,9 +1,13 @@
-// Verification of any joint-space program (pkmkit's or anyone's): the tool path a controller
-// makes by interpolating its joints linearly, reconstructed by forward kinematics, measured
-// against the Cartesian job it is meant to follow; and its joint limits and speeds.
+// Verification of any joint-space program (pkmkit's or anyone's) against the Cartesian job it is
+// meant to follow: the tool path a controller makes by interpolating its joints linearly,
+// reconstructed by forward kinematics, held block by block against the stretch of the job each
+// block must trace (found by walking the job forward, so coverage is proven with the deviation);
+// the joints' limits and speeds; and, on machines with a pen channel, the pen. Both programs are
+// streamed: memory does not grow with their length.
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -14,24 +18,56 @@
 namespace pkm::verify {
 
 struct VerifyOptions {
-  int points_per_block = 32;           // forward kinematics along each block
-  Vector6d origin = Vector6d::Zero();  // where the job's X0 Y0 Z0 sits (mm, rad)
+  double tolerance_mm = 0.01;             // largest deviation accepted, mm (post's default; > 0)
+  Vector6d origin = Vector6d::Zero();     // where the job's X0 Y0 Z0 sits (mm, rad)
+  gcode::InterpreterOptions job_options;  // the job's tool table and block delete
 };
 
-struct JointViolation {
-  int line = 0;  // line of the joint program
-  int joint = 0;
-  std::string what;  // "position" or "velocity"
-  double value = 0.0, limit = 0.0;
+// One finding, at a line of the joint program and the job line it was held against.
+struct Violation {
+  int line = 0;                     // joint program
+  int job_line = 0;                 // job (0 where there is none)
+  int joint = -1;                   // the joint, for position and velocity
+  double value = 0.0, limit = 0.0;  // mm, mm/s, deg or deg/s; pen: the stretch's length, mm
+  std::string detail;               // pen: what the pen does against what the job asks
+};
+
+// Findings of one kind, summarised: a job with thousands is shown by its count, worst and first.
+struct ViolationSummary {
+  static constexpr std::size_t kFirst = 5;
+  long count = 0;
+  Violation worst;               // the one furthest beyond its limit
+  std::vector<Violation> first;  // the first kFirst, in order
+  void add(const Violation& violation);
 };
 
 struct VerifyReport {
   long blocks = 0;
+  double tolerance_mm = 0.0;
   double max_deviation_mm = 0.0;
   double rms_deviation_mm = 0.0;
   int max_deviation_joint_line = 0;  // line of the joint program where the deviation peaks
-  int max_deviation_job_line = 0;    // line of the job whose path is nearest there
-  std::vector<JointViolation> violations;
+  int max_deviation_job_line = 0;    // line of the job held against it there
+  ViolationSummary deviation;        // blocks beyond the tolerance
+  ViolationSummary position;         // block ends beyond a joint's travel
+  ViolationSummary velocity;         // feed blocks driving a joint beyond its max_velocity
+  ViolationSummary pen;              // stretches drawn with the pen where the job lifts it, or not
+  // Pen downs: strokes without length (dots) leave no stretch, so they are counted. Equal on a
+  // machine without a pen channel (0).
+  long pen_downs = 0;
+  long job_pen_downs = 0;
+  int first_job_pen_down_line = 0;
+  // Coverage: the job traced from its start to its end, in order.
+  bool covered = false;
+  double job_length_mm = 0.0;  // in the coordinates the machine controls
+  double traced_mm = 0.0;
+  int coverage_stopped_job_line = 0;    // the first job line left untraced (when not covered)
+  int coverage_stopped_joint_line = 0;  // the joint program's last block (0: none)
+
+  bool passed() const {
+    return covered && deviation.count == 0 && position.count == 0 && velocity.count == 0 &&
+           pen.count == 0 && pen_downs == job_pen_downs;
+  }
 };
 
 class VerifyError : public std::runtime_error {
@@ -41,5 +77,10 @@ class VerifyError : public std::runtime_error {
 
 VerifyReport verify_joint_program(const Machine& machine, const std::filesystem::path& joints,
                                   const std::filesystem::path& job, const VerifyOptions& options);
+
+// The tolerance pkm post wrote in the joint program's header ("(tolerance 0.010000 mm; ..."), if
+// any of its first lines carries one. Throws VerifyError when it is there but not a positive
+// finite number.
+std::optional<double> tolerance_in_header(const std::filesystem::path& joints);
 
 }  // namespace pkm::verify

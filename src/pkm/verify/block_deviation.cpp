@@ -1,0 +1,127 @@
+#include "pkm/verify/block_deviation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pkm::verify {
+
+namespace {
+constexpr double kRelativeMargin = 0.004;   // refine until no interval may hide 0.4 % more
+constexpr double kAbsoluteMarginMm = 1e-7;  // ... or 1e-7 mm, far below any displayed digit
+constexpr int kMaxDepth = 24;               // halvings of a grid interval
+}  // namespace
+
+BlockMeasure::BlockMeasure(const Machine& machine)
+    : machine_(machine), mask_(position_mask(machine)) {}
+
+bool BlockMeasure::add_sample(double lambda, const Pose& seed) {
+  Sample sample;
+  sample.lambda = lambda;
+  sample.pose = seed;
+  const JointVector q = q0_ + lambda * (q1_ - q0_);
+  if (!machine_.kinematics().forward(q, sample.pose).ok() || !all_finite(sample.pose)) {
+    return false;
+  }
+  sample.point = sample.pose.position_mm.cwiseProduct(mask_);
+  samples_.push_back(sample);
+  return true;
+}
+
+bool BlockMeasure::sample_grid(const JointVector& q0, const JointVector& q1, const Pose& seed) {
+  q0_ = q0;
+  q1_ = q1;
+  samples_.clear();
+  Pose previous = seed;
+  for (int k = 0; k <= kGrid; ++k) {
+    if (!add_sample(static_cast<double>(k) / kGrid, previous)) return false;
+    previous = samples_.back().pose;
+  }
+  return true;
+}
+
+double BlockMeasure::grid_length_mm() const {
+  double length = 0.0;
+  for (int k = 1; k <= kGrid; ++k) length += (samples_[k].point - samples_[k - 1].point).norm();
+  return length;
+}
+
+void BlockMeasure::measure_sample(std::size_t index) {
+  Sample& sample = samples_[index];
+  const std::size_t ranges = stretch_->size();
+  distances_.resize(samples_.size() * ranges);
+  sample.distance_mm = INFINITY;
+  for (std::size_t i = 0; i < ranges; ++i) {
+    const PieceRange& range = (*stretch_)[i];
+    const double d = nearest_on(*range.piece, sample.point, range.u0, range.u1).distance_mm;
+    distances_[index * ranges + i] = d;
+    if (d < sample.distance_mm) {
+      sample.distance_mm = d;
+      sample.nearest_range = static_cast<int>(i);
+    }
+  }
+}
+
+// Above the largest distance anywhere between samples a and b: the tool path strays from the
+// chord a-b by about the middle sample's offset from the chord's middle (exact for a quadratic
+// path), and along the chord the distance to one range is at most the larger at its ends (convex
+// for a line) plus the range's curvature times the chord squared over 8.
+double BlockMeasure::upper_estimate(const Interval& interval) const {
+  const Sample &a = samples_[interval.a], &m = samples_[interval.middle], &b = samples_[interval.b];
+  const double off_chord = (m.point - 0.5 * (a.point + b.point)).norm();
+  const double chord = (b.point - a.point).norm();
+  const std::size_t ranges = stretch_->size();
+  double along_chord = INFINITY;
+  for (std::size_t i = 0; i < ranges; ++i) {
+    const double ends =
+        std::max(distances_[interval.a * ranges + i], distances_[interval.b * ranges + i]);
+    along_chord =
+        std::min(along_chord, ends + (*stretch_)[i].piece->curvature_per_mm * chord * chord / 8.0);
+  }
+  return along_chord + off_chord;
+}
+
+bool BlockMeasure::measure(const std::vector<PieceRange>& stretch, BlockDeviation& result) {
+  stretch_ = &stretch;
+  result = {};
+  double largest = 0.0;
+  for (std::size_t k = 0; k < samples_.size(); ++k) {
+    measure_sample(k);
+    largest = std::max(largest, samples_[k].distance_mm);
+    if (k > 0) {
+      result.sum_of_squares_mm2 += samples_[k].distance_mm * samples_[k].distance_mm;
+      ++result.grid_points;
+    }
+  }
+  pending_.clear();
+  for (std::size_t k = 0; k + 2 <= static_cast<std::size_t>(kGrid); k += 2) {
+    pending_.push_back({k, k + 1, k + 2, 0});
+  }
+  while (!pending_.empty()) {
+    const Interval interval = pending_.back();
+    pending_.pop_back();
+    if (interval.depth >= kMaxDepth ||
+        upper_estimate(interval) <= largest * (1.0 + kRelativeMargin) + kAbsoluteMarginMm) {
+      continue;
+    }
+    const Sample &a = samples_[interval.a], &m = samples_[interval.middle];
+    const double left = 0.5 * (a.lambda + m.lambda);
+    const double right = 0.5 * (m.lambda + samples_[interval.b].lambda);
+    const Pose left_seed = a.pose, right_seed = m.pose;
+    if (!add_sample(left, left_seed) || !add_sample(right, right_seed)) return false;
+    const std::size_t l = samples_.size() - 2, r = samples_.size() - 1;
+    measure_sample(l);
+    measure_sample(r);
+    largest = std::max({largest, samples_[l].distance_mm, samples_[r].distance_mm});
+    pending_.push_back({interval.a, l, interval.middle, interval.depth + 1});
+    pending_.push_back({interval.middle, r, interval.b, interval.depth + 1});
+  }
+  for (const Sample& sample : samples_) {
+    if (sample.distance_mm >= result.max_mm) {
+      result.max_mm = sample.distance_mm;
+      result.job_line = stretch[static_cast<std::size_t>(sample.nearest_range)].piece->line();
+    }
+  }
+  return true;
+}
+
+}  // namespace pkm::verify

@@ -1,0 +1,62 @@
+// The deviation of one joint-linear block from the stretch of the job it must trace: the tool
+// path reconstructed by forward kinematics, sampled adaptively until the largest distance found is
+// within 0.4 % of an upper estimate of the true largest (docs/post.md, "pkm verify").
+#pragma once
+
+#include <vector>
+
+#include "pkm/machine/machine.hpp"
+#include "pkm/verify/job_cursor.hpp"
+
+namespace pkm::verify {
+
+struct BlockDeviation {
+  double max_mm = 0.0;
+  int job_line = 0;                 // the move of the stretch nearest where the block peaks
+  double sum_of_squares_mm2 = 0.0;  // over the uniform grid of the block, for the RMS
+  int grid_points = 0;
+};
+
+class BlockMeasure {
+ public:
+  explicit BlockMeasure(const Machine& machine);
+
+  // Forward kinematics on a uniform grid along the block from q0 to q1 (FK seeded with `seed`, the
+  // pose at q0). False where forward kinematics fails.
+  bool sample_grid(const JointVector& q0, const JointVector& q1, const Pose& seed);
+  double grid_length_mm() const;  // the tool path's length as the grid sees it
+  const Eigen::Vector3d& end_point() const { return samples_[kGrid].point; }
+  const Pose& end_pose() const { return samples_[kGrid].pose; }
+
+  // The largest distance of the block from `stretch`, refined where the samples leave room for a
+  // larger one. False where forward kinematics fails.
+  bool measure(const std::vector<PieceRange>& stretch, BlockDeviation& result);
+
+ private:
+  static constexpr int kGrid = 16;  // intervals of the uniform grid
+  struct Sample {
+    double lambda = 0.0;
+    Pose pose;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();  // controlled coordinates
+    double distance_mm = 0.0;
+    int nearest_range = 0;
+  };
+  struct Interval {
+    std::size_t a, middle, b;
+    int depth;
+  };
+
+  bool add_sample(double lambda, const Pose& seed);
+  void measure_sample(std::size_t index);
+  double upper_estimate(const Interval& interval) const;
+
+  const Machine& machine_;
+  Eigen::Vector3d mask_;
+  JointVector q0_, q1_;
+  const std::vector<PieceRange>* stretch_ = nullptr;
+  std::vector<Sample> samples_;
+  std::vector<double> distances_;  // per sample, per range of the stretch
+  std::vector<Interval> pending_;
+};
+
+}  // namespace pkm::verify

@@ -1,0 +1,83 @@
+// The Cartesian job as verify follows it: its programmed moves pulled from the interpreter a few
+// at a time, measured in the position coordinates the machine controls (a plotter's pen Z is not a
+// position), each with the arc length along the job where it starts. Only the moves from the
+// cursor to a little ahead of it are held, so memory does not grow with the job.
+#pragma once
+
+#include <deque>
+#include <filesystem>
+#include <vector>
+
+#include "pkm/gcode/interpreter.hpp"
+#include "pkm/machine/machine.hpp"
+#include "pkm/motion/segment_builder.hpp"
+
+namespace pkm::verify {
+
+// 1 for each of x y z the machine positions, 0 for those it does not (its dof).
+Eigen::Vector3d position_mask(const Machine& machine);
+
+// One programmed move: its geometry, and its path as the machine controls it.
+struct JobPiece {
+  motion::Segment segment;
+  Eigen::Vector3d mask = Eigen::Vector3d::Ones();  // position_mask of the machine
+  double start_mm = 0.0;          // arc length of the job before it, in controlled coordinates
+  double length_mm = 0.0;         // its own: 0 for a move of uncontrolled coordinates only (pen Z)
+  double curvature_per_mm = 0.0;  // largest curvature of its path: 0 for lines, 1/r for arcs
+
+  int line() const { return segment.line; }
+  // The controlled position at fraction u of the move (uncontrolled coordinates are 0).
+  Eigen::Vector3d point(double u) const { return segment.at(u).head<3>().cwiseProduct(mask); }
+};
+
+// The point of a move nearest to `point` (controlled coordinates) between fractions u0 <= u1.
+struct Nearest {
+  double distance_mm = 0.0;
+  double u = 0.0;
+};
+Nearest nearest_on(const JobPiece& piece, const Eigen::Vector3d& point, double u0, double u1);
+
+class JobPath {
+ public:
+  // The job read as post reads it: from the machine's home, with its origin at `origin` (mm, rad).
+  JobPath(const Machine& machine, const std::filesystem::path& job,
+          const gcode::InterpreterOptions& options, const Vector6d& origin);
+  JobPath(const JobPath&) = delete;
+  JobPath& operator=(const JobPath&) = delete;
+
+  // The move numbered `index` from 0, read from the job when first asked for; nullptr past the
+  // job's end. Moves before the last forget_before() are gone.
+  const JobPiece* piece(long index);
+  // Moves before `index` will not be asked for again.
+  void forget_before(long index);
+  // The line of the job's end (its M2, or its last line), once piece() has returned nullptr.
+  int end_line() const { return end_line_; }
+  // On a machine with a pen channel: how often the job puts the pen down (starting from up, as a
+  // plotter does) in the moves read so far, and the line of the first time.
+  long pen_downs() const { return pen_downs_; }
+  int first_pen_down_line() const { return first_pen_down_line_; }
+  const std::string& file() const { return file_; }
+  const std::vector<gcode::Warning>& warnings() const { return interpreter_.warnings(); }
+
+ private:
+  void take(const gcode::Canon& canon);
+  JobPiece make_piece(const motion::Segment& segment) const;
+  void count_pen(const motion::Segment& segment);
+
+  std::string file_;
+  Eigen::Vector3d mask_;
+  ToolChannel tool_;
+  motion::SegmentBuilder builder_;
+  gcode::Interpreter interpreter_;
+  gcode::CanonSink sink_;
+  std::deque<JobPiece> window_;
+  long first_index_ = 0;  // index of window_.front()
+  double end_mm_ = 0.0;   // arc length at the end of the last move read
+  int end_line_ = 0;
+  bool pen_down_ = false;
+  long pen_downs_ = 0;
+  int first_pen_down_line_ = 0;
+  bool ended_ = false;
+};
+
+}  // namespace pkm::verify
