@@ -106,7 +106,7 @@ class PathWalker {
       const double h = 1.01 * length_between(here, *next);  // lengths come from chords
       if (0.5 * (d_here + d_next - h) < kMatchMm) {
         const PathPlace found = refine(here, *next, target);
-        if ((at(found) - target).norm() < kMatchMm) return found;
+        if ((at(found) - target).norm() < kMatchMm) return settle(found, target);
       }
       if (!fallback && d_here <= d_before && d_here < d_next && d_here < kAcceptMm) {
         fallback = refine(before, *next, target);
@@ -115,6 +115,20 @@ class PathWalker {
       if (walked > reach_mm) return fallback;
       before = here, d_before = d_here;
       here = *next, d_here = d_next;
+    }
+  }
+
+  // The nearest place to `target` at or after `from`, where the distance stops falling: a block
+  // ends where the path comes nearest its end, not where it first comes within kMatchMm.
+  PathPlace settle(const PathPlace& from, const Eigen::Vector3d& target) const {
+    PathPlace before = from, here = from;
+    double d_here = (at(here) - target).norm();
+    for (;;) {
+      const std::optional<PathPlace> next = step(here);
+      if (!next) return refine(before, here, target);
+      const double d_next = (at(*next) - target).norm();
+      if (d_next > d_here) return refine(before, *next, target);
+      before = here, here = *next, d_here = d_next;
     }
   }
 
@@ -303,6 +317,10 @@ std::vector<JointBlock> joint_blocks(const Machine& machine, const std::filesyst
     const JointSpec& joint = machine.joints()[i];
     options.start_position[letters.find(joint.axis_letter)] =
         joint.to_interface(home[static_cast<int>(i)]);
+  }
+  // A pen command is not a block, even where it is G-code (a servo on Z: "G0 Z90").
+  if (machine.tool().z == ToolZ::pen) {
+    options.event_lines = {machine.tool().down_command, machine.tool().up_command};
   }
   std::vector<JointBlock> blocks;
   gcode::Position last = options.start_position;

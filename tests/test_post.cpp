@@ -118,6 +118,10 @@ std::vector<JointVector> joint_blocks(const Machine& machine, const std::filesys
     const int index = static_cast<int>(std::string("XYZABCUVW").find(joint.axis_letter));
     options.start_position[index] = joint.to_interface(home[static_cast<int>(i)]);
   }
+  // A pen command is not a block, even where it is G-code (a servo on Z: "G0 Z90").
+  if (machine.tool().z == ToolZ::pen) {
+    options.event_lines = {machine.tool().down_command, machine.tool().up_command};
+  }
   blocks.push_back(home);
   gcode::Interpreter(file, options).run([&](const gcode::Canon& canon) {
     if (canon.kind != gcode::CanonKind::traverse && canon.kind != gcode::CanonKind::feed) return;
