@@ -33,6 +33,14 @@ long lines_in(const std::string& path) {
   return lines + (last == '\n' ? 0 : 1);  // a last line without its newline counts too
 }
 
+// Columns of the terminal on stderr (80 when it does not say): a bar wider than its line would
+// wrap, and the carriage return would no longer take it back to its start.
+int terminal_columns() {
+  winsize size{};
+  if (::ioctl(STDERR_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col > 0) return size.ws_col;
+  return 80;
+}
+
 }  // namespace
 
 ProgressBar::ProgressBar(std::string what, const std::string& file) : what_(std::move(what)) {
@@ -58,14 +66,6 @@ void ProgressBar::update(int line) {
   if (now - start_ < kFirstDraw || now - last_ < kRedraw) return;
   last_ = now;
   draw(furthest_line_, std::chrono::duration<double>(now - start_).count());
-}
-
-// Columns of the terminal on stderr (80 when it does not say): a bar wider than its line would
-// wrap, and the carriage return would no longer take it back to its start.
-int terminal_columns() {
-  winsize size{};
-  if (::ioctl(STDERR_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col > 0) return size.ws_col;
-  return 80;
 }
 
 void ProgressBar::draw(int line, double elapsed_s) {
