@@ -159,7 +159,9 @@ class Planner {
     JointVector start_joints;
     const Status status = machine_.inverse(Pose::from_vector(pose_), start_joints);
     if (!status.ok()) {
-      throw PlanError(file_, 0, "the start pose is not usable: " + machine_.describe(status));
+      throw PlanError(
+          file_, 0,
+          "the start pose is not usable: " + machine_.explain(Pose::from_vector(pose_), status));
     }
     for (int i = 0; i < joints; ++i) {
       report_.joints[static_cast<std::size_t>(i)].min = start_joints[i];
@@ -208,7 +210,8 @@ class Planner {
       const Status status = machine_.inverse(pose, q);
       if (!status.ok()) {
         throw PlanError(file_, segment.line,
-                        "the move leaves the machine's reach: " + machine_.describe(status));
+                        "the move leaves the machine's reach " +
+                            machine_.explain_path([&](double v) { return segment.at(v); }));
       }
     };
     joints_at(0, previous);
@@ -364,9 +367,9 @@ class Planner {
       const Status a = machine_.inverse(Pose::from_vector(segment.at(from)), q0);
       const Status b = machine_.inverse(Pose::from_vector(segment.at(to)), q1);
       if (!a.ok() || !b.ok()) {
-        throw PlanError(
-            file_, segment.line,
-            "the move leaves the machine's reach: " + machine_.describe(a.ok() ? b : a));
+        throw PlanError(file_, segment.line,
+                        "the move leaves the machine's reach " +
+                            machine_.explain_path([&](double v) { return segment.at(v); }));
       }
       return JointVector((q1 - q0) / ds);
     };
@@ -458,7 +461,8 @@ class Planner {
     const Status status = machine_.inverse(Pose::from_vector(pose), sample.joints);
     if (!status.ok()) {
       throw PlanError(file_, line,
-                      "at t = " + std::to_string(t) + " s: " + machine_.describe(status));
+                      "at t = " + std::to_string(t) +
+                          " s: " + machine_.explain(Pose::from_vector(pose), status));
     }
     const double dt = t - last_sample_time_;
     for (int i = 0; i < sample.joints.size(); ++i) {

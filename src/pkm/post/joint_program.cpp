@@ -30,7 +30,8 @@ class Poster {
         builder_(machine.home().as_vector(), options.origin, false) {
     JointVector home;
     const Status status = machine_.inverse(machine_.home(), home);
-    if (!status.ok()) throw PostError(file_, 0, "home is not usable: " + machine_.describe(status));
+    if (!status.ok())
+      throw PostError(file_, 0, "home is not usable: " + machine_.explain(machine_.home(), status));
     joints_ = rounded(home);
     write_line_("G21 G90 G94");
   }
@@ -78,7 +79,8 @@ class Poster {
     const Status status = machine_.inverse(Pose::from_vector(segment->end), end);
     if (!status.ok()) {
       throw PostError(file_, segment->line,
-                      "the move ends out of the machine's reach: " + machine_.describe(status));
+                      "the move leaves the machine's reach " +
+                          machine_.explain_path([&](double v) { return segment->at(v); }));
     }
     split(*segment, 0.0, 1.0, joints_, rounded(end), 0);
   }
@@ -133,7 +135,8 @@ class Poster {
     const Status status = machine_.inverse(Pose::from_vector(segment.at(u)), q);
     if (!status.ok()) {
       throw PostError(file_, segment.line,
-                      "the move leaves the machine's reach: " + machine_.describe(status));
+                      "the move leaves the machine's reach " +
+                          machine_.explain_path([&](double v) { return segment.at(v); }));
     }
     return rounded(q);
   }
