@@ -65,7 +65,9 @@ struct CartesianLimits {
   // where the file gives none. Only the coordinates the machine controls are checked.
   Vector6d envelope_min = Vector6d::Constant(-std::numeric_limits<double>::infinity());
   Vector6d envelope_max = Vector6d::Constant(std::numeric_limits<double>::infinity());
-  bool has_envelope() const { return envelope_min.allFinite() || envelope_max.allFinite(); }
+  bool has_envelope() const {
+    return envelope_min.array().isFinite().any() || envelope_max.array().isFinite().any();
+  }
 };
 
 class Machine {
