@@ -338,28 +338,31 @@ const BadFileCase kCases[] = {
      "nothing passes through"},
     {"envelope_min_without_max",
      "linear-delta.toml",
-     {{"home = [0.0, 0.0, 100.0]", "home = [0.0, 0.0, 100.0]\nmin = [-100.0, -100.0, 0.0] # <-"}},
+     {{"min = [-120.0, -120.0, 0.0]", "min = [-120.0, -120.0, 0.0] # <-"},
+      {"max = [120.0, 120.0, 300.0]", ""}},
      "cartesian.min",
      "give both min and max"},
     {"envelope_wrong_count",
      "linear-delta.toml",
-     {{"home = [0.0, 0.0, 100.0]",
-       "home = [0.0, 0.0, 100.0]\nmin = [-100.0, -100.0] # <-\nmax = [100.0, 100.0]"}},
+     {{"min = [-120.0, -120.0, 0.0]", "min = [-120.0, -120.0] # <-"}},
      "cartesian.min",
      "needs 3 numbers, one per coordinate of home"},
     {"envelope_min_above_max",
      "linear-delta.toml",
-     {{"home = [0.0, 0.0, 100.0]",
-       "home = [0.0, 0.0, 100.0]\nmin = [-100.0, -100.0, 0.0]\nmax = [100.0, -200.0, 300.0] # <-"}},
+     {{"max = [120.0, 120.0, 300.0]", "max = [120.0, -200.0, 300.0] # <-"}},
      "cartesian.max",
      "y: must be greater than min"},
     {"envelope_leaves_out_home",
      "linear-delta.toml",
-     {{"home = [0.0, 0.0, 100.0]",
-       "home = [0.0, 0.0, 100.0] # <-\nmin = [-100.0, -100.0, 150.0]\nmax = [100.0, 100.0, "
-       "300.0]"}},
+     {{"home = [0.0, 0.0, 100.0]", "home = [0.0, 0.0, 100.0] # <-"},
+      {"min = [-120.0, -120.0, 0.0]", "min = [-120.0, -120.0, 150.0]"}},
      "cartesian.home",
      "z lies outside the work envelope"},
+    {"envelope_not_finite",
+     "linear-delta.toml",
+     {{"max = [120.0, 120.0, 300.0]", "max = [120.0, 120.0, inf] # <-"}},
+     "cartesian.max",
+     "finite"},
     {"fractional_iterations",
      "hexapod-bit.toml",
      {{"tool_length = 30.0", "tool_length = 30.0\nforward_max_iterations = 2.5 # <-"}},
@@ -519,11 +522,10 @@ TEST(JointLimits, NanFailsTheCheck) {
   EXPECT_EQ(status.joint, 1);
 }
 
+// The example delta has a work envelope: min = [-120, -120, 0], max = [120, 120, 300].
 std::string delta_with_envelope() {
-  std::string text = read_example("linear-delta.toml");
-  if (text.find("\nmin = [") == std::string::npos) {
-    text += "min = [-120.0, -120.0, 0.0]\nmax = [120.0, 120.0, 300.0]\n";
-  }
+  const std::string text = read_example("linear-delta.toml");
+  EXPECT_NE(text.find("\nmin = [-120.0, -120.0, 0.0]"), std::string::npos);
   return text;
 }
 
@@ -591,9 +593,12 @@ const ExplainCase kExplainCases[] = {
     {"delta_below_its_bed", "envelope:delta", Pose::from_mm_deg(0, 0, -150),
      "pose x 0.000 y 0.000 z -150.000 mm: z = -150.000 mm passes the work envelope's min 0.000 "
      "mm ([cartesian] min)"},
-    {"delta_strut_too_short", "linear-delta.toml", Pose::from_mm_deg(400, 0, 100),
-     "pose x 400.000 y 0.000 z 100.000 mm: unreachable: the strut of rail 1 is too short to "
+    {"triaglide_strut_too_short", "triaglide.toml", Pose::from_mm_deg(0, 0, -900),
+     "pose x 0.000 y 0.000 z -900.000 mm: unreachable: the strut of rail 1 is too short to "
      "reach it"},
+    {"triaglide_rail_too_short", "triaglide.toml", Pose::from_mm_deg(900, 0, 200),
+     "pose x 900.000 y 0.000 z 200.000 mm: joint 'rail1' = 1108.327 mm passes its max 800.000 "
+     "mm"},
     {"inch_machine_speaks_inches", "inch:hektor.toml", Pose::from_mm_deg(10 * 25.4, -170 * 25.4, 0),
      "pose x 10.0000 y -170.0000 in: joint 'right' = 192.3538 in passes its max 180.0000 in"},
 };
