@@ -97,7 +97,15 @@ void run_fk(FkOptions options) {
   for (std::size_t i = 0; i < joint_count; ++i) {
     joints[static_cast<int>(i)] = machine.joint_from_file(static_cast<int>(i), options.joints[i]);
   }
-  Pose pose = options.seed.empty() ? machine.home() : pose_in_file_units(machine, options.seed);
+  Pose pose = machine.home();
+  if (!options.seed.empty()) {
+    try {
+      pose = pose_in_file_units(machine, options.seed);
+    } catch (const CommandError& error) {
+      throw CommandError(std::string(error.what()) + " for --seed, before the " +
+                         std::to_string(joint_count) + " joint values");
+    }
+  }
   const Status status = machine.forward(joints, pose);
   if (!status.ok()) {
     const bool limit = status.code == StatusCode::joint_limit && status.joint >= 0;
@@ -172,7 +180,7 @@ void print_check_joints(const Machine& machine, const CheckSummary& summary) {
   for (int i = 0; i < static_cast<int>(machine.joints().size()); ++i) {
     const JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
     const char* unit = machine.joint_file_unit(i);
-    std::printf("    %-10s %c  %12.4f %s  in [%.4f, %.4f]  %.1f %s/s  %.1f %s/s^2\n",
+    std::printf("    %-10s %c  %12.4f %s  range [%.4f, %.4f]  %.1f %s/s  %.1f %s/s^2\n",
                 joint.name.c_str(), joint.axis_letter,
                 machine.joint_to_file(i, summary.home_joints[i]), unit,
                 machine.joint_to_file(i, joint.min), machine.joint_to_file(i, joint.max),
@@ -184,7 +192,8 @@ void print_check_joints(const Machine& machine, const CheckSummary& summary) {
 void print_check(const Machine& machine, const CheckSummary& summary) {
   const Kinematics& kinematics = machine.kinematics();
   std::printf("%s\n  file: %s\n  units: %s and deg\n  kinematics: %s, %d joints, controls",
-              machine.name().c_str(), machine.source().c_str(), machine.length_unit(),
+              machine.name().c_str(), machine.source().c_str(),
+              machine.units() == LengthUnit::inch ? "inch" : "mm",
               std::string(kinematics.type()).c_str(), kinematics.joint_count());
   for (int axis = 0; axis < kPoseSize; ++axis) {
     if (kinematics.dof().controls(axis)) std::printf(" %s", std::string(kAxisNames[axis]).c_str());
@@ -203,8 +212,9 @@ void print_check(const Machine& machine, const CheckSummary& summary) {
     const bool clipped = machine.cartesian().envelope_min[e.axis] == e.min ||
                          machine.cartesian().envelope_max[e.axis] == e.max;
     std::printf("    %s  %12.4f .. %12.4f %s%s\n", std::string(kAxisNames[e.axis]).c_str(),
-                machine.axis_to_file(e.axis, e.min), machine.axis_to_file(e.axis, e.max),
-                machine.axis_file_unit(e.axis), clipped ? "  (clipped by the envelope)" : "");
+                machine.axis_to_file(e.axis, e.min) + 0.0,
+                machine.axis_to_file(e.axis, e.max) + 0.0, machine.axis_file_unit(e.axis),
+                clipped ? "  (clipped by the envelope)" : "");
   }
   if (summary.conditioning < kSingularAtHome) {
     std::printf(
