@@ -198,13 +198,22 @@ std::vector<double> TomlSection::number_list(std::string_view key) const {
   return values;
 }
 
+double TomlSection::to_length(double value, std::string_view key) const {
+  // A machine within a kilometre: beyond that a length is a typo, and squares of it lose every
+  // digit a machine needs.
+  constexpr double kMaxLength_mm = 1e6;
+  const double mm = value * mm_per_unit_;
+  if (!(std::abs(mm) <= kMaxLength_mm)) fail(key, "must be within a kilometre (1e6 mm) of 0");
+  return mm;
+}
+
 double TomlSection::length(std::string_view key) const {
-  return number(key) * mm_per_unit_;
+  return to_length(number(key), key);
 }
 
 std::vector<double> TomlSection::length_list(std::string_view key) const {
   std::vector<double> values = number_list(key);
-  for (double& value : values) value *= mm_per_unit_;
+  for (double& value : values) value = to_length(value, key);
   return values;
 }
 
@@ -220,7 +229,7 @@ std::vector<Eigen::Vector3d> TomlSection::length_vector3_list(std::string_view k
     const toml::array* point = element.as_array();
     if (point == nullptr || point->size() != 3) fail(key, "each point needs 3 numbers [x, y, z]");
     Eigen::Vector3d value;
-    for (int k = 0; k < 3; ++k) value[k] = finite_number(*point->get(k), key) * mm_per_unit_;
+    for (int k = 0; k < 3; ++k) value[k] = to_length(finite_number(*point->get(k), key), key);
     points.push_back(value);
   }
   return points;

@@ -73,6 +73,8 @@ class TomlSection final : public ModelConfig {
   const toml::node& require(std::string_view key) const;
   double finite_number(const toml::node& node, std::string_view key) const;
   const toml::array& require_array(std::string_view key) const;
+  // A length of the file in mm, refused beyond a kilometre.
+  double to_length(double value, std::string_view key) const;
 
   const toml::table& table_;
   std::string path_;
