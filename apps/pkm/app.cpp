@@ -1,5 +1,8 @@
 #include "app.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "embedded_machine.hpp"
 
 namespace pkm::app {
@@ -32,6 +35,31 @@ Vector6d pose_vector_over(Vector6d base, const std::vector<double>& values) {
     base[static_cast<int>(i)] = i < 3 ? values[i] : degrees_to_radians(values[i]);
   }
   return base;
+}
+
+std::string job_reach_hint(const Machine& machine, const std::string& program,
+                           const gcode::InterpreterOptions& options, const Vector6d& origin) {
+  PoseBox job;
+  job.min = Vector6d::Constant(INFINITY);
+  job.max = Vector6d::Constant(-INFINITY);
+  try {
+    gcode::Interpreter(program, options).run([&](const gcode::Canon& canon) {
+      if (canon.kind != gcode::CanonKind::traverse && canon.kind != gcode::CanonKind::feed) return;
+      const double scale = canon.units == gcode::LengthUnits::inch ? 25.4 : 1.0;
+      for (int axis = 0; axis < 3; ++axis) {
+        job.min[axis] = std::min(job.min[axis], canon.end[axis] * scale);
+        job.max[axis] = std::max(job.max[axis], canon.end[axis] * scale);
+      }
+    });
+  } catch (const std::exception&) {
+    return "";  // the error being reported says what is wrong with the job
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!std::isfinite(job.min[axis])) return "";
+    job.axes = job.axes.with(axis);
+  }
+  const std::string hint = outside_reach_hint(machine, job, origin);
+  return hint.empty() ? "" : "\n  hint: " + hint;
 }
 
 }  // namespace pkm::app

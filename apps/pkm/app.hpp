@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "pkm/gcode/interpreter.hpp"
 #include "pkm/machine/machine.hpp"
 
 namespace pkm::app {
@@ -24,6 +25,12 @@ Pose pose_from_arguments(const Machine& machine, const std::vector<double>& valu
 
 // `base` (mm, rad) with its leading coordinates replaced by `values` (x y z a b c, mm and deg).
 Vector6d pose_vector_over(Vector6d base, const std::vector<double>& values);
+
+// When the job's moves, placed at `origin` (mm, rad), lie outside the machine's reach: a line
+// with both boxes and the --origin that would centre the job, to append to the error; "" when
+// the job fits (or cannot be read again).
+std::string job_reach_hint(const Machine& machine, const std::string& program,
+                           const gcode::InterpreterOptions& options, const Vector6d& origin);
 
 void register_kinematics_commands(CLI::App& app);
 void register_calibrate_commands(CLI::App& app);

@@ -135,7 +135,8 @@ void run_plan(const PlanCommandOptions& options) {
   } catch (const gcode::GcodeError& error) {
     throw CommandError(error.what());
   } catch (const motion::PlanError& error) {
-    throw CommandError(error.what());
+    throw CommandError(error.what() + job_reach_hint(machine, options.program, interpreter_options,
+                                                     plan_options.origin));
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }

@@ -203,7 +203,7 @@ std::string box_text(const PoseBox& box, Dof axes) {
   for (int axis = 0; axis < 3; ++axis) {
     if (!axes.controls(axis)) continue;
     text += (text.empty() ? "" : " ") + std::string(kAxisNames[axis]) + " " +
-            formatted("%.3f", box.min[axis]) + ".." + formatted("%.3f", box.max[axis]);
+            formatted("%.3f", box.min[axis] + 0.0) + ".." + formatted("%.3f", box.max[axis] + 0.0);
   }
   return text + " mm";
 }
