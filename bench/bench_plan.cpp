@@ -1,4 +1,5 @@
-// End to end: parse -> plan -> IK -> NPY, the paper's sphere on the paper's hexapod.
+// End to end: parse -> plan -> IK -> NPY, the paper's sphere on the paper's hexapod; and the
+// estimate (plan without samples) of the same job and of a dense CAM job beside the plan's cost.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -27,6 +28,47 @@ void plan_sphere_to_npy(benchmark::State& state) {
   state.SetItemsProcessed(samples);  // items = samples
 }
 BENCHMARK(plan_sphere_to_npy)->Unit(benchmark::kMillisecond);
+
+// Samples nobody keeps: what the sample files cost is left out of the comparison.
+struct Discard final : pkm::motion::SampleSink {
+  void write(const pkm::motion::Sample&) override {}
+};
+
+// One job on one machine, with samples (range(0) == 0) or as an estimate; items = samples the
+// plan makes or counts.
+void plan_job(benchmark::State& state, const char* machine_file, const std::filesystem::path& job,
+              const pkm::Vector6d& origin) {
+  if (!std::filesystem::exists(job)) {
+    state.SkipWithError("the job is not here (the real corpus is ../shared/gcode/real)");
+    return;
+  }
+  const pkm::Machine machine = pkm::load_machine(kSource / "examples" / "machines" / machine_file);
+  pkm::motion::PlanOptions options;
+  options.origin = origin;
+  options.estimate_only = state.range(0) != 0;
+  Discard none;
+  long samples = 0;
+  for (auto _ : state) {
+    samples += pkm::motion::plan_program(machine, job, {}, options, none).samples;
+  }
+  state.SetItemsProcessed(samples);
+}
+
+void sphere(benchmark::State& state) {
+  plan_job(state, "hexapod-bit.toml", kSource / "examples" / "jobs" / "sphere.ngc",
+           pkm::Vector6d::Zero());
+}
+BENCHMARK(sphere)->ArgName("estimate")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// 11,000 short G1 moves (gcmc trochoidal milling) on the matrix mill, placed at its home.
+void trochoidal(benchmark::State& state) {
+  pkm::Vector6d origin;
+  origin << 300.0, 200.0, -100.0, 0.0, 0.0, 0.0;
+  plan_job(state, "matrix-mill.toml",
+           kSource.parent_path() / "shared" / "gcode" / "real" / "linuxcnc" / "trochoidal.ngc",
+           origin);
+}
+BENCHMARK(trochoidal)->ArgName("estimate")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -16,6 +16,7 @@
 
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/gcode/interpreter.hpp"
+#include "real_corpus.hpp"
 
 namespace pkm::gcode {
 namespace {
@@ -23,7 +24,8 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kSource = PKM_SOURCE_DIR;
-const fs::path kCorpus = kSource.parent_path() / "shared" / "gcode" / "real";
+const fs::path kCorpus = pkm::test::real_corpus();  // absent in a plain clone: nothing listed
+const std::string kOwnPrefix = "tests/gcode/";
 const fs::path kOwn = kSource / "tests" / "gcode";
 const fs::path kToolTable = kSource / "tests" / "conformance" / "conformance.tbl";
 
@@ -48,7 +50,7 @@ std::vector<Program> programs() {
     for (const auto& entry : fs::recursive_directory_iterator(root)) {
       if (!entry.is_regular_file() || entry.path().filename() == "SOURCES.md") continue;
       const std::string relative = fs::relative(entry.path(), root).string();
-      found.push_back({root == kOwn ? "tests/gcode/" + relative : relative, entry.path()});
+      found.push_back({root == kOwn ? kOwnPrefix + relative : relative, entry.path()});
     }
   }
   std::sort(found.begin(), found.end(),
@@ -197,14 +199,31 @@ TEST_P(Conformance, MotionMatchesRs274) {
   }
 }
 
-TEST(ConformanceList, NamesOnlyExistingPrograms) {
+// unsupported.txt names programs that exist, each with a reason: the project's own here, the
+// real corpus's in ConformanceList.RealCorpus.
+void expect_listed_programs_exist(bool from_real_corpus) {
   std::set<std::string> names;
   for (const Program& program : programs()) names.insert(program.name);
   for (const auto& [name, reason] : unsupported()) {
+    if ((name.rfind(kOwnPrefix, 0) != 0) != from_real_corpus) continue;
     EXPECT_TRUE(names.count(name)) << name << " is listed but not in the corpus";
     EXPECT_FALSE(reason.empty()) << name << " is listed without a reason";
   }
-  EXPECT_GE(names.size(), 54u) << "the real corpus (../shared/gcode/real) is missing";
+}
+
+TEST(ConformanceList, NamesOnlyExistingOwnPrograms) {
+  expect_listed_programs_exist(false);
+}
+
+// Stands for the rs274 comparison of every real program, which a plain clone cannot run.
+TEST(ConformanceList, RealCorpus) {
+  PKM_SKIP_WITHOUT_REAL_CORPUS();
+  expect_listed_programs_exist(true);
+  const auto programs_found = programs();
+  const auto real_programs =
+      std::count_if(programs_found.begin(), programs_found.end(),
+                    [](const Program& program) { return program.name.rfind(kOwnPrefix, 0) != 0; });
+  EXPECT_GE(real_programs, 54) << "programs missing from " << kCorpus;
 }
 
 INSTANTIATE_TEST_SUITE_P(Corpus, Conformance, ::testing::ValuesIn(programs()),

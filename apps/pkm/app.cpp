@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <system_error>
 
 #include "embedded_machine.hpp"
 
@@ -60,6 +64,59 @@ std::string job_reach_hint(const Machine& machine, const std::string& program,
   }
   const std::string hint = outside_reach_hint(machine, job, origin);
   return hint.empty() ? "" : "\n  hint: " + hint;
+}
+
+namespace {
+
+// A number for messages, as short as it was likely typed.
+std::string shown(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.15g", value);
+  return text;
+}
+
+}  // namespace
+
+CLI::Validator number_in(double min, double max) {
+  const std::string range = "[" + shown(min) + ", " + shown(max) + "]";
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0') return "'" + text + "' is not a number";
+        if (!std::isfinite(value)) return "'" + text + "' is not a finite number";
+        if (value < min || value > max) {
+          return text + " is outside " + range;
+        }
+        return std::string();
+      },
+      range);
+}
+
+CLI::Option* add_pose_option(CLI::App& command, const std::string& name,
+                             std::vector<double>& values, const std::string& description) {
+  return command.add_option(name, values, description)
+      ->expected(2, 6)
+      ->option_text("x y [z [a b c]]")
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
+}
+
+void refuse_overwriting_input(const std::string& output,
+                              std::initializer_list<std::pair<std::string, std::string>> inputs) {
+  if (output.empty()) return;
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::path out = fs::weakly_canonical(output, error);
+  for (const auto& [what, path] : inputs) {
+    if (path.empty()) continue;
+    std::error_code same_error, canonical_error;
+    const bool same = fs::equivalent(output, path, same_error) ||
+                      (!error && fs::weakly_canonical(path, canonical_error) == out);
+    if (same) {
+      throw CommandError(output + ": the output is the input file " + path + " (" + what +
+                         "); writing it would destroy the input, so choose another output name");
+    }
+  }
 }
 
 }  // namespace pkm::app

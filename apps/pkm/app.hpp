@@ -2,8 +2,10 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pkm/gcode/interpreter.hpp"
@@ -31,6 +33,29 @@ Vector6d pose_vector_over(Vector6d base, const std::vector<double>& values);
 // the job fits (or cannot be read again).
 std::string job_reach_hint(const Machine& machine, const std::string& program,
                            const gcode::InterpreterOptions& options, const Vector6d& origin);
+
+// The one check of every number read from the command line: it must parse whole, be finite and
+// lie within [min, max]. CLI11's own range checks let NaN through. For an option of several
+// numbers it checks each.
+CLI::Validator number_in(double min, double max);
+
+// Largest coordinate accepted from the command line, mm (and deg for a b c): far beyond any
+// machine, small enough that no arithmetic on it overflows.
+inline constexpr double kMaxCoordinate = 1e6;
+// Tolerances on the tool tip's path (post, verify), mm: finer than any machine can resolve is
+// refused, because the work to honour it grows without end.
+inline constexpr double kMinTolerance = 1e-4, kMaxTolerance = 1000.0;
+// The interpolation period, s: a servo loop runs between a few microseconds and a second.
+inline constexpr double kMinPeriod = 1e-6, kMaxPeriod = 1.0;
+
+// x y [z [a b c]] (mm, deg) options such as --origin and --start: 2 to 6 numbers, each checked.
+CLI::Option* add_pose_option(CLI::App& command, const std::string& name,
+                             std::vector<double>& values, const std::string& description);
+
+// Refuses to write `output` over one of the inputs ({what, path}: "the job", "job.ngc"): the same
+// file by any path. Inputs that are empty are skipped.
+void refuse_overwriting_input(const std::string& output,
+                              std::initializer_list<std::pair<std::string, std::string>> inputs);
 
 void register_kinematics_commands(CLI::App& app);
 void register_calibrate_commands(CLI::App& app);

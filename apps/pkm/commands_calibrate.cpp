@@ -73,6 +73,7 @@ void run_matrix(const MatrixOptions& options) {
   if (!options.output.empty() && options.add_to.empty()) {
     throw CommandError("-o writes the updated machine file: name the machine with --add-to");
   }
+  refuse_overwriting_input(options.output, {{"the machine file of --add-to", options.add_to}});
   std::optional<Machine> machine;
   Eigen::Matrix3d start = Eigen::Matrix3d::Identity();
   const MatrixKinematics* model = nullptr;
@@ -122,6 +123,8 @@ std::vector<std::string> split_names(const std::string& list) {
 }
 
 void run_fit(const FitCommandOptions& options) {
+  refuse_overwriting_input(
+      options.output, {{"the machine file", options.machine}, {"the measurements", options.data}});
   Machine machine = load_machine_or_default(options.machine);
   std::vector<Measurement> measurements;
   try {
@@ -203,21 +206,27 @@ void register_calibrate_commands(CLI::App& app) {
   matrix_command
       ->add_option("--diagonals", matrix->diagonals,
                    "Octagon diagonals A (X+/Y+) and B (X+/Y-), mm")
-      ->expected(2);
+      ->expected(2)
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   matrix_command->add_option("--widths", matrix->widths, "Octagon widths WX and WY, mm")
-      ->expected(2);
+      ->expected(2)
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   matrix_command
       ->add_option("--x-to-spindle", matrix->x_to_spindle, "Dial reading D after moving X by X, mm")
-      ->expected(2);
+      ->expected(2)
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   matrix_command
       ->add_option("--y-to-spindle", matrix->y_to_spindle, "Dial reading D after moving Y by Y, mm")
-      ->expected(2);
+      ->expected(2)
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   matrix_command
       ->add_option("--z-tilt-x", matrix->z_tilt_x, "Indicator difference X over a Z travel Z, mm")
-      ->expected(2);
+      ->expected(2)
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   matrix_command
       ->add_option("--z-tilt-y", matrix->z_tilt_y, "Indicator difference Y over a Z travel Z, mm")
-      ->expected(2);
+      ->expected(2)
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   matrix_command->add_option("--add-to", matrix->add_to,
                              "Matrix machine whose coefficients the adjustments add to");
   matrix_command->add_option("-o,--output", matrix->output,

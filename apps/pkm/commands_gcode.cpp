@@ -1,10 +1,12 @@
-// pkm gcode --canon: the canonical commands of a program, in the text form of `rs274 -g`.
+// pkm gcode: what a job does (units, box, path by kind of motion, feeds, tools, warnings), or with
+// --canon its canonical commands in the text form of `rs274 -g`.
 #include <cstdio>
 #include <memory>
 
 #include "app.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/gcode/interpreter.hpp"
+#include "pkm/motion/job_summary.hpp"
 
 namespace pkm::app {
 
@@ -18,8 +20,59 @@ struct GcodeOptions {
   bool block_delete = false;
 };
 
+void print_warnings(const std::string& program, const std::vector<gcode::Warning>& warnings) {
+  for (const gcode::Warning& warning : warnings) {
+    std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", program.c_str(), warning.line,
+                 warning.message.c_str());
+  }
+}
+
+void print_box(const char* label, const motion::Box& box) {
+  if (box.empty) {
+    std::printf("  %-12s none\n", label);
+    return;
+  }
+  std::printf("  %-12s x %.3f .. %.3f, y %.3f .. %.3f, z %.3f .. %.3f mm\n", label, box.min.x(),
+              box.max.x(), box.min.y(), box.max.y(), box.min.z(), box.max.z());
+}
+
+void print_summary(const std::string& program, const motion::JobSummary& job) {
+  std::string units;
+  for (const gcode::LengthUnits u : job.units) {
+    units += std::string(units.empty() ? "" : " and ") +
+             (u == gcode::LengthUnits::inch ? "inch (G20)" : "mm (G21)");
+  }
+  std::printf("%s: %d moves, written in %s; below in mm, from X0 Y0 Z0 with the job's offsets\n",
+              program.c_str(), job.moves, units.empty() ? "no units (no moves)" : units.c_str());
+  print_box("box", job.box);
+  print_box("feed box", job.feed_box);
+  std::printf("  %-12s rapid %.3f mm, feed %.3f mm, arc %.3f mm (total %.3f mm)\n", "path",
+              job.rapid_mm, job.feed_mm, job.arc_mm, job.rapid_mm + job.feed_mm + job.arc_mm);
+  if (job.angles_deg > 0.0) {
+    std::printf("  %-12s %.3f deg of moves that turn A B C alone\n", "turns", job.angles_deg);
+  }
+  if (job.max_feed_mm_per_min > 0.0) {
+    std::printf("  %-12s F %.1f .. %.1f mm/min%s\n", "feeds", job.min_feed_mm_per_min,
+                job.max_feed_mm_per_min, job.inverse_time ? ", and inverse time (G93)" : "");
+  } else if (job.inverse_time) {
+    std::printf("  %-12s inverse time (G93)\n", "feeds");
+  }
+  std::string tools;
+  for (const int tool : job.tools) tools += (tools.empty() ? "T" : ", T") + std::to_string(tool);
+  std::printf("  %-12s %s\n", "tools", tools.empty() ? "none named" : tools.c_str());
+  if (job.dwell_s > 0.0) std::printf("  %-12s %.3f s\n", "dwells", job.dwell_s);
+  std::printf("  %-12s %zu%s\n", "warnings", job.warnings.size(),
+              job.warnings.empty() ? "" : " (on stderr)");
+}
+
+void run_summary(const GcodeOptions& options,
+                 const gcode::InterpreterOptions& interpreter_options) {
+  const motion::JobSummary job = motion::summarize_job(options.program, interpreter_options);
+  print_warnings(options.program, job.warnings);
+  print_summary(options.program, job);
+}
+
 void run_gcode(const GcodeOptions& options) {
-  if (!options.canon) throw CommandError("pkm gcode: give --canon (the only output so far)");
   gcode::InterpreterOptions interpreter_options;
   interpreter_options.block_delete = options.block_delete;
   try {
@@ -27,6 +80,10 @@ void run_gcode(const GcodeOptions& options) {
       interpreter_options.tool_table = gcode::read_tool_table(
           options.tool_table,
           options.tool_table_units == "inch" ? gcode::LengthUnits::inch : gcode::LengthUnits::mm);
+    }
+    if (!options.canon) {
+      run_summary(options, interpreter_options);
+      return;
     }
     gcode::Interpreter interpreter(options.program, interpreter_options);
     // The preamble rs274 prints when its canonical interface starts.
@@ -49,10 +106,7 @@ void run_gcode(const GcodeOptions& options) {
       error = failure.what();
     }
     std::fflush(stdout);
-    for (const gcode::Warning& warning : interpreter.warnings()) {
-      std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", options.program.c_str(), warning.line,
-                   warning.message.c_str());
-    }
+    print_warnings(options.program, interpreter.warnings());
     if (!error.empty()) throw CommandError(error);
   } catch (const gcode::GcodeError& failure) {
     throw CommandError(failure.what());
@@ -63,7 +117,10 @@ void run_gcode(const GcodeOptions& options) {
 
 void register_gcode_commands(CLI::App& app) {
   auto options = std::make_shared<GcodeOptions>();
-  CLI::App* command = app.add_subcommand("gcode", "Interpret a G-code program as LinuxCNC does");
+  CLI::App* command = app.add_subcommand(
+      "gcode",
+      "Interpret a G-code program as LinuxCNC does: what it does (units, box, path, feeds, tools, "
+      "warnings), or its canonical commands");
   command->add_flag("--canon", options->canon,
                     "Print the canonical commands as LinuxCNC's rs274 -g does");
   command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl)");

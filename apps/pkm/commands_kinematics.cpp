@@ -247,7 +247,8 @@ void register_kinematics_commands(CLI::App& app) {
   ik_command->add_option("-m,--machine", ik->machine, "Machine file (default: embedded hexapod)");
   ik_command->add_flag("--json", ik->json, "Print {\"joints\": [..], \"names\": [..]}");
   ik_command->add_option("pose", ik->pose, "x y z [a b c] in the machine file's units and deg")
-      ->required();
+      ->required()
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   ik_command->callback([ik] { run_ik(*ik); });
 
   auto fk = std::make_shared<FkOptions>();
@@ -259,9 +260,12 @@ void register_kinematics_commands(CLI::App& app) {
       ->add_option("--seed", fk->seed,
                    "Pose to start from, x y z [a b c] (default: home); the joint values may "
                    "follow it directly")
-      ->expected(2, -1);
-  fk_command->add_option("joints", fk->joints,
-                         "Joint values in the machine file's units (deg for rotary joints)");
+      ->expected(2, -1)
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
+  fk_command
+      ->add_option("joints", fk->joints,
+                   "Joint values in the machine file's units (deg for rotary joints)")
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   fk_command->callback([fk] { run_fk(*fk); });
 
   auto check = std::make_shared<CheckOptions>();

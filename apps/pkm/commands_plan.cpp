@@ -1,4 +1,5 @@
-// pkm plan: G-code to joint samples at the servo period.
+// pkm plan: G-code to joint samples at the servo period, or (without -o) the estimate of a job:
+// its duration, samples, joint ranges and the moves whose feed the joints lower.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -17,6 +18,10 @@ namespace pkm::app {
 
 namespace {
 
+// The most samples plan writes unless told otherwise (--max-samples): 14 hours at 1 ms, some
+// 5 GB of NPY for a hexapod. A job past it is most likely a wrong period or machine file.
+constexpr long kDefaultMaxSamples = 50'000'000;
+
 struct PlanCommandOptions {
   std::string machine;
   std::string program;
@@ -28,25 +33,30 @@ struct PlanCommandOptions {
   std::vector<double> origin;
   std::string attitude = "linear";
   double jerk = 0.0;
+  bool estimate = false;
+  bool sample_without_output = false;  // pkm demo: make the samples even without -o
+  long max_samples = kDefaultMaxSamples;
   std::string display_name;  // how to name the job in the summary (default: its path)
 };
 
 nlohmann::json report_json(const Machine& machine, const motion::PlanReport& report,
-                           const PlanCommandOptions& options) {
+                           const PlanCommandOptions& options, bool estimate) {
   nlohmann::json joints = nlohmann::json::array();
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
     const JointSpec& joint = machine.joints()[i];
     const motion::JointStatistics& s = report.joints[i];
-    joints.push_back({{"name", joint.name},
-                      {"unit", joint.interface_unit()},
-                      {"min", joint.to_interface(s.min)},
-                      {"max", joint.to_interface(s.max)},
-                      {"limit_min", joint.to_interface(joint.min)},
-                      {"limit_max", joint.to_interface(joint.max)},
-                      {"peak_velocity", joint.to_interface(s.peak_velocity)},
-                      {"max_velocity", joint.to_interface(joint.max_velocity)},
-                      {"peak_acceleration", joint.to_interface(s.peak_acceleration)},
-                      {"max_acceleration", joint.to_interface(joint.max_acceleration)}});
+    joints.push_back(
+        {{"name", joint.name},
+         {"unit", joint.interface_unit()},
+         {"min", joint.to_interface(s.min)},
+         {"max", joint.to_interface(s.max)},
+         {"limit_min", joint.to_interface(joint.min)},
+         {"limit_max", joint.to_interface(joint.max)},
+         {"peak_velocity", joint.to_interface(s.peak_velocity)},
+         {"max_velocity", joint.to_interface(joint.max_velocity)},
+         {"peak_acceleration", estimate ? nlohmann::json(nullptr)
+                                        : nlohmann::json(joint.to_interface(s.peak_acceleration))},
+         {"max_acceleration", joint.to_interface(joint.max_acceleration)}});
   }
   nlohmann::json limits = nlohmann::json::array();
   for (const motion::FeedLimit& limit : report.feed_limits) {
@@ -57,10 +67,12 @@ nlohmann::json report_json(const Machine& machine, const motion::PlanReport& rep
   }
   return {{"machine", machine.name()},
           {"program", options.program},
+          {"estimate", estimate},
           {"period_s", options.period_s},
           {"duration_s", report.duration_s},
           {"samples", report.samples},
           {"path_length_mm", report.path_length_mm},
+          {"pen_changes", report.pen_changes},
           {"joints", joints},
           {"feed_limited_by_joints", limits}};
 }
@@ -105,63 +117,122 @@ class ProgressBar {
   std::chrono::steady_clock::time_point last_;
 };
 
-// Samples nobody keeps: `pkm demo` without -o.
+// Samples nobody keeps: `pkm demo` without -o, and the estimate (which makes none).
 struct DiscardSamples final : SampleFile {
   void write(const motion::Sample&) override {}
   void commit() override {}
 };
 
-void run_plan(const PlanCommandOptions& options) {
-  const Machine machine = load_machine_or_default(options.machine);
-  motion::PlanOptions plan_options;
-  plan_options.period_s = options.period_s;
-  if (!options.start.empty()) plan_options.start = pose_from_arguments(machine, options.start);
-  plan_options.origin = pose_vector_over(plan_options.origin, options.origin);
-  plan_options.great_circle_attitude = options.attitude == "great-circle";
-  plan_options.jerk_mm_per_s3 = options.jerk;
-  ProgressBar progress(options.program);
-  plan_options.on_line = [&progress](int line) { progress.update(line); };
-  gcode::InterpreterOptions interpreter_options;
-  std::unique_ptr<SampleFile> output;
-  motion::PlanReport report;
+// What one run of the planner needs beyond the machine: the job's interpreter options (tool
+// table) and the plan options from the command line.
+struct PlanSetup {
+  gcode::InterpreterOptions interpreter;
+  motion::PlanOptions plan;
+};
+
+PlanSetup plan_setup(const Machine& machine, const PlanCommandOptions& options) {
+  PlanSetup setup;
+  setup.plan.period_s = options.period_s;
+  if (!options.start.empty()) setup.plan.start = pose_from_arguments(machine, options.start);
+  setup.plan.origin = pose_vector_over(setup.plan.origin, options.origin);
+  setup.plan.great_circle_attitude = options.attitude == "great-circle";
+  setup.plan.jerk_mm_per_s3 = options.jerk;
   try {
     if (!options.tool_table.empty()) {
-      interpreter_options.tool_table = gcode::read_tool_table(options.tool_table);
+      setup.interpreter.tool_table = gcode::read_tool_table(options.tool_table);
     }
-    output = options.output.empty() ? std::make_unique<DiscardSamples>()
-                                    : SampleFile::open(options.output, machine);
-    report =
-        motion::plan_program(machine, options.program, interpreter_options, plan_options, *output);
+  } catch (const gcode::GcodeError& error) {
+    throw CommandError(error.what());
+  }
+  return setup;
+}
+
+// One run of the planner over the job, its errors turned into the command's.
+motion::PlanReport run_planner(const Machine& machine, const PlanCommandOptions& options,
+                               const PlanSetup& setup, motion::SampleSink& sink) {
+  try {
+    return motion::plan_program(machine, options.program, setup.interpreter, setup.plan, sink);
   } catch (const gcode::GcodeError& error) {
     throw CommandError(error.what());
   } catch (const motion::PlanError& error) {
-    throw CommandError(error.what() + job_reach_hint(machine, options.program, interpreter_options,
-                                                     plan_options.origin));
+    throw CommandError(error.what() + job_reach_hint(machine, options.program, setup.interpreter,
+                                                     setup.plan.origin));
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
-  progress.clear();
-  output->commit();
-  const nlohmann::json json = report_json(machine, report, options);
-  if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
-  for (const gcode::Warning& warning : report.warnings) {
-    std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", options.program.c_str(), warning.line,
-                 warning.message.c_str());
+}
+
+// Bytes of a sample file: NPY exactly (header and 8 bytes a column), CSV roughly (a real number
+// takes some 14 characters).
+double npy_bytes(const Machine& machine, double samples) {
+  return 128.0 + samples * 8.0 * static_cast<double>(sample_columns(machine).size());
+}
+double csv_bytes(const Machine& machine, double samples) {
+  return samples * (14.0 * static_cast<double>(sample_columns(machine).size() - 2) + 16.0);
+}
+
+// "12.3 MB": a size in the unit that keeps it short.
+std::string size_text(double bytes) {
+  static constexpr const char* kUnits[] = {"B", "kB", "MB", "GB", "TB", "PB"};
+  int unit = 0;
+  while (bytes >= 1000.0 && unit < 5) bytes /= 1000.0, ++unit;
+  char text[48];
+  std::snprintf(text, sizeof text, "%.4g %s", bytes, kUnits[unit]);
+  return text;
+}
+
+void print_estimate_head(const Machine& machine, const motion::PlanReport& report,
+                         const std::string& name) {
+  // Seconds to the millisecond; an absurd job's (1e152 s) in powers of ten.
+  std::printf(report.duration_s < 1e9
+                  ? "%s on %s (estimate, no samples made): %.3f s, path %.3f mm\n"
+                  : "%s on %s (estimate, no samples made): %.4g s, path %.3f mm\n",
+              name.c_str(), machine.name().c_str(), report.duration_s, report.path_length_mm);
+  const double samples = static_cast<double>(report.samples);
+  std::printf("  %s%ld samples at the period: NPY %s, CSV about %s\n",
+              report.samples >= motion::kSampleCountCap ? "more than " : "", report.samples,
+              size_text(npy_bytes(machine, samples)).c_str(),
+              size_text(csv_bytes(machine, samples)).c_str());
+}
+
+// The first `count` moves whose feed a joint lowered: what to look at before running the job.
+void print_feed_limits(const Machine& machine, const motion::PlanReport& report,
+                       std::size_t count) {
+  for (std::size_t i = 0; i < report.feed_limits.size() && i < count; ++i) {
+    const motion::FeedLimit& limit = report.feed_limits[i];
+    std::printf("    line %d: F%.1f lowered to F%.1f by joint %s\n", limit.line,
+                limit.programmed_mm_per_s * 60.0, limit.allowed_mm_per_s * 60.0,
+                machine.joints()[static_cast<std::size_t>(limit.joint)].name.c_str());
   }
-  std::printf("%s: %ld samples, %.3f s, path %.3f mm on %s\n",
-              !options.output.empty()         ? options.output.c_str()
-              : !options.display_name.empty() ? options.display_name.c_str()
-                                              : options.program.c_str(),
-              report.samples, report.duration_s, report.path_length_mm, machine.name().c_str());
+  if (report.feed_limits.size() > count) {
+    std::printf("    and %zu more (--report lists them all)\n", report.feed_limits.size() - count);
+  }
+}
+
+void print_summary(const Machine& machine, const motion::PlanReport& report,
+                   const std::string& name, bool estimate) {
+  if (estimate) {
+    print_estimate_head(machine, report, name);
+  } else {
+    std::printf("%s: %ld samples, %.3f s, path %.3f mm on %s\n", name.c_str(), report.samples,
+                report.duration_s, report.path_length_mm, machine.name().c_str());
+  }
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
     const JointSpec& joint = machine.joints()[i];
     const motion::JointStatistics& s = report.joints[i];
-    std::printf("  %-10s %10.3f .. %10.3f %s, peak %8.2f of %.1f %s/s, %9.1f of %.1f %s/s^2\n",
-                joint.name.c_str(), joint.to_interface(s.min), joint.to_interface(s.max),
-                joint.interface_unit(), joint.to_interface(s.peak_velocity),
-                joint.to_interface(joint.max_velocity), joint.interface_unit(),
-                joint.to_interface(s.peak_acceleration), joint.to_interface(joint.max_acceleration),
-                joint.interface_unit());
+    const char* unit = joint.interface_unit();
+    std::printf("  %-10s %10.3f .. %10.3f %s, peak %8.2f of %.1f %s/s", joint.name.c_str(),
+                joint.to_interface(s.min), joint.to_interface(s.max), unit,
+                joint.to_interface(s.peak_velocity), joint.to_interface(joint.max_velocity), unit);
+    if (!estimate) {
+      std::printf(", %9.1f of %.1f %s/s^2", joint.to_interface(s.peak_acceleration),
+                  joint.to_interface(joint.max_acceleration), unit);
+    }
+    std::printf("\n");
+  }
+  if (machine.tool().z == ToolZ::pen) {
+    std::printf("  pen down or up %d times, %.3f s of pen delay\n", report.pen_changes,
+                report.pen_changes * machine.tool().delay_s);
   }
   if (!report.feed_limits.empty()) {
     std::printf(
@@ -169,6 +240,85 @@ void run_plan(const PlanCommandOptions& options) {
         report.feed_limits.size(), report.feed_limits.front().line,
         machine.joints()[static_cast<std::size_t>(report.feed_limits.front().joint)].name.c_str());
   }
+  if (estimate) print_feed_limits(machine, report, 5);
+}
+
+void print_warnings(const PlanCommandOptions& options, const motion::PlanReport& report) {
+  for (const gcode::Warning& warning : report.warnings) {
+    std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", options.program.c_str(), warning.line,
+                 warning.message.c_str());
+  }
+}
+
+// The estimate refuses a job that would write more samples than the bound, before anything is
+// written: a wrong period or machine file would otherwise fill the disk.
+void refuse_beyond_bound(const Machine& machine, const PlanCommandOptions& options,
+                         const motion::PlanReport& estimate) {
+  if (estimate.samples <= options.max_samples) return;
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "%s would take %.6g s of machine time: %s%ld samples at %g s (NPY %s), more than "
+                "--max-samples %ld. Check the period and the machine's feeds and accelerations, "
+                "or raise --max-samples",
+                options.program.c_str(), estimate.duration_s,
+                estimate.samples >= motion::kSampleCountCap ? "more than " : "", estimate.samples,
+                options.period_s,
+                size_text(npy_bytes(machine, static_cast<double>(estimate.samples))).c_str(),
+                options.max_samples);
+  throw CommandError(text);
+}
+
+void run_plan(const PlanCommandOptions& options) {
+  refuse_overwriting_input(options.output, {{"the job", options.program},
+                                            {"the machine file", options.machine},
+                                            {"the tool table", options.tool_table}});
+  refuse_overwriting_input(options.report, {{"the job", options.program},
+                                            {"the machine file", options.machine},
+                                            {"the tool table", options.tool_table},
+                                            {"the samples' file", options.output}});
+  const Machine machine = load_machine_or_default(options.machine);
+  PlanSetup setup = plan_setup(machine, options);
+  const std::string name = !options.output.empty()         ? options.output
+                           : !options.display_name.empty() ? options.display_name
+                                                           : options.program;
+  // The estimate first: without -o it is the answer; with -o it keeps the run within the bound.
+  const bool estimate_only =
+      options.estimate || (options.output.empty() && !options.sample_without_output);
+  if (estimate_only || options.max_samples > 0) {
+    setup.plan.estimate_only = true;
+    DiscardSamples none;
+    const motion::PlanReport estimate = run_planner(machine, options, setup, none);
+    if (estimate_only) {
+      if (!options.report.empty()) {
+        write_file_atomically(options.report,
+                              report_json(machine, estimate, options, true).dump(2) + "\n");
+      }
+      print_warnings(options, estimate);
+      print_summary(machine, estimate, name, true);
+      return;
+    }
+    refuse_beyond_bound(machine, options, estimate);
+    setup.plan.estimate_only = false;
+    setup.plan.max_samples = options.max_samples;
+  }
+  ProgressBar progress(options.program);
+  setup.plan.on_line = [&progress](int line) { progress.update(line); };
+  std::unique_ptr<SampleFile> output;
+  try {
+    output = options.output.empty() ? std::make_unique<DiscardSamples>()
+                                    : SampleFile::open(options.output, machine);
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(error.what());
+  }
+  const motion::PlanReport report = run_planner(machine, options, setup, *output);
+  progress.clear();
+  output->commit();
+  if (!options.report.empty()) {
+    write_file_atomically(options.report,
+                          report_json(machine, report, options, false).dump(2) + "\n");
+  }
+  print_warnings(options, report);
+  print_summary(machine, report, name, false);
 }
 
 // The embedded job on the embedded machine: the paper's sphere on the paper's hexapod.
@@ -178,6 +328,7 @@ void run_demo(PlanCommandOptions options) {
   write_file_atomically(job, kEmbeddedJob);
   options.program = job.string();
   options.display_name = "sphere.ngc";
+  options.sample_without_output = true;
   std::printf(
       "pkm demo: the sphere test part of the interpolation paper (examples/jobs/sphere.ngc)\n"
       "on its Stewart platform (examples/machines/hexapod-bit.toml)\n");
@@ -200,27 +351,35 @@ void register_plan_commands(CLI::App& app) {
                            "Also write the samples: OUT.csv or OUT.npy");
   demo_command->add_option("--report", demo->report, "Write the plan report as JSON");
   demo_command->add_option("--period", demo->period_s, "Interpolation period, s (default 0.001)")
-      ->check(CLI::PositiveNumber);
+      ->check(number_in(kMinPeriod, kMaxPeriod));
   demo_command->callback([demo] { run_demo(*demo); });
 
   auto options = std::make_shared<PlanCommandOptions>();
   CLI::App* command = app.add_subcommand(
       "plan",
-      "Joint positions at every servo period for a G-code job (time-division interpolation)");
+      "Joint positions at every servo period for a G-code job (time-division interpolation); "
+      "without -o, the job's estimate");
   command->add_option("-m,--machine", options->machine, "Machine file (default: embedded hexapod)");
   command->add_option("program", options->program, "The G-code job")->required();
-  command->add_option("-o,--output", options->output, "Samples: OUT.csv or OUT.npy")->required();
+  CLI::Option* output = command->add_option(
+      "-o,--output", options->output, "Samples: OUT.csv or OUT.npy (without it: the estimate)");
+  command
+      ->add_flag("--estimate", options->estimate,
+                 "Print the duration, samples, joint ranges and feed-limited moves; write no "
+                 "samples")
+      ->excludes(output);
+  command
+      ->add_option("--max-samples", options->max_samples,
+                   "Refuse a job that needs more samples than this (default 50000000)")
+      ->check(number_in(1, 1e15));
   command->add_option("--period", options->period_s, "Interpolation period, s (default 0.001)")
-      ->check(CLI::PositiveNumber);
+      ->check(number_in(kMinPeriod, kMaxPeriod));
   command->add_option("--report", options->report, "Write the plan report as JSON");
   command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl, mm)");
-  command->add_option("--start", options->start, "Start pose x y z [a b c] (default: home)")
-      ->expected(2, 6);
-  command
-      ->add_option("--origin", options->origin,
-                   "Where the program's X0 Y0 Z0 sits in machine coordinates, x y [z [a b c]] "
-                   "(mm, deg; default 0)")
-      ->expected(2, 6);
+  add_pose_option(*command, "--start", options->start, "Start pose, mm and deg (default: home)");
+  add_pose_option(
+      *command, "--origin", options->origin,
+      "Where the program's X0 Y0 Z0 sits in machine coordinates, mm and deg (default 0)");
   command
       ->add_option("--attitude", options->attitude,
                    "Tool attitude within a move: linear (A B C, as LinuxCNC) or great-circle "
@@ -229,7 +388,7 @@ void register_plan_commands(CLI::App& app) {
   command
       ->add_option("--jerk", options->jerk,
                    "Tool-tip jerk limit, mm/s^3: S-curve speed changes (default: none)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(number_in(0.0, 1e12));
   command->callback([options] { run_plan(*options); });
 }
 

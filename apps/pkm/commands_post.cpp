@@ -1,5 +1,7 @@
 // pkm post: joint-space G-code with the tool tip's deviation bounded.
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "app.hpp"
@@ -31,27 +33,45 @@ std::string comment_safe(std::string text) {
   return text;
 }
 
-// The header is written first with room for the numbers known only at the end, then rewritten.
+// A comment line of at most `width` characters (0: any): `text` cut at its start, where a path
+// or a name says least, marked by "...".
+std::string comment_line(const std::string& before, std::string text, const std::string& after,
+                         std::size_t width) {
+  text = comment_safe(text);
+  const std::size_t room = before.size() + after.size() + 2;
+  if (width > 0 && room + text.size() > width) {
+    text = width > room + 3 ? "..." + text.substr(text.size() - (width - room - 3)) : "";
+  }
+  return "(" + before + text + after + ")\n";
+}
+
+// The header is written first with room for the numbers known only at the end, then rewritten
+// in place: the numbers line keeps its width (79 characters, within grbl's 80).
 std::string header(const Machine& machine, const PostCommandOptions& options,
                    const post::PostReport* report) {
-  char text[512];
-  std::snprintf(text, sizeof text,
-                "(joint-space program by pkmkit for %.120s)\n"
-                "(from %.200s, dialect %s)\n"
-                "(tolerance %12.6f mm; verified maximum deviation %12.6f mm, %10ld blocks)\n",
-                comment_safe(machine.name()).c_str(), comment_safe(options.program).c_str(),
-                options.dialect.c_str(), options.tolerance_mm,
+  const std::size_t width = post::rules_of(post::dialect_named(options.dialect)).max_line;
+  char numbers[128];
+  std::snprintf(numbers, sizeof numbers, "(tolerance %11.6f mm; %s %11.6f mm, %10ld blocks)\n",
+                options.tolerance_mm,
+                report && !report->bounded ? "sampled deviation" : "bounded deviation",
                 report ? report->max_deviation_mm : 0.0, report ? report->blocks : 0L);
-  return text;
+  return comment_line("joint-space program by pkmkit for ", machine.name(), "", width) +
+         comment_line("from ", options.program, ", dialect " + options.dialect, width) + numbers;
 }
 
 void run_post(const PostCommandOptions& options) {
+  refuse_overwriting_input(options.output, {{"the job", options.program},
+                                            {"the machine file", options.machine},
+                                            {"the tool table", options.tool_table}});
   const Machine machine = load_machine_or_default(options.machine);
   post::PostOptions post_options;
   post_options.tolerance_mm = options.tolerance_mm;
-  post_options.dialect = options.dialect == "grbl"    ? post::Dialect::grbl
-                         : options.dialect == "mach3" ? post::Dialect::mach3
-                                                      : post::Dialect::linuxcnc;
+  post_options.dialect = post::dialect_named(options.dialect);
+  try {
+    post::check_axis_letters(machine, post_options.dialect);
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(machine.source() + ": " + error.what());
+  }
   post_options.origin = pose_vector_over(post_options.origin, options.origin);
   gcode::InterpreterOptions interpreter_options;
   AtomicFileWriter file(options.output);
@@ -68,6 +88,8 @@ void run_post(const PostCommandOptions& options) {
   } catch (const post::PostError& error) {
     throw CommandError(error.what() + job_reach_hint(machine, options.program, interpreter_options,
                                                      post_options.origin));
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(error.what());
   }
   file.write_at(0, header(machine, options, &report));
   file.commit();
@@ -75,11 +97,10 @@ void run_post(const PostCommandOptions& options) {
     std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", options.program.c_str(), warning.line,
                  warning.message.c_str());
   }
-  std::printf(
-      "%s: %ld blocks for %ld moves, verified maximum deviation %.6f mm (line %d), "
-      "tolerance %.6f mm\n",
-      options.output.c_str(), report.blocks, report.moves, report.max_deviation_mm,
-      report.max_deviation_line, options.tolerance_mm);
+  std::printf("%s: %ld blocks for %ld moves, %s %.6f mm (line %d), tolerance %.6f mm\n",
+              options.output.c_str(), report.blocks, report.moves,
+              report.bounded ? "deviation bounded by" : "largest sampled deviation",
+              report.max_deviation_mm, report.max_deviation_line, options.tolerance_mm);
 }
 
 }  // namespace
@@ -117,14 +138,12 @@ void register_post_commands(CLI::App& app) {
   command
       ->add_option("--tolerance", options->tolerance_mm,
                    "Largest tool-tip deviation from the programmed path, mm (default 0.01)")
-      ->check(CLI::PositiveNumber);
-  command->add_option("--dialect", options->dialect, "linuxcnc (default), mach3 or grbl")
-      ->check(CLI::IsMember({"linuxcnc", "mach3", "grbl"}));
+      ->check(number_in(kMinTolerance, kMaxTolerance));
+  command->add_option("--dialect", options->dialect, "linuxcnc (default), mach3, grbl or grblhal")
+      ->check(CLI::IsMember({"linuxcnc", "mach3", "grbl", "grblhal"}));
   command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl, mm)");
-  command
-      ->add_option("--origin", options->origin,
-                   "Where the program's X0 Y0 Z0 sits in machine coordinates (mm, deg)")
-      ->expected(2, 6);
+  add_pose_option(*command, "--origin", options->origin,
+                  "Where the program's X0 Y0 Z0 sits in machine coordinates, mm and deg");
   command->callback([options] { run_post(*options); });
 }
 

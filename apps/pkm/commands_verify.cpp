@@ -88,12 +88,10 @@ void register_verify_commands(CLI::App& app) {
   command
       ->add_option("--tolerance", options->tolerance_mm,
                    "Exit non-zero when the deviation exceeds this, mm")
-      ->check(CLI::PositiveNumber);
+      ->check(number_in(kMinTolerance, kMaxTolerance));
   command->add_option("--report", options->report, "Write the report as JSON");
-  command
-      ->add_option("--origin", options->origin,
-                   "Where the job's X0 Y0 Z0 sits in machine coordinates (mm, deg)")
-      ->expected(2, 6);
+  add_pose_option(*command, "--origin", options->origin,
+                  "Where the job's X0 Y0 Z0 sits in machine coordinates, mm and deg");
   command->callback([options] { run_verify(*options); });
 }
 

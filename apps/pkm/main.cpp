@@ -1,12 +1,67 @@
 // pkm: the command-line layer. Parses arguments, wires modules, prints, and exits.
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "app.hpp"
+#include "pkm/io/atomic_file.hpp"
+#include "version.hpp"
+
+namespace {
+
+// SIGINT, SIGTERM, SIGHUP: remove the temporaries of unfinished outputs, then die of the same
+// signal (SA_RESETHAND restored the default action), so the caller sees how the run ended.
+extern "C" void remove_temporaries_and_die(int signal_number) {
+  pkm::remove_open_temporaries();
+  std::raise(signal_number);
+}
+
+void remove_temporaries_on_signals() {
+  struct sigaction action {};
+  action.sa_handler = remove_temporaries_and_die;
+  action.sa_flags = SA_RESETHAND;
+  sigemptyset(&action.sa_mask);
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+    // A signal ignored when pkm started stays ignored: nohup's SIGHUP, a background job's SIGINT.
+    struct sigaction inherited {};
+    sigaction(signal_number, nullptr, &inherited);
+    if (inherited.sa_handler != SIG_IGN) sigaction(signal_number, &action, nullptr);
+  }
+}
+
+void warn_of_stale_temporary(const pkm::StaleTemporary& stale) {
+  const std::string size = stale.size_bytes < 1000000
+                               ? std::to_string(stale.size_bytes) + " bytes"
+                               : std::to_string(stale.size_bytes / 1000000) + " MB";
+  if (stale.failure.empty()) {
+    std::fprintf(stderr,
+                 "pkm: warning: removed %s (%s), a temporary file left by an interrupted run "
+                 "(%s)\n",
+                 stale.path.c_str(), size.c_str(), stale.why.c_str());
+  } else {
+    std::fprintf(stderr,
+                 "pkm: warning: cannot remove %s (%s), a temporary file left by an interrupted "
+                 "run (%s): %s\n",
+                 stale.path.c_str(), size.c_str(), stale.why.c_str(), stale.failure.c_str());
+  }
+}
+
+std::string version_text() {
+  std::string text = std::string("pkm ") + pkm::app::kVersion;
+  if (pkm::app::kGitDescribe[0] != '\0')
+    text += std::string(" (git ") + pkm::app::kGitDescribe + ")";
+  return text;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
+  remove_temporaries_on_signals();
+  pkm::on_stale_temporary(warn_of_stale_temporary);
   CLI::App app{"pkmkit: drive parallel-kinematic machines from Cartesian G-code", "pkm"};
+  app.set_version_flag("--version", version_text());
   app.require_subcommand(1);
   pkm::app::register_kinematics_commands(app);
   pkm::app::register_gcode_commands(app);

@@ -4,6 +4,7 @@
 
 #include <Eigen/QR>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -173,6 +174,11 @@ FitReport fit_geometry(Kinematics& kinematics, const Pose& seed,
   }
   int line = 0;
   residuals.distances(before, report.rms_before_mm, report.max_before_mm, line);
+  if (!std::isfinite(report.rms_before_mm)) {
+    throw FitError(
+        "the residuals with the nominal geometry are not finite: a measurement is "
+        "far outside this machine");
+  }
 
   // Which requested parameters the data can identify: QR with column pivoting of the
   // column-normalised Jacobian picks a well-conditioned subset; the SVD names the groups.
@@ -276,6 +282,14 @@ FitReport fit_geometry(Kinematics& kinematics, const Pose& seed,
             std::max(0.0, covariance(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i))));
       }
     }
+  }
+  const bool finite =
+      std::isfinite(report.rms_after_mm) && std::isfinite(report.max_after_mm) &&
+      std::all_of(fitted.begin(), fitted.end(), [](double value) { return std::isfinite(value); });
+  if (!finite) {
+    throw FitError("the fit did not reach a finite geometry (residual RMS " +
+                   std::to_string(report.rms_after_mm) +
+                   " mm): nothing written; check the measurements");
   }
   for (const int index : requested) {
     report.parameters.push_back({parameters[index].name, parameters[index].unit, nominal[index],

@@ -10,6 +10,10 @@ namespace pkm {
 
 namespace {
 
+// Largest value a measurement may hold, mm or deg (the message says 1e6): far beyond any
+// machine, and small enough that the fit's arithmetic on it cannot overflow.
+constexpr double kLargestValue = 1e6;
+
 struct Field {
   std::string text;
   int column = 1;  // 1-based character column where the field starts
@@ -120,6 +124,10 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
         fail(line_number, fields[c].column, "'" + field + "' is not a number");
       }
       if (!std::isfinite(value)) fail(line_number, fields[c].column, "must be finite");
+      if (std::abs(value) > kLargestValue) {
+        fail(line_number, fields[c].column,
+             "'" + field + "' is beyond any machine (at most 1e6 mm or deg in size)");
+      }
       if (joint_of_column[c] >= 0) {
         measurement.joints[joint_of_column[c]] =
             machine.joints()[joint_of_column[c]].from_interface(value);

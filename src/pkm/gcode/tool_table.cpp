@@ -1,6 +1,7 @@
 #include "pkm/gcode/tool_table.hpp"
 
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -8,6 +9,12 @@
 #include "pkm/gcode/gcode_error.hpp"
 
 namespace pkm::gcode {
+
+namespace {
+// Largest number a tool table may hold (mm, inch or deg; tool and pocket numbers; the message
+// says 1e6): beyond any tool, and small enough that offsets added to coordinates cannot overflow.
+constexpr double kLargestValue = 1e6;
+}  // namespace
 
 ToolTable parse_tool_table(const std::string& text, const std::string& source_name,
                            LengthUnits units) {
@@ -38,6 +45,17 @@ ToolTable parse_tool_table(const std::string& text, const std::string& source_na
       if (end == line.c_str() + pos + 1) {
         throw GcodeError(source_name, number, column,
                          std::string("tool table: '") + line[pos] + "' needs a number");
+      }
+      if (!std::isfinite(value) || std::abs(value) > kLargestValue) {
+        throw GcodeError(source_name, number, column,
+                         std::string("tool table: ") +
+                             line.substr(pos, static_cast<std::size_t>(end - line.c_str()) - pos) +
+                             " must be a finite number of at most 1e6 in size");
+      }
+      if ((c == 'T' || c == 'P') && (value < 0.0 || value != std::floor(value))) {
+        throw GcodeError(
+            source_name, number, column,
+            std::string("tool table: '") + line[pos] + "' needs a whole number 0 or above");
       }
       static constexpr std::string_view kAxisLetters = "XYZABCUVW";
       if (c == 'T') {

@@ -1,22 +1,168 @@
 #include "pkm/io/atomic_file.hpp"
 
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
+#include <atomic>
 #include <cerrno>
+#include <charconv>
 #include <cstring>
+#include <ctime>
+#include <fstream>
+#include <limits>
+#include <sstream>
 #include <stdexcept>
+#include <system_error>
 
 namespace pkm {
 
+namespace {
+
+// The temporaries of open writers, in storage a signal handler may read: fixed arrays, and a
+// lock-free state per entry. A writer claims an entry (free -> claimed), copies its path in, then
+// arms it (claimed -> armed); the handler unlinks armed entries only. More writers open at once
+// than entries go unlisted; the next run then finds their temporaries stale.
+enum SlotState : int { kFree = 0, kClaimed = 1, kArmed = 2 };
+constexpr int kSlots = 32;
+constexpr std::size_t kPathBytes = 4096;
+std::array<std::atomic<int>, kSlots> slot_states{};
+char slot_paths[kSlots][kPathBytes];
+
+int list_temporary(const std::string& path) {
+  if (path.size() >= kPathBytes) return -1;
+  for (int slot = 0; slot < kSlots; ++slot) {
+    int expected = kFree;
+    if (!slot_states[slot].compare_exchange_strong(expected, kClaimed)) continue;
+    std::memcpy(slot_paths[slot], path.c_str(), path.size() + 1);
+    slot_states[slot].store(kArmed);
+    return slot;
+  }
+  return -1;
+}
+
+void unlist_temporary(int slot) {
+  if (slot >= 0) slot_states[slot].store(kFree);
+}
+
+std::function<void(const StaleTemporary&)>& stale_reporter() {
+  static std::function<void(const StaleTemporary&)> report;
+  return report;
+}
+
+// When this run started, s since the epoch (static initialisation is early enough).
+const std::time_t kRunStart_s = std::time(nullptr);
+
+std::string temporary_prefix(const std::filesystem::path& output) {
+  return "." + output.filename().string() + ".tmp-";
+}
+
+std::filesystem::path directory_of(const std::filesystem::path& output) {
+  return output.has_parent_path() ? output.parent_path() : std::filesystem::path(".");
+}
+
+// The PID in a temporary's name after its prefix ("1234-Ab3xYz"), 0 for the older names that
+// carry none ("Ab3xYz").
+long writer_pid(std::string_view suffix) {
+  const auto dash = suffix.find('-');
+  if (dash == std::string_view::npos) return 0;
+  long pid = 0;
+  const auto [end, error] = std::from_chars(suffix.data(), suffix.data() + dash, pid);
+  const bool valid = error == std::errc() && end == suffix.data() + dash && pid > 0 &&
+                     pid <= std::numeric_limits<pid_t>::max();
+  return valid ? pid : 0;  // never a group or "every process" for kill() below
+}
+
+bool is_running(long pid) {
+  return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
+}
+
+// When process `pid` started, s since the epoch, from Linux's /proc; -1 where unknown.
+std::time_t process_start_s(long pid) {
+  std::ifstream process("/proc/" + std::to_string(pid) + "/stat");
+  std::string text;
+  std::getline(process, text);
+  const auto name_end = text.rfind(')');  // the command name may hold spaces and parentheses
+  if (name_end == std::string::npos) return -1;
+  std::istringstream fields(text.substr(name_end + 1));
+  std::string skipped;
+  for (int field = 3; field < 22 && fields >> skipped; ++field) {
+  }
+  long long start_ticks = 0;  // field 22: clock ticks after boot
+  if (!(fields >> start_ticks)) return -1;
+  std::ifstream system("/proc/stat");
+  for (std::string key; system >> key;) {
+    long long boot_s = 0;
+    if (key == "btime" && system >> boot_s) {
+      return static_cast<std::time_t>(boot_s + start_ticks / ::sysconf(_SC_CLK_TCK));
+    }
+  }
+  return -1;
+}
+
+// Last modified before `start_s`, with 2 s to spare: file times, boot time and process start
+// times are each rounded differently.
+bool predates(const struct stat& file, std::time_t start_s) {
+  return start_s >= 0 && file.st_mtime < start_s - 2;
+}
+
+// Why a temporary is stale, or empty when it is not: its writer is gone (its PID runs no more,
+// or runs a process started after the file was last written: the PID was reused, say after a
+// reboot); without a PID in its name, it was last written before this run.
+std::string why_stale(const std::filesystem::path& path, long pid) {
+  struct stat file {};
+  if (::stat(path.c_str(), &file) != 0) return {};
+  if (pid == 0) return predates(file, kRunStart_s) ? "older than this run" : "";
+  const std::string writer = "pid " + std::to_string(pid);
+  if (!is_running(pid)) return writer + ", no longer running";
+  if (predates(file, process_start_s(pid))) return writer + ", now another process";
+  return {};
+}
+
+}  // namespace
+
+void remove_open_temporaries() noexcept {
+  for (int slot = 0; slot < kSlots; ++slot) {
+    if (slot_states[slot].load() == kArmed) ::unlink(slot_paths[slot]);
+  }
+}
+
+void on_stale_temporary(std::function<void(const StaleTemporary&)> report) {
+  stale_reporter() = std::move(report);
+}
+
+std::vector<StaleTemporary> remove_stale_temporaries(const std::filesystem::path& output) {
+  std::vector<StaleTemporary> found;
+  const std::string prefix = temporary_prefix(output);
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(directory_of(output), error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    const long pid = writer_pid(std::string_view(name).substr(prefix.size()));
+    if (!entry.is_regular_file(error)) continue;
+    std::string why = why_stale(entry.path(), pid);
+    if (why.empty()) continue;
+    // Named as the output is: beside it, without a "./" the user did not write.
+    StaleTemporary stale{
+        output.parent_path() / name, pid, std::move(why), entry.file_size(error), {}};
+    if (!std::filesystem::remove(entry.path(), error) && error) stale.failure = error.message();
+    found.push_back(stale);
+  }
+  for (const StaleTemporary& stale : found) {
+    if (stale_reporter()) stale_reporter()(stale);
+  }
+  return found;
+}
+
 AtomicFileWriter::AtomicFileWriter(std::filesystem::path path) : path_(std::move(path)) {
-  const std::filesystem::path directory =
-      path_.has_parent_path() ? path_.parent_path() : std::filesystem::path(".");
-  std::string name = ".";
-  name.append(path_.filename().string()).append(".tmp-XXXXXX");
-  temporary_ = (directory / name).string();
+  remove_stale_temporaries(path_);
+  temporary_ =
+      (directory_of(path_) / (temporary_prefix(path_) + std::to_string(::getpid()) + "-XXXXXX"))
+          .string();
   const int descriptor = ::mkstemp(temporary_.data());
-  if (descriptor < 0) fail("creating a temporary file in " + directory.string(), errno);
+  if (descriptor < 0) fail("creating a temporary file in " + directory_of(path_).string(), errno);
+  slot_ = list_temporary(temporary_);
   // mkstemp creates 0600; an output file should have the usual permissions.
   const mode_t mask = ::umask(0);
   ::umask(mask);
@@ -26,6 +172,7 @@ AtomicFileWriter::AtomicFileWriter(std::filesystem::path path) : path_(std::move
     const int error = errno;
     ::close(descriptor);
     ::unlink(temporary_.c_str());
+    unlist_temporary(slot_);
     fail("opening the temporary file", error);
   }
 }
@@ -34,6 +181,7 @@ AtomicFileWriter::~AtomicFileWriter() {
   if (committed_) return;
   if (stream_ != nullptr) std::fclose(stream_);
   ::unlink(temporary_.c_str());
+  unlist_temporary(slot_);
 }
 
 void AtomicFileWriter::fail(const std::string& what, int error) const {
@@ -61,6 +209,8 @@ void AtomicFileWriter::commit() {
   if (::rename(temporary_.c_str(), path_.c_str()) != 0) {
     fail("renaming the temporary file into place", errno);
   }
+  // Unlisted only once renamed: a signal in between finds no file under the temporary name.
+  unlist_temporary(slot_);
   committed_ = true;
 }
 

@@ -1,16 +1,22 @@
-// Output files appear whole or not at all: written to a temporary name beside the target, then
-// renamed over it.
+// Output files appear whole or not at all: written to a temporary name beside the target
+// (`.NAME.tmp-PID-XXXXXX`), then renamed over it. The temporaries of writers still open are
+// listed where a signal handler can reach them (remove_open_temporaries); temporaries left by a
+// killed run are found, removed and reported when the same output is written again.
 #pragma once
 
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace pkm {
 
 // A file being written under a temporary name. commit() renames it into place; destroying it
-// uncommitted removes it, so a failed run leaves nothing behind.
+// uncommitted removes it, so a failed run leaves nothing behind. Opening one first removes the
+// stale temporaries of the same output (see StaleTemporary).
 class AtomicFileWriter {
  public:
   explicit AtomicFileWriter(std::filesystem::path path);
@@ -23,16 +29,43 @@ class AtomicFileWriter {
   std::FILE* stream() { return stream_; }              // for formatted writing
   void commit();
   const std::filesystem::path& path() const { return path_; }
+  const std::string& temporary_path() const { return temporary_; }
 
  private:
   [[noreturn]] void fail(const std::string& what, int error) const;
   std::filesystem::path path_;
   std::string temporary_;
   std::FILE* stream_ = nullptr;
+  int slot_ = -1;  // its entry among the open temporaries, -1 when not listed
   bool committed_ = false;
 };
 
 // Throws std::runtime_error naming the path and the system's reason; leaves no temporary behind.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
+
+// Removes the temporary file of every AtomicFileWriter still open. Async-signal-safe (it only
+// calls unlink), for the SIGINT/SIGTERM handler of a program: the library installs none itself.
+void remove_open_temporaries() noexcept;
+
+// A temporary beside an output, left by a run that was killed before it could remove it: the
+// PID in its name runs no more, or runs a process started after the file was last written (the
+// PID was reused, say after a reboot); a name without a PID (an older pkm) is stale when it was
+// last written before this process started. A temporary whose writer still runs is another
+// run's, and left alone.
+struct StaleTemporary {
+  std::filesystem::path path;
+  long pid = 0;     // of the run that wrote it; 0 when its name carries none
+  std::string why;  // why it is stale: "pid 4242, no longer running", ...
+  std::uintmax_t size_bytes = 0;
+  std::string failure;  // why it could not be removed; empty when it was
+};
+
+// Called for every stale temporary an AtomicFileWriter finds (and removes) beside its output,
+// so that the program can name it to the user. Without one they are removed silently.
+void on_stale_temporary(std::function<void(const StaleTemporary&)> report);
+
+// The stale temporaries beside `output`, removed (each reported to on_stale_temporary's
+// function and returned).
+std::vector<StaleTemporary> remove_stale_temporaries(const std::filesystem::path& output);
 
 }  // namespace pkm

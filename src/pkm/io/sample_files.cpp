@@ -12,11 +12,15 @@ bool shows_orientation(const Machine& machine) {
   return machine.kinematics().dof().any_rotation();
 }
 
+bool shows_pen(const Machine& machine) {
+  return machine.tool().z == ToolZ::pen;
+}
+
 // The values of a row in column order and interface units.
 class RowBuilder {
  public:
   explicit RowBuilder(const Machine& machine)
-      : machine_(machine), orientation_(shows_orientation(machine)) {}
+      : machine_(machine), orientation_(shows_orientation(machine)), pen_(shows_pen(machine)) {}
   std::size_t fill(const motion::Sample& s, double* row) const {
     std::size_t n = 0;
     row[n++] = s.time_s;
@@ -28,12 +32,15 @@ class RowBuilder {
     for (int i = 0; i < s.joints.size(); ++i) {
       row[n++] = machine_.joints()[static_cast<std::size_t>(i)].to_interface(s.joints[i]);
     }
+    if (pen_) row[n++] = s.pen_down ? 1.0 : 0.0;
     return n;
   }
+  bool pen() const { return pen_; }
 
  private:
   const Machine& machine_;
   bool orientation_;
+  bool pen_;
 };
 
 class CsvFile final : public SampleFile {
@@ -50,7 +57,9 @@ class CsvFile final : public SampleFile {
     const std::size_t n = rows_.fill(sample, row);
     std::FILE* out = file_.stream();
     std::fprintf(out, "%.6f,%d", row[0], static_cast<int>(row[1]));
-    for (std::size_t i = 2; i < n; ++i) std::fprintf(out, ",%.9f", row[i]);
+    const std::size_t reals = rows_.pen() ? n - 1 : n;  // the pen's 0 or 1 is no real number
+    for (std::size_t i = 2; i < reals; ++i) std::fprintf(out, ",%.9f", row[i]);
+    if (rows_.pen()) std::fprintf(out, ",%d", static_cast<int>(row[n - 1]));
     std::fputc('\n', out);
   }
   void commit() override { file_.commit(); }
@@ -60,13 +69,33 @@ class CsvFile final : public SampleFile {
   RowBuilder rows_;
 };
 
+// A Python string literal of `text` (the column names in the NPY header).
+std::string python_string(const std::string& text) {
+  std::string out = "'";
+  for (const char c : text) {
+    if (c == '\\' || c == '\'') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {  // the header is one line
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02x", static_cast<unsigned>(c));
+      out += escaped;
+    } else {
+      out += c;
+    }
+  }
+  return out + "'";
+}
+
 // NPY version 1.0: magic, header length, a Python dict literal padded to 64 bytes, then the
-// rows. The row count is only known at the end, so the header is written with room for it and
-// rewritten on commit.
+// rows. Each row is one record of a structured dtype, one named little-endian float64 field per
+// column, so NumPy reads the names with the numbers. The row count is only known at the end, so
+// the header is written with room for it and rewritten on commit.
 class NpyFile final : public SampleFile {
  public:
-  NpyFile(const std::filesystem::path& path, const Machine& machine)
-      : file_(path), rows_(machine), columns_(sample_columns(machine).size()) {
+  NpyFile(const std::filesystem::path& path, const Machine& machine) : file_(path), rows_(machine) {
+    for (const std::string& column : sample_columns(machine)) {
+      descr_ += (descr_.empty() ? "[" : ", ") + ("(" + python_string(column) + ", '<f8')");
+    }
+    descr_ += "]";
     file_.write(header(0));
   }
   void write(const motion::Sample& sample) override {
@@ -84,17 +113,17 @@ class NpyFile final : public SampleFile {
 
  private:
   std::string header(long rows) const {
-    char dict[128];
-    std::snprintf(dict, sizeof dict,
-                  "{'descr': '<f8', 'fortran_order': False, 'shape': (%20ld, %zu), }", rows,
-                  columns_);
-    std::string text = dict;
+    char shape[64];
+    std::snprintf(shape, sizeof shape, "(%20ld,)", rows);
+    std::string text =
+        "{'descr': " + descr_ + ", 'fortran_order': False, 'shape': " + shape + ", }";
     const std::size_t preamble = 10;  // magic (6), version (2), header length (2)
     while ((preamble + text.size() + 1) % 64 != 0) text += ' ';
     text += '\n';
     std::string out = "\x93NUMPY";
     out += '\x01';
     out += '\x00';
+    if (text.size() > 65535) throw std::invalid_argument("too many columns for an NPY header");
     const auto length = static_cast<std::uint16_t>(text.size());
     out += static_cast<char>(length & 0xff);
     out += static_cast<char>(length >> 8);
@@ -103,7 +132,7 @@ class NpyFile final : public SampleFile {
 
   AtomicFileWriter file_;
   RowBuilder rows_;
-  std::size_t columns_;
+  std::string descr_;  // the structured dtype: [('t', '<f8'), ('line', '<f8'), ...]
   long count_ = 0;
 };
 
@@ -113,6 +142,7 @@ std::vector<std::string> sample_columns(const Machine& machine) {
   std::vector<std::string> columns = {"t", "line", "x", "y", "z"};
   if (shows_orientation(machine)) columns.insert(columns.end(), {"a", "b", "c"});
   for (const JointSpec& joint : machine.joints()) columns.push_back("j_" + joint.name);
+  if (shows_pen(machine)) columns.push_back("pen");
   return columns;
 }
 

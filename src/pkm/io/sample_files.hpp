@@ -1,6 +1,7 @@
-// Sample tables on disk: CSV with a header row, or NPY (float64, one row per sample). Columns:
-// t (s), line, x y z (mm), a b c (deg) where the machine controls orientation, then j_<name> per
-// joint (mm, deg for rotary joints).
+// Sample tables on disk: CSV with a header row, or NPY (one record per sample, a named float64
+// field per column). Columns: t (s), line, x y z (mm), a b c (deg) where the machine controls
+// orientation, j_<name> per joint (mm, deg for rotary joints), then pen (1 down, 0 up) on
+// machines with a pen channel.
 #pragma once
 
 #include <filesystem>

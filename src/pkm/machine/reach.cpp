@@ -45,7 +45,7 @@ std::string Machine::format_pose(const Pose& pose) const {
 std::string Machine::explain_joint(int joint, double value) const {
   const JointSpec& spec = joints_[static_cast<std::size_t>(joint)];
   const std::string name = "joint '" + spec.name + "'";
-  if (!std::isfinite(value)) return name + " has no finite value there";
+  if (!std::isfinite(value)) return "the inverse kinematics gives no number for " + name;
   const char* unit = joint_file_unit(joint);
   const auto shown = [&](double v) {
     return value_text(joint_to_file(joint, v), unit) + " " + unit;

@@ -123,12 +123,15 @@ struct Piece {
   bool stop_after = false;
   double max_exit_speed = 1e300;  // where the joints' rates jump at the junction to the next
   double entry_speed = 0.0, exit_speed = 0.0;
+  JointVector joint_slope;  // largest |dq/ds| of each joint along the piece (per mm)
 };
 
-// Direction of travel at the start (at_end false) or end of a segment's position path.
+// Direction of travel at the start (at_end false) or end of a segment's position path (in XY
+// where the machine does not move Z).
 Eigen::Vector3d tangent(const Segment& segment, bool at_end) {
   const double a = at_end ? 1.0 - 1e-6 : 0.0, b = at_end ? 1.0 : 1e-6;
-  const Eigen::Vector3d d = segment.at(b).head<3>() - segment.at(a).head<3>();
+  Eigen::Vector3d d = segment.at(b).head<3>() - segment.at(a).head<3>();
+  if (segment.z_free) d.z() = 0.0;
   const double n = d.norm();
   return n > 0.0 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::Zero();
 }
@@ -152,8 +155,11 @@ class Planner {
         sink_(sink),
         file_(std::move(file)),
         builder_((options.start ? *options.start : machine.home()).as_vector(), options.origin,
-                 options.great_circle_attitude) {
+                 options.great_circle_attitude),
+        pen_(machine.tool().z == ToolZ::pen) {
+    builder_.set_z_free(!machine.kinematics().dof().controls(static_cast<int>(Axis::z)));
     pose_ = builder_.pose();
+    pen_down_ = pen_ && machine.tool().pen_down(pose_[2]);
     const int joints = static_cast<int>(machine.joints().size());
     report_.joints.resize(static_cast<std::size_t>(joints));
     JointVector start_joints;
@@ -163,6 +169,7 @@ class Planner {
           file_, 0,
           "the start pose is not usable: " + machine_.explain(Pose::from_vector(pose_), status));
     }
+    require_numbers(pose_, start_joints, 0, "at the start pose");
     for (int i = 0; i < joints; ++i) {
       report_.joints[static_cast<std::size_t>(i)].min = start_joints[i];
       report_.joints[static_cast<std::size_t>(i)].max = start_joints[i];
@@ -177,6 +184,8 @@ class Planner {
       flush(true);
       entry_speed_ = 0.0;
       run_dwell(*segment);
+    } else if (pen_) {
+      add_with_pen(*segment);
     } else {
       add(*segment);
     }
@@ -184,6 +193,10 @@ class Planner {
 
   PlanReport finish() {
     flush(true);
+    if (!std::isfinite(time_)) {
+      throw PlanError(file_, last_line_,
+                      "the job would take forever: check the machine's feeds and accelerations");
+    }
     // The last sample lands exactly on the end of the program.
     if (last_sample_time_ < time_) emit(time_, last_line_, pose_);
     report_.duration_s = time_;
@@ -195,7 +208,11 @@ class Planner {
   // a joint along the path, its acceleration is q' s'' + q'' s'^2: bounding |q'| by S and |q''|
   // by C over the move (sampled every 0.5 mm), speed^2 C <= amax / 2 and accel S <= amax - speed^2
   // C keep it within amax everywhere. A 1 % margin covers the sampling of the derivatives.
-  void limit_by_joints(const Segment& segment, double length, double& speed, double& acceleration) {
+  void limit_by_joints(Piece& piece) {
+    const Segment& segment = piece.segment;
+    const double length = piece.length;
+    double& speed = piece.max_speed;
+    double& acceleration = piece.acceleration;
     constexpr double kMargin = 0.99;
     // Joint accelerations along the moves use this share of each limit; the rest is left for the
     // change of rate at junctions where the moves join without stopping (limit_junction).
@@ -213,6 +230,8 @@ class Planner {
                         "the move leaves the machine's reach " +
                             machine_.explain_path([&](double v) { return segment.at(v); }));
       }
+      require_numbers(pose.as_vector(), q, segment.line, "along the move");
+      if (options_.estimate_only) widen_ranges(q);
     };
     joints_at(0, previous);
     joints_at(1, current);
@@ -229,6 +248,7 @@ class Planner {
       current = next;
     }
     const double programmed = speed;
+    piece.joint_slope = slope_max;
     int limiting = -1;
     for (int i = 0; i < joint_count; ++i) {
       const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
@@ -252,7 +272,9 @@ class Planner {
       }
     }
     if (limiting >= 0 && speed < programmed * (1.0 - 1e-9)) {
-      report_.feed_limits.push_back({segment.line, limiting, programmed, speed});
+      const double programmed_feed =
+          segment.rapid ? machine_.cartesian().max_feed_mm_per_min / 60.0 : segment.feed_mm_per_s;
+      report_.feed_limits.push_back({segment.line, limiting, programmed_feed, speed});
     }
   }
 
@@ -272,7 +294,7 @@ class Planner {
     }
     piece.acceleration = machine_.cartesian().max_acceleration_mm_per_s2;
     if (segment.kind == SegmentKind::arc) limit_by_curvature(piece, arc_radius(segment));
-    limit_by_joints(segment, piece.length, piece.max_speed, piece.acceleration);
+    limit_by_joints(piece);
     if (!pieces_.empty()) join(pieces_.back(), piece);
     pieces_.push_back(piece);
     pose_ = segment.end;
@@ -298,7 +320,10 @@ class Planner {
     const Eigen::Vector3d out = tangent(previous.segment, true);
     const Eigen::Vector3d in = tangent(next.segment, false);
     const bool same_kind = previous.segment.rapid == next.segment.rapid;
-    if (builder_.path_mode() != 64 || !same_kind || out.isZero() || in.isZero()) {
+    // A blend rounds corners in 3D: a ramp in a Z the machine does not move would tilt it.
+    const auto ramps_free_z = [](const Segment& s) { return s.z_free && s.start[2] != s.end[2]; };
+    if (builder_.path_mode() != 64 || !same_kind || out.isZero() || in.isZero() ||
+        ramps_free_z(previous.segment) || ramps_free_z(next.segment)) {
       previous.stop_after = true;
       return;
     }
@@ -349,7 +374,7 @@ class Planner {
     piece.max_speed = std::min(previous.max_speed, next.max_speed);
     piece.acceleration = std::min(previous.acceleration, next.acceleration);
     limit_by_curvature(piece, radius);
-    limit_by_joints(blend, piece.length, piece.max_speed, piece.acceleration);
+    limit_by_joints(piece);
     limit_junction(previous, blend, piece.length);
     limit_junction(piece, next.segment, next.length);
     pieces_.push_back(piece);
@@ -432,6 +457,12 @@ class Planner {
     }
     const Profile profile = Profile::make(piece.length, piece.entry_speed, piece.exit_speed,
                                           piece.max_speed, ramp_for(piece));
+    if (options_.estimate_only) {
+      for (int i = 0; i < piece.joint_slope.size(); ++i) {
+        double& peak = report_.joints[static_cast<std::size_t>(i)].peak_velocity;
+        peak = std::max(peak, piece.joint_slope[i] * profile.peak_speed);
+      }
+    }
     sample_until(time_ + profile.duration_s, segment.line,
                  [&](double t) { return segment.at(profile.distance(t - time_) / piece.length); });
   }
@@ -441,11 +472,48 @@ class Planner {
     sample_until(time_ + segment.dwell_s, segment.line, [&](double) { return segment.start; });
   }
 
+  // A move on a machine with a pen channel: wherever its Z crosses the pen's height the machine
+  // stops, the pen goes down or up (samples carry the new state from then on) and the pen's
+  // delay passes; the move runs on from there.
+  void add_with_pen(const Segment& segment) {
+    const ToolChannel& tool = machine_.tool();
+    double from = 0.0;
+    for (const double crossing : z_crossings(segment, tool.down_below_mm)) {
+      if (crossing > from) add(segment.part(from, crossing));
+      flush(true);
+      entry_speed_ = 0.0;
+      pen_down_ = !pen_down_;
+      ++report_.pen_changes;
+      last_line_ = segment.line;
+      const Vector6d here = pose_;
+      sample_until(time_ + tool.delay_s, segment.line, [&](double) { return here; });
+      from = crossing;
+    }
+    add(from > 0.0 ? segment.part(from, 1.0) : segment);
+  }
+
   // Samples on the multiples of the period up to `end` (time division), then moves on.
   template <class PoseAt>
   void sample_until(double end, int line, const PoseAt& pose_at) {
     const double period = options_.period_s;
-    for (long k = next_sample_; static_cast<double>(k) * period < end; ++k) {
+    const long stop = first_sample_at_or_after(end);
+    if (options_.max_samples > 0 && !options_.estimate_only &&
+        report_.samples + (stop - next_sample_) > options_.max_samples) {
+      throw PlanError(file_, line,
+                      "the plan would pass " + std::to_string(options_.max_samples) +
+                          " samples here (t = " + std::to_string(end) +
+                          " s): estimate the job first, or raise the bound");
+    }
+    if (options_.estimate_only) {
+      if (stop > next_sample_) {
+        report_.samples = std::min(kSampleCountCap, report_.samples + (stop - next_sample_));
+        last_sample_time_ = static_cast<double>(stop - 1) * period;
+        next_sample_ = stop;
+      }
+      time_ = end;
+      return;
+    }
+    for (long k = next_sample_; k < stop; ++k) {
       const double t = static_cast<double>(k) * period;
       emit(t, line, pose_at(t));
       next_sample_ = k + 1;
@@ -453,17 +521,67 @@ class Planner {
     time_ = end;
   }
 
+  // The first sample number k with k * period >= t (the samples before it come before t),
+  // no further than kSampleCountCap.
+  long first_sample_at_or_after(double t) const {
+    const double period = options_.period_s;
+    const double k = std::ceil(t / period);
+    if (!(k < static_cast<double>(kSampleCountCap))) return kSampleCountCap;
+    long n = std::max(next_sample_, static_cast<long>(k));
+    while (n > next_sample_ && static_cast<double>(n - 1) * period >= t) --n;
+    while (static_cast<double>(n) * period < t) ++n;
+    return n;
+  }
+
+  // Inverse kinematics that overflowed (a glide far outside its rails) gives NaN joints, which
+  // pass every limit check (NaN compares false): they stop the plan here instead.
+  void require_numbers(const Vector6d& pose, const JointVector& joints, int line, const char* where,
+                       double t = 0.0) const {
+    if (pose.allFinite() && joints.allFinite()) return;
+    not_a_number(pose, joints, line,
+                 where[0] != '\0' ? std::string(where) : "at t = " + std::to_string(t) + " s");
+  }
+  [[noreturn]] void not_a_number(const Vector6d& pose, const JointVector& joints, int line,
+                                 const std::string& where) const {
+    if (!pose.allFinite()) {
+      throw PlanError(file_, line,
+                      where + ": the pose is not a number (check --origin and --start)");
+    }
+    int i = 0;
+    while (i + 1 < joints.size() && std::isfinite(joints[i])) ++i;
+    throw PlanError(file_, line,
+                    where + ": the inverse kinematics gives no number for joint '" +
+                        machine_.joints()[static_cast<std::size_t>(i)].name + "' at x " +
+                        std::to_string(pose[0]) + " y " + std::to_string(pose[1]) + " z " +
+                        std::to_string(pose[2]) + " mm");
+  }
+
+  void widen_ranges(const JointVector& joints) {
+    for (int i = 0; i < joints.size(); ++i) {
+      JointStatistics& stats = report_.joints[static_cast<std::size_t>(i)];
+      stats.min = std::min(stats.min, joints[i]);
+      stats.max = std::max(stats.max, joints[i]);
+    }
+  }
+
   void emit(double t, int line, const Vector6d& pose) {
+    if (options_.estimate_only) {  // the start and the end: counted, not made
+      report_.samples = std::min(kSampleCountCap, report_.samples + 1);
+      last_sample_time_ = t;
+      return;
+    }
     Sample& sample = sample_;
     sample.time_s = t;
     sample.line = line;
     sample.pose = pose;
+    sample.pen_down = pen_down_;
     const Status status = machine_.inverse(Pose::from_vector(pose), sample.joints);
     if (!status.ok()) {
       throw PlanError(file_, line,
                       "at t = " + std::to_string(t) +
                           " s: " + machine_.explain(Pose::from_vector(pose), status));
     }
+    require_numbers(pose, sample.joints, line, "", t);
     const double dt = t - last_sample_time_;
     for (int i = 0; i < sample.joints.size(); ++i) {
       JointStatistics& stats = report_.joints[static_cast<std::size_t>(i)];
@@ -494,6 +612,8 @@ class Planner {
   SampleSink& sink_;
   std::string file_;
   SegmentBuilder builder_;  // before pose_: the constructor takes the start from it
+  bool pen_ = false;        // the machine has a pen channel
+  bool pen_down_ = false;   // its state now
   PlanReport report_;
   Vector6d pose_ = Vector6d::Zero();
   double time_ = 0.0;

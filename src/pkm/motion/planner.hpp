@@ -2,9 +2,10 @@
 // the interpolation period, the tool pose at the end of each step turned into joint values by
 // inverse kinematics, streamed to a sink.
 //
-// This first planner stops exactly at the end of every move (G61 behaviour) with a trapezoidal,
-// acceleration-limited speed profile; the feed of each move is lowered where a joint would
-// exceed its velocity or acceleration limit.
+// Moves are joined by look-ahead (G64 corner blends, tangent joins) with trapezoidal or S-curve
+// speed profiles; the feed of each move is lowered where a joint would exceed its velocity or
+// acceleration limit. On a machine that does not move Z, Z takes no time; with a pen channel
+// the pen changes at rest, where the program's Z crosses its height, for the pen's delay.
 #pragma once
 
 #include <filesystem>
@@ -24,6 +25,7 @@ struct Sample {
   int line = 0;                      // G-code line of the move
   Vector6d pose = Vector6d::Zero();  // x y z (mm) a b c (rad)
   JointVector joints;                // mm (rad for rotary joints)
+  bool pen_down = false;             // the pen channel's state (machines with [tool] z = "pen")
 };
 
 // Where samples go: a file, a test, a controller.
@@ -47,7 +49,18 @@ struct PlanOptions {
   double jerk_mm_per_s3 = 0.0;
   // Called with the G-code line being planned, once per change of line: for progress.
   std::function<void(int line)> on_line;
+  // Plan every move but make no samples: the report's duration, sample count, joint ranges and
+  // feed limits without the inverse kinematics of every sample (which is most of the work) and
+  // without writing. Ranges come from the joints along each move (every 0.5 mm) and peak
+  // velocities from their rate along the path times the move's top speed.
+  bool estimate_only = false;
+  // The most samples a plan may make (0: no bound); a plan that needs more stops at the move
+  // that would pass it, before sampling it. Estimates count on past it.
+  long max_samples = 0;
 };
+
+// Where an estimate stops counting samples (a job of 30,000 years at 1 ms).
+inline constexpr long kSampleCountCap = 1'000'000'000'000'000'000;
 
 struct JointStatistics {
   double min = 0.0, max = 0.0;     // position reached
@@ -59,17 +72,18 @@ struct JointStatistics {
 struct FeedLimit {
   int line = 0;
   int joint = 0;
-  double programmed_mm_per_s = 0.0;
+  double programmed_mm_per_s = 0.0;  // the program's F (the machine's max_feed for rapids)
   double allowed_mm_per_s = 0.0;
 };
 
 struct PlanReport {
   double duration_s = 0.0;
-  long samples = 0;
+  long samples = 0;  // estimates of an absurd job stop counting at kSampleCountCap
   double path_length_mm = 0.0;
   std::vector<JointStatistics> joints;
   std::vector<FeedLimit> feed_limits;
   std::vector<gcode::Warning> warnings;
+  int pen_changes = 0;  // times the pen channel went down or up
 };
 
 // A move the machine cannot make, with the G-code line and the reason (joint, limit).

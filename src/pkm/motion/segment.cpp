@@ -6,25 +6,54 @@
 
 namespace pkm::motion {
 
+namespace {
+
+// The length of an arc in the XZ or YZ plane on a machine that does not move Z: its path in XY,
+// by chords fine enough that their shortfall is below 1e-6 of the length.
+double xy_length_by_chords(const Segment& arc) {
+  const int chords = 256 * std::max(1, static_cast<int>(std::ceil(std::abs(arc.sweep_rad))));
+  double length = 0.0;
+  Vector6d previous = arc.at(0.0);
+  for (int k = 1; k <= chords; ++k) {
+    const Vector6d next = arc.at(static_cast<double>(k) / chords);
+    length += (next.head<2>() - previous.head<2>()).norm();
+    previous = next;
+  }
+  return length;
+}
+
+}  // namespace
+
 double Segment::length() const {
   switch (kind) {
     case SegmentKind::dwell:
       return 0.0;
     case SegmentKind::line: {
-      const double position = (end.head<3>() - start.head<3>()).norm();
+      Eigen::Vector3d move = end.head<3>() - start.head<3>();
+      if (z_free) move.z() = 0.0;
+      const double position = move.norm();
       if (position > 0.0) return position;
       return radians_to_degrees((end.tail<3>() - start.tail<3>()).norm());
     }
     case SegmentKind::blend:
       return radius_mm * sweep_rad;
     case SegmentKind::arc: {
+      if (z_free && normal_axis != 2) return xy_length_by_chords(*this);
       const double radius = std::hypot(start[first_axis] - centre[first_axis],
                                        start[second_axis] - centre[second_axis]);
-      const double along_axis = end[normal_axis] - start[normal_axis];
+      const double along_axis = z_free ? 0.0 : end[normal_axis] - start[normal_axis];
       return std::hypot(radius * sweep_rad, along_axis);
     }
   }
   return 0.0;
+}
+
+Segment Segment::part(double u0, double u1) const {
+  Segment piece = *this;
+  piece.start = at(u0);
+  piece.end = at(u1);
+  piece.sweep_rad = sweep_rad * (u1 - u0);
+  return piece;
 }
 
 namespace {
@@ -97,6 +126,24 @@ Vector6d Segment::at(double u) const {
     pose[second_axis] = end[second_axis];
   }
   return pose;
+}
+
+std::vector<double> z_crossings(const Segment& segment, double height_mm) {
+  constexpr int kPieces = 64;
+  const auto below_at = [&](double u) { return segment.at(u)[2] < height_mm; };
+  std::vector<double> crossings;
+  bool below = below_at(0.0);
+  for (int k = 1; k <= kPieces; ++k) {
+    double low = static_cast<double>(k - 1) / kPieces, high = static_cast<double>(k) / kPieces;
+    if (below_at(high) == below) continue;
+    for (int i = 0; i < 60; ++i) {
+      const double middle = 0.5 * (low + high);
+      (below_at(middle) == below ? low : high) = middle;
+    }
+    crossings.push_back(high);
+    below = !below;
+  }
+  return crossings;
 }
 
 }  // namespace pkm::motion

@@ -1,7 +1,9 @@
-// One move of the tool in machine coordinates (mm, rad): a line, an arc or helix, or a dwell.
+// One move of the tool in machine coordinates (mm, rad): a line, an arc or helix, a corner blend,
+// or a dwell.
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "pkm/geometry/pose.hpp"
 
@@ -21,6 +23,9 @@ struct Segment {
   // rate, the spin about it shared out evenly (the paper's variable attitude).
   bool great_circle_attitude = false;
   double dwell_s = 0.0;
+  // The machine does not move Z (a plotter): Z still follows the program in the pose, but it is
+  // no part of the move's length, so a Z-only move takes no time and Z does not slow the feed.
+  bool z_free = false;
 
   // Arcs: centre, the plane's two in-plane axes and its normal, signed sweep (rad, + ccw).
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
@@ -32,14 +37,21 @@ struct Segment {
   double radius_mm = 0.0;
   Eigen::Vector3d axis_u = Eigen::Vector3d::UnitX(), axis_v = Eigen::Vector3d::UnitY();
 
-  // Length of the tool tip's path (mm); moves of the angles only are measured in degrees as
-  // LinuxCNC does for a feed of rotary axes alone.
+  // Length of the tool tip's path (mm, without Z where z_free); moves of the angles only are
+  // measured in degrees as LinuxCNC does for a feed of rotary axes alone.
   double length() const;
   // The pose at fraction u of the path (0 = start, 1 = end).
   Vector6d at(double u) const;
+  // The stretch of a line or arc from fraction u0 to u1, the same path: at(u0) to at(u1).
+  Segment part(double u0, double u1) const;
 
  private:
   Eigen::Vector3d attitude_at(double u) const;
 };
+
+// The fractions of the move (0..1, in order) where its Z crosses `height_mm`: each the first point
+// on the other side, where "below" is z < height_mm (a pen's down_below). Found in 64 pieces,
+// each bisected, so a move whose Z goes down and up again (an arc in XZ) shows both.
+std::vector<double> z_crossings(const Segment& segment, double height_mm);
 
 }  // namespace pkm::motion

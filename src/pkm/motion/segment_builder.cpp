@@ -52,6 +52,7 @@ std::optional<Segment> SegmentBuilder::take(const gcode::Canon& canon) {
       segment.start = pose_;
       segment.end = machine_pose(canon);
       segment.great_circle_attitude = great_circle_attitude_;
+      segment.z_free = z_free_;
       set_feed(canon, segment);
       pose_ = segment.end;
       return segment;
@@ -109,6 +110,7 @@ Segment SegmentBuilder::arc_segment(const gcode::Canon& canon) const {
   segment.start = pose_;
   segment.end = machine_pose(canon);
   segment.great_circle_attitude = great_circle_attitude_;
+  segment.z_free = z_free_;
   switch (canon.plane) {
     case gcode::Plane::xy:
       segment.first_axis = 0, segment.second_axis = 1, segment.normal_axis = 2;

@@ -27,6 +27,10 @@ class SegmentBuilder {
   // state (offsets, path control, ...), which the builder keeps.
   std::optional<Segment> take(const gcode::Canon& canon);
 
+  // The machine does not move Z: moves are measured without it (Segment::z_free), which sets
+  // the time of inverse-time (G93) moves.
+  void set_z_free(bool z_free) { z_free_ = z_free; }
+
   const Vector6d& pose() const { return pose_; }  // where the last move ended
   int path_mode() const { return path_mode_; }    // 61, 611 or 64 (G61, G61.1, G64)
   double blend_tolerance_mm() const { return blend_tolerance_mm_; }  // G64 P, or 0
@@ -40,6 +44,7 @@ class SegmentBuilder {
   Vector6d pose_;
   Vector6d origin_;
   bool great_circle_attitude_;
+  bool z_free_ = false;
   Vector6d g5x_mm_ = Vector6d::Zero(), g92_mm_ = Vector6d::Zero(), tool_mm_ = Vector6d::Zero();
   int path_mode_ = 64;  // LinuxCNC starts in G64
   double blend_tolerance_mm_ = 0.0;

@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
-#include "pkm/geometry/distance.hpp"
 #include "pkm/motion/segment_builder.hpp"
+#include "pkm/post/deviation_bound.hpp"
 
 namespace pkm::post {
 
@@ -14,9 +15,45 @@ namespace {
 using motion::Segment;
 using motion::SegmentKind;
 
-constexpr int kCheckPoints = 32;  // interior points of a block checked by FK
-constexpr int kPathPoints = 64;   // polyline of the programmed sub-path the distance is taken to
-constexpr int kMaxDepth = 40;     // halvings of one move before giving up
+constexpr int kSampledPoints = 32;  // FK checks per block where the model has no bound
+constexpr int kMaxDepth = 40;       // halvings of one move before giving up
+constexpr int kFeedDecimals = 3;    // digits after the point of G93 F, more for very slow blocks
+
+// The joints at one point of the programmed path: as the inverse kinematics gives them, and as
+// written (rounded to the dialect's decimals).
+struct JointsAt {
+  JointVector exact, written;
+};
+
+// Whether the coordinates the model controls change along the move (a plotter's Z-only move
+// does not move it).
+bool moves_controlled(const Segment& segment, Dof dof) {
+  const Vector6d change = segment.end - segment.start;
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    if (dof.controls(axis) && change[axis] != 0.0) return true;
+  }
+  if (segment.kind == SegmentKind::arc) {
+    return segment.sweep_rad != 0.0 &&
+           (dof.controls(segment.first_axis) || dof.controls(segment.second_axis));
+  }
+  return segment.kind == SegmentKind::blend;
+}
+
+// G93 F of a block lasting `duration_s`, rounded down (a smaller F is a longer, slower block) to
+// kFeedDecimals digits, or as many more as keep it above zero.
+std::string inverse_time_feed(double duration_s) {
+  const double exact = 60.0 / duration_s;
+  for (int decimals = kFeedDecimals; decimals <= 12; ++decimals) {
+    const double scale = std::pow(10.0, decimals);
+    const double rounded = std::floor(exact * scale) / scale;
+    if (rounded > 0.0) {
+      char text[48];
+      std::snprintf(text, sizeof text, " F%.*f", decimals, rounded);
+      return text;
+    }
+  }
+  throw std::invalid_argument("a block too slow for inverse time");
+}
 
 class Poster {
  public:
@@ -27,74 +64,127 @@ class Poster {
         rules_(rules_of(options.dialect)),
         write_line_(write_line),
         file_(std::move(file)),
-        builder_(machine.home().as_vector(), options.origin, false) {
+        builder_(machine.home().as_vector(), options.origin, false),
+        bound_(machine, options.tolerance_mm) {
     JointVector home;
     const Status status = machine_.inverse(machine_.home(), home);
     if (!status.ok())
       throw PostError(file_, 0, "home is not usable: " + machine_.explain(machine_.home(), status));
     joints_ = rounded(home);
-    write_line_("G21 G90 G94");
+    report_.bounded = bound_.available();
+    write("G21 G90 G94", 0);
+    if (pen()) set_pen(machine_.tool().pen_down(builder_.pose()[2]), 0);
   }
 
   void on_canon(const gcode::Canon& canon) {
-    using gcode::CanonKind;
-    switch (canon.kind) {
-      case CanonKind::spindle_speed:
-        write_line_(format("S%.1f", canon.value));
-        return;
-      case CanonKind::spindle_clockwise:
-        write_line_("M3");
-        return;
-      case CanonKind::spindle_counterclockwise:
-        write_line_("M4");
-        return;
-      case CanonKind::spindle_stop:
-        write_line_("M5");
-        return;
-      case CanonKind::mist_on:
-        write_line_("M7");
-        return;
-      case CanonKind::flood_on:
-        write_line_("M8");
-        return;
-      case CanonKind::flood_off:
-        write_line_("M9");
-        return;
-      case CanonKind::program_end:
-        if (!ended_) write_line_("M2");
-        ended_ = true;
-        return;
-      default:
-        break;
-    }
+    if (on_machine_command(canon)) return;
     const std::optional<Segment> segment = builder_.take(canon);
     if (!segment) return;
     if (segment->kind == SegmentKind::dwell) {
-      write_line_(format("G4 P%.3f", segment->dwell_s));
+      write(format("G4 P%.3f", segment->dwell_s), segment->line);
       return;
     }
     if (segment->length() <= 0.0) return;
     ++report_.moves;
-    JointVector end;
-    const Status status = machine_.inverse(Pose::from_vector(segment->end), end);
-    if (!status.ok()) {
-      throw PostError(file_, segment->line,
-                      "the move leaves the machine's reach " +
-                          machine_.explain_path([&](double v) { return segment->at(v); }));
-    }
-    split(*segment, 0.0, 1.0, joints_, rounded(end), 0);
+    move(*segment);
   }
 
   PostReport finish() {
-    if (!ended_) write_line_("M2");
+    if (!ended_) end_program(0);
     return report_;
   }
 
  private:
+  bool pen() const { return machine_.tool().z == ToolZ::pen; }
+
   static std::string format(const char* pattern, double value) {
-    char text[64];
+    char text[160];
     std::snprintf(text, sizeof text, pattern, value);
     return text;
+  }
+
+  // Every line goes out here: the dialect's line length is checked on each.
+  void write(const std::string& line, int source_line) {
+    if (rules_.max_line > 0 && line.size() > rules_.max_line) {
+      throw PostError(file_, source_line,
+                      "a line of " + std::to_string(line.size()) + " characters exceeds the " +
+                          std::to_string(rules_.max_line) + " dialect " +
+                          std::string(dialect_name(options_.dialect)) + " accepts: " + line);
+    }
+    write_line_(line);
+  }
+
+  // Spindle, coolant and the program end; true when the command was one of them. On a machine
+  // with a pen channel the pen commands own the tool, so the job's spindle words are dropped.
+  bool on_machine_command(const gcode::Canon& canon) {
+    using gcode::CanonKind;
+    const char* code = nullptr;
+    switch (canon.kind) {
+      case CanonKind::spindle_speed:
+        if (!pen()) write(format("S%.1f", canon.value), canon.line);
+        return true;
+      case CanonKind::spindle_clockwise:
+      case CanonKind::spindle_counterclockwise:
+        if (!pen()) write(canon.kind == CanonKind::spindle_clockwise ? "M3" : "M4", canon.line);
+        spindle_on_ = true;
+        return true;
+      case CanonKind::spindle_stop:
+        // The interpreter stops the spindle again at M2: one M5 is enough.
+        if (!pen() && spindle_on_ != false) write("M5", canon.line);
+        spindle_on_ = false;
+        return true;
+      case CanonKind::mist_on:
+        code = "M7";
+        break;
+      case CanonKind::flood_on:
+        code = "M8";
+        break;
+      case CanonKind::flood_off:
+        code = "M9";
+        break;
+      case CanonKind::program_end:
+        if (!ended_) end_program(canon.line);
+        return true;
+      default:
+        return false;
+    }
+    write(code, canon.line);
+    return true;
+  }
+
+  void end_program(int source_line) {
+    if (pen() && pen_down_) set_pen(false, source_line);
+    write("M2", source_line);
+    ended_ = true;
+  }
+
+  void set_pen(bool down, int source_line) {
+    const ToolChannel& tool = machine_.tool();
+    write(down ? tool.down_command : tool.up_command, source_line);
+    if (tool.delay_s > 0.0) write(format("G4 P%.3f", tool.delay_s), source_line);
+    pen_down_ = down;
+  }
+
+  void move(const Segment& segment) {
+    const bool moves = moves_controlled(segment, machine_.kinematics().dof());
+    if (moves) {
+      JointVector end;
+      const Status status = machine_.inverse(Pose::from_vector(segment.end), end);
+      if (!status.ok()) {
+        throw PostError(file_, segment.line,
+                        "the move leaves the machine's reach " +
+                            machine_.explain_path([&](double v) { return segment.at(v); }));
+      }
+    }
+    double from = 0.0;
+    if (pen()) {
+      for (const double crossing : motion::z_crossings(segment, machine_.tool().down_below_mm)) {
+        if (moves) trace(segment, from, crossing);
+        set_pen(!pen_down_, segment.line);
+        from = crossing;
+      }
+    }
+    if (moves) trace(segment, from, 1.0);
   }
 
   // Joint values as the controller will read them: rounded to the dialect's decimals in
@@ -109,28 +199,7 @@ class Poster {
     return result;
   }
 
-  // The largest distance between the tool tip of a joint-linear move from q0 to q1 and the
-  // programmed path between u0 and u1, or infinity where forward kinematics fails.
-  double deviation(const Segment& segment, double u0, double u1, const JointVector& q0,
-                   const JointVector& q1) const {
-    std::array<Eigen::Vector3d, kPathPoints + 1> path;
-    for (int m = 0; m <= kPathPoints; ++m) {
-      path[static_cast<std::size_t>(m)] = segment.at(u0 + (u1 - u0) * m / kPathPoints).head<3>();
-    }
-    double worst = 0.0;
-    for (int k = 0; k <= kCheckPoints; ++k) {
-      const double lambda = static_cast<double>(k) / kCheckPoints;
-      Pose pose = Pose::from_vector(segment.at(u0 + (u1 - u0) * lambda));  // FK's seed
-      const JointVector q = q0 + lambda * (q1 - q0);
-      if (!machine_.forward(q, pose).ok()) return INFINITY;
-      const double nearest = distance_to_polyline(pose.position_mm, path);
-      worst = std::max(worst, nearest);
-    }
-    return worst;
-  }
-
-  // The joints at fraction u of a move, as the controller will read them.
-  JointVector joints_at(const Segment& segment, double u) const {
+  JointsAt joints_at(const Segment& segment, double u) const {
     JointVector q;
     const Status status = machine_.inverse(Pose::from_vector(segment.at(u)), q);
     if (!status.ok()) {
@@ -138,63 +207,86 @@ class Poster {
                       "the move leaves the machine's reach " +
                           machine_.explain_path([&](double v) { return segment.at(v); }));
     }
-    return rounded(q);
+    return {q, rounded(q)};
   }
 
-  // Covers the move greedily with blocks as long as the tolerance allows: from each block's
-  // start, the furthest end (found by halving, then bisection) whose joint-linear move stays
-  // within the tolerance. Block lengths follow how sharply the kinematics bends the path.
-  void split(const Segment& segment, double u0, double /*u1*/, const JointVector& q_start,
-             const JointVector& q_end, int /*depth*/) {
-    JointVector q0 = q_start;
-    double start = u0;
-    while (start < 1.0) {
-      const double rest = deviation(segment, start, 1.0, q0, q_end);
-      if (rest <= options_.tolerance_mm) {
-        write_block(segment, start, 1.0, q0, q_end, rest);
+  // The deviation of the block from the programmed piece [u0, u1]: the bound, or, for models
+  // without one, the largest distance to the programmed point at the same fraction found by
+  // forward kinematics at kSampledPoints + 1 points (infinity where FK fails).
+  double deviation(const Segment& segment, double u0, double u1, const BlockEnds& ends) const {
+    if (bound_.available()) return bound_(segment, u0, u1, ends);
+    double worst = 0.0;
+    for (int k = 0; k <= kSampledPoints; ++k) {
+      const double lambda = static_cast<double>(k) / kSampledPoints;
+      const Vector6d programmed = segment.at(u0 + (u1 - u0) * lambda);
+      Pose pose = Pose::from_vector(programmed);  // FK's seed
+      const JointVector q = ends.written0 + lambda * (ends.written1 - ends.written0);
+      if (!machine_.forward(q, pose).ok()) return INFINITY;
+      double squared = 0.0;
+      for (int axis = 0; axis < 3; ++axis) {
+        if (!machine_.kinematics().dof().controls(axis)) continue;
+        squared += std::pow(pose.position_mm[axis] - programmed[axis], 2);
+      }
+      worst = std::max(worst, std::sqrt(squared));
+    }
+    return worst;
+  }
+
+  // Covers the piece [from, to] of the move greedily with blocks as long as the tolerance
+  // allows: from each block's start, the furthest end (found by halving, then bisection) whose
+  // joint-linear block keeps within the tolerance. Block lengths follow how sharply the
+  // kinematics bends the path.
+  void trace(const Segment& segment, double from, double to) {
+    JointsAt start_joints{joints_at(segment, from).exact, joints_};
+    double start = from;
+    const auto try_end = [&](double end, JointsAt& at, double& deviation_mm) {
+      at = joints_at(segment, end);
+      deviation_mm = deviation(segment, start, end,
+                               {start_joints.written, start_joints.exact, at.written, at.exact});
+      return deviation_mm <= options_.tolerance_mm;
+    };
+    while (start < to) {
+      JointsAt good_joints, candidate;
+      double good = -1.0, good_deviation = 0.0, d = 0.0;
+      if (try_end(to, candidate, d)) {
+        write_block(segment, start, to, candidate.written, d);
         return;
       }
-      double step = 0.5 * (1.0 - start);
-      double good = -1.0, good_deviation = 0.0;
-      JointVector q_good;
-      for (int halvings = 0; halvings < kMaxDepth; ++halvings, step *= 0.5) {
-        const JointVector q = joints_at(segment, start + step);
-        const double d = deviation(segment, start, start + step, q0, q);
-        if (d <= options_.tolerance_mm) {
+      double step = 0.5 * (to - start);
+      for (int halvings = 0; halvings < kMaxDepth && good < 0.0; ++halvings, step *= 0.5) {
+        if (try_end(start + step, candidate, d)) {
           good = start + step;
           good_deviation = d;
-          q_good = q;
-          break;
+          good_joints = candidate;
         }
       }
       if (good < 0.0) {
         throw PostError(file_, segment.line,
-                        "cannot keep within " + std::to_string(options_.tolerance_mm) +
-                            " mm here (a singularity, or a tolerance below the dialect's " +
+                        format("cannot keep within %g mm here: no block, however short, is "
+                               "(a singularity, or a tolerance too small for joints rounded to ",
+                               options_.tolerance_mm) +
                             std::to_string(rules_.decimals) + " decimals)");
       }
       // Between `good` (within) and twice the step (not, or the end): bisect for the furthest.
-      double bad = std::min(1.0, start + 2.0 * step);
+      double bad = std::min(to, start + 4.0 * step);
       for (int i = 0; i < 10; ++i) {
         const double middle = 0.5 * (good + bad);
-        const JointVector q = joints_at(segment, middle);
-        const double d = deviation(segment, start, middle, q0, q);
-        if (d <= options_.tolerance_mm) {
+        if (try_end(middle, candidate, d)) {
           good = middle;
           good_deviation = d;
-          q_good = q;
+          good_joints = candidate;
         } else {
           bad = middle;
         }
       }
-      write_block(segment, start, good, q0, q_good, good_deviation);
-      q0 = q_good;
+      write_block(segment, start, good, good_joints.written, good_deviation);
+      start_joints = good_joints;
       start = good;
     }
   }
 
-  void write_block(const Segment& segment, double u0, double u1, const JointVector& q0,
-                   const JointVector& q1, double worst) {
+  void write_block(const Segment& segment, double u0, double u1, const JointVector& q1,
+                   double deviation_mm) {
     std::string line = segment.rapid ? "G0" : "G1";
     if (!segment.rapid && !inverse_time_) {
       line = "G93 " + line;
@@ -213,22 +305,16 @@ class Poster {
       double duration = segment.length() * (u1 - u0) / segment.feed_mm_per_s;
       for (int i = 0; i < q1.size(); ++i) {
         duration =
-            std::max(duration, std::abs(q1[i] - q0[i]) /
+            std::max(duration, std::abs(q1[i] - joints_[i]) /
                                    machine_.joints()[static_cast<std::size_t>(i)].max_velocity);
       }
-      std::snprintf(number, sizeof number, " F%.*f", 3, 60.0 / duration);
-      line += number;
+      line += inverse_time_feed(duration);
     }
-    if (rules_.max_line > 0 && line.size() > rules_.max_line) {
-      throw PostError(file_, segment.line,
-                      "a block of " + std::to_string(line.size()) + " characters exceeds the " +
-                          std::to_string(rules_.max_line) + " this dialect accepts");
-    }
-    write_line_(line);
+    write(line, segment.line);
     ++report_.blocks;
     joints_ = q1;
-    if (worst > report_.max_deviation_mm) {
-      report_.max_deviation_mm = worst;
+    if (deviation_mm > report_.max_deviation_mm) {
+      report_.max_deviation_mm = deviation_mm;
       report_.max_deviation_line = segment.line;
     }
   }
@@ -239,31 +325,100 @@ class Poster {
   const std::function<void(const std::string&)>& write_line_;
   std::string file_;
   motion::SegmentBuilder builder_;
-  JointVector joints_;
+  DeviationBound bound_;
+  JointVector joints_;  // as last written
   bool inverse_time_ = false;
   bool ended_ = false;
+  bool pen_down_ = false;
+  std::optional<bool> spindle_on_;  // unknown until the program says
   PostReport report_;
 };
+
+constexpr Dialect kDialects[] = {Dialect::linuxcnc, Dialect::mach3, Dialect::grbl,
+                                 Dialect::grblhal};
 
 }  // namespace
 
 DialectRules rules_of(Dialect dialect) {
   switch (dialect) {
     case Dialect::linuxcnc:
-      return {5, 0};
+      return {5, 0, "XYZABCUVW"};
     case Dialect::mach3:
-      return {4, 1024};
+      return {4, 1024, "XYZABC"};
     case Dialect::grbl:
-      return {3, 80};
+      return {3, 80, "XYZ"};
+    case Dialect::grblhal:
+      return {4, 256, "XYZABCUVW"};
   }
   return {};
+}
+
+std::string_view dialect_name(Dialect dialect) {
+  switch (dialect) {
+    case Dialect::linuxcnc:
+      return "linuxcnc";
+    case Dialect::mach3:
+      return "mach3";
+    case Dialect::grbl:
+      return "grbl";
+    case Dialect::grblhal:
+      return "grblhal";
+  }
+  return "";
+}
+
+Dialect dialect_named(std::string_view name) {
+  for (const Dialect dialect : kDialects) {
+    if (dialect_name(dialect) == name) return dialect;
+  }
+  throw std::invalid_argument("unknown dialect '" + std::string(name) +
+                              "' (linuxcnc, mach3, grbl or grblhal)");
+}
+
+void check_axis_letters(const Machine& machine, Dialect dialect) {
+  const std::string_view accepted = rules_of(dialect).axes;
+  std::string refused;
+  std::string letters;
+  for (const JointSpec& joint : machine.joints()) {
+    letters += joint.axis_letter;
+    if (accepted.find(joint.axis_letter) == std::string_view::npos) {
+      refused +=
+          std::string(refused.empty() ? "" : ", ") + "'" + joint.name + "' as " + joint.axis_letter;
+    }
+  }
+  if (refused.empty() && machine.joints().size() <= accepted.size()) return;
+  std::string takers;
+  for (const Dialect other : kDialects) {
+    const std::string_view axes = rules_of(other).axes;
+    const bool takes = std::all_of(letters.begin(), letters.end(), [&](char letter) {
+      return axes.find(letter) != std::string_view::npos;
+    });
+    if (takes)
+      takers += std::string(takers.empty() ? "" : " or ") + std::string(dialect_name(other));
+  }
+  std::string spaced;
+  for (const char letter : accepted) spaced += std::string(spaced.empty() ? "" : " ") + letter;
+  std::string message =
+      "dialect " + std::string(dialect_name(dialect)) + " accepts the axes " + spaced + " only; ";
+  message += refused.empty() ? "this machine has " + std::to_string(letters.size()) + " joints"
+                             : "the machine writes joint " + refused;
+  message += takers.empty() ? "" : ": use --dialect " + takers;
+  throw std::invalid_argument(message + (refused.empty() ? ""
+                                                         : ", or change the joints' axis "
+                                                           "letters in the machine file"));
 }
 
 PostReport post_program(const Machine& machine, const std::filesystem::path& program,
                         const gcode::InterpreterOptions& interpreter_options,
                         const PostOptions& options,
                         const std::function<void(const std::string&)>& write_line) {
-  if (!(options.tolerance_mm > 0.0)) throw std::invalid_argument("the tolerance must be positive");
+  if (!(options.tolerance_mm > 0.0) || !std::isfinite(options.tolerance_mm)) {
+    throw std::invalid_argument("the tolerance must be a positive number of mm");
+  }
+  if (!options.origin.allFinite()) {
+    throw std::invalid_argument("the origin must be finite (mm, deg)");
+  }
+  check_axis_letters(machine, options.dialect);
   Poster poster(machine, options, write_line, program.string());
   // The program starts where the machine is: axes it never names stay at home.
   gcode::Interpreter interpreter(

@@ -1,13 +1,15 @@
-// Joint-space G-code for controllers without kinematics (Mach3, grbl, LinuxCNC with trivkins):
-// axis words are joint positions, and the programmed path is split adaptively so that the tool
-// tip of a controller that interpolates the joints linearly stays within a tolerance of it,
-// measured by forward kinematics.
+// Joint-space G-code for controllers without kinematics (Mach3, grbl, grblHAL, LinuxCNC with
+// trivkins): axis words are joint positions, and every programmed move is split adaptively, from
+// its start to its end, so that the tool tip of a controller that interpolates the joints linearly
+// stays within a tolerance of it, by a bound on the deviation (deviation_bound.hpp). Machines with
+// a pen channel get the pen commands where the program's Z crosses the pen height.
 #pragma once
 
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "pkm/gcode/interpreter.hpp"
@@ -15,14 +17,22 @@
 
 namespace pkm::post {
 
-enum class Dialect { linuxcnc, mach3, grbl };
+enum class Dialect { linuxcnc, mach3, grbl, grblhal };
 
-// Number format and line length of each controller.
+// Number format, line length and axis letters of each controller.
 struct DialectRules {
   int decimals = 5;          // digits after the point of joint values
   std::size_t max_line = 0;  // longest line accepted (0: no limit)
+  std::string_view axes;     // the axis letters it accepts
 };
 DialectRules rules_of(Dialect dialect);
+std::string_view dialect_name(Dialect dialect);
+// The dialect of a name (linuxcnc, mach3, grbl, grblhal); throws std::invalid_argument.
+Dialect dialect_named(std::string_view name);
+
+// Throws std::invalid_argument, naming the letters and the dialects that take them, when the
+// machine's joints use axis letters the dialect does not accept or more joints than it has axes.
+void check_axis_letters(const Machine& machine, Dialect dialect);
 
 struct PostOptions {
   double tolerance_mm = 0.01;
@@ -31,10 +41,14 @@ struct PostOptions {
 };
 
 struct PostReport {
-  long blocks = 0;                // motion blocks written
-  long moves = 0;                 // programmed moves
-  double max_deviation_mm = 0.0;  // verified: forward kinematics along each written block
-  int max_deviation_line = 0;     // source line of the move where it peaks
+  long blocks = 0;  // motion blocks written
+  long moves = 0;   // programmed moves
+  // An upper bound on the tool tip's distance from the programmed path over every written block
+  // (joint rounding included); where the model has no such bound (formula machines), the largest
+  // deviation found by forward kinematics at 33 points per block, and `bounded` is false.
+  double max_deviation_mm = 0.0;
+  bool bounded = true;
+  int max_deviation_line = 0;  // source line of the move where it peaks
   std::vector<gcode::Warning> warnings;
 };
 

@@ -1,0 +1,100 @@
+#include "pkm/motion/job_summary.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "pkm/motion/segment_builder.hpp"
+
+namespace pkm::motion {
+
+void Box::add(const Eigen::Vector3d& point) {
+  min = empty ? point : Eigen::Vector3d(min.cwiseMin(point));
+  max = empty ? point : Eigen::Vector3d(max.cwiseMax(point));
+  empty = false;
+}
+
+namespace {
+
+// The points of a move that bound it: its end and, on an arc, every point where it passes a
+// quarter turn (where its in-plane coordinates peak).
+template <class Add>
+void extreme_points(const Segment& segment, const Add& add) {
+  add(Eigen::Vector3d(segment.end.head<3>()));
+  if (segment.kind != SegmentKind::arc || segment.sweep_rad == 0.0) return;
+  const double quarter = std::numbers::pi / 2.0;
+  const double from =
+      std::atan2(segment.start[segment.second_axis] - segment.centre[segment.second_axis],
+                 segment.start[segment.first_axis] - segment.centre[segment.first_axis]);
+  const double to = from + segment.sweep_rad;
+  const double low = std::min(from, to), high = std::max(from, to);
+  for (double k = std::ceil(low / quarter); k * quarter <= high; k += 1.0) {
+    add(Eigen::Vector3d(segment.at((k * quarter - from) / segment.sweep_rad).head<3>()));
+  }
+}
+
+class Summariser {
+ public:
+  explicit Summariser(JobSummary& summary)
+      : summary_(summary), builder_(Vector6d::Zero(), Vector6d::Zero(), false) {}
+
+  void on_canon(const gcode::Canon& canon) {
+    using gcode::CanonKind;
+    if (canon.kind == CanonKind::select_tool || canon.kind == CanonKind::change_tool) {
+      summary_.tools.insert(canon.integer);
+    }
+    const std::optional<Segment> segment = builder_.take(canon);
+    if (!segment) return;
+    if (segment->kind == SegmentKind::dwell) {
+      summary_.dwell_s += segment->dwell_s;
+      return;
+    }
+    ++summary_.moves;
+    summary_.units.insert(canon.units);
+    const bool turns_only = segment->kind == SegmentKind::line &&
+                            (segment->end.head<3>() - segment->start.head<3>()).norm() == 0.0;
+    const double length = segment->length();
+    if (turns_only) {
+      summary_.angles_deg += length;
+    } else if (segment->rapid) {
+      summary_.rapid_mm += length;
+    } else {
+      (segment->kind == SegmentKind::arc ? summary_.arc_mm : summary_.feed_mm) += length;
+    }
+    extreme_points(*segment, [&](const Eigen::Vector3d& point) {
+      summary_.box.add(point);
+      if (!segment->rapid) summary_.feed_box.add(point);
+    });
+    if (!segment->rapid) note_feed(canon);
+  }
+
+ private:
+  void note_feed(const gcode::Canon& canon) {
+    if (canon.feed_mode == gcode::FeedMode::inverse_time) {
+      summary_.inverse_time = true;
+      return;
+    }
+    const double feed = canon.value * (canon.units == gcode::LengthUnits::inch ? 25.4 : 1.0);
+    summary_.min_feed_mm_per_min = any_feed_ ? std::min(summary_.min_feed_mm_per_min, feed) : feed;
+    summary_.max_feed_mm_per_min = any_feed_ ? std::max(summary_.max_feed_mm_per_min, feed) : feed;
+    any_feed_ = true;
+  }
+
+  JobSummary& summary_;
+  SegmentBuilder builder_;
+  bool any_feed_ = false;
+};
+
+}  // namespace
+
+JobSummary summarize_job(const std::filesystem::path& program,
+                         const gcode::InterpreterOptions& options) {
+  JobSummary summary;
+  Summariser summariser(summary);
+  gcode::Interpreter interpreter(program, starting_at(options, Vector6d::Zero(), Vector6d::Zero()));
+  interpreter.run([&](const gcode::Canon& canon) { summariser.on_canon(canon); });
+  summary.warnings = interpreter.warnings();
+  return summary;
+}
+
+}  // namespace pkm::motion

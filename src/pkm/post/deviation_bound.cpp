@@ -1,0 +1,311 @@
+#include "pkm/post/deviation_bound.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/glide.hpp"
+#include "pkm/kinematics/hexapod.hpp"
+#include "pkm/kinematics/matrix.hpp"
+
+namespace pkm::post {
+
+namespace {
+
+using motion::Segment;
+using motion::SegmentKind;
+
+// The operator norm, over the scaled pose ball, of the map from pose to a platform point b (mm
+// from the tool tip): the identity on the position and at most |b| / scale per scaled angle.
+double platform_point_gain(double b_norm_mm, double angle_scale_mm) {
+  return std::sqrt(1.0 + 3.0 * (b_norm_mm / angle_scale_mm) * (b_norm_mm / angle_scale_mm));
+}
+
+// Every second derivative of R(a, b, c) b is a product of rotations and unit skew matrices, so
+// |d2(R b)| <= |b| per entry; a 3 x 3 block of them has norm <= 3 |b| (per scaled angle squared).
+double rotation_curvature(double b_norm_mm, double angle_scale_mm) {
+  return 3.0 * b_norm_mm / (angle_scale_mm * angle_scale_mm);
+}
+
+// How far a platform point b (mm from the tool tip) moves for a pose change `position` mm and
+// `chord.angle` scaled (each angle's derivative of R b has norm <= |b|).
+double platform_point_change(double position, const Chord& chord, double b_norm_mm,
+                             double angle_scale_mm) {
+  return position + std::sqrt(3.0) * b_norm_mm / angle_scale_mm * chord.angle;
+}
+
+void add(HessianBounds& bounds, double norm, double along) {
+  bounds.norm.push_back(norm);
+  bounds.along.push_back(along);
+}
+
+// A cable (or leg) of length l = |p - a|: Hessian (I - n n^T) / l, norm 1 / l; along v,
+// |v|^2 sin^2 / l = |v|^2 h^2 / l^3 with h the anchor's distance from the line through p along v.
+HessianBounds cable_plotter_bounds(const CablePlotterKinematics& model, const Vector6d& centre,
+                                   double radius_mm, const Chord& chord) {
+  const Eigen::Vector2d p(centre[0], centre[1]);
+  const double d = model.geometry().anchor_distance_mm;
+  HessianBounds bounds;
+  for (const Eigen::Vector2d& anchor : {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(d, 0.0)}) {
+    const double nearest = (p - anchor).norm() - radius_mm;
+    const Eigen::Vector2d v = chord.position.head<2>();
+    const double across =
+        v.norm() > 0.0
+            ? std::abs(v.x() * (p - anchor).y() - v.y() * (p - anchor).x()) / v.norm() + radius_mm
+            : 0.0;
+    if (nearest > 0.0) {
+      add(bounds, 1.0 / nearest,
+          v.squaredNorm() / nearest * std::min(1.0, across * across / (nearest * nearest)));
+    } else {
+      add(bounds, INFINITY, INFINITY);
+    }
+  }
+  return bounds;
+}
+
+// A carriage reading s on a rail (origin o, direction d) whose strut of length L reaches the
+// platform point w: s = d.(w - o) -+ f with f = sqrt(L^2 - |u|^2), u the part of w - o across
+// the rail. Its Hessian in w has norm L^2 / f^3, its gradient norm <= 1 + |u| / f.
+HessianBounds glide_bounds(const GlideKinematics& model, const Vector6d& centre, double radius_mm,
+                           double angle_scale_mm, const Chord& chord) {
+  const bool rotating = model.dof().any_rotation();
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (model.dof().controls(axis)) tip[axis] = centre[axis];
+  }
+  const Eigen::Matrix3d rotation =
+      rotating ? rotation_from_abc(Eigen::Vector3d(centre.tail<3>())) : Eigen::Matrix3d::Identity();
+  HessianBounds bounds;
+  for (const GlideRail& rail : model.rails()) {
+    const Eigen::Vector3d relative = tip + rotation * rail.attach_mm - rail.origin_mm;
+    const Eigen::Vector3d across = relative - rail.direction.dot(relative) * rail.direction;
+    const double b = rail.attach_mm.norm();
+    const double gain = rotating ? platform_point_gain(b, angle_scale_mm) : 1.0;
+    const double widest = across.norm() + gain * radius_mm;
+    const double strut = rail.strut_mm;
+    if (widest >= strut) {
+      add(bounds, INFINITY, INFINITY);
+      continue;
+    }
+    const double f = std::sqrt(strut * strut - widest * widest);
+    const double hessian_w = strut * strut / (f * f * f);  // norm, in w
+    const double turning = rotating ? (1.0 + widest / f) * rotation_curvature(b, angle_scale_mm)
+                                    : 0.0;  // the gradient in w times R b's curvature
+    // Only the part x of w's change across the rail bends the reading: |H_w[x, x]| =
+    // |x|^2 / f + (u . x)^2 / f^3, and u . x / |x| moves with the ball's radius (translating).
+    const Eigen::Vector3d v = chord.position;
+    const Eigen::Vector3d x = v - rail.direction.dot(v) * rail.direction;
+    double u_along_x = widest;
+    if (!rotating && x.norm() > 0.0) {
+      u_along_x = std::min(widest, std::abs(across.dot(x.normalized())) + radius_mm);
+    }
+    const double w_change =
+        rotating ? platform_point_change(x.norm(), chord, b, angle_scale_mm) : x.norm();
+    add(bounds, gain * gain * hessian_w + turning,
+        w_change * w_change * (1.0 / f + u_along_x * u_along_x / (f * f * f)) +
+            turning * chord.angle * chord.angle);
+  }
+  return bounds;
+}
+
+// A leg l = |t + R b - a| (plus its offset): the cable's 1 / l through the platform point's map,
+// and the rotation's own curvature (the leg's gradient in w is a unit vector).
+HessianBounds hexapod_bounds(const HexapodKinematics& model, const Vector6d& centre,
+                             double radius_mm, double angle_scale_mm, const Chord& chord) {
+  HessianBounds bounds;
+  JointVector legs;
+  if (!model.inverse(Pose::from_vector(centre), legs).ok()) {
+    for (int i = 0; i < 6; ++i) add(bounds, INFINITY, INFINITY);
+    return bounds;
+  }
+  const HexapodGeometry& geometry = model.geometry();
+  for (int i = 0; i < 6; ++i) {
+    const std::size_t k = static_cast<std::size_t>(i);
+    const double b =
+        (geometry.platform_mm[k] + Eigen::Vector3d(0.0, 0.0, geometry.tool_length_mm)).norm();
+    const double gain = platform_point_gain(b, angle_scale_mm);
+    const double shortest = legs[i] - geometry.leg_offset_mm[k] - gain * radius_mm;
+    if (!(shortest > 0.0)) {
+      add(bounds, INFINITY, INFINITY);
+      continue;
+    }
+    const double turning = rotation_curvature(b, angle_scale_mm);
+    const double w_change = platform_point_change(chord.position.norm(), chord, b, angle_scale_mm);
+    add(bounds, gain * gain / shortest + turning,
+        w_change * w_change / shortest + turning * chord.angle * chord.angle);
+  }
+  return bounds;
+}
+
+// Upper bounds on the speed and acceleration of the programmed piece per unit of the block's
+// fraction (angles are linear in u, so only the position curves).
+struct PieceMotion {
+  Vector6d centre;
+  double length = 0.0;  // of the piece (scaled pose norm), at most
+  double acceleration = 0.0;
+  Chord chord;  // from the piece's start to its end
+};
+
+PieceMotion piece_motion(const Segment& segment, double u0, double u1, const std::vector<int>& axes,
+                         double angle_scale_mm) {
+  double position_speed = 0.0, position_acceleration = 0.0, angle_speed = 0.0;
+  const Vector6d change = segment.end - segment.start;
+  for (const int axis : axes) {
+    if (axis >= 3) {
+      angle_speed += std::pow(change[axis] * angle_scale_mm, 2);
+    } else if (segment.kind == SegmentKind::line) {
+      position_speed += change[axis] * change[axis];
+    }
+  }
+  position_speed = std::sqrt(position_speed);
+  if (segment.kind == SegmentKind::arc) {
+    const auto radius = [&](const Vector6d& p) {
+      return std::hypot(p[segment.first_axis] - segment.centre[segment.first_axis],
+                        p[segment.second_axis] - segment.centre[segment.second_axis]);
+    };
+    const double r0 = radius(segment.start), r1 = radius(segment.end);
+    const double widest = std::max(r0, r1), sweep = std::abs(segment.sweep_rad);
+    position_speed = std::sqrt((r1 - r0) * (r1 - r0) + widest * widest * sweep * sweep +
+                               change[segment.normal_axis] * change[segment.normal_axis]);
+    position_acceleration = 2.0 * std::abs(r1 - r0) * sweep + widest * sweep * sweep;
+  } else if (segment.kind == SegmentKind::blend) {
+    const double sweep = std::abs(segment.sweep_rad);
+    position_speed = segment.radius_mm * sweep;
+    position_acceleration = segment.radius_mm * sweep * sweep;
+  }
+  const double du = u1 - u0;
+  const Vector6d change_of_piece = segment.at(u1) - segment.at(u0);
+  Chord chord;
+  for (const int axis : axes) {
+    if (axis < 3) chord.position[axis] = change_of_piece[axis];
+  }
+  chord.angle = std::sqrt(angle_speed) * du;
+  return {segment.at(0.5 * (u0 + u1)), std::hypot(position_speed, std::sqrt(angle_speed)) * du,
+          position_acceleration * du * du, chord};
+}
+
+double largest_singular_value(const Eigen::MatrixXd& m) {
+  if (m.size() == 0) return 0.0;
+  return Eigen::JacobiSVD<Eigen::MatrixXd>(m).singularValues()[0];
+}
+
+}  // namespace
+
+std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, const Vector6d& centre,
+                                                    double radius_mm, double angle_scale_mm,
+                                                    const Chord& chord) {
+  if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
+    return cable_plotter_bounds(*plotter, centre, radius_mm, chord);
+  }
+  if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
+    return glide_bounds(*glide, centre, radius_mm, angle_scale_mm, chord);
+  }
+  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
+    return hexapod_bounds(*hexapod, centre, radius_mm, angle_scale_mm, chord);
+  }
+  if (dynamic_cast<const MatrixKinematics*>(&model) != nullptr) {
+    const std::vector<double> zero(static_cast<std::size_t>(model.joint_count()), 0.0);
+    return HessianBounds{zero, zero};  // linear
+  }
+  return std::nullopt;
+}
+
+DeviationBound::DeviationBound(const Machine& machine, double tolerance_mm)
+    : machine_(machine), reach_mm_(1.5 * std::min(tolerance_mm, 1.0)) {
+  const Kinematics& model = machine.kinematics();
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    if (model.dof().controls(axis)) axes_.push_back(axis);
+  }
+  // Rotations weigh as the arc they swing the farthest platform point through (twice, which
+  // keeps the rotation's own curvature small against the legs').
+  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
+    double farthest = 0.0;
+    for (const Eigen::Vector3d& b : hexapod->geometry().platform_mm) {
+      farthest = std::max(
+          farthest, (b + Eigen::Vector3d(0.0, 0.0, hexapod->geometry().tool_length_mm)).norm());
+    }
+    angle_scale_mm_ = 2.0 * std::max(farthest, 1.0);
+  } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
+    double farthest = 0.0;
+    for (const GlideRail& rail : glide->rails()) {
+      farthest = std::max(farthest, rail.attach_mm.norm());
+    }
+    angle_scale_mm_ = 2.0 * std::max(farthest, 1.0);
+  }
+  available_ = model.joint_count() == static_cast<int>(axes_.size()) &&
+               inverse_hessian_bounds(model, machine.home().as_vector(), 0.0, angle_scale_mm_, {})
+                   .has_value();
+}
+
+// The Jacobian at a pose in scaled coordinates, its inverse's norm and that of the inverse's
+// position rows; nothing where it is singular.
+struct InverseNorms {
+  Eigen::MatrixXd jacobian;
+  double all = 0.0, position = 0.0;
+};
+
+std::optional<InverseNorms> inverse_norms(const Kinematics& model, const Vector6d& pose,
+                                          const std::vector<int>& axes, double angle_scale_mm) {
+  JointJacobian full;
+  if (!model.jacobian(Pose::from_vector(pose), full).ok()) return std::nullopt;
+  const int n = static_cast<int>(axes.size());
+  InverseNorms norms{Eigen::MatrixXd(n, n)};
+  std::vector<int> position_rows;
+  for (int k = 0; k < n; ++k) {
+    const int axis = axes[static_cast<std::size_t>(k)];
+    norms.jacobian.col(k) = full.col(axis) / (axis >= 3 ? angle_scale_mm : 1.0);
+    if (axis < 3) position_rows.push_back(k);
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(norms.jacobian,
+                                              Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const double smallest = svd.singularValues()[n - 1];
+  if (!(smallest > 0.0) || !std::isfinite(smallest)) return std::nullopt;
+  const Eigen::MatrixXd inverse = svd.solve(Eigen::MatrixXd::Identity(n, n));
+  Eigen::MatrixXd position_part(static_cast<int>(position_rows.size()), n);
+  for (std::size_t r = 0; r < position_rows.size(); ++r) {
+    position_part.row(static_cast<int>(r)) = inverse.row(position_rows[r]);
+  }
+  norms.all = 1.0 / smallest;
+  norms.position = largest_singular_value(position_part);
+  return norms;
+}
+
+// The argument (docs/post.md, "The bound"): C, the straight chord in pose space between the
+// piece's programmed ends, is within |S''| / 8 of the programmed point at the same fraction. The
+// joint error of the block against IK(C) is its ends' rounding plus the chord error of IK along
+// C, |H[C', C']| / 8 per joint; where the Jacobian stays invertible over the ball of the piece
+// plus the reach, that joint error e moves the tool tip at most |J^-1| |e| from C.
+double DeviationBound::operator()(const Segment& segment, double u0, double u1,
+                                  const BlockEnds& ends) const {
+  if (!available_) return INFINITY;
+  const Kinematics& model = machine_.kinematics();
+  const PieceMotion piece = piece_motion(segment, u0, u1, axes_, angle_scale_mm_);
+  const std::optional<InverseNorms> at_centre =
+      inverse_norms(model, piece.centre, axes_, angle_scale_mm_);
+  if (!at_centre) return INFINITY;
+  const double radius = 0.5 * piece.length + reach_mm_;
+  const auto hessians =
+      inverse_hessian_bounds(model, piece.centre, radius, angle_scale_mm_, piece.chord);
+  if (!hessians) return INFINITY;
+  double lipschitz = 0.0;  // of the Jacobian, per unit of pose distance
+  for (const double h : hessians->norm) lipschitz += h * h;
+  lipschitz = std::sqrt(lipschitz);
+  const double drift = at_centre->all * lipschitz * radius;
+  if (!(drift < 1.0)) return INFINITY;
+  const double inverse_bound = at_centre->all / (1.0 - drift);
+  const double position_inverse_bound =
+      at_centre->position + inverse_bound * at_centre->all * lipschitz * radius;
+  double joint_error = 0.0;
+  for (std::size_t i = 0; i < hessians->along.size(); ++i) {
+    const int k = static_cast<int>(i);
+    const double rounding = std::max(std::abs(ends.written0[k] - ends.exact0[k]),
+                                     std::abs(ends.written1[k] - ends.exact1[k]));
+    joint_error += std::pow(rounding + hessians->along[i] / 8.0, 2);
+  }
+  joint_error = std::sqrt(joint_error);
+  if (!(inverse_bound * joint_error < reach_mm_)) return INFINITY;
+  return position_inverse_bound * joint_error + piece.acceleration / 8.0;
+}
+
+}  // namespace pkm::post

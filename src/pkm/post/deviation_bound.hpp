@@ -1,0 +1,67 @@
+// An upper bound on how far the tool tip of a joint-linear block strays from the piece of the
+// programmed path it stands for, from bounds on the inverse kinematics' second derivatives (the
+// argument is in docs/post.md, "The bound").
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "pkm/machine/machine.hpp"
+#include "pkm/motion/segment.hpp"
+
+namespace pkm::post {
+
+// A straight move in pose space: its position change (mm, zero in the coordinates the model
+// does not control) and the norm of its angle change (scaled, see below).
+struct Chord {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double angle = 0.0;
+};
+
+// Per joint, over every pose within `radius_mm` of `centre` (mm, rad) in the model's controlled
+// coordinates with rotations scaled by `angle_scale_mm` (mm per rad, so that one norm serves
+// lengths and angles): `norm`, an upper bound on the operator norm of the Hessian of the joint's
+// inverse kinematics, and `along`, on |H[v, v]| for v = `chord`. Infinity where the ball reaches
+// a singularity of the model.
+struct HessianBounds {
+  std::vector<double> norm, along;
+};
+// Nothing for models with no such bound here (formula machines).
+std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, const Vector6d& centre,
+                                                    double radius_mm, double angle_scale_mm,
+                                                    const Chord& chord);
+
+// The ends of a joint-linear block: the joints as written (rounded) and as the inverse kinematics
+// gives them at the programmed ends of the piece.
+struct BlockEnds {
+  JointVector written0, exact0;
+  JointVector written1, exact1;
+};
+
+class DeviationBound {
+ public:
+  // For blocks held to `tolerance_mm`: the argument looks for the tool tip within a reach of
+  // 1.5 times it (at most 1.5 mm, so that a large tolerance does not reach past a small
+  // machine's anchors) from the programmed chord, the same for every block, so that
+  // consecutive blocks agree on which pose the machine is in.
+  DeviationBound(const Machine& machine, double tolerance_mm);
+
+  // False for models without a second-derivative bound: their deviation is sampled instead.
+  bool available() const { return available_; }
+
+  // An upper bound (mm) on the distance between the tool tip of the joint-linear block and the
+  // programmed point at the same fraction of the piece [u0, u1] of `segment`, over the whole
+  // block (so also on its distance to the path), in the coordinates the machine controls.
+  // Infinity when none is found (a long piece over strongly bent kinematics, a singularity).
+  double operator()(const motion::Segment& segment, double u0, double u1,
+                    const BlockEnds& ends) const;
+
+ private:
+  const Machine& machine_;
+  double reach_mm_;
+  std::vector<int> axes_;  // the pose coordinates the model controls
+  double angle_scale_mm_ = 100.0;
+  bool available_ = false;
+};
+
+}  // namespace pkm::post

@@ -1,0 +1,147 @@
+// Temporary files of atomic outputs: removed on a signal (through remove_open_temporaries), and
+// found, named and removed when a killed run left them behind.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "pkm/io/atomic_file.hpp"
+
+namespace pkm {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh directory per test, removed afterwards.
+class AtomicFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    directory_ = fs::temp_directory_path() /
+                 ("pkm-atomic-" + std::to_string(::getpid()) + "-" +
+                  ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(directory_);
+    fs::create_directories(directory_);
+  }
+  void TearDown() override {
+    on_stale_temporary(nullptr);
+    fs::remove_all(directory_);
+  }
+  fs::path make_file(const std::string& name, std::size_t bytes) const {
+    std::ofstream(directory_ / name) << std::string(bytes, 'x');
+    return directory_ / name;
+  }
+  std::vector<std::string> names() const {
+    std::vector<std::string> found;
+    for (const auto& entry : fs::directory_iterator(directory_)) {
+      found.push_back(entry.path().filename().string());
+    }
+    std::sort(found.begin(), found.end());
+    return found;
+  }
+  fs::path directory_;
+};
+
+// The PID of a process that has exited (and been reaped): no process runs under it now.
+long finished_pid() {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ::waitpid(child, nullptr, 0);
+  return child;
+}
+
+TEST_F(AtomicFileTest, TemporaryIsNamedAfterTheOutputAndThisProcess) {
+  AtomicFileWriter writer(directory_ / "job.csv");
+  const std::string prefix = ".job.csv.tmp-" + std::to_string(::getpid()) + "-";
+  const std::string name = fs::path(writer.temporary_path()).filename().string();
+  EXPECT_EQ(name.substr(0, prefix.size()), prefix);
+  EXPECT_EQ(name.size(), prefix.size() + 6);  // mkstemp's six characters
+  EXPECT_EQ(names(), std::vector<std::string>{name});
+}
+
+TEST_F(AtomicFileTest, SignalCleanupRemovesOpenTemporariesOnly) {
+  write_file_atomically(directory_ / "done.json", "{}\n");
+  {
+    AtomicFileWriter first(directory_ / "a.csv");
+    AtomicFileWriter second(directory_ / "b.csv");
+    first.write("t,line\n");
+    EXPECT_EQ(names().size(), 3u);
+    remove_open_temporaries();  // what the SIGTERM handler of pkm calls
+    EXPECT_EQ(names(), std::vector<std::string>{"done.json"});
+  }  // the writers' own removal finds nothing left, and does not fail
+  EXPECT_EQ(names(), std::vector<std::string>{"done.json"});
+}
+
+TEST_F(AtomicFileTest, CommittedOutputIsNoLongerATemporary) {
+  AtomicFileWriter writer(directory_ / "a.csv");
+  writer.write("t,line\n");
+  writer.commit();
+  remove_open_temporaries();
+  EXPECT_EQ(names(), std::vector<std::string>{"a.csv"});
+  EXPECT_EQ(fs::file_size(directory_ / "a.csv"), 7u);
+}
+
+TEST_F(AtomicFileTest, StaleTemporariesAreRemovedAndReported) {
+  const long dead = finished_pid();
+  const std::string me = std::to_string(::getpid());
+  const auto an_hour_ago = fs::file_time_type::clock::now() - std::chrono::hours(1);
+  const std::string killed = ".job.csv.tmp-" + std::to_string(dead) + "-AbCdEf";
+  const std::string running = ".job.csv.tmp-" + me + "-LiVe12";
+  // This process's PID, but written before it started: the PID was reused.
+  const std::string reused = ".job.csv.tmp-" + me + "-ReUsEd";
+  const std::string old_style = ".job.csv.tmp-QwErTy";  // pkm before PIDs in names
+  // No valid PID (kill() would take it for a process group): judged by age, and it is new.
+  const std::string huge_pid = ".job.csv.tmp-99999999999-AbCdEf";
+  const std::string other_output = ".other.csv.tmp-" + std::to_string(dead) + "-AbCdEf";
+  make_file(killed, 1234);
+  make_file(running, 10);
+  fs::last_write_time(make_file(reused, 7), an_hour_ago);
+  fs::last_write_time(make_file(old_style, 5), an_hour_ago);
+  make_file(huge_pid, 10);
+  make_file(other_output, 10);
+  std::vector<StaleTemporary> reported;
+  on_stale_temporary([&](const StaleTemporary& stale) { reported.push_back(stale); });
+
+  std::vector<StaleTemporary> removed = remove_stale_temporaries(directory_ / "job.csv");
+
+  std::sort(removed.begin(), removed.end(),
+            [](const auto& a, const auto& b) { return a.path < b.path; });
+  std::vector<std::tuple<std::string, long, std::string, std::uintmax_t>> expected = {
+      {killed, dead, "pid " + std::to_string(dead) + ", no longer running", 1234},
+      {reused, ::getpid(), "pid " + me + ", now another process", 7},
+      {old_style, 0, "older than this run", 5}};
+  std::sort(expected.begin(), expected.end());  // by name, as removed is by path
+  ASSERT_EQ(removed.size(), expected.size());
+  EXPECT_EQ(reported.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    const auto& [name, pid, why, size] = expected[i];
+    EXPECT_EQ(removed[i].path, directory_ / name);
+    EXPECT_EQ(removed[i].pid, pid);
+    EXPECT_EQ(removed[i].why, why);
+    EXPECT_EQ(removed[i].size_bytes, size);
+    EXPECT_EQ(removed[i].failure, "");
+  }
+  std::vector<std::string> kept = {running, huge_pid, other_output};
+  std::sort(kept.begin(), kept.end());
+  EXPECT_EQ(names(), kept);
+}
+
+TEST_F(AtomicFileTest, WritingAnOutputRemovesItsStaleTemporaries) {
+  const std::string killed = ".job.csv.tmp-" + std::to_string(finished_pid()) + "-AbCdEf";
+  make_file(killed, 100);
+  std::vector<fs::path> reported;
+  on_stale_temporary([&](const StaleTemporary& stale) { reported.push_back(stale.path); });
+  write_file_atomically(directory_ / "job.csv", "t\n");
+  EXPECT_EQ(reported, std::vector<fs::path>{directory_ / killed});
+  EXPECT_EQ(names(), std::vector<std::string>{"job.csv"});
+}
+
+}  // namespace
+}  // namespace pkm
