@@ -61,9 +61,14 @@ void run_verify(const VerifyCommandOptions& options) {
       options.joints.c_str(), options.job.c_str(), report.blocks, report.max_deviation_mm,
       report.max_deviation_joint_line, report.max_deviation_job_line, report.rms_deviation_mm);
   for (const verify::JointViolation& v : report.violations) {
-    std::printf("  line %d: joint %s %s %.6f beyond its limit %.6f\n", v.line,
-                machine.joints()[static_cast<std::size_t>(v.joint)].name.c_str(), v.what.c_str(),
-                v.value, v.limit);
+    // Positions read as plan, post and ik say them; speeds name their limit.
+    std::printf("  line %d: %s\n", v.line,
+                v.what == "position"
+                    ? machine.explain_joint(v.joint, v.value).c_str()
+                    : ("joint '" + machine.joints()[static_cast<std::size_t>(v.joint)].name + "' " +
+                       v.what + " " + std::to_string(v.value) + " beyond its limit " +
+                       std::to_string(v.limit))
+                          .c_str());
   }
   if (over) {
     throw CommandError("deviation " + std::to_string(report.max_deviation_mm) +
