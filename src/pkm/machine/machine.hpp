@@ -127,6 +127,11 @@ class Machine {
   std::string format_pose(const Pose& pose) const;
 
  private:
+  // The envelope part of explain_path: where the move crosses the envelope on `axis`, and how far
+  // beyond it the move goes.
+  std::string explain_envelope_crossing(const Pose& pose, int axis,
+                                        const std::function<Vector6d(double)>& pose_at) const;
+
   std::string name_;
   std::string source_;
   LengthUnit units_ = LengthUnit::mm;

@@ -20,7 +20,10 @@ std::string formatted(const char* pattern, double value) {
 
 // Values in the machine file's units: three decimals of a mm or a degree, four of an inch.
 std::string value_text(double value, const char* unit) {
-  return formatted(std::string(unit) == "in" ? "%.4f" : "%.3f", value);
+  std::string text = formatted(std::string(unit) == "in" ? "%.4f" : "%.3f", value);
+  // A crossing found by bisection lies a hair past zero: "-0.000" says nothing more than 0.
+  if (text[0] == '-' && text.find_first_not_of("-0.") == std::string::npos) text.erase(0, 1);
+  return text;
 }
 
 }  // namespace
@@ -98,6 +101,25 @@ std::string Machine::explain(const Pose& pose, const Status& status) const {
   }
 }
 
+std::string Machine::explain_envelope_crossing(
+    const Pose& pose, int axis, const std::function<Vector6d(double)>& pose_at) const {
+  constexpr int kSamples = 1000;
+  const double value = pose.as_vector()[axis];
+  const bool over = value > cartesian_.envelope_max[axis];
+  double worst = value;
+  for (int k = 0; k <= kSamples; ++k) {
+    const double sample = pose_at(static_cast<double>(k) / kSamples)[axis];
+    worst = over ? std::max(worst, sample) : std::min(worst, sample);
+  }
+  const char* unit = axis_file_unit(axis);
+  const auto shown = [&](double v) { return value_text(axis_to_file(axis, v), unit) + " " + unit; };
+  return "pose " + format_pose(pose) + ": " + std::string(kAxisNames[axis]) +
+         " passes the work envelope's " +
+         (over ? "max " + shown(cartesian_.envelope_max[axis])
+               : "min " + shown(cartesian_.envelope_min[axis])) +
+         " there, " + (over ? "up to " : "down to ") + shown(worst) + " along the move";
+}
+
 std::string Machine::explain_path(const std::function<Vector6d(double)>& pose_at) const {
   constexpr int kSamples = 1000;
   JointVector joints;
@@ -118,6 +140,9 @@ std::string Machine::explain_path(const std::function<Vector6d(double)>& pose_at
   const Status status = inverse(pose, joints);
   std::string text =
       first_bad == 0 ? "at its start: " : "at " + formatted("%.1f", 100.0 * bad) + " % of it: ";
+  if (status.code == StatusCode::outside_envelope) {
+    return text + explain_envelope_crossing(pose, status.axis, pose_at);
+  }
   if (status.code != StatusCode::joint_limit) return text + explain(pose, status);
   // The joint is at its limit at the crossing: say which limit, and how far beyond it the joint
   // goes along the rest of the move (what must change).
