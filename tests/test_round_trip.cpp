@@ -48,9 +48,11 @@ TEST_P(EveryExampleMachine, InverseThenForwardReturnsThePose) {
     JointVector joints;
     ASSERT_TRUE(machine.inverse(pose, joints).ok());
     Pose solved = pose;
+    // Coordinates the model does not control stay as seeded (a pass-through machine's b).
+    const Dof dof = machine.kinematics().dof();
     for (int k = 0; k < 3; ++k) {
-      solved.position_mm[k] += 1.0 * offset(rng);
-      solved.orientation_rad[k] += degrees_to_radians(0.5) * offset(rng);
+      if (dof.controls(k)) solved.position_mm[k] += 1.0 * offset(rng);
+      if (dof.controls(3 + k)) solved.orientation_rad[k] += degrees_to_radians(0.5) * offset(rng);
     }
     const Pose seed = solved;
     const Status status = machine.forward(joints, solved);

@@ -33,6 +33,10 @@ double dexterity(const Kinematics& kinematics, const Pose& pose) {
     if (!kinematics.dof().controls(axis)) continue;
     reduced.col(k++) = jacobian.col(axis) * (axis < 3 ? 1.0 : 1.0 / 100.0);
   }
+  // Rotary joints (a matrix machine's pass-through axes) read rad: on the same 100 mm/rad scale.
+  for (int joint = 0; joint < kinematics.joint_count(); ++joint) {
+    if (kinematics.joint_kind(joint) == JointKind::rotary) reduced.row(joint) *= 100.0;
+  }
   const Eigen::VectorXd singular_values = reduced.jacobiSvd().singularValues();
   return singular_values.minCoeff() / singular_values.maxCoeff();
 }
