@@ -114,10 +114,10 @@ class Verifier {
   void check_positions(int line, const JointVector& q) {
     for (int i = 0; i < q.size(); ++i) {
       const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
-      if (q[i] < joint.min || q[i] > joint.max) {
+      if (!(q[i] >= joint.min && q[i] <= joint.max)) {  // NaN is beyond every limit
         const double limit = q[i] < joint.min ? joint.min : joint.max;
-        report_.position.add(
-            {line, cursor_.line(), i, joint.to_interface(q[i]), joint.to_interface(limit), ""});
+        report_.position.add({line, cursor_.line(), i, joint.to_interface(q[i]),
+                              joint.to_interface(limit), machine_.explain_joint(i, q[i])});
       }
     }
   }
