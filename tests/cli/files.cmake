@@ -10,3 +10,6 @@ pkm_cli_refuses(tool_table_missing
                 gcode --canon --tool-table ${NOWHERE}.tbl ${PROJECT_SOURCE_DIR}/examples/jobs/sphere.ngc)
 pkm_cli_refuses(machine_missing "no-such-file\\.toml: cannot open \\(No such file or directory\\)$"
                 check -m ${NOWHERE}.toml)
+pkm_cli_refuses(joint_program_missing
+                "no-such-file\\.ngc: cannot open \\(No such file or directory\\)$"
+                verify ${NOWHERE}.ngc --against ${PROJECT_SOURCE_DIR}/examples/jobs/sphere.ngc)

@@ -1,8 +1,10 @@
 #include "pkm/verify/joint_path.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <string_view>
 
@@ -260,6 +262,9 @@ VerifyReport verify_joint_program(const Machine& machine, const std::filesystem:
 
 std::optional<double> tolerance_in_header(const std::filesystem::path& joints) {
   std::ifstream in(joints);
+  if (!in) {  // said here, before "no tolerance" could be blamed on the header
+    throw VerifyError(joints.string() + ": cannot open (" + std::strerror(errno) + ")");
+  }
   std::string line;
   for (int n = 1; n <= kHeaderLines && std::getline(in, line); ++n) {
     const std::size_t at = line.find("(tolerance ");
