@@ -45,6 +45,95 @@ TEST(CablePlotter, CableOffsetsShiftTheJointReadings) {
   EXPECT_DOUBLE_EQ(joints[1], 79.0);
 }
 
+TEST(CablePlotter, APenOutsideItsAnchorsIsUnreachable) {
+  // A cable only pulls: left of the left anchor the right cable would have to push, right of the
+  // right anchor the left one. Below the anchors and between them the pen hangs.
+  const CablePlotterKinematics plotter({1500.0, 0.0, 0.0});
+  JointVector joints;
+  EXPECT_TRUE(plotter.inverse(Pose::from_mm_deg(1, -700, 0), joints).ok());
+  EXPECT_TRUE(plotter.inverse(Pose::from_mm_deg(1499, -700, 0), joints).ok());
+  const Status left = plotter.inverse(Pose::from_mm_deg(-500, -700, 0), joints);
+  EXPECT_EQ(left.code, StatusCode::unreachable);
+  EXPECT_EQ(left.joint, 1);
+  const Status right = plotter.inverse(Pose::from_mm_deg(2000, -700, 0), joints);
+  EXPECT_EQ(right.code, StatusCode::unreachable);
+  EXPECT_EQ(right.joint, 0);
+  EXPECT_EQ(plotter.why_refused(Pose::from_mm_deg(-500, -700, 0), left),
+            "left of the left anchor (x <= 0) the right cable would have to push");
+}
+
+TEST(CablePlotter, PassThroughZFollowsTheProgram) {
+  // A pen on a real Z axis: the third joint is the program's Z, the cables as without it.
+  const CablePlotterKinematics plotter({100.0, 0.0, 0.0}, PassThroughAxes({2}, Dof::planar_xy()));
+  EXPECT_EQ(plotter.joint_count(), 3);
+  EXPECT_TRUE(plotter.dof().controls(2));
+  EXPECT_EQ(plotter.passthrough_axis(2), 2);
+  EXPECT_EQ(plotter.passthrough_axis(0), -1);
+  EXPECT_EQ(plotter.joint_kind(2), JointKind::linear);
+  JointVector joints;
+  ASSERT_TRUE(plotter.inverse(Pose::from_mm_deg(36, -48, 2.5), joints).ok());
+  ASSERT_EQ(joints.size(), 3);
+  EXPECT_DOUBLE_EQ(joints[0], 60.0);
+  EXPECT_DOUBLE_EQ(joints[1], 80.0);
+  EXPECT_DOUBLE_EQ(joints[2], 2.5);
+  Pose pose;
+  joints[2] = -1.25;
+  ASSERT_TRUE(plotter.forward(joints, pose).ok());
+  EXPECT_DOUBLE_EQ(pose.position_mm.x(), 36.0);
+  EXPECT_DOUBLE_EQ(pose.position_mm.y(), -48.0);
+  EXPECT_DOUBLE_EQ(pose.position_mm.z(), -1.25);
+  JointJacobian jacobian;
+  ASSERT_TRUE(plotter.jacobian(Pose::from_mm_deg(36, -48, 0), jacobian).ok());
+  EXPECT_EQ(jacobian(2, 2), 1.0);
+  EXPECT_EQ(jacobian(2, 0), 0.0);
+  EXPECT_DOUBLE_EQ(jacobian(0, 0), 36.0 / 60.0);
+}
+
+TEST(Glide, BiglidePassThroughZRoundTrip) {
+  std::vector<GlideRail> rails(2);
+  rails[0] = {{0, 0, 0}, {1, 0, 0}, 200.0, {-20, 0, 0}, -1};
+  rails[1] = {{0, 0, 0}, {1, 0, 0}, 200.0, {20, 0, 0}, 1};
+  const GlideKinematics biglide(rails, Dof::planar_xy(), PassThroughAxes({2}, Dof::planar_xy()));
+  EXPECT_EQ(biglide.joint_count(), 3);
+  EXPECT_EQ(biglide.rail_dof(), Dof::planar_xy());
+  JointVector joints;
+  ASSERT_TRUE(biglide.inverse(Pose::from_mm_deg(30, -120, 4), joints).ok());
+  EXPECT_NEAR(joints[0], 10.0 - 160.0, 1e-12);
+  EXPECT_NEAR(joints[1], 50.0 + 160.0, 1e-12);
+  EXPECT_EQ(joints[2], 4.0);
+  Pose pose = Pose::from_mm_deg(0, -100, 0);
+  ASSERT_TRUE(biglide.forward(joints, pose).ok());
+  EXPECT_NEAR(pose.position_mm.x(), 30.0, 1e-12);
+  EXPECT_NEAR(pose.position_mm.y(), -120.0, 1e-12);
+  EXPECT_EQ(pose.position_mm.z(), 4.0);
+  EXPECT_THROW(GlideKinematics(rails, Dof::planar_xy(), PassThroughAxes({1}, Dof::all())),
+               std::invalid_argument);  // the rails move y themselves
+}
+
+TEST(Glide, AnOverflowingPoseIsUnreachableNotNaN) {
+  // Far enough away the squares overflow to inf - inf = NaN, which compares false with 0.
+  const Machine delta = load_example("linear-delta.toml");
+  JointVector joints;
+  const Status raw = delta.kinematics().inverse(Pose::from_mm_deg(1e200, 0, 1e200), joints);
+  EXPECT_EQ(raw.code, StatusCode::unreachable);
+  const Status status = delta.inverse(Pose::from_mm_deg(1e200, 0, 1e200), joints);
+  EXPECT_FALSE(status.ok());
+}
+
+TEST(Hexapod, AnUpsideDownPlatformIsAnotherAssemblyMode) {
+  // The legs have lengths at B = 180, but FK from the machine's side never returns there.
+  const Machine hexapod = load_example("hexapod-bit.toml");
+  const auto& model = hexapod.kinematics();
+  EXPECT_EQ(model.assembly_mode(Pose::from_mm_deg(0, 0, 1000, 0, 0, 0)), 1);
+  EXPECT_EQ(model.assembly_mode(Pose::from_mm_deg(0, 0, 1000, 0, 89, 0)), 1);
+  EXPECT_EQ(model.assembly_mode(Pose::from_mm_deg(0, 0, 1000, 0, 180, 0)), -1);
+  EXPECT_EQ(model.assembly_mode(Pose::from_mm_deg(0, 0, 1000, 91, 0, 0)), -1);
+  JointVector joints;
+  EXPECT_TRUE(model.inverse(Pose::from_mm_deg(0, 0, 1000, 0, 180, 0), joints).ok());
+  EXPECT_EQ(hexapod.inverse(Pose::from_mm_deg(0, 0, 1000, 0, 180, 0), joints).code,
+            StatusCode::other_assembly);
+}
+
 TEST(Formula, Mach3FormulasAgreeWithTheCablePlotterModel) {
   const Machine formula = load_example("mach3-formula.toml");
   const Machine plotter = load_example("hektor.toml");
@@ -80,6 +169,8 @@ TEST(Matrix, ExtraAxesPassThrough) {
   EXPECT_DOUBLE_EQ(joints[0], 10.2);
   EXPECT_DOUBLE_EQ(joints[3], M_PI / 4);
   EXPECT_EQ(model.joint_kind(3), JointKind::rotary);
+  EXPECT_EQ(model.passthrough_axis(3), 3);
+  EXPECT_EQ(model.passthrough_axis(2), -1);
 }
 
 TEST(Matrix, SingularMatrixIsRefused) {

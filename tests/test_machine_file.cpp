@@ -1,10 +1,14 @@
 // Every malformed machine file gives an error naming file, line and key.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <numbers>
 #include <sstream>
 
+#include "pkm/kinematics/glide.hpp"
+#include "pkm/machine/machine_writer.hpp"
 #include "test_support.hpp"
 
 namespace pkm {
@@ -156,7 +160,7 @@ const BadFileCase kCases[] = {
      "hektor.toml",
      {{"max_velocity = 60.0       # mm/s", "max_velocity = 0.0 # <-"}},
      "joints[1].max_velocity",
-     "positive"},
+     "must be between 0.001 and 1e+06 mm/s, not 0"},
     {"duplicate_joint_name",
      "hektor.toml",
      {{"name = \"right\"", "name = \"left\" # <-"}},
@@ -186,7 +190,7 @@ const BadFileCase kCases[] = {
      "hektor.toml",
      {{"home = [50.0, -50.0]", "home = [50.0, -175.0] # <-"}},
      "cartesian.home",
-     "joint limit (joint 'left')"},
+     "pose x 50.000 y -175.000 mm: joint 'left' = 182.003 mm passes its max 180.000 mm"},
     {"home_too_short",
      "hexapod-bit.toml",
      {{"home = [0.0, 0.0, 1000.0, 0.0, 0.0, 0.0]", "home = [0.0, 0.0] # <-"}},
@@ -259,6 +263,116 @@ const BadFileCase kCases[] = {
      {{"attach = [0.0, 40.0, 0.0]", "attach = [0.0, 40.0, 0.0]\nbranch = 2 # <-"}},
      "kinematics.rails[1].branch",
      "1 or -1"},
+    // A misspelt key is named as unknown, at its own line, with the valid name: not the valid
+    // name as "missing" at line 1.
+    {"misspelt_required_key",
+     "hektor.toml",
+     {{"max_acceleration = 600.0  # mm/s^2\naxis = \"A\"", "max_accel = 600.0 # <-\naxis = \"A\""}},
+     "joints[1].max_accel",
+     "unknown key 'max_accel' (did you mean 'max_acceleration'?)"},
+    {"misspelt_table",
+     "hektor.toml",
+     {{"[cartesian]", "[cartesan] # <-"}},
+     "cartesan",
+     "unknown key 'cartesan' (did you mean 'cartesian'?)"},
+    {"misspelt_optional_key",
+     "hektor.toml",
+     {{"anchor_distance = 100.0", "anchor_distance = 100.0\ncable_offset = [1.0, 2.0] # <-"}},
+     "kinematics.cable_offset",
+     "unknown key 'cable_offset' (did you mean 'cable_offsets'?)"},
+    {"unknown_key_lists_the_tables_keys",
+     "hektor.toml",
+     {{"home = [50.0, -50.0]", "home = [50.0, -50.0]\nspeed = 3 # <-"}},
+     "cartesian.speed",
+     "(this table's keys: home, max, max_acceleration, max_feed, min;"},
+    {"joint_max_beyond_a_kilometre",
+     "hektor.toml",
+     {{"max = 180.0", "max = 2e6 # <-"}},
+     "joints[1].max",
+     "must be between -1e+06 and 1e+06 mm, not 2e+06"},
+    {"anchor_distance_beyond_a_kilometre",
+     "hektor.toml",
+     {{"anchor_distance = 100.0", "anchor_distance = 1e300 # <-"}},
+     "kinematics.anchor_distance",
+     "must be within a kilometre"},
+    {"glide_strut_beyond_a_kilometre",
+     "hexaglide.toml",
+     {{"strut = 600.0", "strut = 1e9 # <-"}},
+     "kinematics.rails[1].strut",
+     "must be within a kilometre"},
+    {"tiny_acceleration",
+     "hektor.toml",
+     {{"max_acceleration = 600.0  # mm/s^2", "max_acceleration = 1e-300 # <-"}},
+     "joints[1].max_acceleration",
+     "must be between 0.001 and 1e+09 mm/s^2"},
+    {"tiny_cartesian_acceleration",
+     "hektor.toml",
+     {{"max_acceleration = 500.0  # mm/s^2", "max_acceleration = 1e-300 # <-"}},
+     "cartesian.max_acceleration",
+     "must be between 0.001 and 1e+09 mm/s^2"},
+    {"infinite_feed",
+     "hektor.toml",
+     {{"max_feed = 2400.0", "max_feed = inf # <-"}},
+     "cartesian.max_feed",
+     "finite"},
+    {"tool_down_below_nan",
+     "wall-plotter.toml",
+     {{"home = [750.0, -700.0]",
+       "home = [750.0, -700.0]\n[tool]\nz = \"pen\"\ndown_below = nan # <-"}},
+     "tool.down_below",
+     "finite"},
+    {"two_joints_one_letter_names_both",
+     "hektor.toml",
+     {{"axis = \"B\"", "axis = \"A\" # <-"}},
+     "joints[2].axis",
+     "letter A is used by two joints: 'left' (axis = \"A\") and 'right' (axis = \"A\")"},
+    {"explicit_letter_against_a_passthrough",
+     "matrix-mill.toml",
+     {{"[[joints]]\nname = \"x\"", "[[joints]]\nname = \"x\""},
+      {"[0.0002, 0.0,     1.0   ],\n]", "[0.0002, 0.0,     1.0   ],\n]\npassthrough = [\"c\"]"},
+      {"axis = \"Z\"", "axis = \"C\""},
+      {"[cartesian]",
+       "[[joints]]\nname = \"c\" # <-\nmin = -360.0\nmax = 360.0\nmax_velocity = 90.0\n"
+       "max_acceleration = 900.0\n\n[cartesian]"}},
+     "joints[4].name",
+     "letter C is used by two joints: 'z' (axis = \"C\") and 'c' (the pass-through of c)"},
+    {"plotter_cannot_pass_x",
+     "wall-plotter.toml",
+     {{"anchor_distance = 1500.0", "anchor_distance = 1500.0\npassthrough = [\"x\"] # <-"}},
+     "kinematics.passthrough",
+     "'x' cannot pass through here; this model passes \"z\", \"a\", \"b\", \"c\""},
+    {"hexaglide_passes_nothing",
+     "hexaglide.toml",
+     {{"orientation = true", "orientation = true\npassthrough = [\"z\"] # <-"}},
+     "kinematics.passthrough",
+     "nothing passes through"},
+    {"envelope_min_without_max",
+     "linear-delta.toml",
+     {{"min = [-120.0, -120.0, 0.0]", "min = [-120.0, -120.0, 0.0] # <-"},
+      {"max = [120.0, 120.0, 300.0]", ""}},
+     "cartesian.min",
+     "give both min and max"},
+    {"envelope_wrong_count",
+     "linear-delta.toml",
+     {{"min = [-120.0, -120.0, 0.0]", "min = [-120.0, -120.0] # <-"}},
+     "cartesian.min",
+     "needs 3 numbers, one per coordinate of home"},
+    {"envelope_min_above_max",
+     "linear-delta.toml",
+     {{"max = [120.0, 120.0, 300.0]", "max = [120.0, -200.0, 300.0] # <-"}},
+     "cartesian.max",
+     "y: must be greater than min"},
+    {"envelope_leaves_out_home",
+     "linear-delta.toml",
+     {{"home = [0.0, 0.0, 100.0]", "home = [0.0, 0.0, 100.0] # <-"},
+      {"min = [-120.0, -120.0, 0.0]", "min = [-120.0, -120.0, 150.0]"}},
+     "cartesian.home",
+     "z lies outside the work envelope"},
+    {"envelope_not_finite",
+     "linear-delta.toml",
+     {{"max = [120.0, 120.0, 300.0]", "max = [120.0, 120.0, inf] # <-"}},
+     "cartesian.max",
+     "finite"},
     {"fractional_iterations",
      "hexapod-bit.toml",
      {{"tool_length = 30.0", "tool_length = 30.0\nforward_max_iterations = 2.5 # <-"}},
@@ -321,8 +435,244 @@ TEST(MachineFile, ToolChannelOfAPenPlotter) {
   EXPECT_EQ(load_machine(test::example_machine_path("wall-plotter.toml")).tool().z, ToolZ::none);
 }
 
-TEST(MachineFile, MissingFileIsAnError) {
-  EXPECT_THROW(load_machine("/nonexistent/machine.toml"), MachineFileError);
+TEST(MachineFile, FilesThatCannotBeOpenedSayWhy) {
+  const auto message = [](const std::filesystem::path& path) {
+    try {
+      load_machine(path);
+    } catch (const MachineFileError& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message("/nonexistent/machine.toml"),
+            "/nonexistent/machine.toml: cannot open (No such file or directory)");
+  const std::filesystem::path directory = std::filesystem::temp_directory_path();
+  EXPECT_EQ(message(directory), directory.string() + ": cannot open (it is a directory)");
+}
+
+// A third joint on the wall plotter: a pen on a real Z axis, following the program's Z.
+std::string plotter_with_pen_axis() {
+  std::string text = read_example("wall-plotter.toml");
+  text.replace(text.find("anchor_distance = 1500.0"), 24,
+               "anchor_distance = 1500.0\npassthrough = [\"z\"]");
+  text.replace(text.find("axis = \"X\"\n"), 11, "");
+  text.replace(text.find("axis = \"Y\"\n"), 11, "");
+  text.replace(text.find("[cartesian]"), 11,
+               "[[joints]]\nname = \"pen\"\nmin = -5.0\nmax = 20.0\nmax_velocity = 50.0\n"
+               "max_acceleration = 500.0\n\n[cartesian]");
+  text.replace(text.find("home = [750.0, -700.0]"), 22, "home = [750.0, -700.0, 5.0]");
+  return text;
+}
+
+TEST(AxisLetters, PassThroughJointsTakeTheirOwnLetter) {
+  // A matrix mill passing A and C: the C joint is C, not B (the fifth letter).
+  std::string text = read_example("matrix-mill.toml");
+  text.replace(text.find("  [0.0002, 0.0,     1.0   ],\n]"), 30,
+               "  [0.0002, 0.0,     1.0   ],\n]\npassthrough = [\"a\", \"c\"]");
+  const std::string rotary =
+      "min = -360.0\nmax = 360.0\nmax_velocity = 90.0\nmax_acceleration = 900.0\n";
+  text.replace(text.find("[cartesian]"), 11,
+               "[[joints]]\nname = \"tilt\"\n" + rotary + "\n[[joints]]\nname = \"turn\"\n" +
+                   rotary + "\n[cartesian]");
+  text.replace(text.find("home = [300.0, 200.0, -100.0]"), 29,
+               "home = [300.0, 200.0, -100.0, 0.0, 0.0, 0.0]");
+  const Machine mill = parse_machine(text, "mill5.toml");
+  std::string letters;
+  for (const JointSpec& joint : mill.joints()) letters += joint.axis_letter;
+  EXPECT_EQ(letters, "XYZAC");
+}
+
+TEST(AxisLetters, JointsWithoutALetterTakeTheLettersLeft) {
+  const Machine plotter = parse_machine(plotter_with_pen_axis(), "pen-axis.toml");
+  std::string letters;
+  for (const JointSpec& joint : plotter.joints()) letters += joint.axis_letter;
+  EXPECT_EQ(letters, "XYZ");
+  // The left cable on Y: the right one takes the first letter left, X; the pen is Z.
+  std::string text = plotter_with_pen_axis();
+  text.replace(text.find("name = \"left\""), 13, "name = \"left\"\naxis = \"Y\"");
+  const Machine swapped = parse_machine(text, "swapped.toml");
+  letters.clear();
+  for (const JointSpec& joint : swapped.joints()) letters += joint.axis_letter;
+  EXPECT_EQ(letters, "YXZ");
+}
+
+TEST(PassThroughZ, APenOnARealZAxisIsAJoint) {
+  const Machine plotter = parse_machine(plotter_with_pen_axis(), "pen-axis.toml");
+  EXPECT_TRUE(plotter.kinematics().dof().controls(2));
+  JointVector joints;
+  ASSERT_TRUE(plotter.inverse(Pose::from_mm_deg(600, -800, -1.5), joints).ok());
+  EXPECT_DOUBLE_EQ(joints[0], 1000.0);  // 600-800-1000
+  EXPECT_DOUBLE_EQ(joints[1], std::hypot(900.0, 800.0));
+  EXPECT_DOUBLE_EQ(joints[2], -1.5);
+  EXPECT_EQ(plotter.inverse(Pose::from_mm_deg(600, -800, 25), joints).code,
+            StatusCode::joint_limit);  // the pen axis has limits of its own
+  // The machine file written back keeps the pass-through.
+  EXPECT_NE(kinematics_toml(plotter.kinematics(), LengthUnit::mm).find("passthrough = [\"z\"]"),
+            std::string::npos);
+  // Its Z is a joint: a [tool] channel for Z is refused.
+  EXPECT_THROW(parse_machine(plotter_with_pen_axis() + "\n[tool]\nz = \"pen\"\n", "both.toml"),
+               MachineFileError);
+}
+
+TEST(PassThroughZ, ABiglideCarriesAPenAxisToo) {
+  std::string text = read_example("triaglide.toml");
+  const Machine triaglide = parse_machine(text, "t.toml");
+  ASSERT_EQ(triaglide.kinematics().joint_count(), 3);
+  // Two rails in x z with y passing through stand for the same arithmetic as the plotter's z.
+  std::vector<GlideRail> rails(2);
+  rails[0] = {{0, 0, 0}, {1, 0, 0}, 200.0, {-20, 0, 0}, -1};
+  rails[1] = {{0, 0, 0}, {1, 0, 0}, 200.0, {20, 0, 0}, 1};
+  const GlideKinematics biglide(rails, Dof::planar_xy(), PassThroughAxes({2}, Dof::planar_xy()));
+  EXPECT_EQ(
+      kinematics_toml(biglide, LengthUnit::mm).find("passthrough = [\"z\"]") != std::string::npos,
+      true);
+}
+
+TEST(JointLimits, NanFailsTheCheck) {
+  const Machine hektor = test::load_example("hektor.toml");
+  JointVector joints(2);
+  joints << 50.0, std::nan("");
+  const Status status = hektor.check_joint_limits(joints);
+  EXPECT_EQ(status.code, StatusCode::joint_limit);
+  EXPECT_EQ(status.joint, 1);
+}
+
+// The example delta has a work envelope: min = [-120, -120, 0], max = [120, 120, 300].
+std::string delta_with_envelope() {
+  const std::string text = read_example("linear-delta.toml");
+  EXPECT_NE(text.find("\nmin = [-120.0, -120.0, 0.0]"), std::string::npos);
+  return text;
+}
+
+TEST(Envelope, ADeltaJobBelowItsBedFails) {
+  const Machine delta = parse_machine(delta_with_envelope(), "delta.toml");
+  JointVector joints;
+  const Pose below = Pose::from_mm_deg(0, 0, -150);
+  const Status status = delta.inverse(below, joints);
+  EXPECT_EQ(status.code, StatusCode::outside_envelope);
+  EXPECT_EQ(status.axis, 2);
+  // The extent `check` reports is clipped by the envelope.
+  for (const AxisExtent& extent : reachable_extent(delta)) {
+    EXPECT_GE(extent.min, delta.cartesian().envelope_min[extent.axis]);
+    EXPECT_LE(extent.max, delta.cartesian().envelope_max[extent.axis]);
+  }
+  EXPECT_NEAR(reachable_extent(delta)[2].min, 0.0, 1e-5);
+}
+
+// The explanation of a refused pose: pose, joint, value, limit, in the machine file's units.
+struct ExplainCase {
+  std::string name;
+  std::string machine;  // example file, or "inch:" + example, "envelope:delta"
+  Pose pose;
+  std::string expected;
+};
+
+std::ostream& operator<<(std::ostream& out, const ExplainCase& c) {
+  return out << c.name;
+}
+
+Machine machine_of(const std::string& name) {
+  if (name == "envelope:delta") return parse_machine(delta_with_envelope(), "delta.toml");
+  if (name.rfind("inch:", 0) == 0) {
+    std::string text = read_example(name.substr(5));
+    text.replace(text.find("units = \"mm\""), 12, "units = \"inch\"");
+    return parse_machine(text, "inch.toml");
+  }
+  return test::load_example(name);
+}
+
+class Explained : public ::testing::TestWithParam<ExplainCase> {};
+
+TEST_P(Explained, NamesPoseJointValueAndLimit) {
+  const ExplainCase& c = GetParam();
+  const Machine machine = machine_of(c.machine);
+  JointVector joints;
+  const Status status = machine.inverse(c.pose, joints);
+  ASSERT_FALSE(status.ok());
+  EXPECT_EQ(machine.explain(c.pose, status), c.expected);
+}
+
+const ExplainCase kExplainCases[] = {
+    {"plotter_off_the_sheet", "wall-plotter.toml", Pose::from_mm_deg(1400, -2000, 0),
+     "pose x 1400.000 y -2000.000 mm: joint 'left' = 2441.311 mm passes its max 2100.000 mm"},
+    {"plotter_outside_its_anchors", "wall-plotter.toml", Pose::from_mm_deg(-500, -700, 0),
+     "pose x -500.000 y -700.000 mm: unreachable: left of the left anchor (x <= 0) the right "
+     "cable would have to push"},
+    {"hexapod_leg_too_long", "hexapod-bit.toml", Pose::from_mm_deg(0, 0, 1600),
+     "pose x 0.000 y 0.000 z 1600.000 mm a 0.000 b 0.000 c 0.000 deg: joint 'leg1' = 1649.463 "
+     "mm passes its max 1500.000 mm"},
+    {"hexapod_upside_down", "hexapod-bit.toml", Pose::from_mm_deg(0, 0, 1000, 0, 180, 0),
+     "pose x 0.000 y 0.000 z 1000.000 mm a 0.000 b 180.000 c 0.000 deg: another assembly mode "
+     "than home's, across a singularity (a platform below its carriages, a hexapod platform "
+     "tilted past 90 deg)"},
+    {"delta_below_its_bed", "envelope:delta", Pose::from_mm_deg(0, 0, -150),
+     "pose x 0.000 y 0.000 z -150.000 mm: z = -150.000 mm passes the work envelope's min 0.000 "
+     "mm ([cartesian] min)"},
+    {"triaglide_strut_too_short", "triaglide.toml", Pose::from_mm_deg(0, 0, -900),
+     "pose x 0.000 y 0.000 z -900.000 mm: unreachable: the strut of rail 1 is too short to "
+     "reach it"},
+    {"triaglide_rail_too_short", "triaglide.toml", Pose::from_mm_deg(900, 0, 200),
+     "pose x 900.000 y 0.000 z 200.000 mm: joint 'rail1' = 1108.327 mm passes its max 800.000 "
+     "mm"},
+    {"inch_machine_speaks_inches", "inch:hektor.toml", Pose::from_mm_deg(10 * 25.4, -170 * 25.4, 0),
+     "pose x 10.0000 y -170.0000 in: joint 'right' = 192.3538 in passes its max 180.0000 in"},
+};
+
+INSTANTIATE_TEST_SUITE_P(Cases, Explained, ::testing::ValuesIn(kExplainCases),
+                         [](const auto& test_info) { return test_info.param.name; });
+
+TEST(Explained, AMoveIsExplainedWhereItLeavesTheReach) {
+  // From home straight out along x: leg 3 and 6 pass 1500 mm on the way; the first to cross
+  // is named, where it crosses, whichever point of the move a caller found failing.
+  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const Vector6d from = Pose::from_mm_deg(0, 0, 1000).as_vector();
+  const Vector6d to = Pose::from_mm_deg(900, 900, 1000).as_vector();
+  const std::string text =
+      hexapod.explain_path([&](double u) -> Vector6d { return from + u * (to - from); });
+  EXPECT_EQ(text.rfind("at 67.0 % of it: pose x 603.0", 0), 0u) << text;
+  EXPECT_NE(text.find(": joint 'leg6' passes its max 1500.000 mm there, up to 1827.233 mm along "
+                      "the move"),
+            std::string::npos)
+      << text;
+}
+
+TEST(Explained, OutsideReachHintSuggestsAnOrigin) {
+  const Machine plotter = test::load_example("wall-plotter.toml");
+  PoseBox job;
+  job.axes = Dof::planar_xy();
+  job.min << 0, 0, 0, 0, 0, 0;
+  job.max << 15, 20, 0, 0, 0, 0;
+  const std::string hint = outside_reach_hint(plotter, job, Vector6d::Zero());
+  const PoseBox reach = reach_box(plotter);
+  char origin[64];
+  std::snprintf(origin, sizeof origin, "--origin %.0f %.0f would centre it",
+                0.5 * (reach.min[0] + reach.max[0]) - 7.5,
+                0.5 * (reach.min[1] + reach.max[1]) - 10);
+  EXPECT_EQ(
+      hint.rfind("the job spans x 0.000..15.000 y 0.000..20.000 mm; the machine reaches x ", 0), 0u)
+      << hint;
+  EXPECT_NE(hint.find(origin), std::string::npos) << hint;
+  Vector6d centred = Vector6d::Zero();
+  centred[0] = 0.5 * (reach.min[0] + reach.max[0]) - 7.5;
+  centred[1] = 0.5 * (reach.min[1] + reach.max[1]) - 10;
+  EXPECT_EQ(outside_reach_hint(plotter, job, centred), "");
+}
+
+TEST(Conditioning, AHexapodWithParallelLegsIsSingularAtHome) {
+  // Base and platform joints on the same circle: at home every leg is vertical.
+  std::string text = read_example("hexapod-bit.toml");
+  std::string points = "[";
+  for (int k = 0; k < 6; ++k) {
+    points += "[" + std::to_string(500.0 * std::cos(k * M_PI / 3)) + ", " +
+              std::to_string(500.0 * std::sin(k * M_PI / 3)) + ", 0.0], ";
+  }
+  points += "]";
+  const std::string shorthand = "base_radius = 500.0\nplatform_radius = 400.0\nside_ratio = 0.365";
+  text.replace(text.find(shorthand), shorthand.size(),
+               "base = " + points + "\nplatform = " + points);
+  const Machine parallel = parse_machine(text, "parallel.toml");
+  EXPECT_LT(relative_conditioning_at_home(parallel), kSingularAtHome);
+  EXPECT_GT(relative_conditioning_at_home(test::load_example("hexapod-bit.toml")), 1e-2);
 }
 
 }  // namespace

@@ -315,14 +315,15 @@ TEST(Post, InverseTimeFeedIsRoundedDown) {
 }
 
 TEST(Post, NoJointAboveItsVelocityAfterRounding) {
-  // Hektor with 30 mm/s joints and X Y letters (so every dialect takes it), run at F2400
+  // Hektor with 30 mm/s joints and X Y letters (so every dialect takes it), its anchors 150 mm
+  // apart so that the arc (out to x = 113.8) hangs between them, run at F2400
   // (40 mm/s): many blocks are limited by a joint, not by the feed. Read back by the
   // interpreter, each G93 block's joint speeds |dq| F / 60 stay within the limit, and some reach
   // it (within 0.1 %).
   const std::string text = R"(name = "slow Hektor"
 [kinematics]
 type = "cable_plotter"
-anchor_distance = 100.0
+anchor_distance = 150.0
 [[joints]]
 name = "left"
 min = 5.0

@@ -22,8 +22,8 @@ TEST(Status, CablePlotterAboveTheAnchorsIsUnreachable) {
 TEST(Status, JointLimitNamesTheJoint) {
   const Machine hektor = load_example("hektor.toml");
   JointVector joints;
-  // At (-80, -100) the left cable is 128 mm (fine), the right one 212.6 mm (> 180).
-  const Status status = hektor.inverse(Pose::from_mm_deg(-80, -100, 0), joints);
+  // At (10, -170) the left cable is 170.3 mm (fine), the right one 192.4 mm (> 180).
+  const Status status = hektor.inverse(Pose::from_mm_deg(10, -170, 0), joints);
   EXPECT_EQ(status.code, StatusCode::joint_limit);
   EXPECT_EQ(status.joint, 1);
   EXPECT_EQ(hektor.describe(status), "joint limit (joint 'right')");

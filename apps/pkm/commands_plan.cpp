@@ -114,7 +114,8 @@ motion::PlanReport run_planner(const Machine& machine, const PlanCommandOptions&
   } catch (const gcode::GcodeError& error) {
     throw CommandError(error.what());
   } catch (const motion::PlanError& error) {
-    throw CommandError(error.what());
+    throw CommandError(error.what() + job_reach_hint(machine, options.program, setup.interpreter,
+                                                     setup.plan.origin));
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }

@@ -88,7 +88,8 @@ void run_post(const PostCommandOptions& options) {
   } catch (const gcode::GcodeError& error) {
     throw CommandError(error.what());
   } catch (const post::PostError& error) {
-    throw CommandError(error.what());
+    throw CommandError(error.what() + job_reach_hint(machine, options.program, interpreter_options,
+                                                     post_options.origin));
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }

@@ -113,6 +113,8 @@ void print_summary(const Machine& machine, const char* what, const std::string& 
   std::string worst =
       joint_name(machine, w.joint) + (w.joint >= 0 ? " " : "") + mm(w.value) + " " + units;
   worst += w.detail.empty() ? ", limit " + mm(w.limit) + " " + units : " with the " + w.detail;
+  // A joint past its travel reads as ik, plan and post say it (Machine::explain_joint).
+  if (w.joint >= 0 && !w.detail.empty()) worst = w.detail;
   std::string first;
   for (const verify::Violation& v : summary.first) first += " " + std::to_string(v.line);
   if (summary.count > static_cast<long>(summary.first.size())) first += " ...";

@@ -72,7 +72,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    return app.exit(error);
+    // --help and --version end parsing as "errors" of status 0; CLI11's own statuses (105 for a
+    // refused value) mean nothing to a user, so a refusal is 2 with the prefix of every error.
+    if (error.get_exit_code() == 0) return app.exit(error);
+    std::fprintf(stderr, "pkm: error: %s\nRun with --help for more information.\n", error.what());
+    return 2;
   } catch (const pkm::MachineFileError& error) {
     std::fprintf(stderr, "pkm: error: %s\n", error.what());
     return 1;

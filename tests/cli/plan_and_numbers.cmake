@@ -105,3 +105,11 @@ foreach(command plan post verify)
   set_tests_properties(cli.${command}_help_names_the_origin PROPERTIES PASS_REGULAR_EXPRESSION
     "--origin x y \\[z \\[a b c\\]\\] +Where the (program|job)'s X0 Y0 Z0 sits in machine coordinates, mm and deg")
 endforeach()
+
+# A refused option reads like every other error, with a status a shell script can tell apart
+# from a failed run (2, not CLI11's 105).
+add_test(NAME cli.refused_option_status_and_prefix
+         COMMAND sh -c "\"$0\" plan -m \"$1\" \"$2\" --origin nan 0; test $? -eq 2"
+                 ${PKM} ${PLOTTER} ${SQUARE})
+pkm_cli_refuses(refused_option_prefix "^pkm: error: --origin: 'nan' is not a finite number"
+                plan -m ${PLOTTER} ${SQUARE} --origin nan 0)

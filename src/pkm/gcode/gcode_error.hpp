@@ -5,12 +5,12 @@
 
 namespace pkm::gcode {
 
-// An error in a G-code program, located as file:line:column (line and column from 1).
+// An error in a G-code program, located as file:line:column (line and column from 1); a line or
+// column of 0 is left out (a file that cannot be opened has no line: "file: message").
 class GcodeError : public std::runtime_error {
  public:
   GcodeError(std::string file, int line, int column, const std::string& message)
-      : std::runtime_error(file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " +
-                           message),
+      : std::runtime_error(location(file, line, column) + ": " + message),
         file_(std::move(file)),
         line_(line),
         column_(column),
@@ -21,6 +21,12 @@ class GcodeError : public std::runtime_error {
   const std::string& message() const { return message_; }
 
  private:
+  static std::string location(const std::string& file, int line, int column) {
+    if (line <= 0) return file;
+    if (column <= 0) return file + ":" + std::to_string(line);
+    return file + ":" + std::to_string(line) + ":" + std::to_string(column);
+  }
+
   std::string file_;
   int line_;
   int column_;

@@ -1,6 +1,7 @@
 #include "pkm/gcode/interpreter.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -199,6 +200,17 @@ bool is_linear(int axis) {
   return axis < 3 || axis >= 6;
 }
 
+// "cannot open (reason)" for a program that did not open, or opened as a directory (which
+// fopen allows and the first read refuses).
+std::string cannot_open_reason(const std::filesystem::path& path, bool opened) {
+  const int error = errno;
+  std::error_code ignored;
+  if (opened || std::filesystem::is_directory(path, ignored)) {
+    return "cannot open (it is a directory)";
+  }
+  return std::string("cannot open (") + std::strerror(error) + ")";
+}
+
 // The program's lines, cut from large reads of the file. Control flow jumps back and forth; a
 // jump into what was last read costs nothing, any other seeks.
 class LineSource {
@@ -363,7 +375,11 @@ struct Interpreter::State {
   State(const std::filesystem::path& path, const InterpreterOptions& opts,
         std::vector<Warning>& warns)
       : source(path), file_name(path.string()), options(opts), warnings(warns) {
-    if (!source.is_open()) throw GcodeError(file_name, 0, 0, "cannot open the program");
+    if (!source.is_open()) throw GcodeError(file_name, 0, 0, cannot_open_reason(path, false));
+    std::error_code ignored;
+    if (std::filesystem::is_directory(path, ignored)) {
+      throw GcodeError(file_name, 0, 0, cannot_open_reason(path, true));
+    }
     // G54 offsets start at zero; #5220 holds the active coordinate system.
     parameters.set_numbered(5220, 1.0);
     pos = options.start_position;

@@ -1,8 +1,10 @@
 #include "pkm/gcode/tool_table.hpp"
 
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -81,7 +83,10 @@ ToolTable parse_tool_table(const std::string& text, const std::string& source_na
 
 ToolTable read_tool_table(const std::filesystem::path& path, LengthUnits units) {
   std::ifstream file(path, std::ios::binary);
-  if (!file) throw GcodeError(path.string(), 0, 0, "cannot open the tool table");
+  if (!file) {
+    throw GcodeError(path.string(), 0, 0,
+                     std::string("cannot open the tool table (") + std::strerror(errno) + ")");
+  }
   std::ostringstream text;
   text << file.rdbuf();
   return parse_tool_table(text.str(), path.string(), units);

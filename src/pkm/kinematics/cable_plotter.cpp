@@ -1,6 +1,7 @@
 #include "pkm/kinematics/cable_plotter.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace pkm {
@@ -11,8 +12,9 @@ namespace {
 constexpr double kMinRelativeDepth = 1e-9;
 }  // namespace
 
-CablePlotterKinematics::CablePlotterKinematics(const CablePlotterGeometry& geometry)
-    : geometry_(geometry) {
+CablePlotterKinematics::CablePlotterKinematics(const CablePlotterGeometry& geometry,
+                                               PassThroughAxes passthrough)
+    : geometry_(geometry), passthrough_(std::move(passthrough)) {
   validate(geometry_);
 }
 
@@ -33,14 +35,20 @@ Status CablePlotterKinematics::inverse(const Pose& pose, JointVector& joints) co
   const double d = geometry_.anchor_distance_mm;
   if (y > 0.0) return Status::failure(StatusCode::unreachable);  // above the anchors
   if (-y <= kMinRelativeDepth * d) return Status::failure(StatusCode::singular);
-  joints.resize(2);
+  // Outside the anchors the pen would hang from one cable while the other pushes it sideways.
+  if (!(x > 0.0)) return Status::failure(StatusCode::unreachable, 1);
+  if (!(x < d)) return Status::failure(StatusCode::unreachable, 0);
+  joints.resize(joint_count());
   joints[0] = std::hypot(x, y) + geometry_.left_cable_offset_mm;
   joints[1] = std::hypot(d - x, y) + geometry_.right_cable_offset_mm;
+  passthrough_.inverse(pose, joints, 2);
   return Status::success();
 }
 
 Status CablePlotterKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
-  if (joints.size() != 2 || !all_finite(joints)) return Status::failure(StatusCode::invalid_input);
+  if (joints.size() != joint_count() || !all_finite(joints)) {
+    return Status::failure(StatusCode::invalid_input);
+  }
   const double left = joints[0] - geometry_.left_cable_offset_mm;
   const double right = joints[1] - geometry_.right_cable_offset_mm;
   const double d = geometry_.anchor_distance_mm;
@@ -53,9 +61,29 @@ Status CablePlotterKinematics::forward(const JointVector& joints, Pose& pose_ino
   }
   const double depth = std::sqrt(depth_squared);
   if (depth <= kMinRelativeDepth * d) return Status::failure(StatusCode::singular);
+  // No refusal outside the anchors here: calibration solves FK with a geometry still slightly
+  // off, and the pose the joints imply is the answer it needs; inverse() says what is reachable.
   pose_inout.position_mm.x() = x;
   pose_inout.position_mm.y() = -depth;  // gravity takes the lower intersection
+  passthrough_.forward(joints, 2, pose_inout);
   return Status::success();
+}
+
+std::string CablePlotterKinematics::why_refused(const Pose& pose, const Status& /*status*/) const {
+  const double x = pose.position_mm.x();
+  const double d = geometry_.anchor_distance_mm;
+  if (pose.position_mm.y() > 0.0) return "the pen would hang above the anchors (y > 0)";
+  if (-pose.position_mm.y() <= kMinRelativeDepth * d) {
+    return "on the anchor line (y = 0) the cables pull only sideways";
+  }
+  if (!(x > 0.0)) return "left of the left anchor (x <= 0) the right cable would have to push";
+  if (!(x < d)) {
+    char text[96];
+    std::snprintf(text, sizeof text,
+                  "right of the right anchor (x >= %g mm) the left cable would have to push", d);
+    return text;
+  }
+  return {};
 }
 
 Status CablePlotterKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
@@ -65,7 +93,8 @@ Status CablePlotterKinematics::jacobian(const Pose& pose, JointJacobian& d_joint
   const double left = std::hypot(x, y);
   const double right = std::hypot(d - x, y);
   if (left == 0.0 || right == 0.0) return Status::failure(StatusCode::singular);
-  d_joints_d_pose.setZero(2, kPoseSize);
+  d_joints_d_pose.setZero(joint_count(), kPoseSize);
+  passthrough_.jacobian(d_joints_d_pose, 2);
   d_joints_d_pose(0, 0) = x / left;
   d_joints_d_pose(0, 1) = y / left;
   d_joints_d_pose(1, 0) = -(d - x) / right;
@@ -95,8 +124,10 @@ std::unique_ptr<Kinematics> make_cable_plotter_kinematics(const ModelConfig& con
     geometry.left_cable_offset_mm = offsets[0];
     geometry.right_cable_offset_mm = offsets[1];
   }
+  // A pen on a real Z axis (or a drag knife's C) is a joint that follows the program.
+  PassThroughAxes passthrough = PassThroughAxes::read(config, Dof::planar_xy(), Dof::all());
   try {
-    return std::make_unique<CablePlotterKinematics>(geometry);
+    return std::make_unique<CablePlotterKinematics>(geometry, std::move(passthrough));
   } catch (const std::invalid_argument& error) {
     config.fail("anchor_distance", error.what());
   }

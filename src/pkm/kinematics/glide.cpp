@@ -15,9 +15,18 @@ constexpr double kMinRelativeDiscriminant = 1e-12;
 constexpr std::array<const char*, 3> kComponent = {"x", "y", "z"};
 }  // namespace
 
-GlideKinematics::GlideKinematics(std::vector<GlideRail> rails, Dof dof)
-    : rails_(std::move(rails)), dof_(dof) {
+GlideKinematics::GlideKinematics(std::vector<GlideRail> rails, Dof dof, PassThroughAxes passthrough)
+    : rails_(std::move(rails)), dof_(dof), passthrough_(std::move(passthrough)) {
   validate(rails_, dof_);
+  if (passthrough_.count() > 0 && dof_.any_rotation()) {
+    throw std::invalid_argument("only a translating glide carries pass-through joints");
+  }
+  for (const int axis : passthrough_.axes()) {
+    if (dof_.controls(axis)) {
+      throw std::invalid_argument("the rails move " + std::string(kAxisNames[axis]) +
+                                  " themselves");
+    }
+  }
 }
 
 void GlideKinematics::validate(std::vector<GlideRail>& rails, Dof dof) {
@@ -64,17 +73,19 @@ Status GlideKinematics::inverse(const Pose& pose, JointVector& joints) const {
   const Eigen::Matrix3d rotation =
       rotates ? rotation_from_abc(part.orientation_rad) : Eigen::Matrix3d::Identity();
   joints.resize(joint_count());
-  for (int i = 0; i < joint_count(); ++i) {
+  for (int i = 0; i < rail_count(); ++i) {
     const GlideRail& rail = rails_[i];
     const Eigen::Vector3d foot = part.position_mm + rotation * rail.attach_mm - rail.origin_mm;
     const double along = rail.direction.dot(foot);
     const double discriminant = along * along - foot.squaredNorm() + rail.strut_mm * rail.strut_mm;
-    if (discriminant < 0.0) return Status::failure(StatusCode::unreachable, i);
+    // Written to refuse NaN too: a pose far enough away overflows the squares (inf - inf).
+    if (!(discriminant >= 0.0)) return Status::failure(StatusCode::unreachable, i);
     if (discriminant <= kMinRelativeDiscriminant * rail.strut_mm * rail.strut_mm) {
       return Status::failure(StatusCode::singular, i);
     }
     joints[i] = along + rail.branch * std::sqrt(discriminant);
   }
+  passthrough_.inverse(pose, joints, rail_count());
   return Status::success();
 }
 
@@ -88,7 +99,7 @@ Status GlideKinematics::inverse_and_jacobian(const Pose& pose, JointVector& join
   std::array<Eigen::Matrix3d, 3> rotation_derivatives{};
   if (rotates) rotation_and_derivatives_abc(part.orientation_rad, rotation, rotation_derivatives);
   d_joints_d_pose.setZero(joint_count(), kPoseSize);
-  for (int i = 0; i < joint_count(); ++i) {
+  for (int i = 0; i < rail_count(); ++i) {
     const GlideRail& rail = rails_[i];
     const Eigen::Vector3d foot = part.position_mm + rotation * rail.attach_mm - rail.origin_mm;
     // |foot - q*direction| = strut; differentiating gives dq = strut_vector . dfoot / (strut .
@@ -104,6 +115,7 @@ Status GlideKinematics::inverse_and_jacobian(const Pose& pose, JointVector& join
       }
     }
   }
+  passthrough_.jacobian(d_joints_d_pose, rail_count());
   return Status::success();
 }
 
@@ -118,12 +130,12 @@ int GlideKinematics::assembly_mode(const Pose& pose) const {
   if (!inverse(pose, joints).ok()) return 0;
   const Pose part = controlled_part(pose);
   std::array<Eigen::Vector3d, 3> strut;
-  for (int i = 0; i < joint_count(); ++i) {
+  for (int i = 0; i < rail_count(); ++i) {
     strut[i] = part.position_mm + rails_[i].attach_mm - rails_[i].origin_mm -
                joints[i] * rails_[i].direction;
   }
   double orientation = 0.0;
-  if (joint_count() == 3) {
+  if (rail_count() == 3) {
     orientation = strut[0].dot(strut[1].cross(strut[2]));
   } else {
     int plane[2] = {0, 1};
@@ -139,12 +151,12 @@ Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pos
   // Sphere i: the tip lies at distance strut_i from carriage_i - attach_i.
   std::array<Eigen::Vector3d, 3> centre;
   std::array<double, 3> radius{};
-  for (int i = 0; i < joint_count(); ++i) {
+  for (int i = 0; i < rail_count(); ++i) {
     centre[i] = rails_[i].origin_mm + joints[i] * rails_[i].direction - rails_[i].attach_mm;
     radius[i] = rails_[i].strut_mm;
   }
   std::array<Eigen::Vector3d, 2> candidates;
-  if (joint_count() == 3) {
+  if (rail_count() == 3) {
     const Eigen::Vector3d span_12 = centre[1] - centre[0];
     const double d = span_12.norm();
     if (d == 0.0) return Status::failure(StatusCode::singular);
@@ -238,7 +250,14 @@ Status GlideKinematics::forward(const JointVector& joints, Pose& pose_inout) con
   if (joints.size() != joint_count() || !all_finite(joints) || !all_finite(pose_inout)) {
     return Status::failure(StatusCode::invalid_input);
   }
-  if (!dof_.any_rotation()) return forward_translating(joints, pose_inout);
+  if (!dof_.any_rotation()) {
+    // The pass-through coordinates are the joints themselves; the rails solve the rest.
+    Pose pose = pose_inout;
+    passthrough_.forward(joints, rail_count(), pose);
+    const Status status = forward_translating(joints, pose);
+    if (status.ok()) pose_inout = pose;
+    return status;
+  }
   return solve_forward_newton(*this, joints, pose_inout, forward_options_);
 }
 
@@ -301,6 +320,9 @@ std::unique_ptr<Kinematics> make_glide_kinematics(const ModelConfig& config) {
                                std::to_string(rails.size()));
     }
     if (config.has("axes")) config.fail("axes", "only a translating glide chooses its axes");
+    if (config.has("passthrough")) {
+      config.fail("passthrough", "a hexaglide moves all six axes itself; nothing passes through");
+    }
     dof = Dof::all();
   } else if (config.has("axes")) {
     for (const std::string& name : config.string_list("axes")) {
@@ -317,8 +339,11 @@ std::unique_ptr<Kinematics> make_glide_kinematics(const ModelConfig& config) {
                              std::to_string(rails.size()) + " rails for " +
                              std::to_string(dof.count()) + " axes");
   }
+  // A pen on a real Z axis of a biglide, or a rotary axis under a delta, follows the program.
+  PassThroughAxes passthrough;
+  if (!orientation) passthrough = PassThroughAxes::read(config, dof, Dof::all());
   try {
-    return std::make_unique<GlideKinematics>(std::move(rails), dof);
+    return std::make_unique<GlideKinematics>(std::move(rails), dof, std::move(passthrough));
   } catch (const std::invalid_argument& error) {
     config.fail("rails", error.what());
   }

@@ -1,5 +1,6 @@
 // Fixed-length struts between a platform and carriages on straight rails: biglide (2 rails),
 // triaglide and linear delta (3 rails, translating platform), hexaglide (6 rails, full pose).
+// A translating glide may carry pass-through joints after its rails (a pen on a real Z axis).
 #pragma once
 
 #include <Eigen/Core>
@@ -7,6 +8,7 @@
 
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/model_config.hpp"
+#include "pkm/kinematics/passthrough.hpp"
 
 namespace pkm {
 
@@ -21,14 +23,28 @@ struct GlideRail {
 class GlideKinematics final : public Kinematics {
  public:
   // `dof` is translation-only (2 or 3 axes, one per rail) or Dof::all() with six rails.
-  GlideKinematics(std::vector<GlideRail> rails, Dof dof);
+  // Pass-through axes, translating glides only, follow the rails as joints.
+  GlideKinematics(std::vector<GlideRail> rails, Dof dof, PassThroughAxes passthrough = {});
 
   std::string_view type() const override { return "glide"; }
-  int joint_count() const override { return static_cast<int>(rails_.size()); }
-  Dof dof() const override { return dof_; }
+  int joint_count() const override { return rail_count() + passthrough_.count(); }
+  Dof dof() const override { return passthrough_.add_to(dof_); }
+  JointKind joint_kind(int joint) const override {
+    return joint < rail_count() ? JointKind::linear : passthrough_.kind(joint - rail_count());
+  }
+  int passthrough_axis(int joint) const override {
+    return joint < rail_count() ? -1 : passthrough_.axes()[joint - rail_count()];
+  }
   Status inverse(const Pose& pose, JointVector& joints) const override;
   Status forward(const JointVector& joints, Pose& pose_inout) const override;
   Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
+  std::string why_refused(const Pose& /*pose*/, const Status& status) const override {
+    if (status.joint < 0 || status.joint >= rail_count()) return {};
+    const std::string rail = "rail " + std::to_string(status.joint + 1);
+    if (status.code == StatusCode::singular) return "the strut of " + rail + " is across its rail";
+    if (status.code != StatusCode::unreachable) return {};
+    return "the strut of " + rail + " is too short to reach it";
+  }
   Status inverse_and_jacobian(const Pose& pose, JointVector& joints,
                               JointJacobian& d_joints_d_pose) const override;
   // Translating glides: the side of the plane (line, with 2 rails) through the carriages' strut
@@ -41,8 +57,12 @@ class GlideKinematics final : public Kinematics {
   }
 
   const std::vector<GlideRail>& rails() const { return rails_; }
+  const PassThroughAxes& passthrough() const { return passthrough_; }
+  // The axes the rails move (dof() adds the pass-through ones).
+  Dof rail_dof() const { return dof_; }
 
  private:
+  int rail_count() const { return static_cast<int>(rails_.size()); }
   // The pose as this model reads it: uncontrolled coordinates are zero.
   Pose controlled_part(const Pose& pose) const;
   // Closed-form FK of a translating platform: intersection of the spheres (3 rails) or circles
@@ -52,6 +72,7 @@ class GlideKinematics final : public Kinematics {
 
   std::vector<GlideRail> rails_;
   Dof dof_;
+  PassThroughAxes passthrough_;
 };
 
 std::unique_ptr<Kinematics> make_glide_kinematics(const ModelConfig& config);

@@ -124,6 +124,11 @@ Status HexapodKinematics::inverse_and_jacobian(const Pose& pose, JointVector& jo
   return Status::success();
 }
 
+int HexapodKinematics::assembly_mode(const Pose& pose) const {
+  const double normal_z = std::cos(pose.orientation_rad.x()) * std::cos(pose.orientation_rad.y());
+  return normal_z > 0.0 ? 1 : -1;
+}
+
 Status HexapodKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
   JointVector joints;
   return inverse_and_jacobian(pose, joints, d_joints_d_pose);

@@ -37,6 +37,11 @@ class HexapodKinematics final : public Kinematics {
   Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
   Status inverse_and_jacobian(const Pose& pose, JointVector& joints,
                               JointJacobian& d_joints_d_pose) const override;
+  // +1 while the platform is tilted less than 90 deg from the base (cos A cos B > 0, the z of its
+  // normal), -1 beyond: an upside-down platform (B = 180) has leg lengths too, but no machine
+  // turns its platform over, and forward kinematics seeded on the machine's side never returns
+  // there. Two cosines: cheap enough for every sample.
+  int assembly_mode(const Pose& pose) const override;
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;
   std::unique_ptr<Kinematics> clone() const override {

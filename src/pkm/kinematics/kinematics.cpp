@@ -26,6 +26,8 @@ std::string_view status_name(StatusCode code) {
       return "unreachable without passing a singularity (another assembly mode than home's)";
     case StatusCode::invalid_input:
       return "invalid input (NaN or infinite)";
+    case StatusCode::outside_envelope:
+      return "outside the work envelope";
   }
   return "unknown";
 }
@@ -40,6 +42,9 @@ std::string describe(const Status& status, std::span<const std::string> joint_na
       text += std::to_string(status.joint + 1);
     }
     text += ")";
+  }
+  if (status.axis >= 0 && status.axis < kPoseSize) {
+    text += " (axis " + std::string(kAxisNames[status.axis]) + ")";
   }
   return text;
 }

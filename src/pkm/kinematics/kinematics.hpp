@@ -22,22 +22,25 @@ using JointJacobian = Eigen::Matrix<double, Eigen::Dynamic, kPoseSize, 0, kMaxJo
 
 enum class StatusCode {
   ok,
-  unreachable,     // the geometry cannot reach the pose (strut too short, circles do not meet)
-  joint_limit,     // reachable, but a joint would leave [min, max] of the machine file
-  singular,        // at or too close to a singular configuration
-  not_converged,   // forward kinematics did not converge within its iteration cap
-  branch_changed,  // forward kinematics converged on another assembly branch than its seed
-  other_assembly,  // the pose needs another assembly mode than the machine's (home's)
-  invalid_input,   // NaN or infinite input
+  unreachable,       // the geometry cannot reach the pose (strut too short, circles do not meet)
+  joint_limit,       // reachable, but a joint would leave [min, max] of the machine file
+  singular,          // at or too close to a singular configuration
+  not_converged,     // forward kinematics did not converge within its iteration cap
+  branch_changed,    // forward kinematics converged on another assembly branch than its seed
+  other_assembly,    // the pose needs another assembly mode than the machine's (home's)
+  invalid_input,     // NaN or infinite input
+  outside_envelope,  // a coordinate passes the machine file's [cartesian] min or max
 };
 
 struct Status {
   StatusCode code = StatusCode::ok;
   int joint = -1;  // the joint (strut, leg, cable) the failure concerns; -1 when none
+  int axis = -1;   // the pose coordinate (0..5 = x y z a b c) of outside_envelope; -1 when none
 
   constexpr bool ok() const { return code == StatusCode::ok; }
   static constexpr Status success() { return {}; }
-  static constexpr Status failure(StatusCode code, int joint = -1) { return {code, joint}; }
+  static constexpr Status failure(StatusCode code, int joint = -1) { return {code, joint, -1}; }
+  static constexpr Status outside(int axis) { return {StatusCode::outside_envelope, -1, axis}; }
 };
 
 std::string_view status_name(StatusCode code);
@@ -67,6 +70,8 @@ class Kinematics {
   virtual int joint_count() const = 0;
   virtual Dof dof() const = 0;
   virtual JointKind joint_kind(int /*joint*/) const { return JointKind::linear; }
+  // The pose coordinate (0..5) a pass-through joint copies, or -1 for a joint of the mechanism.
+  virtual int passthrough_axis(int /*joint*/) const { return -1; }
 
   // IK. Never writes NaN: a failed pose returns a status and leaves `joints` unspecified.
   virtual Status inverse(const Pose& pose, JointVector& joints) const = 0;
@@ -82,6 +87,11 @@ class Kinematics {
   // IK alone cannot tell (a triaglide's platform below or above its carriages); 0 where the model
   // has a single mode or the check would cost more than it is worth in the per-sample path.
   virtual int assembly_mode(const Pose& /*pose*/) const { return 0; }
+  // Why inverse() refused `pose` with `status`, in the model's own terms (which cable would push,
+  // which strut is too short), for error messages; empty where the status says it all.
+  virtual std::string why_refused(const Pose& /*pose*/, const Status& /*status*/) const {
+    return {};
+  }
 
   virtual std::vector<Parameter> parameters() const = 0;
   // Values in the order and units of parameters(); throws std::invalid_argument when the new

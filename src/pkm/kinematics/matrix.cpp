@@ -14,13 +14,8 @@ constexpr std::array<const char*, 3> kRowNames = {"x", "y", "z"};
 
 MatrixKinematics::MatrixKinematics(const Eigen::Matrix3d& coefficients,
                                    std::vector<int> passthrough_axes)
-    : passthrough_axes_(std::move(passthrough_axes)), dof_(Dof::translation()) {
-  for (const int axis : passthrough_axes_) {
-    if (axis < 3 || axis >= kPoseSize) {
-      throw std::invalid_argument("only a, b and c can pass through a matrix machine");
-    }
-    dof_ = dof_.with(axis);
-  }
+    : passthrough_(std::move(passthrough_axes), Dof::translation()),
+      dof_(passthrough_.add_to(Dof::translation())) {
   set_coefficients(coefficients);
 }
 
@@ -44,9 +39,7 @@ Status MatrixKinematics::inverse(const Pose& pose, JointVector& joints) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
   joints.resize(joint_count());
   joints.head<3>() = coefficients_ * pose.position_mm;
-  for (std::size_t i = 0; i < passthrough_axes_.size(); ++i) {
-    joints[3 + static_cast<int>(i)] = pose.orientation_rad[passthrough_axes_[i] - 3];
-  }
+  passthrough_.inverse(pose, joints, 3);
   return Status::success();
 }
 
@@ -55,18 +48,14 @@ Status MatrixKinematics::forward(const JointVector& joints, Pose& pose_inout) co
     return Status::failure(StatusCode::invalid_input);
   }
   pose_inout.position_mm = inverse_coefficients_ * joints.head<3>();
-  for (std::size_t i = 0; i < passthrough_axes_.size(); ++i) {
-    pose_inout.orientation_rad[passthrough_axes_[i] - 3] = joints[3 + static_cast<int>(i)];
-  }
+  passthrough_.forward(joints, 3, pose_inout);
   return Status::success();
 }
 
 Status MatrixKinematics::jacobian(const Pose& /*pose*/, JointJacobian& d_joints_d_pose) const {
   d_joints_d_pose.setZero(joint_count(), kPoseSize);
   d_joints_d_pose.topLeftCorner<3, 3>() = coefficients_;
-  for (std::size_t i = 0; i < passthrough_axes_.size(); ++i) {
-    d_joints_d_pose(3 + static_cast<int>(i), passthrough_axes_[i]) = 1.0;
-  }
+  passthrough_.jacobian(d_joints_d_pose, 3);
   return Status::success();
 }
 
@@ -91,16 +80,9 @@ void MatrixKinematics::set_parameters(std::span<const double> values) {
 std::unique_ptr<Kinematics> make_matrix_kinematics(const ModelConfig& config) {
   const Eigen::Matrix3d coefficients =
       config.has("matrix") ? config.matrix3("matrix") : Eigen::Matrix3d::Identity();
-  std::vector<int> passthrough;
-  if (config.has("passthrough")) {
-    for (const std::string& name : config.string_list("passthrough")) {
-      const int axis = axis_index(name);
-      if (axis < 3) config.fail("passthrough", "'" + name + "' is not one of \"a\", \"b\", \"c\"");
-      passthrough.push_back(axis);
-    }
-  }
+  const PassThroughAxes passthrough = PassThroughAxes::read(config, Dof::translation(), Dof::all());
   try {
-    return std::make_unique<MatrixKinematics>(coefficients, std::move(passthrough));
+    return std::make_unique<MatrixKinematics>(coefficients, passthrough.axes());
   } catch (const std::invalid_argument& error) {
     config.fail("matrix", error.what());
   }

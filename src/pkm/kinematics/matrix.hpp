@@ -6,6 +6,7 @@
 
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/model_config.hpp"
+#include "pkm/kinematics/passthrough.hpp"
 
 namespace pkm {
 
@@ -15,10 +16,13 @@ class MatrixKinematics final : public Kinematics {
   MatrixKinematics(const Eigen::Matrix3d& coefficients, std::vector<int> passthrough_axes);
 
   std::string_view type() const override { return "matrix"; }
-  int joint_count() const override { return 3 + static_cast<int>(passthrough_axes_.size()); }
+  int joint_count() const override { return 3 + passthrough_.count(); }
   Dof dof() const override { return dof_; }
   JointKind joint_kind(int joint) const override {
-    return joint < 3 ? JointKind::linear : JointKind::rotary;
+    return joint < 3 ? JointKind::linear : passthrough_.kind(joint - 3);
+  }
+  int passthrough_axis(int joint) const override {
+    return joint < 3 ? -1 : passthrough_.axes()[joint - 3];
   }
   Status inverse(const Pose& pose, JointVector& joints) const override;
   Status forward(const JointVector& joints, Pose& pose_inout) const override;
@@ -30,7 +34,7 @@ class MatrixKinematics final : public Kinematics {
   }
 
   const Eigen::Matrix3d& coefficients() const { return coefficients_; }
-  const std::vector<int>& passthrough_axes() const { return passthrough_axes_; }
+  const std::vector<int>& passthrough_axes() const { return passthrough_.axes(); }
   // Largest ratio of singular values accepted: beyond it FK would amplify a joint error of 1 um
   // into more than 1 m of tool motion, which is a typo in the file, not a machine.
   static constexpr double kMaxConditionNumber = 1e6;
@@ -40,7 +44,7 @@ class MatrixKinematics final : public Kinematics {
 
   Eigen::Matrix3d coefficients_;
   Eigen::Matrix3d inverse_coefficients_;
-  std::vector<int> passthrough_axes_;
+  PassThroughAxes passthrough_;
   Dof dof_;
 };
 

@@ -2,8 +2,12 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -22,7 +26,8 @@ Machine::Machine(std::string name, std::string source, LengthUnit units,
       joints_(std::move(joints)),
       cartesian_(cartesian),
       home_(home),
-      home_assembly_mode_(kinematics_->assembly_mode(home)) {
+      home_assembly_mode_(kinematics_->assembly_mode(home)),
+      checks_envelope_(cartesian_.has_envelope()) {
   for (const JointSpec& joint : joints_) joint_names_.push_back(joint.name);
 }
 
@@ -36,7 +41,8 @@ Machine::Machine(const Machine& other)
       cartesian_(other.cartesian_),
       home_(other.home_),
       tool_(other.tool_),
-      home_assembly_mode_(other.home_assembly_mode_) {}
+      home_assembly_mode_(other.home_assembly_mode_),
+      checks_envelope_(other.checks_envelope_) {}
 
 Machine& Machine::operator=(const Machine& other) {
   if (this != &other) *this = Machine(other);
@@ -45,20 +51,63 @@ Machine& Machine::operator=(const Machine& other) {
 
 Status Machine::check_joint_limits(const JointVector& joints) const {
   for (int i = 0; i < static_cast<int>(joints_.size()); ++i) {
-    if (joints[i] < joints_[i].min || joints[i] > joints_[i].max) {
+    // Written so that NaN fails too (every comparison with NaN is false).
+    if (!(joints[i] >= joints_[i].min && joints[i] <= joints_[i].max)) {
       return Status::failure(StatusCode::joint_limit, i);
     }
   }
   return Status::success();
 }
 
+Status Machine::check_envelope(const Pose& pose) const {
+  if (!checks_envelope_) return Status::success();
+  const Dof dof = kinematics_->dof();
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    const double value = axis < 3 ? pose.position_mm[axis] : pose.orientation_rad[axis - 3];
+    if (dof.controls(axis) &&
+        !(value >= cartesian_.envelope_min[axis] && value <= cartesian_.envelope_max[axis])) {
+      return Status::outside(axis);
+    }
+  }
+  return Status::success();
+}
+
 Status Machine::inverse(const Pose& pose, JointVector& joints) const {
+  if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
+  const Status inside = check_envelope(pose);
+  if (!inside.ok()) return inside;
   const Status status = kinematics_->inverse(pose, joints);
   if (!status.ok()) return status;
+  for (int i = 0; i < joints.size(); ++i) {
+    // A pose far enough away overflows a model's arithmetic: no joint value, not a NaN one.
+    if (!std::isfinite(joints[i])) return Status::failure(StatusCode::unreachable, i);
+  }
   if (home_assembly_mode_ != 0 && kinematics_->assembly_mode(pose) != home_assembly_mode_) {
     return Status::failure(StatusCode::other_assembly);
   }
   return check_joint_limits(joints);
+}
+
+double Machine::joint_to_file(int joint, double internal) const {
+  const JointSpec& spec = joints_[static_cast<std::size_t>(joint)];
+  return spec.kind == JointKind::rotary ? radians_to_degrees(internal) : internal / mm_per_unit();
+}
+
+double Machine::joint_from_file(int joint, double value) const {
+  const JointSpec& spec = joints_[static_cast<std::size_t>(joint)];
+  return spec.kind == JointKind::rotary ? degrees_to_radians(value) : value * mm_per_unit();
+}
+
+const char* Machine::joint_file_unit(int joint) const {
+  return joints_[static_cast<std::size_t>(joint)].kind == JointKind::rotary ? "deg" : length_unit();
+}
+
+double Machine::axis_to_file(int axis, double internal) const {
+  return axis < 3 ? internal / mm_per_unit() : radians_to_degrees(internal);
+}
+
+double Machine::axis_from_file(int axis, double value) const {
+  return axis < 3 ? value * mm_per_unit() : degrees_to_radians(value);
 }
 
 Status Machine::forward(const JointVector& joints, Pose& pose_inout) const {
@@ -82,6 +131,7 @@ Status Machine::forward(const JointVector& joints, Pose& pose_inout) const {
     status = kinematics_->forward(joints, solved);
     if (wrong_mode()) status = Status::failure(StatusCode::branch_changed);
   }
+  if (status.ok() && !all_finite(solved)) status = Status::failure(StatusCode::not_converged);
   if (status.ok()) pose_inout = solved;
   return status;
 }
@@ -90,20 +140,115 @@ namespace {
 
 constexpr std::string_view kAxisLetters = "XYZABCUVW";
 
+// Positions within a kilometre (or that many degrees: a rotary axis may turn many times);
+// speeds and accelerations from a crawl to far beyond any machine. Outside these a number is a
+// typo, and tiny limits would make a plan run for ever.
+constexpr double kMaxPosition = 1e6;
+constexpr double kMinRate = 1e-3;
+constexpr double kMaxVelocity = 1e6;
+constexpr double kMaxAcceleration = 1e9;
+
+std::string number_text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+// A number of the file (in its units), refused outside [low, high].
+double ranged(const ModelConfig& table, std::string_view key, double low, double high,
+              const std::string& unit) {
+  const double value = table.number(key);
+  if (!(value >= low && value <= high)) {
+    table.fail(key, "must be between " + number_text(low) + " and " + number_text(high) + " " +
+                        unit + ", not " + number_text(value));
+  }
+  return value;
+}
+
 JointSpec read_joint(const ModelConfig& table, JointKind kind, double mm_per_unit) {
   JointSpec joint;
   joint.name = table.string("name");
   joint.kind = kind;
   // Rotary joints are in degrees in the file and radians inside.
-  const double scale = kind == JointKind::rotary ? degrees_to_radians(1.0) : mm_per_unit;
-  joint.min = table.number("min") * scale;
-  joint.max = table.number("max") * scale;
-  joint.max_velocity = table.number("max_velocity") * scale;
-  joint.max_acceleration = table.number("max_acceleration") * scale;
+  const bool rotary = kind == JointKind::rotary;
+  const double scale = rotary ? degrees_to_radians(1.0) : mm_per_unit;
+  const std::string unit = rotary ? "deg" : (mm_per_unit == 1.0 ? "mm" : "in");
+  joint.min = ranged(table, "min", -kMaxPosition, kMaxPosition, unit) * scale;
+  joint.max = ranged(table, "max", -kMaxPosition, kMaxPosition, unit) * scale;
   if (!(joint.min < joint.max)) table.fail("max", "must be greater than min");
-  if (!(joint.max_velocity > 0.0)) table.fail("max_velocity", "must be positive");
-  if (!(joint.max_acceleration > 0.0)) table.fail("max_acceleration", "must be positive");
+  joint.max_velocity = ranged(table, "max_velocity", kMinRate, kMaxVelocity, unit + "/s") * scale;
+  joint.max_acceleration =
+      ranged(table, "max_acceleration", kMinRate, kMaxAcceleration, unit + "/s^2") * scale;
   return joint;
+}
+
+// The letter each joint takes in joint-space G-code: its `axis`, else a pass-through joint's own
+// axis (a pass-through of c is C), else the first of X Y Z A B C U V W no other joint takes.
+void assign_axis_letters(const std::vector<std::unique_ptr<ModelConfig>>& tables,
+                         const Kinematics& kinematics, std::vector<JointSpec>& joints) {
+  std::vector<std::string> why(joints.size());
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const ModelConfig& table = *tables[i];
+    const int passthrough = kinematics.passthrough_axis(static_cast<int>(i));
+    if (table.has("axis")) {
+      const std::string letter = table.string("axis");
+      const char upper =
+          letter.size() == 1
+              ? static_cast<char>(std::toupper(static_cast<unsigned char>(letter[0])))
+              : '?';
+      if (kAxisLetters.find(upper) == std::string_view::npos) {
+        table.fail("axis", "must be one letter of X Y Z A B C U V W");
+      }
+      joints[i].axis_letter = upper;
+      why[i] = "axis = \"" + std::string(1, upper) + "\"";
+    } else if (passthrough >= 0) {
+      joints[i].axis_letter = static_cast<char>(std::toupper(kAxisNames[passthrough][0]));
+      why[i] = "the pass-through of " + std::string(kAxisNames[passthrough]);
+    } else {
+      joints[i].axis_letter = 0;  // chosen below, from the letters left
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (joints[i].axis_letter != 0 && joints[j].axis_letter == joints[i].axis_letter) {
+        table.fail(table.has("axis") ? "axis" : "name",
+                   std::string("letter ") + joints[i].axis_letter + " is used by two joints: '" +
+                       joints[j].name + "' (" + why[j] + ") and '" + joints[i].name + "' (" +
+                       why[i] + "); give one of them another axis letter");
+      }
+    }
+  }
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    if (joints[i].axis_letter != 0) continue;
+    for (const char letter : kAxisLetters) {
+      const bool taken = std::any_of(joints.begin(), joints.end(),
+                                     [&](const JointSpec& j) { return j.axis_letter == letter; });
+      if (!taken) {
+        joints[i].axis_letter = letter;
+        break;
+      }
+    }
+    if (joints[i].axis_letter == 0) tables[i]->fail("name", "no axis letter is left for it");
+  }
+}
+
+std::vector<JointSpec> read_joints(const std::vector<std::unique_ptr<ModelConfig>>& tables,
+                                   const Kinematics& kinematics, double mm_per_unit) {
+  std::vector<JointSpec> joints;
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    joints.push_back(
+        read_joint(*tables[i], kinematics.joint_kind(static_cast<int>(i)), mm_per_unit));
+  }
+  assign_axis_letters(tables, kinematics, joints);
+  return joints;
+}
+
+// x y [z [a b c]] in the file's units and degrees, to mm and rad.
+Vector6d pose_values(const TomlSection& cartesian, const std::vector<double>& values) {
+  Vector6d pose = Vector6d::Zero();
+  for (std::size_t i = 0; i < values.size() && i < kPoseSize; ++i) {
+    pose[static_cast<int>(i)] =
+        i < 3 ? values[i] * cartesian.mm_per_file_unit() : degrees_to_radians(values[i]);
+  }
+  return pose;
 }
 
 Pose read_home(const TomlSection& cartesian, const Kinematics& kinematics) {
@@ -111,18 +256,55 @@ Pose read_home(const TomlSection& cartesian, const Kinematics& kinematics) {
   if (values.size() < 2 || values.size() > 6) {
     cartesian.fail("home", "needs 2 to 6 numbers: x y [z [a b c]] in mm and deg");
   }
-  Vector6d pose = Vector6d::Zero();
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    pose[static_cast<int>(i)] =
-        i < 3 ? values[i] * cartesian.mm_per_file_unit() : degrees_to_radians(values[i]);
-  }
   for (int axis = static_cast<int>(values.size()); axis < kPoseSize; ++axis) {
     if (kinematics.dof().controls(axis)) {
       cartesian.fail("home", "this machine controls " + std::string(kAxisNames[axis]) +
                                  ", so home needs a value for it");
     }
   }
-  return Pose::from_vector(pose);
+  return Pose::from_vector(pose_values(cartesian, values));
+}
+
+// The optional work envelope: min and max list x y [z [a b c]] like home, as many values.
+void read_envelope(const TomlSection& cartesian, const Pose& home, CartesianLimits& limits) {
+  if (!cartesian.has("min") && !cartesian.has("max")) return;
+  const char* missing = cartesian.has("min") ? "max" : "min";
+  if (!cartesian.has(missing)) {
+    cartesian.fail(cartesian.has("min") ? "min" : "max",
+                   "needs its partner: give both min and max");
+  }
+  const std::size_t count = cartesian.number_list("home").size();
+  for (const char* key : {"min", "max"}) {
+    if (cartesian.number_list(key).size() != count) {
+      cartesian.fail(key, "needs " + std::to_string(count) +
+                              " numbers, one per coordinate of home (x y [z [a b c]])");
+    }
+  }
+  const Vector6d min = pose_values(cartesian, cartesian.number_list("min"));
+  const Vector6d max = pose_values(cartesian, cartesian.number_list("max"));
+  const Vector6d at_home = home.as_vector();
+  for (int axis = 0; axis < static_cast<int>(count); ++axis) {
+    const std::string name(kAxisNames[axis]);
+    if (!(min[axis] < max[axis])) cartesian.fail("max", name + ": must be greater than min");
+    if (!(at_home[axis] >= min[axis] && at_home[axis] <= max[axis])) {
+      cartesian.fail("home", name + " lies outside the work envelope (min, max)");
+    }
+    limits.envelope_min[axis] = min[axis];
+    limits.envelope_max[axis] = max[axis];
+  }
+}
+
+CartesianLimits read_cartesian(const TomlSection& cartesian, const Pose& home) {
+  const std::string unit = cartesian.mm_per_file_unit() == 1.0 ? "mm" : "in";
+  CartesianLimits limits;
+  limits.max_feed_mm_per_min =
+      ranged(cartesian, "max_feed", kMinRate, 60.0 * kMaxVelocity, unit + "/min") *
+      cartesian.mm_per_file_unit();
+  limits.max_acceleration_mm_per_s2 =
+      ranged(cartesian, "max_acceleration", kMinRate, kMaxAcceleration, unit + "/s^2") *
+      cartesian.mm_per_file_unit();
+  read_envelope(cartesian, home, limits);
+  return limits;
 }
 
 // The optional [tool] table: the pen channel of machines that do not move in Z.
@@ -140,6 +322,9 @@ ToolChannel read_tool(const TomlSection& tool, const Kinematics& kinematics) {
     tool.fail("z", "this machine moves in Z itself; a [tool] channel is for machines that do not");
   }
   channel.down_below_mm = tool.length_or("down_below", 0.0);
+  if (!(std::abs(channel.down_below_mm) <= kMaxPosition)) {
+    tool.fail("down_below", "must be within a kilometre of 0");
+  }
   if (tool.has("down")) channel.down_command = tool.string("down");
   if (tool.has("up")) channel.up_command = tool.string("up");
   channel.delay_s = tool.number_or("delay", 0.0);
@@ -155,6 +340,30 @@ ToolChannel read_tool(const TomlSection& tool, const Kinematics& kinematics) {
   return channel;
 }
 
+double read_units(const toml::table& document, const std::shared_ptr<KeyTracker>& tracker) {
+  const TomlSection unit_reader(document, "", tracker, 1.0, {});
+  if (!unit_reader.has("units")) return 1.0;
+  const std::string unit_name = unit_reader.string("units");
+  if (unit_name == "inch") return 25.4;
+  if (unit_name != "mm") {
+    unit_reader.fail("units", "must be \"mm\" or \"inch\", not \"" + unit_name + "\"");
+  }
+  return 1.0;
+}
+
+std::vector<std::string> read_joint_names(const std::vector<std::unique_ptr<ModelConfig>>& tables) {
+  std::vector<std::string> joint_names;
+  for (const auto& table : tables) {
+    const std::string joint_name = table->string("name");
+    if (joint_name.empty()) table->fail("name", "must not be empty");
+    for (const std::string& seen : joint_names) {
+      if (seen == joint_name) table->fail("name", "joint '" + joint_name + "' is named twice");
+    }
+    joint_names.push_back(joint_name);
+  }
+  return joint_names;
+}
+
 }  // namespace
 
 Machine parse_machine(std::string_view toml_text, const std::string& source_name) {
@@ -166,34 +375,12 @@ Machine parse_machine(std::string_view toml_text, const std::string& source_name
                            std::string(error.description()));
   }
   auto tracker = std::make_shared<KeyTracker>(source_name);
-  LengthUnit units = LengthUnit::mm;
-  double mm_per_unit = 1.0;
-  {
-    const TomlSection unit_reader(document, "", tracker, 1.0, {});
-    if (unit_reader.has("units")) {
-      const std::string unit_name = unit_reader.string("units");
-      if (unit_name == "inch") {
-        units = LengthUnit::inch;
-        mm_per_unit = 25.4;
-      } else if (unit_name != "mm") {
-        unit_reader.fail("units", "must be \"mm\" or \"inch\", not \"" + unit_name + "\"");
-      }
-    }
-  }
+  const double mm_per_unit = read_units(document, tracker);
   TomlSection root(document, "", tracker, mm_per_unit, {});
   const std::string name = root.string("name");
 
   const auto joint_tables = root.table_list("joints");
-  std::vector<std::string> joint_names;
-  for (const auto& table : joint_tables) {
-    const std::string joint_name = table->string("name");
-    if (joint_name.empty()) table->fail("name", "must not be empty");
-    for (const std::string& seen : joint_names) {
-      if (seen == joint_name) table->fail("name", "joint '" + joint_name + "' is named twice");
-    }
-    joint_names.push_back(joint_name);
-  }
-  root.set_joint_names(joint_names);
+  root.set_joint_names(read_joint_names(joint_tables));
 
   TomlSection kinematics_section = root.section("kinematics");
   std::unique_ptr<Kinematics> kinematics = make_kinematics(kinematics_section);
@@ -202,100 +389,43 @@ Machine parse_machine(std::string_view toml_text, const std::string& source_name
                             std::to_string(kinematics->joint_count()) + " joints; the file lists " +
                             std::to_string(joint_tables.size()) + " [[joints]] tables");
   }
-
-  std::vector<JointSpec> joints;
-  std::string letters_used;
-  for (std::size_t i = 0; i < joint_tables.size(); ++i) {
-    const ModelConfig& table = *joint_tables[i];
-    JointSpec joint = read_joint(table, kinematics->joint_kind(static_cast<int>(i)), mm_per_unit);
-    if (table.has("axis")) {
-      const std::string letter = table.string("axis");
-      if (letter.size() != 1 ||
-          kAxisLetters.find(static_cast<char>(
-              std::toupper(static_cast<unsigned char>(letter[0])))) == std::string_view::npos) {
-        table.fail("axis", "must be one letter of X Y Z A B C U V W");
-      }
-      joint.axis_letter = static_cast<char>(std::toupper(static_cast<unsigned char>(letter[0])));
-    } else {
-      joint.axis_letter = kAxisLetters[i];
-    }
-    if (letters_used.find(joint.axis_letter) != std::string::npos) {
-      table.fail("axis", std::string("letter ") + joint.axis_letter + " is used by two joints");
-    }
-    letters_used += joint.axis_letter;
-    joints.push_back(joint);
-  }
+  std::vector<JointSpec> joints = read_joints(joint_tables, *kinematics, mm_per_unit);
 
   const TomlSection cartesian_section = root.section("cartesian");
-  CartesianLimits cartesian;
-  cartesian.max_feed_mm_per_min = cartesian_section.length("max_feed");
-  cartesian.max_acceleration_mm_per_s2 = cartesian_section.length("max_acceleration");
-  if (!(cartesian.max_feed_mm_per_min > 0.0))
-    cartesian_section.fail("max_feed", "must be positive");
-  if (!(cartesian.max_acceleration_mm_per_s2 > 0.0)) {
-    cartesian_section.fail("max_acceleration", "must be positive");
-  }
   const Pose home = read_home(cartesian_section, *kinematics);
+  const CartesianLimits cartesian = read_cartesian(cartesian_section, home);
 
   ToolChannel tool;
   if (root.has("tool")) tool = read_tool(root.section("tool"), *kinematics);
 
   tracker->check_all_read();
-  Machine machine(name, source_name, units, std::move(kinematics), std::move(joints), cartesian,
-                  home);
+  Machine machine(name, source_name, mm_per_unit == 1.0 ? LengthUnit::mm : LengthUnit::inch,
+                  std::move(kinematics), std::move(joints), cartesian, home);
   machine.set_tool(std::move(tool));
   JointVector home_joints;
   const Status home_status = machine.inverse(home, home_joints);
   if (!home_status.ok()) {
-    cartesian_section.fail("home", "is not a usable pose: " + machine.describe(home_status));
+    cartesian_section.fail("home", "is not a usable pose: " + machine.explain(home, home_status));
   }
   return machine;
 }
 
 Machine load_machine(const std::filesystem::path& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw MachineFileError(path.string(), "cannot open (it is a directory)");
+  }
+  errno = 0;
   std::ifstream file(path, std::ios::binary);
-  if (!file) throw MachineFileError(path.string(), 0, "(file)", "cannot open the machine file");
+  if (!file) {
+    const int reason = errno;
+    throw MachineFileError(
+        path.string(),
+        std::string("cannot open (") + (reason != 0 ? std::strerror(reason) : "unreadable") + ")");
+  }
   std::ostringstream text;
   text << file.rdbuf();
   return parse_machine(text.str(), path.string());
-}
-
-std::vector<AxisExtent> reachable_extent(const Machine& machine) {
-  std::vector<AxisExtent> extents;
-  const Vector6d home = machine.home().as_vector();
-  JointVector joints;
-  const auto reachable = [&](int axis, double offset) {
-    Vector6d pose = home;
-    pose[axis] += offset;
-    return machine.inverse(Pose::from_vector(pose), joints).ok();
-  };
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    if (!machine.kinematics().dof().controls(axis)) continue;
-    AxisExtent extent{axis, home[axis], home[axis]};
-    // Angles are bounded by a half turn; lengths by a kilometre.
-    const double limit = axis < 3 ? 1e6 : 3.14159265358979323846;
-    const double first_step = axis < 3 ? 1.0 : 1e-3;
-    const double resolution = axis < 3 ? 1e-6 : 1e-9;
-    for (const double sign : {-1.0, 1.0}) {
-      double inside = 0.0;
-      double outside = first_step;
-      while (outside < limit && reachable(axis, sign * outside)) {
-        inside = outside;
-        outside *= 2.0;
-      }
-      if (outside >= limit) {
-        outside = limit;
-        if (reachable(axis, sign * limit)) inside = limit;
-      }
-      while (outside - inside > resolution && inside < limit) {
-        const double middle = 0.5 * (inside + outside);
-        (reachable(axis, sign * middle) ? inside : outside) = middle;
-      }
-      (sign < 0 ? extent.min : extent.max) = home[axis] + sign * inside;
-    }
-    extents.push_back(extent);
-  }
-  return extents;
 }
 
 }  // namespace pkm

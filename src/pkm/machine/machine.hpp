@@ -1,7 +1,11 @@
-// A machine: its kinematics, its joints with their limits, its Cartesian limits and home pose.
+// A machine: its kinematics, its joints with their limits and axis letters, its Cartesian limits
+// (feed, acceleration, work envelope) and home pose; explanations of the poses it cannot take, in
+// the machine file's units; the machine file's parser.
 #pragma once
 
 #include <filesystem>
+#include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -57,6 +61,13 @@ struct ToolChannel {
 struct CartesianLimits {
   double max_feed_mm_per_min = 0.0;
   double max_acceleration_mm_per_s2 = 0.0;
+  // The work envelope ([cartesian] min and max, LinuxCNC's axis limits): mm and rad, infinite
+  // where the file gives none. Only the coordinates the machine controls are checked.
+  Vector6d envelope_min = Vector6d::Constant(-std::numeric_limits<double>::infinity());
+  Vector6d envelope_max = Vector6d::Constant(std::numeric_limits<double>::infinity());
+  bool has_envelope() const {
+    return envelope_min.array().isFinite().any() || envelope_max.array().isFinite().any();
+  }
 };
 
 class Machine {
@@ -81,15 +92,46 @@ class Machine {
   const ToolChannel& tool() const { return tool_; }
   void set_tool(ToolChannel tool) { tool_ = std::move(tool); }
 
-  // IK, then the assembly mode of home, then the joint limits of the machine file.
+  // The work envelope, IK (finite joints only), the assembly mode of home, then the joint limits.
   Status inverse(const Pose& pose, JointVector& joints) const;
   // Joint limits first, then FK seeded with pose_inout; a result in another assembly mode than
   // home's is solved again from home, and refused if it stays there.
   Status forward(const JointVector& joints, Pose& pose_inout) const;
+  // Refuses NaN as well as values beyond [min, max].
   Status check_joint_limits(const JointVector& joints) const;
+  Status check_envelope(const Pose& pose) const;
   std::string describe(const Status& status) const { return pkm::describe(status, joint_names_); }
 
+  // What a user needs to act on a pose the machine refused (inverse's status): the pose, the
+  // joint, its value and the limit it passes, in the machine file's units, e.g.
+  // "pose x 1234.000 y -20.000 mm: joint 'left' = 2345.678 mm passes its max 2100.000 mm".
+  std::string explain(const Pose& pose, const Status& status) const;
+  // "joint 'left' = 2345.678 mm passes its max 2100.000 mm" (value in mm or rad inside).
+  std::string explain_joint(int joint, double value) const;
+  // A move the machine cannot follow, given as its poses for u in [0, 1] (mm, rad): explains
+  // where it first leaves the reach (found by sampling and bisection, so every caller names the
+  // same pose and joint), with how far the failing joint goes along the move.
+  std::string explain_path(const std::function<Vector6d(double)>& pose_at) const;
+
+  // The interface units of ik, fk, check and the explanations: the machine file's length unit
+  // (mm or inch) and degrees.
+  double mm_per_unit() const { return units_ == LengthUnit::inch ? 25.4 : 1.0; }
+  const char* length_unit() const { return units_ == LengthUnit::inch ? "in" : "mm"; }
+  double joint_to_file(int joint, double internal) const;
+  double joint_from_file(int joint, double value) const;
+  const char* joint_file_unit(int joint) const;
+  double axis_to_file(int axis, double internal) const;  // pose coordinate 0..5
+  double axis_from_file(int axis, double value) const;
+  const char* axis_file_unit(int axis) const { return axis < 3 ? length_unit() : "deg"; }
+  // "x 1234.000 y -20.000 mm" (the controlled coordinates; angles "a 10.000 deg").
+  std::string format_pose(const Pose& pose) const;
+
  private:
+  // The envelope part of explain_path: where the move crosses the envelope on `axis`, and how far
+  // beyond it the move goes.
+  std::string explain_envelope_crossing(const Pose& pose, int axis,
+                                        const std::function<Vector6d(double)>& pose_at) const;
+
   std::string name_;
   std::string source_;
   LengthUnit units_ = LengthUnit::mm;
@@ -100,6 +142,7 @@ class Machine {
   Pose home_;
   ToolChannel tool_;
   int home_assembly_mode_ = 0;
+  bool checks_envelope_ = false;  // cartesian_.has_envelope(), asked once, not per sample
 };
 
 // Parses a machine file's text; `source_name` is used in error locations.
@@ -108,12 +151,36 @@ Machine parse_machine(std::string_view toml_text, const std::string& source_name
 Machine load_machine(const std::filesystem::path& path);
 
 // Per-axis reachable range along lines through home (mm, or rad for a b c), found by bisection on
-// the machine's IK and joint limits: what `pkm check` reports as the workspace extent.
+// the machine's inverse (IK, joint limits, work envelope): what `pkm check` reports as the
+// workspace extent.
 struct AxisExtent {
   int axis = 0;
   double min = 0.0;
   double max = 0.0;
 };
 std::vector<AxisExtent> reachable_extent(const Machine& machine);
+
+// An axis-aligned box of pose coordinates (mm, rad); `axes` says which coordinates it bounds.
+struct PoseBox {
+  Dof axes;
+  Vector6d min = Vector6d::Zero();
+  Vector6d max = Vector6d::Zero();
+  bool contains(const PoseBox& inner) const;
+};
+// The reachable extent as a box over the machine's controlled coordinates.
+PoseBox reach_box(const Machine& machine);
+// When a job's bounding box (program coordinates, mm and rad, over the axes it uses) placed at
+// `origin` (mm, rad; where program zero sits, as --origin) does not fit in the machine's reach:
+// both boxes in the machine file's units and the --origin that would centre the job, e.g.
+// "the job spans x 0.000..500.000 y ... mm; the machine reaches x ...; try --origin 650 -900".
+// Empty when the job's box fits.
+std::string outside_reach_hint(const Machine& machine, const PoseBox& job, const Vector6d& origin);
+
+// Smallest over largest singular value of the machine's jacobian at home, each column scaled to
+// unit length (so mm and rad columns compare): 0 at a singular machine (a hexapod with parallel
+// legs), near 1 at a well-conditioned one.
+double relative_conditioning_at_home(const Machine& machine);
+// Below this `pkm check` warns that the machine is singular (or nearly) at home.
+inline constexpr double kSingularAtHome = 1e-6;
 
 }  // namespace pkm

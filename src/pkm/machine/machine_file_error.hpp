@@ -5,9 +5,12 @@
 
 namespace pkm {
 
-// An error in a machine file, located as file:line:key.
+// An error in a machine file, located as file:line:key; or a file that cannot be read at all
+// ("file: cannot open (reason)", line 0).
 class MachineFileError : public std::runtime_error {
  public:
+  MachineFileError(std::string file, const std::string& message)
+      : std::runtime_error(file + ": " + message), file_(std::move(file)), line_(0) {}
   MachineFileError(std::string file, int line, std::string key, const std::string& message)
       : std::runtime_error(file + ":" + std::to_string(line) + ":" + key + ": " + message),
         file_(std::move(file)),

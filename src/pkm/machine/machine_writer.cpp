@@ -110,23 +110,19 @@ std::string kinematics_toml(const Kinematics& kinematics, LengthUnit units) {
              "],");
     }
     w.line("]");
-    if (!matrix->passthrough_axes().empty()) {
-      std::string list = "passthrough = [";
-      for (const int axis : matrix->passthrough_axes()) {
-        list += std::string(list.back() == '[' ? "" : ", ") + "\"" + std::string(kAxisNames[axis]) +
-                "\"";
-      }
-      w.line(list + "]");
-    }
+    const PassThroughAxes passthrough(matrix->passthrough_axes(), Dof::translation());
+    if (passthrough.count() > 0) w.line(passthrough.toml_line());
   } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&kinematics)) {
     const CablePlotterGeometry& g = plotter->geometry();
     w.length("anchor_distance", g.anchor_distance_mm);
     const double offsets[2] = {g.left_cable_offset_mm, g.right_cable_offset_mm};
     w.lengths("cable_offsets", offsets, 2);
+    if (plotter->passthrough().count() > 0) w.line(plotter->passthrough().toml_line());
   } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&kinematics)) {
-    const bool orientation = glide->dof().any_rotation();
+    const bool orientation = glide->rail_dof().any_rotation();
     w.line(std::string("orientation = ") + (orientation ? "true" : "false"));
-    if (!orientation) w.line("axes = " + axis_list(glide->dof()));
+    if (!orientation) w.line("axes = " + axis_list(glide->rail_dof()));
+    if (glide->passthrough().count() > 0) w.line(glide->passthrough().toml_line());
     for (const GlideRail& rail : glide->rails()) {
       w.line("");
       w.line("[[kinematics.rails]]");

@@ -1,7 +1,10 @@
 #include "pkm/machine/toml_config.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "pkm/machine/machine_file_error.hpp"
 
@@ -11,10 +14,41 @@ namespace {
 int line_of_node(const toml::node& node) {
   return static_cast<int>(node.source().begin.line);
 }
+
+// Edit distance (insertions, deletions, substitutions), case-insensitive.
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// How unlike two key names are, or SIZE_MAX when one cannot be a misspelling of the other: a few
+// letters wrong (a quarter of the name), or one cut short to at least half the other
+// (`max_accel` for `max_acceleration`).
+std::size_t misspelling_distance(std::string_view typed, std::string_view valid) {
+  const std::size_t distance = edit_distance(typed, valid);
+  const std::size_t longer = std::max(typed.size(), valid.size());
+  const std::size_t shorter = std::min(typed.size(), valid.size());
+  if (distance <= std::max<std::size_t>(1, longer / 4)) return distance;
+  const bool prefix = typed.substr(0, shorter) == valid.substr(0, shorter);
+  if (prefix && 2 * shorter >= longer && shorter >= 3) return distance;
+  return std::numeric_limits<std::size_t>::max();
+}
 }  // namespace
 
 void KeyTracker::register_table(const toml::table& table, std::string path) {
-  tables_.try_emplace(&table, Entry{std::move(path), {}});
+  tables_.try_emplace(&table, Entry{std::move(path), {}, {}});
 }
 
 void KeyTracker::mark(const toml::table& table, std::string_view key) {
@@ -22,24 +56,67 @@ void KeyTracker::mark(const toml::table& table, std::string_view key) {
   if (found != tables_.end()) found->second.read.emplace(key);
 }
 
+void KeyTracker::note_asked(const toml::table& table, std::string_view key) {
+  const auto found = tables_.find(&table);
+  if (found != tables_.end()) found->second.asked.emplace(key);
+}
+
+std::string KeyTracker::unread_near(const toml::table& table, std::string_view wanted) const {
+  const auto found = tables_.find(&table);
+  if (found == tables_.end()) return "";
+  std::string best;
+  std::size_t best_distance = std::numeric_limits<std::size_t>::max();
+  for (const auto& [key, node] : table) {
+    // A key some reader asked for is valid here, whatever it looks like.
+    if (found->second.read.count(key.str()) != 0 || found->second.asked.count(key.str()) != 0) {
+      continue;
+    }
+    const std::size_t distance = misspelling_distance(key.str(), wanted);
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = std::string(key.str());
+    }
+  }
+  return best;
+}
+
 void KeyTracker::check_all_read() const {
   int first_line = std::numeric_limits<int>::max();
   std::string first_key;
+  std::string known;
+  std::string suggestion;
   for (const auto& [table, entry] : tables_) {
     for (const auto& [key, node] : *table) {
       if (entry.read.count(key.str()) != 0) continue;
       const int line = line_of_node(node);
-      if (line < first_line) {
-        first_line = line;
-        first_key =
-            entry.path.empty() ? std::string(key.str()) : entry.path + "." + std::string(key.str());
+      if (line >= first_line) continue;
+      first_line = line;
+      first_key = std::string(key.str());
+      first_key = entry.path.empty() ? first_key : entry.path + "." + first_key;
+      known.clear();
+      suggestion.clear();
+      std::size_t best = std::numeric_limits<std::size_t>::max();
+      for (const std::string& valid : entry.asked) {
+        known += (known.empty() ? "" : ", ") + valid;
+        const std::size_t distance = misspelling_distance(key.str(), valid);
+        if (distance < best) {
+          best = distance;
+          suggestion = valid;
+        }
       }
     }
   }
-  if (!first_key.empty()) {
-    throw MachineFileError(file_, first_line, first_key,
-                           "unknown key (see docs/machine-file.md for the keys of each table)");
+  if (first_key.empty()) return;
+  const std::string name = first_key.substr(first_key.rfind('.') + 1);
+  std::string message = "unknown key '" + name + "'";
+  if (!suggestion.empty()) {
+    message += " (did you mean '" + suggestion + "'?)";
+  } else if (!known.empty()) {
+    message += " (this table's keys: " + known + "; see docs/machine-file.md)";
+  } else {
+    message += " (see docs/machine-file.md for the keys of each table)";
   }
+  throw MachineFileError(file_, first_line, first_key, message);
 }
 
 TomlSection::TomlSection(const toml::table& table, std::string path,
@@ -76,13 +153,22 @@ void TomlSection::raise(std::string_view key, std::string_view message) const {
 
 bool TomlSection::has(std::string_view key) const {
   // Asking counts as reading: a model that looks for an optional key knows that key.
+  tracker_->note_asked(table_, key);
   if (table_.contains(key)) tracker_->mark(table_, key);
   return table_.contains(key);
 }
 
 const toml::node& TomlSection::require(std::string_view key) const {
+  tracker_->note_asked(table_, key);
   const toml::node* node = table_.get(key);
-  if (node == nullptr) fail(key, "missing (required)");
+  if (node == nullptr) {
+    // A misspelt key is the likelier mistake than a forgotten one: name it, at its own line.
+    const std::string near = tracker_->unread_near(table_, key);
+    if (!near.empty()) {
+      fail(near, "unknown key '" + near + "' (did you mean '" + std::string(key) + "'?)");
+    }
+    fail(key, "missing (required)");
+  }
   tracker_->mark(table_, key);
   return *node;
 }
@@ -112,13 +198,22 @@ std::vector<double> TomlSection::number_list(std::string_view key) const {
   return values;
 }
 
+double TomlSection::to_length(double value, std::string_view key) const {
+  // A machine within a kilometre: beyond that a length is a typo, and squares of it lose every
+  // digit a machine needs.
+  constexpr double kMaxLength_mm = 1e6;
+  const double mm = value * mm_per_unit_;
+  if (!(std::abs(mm) <= kMaxLength_mm)) fail(key, "must be within a kilometre (1e6 mm) of 0");
+  return mm;
+}
+
 double TomlSection::length(std::string_view key) const {
-  return number(key) * mm_per_unit_;
+  return to_length(number(key), key);
 }
 
 std::vector<double> TomlSection::length_list(std::string_view key) const {
   std::vector<double> values = number_list(key);
-  for (double& value : values) value *= mm_per_unit_;
+  for (double& value : values) value = to_length(value, key);
   return values;
 }
 
@@ -134,7 +229,7 @@ std::vector<Eigen::Vector3d> TomlSection::length_vector3_list(std::string_view k
     const toml::array* point = element.as_array();
     if (point == nullptr || point->size() != 3) fail(key, "each point needs 3 numbers [x, y, z]");
     Eigen::Vector3d value;
-    for (int k = 0; k < 3; ++k) value[k] = finite_number(*point->get(k), key) * mm_per_unit_;
+    for (int k = 0; k < 3; ++k) value[k] = to_length(finite_number(*point->get(k), key), key);
     points.push_back(value);
   }
   return points;

@@ -19,14 +19,20 @@ class KeyTracker {
   explicit KeyTracker(std::string file) : file_(std::move(file)) {}
   void register_table(const toml::table& table, std::string path);
   void mark(const toml::table& table, std::string_view key);
-  // Throws MachineFileError for the first key (in file order) that no reader asked for.
+  // A reader looked for `key` (present or not): a name valid in this table.
+  void note_asked(const toml::table& table, std::string_view key);
+  // Throws MachineFileError for the first key (in file order) that no reader asked for, with the
+  // closest valid name of its table.
   void check_all_read() const;
+  // A key of `table` nobody has read that looks like a misspelling of `wanted`, or "".
+  std::string unread_near(const toml::table& table, std::string_view wanted) const;
   const std::string& file() const { return file_; }
 
  private:
   struct Entry {
     std::string path;
     std::set<std::string, std::less<>> read;
+    std::set<std::string, std::less<>> asked;
   };
   std::string file_;
   std::map<const toml::table*, Entry> tables_;
@@ -67,6 +73,8 @@ class TomlSection final : public ModelConfig {
   const toml::node& require(std::string_view key) const;
   double finite_number(const toml::node& node, std::string_view key) const;
   const toml::array& require_array(std::string_view key) const;
+  // A length of the file in mm, refused beyond a kilometre.
+  double to_length(double value, std::string_view key) const;
 
   const toml::table& table_;
   std::string path_;

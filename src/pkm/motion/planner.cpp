@@ -165,7 +165,9 @@ class Planner {
     JointVector start_joints;
     const Status status = machine_.inverse(Pose::from_vector(pose_), start_joints);
     if (!status.ok()) {
-      throw PlanError(file_, 0, "the start pose is not usable: " + machine_.describe(status));
+      throw PlanError(
+          file_, 0,
+          "the start pose is not usable: " + machine_.explain(Pose::from_vector(pose_), status));
     }
     require_numbers(pose_, start_joints, 0, "at the start pose");
     for (int i = 0; i < joints; ++i) {
@@ -225,7 +227,8 @@ class Planner {
       const Status status = machine_.inverse(pose, q);
       if (!status.ok()) {
         throw PlanError(file_, segment.line,
-                        "the move leaves the machine's reach: " + machine_.describe(status));
+                        "the move leaves the machine's reach " +
+                            machine_.explain_path([&](double v) { return segment.at(v); }));
       }
       require_numbers(pose.as_vector(), q, segment.line, "along the move");
       if (options_.estimate_only) widen_ranges(q);
@@ -389,9 +392,9 @@ class Planner {
       const Status a = machine_.inverse(Pose::from_vector(segment.at(from)), q0);
       const Status b = machine_.inverse(Pose::from_vector(segment.at(to)), q1);
       if (!a.ok() || !b.ok()) {
-        throw PlanError(
-            file_, segment.line,
-            "the move leaves the machine's reach: " + machine_.describe(a.ok() ? b : a));
+        throw PlanError(file_, segment.line,
+                        "the move leaves the machine's reach " +
+                            machine_.explain_path([&](double v) { return segment.at(v); }));
       }
       return JointVector((q1 - q0) / ds);
     };
@@ -575,7 +578,8 @@ class Planner {
     const Status status = machine_.inverse(Pose::from_vector(pose), sample.joints);
     if (!status.ok()) {
       throw PlanError(file_, line,
-                      "at t = " + std::to_string(t) + " s: " + machine_.describe(status));
+                      "at t = " + std::to_string(t) +
+                          " s: " + machine_.explain(Pose::from_vector(pose), status));
     }
     require_numbers(pose, sample.joints, line, "", t);
     const double dt = t - last_sample_time_;

@@ -68,7 +68,8 @@ class Poster {
         bound_(machine, options.tolerance_mm) {
     JointVector home;
     const Status status = machine_.inverse(machine_.home(), home);
-    if (!status.ok()) throw PostError(file_, 0, "home is not usable: " + machine_.describe(status));
+    if (!status.ok())
+      throw PostError(file_, 0, "home is not usable: " + machine_.explain(machine_.home(), status));
     joints_ = rounded(home);
     report_.bounded = bound_.available();
     write("G21 G90 G94", 0);
@@ -171,7 +172,8 @@ class Poster {
       const Status status = machine_.inverse(Pose::from_vector(segment.end), end);
       if (!status.ok()) {
         throw PostError(file_, segment.line,
-                        "the move ends out of the machine's reach: " + machine_.describe(status));
+                        "the move leaves the machine's reach " +
+                            machine_.explain_path([&](double v) { return segment.at(v); }));
       }
     }
     double from = 0.0;
@@ -202,7 +204,8 @@ class Poster {
     const Status status = machine_.inverse(Pose::from_vector(segment.at(u)), q);
     if (!status.ok()) {
       throw PostError(file_, segment.line,
-                      "the move leaves the machine's reach: " + machine_.describe(status));
+                      "the move leaves the machine's reach " +
+                          machine_.explain_path([&](double v) { return segment.at(v); }));
     }
     return {q, rounded(q)};
   }

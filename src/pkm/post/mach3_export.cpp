@@ -53,10 +53,8 @@ std::vector<std::pair<char, std::string>> mach3_formulas(const Machine& machine)
       }
       expressions.push_back(e.empty() ? "0" : e);
     }
-    for (const int axis : matrix->passthrough_axes())
-      expressions.push_back(std::string(kAxisNames[axis]));
   } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&kinematics)) {
-    if (glide->dof().any_rotation()) {
+    if (glide->rail_dof().any_rotation()) {
       throw std::invalid_argument("a glide that turns its platform has no formula in x y z alone");
     }
     static constexpr const char* kAxes[] = {"x", "y", "z"};
@@ -65,7 +63,7 @@ std::vector<std::pair<char, std::string>> mach3_formulas(const Machine& machine)
       std::string w[3];
       for (int k = 0; k < 3; ++k) {
         const double offset = rail.attach_mm[k] - rail.origin_mm[k];
-        w[k] = glide->dof().controls(k) ? shifted(kAxes[k], offset) : number(offset);
+        w[k] = glide->rail_dof().controls(k) ? shifted(kAxes[k], offset) : number(offset);
       }
       std::string along;
       for (int k = 0; k < 3; ++k) {
@@ -90,6 +88,13 @@ std::vector<std::pair<char, std::string>> mach3_formulas(const Machine& machine)
   } else {
     throw std::invalid_argument("a " + std::string(kinematics.type()) +
                                 " machine has no closed formula for Mach3's formula axes");
+  }
+  // Pass-through joints (a matrix mill's A and C, a plotter's pen Z) follow the mechanism's.
+  for (int joint = static_cast<int>(expressions.size()); joint < kinematics.joint_count();
+       ++joint) {
+    const int axis = kinematics.passthrough_axis(joint);
+    if (axis < 0) throw std::logic_error("a joint of the mechanism has no formula");
+    expressions.push_back(std::string(kAxisNames[axis]));
   }
   std::vector<std::pair<char, std::string>> formulas;
   for (std::size_t i = 0; i < expressions.size(); ++i) {

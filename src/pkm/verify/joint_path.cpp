@@ -1,8 +1,10 @@
 #include "pkm/verify/joint_path.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <string_view>
 
@@ -114,10 +116,10 @@ class Verifier {
   void check_positions(int line, const JointVector& q) {
     for (int i = 0; i < q.size(); ++i) {
       const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
-      if (q[i] < joint.min || q[i] > joint.max) {
+      if (!(q[i] >= joint.min && q[i] <= joint.max)) {  // NaN is beyond every limit
         const double limit = q[i] < joint.min ? joint.min : joint.max;
-        report_.position.add(
-            {line, cursor_.line(), i, joint.to_interface(q[i]), joint.to_interface(limit), ""});
+        report_.position.add({line, cursor_.line(), i, joint.to_interface(q[i]),
+                              joint.to_interface(limit), machine_.explain_joint(i, q[i])});
       }
     }
   }
@@ -282,6 +284,9 @@ VerifyReport verify_joint_program(const Machine& machine, const std::filesystem:
 
 std::optional<double> tolerance_in_header(const std::filesystem::path& joints) {
   std::ifstream in(joints);
+  if (!in) {  // said here, before "no tolerance" could be blamed on the header
+    throw VerifyError(joints.string() + ": cannot open (" + std::strerror(errno) + ")");
+  }
   std::string line;
   for (int n = 1; n <= kHeaderLines && std::getline(in, line); ++n) {
     const std::size_t at = line.find("(tolerance ");

@@ -32,7 +32,8 @@ struct Violation {
   int job_line = 0;                 // job (0 where there is none)
   int joint = -1;                   // the joint, for position and velocity
   double value = 0.0, limit = 0.0;  // mm, mm/s, deg or deg/s; pen: the stretch's length, mm
-  std::string detail;               // pen: what the pen does against what the job asks
+  std::string detail;  // pen: what the pen does against what the job asks; position: the joint
+                       // and limit as ik, plan and post explain them
 };
 
 // Findings of one kind, summarised: a job with thousands is shown by its count, worst and first.

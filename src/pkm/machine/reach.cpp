@@ -1,0 +1,290 @@
+// What a machine can reach, and how to say so when it cannot: the explanations of refused poses
+// and moves, the reachable extent as lines and as a box, the --origin hint, the conditioning of
+// the machine at home.
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "pkm/machine/machine.hpp"
+
+namespace pkm {
+
+namespace {
+
+std::string formatted(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+// Values in the machine file's units: three decimals of a mm or a degree, four of an inch.
+std::string value_text(double value, const char* unit) {
+  std::string text = formatted(std::string(unit) == "in" ? "%.4f" : "%.3f", value);
+  // A crossing found by bisection lies a hair past zero: "-0.000" says nothing more than 0.
+  if (text[0] == '-' && text.find_first_not_of("-0.") == std::string::npos) text.erase(0, 1);
+  return text;
+}
+
+}  // namespace
+
+std::string Machine::format_pose(const Pose& pose) const {
+  const Vector6d values = pose.as_vector();
+  const Dof dof = kinematics_->dof();
+  std::string lengths;
+  std::string angles;
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    if (!dof.controls(axis)) continue;
+    std::string& part = axis < 3 ? lengths : angles;
+    part += (part.empty() ? "" : " ") + std::string(kAxisNames[axis]) + " " +
+            value_text(axis_to_file(axis, values[axis]), axis_file_unit(axis));
+  }
+  std::string text;
+  if (!lengths.empty()) text += lengths + " " + length_unit();
+  if (!angles.empty()) text += (text.empty() ? "" : " ") + angles + " deg";
+  return text;
+}
+
+std::string Machine::explain_joint(int joint, double value) const {
+  const JointSpec& spec = joints_[static_cast<std::size_t>(joint)];
+  const std::string name = "joint '" + spec.name + "'";
+  if (!std::isfinite(value)) return "the inverse kinematics gives no number for " + name;
+  const char* unit = joint_file_unit(joint);
+  const auto shown = [&](double v) {
+    return value_text(joint_to_file(joint, v), unit) + " " + unit;
+  };
+  std::string text = name + " = " + shown(value);
+  if (value < spec.min) return text + " passes its min " + shown(spec.min);
+  if (value > spec.max) return text + " passes its max " + shown(spec.max);
+  return text + ", within its limits " + shown(spec.min) + " .. " + shown(spec.max);
+}
+
+std::string Machine::explain(const Pose& pose, const Status& status) const {
+  std::string text = "pose " + format_pose(pose) + ": ";
+  const std::string joint_name =
+      status.joint >= 0 && status.joint < static_cast<int>(joints_.size())
+          ? "joint '" + joints_[static_cast<std::size_t>(status.joint)].name + "'"
+          : "";
+  JointVector joints;
+  switch (status.code) {
+    case StatusCode::joint_limit:
+    case StatusCode::unreachable:
+    case StatusCode::singular:
+      if (!joint_name.empty() && kinematics_->inverse(pose, joints).ok()) {
+        return text + explain_joint(status.joint, joints[status.joint]);
+      }
+      if (const std::string why = kinematics_->why_refused(pose, status); !why.empty()) {
+        return text + std::string(status_name(status.code)) + ": " + why;
+      }
+      if (status.code == StatusCode::singular) return text + describe(status);
+      return text + (joint_name.empty() ? "unreachable" : joint_name + " cannot reach it");
+    case StatusCode::outside_envelope: {
+      const int axis = status.axis;
+      const double value = pose.as_vector()[axis];
+      const bool below = value < cartesian_.envelope_min[axis];
+      const double limit = below ? cartesian_.envelope_min[axis] : cartesian_.envelope_max[axis];
+      const char* unit = axis_file_unit(axis);
+      return text + std::string(kAxisNames[axis]) + " = " +
+             value_text(axis_to_file(axis, value), unit) + " " + unit +
+             " passes the work envelope's " + (below ? "min " : "max ") +
+             value_text(axis_to_file(axis, limit), unit) + " " + unit + " ([cartesian] " +
+             (below ? "min" : "max") + ")";
+    }
+    case StatusCode::other_assembly:
+      return text +
+             "another assembly mode than home's, across a singularity (a platform below its "
+             "carriages, a hexapod platform tilted past 90 deg)";
+    case StatusCode::invalid_input:
+      return text + "not a finite pose";
+    default:
+      return text + describe(status);
+  }
+}
+
+std::string Machine::explain_envelope_crossing(
+    const Pose& pose, int axis, const std::function<Vector6d(double)>& pose_at) const {
+  constexpr int kSamples = 1000;
+  const double value = pose.as_vector()[axis];
+  const bool over = value > cartesian_.envelope_max[axis];
+  double worst = value;
+  for (int k = 0; k <= kSamples; ++k) {
+    const double sample = pose_at(static_cast<double>(k) / kSamples)[axis];
+    worst = over ? std::max(worst, sample) : std::min(worst, sample);
+  }
+  const char* unit = axis_file_unit(axis);
+  const auto shown = [&](double v) { return value_text(axis_to_file(axis, v), unit) + " " + unit; };
+  return "pose " + format_pose(pose) + ": " + std::string(kAxisNames[axis]) +
+         " passes the work envelope's " +
+         (over ? "max " + shown(cartesian_.envelope_max[axis])
+               : "min " + shown(cartesian_.envelope_min[axis])) +
+         " there, " + (over ? "up to " : "down to ") + shown(worst) + " along the move";
+}
+
+std::string Machine::explain_path(const std::function<Vector6d(double)>& pose_at) const {
+  constexpr int kSamples = 1000;
+  JointVector joints;
+  const auto fails = [&](double u) { return !inverse(Pose::from_vector(pose_at(u)), joints).ok(); };
+  int first_bad = -1;
+  for (int k = 0; k <= kSamples && first_bad < 0; ++k) {
+    if (fails(static_cast<double>(k) / kSamples)) first_bad = k;
+  }
+  if (first_bad < 0) return "the move is within reach at every sampled pose";
+  // The crossing, to a millionth of the move: every caller of the same move names the same
+  // pose and joint.
+  double good = first_bad == 0 ? 0.0 : (first_bad - 1.0) / kSamples;
+  double bad = static_cast<double>(first_bad) / kSamples;
+  if (first_bad > 0) {
+    while (bad - good > 1e-6) (fails(0.5 * (good + bad)) ? bad : good) = 0.5 * (good + bad);
+  }
+  const Pose pose = Pose::from_vector(pose_at(bad));
+  const Status status = inverse(pose, joints);
+  std::string text =
+      first_bad == 0 ? "at its start: " : "at " + formatted("%.1f", 100.0 * bad) + " % of it: ";
+  if (status.code == StatusCode::outside_envelope) {
+    return text + explain_envelope_crossing(pose, status.axis, pose_at);
+  }
+  if (status.code != StatusCode::joint_limit) return text + explain(pose, status);
+  // The joint is at its limit at the crossing: say which limit, and how far beyond it the joint
+  // goes along the rest of the move (what must change).
+  const int joint = status.joint;
+  const JointSpec& spec = joints_[static_cast<std::size_t>(joint)];
+  const bool over = joints[joint] > spec.max;
+  double worst = joints[joint];
+  for (int k = first_bad; k <= kSamples; ++k) {
+    const Pose sample = Pose::from_vector(pose_at(static_cast<double>(k) / kSamples));
+    if (!kinematics_->inverse(sample, joints).ok() || !std::isfinite(joints[joint])) continue;
+    worst = over ? std::max(worst, joints[joint]) : std::min(worst, joints[joint]);
+  }
+  const char* unit = joint_file_unit(joint);
+  const auto shown = [&](double v) {
+    return value_text(joint_to_file(joint, v), unit) + " " + unit;
+  };
+  return text + "pose " + format_pose(pose) + ": joint '" + spec.name + "' passes its " +
+         (over ? "max " + shown(spec.max) : "min " + shown(spec.min)) + " there, " +
+         (over ? "up to " : "down to ") + shown(worst) + " along the move";
+}
+
+std::vector<AxisExtent> reachable_extent(const Machine& machine) {
+  std::vector<AxisExtent> extents;
+  const Vector6d home = machine.home().as_vector();
+  JointVector joints;
+  const auto reachable = [&](int axis, double offset) {
+    Vector6d pose = home;
+    pose[axis] += offset;
+    return machine.inverse(Pose::from_vector(pose), joints).ok();
+  };
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    if (!machine.kinematics().dof().controls(axis)) continue;
+    AxisExtent extent{axis, home[axis], home[axis]};
+    // Angles are bounded by a half turn; lengths by a kilometre.
+    const double limit = axis < 3 ? 1e6 : 3.14159265358979323846;
+    const double first_step = axis < 3 ? 1.0 : 1e-3;
+    const double resolution = axis < 3 ? 1e-6 : 1e-9;
+    for (const double sign : {-1.0, 1.0}) {
+      double inside = 0.0;
+      double outside = first_step;
+      while (outside < limit && reachable(axis, sign * outside)) {
+        inside = outside;
+        outside *= 2.0;
+      }
+      if (outside >= limit) {
+        outside = limit;
+        if (reachable(axis, sign * limit)) inside = limit;
+      }
+      while (outside - inside > resolution && inside < limit) {
+        const double middle = 0.5 * (inside + outside);
+        (reachable(axis, sign * middle) ? inside : outside) = middle;
+      }
+      (sign < 0 ? extent.min : extent.max) = home[axis] + sign * inside;
+    }
+    extents.push_back(extent);
+  }
+  return extents;
+}
+
+bool PoseBox::contains(const PoseBox& inner) const {
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    if (!axes.controls(axis) || !inner.axes.controls(axis)) continue;
+    if (inner.min[axis] < min[axis] || inner.max[axis] > max[axis]) return false;
+  }
+  return true;
+}
+
+PoseBox reach_box(const Machine& machine) {
+  PoseBox box;
+  for (const AxisExtent& extent : reachable_extent(machine)) {
+    box.axes = box.axes.with(extent.axis);
+    box.min[extent.axis] = extent.min;
+    box.max[extent.axis] = extent.max;
+  }
+  return box;
+}
+
+namespace {
+
+// "x 0.000..500.000 y -20.000..40.000 mm" over the translational axes both boxes share.
+std::string box_text(const PoseBox& box, Dof axes) {
+  std::string text;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!axes.controls(axis)) continue;
+    text += (text.empty() ? "" : " ") + std::string(kAxisNames[axis]) + " " +
+            formatted("%.3f", box.min[axis] + 0.0) + ".." + formatted("%.3f", box.max[axis] + 0.0);
+  }
+  return text + " mm";
+}
+
+}  // namespace
+
+std::string outside_reach_hint(const Machine& machine, const PoseBox& job, const Vector6d& origin) {
+  const PoseBox reach = reach_box(machine);
+  Dof shared;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (reach.axes.controls(axis) && job.axes.controls(axis)) shared = shared.with(axis);
+  }
+  PoseBox placed = job;
+  placed.min += origin;
+  placed.max += origin;
+  if (reach.contains(placed)) return "";
+  std::string text = "the job spans " + box_text(placed, shared) + "; the machine reaches " +
+                     box_text(reach, shared) + " (along lines through home)";
+  std::string suggestion;
+  std::string too_big;
+  int last = -1;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (shared.controls(axis)) last = axis;
+  }
+  for (int axis = 0; axis <= last; ++axis) {
+    const double centred = shared.controls(axis) ? 0.5 * (reach.min[axis] + reach.max[axis]) -
+                                                       0.5 * (job.min[axis] + job.max[axis])
+                                                 : origin[axis];
+    suggestion += " " + formatted("%.0f", centred);
+    if (shared.controls(axis) &&
+        job.max[axis] - job.min[axis] > reach.max[axis] - reach.min[axis]) {
+      too_big += std::string(too_big.empty() ? "" : ", ") + std::string(kAxisNames[axis]);
+    }
+  }
+  if (!too_big.empty()) {
+    return text + "; the job is larger than the reach in " + too_big + ": no --origin fits it";
+  }
+  return text + "; --origin" + suggestion + " would centre it";
+}
+
+double relative_conditioning_at_home(const Machine& machine) {
+  const Kinematics& kinematics = machine.kinematics();
+  JointJacobian jacobian;
+  if (!kinematics.jacobian(machine.home(), jacobian).ok()) return 0.0;
+  const Dof dof = kinematics.dof();
+  Eigen::MatrixXd columns(jacobian.rows(), dof.count());
+  for (int axis = 0, k = 0; axis < kPoseSize; ++axis) {
+    if (!dof.controls(axis)) continue;
+    const double norm = jacobian.col(axis).norm();
+    if (!(norm > 0.0) || !std::isfinite(norm)) return 0.0;  // an axis no joint moves
+    columns.col(k++) = jacobian.col(axis) / norm;
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(columns);
+  const Eigen::VectorXd values = svd.singularValues();
+  if (values.size() == 0 || !(values[0] > 0.0)) return 0.0;
+  return values[values.size() - 1] / values[0];
+}
+
+}  // namespace pkm

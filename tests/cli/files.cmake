@@ -1,0 +1,15 @@
+# Files that cannot be opened: the file and the reason, without a line or column it does not have
+# (they read "job.ngc:0:0: cannot open the program" before).
+set(NOWHERE ${CLI_OUT}/no-such-file)
+pkm_cli_refuses(program_missing "no-such-file\\.ngc: cannot open \\(No such file or directory\\)$"
+                gcode --canon ${NOWHERE}.ngc)
+pkm_cli_refuses(program_is_a_directory "cli-out: cannot open \\(it is a directory\\)$"
+                plan ${CLI_OUT} -o ${CLI_OUT}/never.csv)
+pkm_cli_refuses(tool_table_missing
+                "no-such-file\\.tbl: cannot open the tool table \\(No such file or directory\\)$"
+                gcode --canon --tool-table ${NOWHERE}.tbl ${PROJECT_SOURCE_DIR}/examples/jobs/sphere.ngc)
+pkm_cli_refuses(machine_missing "no-such-file\\.toml: cannot open \\(No such file or directory\\)$"
+                check -m ${NOWHERE}.toml)
+pkm_cli_refuses(joint_program_missing
+                "no-such-file\\.ngc: cannot open \\(No such file or directory\\)$"
+                verify ${NOWHERE}.ngc --against ${PROJECT_SOURCE_DIR}/examples/jobs/sphere.ngc)
