@@ -290,6 +290,17 @@ TEST(Post, ZOnlyMovesOfAPlotterWriteNothingAndM5Once) {
   EXPECT_EQ(lines.back(), "M2");
 }
 
+TEST(Post, TellsItsProgressLineByLineInOrder) {
+  // The hook of the progress bar: each line that makes a command (a comment is one), once, in
+  // order, to M2's line; the empty line makes none.
+  const Machine hektor = test::load_example("hektor.toml");
+  PostOptions options;
+  std::vector<int> lines;
+  options.on_line = [&](int line) { lines.push_back(line); };
+  posted_lines(hektor, "G21 G90 F600\n\nG1 X40 Y-50\n(a comment)\nG1 X30\nG1 X20\nM2\n", options);
+  EXPECT_EQ(lines, (std::vector<int>{1, 3, 4, 5, 6, 7}));
+}
+
 // ---- Feeds: rounded down, never above a joint's velocity ----
 
 TEST(Post, InverseTimeFeedIsRoundedDown) {
@@ -418,7 +429,7 @@ type = "glide"
             "'V' as V, 'W' as W: use --dialect linuxcnc or grblhal, or change the joints' axis "
             "letters in the machine file");
   EXPECT_EQ(message(uvw, Dialect::linuxcnc), "");
-  EXPECT_THROW(posted_lines(hektor, "G1 X40 Y-50 F600\nM2\n", {0.01, Dialect::grbl, {}}),
+  EXPECT_THROW(posted_lines(hektor, "G1 X40 Y-50 F600\nM2\n", {0.01, Dialect::grbl, {}, {}}),
                std::invalid_argument);
 }
 

@@ -556,6 +556,47 @@ TEST(Verify, FlagsACoarseJointProgramAtItsLine) {
   fs::remove(joints);
 }
 
+TEST(Verify, ReadsG94FeedsAsLinuxCncDoesInDegreesForRotaryJoints) {
+  // The 5-axis machine (identity X Y Z, A and C passed through, 30 deg/s) checked against its own
+  // job. G94 F is the X Y Z length per minute when the block has one: X10 at F600 takes 1 s, so C
+  // turns at 90 deg/s. A C-only block's F is deg/min: C90 at F6000 is 100 deg/s. Limits and
+  // speeds in deg/s, as the machine file has them.
+  const Machine trt = test::load_example("linuxcnc-xyzac-trt.toml");
+  const fs::path job =
+      write_file("rotary.ngc", "G21 G90 G94\nG1 F600 X10 C90\nG1 F6000 C180\nM2\n");
+  const VerifyReport report = verify(trt, job, job, Vector6d::Zero(), 0.01);
+  ASSERT_EQ(report.velocity.count, 2);
+  EXPECT_EQ(report.velocity.first[0].line, 2);
+  EXPECT_EQ(report.velocity.first[0].joint, 4);
+  EXPECT_NEAR(report.velocity.first[0].value, 90.0, 1e-9);
+  EXPECT_NEAR(report.velocity.first[0].limit, 30.0, 1e-9);
+  EXPECT_EQ(report.velocity.first[1].line, 3);
+  EXPECT_NEAR(report.velocity.first[1].value, 100.0, 1e-9);
+  EXPECT_EQ(report.deviation.count, 0);
+  fs::remove(job);
+}
+
+TEST(Verify, TellsItsProgressLineByLineInOrder) {
+  // The hook of the progress bar: each line of the joint program that makes a command, once, in
+  // order, to its last (M2).
+  const Machine plotter = test::load_example("wall-plotter.toml");
+  const fs::path job = write_file("square-progress.ngc", kSquare);
+  const std::vector<std::string> body = posted(plotter, job, kSheet, 0.01);
+  const fs::path joints = write_lines("square-progress-joints.ngc", body);
+  VerifyOptions options;
+  options.origin = kSheet;
+  std::vector<int> lines;
+  options.on_line = [&](int line) { lines.push_back(line); };
+  EXPECT_TRUE(verify_joint_program(plotter, joints, job, options).passed());
+  ASSERT_GT(lines.size(), 5u);
+  EXPECT_TRUE(std::is_sorted(lines.begin(), lines.end(), std::less_equal<int>()) &&
+              std::adjacent_find(lines.begin(), lines.end()) == lines.end());
+  EXPECT_EQ(body.back(), "M2");
+  EXPECT_EQ(lines.back(), static_cast<int>(body.size()));
+  fs::remove(job);
+  fs::remove(joints);
+}
+
 // ---- the pen channel -----------------------------------------------------------------------
 
 TEST(Verify, CatchesThePenDownWhereTheJobLiftsIt) {

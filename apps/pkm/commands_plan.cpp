@@ -1,18 +1,17 @@
 // pkm plan: G-code to joint samples at the servo period, or (without -o) the estimate of a job:
 // its duration, samples, joint ranges and the moves whose feed the joints lower.
-#include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include <unistd.h>
 #include <filesystem>
 
 #include "app.hpp"
 #include "embedded_machine.hpp"
 #include "pkm/gcode/gcode_error.hpp"
+#include "pkm/io/atomic_file.hpp"
 #include "pkm/io/sample_files.hpp"
+#include "progress.hpp"
 
 namespace pkm::app {
 
@@ -76,46 +75,6 @@ nlohmann::json report_json(const Machine& machine, const motion::PlanReport& rep
           {"joints", joints},
           {"feed_limited_by_joints", limits}};
 }
-
-// A progress bar on stderr when it is a terminal: the fraction of the program's lines planned.
-class ProgressBar {
- public:
-  explicit ProgressBar(const std::string& program) {
-    if (::isatty(STDERR_FILENO) == 0) return;
-    std::FILE* file = std::fopen(program.c_str(), "rb");
-    if (file == nullptr) return;
-    char buffer[1 << 16];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) {
-      lines_ += std::count(buffer, buffer + n, '\n');
-    }
-    std::fclose(file);
-    active_ = lines_ > 10000;  // short jobs finish before a bar helps
-  }
-  ~ProgressBar() { clear(); }
-  void clear() {
-    if (shown_) std::fprintf(stderr, "\r%60s\r", "");
-    shown_ = false;
-    active_ = false;
-  }
-  void update(int line) {
-    if (!active_) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (shown_ && now - last_ < std::chrono::milliseconds(100)) return;
-    last_ = now;
-    shown_ = true;
-    const double fraction = std::min(1.0, static_cast<double>(line) / static_cast<double>(lines_));
-    const int filled = static_cast<int>(fraction * 30);
-    std::fprintf(stderr, "\r[%.*s%*s] %3.0f%%  line %d of %ld", filled,
-                 "==============================", 30 - filled, "", 100.0 * fraction, line, lines_);
-    std::fflush(stderr);
-  }
-
- private:
-  long lines_ = 0;
-  bool active_ = false, shown_ = false;
-  std::chrono::steady_clock::time_point last_;
-};
 
 // Samples nobody keeps: `pkm demo` without -o, and the estimate (which makes none).
 struct DiscardSamples final : SampleFile {
@@ -214,8 +173,8 @@ void print_summary(const Machine& machine, const motion::PlanReport& report,
   if (estimate) {
     print_estimate_head(machine, report, name);
   } else {
-    std::printf("%s: %ld samples, %.3f s, path %.3f mm on %s\n", name.c_str(), report.samples,
-                report.duration_s, report.path_length_mm, machine.name().c_str());
+    std::printf("%s: %ld samples, %.3f s of machine motion, path %.3f mm on %s\n", name.c_str(),
+                report.samples, report.duration_s, report.path_length_mm, machine.name().c_str());
   }
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
     const JointSpec& joint = machine.joints()[i];
@@ -301,8 +260,13 @@ void run_plan(const PlanCommandOptions& options) {
     setup.plan.estimate_only = false;
     setup.plan.max_samples = options.max_samples;
   }
-  ProgressBar progress(options.program);
-  setup.plan.on_line = [&progress](int line) { progress.update(line); };
+  ProgressBar progress(
+      "plan " + std::filesystem::path(options.display_name.empty() ? options.program
+                                                                   : options.display_name)
+                    .filename()
+                    .string(),
+      options.program);
+  setup.plan.on_line = progress.on_line();
   std::unique_ptr<SampleFile> output;
   try {
     output = options.output.empty() ? std::make_unique<DiscardSamples>()
@@ -321,24 +285,22 @@ void run_plan(const PlanCommandOptions& options) {
   print_summary(machine, report, name, false);
 }
 
-// The embedded job on the embedded machine: the paper's sphere on the paper's hexapod.
+// The embedded job on the embedded machine: the paper's sphere on the paper's hexapod. The job
+// is read from a temporary file that is never committed: it goes with the run, however the run
+// ends (a signal included), and one left by a killed run is removed by the next.
 void run_demo(PlanCommandOptions options) {
-  const std::filesystem::path job = std::filesystem::temp_directory_path() /
-                                    ("pkm-demo-sphere-" + std::to_string(::getpid()) + ".ngc");
-  write_file_atomically(job, kEmbeddedJob);
-  options.program = job.string();
+  AtomicFileWriter job(std::filesystem::temp_directory_path() / "pkm-demo-sphere.ngc");
+  job.write(kEmbeddedJob);
+  if (std::fflush(job.stream()) != 0) {
+    throw CommandError(job.temporary_path() + ": cannot write the demo's job");
+  }
+  options.program = job.temporary_path();
   options.display_name = "sphere.ngc";
   options.sample_without_output = true;
   std::printf(
       "pkm demo: the sphere test part of the interpolation paper (examples/jobs/sphere.ngc)\n"
       "on its Stewart platform (examples/machines/hexapod-bit.toml)\n");
-  try {
-    run_plan(options);
-  } catch (...) {
-    std::filesystem::remove(job);
-    throw;
-  }
-  std::filesystem::remove(job);
+  run_plan(options);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "pkm/io/atomic_file.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/post/mach3_export.hpp"
+#include "progress.hpp"
 
 namespace pkm::app {
 
@@ -77,6 +78,9 @@ void run_post(const PostCommandOptions& options) {
   AtomicFileWriter file(options.output);
   file.write(header(machine, options, nullptr));
   post::PostReport report;
+  ProgressBar progress("post " + std::filesystem::path(options.program).filename().string(),
+                       options.program);
+  post_options.on_line = progress.on_line();
   try {
     interpreter_options.tool_table = read_tool_table(options.tool_table);
     report = post::post_program(machine, options.program, interpreter_options, post_options,
@@ -89,6 +93,7 @@ void run_post(const PostCommandOptions& options) {
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
+  progress.clear();
   file.write_at(0, header(machine, options, &report));
   file.commit();
   for (const gcode::Warning& warning : report.warnings) {

@@ -1,6 +1,7 @@
 // pkm verify: any joint-space program against the Cartesian job it should follow.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 
@@ -8,6 +9,7 @@
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/io/atomic_file.hpp"
 #include "pkm/verify/joint_path.hpp"
+#include "progress.hpp"
 
 namespace pkm::app {
 
@@ -46,19 +48,31 @@ std::string joint_name(const Machine& machine, int joint) {
   return joint >= 0 ? machine.joints()[static_cast<std::size_t>(joint)].name : "";
 }
 
-nlohmann::json to_json(const Machine& machine, const verify::Violation& v) {
-  nlohmann::json json = {
-      {"line", v.line}, {"job_line", v.job_line}, {"value", v.value}, {"limit", v.limit}};
+// The unit of a finding's value and limit: a joint's own (mm or deg, per s for speeds) followed by
+// `unit`, or `unit` alone where no joint is concerned (deviations and pen stretches, mm).
+std::string unit_of(const Machine& machine, const verify::Violation& v, const std::string& unit) {
+  if (v.joint < 0) return unit;
+  return machine.joints()[static_cast<std::size_t>(v.joint)].interface_unit() + unit;
+}
+
+nlohmann::json to_json(const Machine& machine, const verify::Violation& v,
+                       const std::string& unit) {
+  nlohmann::json json = {{"line", v.line},
+                         {"job_line", v.job_line},
+                         {"value", v.value},
+                         {"limit", v.limit},
+                         {"unit", unit_of(machine, v, unit)}};
   if (v.joint >= 0) json["joint"] = joint_name(machine, v.joint);
   if (!v.detail.empty()) json["detail"] = v.detail;
   return json;
 }
 
-nlohmann::json to_json(const Machine& machine, const verify::ViolationSummary& summary) {
+nlohmann::json to_json(const Machine& machine, const verify::ViolationSummary& summary,
+                       const std::string& unit) {
   nlohmann::json first = nlohmann::json::array();
-  for (const verify::Violation& v : summary.first) first.push_back(to_json(machine, v));
+  for (const verify::Violation& v : summary.first) first.push_back(to_json(machine, v, unit));
   nlohmann::json json = {{"count", summary.count}, {"first", first}};
-  if (summary.count > 0) json["worst"] = to_json(machine, summary.worst);
+  if (summary.count > 0) json["worst"] = to_json(machine, summary.worst, unit);
   return json;
 }
 
@@ -80,23 +94,25 @@ void write_report(const Machine& machine, const VerifyCommandOptions& options,
         {"stopped_at_job_line", report.coverage_stopped_job_line},
         {"stopped_at_joint_line", report.coverage_stopped_joint_line}}},
       {"violations",
-       {{"deviation", to_json(machine, report.deviation)},
-        {"position", to_json(machine, report.position)},
-        {"velocity", to_json(machine, report.velocity)},
-        {"pen", to_json(machine, report.pen)}}},
+       {{"deviation", to_json(machine, report.deviation, "mm")},
+        {"position", to_json(machine, report.position, "")},
+        {"velocity", to_json(machine, report.velocity, "/s")},
+        {"pen", to_json(machine, report.pen, "mm")}}},
       {"pen_downs", {{"joint_program", report.pen_downs}, {"job", report.job_pen_downs}}},
       {"passed", report.passed()}};
   write_file_atomically(options.report, json.dump(2) + "\n");
 }
 
-// One line per kind of finding: how many, the worst, the lines of the first few.
-void print_summary(const Machine& machine, const char* what, const char* unit,
+// One line per kind of finding: how many, the worst, the lines of the first few. Values in the
+// units of the machine file: `unit` as unit_of has it.
+void print_summary(const Machine& machine, const char* what, const std::string& unit,
                    const verify::ViolationSummary& summary) {
   if (summary.count == 0) return;
   const verify::Violation& w = summary.worst;
+  const std::string units = unit_of(machine, w, unit);
   std::string worst =
-      joint_name(machine, w.joint) + (w.joint >= 0 ? " " : "") + mm(w.value) + " " + unit;
-  worst += w.detail.empty() ? ", limit " + mm(w.limit) : " " + w.detail;
+      joint_name(machine, w.joint) + (w.joint >= 0 ? " " : "") + mm(w.value) + " " + units;
+  worst += w.detail.empty() ? ", limit " + mm(w.limit) + " " + units : " with the " + w.detail;
   // A joint past its travel reads as ik, plan and post say it (Machine::explain_joint).
   if (w.joint >= 0 && !w.detail.empty()) worst = w.detail;
   std::string first;
@@ -115,10 +131,9 @@ void print_report(const Machine& machine, const VerifyCommandOptions& options,
       report.job_length_mm, report.max_deviation_mm, report.max_deviation_joint_line,
       report.max_deviation_job_line, report.rms_deviation_mm, report.tolerance_mm);
   print_summary(machine, "blocks beyond the tolerance", "mm", report.deviation);
-  print_summary(machine, "block ends beyond a joint's travel", "(mm or deg)", report.position);
-  print_summary(machine, "feed blocks beyond a joint's max_velocity", "(mm/s or deg/s)",
-                report.velocity);
-  print_summary(machine, "pen stretches against the job", "mm with the", report.pen);
+  print_summary(machine, "block ends beyond a joint's travel", "", report.position);
+  print_summary(machine, "feed blocks beyond a joint's max_velocity", "/s", report.velocity);
+  print_summary(machine, "pen stretches against the job", "mm", report.pen);
   if (report.pen_downs != report.job_pen_downs) {
     std::printf("  pen: down %ld times, where the job puts it down %ld times (first at line %d)\n",
                 report.pen_downs, report.job_pen_downs, report.first_job_pen_down_line);
@@ -160,6 +175,9 @@ void run_verify(const VerifyCommandOptions& options) {
   verify::VerifyOptions verify_options;
   verify_options.origin = pose_vector_over(verify_options.origin, options.origin);
   verify::VerifyReport report;
+  ProgressBar progress("verify " + std::filesystem::path(options.joints).filename().string(),
+                       options.joints);
+  verify_options.on_line = progress.on_line();
   try {
     verify_options.tolerance_mm = tolerance_of(options);
     verify_options.job_options.tool_table = read_tool_table(options.tool_table);
@@ -169,6 +187,7 @@ void run_verify(const VerifyCommandOptions& options) {
   } catch (const verify::VerifyError& error) {
     throw CommandError(error.what());
   }
+  progress.clear();
   if (!options.report.empty()) write_report(machine, options, report);
   print_report(machine, options, report);
   fail_unless_passed(options, report);

@@ -424,7 +424,14 @@ PostReport post_program(const Machine& machine, const std::filesystem::path& pro
   gcode::Interpreter interpreter(
       program,
       motion::starting_at(interpreter_options, machine.home().as_vector(), options.origin));
-  interpreter.run([&](const gcode::Canon& canon) { poster.on_canon(canon); });
+  int line = 0;
+  interpreter.run([&](const gcode::Canon& canon) {
+    if (options.on_line && canon.line != line) {
+      line = canon.line;
+      options.on_line(line);
+    }
+    poster.on_canon(canon);
+  });
   PostReport report = poster.finish();
   report.warnings = interpreter.warnings();
   return report;

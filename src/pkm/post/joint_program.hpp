@@ -38,6 +38,8 @@ struct PostOptions {
   double tolerance_mm = 0.01;
   Dialect dialect = Dialect::linuxcnc;
   Vector6d origin = Vector6d::Zero();  // where the program's X0 Y0 Z0 sits (mm, rad)
+  // Called with the program's line being posted, once per change of line: for progress.
+  std::function<void(int line)> on_line;
 };
 
 struct PostReport {

@@ -124,14 +124,31 @@ class Verifier {
     }
   }
 
-  // G93 blocks take 1/F minutes; G94 moves the joint vector at F per minute; rapids are the
+  // G94's F as LinuxCNC reads it: the length of the block's X Y Z move per minute (mm or inch);
+  // without one, of its U V W move; without either, of its A B C move in deg per minute (G20 or
+  // not). Joint values as written: mm for linear joints, deg for rotary ones.
+  double units_per_minute_duration_s(const gcode::Canon& canon, const JointVector& q) const {
+    double squares[3] = {0.0, 0.0, 0.0};  // X Y Z, A B C, U V W
+    for (std::size_t i = 0; i < letter_index_.size(); ++i) {
+      if (letter_index_[i] < 0) continue;
+      const JointSpec& joint = machine_.joints()[i];
+      const double step = joint.to_interface(q[int(i)]) - joint.to_interface(previous_[int(i)]);
+      squares[letter_index_[i] / 3] += step * step;
+    }
+    const double scale = canon.units == gcode::LengthUnits::inch ? 25.4 : 1.0;
+    const double mm_per_s = canon.value * scale / 60.0;
+    if (squares[0] > 0.0) return std::sqrt(squares[0]) / mm_per_s;
+    if (squares[2] > 0.0) return std::sqrt(squares[2]) / mm_per_s;
+    return std::sqrt(squares[1]) / (canon.value / 60.0);
+  }
+
+  // G93 blocks take 1/F minutes; G94 ones as units_per_minute_duration_s; rapids are the
   // controller's own business.
   void check_speeds(const gcode::Canon& canon, const JointVector& q) {
     if (canon.kind != gcode::CanonKind::feed || !(canon.value > 0.0)) return;
-    const double scale = canon.units == gcode::LengthUnits::inch ? 25.4 : 1.0;
     const double duration = canon.feed_mode == gcode::FeedMode::inverse_time
                                 ? 60.0 / canon.value
-                                : (q - previous_).norm() / (canon.value * scale / 60.0);
+                                : units_per_minute_duration_s(canon, q);
     for (int i = 0; i < q.size() && duration > 0.0; ++i) {
       const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
       const double speed = std::abs(q[i] - previous_[i]) / duration;
@@ -254,7 +271,12 @@ VerifyReport verify_joint_program(const Machine& machine, const std::filesystem:
     throw VerifyError("the tolerance must be a positive number of mm");
   }
   Verifier verifier(machine, joints, job, options);
+  int line = 0;
   gcode::Interpreter(joints, verifier.joint_program_options()).run([&](const gcode::Canon& canon) {
+    if (options.on_line && canon.line != line) {
+      line = canon.line;
+      options.on_line(line);
+    }
     verifier.on_canon(canon);
   });
   return verifier.finish();

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -21,6 +22,8 @@ struct VerifyOptions {
   double tolerance_mm = 0.01;             // largest deviation accepted, mm (post's default; > 0)
   Vector6d origin = Vector6d::Zero();     // where the job's X0 Y0 Z0 sits (mm, rad)
   gcode::InterpreterOptions job_options;  // the job's tool table and block delete
+  // Called with the joint program's line being verified, once per change of line: for progress.
+  std::function<void(int line)> on_line;
 };
 
 // One finding, at a line of the joint program and the job line it was held against.
