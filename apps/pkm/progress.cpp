@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <utility>
 
@@ -13,8 +14,16 @@ namespace pkm::app {
 
 namespace {
 
-// Runs shorter than this show no bar at all: it would only flicker.
-constexpr std::chrono::milliseconds kFirstDraw{500};
+// Runs shorter than this show no bar at all: it would only flicker. PKM_PROGRESS_AFTER_MS sets
+// another wait (the terminal test draws at once, however fast the machine runs its job).
+std::chrono::milliseconds first_draw() {
+  static const std::chrono::milliseconds wait = [] {
+    const char* text = std::getenv("PKM_PROGRESS_AFTER_MS");
+    const long ms = text != nullptr ? std::strtol(text, nullptr, 10) : 500;
+    return std::chrono::milliseconds(std::clamp(ms, 0L, 60000L));
+  }();
+  return wait;
+}
 constexpr std::chrono::milliseconds kRedraw{100};
 constexpr int kBarWidth = 30, kNarrowestBar = 10;
 
@@ -63,7 +72,7 @@ void ProgressBar::update(int line) {
   if (!active_) return;
   furthest_line_ = std::max(furthest_line_, line);
   const auto now = std::chrono::steady_clock::now();
-  if (now - start_ < kFirstDraw || now - last_ < kRedraw) return;
+  if (now - start_ < first_draw() || now - last_ < kRedraw) return;
   last_ = now;
   draw(furthest_line_, std::chrono::duration<double>(now - start_).count());
 }
