@@ -4,6 +4,7 @@
 // 1,000 points per block) must find nothing above the tolerance and agree with verify's maximum
 // within 1 %. docs/real-jobs.md lists the table and what a run measured.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -25,6 +26,11 @@ namespace fs = std::filesystem;
 
 const fs::path kCorpus = real_corpus();
 constexpr double kToleranceMm = 0.01;
+
+// A file of this process: test processes run side by side (ctest -j) and must not share one.
+fs::path scratch(const std::string& name) {
+  return fs::path(::testing::TempDir()) / ("pkm-real-" + std::to_string(::getpid()) + "-" + name);
+}
 constexpr int kPointsPerBlock = 1000;
 
 struct RealJob {
@@ -130,7 +136,7 @@ TEST_P(RealJobTable, PostedProgramIsVerifiedAndAgreesWithAnIndependentCheck) {
   const RealJob& row = *GetParam().row;
   const Machine machine = load_example(row.machine);
   const fs::path job = kCorpus / row.job;
-  const fs::path joints = fs::path(::testing::TempDir()) / (case_name(GetParam()) + ".ngc");
+  const fs::path joints = scratch(case_name(GetParam()) + ".ngc");
   post::PostOptions options;
   options.tolerance_mm = kToleranceMm;
   options.dialect = GetParam().dialect;
@@ -189,8 +195,8 @@ INSTANTIATE_TEST_SUITE_P(Real, RealJobTable, ::testing::ValuesIn(cases()),
 // sagitta 10 (1 - cos 45 deg) = 2.928932 mm at its middle, both ways.
 TEST(RealJobTable, TheIndependentCheckMeasuresAChordAgainstItsArc) {
   const Machine machine = load_example("linuxcnc-xyzac-trt.toml");
-  const fs::path job = fs::path(::testing::TempDir()) / "quarter-circle.ngc";
-  const fs::path joints = fs::path(::testing::TempDir()) / "quarter-circle-chord.ngc";
+  const fs::path job = scratch("quarter-circle.ngc");
+  const fs::path joints = scratch("quarter-circle-chord.ngc");
   std::ofstream(job) << "G21 G90\nG0 X0 Y0 Z0\nG2 X10 Y-10 I0 J-10 F100\nM2\n";
   std::ofstream(joints) << "G21 G90 G94\nG0 X0 Y0 Z0 A0 C0\nG1 X10 Y-10 Z0 A0 C0 F100\nM2\n";
   const IndependentReport report =
@@ -209,8 +215,8 @@ TEST(RealJobTable, TheIndependentCheckMeasuresAChordAgainstItsArc) {
 // its diagonal, whose middle is 5 mm from the programmed path.
 TEST(RealJobTable, TheIndependentCheckFindsACornerCutShort) {
   const Machine machine = load_example("linuxcnc-xyzac-trt.toml");
-  const fs::path job = fs::path(::testing::TempDir()) / "corner.ngc";
-  const fs::path joints = fs::path(::testing::TempDir()) / "corner-cut.ngc";
+  const fs::path job = scratch("corner.ngc");
+  const fs::path joints = scratch("corner-cut.ngc");
   std::ofstream(job) << "G21 G90\nG0 X0 Y0 Z0\nG1 X10 F100\nG1 Y10\nM2\n";
   std::ofstream(joints) << "G21 G90 G94\nG0 X0 Y0 Z0 A0 C0\nG1 X10 Y10 Z0 A0 C0 F100\nM2\n";
   const IndependentReport report =
@@ -225,9 +231,9 @@ TEST(RealJobTable, TheIndependentCheckFindsACornerCutShort) {
 // A joint program cut short, or empty, does not reach the job's end.
 TEST(RealJobTable, TheIndependentCheckSeesATruncatedProgram) {
   const Machine machine = load_example("linuxcnc-xyzac-trt.toml");
-  const fs::path job = fs::path(::testing::TempDir()) / "square.ngc";
-  const fs::path joints = fs::path(::testing::TempDir()) / "square-cut-short.ngc";
-  const fs::path empty = fs::path(::testing::TempDir()) / "square-empty.ngc";
+  const fs::path job = scratch("square.ngc");
+  const fs::path joints = scratch("square-cut-short.ngc");
+  const fs::path empty = scratch("square-empty.ngc");
   std::ofstream(job) << "G21 G90\nG0 X0 Y0 Z0\nG1 X10 F100\nG1 Y10\nG1 X0\nG1 Y0\nM2\n";
   std::ofstream(joints) << "G21 G90 G94\nG0 X0 Y0 Z0 A0 C0\nG1 X10 Y0 Z0 A0 C0 F100\nM2\n";
   std::ofstream(empty) << "G21 G90 G94\nM2\n";
@@ -245,7 +251,7 @@ TEST(RealJobTable, TheIndependentCheckSeesATruncatedProgram) {
 // Pen commands that move an axis no joint uses (the 2366 polargraph's servo on Z) are not blocks.
 TEST(RealJobTable, PenServoMovesAreNotJointBlocks) {
   const Machine machine = load_example("linuxcnc-polargraph-2366.toml");
-  const fs::path joints = fs::path(::testing::TempDir()) / "pen-servo.ngc";
+  const fs::path joints = scratch("pen-servo.ngc");
   std::ofstream(joints) << "G21 G90\nG0 X1300 Y1250\nG0 Z90\nG1 X1310 Y1240 F600\nG0 Z0\nM2\n";
   const std::vector<JointBlock> blocks = joint_blocks(machine, joints);
   ASSERT_EQ(blocks.size(), 2u);
@@ -300,7 +306,7 @@ void displace_block_end(const Machine& machine, const fs::path& program, int lin
 void expect_block_off_caught_at_its_line(const RealJob& row) {
   const Machine machine = load_example(row.machine);
   const fs::path job = kCorpus / row.job;
-  const fs::path joints = fs::path(::testing::TempDir()) / "real-job-off-by-0.05.ngc";
+  const fs::path joints = scratch("real-job-off-by-0.05.ngc");
   post::PostOptions options;
   options.tolerance_mm = kToleranceMm;
   options.origin = origin_of(row);
