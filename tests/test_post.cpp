@@ -220,6 +220,29 @@ INSTANTIATE_TEST_SUITE_P(Examples, PostEveryMachine,
 
 // ---- Coverage: every programmed move traced from its start to its end ----
 
+TEST(Post, DeltaStrutNearlySquareToItsRailIsPosted) {
+  // cds.ngc (corpus, inches) with --origin 0 0 50 on the linear delta: its pocket's corner
+  // (101.6, 99.441) puts tower b's strut 299.796 of its 300 mm across the rail, 2.1 deg from
+  // square. The bound refused every block there (the drift of J^-1 over the reach, counted at
+  // the strut's full curvature against the smallest singular value, stayed above 1 however short
+  // the block); weighed by how little that strut moves the tool, short blocks pass.
+  const Machine delta = test::load_example("linear-delta.toml");
+  const auto job = temp_file("delta-corner.ngc");
+  std::ofstream(job) << "G20 G90\nG0 Z2.1\nG0 X0 Y3.915\nG1 F16 Z1.6875\nG1 X4.0\nM2\n";
+  const auto output = temp_file("delta-corner-joints.ngc");
+  PostOptions options;
+  options.tolerance_mm = 0.01;
+  options.origin << 0.0, 0.0, 50.0, 0.0, 0.0, 0.0;
+  const PostReport report = post_to_file(delta, job, output, options);
+  EXPECT_LE(report.max_deviation_mm, 0.01);
+  const std::vector<JointVector> blocks = joint_blocks(delta, output);
+  ASSERT_EQ(static_cast<long>(blocks.size()) - 1, report.blocks);
+  EXPECT_LE(dense_deviation(delta, blocks, programmed_moves(delta, job, options.origin)),
+            report.max_deviation_mm);
+  std::filesystem::remove(job);
+  std::filesystem::remove(output);
+}
+
 TEST(Post, FullCircleIsTracedAllRound) {
   // G2 ending where it starts, radius 10 about (50, -50) on Hektor: the blocks' ends go once
   // clockwise round the circle. A chord of 2 pi / n keeps within 0.01 mm only for

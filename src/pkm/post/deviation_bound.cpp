@@ -185,11 +185,6 @@ PieceMotion piece_motion(const Segment& segment, double u0, double u1, const std
           position_acceleration * du * du, chord};
 }
 
-double largest_singular_value(const Eigen::MatrixXd& m) {
-  if (m.size() == 0) return 0.0;
-  return Eigen::JacobiSVD<Eigen::MatrixXd>(m).singularValues()[0];
-}
-
 }  // namespace
 
 std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, const Vector6d& centre,
@@ -238,74 +233,91 @@ DeviationBound::DeviationBound(const Machine& machine, double tolerance_mm)
                    .has_value();
 }
 
-// The Jacobian at a pose in scaled coordinates, its inverse's norm and that of the inverse's
-// position rows; nothing where it is singular.
-struct InverseNorms {
-  Eigen::MatrixXd jacobian;
-  double all = 0.0, position = 0.0;
+namespace {
+
+// The inverse of the Jacobian at a pose in scaled coordinates, and its rows for x y z; nothing
+// where it is singular.
+struct CentreInverse {
+  Eigen::MatrixXd all, position;
 };
 
-std::optional<InverseNorms> inverse_norms(const Kinematics& model, const Vector6d& pose,
-                                          const std::vector<int>& axes, double angle_scale_mm) {
+std::optional<CentreInverse> centre_inverse(const Kinematics& model, const Vector6d& pose,
+                                            const std::vector<int>& axes, double angle_scale_mm) {
   JointJacobian full;
   if (!model.jacobian(Pose::from_vector(pose), full).ok()) return std::nullopt;
   const int n = static_cast<int>(axes.size());
-  InverseNorms norms{Eigen::MatrixXd(n, n)};
+  Eigen::MatrixXd jacobian(n, n);
   std::vector<int> position_rows;
   for (int k = 0; k < n; ++k) {
     const int axis = axes[static_cast<std::size_t>(k)];
-    norms.jacobian.col(k) = full.col(axis) / (axis >= 3 ? angle_scale_mm : 1.0);
+    jacobian.col(k) = full.col(axis) / (axis >= 3 ? angle_scale_mm : 1.0);
     if (axis < 3) position_rows.push_back(k);
   }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(norms.jacobian,
-                                              Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeFullU | Eigen::ComputeFullV);
   const double smallest = svd.singularValues()[n - 1];
   if (!(smallest > 0.0) || !std::isfinite(smallest)) return std::nullopt;
-  const Eigen::MatrixXd inverse = svd.solve(Eigen::MatrixXd::Identity(n, n));
-  Eigen::MatrixXd position_part(static_cast<int>(position_rows.size()), n);
+  CentreInverse inverse{svd.solve(Eigen::MatrixXd::Identity(n, n)),
+                        Eigen::MatrixXd(static_cast<int>(position_rows.size()), n)};
   for (std::size_t r = 0; r < position_rows.size(); ++r) {
-    position_part.row(static_cast<int>(r)) = inverse.row(position_rows[r]);
+    inverse.position.row(static_cast<int>(r)) = inverse.all.row(position_rows[r]);
   }
-  norms.all = 1.0 / smallest;
-  norms.position = largest_singular_value(position_part);
-  return norms;
+  return inverse;
 }
+
+// The largest |M e| over the box |e_i| <= half_width_i: a convex function is largest at a
+// corner of the box, and e and -e give the same norm, so half the corners are enough. Unlike
+// |M| |half_width|, it lets a joint whose error is large but moves the tool little (a strut
+// nearly square to its rail) weigh only as much as it moves the tool.
+double largest_over_box(const Eigen::MatrixXd& m, const Eigen::VectorXd& half_width) {
+  const int n = static_cast<int>(half_width.size());
+  if (m.rows() == 0 || n == 0) return 0.0;
+  double largest = 0.0;
+  for (unsigned signs = 0; signs < (1u << (n - 1)); ++signs) {
+    Eigen::VectorXd e = half_width;
+    for (int i = 1; i < n; ++i) {
+      if ((signs >> (i - 1)) & 1u) e[i] = -e[i];
+    }
+    largest = std::max(largest, (m * e).norm());
+  }
+  return largest;
+}
+
+}  // namespace
 
 // The argument (docs/post.md, "The bound"): C, the straight chord in pose space between the
 // piece's programmed ends, is within |S''| / 8 of the programmed point at the same fraction. The
-// joint error of the block against IK(C) is its ends' rounding plus the chord error of IK along
-// C, |H[C', C']| / 8 per joint; where the Jacobian stays invertible over the ball of the piece
-// plus the reach, that joint error e moves the tool tip at most |J^-1| |e| from C.
+// joint error e of the block against IK(C) is its ends' rounding plus the chord error of IK along
+// C, |H[C', C']| / 8 per joint. Where J(c)^-1 (J(x) - J(c)) stays below 1 over the ball of the
+// piece plus the reach, that joint error moves the tool tip at most |J(c)^-1 e| / (1 - drift) from
+// C, and its position at most |P J(c)^-1 e| + drift / (1 - drift) |J(c)^-1 e|.
 double DeviationBound::operator()(const Segment& segment, double u0, double u1,
                                   const BlockEnds& ends) const {
   if (!available_) return INFINITY;
   const Kinematics& model = machine_.kinematics();
   const PieceMotion piece = piece_motion(segment, u0, u1, axes_, angle_scale_mm_);
-  const std::optional<InverseNorms> at_centre =
-      inverse_norms(model, piece.centre, axes_, angle_scale_mm_);
-  if (!at_centre) return INFINITY;
+  const std::optional<CentreInverse> inverse =
+      centre_inverse(model, piece.centre, axes_, angle_scale_mm_);
+  if (!inverse) return INFINITY;
   const double radius = 0.5 * piece.length + reach_mm_;
   const auto hessians =
       inverse_hessian_bounds(model, piece.centre, radius, angle_scale_mm_, piece.chord);
   if (!hessians) return INFINITY;
-  double lipschitz = 0.0;  // of the Jacobian, per unit of pose distance
-  for (const double h : hessians->norm) lipschitz += h * h;
-  lipschitz = std::sqrt(lipschitz);
-  const double drift = at_centre->all * lipschitz * radius;
-  if (!(drift < 1.0)) return INFINITY;
-  const double inverse_bound = at_centre->all / (1.0 - drift);
-  const double position_inverse_bound =
-      at_centre->position + inverse_bound * at_centre->all * lipschitz * radius;
-  double joint_error = 0.0;
-  for (std::size_t i = 0; i < hessians->along.size(); ++i) {
-    const int k = static_cast<int>(i);
-    const double rounding = std::max(std::abs(ends.written0[k] - ends.exact0[k]),
-                                     std::abs(ends.written1[k] - ends.exact1[k]));
-    joint_error += std::pow(rounding + hessians->along[i] / 8.0, 2);
+  const int n = static_cast<int>(hessians->norm.size());
+  // Each joint's gradient moves at most |H_i| R over the ball: the drift of J^-1.
+  Eigen::VectorXd gradient_change(n), joint_error(n);
+  for (int i = 0; i < n; ++i) {
+    const std::size_t k = static_cast<std::size_t>(i);
+    gradient_change[i] = hessians->norm[k] * radius;
+    const double rounding = std::max(std::abs(ends.written0[i] - ends.exact0[i]),
+                                     std::abs(ends.written1[i] - ends.exact1[i]));
+    joint_error[i] = rounding + hessians->along[k] / 8.0;
   }
-  joint_error = std::sqrt(joint_error);
-  if (!(inverse_bound * joint_error < reach_mm_)) return INFINITY;
-  return position_inverse_bound * joint_error + piece.acceleration / 8.0;
+  const double drift = largest_over_box(inverse->all, gradient_change);
+  if (!(drift < 1.0)) return INFINITY;
+  const double moved = largest_over_box(inverse->all, joint_error);
+  if (!(moved / (1.0 - drift) < reach_mm_)) return INFINITY;
+  return largest_over_box(inverse->position, joint_error) + drift / (1.0 - drift) * moved +
+         piece.acceleration / 8.0;
 }
 
 }  // namespace pkm::post
