@@ -132,8 +132,13 @@ HessianBounds hexapod_bounds(const HexapodKinematics& model, const Vector6d& cen
     }
     const double turning = rotation_curvature(b, angle_scale_mm);
     const double w_change = platform_point_change(chord.position.norm(), chord, b, angle_scale_mm);
-    add(bounds, gain * gain / shortest + turning,
-        w_change * w_change / shortest + turning * chord.angle * chord.angle);
+    const double w_curve = turning * chord.angle * chord.angle;
+    add(bounds, gain * gain / shortest + turning, w_change * w_change / shortest + w_curve);
+    // l''' = D3|w|[w', w', w'] + 3 D2|w|[w', w''] + n . w''', with |D3|w|| <= 3 / l^2,
+    // |D2|w|| <= 1 / l and every third derivative of R b of norm <= |b| per entry.
+    const double w_third = 3.0 * std::sqrt(3.0) * b * std::pow(chord.angle / angle_scale_mm, 3);
+    bounds.third.push_back(3.0 * std::pow(w_change, 3) / (shortest * shortest) +
+                           3.0 * w_change * w_curve / shortest + w_third);
   }
   return bounds;
 }
@@ -201,7 +206,7 @@ std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, con
   }
   if (dynamic_cast<const MatrixKinematics*>(&model) != nullptr) {
     const std::vector<double> zero(static_cast<std::size_t>(model.joint_count()), 0.0);
-    return HessianBounds{zero, zero};  // linear
+    return HessianBounds{zero, zero, {}};  // linear
   }
   return std::nullopt;
 }
@@ -282,14 +287,45 @@ double largest_over_box(const Eigen::MatrixXd& m, const Eigen::VectorXd& half_wi
   return largest;
 }
 
+// The tool tip's distance from the chord (position) for joint errors e = `exact` + r, r in the
+// box `spread`, while J's drift over the ball stays below 1 (docs/post.md, "The bound", step 4);
+// infinity where the joint error could carry the pose beyond the reach.
+double tool_distance(const CentreInverse& inverse, const Eigen::VectorXd& exact,
+                     const Eigen::VectorXd& spread, double drift, double reach_mm) {
+  const double moved = (inverse.all * exact).norm() + largest_over_box(inverse.all, spread);
+  if (!(moved / (1.0 - drift) < reach_mm)) return INFINITY;
+  return (inverse.position * exact).norm() + largest_over_box(inverse.position, spread) +
+         drift / (1.0 - drift) * moved;
+}
+
+// The chord error from the joints at the chord's middle: e(lambda) - 4 lambda (1 - lambda)
+// e(1/2) vanishes at 0, 1/2 and 1, so it is within |G'''| max|lambda (lambda - 1/2)
+// (lambda - 1)| / 6 = |G'''| sqrt(3) / 216 (the remainder of quadratic interpolation), and
+// 4 lambda (1 - lambda) <= 1.
+double middle_tool_distance(const Kinematics& model, const Vector6d& start, const Vector6d& end,
+                            const BlockEnds& ends, const CentreInverse& inverse,
+                            const HessianBounds& hessians, const Eigen::VectorXd& rounding,
+                            double drift, double reach_mm) {
+  JointVector middle;
+  if (!model.inverse(Pose::from_vector(0.5 * (start + end)), middle).ok()) return INFINITY;
+  const int n = static_cast<int>(rounding.size());
+  Eigen::VectorXd at_middle(n), spread(n);
+  for (int i = 0; i < n; ++i) {
+    at_middle[i] = 0.5 * (ends.exact0[i] + ends.exact1[i]) - middle[i];
+    spread[i] = rounding[i] + std::sqrt(3.0) / 216.0 * hessians.third[static_cast<std::size_t>(i)];
+  }
+  return tool_distance(inverse, at_middle, spread, drift, reach_mm);
+}
+
 }  // namespace
 
 // The argument (docs/post.md, "The bound"): C, the straight chord in pose space between the
 // piece's programmed ends, is within |S''| / 8 of the programmed point at the same fraction. The
 // joint error e of the block against IK(C) is its ends' rounding plus the chord error of IK along
-// C, |H[C', C']| / 8 per joint. Where J(c)^-1 (J(x) - J(c)) stays below 1 over the ball of the
-// piece plus the reach, that joint error moves the tool tip at most |J(c)^-1 e| / (1 - drift) from
-// C, and its position at most |P J(c)^-1 e| + drift / (1 - drift) |J(c)^-1 e|.
+// C: at most |H[C', C']| / 8 per joint, or, where the model bounds IK's third derivative, the
+// error at the chord's middle (one inverse kinematics) spread as 4 lambda (1 - lambda) plus a
+// cubic remainder. Where J(c)^-1 (J(x) - J(c)) stays below 1 over the ball of the piece plus the
+// reach, that joint error moves the tool tip at most |J(c)^-1 e| / (1 - drift) from C.
 double DeviationBound::operator()(const Segment& segment, double u0, double u1,
                                   const BlockEnds& ends) const {
   if (!available_) return INFINITY;
@@ -304,20 +340,24 @@ double DeviationBound::operator()(const Segment& segment, double u0, double u1,
   if (!hessians) return INFINITY;
   const int n = static_cast<int>(hessians->norm.size());
   // Each joint's gradient moves at most |H_i| R over the ball: the drift of J^-1.
-  Eigen::VectorXd gradient_change(n), joint_error(n);
+  Eigen::VectorXd gradient_change(n), rounding(n), chord_error(n);
   for (int i = 0; i < n; ++i) {
     const std::size_t k = static_cast<std::size_t>(i);
     gradient_change[i] = hessians->norm[k] * radius;
-    const double rounding = std::max(std::abs(ends.written0[i] - ends.exact0[i]),
-                                     std::abs(ends.written1[i] - ends.exact1[i]));
-    joint_error[i] = rounding + hessians->along[k] / 8.0;
+    rounding[i] = std::max(std::abs(ends.written0[i] - ends.exact0[i]),
+                           std::abs(ends.written1[i] - ends.exact1[i]));
+    chord_error[i] = hessians->along[k] / 8.0;
   }
   const double drift = largest_over_box(inverse->all, gradient_change);
   if (!(drift < 1.0)) return INFINITY;
-  const double moved = largest_over_box(inverse->all, joint_error);
-  if (!(moved / (1.0 - drift) < reach_mm_)) return INFINITY;
-  return largest_over_box(inverse->position, joint_error) + drift / (1.0 - drift) * moved +
-         piece.acceleration / 8.0;
+  double distance =
+      tool_distance(*inverse, Eigen::VectorXd::Zero(n), rounding + chord_error, drift, reach_mm_);
+  if (static_cast<int>(hessians->third.size()) == n) {
+    distance =
+        std::min(distance, middle_tool_distance(model, segment.at(u0), segment.at(u1), ends,
+                                                *inverse, *hessians, rounding, drift, reach_mm_));
+  }
+  return distance + piece.acceleration / 8.0;
 }
 
 }  // namespace pkm::post

@@ -22,9 +22,10 @@ struct Chord {
 // coordinates with rotations scaled by `angle_scale_mm` (mm per rad, so that one norm serves
 // lengths and angles): `norm`, an upper bound on the operator norm of the Hessian of the joint's
 // inverse kinematics, and `along`, on |H[v, v]| for v = `chord`. Infinity where the ball reaches
-// a singularity of the model.
+// a singularity of the model. `third`, where the model gives one, bounds |D3 IK_i[v, v, v]| on
+// the ball (empty otherwise).
 struct HessianBounds {
-  std::vector<double> norm, along;
+  std::vector<double> norm, along, third;
 };
 // Nothing for models with no such bound here (formula machines).
 std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, const Vector6d& centre,
