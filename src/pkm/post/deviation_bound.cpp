@@ -212,7 +212,7 @@ std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, con
 }
 
 DeviationBound::DeviationBound(const Machine& machine, double tolerance_mm)
-    : machine_(machine), reach_mm_(1.5 * std::min(tolerance_mm, 1.0)) {
+    : machine_(machine), reach_mm_(std::min(3.0 * tolerance_mm, 1.5)) {
   const Kinematics& model = machine.kinematics();
   for (int axis = 0; axis < kPoseSize; ++axis) {
     if (model.dof().controls(axis)) axes_.push_back(axis);

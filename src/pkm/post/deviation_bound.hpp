@@ -41,10 +41,12 @@ struct BlockEnds {
 
 class DeviationBound {
  public:
-  // For blocks held to `tolerance_mm`: the argument looks for the tool tip within a reach of
-  // 1.5 times it (at most 1.5 mm, so that a large tolerance does not reach past a small
-  // machine's anchors) from the programmed chord, the same for every block, so that
-  // consecutive blocks agree on which pose the machine is in.
+  // For blocks held to `tolerance_mm`: the argument looks for the pose within a reach of 3
+  // times it (at most 1.5 mm, so that a large tolerance does not reach past a small machine's
+  // anchors) from the programmed chord, the same for every block, so that consecutive blocks
+  // agree on which pose the machine is in. The reach is in the scaled pose norm: a hexapod's
+  // joint error moves its attitude (scaled) about twice as far as its tool tip, and at 1.5 times
+  // the tolerance the reach, not the deviation, ended the sphere's blocks.
   DeviationBound(const Machine& machine, double tolerance_mm);
 
   // False for models without a second-derivative bound: their deviation is sampled instead.
