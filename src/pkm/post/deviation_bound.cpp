@@ -287,15 +287,21 @@ double largest_over_box(const Eigen::MatrixXd& m, const Eigen::VectorXd& half_wi
   return largest;
 }
 
+// How far J^-1 may drift over the ball, relative to its value M at the centre: bounds on
+// |M (J(x) - J(c))| and on its position rows.
+struct Drift {
+  double all = 0.0, position = 0.0;
+};
+
 // The tool tip's distance from the chord (position) for joint errors e = `exact` + r, r in the
 // box `spread`, while J's drift over the ball stays below 1 (docs/post.md, "The bound", step 4);
 // infinity where the joint error could carry the pose beyond the reach.
 double tool_distance(const CentreInverse& inverse, const Eigen::VectorXd& exact,
-                     const Eigen::VectorXd& spread, double drift, double reach_mm) {
+                     const Eigen::VectorXd& spread, const Drift& drift, double reach_mm) {
   const double moved = (inverse.all * exact).norm() + largest_over_box(inverse.all, spread);
-  if (!(moved / (1.0 - drift) < reach_mm)) return INFINITY;
+  if (!(moved / (1.0 - drift.all) < reach_mm)) return INFINITY;
   return (inverse.position * exact).norm() + largest_over_box(inverse.position, spread) +
-         drift / (1.0 - drift) * moved;
+         drift.position / (1.0 - drift.all) * moved;
 }
 
 // The chord error from the joints at the chord's middle: e(lambda) - 4 lambda (1 - lambda)
@@ -305,7 +311,7 @@ double tool_distance(const CentreInverse& inverse, const Eigen::VectorXd& exact,
 double middle_tool_distance(const Kinematics& model, const Vector6d& start, const Vector6d& end,
                             const BlockEnds& ends, const CentreInverse& inverse,
                             const HessianBounds& hessians, const Eigen::VectorXd& rounding,
-                            double drift, double reach_mm) {
+                            const Drift& drift, double reach_mm) {
   JointVector middle;
   if (!model.inverse(Pose::from_vector(0.5 * (start + end)), middle).ok()) return INFINITY;
   const int n = static_cast<int>(rounding.size());
@@ -348,8 +354,9 @@ double DeviationBound::operator()(const Segment& segment, double u0, double u1,
                            std::abs(ends.written1[i] - ends.exact1[i]));
     chord_error[i] = hessians->along[k] / 8.0;
   }
-  const double drift = largest_over_box(inverse->all, gradient_change);
-  if (!(drift < 1.0)) return INFINITY;
+  const Drift drift{largest_over_box(inverse->all, gradient_change),
+                    largest_over_box(inverse->position, gradient_change)};
+  if (!(drift.all < 1.0)) return INFINITY;
   double distance =
       tool_distance(*inverse, Eigen::VectorXd::Zero(n), rounding + chord_error, drift, reach_mm_);
   if (static_cast<int>(hessians->third.size()) == n) {
