@@ -247,7 +247,7 @@ TEST(Post, PaperSphereOnTheHexapodNearItsBound) {
   // The paper's sphere (pkm demo) turns the tool through up to 47 deg per 30 deg arc. Bounding the
   // legs' chord error by its curvature alone (each rotation's second derivative at its worst,
   // whatever direction the leg points) held it to 0.00099 mm in 20,225 blocks; the joints at the
-  // chord's middle and a third-derivative remainder give 3,309 blocks, and the largest deviation
+  // chord's middle and a third-derivative remainder give 3,024 blocks, and the largest deviation
   // found densely is most of the bound, never above it.
   const Machine hexapod = test::load_example("hexapod-bit.toml");
   const auto sphere = std::filesystem::path(PKM_SOURCE_DIR) / "examples" / "jobs" / "sphere.ngc";
@@ -255,7 +255,7 @@ TEST(Post, PaperSphereOnTheHexapodNearItsBound) {
   PostOptions options;
   options.tolerance_mm = 0.01;
   const PostReport report = post_to_file(hexapod, sphere, output, options);
-  EXPECT_LE(report.blocks, 3400);
+  EXPECT_LE(report.blocks, 3100);
   const std::vector<JointVector> blocks = joint_blocks(hexapod, output);
   ASSERT_EQ(static_cast<long>(blocks.size()) - 1, report.blocks);
   const double dense = dense_deviation(hexapod, blocks, programmed_moves(hexapod, sphere), 100);

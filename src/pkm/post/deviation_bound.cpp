@@ -287,21 +287,63 @@ double largest_over_box(const Eigen::MatrixXd& m, const Eigen::VectorXd& half_wi
   return largest;
 }
 
-// How far J^-1 may drift over the ball, relative to its value M at the centre: bounds on
-// |M (J(x) - J(c))| and on its position rows.
+// How far J^-1 may drift, relative to its value M at the centre, per mm from the centre: bounds
+// on |M (J(x) - J(c))| / |x - c| and on its position rows.
 struct Drift {
   double all = 0.0, position = 0.0;
 };
 
-// The tool tip's distance from the chord (position) for joint errors e = `exact` + r, r in the
-// box `spread`, while J's drift over the ball stays below 1 (docs/post.md, "The bound", step 4);
-// infinity where the joint error could carry the pose beyond the reach.
-double tool_distance(const CentreInverse& inverse, const Eigen::VectorXd& exact,
-                     const Eigen::VectorXd& spread, const Drift& drift, double reach_mm) {
-  const double moved = (inverse.all * exact).norm() + largest_over_box(inverse.all, spread);
-  if (!(moved / (1.0 - drift.all) < reach_mm)) return INFINITY;
-  return (inverse.position * exact).norm() + largest_over_box(inverse.position, spread) +
-         drift.position / (1.0 - drift.all) * moved;
+// Where along the block the joints and the drift are: the poses the argument visits at fraction
+// lambda lie within |lambda - 1/2| `chord_mm` + `sagitta_mm` (at most `half_length_mm`) + the
+// reach of the centre, and the programmed point is within 4 lambda (1 - lambda) `sagitta_mm` of
+// the chord.
+struct BlockShape {
+  double chord_mm = 0.0, sagitta_mm = 0.0, half_length_mm = 0.0, reach_mm = 0.0;
+};
+
+// Joint errors e(lambda) = 4 lambda (1 - lambda) (exact + a) + b, a in the box `shaped` and b in
+// the box `flat`.
+struct JointError {
+  Eigen::VectorXd exact, shaped, flat;
+};
+
+// Bounds on |m e(lambda)|: shaped at(f) = f shaped + flat, and never above the whole at f = 1.
+struct ErrorImage {
+  double shaped = 0.0, flat = 0.0, whole = 0.0;
+  double at(double f) const { return std::min(f * shaped + flat, whole); }
+};
+
+ErrorImage image(const Eigen::MatrixXd& m, const JointError& error) {
+  const double exact = (m * error.exact).norm();
+  return {exact + largest_over_box(m, error.shaped), largest_over_box(m, error.flat),
+          exact + largest_over_box(m, error.shaped + error.flat)};
+}
+
+constexpr int kStretches = 8;  // of lambda in [0, 1/2]; the bound is symmetric about 1/2
+
+// The tool tip's distance from the programmed point at the same fraction (docs/post.md, "The
+// bound", steps 4 and 5), the largest over stretches of lambda, each taken at its largest error
+// and drift; infinity where J's drift reaches 1 or the joint error could carry the pose beyond
+// the reach.
+double tool_distance(const CentreInverse& inverse, const JointError& error, const Drift& per_mm,
+                     const BlockShape& shape) {
+  const ErrorImage moved = image(inverse.all, error);
+  const ErrorImage position = image(inverse.position, error);
+  double worst = 0.0;
+  for (int k = 0; k < kStretches; ++k) {
+    const double from = 0.5 * k / kStretches, to = 0.5 * (k + 1) / kStretches;
+    const double f = 4.0 * to * (1.0 - to);
+    const double radius =
+        std::min((0.5 - from) * shape.chord_mm + shape.sagitta_mm, shape.half_length_mm) +
+        shape.reach_mm;
+    const double drift = per_mm.all * radius;
+    if (!(drift < 1.0)) return INFINITY;
+    const double y = moved.at(f);
+    if (!(y / (1.0 - drift) < shape.reach_mm)) return INFINITY;
+    worst = std::max(worst, position.at(f) + per_mm.position * radius / (1.0 - drift) * y +
+                                f * shape.sagitta_mm);
+  }
+  return worst;
 }
 
 // The chord error from the joints at the chord's middle: e(lambda) - 4 lambda (1 - lambda)
@@ -311,7 +353,7 @@ double tool_distance(const CentreInverse& inverse, const Eigen::VectorXd& exact,
 double middle_tool_distance(const Kinematics& model, const Vector6d& start, const Vector6d& end,
                             const BlockEnds& ends, const CentreInverse& inverse,
                             const HessianBounds& hessians, const Eigen::VectorXd& rounding,
-                            const Drift& drift, double reach_mm) {
+                            const Drift& drift, const BlockShape& shape) {
   JointVector middle;
   if (!model.inverse(Pose::from_vector(0.5 * (start + end)), middle).ok()) return INFINITY;
   const int n = static_cast<int>(rounding.size());
@@ -320,7 +362,7 @@ double middle_tool_distance(const Kinematics& model, const Vector6d& start, cons
     at_middle[i] = 0.5 * (ends.exact0[i] + ends.exact1[i]) - middle[i];
     spread[i] = rounding[i] + std::sqrt(3.0) / 216.0 * hessians.third[static_cast<std::size_t>(i)];
   }
-  return tool_distance(inverse, at_middle, spread, drift, reach_mm);
+  return tool_distance(inverse, {at_middle, Eigen::VectorXd::Zero(n), spread}, drift, shape);
 }
 
 }  // namespace
@@ -345,26 +387,27 @@ double DeviationBound::operator()(const Segment& segment, double u0, double u1,
       inverse_hessian_bounds(model, piece.centre, radius, angle_scale_mm_, piece.chord);
   if (!hessians) return INFINITY;
   const int n = static_cast<int>(hessians->norm.size());
-  // Each joint's gradient moves at most |H_i| R over the ball: the drift of J^-1.
-  Eigen::VectorXd gradient_change(n), rounding(n), chord_error(n);
+  // Each joint's gradient moves at most |H_i| per mm over the ball: the drift of J^-1.
+  Eigen::VectorXd curvature(n), rounding(n), chord_error(n);
   for (int i = 0; i < n; ++i) {
     const std::size_t k = static_cast<std::size_t>(i);
-    gradient_change[i] = hessians->norm[k] * radius;
+    curvature[i] = hessians->norm[k];
     rounding[i] = std::max(std::abs(ends.written0[i] - ends.exact0[i]),
                            std::abs(ends.written1[i] - ends.exact1[i]));
     chord_error[i] = hessians->along[k] / 8.0;
   }
-  const Drift drift{largest_over_box(inverse->all, gradient_change),
-                    largest_over_box(inverse->position, gradient_change)};
-  if (!(drift.all < 1.0)) return INFINITY;
+  const Drift drift{largest_over_box(inverse->all, curvature),
+                    largest_over_box(inverse->position, curvature)};
+  const BlockShape shape{std::hypot(piece.chord.position.norm(), piece.chord.angle),
+                         piece.acceleration / 8.0, 0.5 * piece.length, reach_mm_};
   double distance =
-      tool_distance(*inverse, Eigen::VectorXd::Zero(n), rounding + chord_error, drift, reach_mm_);
+      tool_distance(*inverse, {Eigen::VectorXd::Zero(n), chord_error, rounding}, drift, shape);
   if (static_cast<int>(hessians->third.size()) == n) {
     distance =
         std::min(distance, middle_tool_distance(model, segment.at(u0), segment.at(u1), ends,
-                                                *inverse, *hessians, rounding, drift, reach_mm_));
+                                                *inverse, *hessians, rounding, drift, shape));
   }
-  return distance + piece.acceleration / 8.0;
+  return distance;
 }
 
 }  // namespace pkm::post
