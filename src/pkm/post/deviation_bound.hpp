@@ -1,6 +1,7 @@
 // An upper bound on how far the tool tip of a joint-linear block strays from the piece of the
-// programmed path it stands for, from bounds on the inverse kinematics' second derivatives (the
-// argument is in docs/post.md, "The bound").
+// programmed path it stands for, from bounds on the inverse kinematics' second (and, for
+// hexapods, third) derivatives over a ball, the joints at the piece's middle, and each joint's
+// error weighed by how far it moves the tool (the argument is in docs/post.md, "The bound").
 #pragma once
 
 #include <optional>
