@@ -132,8 +132,13 @@ HessianBounds hexapod_bounds(const HexapodKinematics& model, const Vector6d& cen
     }
     const double turning = rotation_curvature(b, angle_scale_mm);
     const double w_change = platform_point_change(chord.position.norm(), chord, b, angle_scale_mm);
-    add(bounds, gain * gain / shortest + turning,
-        w_change * w_change / shortest + turning * chord.angle * chord.angle);
+    const double w_curve = turning * chord.angle * chord.angle;
+    add(bounds, gain * gain / shortest + turning, w_change * w_change / shortest + w_curve);
+    // l''' = D3|w|[w', w', w'] + 3 D2|w|[w', w''] + n . w''', with |D3|w|| <= 3 / l^2,
+    // |D2|w|| <= 1 / l and every third derivative of R b of norm <= |b| per entry.
+    const double w_third = 3.0 * std::sqrt(3.0) * b * std::pow(chord.angle / angle_scale_mm, 3);
+    bounds.third.push_back(3.0 * std::pow(w_change, 3) / (shortest * shortest) +
+                           3.0 * w_change * w_curve / shortest + w_third);
   }
   return bounds;
 }
@@ -185,11 +190,6 @@ PieceMotion piece_motion(const Segment& segment, double u0, double u1, const std
           position_acceleration * du * du, chord};
 }
 
-double largest_singular_value(const Eigen::MatrixXd& m) {
-  if (m.size() == 0) return 0.0;
-  return Eigen::JacobiSVD<Eigen::MatrixXd>(m).singularValues()[0];
-}
-
 }  // namespace
 
 std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, const Vector6d& centre,
@@ -206,13 +206,13 @@ std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, con
   }
   if (dynamic_cast<const MatrixKinematics*>(&model) != nullptr) {
     const std::vector<double> zero(static_cast<std::size_t>(model.joint_count()), 0.0);
-    return HessianBounds{zero, zero};  // linear
+    return HessianBounds{zero, zero, {}};  // linear
   }
   return std::nullopt;
 }
 
 DeviationBound::DeviationBound(const Machine& machine, double tolerance_mm)
-    : machine_(machine), reach_mm_(1.5 * std::min(tolerance_mm, 1.0)) {
+    : machine_(machine), reach_mm_(std::min(3.0 * tolerance_mm, 1.5)) {
   const Kinematics& model = machine.kinematics();
   for (int axis = 0; axis < kPoseSize; ++axis) {
     if (model.dof().controls(axis)) axes_.push_back(axis);
@@ -238,74 +238,176 @@ DeviationBound::DeviationBound(const Machine& machine, double tolerance_mm)
                    .has_value();
 }
 
-// The Jacobian at a pose in scaled coordinates, its inverse's norm and that of the inverse's
-// position rows; nothing where it is singular.
-struct InverseNorms {
-  Eigen::MatrixXd jacobian;
-  double all = 0.0, position = 0.0;
+namespace {
+
+// The inverse of the Jacobian at a pose in scaled coordinates, and its rows for x y z; nothing
+// where it is singular.
+struct CentreInverse {
+  Eigen::MatrixXd all, position;
 };
 
-std::optional<InverseNorms> inverse_norms(const Kinematics& model, const Vector6d& pose,
-                                          const std::vector<int>& axes, double angle_scale_mm) {
+std::optional<CentreInverse> centre_inverse(const Kinematics& model, const Vector6d& pose,
+                                            const std::vector<int>& axes, double angle_scale_mm) {
   JointJacobian full;
   if (!model.jacobian(Pose::from_vector(pose), full).ok()) return std::nullopt;
   const int n = static_cast<int>(axes.size());
-  InverseNorms norms{Eigen::MatrixXd(n, n)};
+  Eigen::MatrixXd jacobian(n, n);
   std::vector<int> position_rows;
   for (int k = 0; k < n; ++k) {
     const int axis = axes[static_cast<std::size_t>(k)];
-    norms.jacobian.col(k) = full.col(axis) / (axis >= 3 ? angle_scale_mm : 1.0);
+    jacobian.col(k) = full.col(axis) / (axis >= 3 ? angle_scale_mm : 1.0);
     if (axis < 3) position_rows.push_back(k);
   }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(norms.jacobian,
-                                              Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeFullU | Eigen::ComputeFullV);
   const double smallest = svd.singularValues()[n - 1];
   if (!(smallest > 0.0) || !std::isfinite(smallest)) return std::nullopt;
-  const Eigen::MatrixXd inverse = svd.solve(Eigen::MatrixXd::Identity(n, n));
-  Eigen::MatrixXd position_part(static_cast<int>(position_rows.size()), n);
+  CentreInverse inverse{svd.solve(Eigen::MatrixXd::Identity(n, n)),
+                        Eigen::MatrixXd(static_cast<int>(position_rows.size()), n)};
   for (std::size_t r = 0; r < position_rows.size(); ++r) {
-    position_part.row(static_cast<int>(r)) = inverse.row(position_rows[r]);
+    inverse.position.row(static_cast<int>(r)) = inverse.all.row(position_rows[r]);
   }
-  norms.all = 1.0 / smallest;
-  norms.position = largest_singular_value(position_part);
-  return norms;
+  return inverse;
 }
+
+// The largest |M e| over the box |e_i| <= half_width_i: a convex function is largest at a
+// corner of the box, and e and -e give the same norm, so half the corners are enough. Unlike
+// |M| |half_width|, it lets a joint whose error is large but moves the tool little (a strut
+// nearly square to its rail) weigh only as much as it moves the tool.
+double largest_over_box(const Eigen::MatrixXd& m, const Eigen::VectorXd& half_width) {
+  const int n = static_cast<int>(half_width.size());
+  if (m.rows() == 0 || n == 0) return 0.0;
+  double largest = 0.0;
+  for (unsigned signs = 0; signs < (1u << (n - 1)); ++signs) {
+    Eigen::VectorXd e = half_width;
+    for (int i = 1; i < n; ++i) {
+      if ((signs >> (i - 1)) & 1u) e[i] = -e[i];
+    }
+    largest = std::max(largest, (m * e).norm());
+  }
+  return largest;
+}
+
+// How far J^-1 may drift, relative to its value M at the centre, per mm from the centre: bounds
+// on |M (J(x) - J(c))| / |x - c| and on its position rows.
+struct Drift {
+  double all = 0.0, position = 0.0;
+};
+
+// Where along the block the joints and the drift are: the poses the argument visits at fraction
+// lambda lie within |lambda - 1/2| `chord_mm` + `sagitta_mm` (at most `half_length_mm`) + the
+// reach of the centre, and the programmed point is within 4 lambda (1 - lambda) `sagitta_mm` of
+// the chord.
+struct BlockShape {
+  double chord_mm = 0.0, sagitta_mm = 0.0, half_length_mm = 0.0, reach_mm = 0.0;
+};
+
+// Joint errors e(lambda) = 4 lambda (1 - lambda) (exact + a) + b, a in the box `shaped` and b in
+// the box `flat`.
+struct JointError {
+  Eigen::VectorXd exact, shaped, flat;
+};
+
+// Bounds on |m e(lambda)|: shaped at(f) = f shaped + flat, and never above the whole at f = 1.
+struct ErrorImage {
+  double shaped = 0.0, flat = 0.0, whole = 0.0;
+  double at(double f) const { return std::min(f * shaped + flat, whole); }
+};
+
+ErrorImage image(const Eigen::MatrixXd& m, const JointError& error) {
+  const double exact = (m * error.exact).norm();
+  return {exact + largest_over_box(m, error.shaped), largest_over_box(m, error.flat),
+          exact + largest_over_box(m, error.shaped + error.flat)};
+}
+
+constexpr int kStretches = 8;  // of lambda in [0, 1/2]; the bound is symmetric about 1/2
+
+// The tool tip's distance from the programmed point at the same fraction (docs/post.md, "The
+// bound", steps 4 and 5), the largest over stretches of lambda, each taken at its largest error
+// and drift; infinity where J's drift reaches 1 or the joint error could carry the pose beyond
+// the reach.
+double tool_distance(const CentreInverse& inverse, const JointError& error, const Drift& per_mm,
+                     const BlockShape& shape) {
+  const ErrorImage moved = image(inverse.all, error);
+  const ErrorImage position = image(inverse.position, error);
+  double worst = 0.0;
+  for (int k = 0; k < kStretches; ++k) {
+    const double from = 0.5 * k / kStretches, to = 0.5 * (k + 1) / kStretches;
+    const double f = 4.0 * to * (1.0 - to);
+    const double radius =
+        std::min((0.5 - from) * shape.chord_mm + shape.sagitta_mm, shape.half_length_mm) +
+        shape.reach_mm;
+    const double drift = per_mm.all * radius;
+    if (!(drift < 1.0)) return INFINITY;
+    const double y = moved.at(f);
+    if (!(y / (1.0 - drift) < shape.reach_mm)) return INFINITY;
+    worst = std::max(worst, position.at(f) + per_mm.position * radius / (1.0 - drift) * y +
+                                f * shape.sagitta_mm);
+  }
+  return worst;
+}
+
+// The chord error from the joints at the chord's middle: e(lambda) - 4 lambda (1 - lambda)
+// e(1/2) vanishes at 0, 1/2 and 1, so it is within |G'''| max|lambda (lambda - 1/2)
+// (lambda - 1)| / 6 = |G'''| sqrt(3) / 216 (the remainder of quadratic interpolation), and
+// 4 lambda (1 - lambda) <= 1.
+double middle_tool_distance(const Kinematics& model, const Vector6d& start, const Vector6d& end,
+                            const BlockEnds& ends, const CentreInverse& inverse,
+                            const HessianBounds& hessians, const Eigen::VectorXd& rounding,
+                            const Drift& drift, const BlockShape& shape) {
+  JointVector middle;
+  if (!model.inverse(Pose::from_vector(0.5 * (start + end)), middle).ok()) return INFINITY;
+  const int n = static_cast<int>(rounding.size());
+  Eigen::VectorXd at_middle(n), spread(n);
+  for (int i = 0; i < n; ++i) {
+    at_middle[i] = 0.5 * (ends.exact0[i] + ends.exact1[i]) - middle[i];
+    spread[i] = rounding[i] + std::sqrt(3.0) / 216.0 * hessians.third[static_cast<std::size_t>(i)];
+  }
+  return tool_distance(inverse, {at_middle, Eigen::VectorXd::Zero(n), spread}, drift, shape);
+}
+
+}  // namespace
 
 // The argument (docs/post.md, "The bound"): C, the straight chord in pose space between the
 // piece's programmed ends, is within |S''| / 8 of the programmed point at the same fraction. The
-// joint error of the block against IK(C) is its ends' rounding plus the chord error of IK along
-// C, |H[C', C']| / 8 per joint; where the Jacobian stays invertible over the ball of the piece
-// plus the reach, that joint error e moves the tool tip at most |J^-1| |e| from C.
+// joint error e of the block against IK(C) is its ends' rounding plus the chord error of IK along
+// C: at most |H[C', C']| / 8 per joint, or, where the model bounds IK's third derivative, the
+// error at the chord's middle (one inverse kinematics) spread as 4 lambda (1 - lambda) plus a
+// cubic remainder. Where J(c)^-1 (J(x) - J(c)) stays below 1 over the ball of the piece plus the
+// reach, that joint error moves the tool tip at most |J(c)^-1 e| / (1 - drift) from C.
 double DeviationBound::operator()(const Segment& segment, double u0, double u1,
                                   const BlockEnds& ends) const {
   if (!available_) return INFINITY;
   const Kinematics& model = machine_.kinematics();
   const PieceMotion piece = piece_motion(segment, u0, u1, axes_, angle_scale_mm_);
-  const std::optional<InverseNorms> at_centre =
-      inverse_norms(model, piece.centre, axes_, angle_scale_mm_);
-  if (!at_centre) return INFINITY;
+  const std::optional<CentreInverse> inverse =
+      centre_inverse(model, piece.centre, axes_, angle_scale_mm_);
+  if (!inverse) return INFINITY;
   const double radius = 0.5 * piece.length + reach_mm_;
   const auto hessians =
       inverse_hessian_bounds(model, piece.centre, radius, angle_scale_mm_, piece.chord);
   if (!hessians) return INFINITY;
-  double lipschitz = 0.0;  // of the Jacobian, per unit of pose distance
-  for (const double h : hessians->norm) lipschitz += h * h;
-  lipschitz = std::sqrt(lipschitz);
-  const double drift = at_centre->all * lipschitz * radius;
-  if (!(drift < 1.0)) return INFINITY;
-  const double inverse_bound = at_centre->all / (1.0 - drift);
-  const double position_inverse_bound =
-      at_centre->position + inverse_bound * at_centre->all * lipschitz * radius;
-  double joint_error = 0.0;
-  for (std::size_t i = 0; i < hessians->along.size(); ++i) {
-    const int k = static_cast<int>(i);
-    const double rounding = std::max(std::abs(ends.written0[k] - ends.exact0[k]),
-                                     std::abs(ends.written1[k] - ends.exact1[k]));
-    joint_error += std::pow(rounding + hessians->along[i] / 8.0, 2);
+  const int n = static_cast<int>(hessians->norm.size());
+  // Each joint's gradient moves at most |H_i| per mm over the ball: the drift of J^-1.
+  Eigen::VectorXd curvature(n), rounding(n), chord_error(n);
+  for (int i = 0; i < n; ++i) {
+    const std::size_t k = static_cast<std::size_t>(i);
+    curvature[i] = hessians->norm[k];
+    rounding[i] = std::max(std::abs(ends.written0[i] - ends.exact0[i]),
+                           std::abs(ends.written1[i] - ends.exact1[i]));
+    chord_error[i] = hessians->along[k] / 8.0;
   }
-  joint_error = std::sqrt(joint_error);
-  if (!(inverse_bound * joint_error < reach_mm_)) return INFINITY;
-  return position_inverse_bound * joint_error + piece.acceleration / 8.0;
+  const Drift drift{largest_over_box(inverse->all, curvature),
+                    largest_over_box(inverse->position, curvature)};
+  const BlockShape shape{std::hypot(piece.chord.position.norm(), piece.chord.angle),
+                         piece.acceleration / 8.0, 0.5 * piece.length, reach_mm_};
+  double distance =
+      tool_distance(*inverse, {Eigen::VectorXd::Zero(n), chord_error, rounding}, drift, shape);
+  if (static_cast<int>(hessians->third.size()) == n) {
+    distance =
+        std::min(distance, middle_tool_distance(model, segment.at(u0), segment.at(u1), ends,
+                                                *inverse, *hessians, rounding, drift, shape));
+  }
+  return distance;
 }
 
 }  // namespace pkm::post

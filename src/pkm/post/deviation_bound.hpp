@@ -1,6 +1,7 @@
 // An upper bound on how far the tool tip of a joint-linear block strays from the piece of the
-// programmed path it stands for, from bounds on the inverse kinematics' second derivatives (the
-// argument is in docs/post.md, "The bound").
+// programmed path it stands for, from bounds on the inverse kinematics' second (and, for
+// hexapods, third) derivatives over a ball, the joints at the piece's middle, and each joint's
+// error weighed by how far it moves the tool (the argument is in docs/post.md, "The bound").
 #pragma once
 
 #include <optional>
@@ -22,9 +23,10 @@ struct Chord {
 // coordinates with rotations scaled by `angle_scale_mm` (mm per rad, so that one norm serves
 // lengths and angles): `norm`, an upper bound on the operator norm of the Hessian of the joint's
 // inverse kinematics, and `along`, on |H[v, v]| for v = `chord`. Infinity where the ball reaches
-// a singularity of the model.
+// a singularity of the model. `third`, where the model gives one, bounds |D3 IK_i[v, v, v]| on
+// the ball (empty otherwise).
 struct HessianBounds {
-  std::vector<double> norm, along;
+  std::vector<double> norm, along, third;
 };
 // Nothing for models with no such bound here (formula machines).
 std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, const Vector6d& centre,
@@ -40,10 +42,12 @@ struct BlockEnds {
 
 class DeviationBound {
  public:
-  // For blocks held to `tolerance_mm`: the argument looks for the tool tip within a reach of
-  // 1.5 times it (at most 1.5 mm, so that a large tolerance does not reach past a small
-  // machine's anchors) from the programmed chord, the same for every block, so that
-  // consecutive blocks agree on which pose the machine is in.
+  // For blocks held to `tolerance_mm`: the argument looks for the pose within a reach of 3
+  // times it (at most 1.5 mm, so that a large tolerance does not reach past a small machine's
+  // anchors) from the programmed chord, the same for every block, so that consecutive blocks
+  // agree on which pose the machine is in. The reach is in the scaled pose norm: a hexapod's
+  // joint error moves its attitude (scaled) about twice as far as its tool tip, and at 1.5 times
+  // the tolerance the reach, not the deviation, ended the sphere's blocks.
   DeviationBound(const Machine& machine, double tolerance_mm);
 
   // False for models without a second-derivative bound: their deviation is sampled instead.
