@@ -243,6 +243,35 @@ TEST(Post, DeltaStrutNearlySquareToItsRailIsPosted) {
   std::filesystem::remove(output);
 }
 
+TEST(Post, PassThroughJointOfACablePlotterIsBounded) {
+  // The Maslow's router Z is a pass-through joint: a third joint beside the two chains. The bound
+  // sized its second derivatives by the chains alone, read past them (the joint program of
+  // calibration-benchmark-test.nc, line 11, was refused at random: "no block, however short").
+  const Machine maslow = test::load_example("maslow.toml");
+  ASSERT_EQ(maslow.joints().size(), 3u);
+  const auto bounds =
+      inverse_hessian_bounds(maslow.kinematics(), maslow.home().as_vector(), 1.0, 1.0, {});
+  ASSERT_TRUE(bounds.has_value());
+  EXPECT_EQ(bounds->norm.size(), 3u);  // one per joint, the pass-through's zero
+  EXPECT_EQ(bounds->norm[2], 0.0);
+  const auto job = temp_file("maslow-rapid.ngc");
+  std::ofstream(job) << "G21\nG90\nG1 Z5 F500\nG0 X0 Y0\nG0 X-952.5 Y10\nG1 Z-2 F500\n"
+                        "G1 Y-10\nG1 Z5\nM2\n";
+  const auto output = temp_file("maslow-rapid-joints.ngc");
+  PostOptions options;
+  options.tolerance_mm = 0.01;
+  options.origin << 1489.2, -1072.6, 0.0, 0.0, 0.0, 0.0;
+  const PostReport report = post_to_file(maslow, job, output, options);
+  EXPECT_LE(report.max_deviation_mm, 0.01);
+  const std::vector<JointVector> blocks = joint_blocks(maslow, output);
+  ASSERT_EQ(static_cast<long>(blocks.size()) - 1, report.blocks);
+  EXPECT_GT(report.blocks, 10);  // the 952 mm rapid across the chains' curvature
+  EXPECT_LE(dense_deviation(maslow, blocks, programmed_moves(maslow, job, options.origin)),
+            report.max_deviation_mm);
+  std::filesystem::remove(job);
+  std::filesystem::remove(output);
+}
+
 TEST(Post, PaperSphereOnTheHexapodNearItsBound) {
   // The paper's sphere (pkm demo) turns the tool through up to 47 deg per 30 deg arc. Bounding the
   // legs' chord error by its curvature alone (each rotation's second derivative at its worst,

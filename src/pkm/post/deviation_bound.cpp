@@ -192,9 +192,11 @@ PieceMotion piece_motion(const Segment& segment, double u0, double u1, const std
 
 }  // namespace
 
-std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, const Vector6d& centre,
-                                                    double radius_mm, double angle_scale_mm,
-                                                    const Chord& chord) {
+namespace {
+
+std::optional<HessianBounds> model_hessian_bounds(const Kinematics& model, const Vector6d& centre,
+                                                  double radius_mm, double angle_scale_mm,
+                                                  const Chord& chord) {
   if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
     return cable_plotter_bounds(*plotter, centre, radius_mm, chord);
   }
@@ -209,6 +211,25 @@ std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, con
     return HessianBounds{zero, zero, {}};  // linear
   }
   return std::nullopt;
+}
+
+}  // namespace
+
+// The model's own joints first; its pass-through joints (a plotter's Z, a glide's pen) equal an
+// axis, so their second and third derivatives are zero.
+std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, const Vector6d& centre,
+                                                    double radius_mm, double angle_scale_mm,
+                                                    const Chord& chord) {
+  std::optional<HessianBounds> bounds =
+      model_hessian_bounds(model, centre, radius_mm, angle_scale_mm, chord);
+  if (!bounds) return bounds;
+  const bool with_third = !bounds->third.empty();
+  for (int joint = static_cast<int>(bounds->norm.size()); joint < model.joint_count(); ++joint) {
+    if (model.passthrough_axis(joint) < 0) return std::nullopt;
+    add(*bounds, 0.0, 0.0);
+    if (with_third) bounds->third.push_back(0.0);
+  }
+  return bounds;
 }
 
 DeviationBound::DeviationBound(const Machine& machine, double tolerance_mm)
