@@ -218,6 +218,27 @@ INSTANTIATE_TEST_SUITE_P(Examples, PostEveryMachine,
                          ::testing::ValuesIn(test::example_machine_files()),
                          [](const auto& test_info) { return test::test_name(test_info.param); });
 
+// Posts `job_text` at 0.01 mm from `origin` and checks the program densely: nothing above the
+// bound it reports, one joint block per block it counts. Returns the report.
+PostReport post_within_its_bound(const Machine& machine, const std::string& job_text,
+                                 const Vector6d& origin) {
+  const auto job = temp_file("bounded-job.ngc");
+  std::ofstream(job) << job_text;
+  const auto output = temp_file("bounded-joints.ngc");
+  PostOptions options;
+  options.tolerance_mm = 0.01;
+  options.origin = origin;
+  const PostReport report = post_to_file(machine, job, output, options);
+  EXPECT_LE(report.max_deviation_mm, 0.01);
+  const std::vector<JointVector> blocks = joint_blocks(machine, output);
+  EXPECT_EQ(static_cast<long>(blocks.size()) - 1, report.blocks);
+  EXPECT_LE(dense_deviation(machine, blocks, programmed_moves(machine, job, origin)),
+            report.max_deviation_mm);
+  std::filesystem::remove(job);
+  std::filesystem::remove(output);
+  return report;
+}
+
 // ---- Coverage: every programmed move traced from its start to its end ----
 
 TEST(Post, DeltaStrutNearlySquareToItsRailIsPosted) {
@@ -226,21 +247,9 @@ TEST(Post, DeltaStrutNearlySquareToItsRailIsPosted) {
   // square. The bound refused every block there (the drift of J^-1 over the reach, counted at
   // the strut's full curvature against the smallest singular value, stayed above 1 however short
   // the block); weighed by how little that strut moves the tool, short blocks pass.
-  const Machine delta = test::load_example("linear-delta.toml");
-  const auto job = temp_file("delta-corner.ngc");
-  std::ofstream(job) << "G20 G90\nG0 Z2.1\nG0 X0 Y3.915\nG1 F16 Z1.6875\nG1 X4.0\nM2\n";
-  const auto output = temp_file("delta-corner-joints.ngc");
-  PostOptions options;
-  options.tolerance_mm = 0.01;
-  options.origin << 0.0, 0.0, 50.0, 0.0, 0.0, 0.0;
-  const PostReport report = post_to_file(delta, job, output, options);
-  EXPECT_LE(report.max_deviation_mm, 0.01);
-  const std::vector<JointVector> blocks = joint_blocks(delta, output);
-  ASSERT_EQ(static_cast<long>(blocks.size()) - 1, report.blocks);
-  EXPECT_LE(dense_deviation(delta, blocks, programmed_moves(delta, job, options.origin)),
-            report.max_deviation_mm);
-  std::filesystem::remove(job);
-  std::filesystem::remove(output);
+  const Vector6d origin = (Vector6d() << 0.0, 0.0, 50.0, 0.0, 0.0, 0.0).finished();
+  post_within_its_bound(test::load_example("linear-delta.toml"),
+                        "G20 G90\nG0 Z2.1\nG0 X0 Y3.915\nG1 F16 Z1.6875\nG1 X4.0\nM2\n", origin);
 }
 
 TEST(Post, PassThroughJointOfACablePlotterIsBounded) {
@@ -254,22 +263,11 @@ TEST(Post, PassThroughJointOfACablePlotterIsBounded) {
   ASSERT_TRUE(bounds.has_value());
   EXPECT_EQ(bounds->norm.size(), 3u);  // one per joint, the pass-through's zero
   EXPECT_EQ(bounds->norm[2], 0.0);
-  const auto job = temp_file("maslow-rapid.ngc");
-  std::ofstream(job) << "G21\nG90\nG1 Z5 F500\nG0 X0 Y0\nG0 X-952.5 Y10\nG1 Z-2 F500\n"
-                        "G1 Y-10\nG1 Z5\nM2\n";
-  const auto output = temp_file("maslow-rapid-joints.ngc");
-  PostOptions options;
-  options.tolerance_mm = 0.01;
-  options.origin << 1489.2, -1072.6, 0.0, 0.0, 0.0, 0.0;
-  const PostReport report = post_to_file(maslow, job, output, options);
-  EXPECT_LE(report.max_deviation_mm, 0.01);
-  const std::vector<JointVector> blocks = joint_blocks(maslow, output);
-  ASSERT_EQ(static_cast<long>(blocks.size()) - 1, report.blocks);
+  const Vector6d origin = (Vector6d() << 1489.2, -1072.6, 0.0, 0.0, 0.0, 0.0).finished();
+  const PostReport report = post_within_its_bound(
+      maslow, "G21\nG90\nG1 Z5 F500\nG0 X0 Y0\nG0 X-952.5 Y10\nG1 Z-2 F500\nG1 Y-10\nG1 Z5\nM2\n",
+      origin);
   EXPECT_GT(report.blocks, 10);  // the 952 mm rapid across the chains' curvature
-  EXPECT_LE(dense_deviation(maslow, blocks, programmed_moves(maslow, job, options.origin)),
-            report.max_deviation_mm);
-  std::filesystem::remove(job);
-  std::filesystem::remove(output);
 }
 
 TEST(Post, PaperSphereOnTheHexapodNearItsBound) {
