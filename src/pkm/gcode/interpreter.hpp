@@ -37,6 +37,23 @@ struct Warning {
 
 using CanonSink = std::function<void(const Canon&)>;
 
+// A progress hook called once per source line that canonical commands come from (a long run's
+// bar): the commands of one line reach it once, not once each. An empty hook costs a test.
+class LineProgress {
+ public:
+  explicit LineProgress(const std::function<void(int line)>& on_line) : on_line_(on_line) {}
+  void see(int line) {
+    if (on_line_ && line != line_) {
+      line_ = line;
+      on_line_(line);
+    }
+  }
+
+ private:
+  const std::function<void(int line)>& on_line_;
+  int line_ = 0;
+};
+
 class Interpreter {
  public:
   Interpreter(std::filesystem::path program, InterpreterOptions options = {});

@@ -639,12 +639,9 @@ PlanReport plan_program(const Machine& machine, const std::filesystem::path& pro
       program,
       starting_at(interpreter_options,
                   (options.start ? *options.start : machine.home()).as_vector(), options.origin));
-  int line = 0;
+  gcode::LineProgress progress(options.on_line);
   interpreter.run([&](const gcode::Canon& canon) {
-    if (options.on_line && canon.line != line) {
-      line = canon.line;
-      options.on_line(line);
-    }
+    progress.see(canon.line);
     planner.on_canon(canon);
   });
   PlanReport report = planner.finish();

@@ -424,12 +424,9 @@ PostReport post_program(const Machine& machine, const std::filesystem::path& pro
   gcode::Interpreter interpreter(
       program,
       motion::starting_at(interpreter_options, machine.home().as_vector(), options.origin));
-  int line = 0;
+  gcode::LineProgress progress(options.on_line);
   interpreter.run([&](const gcode::Canon& canon) {
-    if (options.on_line && canon.line != line) {
-      line = canon.line;
-      options.on_line(line);
-    }
+    progress.see(canon.line);
     poster.on_canon(canon);
   });
   PostReport report = poster.finish();

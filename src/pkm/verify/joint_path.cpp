@@ -271,12 +271,9 @@ VerifyReport verify_joint_program(const Machine& machine, const std::filesystem:
     throw VerifyError("the tolerance must be a positive number of mm");
   }
   Verifier verifier(machine, joints, job, options);
-  int line = 0;
+  gcode::LineProgress progress(options.on_line);
   gcode::Interpreter(joints, verifier.joint_program_options()).run([&](const gcode::Canon& canon) {
-    if (options.on_line && canon.line != line) {
-      line = canon.line;
-      options.on_line(line);
-    }
+    progress.see(canon.line);
     verifier.on_canon(canon);
   });
   return verifier.finish();
