@@ -52,6 +52,12 @@ void export_linuxcnc(const ExportLinuxcncOptions& options) {
       config.bound.proven ? "proven" : "SAMPLED, not proven (no Hessian bound for this model)",
       config.bound.cells, config.bound_seconds,
       config.bound.uncovered > 0.0 ? " (part of the box at the edge of reach unbounded)" : "");
+  if (config.shrink < 1.0) {
+    std::printf(
+        "axis limits: the work envelope shrunk about home to %.1f %% (beyond, a joint "
+        "moves more than %.0f times as fast per unit of tool motion as at home)\n",
+        100.0 * config.shrink, linuxcnc::kMaxSlopeGrowth);
+  }
   for (const std::string& line : config.cost) std::printf("  %s\n", line.c_str());
 }
 

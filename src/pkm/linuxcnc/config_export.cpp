@@ -68,34 +68,53 @@ std::string joint_name(const Machine& machine, int joint) {
          machine.joints()[static_cast<std::size_t>(joint)].name + "'";
 }
 
+std::string fixed(double value, int decimals) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", decimals, value + 0.0);
+  return text;
+}
+
+// The speed pkm plan allows a move along `axis` at the worst cell centre the bound met: the
+// joints' rates there are the largest sampled.
+double plan_speed_at_worst(const Machine& machine, const JointRateBound& bound, int axis) {
+  double speed = machine.cartesian().max_feed_mm_per_min / 60.0;
+  for (int i = 0; i < bound.sampled_slope.rows(); ++i) {
+    const double rate = bound.sampled_slope(i, axis);
+    const double max_velocity = 0.99 * machine.joints()[static_cast<std::size_t>(i)].max_velocity;
+    if (rate > 0.0) speed = std::min(speed, max_velocity / rate);
+  }
+  return speed;
+}
+
 std::vector<std::string> cost_lines(const Machine& machine, const LinuxcncConfig& config) {
   std::vector<std::string> lines;
   const double unit = machine.mm_per_unit();
   const std::string u = machine.length_unit();
   const double max_feed = machine.cartesian().max_feed_mm_per_min / 60.0;
+  const double max_acceleration = machine.cartesian().max_acceleration_mm_per_s2;
   for (int axis = 0; axis < kPoseSize; ++axis) {
     if (!config.moved.controls(axis)) continue;
     const std::string name(1, axis_letter(axis));
     const int limiting = config.limits.velocity_limiting[static_cast<std::size_t>(axis)];
     const std::string by = limiting >= 0 ? "set by " + joint_name(machine, limiting)
-                                         : (axis < 3 ? "the machine's max_feed" : "no joint");
+                                         : (axis < 3 ? "the machine's own" : "no joint");
+    const double v = config.limits.velocity[axis], a = config.limits.acceleration[axis];
     if (axis >= 3) {
-      lines.push_back(
-          name + ": " + number(rate_in_file(machine, axis, config.limits.velocity[axis])) +
-          " deg/s, " + number(rate_in_file(machine, axis, config.limits.acceleration[axis])) +
-          " deg/s^2 (" + by + ")");
+      lines.push_back(name + ": " + fixed(rate_in_file(machine, axis, v), 2) + " deg/s, " +
+                      fixed(rate_in_file(machine, axis, a), 1) + " deg/s^2 (" + by + ")");
       continue;
     }
-    std::string line = name + ": " + number(config.limits.velocity[axis] * 60.0 / unit) + " " + u +
-                       "/min (" + by + "), max_feed " + number(max_feed * 60.0 / unit) + " " + u +
-                       "/min = " + number(100.0 * config.limits.velocity[axis] / max_feed) +
-                       " %; " + number(config.limits.acceleration[axis] / unit) + " " + u +
-                       "/s^2 vs max_acceleration " +
-                       number(machine.cartesian().max_acceleration_mm_per_s2 / unit);
+    std::string line = name + ": " + fixed(v * 60.0 / unit, 1) + " " + u +
+                       "/min = " + fixed(100.0 * v / max_feed, 1) + " % of max_feed " +
+                       fixed(max_feed * 60.0 / unit, 0) + " (" + by + "); " + fixed(a / unit, 1) +
+                       " " + u + "/s^2 = " + fixed(100.0 * a / max_acceleration, 1) +
+                       " % of max_acceleration";
     if (machine.kinematics().dof().controls(axis)) {
-      line += "; pkm plan along " + name +
-              " at home: " + number(plan_speed_along(machine, machine.home(), axis) * 60.0 / unit) +
-              " " + u + "/min";
+      line += "; pkm plan, a move along " + name + ": " +
+              fixed(plan_speed_along(machine, machine.home(), axis) * 60.0 / unit, 0) +
+              " at home, " +
+              fixed(plan_speed_at_worst(machine, config.bound, axis) * 60.0 / unit, 0) + " " + u +
+              "/min at the envelope's worst sampled place";
     }
     lines.push_back(line);
   }
@@ -139,6 +158,12 @@ std::string traj_section(const Machine& machine, const LinuxcncConfig& config) {
   const double a = config.limits.linear_acceleration / unit;
   std::string s = "[TRAJ]\nCOORDINATES = " + letters + "\nLINEAR_UNITS = " + units_name(machine) +
                   "\nANGULAR_UNITS = degree\n";
+  // The forward kinematics' seed once every joint is homed: the machine's home pose (x y z a b c).
+  const Vector6d home = machine.home().as_vector();
+  s += "HOME =";
+  for (int axis = 0; axis < kPoseSize; ++axis)
+    s += " " + number(axis_in_file(machine, axis, home[axis]));
+  s += "\n";
   s += "DEFAULT_LINEAR_VELOCITY = " + number_down(v) + "\nMAX_LINEAR_VELOCITY = " + number_down(v) +
        "\nDEFAULT_LINEAR_ACCELERATION = " + number_down(a) +
        "\nMAX_LINEAR_ACCELERATION = " + number_down(a) + "\n";
@@ -277,16 +302,16 @@ std::string main_hal(const Machine& machine, const std::string& name) {
          pen_hal(machine);
 }
 
-std::string sim_hal(const Machine& machine, const JointVector& home_joints) {
+std::string sim_hal(const Machine& machine) {
   std::string s =
       "# sim.hal: no hardware. Each joint's command is its feedback; E-stop always released.\n"
-      "# The loops start at the joints' home values (sets), so the kinematics' first forward\n"
-      "# solution is the machine's home pose, and homing (HOME_SEARCH_VEL 0) takes no move.\n"
+      "# The joints read 0 until homed; homing (HOME_SEARCH_VEL 0, all at once) sets each to its\n"
+      "# HOME_OFFSET, the joint at the machine's home pose, without a move. LinuxCNC runs the\n"
+      "# forward kinematics only once every joint is homed, seeded with [TRAJ] HOME.\n"
       "net estop-loop iocontrol.0.user-enable-out => iocontrol.0.emc-enable-in\n";
   for (int i = 0; i < static_cast<int>(machine.joints().size()); ++i) {
     const std::string j = std::to_string(i);
     s += "net j" + j + "-pos joint." + j + ".motor-pos-cmd => joint." + j + ".motor-pos-fb\n";
-    s += "sets j" + j + "-pos " + number(machine.joint_to_file(i, home_joints[i])) + "\n";
   }
   return s;
 }
@@ -338,7 +363,7 @@ LinuxcncConfig make_linuxcnc_config(const Machine& machine, const ExportOptions&
   config.cost = cost_lines(machine, config);
   config.files.push_back({config.ini_name, ini_text(machine, config, options, home_joints)});
   config.files.push_back({stem + ".hal", main_hal(machine, stem + ".hal")});
-  config.files.push_back(options.sim ? ConfigFile{"sim.hal", sim_hal(machine, home_joints)}
+  config.files.push_back(options.sim ? ConfigFile{"sim.hal", sim_hal(machine)}
                                      : ConfigFile{"hardware.hal", hardware_hal(machine)});
   config.files.push_back({options.machine_file_name, options.machine_text});
   config.files.push_back({stem + ".tbl", "T1 P1 D0 Z0 ;no tool length\n"});
@@ -381,6 +406,10 @@ void write_config_directory(const std::filesystem::path& directory, const Linuxc
   const fs::path target = directory.has_filename() ? directory : directory.parent_path();
   const fs::path staging = target.parent_path() / ("." + target.filename().string() + ".tmp-" +
                                                    std::to_string(::getpid()));
+  if (!target.parent_path().empty() && !fs::exists(target.parent_path())) {
+    fs::create_directories(target.parent_path(), error);  // as mkdir -p
+    if (error) fail("create the directory", target.parent_path(), error);
+  }
   fs::remove_all(staging, error);
   if (!fs::create_directory(staging, error)) fail("create the directory", staging, error);
   try {

@@ -43,7 +43,8 @@ struct LinuxcncConfig {
 LinuxcncConfig make_linuxcnc_config(const Machine& machine, const ExportOptions& options);
 
 // Writes the files as one directory: built beside `directory` under a temporary name and renamed
-// into place, so that a failed run leaves nothing. A directory that exists and holds anything is
+// into place, so that a failed run leaves nothing (missing parent directories are created, as
+// mkdir -p). A directory that exists and holds anything is
 // refused unless `force`; then each file is replaced on its own (atomically), others are left.
 // Throws std::runtime_error naming the path and the system's reason.
 void write_config_directory(const std::filesystem::path& directory, const LinuxcncConfig& config,

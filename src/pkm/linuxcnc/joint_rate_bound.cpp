@@ -204,6 +204,9 @@ JointRateBound sample_joint_rates(const Machine& machine, const EnvelopeBox& box
     }
   }
   bound.sampled_slope = bound.slope;
+  bound.cell_slope = bound.slope;
+  bound.cell_curvature = bound.curvature;
+  for (int i = 0; i < n; ++i) bound.cell_joint.push_back(i);
   return bound;
 }
 
@@ -315,10 +318,16 @@ class CellTree {
     const int n = static_cast<int>(sampled_.rows());
     bound_.slope = Eigen::MatrixXd::Zero(n, kPoseSize);
     bound_.curvature.assign(static_cast<std::size_t>(n), 0.0);
+    bound_.cell_slope.resize(static_cast<Eigen::Index>(leaves_.size()) * n, kPoseSize);
+    Eigen::Index row = 0;
     for (const Leaf& leaf : leaves_) {
       bound_.slope = bound_.slope.cwiseMax(leaf.look.upper);
-      for (std::size_t k = 0; k < bound_.curvature.size(); ++k) {
+      for (int i = 0; i < n; ++i) {
+        const std::size_t k = static_cast<std::size_t>(i);
         bound_.curvature[k] = std::max(bound_.curvature[k], leaf.look.curvature[k]);
+        bound_.cell_slope.row(row++) = leaf.look.upper.row(i);
+        bound_.cell_joint.push_back(i);
+        bound_.cell_curvature.push_back(leaf.look.curvature[k]);
       }
     }
     bound_.sampled_slope = sampled_;
@@ -443,15 +452,16 @@ FittedEnvelope fit_envelope(const Machine& machine, const EnvelopeBox& requested
 
 namespace {
 
-// Progressive filling: every free axis j grows as ratio[j] t; the joint (or axis cap) that runs
-// out first fixes the free axes it concerns; repeat until every axis is fixed.
+// Progressive filling: every free axis j grows as ratio[j] t; the row (a joint over a cell) or
+// axis cap that runs out first fixes the free axes it concerns; repeat until every axis is fixed.
 struct Filling {
   Vector6d value = Vector6d::Zero();
-  std::vector<int> limiting = std::vector<int>(kPoseSize, -1);
+  std::vector<int> limiting = std::vector<int>(kPoseSize, -1);  // the joint, -1: a cap
 };
 
-Filling fill(const Eigen::MatrixXd& slope, const std::vector<double>& budget, const Vector6d& ratio,
+Filling fill(const JointRateBound& bound, const std::vector<double>& budget, const Vector6d& ratio,
              const Vector6d& cap, Dof moved) {
+  const Eigen::MatrixXd& slope = bound.cell_slope;
   Filling result;
   std::vector<bool> free(kPoseSize, false);
   for (int axis = 0; axis < kPoseSize; ++axis)
@@ -459,30 +469,33 @@ Filling fill(const Eigen::MatrixXd& slope, const std::vector<double>& budget, co
   const auto any_free = [&] { return std::find(free.begin(), free.end(), true) != free.end(); };
   while (any_free()) {
     double best = kInfinity;
-    int joint = -1, capped = -1;
-    for (int i = 0; i < slope.rows(); ++i) {
+    Eigen::Index limiting_row = -1;
+    int capped = -1;
+    for (Eigen::Index r = 0; r < slope.rows(); ++r) {
       double denominator = 0.0, used = 0.0;
       for (int axis = 0; axis < kPoseSize; ++axis) {
         (free[static_cast<std::size_t>(axis)] ? denominator : used) +=
-            slope(i, axis) *
+            slope(r, axis) *
             (free[static_cast<std::size_t>(axis)] ? ratio[axis] : result.value[axis]);
       }
       if (!(denominator > 0.0)) continue;
-      const double t = std::max(0.0, budget[static_cast<std::size_t>(i)] - used) / denominator;
-      if (t < best) best = t, joint = i, capped = -1;
+      const double t = std::max(0.0, budget[static_cast<std::size_t>(r)] - used) / denominator;
+      if (t < best) best = t, limiting_row = r, capped = -1;
     }
     for (int axis = 0; axis < kPoseSize; ++axis) {
       if (free[static_cast<std::size_t>(axis)] && cap[axis] / ratio[axis] < best) {
-        best = cap[axis] / ratio[axis], capped = axis, joint = -1;
+        best = cap[axis] / ratio[axis], capped = axis, limiting_row = -1;
       }
     }
     for (int axis = 0; axis < kPoseSize; ++axis) {
       std::size_t k = static_cast<std::size_t>(axis);
       if (!free[k]) continue;
-      const bool fixes = capped >= 0 ? axis == capped : joint < 0 || slope(joint, axis) > 0.0;
+      const bool fixes =
+          capped >= 0 ? axis == capped : limiting_row < 0 || slope(limiting_row, axis) > 0.0;
       if (!fixes) continue;
       result.value[axis] = std::isfinite(best) ? ratio[axis] * best : 0.0;
-      result.limiting[k] = joint;
+      result.limiting[k] =
+          limiting_row < 0 ? -1 : bound.cell_joint[static_cast<std::size_t>(limiting_row)];
       free[k] = false;
     }
   }
@@ -493,16 +506,19 @@ Filling fill(const Eigen::MatrixXd& slope, const std::vector<double>& budget, co
 
 AxisRateLimits axis_rate_limits(const Machine& machine, const JointRateBound& bound, Dof moved) {
   const Dof controlled = machine.kinematics().dof();
-  const std::size_t n = machine.joints().size();
+  const std::size_t rows = bound.cell_joint.size();
+  const auto joint_of = [&](std::size_t r) {
+    return machine.joints()[static_cast<std::size_t>(bound.cell_joint[r])];
+  };
   Vector6d ratio, velocity_cap, acceleration_cap;
   for (int axis = 0; axis < kPoseSize; ++axis) {
     ratio[axis] = axis < 3 ? 1.0 : 1.0 / bound.angle_scale_mm;
     velocity_cap[axis] = axis < 3 ? machine.cartesian().max_feed_mm_per_min / 60.0 : kInfinity;
     acceleration_cap[axis] = axis < 3 ? machine.cartesian().max_acceleration_mm_per_s2 : kInfinity;
   }
-  std::vector<double> budget(n);
-  for (std::size_t i = 0; i < n; ++i) budget[i] = machine.joints()[i].max_velocity;
-  Filling velocity = fill(bound.slope, budget, ratio, velocity_cap, moved);
+  std::vector<double> budget(rows);
+  for (std::size_t r = 0; r < rows; ++r) budget[r] = joint_of(r).max_velocity;
+  Filling velocity = fill(bound, budget, ratio, velocity_cap, moved);
   // |v|^2 in the scaled coordinates the Hessian bound speaks, over the controlled axes.
   const auto scaled_square = [&](const Vector6d& v) {
     double sum = 0.0;
@@ -514,12 +530,12 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const JointRateBound& bo
   };
   double factor = 1.0;
   int curving = -1;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double term = bound.curvature[i] * scaled_square(velocity.value);
-    const double half = 0.5 * machine.joints()[i].max_acceleration;
+  for (std::size_t r = 0; r < rows; ++r) {
+    const double term = bound.cell_curvature[r] * scaled_square(velocity.value);
+    const double half = 0.5 * joint_of(r).max_acceleration;
     if (term > half && std::sqrt(half / term) < factor) {
       factor = std::sqrt(half / term);
-      curving = static_cast<int>(i);
+      curving = bound.cell_joint[r];
     }
   }
   if (curving >= 0) {
@@ -530,11 +546,11 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const JointRateBound& bo
       }
     }
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    budget[i] =
-        machine.joints()[i].max_acceleration - bound.curvature[i] * scaled_square(velocity.value);
+  for (std::size_t r = 0; r < rows; ++r) {
+    budget[r] =
+        joint_of(r).max_acceleration - bound.cell_curvature[r] * scaled_square(velocity.value);
   }
-  const Filling acceleration = fill(bound.slope, budget, ratio, acceleration_cap, moved);
+  const Filling acceleration = fill(bound, budget, ratio, acceleration_cap, moved);
   AxisRateLimits limits;
   limits.velocity = velocity.value;
   limits.acceleration = acceleration.value;

@@ -45,6 +45,12 @@ struct JointRateBound {
   long excluded = 0;       // cells proven outside the joint limits (the machine never goes there)
   double uncovered = 0.0;  // share of the box's volume left unbounded: cells at the edge of the
                            // geometric reach, whose centre the machine cannot reach
+  // The same, cell by cell: one row per cell and joint (its bounds over that cell). The axis
+  // limits hold every row, so a joint's rate is bounded at each place from that place's entries,
+  // not from entries largest at different places.
+  Eigen::MatrixXd cell_slope;  // rows x 6
+  std::vector<int> cell_joint;
+  std::vector<double> cell_curvature;
   bool reaches_unbounded = false;  // an unbounded cell's centre is a pose the machine takes
   Vector6d unbounded_pose = Vector6d::Zero();  // that centre (mm, rad)
   Eigen::MatrixXd sampled_slope;               // the largest |d q_i / d x_j| met at a cell centre
