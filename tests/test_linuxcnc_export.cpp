@@ -83,16 +83,19 @@ TEST(LinuxcncExport, HandCheckedMatrixMachine) {
   const Machine machine = parse_machine(kSmallMatrix, "small.toml");
   const LinuxcncConfig config =
       make_linuxcnc_config(machine, options_for("small.toml", kSmallMatrix, true));
-  // Progressive filling by hand: z's joint runs out first (20 mm/s), then y's (50), then x's
-  // budget 100 less the 0.01 * 50 that y takes of it: 99.5. Accelerations: z 200, y 500, and x
-  // 1000 - 5 = 995 passes max_acceleration: 800. No curvature: the model is linear.
-  EXPECT_NEAR(config.limits.velocity[0], 99.5, 1e-9);
-  EXPECT_NEAR(config.limits.velocity[1], 50.0, 1e-9);
+  // The split by hand: alone, X could have 100 mm/s (jx), Y 50 (jy), Z 20 (jz). All grow as the
+  // same share t of that: jx runs out first, at 100 t + 0.01 * 50 t = 100, t = 100 / 100.5,
+  // fixing X and Y (both move jx); Z goes on to t = 1. Accelerations, alone: X 800 (the machine's
+  // max_acceleration), Y 500, Z 200; jy and jz run out at t = 1 (jx keeps 995 of its 1000). No
+  // curvature: the model is linear.
+  EXPECT_NEAR(config.limits.velocity[0], 100.0 * 100.0 / 100.5, 1e-9);
+  EXPECT_NEAR(config.limits.velocity[1], 50.0 * 100.0 / 100.5, 1e-9);
   EXPECT_NEAR(config.limits.velocity[2], 20.0, 1e-9);
   EXPECT_NEAR(config.limits.acceleration[0], 800.0, 1e-9);
   EXPECT_NEAR(config.limits.acceleration[1], 500.0, 1e-9);
   EXPECT_NEAR(config.limits.acceleration[2], 200.0, 1e-9);
-  EXPECT_NEAR(config.limits.linear_velocity, std::sqrt(99.5 * 99.5 + 2500.0 + 400.0), 1e-9);
+  EXPECT_NEAR(config.limits.linear_velocity,
+              std::hypot(100.0 * 100.0 / 100.5, 50.0 * 100.0 / 100.5, 20.0), 1e-9);
   EXPECT_DOUBLE_EQ(config.shrink, 1.0);
   EXPECT_TRUE(config.bound.proven);
 
@@ -103,12 +106,12 @@ TEST(LinuxcncExport, HandCheckedMatrixMachine) {
   const std::string traj = section(ini, "[TRAJ]");
   EXPECT_TRUE(has_line(traj, "COORDINATES = X Y Z"));
   EXPECT_TRUE(has_line(traj, "LINEAR_UNITS = mm"));
-  EXPECT_TRUE(has_line(traj, "MAX_LINEAR_VELOCITY = 113.138189"));  // sqrt(12800.25), down
+  EXPECT_TRUE(has_line(traj, "MAX_LINEAR_VELOCITY = 113.030665"));  // the three, down
   EXPECT_TRUE(has_line(traj, "MAX_LINEAR_ACCELERATION = 800"));     // the machine's own
   const std::string x = section(ini, "[AXIS_X]");
   EXPECT_TRUE(has_line(x, "MIN_LIMIT = 0"));
   EXPECT_TRUE(has_line(x, "MAX_LIMIT = 200"));
-  EXPECT_TRUE(has_line(x, "MAX_VELOCITY = 99.5"));
+  EXPECT_TRUE(has_line(x, "MAX_VELOCITY = 99.502487"));  // 99.5024875..., down
   EXPECT_TRUE(has_line(x, "MAX_ACCELERATION = 800"));
   EXPECT_TRUE(has_line(section(ini, "[AXIS_Z]"), "MAX_VELOCITY = 20"));
   EXPECT_TRUE(has_line(section(ini, "[AXIS_Z]"), "MIN_LIMIT = -100"));

@@ -452,7 +452,8 @@ FittedEnvelope fit_envelope(const Machine& machine, const EnvelopeBox& requested
 
 namespace {
 
-// Progressive filling: every free axis j grows as ratio[j] t; the row (a joint over a cell) or
+// Progressive filling: every free axis j grows as ratio[j] t (t up to 1 when ratio is what the
+// axis could have alone); the row (a joint over a cell) or
 // axis cap that runs out first fixes the free axes it concerns; repeat until every axis is fixed.
 struct Filling {
   Vector6d value = Vector6d::Zero();
@@ -502,6 +503,25 @@ Filling fill(const JointRateBound& bound, const std::vector<double>& budget, con
   return result;
 }
 
+// Per axis: the most it could have alone (every other axis still), from the rows and its cap;
+// the filling's ratios, so that every axis gets the same share of its own reach and a small
+// coupling (a matrix mill's 0.0002) does not tie a fast axis to a slow joint.
+Vector6d alone(const JointRateBound& bound, const std::vector<double>& budget, const Vector6d& cap,
+               Dof moved) {
+  Vector6d result = Vector6d::Zero();
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    if (!moved.controls(axis)) continue;
+    double most = cap[axis];
+    for (Eigen::Index r = 0; r < bound.cell_slope.rows(); ++r) {
+      const double slope = bound.cell_slope(r, axis);
+      if (slope > 0.0)
+        most = std::min(most, std::max(0.0, budget[static_cast<std::size_t>(r)]) / slope);
+    }
+    result[axis] = std::isfinite(most) ? most : 0.0;
+  }
+  return result;
+}
+
 }  // namespace
 
 AxisRateLimits axis_rate_limits(const Machine& machine, const JointRateBound& bound, Dof moved) {
@@ -510,15 +530,15 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const JointRateBound& bo
   const auto joint_of = [&](std::size_t r) {
     return machine.joints()[static_cast<std::size_t>(bound.cell_joint[r])];
   };
-  Vector6d ratio, velocity_cap, acceleration_cap;
+  Vector6d velocity_cap, acceleration_cap;
   for (int axis = 0; axis < kPoseSize; ++axis) {
-    ratio[axis] = axis < 3 ? 1.0 : 1.0 / bound.angle_scale_mm;
     velocity_cap[axis] = axis < 3 ? machine.cartesian().max_feed_mm_per_min / 60.0 : kInfinity;
     acceleration_cap[axis] = axis < 3 ? machine.cartesian().max_acceleration_mm_per_s2 : kInfinity;
   }
   std::vector<double> budget(rows);
   for (std::size_t r = 0; r < rows; ++r) budget[r] = joint_of(r).max_velocity;
-  Filling velocity = fill(bound, budget, ratio, velocity_cap, moved);
+  Filling velocity =
+      fill(bound, budget, alone(bound, budget, velocity_cap, moved), velocity_cap, moved);
   // |v|^2 in the scaled coordinates the Hessian bound speaks, over the controlled axes.
   const auto scaled_square = [&](const Vector6d& v) {
     double sum = 0.0;
@@ -550,7 +570,8 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const JointRateBound& bo
     budget[r] =
         joint_of(r).max_acceleration - bound.cell_curvature[r] * scaled_square(velocity.value);
   }
-  const Filling acceleration = fill(bound, budget, ratio, acceleration_cap, moved);
+  const Filling acceleration =
+      fill(bound, budget, alone(bound, budget, acceleration_cap, moved), acceleration_cap, moved);
   AxisRateLimits limits;
   limits.velocity = velocity.value;
   limits.acceleration = acceleration.value;

@@ -88,13 +88,13 @@ struct AxisRateLimits {
   std::vector<int> acceleration_limiting;  // per axis: the joint that set its acceleration
 };
 
-// The split of each joint's budget between the axes (docs/linuxcnc.md): progressive filling, all
-// axes grow together (angles at 1 / angle_scale_mm rad per mm) until a joint's budget is spent;
-// the axes that joint moves stop there, the others go on. Linear axes stop at the machine's
-// max_feed and max_acceleration. Before the accelerations, the speeds are lowered (all together)
-// until the Hessian term takes at most half of every joint's acceleration limit. `moved` says
-// which coordinates LinuxCNC moves (the controlled ones, and Z on a plotter): those no joint
-// follows take the machine's Cartesian limits.
+// The split of each joint's budget between the axes (docs/linuxcnc.md): every axis gets the same
+// share of what it could have alone (every other axis still); all grow together until a joint's
+// budget over some cell is spent, the axes that joint moves stop there, the others go on
+// (progressive filling). Linear axes stop at the machine's max_feed and max_acceleration. Before
+// the accelerations, the speeds are lowered (all together) until the Hessian term takes at most
+// half of every joint's acceleration limit. `moved` says which coordinates LinuxCNC moves (the
+// controlled ones, and Z on a plotter): those no joint follows take the machine's limits.
 AxisRateLimits axis_rate_limits(const Machine& machine, const JointRateBound& bound, Dof moved);
 
 // The speed (mm/s) `pkm plan` allows a straight move along the linear axis `axis` at `pose`:
