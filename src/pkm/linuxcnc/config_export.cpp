@@ -121,7 +121,7 @@ std::vector<std::string> cost_lines(const Machine& machine, const LinuxcncConfig
   return lines;
 }
 
-void bound_comments(Header& h, const Machine& machine, const LinuxcncConfig& config) {
+void bound_comments(Header& h, const LinuxcncConfig& config) {
   const JointRateBound& b = config.bound;
   h.line("Speeds and accelerations. LinuxCNC's planner holds each [AXIS_x] limit per axis but");
   h.line("not the joints' limits (LinuxCNC issue #97), so the [AXIS_x] and [TRAJ] limits below");
@@ -144,7 +144,6 @@ void bound_comments(Header& h, const Machine& machine, const LinuxcncConfig& con
   h.line("What it costs (exported vs the machine file's [cartesian] limits, and vs the feed");
   h.line("pkm plan allows per move, which follows each move's own joint rates):");
   for (const std::string& line : config.cost) h.line("  " + line);
-  (void)machine;
 }
 
 std::string traj_section(const Machine& machine, const LinuxcncConfig& config) {
@@ -167,14 +166,12 @@ std::string traj_section(const Machine& machine, const LinuxcncConfig& config) {
   s += "DEFAULT_LINEAR_VELOCITY = " + number_down(v) + "\nMAX_LINEAR_VELOCITY = " + number_down(v) +
        "\nDEFAULT_LINEAR_ACCELERATION = " + number_down(a) +
        "\nMAX_LINEAR_ACCELERATION = " + number_down(a) + "\n";
-  double angular = 0.0, angular_acceleration = 0.0;
+  double angular = 0.0;
   bool any_angle = false;
   for (int axis = 3; axis < kPoseSize; ++axis) {
     if (!config.moved.controls(axis)) continue;
     const double w = rate_in_file(machine, axis, config.limits.velocity[axis]);
-    const double wa = rate_in_file(machine, axis, config.limits.acceleration[axis]);
     angular = any_angle ? std::min(angular, w) : w;
-    angular_acceleration = any_angle ? std::min(angular_acceleration, wa) : wa;
     any_angle = true;
   }
   if (any_angle) {
@@ -182,7 +179,6 @@ std::string traj_section(const Machine& machine, const LinuxcncConfig& config) {
          "\nMAX_ANGULAR_VELOCITY = " + number_down(angular) + "\n";
   }
   return s + "NO_FORCE_HOMING = 0\n\n";
-  (void)angular_acceleration;
 }
 
 // Z on a machine that does not control it: the pen's channel (or ignored), limits wide enough for
@@ -259,7 +255,7 @@ std::string ini_text(const Machine& machine, const LinuxcncConfig& config,
          options.machine_file_name + " (copied beside this file).");
   h.line("Kinematics: pkmkins, the machine file's own model (docs/linuxcnc.md).");
   h.line("");
-  bound_comments(h, machine, config);
+  bound_comments(h, config);
   std::string s =
       h.text + "\n[EMC]\nVERSION = 1.1\nMACHINE = " + machine.name() + "\nDEBUG = 0\n\n";
   s += "[DISPLAY]\nDISPLAY = axis\nPOSITION_OFFSET = RELATIVE\nPOSITION_FEEDBACK = ACTUAL\n";
