@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "pkm/linuxcnc/config_export.hpp"
+#include "pkm/post/deviation_bound.hpp"
 #include "test_support.hpp"
 
 namespace pkm::linuxcnc {
@@ -202,7 +203,14 @@ TEST(LinuxcncExport, EveryExampleMachineExports) {
       EXPECT_GE(config.envelope.max[axis], machine.home().as_vector()[axis]);
     }
     EXPECT_GT(config.shrink, 0.0);
-    EXPECT_EQ(config.bound.proven, machine.kinematics().type() != "formula");
+    // Proven wherever post's deviation argument has a Hessian bound for the model (not formula
+    // machines, nor a model added since without one: those are sampled, and say so).
+    const bool hessian_bound =
+        post::inverse_hessian_bounds(machine.kinematics(), machine.home().as_vector(), 0.0,
+                                     post::pose_angle_scale_mm(machine.kinematics()), {})
+            .has_value();
+    EXPECT_EQ(config.bound.proven, hessian_bound);
+    if (machine.kinematics().type() == "formula") EXPECT_FALSE(config.bound.proven);
   }
 }
 
