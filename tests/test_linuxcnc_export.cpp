@@ -210,7 +210,9 @@ TEST(LinuxcncExport, EveryExampleMachineExports) {
                                      post::pose_angle_scale_mm(machine.kinematics()), {})
             .has_value();
     EXPECT_EQ(config.bound.proven, hessian_bound);
-    if (machine.kinematics().type() == "formula") EXPECT_FALSE(config.bound.proven);
+    if (machine.kinematics().type() == "formula") {
+      EXPECT_FALSE(config.bound.proven);
+    }
   }
 }
 
