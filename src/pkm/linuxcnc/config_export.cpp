@@ -114,7 +114,7 @@ std::vector<std::string> cost_lines(const Machine& machine, const LinuxcncConfig
               fixed(plan_speed_along(machine, machine.home(), axis) * 60.0 / unit, 0) +
               " at home, " +
               fixed(plan_speed_at_worst(machine, config.bound, axis) * 60.0 / unit, 0) + " " + u +
-              "/min at the envelope's worst sampled place";
+              "/min where the joints' velocities alone allow least (sampled)";
     }
     lines.push_back(line);
   }

@@ -587,11 +587,26 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const JointRateBound& bo
 double plan_speed_along(const Machine& machine, const Pose& pose, int axis) {
   double speed = machine.cartesian().max_feed_mm_per_min / 60.0;
   JointJacobian jacobian;
-  if (!machine.kinematics().jacobian(pose, jacobian).ok()) return 0.0;
+  JointVector behind, here, ahead;
+  const Kinematics& model = machine.kinematics();
+  if (!model.jacobian(pose, jacobian).ok() || !model.inverse(pose, here).ok()) return 0.0;
+  // The joints' curvature along the move, by central differences over 0.5 mm (the planner's
+  // own step).
+  constexpr double kStepMm = 0.5;
+  Vector6d step = Vector6d::Zero();
+  step[axis] = kStepMm;
+  const bool curved = model.inverse(Pose::from_vector(pose.as_vector() - step), behind).ok() &&
+                      model.inverse(Pose::from_vector(pose.as_vector() + step), ahead).ok();
   for (int i = 0; i < jacobian.rows(); ++i) {
+    const JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
     const double rate = std::abs(jacobian(i, axis));
-    const double max_velocity = 0.99 * machine.joints()[static_cast<std::size_t>(i)].max_velocity;
-    if (rate > 0.0) speed = std::min(speed, max_velocity / rate);
+    if (rate > 0.0) speed = std::min(speed, 0.99 * joint.max_velocity / rate);
+    const double curvature =
+        curved ? std::abs(ahead[i] - 2.0 * here[i] + behind[i]) / (kStepMm * kStepMm) : 0.0;
+    if (curvature > 0.0) {
+      speed = std::min(
+          speed, std::sqrt(0.5 * kPlanAccelerationShare * joint.max_acceleration / curvature));
+    }
   }
   return speed;
 }

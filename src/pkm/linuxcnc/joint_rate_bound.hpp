@@ -99,7 +99,9 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const JointRateBound& bo
 
 // The speed (mm/s) `pkm plan` allows a straight move along the linear axis `axis` at `pose`:
 // the machine's max_feed, lowered where a joint's rate along the move would pass 99 % of its
-// max_velocity (the planner's rule, motion/planner.cpp).
+// max_velocity, or its curvature times the speed squared half of the acceleration share the
+// planner gives moves (the planner's rules, motion/planner.cpp).
+inline constexpr double kPlanAccelerationShare = 0.8;
 double plan_speed_along(const Machine& machine, const Pose& pose, int axis);
 
 }  // namespace pkm::linuxcnc
