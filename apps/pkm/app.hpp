@@ -75,5 +75,6 @@ void register_gcode_commands(CLI::App& app);
 void register_plan_commands(CLI::App& app);
 void register_post_commands(CLI::App& app);
 void register_verify_commands(CLI::App& app);
+void register_linuxcnc_import_commands(CLI::App& app);
 
 }  // namespace pkm::app
