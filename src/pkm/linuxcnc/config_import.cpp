@@ -550,6 +550,27 @@ std::string joints_text(const ImportedConfig& config) {
   return text;
 }
 
+// Tcl lines the import cannot evaluate: refused when they set the kinematics' pins (the geometry
+// would silently be the default), else noted.
+void note_unread_lines(const HalConfig& hal, const KinematicsModule& module,
+                       std::vector<std::string>& notes) {
+  for (const std::string& file : hal.tcl_files()) {
+    notes.push_back(file +
+                    " is Tcl: only its plain setp, sets, net and loadrt lines were read "
+                    "(not its procedures, variables or the files it sources)");
+  }
+  for (const HalConfig::UnreadLine& line : hal.unread()) {
+    if (line.text.find(module.name + ".") != std::string::npos) {
+      throw ConfigError(line.where.file, line.where.line,
+                        "'" + line.text + "' sets " + module.name +
+                            " through Tcl, which the import does not evaluate; write the value "
+                            "as a plain setp line (setp PIN NUMBER)");
+    }
+    notes.push_back("not read (Tcl): " + line.where.file + ":" + std::to_string(line.where.line) +
+                    ": " + line.text);
+  }
+}
+
 }  // namespace
 
 const std::vector<std::string>& importable_kinematics() {
@@ -597,7 +618,7 @@ ImportedConfig read_linuxcnc_config(const std::filesystem::path& ini_path,
                                             "max_acceleration", config.notes);
   read_home(ini, config);
   read_envelope(ini, config, controlled);
-  for (const std::string& line : hal.unread()) config.notes.push_back("not read (Tcl): " + line);
+  note_unread_lines(hal, module, config.notes);
   return config;
 }
 

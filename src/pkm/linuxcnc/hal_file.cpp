@@ -117,6 +117,7 @@ HalConfig HalConfig::read(const IniFile& ini, const std::filesystem::path& halli
 
 void HalConfig::read_file(const std::filesystem::path& path, const IniFile& ini, bool tcl) {
   std::istringstream in(read_config_text(path));
+  if (tcl) tcl_files_.push_back(path.string());
   int line_number = 0;
   std::string pending;  // a line continued with a trailing backslash
   int pending_start = 0;
@@ -139,7 +140,7 @@ void HalConfig::read_file(const std::filesystem::path& path, const IniFile& ini,
       if (hal_command && plain_tcl_command(line)) {
         command(words, where);
       } else if (hal_command || line.find("kins") != std::string::npos) {
-        unread_.push_back(where.file + ":" + std::to_string(where.line) + ": " + line);
+        unread_.push_back(UnreadLine{where, line});
       }
       continue;
     }

@@ -48,8 +48,14 @@ class HalConfig {
   // When the pin is on a signal that no `sets` gives a value: the other pins of that net (the
   // pin follows them at run time), e.g. "motion.tooloffset.z"; nullopt otherwise.
   std::optional<std::string> driven_by(const std::string& pin) const;
-  // Lines that may matter and were not read (Tcl commands), as "file:line: text".
-  const std::vector<std::string>& unread() const { return unread_; }
+  // Lines of Tcl HAL files that may matter and were not read (Tcl variables, substitutions).
+  struct UnreadLine {
+    SourceLocation where;
+    std::string text;
+  };
+  const std::vector<UnreadLine>& unread() const { return unread_; }
+  // The Tcl HAL files read (for their plain lines only).
+  const std::vector<std::string>& tcl_files() const { return tcl_files_; }
   // Pins and parameters set with setp whose names start with `prefix` ("genhexkins."): the
   // importer refuses the ones it does not know.
   std::vector<std::pair<std::string, SourceLocation>> pins_with_prefix(
@@ -64,7 +70,8 @@ class HalConfig {
   std::map<std::string, HalValue> sets_;
   std::map<std::string, std::string> signal_of_pin_;
   std::map<std::string, std::vector<std::string>> pins_of_signal_;
-  std::vector<std::string> unread_;
+  std::vector<UnreadLine> unread_;
+  std::vector<std::string> tcl_files_;
 };
 
 // `line` with every [SECTION]KEY (and [SECTION](KEY)) replaced by the INI's value, as halcmd -i
