@@ -205,18 +205,4 @@ std::optional<std::string> HalConfig::driven_by(const std::string& pin) const {
   return others;
 }
 
-std::vector<std::pair<std::string, SourceLocation>> HalConfig::pins_with_prefix(
-    const std::string& prefix) const {
-  std::vector<std::pair<std::string, SourceLocation>> found;
-  for (const auto& [pin, value] : setp_) {
-    if (pin.rfind(prefix, 0) == 0) found.emplace_back(pin, value.where);
-  }
-  for (const auto& [pin, signal] : signal_of_pin_) {
-    if (pin.rfind(prefix, 0) == 0 && sets_.count(signal) != 0) {
-      found.emplace_back(pin, sets_.at(signal).where);
-    }
-  }
-  return found;
-}
-
 }  // namespace pkm::linuxcnc

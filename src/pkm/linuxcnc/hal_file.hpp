@@ -56,10 +56,6 @@ class HalConfig {
   const std::vector<UnreadLine>& unread() const { return unread_; }
   // The Tcl HAL files read (for their plain lines only).
   const std::vector<std::string>& tcl_files() const { return tcl_files_; }
-  // Pins and parameters set with setp whose names start with `prefix` ("genhexkins."): the
-  // importer refuses the ones it does not know.
-  std::vector<std::pair<std::string, SourceLocation>> pins_with_prefix(
-      const std::string& prefix) const;
 
  private:
   void read_file(const std::filesystem::path& path, const IniFile& ini, bool tcl);
