@@ -100,3 +100,14 @@ lcnc_refuses(include_loop "again\\.inc:1: #INCLUDE include_loop\\.ini includes i
 lcnc_config(over_input "${LCNC_MILL}")
 pkm_cli_refuses(linuxcnc_over_input "the output is the input file"
                 import linuxcnc ${LCNC}/over_input/over_input.ini -o ${LCNC}/over_input/over_input.ini)
+
+# The command end to end: tests/data's matrixkins mill imported to a file, which `pkm ik` then
+# reads: C_xy 0.0003, C_xz -0.0001, C_zx 0.0002 move the joints of (300, 200, -100) to
+# (300.07, 200, -99.94).
+set(LCNC_MILL_TOML ${LCNC}/imported-mill.toml)
+add_test(NAME cli.import_linuxcnc_matrixkins_then_ik
+         COMMAND sh -c "rm -f \"$3\" && \"$0\" import linuxcnc \"$1\" --hallib \"$2\" -o \"$3\" && \"$0\" ik -m \"$3\" 300 200 -100 0 0"
+                 $<TARGET_FILE:pkm> ${CLI_DATA}/linuxcnc/matrixkins/mill.ini
+                 ${CLI_DATA}/linuxcnc/hallib ${LCNC_MILL_TOML})
+set_tests_properties(cli.import_linuxcnc_matrixkins_then_ik PROPERTIES PASS_REGULAR_EXPRESSION
+  "x = 300\\.070000 mm\ny = 200\\.000000 mm\nz = -99\\.940000 mm")
