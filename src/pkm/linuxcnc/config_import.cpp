@@ -115,7 +115,7 @@ JointPlan joint_plan(const IniFile& ini, const KinematicsModule& module, int joi
   if (module.name == "trivkins") return trivkins_plan(ini, module, joints);
   JointPlan plan;
   if (module.name == "lineardeltakins") plan = {3, false, {}, {"joint0", "joint1", "joint2"}};
-  if (module.name == "rotarydeltakins") plan = {3, true, {}, {"arm0", "arm1", "arm2"}};
+  if (module.name == "rotarydeltakins") plan = {3, true, {}, {"joint0", "joint1", "joint2"}};
   if (module.name == "matrixkins") plan = {3, false, {}, {"x", "y", "z"}};
   // These modules pass joints 3..8 through as a b c u v w; pkmkit passes a b c through (not on
   // the rotary delta, whose model has no pass-through axes).
