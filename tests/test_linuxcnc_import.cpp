@@ -219,6 +219,34 @@ TEST(LinuxcncImport, RdeltaWritesTheRotaryDeltaKeys) {
   JointVector joints;
   ASSERT_TRUE(imported.inverse(imported.home(), joints).ok());
   for (int j = 0; j < 3; ++j) EXPECT_NEAR(joints[j] * 180.0 / std::numbers::pi, 1.0, 1e-9);
+  // rotarydeltakins (its source): arm i works on the point turned by -120 deg * i (arm 2: +120),
+  // its knee at (0, -(pfr + tl cos q), -tl sin q), the ankle at (x, y - fr, z), sl apart.
+  const double pfr = 10.0, tl = 10.0, sl = 18.0, fr = 5.0;
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0.0, 0.0, -12.0), Eigen::Vector3d(2.0, -1.0, -14.0),
+        Eigen::Vector3d(-3.0, 2.5, -11.0)}) {
+    ASSERT_TRUE(
+        imported.inverse(Pose::from_mm_deg(p.x() * 25.4, p.y() * 25.4, p.z() * 25.4), joints).ok());
+    for (int arm = 0; arm < 3; ++arm) {
+      const double turn = (arm == 1 ? -2.0 : arm == 2 ? 2.0 : 0.0) * std::numbers::pi / 3.0;
+      const double x = p.x() * std::cos(turn) - p.y() * std::sin(turn);
+      const double y = p.x() * std::sin(turn) + p.y() * std::cos(turn);
+      const double q = joints[arm];
+      const Eigen::Vector3d knee(0.0, -(pfr + tl * std::cos(q)), -tl * std::sin(q));
+      EXPECT_NEAR((Eigen::Vector3d(x, y - fr, p.z()) - knee).norm(), sl, 1e-9) << "arm " << arm;
+    }
+  }
+  // The example made by hand from the same configuration.
+  const fs::path example_path = kMachines / "linuxcnc-rdelta.toml";
+  if (fs::exists(example_path)) {
+    const Machine example = load_machine(example_path);
+    EXPECT_LT((imported.home().position_mm - example.home().position_mm).norm(), 1e-9);
+    JointVector want;
+    const Pose pose = Pose::from_mm_deg(2.0 * 25.4, -1.0 * 25.4, -14.0 * 25.4);
+    ASSERT_TRUE(example.inverse(pose, want).ok());
+    ASSERT_TRUE(imported.inverse(pose, joints).ok());
+    EXPECT_LT((joints - want).norm(), 1e-12);
+  }
 }
 
 TEST(LinuxcncImport, TrivkinsAxisIsTheIdentity) {
