@@ -1,0 +1,294 @@
+#include "pkm/kinematics/rotary_delta.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace pkm {
+
+namespace {
+
+// An arm whose forearm is this close (sine of the angle, squared) to in line with it, seen along
+// the pivot axis, is at its singularity: the arm's motion no longer moves the platform joint.
+constexpr double kMinRelativeLever = 1e-12;
+// Three forearms this close (relative) to one plane: forward kinematics' two solutions merge.
+constexpr double kMinRelativeHeight = 1e-9;
+// Joint angles forward kinematics accepts as the ones inverse kinematics gives back (rad).
+constexpr double kSameAngle = 1e-6;
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+// An angle in (-pi, pi], the range rotarydeltakins' arms read in.
+double wrapped(double angle_rad) {
+  const double angle = std::remainder(angle_rad, kTwoPi);
+  return angle <= -std::numbers::pi ? angle + kTwoPi : angle;
+}
+
+const std::array<Eigen::Vector3d, RotaryDeltaKinematics::kArms> kArmDirections = {
+    Eigen::Vector3d(0.0, -1.0, 0.0),                        // -90 deg: the YZ plane
+    Eigen::Vector3d(std::numbers::sqrt3 / 2.0, 0.5, 0.0),   // 30 deg
+    Eigen::Vector3d(-std::numbers::sqrt3 / 2.0, 0.5, 0.0),  // 150 deg
+};
+
+// The platform joint of an arm seen from the arm's pivot: `out` along the arm's direction, `side`
+// along its pivot axis, `up` along z.
+struct ArmFrame {
+  double out = 0.0;
+  double side = 0.0;
+  double up = 0.0;
+};
+
+ArmFrame arm_frame(const RotaryDeltaGeometry& g, const Eigen::Vector3d& direction,
+                   const Eigen::Vector3d& tip) {
+  return {tip.dot(direction) + g.platform_radius_mm - g.base_radius_mm,
+          direction.x() * tip.y() - direction.y() * tip.x(), tip.z()};
+}
+
+}  // namespace
+
+Eigen::Vector3d RotaryDeltaKinematics::arm_direction(int arm) {
+  return kArmDirections[static_cast<std::size_t>(arm)];
+}
+
+RotaryDeltaKinematics::RotaryDeltaKinematics(const RotaryDeltaGeometry& geometry,
+                                             PassThroughAxes passthrough)
+    : geometry_(geometry), passthrough_(std::move(passthrough)) {
+  validate(geometry_);
+  for (const int axis : passthrough_.axes()) {
+    if (axis < 3) {
+      throw std::invalid_argument("the arms move " + std::string(kAxisNames[axis]) + " themselves");
+    }
+  }
+}
+
+void RotaryDeltaKinematics::validate(const RotaryDeltaGeometry& g) {
+  if (!(g.base_radius_mm >= 0.0) || !std::isfinite(g.base_radius_mm)) {
+    throw std::invalid_argument("base_radius must be a finite length >= 0");
+  }
+  if (!(g.arm_length_mm > 0.0) || !std::isfinite(g.arm_length_mm)) {
+    throw std::invalid_argument("arm_length must be a positive length");
+  }
+  if (!(g.forearm_length_mm > 0.0) || !std::isfinite(g.forearm_length_mm)) {
+    throw std::invalid_argument("forearm_length must be a positive length");
+  }
+  if (!(g.platform_radius_mm >= 0.0) || !std::isfinite(g.platform_radius_mm)) {
+    throw std::invalid_argument("platform_radius must be a finite length >= 0");
+  }
+}
+
+Status RotaryDeltaKinematics::solve_arm(int arm, const Eigen::Vector3d& tip,
+                                        ArmSolution& solution) const {
+  const double arm_length = geometry_.arm_length_mm;
+  const double forearm = geometry_.forearm_length_mm;
+  const ArmFrame p = arm_frame(geometry_, kArmDirections[arm], tip);
+  // The elbow is arm_length * (cos q, 0, -sin q) from the pivot, forearm from the platform joint
+  // p: |p - elbow|^2 = forearm^2 gives p.out cos q - p.up sin q = reach, a line meeting the
+  // elbow's circle where its distance from the pivot, reach, is at most rho = |(p.out, p.up)|.
+  const double in_plane_squared = p.out * p.out + p.up * p.up;
+  const double reach =
+      (arm_length * arm_length + in_plane_squared + p.side * p.side - forearm * forearm) /
+      (2.0 * arm_length);
+  const double discriminant = in_plane_squared - reach * reach;
+  // Written to refuse NaN too: a pose far enough away overflows the squares (inf - inf).
+  if (!(discriminant >= 0.0)) return Status::failure(StatusCode::unreachable, arm);
+  if (discriminant <= kMinRelativeLever * forearm * forearm) {
+    return Status::failure(StatusCode::singular, arm);
+  }
+  const double root = std::sqrt(discriminant);
+  // rho cos(q - alpha) = reach with alpha the direction of p: q = alpha -+ acos(reach / rho).
+  // The minus sign turns the elbow outward of the pivot-to-joint line (rotarydeltakins' choice
+  // wherever the platform is below the pivots, and continuous everywhere).
+  const double q = wrapped(std::atan2(-p.up, p.out) - std::atan2(root, reach));
+  solution.angle_rad = q;
+  const Eigen::Vector3d& direction = kArmDirections[arm];
+  const Eigen::Vector3d elbow = (geometry_.base_radius_mm + arm_length * std::cos(q)) * direction -
+                                Eigen::Vector3d(0.0, 0.0, arm_length * std::sin(q));
+  solution.forearm_mm = tip + geometry_.platform_radius_mm * direction - elbow;
+  // forearm . d(elbow)/dq = arm_length * sqrt(discriminant) on the outward branch.
+  solution.lever_mm2 = arm_length * root;
+  return Status::success();
+}
+
+Status RotaryDeltaKinematics::solve_arms(const Pose& pose,
+                                         std::array<ArmSolution, kArms>& arms) const {
+  if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
+  for (int arm = 0; arm < kArms; ++arm) {
+    const Status status = solve_arm(arm, pose.position_mm, arms[arm]);
+    if (!status.ok()) return status;
+  }
+  return Status::success();
+}
+
+Status RotaryDeltaKinematics::inverse(const Pose& pose, JointVector& joints) const {
+  std::array<ArmSolution, kArms> arms;
+  const Status status = solve_arms(pose, arms);
+  if (!status.ok()) return status;
+  joints.resize(joint_count());
+  for (int arm = 0; arm < kArms; ++arm) joints[arm] = arms[arm].angle_rad;
+  passthrough_.inverse(pose, joints, kArms);
+  return Status::success();
+}
+
+Status RotaryDeltaKinematics::inverse_and_jacobian(const Pose& pose, JointVector& joints,
+                                                   JointJacobian& d_joints_d_pose) const {
+  std::array<ArmSolution, kArms> arms;
+  const Status status = solve_arms(pose, arms);
+  if (!status.ok()) return status;
+  joints.resize(joint_count());
+  d_joints_d_pose.setZero(joint_count(), kPoseSize);
+  for (int arm = 0; arm < kArms; ++arm) {
+    joints[arm] = arms[arm].angle_rad;
+    // Differentiating |platform joint - elbow(q)|^2 = forearm^2: forearm . (dtip - elbow' dq) = 0.
+    d_joints_d_pose.block<1, 3>(arm, 0) = arms[arm].forearm_mm.transpose() / arms[arm].lever_mm2;
+  }
+  passthrough_.inverse(pose, joints, kArms);
+  passthrough_.jacobian(d_joints_d_pose, kArms);
+  return Status::success();
+}
+
+Status RotaryDeltaKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
+  JointVector joints;
+  return inverse_and_jacobian(pose, joints, d_joints_d_pose);
+}
+
+int RotaryDeltaKinematics::assembly_mode(const Pose& pose) const {
+  std::array<ArmSolution, kArms> arms;
+  if (!solve_arms(pose, arms).ok()) return 0;
+  const double determinant = arms[0].forearm_mm.dot(arms[1].forearm_mm.cross(arms[2].forearm_mm));
+  return determinant < 0.0 ? 1 : -1;
+}
+
+Eigen::Vector3d RotaryDeltaKinematics::shifted_elbow(int arm, double angle_rad) const {
+  const RotaryDeltaGeometry& g = geometry_;
+  return (g.base_radius_mm - g.platform_radius_mm + g.arm_length_mm * std::cos(angle_rad)) *
+             kArmDirections[arm] -
+         Eigen::Vector3d(0.0, 0.0, g.arm_length_mm * std::sin(angle_rad));
+}
+
+Status RotaryDeltaKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
+  if (joints.size() != joint_count() || !all_finite(joints)) {
+    return Status::failure(StatusCode::invalid_input);
+  }
+  JointVector angles = joints;
+  std::array<Eigen::Vector3d, kArms> centre;
+  for (int arm = 0; arm < kArms; ++arm) {
+    angles[arm] = wrapped(joints[arm]);
+    centre[arm] = shifted_elbow(arm, angles[arm]);
+  }
+  // Three spheres of the same radius: in the frame ex (centre 0 to 1), ey, ez = ex x ey, their
+  // meeting points are centre 0 + x ex + y ey +- h ez.
+  const double forearm = geometry_.forearm_length_mm;
+  const Eigen::Vector3d span_01 = centre[1] - centre[0];
+  const double d = span_01.norm();
+  if (!(d > kMinRelativeHeight * forearm)) return Status::failure(StatusCode::singular);
+  const Eigen::Vector3d ex = span_01 / d;
+  const Eigen::Vector3d span_02 = centre[2] - centre[0];
+  const double i = ex.dot(span_02);
+  Eigen::Vector3d ey = span_02 - i * ex;
+  const double j = ey.norm();
+  if (!(j > kMinRelativeHeight * forearm)) return Status::failure(StatusCode::singular);
+  ey /= j;
+  const Eigen::Vector3d ez = ex.cross(ey);
+  const double x = 0.5 * d;
+  const double y = (i * i + j * j - i * d) / (2.0 * j);
+  const double h_squared = forearm * forearm - x * x - y * y;
+  if (!(h_squared >= 0.0)) return Status::failure(StatusCode::unreachable);  // arms too far apart
+  const double h = std::sqrt(h_squared);
+  if (h <= kMinRelativeHeight * forearm) return Status::failure(StatusCode::singular);
+  // The lower of the two, as rotarydeltakins.
+  Pose solved = pose_inout;
+  solved.position_mm = centre[0] + x * ex + y * ey - std::copysign(h, ez.z()) * ez;
+  passthrough_.forward(joints, kArms, solved);
+  // Both meeting points satisfy the forearms; the joints are those of inverse kinematics only if
+  // every elbow is the outer one reaching that point.
+  std::array<ArmSolution, kArms> arms;
+  for (int arm = 0; arm < kArms; ++arm) {
+    const Status status = solve_arm(arm, solved.position_mm, arms[arm]);
+    if (!status.ok()) return status;
+    if (std::abs(wrapped(arms[arm].angle_rad - angles[arm])) > kSameAngle) {
+      return Status::failure(StatusCode::other_assembly, arm);
+    }
+  }
+  // The closed form loses a few digits to cancellation; Newton from it restores full precision.
+  const Status polished = solve_forward_newton(*this, angles, solved, forward_options_);
+  if (!polished.ok()) return polished;
+  pose_inout = solved;
+  return Status::success();
+}
+
+std::string RotaryDeltaKinematics::why_refused(const Pose& pose, const Status& status) const {
+  if (status.joint < 0 || status.joint >= kArms || !all_finite(pose)) return {};
+  const std::string arm = "arm " + std::to_string(status.joint + 1);
+  if (status.code == StatusCode::singular) {
+    return arm +
+           " and its forearm are in line, seen along the arm's pivot axis (the edge of "
+           "the reach)";
+  }
+  if (status.code != StatusCode::unreachable) return {};
+  // The elbow's circle comes as near to the platform joint as (rho - arm, side) and goes as far
+  // as (rho + arm, side); the forearm's length must lie between.
+  const ArmFrame p = arm_frame(geometry_, kArmDirections[status.joint], pose.position_mm);
+  const double rho = std::hypot(p.out, p.up);
+  const double nearest = std::hypot(rho - geometry_.arm_length_mm, p.side);
+  const double farthest = std::hypot(rho + geometry_.arm_length_mm, p.side);
+  const double forearm = geometry_.forearm_length_mm;
+  char text[200];
+  if (forearm < nearest) {
+    std::snprintf(text, sizeof text,
+                  "its forearm (%.3f mm) is shorter than the platform joint's nearest distance "
+                  "from its elbow's circle (%.3f mm)",
+                  forearm, nearest);
+  } else {
+    std::snprintf(text, sizeof text,
+                  "its forearm (%.3f mm) is longer than the platform joint's farthest distance "
+                  "from its elbow's circle (%.3f mm)",
+                  forearm, farthest);
+  }
+  return arm + " cannot reach it: " + text;
+}
+
+std::vector<Parameter> RotaryDeltaKinematics::parameters() const {
+  return {{"base_radius", geometry_.base_radius_mm, "mm"},
+          {"arm_length", geometry_.arm_length_mm, "mm"},
+          {"forearm_length", geometry_.forearm_length_mm, "mm"},
+          {"platform_radius", geometry_.platform_radius_mm, "mm"}};
+}
+
+void RotaryDeltaKinematics::set_parameters(std::span<const double> values) {
+  if (values.size() != 4) throw std::invalid_argument("rotary delta takes 4 parameters");
+  const RotaryDeltaGeometry geometry{values[0], values[1], values[2], values[3]};
+  validate(geometry);
+  geometry_ = geometry;
+}
+
+std::unique_ptr<Kinematics> make_rotary_delta_kinematics(const ModelConfig& config) {
+  RotaryDeltaGeometry geometry;
+  geometry.base_radius_mm = config.length("base_radius");
+  geometry.arm_length_mm = config.length("arm_length");
+  geometry.forearm_length_mm = config.length("forearm_length");
+  geometry.platform_radius_mm = config.length("platform_radius");
+  const std::pair<const char*, double> checks[] = {
+      {"base_radius", geometry.base_radius_mm},
+      {"arm_length", geometry.arm_length_mm},
+      {"forearm_length", geometry.forearm_length_mm},
+      {"platform_radius", geometry.platform_radius_mm}};
+  for (const auto& [key, value] : checks) {
+    const bool radius = std::string_view(key).ends_with("radius");
+    if (!std::isfinite(value) || (radius ? value < 0.0 : value <= 0.0)) {
+      config.fail(key, radius ? "must be a length >= 0" : "must be a positive length");
+    }
+  }
+  // A rotary C on the platform (Clavel's fourth axis) is a joint that follows the program.
+  PassThroughAxes passthrough = PassThroughAxes::read(config, Dof::translation(), Dof::all());
+  try {
+    return std::make_unique<RotaryDeltaKinematics>(geometry, std::move(passthrough));
+  } catch (const std::invalid_argument& error) {
+    config.fail("base_radius", error.what());
+  }
+}
+
+}  // namespace pkm
