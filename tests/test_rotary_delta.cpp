@@ -5,8 +5,10 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <fstream>
 #include <numbers>
 #include <random>
+#include <sstream>
 
 #include "pkm/kinematics/rotary_delta.hpp"
 #include "test_support.hpp"
@@ -151,25 +153,23 @@ TEST(RotaryDelta, JacobianMatchesFiniteDifferences) {
 
 TEST(RotaryDelta, AnUnreachablePoseNamesTheArm) {
   // 300 mm out towards -30 deg (away from arm 2, at 150 deg): arms 0 and 1 still reach, arm 2
-  // cannot: its platform joint is then 300 + 200 - 60 + ... too far for 100 + 400 mm.
+  // cannot: its platform joint is 300 + 200 - 60 = 440 mm from its pivot across the centre and
+  // 350 down, sqrt(440^2 + 350^2) = 562 mm, more than the 100 + 400 mm of arm and forearm.
   const RotaryDeltaKinematics delta = hand_delta();
   const Pose pose = Pose::from_mm_deg(300 * std::sqrt(3.0) / 2, -150, -350);
   JointVector joints;
   const Status status = delta.inverse(pose, joints);
   EXPECT_EQ(status.code, StatusCode::unreachable);
   EXPECT_EQ(status.joint, 2);
-  EXPECT_EQ(delta.why_refused(pose, status)
-                .rfind("arm 3 cannot reach it: its forearm (400.000 mm)"
-                       " is shorter than",
-                       0),
-            0u)
-      << delta.why_refused(pose, status);
+  EXPECT_EQ(delta.why_refused(pose, status),
+            "arm 3 cannot reach it: the platform joint is farther than the forearm's length from "
+            "every point of the elbow's circle");
   // Straight up the forearms are too long to come so near: arm 0 is named, being the first.
   const Pose above = Pose::from_mm_deg(0, 0, 0);
   const Status too_near = delta.inverse(above, joints);
   EXPECT_EQ(too_near.code, StatusCode::unreachable);
   EXPECT_EQ(too_near.joint, 0);
-  EXPECT_NE(delta.why_refused(above, too_near).find("is longer than"), std::string::npos);
+  EXPECT_NE(delta.why_refused(above, too_near).find("is nearer than"), std::string::npos);
   // Far enough away the squares overflow: still a status, never a NaN.
   EXPECT_EQ(delta.inverse(Pose::from_mm_deg(1e200, 0, -1e200), joints).code,
             StatusCode::unreachable);
@@ -355,6 +355,44 @@ TEST(RotaryDelta, AgreesWithRotarydeltakinsPublishedEquations) {
     ++solved_count;
   }
   EXPECT_GT(solved_count, 2000);  // most triples within the limits are a pose
+}
+
+// The example file with `find` replaced by `replace`: the error it gives (empty when none).
+std::string error_of_edited_example(const std::string& find, const std::string& replace) {
+  std::ifstream in(test::example_machine_path("linuxcnc-rdelta.toml"));
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  std::string text = buffer.str();
+  const auto at = text.find(find);
+  if (at == std::string::npos) return "test text not found: " + find;
+  text.replace(at, find.size(), replace);
+  try {
+    parse_machine(text, "rdelta.toml");
+  } catch (const MachineFileError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(RotaryDelta, MachineFileErrorsNameLineAndKey) {
+  // Line 25 is `base_radius = 10.0` in the example, 26 arm_length, 27 forearm_length.
+  EXPECT_EQ(error_of_edited_example("forearm_length = 18.0", "forearm_length = -18.0"),
+            "rdelta.toml:27:kinematics.forearm_length: must be a positive length");
+  EXPECT_EQ(error_of_edited_example("base_radius = 10.0", "base_radius = -1.0"),
+            "rdelta.toml:25:kinematics.base_radius: must be a length >= 0");
+  EXPECT_NE(error_of_edited_example("arm_length = 10.0 ", "# no arm ")
+                .find("kinematics.arm_length: missing"),
+            std::string::npos);
+  EXPECT_NE(error_of_edited_example("platform_radius = 5.0",
+                                    "platform_radius = 5.0\npassthrough = [\"z\"]")
+                .find("kinematics.passthrough: 'z' cannot pass through here"),
+            std::string::npos);
+  // Forearms too long to come up to home: the home line names the arm.
+  EXPECT_EQ(error_of_edited_example("forearm_length = 18.0", "forearm_length = 28.0"),
+            "rdelta.toml:57:cartesian.home: is not a usable pose: pose x 0.0000 y 0.0000 z "
+            "-10.1267 in: unreachable: arm 1 cannot reach it: the platform joint is nearer than "
+            "the forearm's length to every point of the elbow's circle");
+  EXPECT_EQ(error_of_edited_example("", ""), "");
 }
 
 }  // namespace

@@ -2,7 +2,6 @@
 
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -230,25 +229,19 @@ std::string RotaryDeltaKinematics::why_refused(const Pose& pose, const Status& s
   }
   if (status.code != StatusCode::unreachable) return {};
   // The elbow's circle comes as near to the platform joint as (rho - arm, side) and goes as far
-  // as (rho + arm, side); the forearm's length must lie between.
+  // as (rho + arm, side); the forearm's length must lie between. No lengths in the text: the
+  // machine file may speak inches, and the pose before it says where.
   const ArmFrame p = arm_frame(geometry_, kArmDirections[status.joint], pose.position_mm);
   const double rho = std::hypot(p.out, p.up);
   const double nearest = std::hypot(rho - geometry_.arm_length_mm, p.side);
-  const double farthest = std::hypot(rho + geometry_.arm_length_mm, p.side);
-  const double forearm = geometry_.forearm_length_mm;
-  char text[200];
-  if (forearm < nearest) {
-    std::snprintf(text, sizeof text,
-                  "its forearm (%.3f mm) is shorter than the platform joint's nearest distance "
-                  "from its elbow's circle (%.3f mm)",
-                  forearm, nearest);
-  } else {
-    std::snprintf(text, sizeof text,
-                  "its forearm (%.3f mm) is longer than the platform joint's farthest distance "
-                  "from its elbow's circle (%.3f mm)",
-                  forearm, farthest);
+  if (geometry_.forearm_length_mm < nearest) {
+    return arm +
+           " cannot reach it: the platform joint is farther than the forearm's length from "
+           "every point of the elbow's circle";
   }
-  return arm + " cannot reach it: " + text;
+  return arm +
+         " cannot reach it: the platform joint is nearer than the forearm's length to "
+         "every point of the elbow's circle";
 }
 
 std::vector<Parameter> RotaryDeltaKinematics::parameters() const {
