@@ -1,5 +1,6 @@
 #include "pkm/kinematics/rotary_delta.hpp"
 
+#include <Eigen/LU>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -18,6 +19,8 @@ constexpr double kMinRelativeLever = 1e-12;
 constexpr double kMinRelativeHeight = 1e-9;
 // Joint angles forward kinematics accepts as the ones inverse kinematics gives back (rad).
 constexpr double kSameAngle = 1e-6;
+// Joint residuals of forward kinematics at the level of rounding (rad): no further step.
+constexpr double kRoundingAngle = 1e-15;
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
@@ -98,14 +101,17 @@ Status RotaryDeltaKinematics::solve_arm(int arm, const Eigen::Vector3d& tip,
     return Status::failure(StatusCode::singular, arm);
   }
   const double root = std::sqrt(discriminant);
-  // rho cos(q - alpha) = reach with alpha the direction of p: q = alpha -+ acos(reach / rho).
-  // The minus sign turns the elbow outward of the pivot-to-joint line (rotarydeltakins' choice
-  // wherever the platform is below the pivots, and continuous everywhere).
-  const double q = wrapped(std::atan2(-p.up, p.out) - std::atan2(root, reach));
-  solution.angle_rad = q;
+  // rho cos(q - alpha) = reach with alpha the direction of p: q = alpha -+ beta, cos beta =
+  // reach / rho. The minus sign turns the elbow outward of the pivot-to-joint line
+  // (rotarydeltakins' choice wherever the platform is below the pivots, and continuous
+  // everywhere). cos q and sin q by the difference formula: one atan2, no sine or cosine, and q
+  // in (-pi, pi] as rotarydeltakins reads it.
+  const double cos_q = (p.out * reach - p.up * root) / in_plane_squared;
+  const double sin_q = (-p.up * reach - p.out * root) / in_plane_squared;
+  solution.angle_rad = std::atan2(sin_q, cos_q);
   const Eigen::Vector3d& direction = kArmDirections[arm];
-  const Eigen::Vector3d elbow = (geometry_.base_radius_mm + arm_length * std::cos(q)) * direction -
-                                Eigen::Vector3d(0.0, 0.0, arm_length * std::sin(q));
+  const Eigen::Vector3d elbow = (geometry_.base_radius_mm + arm_length * cos_q) * direction -
+                                Eigen::Vector3d(0.0, 0.0, arm_length * sin_q);
   solution.forearm_mm = tip + geometry_.platform_radius_mm * direction - elbow;
   // forearm . d(elbow)/dq = arm_length * sqrt(discriminant) on the outward branch.
   solution.lever_mm2 = arm_length * root;
@@ -172,7 +178,7 @@ Status RotaryDeltaKinematics::forward(const JointVector& joints, Pose& pose_inou
   if (joints.size() != joint_count() || !all_finite(joints)) {
     return Status::failure(StatusCode::invalid_input);
   }
-  JointVector angles = joints;
+  Eigen::Vector3d angles;
   std::array<Eigen::Vector3d, kArms> centre;
   for (int arm = 0; arm < kArms; ++arm) {
     angles[arm] = wrapped(joints[arm]);
@@ -203,18 +209,25 @@ Status RotaryDeltaKinematics::forward(const JointVector& joints, Pose& pose_inou
   solved.position_mm = centre[0] + x * ex + y * ey - std::copysign(h, ez.z()) * ez;
   passthrough_.forward(joints, kArms, solved);
   // Both meeting points satisfy the forearms; the joints are those of inverse kinematics only if
-  // every elbow is the outer one reaching that point.
-  std::array<ArmSolution, kArms> arms;
-  for (int arm = 0; arm < kArms; ++arm) {
-    const Status status = solve_arm(arm, solved.position_mm, arms[arm]);
-    if (!status.ok()) return status;
-    if (std::abs(wrapped(arms[arm].angle_rad - angles[arm])) > kSameAngle) {
-      return Status::failure(StatusCode::other_assembly, arm);
+  // every elbow is the outer one reaching that point. Then Newton steps on the three arms with
+  // the analytic Jacobian restore the digits the closed form loses to cancellation (two steps
+  // from its 1e-12 or so reach rounding; a third only where the Jacobian magnifies rounding).
+  for (int step = 0; step < 3; ++step) {
+    Eigen::Vector3d residual;
+    Eigen::Matrix3d jacobian;
+    for (int arm = 0; arm < kArms; ++arm) {
+      ArmSolution solution;
+      const Status status = solve_arm(arm, solved.position_mm, solution);
+      if (!status.ok()) return status;
+      residual[arm] = wrapped(solution.angle_rad - angles[arm]);
+      if (step == 0 && std::abs(residual[arm]) > kSameAngle) {
+        return Status::failure(StatusCode::other_assembly, arm);
+      }
+      jacobian.row(arm) = solution.forearm_mm.transpose() / solution.lever_mm2;
     }
+    if (residual.cwiseAbs().maxCoeff() <= kRoundingAngle) break;
+    solved.position_mm -= jacobian.partialPivLu().solve(residual);
   }
-  // The closed form loses a few digits to cancellation; Newton from it restores full precision.
-  const Status polished = solve_forward_newton(*this, angles, solved, forward_options_);
-  if (!polished.ok()) return polished;
   pose_inout = solved;
   return Status::success();
 }
