@@ -334,6 +334,9 @@ std::optional<CentreInverse> centre_inverse(const Kinematics& model, const Vecto
 double largest_over_box(const Eigen::MatrixXd& m, const Eigen::VectorXd& half_width) {
   const int n = static_cast<int>(half_width.size());
   if (m.rows() == 0 || n == 0) return 0.0;
+  // An infinite half-width (a curvature bound at a singularity) makes M e infinite, since M
+  // (invertible) has no zero column, but inf - inf within M e reads NaN, which std::max drops.
+  if (!half_width.allFinite()) return INFINITY;
   double largest = 0.0;
   for (unsigned signs = 0; signs < (1u << (n - 1)); ++signs) {
     Eigen::VectorXd e = half_width;
