@@ -15,7 +15,8 @@ namespace {
 // An arm whose forearm is this close (sine of the angle, squared) to in line with it, seen along
 // the pivot axis, is at its singularity: the arm's motion no longer moves the platform joint.
 constexpr double kMinRelativeLever = 1e-12;
-// Three forearms this close (relative) to one plane: forward kinematics' two solutions merge.
+// Forward kinematics' sphere centres this close (relative to the forearm) to one line, or its two
+// solutions this close to each other (the three forearms in one plane): singular.
 constexpr double kMinRelativeHeight = 1e-9;
 // Joint angles forward kinematics accepts as the ones inverse kinematics gives back (rad).
 constexpr double kSameAngle = 1e-6;
@@ -174,6 +175,37 @@ Eigen::Vector3d RotaryDeltaKinematics::shifted_elbow(int arm, double angle_rad) 
          Eigen::Vector3d(0.0, 0.0, g.arm_length_mm * std::sin(angle_rad));
 }
 
+namespace {
+
+// The lower of the two points at distance `radius` from all three centres (rotarydeltakins'
+// choice): in the frame ex (centre 0 to 1), ey, ez = ex x ey they are centre 0 + x ex + y ey +-
+// h ez. Centres (nearly) on one line, or the two points (nearly) one: singular; no such point:
+// unreachable.
+Status lower_meeting_point(const std::array<Eigen::Vector3d, 3>& centre, double radius,
+                           Eigen::Vector3d& point) {
+  const Eigen::Vector3d span_01 = centre[1] - centre[0];
+  const double d = span_01.norm();
+  if (!(d > kMinRelativeHeight * radius)) return Status::failure(StatusCode::singular);
+  const Eigen::Vector3d ex = span_01 / d;
+  const Eigen::Vector3d span_02 = centre[2] - centre[0];
+  const double i = ex.dot(span_02);
+  Eigen::Vector3d ey = span_02 - i * ex;
+  const double j = ey.norm();
+  if (!(j > kMinRelativeHeight * radius)) return Status::failure(StatusCode::singular);
+  ey /= j;
+  const Eigen::Vector3d ez = ex.cross(ey);
+  const double x = 0.5 * d;
+  const double y = (i * i + j * j - i * d) / (2.0 * j);
+  const double h_squared = radius * radius - x * x - y * y;
+  if (!(h_squared >= 0.0)) return Status::failure(StatusCode::unreachable);  // too far apart
+  const double h = std::sqrt(h_squared);
+  if (h <= kMinRelativeHeight * radius) return Status::failure(StatusCode::singular);
+  point = centre[0] + x * ex + y * ey - std::copysign(h, ez.z()) * ez;
+  return Status::success();
+}
+
+}  // namespace
+
 Status RotaryDeltaKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
   if (joints.size() != joint_count() || !all_finite(joints)) {
     return Status::failure(StatusCode::invalid_input);
@@ -184,41 +216,27 @@ Status RotaryDeltaKinematics::forward(const JointVector& joints, Pose& pose_inou
     angles[arm] = wrapped(joints[arm]);
     centre[arm] = shifted_elbow(arm, angles[arm]);
   }
-  // Three spheres of the same radius: in the frame ex (centre 0 to 1), ey, ez = ex x ey, their
-  // meeting points are centre 0 + x ex + y ey +- h ez.
-  const double forearm = geometry_.forearm_length_mm;
-  const Eigen::Vector3d span_01 = centre[1] - centre[0];
-  const double d = span_01.norm();
-  if (!(d > kMinRelativeHeight * forearm)) return Status::failure(StatusCode::singular);
-  const Eigen::Vector3d ex = span_01 / d;
-  const Eigen::Vector3d span_02 = centre[2] - centre[0];
-  const double i = ex.dot(span_02);
-  Eigen::Vector3d ey = span_02 - i * ex;
-  const double j = ey.norm();
-  if (!(j > kMinRelativeHeight * forearm)) return Status::failure(StatusCode::singular);
-  ey /= j;
-  const Eigen::Vector3d ez = ex.cross(ey);
-  const double x = 0.5 * d;
-  const double y = (i * i + j * j - i * d) / (2.0 * j);
-  const double h_squared = forearm * forearm - x * x - y * y;
-  if (!(h_squared >= 0.0)) return Status::failure(StatusCode::unreachable);  // arms too far apart
-  const double h = std::sqrt(h_squared);
-  if (h <= kMinRelativeHeight * forearm) return Status::failure(StatusCode::singular);
-  // The lower of the two, as rotarydeltakins.
   Pose solved = pose_inout;
-  solved.position_mm = centre[0] + x * ex + y * ey - std::copysign(h, ez.z()) * ez;
+  const Status met = lower_meeting_point(centre, geometry_.forearm_length_mm, solved.position_mm);
+  if (!met.ok()) return met;
   passthrough_.forward(joints, kArms, solved);
   // Both meeting points satisfy the forearms; the joints are those of inverse kinematics only if
   // every elbow is the outer one reaching that point. Then Newton steps on the three arms with
   // the analytic Jacobian restore the digits the closed form loses to cancellation (two steps
-  // from its 1e-12 or so reach rounding; a third only where the Jacobian magnifies rounding).
+  // from its 1e-12 or so; a third only where the Jacobian magnifies rounding).
+  Eigen::Vector3d last_good = solved.position_mm;
   for (int step = 0; step < 3; ++step) {
     Eigen::Vector3d residual;
     Eigen::Matrix3d jacobian;
     for (int arm = 0; arm < kArms; ++arm) {
       ArmSolution solution;
       const Status status = solve_arm(arm, solved.position_mm, solution);
-      if (!status.ok()) return status;
+      if (!status.ok() && step == 0) return status;
+      if (!status.ok()) {
+        solved.position_mm = last_good;  // a step into a singular rim: the point before it
+        pose_inout = solved;
+        return Status::success();
+      }
       residual[arm] = wrapped(solution.angle_rad - angles[arm]);
       if (step == 0 && std::abs(residual[arm]) > kSameAngle) {
         return Status::failure(StatusCode::other_assembly, arm);
@@ -226,6 +244,7 @@ Status RotaryDeltaKinematics::forward(const JointVector& joints, Pose& pose_inou
       jacobian.row(arm) = solution.forearm_mm.transpose() / solution.lever_mm2;
     }
     if (residual.cwiseAbs().maxCoeff() <= kRoundingAngle) break;
+    last_good = solved.position_mm;
     solved.position_mm -= jacobian.partialPivLu().solve(residual);
   }
   pose_inout = solved;
