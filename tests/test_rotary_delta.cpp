@@ -249,6 +249,29 @@ TEST(RotaryDelta, PassThroughCFollowsTheArms) {
                std::invalid_argument);  // the arms move z themselves
 }
 
+TEST(RotaryDelta, RdeltaSampleGivesRotarydeltakinsNumbers) {
+  // rotarydeltakins' forward kinematics on the rdelta sample's geometry (10, 10, 18, 5 in),
+  // evaluated in double precision from its source's formulas: joints (10, 20, 30) deg put the tool
+  // at (1.0945539334, -1.7969670819, -14.0843750284) in, (45, -10, 60) deg at (8.0225060140,
+  // 2.0891761176, -14.7604689012) in, and (0, 0, 0) at z = -sqrt(18^2 - 15^2) = -sqrt(99) in.
+  const Machine rdelta = test::load_example("linuxcnc-rdelta.toml");
+  const struct {
+    double joints_deg[3];
+    double tool_in[3];
+  } cases[] = {{{10, 20, 30}, {1.0945539334082581, -1.7969670819032801, -14.084375028364294}},
+               {{45, -10, 60}, {8.022506013970009, 2.089176117628809, -14.760468901224469}},
+               {{0, 0, 0}, {0.0, 0.0, -std::sqrt(99.0)}}};
+  for (const auto& c : cases) {
+    const JointVector joints = angles_deg(c.joints_deg[0], c.joints_deg[1], c.joints_deg[2]);
+    Pose pose = rdelta.home();
+    ASSERT_TRUE(rdelta.kinematics().forward(joints, pose).ok());
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(pose.position_mm[k] / 25.4, c.tool_in[k], 1e-12);
+    JointVector back;
+    ASSERT_TRUE(rdelta.kinematics().inverse(pose, back).ok());
+    EXPECT_LT((back - joints).cwiseAbs().maxCoeff(), 1e-12);
+  }
+}
+
 // LinuxCNC's rotarydeltakins from its published description (the comment of
 // rotarydeltakins-common.h, after Zsombor-Murray's descriptive geometry of Clavel's delta), in
 // the description's own terms and method, independent of the model above:
