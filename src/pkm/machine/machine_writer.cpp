@@ -14,6 +14,7 @@
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/matrix.hpp"
+#include "pkm/kinematics/rotary_delta.hpp"
 
 namespace pkm {
 
@@ -137,6 +138,13 @@ std::string kinematics_toml(const Kinematics& kinematics, LengthUnit units) {
     w.points("platform", g.platform_mm);
     w.length("tool_length", g.tool_length_mm);
     w.lengths("leg_offsets", g.leg_offset_mm.data(), 6);
+  } else if (const auto* delta = dynamic_cast<const RotaryDeltaKinematics*>(&kinematics)) {
+    const RotaryDeltaGeometry& g = delta->geometry();
+    w.length("base_radius", g.base_radius_mm);
+    w.length("arm_length", g.arm_length_mm);
+    w.length("forearm_length", g.forearm_length_mm);
+    w.length("platform_radius", g.platform_radius_mm);
+    if (delta->passthrough().count() > 0) w.line(delta->passthrough().toml_line());
   } else if (const auto* formula = dynamic_cast<const FormulaKinematics*>(&kinematics)) {
     const FormulaDefinition& d = formula->definition();
     w.line("axes = " + axis_list(formula->dof()));
