@@ -111,3 +111,8 @@ add_test(NAME cli.import_linuxcnc_matrixkins_then_ik
                  ${CLI_DATA}/linuxcnc/hallib ${LCNC_MILL_TOML})
 set_tests_properties(cli.import_linuxcnc_matrixkins_then_ik PROPERTIES PASS_REGULAR_EXPRESSION
   "x = 300\\.070000 mm\ny = 200\\.000000 mm\nz = -99\\.940000 mm")
+
+# A configuration pkm export linuxcnc wrote runs a machine file already: the import names it.
+lcnc_config(pkmkins "[KINS]\nKINEMATICS = pkmkins machine=hexapod.toml\nJOINTS = 6\n")
+lcnc_refuses(pkmkins
+  "pkmkins\\.ini:2:\\[KINS\\]KINEMATICS: this configuration runs pkmkit's own module with hexapod\\.toml: use that machine file itself$")

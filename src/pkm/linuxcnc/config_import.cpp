@@ -64,6 +64,15 @@ KinematicsModule find_module(const IniFile& ini, const HalConfig& hal) {
   for (const HalModule& loaded : hal.modules()) {
     if (loaded.name == module.name) module.parameters = loaded.parameters;
   }
+  if (module.name == "pkmkins") {
+    // A configuration `pkm export linuxcnc` wrote: it runs a machine file already.
+    std::string machine = "the machine file of its machine= parameter";
+    for (const std::string& word : module.parameters) {
+      if (word.rfind("machine=", 0) == 0) machine = word.substr(8);
+    }
+    ini.fail(*module.entry, "this configuration runs pkmkit's own module with " + machine +
+                                ": use that machine file itself");
+  }
   if (std::find(importable_kinematics().begin(), importable_kinematics().end(), module.name) ==
       importable_kinematics().end()) {
     ini.fail(*module.entry, "kinematics module '" + module.name +
