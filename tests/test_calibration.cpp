@@ -10,6 +10,7 @@
 #include "pkm/calibration/geometry_fit.hpp"
 #include "pkm/calibration/matrix_calibration.hpp"
 #include "pkm/kinematics/matrix.hpp"
+#include "pkm/kinematics/rotary_delta.hpp"
 #include "pkm/machine/machine_writer.hpp"
 #include "test_support.hpp"
 
@@ -206,6 +207,7 @@ const FitCase kFitCases[] = {
     {"hexaglide.toml", {"rail*.strut", "rail*.origin.z"}, 0.5},
     {"hexapod-bit.toml", {"leg*.offset", "leg*.base.*"}, 0.5},
     {"mach3-formula.toml", {"d"}, 3.0},
+    {"linuxcnc-rdelta.toml", {"base_radius", "arm_length", "forearm_length"}, 0.5},
 };
 
 INSTANTIATE_TEST_SUITE_P(Examples, RecoversKnownGeometry, ::testing::ValuesIn(kFitCases),
@@ -254,6 +256,28 @@ TEST(GeometryFit, HexapodWithEveryParameterHoldsTheUnidentifiableOnes) {
   EXPECT_FALSE(report.indistinguishable.empty());
   EXPECT_GT(report.rms_before_mm, 0.1);
   EXPECT_LT(report.rms_after_mm, 1e-6);
+}
+
+TEST(GeometryFit, RotaryDeltaHoldsOneOfItsTwoRadii) {
+  // A translating platform's tool point sees the pivots' radius and the platform joints' only as
+  // their difference (each forearm runs from the elbow to the tool point moved out by the
+  // platform radius): the two cannot be told apart, and the fit holds one at nominal.
+  Machine rdelta = test::load_example("linuxcnc-rdelta.toml");
+  std::mt19937_64 rng(9);
+  std::vector<double> truth;
+  for (const Parameter& p : rdelta.kinematics().parameters()) truth.push_back(p.value + 0.4);
+  const auto data = synthetic_measurements(rdelta, truth, 100, 0.0, rng);
+  const FitReport report = fit_geometry(rdelta.kinematics(), rdelta.home(), data, {});
+  ASSERT_EQ(report.held.size(), 1u);
+  ASSERT_EQ(report.indistinguishable.size(), 1u);
+  std::vector<std::string> group = report.indistinguishable.front();
+  std::sort(group.begin(), group.end());
+  EXPECT_EQ(group, (std::vector<std::string>{"base_radius", "platform_radius"}));
+  EXPECT_GT(report.rms_before_mm, 0.1);
+  EXPECT_LT(report.rms_after_mm, 1e-6);
+  const auto& fitted = dynamic_cast<const RotaryDeltaKinematics&>(rdelta.kinematics()).geometry();
+  EXPECT_NEAR(fitted.base_radius_mm - fitted.platform_radius_mm, truth[0] - truth[3], 1e-6);
+  EXPECT_NEAR(fitted.forearm_length_mm, truth[2], 1e-6);
 }
 
 TEST(GeometryFit, UnknownParameterNameIsAnError) {

@@ -270,6 +270,17 @@ TEST(Post, PassThroughJointOfACablePlotterIsBounded) {
   EXPECT_GT(report.blocks, 10);  // the 952 mm rapid across the chains' curvature
 }
 
+TEST(Post, AnInfiniteCurvatureBoundSplitsTheBlock) {
+  // A 75 mm line from home on LinuxCNC's rdelta: over the ball of the whole line every arm's
+  // curvature bound is infinite (its lever could halve there). The tool's error from that
+  // infinite joint-error box came out NaN (inf - inf within J^-1 e), std::max dropped it, the
+  // bound read 0 and the line went out as one block, 1.2 mm off its path.
+  const Vector6d origin = (Vector6d() << 0.0, 0.0, -300.0, 0.0, 0.0, 0.0).finished();
+  const PostReport report = post_within_its_bound(test::load_example("linuxcnc-rdelta.toml"),
+                                                  "G21 G90 F1200\nG1 X40 Y0 Z-20\nM2\n", origin);
+  EXPECT_GT(report.blocks, 10);
+}
+
 TEST(Post, PaperSphereOnTheHexapodNearItsBound) {
   // The paper's sphere (pkm demo) turns the tool through up to 47 deg per 30 deg arc. Bounding the
   // legs' chord error by its curvature alone (each rotation's second derivative at its worst,

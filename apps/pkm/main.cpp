@@ -7,6 +7,7 @@
 
 #include "app.hpp"
 #include "pkm/io/atomic_file.hpp"
+#include "pkm/linuxcnc/ini_file.hpp"
 #include "version.hpp"
 
 namespace {
@@ -70,6 +71,7 @@ int main(int argc, char** argv) {
   pkm::app::register_verify_commands(app);
   pkm::app::register_calibrate_commands(app);
   pkm::app::register_linuxcnc_commands(app);
+  pkm::app::register_linuxcnc_import_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -79,6 +81,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "pkm: error: %s\nRun with --help for more information.\n", error.what());
     return 2;
   } catch (const pkm::MachineFileError& error) {
+    std::fprintf(stderr, "pkm: error: %s\n", error.what());
+    return 1;
+  } catch (const pkm::linuxcnc::ConfigError& error) {
     std::fprintf(stderr, "pkm: error: %s\n", error.what());
     return 1;
   } catch (const pkm::app::CommandError& error) {

@@ -8,6 +8,7 @@
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/matrix.hpp"
+#include "pkm/kinematics/rotary_delta.hpp"
 
 namespace pkm {
 
@@ -19,7 +20,7 @@ struct Entry {
 constexpr Entry kModels[] = {
     {"matrix", make_matrix_kinematics},   {"cable_plotter", make_cable_plotter_kinematics},
     {"glide", make_glide_kinematics},     {"hexapod", make_hexapod_kinematics},
-    {"formula", make_formula_kinematics},
+    {"formula", make_formula_kinematics}, {"rotary_delta", make_rotary_delta_kinematics},
 };
 
 ForwardOptions read_forward_options(const ModelConfig& config) {

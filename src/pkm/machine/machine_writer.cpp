@@ -14,12 +14,11 @@
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/matrix.hpp"
+#include "pkm/kinematics/rotary_delta.hpp"
 
 namespace pkm {
 
-namespace {
-
-std::string number(double value) {
+std::string toml_number(double value) {
   char text[32];
   const auto result = std::to_chars(text, text + sizeof text, value);
   std::string written(text, result.ptr);
@@ -28,8 +27,7 @@ std::string number(double value) {
   return written;
 }
 
-// A TOML basic string.
-std::string quoted(const std::string& text) {
+std::string toml_string(const std::string& text) {
   std::string result = "\"";
   for (const char c : text) {
     if (c == '"' || c == '\\') {
@@ -46,28 +44,30 @@ std::string quoted(const std::string& text) {
   return result + "\"";
 }
 
+namespace {
+
 class Writer {
  public:
   explicit Writer(LengthUnit units) : per_mm_(units == LengthUnit::inch ? 1.0 / 25.4 : 1.0) {}
 
   void line(const std::string& text) { out_ << text << "\n"; }
-  void length(const std::string& key, double mm) { line(key + " = " + number(mm * per_mm_)); }
-  void value(const std::string& key, double value) { line(key + " = " + number(value)); }
+  void length(const std::string& key, double mm) { line(key + " = " + toml_number(mm * per_mm_)); }
+  void value(const std::string& key, double value) { line(key + " = " + toml_number(value)); }
   void lengths(const std::string& key, const double* mm, int count) {
     std::string text = key + " = [";
-    for (int i = 0; i < count; ++i) text += (i ? ", " : "") + number(mm[i] * per_mm_);
+    for (int i = 0; i < count; ++i) text += (i ? ", " : "") + toml_number(mm[i] * per_mm_);
     line(text + "]");
   }
   void vector3(const std::string& key, const Eigen::Vector3d& v, bool is_length) {
     const double scale = is_length ? per_mm_ : 1.0;
-    line(key + " = [" + number(v.x() * scale) + ", " + number(v.y() * scale) + ", " +
-         number(v.z() * scale) + "]");
+    line(key + " = [" + toml_number(v.x() * scale) + ", " + toml_number(v.y() * scale) + ", " +
+         toml_number(v.z() * scale) + "]");
   }
   void points(const std::string& key, const std::array<Eigen::Vector3d, 6>& points) {
     line(key + " = [");
     for (const Eigen::Vector3d& p : points) {
-      line("  [" + number(p.x() * per_mm_) + ", " + number(p.y() * per_mm_) + ", " +
-           number(p.z() * per_mm_) + "],");
+      line("  [" + toml_number(p.x() * per_mm_) + ", " + toml_number(p.y() * per_mm_) + ", " +
+           toml_number(p.z() * per_mm_) + "],");
     }
     line("]");
   }
@@ -106,8 +106,8 @@ std::string kinematics_toml(const Kinematics& kinematics, LengthUnit units) {
     const Eigen::Matrix3d& c = matrix->coefficients();
     w.line("matrix = [");
     for (int row = 0; row < 3; ++row) {
-      w.line("  [" + number(c(row, 0)) + ", " + number(c(row, 1)) + ", " + number(c(row, 2)) +
-             "],");
+      w.line("  [" + toml_number(c(row, 0)) + ", " + toml_number(c(row, 1)) + ", " +
+             toml_number(c(row, 2)) + "],");
     }
     w.line("]");
     const PassThroughAxes passthrough(matrix->passthrough_axes(), Dof::translation());
@@ -138,6 +138,13 @@ std::string kinematics_toml(const Kinematics& kinematics, LengthUnit units) {
     w.points("platform", g.platform_mm);
     w.length("tool_length", g.tool_length_mm);
     w.lengths("leg_offsets", g.leg_offset_mm.data(), 6);
+  } else if (const auto* delta = dynamic_cast<const RotaryDeltaKinematics*>(&kinematics)) {
+    const RotaryDeltaGeometry& g = delta->geometry();
+    w.length("base_radius", g.base_radius_mm);
+    w.length("arm_length", g.arm_length_mm);
+    w.length("forearm_length", g.forearm_length_mm);
+    w.length("platform_radius", g.platform_radius_mm);
+    if (delta->passthrough().count() > 0) w.line(delta->passthrough().toml_line());
   } else if (const auto* formula = dynamic_cast<const FormulaKinematics*>(&kinematics)) {
     const FormulaDefinition& d = formula->definition();
     w.line("axes = " + axis_list(formula->dof()));
@@ -147,7 +154,7 @@ std::string kinematics_toml(const Kinematics& kinematics, LengthUnit units) {
     w.line("");
     w.line("[kinematics.formulas]");
     for (const auto& [joint, expression] : d.formulas) {
-      w.line(joint + " = " + quoted(expression));
+      w.line(joint + " = " + toml_string(expression));
     }
   }
   return w.text();

@@ -8,6 +8,12 @@
 
 namespace pkm {
 
+// A number as machine files write it: its shortest form that reads back exactly, always
+// recognisable as a TOML float ("270.0", "1e-06").
+std::string toml_number(double value);
+// A TOML basic string, quoted and escaped.
+std::string toml_string(const std::string& text);
+
 // The [kinematics] section (with its sub-tables) describing the model's current geometry, lengths
 // in `units`. Numbers are written in their shortest form that reads back exactly.
 std::string kinematics_toml(const Kinematics& kinematics, LengthUnit units);

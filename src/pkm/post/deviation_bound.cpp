@@ -8,6 +8,7 @@
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/matrix.hpp"
+#include "pkm/kinematics/rotary_delta.hpp"
 
 namespace pkm::post {
 
@@ -143,6 +144,39 @@ HessianBounds hexapod_bounds(const HexapodKinematics& model, const Vector6d& cen
   return bounds;
 }
 
+// An arm angle q of a rotary delta, where the platform joint w is forearm S from the elbow
+// k(q) on a circle of radius T (|k'| = |k''| = T): its gradient is g = f / L, f the forearm and
+// L = f . k' the lever, and implicit differentiation of |w - k(q)|^2 = S^2 gives the Hessian
+// (I - k' g^T - g k'^T + (T^2 - f . k'') g g^T) / L, of norm at most
+// (1 + 2 T S / L + (T^2 + T S) S^2 / L^2) / L. The lever changes by at most
+// T + (T^2 + T S) S / L per mm of w: while it stays above half its value L0 at the centre, by at
+// most G = T + 2 (T^2 + T S) S / L0, so over the ball L >= L0 - G r if that is above L0 / 2.
+HessianBounds rotary_delta_bounds(const RotaryDeltaKinematics& model, const Vector6d& centre,
+                                  double radius_mm, const Chord& chord) {
+  HessianBounds bounds;
+  JointVector joints;
+  JointJacobian jacobian;
+  if (!model.inverse_and_jacobian(Pose::from_vector(centre), joints, jacobian).ok()) {
+    for (int arm = 0; arm < RotaryDeltaKinematics::kArms; ++arm) add(bounds, INFINITY, INFINITY);
+    return bounds;
+  }
+  const double t = model.geometry().arm_length_mm;
+  const double s = model.geometry().forearm_length_mm;
+  for (int arm = 0; arm < RotaryDeltaKinematics::kArms; ++arm) {
+    const double lever_at_centre = s / jacobian.block<1, 3>(arm, 0).norm();
+    const double lever_rate = t + 2.0 * (t * t + t * s) * s / lever_at_centre;
+    const double lever = lever_at_centre - lever_rate * radius_mm;
+    if (!(lever > 0.5 * lever_at_centre)) {
+      add(bounds, INFINITY, INFINITY);
+      continue;
+    }
+    const double norm =
+        (1.0 + 2.0 * t * s / lever + (t * t + t * s) * s * s / (lever * lever)) / lever;
+    add(bounds, norm, norm * chord.position.squaredNorm());
+  }
+  return bounds;
+}
+
 // Upper bounds on the speed and acceleration of the programmed piece per unit of the block's
 // fraction (angles are linear in u, so only the position curves).
 struct PieceMotion {
@@ -205,6 +239,9 @@ std::optional<HessianBounds> model_hessian_bounds(const Kinematics& model, const
   }
   if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
     return hexapod_bounds(*hexapod, centre, radius_mm, angle_scale_mm, chord);
+  }
+  if (const auto* delta = dynamic_cast<const RotaryDeltaKinematics*>(&model)) {
+    return rotary_delta_bounds(*delta, centre, radius_mm, chord);
   }
   if (dynamic_cast<const MatrixKinematics*>(&model) != nullptr) {
     const std::vector<double> zero(static_cast<std::size_t>(model.joint_count()), 0.0);
@@ -300,6 +337,9 @@ std::optional<CentreInverse> centre_inverse(const Kinematics& model, const Vecto
 double largest_over_box(const Eigen::MatrixXd& m, const Eigen::VectorXd& half_width) {
   const int n = static_cast<int>(half_width.size());
   if (m.rows() == 0 || n == 0) return 0.0;
+  // An infinite half-width (a curvature bound at a singularity) makes M e infinite, since M
+  // (invertible) has no zero column, but inf - inf within M e reads NaN, which std::max drops.
+  if (!half_width.allFinite()) return INFINITY;
   double largest = 0.0;
   for (unsigned signs = 0; signs < (1u << (n - 1)); ++signs) {
     Eigen::VectorXd e = half_width;
