@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -287,8 +288,10 @@ TEST_P(ExportedLimits, KeepEveryJointWithinItsLimitsAcrossTheEnvelope) {
     check_pose(machine, config, pose, worst);
   }
   EXPECT_GT(worst.poses, 1000);
-  // The bound is not vacuous: somewhere a joint comes within a factor of its limit.
-  EXPECT_GT(worst.velocity, 0.3);
+  // The bound is not vacuous: somewhere a joint comes within a factor of one of its limits (the
+  // rotary delta's speeds are set by its joints' acceleration: velocity share 0.11, acceleration
+  // 0.39).
+  EXPECT_GT(std::max(worst.velocity, worst.acceleration), 0.3);
   RecordProperty("worst_velocity_share", std::to_string(worst.velocity));
   RecordProperty("worst_acceleration_share", std::to_string(worst.acceleration));
 }
@@ -298,7 +301,7 @@ INSTANTIATE_TEST_SUITE_P(Examples, ExportedLimits,
                                            "linuxcnc-ldelta.toml", "triaglide-fanned.toml",
                                            "hexapod-bit.toml", "linuxcnc-hexapod-sim.toml",
                                            "hexaglide.toml", "matrix-mill.toml",
-                                           "linuxcnc-xyzac-trt.toml"),
+                                           "linuxcnc-xyzac-trt.toml", "linuxcnc-rdelta.toml"),
                          [](const auto& param_info) { return test::test_name(param_info.param); });
 
 TEST(LinuxcncExport, RefusesAMachineWithNoFiniteReach) {
