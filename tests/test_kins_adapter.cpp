@@ -47,7 +47,12 @@ TEST(KinsAdapter, HomeOfTheHexapodSimIsTheSampleConfigsHome) {
   double joints[kMaxJoints];
   kins.home(home, joints);
   EXPECT_DOUBLE_EQ(home.z, 20.0);
-  for (int n = 0; n < 6; ++n) EXPECT_NEAR(joints[n], 29.7466, 1e-4) << "leg " << n;
+  // Leg 0 from base (-22.95, 13.25, 0) to platform joint (-1, 11.5, 0) + (0, 0, 20); leg 3 from
+  // (0, -26.5, 0) to (9.459, -6.616, 20).
+  EXPECT_NEAR(joints[0], std::sqrt(21.95 * 21.95 + 1.75 * 1.75 + 400.0), 1e-12);
+  EXPECT_NEAR(joints[3], std::sqrt(9.459 * 9.459 + 19.884 * 19.884 + 400.0), 1e-12);
+  // hexapod.ini's HOME, 29.7466 for every leg, is that to its 4 decimals.
+  for (int n = 0; n < 6; ++n) EXPECT_NEAR(joints[n], 29.7466, 3e-4) << "leg " << n;
 }
 
 TEST(KinsAdapter, InverseOfTheLinearDeltaHome) {

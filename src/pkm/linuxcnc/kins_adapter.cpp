@@ -8,6 +8,11 @@ namespace pkm::linuxcnc {
 
 namespace {
 
+// A value as printed with `decimals` decimals, without the "-0.000" of a hair below zero.
+double shown(double value, int decimals) {
+  return std::abs(value) < 0.5 * std::pow(10.0, -decimals) ? 0.0 : value;
+}
+
 int status_number(const Status& status) {
   return status.ok() ? 0 : static_cast<int>(status.code) + 1;
 }
@@ -94,7 +99,8 @@ Status KinsAdapter::forward(const double* joints, WorldPose& world_inout) {
   JointVector internal(joint_count_);
   for (int i = 0; i < joint_count_; ++i) internal[i] = joint_from_world(i, joints[i]);
   Pose pose = to_pose(world_inout);
-  if (!all_finite(pose)) pose = last_forward_;
+  const bool seeded = all_finite(pose);
+  if (!seeded) pose = last_forward_;
   const Status status = machine_.forward(internal, pose);
   counters_.fk_status = status_number(status);
   counters_.fk_iterations = status.iterations;
@@ -103,7 +109,17 @@ Status KinsAdapter::forward(const double* joints, WorldPose& world_inout) {
     return status;
   }
   last_forward_ = pose;
-  to_world(pose, world_inout);
+  WorldPose solved = world_inout;
+  to_world(pose, solved);
+  // LinuxCNC's own values of the coordinates the machine does not control stay bit for bit (a
+  // trip through mm and rad would change their last digit).
+  const Dof dof = machine_.kinematics().dof();
+  double* const out[kPoseSize] = {&world_inout.x, &world_inout.y, &world_inout.z,
+                                  &world_inout.a, &world_inout.b, &world_inout.c};
+  const double in[kPoseSize] = {solved.x, solved.y, solved.z, solved.a, solved.b, solved.c};
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    if (dof.controls(axis) || !seeded) *out[axis] = in[axis];
+  }
   return status;
 }
 
@@ -129,8 +145,10 @@ const char* KinsAdapter::failure_message(char* buffer, std::size_t size) const {
   WorldPose world;
   to_world(failed_pose_, world);
   append(buffer, size, used, "pkmkins: inverse kinematics refused x %.*f y %.*f z %.*f %s",
-         decimals, world.x, decimals, world.y, decimals, world.z, unit);
-  append(buffer, size, used, " a %.3f b %.3f c %.3f deg: ", world.a, world.b, world.c);
+         decimals, shown(world.x, decimals), decimals, shown(world.y, decimals), decimals,
+         shown(world.z, decimals), unit);
+  append(buffer, size, used, " a %.3f b %.3f c %.3f deg: ", shown(world.a, 3), shown(world.b, 3),
+         shown(world.c, 3));
   const int joint = failed_status_.joint;
   if (joint >= 0 && joint < joint_count_) {
     const JointSpec& spec = machine_.joints()[static_cast<std::size_t>(joint)];
@@ -152,10 +170,10 @@ const char* KinsAdapter::failure_message(char* buffer, std::size_t size) const {
     const bool below = found < machine_.cartesian().envelope_min[axis];
     const double limit =
         below ? machine_.cartesian().envelope_min[axis] : machine_.cartesian().envelope_max[axis];
-    const double shown = axis < 3 ? limit / mm_per_world_unit_ : radians_to_degrees(limit);
+    const double limit_shown = axis < 3 ? limit / mm_per_world_unit_ : radians_to_degrees(limit);
     append(buffer, size, used, "%.*s passes the work envelope's %s %.4f %s",
            static_cast<int>(kAxisNames[axis].size()), kAxisNames[axis].data(),
-           below ? "min" : "max", shown, axis < 3 ? unit : "deg");
+           below ? "min" : "max", limit_shown, axis < 3 ? unit : "deg");
   } else {
     const std::string_view why = status_name(failed_status_.code);
     append(buffer, size, used, "%.*s", static_cast<int>(why.size()), why.data());
