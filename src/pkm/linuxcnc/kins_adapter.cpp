@@ -13,8 +13,9 @@ double shown(double value, int decimals) {
   return std::abs(value) < 0.5 * std::pow(10.0, -decimals) ? 0.0 : value;
 }
 
+// StatusCode::ok is 0: the pins show the code itself.
 int status_number(const Status& status) {
-  return status.ok() ? 0 : static_cast<int>(status.code) + 1;
+  return static_cast<int>(status.code);
 }
 
 // Appends printf-style text at `used` within `size`, never past it (no allocation).

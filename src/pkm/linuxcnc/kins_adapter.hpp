@@ -37,13 +37,13 @@ std::optional<LengthUnit> parse_world_unit(std::string_view text);
 
 // What the module shows on its HAL pins (genhexkins' pins, plus the inverse's).
 struct KinsCounters {
-  int fk_status = 0;         // last forward: 0 ok, else StatusCode + 1
+  int fk_status = 0;         // last forward: its StatusCode (0 ok)
   int fk_iterations = 0;     // Newton iterations of the last forward (0: closed form)
   unsigned fk_failures = 0;  // forward calls that failed, since load
   unsigned ik_failures = 0;  // inverse calls that failed, since load
   int ik_failed_joint = -1;  // joint (0-based, LinuxCNC's numbering) of the last failed
                              // inverse; -1 when it named none; back to -1 on success
-  int ik_status = 0;         // last inverse: 0 ok, else StatusCode + 1
+  int ik_status = 0;         // last inverse: its StatusCode (0 ok)
 };
 
 class KinsAdapter {
