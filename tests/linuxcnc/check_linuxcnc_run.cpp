@@ -2,8 +2,9 @@
 // At every servo-thread sample after homing, LinuxCNC's joints must equal pkm's inverse
 // kinematics of its commanded Cartesian pose within the tolerance (mm for linear joints, deg for
 // rotary ones): in coordinated and teleop mode the joints are the module's inverse of the pose,
-// in free mode the pose is the module's forward of the joints. At every rest pose, the actual
-// pose (the module's forward kinematics of the joint feedback) must equal the commanded one.
+// in free mode the pose is the module's forward of the joints (of the sample before). At every rest
+// pose, the actual pose (the module's forward kinematics of the joint feedback) must equal the
+// commanded one.
 //
 //   pkm_linuxcnc_check --machine FILE [--units mm|inch] --samples samples.csv --rest rest.csv
 //                      [--tolerance MM] [--allow-refused-poses]
@@ -175,8 +176,12 @@ class Checker {
       }
 
       const pkm::Pose pose = pose_of(table, row, "");
+      // In free mode LinuxCNC 2.9's motion computes the pose of a cycle from the joints of the
+      // cycle before (it copies them before its joint planners step): compare with those.
+      const bool coordinated = flag(row, "coord") || flag(row, "teleop");
+      const std::vector<std::string>& joints_row = coordinated || k == 0 ? row : table.rows[k - 1];
       std::string refusal;
-      const double error = joint_error(table, row, pose, "", refusal);
+      const double error = joint_error(table, joints_row, pose, "", refusal);
       if (!refusal.empty() && first_refusal.empty()) first_refusal = refusal;
       if (!refusal.empty() && options_.allow_refused) {
         ++refused;
@@ -185,8 +190,7 @@ class Checker {
       const std::string place =
           "sample " + std::to_string(k) +
           (line_column >= 0 ? " (line " + row[static_cast<std::size_t>(line_column)] + ")" : "");
-      (flag(row, "coord") || flag(row, "teleop") ? inverse : forward)
-          .add(error, options_.tolerance, place);
+      (coordinated ? inverse : forward).add(error, options_.tolerance, place);
     }
     std::printf("samples: %zu (%ld before the machine is on and homed)\n", table.rows.size(),
                 before_homing);

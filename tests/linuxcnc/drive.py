@@ -7,7 +7,7 @@
 #     the kinematics' own output in coordinated mode, and its input in free mode), the motion
 #     modes and program line, at full precision (hal.stream, not halsampler's 6 decimals);
 #   - takes the machine out of E-stop, switches it on and homes every joint;
-#   - runs the MDI lines, then the program;
+#   - jogs joints in joint mode (there and back), runs the MDI lines, then the program;
 #   - records the commanded and the actual (forward kinematics of the joints) pose at rest;
 #   - writes the samples (samples.csv), the rest poses (rest.csv) and what happened
 #     (drive-result.json: errors from LinuxCNC's error channel, whether the program finished,
@@ -139,6 +139,19 @@ class Driver:
         self.command.home(-1)
         self.wait("homing", lambda: all(self.stat.homed[n] for n in range(joints)))
 
+    def jog_joint(self, joint, increment, velocity):
+        """A joint-mode jog there and back: in free mode motion asks the kinematics' forward for
+        the commanded pose every servo cycle."""
+        self.command.mode(linuxcnc.MODE_MANUAL)
+        self.command.wait_complete()
+        self.command.teleop_enable(0)
+        self.command.wait_complete()
+        self.wait("joint mode", lambda: self.stat.motion_mode == linuxcnc.TRAJ_MODE_FREE, 5.0)
+        for step in (increment, -increment):
+            self.command.jog(linuxcnc.JOG_INCREMENT, True, joint, velocity, step)
+            self.wait("jog start", lambda: not self.stat.inpos, 2.0)
+            self.wait("jog", lambda: self.stat.inpos or self.failed(), 60.0)
+
     def idle(self):
         return (self.stat.interp_state == linuxcnc.INTERP_IDLE and self.stat.inpos
                 and self.stat.queue == 0)
@@ -201,6 +214,11 @@ def main():
         result["homed"] = True
         result["counters_at_homing"] = counters()
         rest.append(driver.rest_row("homed", joints))
+        for joint, increment, velocity in settings.get("jog", []):
+            driver.jog_joint(joint, increment, velocity)
+            if driver.failed():
+                break
+            rest.append(driver.rest_row("jog joint %d" % joint, joints))
         for line in settings.get("mdi", []):
             driver.run_mdi(line)
             if driver.failed():
