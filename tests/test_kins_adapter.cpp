@@ -212,6 +212,26 @@ TEST(KinsAdapter, MachineFileIsFoundBesideTheIni) {
   EXPECT_EQ(resolve_machine_file("m.toml", nullptr, "/cwd"), "/cwd/m.toml");
 }
 
+TEST(KinsAdapter, IniThatAgreesSaysNothing) {
+  const KinsAdapter kins = example("linuxcnc-hexapod-sim.toml");
+  EXPECT_EQ(ini_mismatch(kins,
+                         "[KINS]\nKINEMATICS = pkmkins machine=m.toml\nJOINTS = 6\n"
+                         "[TRAJ]\nLINEAR_UNITS = inch\n[JOINT_0]\nTYPE = LINEAR\n"),
+            "");
+  EXPECT_EQ(ini_mismatch(kins, "[EMC]\nVERSION = 1.1\n"), "");  // nothing said, nothing wrong
+}
+
+TEST(KinsAdapter, IniWithOtherJointsOrUnitsIsNamed) {
+  const KinsAdapter kins = example("linuxcnc-hexapod-sim.toml");
+  EXPECT_EQ(ini_mismatch(kins, "[KINS]\n  JOINTS = 5  \n"),
+            "[KINS] JOINTS = 5 but the machine file has 6 joints: set JOINTS = 6");
+  EXPECT_EQ(ini_mismatch(kins, "[TRAJ]\nLINEAR_UNITS = mm\n[KINS]\nJOINTS = 6\n"),
+            "[TRAJ] LINEAR_UNITS = mm but pkmkins works in inch: add units=mm to [KINS] "
+            "KINEMATICS (the default is the machine file's units)");
+  // JOINTS of another section does not count; the last of repeated keys does.
+  EXPECT_EQ(ini_mismatch(kins, "[JOINT_0]\nJOINTS = 2\n[KINS]\nJOINTS = 4\nJOINTS = 6\n"), "");
+}
+
 TEST(KinsAdapter, BrokenMachineFileKeepsItsLocatedError) {
   try {
     load_kins(std::string(PKM_SOURCE_DIR) + "/tests/data/bad-strut.toml", std::nullopt);

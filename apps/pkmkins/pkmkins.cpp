@@ -15,6 +15,8 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "emcpos.h"  // C++ parts of posemath first: kinematics.h is C without extern "C"
 #include "hal.h"
@@ -97,6 +99,21 @@ int make_pins() {
   return result;
 }
 
+// Whether LinuxCNC's INI file (INI_FILE_NAME) agrees with the machine file on the number of
+// joints and the length unit; prints why not.
+bool agrees_with_ini() {
+  const char* ini_file = std::getenv("INI_FILE_NAME");
+  if (ini_file == nullptr || *ini_file == '\0') return true;
+  std::ifstream ini(ini_file, std::ios::binary);
+  if (!ini) return true;  // LinuxCNC itself reads it: not ours to report
+  std::ostringstream text;
+  text << ini.rdbuf();
+  const std::string mismatch = pkm::linuxcnc::ini_mismatch(*adapter, text.str());
+  if (mismatch.empty()) return true;
+  rtapi_print_msg(RTAPI_MSG_ERR, "pkmkins: %s: %s\n", ini_file, mismatch.c_str());
+  return false;
+}
+
 // Reads the machine file named by the module parameters; prints why not and returns false.
 bool load_machine_file() {
   if (machine == nullptr || *machine == '\0') {
@@ -118,6 +135,11 @@ bool load_machine_file() {
     const std::filesystem::path file = pkm::linuxcnc::resolve_machine_file(
         machine, std::getenv("INI_FILE_NAME"), getcwd(cwd, sizeof cwd) ? cwd : ".");
     adapter = new KinsAdapter(pkm::linuxcnc::load_kins(file, world_unit));
+    if (!agrees_with_ini()) {
+      delete adapter;
+      adapter = nullptr;
+      return false;
+    }
     rtapi_print_msg(RTAPI_MSG_INFO, "pkmkins: %s: '%s', %d joints, world unit %s\n", file.c_str(),
                     adapter->machine().name().c_str(), adapter->joint_count(),
                     adapter->world_unit() == pkm::LengthUnit::inch ? "inch" : "mm");

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <string_view>
 
 #include "pkm/machine/machine.hpp"
@@ -105,6 +106,11 @@ class KinsAdapter {
 // Loads the machine file; throws MachineFileError (file:line:key) when it does not load.
 KinsAdapter load_kins(const std::filesystem::path& machine_file,
                       std::optional<LengthUnit> world_unit);
+
+// What in LinuxCNC's INI file (its text) contradicts the module as loaded: [KINS] JOINTS other
+// than the machine file's number of joints, [TRAJ] LINEAR_UNITS other than the world unit. A
+// sentence naming both and the fix, or "" when they agree (or the INI does not say).
+std::string ini_mismatch(const KinsAdapter& kins, std::string_view ini_text);
 
 // Where the module finds its machine file: `name` as given when absolute, else relative to the
 // INI file's directory (`ini_file_name`, LinuxCNC's INI_FILE_NAME, when set), else to `cwd` (the
