@@ -81,22 +81,18 @@ void publish() {
 int make_pins() {
   pins = static_cast<Pins*>(hal_malloc(sizeof(Pins)));
   if (pins == nullptr) return -ENOMEM;
-  int result = 0;
-  result =
-      result ? result : hal_pin_s32_newf(HAL_OUT, &pins->fk_status, component, "pkmkins.fk-status");
-  result =
-      result ? result
-             : hal_pin_s32_newf(HAL_OUT, &pins->fk_iterations, component, "pkmkins.fk-iterations");
-  result = result ? result
-                  : hal_pin_u32_newf(HAL_OUT, &pins->fk_failures, component, "pkmkins.fk-failures");
-  result =
-      result ? result : hal_pin_s32_newf(HAL_OUT, &pins->ik_status, component, "pkmkins.ik-status");
-  result = result ? result
-                  : hal_pin_u32_newf(HAL_OUT, &pins->ik_failures, component, "pkmkins.ik-failures");
-  result = result ? result
-                  : hal_pin_s32_newf(HAL_OUT, &pins->ik_failed_joint, component,
-                                     "pkmkins.ik-failed-joint");
-  return result;
+  const int results[] = {
+      hal_pin_s32_newf(HAL_OUT, &pins->fk_status, component, "pkmkins.fk-status"),
+      hal_pin_s32_newf(HAL_OUT, &pins->fk_iterations, component, "pkmkins.fk-iterations"),
+      hal_pin_u32_newf(HAL_OUT, &pins->fk_failures, component, "pkmkins.fk-failures"),
+      hal_pin_s32_newf(HAL_OUT, &pins->ik_status, component, "pkmkins.ik-status"),
+      hal_pin_u32_newf(HAL_OUT, &pins->ik_failures, component, "pkmkins.ik-failures"),
+      hal_pin_s32_newf(HAL_OUT, &pins->ik_failed_joint, component, "pkmkins.ik-failed-joint"),
+  };
+  for (const int result : results) {
+    if (result != 0) return result;
+  }
+  return 0;
 }
 
 // Whether LinuxCNC's INI file (INI_FILE_NAME) agrees with the machine file on the number of

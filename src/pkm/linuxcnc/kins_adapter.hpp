@@ -1,7 +1,8 @@
 // The pkmkins LinuxCNC kinematics module without LinuxCNC: a machine file's kinematics answering
 // LinuxCNC's kinematicsInverse / kinematicsForward / kinematicsHome in LinuxCNC's units (the
 // world length unit of [TRAJ] LINEAR_UNITS, mm or inch, and degrees), forward seeded with the
-// previous pose, and the counters the module shows on HAL pins. It includes no LinuxCNC header
+// previous pose, the counters the module shows on HAL pins, where the machine file is found and
+// what in LinuxCNC's INI may contradict it. It includes no LinuxCNC header
 // (apps/pkmkins/pkmkins.cpp is the thin RTAPI/HAL shim), so it is unit-tested without LinuxCNC.
 //
 // Nothing here allocates after construction: inverse, forward, home and the failure message run
