@@ -572,15 +572,17 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const JointRateBound& bo
   }
   const Filling acceleration =
       fill(bound, budget, alone(bound, budget, acceleration_cap, moved), acceleration_cap, moved);
+  // The split holds the joints at the rates the planner reaches: LinuxCNC gets less (its
+  // overshoots).
   AxisRateLimits limits;
-  limits.velocity = velocity.value;
-  limits.acceleration = acceleration.value;
+  limits.velocity = velocity.value / kPlannerVelocityOvershoot;
+  limits.acceleration = acceleration.value / kPlannerAccelerationOvershoot;
   limits.velocity_limiting = velocity.limiting;
   limits.acceleration_limiting = acceleration.limiting;
   limits.linear_velocity =
-      std::min(machine.cartesian().max_feed_mm_per_min / 60.0, velocity.value.head<3>().norm());
-  limits.linear_acceleration =
-      std::min(machine.cartesian().max_acceleration_mm_per_s2, acceleration.value.head<3>().norm());
+      std::min(machine.cartesian().max_feed_mm_per_min / 60.0, limits.velocity.head<3>().norm());
+  limits.linear_acceleration = std::min(machine.cartesian().max_acceleration_mm_per_s2,
+                                        limits.acceleration.head<3>().norm());
   return limits;
 }
 

@@ -88,13 +88,24 @@ struct AxisRateLimits {
   std::vector<int> acceleration_limiting;  // per axis: the joint that set its acceleration
 };
 
+// How far LinuxCNC 2.9's planner takes an axis past its [AXIS_x] limits, measured headless with
+// the exported configurations (tests/linuxcnc/run-exported; docs/linuxcnc.md, "Tested with the
+// real controller"). A parabolic blend, which LinuxCNC uses where it cannot blend with an arc (any
+// move of A, B or C), starts the next move at its full acceleration while the move before still
+// slows at half of its own: 1.5 times MAX_ACCELERATION (450 deg/s^2 against 300 on the 5-axis
+// table's C). A blend arc where an arc meets a helix passed MAX_VELOCITY by 0.6 % (20.125 mm/s
+// against 20); 2 % leaves room. The exported limits are the bound's divided by these.
+inline constexpr double kPlannerVelocityOvershoot = 1.02;
+inline constexpr double kPlannerAccelerationOvershoot = 1.5;
+
 // The split of each joint's budget between the axes (docs/linuxcnc.md): every axis gets the same
 // share of what it could have alone (every other axis still); all grow together until a joint's
 // budget over some cell is spent, the axes that joint moves stop there, the others go on
 // (progressive filling). Linear axes stop at the machine's max_feed and max_acceleration. Before
 // the accelerations, the speeds are lowered (all together) until the Hessian term takes at most
 // half of every joint's acceleration limit. `moved` says which coordinates LinuxCNC moves (the
-// controlled ones, and Z on a plotter): those no joint follows take the machine's limits.
+// controlled ones, and Z on a plotter): those no joint follows take the machine's limits. The
+// limits returned are for LinuxCNC: the split's divided by the planner's overshoots (above).
 AxisRateLimits axis_rate_limits(const Machine& machine, const JointRateBound& bound, Dof moved);
 
 // The speed (mm/s) `pkm plan` allows a straight move along the linear axis `axis` at `pose`:
