@@ -163,15 +163,23 @@ class Driver:
         self.command.wait_complete()
         self.wait("MDI " + line, lambda: self.idle() or self.failed(), 120.0)
 
+    def ran_program_lines_since(self, first_row):
+        """Whether motion has run a program line (the sampled motion.program-line) since then."""
+        line = [name for name, _, _ in self.sampler.columns].index("line")
+        return any(row[line] > 0 for row in self.sampler.rows[first_row:])
+
     def run_program(self, path):
         self.command.mode(linuxcnc.MODE_AUTO)
         self.command.wait_complete()
         self.command.program_open(path)
         self.command.wait_complete()
+        first_row = len(self.sampler.rows)
         self.command.auto(linuxcnc.AUTO_RUN, 0)
         self.command.wait_complete()
+        # (A short program may have run to its end, the interpreter idle again, before this
+        # looks: the samples say that it ran.)
         self.wait("program run", lambda: self.stat.interp_state != linuxcnc.INTERP_IDLE
-                  or self.failed(), 5.0)
+                  or self.failed() or self.ran_program_lines_since(first_row), 5.0)
         self.wait("program end", lambda: self.idle() or self.failed(),
                   self.deadline - time.monotonic())
 
