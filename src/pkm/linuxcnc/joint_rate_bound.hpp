@@ -93,8 +93,9 @@ struct AxisRateLimits {
 // real controller"). A parabolic blend, which LinuxCNC uses where it cannot blend with an arc (any
 // move of A, B or C), starts the next move at its full acceleration while the move before still
 // slows at half of its own: 1.5 times MAX_ACCELERATION (450 deg/s^2 against 300 on the 5-axis
-// table's C). A blend arc where an arc meets a helix passed MAX_VELOCITY by 0.6 % (20.125 mm/s
-// against 20); 2 % leaves room. The exported limits are the bound's divided by these.
+// table's C). A blend arc where an arc meets a helix passed MAX_VELOCITY by 0.6 % and 1.1 % (Y
+// at 20.125 mm/s against 20, then 19.82 against 19.61); 2 % covers that. The exported limits are
+// the bound's divided by these.
 inline constexpr double kPlannerVelocityOvershoot = 1.02;
 inline constexpr double kPlannerAccelerationOvershoot = 1.5;
 
