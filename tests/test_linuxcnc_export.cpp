@@ -89,9 +89,9 @@ TEST(LinuxcncExport, HandCheckedMatrixMachine) {
   // same share t of that: jx runs out first, at 100 t + 0.01 * 50 t = 100, t = 100 / 100.5,
   // fixing X and Y (both move jx); Z goes on to t = 1. Accelerations, alone: X 800 (the machine's
   // max_acceleration), Y 500, Z 200; jy and jz run out at t = 1 (jx keeps 995 of its 1000). No
-  // curvature: the model is linear. LinuxCNC gets these divided by its planner's overshoots
-  // (1.02 for velocities, 1.5 for accelerations: what it reaches in blends).
-  const double v = 1.0 / kPlannerVelocityOvershoot, a = 1.0 / kPlannerAccelerationOvershoot;
+  // curvature: the model is linear. LinuxCNC gets the accelerations divided by its planner's
+  // overshoot (1.5: what it reaches in parabolic blends).
+  const double v = 1.0, a = 1.0 / kPlannerAccelerationOvershoot;
   EXPECT_NEAR(config.limits.velocity[0], 100.0 * 100.0 / 100.5 * v, 1e-9);
   EXPECT_NEAR(config.limits.velocity[1], 50.0 * 100.0 / 100.5 * v, 1e-9);
   EXPECT_NEAR(config.limits.velocity[2], 20.0 * v, 1e-9);
@@ -110,14 +110,14 @@ TEST(LinuxcncExport, HandCheckedMatrixMachine) {
   const std::string traj = section(ini, "[TRAJ]");
   EXPECT_TRUE(has_line(traj, "COORDINATES = X Y Z"));
   EXPECT_TRUE(has_line(traj, "LINEAR_UNITS = mm"));
-  EXPECT_TRUE(has_line(traj, "MAX_LINEAR_VELOCITY = 110.814377"));     // the three, down
+  EXPECT_TRUE(has_line(traj, "MAX_LINEAR_VELOCITY = 113.030665"));     // the three, down
   EXPECT_TRUE(has_line(traj, "MAX_LINEAR_ACCELERATION = 642.91005"));  // the three
   const std::string x = section(ini, "[AXIS_X]");
   EXPECT_TRUE(has_line(x, "MIN_LIMIT = 0"));
   EXPECT_TRUE(has_line(x, "MAX_LIMIT = 200"));
-  EXPECT_TRUE(has_line(x, "MAX_VELOCITY = 97.551458"));  // 99.5024875... / 1.02, down
+  EXPECT_TRUE(has_line(x, "MAX_VELOCITY = 99.502487"));  // 99.5024875..., down
   EXPECT_TRUE(has_line(x, "MAX_ACCELERATION = 533.333333"));
-  EXPECT_TRUE(has_line(section(ini, "[AXIS_Z]"), "MAX_VELOCITY = 19.607843"));
+  EXPECT_TRUE(has_line(section(ini, "[AXIS_Z]"), "MAX_VELOCITY = 20"));
   EXPECT_TRUE(has_line(section(ini, "[AXIS_Z]"), "MIN_LIMIT = -100"));
   const std::string j0 = section(ini, "[JOINT_0]");
   EXPECT_TRUE(has_line(j0, "TYPE = LINEAR"));
@@ -219,8 +219,8 @@ TEST(LinuxcncExport, EveryExampleMachineExports) {
   }
 }
 
-// Where LinuxCNC may take the tool: every axis within its exported limit times the planner's
-// overshoot (kPlannerVelocityOvershoot, kPlannerAccelerationOvershoot), in any combination.
+// Where LinuxCNC may take the tool: every axis within its exported velocity, and its
+// acceleration times the planner's overshoot (kPlannerAccelerationOvershoot), in any combination.
 // At a pose p, joint i's rate is J_i v, largest for v_j = sign(J_ij) V_j; its acceleration
 // J_i a + v^T H_i v (the second term by central differences of the IK along v), largest for
 // a_j = sign(J_ij) A_j. Both must stay within the joint's limits wherever the machine reaches.
@@ -242,7 +242,7 @@ void check_pose(const Machine& machine, const LinuxcncConfig& config, const Vect
     Vector6d v = Vector6d::Zero(), a = Vector6d::Zero();
     for (int axis = 0; axis < kPoseSize; ++axis) {
       const double sign = jacobian(i, axis) < 0.0 ? -1.0 : 1.0;
-      v[axis] = sign * config.limits.velocity[axis] * kPlannerVelocityOvershoot;
+      v[axis] = sign * config.limits.velocity[axis];
       a[axis] = sign * config.limits.acceleration[axis] * kPlannerAccelerationOvershoot;
     }
     const JointSpec& spec = machine.joints()[static_cast<std::size_t>(i)];

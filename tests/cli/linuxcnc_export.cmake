@@ -25,5 +25,5 @@ pkm_cli_refuses(export_linuxcnc_machine_missing
 # bound's verdict and its cost on the terminal.
 set(LCNC_PEN ${CLI_OUT}/lcnc-pen)
 add_test(NAME cli.export_linuxcnc_pen_plotter_sim
-         COMMAND sh -c "rm -rf \"$1\" && out=$(\"$0\" export linuxcnc -m \"$2\" -o \"$1\" --sim) && printf '%s\\n' \"$out\" && printf '%s\\n' \"$out\" | grep -q 'joint-rate bound over the work envelope: proven' && printf '%s\\n' \"$out\" | grep -q 'X: 4639.5 mm/min = 77.3 % of max_feed 6000' && grep -qx 'KINEMATICS = pkmkins machine=pen-plotter.toml' \"$1/pen-plotter.ini\" && cmp -s \"$2\" \"$1/pen-plotter.toml\" && grep -q '^net pen-z axis.z.pos-cmd => pen-up.in1$' \"$1/pen-plotter.hal\" && test -f \"$1/sim.hal\" && ! test -e \"$1/hardware.hal\""
+         COMMAND sh -c "rm -rf \"$1\" && out=$(\"$0\" export linuxcnc -m \"$2\" -o \"$1\" --sim) && printf '%s\\n' \"$out\" && printf '%s\\n' \"$out\" | grep -q 'joint-rate bound over the work envelope: proven' && printf '%s\\n' \"$out\" | grep -q 'X: 4732.3 mm/min = 78.9 % of max_feed 6000' && grep -qx 'KINEMATICS = pkmkins machine=pen-plotter.toml' \"$1/pen-plotter.ini\" && cmp -s \"$2\" \"$1/pen-plotter.toml\" && grep -q '^net pen-z axis.z.pos-cmd => pen-up.in1$' \"$1/pen-plotter.hal\" && test -f \"$1/sim.hal\" && ! test -e \"$1/hardware.hal\""
                  ${PKM} ${LCNC_PEN} ${MACHINES}/pen-plotter.toml)

@@ -572,10 +572,9 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const JointRateBound& bo
   }
   const Filling acceleration =
       fill(bound, budget, alone(bound, budget, acceleration_cap, moved), acceleration_cap, moved);
-  // The split holds the joints at the rates the planner reaches: LinuxCNC gets less (its
-  // overshoots).
+  // The split holds the joints at the accelerations the planner reaches: LinuxCNC gets less.
   AxisRateLimits limits;
-  limits.velocity = velocity.value / kPlannerVelocityOvershoot;
+  limits.velocity = velocity.value;
   limits.acceleration = acceleration.value / kPlannerAccelerationOvershoot;
   limits.velocity_limiting = velocity.limiting;
   limits.acceleration_limiting = acceleration.limiting;

@@ -88,15 +88,12 @@ struct AxisRateLimits {
   std::vector<int> acceleration_limiting;  // per axis: the joint that set its acceleration
 };
 
-// How far LinuxCNC 2.9's planner takes an axis past its [AXIS_x] limits, measured headless with
-// the exported configurations (tests/linuxcnc/run-exported; docs/linuxcnc.md, "Tested with the
-// real controller"). A parabolic blend, which LinuxCNC uses where it cannot blend with an arc (any
-// move of A, B or C), starts the next move at its full acceleration while the move before still
-// slows at half of its own: 1.5 times MAX_ACCELERATION (450 deg/s^2 against 300 on the 5-axis
-// table's C). A blend arc where an arc meets a helix passed MAX_VELOCITY by 0.6 % and 1.1 % (Y
-// at 20.125 mm/s against 20, then 19.82 against 19.61); 2 % covers that. The exported limits are
-// the bound's divided by these.
-inline constexpr double kPlannerVelocityOvershoot = 1.02;
+// How far LinuxCNC 2.9's planner takes an axis past its [AXIS_x] MAX_ACCELERATION, measured
+// headless with the exported configurations (tests/linuxcnc/run-exported; docs/linuxcnc.md,
+// "Tested with the real controller"): a parabolic blend, which LinuxCNC uses where it cannot blend
+// with an arc (any move of A, B or C), starts the next move at its full acceleration while the
+// move before still slows at half of its own: 1.5 times MAX_ACCELERATION (450 deg/s^2 against 300
+// on the 5-axis table's C). The exported accelerations are the bound's divided by it.
 inline constexpr double kPlannerAccelerationOvershoot = 1.5;
 
 // The split of each joint's budget between the axes (docs/linuxcnc.md): every axis gets the same
@@ -106,7 +103,7 @@ inline constexpr double kPlannerAccelerationOvershoot = 1.5;
 // the accelerations, the speeds are lowered (all together) until the Hessian term takes at most
 // half of every joint's acceleration limit. `moved` says which coordinates LinuxCNC moves (the
 // controlled ones, and Z on a plotter): those no joint follows take the machine's limits. The
-// limits returned are for LinuxCNC: the split's divided by the planner's overshoots (above).
+// accelerations returned are for LinuxCNC: the split's divided by the planner's overshoot (above).
 AxisRateLimits axis_rate_limits(const Machine& machine, const JointRateBound& bound, Dof moved);
 
 // The speed (mm/s) `pkm plan` allows a straight move along the linear axis `axis` at `pose`:
