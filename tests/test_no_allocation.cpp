@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <new>
 
+#include "pkm/linuxcnc/kins_adapter.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -57,6 +58,33 @@ TEST_P(NoAllocation, InverseJacobianAndForwardAllocateNothing) {
     machine.inverse(poses[i], joints[i]);
   }
   EXPECT_EQ(allocations.load() - before, 0);
+}
+
+// The pkmkins module's servo-thread calls: inverse, forward from the previous pose, the failure
+// message, on every example machine.
+TEST_P(NoAllocation, LinuxCncModuleAllocatesNothing) {
+  linuxcnc::KinsAdapter kins(test::load_example(GetParam()), std::nullopt);
+  std::mt19937_64 rng(2);
+  const std::vector<Pose> poses =
+      test::sample_reachable_poses(kins.machine(), 200, rng, 10.0, 0.05);
+  std::vector<linuxcnc::WorldPose> worlds(poses.size());
+  for (std::size_t i = 0; i < poses.size(); ++i) kins.to_world(poses[i], worlds[i]);
+  double joints[kMaxJoints];
+  char message[512];
+  const long before = allocations.load();
+  for (const linuxcnc::WorldPose& world : worlds) {
+    ASSERT_TRUE(kins.inverse(world, joints).ok());
+    linuxcnc::WorldPose seed = world;
+    seed.x += 0.001;  // a servo step away
+    kins.forward(joints, seed);
+    kins.home(seed, joints);
+  }
+  linuxcnc::WorldPose far = worlds.front();
+  far.x = 1e6;
+  EXPECT_FALSE(kins.inverse(far, joints).ok());
+  kins.failure_message(message, sizeof message);
+  EXPECT_EQ(allocations.load() - before, 0);
+  EXPECT_EQ(kins.counters().fk_failures, 0u) << kins.counters().fk_status;
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, NoAllocation, ::testing::ValuesIn(test::example_machine_files()),

@@ -176,7 +176,12 @@ Status solve_forward_newton(const Kinematics& model, const JointVector& joints, 
   JointJacobian jacobian_at_trial(joint_count, kPoseSize);
   double lambda = 0.0;
   bool converged = false;
-  for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
+  int iterations = 0;
+  const auto counted = [&iterations](Status status) {
+    status.iterations = iterations;
+    return status;
+  };
+  for (; iterations < options.max_iterations; ++iterations) {
     if (max_abs(residual) <= options.tolerance_mm) {
       converged = true;
       break;
@@ -245,7 +250,7 @@ Status solve_forward_newton(const Kinematics& model, const JointVector& joints, 
     if (!stepped) break;
   }
   if (!converged && max_abs(residual) > options.tolerance_mm) {
-    return Status::failure(StatusCode::not_converged);
+    return counted(Status::failure(StatusCode::not_converged));
   }
   // The last factorisation is from at most a few converging steps before the solution; a change
   // of sign of det J between seed and there means the iteration crossed a singularity.
@@ -254,10 +259,10 @@ Status solve_forward_newton(const Kinematics& model, const JointVector& joints, 
         factorization.valid
             ? last_det_sign
             : (jacobian_current ? determinant_sign(jacobian_at_x, axes) : last_det_sign);
-    if (final_sign != seed_det_sign) return Status::failure(StatusCode::branch_changed);
+    if (final_sign != seed_det_sign) return counted(Status::failure(StatusCode::branch_changed));
   }
   pose_inout = Pose::from_vector(x);
-  return Status::success();
+  return counted(Status::success());
 }
 
 Status numerical_jacobian(const Kinematics& model, const Pose& pose,

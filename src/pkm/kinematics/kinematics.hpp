@@ -36,11 +36,14 @@ struct Status {
   StatusCode code = StatusCode::ok;
   int joint = -1;  // the joint (strut, leg, cable) the failure concerns; -1 when none
   int axis = -1;   // the pose coordinate (0..5 = x y z a b c) of outside_envelope; -1 when none
+  // Newton iterations forward kinematics took (0 for closed forms and everything else): what
+  // LinuxCNC's kinematics modules show on their fk-iterations pin.
+  int iterations = 0;
 
   constexpr bool ok() const { return code == StatusCode::ok; }
   static constexpr Status success() { return {}; }
-  static constexpr Status failure(StatusCode code, int joint = -1) { return {code, joint, -1}; }
-  static constexpr Status outside(int axis) { return {StatusCode::outside_envelope, -1, axis}; }
+  static constexpr Status failure(StatusCode code, int joint = -1) { return {code, joint, -1, 0}; }
+  static constexpr Status outside(int axis) { return {StatusCode::outside_envelope, -1, axis, 0}; }
 };
 
 std::string_view status_name(StatusCode code);

@@ -127,9 +127,12 @@ Status Machine::forward(const JointVector& joints, Pose& pose_inout) const {
       wrong_mode()) {
     // A seed across a singularity from the answer leads FK astray (or to the mirror-image pose);
     // home is on the machine's side by definition, so it is the seed of last resort.
+    const int iterations_from_seed = status.iterations;
     solved = home_;
     status = kinematics_->forward(joints, solved);
+    const int iterations = iterations_from_seed + status.iterations;
     if (wrong_mode()) status = Status::failure(StatusCode::branch_changed);
+    status.iterations = iterations;
   }
   if (status.ok() && !all_finite(solved)) status = Status::failure(StatusCode::not_converged);
   if (status.ok()) pose_inout = solved;
