@@ -1,0 +1,35 @@
+# Differential tests (tests/linuxcnc/run-differential): the same program through the real
+# LinuxCNC once on one of its own kinematics modules and once on pkmkins with the machine file
+# `pkm import linuxcnc` makes of that configuration; the joints must agree within 1e-6 mm (deg
+# for rotary joints) sample by sample. Included from tests/linuxcnc/CMakeLists.txt once pkmkins
+# is a target; label linuxcnc, one LinuxCNC at a time (RESOURCE_LOCK linuxcnc).
+
+# matrixkins' equations as a module of our own (Debian's LinuxCNC 2.9 has no matrixkins), built
+# as pkmkins is, under a name no LinuxCNC module has.
+add_library(pkmtest_matrixkins MODULE matrixkins/pkmtest_matrixkins.cpp)
+set_target_properties(pkmtest_matrixkins PROPERTIES
+  PREFIX ""
+  LIBRARY_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/linuxcnc)
+target_include_directories(pkmtest_matrixkins SYSTEM PRIVATE ${LINUXCNC_INCLUDE_DIR})
+target_compile_definitions(pkmtest_matrixkins PRIVATE RTAPI USPACE __MODULE__ SIM)
+target_link_libraries(pkmtest_matrixkins PRIVATE pkm_warnings)
+target_link_options(pkmtest_matrixkins PRIVATE
+  -Wl,--version-script=${PROJECT_SOURCE_DIR}/apps/pkmkins/pkmkins.map -Wl,-Bsymbolic)
+
+set(RUN_DIFFERENTIAL ${CMAKE_CURRENT_SOURCE_DIR}/run-differential
+    --pkm $<TARGET_FILE:pkm> --module $<TARGET_FILE:pkmkins>
+    --checker $<TARGET_FILE:pkm_linuxcnc_check>)
+set(DIFF_CONFIGS ${CMAKE_CURRENT_SOURCE_DIR}/diff)
+function(pkm_linuxcnc_differential name)
+  add_test(NAME linuxcnc.differential_${name}
+           COMMAND ${RUN_DIFFERENTIAL} --work ${CMAKE_CURRENT_BINARY_DIR}/runs/differential_${name}
+                   ${ARGN})
+  # TIMEOUT: two runs of 120 s at most, and up to 240 s waiting for another LinuxCNC each.
+  set_tests_properties(linuxcnc.differential_${name} PROPERTIES LABELS linuxcnc
+                       RESOURCE_LOCK linuxcnc TIMEOUT 780 SKIP_RETURN_CODE 77)
+endfunction()
+
+# LinuxCNC's hexapod simulator on genhexkins (inch): a joint jog, lines, an arc, a helix, A B C.
+pkm_linuxcnc_differential(genhexkins
+  --reference ${DIFF_CONFIGS}/genhexkins --jog 0:0.5:1
+  --program ${CMAKE_CURRENT_SOURCE_DIR}/hexapod/program.ngc)
