@@ -196,6 +196,8 @@ def main():
     directory = os.path.dirname(ini_path())
     with open(os.path.join(directory, "pkm-drive.json")) as settings_file:
         settings = json.load(settings_file)
+    # The NML channels of the INI's [EMC] NML_FILE (the linuxcnc script exports it as NMLFILE).
+    linuxcnc.nmlfile = os.environ.get("NMLFILE", linuxcnc.nmlfile)
     driver = Driver(settings)
     result = {"finished": False, "homed": False}
     rest = []
