@@ -32,4 +32,18 @@ endfunction()
 # LinuxCNC's hexapod simulator on genhexkins (inch): a joint jog, lines, an arc, a helix, A B C.
 pkm_linuxcnc_differential(genhexkins
   --reference ${DIFF_CONFIGS}/genhexkins --jog 0:0.5:1
-  --program ${CMAKE_CURRENT_SOURCE_DIR}/hexapod/program.ngc)
+  --program ${DIFF_CONFIGS}/genhexkins/program.ngc)
+# LinuxCNC's linear delta on lineardeltakins (mm): a joint jog, lines, an arc, a helix.
+pkm_linuxcnc_differential(lineardeltakins
+  --reference ${DIFF_CONFIGS}/lineardeltakins --jog 1:-20:50
+  --program ${DIFF_CONFIGS}/lineardeltakins/program.ngc)
+# LinuxCNC's rotary delta on rotarydeltakins (inch, arms in deg): a joint jog, lines, an arc, a helix.
+pkm_linuxcnc_differential(rotarydeltakins
+  --reference ${DIFF_CONFIGS}/rotarydeltakins --jog 2:5:20 --rotary-joints j0,j1,j2
+  --program ${DIFF_CONFIGS}/rotarydeltakins/program.ngc)
+# The matrix-calibrated mill on matrixkins' equations (pkmtest_matrixkins, imported as the
+# matrixkins configuration it stands in for): lines, an arc, a helix, A and B.
+pkm_linuxcnc_differential(matrixkins
+  --reference ${DIFF_CONFIGS}/matrixkins --reference-module $<TARGET_FILE:pkmtest_matrixkins>
+  --import-as matrixkins --jog 2:-5:20 --rotary-joints j3,j4
+  --program ${DIFF_CONFIGS}/matrixkins/program.ngc)
