@@ -47,3 +47,9 @@ pkm_linuxcnc_differential(matrixkins
   --reference ${DIFF_CONFIGS}/matrixkins --reference-module $<TARGET_FILE:pkmtest_matrixkins>
   --import-as matrixkins --jog 2:-5:20 --rotary-joints j3,j4
   --program ${DIFF_CONFIGS}/matrixkins/program.ngc)
+# genhexkins' spindle offset (the same hexapod, setp genhexkins.spindle-offset 1.5): the import's
+# tool_length and raised base joints give genhexkins' legs at tilted poses.
+pkm_linuxcnc_differential(genhexkins_spindle_offset
+  --reference ${DIFF_CONFIGS}/genhexkins
+  --extra-hal ${DIFF_CONFIGS}/genhexkins-spindle-offset/spindle-offset.hal
+  --program ${DIFF_CONFIGS}/genhexkins-spindle-offset/program.ngc)
