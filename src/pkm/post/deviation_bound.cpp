@@ -269,28 +269,31 @@ std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, con
   return bounds;
 }
 
+// Rotations weigh as the arc they swing the farthest platform point through (twice, which
+// keeps the rotation's own curvature small against the legs').
+double pose_angle_scale_mm(const Kinematics& model) {
+  double farthest = 0.0;
+  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
+    for (const Eigen::Vector3d& b : hexapod->geometry().platform_mm) {
+      farthest = std::max(
+          farthest, (b + Eigen::Vector3d(0.0, 0.0, hexapod->geometry().tool_length_mm)).norm());
+    }
+  } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
+    for (const GlideRail& rail : glide->rails())
+      farthest = std::max(farthest, rail.attach_mm.norm());
+  } else {
+    return 100.0;
+  }
+  return 2.0 * std::max(farthest, 1.0);
+}
+
 DeviationBound::DeviationBound(const Machine& machine, double tolerance_mm)
     : machine_(machine), reach_mm_(std::min(3.0 * tolerance_mm, 1.5)) {
   const Kinematics& model = machine.kinematics();
   for (int axis = 0; axis < kPoseSize; ++axis) {
     if (model.dof().controls(axis)) axes_.push_back(axis);
   }
-  // Rotations weigh as the arc they swing the farthest platform point through (twice, which
-  // keeps the rotation's own curvature small against the legs').
-  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
-    double farthest = 0.0;
-    for (const Eigen::Vector3d& b : hexapod->geometry().platform_mm) {
-      farthest = std::max(
-          farthest, (b + Eigen::Vector3d(0.0, 0.0, hexapod->geometry().tool_length_mm)).norm());
-    }
-    angle_scale_mm_ = 2.0 * std::max(farthest, 1.0);
-  } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
-    double farthest = 0.0;
-    for (const GlideRail& rail : glide->rails()) {
-      farthest = std::max(farthest, rail.attach_mm.norm());
-    }
-    angle_scale_mm_ = 2.0 * std::max(farthest, 1.0);
-  }
+  angle_scale_mm_ = pose_angle_scale_mm(model);
   available_ = model.joint_count() == static_cast<int>(axes_.size()) &&
                inverse_hessian_bounds(model, machine.home().as_vector(), 0.0, angle_scale_mm_, {})
                    .has_value();

@@ -33,6 +33,11 @@ std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, con
                                                     double radius_mm, double angle_scale_mm,
                                                     const Chord& chord);
 
+// The scale (mm per rad) that makes angles comparable with lengths in the bounds above: twice
+// the distance of the model's farthest platform point from the tool tip (hexapods, glides), else
+// 100 mm.
+double pose_angle_scale_mm(const Kinematics& model);
+
 // The ends of a joint-linear block: the joints as written (rounded) and as the inverse kinematics
 // gives them at the programmed ends of the piece.
 struct BlockEnds {

@@ -1,0 +1,81 @@
+// pkm export linuxcnc: a LinuxCNC configuration running the pkmkins kinematics module.
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "app.hpp"
+#include "pkm/linuxcnc/config_export.hpp"
+
+namespace pkm::app {
+
+namespace {
+
+struct ExportLinuxcncOptions {
+  std::string machine;
+  std::string directory;
+  bool sim = false;
+  bool force = false;
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (!file) throw CommandError("cannot read " + path);
+  return text.str();
+}
+
+void export_linuxcnc(const ExportLinuxcncOptions& options) {
+  const Machine machine = load_machine(options.machine);
+  linuxcnc::ExportOptions export_options;
+  export_options.sim = options.sim;
+  export_options.machine_file_name = std::filesystem::path(options.machine).filename().string();
+  export_options.machine_text = read_text(options.machine);
+  linuxcnc::LinuxcncConfig config;
+  try {
+    config = linuxcnc::make_linuxcnc_config(machine, export_options);
+  } catch (const std::runtime_error& error) {
+    throw CommandError(options.machine + ": " + error.what());
+  }
+  try {
+    linuxcnc::write_config_directory(options.directory, config, options.force);
+  } catch (const std::runtime_error& error) {
+    throw CommandError(error.what());
+  }
+  std::printf("%s: %s (%s), %zu files\n", options.directory.c_str(), config.ini_name.c_str(),
+              options.sim ? "simulated joints" : "wire hardware.hal", config.files.size());
+  std::printf(
+      "joint-rate bound over the work envelope: %s, %ld cells, %.3f s%s\n",
+      config.bound.proven ? "proven" : "SAMPLED, not proven (no Hessian bound for this model)",
+      config.bound.cells, config.bound_seconds,
+      config.bound.uncovered > 0.0 ? " (part of the box at the edge of reach unbounded)" : "");
+  if (config.shrink < 1.0) {
+    std::printf(
+        "axis limits: the work envelope shrunk about home to %.1f %% (beyond, a joint "
+        "moves more than %.0f times as fast per unit of tool motion as at home)\n",
+        100.0 * config.shrink, linuxcnc::kMaxSlopeGrowth);
+  }
+  for (const std::string& line : config.cost) std::printf("  %s\n", line.c_str());
+}
+
+}  // namespace
+
+void register_linuxcnc_commands(CLI::App& app) {
+  CLI::App* export_command = app.get_subcommand("export");
+  auto options = std::make_shared<ExportLinuxcncOptions>();
+  CLI::App* command = export_command->add_subcommand(
+      "linuxcnc", "A LinuxCNC configuration directory running the pkmkins kinematics module");
+  command->add_option("-m,--machine", options->machine, "Machine file")->required();
+  command->add_option("-o,--output", options->directory, "The configuration directory to write")
+      ->required();
+  command->add_flag("--sim", options->sim,
+                    "Loop each joint's command to its feedback: runs with no hardware");
+  command->add_flag("--force", options->force,
+                    "Write into a directory that is not empty (replacing the files it writes)");
+  command->callback([options] { export_linuxcnc(*options); });
+}
+
+}  // namespace pkm::app
