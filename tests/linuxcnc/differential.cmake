@@ -39,7 +39,7 @@ pkm_linuxcnc_differential(lineardeltakins
   --program ${DIFF_CONFIGS}/lineardeltakins/program.ngc)
 # LinuxCNC's rotary delta on rotarydeltakins (inch, arms in deg): a joint jog, lines, an arc, a helix.
 pkm_linuxcnc_differential(rotarydeltakins
-  --reference ${DIFF_CONFIGS}/rotarydeltakins --jog 2:5:20 --rotary-joints j0,j1,j2
+  --reference ${DIFF_CONFIGS}/rotarydeltakins --jog 2:2:20 --rotary-joints j0,j1,j2
   --program ${DIFF_CONFIGS}/rotarydeltakins/program.ngc)
 # The matrix-calibrated mill on matrixkins' equations (pkmtest_matrixkins, imported as the
 # matrixkins configuration it stands in for): lines, an arc, a helix, A and B.
