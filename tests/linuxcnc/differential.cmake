@@ -1,8 +1,10 @@
-# Differential tests (tests/linuxcnc/run-differential): the same program through the real
-# LinuxCNC once on one of its own kinematics modules and once on pkmkins with the machine file
-# `pkm import linuxcnc` makes of that configuration; the joints must agree within 1e-6 mm (deg
-# for rotary joints) sample by sample. Included from tests/linuxcnc/CMakeLists.txt once pkmkins
-# is a target; label linuxcnc, one LinuxCNC at a time (RESOURCE_LOCK linuxcnc).
+# Differential tests (tests/linuxcnc/run-differential, docs/linuxcnc-differential.md): a LinuxCNC
+# configuration of one of LinuxCNC's own kinematics modules goes through `pkm import linuxcnc`
+# and `pkm export linuxcnc --sim`; the same program then runs through the real LinuxCNC on the
+# exported configuration once with pkmkins and once with the module (and its geometry HAL file);
+# the joints must agree within 1e-6 mm (deg for rotary joints) sample by sample. Included from
+# tests/linuxcnc/CMakeLists.txt once pkmkins is a target; label linuxcnc, one LinuxCNC at a time
+# (RESOURCE_LOCK linuxcnc); skipped (77, the reason printed) as the harness skips.
 
 # matrixkins' equations as a module of our own (Debian's LinuxCNC 2.9 has no matrixkins), built
 # as pkmkins is, under a name no LinuxCNC module has.
@@ -37,7 +39,8 @@ pkm_linuxcnc_differential(genhexkins
 pkm_linuxcnc_differential(lineardeltakins
   --reference ${DIFF_CONFIGS}/lineardeltakins --jog 1:-20:50
   --program ${DIFF_CONFIGS}/lineardeltakins/program.ngc)
-# LinuxCNC's rotary delta on rotarydeltakins (inch, arms in deg): a joint jog, lines, an arc, a helix.
+# LinuxCNC's rotary delta on rotarydeltakins (inch, arms in deg): a joint jog, lines, an arc, a
+# helix.
 pkm_linuxcnc_differential(rotarydeltakins
   --reference ${DIFF_CONFIGS}/rotarydeltakins --jog 2:2:20 --rotary-joints j0,j1,j2
   --program ${DIFF_CONFIGS}/rotarydeltakins/program.ngc)
