@@ -11,6 +11,11 @@
 namespace pkm::linuxcnc {
 namespace {
 
+// LinuxCNC INI text as the file x.ini.
+IniFile ini(std::string_view text) {
+  return IniFile::parse(text, "x.ini");
+}
+
 KinsAdapter example(const std::string& file, std::optional<LengthUnit> unit = std::nullopt) {
   return KinsAdapter(test::load_example(file), unit);
 }
@@ -214,22 +219,24 @@ TEST(KinsAdapter, MachineFileIsFoundBesideTheIni) {
 
 TEST(KinsAdapter, IniThatAgreesSaysNothing) {
   const KinsAdapter kins = example("linuxcnc-hexapod-sim.toml");
-  EXPECT_EQ(ini_mismatch(kins,
-                         "[KINS]\nKINEMATICS = pkmkins machine=m.toml\nJOINTS = 6\n"
-                         "[TRAJ]\nLINEAR_UNITS = inch\n[JOINT_0]\nTYPE = LINEAR\n"),
+  EXPECT_EQ(ini_mismatch(kins, ini("[KINS]\nKINEMATICS = pkmkins machine=m.toml\nJOINTS = 6\n"
+                                   "[TRAJ]\nLINEAR_UNITS = inch\n[JOINT_0]\nTYPE = LINEAR\n")),
             "");
-  EXPECT_EQ(ini_mismatch(kins, "[EMC]\nVERSION = 1.1\n"), "");  // nothing said, nothing wrong
+  EXPECT_EQ(ini_mismatch(kins, ini("[EMC]\nVERSION = 1.1\n")), "");  // nothing said, nothing wrong
 }
 
 TEST(KinsAdapter, IniWithOtherJointsOrUnitsIsNamed) {
   const KinsAdapter kins = example("linuxcnc-hexapod-sim.toml");
-  EXPECT_EQ(ini_mismatch(kins, "[KINS]\n  JOINTS = 5  \n"),
-            "[KINS] JOINTS = 5 but the machine file has 6 joints: set JOINTS = 6");
-  EXPECT_EQ(ini_mismatch(kins, "[TRAJ]\nLINEAR_UNITS = mm\n[KINS]\nJOINTS = 6\n"),
-            "[TRAJ] LINEAR_UNITS = mm but pkmkins works in inch: add units=mm to [KINS] "
+  EXPECT_EQ(ini_mismatch(kins, ini("[KINS]\n  JOINTS = 5  \n")),
+            "x.ini:2: [KINS] JOINTS = 5 but the machine file has 6 joints: set JOINTS = 6");
+  EXPECT_EQ(ini_mismatch(kins, ini("[TRAJ]\nLINEAR_UNITS = mm\n[KINS]\nJOINTS = 6\n")),
+            "x.ini:2: [TRAJ] LINEAR_UNITS = mm but pkmkins works in inch: add units=mm to [KINS] "
             "KINEMATICS (the default is the machine file's units)");
-  // JOINTS of another section does not count; the last of repeated keys does.
-  EXPECT_EQ(ini_mismatch(kins, "[JOINT_0]\nJOINTS = 2\n[KINS]\nJOINTS = 4\nJOINTS = 6\n"), "");
+  // JOINTS of another section does not count; of a repeated key, the first does (LinuxCNC's
+  // IniFile::Find takes the first).
+  EXPECT_EQ(ini_mismatch(kins, ini("[JOINT_0]\nJOINTS = 2\n[KINS]\nJOINTS = 6\nJOINTS = 4\n")), "");
+  EXPECT_EQ(ini_mismatch(kins, ini("[JOINT_0]\nJOINTS = 2\n[KINS]\nJOINTS = 4\nJOINTS = 6\n")),
+            "x.ini:4: [KINS] JOINTS = 4 but the machine file has 6 joints: set JOINTS = 6");
 }
 
 TEST(KinsAdapter, BrokenMachineFileKeepsItsLocatedError) {

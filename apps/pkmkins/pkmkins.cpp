@@ -15,8 +15,6 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "emcpos.h"  // C++ parts of posemath first: kinematics.h is C without extern "C"
 #include "hal.h"
@@ -100,13 +98,14 @@ int make_pins() {
 bool agrees_with_ini() {
   const char* ini_file = std::getenv("INI_FILE_NAME");
   if (ini_file == nullptr || *ini_file == '\0') return true;
-  std::ifstream ini(ini_file, std::ios::binary);
-  if (!ini) return true;  // LinuxCNC itself reads it: not ours to report
-  std::ostringstream text;
-  text << ini.rdbuf();
-  const std::string mismatch = pkm::linuxcnc::ini_mismatch(*adapter, text.str());
+  std::string mismatch;
+  try {
+    mismatch = pkm::linuxcnc::ini_mismatch(*adapter, pkm::linuxcnc::IniFile::read(ini_file));
+  } catch (const pkm::linuxcnc::ConfigError&) {
+    return true;  // LinuxCNC itself reads the INI and reports what is wrong with it
+  }
   if (mismatch.empty()) return true;
-  rtapi_print_msg(RTAPI_MSG_ERR, "pkmkins: %s: %s\n", ini_file, mismatch.c_str());
+  rtapi_print_msg(RTAPI_MSG_ERR, "pkmkins: %s\n", mismatch.c_str());
   return false;
 }
 

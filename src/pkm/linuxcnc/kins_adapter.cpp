@@ -188,50 +188,22 @@ KinsAdapter load_kins(const std::filesystem::path& machine_file,
   return KinsAdapter(load_machine(machine_file), world_unit);
 }
 
-namespace {
-
-std::string_view trimmed(std::string_view text) {
-  const auto first = text.find_first_not_of(" \t\r");
-  if (first == std::string_view::npos) return {};
-  const auto last = text.find_last_not_of(" \t\r");
-  return text.substr(first, last - first + 1);
-}
-
-// The last value of [section] key in LinuxCNC's INI text (keys may repeat), or nullopt.
-std::optional<std::string> ini_value(std::string_view text, std::string_view section,
-                                     std::string_view key) {
-  std::optional<std::string> value;
-  bool inside = false;
-  while (!text.empty()) {
-    const auto end = text.find('\n');
-    const std::string_view line = trimmed(text.substr(0, end));
-    text = end == std::string_view::npos ? std::string_view() : text.substr(end + 1);
-    if (line.empty() || line[0] == '#' || line[0] == ';') continue;
-    if (line.front() == '[' && line.back() == ']') {
-      inside = line.substr(1, line.size() - 2) == section;
-    } else if (const auto equals = line.find('='); inside && equals != std::string_view::npos &&
-                                                   trimmed(line.substr(0, equals)) == key) {
-      value = std::string(trimmed(line.substr(equals + 1)));
-    }
-  }
-  return value;
-}
-
-}  // namespace
-
-std::string ini_mismatch(const KinsAdapter& kins, std::string_view ini_text) {
+std::string ini_mismatch(const KinsAdapter& kins, const IniFile& ini) {
+  const auto located = [](const IniEntry& entry) {
+    return entry.where.file + ":" + std::to_string(entry.where.line) + ": ";
+  };
   const char* unit = kins.world_unit() == LengthUnit::inch ? "inch" : "mm";
-  if (const auto joints = ini_value(ini_text, "KINS", "JOINTS");
-      joints && *joints != std::to_string(kins.joint_count())) {
-    return "[KINS] JOINTS = " + *joints + " but the machine file has " +
+  if (const IniEntry* joints = ini.find("KINS", "JOINTS");
+      joints != nullptr && joints->value != std::to_string(kins.joint_count())) {
+    return located(*joints) + "[KINS] JOINTS = " + joints->value + " but the machine file has " +
            std::to_string(kins.joint_count()) +
            " joints: set JOINTS = " + std::to_string(kins.joint_count());
   }
-  if (const auto units = ini_value(ini_text, "TRAJ", "LINEAR_UNITS")) {
-    const std::optional<LengthUnit> ini_unit = parse_world_unit(*units);
+  if (const IniEntry* units = ini.find("TRAJ", "LINEAR_UNITS")) {
+    const std::optional<LengthUnit> ini_unit = parse_world_unit(units->value);
     if (ini_unit && *ini_unit != kins.world_unit()) {
-      return "[TRAJ] LINEAR_UNITS = " + *units + " but pkmkins works in " + unit +
-             ": add units=" + (*ini_unit == LengthUnit::inch ? "inch" : "mm") +
+      return located(*units) + "[TRAJ] LINEAR_UNITS = " + units->value + " but pkmkins works in " +
+             unit + ": add units=" + (*ini_unit == LengthUnit::inch ? "inch" : "mm") +
              " to [KINS] KINEMATICS (the default is the machine file's units)";
     }
   }

@@ -15,6 +15,7 @@
 #include <string>
 #include <string_view>
 
+#include "pkm/linuxcnc/ini_file.hpp"
 #include "pkm/machine/machine.hpp"
 
 namespace pkm::linuxcnc {
@@ -108,10 +109,11 @@ class KinsAdapter {
 KinsAdapter load_kins(const std::filesystem::path& machine_file,
                       std::optional<LengthUnit> world_unit);
 
-// What in LinuxCNC's INI file (its text) contradicts the module as loaded: [KINS] JOINTS other
-// than the machine file's number of joints, [TRAJ] LINEAR_UNITS other than the world unit. A
-// sentence naming both and the fix, or "" when they agree (or the INI does not say).
-std::string ini_mismatch(const KinsAdapter& kins, std::string_view ini_text);
+// What in LinuxCNC's INI file contradicts the module as loaded: [KINS] JOINTS other than the
+// machine file's number of joints, [TRAJ] LINEAR_UNITS other than the world unit (the first of a
+// repeated key, as LinuxCNC reads it). "file:line: " and a sentence naming both and the fix, or ""
+// when they agree (or the INI does not say).
+std::string ini_mismatch(const KinsAdapter& kins, const IniFile& ini);
 
 // Where the module finds its machine file: `name` as given when absolute, else relative to the
 // INI file's directory (`ini_file_name`, LinuxCNC's INI_FILE_NAME, when set), else to `cwd` (the
