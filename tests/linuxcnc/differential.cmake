@@ -56,3 +56,10 @@ pkm_linuxcnc_differential(genhexkins_spindle_offset
   --reference ${DIFF_CONFIGS}/genhexkins
   --extra-hal ${DIFF_CONFIGS}/genhexkins-spindle-offset/spindle-offset.hal
   --program ${DIFF_CONFIGS}/genhexkins-spindle-offset/program.ngc)
+
+# The sample-by-sample comparison itself, on made-up runs (no LinuxCNC): it must pass rounding
+# and fail a joint 1.02e-6 mm off, a pose that parts, an extra cycle, another motion mode.
+add_test(NAME linuxcnc.differential_comparison_fails_what_it_should
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/test_compare_runs.py)
+set_tests_properties(linuxcnc.differential_comparison_fails_what_it_should PROPERTIES
+                     LABELS linuxcnc)
