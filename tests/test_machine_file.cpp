@@ -401,7 +401,8 @@ TEST(MachineFile, InchFilesAreConvertedToMillimetres) {
   text.replace(text.find("units = \"mm\""), 12, "units = \"inch\"");
   const Machine inch = parse_machine(text, "inch.toml");
   const auto parameters = inch.kinematics().parameters();
-  EXPECT_DOUBLE_EQ(parameters[0].value, 2540.0);
+  EXPECT_EQ(parameters[2].name, "anchor_right_x");
+  EXPECT_DOUBLE_EQ(parameters[2].value, 2540.0);
   EXPECT_DOUBLE_EQ(inch.joints()[0].max, 180.0 * 25.4);
   EXPECT_DOUBLE_EQ(inch.home().position_mm.y(), -50.0 * 25.4);
 }
