@@ -411,7 +411,7 @@ TEST(MachineFile, EveryExampleLoads) {
   for (const std::string& file : test::example_machine_files()) {
     EXPECT_NO_THROW(test::load_example(file)) << file;
   }
-  EXPECT_EQ(test::example_machine_files().size(), 17u);
+  EXPECT_EQ(test::example_machine_files().size(), 20u);
   const Machine pen = test::load_example("pen-plotter.toml");  // the servo pen's [tool] table
   EXPECT_EQ(pen.tool().z, ToolZ::pen);
   EXPECT_EQ(pen.tool().down_command, "M280 P0 S30");

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <stdexcept>
 
 namespace pkm {
@@ -107,8 +108,8 @@ Status CablePlotterKinematics::ideal_inverse(const Eigen::Vector2d& pen_mm,
   return Status::success();
 }
 
-Status CablePlotterKinematics::balance_at(const Eigen::Vector2d& pen_mm,
-                                          CableBalance& balance) const {
+Status CablePlotterKinematics::balance_at(const Eigen::Vector2d& pen_mm, CableBalance& balance,
+                                          bool within_limits) const {
   const Status status = solve_cable_balance(
       geometry_, pen_mm, Eigen::Vector2d(0.0, -kStandardGravity_mm_per_s2), balance);
   if (!status.ok()) return status;
@@ -118,7 +119,7 @@ Status CablePlotterKinematics::balance_at(const Eigen::Vector2d& pen_mm,
   for (int cable = 0; cable < 2; ++cable) {
     if (!balance.pulls[cable]) return Status::failure(pushing, cable);
   }
-  for (int cable = 0; cable < 2; ++cable) {
+  for (int cable = 0; cable < 2 && within_limits; ++cable) {
     if (balance.statics.lowest_N[cable] < geometry_.tension_min_N ||
         balance.statics.highest_N[cable] > geometry_.tension_max_N) {
       return Status::failure(StatusCode::tension, cable);
@@ -128,6 +129,11 @@ Status CablePlotterKinematics::balance_at(const Eigen::Vector2d& pen_mm,
 }
 
 Status CablePlotterKinematics::inverse(const Pose& pose, JointVector& joints) const {
+  return inverse_within(pose, joints, true);
+}
+
+Status CablePlotterKinematics::inverse_within(const Pose& pose, JointVector& joints,
+                                              bool within_limits) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
   const Eigen::Vector2d pen = pose.position_mm.head<2>();
   joints.resize(joint_count());
@@ -136,13 +142,42 @@ Status CablePlotterKinematics::inverse(const Pose& pose, JointVector& joints) co
     if (!status.ok()) return status;
   } else {
     CableBalance balance;
-    const Status status = balance_at(pen, balance);
+    const Status status = balance_at(pen, balance, within_limits);
     if (!status.ok()) return status;
     for (int cable = 0; cable < 2; ++cable) joints[cable] = cable_joint(geometry_, balance, cable);
   }
   passthrough_.inverse(pose, joints, 2);
   return Status::success();
 }
+
+namespace {
+// The model as forward kinematics iterates on it: inverse kinematics without the tension
+// limits, which say where the machine may go, not where joints put the pen.
+class WithoutTensionLimits final : public Kinematics {
+ public:
+  explicit WithoutTensionLimits(const CablePlotterKinematics& model) : model_(model) {}
+  std::string_view type() const override { return model_.type(); }
+  int joint_count() const override { return model_.joint_count(); }
+  Dof dof() const override { return model_.dof(); }
+  Status inverse(const Pose& pose, JointVector& joints) const override {
+    return model_.inverse_within(pose, joints, false);
+  }
+  Status forward(const JointVector&, Pose&) const override {
+    return Status::failure(StatusCode::not_converged);
+  }
+  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override {
+    return numerical_jacobian(*this, pose, d_joints_d_pose);
+  }
+  std::vector<Parameter> parameters() const override { return {}; }
+  void set_parameters(std::span<const double>) override {}
+  std::unique_ptr<Kinematics> clone() const override {
+    return std::make_unique<WithoutTensionLimits>(*this);
+  }
+
+ private:
+  const CablePlotterKinematics& model_;
+};
+}  // namespace
 
 Status CablePlotterKinematics::ideal_forward(const JointVector& joints,
                                              Eigen::Vector2d& pen_mm) const {
@@ -172,17 +207,40 @@ Status CablePlotterKinematics::forward(const JointVector& joints, Pose& pose_ino
   // No refusal outside the anchors here: calibration solves FK with a geometry still slightly
   // off, and the pose the joints imply is the answer it needs; inverse() says what is reachable.
   Eigen::Vector2d pen;
-  const Status status = ideal_forward(joints, pen);
   if (geometry_.ideal()) {
+    const Status status = ideal_forward(joints, pen);
     if (!status.ok()) return status;
     pose_inout.position_mm.head<2>() = pen;
     passthrough_.forward(joints, 2, pose_inout);
     return Status::success();
   }
-  // As built: Newton on the balance, from where straight cables of the joints' lengths meet.
+  // As built: Newton on the balance, from where straight cables of the joints' lengths, less a
+  // quarter turn of wrap, meet at the effector's level attachment points; else from the seed.
   passthrough_.forward(joints, 2, pose_inout);
-  if (status.ok()) pose_inout.position_mm.head<2>() = pen;
-  return solve_forward_newton(*this, joints, pose_inout, forward_options_);
+  Pose start = pose_inout;
+  if (straight_guess(joints, pen).ok()) start.position_mm.head<2>() = pen;
+  const WithoutTensionLimits unlimited(*this);
+  Status result = solve_forward_newton(unlimited, joints, start, forward_options_);
+  if (!result.ok()) {
+    start = pose_inout;
+    result = solve_forward_newton(unlimited, joints, start, forward_options_);
+  }
+  if (result.ok()) pose_inout = start;
+  return result;
+}
+
+Status CablePlotterKinematics::straight_guess(const JointVector& joints,
+                                              Eigen::Vector2d& pen_mm) const {
+  CablePlotterGeometry straight = CablePlotterGeometry::level(1.0);
+  const double wrap = geometry_.pulley_radius_mm * 0.25 * std::numbers::pi;
+  for (int cable = 0; cable < 2; ++cable) {
+    straight.anchors_mm[cable] = geometry_.anchors_mm[cable] - geometry_.attach_mm[cable];
+    straight.cable_offsets_mm[cable] = geometry_.cable_offsets_mm[cable] + wrap;
+  }
+  if (!(straight.anchors_mm[1].x() > straight.anchors_mm[0].x())) {
+    return Status::failure(StatusCode::singular);
+  }
+  return CablePlotterKinematics(straight).ideal_forward(joints, pen_mm);
 }
 
 Status CablePlotterKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {

@@ -62,6 +62,19 @@ bool admissible(const Unknowns& x) {
   return x[1] > 0.0 && x[4] > 0.0 && x[3] > 0.0 && x[6] > 0.0;
 }
 
+// A tilt step of 1e-13 rad moves a cable end 150 mm off the pen by 1.5e-11 mm.
+bool small_step(const Unknowns& change, const Unknowns& x) {
+  bool small = std::abs(change[0]) < 1e-13;
+  for (int cable = 0; cable < 2; ++cable) {
+    for (int k = 1; k <= 2; ++k) {
+      const int i = k + 3 * cable;
+      small = small && std::abs(change[i]) < 1e-9 * std::max(1.0, std::abs(x[i]));
+    }
+    small = small && std::abs(change[3 + 3 * cable]) < 1e-10;
+  }
+  return small;
+}
+
 }  // namespace
 
 Status solve_sagging_balance(const CablePlotterGeometry& geometry, const Eigen::Vector2d& pen_mm,
@@ -78,14 +91,23 @@ Status solve_sagging_balance(const CablePlotterGeometry& geometry, const Eigen::
   }
   if (!admissible(x)) return Status::failure(StatusCode::singular);
   Residuals residuals = balance_residuals(geometry, pen_mm, load_N, x);
-  bool converged = false;
-  for (int iteration = 0; iteration < 40 && !converged; ++iteration) {
+  // Newton converges quadratically: once a step is at the tolerance, one more takes the unknowns
+  // to rounding level, which forward kinematics (Newton on this) needs of its joints.
+  bool converged = false, polished = false;
+  for (int iteration = 0; iteration < 40 && !polished; ++iteration) {
     Eigen::Matrix<double, 7, 7> jacobian;
     for (int j = 0; j < 7; ++j) {
       Unknowns shifted = x;
       const double step = j == 0 ? 1e-8 : 1e-7 * std::max(1.0, std::abs(x[j]));
       shifted[j] += step;
       jacobian.col(j) = (balance_residuals(geometry, pen_mm, load_N, shifted) - residuals) / step;
+    }
+    if (!geometry.tilts()) {
+      // Cables tied at the pen: no moment, the tilt stays where it is.
+      jacobian.row(6).setZero();
+      jacobian.col(0).setZero();
+      jacobian(6, 0) = 1.0;
+      residuals[6] = 0.0;
     }
     Unknowns change = jacobian.partialPivLu().solve(-residuals);
     if (!change.allFinite()) return Status::failure(StatusCode::singular);
@@ -94,15 +116,8 @@ Status solve_sagging_balance(const CablePlotterGeometry& geometry, const Eigen::
     if (!admissible(x + change)) return Status::failure(StatusCode::not_converged);
     x += change;
     residuals = balance_residuals(geometry, pen_mm, load_N, x);
-    // At rounding level: a tilt of 1e-13 rad moves a cable end 150 mm off the pen by 1.5e-11 mm.
-    converged = std::abs(change[0]) < 1e-13;
-    for (int cable = 0; cable < 2; ++cable) {
-      for (int k = 1; k <= 2; ++k) {
-        const int i = k + 3 * cable;
-        converged = converged && std::abs(change[i]) < 1e-9 * std::max(1.0, std::abs(x[i]));
-      }
-      converged = converged && std::abs(change[3 + 3 * cable]) < 1e-10;
-    }
+    polished = converged;
+    converged = converged || small_step(change, x);
   }
   if (!converged || !residuals.allFinite()) return Status::failure(StatusCode::not_converged);
 

@@ -90,18 +90,13 @@ Status straight_balance_at(const CablePlotterGeometry& geometry, const Vector2& 
   return Status::success();
 }
 
-bool tilts(const CablePlotterGeometry& geometry) {
-  return !geometry.attach_mm[0].isZero() || !geometry.attach_mm[1].isZero() ||
-         (!geometry.center_of_mass_mm.isZero() && geometry.effector_mass_kg > 0.0);
-}
-
 // The stable tilt: the moment vanishes and turns the effector back when it swings (its slope in
 // the tilt is negative). Newton from level, then a scan of the half turn about level.
 Status straight_balance(const CablePlotterGeometry& geometry, const Vector2& pen_mm,
                         const Vector2& load_N, double& tilt_rad, StraightState& state) {
   tilt_rad = 0.0;
   Status status = straight_balance_at(geometry, pen_mm, load_N, 0.0, state);
-  if (!status.ok() || !tilts(geometry)) return status;
+  if (!status.ok() || !geometry.tilts()) return status;
   constexpr double kStep = 1e-7;
   const auto newton = [&](double& tilt) {
     for (int iteration = 0; iteration < 60; ++iteration) {

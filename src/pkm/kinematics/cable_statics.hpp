@@ -46,6 +46,11 @@ struct CablePlotterGeometry {
     return pulley_radius_mm == 0.0 && attach_mm[0].isZero() && attach_mm[1].isZero() &&
            cable_density_kg_per_m == 0.0 && cable_stretch_mm_per_m_per_N == 0.0 && !tension_limited;
   }
+  // Whether the effector can turn: tied at points off the pen, or weighted off it.
+  bool tilts() const {
+    return !attach_mm[0].isZero() || !attach_mm[1].isZero() ||
+           (!center_of_mass_mm.isZero() && effector_mass_kg > 0.0);
+  }
   double compliance_per_N() const { return cable_stretch_mm_per_m_per_N * 1e-3; }
   double cable_weight_N_per_mm() const {
     return cable_density_kg_per_m * kStandardGravity_mm_per_s2 * 1e-6;
