@@ -418,6 +418,12 @@ std::unique_ptr<Kinematics> make_cable_plotter_kinematics(const ModelConfig& con
     std::string key = fault.key;
     if (key == "anchors" && !config.has("anchors")) key = "anchor_distance";
     if (key == "effector_attach" && !config.has("effector_attach")) key = "center_of_mass";
+    // A missing mass: name the key that needs it.
+    for (const char* needs_mass : {"effector_attach", "cable_density", "tension_limits"}) {
+      if (key == "effector_mass" && !config.has("effector_mass") && config.has(needs_mass)) {
+        key = needs_mass;
+      }
+    }
     config.fail(key, fault.what());
   }
 }
