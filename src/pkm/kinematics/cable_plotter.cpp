@@ -214,15 +214,21 @@ Status CablePlotterKinematics::forward(const JointVector& joints, Pose& pose_ino
     passthrough_.forward(joints, 2, pose_inout);
     return Status::success();
   }
-  // As built: Newton on the balance, from where straight cables of the joints' lengths, less a
-  // quarter turn of wrap, meet at the effector's level attachment points; else from the seed.
+  // As built: Newton on the balance, from the seed when it is near where straight cables of the
+  // joints' lengths, less a quarter turn of wrap, meet at the effector's level attachment points
+  // (the previous pose along a path), else from that meeting point; then from the other.
   passthrough_.forward(joints, 2, pose_inout);
-  Pose start = pose_inout;
-  if (straight_guess(joints, pen).ok()) start.position_mm.head<2>() = pen;
+  Pose guess = pose_inout;
+  const bool guessed = straight_guess(joints, pen).ok();
+  if (guessed) guess.position_mm.head<2>() = pen;
+  constexpr double kNearGuess_mm = 50.0;
+  const bool seed_first =
+      !guessed || (guess.position_mm - pose_inout.position_mm).norm() < kNearGuess_mm;
   const WithoutTensionLimits unlimited(*this);
+  Pose start = seed_first ? pose_inout : guess;
   Status result = solve_forward_newton(unlimited, joints, start, forward_options_);
-  if (!result.ok()) {
-    start = pose_inout;
+  if (!result.ok() && guessed) {
+    start = seed_first ? guess : pose_inout;
     result = solve_forward_newton(unlimited, joints, start, forward_options_);
   }
   if (result.ok()) pose_inout = start;
