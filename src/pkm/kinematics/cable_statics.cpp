@@ -98,7 +98,10 @@ Status straight_balance(const CablePlotterGeometry& geometry, const Vector2& pen
   Status status = straight_balance_at(geometry, pen_mm, load_N, 0.0, state);
   if (!status.ok() || !geometry.tilts()) return status;
   constexpr double kStep = 1e-7;
+  // Once a step is below 1e-13 rad (1.5e-11 mm at 150 mm from the pen), one more reaches
+  // rounding level; waiting for a step below that could take every iteration.
   const auto newton = [&](double& tilt) {
+    bool small = false;
     for (int iteration = 0; iteration < 60; ++iteration) {
       StraightState shifted;
       if (!straight_balance_at(geometry, pen_mm, load_N, tilt, state).ok()) return false;
@@ -107,7 +110,8 @@ Status straight_balance(const CablePlotterGeometry& geometry, const Vector2& pen
       if (!(slope < 0.0)) return false;
       const double change = -state.moment_Nmm / slope;
       tilt += std::clamp(change, -0.2, 0.2);
-      if (std::abs(change) < 1e-15) break;
+      if (small) break;
+      small = std::abs(change) < 1e-13;
       if (!(std::abs(tilt) < 1.5)) return false;
     }
     return straight_balance_at(geometry, pen_mm, load_N, tilt, state).ok();
