@@ -204,6 +204,34 @@ TEST(Catenary, ElasticSpanMatchesAnIntegrationOfTheCable) {
   EXPECT_NEAR(std::hypot(straight.across_mm, straight.rise_mm), 1000.0 * (1.0 + 50.0 * 1e-4), 1e-9);
 }
 
+TEST(Catenary, DerivativesMatchCentralDifferences) {
+  // The sagging balance's Newton iteration uses these: a chain that dips first, one that does
+  // not, a stretching straight cable.
+  struct Case {
+    double h, v, length, w, c;
+  };
+  for (const Case& k : {Case{80.0, -12.0, 2500.0, 0.0015, 1e-4},
+                        Case{40.0, 30.0, 900.0, 0.002, 0.0}, Case{30.0, 40.0, 1000.0, 0.0, 1e-5}}) {
+    const CatenarySpanDerivatives d = catenary_span_derivatives(k.h, k.v, k.length, k.w, k.c);
+    const auto numeric = [&](int which, bool rise) {
+      double x[3] = {k.h, k.v, k.length};
+      const double step = 1e-5 * std::max(1.0, std::abs(x[which]));
+      x[which] += step;
+      const CatenarySpan plus = catenary_span(x[0], x[1], x[2], k.w, k.c);
+      x[which] -= 2.0 * step;
+      const CatenarySpan minus = catenary_span(x[0], x[1], x[2], k.w, k.c);
+      return rise ? (plus.rise_mm - minus.rise_mm) / (2.0 * step)
+                  : (plus.across_mm - minus.across_mm) / (2.0 * step);
+    };
+    EXPECT_NEAR(d.across_by_horizontal, numeric(0, false), 1e-7);
+    EXPECT_NEAR(d.across_by_vertical, numeric(1, false), 1e-7);
+    EXPECT_NEAR(d.across_by_length, numeric(2, false), 1e-7);
+    EXPECT_NEAR(d.rise_by_horizontal, numeric(0, true), 1e-7);
+    EXPECT_NEAR(d.rise_by_vertical, numeric(1, true), 1e-7);
+    EXPECT_NEAR(d.rise_by_length, numeric(2, true), 1e-7);
+  }
+}
+
 TEST(Catenary, ALighterChainTendsToTheStraightCable) {
   CablePlotterGeometry g = level_anchors(2000.0);
   g.pulley_radius_mm = 10.0;

@@ -58,6 +58,54 @@ Residuals balance_residuals(const CablePlotterGeometry& geometry, const Vector2&
   return residuals;
 }
 
+Vector2 turned_quarter(const Vector2& v) {
+  return {-v.y(), v.x()};
+}  // d(R v)/d(tilt) = R' v
+
+// The residuals' Jacobian in the unknowns, from the catenary's derivatives.
+Eigen::Matrix<double, 7, 7> balance_jacobian(const CablePlotterGeometry& geometry,
+                                             const Vector2& load_N, const Unknowns& x) {
+  const double weight = geometry.cable_weight_N_per_mm();
+  const double r = geometry.pulley_radius_mm;
+  Eigen::Matrix<double, 7, 7> jacobian = Eigen::Matrix<double, 7, 7>::Zero();
+  jacobian(6, 0) = cross(turned_quarter(rotated(geometry.center_of_mass_mm, x[0])), load_N);
+  for (int cable = 0; cable < 2; ++cable) {
+    const double sigma = kTowardsPulley[cable];
+    const int column = 1 + 3 * cable, row = 3 * cable;
+    const double h = x[column], v = x[column + 1], length = x[column + 2];
+    const Vector2 arm = rotated(geometry.attach_mm[cable], x[0]);
+    const CatenarySpanDerivatives d =
+        catenary_span_derivatives(h, v, length, weight, geometry.compliance_per_N());
+    // The normal n = (-sigma Vt, H) / Tt at the top, Vt = V + w L.
+    const double top_vertical = v + weight * length;
+    const double tension = std::hypot(h, top_vertical), cubed = tension * tension * tension;
+    const Vector2 unnormalised(-sigma * top_vertical, h);
+    const Vector2 normal_by_h = Vector2(0.0, 1.0) / tension - unnormalised * h / cubed;
+    const Vector2 normal_by_vt =
+        Vector2(-sigma, 0.0) / tension - unnormalised * top_vertical / cubed;
+    jacobian.block<2, 1>(row, 0) = turned_quarter(arm);
+    jacobian.block<2, 1>(row, column) =
+        Vector2(sigma * d.across_by_horizontal, d.rise_by_horizontal) - r * normal_by_h;
+    jacobian.block<2, 1>(row, column + 1) =
+        Vector2(sigma * d.across_by_vertical, d.rise_by_vertical) - r * normal_by_vt;
+    jacobian.block<2, 1>(row, column + 2) =
+        Vector2(sigma * d.across_by_length, d.rise_by_length) - r * weight * normal_by_vt;
+    jacobian(2, column) = sigma;  // the forces
+    jacobian(5, column + 1) = 1.0;
+    const Vector2 force(sigma * h, v);  // the moment
+    jacobian(6, 0) += cross(turned_quarter(arm), force);
+    jacobian(6, column) = -sigma * arm.y();
+    jacobian(6, column + 1) = arm.x();
+  }
+  if (!geometry.tilts()) {
+    // Cables tied at the pen: no moment, the tilt stays where it is.
+    jacobian.row(6).setZero();
+    jacobian.col(0).setZero();
+    jacobian(6, 0) = 1.0;
+  }
+  return jacobian;
+}
+
 bool admissible(const Unknowns& x) {
   return x[1] > 0.0 && x[4] > 0.0 && x[3] > 0.0 && x[6] > 0.0;
 }
@@ -95,20 +143,8 @@ Status solve_sagging_balance(const CablePlotterGeometry& geometry, const Eigen::
   // to rounding level, which forward kinematics (Newton on this) needs of its joints.
   bool converged = false, polished = false;
   for (int iteration = 0; iteration < 40 && !polished; ++iteration) {
-    Eigen::Matrix<double, 7, 7> jacobian;
-    for (int j = 0; j < 7; ++j) {
-      Unknowns shifted = x;
-      const double step = j == 0 ? 1e-8 : 1e-7 * std::max(1.0, std::abs(x[j]));
-      shifted[j] += step;
-      jacobian.col(j) = (balance_residuals(geometry, pen_mm, load_N, shifted) - residuals) / step;
-    }
-    if (!geometry.tilts()) {
-      // Cables tied at the pen: no moment, the tilt stays where it is.
-      jacobian.row(6).setZero();
-      jacobian.col(0).setZero();
-      jacobian(6, 0) = 1.0;
-      residuals[6] = 0.0;
-    }
+    const Eigen::Matrix<double, 7, 7> jacobian = balance_jacobian(geometry, load_N, x);
+    if (!geometry.tilts()) residuals[6] = 0.0;
     Unknowns change = jacobian.partialPivLu().solve(-residuals);
     if (!change.allFinite()) return Status::failure(StatusCode::singular);
     // Halve a step that would make a tension or a length negative.
