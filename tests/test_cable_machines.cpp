@@ -34,7 +34,7 @@ TEST(CableWrap, PenStraightBelowThePulleysSideWrapsAQuarterTurn) {
   g.pulley_radius_mm = 10.0;
   CableBalance balance;
   ASSERT_TRUE(solve_cable_balance(g, {10.0, -500.0}, {0.0, -1.0}, balance).ok());
-  EXPECT_NEAR(cable_joint(g, balance, 0), 5.0 * kPi + 500.0, 1e-9);
+  EXPECT_NEAR(cable_joint(g, cable_past_top(g, balance, 0), 0), 5.0 * kPi + 500.0, 1e-9);
   // A pen further right: the right cable, from (1000, 0), leaves the left of its pulley.
   const CablePlotterKinematics model(g);
   const JointVector joints = inverse(model, 300.0, -500.0);
@@ -53,6 +53,38 @@ TEST(CableWrap, PenOnThePulleysHorizontalWrapsAsinROverD) {
   const JointVector joints = inverse(model, 300.0, 0.0);
   EXPECT_NEAR(joints[0], 10.0 * std::asin(10.0 / 300.0) + std::sqrt(300.0 * 300.0 - 100.0), 1e-9);
   EXPECT_NEAR(joints[1], 10.0 * std::asin(10.0 / 700.0) + std::sqrt(700.0 * 700.0 - 100.0), 1e-9);
+}
+
+TEST(SpoolBuildup, TheJointIsTheDrumsTurnAndTheRadiusFollowsTheCable) {
+  // A cord on a drum of 10 mm with nothing paid out, 0.5 mm of radius per metre wound. For a pen
+  // at (300, -900) the drum's radius r and the cable past its top l = r phi + s agree when
+  // r = 10 - 0.0005 l (found here by iterating the closed forms of the wrap); the joint is the
+  // drum's turn times 10 mm: -(10 / 0.0005) ln(1 - 0.0005 l / 10).
+  CablePlotterGeometry g = level_anchors(1000.0);
+  g.pulley_radius_mm = 10.0;
+  g.spool_buildup_mm_per_m = 0.5;
+  const CablePlotterKinematics model(g);
+  const JointVector joints = inverse(model, 300.0, -900.0);
+  const auto past_top = [](double r, double dx, double dy) {  // pen dx right, dy below the drum
+    const double distance = std::hypot(dx, dy);
+    const double wrap = kPi / 2.0 - (std::atan2(dx, dy) - std::asin(r / distance));
+    return r * wrap + std::sqrt(distance * distance - r * r);
+  };
+  for (int cable = 0; cable < 2; ++cable) {
+    const double dx = cable == 0 ? 300.0 : 700.0;
+    double r = 10.0, length = 0.0;
+    for (int round = 0; round < 50; ++round) {
+      length = past_top(r, dx, 900.0);
+      r = 10.0 - 0.0005 * length;
+    }
+    EXPECT_NEAR(joints[cable], -(10.0 / 0.0005) * std::log(1.0 - 0.0005 * length / 10.0), 1e-9)
+        << cable;
+    EXPECT_GT(joints[cable], length + 1.0) << "a thinner drum turns further per mm";
+  }
+  // FK finds the pen again.
+  Pose pose;
+  ASSERT_TRUE(model.forward(joints, pose).ok());
+  EXPECT_NEAR((pose.position_mm.head<2>() - Eigen::Vector2d(300.0, -900.0)).norm(), 0.0, 1e-9);
 }
 
 TEST(CableTension, ASymmetricVByHand) {

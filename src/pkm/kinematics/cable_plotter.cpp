@@ -70,6 +70,12 @@ void validate_cable_plotter_geometry(const CablePlotterGeometry& g) {
   if (!(g.cable_density_kg_per_m >= 0.0) || !std::isfinite(g.cable_density_kg_per_m)) {
     throw GeometryFault("cable_density", "must be 0 kg/m or more");
   }
+  if (!(g.spool_buildup_mm_per_m >= 0.0) || !std::isfinite(g.spool_buildup_mm_per_m)) {
+    throw GeometryFault("spool_buildup", "must be 0 mm/m or more");
+  }
+  if (g.spool_buildup_mm_per_m > 0.0 && !(g.pulley_radius_mm > 0.0)) {
+    throw GeometryFault("spool_buildup", "needs the drum's radius: give pulley_radius");
+  }
   if (!(g.cable_stretch_mm_per_m_per_N >= 0.0) || !std::isfinite(g.cable_stretch_mm_per_m_per_N)) {
     throw GeometryFault("cable_stiffness", "must be a positive force (EA, N)");
   }
@@ -108,10 +114,36 @@ Status CablePlotterKinematics::ideal_inverse(const Eigen::Vector2d& pen_mm,
   return Status::success();
 }
 
+Status CablePlotterKinematics::solve_balance(const Eigen::Vector2d& pen_mm,
+                                             const Eigen::Vector2d& gravity_mm_per_s2,
+                                             CableBalance& balance,
+                                             std::array<double, 2>& past_top_mm) const {
+  // With a spool build-up each drum's radius depends on the cable paid out, which depends on
+  // the radius: a fixed point, contracting by about k times the wrap per step.
+  CablePlotterGeometry geometry = geometry_;
+  const double k = geometry_.spool_buildup_mm_per_m * 1e-3;
+  for (int round = 0; round < 30; ++round) {
+    const Status status = solve_cable_balance(geometry, pen_mm, gravity_mm_per_s2, balance);
+    if (!status.ok()) return status;
+    bool settled = true;
+    for (int cable = 0; cable < 2; ++cable) {
+      past_top_mm[cable] = cable_past_top(geometry, balance, cable);
+      const double change = -k * past_top_mm[cable];
+      settled = settled && std::abs(change - geometry.radius_change_mm[cable]) <=
+                               1e-14 * geometry_.pulley_radius_mm;
+      geometry.radius_change_mm[cable] = change;
+    }
+    if (settled) return Status::success();
+    if (!(geometry.radius_mm(0) > 0.0) || !(geometry.radius_mm(1) > 0.0)) break;
+  }
+  return Status::failure(StatusCode::unreachable, geometry.radius_mm(0) > 0.0 ? 1 : 0);
+}
+
 Status CablePlotterKinematics::balance_at(const Eigen::Vector2d& pen_mm, CableBalance& balance,
+                                          std::array<double, 2>& past_top_mm,
                                           bool within_limits) const {
-  const Status status = solve_cable_balance(
-      geometry_, pen_mm, Eigen::Vector2d(0.0, -kStandardGravity_mm_per_s2), balance);
+  const Status status = solve_balance(pen_mm, Eigen::Vector2d(0.0, -kStandardGravity_mm_per_s2),
+                                      balance, past_top_mm);
   if (!status.ok()) return status;
   const bool weighed = geometry_.effector_mass_kg > 0.0;
   const StatusCode pushing = weighed ? StatusCode::tension : StatusCode::unreachable;
@@ -142,9 +174,14 @@ Status CablePlotterKinematics::inverse_within(const Pose& pose, JointVector& joi
     if (!status.ok()) return status;
   } else {
     CableBalance balance;
-    const Status status = balance_at(pen, balance, within_limits);
+    std::array<double, 2> past_top{};
+    const Status status = balance_at(pen, balance, past_top, within_limits);
     if (!status.ok()) return status;
-    for (int cable = 0; cable < 2; ++cable) joints[cable] = cable_joint(geometry_, balance, cable);
+    for (int cable = 0; cable < 2; ++cable) {
+      joints[cable] = cable_joint(geometry_, past_top[cable], cable);
+      // The drum would run out of radius before paying out this much.
+      if (!std::isfinite(joints[cable])) return Status::failure(StatusCode::unreachable, cable);
+    }
   }
   passthrough_.inverse(pose, joints, 2);
   return Status::success();
@@ -272,8 +309,8 @@ Status CablePlotterKinematics::statics(const Pose& pose,
   const Eigen::Vector2d gravity =
       Eigen::Vector2d(0.0, -kStandardGravity_mm_per_s2) - acceleration_mm_per_s2;
   CableBalance balance;
-  const Status status =
-      solve_cable_balance(geometry_, pose.position_mm.head<2>(), gravity, balance);
+  std::array<double, 2> past_top{};
+  const Status status = solve_balance(pose.position_mm.head<2>(), gravity, balance, past_top);
   if (!status.ok()) return status;
   out = balance.statics;
   for (int cable = 0; cable < 2; ++cable) {
@@ -342,11 +379,12 @@ std::vector<Parameter> CablePlotterKinematics::parameters() const {
           {"center_of_mass_y", g.center_of_mass_mm.y(), "mm"},
           {"effector_mass", g.effector_mass_kg, "kg"},
           {"cable_density", g.cable_density_kg_per_m, "kg/m"},
-          {"cable_stretch", g.cable_stretch_mm_per_m_per_N, "mm/m/N"}};
+          {"cable_stretch", g.cable_stretch_mm_per_m_per_N, "mm/m/N"},
+          {"spool_buildup", g.spool_buildup_mm_per_m, "mm/m"}};
 }
 
 void CablePlotterKinematics::set_parameters(std::span<const double> values) {
-  if (values.size() != 16) throw std::invalid_argument("cable plotter takes 16 parameters");
+  if (values.size() != 17) throw std::invalid_argument("cable plotter takes 17 parameters");
   CablePlotterGeometry g = geometry_;
   g.anchors_mm[0] = {values[0], values[1]};
   g.anchors_mm[1] = {values[2], values[3]};
@@ -358,6 +396,7 @@ void CablePlotterKinematics::set_parameters(std::span<const double> values) {
   g.effector_mass_kg = values[13];
   g.cable_density_kg_per_m = values[14];
   g.cable_stretch_mm_per_m_per_N = values[15];
+  g.spool_buildup_mm_per_m = values[16];
   validate_cable_plotter_geometry(g);
   geometry_ = g;
 }
@@ -404,6 +443,7 @@ CablePlotterGeometry read_geometry(const ModelConfig& config) {
     g.tension_max_N = limits[1];
   }
   g.cable_density_kg_per_m = config.number_or("cable_density", 0.0);
+  g.spool_buildup_mm_per_m = config.number_or("spool_buildup", 0.0);
   if (config.has("cable_stiffness")) {
     const double stiffness = config.number("cable_stiffness");
     if (!(stiffness > 0.0)) config.fail("cable_stiffness", "must be a positive force (EA, N)");

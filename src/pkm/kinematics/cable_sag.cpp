@@ -34,7 +34,6 @@ Residuals balance_residuals(const CablePlotterGeometry& geometry, const Vector2&
                             const Vector2& load_N, const Unknowns& x) {
   const double weight = geometry.cable_weight_N_per_mm();
   const double compliance = geometry.compliance_per_N();
-  const double r = geometry.pulley_radius_mm;
   Residuals residuals;
   Vector2 force_sum = load_N;
   double moment = cross(rotated(geometry.center_of_mass_mm, x[0]), load_N);
@@ -47,7 +46,8 @@ Residuals balance_residuals(const CablePlotterGeometry& geometry, const Vector2&
     const double top_vertical = v + weight * length;
     const Vector2 normal =
         Vector2(-kTowardsPulley[cable] * top_vertical, h) / std::hypot(h, top_vertical);
-    residuals.segment<2>(3 * cable) = top - (geometry.anchors_mm[cable] + r * normal);
+    residuals.segment<2>(3 * cable) =
+        top - (geometry.anchors_mm[cable] + geometry.radius_mm(cable) * normal);
     const Vector2 force(kTowardsPulley[cable] * h, v);
     force_sum += force;
     moment += cross(arm, force);
@@ -66,11 +66,10 @@ Vector2 turned_quarter(const Vector2& v) {
 Eigen::Matrix<double, 7, 7> balance_jacobian(const CablePlotterGeometry& geometry,
                                              const Vector2& load_N, const Unknowns& x) {
   const double weight = geometry.cable_weight_N_per_mm();
-  const double r = geometry.pulley_radius_mm;
   Eigen::Matrix<double, 7, 7> jacobian = Eigen::Matrix<double, 7, 7>::Zero();
   jacobian(6, 0) = cross(turned_quarter(rotated(geometry.center_of_mass_mm, x[0])), load_N);
   for (int cable = 0; cable < 2; ++cable) {
-    const double sigma = kTowardsPulley[cable];
+    const double sigma = kTowardsPulley[cable], r = geometry.radius_mm(cable);
     const int column = 1 + 3 * cable, row = 3 * cable;
     const double h = x[column], v = x[column + 1], length = x[column + 2];
     const Vector2 arm = rotated(geometry.attach_mm[cable], x[0]);

@@ -36,7 +36,7 @@ struct StraightCable {
 Status straight_cable(const CablePlotterGeometry& geometry, int cable, const Vector2& end_mm,
                       StraightCable& out) {
   const Vector2 from_centre = end_mm - geometry.anchors_mm[cable];
-  const double r = geometry.pulley_radius_mm;
+  const double r = geometry.radius_mm(cable);
   const double distance_squared = from_centre.squaredNorm();
   if (!(distance_squared > r * r * (1.0 + 1e-12)) || distance_squared == 0.0) {
     return Status::failure(StatusCode::unreachable, cable);  // the end is on the pulley
@@ -172,11 +172,23 @@ Status solve_cable_balance(const CablePlotterGeometry& geometry, const Eigen::Ve
   return solve_sagging_balance(geometry, pen_mm, load, balance);
 }
 
-double cable_joint(const CablePlotterGeometry& geometry, const CableBalance& balance, int cable) {
+double cable_past_top(const CablePlotterGeometry& geometry, const CableBalance& balance,
+                      int cable) {
   const double compliance = geometry.compliance_per_N();
-  const double arc = geometry.pulley_radius_mm * balance.wrap_rad[cable] /
+  const double arc = geometry.radius_mm(cable) * balance.wrap_rad[cable] /
                      (1.0 + compliance * std::max(0.0, balance.top_tension_N[cable]));
-  return arc + balance.span_mm[cable] + geometry.cable_offsets_mm[cable];
+  return arc + balance.span_mm[cable];
+}
+
+double cable_joint(const CablePlotterGeometry& geometry, double cable_past_top_mm, int cable) {
+  const double k = geometry.spool_buildup_mm_per_m * 1e-3;  // mm of radius per mm of cable
+  if (k == 0.0) return cable_past_top_mm + geometry.cable_offsets_mm[cable];
+  // The drum's radius falls by k per mm paid out: d(turn) = d(cable) / (r0 - k cable), so the
+  // turn is -(1 / k) ln(1 - k cable / r0); times r0, in mm.
+  const double r0 = geometry.pulley_radius_mm;
+  const double left = 1.0 - k * cable_past_top_mm / r0;
+  if (!(left > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  return -r0 / k * std::log1p(-k * cable_past_top_mm / r0) + geometry.cable_offsets_mm[cable];
 }
 
 }  // namespace pkm
