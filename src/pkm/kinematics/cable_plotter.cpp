@@ -39,8 +39,12 @@ void validate_cable_plotter_geometry(const CablePlotterGeometry& g) {
   }
   const double span = g.anchors_mm[1].x() - g.anchors_mm[0].x();
   if (!(span > 0.0)) {
-    throw GeometryFault("anchors", "anchor distance must be a positive length (the right anchor " +
-                                       format("%g mm right of the left one)", span));
+    throw GeometryFault("anchors",
+                        span < 0.0 ? format("the right anchor is %g mm left of the left one: list "
+                                            "the left anchor first (anchor distance must be a "
+                                            "positive length)",
+                                            -span)
+                                   : "anchor distance must be a positive length");
   }
   if (!std::isfinite(g.cable_offsets_mm[0]) || !std::isfinite(g.cable_offsets_mm[1])) {
     throw GeometryFault("cable_offsets", "cable offsets must be finite");
@@ -48,7 +52,9 @@ void validate_cable_plotter_geometry(const CablePlotterGeometry& g) {
   if (!(g.pulley_radius_mm >= 0.0) || !(g.pulley_radius_mm < 0.5 * span)) {
     throw GeometryFault(
         "pulley_radius",
-        format("must be from 0 to less than half the anchors' distance (%g mm)", 0.5 * span));
+        format("%g mm: must be from 0 to less than half the anchors' distance (%g mm); a "
+               "20-tooth GT2 pulley is 6.366 mm",
+               g.pulley_radius_mm, 0.5 * span));
   }
   if (!finite(g.attach_mm[0]) || !finite(g.attach_mm[1]) || !finite(g.center_of_mass_mm)) {
     throw GeometryFault("effector_attach", "attachment points must be finite");
@@ -56,16 +62,29 @@ void validate_cable_plotter_geometry(const CablePlotterGeometry& g) {
   if (!(g.effector_mass_kg >= 0.0) || !std::isfinite(g.effector_mass_kg)) {
     throw GeometryFault("effector_mass", "must be a mass of 0 kg or more");
   }
-  const bool needs_weight = !g.attach_mm[0].isZero() || !g.attach_mm[1].isZero() ||
-                            g.cable_density_kg_per_m > 0.0 || g.tension_limited;
-  if (needs_weight && !(g.effector_mass_kg > 0.0)) {
-    throw GeometryFault("effector_mass",
-                        "effector_attach, cable_density and tension_limits need the effector's "
-                        "weight: give effector_mass (kg)");
+  std::string needing_weight;
+  const auto needs = [&](bool given, const char* key) {
+    if (given) needing_weight += (needing_weight.empty() ? "" : ", ") + std::string(key);
+  };
+  needs(!g.attach_mm[0].isZero() || !g.attach_mm[1].isZero(), "effector_attach");
+  needs(g.cable_density_kg_per_m > 0.0, "cable_density");
+  needs(g.tension_limited, "tension_limits");
+  if (!needing_weight.empty() && !(g.effector_mass_kg > 0.0)) {
+    throw GeometryFault(
+        "effector_mass",
+        "must be more than 0 kg: the effector's weight is needed for " + needing_weight);
   }
   if (g.tension_limited && !(g.tension_min_N >= 0.0 && g.tension_min_N < g.tension_max_N)) {
     throw GeometryFault("tension_limits", format("needs 0 <= min < max (N), got [%g, %g]",
                                                  g.tension_min_N, g.tension_max_N));
+  }
+  // Each cable holds at most the max, so the two hold up at most twice it.
+  const double weight_N = g.effector_mass_kg * kStandardGravity_mm_per_s2 * 1e-3;
+  if (g.tension_limited && weight_N > 2.0 * g.tension_max_N) {
+    throw GeometryFault("effector_mass",
+                        format("%g kg weighs %g N, more than two cables at tension_limits' max "
+                               "%g N can hold anywhere (is it in grams? the unit is kg)",
+                               g.effector_mass_kg, weight_N, g.tension_max_N));
   }
   if (!(g.cable_density_kg_per_m >= 0.0) || !std::isfinite(g.cable_density_kg_per_m)) {
     throw GeometryFault("cable_density", "must be 0 kg/m or more");
@@ -144,6 +163,8 @@ Status CablePlotterKinematics::balance_at(const Eigen::Vector2d& pen_mm, CableBa
                                           bool within_limits) const {
   const Status status = solve_balance(pen_mm, Eigen::Vector2d(0.0, -kStandardGravity_mm_per_s2),
                                       balance, past_top_mm);
+  // No balance found: the effector cannot hang here (why_refused says why).
+  if (status.code == StatusCode::not_converged) return Status::failure(StatusCode::unreachable);
   if (!status.ok()) return status;
   const bool weighed = geometry_.effector_mass_kg > 0.0;
   const StatusCode pushing = weighed ? StatusCode::tension : StatusCode::unreachable;
@@ -243,39 +264,57 @@ Status CablePlotterKinematics::forward(const JointVector& joints, Pose& pose_ino
   }
   // No refusal outside the anchors here: calibration solves FK with a geometry still slightly
   // off, and the pose the joints imply is the answer it needs; inverse() says what is reachable.
-  Eigen::Vector2d pen;
   if (geometry_.ideal()) {
+    Eigen::Vector2d pen;
     const Status status = ideal_forward(joints, pen);
     if (!status.ok()) return status;
     pose_inout.position_mm.head<2>() = pen;
     passthrough_.forward(joints, 2, pose_inout);
     return Status::success();
   }
-  // As built: Newton on the balance, from the seed when it is near where straight cables of the
-  // joints' lengths, less a quarter turn of wrap, meet at the effector's level attachment points
-  // (the previous pose along a path), else from that meeting point; then from the other.
+  // As built: Newton on the balance. Newton needs a start where the balance holds, which near a
+  // pulley neither the seed nor one guess may be: the seed when it is near where straight cables
+  // of the joints' lengths less a quarter turn of wrap meet at the effector's level attachment
+  // points (the previous pose along a path), that meeting point, the one without the wrap, then
+  // the meeting point lowered by growing steps.
   passthrough_.forward(joints, 2, pose_inout);
-  Pose guess = pose_inout;
-  const bool guessed = straight_guess(joints, pen).ok();
-  if (guessed) guess.position_mm.head<2>() = pen;
+  std::array<Pose, 9> starts;
+  int count = 0;
+  Eigen::Vector2d wrapped, unwrapped;
+  const bool guessed = straight_guess(joints, 0.25, wrapped).ok();
+  const bool met = straight_guess(joints, 0.0, unwrapped).ok();
+  const Eigen::Vector2d meeting = guessed ? wrapped : unwrapped;
   constexpr double kNearGuess_mm = 50.0;
-  const bool seed_first =
-      !guessed || (guess.position_mm - pose_inout.position_mm).norm() < kNearGuess_mm;
-  const WithoutTensionLimits unlimited(*this);
-  Pose start = seed_first ? pose_inout : guess;
-  Status result = solve_forward_newton(unlimited, joints, start, forward_options_);
-  if (!result.ok() && guessed) {
-    start = seed_first ? guess : pose_inout;
-    result = solve_forward_newton(unlimited, joints, start, forward_options_);
+  const auto add = [&](const Eigen::Vector2d& pen_mm) {
+    starts[count] = pose_inout;
+    starts[count++].position_mm.head<2>() = pen_mm;
+  };
+  const Eigen::Vector2d seed = pose_inout.position_mm.head<2>();
+  const bool seed_first = !(guessed || met) || (meeting - seed).norm() < kNearGuess_mm;
+  if (seed_first) add(seed);
+  if (guessed) add(wrapped);
+  if (met) add(unwrapped);
+  if (!seed_first) add(seed);
+  const double lower_step = std::max(1.0, 2.0 * geometry_.pulley_radius_mm);
+  for (int k = 0; (guessed || met) && k < 5; ++k) {
+    add(meeting - Eigen::Vector2d(0.0, lower_step * std::ldexp(1.0, k)));
   }
-  if (result.ok()) pose_inout = start;
+  const WithoutTensionLimits unlimited(*this);
+  Status result = Status::failure(StatusCode::not_converged);
+  for (int k = 0; k < count && !result.ok(); ++k) {
+    Pose start = starts[k];
+    result = solve_forward_newton(unlimited, joints, start, forward_options_);
+    if (result.ok()) pose_inout = start;
+  }
+  // Cables too short to meet even straight: say which, as the closed form does.
+  if (!result.ok() && !met) return straight_guess(joints, 0.0, unwrapped);
   return result;
 }
 
-Status CablePlotterKinematics::straight_guess(const JointVector& joints,
+Status CablePlotterKinematics::straight_guess(const JointVector& joints, double wrap_turns,
                                               Eigen::Vector2d& pen_mm) const {
   CablePlotterGeometry straight = CablePlotterGeometry::level(1.0);
-  const double wrap = geometry_.pulley_radius_mm * 0.25 * std::numbers::pi;
+  const double wrap = geometry_.pulley_radius_mm * wrap_turns * 2.0 * std::numbers::pi;
   for (int cable = 0; cable < 2; ++cable) {
     straight.anchors_mm[cable] = geometry_.anchors_mm[cable] - geometry_.attach_mm[cable];
     straight.cable_offsets_mm[cable] = geometry_.cable_offsets_mm[cable] + wrap;
@@ -323,7 +362,6 @@ std::string CablePlotterKinematics::why_refused(const Pose& pose, const Status& 
   const Eigen::Vector2d pen = pose.position_mm.head<2>();
   const int cable = status.joint;
   const bool named = cable == 0 || cable == 1;
-  const double left_x = geometry_.anchors_mm[0].x(), right_x = geometry_.anchors_mm[1].x();
   switch (status.code) {
     case StatusCode::singular:
       return "on the line through the anchors the cables pull only sideways";
@@ -333,33 +371,49 @@ std::string CablePlotterKinematics::why_refused(const Pose& pose, const Status& 
     default:
       return {};
   }
-  if (!named) {
-    return pen.y() > std::min(geometry_.anchors_mm[0].y(), geometry_.anchors_mm[1].y())
-               ? "the pen would hang above the anchors (y > 0)"
-               : "both cables would have to push";
-  }
+  if (geometry_.ideal()) return why_ideal_refused(pen, cable);
   CableBalance balance;
-  const Status balanced = solve_cable_balance(
-      geometry_, pen, Eigen::Vector2d(0.0, -kStandardGravity_mm_per_s2), balance);
+  std::array<double, 2> past_top{};
+  const Status balanced =
+      solve_balance(pen, Eigen::Vector2d(0.0, -kStandardGravity_mm_per_s2), balance, past_top);
+  if (balanced.code == StatusCode::not_converged) {
+    return "the effector finds no balance here (no stable tilt within 86 deg of level): the pen "
+           "is above the anchors, or the effector's centre of mass is above its cables";
+  }
+  if (!named) return why_ideal_refused(pen, cable);
+  const std::string name = kCableNames[cable], other = kCableNames[1 - cable];
   if (balanced.code == StatusCode::unreachable) {
-    return "the " + std::string(kCableNames[cable]) + " cable's end would be on its pulley " +
-           format("(radius %g mm)", geometry_.pulley_radius_mm);
+    return "the " + name + " cable's end would be on its pulley " +
+           format("(radius %g mm), or its drum would run out of cord", geometry_.radius_mm(cable));
   }
   if (!balanced.ok() || !balance.pulls[cable]) {
-    if (cable == 1) {
-      return format("left of the left anchor (x <= %g) the right cable would have to push", left_x);
-    }
+    return "the " + name + " cable would have to push: the pen is too far " + other +
+           " (outside the anchors, seen from the cables' ends)";
+  }
+  const double lowest = balance.statics.lowest_N[cable], highest = balance.statics.highest_N[cable];
+  if (lowest < geometry_.tension_min_N) {
+    return "the " + name + " cable would go slack: " +
+           format("%.3g N, below tension_limits' min %g N", lowest, geometry_.tension_min_N) +
+           " (move the pen away from the " + other + " side or lower, or lower the min)";
+  }
+  return "the " + name + " cable would be overloaded: " +
+         format("%.4g N, above tension_limits' max %g N", highest, geometry_.tension_max_N) +
+         " (move the pen lower, away from the top)";
+}
+
+std::string CablePlotterKinematics::why_ideal_refused(const Eigen::Vector2d& pen_mm,
+                                                      int cable) const {
+  const double left_x = geometry_.anchors_mm[0].x(), right_x = geometry_.anchors_mm[1].x();
+  if (cable == 1) {
+    return format("left of the left anchor (x <= %g) the right cable would have to push", left_x);
+  }
+  if (cable == 0) {
     return format("right of the right anchor (x >= %g mm) the left cable would have to push",
                   right_x);
   }
-  const double lowest = balance.statics.lowest_N[cable], highest = balance.statics.highest_N[cable];
-  const std::string name = kCableNames[cable];
-  if (lowest < geometry_.tension_min_N) {
-    return "the " + name + " cable's tension would be " +
-           format("%.3g N, below tension_limits' minimum %g N", lowest, geometry_.tension_min_N);
-  }
-  return "the " + name + " cable's tension would be " +
-         format("%.4g N, above tension_limits' maximum %g N", highest, geometry_.tension_max_N);
+  const double lowest = std::min(geometry_.anchors_mm[0].y(), geometry_.anchors_mm[1].y());
+  return pen_mm.y() > lowest ? format("the pen would hang above the anchors (y > %g)", lowest)
+                             : "both cables would have to push";
 }
 
 std::vector<Parameter> CablePlotterKinematics::parameters() const {

@@ -57,7 +57,11 @@ class CablePlotterKinematics final : public Kinematics {
  private:
   Status ideal_inverse(const Eigen::Vector2d& pen_mm, JointVector& joints) const;
   Status ideal_forward(const JointVector& joints, Eigen::Vector2d& pen_mm) const;
-  Status straight_guess(const JointVector& joints, Eigen::Vector2d& pen_mm) const;
+  std::string why_ideal_refused(const Eigen::Vector2d& pen_mm, int cable) const;
+  // Where straight cables of the joints' lengths, less `wrap_turns` of each pulley's
+  // circumference, meet at the effector's level attachment points.
+  Status straight_guess(const JointVector& joints, double wrap_turns,
+                        Eigen::Vector2d& pen_mm) const;
   // The balance, and each cable past its pulley's top point (mm), with the drums' radii of a
   // spool build-up solved along.
   Status solve_balance(const Eigen::Vector2d& pen_mm, const Eigen::Vector2d& gravity_mm_per_s2,

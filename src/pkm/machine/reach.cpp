@@ -97,7 +97,11 @@ std::string Machine::explain(const Pose& pose, const Status& status) const {
     case StatusCode::invalid_input:
       return text + "not a finite pose";
     default:
-      return text + describe(status);
+      // A tension limit, a balance not found: the model's own words where it has some.
+      if (const std::string why = kinematics_->why_refused(pose, status); !why.empty()) {
+        return text + pkm::describe(status, joint_names()) + ": " + why;
+      }
+      return text + pkm::describe(status, joint_names());
   }
 }
 
