@@ -63,8 +63,9 @@ Machine plotter(const std::string& text = kPlotter) {
 
 // By hand: left first. The right belt is paid out 10 mm; the left is probed towards its min over
 // the farthest it can be from its switch, 180 - 10 = 170 mm, set to 10 and backed off 5 (15).
-// Then the left is paid out (25 mm, within 180) and the right probed over 170 mm plus the 10 mm
-// it was paid out while unknown: 180 mm.
+// LinuxCNC sets the reading at the probe's trip point: the switch plus how far the joint is
+// from it (#5420 current X, #5061 trip X). Then the left is paid out (25 mm, within 180) and the
+// right probed over 170 mm plus the 10 mm it was paid out while unknown: 180 mm.
 const std::string kLinuxcncProgram =
     R"((homing program by pkmkit for Small plotter, dialect linuxcnc)
 (switch of left 10.000 mm, probed towards its min)
@@ -75,12 +76,12 @@ G92.1
 (home left)
 G91 G1 Y10.00000 F3600
 G91 G38.2 X-170.00000 F120
-G10 L20 P1 X10.00000
+G10 L20 P1 X[10.00000 + #5420 - #5061]
 G91 G1 X5.00000 F3600
 (home right)
 G91 G1 X10.00000 F3600
 G91 G38.2 Y-180.00000 F120
-G10 L20 P1 Y10.00000
+G10 L20 P1 Y[10.00000 + #5421 - #5062]
 G91 G1 Y5.00000 F3600
 (to home: x 50.000 y -50.000 mm)
 G90 G1 X70.71068 Y70.71068 F3600
@@ -97,8 +98,8 @@ TEST(HomingProgram, Mach3ProbesWithG31AndSetsWithG92) {
            {"dialect linuxcnc", "dialect mach3"},
            {"G91 G38.2 X-170.00000", "G91 G31 X-170.0000"},
            {"G91 G38.2 Y-180.00000", "G91 G31 Y-180.0000"},
-           {"G10 L20 P1 X10.00000", "G92 X10.0000"},
-           {"G10 L20 P1 Y10.00000", "G92 Y10.0000"},
+           {"G10 L20 P1 X[10.00000 + #5420 - #5061]", "G92 X10.0000"},
+           {"G10 L20 P1 Y[10.00000 + #5421 - #5062]", "G92 Y10.0000"},
            {"Y10.00000 F3600", "Y10.0000 F3600"},
            {"X10.00000 F3600", "X10.0000 F3600"},
            {"X5.00000", "X5.0000"},
@@ -149,7 +150,7 @@ TEST(HomingMoves, InchFileConvertsToMm) {
       plotter(edited(kPlotter, "[kinematics]", "units = \"inch\"\n[kinematics]"));
   const std::string program = post::homing_program(machine, post::Dialect::linuxcnc);
   EXPECT_NE(program.find("G91 G1 Y254.00000 F91440\nG91 G38.2 X-4318.00000 F3048\n"
-                         "G10 L20 P1 X254.00000\nG91 G1 X127.00000 F91440\n"),
+                         "G10 L20 P1 X[254.00000 + #5420 - #5061]\nG91 G1 X127.00000 F91440\n"),
             std::string::npos)
       << program;
   EXPECT_NE(program.find("(switch of left 10.000 in, probed towards its min)"), std::string::npos);

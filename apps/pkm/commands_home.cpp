@@ -34,8 +34,9 @@ std::string readings_text(const Machine& machine, const std::vector<int>& joints
 }
 
 // What the homing program does, for the terminal: the joints in order, how far a probe may stop
-// past its switch, where it ends.
-std::string homing_summary(const Machine& machine) {
+// past its switch where the controller sets the joint there (LinuxCNC sets it at the trip
+// point), where it ends.
+std::string homing_summary(const Machine& machine, post::Dialect dialect) {
   std::string names;
   std::string overshoot;
   for (const HomingMove& move : homing_moves(machine)) {
@@ -48,8 +49,11 @@ std::string homing_summary(const Machine& machine) {
     names += (names.empty() ? "" : ", ") + joint.name;
     overshoot += (overshoot.empty() ? "" : ", ") + std::string(text);
   }
-  return "homes " + names + " on their switches (a probe stops past its switch by up to " +
-         overshoot + " at max_acceleration), then moves to home " +
+  const std::string where = dialect == post::Dialect::linuxcnc
+                                ? "each set at its probe's trip point"
+                                : "each set where it stopped, past its switch by up to " +
+                                      overshoot + " at max_acceleration";
+  return "homes " + names + " on their switches (" + where + "), then moves to home " +
          machine.format_pose(machine.home());
 }
 
@@ -62,7 +66,7 @@ void run_home(const HomeOptions& options) {
   try {
     if (options.measured.empty()) {
       program = post::homing_program(machine, dialect);
-      summary = homing_summary(machine);
+      summary = homing_summary(machine, dialect);
     } else {
       const post::MeasuredJoints measured = post::measured_joints(machine, options.measured);
       program = post::set_position_program(machine, dialect, measured);

@@ -17,20 +17,25 @@ add_test(NAME cli.home_measured_read_by_rs274
 set_tests_properties(cli.home_wall-plotter_linuxcnc_read_by_rs274
                      cli.home_hektor_linuxcnc_read_by_rs274 cli.home_wall_plotter_grbl_read_by_rs274
                      cli.home_measured_read_by_rs274 PROPERTIES RESOURCE_LOCK rs274)
-# rs274 follows the program: after each switch the joint reads home_switch (160 mm), backed
-# off 10 mm (170), paid out 50 mm (220) while the right cord homes; the end is home's joints,
-# sqrt(750^2 + 700^2) = 1025.9142 mm each.
+# rs274 follows the program: its simulated probe trips at the target and backs off 0.254 mm
+# towards the start, so the joint reads home_switch there plus 0.254 (160.254 mm), backed off
+# 10 mm (170.254), paid out 50 mm (220.254) while the right cord homes; the end is home's
+# joints, sqrt(750^2 + 700^2) = 1025.9142 mm each.
 add_test(NAME cli.home_wall_plotter_rs274_positions
          COMMAND sh -c "\"$0\" home -m \"$1\" -o \"$2\" >/dev/null && rs274 -g \"$2\" 2>/dev/null | grep STRAIGHT_FEED | sed 's/^.*STRAIGHT_FEED//' | tr '\\n' ' '"
                  ${PKM} ${MACHINES}/wall-plotter.toml ${HOME_OUT}/wall-plotter-positions.ngc)
 set_tests_properties(cli.home_wall_plotter_rs274_positions PROPERTIES RESOURCE_LOCK rs274
-  PASS_REGULAR_EXPRESSION "\\(0\\.0000, 50\\.0000, [^)]*\\) \\(170\\.0000, 50\\.0000, [^)]*\\) \\(220\\.0000, 50\\.0000, [^)]*\\) \\(220\\.0000, 170\\.0000, [^)]*\\) \\(1025\\.9142, 1025\\.9142, [^)]*\\) *\n?$")
-# What the terminal says: the joints in order, how far a probe may stop past its switch
-# ((300 / 60)^2 / (2 * 1000) = 0.0125 mm), where it ends.
+  PASS_REGULAR_EXPRESSION "\\(0\\.0000, 50\\.0000, [^)]*\\) \\(170\\.2540, 50\\.0000, [^)]*\\) \\(220\\.2540, 50\\.0000, [^)]*\\) \\(220\\.2540, 170\\.2540, [^)]*\\) \\(1025\\.9142, 1025\\.9142, [^)]*\\) *\n?$")
+# What the terminal says: the joints in order, where each is set (LinuxCNC: the trip point;
+# grbl: where it stopped, (300 / 60)^2 / (2 * 1000) = 0.0125 mm past), where it ends.
 add_test(NAME cli.home_wall_plotter_summary
          COMMAND ${PKM} home -m ${MACHINES}/wall-plotter.toml -o ${HOME_OUT}/wall-plotter-summary.ngc)
 set_tests_properties(cli.home_wall_plotter_summary PROPERTIES PASS_REGULAR_EXPRESSION
-  "wall-plotter-summary\\.ngc: homes left, right on their switches \\(a probe stops past its switch by up to left 0\\.0125 mm, right 0\\.0125 mm at max_acceleration\\), then moves to home x 750\\.000 y -700\\.000 mm")
+  "wall-plotter-summary\\.ngc: homes left, right on their switches \\(each set at its probe's trip point\\), then moves to home x 750\\.000 y -700\\.000 mm")
+add_test(NAME cli.home_wall_plotter_grbl_summary
+         COMMAND ${PKM} home -m ${MACHINES}/wall-plotter.toml --dialect grbl -o ${HOME_OUT}/wall-plotter-grbl-summary.ngc)
+set_tests_properties(cli.home_wall_plotter_grbl_summary PROPERTIES PASS_REGULAR_EXPRESSION
+  "homes left, right on their switches \\(each set where it stopped, past its switch by up to left 0\\.0125 mm, right 0\\.0125 mm at max_acceleration\\)")
 add_test(NAME cli.home_mach3_probes_with_g31
          COMMAND sh -c "\"$0\" home -m \"$1\" -o \"$2\" --dialect mach3 >/dev/null && grep -c -e '^G91 G31 [XY]-19[49]0\\.0000 F300$' -e '^G92 [XY]160\\.0000$' \"$2\""
                  ${PKM} ${MACHINES}/wall-plotter.toml ${HOME_OUT}/wall-plotter-mach3.ngc)

@@ -49,9 +49,23 @@ class ProgramText {
     }
     return text;
   }
-  // Sets the named joints' readings: G10 L20 P1 (G54), or Mach3's G92.
-  void set_position(const std::vector<std::pair<int, double>>& targets) {
-    line((dialect_ == Dialect::mach3 ? "G92" : "G10 L20 P1") + words(targets));
+  // Sets the named joints' readings: G10 L20 P1 (G54), or Mach3's G92. After a probe LinuxCNC
+  // gives the reading at the switch itself: the joint stopped past it, where it reads the switch
+  // plus (current position #5420.. - trip point #5061..), both in G54.
+  void set_position(const std::vector<std::pair<int, double>>& targets, bool after_probe) {
+    if (!after_probe || dialect_ != Dialect::linuxcnc) {
+      line((dialect_ == Dialect::mach3 ? "G92" : "G10 L20 P1") + words(targets));
+      return;
+    }
+    std::string text = "G10 L20 P1";
+    for (const auto& [joint, value] : targets) {
+      const JointSpec& spec = machine_.joints()[static_cast<std::size_t>(joint)];
+      const std::string word = joint_word(spec, value, rules_);  // " X160.00000"
+      const auto index = static_cast<int>(std::string_view("XYZABCUVW").find(spec.axis_letter));
+      text += " " + std::string(1, spec.axis_letter) + "[" + word.substr(2) + " + #" +
+              std::to_string(5420 + index) + " - #" + std::to_string(5061 + index) + "]";
+    }
+    line(text);
   }
   // Units, G54 (the coordinate system joint programs run in) without a G92 offset on top.
   void preamble() {
@@ -130,7 +144,7 @@ void write_move(ProgramText& program, const HomingMove& move, Dialect dialect) {
                    program.words(move.targets) + feed);
       break;
     case HomingMoveKind::set_position:
-      program.set_position(move.targets);
+      program.set_position(move.targets, true);
       break;
     case HomingMoveKind::go_home:
       program.line("G90 G1" + program.words(move.targets) + feed);
@@ -241,7 +255,7 @@ std::string set_position_program(const Machine& machine, Dialect dialect,
   }
   program.comment("pose ", machine.format_pose(measured.pose), "");
   program.preamble();
-  program.set_position(targets);
+  program.set_position(targets, false);
   program.line("M2");
   return program.text();
 }
