@@ -70,6 +70,7 @@ std::vector<int> read_sequence(const ModelConfig& section, const std::vector<Joi
     }
     sequence.push_back(joint);
   }
+  if (sequence.empty()) section.fail("sequence", "names no joint");
   for (std::size_t i = 0; i < joints.size(); ++i) {
     const bool named =
         std::find(sequence.begin(), sequence.end(), static_cast<int>(i)) != sequence.end();
@@ -82,17 +83,20 @@ std::vector<int> read_sequence(const ModelConfig& section, const std::vector<Joi
   return sequence;
 }
 
+bool any_of_kind(const std::vector<JointSpec>& joints, const std::vector<int>& sequence,
+                 JointKind kind) {
+  return std::any_of(sequence.begin(), sequence.end(),
+                     [&](int j) { return joints[static_cast<std::size_t>(j)].kind == kind; });
+}
+
 // Units of the [homing] table's numbers, as its joints read them.
 std::string table_unit(const std::vector<JointSpec>& joints, const std::vector<int>& sequence,
                        double mm_per_unit) {
-  const bool rotary = std::any_of(sequence.begin(), sequence.end(), [&](int j) {
-    return joints[static_cast<std::size_t>(j)].kind == JointKind::rotary;
-  });
-  const bool linear = std::any_of(sequence.begin(), sequence.end(), [&](int j) {
-    return joints[static_cast<std::size_t>(j)].kind == JointKind::linear;
-  });
+  const bool rotary = any_of_kind(joints, sequence, JointKind::rotary);
   const std::string length = mm_per_unit == 1.0 ? "mm" : "in";
-  if (rotary && linear) return length + " (deg for rotary joints)";
+  if (rotary && any_of_kind(joints, sequence, JointKind::linear)) {
+    return length + " (deg for rotary joints)";
+  }
   return rotary ? "deg" : length;
 }
 
@@ -268,9 +272,10 @@ HomingTable read_homing_table(const ModelConfig& section, const std::vector<Join
       table.feed = std::min(table.feed, 60.0 * per_s);
     }
   }
+  const bool only_rotary = !any_of_kind(joints, table.sequence, JointKind::linear);
   table.backoff = section.has("backoff")
                       ? bounded(section, "backoff", 0.0, kMaxDistance, unit)
-                      : (unit == "deg" ? kDefaultBackoff_mm : kDefaultBackoff_mm / mm_per_unit);
+                      : (only_rotary ? kDefaultBackoff_mm : kDefaultBackoff_mm / mm_per_unit);
   if (section.has("probe_travel")) {
     table.probe_travel = bounded(section, "probe_travel", 0.0, 2.0 * kMaxDistance, unit);
   }
