@@ -179,6 +179,14 @@ TEST(HomingMoves, PenGoesUpFirst) {
       << program;
 }
 
+TEST(HomingProgram, MachineNameStaysInsideItsComment) {
+  const Machine machine =
+      plotter(edited(kPlotter, "name = \"Small plotter\"", "name = \"Small (2)\\nplotter\""));
+  const std::string program = post::homing_program(machine, post::Dialect::linuxcnc);
+  EXPECT_EQ(program.substr(0, program.find('\n')),
+            "(homing program by pkmkit for Small [2] plotter, dialect linuxcnc)");
+}
+
 TEST(HomingMoves, CopiedMachineKeepsItsHoming) {
   const Machine original = plotter();
   const Machine copy = original;  // NOLINT(performance-unnecessary-copy-initialization)

@@ -346,6 +346,7 @@ std::string comment_safe(std::string text) {
   for (char& c : text) {
     if (c == '(') c = '[';
     if (c == ')') c = ']';
+    if (static_cast<unsigned char>(c) < 0x20) c = ' ';  // a line break would end the comment
   }
   return text;
 }

@@ -34,7 +34,7 @@ Dialect dialect_named(std::string_view name);
 // the dialect's decimals.
 std::string joint_word(const JointSpec& joint, double value, const DialectRules& rules);
 
-// Text for inside a G-code comment: parentheses would end or nest it.
+// Text for inside a G-code comment: parentheses would end or nest it, a line break end it.
 std::string comment_safe(std::string text);
 // A comment line "(before text after)\n" of at most `width` characters (0: any): `text` cut at
 // its start, where a path or a name says least, marked by "...".
