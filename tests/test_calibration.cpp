@@ -120,6 +120,10 @@ std::vector<Measurement> synthetic_measurements(const Machine& nominal,
     if (static_cast<int>(data.size()) == count) break;
     Measurement m;
     if (!true_model->inverse(pose, m.joints).ok()) continue;
+    // A pose the nominal machine cannot place (cables that do not meet, within the perturbation
+    // of the anchor line) is not one a user measures.
+    Pose placed = nominal.home();
+    if (!nominal.kinematics().forward(m.joints, placed).ok()) continue;
     m.pose = pose.as_vector();
     for (int axis = 0; axis < kPoseSize; ++axis) {
       const bool controlled = nominal.kinematics().dof().controls(axis);
@@ -167,7 +171,9 @@ TEST_P(RecoversKnownGeometry, WithinThreeSigmaAndDownToTheNoise) {
                                                50, 0.0, rng),
                                            options);
   std::vector<std::string> fitted_names;
-  for (const ParameterEstimate& p : selection.parameters) fitted_names.push_back(p.name);
+  for (const ParameterEstimate& p : selection.parameters) {
+    if (p.free) fitted_names.push_back(p.name);
+  }
   for (const Parameter& p : parameters) {
     const bool fitted =
         std::find(fitted_names.begin(), fitted_names.end(), p.name) != fitted_names.end();
@@ -198,8 +204,9 @@ TEST_P(RecoversKnownGeometry, WithinThreeSigmaAndDownToTheNoise) {
 }
 
 const FitCase kFitCases[] = {
-    {"hektor.toml", {}, 0.5},
-    {"wall-plotter.toml", {}, 2.0},
+    // The paper's ideal cables: what measured pen positions show of them.
+    {"hektor.toml", {"anchor_*", "cable_offset_*"}, 0.5},
+    {"wall-plotter.toml", {"anchor_*", "cable_offset_*"}, 2.0},
     {"matrix-mill.toml", {}, 1e-3},
     {"triaglide.toml", {"rail*.strut", "rail*.origin.*"}, 0.5},
     {"triaglide-fanned.toml", {"rail*.strut", "rail*.origin.*"}, 0.5},

@@ -28,7 +28,7 @@ TEST(CablePlotter, SourceDocumentWorkedExample) {
 
 TEST(CablePlotter, ForwardTakesTheLowerIntersection) {
   // 60 and 80 from anchors 100 apart: a 3-4-5 triangle, the pen at (36, -48), not (36, +48).
-  const CablePlotterKinematics plotter({100.0, 0.0, 0.0});
+  const CablePlotterKinematics plotter(CablePlotterGeometry::level(100.0, 0.0, 0.0));
   JointVector joints(2);
   joints << 60.0, 80.0;
   Pose pose;
@@ -38,7 +38,7 @@ TEST(CablePlotter, ForwardTakesTheLowerIntersection) {
 }
 
 TEST(CablePlotter, CableOffsetsShiftTheJointReadings) {
-  const CablePlotterKinematics plotter({100.0, 2.5, -1.0});
+  const CablePlotterKinematics plotter(CablePlotterGeometry::level(100.0, 2.5, -1.0));
   JointVector joints;
   ASSERT_TRUE(plotter.inverse(Pose::from_mm_deg(36, -48, 0), joints).ok());
   EXPECT_DOUBLE_EQ(joints[0], 62.5);
@@ -48,7 +48,7 @@ TEST(CablePlotter, CableOffsetsShiftTheJointReadings) {
 TEST(CablePlotter, APenOutsideItsAnchorsIsUnreachable) {
   // A cable only pulls: left of the left anchor the right cable would have to push, right of the
   // right anchor the left one. Below the anchors and between them the pen hangs.
-  const CablePlotterKinematics plotter({1500.0, 0.0, 0.0});
+  const CablePlotterKinematics plotter(CablePlotterGeometry::level(1500.0, 0.0, 0.0));
   JointVector joints;
   EXPECT_TRUE(plotter.inverse(Pose::from_mm_deg(1, -700, 0), joints).ok());
   EXPECT_TRUE(plotter.inverse(Pose::from_mm_deg(1499, -700, 0), joints).ok());
@@ -64,7 +64,8 @@ TEST(CablePlotter, APenOutsideItsAnchorsIsUnreachable) {
 
 TEST(CablePlotter, PassThroughZFollowsTheProgram) {
   // A pen on a real Z axis: the third joint is the program's Z, the cables as without it.
-  const CablePlotterKinematics plotter({100.0, 0.0, 0.0}, PassThroughAxes({2}, Dof::planar_xy()));
+  const CablePlotterKinematics plotter(CablePlotterGeometry::level(100.0, 0.0, 0.0),
+                                       PassThroughAxes({2}, Dof::planar_xy()));
   EXPECT_EQ(plotter.joint_count(), 3);
   EXPECT_TRUE(plotter.dof().controls(2));
   EXPECT_EQ(plotter.passthrough_axis(2), 2);

@@ -125,6 +125,57 @@ const BadFileCase kCases[] = {
      {{"type = \"cable_plotter\"", "type = \"scara\" # <-"}},
      "kinematics.type",
      "unknown kinematics type 'scara'"},
+    // Cable machines as built (docs/cable-machines.md).
+    {"sled_attachment_without_mass",
+     "maslow-frame.toml",
+     {{"effector_mass = 9.0            # kg", "# no mass"},
+      {"effector_attach = [[-155.0, 139.0], [155.0, 139.0]]",
+       "effector_attach = [[-155.0, 139.0], [155.0, 139.0]] # <-"}},
+     "kinematics.effector_attach",
+     "need the effector's weight: give effector_mass (kg)"},
+    {"tension_limits_reversed",
+     "maslow-frame.toml",
+     {{"tension_limits = [10.0, 450.0] # N", "tension_limits = [450.0, 10.0] # <-"}},
+     "kinematics.tension_limits",
+     "needs 0 <= min < max (N), got [450, 10]"},
+    {"tension_limits_one_value",
+     "maslow-frame.toml",
+     {{"tension_limits = [10.0, 450.0] # N", "tension_limits = [10.0] # <-"}},
+     "kinematics.tension_limits",
+     "needs two values: [min, max] N"},
+    {"pulley_larger_than_the_frame",
+     "maslow-frame.toml",
+     {{"pulley_radius = 10.275", "pulley_radius = 1500.0 # <-"}},
+     "kinematics.pulley_radius",
+     "less than half the anchors' distance (1489.2 mm)"},
+    {"anchors_and_anchor_distance",
+     "makelangelo.toml",
+     {{"anchors = [[-325.0, 500.0], [325.0, 500.0]]",
+       "anchors = [[-325.0, 500.0], [325.0, 500.0]] # <-\nanchor_distance = 650.0"}},
+     "kinematics.anchors",
+     "give anchors or anchor_distance, not both"},
+    {"anchors_right_left_of_left",
+     "makelangelo.toml",
+     {{"anchors = [[-325.0, 500.0], [325.0, 500.0]]",
+       "anchors = [[325.0, 500.0], [-325.0, 500.0]] # <-"}},
+     "kinematics.anchors",
+     "the right anchor -650 mm right of the left one"},
+    {"anchor_point_with_three_numbers",
+     "makelangelo.toml",
+     {{"anchors = [[-325.0, 500.0], [325.0, 500.0]]",
+       "anchors = [[-325.0, 500.0, 0.0], [325.0, 500.0]] # <-"}},
+     "kinematics.anchors",
+     "each point needs 2 numbers [x, y]"},
+    {"cable_stiffness_zero",
+     "maslow-frame.toml",
+     {{"cable_stiffness = 150000.0     # N (EA)", "cable_stiffness = 0.0 # <-"}},
+     "kinematics.cable_stiffness",
+     "must be a positive force (EA, N)"},
+    {"negative_cable_density",
+     "maslow-frame.toml",
+     {{"cable_density = 0.15           # kg/m", "cable_density = -0.15 # <-"}},
+     "kinematics.cable_density",
+     "must be 0 kg/m or more"},
     {"negative_anchor_distance",
      "hektor.toml",
      {{"anchor_distance = 100.0", "anchor_distance = -100.0 # <-"}},
@@ -401,7 +452,8 @@ TEST(MachineFile, InchFilesAreConvertedToMillimetres) {
   text.replace(text.find("units = \"mm\""), 12, "units = \"inch\"");
   const Machine inch = parse_machine(text, "inch.toml");
   const auto parameters = inch.kinematics().parameters();
-  EXPECT_DOUBLE_EQ(parameters[0].value, 2540.0);
+  EXPECT_EQ(parameters[2].name, "anchor_right_x");
+  EXPECT_DOUBLE_EQ(parameters[2].value, 2540.0);
   EXPECT_DOUBLE_EQ(inch.joints()[0].max, 180.0 * 25.4);
   EXPECT_DOUBLE_EQ(inch.home().position_mm.y(), -50.0 * 25.4);
 }
@@ -410,7 +462,7 @@ TEST(MachineFile, EveryExampleLoads) {
   for (const std::string& file : test::example_machine_files()) {
     EXPECT_NO_THROW(test::load_example(file)) << file;
   }
-  EXPECT_EQ(test::example_machine_files().size(), 17u);
+  EXPECT_EQ(test::example_machine_files().size(), 20u);
   const Machine pen = test::load_example("pen-plotter.toml");  // the servo pen's [tool] table
   EXPECT_EQ(pen.tool().z, ToolZ::pen);
   EXPECT_EQ(pen.tool().down_command, "M280 P0 S30");

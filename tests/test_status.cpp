@@ -44,7 +44,7 @@ TEST(Status, NanIsRefusedNotPropagated) {
 }
 
 TEST(Status, CablesThatCannotMeetAreUnreachable) {
-  const CablePlotterKinematics plotter({100.0, 0.0, 0.0});
+  const CablePlotterKinematics plotter(CablePlotterGeometry::level(100.0, 0.0, 0.0));
   JointVector joints(2);
   joints << 30.0, 40.0;  // 30 + 40 < 100: the circles do not meet
   Pose pose;

@@ -97,6 +97,9 @@ class Residuals {
   }
 
   // Central-difference Jacobian of the residuals over the parameters `free` (full-vector indices).
+  // A parameter that cannot move both ways from here (a pulley radius or a mass of 0, a cable's
+  // attachment point on an effector given no mass) gets a zero column: the fit holds it (give a
+  // nominal value inside its range to fit it).
   bool jacobian(const std::vector<double>& parameters, const std::vector<int>& free,
                 Eigen::MatrixXd& result) const {
     result.resize(count_, static_cast<Eigen::Index>(free.size()));
@@ -106,12 +109,13 @@ class Residuals {
       const int index = free[c];
       const double step = 1e-6 * std::max(1.0, std::abs(parameters[index]));
       shifted[index] = parameters[index] + step;
-      if (!evaluate(shifted, plus.data())) return false;
+      const bool up = evaluate(shifted, plus.data());
       shifted[index] = parameters[index] - step;
-      if (!evaluate(shifted, minus.data())) return false;
+      const bool down = evaluate(shifted, minus.data());
       shifted[index] = parameters[index];
       for (int r = 0; r < count_; ++r) {
-        result(r, static_cast<Eigen::Index>(c)) = (plus[r] - minus[r]) / (2.0 * step);
+        result(r, static_cast<Eigen::Index>(c)) =
+            up && down ? (plus[r] - minus[r]) / (2.0 * step) : 0.0;
       }
     }
     return true;

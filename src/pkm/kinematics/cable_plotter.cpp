@@ -2,46 +2,201 @@
 
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <stdexcept>
 
 namespace pkm {
 
 namespace {
-// Below this height (relative to the anchor distance) the cables are nearly collinear: the
-// pen's height is then ill-defined and the tension unbounded.
-constexpr double kMinRelativeDepth = 1e-9;
+// Below this sine of the angle between the cables they are nearly collinear: the pen's height is
+// then ill-defined and the tension unbounded.
+constexpr double kMinCableAngleSine = 1e-9;
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0) {
+  char text[256];
+  std::snprintf(text, sizeof text, pattern, a, b, c);
+  return text;
+}
+
+const char* const kCableNames[2] = {"left", "right"};
+
+// A machine-file key and what is wrong with it.
+struct GeometryFault : std::invalid_argument {
+  GeometryFault(std::string key_name, const std::string& message)
+      : std::invalid_argument(message), key(std::move(key_name)) {}
+  std::string key;
+};
 }  // namespace
+
+void validate_cable_plotter_geometry(const CablePlotterGeometry& g) {
+  const auto finite = [](const Eigen::Vector2d& v) { return v.allFinite(); };
+  if (!finite(g.anchors_mm[0]) || !finite(g.anchors_mm[1])) {
+    throw GeometryFault("anchors", "anchors must be finite");
+  }
+  const double span = g.anchors_mm[1].x() - g.anchors_mm[0].x();
+  if (!(span > 0.0)) {
+    throw GeometryFault("anchors", "anchor distance must be a positive length (the right anchor " +
+                                       format("%g mm right of the left one)", span));
+  }
+  if (!std::isfinite(g.cable_offsets_mm[0]) || !std::isfinite(g.cable_offsets_mm[1])) {
+    throw GeometryFault("cable_offsets", "cable offsets must be finite");
+  }
+  if (!(g.pulley_radius_mm >= 0.0) || !(g.pulley_radius_mm < 0.5 * span)) {
+    throw GeometryFault(
+        "pulley_radius",
+        format("must be from 0 to less than half the anchors' distance (%g mm)", 0.5 * span));
+  }
+  if (!finite(g.attach_mm[0]) || !finite(g.attach_mm[1]) || !finite(g.center_of_mass_mm)) {
+    throw GeometryFault("effector_attach", "attachment points must be finite");
+  }
+  if (!(g.effector_mass_kg >= 0.0) || !std::isfinite(g.effector_mass_kg)) {
+    throw GeometryFault("effector_mass", "must be a mass of 0 kg or more");
+  }
+  const bool needs_weight = !g.attach_mm[0].isZero() || !g.attach_mm[1].isZero() ||
+                            g.cable_density_kg_per_m > 0.0 || g.tension_limited;
+  if (needs_weight && !(g.effector_mass_kg > 0.0)) {
+    throw GeometryFault("effector_mass",
+                        "effector_attach, cable_density and tension_limits need the effector's "
+                        "weight: give effector_mass (kg)");
+  }
+  if (g.tension_limited && !(g.tension_min_N >= 0.0 && g.tension_min_N < g.tension_max_N)) {
+    throw GeometryFault("tension_limits", format("needs 0 <= min < max (N), got [%g, %g]",
+                                                 g.tension_min_N, g.tension_max_N));
+  }
+  if (!(g.cable_density_kg_per_m >= 0.0) || !std::isfinite(g.cable_density_kg_per_m)) {
+    throw GeometryFault("cable_density", "must be 0 kg/m or more");
+  }
+  if (!(g.cable_stretch_mm_per_m_per_N >= 0.0) || !std::isfinite(g.cable_stretch_mm_per_m_per_N)) {
+    throw GeometryFault("cable_stiffness", "must be a positive force (EA, N)");
+  }
+}
 
 CablePlotterKinematics::CablePlotterKinematics(const CablePlotterGeometry& geometry,
                                                PassThroughAxes passthrough)
     : geometry_(geometry), passthrough_(std::move(passthrough)) {
-  validate(geometry_);
+  validate_cable_plotter_geometry(geometry_);
 }
 
-void CablePlotterKinematics::validate(const CablePlotterGeometry& geometry) {
-  if (!(geometry.anchor_distance_mm > 0.0) || !std::isfinite(geometry.anchor_distance_mm)) {
-    throw std::invalid_argument("anchor distance must be a positive length");
+Status CablePlotterKinematics::ideal_inverse(const Eigen::Vector2d& pen_mm,
+                                             JointVector& joints) const {
+  Eigen::Vector2d direction[2];
+  for (int cable = 0; cable < 2; ++cable) {
+    const Eigen::Vector2d from_anchor = pen_mm - geometry_.anchors_mm[cable];
+    const double length = from_anchor.norm();
+    if (length == 0.0) return Status::failure(StatusCode::singular);
+    direction[cable] = from_anchor / length;
+    joints[cable] = length + geometry_.cable_offsets_mm[cable];
   }
-  if (!std::isfinite(geometry.left_cable_offset_mm) ||
-      !std::isfinite(geometry.right_cable_offset_mm)) {
-    throw std::invalid_argument("cable offsets must be finite");
+  // A cable only pulls: the tensions holding up a weight, t0 u0 + t1 u1 = (0, -1), must both be
+  // positive. Above the anchors both would push; outside them one would.
+  const double determinant = cross(direction[0], direction[1]);
+  const Eigen::Vector2d down(0.0, -1.0);
+  const double left = cross(down, direction[1]), right = cross(direction[0], down);
+  if (std::abs(determinant) < kMinCableAngleSine) {
+    return left * right > 0.0 ? Status::failure(StatusCode::singular)
+                              : Status::failure(StatusCode::unreachable);
   }
+  if (!(left / determinant > 0.0) && !(right / determinant > 0.0)) {
+    return Status::failure(StatusCode::unreachable);
+  }
+  if (!(right / determinant > 0.0)) return Status::failure(StatusCode::unreachable, 1);
+  if (!(left / determinant > 0.0)) return Status::failure(StatusCode::unreachable, 0);
+  return Status::success();
+}
+
+Status CablePlotterKinematics::balance_at(const Eigen::Vector2d& pen_mm, CableBalance& balance,
+                                          bool within_limits) const {
+  const Status status = solve_cable_balance(
+      geometry_, pen_mm, Eigen::Vector2d(0.0, -kStandardGravity_mm_per_s2), balance);
+  if (!status.ok()) return status;
+  const bool weighed = geometry_.effector_mass_kg > 0.0;
+  const StatusCode pushing = weighed ? StatusCode::tension : StatusCode::unreachable;
+  if (!balance.pulls[0] && !balance.pulls[1]) return Status::failure(pushing);
+  for (int cable = 0; cable < 2; ++cable) {
+    if (!balance.pulls[cable]) return Status::failure(pushing, cable);
+  }
+  for (int cable = 0; cable < 2 && within_limits; ++cable) {
+    if (balance.statics.lowest_N[cable] < geometry_.tension_min_N ||
+        balance.statics.highest_N[cable] > geometry_.tension_max_N) {
+      return Status::failure(StatusCode::tension, cable);
+    }
+  }
+  return Status::success();
 }
 
 Status CablePlotterKinematics::inverse(const Pose& pose, JointVector& joints) const {
+  return inverse_within(pose, joints, true);
+}
+
+Status CablePlotterKinematics::inverse_within(const Pose& pose, JointVector& joints,
+                                              bool within_limits) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
-  const double x = pose.position_mm.x();
-  const double y = pose.position_mm.y();
-  const double d = geometry_.anchor_distance_mm;
-  if (y > 0.0) return Status::failure(StatusCode::unreachable);  // above the anchors
-  if (-y <= kMinRelativeDepth * d) return Status::failure(StatusCode::singular);
-  // Outside the anchors the pen would hang from one cable while the other pushes it sideways.
-  if (!(x > 0.0)) return Status::failure(StatusCode::unreachable, 1);
-  if (!(x < d)) return Status::failure(StatusCode::unreachable, 0);
+  const Eigen::Vector2d pen = pose.position_mm.head<2>();
   joints.resize(joint_count());
-  joints[0] = std::hypot(x, y) + geometry_.left_cable_offset_mm;
-  joints[1] = std::hypot(d - x, y) + geometry_.right_cable_offset_mm;
+  if (geometry_.ideal()) {
+    const Status status = ideal_inverse(pen, joints);
+    if (!status.ok()) return status;
+  } else {
+    CableBalance balance;
+    const Status status = balance_at(pen, balance, within_limits);
+    if (!status.ok()) return status;
+    for (int cable = 0; cable < 2; ++cable) joints[cable] = cable_joint(geometry_, balance, cable);
+  }
   passthrough_.inverse(pose, joints, 2);
+  return Status::success();
+}
+
+namespace {
+// The model as forward kinematics iterates on it: inverse kinematics without the tension
+// limits, which say where the machine may go, not where joints put the pen.
+class WithoutTensionLimits final : public Kinematics {
+ public:
+  explicit WithoutTensionLimits(const CablePlotterKinematics& model) : model_(model) {}
+  std::string_view type() const override { return model_.type(); }
+  int joint_count() const override { return model_.joint_count(); }
+  Dof dof() const override { return model_.dof(); }
+  Status inverse(const Pose& pose, JointVector& joints) const override {
+    return model_.inverse_within(pose, joints, false);
+  }
+  Status forward(const JointVector&, Pose&) const override {
+    return Status::failure(StatusCode::not_converged);
+  }
+  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override {
+    return numerical_jacobian(*this, pose, d_joints_d_pose);
+  }
+  std::vector<Parameter> parameters() const override { return {}; }
+  void set_parameters(std::span<const double>) override {}
+  std::unique_ptr<Kinematics> clone() const override {
+    return std::make_unique<WithoutTensionLimits>(*this);
+  }
+
+ private:
+  const CablePlotterKinematics& model_;
+};
+}  // namespace
+
+Status CablePlotterKinematics::ideal_forward(const JointVector& joints,
+                                             Eigen::Vector2d& pen_mm) const {
+  const double left = joints[0] - geometry_.cable_offsets_mm[0];
+  const double right = joints[1] - geometry_.cable_offsets_mm[1];
+  if (left <= 0.0) return Status::failure(StatusCode::unreachable, 0);
+  if (right <= 0.0) return Status::failure(StatusCode::unreachable, 1);
+  const Eigen::Vector2d between = geometry_.anchors_mm[1] - geometry_.anchors_mm[0];
+  const double d = between.norm();
+  const Eigen::Vector2d along = between / d;
+  const Eigen::Vector2d below(along.y(), -along.x());  // the side gravity picks
+  const double x = (left * left - right * right + d * d) / (2.0 * d);
+  const double depth_squared = left * left - x * x;
+  if (depth_squared < 0.0) {
+    return Status::failure(StatusCode::unreachable, left > right ? 0 : 1);  // circles do not meet
+  }
+  const double depth = std::sqrt(depth_squared);
+  if (depth <= kMinCableAngleSine * d) return Status::failure(StatusCode::singular);
+  pen_mm = geometry_.anchors_mm[0] + x * along + depth * below;
   return Status::success();
 }
 
@@ -49,87 +204,233 @@ Status CablePlotterKinematics::forward(const JointVector& joints, Pose& pose_ino
   if (joints.size() != joint_count() || !all_finite(joints)) {
     return Status::failure(StatusCode::invalid_input);
   }
-  const double left = joints[0] - geometry_.left_cable_offset_mm;
-  const double right = joints[1] - geometry_.right_cable_offset_mm;
-  const double d = geometry_.anchor_distance_mm;
-  if (left <= 0.0) return Status::failure(StatusCode::unreachable, 0);
-  if (right <= 0.0) return Status::failure(StatusCode::unreachable, 1);
-  const double x = (left * left - right * right + d * d) / (2.0 * d);
-  const double depth_squared = left * left - x * x;
-  if (depth_squared < 0.0) {
-    return Status::failure(StatusCode::unreachable, left > right ? 0 : 1);  // circles do not meet
-  }
-  const double depth = std::sqrt(depth_squared);
-  if (depth <= kMinRelativeDepth * d) return Status::failure(StatusCode::singular);
   // No refusal outside the anchors here: calibration solves FK with a geometry still slightly
   // off, and the pose the joints imply is the answer it needs; inverse() says what is reachable.
-  pose_inout.position_mm.x() = x;
-  pose_inout.position_mm.y() = -depth;  // gravity takes the lower intersection
+  Eigen::Vector2d pen;
+  if (geometry_.ideal()) {
+    const Status status = ideal_forward(joints, pen);
+    if (!status.ok()) return status;
+    pose_inout.position_mm.head<2>() = pen;
+    passthrough_.forward(joints, 2, pose_inout);
+    return Status::success();
+  }
+  // As built: Newton on the balance, from the seed when it is near where straight cables of the
+  // joints' lengths, less a quarter turn of wrap, meet at the effector's level attachment points
+  // (the previous pose along a path), else from that meeting point; then from the other.
   passthrough_.forward(joints, 2, pose_inout);
-  return Status::success();
+  Pose guess = pose_inout;
+  const bool guessed = straight_guess(joints, pen).ok();
+  if (guessed) guess.position_mm.head<2>() = pen;
+  constexpr double kNearGuess_mm = 50.0;
+  const bool seed_first =
+      !guessed || (guess.position_mm - pose_inout.position_mm).norm() < kNearGuess_mm;
+  const WithoutTensionLimits unlimited(*this);
+  Pose start = seed_first ? pose_inout : guess;
+  Status result = solve_forward_newton(unlimited, joints, start, forward_options_);
+  if (!result.ok() && guessed) {
+    start = seed_first ? guess : pose_inout;
+    result = solve_forward_newton(unlimited, joints, start, forward_options_);
+  }
+  if (result.ok()) pose_inout = start;
+  return result;
 }
 
-std::string CablePlotterKinematics::why_refused(const Pose& pose, const Status& /*status*/) const {
-  const double x = pose.position_mm.x();
-  const double d = geometry_.anchor_distance_mm;
-  if (pose.position_mm.y() > 0.0) return "the pen would hang above the anchors (y > 0)";
-  if (-pose.position_mm.y() <= kMinRelativeDepth * d) {
-    return "on the anchor line (y = 0) the cables pull only sideways";
+Status CablePlotterKinematics::straight_guess(const JointVector& joints,
+                                              Eigen::Vector2d& pen_mm) const {
+  CablePlotterGeometry straight = CablePlotterGeometry::level(1.0);
+  const double wrap = geometry_.pulley_radius_mm * 0.25 * std::numbers::pi;
+  for (int cable = 0; cable < 2; ++cable) {
+    straight.anchors_mm[cable] = geometry_.anchors_mm[cable] - geometry_.attach_mm[cable];
+    straight.cable_offsets_mm[cable] = geometry_.cable_offsets_mm[cable] + wrap;
   }
-  if (!(x > 0.0)) return "left of the left anchor (x <= 0) the right cable would have to push";
-  if (!(x < d)) {
-    char text[96];
-    std::snprintf(text, sizeof text,
-                  "right of the right anchor (x >= %g mm) the left cable would have to push", d);
-    return text;
+  if (!(straight.anchors_mm[1].x() > straight.anchors_mm[0].x())) {
+    return Status::failure(StatusCode::singular);
   }
-  return {};
+  return CablePlotterKinematics(straight).ideal_forward(joints, pen_mm);
 }
 
 Status CablePlotterKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
-  const double x = pose.position_mm.x();
-  const double y = pose.position_mm.y();
-  const double d = geometry_.anchor_distance_mm;
-  const double left = std::hypot(x, y);
-  const double right = std::hypot(d - x, y);
-  if (left == 0.0 || right == 0.0) return Status::failure(StatusCode::singular);
+  if (!geometry_.ideal()) return numerical_jacobian(*this, pose, d_joints_d_pose);
   d_joints_d_pose.setZero(joint_count(), kPoseSize);
   passthrough_.jacobian(d_joints_d_pose, 2);
-  d_joints_d_pose(0, 0) = x / left;
-  d_joints_d_pose(0, 1) = y / left;
-  d_joints_d_pose(1, 0) = -(d - x) / right;
-  d_joints_d_pose(1, 1) = y / right;
+  for (int cable = 0; cable < 2; ++cable) {
+    const Eigen::Vector2d from_anchor = pose.position_mm.head<2>() - geometry_.anchors_mm[cable];
+    const double length = from_anchor.norm();
+    if (length == 0.0) return Status::failure(StatusCode::singular);
+    d_joints_d_pose(cable, 0) = from_anchor.x() / length;
+    d_joints_d_pose(cable, 1) = from_anchor.y() / length;
+  }
   return Status::success();
 }
 
+Status CablePlotterKinematics::statics(const Pose& pose,
+                                       const Eigen::Vector2d& acceleration_mm_per_s2,
+                                       CableStatics& out) const {
+  if (!all_finite(pose) || !acceleration_mm_per_s2.allFinite()) {
+    return Status::failure(StatusCode::invalid_input);
+  }
+  const Eigen::Vector2d gravity =
+      Eigen::Vector2d(0.0, -kStandardGravity_mm_per_s2) - acceleration_mm_per_s2;
+  CableBalance balance;
+  const Status status =
+      solve_cable_balance(geometry_, pose.position_mm.head<2>(), gravity, balance);
+  if (!status.ok()) return status;
+  out = balance.statics;
+  for (int cable = 0; cable < 2; ++cable) {
+    if (!balance.pulls[cable]) return Status::failure(StatusCode::tension, cable);
+  }
+  return Status::success();
+}
+
+std::string CablePlotterKinematics::why_refused(const Pose& pose, const Status& status) const {
+  const Eigen::Vector2d pen = pose.position_mm.head<2>();
+  const int cable = status.joint;
+  const bool named = cable == 0 || cable == 1;
+  const double left_x = geometry_.anchors_mm[0].x(), right_x = geometry_.anchors_mm[1].x();
+  switch (status.code) {
+    case StatusCode::singular:
+      return "on the line through the anchors the cables pull only sideways";
+    case StatusCode::unreachable:
+    case StatusCode::tension:
+      break;
+    default:
+      return {};
+  }
+  if (!named) {
+    return pen.y() > std::min(geometry_.anchors_mm[0].y(), geometry_.anchors_mm[1].y())
+               ? "the pen would hang above the anchors (y > 0)"
+               : "both cables would have to push";
+  }
+  CableBalance balance;
+  const Status balanced = solve_cable_balance(
+      geometry_, pen, Eigen::Vector2d(0.0, -kStandardGravity_mm_per_s2), balance);
+  if (balanced.code == StatusCode::unreachable) {
+    return "the " + std::string(kCableNames[cable]) + " cable's end would be on its pulley " +
+           format("(radius %g mm)", geometry_.pulley_radius_mm);
+  }
+  if (!balanced.ok() || !balance.pulls[cable]) {
+    if (cable == 1) {
+      return format("left of the left anchor (x <= %g) the right cable would have to push", left_x);
+    }
+    return format("right of the right anchor (x >= %g mm) the left cable would have to push",
+                  right_x);
+  }
+  const double lowest = balance.statics.lowest_N[cable], highest = balance.statics.highest_N[cable];
+  const std::string name = kCableNames[cable];
+  if (lowest < geometry_.tension_min_N) {
+    return "the " + name + " cable's tension would be " +
+           format("%.3g N, below tension_limits' minimum %g N", lowest, geometry_.tension_min_N);
+  }
+  return "the " + name + " cable's tension would be " +
+         format("%.4g N, above tension_limits' maximum %g N", highest, geometry_.tension_max_N);
+}
+
 std::vector<Parameter> CablePlotterKinematics::parameters() const {
-  return {{"anchor_distance", geometry_.anchor_distance_mm, "mm"},
-          {"cable_offset_left", geometry_.left_cable_offset_mm, "mm"},
-          {"cable_offset_right", geometry_.right_cable_offset_mm, "mm"}};
+  const CablePlotterGeometry& g = geometry_;
+  return {{"anchor_left_x", g.anchors_mm[0].x(), "mm"},
+          {"anchor_left_y", g.anchors_mm[0].y(), "mm"},
+          {"anchor_right_x", g.anchors_mm[1].x(), "mm"},
+          {"anchor_right_y", g.anchors_mm[1].y(), "mm"},
+          {"pulley_radius", g.pulley_radius_mm, "mm"},
+          {"cable_offset_left", g.cable_offsets_mm[0], "mm"},
+          {"cable_offset_right", g.cable_offsets_mm[1], "mm"},
+          {"attach_left_x", g.attach_mm[0].x(), "mm"},
+          {"attach_left_y", g.attach_mm[0].y(), "mm"},
+          {"attach_right_x", g.attach_mm[1].x(), "mm"},
+          {"attach_right_y", g.attach_mm[1].y(), "mm"},
+          {"center_of_mass_x", g.center_of_mass_mm.x(), "mm"},
+          {"center_of_mass_y", g.center_of_mass_mm.y(), "mm"},
+          {"effector_mass", g.effector_mass_kg, "kg"},
+          {"cable_density", g.cable_density_kg_per_m, "kg/m"},
+          {"cable_stretch", g.cable_stretch_mm_per_m_per_N, "mm/m/N"}};
 }
 
 void CablePlotterKinematics::set_parameters(std::span<const double> values) {
-  if (values.size() != 3) throw std::invalid_argument("cable plotter takes 3 parameters");
-  const CablePlotterGeometry geometry{values[0], values[1], values[2]};
-  validate(geometry);
-  geometry_ = geometry;
+  if (values.size() != 16) throw std::invalid_argument("cable plotter takes 16 parameters");
+  CablePlotterGeometry g = geometry_;
+  g.anchors_mm[0] = {values[0], values[1]};
+  g.anchors_mm[1] = {values[2], values[3]};
+  g.pulley_radius_mm = values[4];
+  g.cable_offsets_mm = {values[5], values[6]};
+  g.attach_mm[0] = {values[7], values[8]};
+  g.attach_mm[1] = {values[9], values[10]};
+  g.center_of_mass_mm = {values[11], values[12]};
+  g.effector_mass_kg = values[13];
+  g.cable_density_kg_per_m = values[14];
+  g.cable_stretch_mm_per_m_per_N = values[15];
+  validate_cable_plotter_geometry(g);
+  geometry_ = g;
 }
 
-std::unique_ptr<Kinematics> make_cable_plotter_kinematics(const ModelConfig& config) {
-  CablePlotterGeometry geometry;
-  geometry.anchor_distance_mm = config.length("anchor_distance");
-  if (config.has("cable_offsets")) {
-    const std::vector<double> offsets = config.length_list("cable_offsets");
-    if (offsets.size() != 2) config.fail("cable_offsets", "needs two lengths: [left, right]");
-    geometry.left_cable_offset_mm = offsets[0];
-    geometry.right_cable_offset_mm = offsets[1];
+namespace {
+
+std::array<Eigen::Vector2d, 2> read_pair(const ModelConfig& config, std::string_view key) {
+  const std::vector<Eigen::Vector2d> points = config.length_vector2_list(key);
+  if (points.size() != 2) config.fail(key, "needs two points: [[left x, y], [right x, y]]");
+  return {points[0], points[1]};
+}
+
+std::array<double, 2> read_two(const ModelConfig& config, std::string_view key, bool lengths,
+                               std::string_view shape) {
+  const std::vector<double> values = lengths ? config.length_list(key) : config.number_list(key);
+  if (values.size() != 2) config.fail(key, "needs two values: " + std::string(shape));
+  return {values[0], values[1]};
+}
+
+CablePlotterGeometry read_geometry(const ModelConfig& config) {
+  CablePlotterGeometry g;
+  if (config.has("anchors") && config.has("anchor_distance")) {
+    config.fail("anchors", "give anchors or anchor_distance, not both");
   }
+  if (config.has("anchors")) {
+    g.anchors_mm = read_pair(config, "anchors");
+  } else {
+    g.anchors_mm[1] = {config.length("anchor_distance"), 0.0};
+  }
+  g.pulley_radius_mm = config.length_or("pulley_radius", 0.0);
+  if (config.has("cable_offsets")) {
+    g.cable_offsets_mm = read_two(config, "cable_offsets", true, "[left, right]");
+  }
+  if (config.has("effector_attach")) g.attach_mm = read_pair(config, "effector_attach");
+  g.effector_mass_kg = config.number_or("effector_mass", 0.0);
+  if (config.has("center_of_mass")) {
+    const std::array<double, 2> com = read_two(config, "center_of_mass", true, "[x, y]");
+    g.center_of_mass_mm = {com[0], com[1]};
+  }
+  if (config.has("tension_limits")) {
+    const std::array<double, 2> limits = read_two(config, "tension_limits", false, "[min, max] N");
+    g.tension_limited = true;
+    g.tension_min_N = limits[0];
+    g.tension_max_N = limits[1];
+  }
+  g.cable_density_kg_per_m = config.number_or("cable_density", 0.0);
+  if (config.has("cable_stiffness")) {
+    const double stiffness = config.number("cable_stiffness");
+    if (!(stiffness > 0.0)) config.fail("cable_stiffness", "must be a positive force (EA, N)");
+    g.cable_stretch_mm_per_m_per_N = 1000.0 / stiffness;
+  }
+  return g;
+}
+
+}  // namespace
+
+std::unique_ptr<Kinematics> make_cable_plotter_kinematics(const ModelConfig& config) {
+  const CablePlotterGeometry geometry = read_geometry(config);
   // A pen on a real Z axis (or a drag knife's C) is a joint that follows the program.
   PassThroughAxes passthrough = PassThroughAxes::read(config, Dof::planar_xy(), Dof::all());
   try {
     return std::make_unique<CablePlotterKinematics>(geometry, std::move(passthrough));
-  } catch (const std::invalid_argument& error) {
-    config.fail("anchor_distance", error.what());
+  } catch (const GeometryFault& fault) {
+    std::string key = fault.key;
+    if (key == "anchors" && !config.has("anchors")) key = "anchor_distance";
+    if (key == "effector_attach" && !config.has("effector_attach")) key = "center_of_mass";
+    // A missing mass: name the key that needs it.
+    for (const char* needs_mass : {"effector_attach", "cable_density", "tension_limits"}) {
+      if (key == "effector_mass" && !config.has("effector_mass") && config.has(needs_mass)) {
+        key = needs_mass;
+      }
+    }
+    config.fail(key, fault.what());
   }
 }
 

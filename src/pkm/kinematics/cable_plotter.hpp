@@ -1,22 +1,19 @@
-// Hanging two-cable plotter (Hektor): cables from anchors at (0,0) and (d,0), the tool hangs
-// below them (y < 0) and gravity picks the lower of the two circle intersections. A cable can
-// only pull: the pen hangs between the anchors (0 < x < d), elsewhere one cable would push.
-// Optional pass-through joints (a pen on a real Z axis) follow the two cables.
+// Hanging two-cable plotter (Hektor, polargraphs, Makelangelo, the Maslow router): two cables from
+// two pulleys to an effector that hangs below them. With nothing else given, the paper's model:
+// massless, straight, unstretchable cables from two points to the pen, gravity picking the lower
+// of the two circle intersections, in closed form. As built (cable_statics.hpp): pulleys the
+// cables leave tangentially, a gondola or sled tied at two points that tilts under its weight,
+// tension limits, cables that sag and stretch; inverse kinematics then solves the effector's
+// balance and forward kinematics iterates on it. Optional pass-through joints (a pen on a real Z
+// axis) follow the two cables.
 #pragma once
 
+#include "pkm/kinematics/cable_statics.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/passthrough.hpp"
 
 namespace pkm {
-
-struct CablePlotterGeometry {
-  double anchor_distance_mm = 0.0;
-  // Added to each cable's geometric length to give the joint reading: where the cable's zero
-  // (the limit-switch position of the homing procedure) really is.
-  double left_cable_offset_mm = 0.0;
-  double right_cable_offset_mm = 0.0;
-};
 
 class CablePlotterKinematics final : public Kinematics {
  public:
@@ -42,14 +39,33 @@ class CablePlotterKinematics final : public Kinematics {
     return std::make_unique<CablePlotterKinematics>(*this);
   }
 
+  // Quasi-static balance at the pen position of `pose` while the effector accelerates
+  // (mm/s^2, x right, y up): tensions from m (g - a), the tilt for that effective gravity.
+  Status statics(const Pose& pose, const Eigen::Vector2d& acceleration_mm_per_s2,
+                 CableStatics& out) const;
+  // The tensions' [min, max] in N: tension_limits, else [0, inf) ("both cables pull").
+  double tension_min_N() const { return geometry_.tension_min_N; }
+  double tension_max_N() const { return geometry_.tension_max_N; }
+
+  // Inverse kinematics with or without the tension limits (forward kinematics iterates without:
+  // the limits say where the machine may go, not where its joints put the pen).
+  Status inverse_within(const Pose& pose, JointVector& joints, bool within_limits) const;
+
   const CablePlotterGeometry& geometry() const { return geometry_; }
   const PassThroughAxes& passthrough() const { return passthrough_; }
 
  private:
-  static void validate(const CablePlotterGeometry& geometry);
+  Status ideal_inverse(const Eigen::Vector2d& pen_mm, JointVector& joints) const;
+  Status ideal_forward(const JointVector& joints, Eigen::Vector2d& pen_mm) const;
+  Status straight_guess(const JointVector& joints, Eigen::Vector2d& pen_mm) const;
+  Status balance_at(const Eigen::Vector2d& pen_mm, CableBalance& balance, bool within_limits) const;
+
   CablePlotterGeometry geometry_;
   PassThroughAxes passthrough_;
 };
+
+// Throws std::invalid_argument naming the machine-file key at fault.
+void validate_cable_plotter_geometry(const CablePlotterGeometry& geometry);
 
 std::unique_ptr<Kinematics> make_cable_plotter_kinematics(const ModelConfig& config);
 

@@ -28,6 +28,8 @@ std::string_view status_name(StatusCode code) {
       return "invalid input (NaN or infinite)";
     case StatusCode::outside_envelope:
       return "outside the work envelope";
+    case StatusCode::tension:
+      return "tension";
   }
   return "unknown";
 }

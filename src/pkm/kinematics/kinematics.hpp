@@ -30,6 +30,7 @@ enum class StatusCode {
   other_assembly,    // the pose needs another assembly mode than the machine's (home's)
   invalid_input,     // NaN or infinite input
   outside_envelope,  // a coordinate passes the machine file's [cartesian] min or max
+  tension,           // a cable would go slack or pass its tension limit (joint: the cable)
 };
 
 struct Status {

@@ -25,7 +25,9 @@ class ModelConfig {
   virtual double length(std::string_view key) const = 0;
   virtual std::vector<double> length_list(std::string_view key) const = 0;
   virtual Eigen::Vector3d length_vector3(std::string_view key) const = 0;
-  virtual std::vector<Eigen::Vector3d> length_vector3_list(std::string_view key) const = 0;
+  // An array of points, each `dimension` lengths ([[x, y], ...] or [[x, y, z], ...]).
+  virtual std::vector<std::vector<double>> length_points(std::string_view key,
+                                                         std::size_t dimension) const = 0;
   // An array of 3 rows of 3 numbers.
   virtual Eigen::Matrix3d matrix3(std::string_view key) const = 0;
   virtual bool boolean(std::string_view key) const = 0;
@@ -62,6 +64,17 @@ class ModelConfig {
   }
   bool boolean_or(std::string_view key, bool fallback) const {
     return has(key) ? boolean(key) : fallback;
+  }
+  std::vector<Eigen::Vector3d> length_vector3_list(std::string_view key) const {
+    std::vector<Eigen::Vector3d> points;
+    for (const std::vector<double>& p : length_points(key, 3))
+      points.emplace_back(p[0], p[1], p[2]);
+    return points;
+  }
+  std::vector<Eigen::Vector2d> length_vector2_list(std::string_view key) const {
+    std::vector<Eigen::Vector2d> points;
+    for (const std::vector<double>& p : length_points(key, 2)) points.emplace_back(p[0], p[1]);
+    return points;
   }
 };
 

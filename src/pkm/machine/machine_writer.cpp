@@ -79,6 +79,36 @@ class Writer {
   std::ostringstream out_;
 };
 
+void write_cable_plotter(Writer& w, const CablePlotterGeometry& g) {
+  const auto pair = [&](const std::string& key, const std::array<Eigen::Vector2d, 2>& points) {
+    const double per_mm = w.per_mm();
+    w.line(key + " = [[" + toml_number(points[0].x() * per_mm) + ", " +
+           toml_number(points[0].y() * per_mm) + "], [" + toml_number(points[1].x() * per_mm) +
+           ", " + toml_number(points[1].y() * per_mm) + "]]");
+  };
+  if (g.anchors_mm[0].isZero() && g.anchors_mm[1].y() == 0.0) {
+    w.length("anchor_distance", g.anchors_mm[1].x());
+  } else {
+    pair("anchors", g.anchors_mm);
+  }
+  if (g.pulley_radius_mm != 0.0) w.length("pulley_radius", g.pulley_radius_mm);
+  w.lengths("cable_offsets", g.cable_offsets_mm.data(), 2);
+  if (!g.attach_mm[0].isZero() || !g.attach_mm[1].isZero()) pair("effector_attach", g.attach_mm);
+  if (g.effector_mass_kg != 0.0) w.value("effector_mass", g.effector_mass_kg);
+  if (!g.center_of_mass_mm.isZero()) {
+    const double com[2] = {g.center_of_mass_mm.x(), g.center_of_mass_mm.y()};
+    w.lengths("center_of_mass", com, 2);
+  }
+  if (g.tension_limited) {
+    w.line("tension_limits = [" + toml_number(g.tension_min_N) + ", " +
+           toml_number(g.tension_max_N) + "]");
+  }
+  if (g.cable_density_kg_per_m != 0.0) w.value("cable_density", g.cable_density_kg_per_m);
+  if (g.cable_stretch_mm_per_m_per_N != 0.0) {
+    w.value("cable_stiffness", 1000.0 / g.cable_stretch_mm_per_m_per_N);
+  }
+}
+
 std::string axis_list(Dof dof) {
   std::string text = "[";
   for (int axis = 0, n = 0; axis < kPoseSize; ++axis) {
@@ -113,10 +143,7 @@ std::string kinematics_toml(const Kinematics& kinematics, LengthUnit units) {
     const PassThroughAxes passthrough(matrix->passthrough_axes(), Dof::translation());
     if (passthrough.count() > 0) w.line(passthrough.toml_line());
   } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&kinematics)) {
-    const CablePlotterGeometry& g = plotter->geometry();
-    w.length("anchor_distance", g.anchor_distance_mm);
-    const double offsets[2] = {g.left_cable_offset_mm, g.right_cable_offset_mm};
-    w.lengths("cable_offsets", offsets, 2);
+    write_cable_plotter(w, plotter->geometry());
     if (plotter->passthrough().count() > 0) w.line(plotter->passthrough().toml_line());
   } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&kinematics)) {
     const bool orientation = glide->rail_dof().any_rotation();

@@ -223,14 +223,19 @@ Eigen::Vector3d TomlSection::length_vector3(std::string_view key) const {
   return {values[0], values[1], values[2]};
 }
 
-std::vector<Eigen::Vector3d> TomlSection::length_vector3_list(std::string_view key) const {
-  std::vector<Eigen::Vector3d> points;
+std::vector<std::vector<double>> TomlSection::length_points(std::string_view key,
+                                                            std::size_t dimension) const {
+  const std::string shape = dimension == 2 ? "[x, y]" : "[x, y, z]";
+  std::vector<std::vector<double>> points;
   for (const toml::node& element : require_array(key)) {
     const toml::array* point = element.as_array();
-    if (point == nullptr || point->size() != 3) fail(key, "each point needs 3 numbers [x, y, z]");
-    Eigen::Vector3d value;
-    for (int k = 0; k < 3; ++k) value[k] = to_length(finite_number(*point->get(k), key), key);
-    points.push_back(value);
+    if (point == nullptr || point->size() != dimension) {
+      fail(key, "each point needs " + std::to_string(dimension) + " numbers " + shape);
+    }
+    std::vector<double>& value = points.emplace_back(dimension);
+    for (std::size_t k = 0; k < dimension; ++k) {
+      value[k] = to_length(finite_number(*point->get(k), key), key);
+    }
   }
   return points;
 }

@@ -49,7 +49,8 @@ class TomlSection final : public ModelConfig {
   double length(std::string_view key) const override;
   std::vector<double> length_list(std::string_view key) const override;
   Eigen::Vector3d length_vector3(std::string_view key) const override;
-  std::vector<Eigen::Vector3d> length_vector3_list(std::string_view key) const override;
+  std::vector<std::vector<double>> length_points(std::string_view key,
+                                                 std::size_t dimension) const override;
   Eigen::Matrix3d matrix3(std::string_view key) const override;
   bool boolean(std::string_view key) const override;
   std::string string(std::string_view key) const override;

@@ -43,21 +43,31 @@ void add(HessianBounds& bounds, double norm, double along) {
 
 // A cable (or leg) of length l = |p - a|: Hessian (I - n n^T) / l, norm 1 / l; along v,
 // |v|^2 sin^2 / l = |v|^2 h^2 / l^3 with h the anchor's distance from the line through p along v.
-HessianBounds cable_plotter_bounds(const CablePlotterKinematics& model, const Vector6d& centre,
-                                   double radius_mm, const Chord& chord) {
+// Over a pulley of radius r the reading is r phi + s with s the straight span: its gradient is
+// still the cable's unit direction u (the tangent point moves along u), so its Hessian is
+// (I - u u^T) / s, and u is within asin(r / |p - a|) of the direction from the pulley's centre.
+// Models whose cables sag, stretch or tilt the effector have no such bound here.
+std::optional<HessianBounds> cable_plotter_bounds(const CablePlotterKinematics& model,
+                                                  const Vector6d& centre, double radius_mm,
+                                                  const Chord& chord) {
+  const CablePlotterGeometry& g = model.geometry();
+  const bool rigid = g.attach_mm[0].isZero() && g.attach_mm[1].isZero() &&
+                     g.cable_density_kg_per_m == 0.0 && g.cable_stretch_mm_per_m_per_N == 0.0;
+  if (!rigid) return std::nullopt;
   const Eigen::Vector2d p(centre[0], centre[1]);
-  const double d = model.geometry().anchor_distance_mm;
+  const double r = g.pulley_radius_mm;
   HessianBounds bounds;
-  for (const Eigen::Vector2d& anchor : {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(d, 0.0)}) {
+  for (const Eigen::Vector2d& anchor : g.anchors_mm) {
     const double nearest = (p - anchor).norm() - radius_mm;
     const Eigen::Vector2d v = chord.position.head<2>();
     const double across =
         v.norm() > 0.0
             ? std::abs(v.x() * (p - anchor).y() - v.y() * (p - anchor).x()) / v.norm() + radius_mm
             : 0.0;
-    if (nearest > 0.0) {
-      add(bounds, 1.0 / nearest,
-          v.squaredNorm() / nearest * std::min(1.0, across * across / (nearest * nearest)));
+    if (nearest > r) {
+      const double span = std::sqrt(nearest * nearest - r * r);
+      const double sine = std::min(1.0, (across + r) / nearest);
+      add(bounds, 1.0 / span, v.squaredNorm() / span * sine * sine);
     } else {
       add(bounds, INFINITY, INFINITY);
     }

@@ -36,10 +36,23 @@ std::vector<std::pair<char, std::string>> mach3_formulas(const Machine& machine)
   std::vector<std::string> expressions;
   if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&kinematics)) {
     const CablePlotterGeometry& g = plotter->geometry();
-    std::string left = "sqrt((x^2) + (y^2))";
-    std::string right = "sqrt(((" + number(g.anchor_distance_mm) + " - x)^2) + (y^2))";
-    if (g.left_cable_offset_mm != 0.0) left += " + " + number(g.left_cable_offset_mm);
-    if (g.right_cable_offset_mm != 0.0) right += " + " + number(g.right_cable_offset_mm);
+    if (!g.ideal()) {
+      throw std::invalid_argument(
+          "a cable plotter with pulleys, a tilting effector, tension limits or sagging or "
+          "stretching cables has no formula: its joints come from a balance of forces");
+    }
+    // sqrt(((x0 - x)^2) + ((y0 - y)^2)): the cable from each anchor.
+    const auto from = [](double anchor, const char* axis) {
+      return anchor == 0.0 ? std::string(axis) : "(" + number(anchor) + " - " + axis + ")";
+    };
+    const auto cable = [&](int side) {
+      const Eigen::Vector2d& anchor = g.anchors_mm[side];
+      std::string text =
+          "sqrt((" + from(anchor.x(), "x") + "^2) + (" + from(anchor.y(), "y") + "^2))";
+      if (g.cable_offsets_mm[side] != 0.0) text += " + " + number(g.cable_offsets_mm[side]);
+      return text;
+    };
+    const std::string left = cable(0), right = cable(1);
     expressions = {left, right};
   } else if (const auto* matrix = dynamic_cast<const MatrixKinematics*>(&kinematics)) {
     static constexpr const char* kAxes[] = {"x", "y", "z"};
