@@ -78,5 +78,6 @@ void register_verify_commands(CLI::App& app);
 // Adds `linuxcnc` to the `export` command (register_post_commands first).
 void register_linuxcnc_commands(CLI::App& app);
 void register_linuxcnc_import_commands(CLI::App& app);
+void register_home_commands(CLI::App& app);
 
 }  // namespace pkm::app

@@ -25,27 +25,6 @@ struct PostCommandOptions {
   std::vector<double> origin;
 };
 
-// Text for inside a G-code comment: parentheses would end or nest it.
-std::string comment_safe(std::string text) {
-  for (char& c : text) {
-    if (c == '(') c = '[';
-    if (c == ')') c = ']';
-  }
-  return text;
-}
-
-// A comment line of at most `width` characters (0: any): `text` cut at its start, where a path
-// or a name says least, marked by "...".
-std::string comment_line(const std::string& before, std::string text, const std::string& after,
-                         std::size_t width) {
-  text = comment_safe(text);
-  const std::size_t room = before.size() + after.size() + 2;
-  if (width > 0 && room + text.size() > width) {
-    text = width > room + 3 ? "..." + text.substr(text.size() - (width - room - 3)) : "";
-  }
-  return "(" + before + text + after + ")\n";
-}
-
 // The header is written first with room for the numbers known only at the end, then rewritten
 // in place: the numbers line keeps its width (79 characters, within grbl's 80).
 std::string header(const Machine& machine, const PostCommandOptions& options,
@@ -56,8 +35,9 @@ std::string header(const Machine& machine, const PostCommandOptions& options,
                 options.tolerance_mm,
                 report && !report->bounded ? "sampled deviation" : "bounded deviation",
                 report ? report->max_deviation_mm : 0.0, report ? report->blocks : 0L);
-  return comment_line("joint-space program by pkmkit for ", machine.name(), "", width) +
-         comment_line("from ", options.program, ", dialect " + options.dialect, width) + numbers;
+  return post::comment_line("joint-space program by pkmkit for ", machine.name(), "", width) +
+         post::comment_line("from ", options.program, ", dialect " + options.dialect, width) +
+         numbers;
 }
 
 void run_post(const PostCommandOptions& options) {

@@ -636,6 +636,9 @@ bool Interpreter::State::is_event_line(std::string_view line) {
 
 void Interpreter::State::execute_line(std::string_view line) {
   Block& block = block_;
+  // #5420..#5428: the current position in the active coordinate system, offsets included, in
+  // program units, as LinuxCNC gives them to a line that reads them (pkm home's programs do).
+  for (int axis = 0; axis < kAxes; ++axis) parameters.set_numbered(5420 + axis, pos[axis]);
   try {
     read_block(line, parameters, block);
   } catch (const SyntaxError& error) {

@@ -41,6 +41,7 @@ Machine::Machine(const Machine& other)
       cartesian_(other.cartesian_),
       home_(other.home_),
       tool_(other.tool_),
+      homing_(other.homing_),
       home_assembly_mode_(other.home_assembly_mode_),
       checks_envelope_(other.checks_envelope_) {}
 
@@ -182,6 +183,7 @@ JointSpec read_joint(const ModelConfig& table, JointKind kind, double mm_per_uni
   joint.max_velocity = ranged(table, "max_velocity", kMinRate, kMaxVelocity, unit + "/s") * scale;
   joint.max_acceleration =
       ranged(table, "max_acceleration", kMinRate, kMaxAcceleration, unit + "/s^2") * scale;
+  joint.home_switch = read_home_switch(table, joint, scale);
   return joint;
 }
 
@@ -367,6 +369,15 @@ std::vector<std::string> read_joint_names(const std::vector<std::unique_ptr<Mode
   return joint_names;
 }
 
+// Which joints follow a pose coordinate (a pen's Z) rather than move the mechanism.
+std::vector<bool> passthrough_joints(const Kinematics& kinematics) {
+  std::vector<bool> passthrough;
+  for (int i = 0; i < kinematics.joint_count(); ++i) {
+    passthrough.push_back(kinematics.passthrough_axis(i) >= 0);
+  }
+  return passthrough;
+}
+
 }  // namespace
 
 Machine parse_machine(std::string_view toml_text, const std::string& source_name) {
@@ -400,16 +411,27 @@ Machine parse_machine(std::string_view toml_text, const std::string& source_name
 
   ToolChannel tool;
   if (root.has("tool")) tool = read_tool(root.section("tool"), *kinematics);
+  std::optional<TomlSection> homing_section;
+  std::optional<HomingTable> homing;
+  if (root.has("homing")) {
+    homing_section.emplace(root.section("homing"));
+    homing =
+        read_homing_table(*homing_section, joints, passthrough_joints(*kinematics), mm_per_unit);
+  }
 
   tracker->check_all_read();
   Machine machine(name, source_name, mm_per_unit == 1.0 ? LengthUnit::mm : LengthUnit::inch,
                   std::move(kinematics), std::move(joints), cartesian, home);
   machine.set_tool(std::move(tool));
+  machine.set_homing(std::move(homing));
   JointVector home_joints;
   const Status home_status = machine.inverse(home, home_joints);
   if (!home_status.ok()) {
     cartesian_section.fail("home", "is not a usable pose: " + machine.explain(home, home_status));
   }
+  // The procedure's checks need the whole machine: joints known after their switch stay within
+  // their limits.
+  if (homing_section) homing_moves(machine, &*homing_section);
   return machine;
 }
 

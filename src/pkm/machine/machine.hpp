@@ -1,5 +1,6 @@
-// A machine: its kinematics, its joints with their limits and axis letters, its Cartesian limits
-// (feed, acceleration, work envelope) and home pose; explanations of the poses it cannot take, in
+// A machine: its kinematics, its joints with their limits, axis letters and home switches, its
+// Cartesian limits (feed, acceleration, work envelope), home pose and homing procedure;
+// explanations of the poses it cannot take, in
 // the machine file's units; the machine file's parser.
 #pragma once
 
@@ -7,11 +8,13 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "pkm/kinematics/kinematics.hpp"
+#include "pkm/machine/homing.hpp"
 #include "pkm/machine/machine_file_error.hpp"
 
 namespace pkm {
@@ -27,7 +30,8 @@ struct JointSpec {
   double max = 0.0;
   double max_velocity = 0.0;
   double max_acceleration = 0.0;
-  char axis_letter = 'X';  // letter of this joint in joint-space G-code
+  char axis_letter = 'X';                 // letter of this joint in joint-space G-code
+  std::optional<HomeSwitch> home_switch;  // where its switch trips, if it has one
 
   // Joint values cross the interfaces (files, joint-space G-code, command line) in mm or deg.
   double to_interface(double internal_value) const {
@@ -91,6 +95,9 @@ class Machine {
   const Pose& home() const { return home_; }
   const ToolChannel& tool() const { return tool_; }
   void set_tool(ToolChannel tool) { tool_ = std::move(tool); }
+  // The [homing] table, if the file has one (homing.hpp).
+  const std::optional<HomingTable>& homing() const { return homing_; }
+  void set_homing(std::optional<HomingTable> homing) { homing_ = std::move(homing); }
 
   // The work envelope, IK (finite joints only), the assembly mode of home, then the joint limits.
   Status inverse(const Pose& pose, JointVector& joints) const;
@@ -141,6 +148,7 @@ class Machine {
   CartesianLimits cartesian_;
   Pose home_;
   ToolChannel tool_;
+  std::optional<HomingTable> homing_;
   int home_assembly_mode_ = 0;
   bool checks_envelope_ = false;  // cartesian_.has_envelope(), asked once, not per sample
 };

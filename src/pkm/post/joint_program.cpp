@@ -292,12 +292,8 @@ class Poster {
       line = "G93 " + line;
       inverse_time_ = true;
     }
-    char number[48];
     for (int i = 0; i < q1.size(); ++i) {
-      const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
-      std::snprintf(number, sizeof number, " %c%.*f", joint.axis_letter, rules_.decimals,
-                    joint.to_interface(q1[i]));
-      line += number;
+      line += joint_word(machine_.joints()[static_cast<std::size_t>(i)], q1[i], rules_);
     }
     if (!segment.rapid) {
       // Inverse time: the block takes the programmed path's length at the programmed feed, or
@@ -338,6 +334,32 @@ constexpr Dialect kDialects[] = {Dialect::linuxcnc, Dialect::mach3, Dialect::grb
                                  Dialect::grblhal};
 
 }  // namespace
+
+std::string joint_word(const JointSpec& joint, double value, const DialectRules& rules) {
+  char word[48];
+  std::snprintf(word, sizeof word, " %c%.*f", joint.axis_letter, rules.decimals,
+                joint.to_interface(value));
+  return word;
+}
+
+std::string comment_safe(std::string text) {
+  for (char& c : text) {
+    if (c == '(') c = '[';
+    if (c == ')') c = ']';
+    if (static_cast<unsigned char>(c) < 0x20) c = ' ';  // a line break would end the comment
+  }
+  return text;
+}
+
+std::string comment_line(const std::string& before, std::string text, const std::string& after,
+                         std::size_t width) {
+  text = comment_safe(text);
+  const std::size_t room = before.size() + after.size() + 2;
+  if (width > 0 && room + text.size() > width) {
+    text = width > room + 3 ? "..." + text.substr(text.size() - (width - room - 3)) : "";
+  }
+  return "(" + before + text + after + ")\n";
+}
 
 DialectRules rules_of(Dialect dialect) {
   switch (dialect) {

@@ -30,6 +30,17 @@ std::string_view dialect_name(Dialect dialect);
 // The dialect of a name (linuxcnc, mach3, grbl, grblhal); throws std::invalid_argument.
 Dialect dialect_named(std::string_view name);
 
+// " X123.45678": a joint's axis word for `value` (mm or rad inside), written in mm or deg with
+// the dialect's decimals.
+std::string joint_word(const JointSpec& joint, double value, const DialectRules& rules);
+
+// Text for inside a G-code comment: parentheses would end or nest it, a line break end it.
+std::string comment_safe(std::string text);
+// A comment line "(before text after)\n" of at most `width` characters (0: any): `text` cut at
+// its start, where a path or a name says least, marked by "...".
+std::string comment_line(const std::string& before, std::string text, const std::string& after,
+                         std::size_t width);
+
 // Throws std::invalid_argument, naming the letters and the dialects that take them, when the
 // machine's joints use axis letters the dialect does not accept or more joints than it has axes.
 void check_axis_letters(const Machine& machine, Dialect dialect);
