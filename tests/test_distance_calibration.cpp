@@ -333,6 +333,73 @@ TEST(DistanceCalibration, HiddenCableMachinePredictsUnseenPointsWithinOneMillime
   EXPECT_GT(run.report.rms_before_mm, 2.0);
 }
 
+// A cable plotter whose both anchors are parameters (a formula machine: the straight-cable
+// model with anchors anywhere): moving or turning both anchors together moves the whole drawing,
+// which distances cannot see. The fit holds three parameters for it and names them, and still
+// predicts where the hidden machine draws.
+Machine formula_plotter() {
+  return parse_machine(R"(name = "formula plotter"
+[kinematics]
+type = "formula"
+axes = ["x", "y"]
+[kinematics.constants]
+xl = 0.0
+yl = 0.0
+xr = 1500.0
+yr = 0.0
+ol = 0.0
+or = 0.0
+[kinematics.formulas]
+left = "sqrt((x - xl)^2 + (y - yl)^2) + ol"
+right = "sqrt((x - xr)^2 + (y - yr)^2) + or"
+[[joints]]
+name = "left"
+min = 150.0
+max = 2100.0
+max_velocity = 150.0
+max_acceleration = 1000.0
+[[joints]]
+name = "right"
+min = 150.0
+max = 2100.0
+max_velocity = 150.0
+max_acceleration = 1000.0
+[cartesian]
+max_feed = 6000.0
+max_acceleration = 800.0
+home = [750.0, -700.0]
+)",
+                       "formula-plotter.toml");
+}
+
+TEST(DistanceCalibration, AnchorsMovingTogetherAreARigidMotionHeldAndNamed) {
+  const Machine machine = formula_plotter();
+  PatternOptions options;
+  options.sheet_mm = {{0.0, -1900.0, 1500.0, -150.0}};  // below the anchors: the formulas allow
+                                                        // any side, a hanging plotter not
+  const CalibrationPattern pattern = design_pattern(machine, options);
+  const DistanceIdentification identified = identify_from_distances(
+      machine.kinematics(), machine.home(), pattern.marks, all_pairs(pattern.marks), {});
+  EXPECT_EQ(identified.held_rigid_motion, (std::vector<std::string>{"xl", "yl", "yr"}));
+  EXPECT_EQ(identified.identified, (std::vector<std::string>{"ol", "or", "xr"}));
+  EXPECT_TRUE(identified.indistinguishable.empty());
+
+  const std::unique_ptr<Kinematics> truth =
+      moved(machine.kinematics(),
+            {{"xl", -4.0}, {"yl", 3.0}, {"xr", 7.0}, {"yr", -5.0}, {"ol", 6.0}, {"or", -4.0}});
+  std::mt19937_64 rng(7);
+  const auto distances = measured(*truth, machine.kinematics(), machine.home(), pattern.marks,
+                                  every_pair(12), 0.5, rng);
+  std::unique_ptr<Kinematics> fitted = machine.kinematics().clone();
+  const FitReport report =
+      fit_distances(*fitted, machine.home(), pattern.marks, distances, FitOptions{});
+  EXPECT_EQ(report.held_rigid_motion, (std::vector<std::string>{"xl", "yl", "yr"}));
+  EXPECT_EQ(report.held, (std::vector<std::string>{"xl", "yl", "yr"}));
+  const auto points = unseen_points(machine, pattern);
+  EXPECT_GT(prediction_error(*truth, machine.kinematics(), machine, points), 5.0);
+  EXPECT_LE(prediction_error(*truth, *fitted, machine, points), 1.0);
+}
+
 // The table of docs/calibration.md: how well the fitted wall plotter predicts unseen points for
 // 6, 9, 12 and 16 marks, every pair measured or each mark to its 3 nearest, over 5 tapes' noise.
 TEST(DistanceCalibration, AccuracyByMarksAndPairs) {

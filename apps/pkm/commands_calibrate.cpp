@@ -1,5 +1,6 @@
 // pkm calibrate matrix, pkm calibrate fit (measured poses, or distances between drawn marks),
 // pkm calibrate pattern.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -251,6 +252,11 @@ void run_fit(const FitCommandOptions& options) {
   }
 }
 
+// A reach found by bisection ends a hair off zero: "-0.0" says nothing more than 0.
+double shown(double value_mm) {
+  return std::abs(value_mm) < 0.05 ? 0.0 : value_mm;
+}
+
 // pattern.ngc -> pattern.json beside it.
 std::string pattern_json_path(const std::string& gcode_path) {
   std::filesystem::path path(gcode_path);
@@ -301,8 +307,9 @@ void run_pattern(const PatternCommandOptions& options) {
     return;
   }
   std::printf("%zu marks (crosses of +-%.1f mm) over x %.1f..%.1f y %.1f..%.1f mm\n",
-              pattern.marks.size(), pattern.cross_size_mm, pattern.sheet_min_x_mm,
-              pattern.sheet_max_x_mm, pattern.sheet_min_y_mm, pattern.sheet_max_y_mm);
+              pattern.marks.size(), pattern.cross_size_mm, shown(pattern.sheet_min_x_mm),
+              shown(pattern.sheet_max_x_mm), shown(pattern.sheet_min_y_mm),
+              shown(pattern.sheet_max_y_mm));
   std::printf("all %zu distances between them identify: %s\n", pairs,
               identified.identified.empty() ? "nothing" : joined(identified.identified).c_str());
   if (!identified.held_rigid_motion.empty())

@@ -251,6 +251,15 @@ std::vector<Eigen::Vector2d> spread(const std::vector<Eigen::Vector2d>& candidat
   return chosen;
 }
 
+double closest_pair(const std::vector<Eigen::Vector2d>& points) {
+  double closest = std::numeric_limits<double>::infinity();
+  for (std::size_t a = 0; a < points.size(); ++a) {
+    for (std::size_t b = a + 1; b < points.size(); ++b)
+      closest = std::min(closest, (points[a] - points[b]).norm());
+  }
+  return closest;
+}
+
 std::string number(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.3f", value + 0.0);
@@ -366,6 +375,14 @@ CalibrationPattern design_pattern(const Machine& machine, const PatternOptions& 
   }
   std::vector<Eigen::Vector2d> chosen =
       spread(candidates, options.marks, Eigen::Vector2d(box.min[0], box.max[1]));
+  // A mark spans 4 sizes across (cross and number): closer than 5 they would run together.
+  const double closest = closest_pair(chosen);
+  if (closest < 5.0 * pattern.cross_size_mm) {
+    throw std::invalid_argument(
+        std::to_string(options.marks) + " marks of " + number(pattern.cross_size_mm) +
+        " mm would stand " + number(closest) + " mm apart and run together (at least " +
+        number(5.0 * pattern.cross_size_mm) + " mm): ask for fewer marks or smaller ones");
+  }
   // Numbered as read: top row first, left to right.
   std::sort(chosen.begin(), chosen.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     return a.y() != b.y() ? a.y() > b.y() : a.x() < b.x();

@@ -20,8 +20,10 @@ namespace {
 constexpr double kLargestDistance_mm = 1e6;
 // A parameter direction whose effect on the marks is rigid but for less than this share (by
 // size) only moves the whole drawing: distances see it through the pulleys' wrap or a sled's
-// tilt at best, far below a tape's resolution.
-constexpr double kRigidShare = 0.05;
+// tilt at best (a pulley of radius r on a frame of size L: about 0.1 r / L), far below a tape's
+// resolution. A genuine but weak direction shares more: about 5 % for the joint offsets of a
+// hanging plotter, which move the pen mostly up and down the sheet alike.
+constexpr double kRigidShare = 0.01;
 
 int mark_index(const std::string& text, const std::vector<PatternMark>& marks,
                const std::function<void(const std::string&)>& fail) {
@@ -220,12 +222,15 @@ std::vector<std::string> rigid_motion_parameters(const DistanceResiduals& residu
   const Eigen::MatrixXd q =
       orthonormal.householderQ() * Eigen::MatrixXd::Identity(basis.rows(), basis.cols());
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> pivoted(q.transpose());
-  std::vector<std::string> held;
+  std::vector<int> held;
   for (Eigen::Index k = 0; k < q.cols(); ++k) {
     const int column = seen[static_cast<std::size_t>(pivoted.colsPermutation().indices()[k])];
-    held.push_back(parameters[requested[static_cast<std::size_t>(column)]].name);
+    held.push_back(requested[static_cast<std::size_t>(column)]);
   }
-  return held;
+  std::sort(held.begin(), held.end());  // in the model's order
+  std::vector<std::string> names;
+  for (const int index : held) names.push_back(parameters[index].name);
+  return names;
 }
 
 }  // namespace
