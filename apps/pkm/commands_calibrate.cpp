@@ -185,6 +185,7 @@ void print_fit_json(const FitReport& report, const std::string& output) {
                               {"parameters", parameters},
                               {"indistinguishable", report.indistinguishable},
                               {"held_rigid_motion", report.held_rigid_motion},
+                              {"no_effect", report.no_effect},
                               {"held", report.held},
                               {"converged", report.converged},
                               {"output", output}}
@@ -217,6 +218,11 @@ void print_fit_text(const FitReport& report, const std::string& output, bool dis
   }
   for (const auto& group : report.indistinguishable) {
     std::printf("the data cannot tell these apart: %s\n", joined(group).c_str());
+  }
+  if (!report.no_effect.empty()) {
+    std::printf(
+        "no effect on the data at the nominal geometry (or at the edge of their range): %s\n",
+        joined(report.no_effect).c_str());
   }
   if (!report.held.empty()) {
     std::printf("held at nominal (not identifiable from these measurements): %zu parameters\n",
@@ -299,7 +305,7 @@ void run_pattern(const PatternCommandOptions& options) {
                                 {"identified", identified.identified},
                                 {"held_rigid_motion", identified.held_rigid_motion},
                                 {"indistinguishable", identified.indistinguishable},
-                                {"unseen", identified.unseen},
+                                {"no_effect", identified.no_effect},
                                 {"gcode", options.output},
                                 {"pattern", json_path}}
                      .dump(2)
@@ -317,6 +323,9 @@ void run_pattern(const PatternCommandOptions& options) {
                 joined(identified.held_rigid_motion).c_str());
   for (const auto& group : identified.indistinguishable)
     std::printf("cannot be told apart: %s\n", joined(group).c_str());
+  if (!identified.no_effect.empty())
+    std::printf("no effect at the nominal geometry (or at the edge of their range): %s\n",
+                joined(identified.no_effect).c_str());
   std::printf("wrote %s and %s\n", options.output.c_str(), json_path.c_str());
 }
 

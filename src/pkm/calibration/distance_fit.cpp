@@ -172,7 +172,9 @@ Eigen::MatrixXd rigid_motions(const std::vector<Pose>& marks, Dof dof) {
 
 // The requested parameters to hold so that no free direction of parameter space only moves the
 // whole drawing: the directions whose motion of the marks is rigid but for less than
-// kRigidShare, and of each the parameter that carries most of it (column-pivoted QR).
+// kRigidShare, and for them the first parameters in the model's order that carry them (on a
+// hanging plotter the left anchor, where the drawing sits, and the right one's height, how it is
+// turned).
 std::vector<std::string> rigid_motion_parameters(const DistanceResiduals& residuals,
                                                  const Kinematics& kinematics,
                                                  const std::vector<int>& requested) {
@@ -221,13 +223,21 @@ std::vector<std::string> rigid_motion_parameters(const DistanceResiduals& residu
   const Eigen::HouseholderQR<Eigen::MatrixXd> orthonormal(basis);
   const Eigen::MatrixXd q =
       orthonormal.householderQ() * Eigen::MatrixXd::Identity(basis.rows(), basis.cols());
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> pivoted(q.transpose());
+  // In the model's order, hold each parameter that carries a rigid motion the ones held so far
+  // do not: its row of q (its share of each rigid direction), less what the held rows span.
   std::vector<int> held;
-  for (Eigen::Index k = 0; k < q.cols(); ++k) {
-    const int column = seen[static_cast<std::size_t>(pivoted.colsPermutation().indices()[k])];
-    held.push_back(requested[static_cast<std::size_t>(column)]);
+  Eigen::MatrixXd held_rows(0, q.cols());
+  const double largest_row = q.rowwise().norm().maxCoeff();
+  for (Eigen::Index r = 0; r < q.rows() && held_rows.rows() < q.cols(); ++r) {
+    Eigen::RowVectorXd row = q.row(r);
+    if (row.norm() < 0.1 * largest_row) continue;
+    for (Eigen::Index h = 0; h < held_rows.rows(); ++h)
+      row -= row.dot(held_rows.row(h)) * held_rows.row(h);
+    if (row.norm() < 0.5 * q.row(r).norm()) continue;
+    held_rows.conservativeResize(held_rows.rows() + 1, Eigen::NoChange);
+    held_rows.row(held_rows.rows() - 1) = row.normalized();
+    held.push_back(requested[static_cast<std::size_t>(seen[static_cast<std::size_t>(r)])]);
   }
-  std::sort(held.begin(), held.end());  // in the model's order
   std::vector<std::string> names;
   for (const int index : held) names.push_back(parameters[index].name);
   return names;
@@ -324,10 +334,8 @@ DistanceIdentification identify_from_distances(const Kinematics& kinematics, con
   const Identification identified = identify_at_nominal(
       kinematics, residuals, requested, result.held_rigid_motion, options.rank_tolerance);
   result.indistinguishable = identified.indistinguishable;
-  for (const int index : identified.candidates) {
-    const bool free = std::binary_search(identified.free.begin(), identified.free.end(), index);
-    (free ? result.identified : result.unseen).push_back(parameters[index].name);
-  }
+  result.no_effect = identified.no_effect;
+  for (const int index : identified.free) result.identified.push_back(parameters[index].name);
   return result;
 }
 

@@ -42,8 +42,7 @@ struct DistanceIdentification {
   std::vector<std::string> identified;
   std::vector<std::string> held_rigid_motion;  // they only move the whole drawing
   std::vector<std::vector<std::string>> indistinguishable;
-  std::vector<std::string> unseen;  // requested, neither identified nor rigid (no effect, or
-                                    // the lesser part of an indistinguishable group)
+  std::vector<std::string> no_effect;  // FitReport::no_effect
 };
 DistanceIdentification identify_from_distances(const Kinematics& kinematics, const Pose& home,
                                                const std::vector<PatternMark>& marks,

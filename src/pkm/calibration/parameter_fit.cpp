@@ -31,16 +31,44 @@ bool matches(const std::string& pattern, const std::string& name) {
   return row[name.size()];
 }
 
-// Ceres sees only the free parameters; the others stay at their nominal values.
-struct FreeParameterCost {
-  const ParameterResiduals* residuals;
-  std::vector<int> free;
-  std::vector<double> nominal;
-  bool operator()(double const* const* parameters, double* out) const {
-    std::vector<double> full = nominal;
-    for (std::size_t i = 0; i < free.size(); ++i) full[free[i]] = parameters[0][i];
-    return residuals->evaluate(full, out);
+// Ceres sees only the free parameters; the others stay at their nominal values. The Jacobian is
+// differenced here rather than by Ceres so that a parameter the fit drives to the edge of its
+// range (a pulley radius towards 0) is differenced on its one valid side instead of ending the
+// solve.
+class FreeParameterCost final : public ceres::CostFunction {
+ public:
+  FreeParameterCost(const ParameterResiduals& residuals, std::vector<int> free,
+                    std::vector<double> nominal)
+      : residuals_(residuals), free_(std::move(free)), nominal_(std::move(nominal)) {
+    set_num_residuals(residuals.count());
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(free_.size()));
   }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const auto of_free = [&](std::span<const double> values, double* out) {
+      std::vector<double> full = nominal_;
+      for (std::size_t i = 0; i < free_.size(); ++i) full[free_[i]] = values[i];
+      return residuals_.evaluate(full, out);
+    };
+    const std::vector<double> values(parameters[0], parameters[0] + free_.size());
+    if (!of_free(values, residuals)) return false;
+    if (jacobians == nullptr || jacobians[0] == nullptr) return true;
+    std::vector<int> all(free_.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+    Eigen::MatrixXd jacobian;
+    if (!parameter_jacobian(of_free, residuals_.count(), values, all, jacobian,
+                            Differencing::one_sided_at_edges))
+      return false;
+    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        jacobians[0], jacobian.rows(), jacobian.cols()) = jacobian;
+    return true;
+  }
+
+ private:
+  const ParameterResiduals& residuals_;
+  std::vector<int> free_;
+  std::vector<double> nominal_;
 };
 
 struct Solution {
@@ -56,11 +84,7 @@ Solution solve(const ParameterResiduals& residuals, const std::vector<double>& n
   std::vector<double> values(free.size());
   for (std::size_t i = 0; i < free.size(); ++i) values[i] = nominal[free[i]];
   ceres::Problem problem;
-  auto* cost = new ceres::DynamicNumericDiffCostFunction<FreeParameterCost, ceres::CENTRAL>(
-      new FreeParameterCost{&residuals, free, nominal});
-  cost->AddParameterBlock(static_cast<int>(free.size()));
-  cost->SetNumResiduals(residuals.count());
-  problem.AddResidualBlock(cost, nullptr, values.data());
+  problem.AddResidualBlock(new FreeParameterCost(residuals, free, nominal), nullptr, values.data());
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::DENSE_QR;
   solver.max_num_iterations = 200;
@@ -131,7 +155,8 @@ std::vector<int> requested_parameters(const Kinematics& kinematics,
 }
 
 bool parameter_jacobian(const VectorFunction& function, int rows, const std::vector<double>& at,
-                        const std::vector<int>& columns, Eigen::MatrixXd& result) {
+                        const std::vector<int>& columns, Eigen::MatrixXd& result,
+                        Differencing differencing) {
   result.setZero(rows, static_cast<Eigen::Index>(columns.size()));
   std::vector<double> centre(rows), plus(rows), minus(rows);
   if (!function(at, centre.data())) return false;
@@ -145,11 +170,18 @@ bool parameter_jacobian(const VectorFunction& function, int rows, const std::vec
     const bool down = function(shifted, minus.data());
     shifted[index] = at[index];
     // A parameter that cannot move both ways from here (a pulley radius or a mass of 0, a
-    // cable's attachment point on an effector given no mass) gets a zero column: the fit holds
-    // it (give a nominal value inside its range to fit it).
-    if (!up || !down) continue;
-    for (int r = 0; r < rows; ++r) {
-      result(r, static_cast<Eigen::Index>(c)) = (plus[r] - minus[r]) / (2.0 * step);
+    // cable's attachment point on an effector given no mass) gets a zero column where the
+    // identification asks: the fit holds it (give a nominal value inside its range to fit it).
+    // The solver differences it on its valid side.
+    if (up && down) {
+      for (int r = 0; r < rows; ++r)
+        result(r, static_cast<Eigen::Index>(c)) = (plus[r] - minus[r]) / (2.0 * step);
+    } else if (differencing == Differencing::one_sided_at_edges && (up || down)) {
+      const std::vector<double>& side = up ? plus : minus;
+      for (int r = 0; r < rows; ++r)
+        result(r, static_cast<Eigen::Index>(c)) = (up ? 1.0 : -1.0) * (side[r] - centre[r]) / step;
+    } else if (differencing == Differencing::one_sided_at_edges) {
+      return false;
     }
   }
   return true;
@@ -184,15 +216,26 @@ Identification identify_parameters(const Eigen::MatrixXd& jacobian,
     result.free.push_back(candidates[column]);
   }
   std::sort(result.free.begin(), result.free.end());
-  if (rank < static_cast<Eigen::Index>(candidates.size())) {
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(normalised, Eigen::ComputeFullV);
+  std::vector<Eigen::Index> seen;
+  for (Eigen::Index c = 0; c < normalised.cols(); ++c) {
+    if (column_norms[c] > 0.0)
+      seen.push_back(c);
+    else
+      result.no_effect.push_back(parameters[candidates[c]].name);
+  }
+  if (rank < static_cast<Eigen::Index>(seen.size()) && !seen.empty()) {
+    Eigen::MatrixXd acting(normalised.rows(), static_cast<Eigen::Index>(seen.size()));
+    for (std::size_t c = 0; c < seen.size(); ++c)
+      acting.col(static_cast<Eigen::Index>(c)) = normalised.col(seen[c]);
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(acting, Eigen::ComputeFullV);
     const Eigen::VectorXd& singular = svd.singularValues();
     for (Eigen::Index k = 0; k < svd.matrixV().cols(); ++k) {
       // Columns past the row count have no singular value: null directions too.
       if (k < singular.size() && singular[k] > rank_tolerance * singular[0]) continue;
       std::vector<std::string> group;
       for (Eigen::Index c = 0; c < svd.matrixV().rows(); ++c) {
-        if (std::abs(svd.matrixV()(c, k)) > 0.1) group.push_back(parameters[candidates[c]].name);
+        if (std::abs(svd.matrixV()(c, k)) > 0.1)
+          group.push_back(parameters[candidates[seen[static_cast<std::size_t>(c)]]].name);
       }
       if (!group.empty()) result.indistinguishable.push_back(group);
     }
@@ -248,6 +291,7 @@ FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& resid
                                                         held_rigid_motion, options.rank_tolerance);
   const std::vector<int>& free = identified.free;
   report.indistinguishable = identified.indistinguishable;
+  report.no_effect = identified.no_effect;
   report.held_rigid_motion = held_rigid_motion;
   const auto is_free = [&](int index) {
     return std::binary_search(free.begin(), free.end(), index);

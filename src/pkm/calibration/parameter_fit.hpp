@@ -47,6 +47,10 @@ struct FitReport {
   // Groups of parameters the data cannot tell apart, each a direction of parameter space the
   // residuals do not see; the fit holds enough of them at their nominal values.
   std::vector<std::vector<std::string>> indistinguishable;
+  // Parameters that do not act on the data at the nominal geometry at all (a matrix mill's z
+  // column measured at z = 0), or cannot move both ways from their nominal value (a pulley
+  // radius or an effector mass of 0): held.
+  std::vector<std::string> no_effect;
   // Parameters held because together they only move the whole drawing (a rigid motion), which
   // distances between marks cannot see. Empty for pose fits.
   std::vector<std::string> held_rigid_motion;
@@ -81,20 +85,26 @@ std::vector<int> requested_parameters(const Kinematics& kinematics,
                                       const std::vector<std::string>& patterns);
 
 // Central-difference Jacobian of `function` (`rows` values) at `at` over the parameters
-// `columns`; a zero column for a parameter that cannot move both ways (an impossible geometry
-// on one side: a length at 0). False when `function` fails at `at` itself.
+// `columns`. A parameter that cannot move both ways (an impossible geometry on one side: a
+// length at 0) gets a zero column (identification: it is held), or is differenced on its valid
+// side (the solver, at a parameter it drove to the edge of its range). False when `function`
+// fails at `at` itself, or on both sides of a parameter with one_sided_at_edges.
 using VectorFunction = std::function<bool(std::span<const double>, double*)>;
+enum class Differencing { zero_at_edges, one_sided_at_edges };
 bool parameter_jacobian(const VectorFunction& function, int rows, const std::vector<double>& at,
-                        const std::vector<int>& columns, Eigen::MatrixXd& result);
+                        const std::vector<int>& columns, Eigen::MatrixXd& result,
+                        Differencing differencing = Differencing::zero_at_edges);
 
 struct Identification {
   std::vector<int> candidates;  // parameter indices the identification looked at
   std::vector<int> free;        // those it identifies, sorted
   std::vector<std::vector<std::string>> indistinguishable;
+  std::vector<std::string> no_effect;  // zero columns (FitReport::no_effect)
 };
 // Which of `candidates` (parameter indices; `jacobian` has one column per candidate) the data
 // identifies: column-pivoted QR of the column-normalised Jacobian keeps the best-conditioned
-// set; the SVD's null directions name the groups it cannot tell apart.
+// set; the SVD's null directions name the groups it cannot tell apart. A parameter whose column
+// is zero (at rounding level) is named in `no_effect`, not in a group.
 Identification identify_parameters(const Eigen::MatrixXd& jacobian,
                                    const std::vector<int>& candidates,
                                    const std::vector<Parameter>& parameters, double rank_tolerance);
