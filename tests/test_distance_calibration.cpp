@@ -150,6 +150,77 @@ TEST(PatternStrokes, TenDigitsLookDifferent) {
   }
 }
 
+// A wall plotter with a 0.5 kg gondola tied 30 mm either side of the pen and tension limits of
+// 2..30 N: the marks go only where both cables pull within the limits.
+Machine gondola_wall_plotter() {
+  std::ifstream file(test::example_machine_path("wall-plotter.toml"));
+  std::stringstream text;
+  text << file.rdbuf();
+  std::string toml = text.str();
+  const std::string key = "anchor_distance = 1500.0\n";
+  toml.replace(toml.find(key), key.size(),
+               key +
+                   "pulley_radius = 10.0\neffector_mass = 0.5\n"
+                   "effector_attach = [[-30.0, 20.0], [30.0, 20.0]]\n"
+                   "center_of_mass = [0.0, -10.0]\ntension_limits = [2.0, 30.0]\n");
+  return parse_machine(toml, "gondola-wall-plotter.toml");
+}
+
+TEST(CalibrationPattern, EveryStrokeReachableWithinTensionLimitsAndMarksApart) {
+  for (const Machine& machine : {test::load_example("wall-plotter.toml"), gondola_wall_plotter()}) {
+    PatternOptions options;
+    options.marks = 16;
+    const CalibrationPattern pattern = design_pattern(machine, options);
+    ASSERT_EQ(pattern.marks.size(), 16u);
+    EXPECT_EQ(pattern.cross_size_mm, 10.0);  // 1/80 of ~1950 mm, clamped to 10
+    for (std::size_t a = 0; a < pattern.marks.size(); ++a) {
+      EXPECT_EQ(pattern.marks[a].id, static_cast<int>(a) + 1);
+      for (const auto& stroke : mark_strokes(pattern.marks[a], pattern.cross_size_mm)) {
+        for (const Eigen::Vector2d& point : stroke) {
+          Pose pose = machine.home();
+          pose.position_mm.head<2>() = point;
+          JointVector joints;
+          const Status status = machine.inverse(pose, joints);
+          EXPECT_TRUE(status.ok()) << machine.explain(pose, status);
+        }
+      }
+      for (std::size_t b = a + 1; b < pattern.marks.size(); ++b) {
+        EXPECT_GE((pattern.marks[a].position_mm - pattern.marks[b].position_mm).norm(), 50.0);
+      }
+    }
+    // Numbered as read: rows from the top, left to right within a row.
+    for (std::size_t k = 1; k < pattern.marks.size(); ++k) {
+      const Eigen::Vector2d& before = pattern.marks[k - 1].position_mm;
+      const Eigen::Vector2d& after = pattern.marks[k].position_mm;
+      EXPECT_TRUE(before.y() > after.y() || (before.y() == after.y() && before.x() < after.x()));
+    }
+    EXPECT_NO_THROW(pattern_gcode(machine, pattern));
+  }
+  // The tension limits keep the gondola's marks off the top and the sides, where a cable pulls
+  // too hard or goes slack: the same point is refused with its own status.
+  const Machine gondola = gondola_wall_plotter();
+  Pose corner = gondola.home();
+  corner.position_mm.head<2>() = Eigen::Vector2d(60.0, -235.0);
+  JointVector joints;
+  EXPECT_EQ(gondola.inverse(corner, joints).code, StatusCode::tension);
+}
+
+TEST(CalibrationPattern, GcodeDrawsEveryStrokeWithThePenDown) {
+  const Machine machine = test::load_example("pen-plotter.toml");  // [tool] down_below = 0
+  CalibrationPattern pattern;
+  pattern.marks = {{7, {750.0, -700.0}, {}}};
+  pattern.cross_size_mm = 10.0;
+  EXPECT_EQ(pattern_gcode(machine, pattern),
+            "(pkm calibrate pattern: 1 numbered crosses for tape-measure calibration of Wall "
+            "plotter 1500, servo pen)\n(measure between the crosses' centres: "
+            "docs/calibration.md)\nG21 G90\nG0 Z5.000\nF3000.000\n"
+            "(mark 7 at x 750.000 y -700.000)\n"
+            "G0 X740.000 Y-700.000\nG1 Z-1.000\nG1 X760.000 Y-700.000\nG0 Z5.000\n"
+            "G0 X750.000 Y-710.000\nG1 Z-1.000\nG1 X750.000 Y-690.000\nG0 Z5.000\n"
+            "G0 X754.000 Y-686.000\nG1 Z-1.000\nG1 X759.000 Y-686.000\nG1 X759.000 Y-696.000\n"
+            "G0 Z5.000\nM2\n");
+}
+
 // --- Synthetic calibrations ------------------------------------------------------------------
 
 // The nominal geometry with the named parameters moved by the given amounts (names the model does
