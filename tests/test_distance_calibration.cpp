@@ -385,14 +385,14 @@ struct CalibrationRun {
 
 CalibrationRun calibrate_synthetic(const Machine& machine, const CalibrationPattern& pattern,
                                    const std::vector<std::pair<int, int>>& pairs,
-                                   std::uint64_t seed) {
+                                   std::uint64_t seed, const FitOptions& options = {}) {
   const std::unique_ptr<Kinematics> truth = moved(machine.kinematics(), kHiddenGeometry);
   std::mt19937_64 rng(seed);
   const std::vector<MarkDistance> distances =
       measured(*truth, machine.kinematics(), machine.home(), pattern.marks, pairs, 0.5, rng);
   std::unique_ptr<Kinematics> fitted = machine.kinematics().clone();
   CalibrationRun run;
-  run.report = fit_distances(*fitted, machine.home(), pattern.marks, distances, FitOptions{});
+  run.report = fit_distances(*fitted, machine.home(), pattern.marks, distances, options);
   const std::vector<Eigen::Vector2d> points = unseen_points(machine, pattern);
   run.before_mm = prediction_error(*truth, machine.kinematics(), machine, points);
   run.after_mm = prediction_error(*truth, *fitted, machine, points);
@@ -502,6 +502,30 @@ TEST(DistanceCalibration, AnchorsMovingTogetherAreARigidMotionHeldAndNamed) {
   const auto points = unseen_points(machine, pattern);
   EXPECT_GT(prediction_error(*truth, machine.kinematics(), machine, points), 5.0);
   EXPECT_LE(prediction_error(*truth, *fitted, machine, points), 1.0);
+}
+
+// The Maslow frame of the examples (a 9 kg sled tied 155 mm either side of the bit, a chain of
+// 0.15 kg/m on sprockets) on its 8 x 4 ft sheet, with the same hidden anchors, sprocket radius
+// and offsets.
+TEST(DistanceCalibration, MaslowSledOnItsSheet) {
+  const Machine machine = test::load_example("maslow-frame.toml");
+  PatternOptions options;
+  options.sheet_mm = {{270.0, -1682.2, 2708.4, -463.0}};
+  const CalibrationPattern pattern = design_pattern(machine, options);
+  for (const char* params : {"", "anchor_*,pulley_radius,cable_offset_*"}) {
+    FitOptions fit;
+    if (*params) fit.parameters = {"anchor_*", "pulley_radius", "cable_offset_*"};
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+      const CalibrationRun run = calibrate_synthetic(machine, pattern, every_pair(12), seed, fit);
+      std::printf("%s seed %d: before %.3f after %.3f mm, rms %.3f\n", params,
+                  static_cast<int>(seed), run.before_mm, run.after_mm, run.report.rms_after_mm);
+      EXPECT_GT(run.before_mm, 15.0);
+      EXPECT_LE(run.after_mm, *params ? 0.5 : 1.0);
+      // Only where the drawing sits is held: the sled's tilt shows how the frame is turned.
+      EXPECT_EQ(run.report.held_rigid_motion,
+                (std::vector<std::string>{"anchor_left_x", "anchor_left_y"}));
+    }
+  }
 }
 
 // The table of docs/calibration.md: how well the fitted wall plotter (on pulleys) predicts unseen
