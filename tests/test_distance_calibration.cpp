@@ -110,6 +110,21 @@ TEST(DistancesCsv, ErrorsNameLineAndColumn) {
             "d.csv:1:1: empty file: expected the header mark_a,mark_b,distance_mm");
 }
 
+TEST(DistanceFit, MarkOutsideTheModelsReachNamesItsPlaceInPatternJson) {
+  // Mark 2 above the anchors: no machine file the wall plotter loads could have drawn it.
+  const Machine machine = test::load_example("wall-plotter.toml");
+  const std::vector<PatternMark> marks = parse_pattern_json(
+      "{\"marks\": [\n {\"id\": 1, \"x\": 500, \"y\": -700},\n {\"id\": 2, \"x\": 500, "
+      "\"y\": 100},\n {\"id\": 3, \"x\": 900, \"y\": -900}]}",
+      "p.json");
+  std::unique_ptr<Kinematics> model = machine.kinematics().clone();
+  EXPECT_EQ(error_of([&] {
+              fit_distances(*model, machine.home(), marks, all_pairs(marks), FitOptions{});
+            }),
+            "p.json:3:2: mark 2 is outside the nominal model's reach (unreachable): the pattern "
+            "was drawn with another machine file?");
+}
+
 TEST(PatternStrokes, CrossAndDigitsByHand) {
   // Mark 10 at (100, -200), crosses of +-10 mm: the cross, then a '1' and a '0' of 5 x 10 mm,
   // the first 4 mm right of and above the centre, the next 8 mm further.
