@@ -209,7 +209,7 @@ TEST(CalibrationPattern, EveryStrokeReachableWithinTensionLimitsAndMarksApart) {
       const Eigen::Vector2d& after = pattern.marks[k].position_mm;
       EXPECT_TRUE(before.y() > after.y() || (before.y() == after.y() && before.x() < after.x()));
     }
-    EXPECT_NO_THROW(pattern_gcode(machine, pattern));
+    EXPECT_NO_THROW(pattern_gcode(machine, pattern, default_pen_heights(machine)));
   }
   // The tension limits keep the gondola's marks off the top and the sides, where a cable pulls
   // too hard or goes slack: the same point is refused with its own status.
@@ -225,7 +225,7 @@ TEST(CalibrationPattern, GcodeDrawsEveryStrokeWithThePenDown) {
   CalibrationPattern pattern;
   pattern.marks = {{7, {750.0, -700.0}, {}}};
   pattern.cross_size_mm = 10.0;
-  EXPECT_EQ(pattern_gcode(machine, pattern),
+  EXPECT_EQ(pattern_gcode(machine, pattern, default_pen_heights(machine)),
             "(pkm calibrate pattern: 1 numbered crosses for tape-measure calibration of Wall "
             "plotter 1500, servo pen)\n(measure between the crosses' centres: "
             "docs/calibration.md)\nG21 G90\nG0 Z5.000\nF3000.000\n"

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "app.hpp"
@@ -46,6 +47,7 @@ struct PatternCommandOptions {
   int marks = 12;
   double cross_size = 0.0;
   std::vector<double> sheet;
+  std::optional<double> down_z, up_z;
   bool json = false;
 };
 
@@ -288,7 +290,15 @@ void run_pattern(const PatternCommandOptions& options) {
   DistanceIdentification identified;
   try {
     pattern = design_pattern(machine, pattern_options);
-    program = pattern_gcode(machine, pattern);
+    PenHeights pen = default_pen_heights(machine);
+    if (options.down_z) pen = {*options.down_z, *options.down_z + 5.0};
+    if (options.up_z) pen.up_mm = *options.up_z;
+    try {
+      program = pattern_gcode(machine, pattern, pen);
+    } catch (const std::invalid_argument& error) {
+      throw CommandError(std::string(error.what()) +
+                         "; give the pen's heights with --down-z and --up-z (mm)");
+    }
     identified = identify_from_distances(machine.kinematics(), machine.home(), pattern.marks,
                                          all_pairs(pattern.marks), FitOptions{});
   } catch (const std::invalid_argument& error) {
@@ -402,6 +412,14 @@ void register_calibrate_commands(CLI::App& app) {
       ->add_option("--sheet", pattern->sheet,
                    "The sheet: x min, y min, x max, y max, mm (default: the reach)")
       ->expected(4)
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
+  pattern_command
+      ->add_option("--down-z", pattern->down_z,
+                   "Program Z with the pen down, mm (default: [tool] down_below - 1, or 0)")
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
+  pattern_command
+      ->add_option("--up-z", pattern->up_z,
+                   "Program Z with the pen up, mm (default: 5 above --down-z if given)")
       ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   pattern_command->add_flag("--json", pattern->json, "Print the report as JSON");
   pattern_command->callback([pattern] { run_pattern(*pattern); });

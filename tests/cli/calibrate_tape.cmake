@@ -45,3 +45,14 @@ pkm_cli_refuses(calibrate_pattern_too_many_marks "the machine reaches room for o
 pkm_cli_refuses(calibrate_pattern_marks_run_together
                 "300 marks of 15\\.000 mm would stand 60\\.000 mm apart and run together \\(at least 75\\.000 mm\\)"
                 calibrate pattern -m ${PLOTTER} -o ${CLI_OUT}/tape-many.ngc --marks 300 --cross-size 15)
+# A mill's Z stops at 0: the default pen-up height of 5 mm is refused with the joint at fault,
+# and the heights given with --down-z and --up-z are taken.
+pkm_cli_refuses(calibrate_pattern_pen_heights
+                "joint 'z' = 5\\.004 mm passes its max 0\\.000 mm. give the pen.s heights with --down-z and --up-z"
+                NO_FILE ${CLI_OUT}/tape-mill.ngc
+                calibrate pattern -m ${MACHINES}/matrix-mill.toml -o ${CLI_OUT}/tape-mill.ngc)
+add_test(NAME cli.calibrate_pattern_pen_heights_given
+         COMMAND ${PKM} calibrate pattern -m ${MACHINES}/matrix-mill.toml
+                 -o ${CLI_OUT}/tape-mill-given.ngc --down-z -2 --up-z -1)
+set_tests_properties(cli.calibrate_pattern_pen_heights_given PROPERTIES
+  PASS_REGULAR_EXPRESSION "12 marks.*wrote")

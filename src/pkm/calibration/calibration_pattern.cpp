@@ -411,13 +411,18 @@ std::vector<std::vector<Eigen::Vector2d>> mark_strokes(const PatternMark& mark,
   return strokes;
 }
 
-std::string pattern_gcode(const Machine& machine, const CalibrationPattern& pattern) {
-  const bool controls_z = machine.kinematics().dof().controls(2);
+PenHeights default_pen_heights(const Machine& machine) {
+  if (machine.kinematics().dof().controls(2)) {
+    const double home_z = machine.home().position_mm.z();
+    return {0.0, home_z > 0.0 ? home_z : 5.0};
+  }
   const double down_below = machine.tool().z == ToolZ::pen ? machine.tool().down_below_mm : 0.0;
-  const double down = controls_z ? 0.0 : down_below - 1.0;
-  const double up =
-      controls_z ? (machine.home().position_mm.z() > 0.0 ? machine.home().position_mm.z() : 5.0)
-                 : down_below + 5.0;
+  return {down_below - 1.0, down_below + 5.0};
+}
+
+std::string pattern_gcode(const Machine& machine, const CalibrationPattern& pattern,
+                          const PenHeights& pen) {
+  const double down = pen.down_mm, up = pen.up_mm;
   const double feed = 0.5 * machine.cartesian().max_feed_mm_per_min;
   const auto check = [&](const Eigen::Vector2d& point, double z) {
     Pose pose = machine.home();

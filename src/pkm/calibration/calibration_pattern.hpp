@@ -70,11 +70,21 @@ CalibrationPattern design_pattern(const Machine& machine, const PatternOptions& 
 std::vector<std::vector<Eigen::Vector2d>> mark_strokes(const PatternMark& mark,
                                                        double cross_size_mm);
 
+// The program's Z with the pen down and up (mm, machine coordinates). By default: on a machine
+// whose kinematics controls Z (a Maslow's router), down at 0 and up at home's Z (5 mm if home is
+// at or below 0); otherwise the [tool] table's down_below - 1 mm and + 5 mm (down_below 0
+// without the table, whose machine ignores Z).
+struct PenHeights {
+  double down_mm = -1.0;
+  double up_mm = 5.0;
+};
+PenHeights default_pen_heights(const Machine& machine);
+
 // Ordinary Cartesian G-code (G21 G90, machine coordinates, program zero at the machine's origin)
-// drawing every mark: G0 to each stroke's start with the pen up, G1 along it with the pen down.
-// The pen is the program's Z: down at the machine's [tool] down_below - 1 mm, up 5 mm above
-// that; on a machine whose kinematics controls Z, down at 0 and up at home's Z (5 mm if home is
-// at or below 0). Throws std::invalid_argument naming the first point the machine cannot reach.
-std::string pattern_gcode(const Machine& machine, const CalibrationPattern& pattern);
+// drawing every mark: G0 to each stroke's start with the pen up, G1 along it with the pen down,
+// at half the machine's max_feed. Throws std::invalid_argument naming the first point (at its
+// pen height) the machine cannot reach.
+std::string pattern_gcode(const Machine& machine, const CalibrationPattern& pattern,
+                          const PenHeights& pen);
 
 }  // namespace pkm
