@@ -19,10 +19,11 @@ namespace {
 
 constexpr double kLargestDistance_mm = 1e6;
 // A parameter direction whose effect on the marks is rigid but for less than this share (by
-// size) only moves the whole drawing: distances see it through the pulleys' wrap or a sled's
-// tilt at best (a pulley of radius r on a frame of size L: about 0.1 r / L), far below a tape's
-// resolution. A genuine but weak direction shares more: about 5 % for the joint offsets of a
-// hanging plotter, which move the pen mostly up and down the sheet alike.
+// size) only moves the whole drawing, far below a tape's resolution: turning a hanging
+// plotter's frame on pulleys is rigid but for 3e-7, moving a light gondola's attachment point
+// with its anchor but for 0.6 %.
+// A genuine but weak direction shares more: about 5 % for the joint offsets of a hanging
+// plotter, which move the pen mostly up and down the sheet alike.
 constexpr double kRigidShare = 0.01;
 
 int mark_index(const std::string& text, const std::vector<PatternMark>& marks,
