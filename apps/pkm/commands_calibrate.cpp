@@ -1,13 +1,19 @@
-// pkm calibrate matrix, pkm calibrate fit.
+// pkm calibrate matrix, pkm calibrate fit (measured poses, or distances between drawn marks),
+// pkm calibrate pattern.
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "app.hpp"
 #include "embedded_machine.hpp"
+#include "pkm/calibration/calibration_pattern.hpp"
+#include "pkm/calibration/distance_fit.hpp"
 #include "pkm/calibration/geometry_fit.hpp"
 #include "pkm/calibration/matrix_calibration.hpp"
 #include "pkm/io/atomic_file.hpp"
@@ -28,8 +34,20 @@ struct MatrixOptions {
 struct FitCommandOptions {
   std::string machine;
   std::string data;
+  std::string distances;
+  std::string pattern;
   std::string output;
   std::string params;
+  bool json = false;
+};
+
+struct PatternCommandOptions {
+  std::string machine;
+  std::string output;
+  int marks = 12;
+  double cross_size = 0.0;
+  std::vector<double> sheet;
+  std::optional<double> down_z, up_z;
   bool json = false;
 };
 
@@ -122,55 +140,68 @@ std::vector<std::string> split_names(const std::string& list) {
   return names;
 }
 
-void run_fit(const FitCommandOptions& options) {
-  refuse_overwriting_input(
-      options.output, {{"the machine file", options.machine}, {"the measurements", options.data}});
-  Machine machine = load_machine_or_default(options.machine);
-  std::vector<Measurement> measurements;
-  try {
-    measurements = read_measurements_csv(options.data, machine);
-  } catch (const MeasurementFileError& error) {
-    throw CommandError(error.what());
-  }
+std::string joined(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
+  return text;
+}
+
+// The fit of measured poses (DATA.csv) or of distances between drawn marks (--distances and
+// --pattern), whichever was given.
+FitReport fit_machine(const FitCommandOptions& options, Machine& machine) {
   FitOptions fit_options;
   fit_options.parameters = split_names(options.params);
-  FitReport report;
   try {
-    report = fit_geometry(machine.kinematics(), machine.home(), measurements, fit_options);
+    if (!options.data.empty()) {
+      const std::vector<Measurement> measurements = read_measurements_csv(options.data, machine);
+      return fit_geometry(machine.kinematics(), machine.home(), measurements, fit_options);
+    }
+    const std::vector<PatternMark> marks = read_pattern_json(options.pattern);
+    const std::vector<MarkDistance> distances = read_distances_csv(options.distances, marks);
+    return fit_distances(machine.kinematics(), machine.home(), marks, distances, fit_options);
+  } catch (const MeasurementFileError& error) {
+    throw CommandError(error.what());
+  } catch (const PatternFileError& error) {
+    throw CommandError(error.what());
   } catch (const FitError& error) {
     throw CommandError(error.what());
   }
-  write_machine(options.machine, machine, machine.kinematics(), options.output);
-  if (options.json) {
-    nlohmann::json parameters = nlohmann::json::array();
-    for (const ParameterEstimate& p : report.parameters) {
-      parameters.push_back({{"name", p.name},
-                            {"unit", p.unit},
-                            {"nominal", p.nominal},
-                            {"fitted", p.fitted},
-                            {"standard_deviation", p.standard_deviation},
-                            {"held", !p.free}});
-    }
-    std::cout << nlohmann::json{{"measurements", report.measurements},
-                                {"rms_before_mm", report.rms_before_mm},
-                                {"max_before_mm", report.max_before_mm},
-                                {"rms_after_mm", report.rms_after_mm},
-                                {"max_after_mm", report.max_after_mm},
-                                {"max_after_line", report.max_after_line},
-                                {"parameters", parameters},
-                                {"indistinguishable", report.indistinguishable},
-                                {"held", report.held},
-                                {"converged", report.converged},
-                                {"output", options.output}}
-                     .dump(2)
-              << "\n";
-    return;
+}
+
+void print_fit_json(const FitReport& report, const std::string& output) {
+  nlohmann::json parameters = nlohmann::json::array();
+  for (const ParameterEstimate& p : report.parameters) {
+    parameters.push_back({{"name", p.name},
+                          {"unit", p.unit},
+                          {"nominal", p.nominal},
+                          {"fitted", p.fitted},
+                          {"standard_deviation", p.standard_deviation},
+                          {"held", !p.free}});
   }
+  std::cout << nlohmann::json{{"measurements", report.measurements},
+                              {"rms_before_mm", report.rms_before_mm},
+                              {"max_before_mm", report.max_before_mm},
+                              {"rms_after_mm", report.rms_after_mm},
+                              {"max_after_mm", report.max_after_mm},
+                              {"max_after_line", report.max_after_line},
+                              {"parameters", parameters},
+                              {"indistinguishable", report.indistinguishable},
+                              {"held_rigid_motion", report.held_rigid_motion},
+                              {"no_effect", report.no_effect},
+                              {"held", report.held},
+                              {"converged", report.converged},
+                              {"output", output}}
+                   .dump(2)
+            << "\n";
+}
+
+void print_fit_text(const FitReport& report, const std::string& output, bool distances) {
   std::printf(
-      "%d measurements; residual (per measurement, mm): RMS %.6f max %.6f before, "
+      "%d %s; residual (per %s, mm): RMS %.6f max %.6f before, "
       "RMS %.6f max %.6f after (largest at line %d)\n",
-      report.measurements, report.rms_before_mm, report.max_before_mm, report.rms_after_mm,
-      report.max_after_mm, report.max_after_line);
+      report.measurements, distances ? "distances" : "measurements",
+      distances ? "distance" : "measurement", report.rms_before_mm, report.max_before_mm,
+      report.rms_after_mm, report.max_after_mm, report.max_after_line);
   std::printf("%-24s %16s %16s %12s\n", "parameter", "nominal", "fitted", "std dev");
   for (const ParameterEstimate& p : report.parameters) {
     if (p.free) {
@@ -181,17 +212,131 @@ void run_fit(const FitCommandOptions& options) {
                   p.unit.c_str());
     }
   }
+  if (!report.held_rigid_motion.empty()) {
+    std::printf(
+        "distances cannot see where the drawing sits or how it is turned: held %s (they "
+        "only move the whole drawing)\n",
+        joined(report.held_rigid_motion).c_str());
+  }
   for (const auto& group : report.indistinguishable) {
-    std::string names;
-    for (const std::string& name : group) names += (names.empty() ? "" : ", ") + name;
-    std::printf("the data cannot tell these apart: %s\n", names.c_str());
+    std::printf("the data cannot tell these apart: %s\n", joined(group).c_str());
+  }
+  if (!report.no_effect.empty()) {
+    std::printf(
+        "no effect on the data at the nominal geometry (or at the edge of their range): %s\n",
+        joined(report.no_effect).c_str());
   }
   if (!report.held.empty()) {
     std::printf("held at nominal (not identifiable from these measurements): %zu parameters\n",
                 report.held.size());
   }
   if (!report.converged) std::printf("warning: the solver did not converge\n");
-  std::printf("wrote %s\n", options.output.c_str());
+  std::printf("wrote %s\n", output.c_str());
+}
+
+void run_fit(const FitCommandOptions& options) {
+  const bool distances = !options.distances.empty() || !options.pattern.empty();
+  if (distances == !options.data.empty()) {
+    throw CommandError(
+        "give either the measured poses (DATA.csv) or --distances D.csv with --pattern "
+        "PATTERN.json");
+  }
+  if (distances && (options.distances.empty() || options.pattern.empty())) {
+    throw CommandError(
+        "--distances and --pattern go together: the distances name the marks of "
+        "the pattern");
+  }
+  refuse_overwriting_input(options.output, {{"the machine file", options.machine},
+                                            {"the measurements", options.data},
+                                            {"the distances", options.distances},
+                                            {"the pattern", options.pattern}});
+  Machine machine = load_machine_or_default(options.machine);
+  const FitReport report = fit_machine(options, machine);
+  write_machine(options.machine, machine, machine.kinematics(), options.output);
+  if (options.json) {
+    print_fit_json(report, options.output);
+  } else {
+    print_fit_text(report, options.output, distances);
+  }
+}
+
+// A reach found by bisection ends a hair off zero: "-0.0" says nothing more than 0.
+double shown(double value_mm) {
+  return std::abs(value_mm) < 0.05 ? 0.0 : value_mm;
+}
+
+// pattern.ngc -> pattern.json beside it.
+std::string pattern_json_path(const std::string& gcode_path) {
+  std::filesystem::path path(gcode_path);
+  if (path.extension() == ".json") {
+    throw CommandError("-o names the G-code program; pattern.json is written beside it");
+  }
+  return path.replace_extension(".json").string();
+}
+
+void run_pattern(const PatternCommandOptions& options) {
+  const Machine machine = load_machine_or_default(options.machine);
+  PatternOptions pattern_options;
+  pattern_options.marks = options.marks;
+  pattern_options.cross_size_mm = options.cross_size;
+  if (!options.sheet.empty())
+    pattern_options.sheet_mm = {options.sheet[0], options.sheet[1], options.sheet[2],
+                                options.sheet[3]};
+  const std::string json_path = pattern_json_path(options.output);
+  refuse_overwriting_input(options.output, {{"the machine file", options.machine}});
+  refuse_overwriting_input(json_path, {{"the machine file", options.machine}});
+  CalibrationPattern pattern;
+  std::string program;
+  DistanceIdentification identified;
+  try {
+    pattern = design_pattern(machine, pattern_options);
+    PenHeights pen = default_pen_heights(machine);
+    if (options.down_z) pen = {*options.down_z, *options.down_z + 5.0};
+    if (options.up_z) pen.up_mm = *options.up_z;
+    try {
+      program = pattern_gcode(machine, pattern, pen);
+    } catch (const std::invalid_argument& error) {
+      throw CommandError(std::string(error.what()) +
+                         "; give the pen's heights with --down-z and --up-z (mm)");
+    }
+    identified = identify_from_distances(machine.kinematics(), machine.home(), pattern.marks,
+                                         all_pairs(pattern.marks), FitOptions{});
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(error.what());
+  } catch (const FitError& error) {
+    throw CommandError(error.what());
+  }
+  write_file_atomically(options.output, program);
+  write_file_atomically(json_path, pattern_json_text(pattern.marks));
+  const std::size_t pairs = pattern.marks.size() * (pattern.marks.size() - 1) / 2;
+  if (options.json) {
+    std::cout << nlohmann::json{{"marks", pattern.marks.size()},
+                                {"cross_size_mm", pattern.cross_size_mm},
+                                {"identified", identified.identified},
+                                {"held_rigid_motion", identified.held_rigid_motion},
+                                {"indistinguishable", identified.indistinguishable},
+                                {"no_effect", identified.no_effect},
+                                {"gcode", options.output},
+                                {"pattern", json_path}}
+                     .dump(2)
+              << "\n";
+    return;
+  }
+  std::printf("%zu marks (crosses of +-%.1f mm) over x %.1f..%.1f y %.1f..%.1f mm\n",
+              pattern.marks.size(), pattern.cross_size_mm, shown(pattern.sheet_min_x_mm),
+              shown(pattern.sheet_max_x_mm), shown(pattern.sheet_min_y_mm),
+              shown(pattern.sheet_max_y_mm));
+  std::printf("all %zu distances between them identify: %s\n", pairs,
+              identified.identified.empty() ? "nothing" : joined(identified.identified).c_str());
+  if (!identified.held_rigid_motion.empty())
+    std::printf("not seen by distances (they only move the whole drawing): %s\n",
+                joined(identified.held_rigid_motion).c_str());
+  for (const auto& group : identified.indistinguishable)
+    std::printf("cannot be told apart: %s\n", joined(group).c_str());
+  if (!identified.no_effect.empty())
+    std::printf("no effect at the nominal geometry (or at the edge of their range): %s\n",
+                joined(identified.no_effect).c_str());
+  std::printf("wrote %s and %s\n", options.output.c_str(), json_path.c_str());
 }
 
 }  // namespace
@@ -238,14 +383,46 @@ void register_calibrate_commands(CLI::App& app) {
   CLI::App* fit_command = calibrate->add_subcommand(
       "fit", "Least-squares fit of the machine's geometry to measured poses");
   fit_command->add_option("-m,--machine", fit->machine, "Machine file (default: embedded hexapod)");
-  fit_command->add_option("data", fit->data, "CSV: j_<joint> columns and measured x y z [a b c]")
-      ->required();
+  fit_command->add_option("data", fit->data, "CSV: j_<joint> columns and measured x y z [a b c]");
+  fit_command->add_option("--distances", fit->distances,
+                          "CSV mark_a,mark_b,distance_mm: distances between drawn marks");
+  fit_command->add_option("--pattern", fit->pattern,
+                          "pattern.json of `pkm calibrate pattern` (with --distances)");
   fit_command->add_option("-o,--output", fit->output, "Corrected machine file to write")
       ->required();
   fit_command->add_option("--params", fit->params,
                           "Comma-separated parameter names to fit, '*' wildcards (default: all)");
   fit_command->add_flag("--json", fit->json, "Print the report as JSON");
   fit_command->callback([fit] { run_fit(*fit); });
+
+  auto pattern = std::make_shared<PatternCommandOptions>();
+  CLI::App* pattern_command = calibrate->add_subcommand(
+      "pattern", "G-code drawing numbered crosses to measure with a tape (and pattern.json)");
+  pattern_command->add_option("-m,--machine", pattern->machine,
+                              "Machine file (default: embedded hexapod)");
+  pattern_command->add_option("-o,--output", pattern->output, "G-code program to write")
+      ->required();
+  pattern_command->add_option("--marks", pattern->marks, "Number of marks (default 12)")
+      ->check(CLI::Range(3, 999));
+  pattern_command
+      ->add_option("--cross-size", pattern->cross_size,
+                   "Half the arm of a cross, mm (default: 1/80 of the sheet, 2..10 mm)")
+      ->check(number_in(0.01, 1000.0));
+  pattern_command
+      ->add_option("--sheet", pattern->sheet,
+                   "The sheet: x min, y min, x max, y max, mm (default: the reach)")
+      ->expected(4)
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
+  pattern_command
+      ->add_option("--down-z", pattern->down_z,
+                   "Program Z with the pen down, mm (default: [tool] down_below - 1, or 0)")
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
+  pattern_command
+      ->add_option("--up-z", pattern->up_z,
+                   "Program Z with the pen up, mm (default: 5 above --down-z if given)")
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
+  pattern_command->add_flag("--json", pattern->json, "Print the report as JSON");
+  pattern_command->callback([pattern] { run_pattern(*pattern); });
 }
 
 }  // namespace pkm::app

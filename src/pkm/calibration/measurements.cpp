@@ -14,13 +14,10 @@ namespace {
 // machine, and small enough that the fit's arithmetic on it cannot overflow.
 constexpr double kLargestValue = 1e6;
 
-struct Field {
-  std::string text;
-  int column = 1;  // 1-based character column where the field starts
-};
+}  // namespace
 
-std::vector<Field> split_csv_line(const std::string& line) {
-  std::vector<Field> fields;
+std::vector<CsvField> split_csv_line(const std::string& line) {
+  std::vector<CsvField> fields;
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = line.find(',', start);
@@ -37,7 +34,18 @@ std::vector<Field> split_csv_line(const std::string& line) {
   return fields;
 }
 
-}  // namespace
+bool csv_number(const std::string& text, double& value) {
+  const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
+  return !text.empty() && result.ec == std::errc() && result.ptr == text.data() + text.size();
+}
+
+std::string read_text_file(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw MeasurementFileError(path.string() + ":0:0: cannot open the file");
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
 
 std::vector<Measurement> parse_measurements_csv(const std::string& text,
                                                 const std::string& source_name,
@@ -57,7 +65,7 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
   if (line_number == 0 || line.find_first_not_of(" \t\r") == std::string::npos) {
     fail(1, 1, "empty file: expected a header row such as j_left,j_right,x,y");
   }
-  const std::vector<Field> header = split_csv_line(line);
+  const std::vector<CsvField> header = split_csv_line(line);
   const int joint_count = static_cast<int>(machine.joints().size());
   std::vector<int> joint_of_column(header.size(), -1);
   std::vector<int> axis_of_column(header.size(), -1);
@@ -105,7 +113,7 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
   while (std::getline(in, line)) {
     ++line_number;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const std::vector<Field> fields = split_csv_line(line);
+    const std::vector<CsvField> fields = split_csv_line(line);
     if (fields.size() != header.size()) {
       fail(line_number, 1,
            "has " + std::to_string(fields.size()) + " fields; the header has " +
@@ -119,8 +127,7 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
       if (joint_of_column[c] < 0 && axis_of_column[c] < 0) continue;
       double value = 0.0;
       const std::string& field = fields[c].text;
-      const auto result = std::from_chars(field.data(), field.data() + field.size(), value);
-      if (field.empty() || result.ec != std::errc() || result.ptr != field.data() + field.size()) {
+      if (!csv_number(field, value)) {
         fail(line_number, fields[c].column, "'" + field + "' is not a number");
       }
       if (!std::isfinite(value)) fail(line_number, fields[c].column, "must be finite");
@@ -144,11 +151,7 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
 
 std::vector<Measurement> read_measurements_csv(const std::filesystem::path& path,
                                                const Machine& machine) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw MeasurementFileError(path.string() + ":0:0: cannot open the file");
-  std::ostringstream text;
-  text << file.rdbuf();
-  return parse_measurements_csv(text.str(), path.string(), machine);
+  return parse_measurements_csv(read_text_file(path), path.string(), machine);
 }
 
 }  // namespace pkm

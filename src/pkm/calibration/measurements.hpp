@@ -23,6 +23,17 @@ class MeasurementFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// One field of a CSV line: its text, trimmed of blanks, and the 1-based column where it starts.
+struct CsvField {
+  std::string text;
+  int column = 1;
+};
+std::vector<CsvField> split_csv_line(const std::string& line);
+// The whole of `text` as a number (from_chars: no blanks, no '+'); false otherwise.
+bool csv_number(const std::string& text, double& value);
+// A measurement file's text; MeasurementFileError "path:0:0: cannot open the file".
+std::string read_text_file(const std::filesystem::path& path);
+
 // Reads a CSV with a header row: one column per joint named `j_` + its name (mm, deg for rotary
 // joints) and the measured pose coordinates `x y z` (mm) and `a b c` (deg), any subset of those
 // the machine controls. Columns `t` and `line` (as in plan output) are ignored; any other column

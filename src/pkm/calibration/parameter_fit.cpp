@@ -1,0 +1,334 @@
+#include "pkm/calibration/parameter_fit.hpp"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+
+namespace pkm {
+
+namespace {
+
+bool matches(const std::string& pattern, const std::string& name) {
+  // Glob with '*' only, by dynamic programming over the two strings.
+  std::vector<bool> row(name.size() + 1, false);
+  row[0] = true;
+  for (const char p : pattern) {
+    std::vector<bool> next(name.size() + 1, false);
+    if (p == '*') {
+      bool any = false;
+      for (std::size_t i = 0; i <= name.size(); ++i) {
+        any = any || row[i];
+        next[i] = any;
+      }
+    } else {
+      for (std::size_t i = 1; i <= name.size(); ++i) next[i] = row[i - 1] && name[i - 1] == p;
+    }
+    row = std::move(next);
+  }
+  return row[name.size()];
+}
+
+// Ceres sees only the free parameters; the others stay at their nominal values. The Jacobian is
+// differenced here rather than by Ceres so that a parameter the fit drives to the edge of its
+// range (a pulley radius towards 0) is differenced on its one valid side instead of ending the
+// solve.
+class FreeParameterCost final : public ceres::CostFunction {
+ public:
+  FreeParameterCost(const ParameterResiduals& residuals, std::vector<int> free,
+                    std::vector<double> nominal)
+      : residuals_(residuals), free_(std::move(free)), nominal_(std::move(nominal)) {
+    set_num_residuals(residuals.count());
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(free_.size()));
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const auto of_free = [&](std::span<const double> values, double* out) {
+      std::vector<double> full = nominal_;
+      for (std::size_t i = 0; i < free_.size(); ++i) full[free_[i]] = values[i];
+      return residuals_.evaluate(full, out);
+    };
+    const std::vector<double> values(parameters[0], parameters[0] + free_.size());
+    if (!of_free(values, residuals)) return false;
+    if (jacobians == nullptr || jacobians[0] == nullptr) return true;
+    std::vector<int> all(free_.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+    Eigen::MatrixXd jacobian;
+    if (!parameter_jacobian(of_free, residuals_.count(), values, all, jacobian,
+                            Differencing::one_sided_at_edges))
+      return false;
+    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        jacobians[0], jacobian.rows(), jacobian.cols()) = jacobian;
+    return true;
+  }
+
+ private:
+  const ParameterResiduals& residuals_;
+  std::vector<int> free_;
+  std::vector<double> nominal_;
+};
+
+struct Solution {
+  std::vector<double> fitted;
+  bool converged = true;
+  int iterations = 0;
+};
+
+Solution solve(const ParameterResiduals& residuals, const std::vector<double>& nominal,
+               const std::vector<int>& free) {
+  Solution solution{nominal};
+  if (free.empty()) return solution;
+  std::vector<double> values(free.size());
+  for (std::size_t i = 0; i < free.size(); ++i) values[i] = nominal[free[i]];
+  ceres::Problem problem;
+  problem.AddResidualBlock(new FreeParameterCost(residuals, free, nominal), nullptr, values.data());
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = 200;
+  solver.function_tolerance = 1e-15;
+  solver.gradient_tolerance = 1e-15;
+  solver.parameter_tolerance = 1e-14;
+  solver.logging_type = ceres::SILENT;
+  solver.minimizer_progress_to_stdout = false;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+  solution.converged = summary.IsSolutionUsable();
+  solution.iterations = static_cast<int>(summary.iterations.size());
+  for (std::size_t i = 0; i < free.size(); ++i) solution.fitted[free[i]] = values[i];
+  return solution;
+}
+
+// Standard deviations of the free parameters (full-vector order, 0 for held ones) from the
+// Jacobian at the solution: sigma^2 (J^T J)^-1, sigma^2 estimated from the residuals.
+std::vector<double> standard_deviations(const ParameterResiduals& residuals,
+                                        const std::vector<double>& fitted,
+                                        const std::vector<int>& free,
+                                        const std::vector<double>& after) {
+  std::vector<double> deviation(fitted.size(), 0.0);
+  Eigen::MatrixXd jacobian;
+  const auto function = [&](std::span<const double> p, double* out) {
+    return residuals.evaluate(p, out);
+  };
+  if (free.empty() || !parameter_jacobian(function, residuals.count(), fitted, free, jacobian)) {
+    return deviation;
+  }
+  double sum_of_squares = 0.0;
+  for (const double r : after) sum_of_squares += r * r;
+  const double variance =
+      sum_of_squares / static_cast<double>(residuals.count() - static_cast<int>(free.size()));
+  const Eigen::MatrixXd normal = jacobian.transpose() * jacobian;
+  const Eigen::MatrixXd covariance =
+      variance * normal.completeOrthogonalDecomposition().pseudoInverse();
+  for (std::size_t i = 0; i < free.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    deviation[free[i]] = std::sqrt(std::max(0.0, covariance(k, k)));
+  }
+  return deviation;
+}
+
+}  // namespace
+
+std::vector<int> requested_parameters(const Kinematics& kinematics,
+                                      const std::vector<std::string>& patterns) {
+  const std::vector<Parameter> parameters = kinematics.parameters();
+  for (const std::string& pattern : patterns) {
+    bool used = false;
+    for (const Parameter& p : parameters) used = used || matches(pattern, p.name);
+    if (!used) {
+      std::string names;
+      for (const Parameter& p : parameters) names += (names.empty() ? "" : ", ") + p.name;
+      throw FitError("'" + pattern + "' names no parameter of this " +
+                     std::string(kinematics.type()) + " model (its parameters: " + names + ")");
+    }
+  }
+  std::vector<int> requested;
+  for (int i = 0; i < static_cast<int>(parameters.size()); ++i) {
+    bool wanted = patterns.empty();
+    for (const std::string& pattern : patterns)
+      wanted = wanted || matches(pattern, parameters[i].name);
+    if (wanted) requested.push_back(i);
+  }
+  return requested;
+}
+
+bool parameter_jacobian(const VectorFunction& function, int rows, const std::vector<double>& at,
+                        const std::vector<int>& columns, Eigen::MatrixXd& result,
+                        Differencing differencing) {
+  result.setZero(rows, static_cast<Eigen::Index>(columns.size()));
+  std::vector<double> centre(rows), plus(rows), minus(rows);
+  if (!function(at, centre.data())) return false;
+  std::vector<double> shifted = at;
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    const int index = columns[c];
+    const double step = 1e-6 * std::max(1.0, std::abs(at[index]));
+    shifted[index] = at[index] + step;
+    const bool up = function(shifted, plus.data());
+    shifted[index] = at[index] - step;
+    const bool down = function(shifted, minus.data());
+    shifted[index] = at[index];
+    // A parameter that cannot move both ways from here (a pulley radius or a mass of 0, a
+    // cable's attachment point on an effector given no mass) gets a zero column where the
+    // identification asks: the fit holds it (give a nominal value inside its range to fit it).
+    // The solver differences it on its valid side.
+    if (up && down) {
+      for (int r = 0; r < rows; ++r)
+        result(r, static_cast<Eigen::Index>(c)) = (plus[r] - minus[r]) / (2.0 * step);
+    } else if (differencing == Differencing::one_sided_at_edges && (up || down)) {
+      const std::vector<double>& side = up ? plus : minus;
+      for (int r = 0; r < rows; ++r)
+        result(r, static_cast<Eigen::Index>(c)) = (up ? 1.0 : -1.0) * (side[r] - centre[r]) / step;
+    } else if (differencing == Differencing::one_sided_at_edges) {
+      return false;
+    }
+  }
+  return true;
+}
+
+Identification identify_parameters(const Eigen::MatrixXd& jacobian,
+                                   const std::vector<int>& candidates,
+                                   const std::vector<Parameter>& parameters,
+                                   double rank_tolerance) {
+  Identification result;
+  result.candidates = candidates;
+  Eigen::VectorXd column_norms = jacobian.colwise().norm();
+  const double largest_norm = column_norms.size() ? column_norms.maxCoeff() : 0.0;
+  // A parameter whose effect is at rounding level is not seen by the data at all; normalising
+  // its column would blow that rounding noise up into a direction of its own.
+  const double unseen = 1e-9 * largest_norm;
+  Eigen::MatrixXd normalised = jacobian;
+  for (Eigen::Index c = 0; c < jacobian.cols(); ++c) {
+    if (column_norms[c] > unseen) {
+      normalised.col(c) /= column_norms[c];
+    } else {
+      normalised.col(c).setZero();
+      column_norms[c] = 0.0;
+    }
+  }
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(normalised);
+  qr.setThreshold(rank_tolerance);
+  const Eigen::Index rank = qr.rank();
+  for (Eigen::Index k = 0; k < rank; ++k) {
+    const int column = qr.colsPermutation().indices()[k];
+    if (column_norms[column] == 0.0) continue;
+    result.free.push_back(candidates[column]);
+  }
+  std::sort(result.free.begin(), result.free.end());
+  std::vector<Eigen::Index> seen;
+  for (Eigen::Index c = 0; c < normalised.cols(); ++c) {
+    if (column_norms[c] > 0.0)
+      seen.push_back(c);
+    else
+      result.no_effect.push_back(parameters[candidates[c]].name);
+  }
+  if (rank < static_cast<Eigen::Index>(seen.size()) && !seen.empty()) {
+    Eigen::MatrixXd acting(normalised.rows(), static_cast<Eigen::Index>(seen.size()));
+    for (std::size_t c = 0; c < seen.size(); ++c)
+      acting.col(static_cast<Eigen::Index>(c)) = normalised.col(seen[c]);
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(acting, Eigen::ComputeFullV);
+    const Eigen::VectorXd& singular = svd.singularValues();
+    for (Eigen::Index k = 0; k < svd.matrixV().cols(); ++k) {
+      // Columns past the row count have no singular value: null directions too.
+      if (k < singular.size() && singular[k] > rank_tolerance * singular[0]) continue;
+      std::vector<std::string> group;
+      for (Eigen::Index c = 0; c < svd.matrixV().rows(); ++c) {
+        if (std::abs(svd.matrixV()(c, k)) > 0.1)
+          group.push_back(parameters[candidates[seen[static_cast<std::size_t>(c)]]].name);
+      }
+      if (!group.empty()) result.indistinguishable.push_back(group);
+    }
+  }
+  return result;
+}
+
+Identification identify_at_nominal(const Kinematics& kinematics,
+                                   const ParameterResiduals& residuals,
+                                   const std::vector<int>& requested,
+                                   const std::vector<std::string>& held, double rank_tolerance) {
+  const std::vector<Parameter> parameters = kinematics.parameters();
+  std::vector<double> nominal;
+  for (const Parameter& p : parameters) nominal.push_back(p.value);
+  std::vector<int> candidates;
+  for (const int index : requested) {
+    if (std::find(held.begin(), held.end(), parameters[index].name) == held.end())
+      candidates.push_back(index);
+  }
+  Eigen::MatrixXd jacobian;
+  const auto function = [&](std::span<const double> p, double* out) {
+    return residuals.evaluate(p, out);
+  };
+  if (!parameter_jacobian(function, residuals.count(), nominal, candidates, jacobian)) {
+    throw FitError("the model fails with the nominal geometry: " +
+                   residuals.nominal_failure_hint());
+  }
+  return identify_parameters(jacobian, candidates, parameters, rank_tolerance);
+}
+
+FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& residuals,
+                         const std::vector<int>& requested,
+                         const std::vector<std::string>& held_rigid_motion,
+                         const FitOptions& options) {
+  const std::vector<Parameter> parameters = kinematics.parameters();
+  std::vector<double> nominal;
+  for (const Parameter& p : parameters) nominal.push_back(p.value);
+  FitReport report;
+  std::vector<double> before(residuals.count());
+  if (!residuals.evaluate(nominal, before.data())) {
+    throw FitError("the model fails with the nominal geometry: " +
+                   residuals.nominal_failure_hint());
+  }
+  int line = 0;
+  residuals.summarise(before, report.rms_before_mm, report.max_before_mm, line);
+  if (!std::isfinite(report.rms_before_mm)) {
+    throw FitError(
+        "the residuals with the nominal geometry are not finite: a measurement is "
+        "far outside this machine");
+  }
+
+  const Identification identified = identify_at_nominal(kinematics, residuals, requested,
+                                                        held_rigid_motion, options.rank_tolerance);
+  const std::vector<int>& free = identified.free;
+  report.indistinguishable = identified.indistinguishable;
+  report.no_effect = identified.no_effect;
+  report.held_rigid_motion = held_rigid_motion;
+  const auto is_free = [&](int index) {
+    return std::binary_search(free.begin(), free.end(), index);
+  };
+  for (const int index : requested) {
+    if (!is_free(index)) report.held.push_back(parameters[index].name);
+  }
+  if (residuals.count() <= static_cast<int>(free.size())) {
+    throw FitError(std::to_string(residuals.count()) + " measured values cannot fit " +
+                   std::to_string(free.size()) +
+                   " parameters: measure more, or fit fewer with --params");
+  }
+
+  const Solution solution = solve(residuals, nominal, free);
+  report.converged = solution.converged;
+  report.iterations = solution.iterations;
+  const std::vector<double>& fitted = solution.fitted;
+  std::vector<double> after(residuals.count());
+  if (!residuals.evaluate(fitted, after.data())) {
+    throw FitError("the fitted geometry fails for a measurement: nothing written");
+  }
+  residuals.summarise(after, report.rms_after_mm, report.max_after_mm, report.max_after_line);
+  const std::vector<double> deviation = standard_deviations(residuals, fitted, free, after);
+  const bool finite =
+      std::isfinite(report.rms_after_mm) && std::isfinite(report.max_after_mm) &&
+      std::all_of(fitted.begin(), fitted.end(), [](double value) { return std::isfinite(value); });
+  if (!finite) {
+    throw FitError("the fit did not reach a finite geometry (residual RMS " +
+                   std::to_string(report.rms_after_mm) +
+                   " mm): nothing written; check the measurements");
+  }
+  for (const int index : requested) {
+    report.parameters.push_back({parameters[index].name, parameters[index].unit, nominal[index],
+                                 fitted[index], deviation[index], is_free(index)});
+  }
+  kinematics.set_parameters(fitted);
+  return report;
+}
+
+}  // namespace pkm

@@ -1,0 +1,127 @@
+// The least-squares machinery every calibration fit shares: which named parameters of a model
+// the residuals can identify (column-pivoted QR of the Jacobian, SVD for the groups it cannot
+// tell apart), the Ceres solve over those, and the report with standard deviations. A fit
+// supplies only its residuals (measured poses, measured distances between drawn marks).
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "pkm/kinematics/kinematics.hpp"
+
+namespace pkm {
+
+struct FitOptions {
+  // Parameter names to fit; '*' matches any run of characters ("leg*.offset"). Empty: all.
+  std::vector<std::string> parameters;
+  // Angle residuals count as this many mm per radian (a 100 mm lever).
+  double angle_weight_mm_per_rad = 100.0;
+  // A direction of parameter space whose (column-normalised) singular value is below this
+  // fraction of the largest cannot be told apart by the data.
+  double rank_tolerance = 1e-6;
+};
+
+struct ParameterEstimate {
+  std::string name;
+  std::string unit;
+  double nominal = 0.0;
+  double fitted = 0.0;
+  double standard_deviation = 0.0;  // 0 for parameters held at nominal
+  bool free = false;                // fitted (true) or held at its nominal value
+};
+
+struct FitReport {
+  int measurements = 0;
+  // Per-measurement distance between modelled and measured value (a pose over its measured
+  // coordinates, angles weighted by angle_weight_mm_per_rad; a distance between two marks), mm.
+  double rms_before_mm = 0.0;
+  double max_before_mm = 0.0;
+  double rms_after_mm = 0.0;
+  double max_after_mm = 0.0;
+  int max_after_line = 0;
+  std::vector<ParameterEstimate> parameters;
+  // Groups of parameters the data cannot tell apart, each a direction of parameter space the
+  // residuals do not see; the fit holds enough of them at their nominal values.
+  std::vector<std::vector<std::string>> indistinguishable;
+  // Parameters that do not act on the data at the nominal geometry at all (a matrix mill's z
+  // column measured at z = 0), or cannot move both ways from their nominal value (a pulley
+  // radius or an effector mass of 0): held.
+  std::vector<std::string> no_effect;
+  // Parameters held because together they only move the whole drawing (a rigid motion), which
+  // distances between marks cannot see. Empty for pose fits.
+  std::vector<std::string> held_rigid_motion;
+  std::vector<std::string> held;  // requested parameters held at nominal (all reasons)
+  bool converged = false;
+  int iterations = 0;
+};
+
+class FitError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A fit's residuals as a function of the model's full parameter vector (parameters() order).
+class ParameterResiduals {
+ public:
+  virtual ~ParameterResiduals() = default;
+  virtual int count() const = 0;
+  // false where the geometry is impossible (set_parameters refuses it) or the model fails.
+  virtual bool evaluate(std::span<const double> parameters, double* residuals) const = 0;
+  // Per-measurement RMS and largest size (mm) of a residual vector, and the source line of the
+  // largest.
+  virtual void summarise(const std::vector<double>& residuals, double& rms_mm, double& max_mm,
+                         int& max_line) const = 0;
+  // What to check when the nominal geometry already fails ("every row's joints inside reach").
+  virtual std::string nominal_failure_hint() const = 0;
+};
+
+// Indices (parameters() order) of the parameters `patterns` name ('*' wildcards; empty: all).
+// Throws FitError naming the model's parameters when a pattern names none.
+std::vector<int> requested_parameters(const Kinematics& kinematics,
+                                      const std::vector<std::string>& patterns);
+
+// Central-difference Jacobian of `function` (`rows` values) at `at` over the parameters
+// `columns`. A parameter that cannot move both ways (an impossible geometry on one side: a
+// length at 0) gets a zero column (identification: it is held), or is differenced on its valid
+// side (the solver, at a parameter it drove to the edge of its range). False when `function`
+// fails at `at` itself, or on both sides of a parameter with one_sided_at_edges.
+using VectorFunction = std::function<bool(std::span<const double>, double*)>;
+enum class Differencing { zero_at_edges, one_sided_at_edges };
+bool parameter_jacobian(const VectorFunction& function, int rows, const std::vector<double>& at,
+                        const std::vector<int>& columns, Eigen::MatrixXd& result,
+                        Differencing differencing = Differencing::zero_at_edges);
+
+struct Identification {
+  std::vector<int> candidates;  // parameter indices the identification looked at
+  std::vector<int> free;        // those it identifies, sorted
+  std::vector<std::vector<std::string>> indistinguishable;
+  std::vector<std::string> no_effect;  // zero columns (FitReport::no_effect)
+};
+// Which of `candidates` (parameter indices; `jacobian` has one column per candidate) the data
+// identifies: column-pivoted QR of the column-normalised Jacobian keeps the best-conditioned
+// set; the SVD's null directions name the groups it cannot tell apart. A parameter whose column
+// is zero (at rounding level) is named in `no_effect`, not in a group.
+Identification identify_parameters(const Eigen::MatrixXd& jacobian,
+                                   const std::vector<int>& candidates,
+                                   const std::vector<Parameter>& parameters, double rank_tolerance);
+
+// identify_parameters from the residuals' Jacobian at the model's current (nominal) geometry,
+// over `requested` minus the parameters named in `held`. Throws FitError where the model fails.
+Identification identify_at_nominal(const Kinematics& kinematics,
+                                   const ParameterResiduals& residuals,
+                                   const std::vector<int>& requested,
+                                   const std::vector<std::string>& held, double rank_tolerance);
+
+// The whole fit: identification at the model's current (nominal) geometry over `requested`
+// minus `held_rigid_motion`, Levenberg-Marquardt over the identified parameters, standard
+// deviations from sigma^2 (J^T J)^-1 at the solution. Updates `kinematics` to the fit.
+FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& residuals,
+                         const std::vector<int>& requested,
+                         const std::vector<std::string>& held_rigid_motion,
+                         const FitOptions& options);
+
+}  // namespace pkm
