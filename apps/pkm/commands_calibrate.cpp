@@ -231,7 +231,7 @@ void print_fit_text(const FitReport& report, const std::string& output, bool dis
                 report.held.size());
   }
   if (!report.converged) std::printf("warning: the solver did not converge\n");
-  std::printf("wrote %s\n", output.c_str());
+  if (!output.empty()) std::printf("wrote %s\n", output.c_str());
 }
 
 void run_fit(const FitCommandOptions& options) {
@@ -252,7 +252,16 @@ void run_fit(const FitCommandOptions& options) {
                                             {"the pattern", options.pattern}});
   Machine machine = load_machine_or_default(options.machine);
   const FitReport report = fit_machine(options, machine);
-  write_machine(options.machine, machine, machine.kinematics(), options.output);
+  try {
+    write_machine(options.machine, machine, machine.kinematics(), options.output);
+  } catch (const MachineFileError& error) {
+    // Show what the fit found: it is what the user must look at.
+    if (!options.json) print_fit_text(report, "", distances);
+    throw CommandError(
+        "the fitted geometry does not make a usable machine, so nothing was "
+        "written (as it would have read: " +
+        std::string(error.what()) + ")");
+  }
   if (options.json) {
     print_fit_json(report, options.output);
   } else {

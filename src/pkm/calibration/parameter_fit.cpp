@@ -197,10 +197,16 @@ Identification identify_parameters(const Eigen::MatrixXd& jacobian,
   const double largest_norm = column_norms.size() ? column_norms.maxCoeff() : 0.0;
   // A parameter whose effect is at rounding level is not seen by the data at all; normalising
   // its column would blow that rounding noise up into a direction of its own.
+  // So is one whose effect is below the differencing noise of an iterative forward kinematics
+  // (solved to about 1e-9 mm, differenced over a step of 1e-6 max(1, |value|)): on a sled, the
+  // effector's mass scales both tensions and moves nothing.
   const double unseen = 1e-9 * largest_norm;
+  const double rows = static_cast<double>(std::max<Eigen::Index>(1, jacobian.rows()));
   Eigen::MatrixXd normalised = jacobian;
   for (Eigen::Index c = 0; c < jacobian.cols(); ++c) {
-    if (column_norms[c] > unseen) {
+    const double value = parameters[static_cast<std::size_t>(candidates[c])].value;
+    const double noise = 1e-3 * std::sqrt(rows) / std::max(1.0, std::abs(value));
+    if (column_norms[c] > std::max(unseen, noise)) {
       normalised.col(c) /= column_norms[c];
     } else {
       normalised.col(c).setZero();
