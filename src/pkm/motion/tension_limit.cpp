@@ -1,0 +1,172 @@
+#include "pkm/motion/tension_limit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+namespace pkm::motion {
+
+namespace {
+
+using Vector2 = Eigen::Vector2d;
+
+// Bisection steps of a headroom: its cap / 2^40, some 1e-12 of it.
+constexpr int kBisections = 40;
+
+const char* cable_name(int cable) {
+  return cable == 0 ? "left" : "right";
+}
+
+std::string newtons(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g N", value);
+  return text;
+}
+
+}  // namespace
+
+std::optional<TensionLimit> TensionLimit::of(const Kinematics& kinematics, double share) {
+  const auto* cables = dynamic_cast<const CablePlotterKinematics*>(&kinematics);
+  if (cables == nullptr || !(cables->geometry().effector_mass_kg > 0.0)) return std::nullopt;
+  return TensionLimit(*cables, share);
+}
+
+TensionExcess TensionLimit::excess(const Vector6d& pose,
+                                   const Eigen::Vector2d& acceleration_mm_per_s2) const {
+  CableStatics statics;
+  const Status status =
+      kinematics_->statics(Pose::from_vector(pose), acceleration_mm_per_s2, statics);
+  TensionExcess result;
+  if (!status.ok()) {
+    result.outside = true;
+    if (status.code == StatusCode::tension && (status.joint == 0 || status.joint == 1)) {
+      result.cable = status.joint;  // it would have to push
+      result.slack = true;
+      result.tension_N = statics.lowest_N[static_cast<std::size_t>(status.joint)];
+    }
+    return result;
+  }
+  for (int cable = 0; cable < 2; ++cable) {
+    const std::size_t c = static_cast<std::size_t>(cable);
+    if (statics.lowest_N[c] < kinematics_->tension_min_N()) {
+      return {true, cable, true, statics.lowest_N[c]};
+    }
+    if (statics.highest_N[c] > kinematics_->tension_max_N()) {
+      return {true, cable, false, statics.highest_N[c]};
+    }
+  }
+  return result;
+}
+
+double TensionLimit::headroom(const Vector6d& pose, const Eigen::Vector2d& base,
+                              const Eigen::Vector2d& direction, double cap, double scale,
+                              TensionExcess& excess_found) const {
+  double low = 0.0, high = cap;
+  excess_found = excess(pose, scale * (base + cap * direction));
+  if (!excess_found.outside) return cap;
+  for (int i = 0; i < kBisections; ++i) {
+    const double middle = 0.5 * (low + high);
+    const TensionExcess e = excess(pose, scale * (base + middle * direction));
+    if (e.outside) {
+      high = middle;
+      excess_found = e;
+    } else {
+      low = middle;
+    }
+  }
+  return low;
+}
+
+TensionBound TensionLimit::along(const Segment& segment, double length_mm, int points,
+                                 double speed, double acceleration) const {
+  TensionBound bound;
+  bound.speed_mm_per_s = speed;
+  bound.acceleration_mm_per_s2 = acceleration;
+  if (!(length_mm > 0.0) || points < 2) return bound;
+  const double step = length_mm / points;
+  std::vector<Vector6d> poses(static_cast<std::size_t>(points) + 1);
+  for (int k = 0; k <= points; ++k) {
+    poses[static_cast<std::size_t>(k)] = segment.at(static_cast<double>(k) / points);
+  }
+  const auto xy = [&](int k) -> Vector2 { return poses[static_cast<std::size_t>(k)].head<2>(); };
+  // The path's derivatives in x y by differences: d/ds (a unit tangent in the plane of a plane
+  // move) and d2/ds2 (the curvature vector, 1 / r towards the centre).
+  const auto tangent = [&](int k) -> Vector2 {
+    const int a = std::max(k - 1, 0), b = std::min(k + 1, points);
+    return (xy(b) - xy(a)) / ((b - a) * step);
+  };
+  const auto curvature = [&](int k) -> Vector2 {
+    const int c = std::clamp(k, 1, points - 1);
+    return (xy(c + 1) - 2.0 * xy(c) + xy(c - 1)) / (step * step);
+  };
+  const double scale = 1.0 / share_;
+  // A line is straight (its differences' rounding would read as a curvature on short lines).
+  const bool line = segment.kind == SegmentKind::line;
+  const auto curved = [&](const Vector2& kappa) { return !line && kappa.norm() > 0.0; };
+  TensionExcess excess_found;
+  // On a curve v^2 / r across takes at most half of the headroom.
+  for (int k = 0; k <= points; ++k) {
+    const Vector2 kappa = curvature(k);
+    if (!curved(kappa)) continue;
+    const double bend = kappa.norm();
+    const double across = bound.speed_mm_per_s * bound.speed_mm_per_s * bend;
+    const Vector6d& pose = poses[static_cast<std::size_t>(k)];
+    const double allowed = headroom(pose, Vector2::Zero(), kappa / bend, 2.0 * across, scale,
+                                    excess_found);
+    if (allowed < 2.0 * across) {
+      bound.speed_mm_per_s = std::sqrt(0.5 * allowed / bend);
+      bound.speed_limited = true;
+      bound.excess = excess_found;
+    }
+  }
+  // Along the path: +-A along the tangent, the centripetal part at that speed across.
+  for (int k = 0; k <= points; ++k) {
+    const Vector2 kappa = curvature(k);
+    const Vector2 across = curved(kappa) ? Vector2(bound.speed_mm_per_s * bound.speed_mm_per_s *
+                                                   kappa)
+                                         : Vector2::Zero();
+    const Vector2 along = tangent(k);
+    const Vector6d& pose = poses[static_cast<std::size_t>(k)];
+    for (const double sign : {1.0, -1.0}) {
+      const double cap = bound.acceleration_mm_per_s2;
+      const double allowed = headroom(pose, across, sign * along, cap, scale, excess_found);
+      if (allowed < cap) {
+        bound.acceleration_mm_per_s2 = allowed;
+        bound.acceleration_limited = true;
+        bound.excess = excess_found;
+      }
+    }
+  }
+  return bound;
+}
+
+double TensionLimit::junction_speed(const Vector6d& pose, const Eigen::Vector3d& out,
+                                    const Eigen::Vector3d& in, double period_s,
+                                    double speed) const {
+  const Vector2 change = (in - out).head<2>();
+  const double jump = change.norm();
+  if (!(jump > 0.0) || !(speed > 0.0)) return speed;
+  const double kick = speed * jump / period_s;
+  TensionExcess excess_found;
+  const double allowed =
+      headroom(pose, Vector2::Zero(), change / jump, kick, 1.0 / (1.0 - share_), excess_found);
+  return allowed < kick ? allowed * period_s / jump : speed;
+}
+
+std::string describe_excess(const CablePlotterKinematics& kinematics, const TensionExcess& excess) {
+  if (!excess.outside) return "the tensions are within their limits";
+  if (excess.cable < 0) return "the effector has no balance there (the cables in line)";
+  const std::string cable = std::string("the ") + cable_name(excess.cable) + " cable";
+  if (excess.slack) {
+    if (!(excess.tension_N > 0.0) && !kinematics.geometry().tension_limited) {
+      return cable + " would go slack (it would have to push)";
+    }
+    return cable + " would go slack: " + newtons(excess.tension_N) +
+           ", below tension_limits' minimum " + newtons(kinematics.tension_min_N());
+  }
+  return cable + "'s tension would be " + newtons(excess.tension_N) +
+         ", above tension_limits' maximum " + newtons(kinematics.tension_max_N());
+}
+
+}  // namespace pkm::motion
