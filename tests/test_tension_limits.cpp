@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <numbers>
 #include <sstream>
 
@@ -89,7 +90,7 @@ class TensionCheck final : public SampleSink {
     if (++count_ >= 3) check(window_[0], window_[1], window_[2]);
   }
 
-  long outside = 0;            // samples with a tension outside [min_N, max_N]
+  long outside = 0;               // samples with a tension outside [min_N, max_N]
   double worst_margin_N = 1e300;  // the least distance of a tension to its nearer limit
   double lowest_N = 1e300, highest_N = -1e300;
   std::string first_outside;
@@ -119,8 +120,8 @@ class TensionCheck final : public SampleSink {
     if (margin < 0.0 && outside++ == 0) {
       std::ostringstream text;
       text << "t = " << at.time_s << " s, line " << at.line << ", x " << at.pose[0] << " y "
-           << at.pose[1] << " mm, acceleration " << acceleration.transpose() << " mm/s^2: "
-           << statics.lowest_N[0] << ".." << statics.highest_N[0] << " N, "
+           << at.pose[1] << " mm, acceleration " << acceleration.transpose()
+           << " mm/s^2: " << statics.lowest_N[0] << ".." << statics.highest_N[0] << " N, "
            << statics.lowest_N[1] << ".." << statics.highest_N[1] << " N";
       first_outside = text.str();
     }
@@ -143,15 +144,19 @@ std::string aggressive_job() {
   job << "G0 X1180 Y560\nG1\n";
   for (int k = 0; k <= 20; ++k) job << "X" << (k % 2 ? 1060 : 1190) << " Y" << 560 - 55 * k << "\n";
   job << "G0 X-1190 Y560\nG1\n";
-  for (int k = 0; k <= 20; ++k) job << "X" << (k % 2 ? -1060 : -1190) << " Y" << 560 - 55 * k << "\n";
-  // A circle of 150 mm radius below the top-left corner in 7000 chords (0.13 mm, turning 0.9 mrad
-  // at each: tangent joins, no blends), as CAM output gives curves.
-  job << "G0 X-900 Y400\nG1\n";
-  for (int k = 1; k <= 7000; ++k) {
-    const double angle = 2.0 * std::numbers::pi * k / 7000.0;
-    job << "X" << -1050.0 + 150.0 * std::cos(angle) << " Y" << 400.0 + 150.0 * std::sin(angle)
+  for (int k = 0; k <= 20; ++k)
+    job << "X" << (k % 2 ? -1060 : -1190) << " Y" << 560 - 55 * k << "\n";
+  // The top half of a circle of 150 mm radius in the top-left corner at F60000 in 3500 chords
+  // (0.13 mm, turning 0.9 mrad at each: tangent joins, no blends), as CAM output gives curves:
+  // its centripetal acceleration comes as the chords' changes of direction, several per period.
+  job << std::setprecision(10) << "G0 X-919 Y460\nG1 F60000\n";
+  for (int k = 1; k <= 3500; ++k) {
+    const double angle = std::numbers::pi * k / 3500.0;
+    job << "X" << -1069.0 + 150.0 * std::cos(angle) << " Y" << 460.0 + 150.0 * std::sin(angle)
         << "\n";
   }
+  // The same circle as one arc in the top-right corner: v^2 / r bounds its speed.
+  job << "G0 X1219 Y460\nG2 X1219 Y460 I-150 J0\n";
   job << "G61\nG0 X-1150 Y590\nX1150\nX-1150 Y-590\nX1150 Y590\nX0 Y0\nM2\n";
   return job.str();
 }
@@ -189,13 +194,14 @@ void expect_bound_and_binding(const fs::path& job) {
   EXPECT_GT(free.outside, 0);
   EXPECT_GT(limited.report.duration_s, free.report.duration_s);
   EXPECT_FALSE(limited.report.tension_limits.empty());
-  std::printf("  %s: %.3f s with tension limits, %.3f s without; tensions %.2f..%.2f N with "
-              "(worst margin %.3f N), %.2f..%.2f N without (%ld of %ld samples outside "
-              "[5, 300] N); %zu moves' acceleration lowered by tensions, %zu feeds\n",
-              job.filename().string().c_str(), limited.report.duration_s,
-              free.report.duration_s, limited.lowest_N, limited.highest_N,
-              limited.worst_margin_N, free.lowest_N, free.highest_N, free.outside, free.checked,
-              limited.report.tension_limits.size(), limited.report.feed_limits.size());
+  std::printf(
+      "  %s: %.3f s with tension limits, %.3f s without; tensions %.2f..%.2f N with "
+      "(worst margin %.3f N), %.2f..%.2f N without (%ld of %ld samples outside "
+      "[5, 300] N); %zu moves' acceleration lowered by tensions, %zu feeds\n",
+      job.filename().string().c_str(), limited.report.duration_s, free.report.duration_s,
+      limited.lowest_N, limited.highest_N, limited.worst_margin_N, free.lowest_N, free.highest_N,
+      free.outside, free.checked, limited.report.tension_limits.size(),
+      limited.report.feed_limits.size());
 }
 
 TEST(TensionLimitedPlan, NoSampleOfAnAggressiveJobLeavesTheTensionLimits) {

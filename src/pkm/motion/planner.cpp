@@ -466,8 +466,8 @@ class Planner {
       };
       before.max_exit_speed = tension_->junction_speed(
           before.segment.end, direction(before.segment, before.length, true),
-          direction(after, after_length, false), options_.period_s,
-          std::min(before.max_exit_speed, before.max_speed));
+          direction(after, after_length, false), std::min(before.length, after_length),
+          options_.period_s, std::min(before.max_exit_speed, before.max_speed));
     }
   }
 

@@ -78,8 +78,8 @@ double TensionLimit::headroom(const Vector6d& pose, const Eigen::Vector2d& base,
   return low;
 }
 
-TensionBound TensionLimit::along(const Segment& segment, double length_mm, int points,
-                                 double speed, double acceleration) const {
+TensionBound TensionLimit::along(const Segment& segment, double length_mm, int points, double speed,
+                                 double acceleration) const {
   TensionBound bound;
   bound.speed_mm_per_s = speed;
   bound.acceleration_mm_per_s2 = acceleration;
@@ -112,8 +112,8 @@ TensionBound TensionLimit::along(const Segment& segment, double length_mm, int p
     const double bend = kappa.norm();
     const double across = bound.speed_mm_per_s * bound.speed_mm_per_s * bend;
     const Vector6d& pose = poses[static_cast<std::size_t>(k)];
-    const double allowed = headroom(pose, Vector2::Zero(), kappa / bend, 2.0 * across, scale,
-                                    excess_found);
+    const double allowed =
+        headroom(pose, Vector2::Zero(), kappa / bend, 2.0 * across, scale, excess_found);
     if (allowed < 2.0 * across) {
       bound.speed_mm_per_s = std::sqrt(0.5 * allowed / bend);
       bound.speed_limited = true;
@@ -123,9 +123,9 @@ TensionBound TensionLimit::along(const Segment& segment, double length_mm, int p
   // Along the path: +-A along the tangent, the centripetal part at that speed across.
   for (int k = 0; k <= points; ++k) {
     const Vector2 kappa = curvature(k);
-    const Vector2 across = curved(kappa) ? Vector2(bound.speed_mm_per_s * bound.speed_mm_per_s *
-                                                   kappa)
-                                         : Vector2::Zero();
+    const Vector2 across = curved(kappa)
+                               ? Vector2(bound.speed_mm_per_s * bound.speed_mm_per_s * kappa)
+                               : Vector2::Zero();
     const Vector2 along = tangent(k);
     const Vector6d& pose = poses[static_cast<std::size_t>(k)];
     for (const double sign : {1.0, -1.0}) {
@@ -142,16 +142,19 @@ TensionBound TensionLimit::along(const Segment& segment, double length_mm, int p
 }
 
 double TensionLimit::junction_speed(const Vector6d& pose, const Eigen::Vector3d& out,
-                                    const Eigen::Vector3d& in, double period_s,
+                                    const Eigen::Vector3d& in, double chord_mm, double period_s,
                                     double speed) const {
   const Vector2 change = (in - out).head<2>();
   const double jump = change.norm();
   if (!(jump > 0.0) || !(speed > 0.0)) return speed;
-  const double kick = speed * jump / period_s;
+  // The velocity's change v |in - out| spread over the period, or over the time between two
+  // junctions where they come closer (v^2 |in - out| / chord: a curve's v^2 / r, in chords).
+  const auto kick = [&](double v) { return v * jump * std::max(1.0 / period_s, v / chord_mm); };
   TensionExcess excess_found;
-  const double allowed =
-      headroom(pose, Vector2::Zero(), change / jump, kick, 1.0 / (1.0 - share_), excess_found);
-  return allowed < kick ? allowed * period_s / jump : speed;
+  const double allowed = headroom(pose, Vector2::Zero(), change / jump, kick(speed),
+                                  1.0 / (1.0 - share_), excess_found);
+  if (!(allowed < kick(speed))) return speed;
+  return std::min(allowed * period_s / jump, std::sqrt(allowed * chord_mm / jump));
 }
 
 std::string describe_excess(const CablePlotterKinematics& kinematics, const TensionExcess& excess) {

@@ -53,11 +53,13 @@ class TensionLimit {
                      double acceleration) const;
 
   // The highest speed (mm/s, at most `speed`) at which the direction of travel may change from
-  // the unit vector `out` to `in` (x y z; only x y load the cables) at `pose` within one period
-  // of `period_s`: the change of velocity v |in - out| / period takes at most the rest of the
-  // headroom (1 - share).
-  double junction_speed(const Vector6d& pose, const Eigen::Vector3d& out,
-                        const Eigen::Vector3d& in, double period_s, double speed) const;
+  // the unit vector `out` to `in` (x y z; only x y load the cables) at `pose`, between moves of
+  // which the shorter is `chord_mm` long: the change of velocity v |in - out| happens within one
+  // period of `period_s`, or, where junctions follow closer than a period (a curve in short
+  // chords), once per chord, v^2 |in - out| / chord. That acceleration takes at most the rest of
+  // the headroom (1 - share).
+  double junction_speed(const Vector6d& pose, const Eigen::Vector3d& out, const Eigen::Vector3d& in,
+                        double chord_mm, double period_s, double speed) const;
 
   // The cable whose tension leaves its limits at `pose` under the effector's acceleration
   // (mm/s^2, x y); a pose without a balance (singular) is outside with cable -1.
