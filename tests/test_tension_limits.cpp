@@ -59,6 +59,10 @@ PlanOptions on_the_sheet() {
   return options;
 }
 
+struct Discard final : SampleSink {
+  void write(const Sample&) override {}
+};
+
 // A program in a temporary file, removed with the object.
 class TempProgram {
  public:
@@ -132,6 +136,136 @@ class TensionCheck final : public SampleSink {
   Sample window_[3];
   long count_ = 0;
 };
+
+// A symmetric V by hand: anchors 1000 mm apart, a 1 kg pen tied to both cables, tensions within
+// [2, 20] N; joints and Cartesian limits out of the way. Home (500, -300).
+const char* const kVee = R"(name = "V"
+units = "mm"
+[kinematics]
+type = "cable_plotter"
+anchor_distance = 1000.0
+effector_mass = 1.0
+tension_limits = [2.0, 20.0]
+[[joints]]
+name = "left"
+min = 10.0
+max = 2000.0
+max_velocity = 10000.0
+max_acceleration = 1e7
+axis = "X"
+[[joints]]
+name = "right"
+min = 10.0
+max = 2000.0
+max_velocity = 10000.0
+max_acceleration = 1e7
+axis = "Y"
+[cartesian]
+max_feed = 600000.0
+max_acceleration = 100000.0
+home = [500.0, -300.0]
+)";
+
+// On the V's axis, h below the anchors, each cable is at theta below level, sin theta =
+// h / hypot(500, h), and carries T = m (g + a_y) / (2 sin theta). Up a vertical line from
+// h = 500 to h = 300, accelerating upwards raises T, most where sin theta is least (h = 300):
+// a_y <= 2 sin theta 20 N / 1 kg - g; braking (or accelerating downwards) lowers it, most where
+// sin theta is greatest (h = 500): -a_y <= g - 2 sin theta 2 N / 1 kg. The moves use 0.8 of it.
+TEST(TensionLimit, AlongAVerticalLineOfASymmetricVByHand) {
+  const Machine vee = parse_machine(kVee, "vee.toml");
+  const std::optional<TensionLimit> limit = TensionLimit::of(vee.kinematics());
+  ASSERT_TRUE(limit.has_value());
+  Segment line;
+  line.start << 500.0, -500.0, 0.0, 0.0, 0.0, 0.0;
+  line.end << 500.0, -300.0, 0.0, 0.0, 0.0, 0.0;
+  const double g = 9.80665;                                  // m/s^2
+  const double sin_high = 300.0 / std::hypot(500.0, 300.0);  // 0.514496
+  const double sin_low = 500.0 / std::hypot(500.0, 500.0);   // 0.707107
+  const double up = 2.0 * sin_high * 20.0 - g;               // 10.7732 m/s^2
+  const double down = g - 2.0 * sin_low * 2.0;               // 6.97822 m/s^2: binds
+  EXPECT_NEAR(up, 10.7732, 1e-4);
+  EXPECT_NEAR(down, 6.97822, 1e-5);
+  const TensionBound bound = limit->along(line, 200.0, 400, 1000.0, 1e5);
+  EXPECT_FALSE(bound.speed_limited);
+  EXPECT_EQ(bound.speed_mm_per_s, 1000.0);
+  ASSERT_TRUE(bound.acceleration_limited);
+  EXPECT_NEAR(bound.acceleration_mm_per_s2, 0.8 * 1000.0 * down, 1e-6);  // 5582.58 mm/s^2
+  EXPECT_TRUE(bound.excess.slack);
+  EXPECT_EQ(bound.excess.cable, 0);  // both alike: the left is named first
+  // Below what the tensions allow, nothing changes.
+  const TensionBound gentle = limit->along(line, 200.0, 400, 1000.0, 5000.0);
+  EXPECT_FALSE(gentle.acceleration_limited);
+  EXPECT_EQ(gentle.acceleration_mm_per_s2, 5000.0);
+}
+
+// At h = 500 (theta 45 deg) the path turns by 2 phi about the vertical, from (cos phi, -sin phi)
+// to (cos phi, sin phi): the velocity's change v 2 sin phi points up and raises both tensions
+// to m (g + c) / (2 sin theta) <= 20 N, c <= 18.4776 m/s^2, of which the junction has 0.2.
+TEST(TensionLimit, AJunctionOfASymmetricVByHand) {
+  const Machine vee = parse_machine(kVee, "vee.toml");
+  const std::optional<TensionLimit> limit = TensionLimit::of(vee.kinematics());
+  ASSERT_TRUE(limit.has_value());
+  Vector6d at;
+  at << 500.0, -500.0, 0.0, 0.0, 0.0, 0.0;
+  const double phi = 0.01;
+  const Eigen::Vector3d out(std::cos(phi), -std::sin(phi), 0.0),
+      in(std::cos(phi), std::sin(phi), 0.0);
+  const double jump = 2.0 * std::sin(phi);
+  const double c = 0.2 * 1000.0 * (2.0 * std::sqrt(0.5) * 20.0 - 9.80665);  // 3695.52 mm/s^2
+  EXPECT_NEAR(c, 3695.52, 0.01);
+  // Long moves: the change happens within a period of 1 ms, v <= c 1 ms / jump.
+  EXPECT_NEAR(limit->junction_speed(at, out, in, 1000.0, 1e-3, 1000.0), c * 1e-3 / jump, 1e-6);
+  EXPECT_NEAR(c * 1e-3 / jump, 184.78, 0.01);
+  // Chords of 0.1 mm: a change every 0.1 mm / v, v^2 jump / 0.1 mm <= c.
+  EXPECT_NEAR(limit->junction_speed(at, out, in, 0.1, 1e-3, 1000.0), std::sqrt(c * 0.1 / jump),
+              1e-6);
+  // Slow enough already: unchanged.
+  EXPECT_EQ(limit->junction_speed(at, out, in, 1000.0, 1e-3, 100.0), 100.0);
+  // Machines without a hanging mass have no tension limit.
+  EXPECT_FALSE(TensionLimit::of(load_machine(fs::path(PKM_SOURCE_DIR) / "examples" / "machines" /
+                                             "wall-plotter.toml")
+                                    .kinematics())
+                   .has_value());
+}
+
+TEST(TensionLimitedPlan, ReportsTheMoveAndTheCableThatLimitedIt) {
+  const Machine vee = parse_machine(kVee, "vee.toml");
+  // Home (500, -300) down to h = 500 and back up at 100 mm/s: 2 s each at the feed, plus the
+  // ramps of each at the tension-limited 5582.58 mm/s^2 (v / A = 0.0179 s).
+  const TempProgram job("G1 Y-500 F6000\nG1 Y-300\nM2\n");
+  TensionCheck check(cables(vee), 2.0, 20.0);
+  const PlanReport report = plan_program(vee, job.path(), {}, {}, check);
+  const double a = 0.8 * (9806.65 - 2.0 * std::sqrt(0.5) * 2.0 * 1000.0);
+  ASSERT_EQ(report.tension_limits.size(), 2u);
+  EXPECT_EQ(report.tension_limits[0].line, 1);
+  EXPECT_EQ(report.tension_limits[1].line, 2);
+  for (const TensionLimitedMove& move : report.tension_limits) {
+    EXPECT_TRUE(move.slack);
+    EXPECT_EQ(move.machine_mm_per_s2, 100000.0);
+    EXPECT_NEAR(move.allowed_mm_per_s2, a, 1e-6);
+  }
+  EXPECT_NEAR(report.duration_s, 2.0 * (2.0 + 100.0 / a), 1e-9);
+  EXPECT_EQ(check.outside, 0) << check.first_outside;
+  EXPECT_GT(check.worst_margin_N, 0.0);
+}
+
+TEST(TensionLimitedPlan, APoseOutsideTheLimitsAtRestNamesTheCableAndItsTension) {
+  // Up from the sheet's centre towards the motors' line: the left cable (the bit left of the
+  // middle) passes 300 N on the way.
+  const TempProgram job("G1 X-100 Y800 F1000\nM2\n");
+  Discard none;
+  try {
+    plan_program(frame(), job.path(), {}, on_the_sheet(), none);
+    FAIL() << "planned";
+  } catch (const PlanError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find(":1: the move leaves the machine's reach at "), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("tension: the left cable's tension would be 300"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("above tension_limits' maximum 300 N"), std::string::npos) << message;
+  }
+}
 
 // Fast zig-zags (F30000, 500 mm/s) in the sheet's top corners and down its sides, then rapids
 // across the top and corner to corner: where one chain pulls almost sideways with little

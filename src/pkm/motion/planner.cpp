@@ -210,6 +210,15 @@ class Planner {
   // a joint along the path, its acceleration is q' s'' + q'' s'^2: bounding |q'| by S and |q''|
   // by C over the move (sampled every 0.5 mm), speed^2 C <= amax / 2 and accel S <= amax - speed^2
   // C keep it within amax everywhere. A 1 % margin covers the sampling of the derivatives.
+  // Where a move leaves the reach, and on a cable machine how far its tensions go beyond their
+  // limits along it.
+  [[noreturn]] void leaves_reach(const Segment& segment) const {
+    const auto pose_at = [&](double u) { return segment.at(u); };
+    std::string message = "the move leaves the machine's reach " + machine_.explain_path(pose_at);
+    if (tension_) message += tension_->beyond_limits_at_rest(pose_at);
+    throw PlanError(file_, segment.line, message);
+  }
+
   static int sample_points(double length_mm) {
     return std::clamp(static_cast<int>(std::ceil(length_mm / 0.5)), 8, 512);
   }
@@ -231,11 +240,7 @@ class Planner {
     const auto joints_at = [&](int k, JointVector& q) {
       const Pose pose = Pose::from_vector(segment.at(static_cast<double>(k) / points));
       const Status status = machine_.inverse(pose, q);
-      if (!status.ok()) {
-        throw PlanError(file_, segment.line,
-                        "the move leaves the machine's reach " +
-                            machine_.explain_path([&](double v) { return segment.at(v); }));
-      }
+      if (!status.ok()) leaves_reach(segment);
       require_numbers(pose.as_vector(), q, segment.line, "along the move");
       if (options_.estimate_only) widen_ranges(q);
     };
@@ -438,11 +443,7 @@ class Planner {
       JointVector q0, q1;
       const Status a = machine_.inverse(Pose::from_vector(segment.at(from)), q0);
       const Status b = machine_.inverse(Pose::from_vector(segment.at(to)), q1);
-      if (!a.ok() || !b.ok()) {
-        throw PlanError(file_, segment.line,
-                        "the move leaves the machine's reach " +
-                            machine_.explain_path([&](double v) { return segment.at(v); }));
-      }
+      if (!a.ok() || !b.ok()) leaves_reach(segment);
       return JointVector((q1 - q0) / ds);
     };
     const JointVector out = rate(before.segment, before.length, true);

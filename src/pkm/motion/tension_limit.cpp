@@ -157,6 +157,32 @@ double TensionLimit::junction_speed(const Vector6d& pose, const Eigen::Vector3d&
   return std::min(allowed * period_s / jump, std::sqrt(allowed * chord_mm / jump));
 }
 
+std::string TensionLimit::beyond_limits_at_rest(
+    const std::function<Vector6d(double)>& pose_at) const {
+  constexpr int kSamples = 1000;
+  double lowest[2] = {1e300, 1e300}, highest[2] = {-1e300, -1e300};
+  for (int k = 0; k <= kSamples; ++k) {
+    CableStatics statics;
+    const Pose pose = Pose::from_vector(pose_at(static_cast<double>(k) / kSamples));
+    if (!kinematics_->statics(pose, Vector2::Zero(), statics).ok()) continue;
+    for (std::size_t c = 0; c < 2; ++c) {
+      lowest[c] = std::min(lowest[c], statics.lowest_N[c]);
+      highest[c] = std::max(highest[c], statics.highest_N[c]);
+    }
+  }
+  std::string text;
+  for (int cable = 0; cable < 2; ++cable) {
+    const std::string name = std::string(" the ") + cable_name(cable) + " cable's tension ";
+    if (highest[cable] > kinematics_->tension_max_N()) {
+      text += (text.empty() ? ";" : ",") + name + "reaches " + newtons(highest[cable]);
+    }
+    if (lowest[cable] < kinematics_->tension_min_N()) {
+      text += (text.empty() ? ";" : ",") + name + "falls to " + newtons(lowest[cable]);
+    }
+  }
+  return text.empty() ? text : text + " along the move";
+}
+
 std::string describe_excess(const CablePlotterKinematics& kinematics, const TensionExcess& excess) {
   if (!excess.outside) return "the tensions are within their limits";
   if (excess.cable < 0) return "the effector has no balance there (the cables in line)";
