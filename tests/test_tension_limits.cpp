@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/machine/tension_region.hpp"
 #include "pkm/motion/planner.hpp"
 #include "pkm/motion/tension_limit.hpp"
 #include "real_corpus.hpp"
@@ -265,6 +266,36 @@ TEST(TensionLimitedPlan, APoseOutsideTheLimitsAtRestNamesTheCableAndItsTension) 
         << message;
     EXPECT_NE(message.find("above tension_limits' maximum 300 N"), std::string::npos) << message;
   }
+}
+
+// One column of points on the V's axis (x = 500), 20 rows from the bottom of its reach (the left
+// joint's 2000 mm: h = sqrt(2000^2 - 500^2)) up to the anchors: there T = m g / (2 sin theta) on
+// both cables, above 20 N where h < 500 tan(asin(g / 40)) = 126.45 mm: the top row alone.
+TEST(TensionRegion, OnTheAxisOfASymmetricVByHand) {
+  const Machine vee = parse_machine(kVee, "vee.toml");
+  const std::optional<TensionRegion> region = tension_region(vee, 1, 20);
+  ASSERT_TRUE(region.has_value());
+  const double bottom = std::sqrt(2000.0 * 2000.0 - 500.0 * 500.0);  // 1936.49 mm
+  EXPECT_NEAR(region->min_mm.y(), -bottom, 1e-5);
+  const double cell = bottom / 20.0;
+  const auto tension = [](double h) { return 9.80665 / (2.0 * h / std::hypot(500.0, h)); };
+  EXPECT_EQ(region->reached.points, 20);
+  EXPECT_EQ(region->within.points, 19);
+  for (std::size_t c = 0; c < 2; ++c) {
+    EXPECT_EQ(region->over_max[c].points, 1);
+    EXPECT_NEAR(region->over_max[c].min_mm.y(), -0.5 * cell, 1e-5);
+    EXPECT_EQ(region->slack[c].points, 0);
+  }
+  // The reach's bottom is found to 1e-6 mm: so are the rows.
+  EXPECT_NEAR(region->highest_N, tension(0.5 * cell), 1e-6);  // 50.88 N at h = 48.41 mm
+  EXPECT_NEAR(region->highest_N, 50.88, 0.01);
+  EXPECT_NEAR(region->lowest_N, tension(bottom - 0.5 * cell), 1e-6);  // 5.07 N
+  EXPECT_NEAR(region->lowest_N, 5.07, 0.01);
+  EXPECT_NEAR((region->highest_at_mm - Eigen::Vector2d(500.0, -0.5 * cell)).norm(), 0.0, 1e-5);
+  // Machines without a hanging mass have none.
+  EXPECT_FALSE(tension_region(load_machine(fs::path(PKM_SOURCE_DIR) / "examples" / "machines" /
+                                           "wall-plotter.toml"))
+                   .has_value());
 }
 
 // Fast zig-zags (F30000, 500 mm/s) in the sheet's top corners and down its sides, then rapids
