@@ -292,12 +292,16 @@ class Planner {
   }
 
   // A hanging effector's cables: the feed on curves and the acceleration along the move that keep
-  // their tensions within their limits (tension_limit.hpp), at the points limit_by_joints samples.
+  // their tensions within their limits (tension_limit.hpp), every 0.5 mm as limit_by_joints.
   void limit_by_tensions(Piece& piece) {
     if (!tension_) return;
     const Segment& segment = piece.segment;
-    const TensionBound bound = tension_->along(segment, piece.length, sample_points(piece.length),
-                                               piece.max_speed, piece.acceleration);
+    // Tensions change with the position alone on a line: its ends do for a short one.
+    const int points = segment.kind == SegmentKind::line
+                           ? std::clamp(static_cast<int>(std::ceil(piece.length / 0.5)), 2, 512)
+                           : sample_points(piece.length);
+    const TensionBound bound =
+        tension_->along(segment, piece.length, points, piece.max_speed, piece.acceleration);
     if (bound.speed_limited) {
       report_.feed_limits.push_back({segment.line, bound.excess.cable, programmed_feed(segment),
                                      bound.speed_mm_per_s, LimitCause::tension});

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 namespace pkm::motion {
@@ -11,8 +12,9 @@ namespace {
 
 using Vector2 = Eigen::Vector2d;
 
-// Bisection steps of a headroom: its cap / 2^40, some 1e-12 of it.
-constexpr int kBisections = 40;
+// A headroom's search stops within this margin of the limit (N), or after this many steps.
+constexpr double kMarginTolerance_N = 1e-10;
+constexpr int kIterations = 60;
 
 const char* cable_name(int cable) {
   return cable == 0 ? "left" : "right";
@@ -40,39 +42,63 @@ TensionExcess TensionLimit::excess(const Vector6d& pose,
   TensionExcess result;
   if (!status.ok()) {
     result.outside = true;
+    result.margin_N = -std::numeric_limits<double>::infinity();
     if (status.code == StatusCode::tension && (status.joint == 0 || status.joint == 1)) {
+      const std::size_t c = static_cast<std::size_t>(status.joint);
       result.cable = status.joint;  // it would have to push
       result.slack = true;
-      result.tension_N = statics.lowest_N[static_cast<std::size_t>(status.joint)];
+      result.tension_N = statics.lowest_N[c];
+      result.margin_N = statics.lowest_N[c] - kinematics_->tension_min_N();
     }
     return result;
   }
+  // The tension nearest to (or furthest beyond) its limit.
+  result.margin_N = std::numeric_limits<double>::infinity();
   for (int cable = 0; cable < 2; ++cable) {
     const std::size_t c = static_cast<std::size_t>(cable);
-    if (statics.lowest_N[c] < kinematics_->tension_min_N()) {
-      return {true, cable, true, statics.lowest_N[c]};
-    }
-    if (statics.highest_N[c] > kinematics_->tension_max_N()) {
-      return {true, cable, false, statics.highest_N[c]};
-    }
+    const double above_min = statics.lowest_N[c] - kinematics_->tension_min_N();
+    const double below_max = kinematics_->tension_max_N() - statics.highest_N[c];
+    if (above_min < result.margin_N) result = {false, cable, true, statics.lowest_N[c], above_min};
+    if (below_max < result.margin_N)
+      result = {false, cable, false, statics.highest_N[c], below_max};
   }
+  result.outside = result.margin_N < 0.0;
   return result;
 }
 
 double TensionLimit::headroom(const Vector6d& pose, const Eigen::Vector2d& base,
                               const Eigen::Vector2d& direction, double cap, double scale,
                               TensionExcess& excess_found) const {
-  double low = 0.0, high = cap;
   excess_found = excess(pose, scale * (base + cap * direction));
   if (!excess_found.outside) return cap;
-  for (int i = 0; i < kBisections; ++i) {
-    const double middle = 0.5 * (low + high);
-    const TensionExcess e = excess(pose, scale * (base + middle * direction));
+  const TensionExcess at_base = excess(pose, scale * base);
+  if (at_base.outside) {
+    excess_found = at_base;
+    return 0.0;
+  }
+  // The margin is nearly linear in c (min of linear functions for cables tied at the pen):
+  // regula falsi, Illinois' way (the side that stays has its margin halved), from [0, cap],
+  // keeping `low` within the limits; bisection where a side has no balance at all.
+  double low = 0.0, high = cap, margin_low = at_base.margin_N, margin_high = excess_found.margin_N;
+  int kept = 0;  // +1: low moved last, -1: high moved last
+  for (int i = 0; i < kIterations && high - low > 1e-12 * cap; ++i) {
+    double c = std::isfinite(margin_high)
+                   ? (low * margin_high - high * margin_low) / (margin_high - margin_low)
+                   : 0.5 * (low + high);
+    if (!(c > low && c < high)) c = 0.5 * (low + high);
+    const TensionExcess e = excess(pose, scale * (base + c * direction));
     if (e.outside) {
-      high = middle;
+      high = c;
+      margin_high = e.margin_N;
       excess_found = e;
+      if (kept == -1) margin_low *= 0.5;
+      kept = -1;
     } else {
-      low = middle;
+      low = c;
+      margin_low = e.margin_N;
+      if (kept == 1) margin_high *= 0.5;
+      kept = 1;
+      if (e.margin_N < kMarginTolerance_N) break;
     }
   }
   return low;

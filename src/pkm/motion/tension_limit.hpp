@@ -20,12 +20,14 @@ namespace pkm::motion {
 // stopping, which happens within one servo period (as kMoveAccelerationShare for the joints).
 inline constexpr double kTensionMoveShare = 0.8;
 
-// Where a cable's tension leaves its limits.
+// The cable whose tension is nearest to its limit, or furthest beyond it.
 struct TensionExcess {
   bool outside = false;    // a tension leaves its limits, or the effector has no balance
   int cable = -1;          // 0 left, 1 right; -1 without a balance (singular)
   bool slack = false;      // below tension_min_N (else above tension_max_N)
   double tension_N = 0.0;  // the cable's lowest (slack) or highest tension
+  // How far that tension is from its limit (N): negative beyond it, -inf without a balance.
+  double margin_N = 0.0;
 };
 
 // What the tensions allow along one move.
@@ -62,8 +64,9 @@ class TensionLimit {
   double junction_speed(const Vector6d& pose, const Eigen::Vector3d& out, const Eigen::Vector3d& in,
                         double chord_mm, double period_s, double speed) const;
 
-  // The cable whose tension leaves its limits at `pose` under the effector's acceleration
-  // (mm/s^2, x y); a pose without a balance (singular) is outside with cable -1.
+  // The cable whose tension is nearest to its limits (or furthest beyond) at `pose` under the
+  // effector's acceleration (mm/s^2, x y); a pose without a balance (singular) is outside with
+  // cable -1.
   TensionExcess excess(const Vector6d& pose, const Eigen::Vector2d& acceleration_mm_per_s2) const;
   bool within(const Vector6d& pose, const Eigen::Vector2d& acceleration_mm_per_s2) const {
     return !excess(pose, acceleration_mm_per_s2).outside;
@@ -81,7 +84,8 @@ class TensionLimit {
   TensionLimit(const CablePlotterKinematics& kinematics, double share)
       : kinematics_(&kinematics), share_(share) {}
   // The largest c in [0, cap] with the tensions within at `base` + c `direction`, scaled by
-  // `scale` (1 / share of the headroom); `excess` names what passes just beyond it.
+  // `scale` (1 / share of the headroom), to 1e-10 N of a limit; `excess` names what passes
+  // just beyond it. 0 where they are not within at `base`.
   double headroom(const Vector6d& pose, const Eigen::Vector2d& base,
                   const Eigen::Vector2d& direction, double cap, double scale,
                   TensionExcess& excess) const;
