@@ -1,10 +1,10 @@
-// Tension-limited motion of a hanging cable machine: the acceleration bound along a move against
-// a symmetric V by hand, the junction speed, and planned jobs (a real Maslow job and a hand-made
-// aggressive one) whose every sample, with its acceleration by finite differences, keeps both
-// cables within their tension limits, where the same jobs planned without the limits do not.
+// Tension-limited motion of a hanging cable machine: the acceleration bound along a move, the
+// junction speed and check's tension region against a symmetric V by hand, a refusal at rest that
+// names the cable, and planned jobs (a real Maslow job and a hand-made aggressive one) whose
+// every sample, with its acceleration by finite differences, keeps both cables within their
+// tension limits, where the same jobs planned without the limits do not.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +17,7 @@
 #include "pkm/motion/planner.hpp"
 #include "pkm/motion/tension_limit.hpp"
 #include "real_corpus.hpp"
+#include "test_support.hpp"
 
 namespace pkm::motion {
 namespace {
@@ -64,21 +65,7 @@ struct Discard final : SampleSink {
   void write(const Sample&) override {}
 };
 
-// A program in a temporary file, removed with the object.
-class TempProgram {
- public:
-  explicit TempProgram(const std::string& text) {
-    static int counter = 0;
-    path_ = fs::temp_directory_path() / ("pkm-tension-" + std::to_string(::getpid()) + "-" +
-                                         std::to_string(counter++) + ".ngc");
-    std::ofstream(path_) << text;
-  }
-  ~TempProgram() { fs::remove(path_); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using test::TempProgram;
 
 // Checks each sample's tensions under its acceleration, by finite differences of the sampled
 // positions (the samples before and after it), against the limits [min_N, max_N], from the

@@ -61,19 +61,27 @@ nlohmann::json report_json(const Machine& machine, const motion::PlanReport& rep
   }
   nlohmann::json limits = nlohmann::json::array();
   for (const motion::FeedLimit& limit : report.feed_limits) {
-    limits.push_back({{"line", limit.line},
-                      {"joint", machine.joints()[static_cast<std::size_t>(limit.joint)].name},
-                      {"cause", limit.cause == motion::LimitCause::tension ? "tension" : "joint"},
-                      {"programmed_mm_per_min", limit.programmed_mm_per_s * 60.0},
-                      {"allowed_mm_per_min", limit.allowed_mm_per_s * 60.0}});
+    limits.push_back(
+        {{"line", limit.line},
+         {"joint",
+          limit.joint < 0
+              ? nlohmann::json(nullptr)
+              : nlohmann::json(machine.joints()[static_cast<std::size_t>(limit.joint)].name)},
+         {"cause", limit.cause == motion::LimitCause::tension ? "tension" : "joint"},
+         {"programmed_mm_per_min", limit.programmed_mm_per_s * 60.0},
+         {"allowed_mm_per_min", limit.allowed_mm_per_s * 60.0}});
   }
   nlohmann::json tensions = nlohmann::json::array();
   for (const motion::TensionLimitedMove& move : report.tension_limits) {
-    tensions.push_back({{"line", move.line},
-                        {"cable", machine.joints()[static_cast<std::size_t>(move.cable)].name},
-                        {"bound", move.slack ? "min" : "max"},
-                        {"machine_mm_per_s2", move.machine_mm_per_s2},
-                        {"allowed_mm_per_s2", move.allowed_mm_per_s2}});
+    tensions.push_back(
+        {{"line", move.line},
+         {"cable",
+          move.cable < 0
+              ? nlohmann::json(nullptr)
+              : nlohmann::json(machine.joints()[static_cast<std::size_t>(move.cable)].name)},
+         {"bound", move.slack ? "min" : "max"},
+         {"machine_mm_per_s2", move.machine_mm_per_s2},
+         {"allowed_mm_per_s2", move.allowed_mm_per_s2}});
   }
   return {{"machine", machine.name()},
           {"program", options.program},
@@ -166,11 +174,19 @@ void print_estimate_head(const Machine& machine, const motion::PlanReport& repor
               size_text(csv_bytes(machine, samples)).c_str());
 }
 
-// "joint left", or "the left cable's tension" (a cable is named as its joint).
+// "the left cable" (a cable is named as its joint); -1 where the effector would have no
+// balance at all (the tensions' bound was where one ends).
+std::string cable_text(const Machine& machine, int cable) {
+  if (cable < 0) return "the cables' balance";
+  return "the " + machine.joints()[static_cast<std::size_t>(cable)].name + " cable";
+}
+
+// "joint left", or "the left cable's tension".
 std::string limiting(const Machine& machine, int joint, motion::LimitCause cause) {
-  const std::string& name = machine.joints()[static_cast<std::size_t>(joint)].name;
-  return cause == motion::LimitCause::tension ? "the " + name + " cable's tension"
-                                              : "joint " + name;
+  if (cause == motion::LimitCause::tension) {
+    return joint < 0 ? cable_text(machine, joint) : cable_text(machine, joint) + "'s tension";
+  }
+  return "joint " + machine.joints()[static_cast<std::size_t>(joint)].name;
 }
 
 // The first `count` moves whose feed a joint (or a cable's tension) lowered, and whose
@@ -188,10 +204,12 @@ void print_feed_limits(const Machine& machine, const motion::PlanReport& report,
   }
   for (std::size_t i = 0; i < report.tension_limits.size() && i < count; ++i) {
     const motion::TensionLimitedMove& move = report.tension_limits[i];
-    std::printf("    line %d: acceleration %.1f lowered to %.1f mm/s^2: the %s cable %s\n",
-                move.line, move.machine_mm_per_s2, move.allowed_mm_per_s2,
-                machine.joints()[static_cast<std::size_t>(move.cable)].name.c_str(),
-                move.slack ? "would go slack" : "would pass its maximum tension");
+    std::printf("    line %d: acceleration %.1f lowered to %.1f mm/s^2: %s %s\n", move.line,
+                move.machine_mm_per_s2, move.allowed_mm_per_s2,
+                cable_text(machine, move.cable).c_str(),
+                move.cable < 0 ? "would fail"
+                : move.slack   ? "would go slack"
+                               : "would pass its maximum tension");
   }
   if (report.tension_limits.size() > count) {
     std::printf("    and %zu more (--report lists them all)\n",
@@ -235,10 +253,8 @@ void print_summary(const Machine& machine, const motion::PlanReport& report,
   }
   if (!report.tension_limits.empty()) {
     const motion::TensionLimitedMove& first = report.tension_limits.front();
-    std::printf(
-        "  acceleration lowered by cable tensions on %zu moves (first at line %d, the %s cable)\n",
-        report.tension_limits.size(), first.line,
-        machine.joints()[static_cast<std::size_t>(first.cable)].name.c_str());
+    std::printf("  acceleration lowered by cable tensions on %zu moves (first at line %d, %s)\n",
+                report.tension_limits.size(), first.line, cable_text(machine, first.cable).c_str());
   }
   if (estimate) print_feed_limits(machine, report, 5);
 }

@@ -127,14 +127,18 @@ struct Piece {
   JointVector joint_slope;  // largest |dq/ds| of each joint along the piece (per mm)
 };
 
-// Direction of travel at the start (at_end false) or end of a segment's position path (in XY
-// where the machine does not move Z).
-Eigen::Vector3d tangent(const Segment& segment, bool at_end) {
-  const double a = at_end ? 1.0 - 1e-6 : 0.0, b = at_end ? 1.0 : 1e-6;
+// Direction of travel from fraction a to b of a segment's position path (in XY where the
+// machine does not move Z).
+Eigen::Vector3d direction(const Segment& segment, double a, double b) {
   Eigen::Vector3d d = segment.at(b).head<3>() - segment.at(a).head<3>();
   if (segment.z_free) d.z() = 0.0;
   const double n = d.norm();
   return n > 0.0 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::Zero();
+}
+
+// Direction of travel at the start (at_end false) or end of a segment.
+Eigen::Vector3d tangent(const Segment& segment, bool at_end) {
+  return at_end ? direction(segment, 1.0 - 1e-6, 1.0) : direction(segment, 0.0, 1e-6);
 }
 
 // G64 without P still keeps corners this close to the programmed path (mm).
@@ -206,10 +210,6 @@ class Planner {
   }
 
  private:
-  // The feed and acceleration that keep every joint within its limits along a move. With q(s)
-  // a joint along the path, its acceleration is q' s'' + q'' s'^2: bounding |q'| by S and |q''|
-  // by C over the move (sampled every 0.5 mm), speed^2 C <= amax / 2 and accel S <= amax - speed^2
-  // C keep it within amax everywhere. A 1 % margin covers the sampling of the derivatives.
   // Where a move leaves the reach, and on a cable machine how far its tensions go beyond their
   // limits along it.
   [[noreturn]] void leaves_reach(const Segment& segment) const {
@@ -223,6 +223,10 @@ class Planner {
     return std::clamp(static_cast<int>(std::ceil(length_mm / 0.5)), 8, 512);
   }
 
+  // The feed and acceleration that keep every joint within its limits along a move. With q(s)
+  // a joint along the path, its acceleration is q' s'' + q'' s'^2: bounding |q'| by S and |q''|
+  // by C over the move (sampled every 0.5 mm), speed^2 C <= amax / 2 and accel S <= amax - speed^2
+  // C keep it within amax everywhere. A 1 % margin covers the sampling of the derivatives.
   void limit_by_joints(Piece& piece) {
     const Segment& segment = piece.segment;
     const double length = piece.length;
@@ -461,17 +465,12 @@ class Planner {
       before.max_exit_speed = std::min(before.max_exit_speed, allowed);
     }
     if (tension_) {
-      const auto direction = [&](const Segment& segment, double length, bool at_end) {
-        double from = 0.0, to = 0.0;
-        ends(length, at_end, from, to);
-        Eigen::Vector3d d = segment.at(to).head<3>() - segment.at(from).head<3>();
-        if (segment.z_free) d.z() = 0.0;
-        const double n = d.norm();
-        return n > 0.0 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::Zero();
-      };
+      double out_from = 0.0, out_to = 0.0, in_from = 0.0, in_to = 0.0;
+      ends(before.length, true, out_from, out_to);
+      ends(after_length, false, in_from, in_to);
       before.max_exit_speed = tension_->junction_speed(
-          before.segment.end, direction(before.segment, before.length, true),
-          direction(after, after_length, false), std::min(before.length, after_length),
+          before.segment.end, direction(before.segment, out_from, out_to),
+          direction(after, in_from, in_to), std::min(before.length, after_length),
           options_.period_s, std::min(before.max_exit_speed, before.max_speed));
     }
   }
