@@ -121,9 +121,11 @@ void forward_from_home(benchmark::State& state, const std::string& file) {
       100.0 * static_cast<double>(succeeded) / static_cast<double>(state.iterations());
 }
 
-const char* const kMachines[] = {"hektor.toml",        "matrix-mill.toml",    "triaglide.toml",
-                                 "linear-delta.toml",  "hexaglide.toml",      "hexapod-bit.toml",
-                                 "mach3-formula.toml", "linuxcnc-rdelta.toml"};
+const char* const kMachines[] = {"hektor.toml", "matrix-mill.toml", "triaglide.toml",
+                                 "linear-delta.toml", "hexaglide.toml", "hexapod-bit.toml",
+                                 "mach3-formula.toml", "linuxcnc-rdelta.toml",
+                                 // Cable machines as built: pulleys; a gondola; a sled and chain.
+                                 "hektor-pulleys.toml", "makelangelo.toml", "maslow-frame.toml"};
 
 const bool kRegistered = [] {
   for (const char* file : kMachines) {

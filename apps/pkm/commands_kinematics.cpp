@@ -55,6 +55,22 @@ Pose pose_in_file_units(const Machine& machine, std::vector<double> values) {
   return pose_from_arguments(machine, values);
 }
 
+// A hanging machine with a weight: how hard each cable pulls at rest, how far the effector tilts.
+void print_cable_statics(const Machine& machine, const Pose& pose) {
+  const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&machine.kinematics());
+  if (plotter == nullptr || !(plotter->geometry().effector_mass_kg > 0.0)) return;
+  CableStatics statics;
+  if (!plotter->statics(pose, Eigen::Vector2d::Zero(), statics).ok()) return;
+  for (int cable = 0; cable < 2; ++cable) {
+    std::printf("tension %s = %.3f N (%.3f .. %.3f along it)\n",
+                machine.joints()[static_cast<std::size_t>(cable)].name.c_str(),
+                statics.tension_N[cable], statics.lowest_N[cable], statics.highest_N[cable]);
+  }
+  if (plotter->geometry().tilts()) {
+    std::printf("tilt = %.4f deg\n", radians_to_degrees(statics.tilt_rad));
+  }
+}
+
 void run_ik(const IkOptions& options) {
   const Machine machine = load_machine_or_default(options.machine);
   const Pose pose = pose_in_file_units(machine, options.pose);
@@ -78,6 +94,7 @@ void run_ik(const IkOptions& options) {
     std::printf("%s = %.6f %s\n", machine.joints()[i].name.c_str(),
                 machine.joint_to_file(i, joints[i]), machine.joint_file_unit(i));
   }
+  print_cable_statics(machine, pose);
 }
 
 void run_fk(FkOptions options) {

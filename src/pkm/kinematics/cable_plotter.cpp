@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <stdexcept>
 
 namespace pkm {
@@ -69,6 +70,12 @@ void validate_cable_plotter_geometry(const CablePlotterGeometry& g) {
   if (!(g.cable_density_kg_per_m >= 0.0) || !std::isfinite(g.cable_density_kg_per_m)) {
     throw GeometryFault("cable_density", "must be 0 kg/m or more");
   }
+  if (!(g.spool_buildup_mm_per_m >= 0.0) || !std::isfinite(g.spool_buildup_mm_per_m)) {
+    throw GeometryFault("spool_buildup", "must be 0 mm/m or more");
+  }
+  if (g.spool_buildup_mm_per_m > 0.0 && !(g.pulley_radius_mm > 0.0)) {
+    throw GeometryFault("spool_buildup", "needs the drum's radius: give pulley_radius");
+  }
   if (!(g.cable_stretch_mm_per_m_per_N >= 0.0) || !std::isfinite(g.cable_stretch_mm_per_m_per_N)) {
     throw GeometryFault("cable_stiffness", "must be a positive force (EA, N)");
   }
@@ -107,10 +114,36 @@ Status CablePlotterKinematics::ideal_inverse(const Eigen::Vector2d& pen_mm,
   return Status::success();
 }
 
-Status CablePlotterKinematics::balance_at(const Eigen::Vector2d& pen_mm,
-                                          CableBalance& balance) const {
-  const Status status = solve_cable_balance(
-      geometry_, pen_mm, Eigen::Vector2d(0.0, -kStandardGravity_mm_per_s2), balance);
+Status CablePlotterKinematics::solve_balance(const Eigen::Vector2d& pen_mm,
+                                             const Eigen::Vector2d& gravity_mm_per_s2,
+                                             CableBalance& balance,
+                                             std::array<double, 2>& past_top_mm) const {
+  // With a spool build-up each drum's radius depends on the cable paid out, which depends on
+  // the radius: a fixed point, contracting by about k times the wrap per step.
+  CablePlotterGeometry geometry = geometry_;
+  const double k = geometry_.spool_buildup_mm_per_m * 1e-3;
+  for (int round = 0; round < 30; ++round) {
+    const Status status = solve_cable_balance(geometry, pen_mm, gravity_mm_per_s2, balance);
+    if (!status.ok()) return status;
+    bool settled = true;
+    for (int cable = 0; cable < 2; ++cable) {
+      past_top_mm[cable] = cable_past_top(geometry, balance, cable);
+      const double change = -k * past_top_mm[cable];
+      settled = settled && std::abs(change - geometry.radius_change_mm[cable]) <=
+                               1e-14 * geometry_.pulley_radius_mm;
+      geometry.radius_change_mm[cable] = change;
+    }
+    if (settled) return Status::success();
+    if (!(geometry.radius_mm(0) > 0.0) || !(geometry.radius_mm(1) > 0.0)) break;
+  }
+  return Status::failure(StatusCode::unreachable, geometry.radius_mm(0) > 0.0 ? 1 : 0);
+}
+
+Status CablePlotterKinematics::balance_at(const Eigen::Vector2d& pen_mm, CableBalance& balance,
+                                          std::array<double, 2>& past_top_mm,
+                                          bool within_limits) const {
+  const Status status = solve_balance(pen_mm, Eigen::Vector2d(0.0, -kStandardGravity_mm_per_s2),
+                                      balance, past_top_mm);
   if (!status.ok()) return status;
   const bool weighed = geometry_.effector_mass_kg > 0.0;
   const StatusCode pushing = weighed ? StatusCode::tension : StatusCode::unreachable;
@@ -118,7 +151,7 @@ Status CablePlotterKinematics::balance_at(const Eigen::Vector2d& pen_mm,
   for (int cable = 0; cable < 2; ++cable) {
     if (!balance.pulls[cable]) return Status::failure(pushing, cable);
   }
-  for (int cable = 0; cable < 2; ++cable) {
+  for (int cable = 0; cable < 2 && within_limits; ++cable) {
     if (balance.statics.lowest_N[cable] < geometry_.tension_min_N ||
         balance.statics.highest_N[cable] > geometry_.tension_max_N) {
       return Status::failure(StatusCode::tension, cable);
@@ -128,6 +161,11 @@ Status CablePlotterKinematics::balance_at(const Eigen::Vector2d& pen_mm,
 }
 
 Status CablePlotterKinematics::inverse(const Pose& pose, JointVector& joints) const {
+  return inverse_within(pose, joints, true);
+}
+
+Status CablePlotterKinematics::inverse_within(const Pose& pose, JointVector& joints,
+                                              bool within_limits) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
   const Eigen::Vector2d pen = pose.position_mm.head<2>();
   joints.resize(joint_count());
@@ -136,13 +174,47 @@ Status CablePlotterKinematics::inverse(const Pose& pose, JointVector& joints) co
     if (!status.ok()) return status;
   } else {
     CableBalance balance;
-    const Status status = balance_at(pen, balance);
+    std::array<double, 2> past_top{};
+    const Status status = balance_at(pen, balance, past_top, within_limits);
     if (!status.ok()) return status;
-    for (int cable = 0; cable < 2; ++cable) joints[cable] = cable_joint(geometry_, balance, cable);
+    for (int cable = 0; cable < 2; ++cable) {
+      joints[cable] = cable_joint(geometry_, past_top[cable], cable);
+      // The drum would run out of radius before paying out this much.
+      if (!std::isfinite(joints[cable])) return Status::failure(StatusCode::unreachable, cable);
+    }
   }
   passthrough_.inverse(pose, joints, 2);
   return Status::success();
 }
+
+namespace {
+// The model as forward kinematics iterates on it: inverse kinematics without the tension
+// limits, which say where the machine may go, not where joints put the pen.
+class WithoutTensionLimits final : public Kinematics {
+ public:
+  explicit WithoutTensionLimits(const CablePlotterKinematics& model) : model_(model) {}
+  std::string_view type() const override { return model_.type(); }
+  int joint_count() const override { return model_.joint_count(); }
+  Dof dof() const override { return model_.dof(); }
+  Status inverse(const Pose& pose, JointVector& joints) const override {
+    return model_.inverse_within(pose, joints, false);
+  }
+  Status forward(const JointVector&, Pose&) const override {
+    return Status::failure(StatusCode::not_converged);
+  }
+  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override {
+    return numerical_jacobian(*this, pose, d_joints_d_pose);
+  }
+  std::vector<Parameter> parameters() const override { return {}; }
+  void set_parameters(std::span<const double>) override {}
+  std::unique_ptr<Kinematics> clone() const override {
+    return std::make_unique<WithoutTensionLimits>(*this);
+  }
+
+ private:
+  const CablePlotterKinematics& model_;
+};
+}  // namespace
 
 Status CablePlotterKinematics::ideal_forward(const JointVector& joints,
                                              Eigen::Vector2d& pen_mm) const {
@@ -172,17 +244,46 @@ Status CablePlotterKinematics::forward(const JointVector& joints, Pose& pose_ino
   // No refusal outside the anchors here: calibration solves FK with a geometry still slightly
   // off, and the pose the joints imply is the answer it needs; inverse() says what is reachable.
   Eigen::Vector2d pen;
-  const Status status = ideal_forward(joints, pen);
   if (geometry_.ideal()) {
+    const Status status = ideal_forward(joints, pen);
     if (!status.ok()) return status;
     pose_inout.position_mm.head<2>() = pen;
     passthrough_.forward(joints, 2, pose_inout);
     return Status::success();
   }
-  // As built: Newton on the balance, from where straight cables of the joints' lengths meet.
+  // As built: Newton on the balance, from the seed when it is near where straight cables of the
+  // joints' lengths, less a quarter turn of wrap, meet at the effector's level attachment points
+  // (the previous pose along a path), else from that meeting point; then from the other.
   passthrough_.forward(joints, 2, pose_inout);
-  if (status.ok()) pose_inout.position_mm.head<2>() = pen;
-  return solve_forward_newton(*this, joints, pose_inout, forward_options_);
+  Pose guess = pose_inout;
+  const bool guessed = straight_guess(joints, pen).ok();
+  if (guessed) guess.position_mm.head<2>() = pen;
+  constexpr double kNearGuess_mm = 50.0;
+  const bool seed_first =
+      !guessed || (guess.position_mm - pose_inout.position_mm).norm() < kNearGuess_mm;
+  const WithoutTensionLimits unlimited(*this);
+  Pose start = seed_first ? pose_inout : guess;
+  Status result = solve_forward_newton(unlimited, joints, start, forward_options_);
+  if (!result.ok() && guessed) {
+    start = seed_first ? guess : pose_inout;
+    result = solve_forward_newton(unlimited, joints, start, forward_options_);
+  }
+  if (result.ok()) pose_inout = start;
+  return result;
+}
+
+Status CablePlotterKinematics::straight_guess(const JointVector& joints,
+                                              Eigen::Vector2d& pen_mm) const {
+  CablePlotterGeometry straight = CablePlotterGeometry::level(1.0);
+  const double wrap = geometry_.pulley_radius_mm * 0.25 * std::numbers::pi;
+  for (int cable = 0; cable < 2; ++cable) {
+    straight.anchors_mm[cable] = geometry_.anchors_mm[cable] - geometry_.attach_mm[cable];
+    straight.cable_offsets_mm[cable] = geometry_.cable_offsets_mm[cable] + wrap;
+  }
+  if (!(straight.anchors_mm[1].x() > straight.anchors_mm[0].x())) {
+    return Status::failure(StatusCode::singular);
+  }
+  return CablePlotterKinematics(straight).ideal_forward(joints, pen_mm);
 }
 
 Status CablePlotterKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
@@ -208,8 +309,8 @@ Status CablePlotterKinematics::statics(const Pose& pose,
   const Eigen::Vector2d gravity =
       Eigen::Vector2d(0.0, -kStandardGravity_mm_per_s2) - acceleration_mm_per_s2;
   CableBalance balance;
-  const Status status =
-      solve_cable_balance(geometry_, pose.position_mm.head<2>(), gravity, balance);
+  std::array<double, 2> past_top{};
+  const Status status = solve_balance(pose.position_mm.head<2>(), gravity, balance, past_top);
   if (!status.ok()) return status;
   out = balance.statics;
   for (int cable = 0; cable < 2; ++cable) {
@@ -278,11 +379,12 @@ std::vector<Parameter> CablePlotterKinematics::parameters() const {
           {"center_of_mass_y", g.center_of_mass_mm.y(), "mm"},
           {"effector_mass", g.effector_mass_kg, "kg"},
           {"cable_density", g.cable_density_kg_per_m, "kg/m"},
-          {"cable_stretch", g.cable_stretch_mm_per_m_per_N, "mm/m/N"}};
+          {"cable_stretch", g.cable_stretch_mm_per_m_per_N, "mm/m/N"},
+          {"spool_buildup", g.spool_buildup_mm_per_m, "mm/m"}};
 }
 
 void CablePlotterKinematics::set_parameters(std::span<const double> values) {
-  if (values.size() != 16) throw std::invalid_argument("cable plotter takes 16 parameters");
+  if (values.size() != 17) throw std::invalid_argument("cable plotter takes 17 parameters");
   CablePlotterGeometry g = geometry_;
   g.anchors_mm[0] = {values[0], values[1]};
   g.anchors_mm[1] = {values[2], values[3]};
@@ -294,6 +396,7 @@ void CablePlotterKinematics::set_parameters(std::span<const double> values) {
   g.effector_mass_kg = values[13];
   g.cable_density_kg_per_m = values[14];
   g.cable_stretch_mm_per_m_per_N = values[15];
+  g.spool_buildup_mm_per_m = values[16];
   validate_cable_plotter_geometry(g);
   geometry_ = g;
 }
@@ -340,6 +443,7 @@ CablePlotterGeometry read_geometry(const ModelConfig& config) {
     g.tension_max_N = limits[1];
   }
   g.cable_density_kg_per_m = config.number_or("cable_density", 0.0);
+  g.spool_buildup_mm_per_m = config.number_or("spool_buildup", 0.0);
   if (config.has("cable_stiffness")) {
     const double stiffness = config.number("cable_stiffness");
     if (!(stiffness > 0.0)) config.fail("cable_stiffness", "must be a positive force (EA, N)");
@@ -360,6 +464,12 @@ std::unique_ptr<Kinematics> make_cable_plotter_kinematics(const ModelConfig& con
     std::string key = fault.key;
     if (key == "anchors" && !config.has("anchors")) key = "anchor_distance";
     if (key == "effector_attach" && !config.has("effector_attach")) key = "center_of_mass";
+    // A missing mass: name the key that needs it.
+    for (const char* needs_mass : {"effector_attach", "cable_density", "tension_limits"}) {
+      if (key == "effector_mass" && !config.has("effector_mass") && config.has(needs_mass)) {
+        key = needs_mass;
+      }
+    }
     config.fail(key, fault.what());
   }
 }

@@ -47,13 +47,24 @@ class CablePlotterKinematics final : public Kinematics {
   double tension_min_N() const { return geometry_.tension_min_N; }
   double tension_max_N() const { return geometry_.tension_max_N; }
 
+  // Inverse kinematics with or without the tension limits (forward kinematics iterates without:
+  // the limits say where the machine may go, not where its joints put the pen).
+  Status inverse_within(const Pose& pose, JointVector& joints, bool within_limits) const;
+
   const CablePlotterGeometry& geometry() const { return geometry_; }
   const PassThroughAxes& passthrough() const { return passthrough_; }
 
  private:
   Status ideal_inverse(const Eigen::Vector2d& pen_mm, JointVector& joints) const;
   Status ideal_forward(const JointVector& joints, Eigen::Vector2d& pen_mm) const;
-  Status balance_at(const Eigen::Vector2d& pen_mm, CableBalance& balance) const;
+  Status straight_guess(const JointVector& joints, Eigen::Vector2d& pen_mm) const;
+  // The balance, and each cable past its pulley's top point (mm), with the drums' radii of a
+  // spool build-up solved along.
+  Status solve_balance(const Eigen::Vector2d& pen_mm, const Eigen::Vector2d& gravity_mm_per_s2,
+                       CableBalance& balance, std::array<double, 2>& past_top_mm) const;
+  // At rest, with the checks: both cables pull, and (within_limits) the tension limits.
+  Status balance_at(const Eigen::Vector2d& pen_mm, CableBalance& balance,
+                    std::array<double, 2>& past_top_mm, bool within_limits) const;
 
   CablePlotterGeometry geometry_;
   PassThroughAxes passthrough_;

@@ -34,7 +34,6 @@ Residuals balance_residuals(const CablePlotterGeometry& geometry, const Vector2&
                             const Vector2& load_N, const Unknowns& x) {
   const double weight = geometry.cable_weight_N_per_mm();
   const double compliance = geometry.compliance_per_N();
-  const double r = geometry.pulley_radius_mm;
   Residuals residuals;
   Vector2 force_sum = load_N;
   double moment = cross(rotated(geometry.center_of_mass_mm, x[0]), load_N);
@@ -47,7 +46,8 @@ Residuals balance_residuals(const CablePlotterGeometry& geometry, const Vector2&
     const double top_vertical = v + weight * length;
     const Vector2 normal =
         Vector2(-kTowardsPulley[cable] * top_vertical, h) / std::hypot(h, top_vertical);
-    residuals.segment<2>(3 * cable) = top - (geometry.anchors_mm[cable] + r * normal);
+    residuals.segment<2>(3 * cable) =
+        top - (geometry.anchors_mm[cable] + geometry.radius_mm(cable) * normal);
     const Vector2 force(kTowardsPulley[cable] * h, v);
     force_sum += force;
     moment += cross(arm, force);
@@ -58,8 +58,68 @@ Residuals balance_residuals(const CablePlotterGeometry& geometry, const Vector2&
   return residuals;
 }
 
+Vector2 turned_quarter(const Vector2& v) {
+  return {-v.y(), v.x()};
+}  // d(R v)/d(tilt) = R' v
+
+// The residuals' Jacobian in the unknowns, from the catenary's derivatives.
+Eigen::Matrix<double, 7, 7> balance_jacobian(const CablePlotterGeometry& geometry,
+                                             const Vector2& load_N, const Unknowns& x) {
+  const double weight = geometry.cable_weight_N_per_mm();
+  Eigen::Matrix<double, 7, 7> jacobian = Eigen::Matrix<double, 7, 7>::Zero();
+  jacobian(6, 0) = cross(turned_quarter(rotated(geometry.center_of_mass_mm, x[0])), load_N);
+  for (int cable = 0; cable < 2; ++cable) {
+    const double sigma = kTowardsPulley[cable], r = geometry.radius_mm(cable);
+    const int column = 1 + 3 * cable, row = 3 * cable;
+    const double h = x[column], v = x[column + 1], length = x[column + 2];
+    const Vector2 arm = rotated(geometry.attach_mm[cable], x[0]);
+    const CatenarySpanDerivatives d =
+        catenary_span_derivatives(h, v, length, weight, geometry.compliance_per_N());
+    // The normal n = (-sigma Vt, H) / Tt at the top, Vt = V + w L.
+    const double top_vertical = v + weight * length;
+    const double tension = std::hypot(h, top_vertical), cubed = tension * tension * tension;
+    const Vector2 unnormalised(-sigma * top_vertical, h);
+    const Vector2 normal_by_h = Vector2(0.0, 1.0) / tension - unnormalised * h / cubed;
+    const Vector2 normal_by_vt =
+        Vector2(-sigma, 0.0) / tension - unnormalised * top_vertical / cubed;
+    jacobian.block<2, 1>(row, 0) = turned_quarter(arm);
+    jacobian.block<2, 1>(row, column) =
+        Vector2(sigma * d.across_by_horizontal, d.rise_by_horizontal) - r * normal_by_h;
+    jacobian.block<2, 1>(row, column + 1) =
+        Vector2(sigma * d.across_by_vertical, d.rise_by_vertical) - r * normal_by_vt;
+    jacobian.block<2, 1>(row, column + 2) =
+        Vector2(sigma * d.across_by_length, d.rise_by_length) - r * weight * normal_by_vt;
+    jacobian(2, column) = sigma;  // the forces
+    jacobian(5, column + 1) = 1.0;
+    const Vector2 force(sigma * h, v);  // the moment
+    jacobian(6, 0) += cross(turned_quarter(arm), force);
+    jacobian(6, column) = -sigma * arm.y();
+    jacobian(6, column + 1) = arm.x();
+  }
+  if (!geometry.tilts()) {
+    // Cables tied at the pen: no moment, the tilt stays where it is.
+    jacobian.row(6).setZero();
+    jacobian.col(0).setZero();
+    jacobian(6, 0) = 1.0;
+  }
+  return jacobian;
+}
+
 bool admissible(const Unknowns& x) {
   return x[1] > 0.0 && x[4] > 0.0 && x[3] > 0.0 && x[6] > 0.0;
+}
+
+// A tilt step of 1e-13 rad moves a cable end 150 mm off the pen by 1.5e-11 mm.
+bool small_step(const Unknowns& change, const Unknowns& x) {
+  bool small = std::abs(change[0]) < 1e-13;
+  for (int cable = 0; cable < 2; ++cable) {
+    for (int k = 1; k <= 2; ++k) {
+      const int i = k + 3 * cable;
+      small = small && std::abs(change[i]) < 1e-9 * std::max(1.0, std::abs(x[i]));
+    }
+    small = small && std::abs(change[3 + 3 * cable]) < 1e-10;
+  }
+  return small;
 }
 
 }  // namespace
@@ -78,15 +138,12 @@ Status solve_sagging_balance(const CablePlotterGeometry& geometry, const Eigen::
   }
   if (!admissible(x)) return Status::failure(StatusCode::singular);
   Residuals residuals = balance_residuals(geometry, pen_mm, load_N, x);
-  bool converged = false;
-  for (int iteration = 0; iteration < 40 && !converged; ++iteration) {
-    Eigen::Matrix<double, 7, 7> jacobian;
-    for (int j = 0; j < 7; ++j) {
-      Unknowns shifted = x;
-      const double step = j == 0 ? 1e-8 : 1e-7 * std::max(1.0, std::abs(x[j]));
-      shifted[j] += step;
-      jacobian.col(j) = (balance_residuals(geometry, pen_mm, load_N, shifted) - residuals) / step;
-    }
+  // Newton converges quadratically: once a step is at the tolerance, one more takes the unknowns
+  // to rounding level, which forward kinematics (Newton on this) needs of its joints.
+  bool converged = false, polished = false;
+  for (int iteration = 0; iteration < 40 && !polished; ++iteration) {
+    const Eigen::Matrix<double, 7, 7> jacobian = balance_jacobian(geometry, load_N, x);
+    if (!geometry.tilts()) residuals[6] = 0.0;
     Unknowns change = jacobian.partialPivLu().solve(-residuals);
     if (!change.allFinite()) return Status::failure(StatusCode::singular);
     // Halve a step that would make a tension or a length negative.
@@ -94,15 +151,8 @@ Status solve_sagging_balance(const CablePlotterGeometry& geometry, const Eigen::
     if (!admissible(x + change)) return Status::failure(StatusCode::not_converged);
     x += change;
     residuals = balance_residuals(geometry, pen_mm, load_N, x);
-    // At rounding level: a tilt of 1e-13 rad moves a cable end 150 mm off the pen by 1.5e-11 mm.
-    converged = std::abs(change[0]) < 1e-13;
-    for (int cable = 0; cable < 2; ++cable) {
-      for (int k = 1; k <= 2; ++k) {
-        const int i = k + 3 * cable;
-        converged = converged && std::abs(change[i]) < 1e-9 * std::max(1.0, std::abs(x[i]));
-      }
-      converged = converged && std::abs(change[3 + 3 * cable]) < 1e-10;
-    }
+    polished = converged;
+    converged = converged || small_step(change, x);
   }
   if (!converged || !residuals.allFinite()) return Status::failure(StatusCode::not_converged);
 

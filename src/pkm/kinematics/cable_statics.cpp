@@ -36,7 +36,7 @@ struct StraightCable {
 Status straight_cable(const CablePlotterGeometry& geometry, int cable, const Vector2& end_mm,
                       StraightCable& out) {
   const Vector2 from_centre = end_mm - geometry.anchors_mm[cable];
-  const double r = geometry.pulley_radius_mm;
+  const double r = geometry.radius_mm(cable);
   const double distance_squared = from_centre.squaredNorm();
   if (!(distance_squared > r * r * (1.0 + 1e-12)) || distance_squared == 0.0) {
     return Status::failure(StatusCode::unreachable, cable);  // the end is on the pulley
@@ -90,20 +90,18 @@ Status straight_balance_at(const CablePlotterGeometry& geometry, const Vector2& 
   return Status::success();
 }
 
-bool tilts(const CablePlotterGeometry& geometry) {
-  return !geometry.attach_mm[0].isZero() || !geometry.attach_mm[1].isZero() ||
-         (!geometry.center_of_mass_mm.isZero() && geometry.effector_mass_kg > 0.0);
-}
-
 // The stable tilt: the moment vanishes and turns the effector back when it swings (its slope in
 // the tilt is negative). Newton from level, then a scan of the half turn about level.
 Status straight_balance(const CablePlotterGeometry& geometry, const Vector2& pen_mm,
                         const Vector2& load_N, double& tilt_rad, StraightState& state) {
   tilt_rad = 0.0;
   Status status = straight_balance_at(geometry, pen_mm, load_N, 0.0, state);
-  if (!status.ok() || !tilts(geometry)) return status;
+  if (!status.ok() || !geometry.tilts()) return status;
   constexpr double kStep = 1e-7;
+  // Once a step is below 1e-13 rad (1.5e-11 mm at 150 mm from the pen), one more reaches
+  // rounding level; waiting for a step below that could take every iteration.
   const auto newton = [&](double& tilt) {
+    bool small = false;
     for (int iteration = 0; iteration < 60; ++iteration) {
       StraightState shifted;
       if (!straight_balance_at(geometry, pen_mm, load_N, tilt, state).ok()) return false;
@@ -112,7 +110,8 @@ Status straight_balance(const CablePlotterGeometry& geometry, const Vector2& pen
       if (!(slope < 0.0)) return false;
       const double change = -state.moment_Nmm / slope;
       tilt += std::clamp(change, -0.2, 0.2);
-      if (std::abs(change) < 1e-15) break;
+      if (small) break;
+      small = std::abs(change) < 1e-13;
       if (!(std::abs(tilt) < 1.5)) return false;
     }
     return straight_balance_at(geometry, pen_mm, load_N, tilt, state).ok();
@@ -173,11 +172,23 @@ Status solve_cable_balance(const CablePlotterGeometry& geometry, const Eigen::Ve
   return solve_sagging_balance(geometry, pen_mm, load, balance);
 }
 
-double cable_joint(const CablePlotterGeometry& geometry, const CableBalance& balance, int cable) {
+double cable_past_top(const CablePlotterGeometry& geometry, const CableBalance& balance,
+                      int cable) {
   const double compliance = geometry.compliance_per_N();
-  const double arc = geometry.pulley_radius_mm * balance.wrap_rad[cable] /
+  const double arc = geometry.radius_mm(cable) * balance.wrap_rad[cable] /
                      (1.0 + compliance * std::max(0.0, balance.top_tension_N[cable]));
-  return arc + balance.span_mm[cable] + geometry.cable_offsets_mm[cable];
+  return arc + balance.span_mm[cable];
+}
+
+double cable_joint(const CablePlotterGeometry& geometry, double cable_past_top_mm, int cable) {
+  const double k = geometry.spool_buildup_mm_per_m * 1e-3;  // mm of radius per mm of cable
+  if (k == 0.0) return cable_past_top_mm + geometry.cable_offsets_mm[cable];
+  // The drum's radius falls by k per mm paid out: d(turn) = d(cable) / (r0 - k cable), so the
+  // turn is -(1 / k) ln(1 - k cable / r0); times r0, in mm.
+  const double r0 = geometry.pulley_radius_mm;
+  const double left = 1.0 - k * cable_past_top_mm / r0;
+  if (!(left > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  return -r0 / k * std::log1p(-k * cable_past_top_mm / r0) + geometry.cable_offsets_mm[cable];
 }
 
 }  // namespace pkm

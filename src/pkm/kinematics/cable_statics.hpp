@@ -32,6 +32,12 @@ struct CablePlotterGeometry {
   double tension_max_N = std::numeric_limits<double>::infinity();
   double cable_density_kg_per_m = 0.0;
   double cable_stretch_mm_per_m_per_N = 0.0;  // 1000 / EA; 0: the cable does not stretch
+  // Each metre of cable wound on a drum adds this much to its radius (a cord on a spool);
+  // pulley_radius is then the drum's radius with its cable wound in to the joint's zero.
+  double spool_buildup_mm_per_m = 0.0;
+  // Per-call data, not description: how much each drum's radius differs from pulley_radius for
+  // the balance being solved (set by the spool build-up's iteration; zero otherwise).
+  std::array<double, 2> radius_change_mm{0.0, 0.0};
 
   // Anchors at (0, 0) and (d, 0), the paper's Hektor.
   static CablePlotterGeometry level(double anchor_distance_mm, double left_offset_mm = 0.0,
@@ -42,9 +48,15 @@ struct CablePlotterGeometry {
     return geometry;
   }
   // Two massless, straight, unstretchable cables to the pen: Hektor as the paper models it.
+  double radius_mm(int cable) const { return pulley_radius_mm + radius_change_mm[cable]; }
   bool ideal() const {
     return pulley_radius_mm == 0.0 && attach_mm[0].isZero() && attach_mm[1].isZero() &&
            cable_density_kg_per_m == 0.0 && cable_stretch_mm_per_m_per_N == 0.0 && !tension_limited;
+  }
+  // Whether the effector can turn: tied at points off the pen, or weighted off it.
+  bool tilts() const {
+    return !attach_mm[0].isZero() || !attach_mm[1].isZero() ||
+           (!center_of_mass_mm.isZero() && effector_mass_kg > 0.0);
   }
   double compliance_per_N() const { return cable_stretch_mm_per_m_per_N * 1e-3; }
   double cable_weight_N_per_mm() const {
@@ -83,8 +95,12 @@ Status solve_cable_balance(const CablePlotterGeometry& geometry, const Eigen::Ve
 Status solve_sagging_balance(const CablePlotterGeometry& geometry, const Eigen::Vector2d& pen_mm,
                              const Eigen::Vector2d& load_N, CableBalance& balance);
 
-// The joint reading of cable `cable` (0 left, 1 right) for a balance: the unstretched cable
-// from the pulley's top point to the effector, plus the cable's offset.
-double cable_joint(const CablePlotterGeometry& geometry, const CableBalance& balance, int cable);
+// The unstretched cable of `cable` (0 left, 1 right) past its pulley's top point: wrap and span.
+double cable_past_top(const CablePlotterGeometry& geometry, const CableBalance& balance, int cable);
+
+// The joint reading for that much cable past the top: the cable plus its offset, or with a spool
+// build-up the drum's turn from the joint's zero times pulley_radius, plus the offset. NaN where
+// the drum would run out of radius.
+double cable_joint(const CablePlotterGeometry& geometry, double cable_past_top_mm, int cable);
 
 }  // namespace pkm

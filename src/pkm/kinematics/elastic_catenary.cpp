@@ -42,4 +42,37 @@ CatenarySpan catenary_span(double horizontal_N, double vertical_N, double length
   return span;
 }
 
+CatenarySpanDerivatives catenary_span_derivatives(double horizontal_N, double vertical_N,
+                                                  double length_mm, double weight_N_per_mm,
+                                                  double compliance_per_N) {
+  const double h = horizontal_N, c = compliance_per_N, w = weight_N_per_mm;
+  const double a = vertical_N / h;
+  CatenarySpanDerivatives d;
+  d.across_by_horizontal = length_mm * c;
+  d.rise_by_vertical = length_mm * c;
+  d.across_by_length = h * c;
+  d.rise_by_length = (vertical_N + w * length_mm) * c;
+  if (w > 0.0) {
+    const double delta = w * length_mm / h, b = a + delta;
+    const double root_a = std::sqrt(1.0 + a * a), root_b = std::sqrt(1.0 + b * b);
+    // d/dH of (H / w)(asinh b - asinh a) with a = V / H, b = (V + w L) / H, and so on.
+    d.across_by_horizontal += (asinh_difference(a, delta) - (b / root_b - a / root_a)) / w;
+    d.across_by_vertical += (1.0 / root_b - 1.0 / root_a) / w;
+    d.across_by_length += 1.0 / root_b;
+    d.rise_by_horizontal += (1.0 / root_b - 1.0 / root_a) / w;
+    d.rise_by_vertical += (b / root_b - a / root_a) / w;
+    d.rise_by_length += b / root_b;
+  } else {
+    // A straight cable: across = H L / T, rise = V L / T, T = sqrt(H^2 + V^2).
+    const double t = std::hypot(h, vertical_N), t3 = t * t * t;
+    d.across_by_horizontal += length_mm * vertical_N * vertical_N / t3;
+    d.across_by_vertical += -length_mm * h * vertical_N / t3;
+    d.across_by_length += h / t;
+    d.rise_by_horizontal += -length_mm * h * vertical_N / t3;
+    d.rise_by_vertical += length_mm * h * h / t3;
+    d.rise_by_length += vertical_N / t;
+  }
+  return d;
+}
+
 }  // namespace pkm

@@ -19,6 +19,15 @@ struct CatenarySpan {
 CatenarySpan catenary_span(double horizontal_N, double vertical_N, double length_mm,
                            double weight_N_per_mm, double compliance_per_N);
 
+// The span's partial derivatives in H, V and L (mm per N, mm per N, mm per mm), for Newton.
+struct CatenarySpanDerivatives {
+  double across_by_horizontal = 0.0, across_by_vertical = 0.0, across_by_length = 0.0;
+  double rise_by_horizontal = 0.0, rise_by_vertical = 0.0, rise_by_length = 0.0;
+};
+CatenarySpanDerivatives catenary_span_derivatives(double horizontal_N, double vertical_N,
+                                                  double length_mm, double weight_N_per_mm,
+                                                  double compliance_per_N);
+
 // asinh(a + delta) - asinh(a) for delta >= 0, without the cancellation of the plain difference
 // when delta is small (a light chain's span).
 double asinh_difference(double a, double delta);

@@ -104,6 +104,7 @@ void write_cable_plotter(Writer& w, const CablePlotterGeometry& g) {
            toml_number(g.tension_max_N) + "]");
   }
   if (g.cable_density_kg_per_m != 0.0) w.value("cable_density", g.cable_density_kg_per_m);
+  if (g.spool_buildup_mm_per_m != 0.0) w.value("spool_buildup", g.spool_buildup_mm_per_m);
   if (g.cable_stretch_mm_per_m_per_N != 0.0) {
     w.value("cable_stiffness", 1000.0 / g.cable_stretch_mm_per_m_per_N);
   }
