@@ -35,21 +35,7 @@ struct Discard final : SampleSink {
   void write(const Sample&) override {}
 };
 
-// A program in a temporary file, removed with the object.
-class TempProgram {
- public:
-  explicit TempProgram(const std::string& text) {
-    static int counter = 0;
-    path_ = fs::temp_directory_path() / ("pkm-estimate-" + std::to_string(::getpid()) + "-" +
-                                         std::to_string(counter++) + ".ngc");
-    std::ofstream(path_) << text;
-  }
-  ~TempProgram() { fs::remove(path_); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using test::TempProgram;
 
 Machine pen_plotter() {
   return test::load_example("pen-plotter.toml");

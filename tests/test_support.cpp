@@ -1,11 +1,26 @@
 #include "test_support.hpp"
 
+#include <unistd.h>
+
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cctype>
+#include <fstream>
 #include <stdexcept>
 
 namespace pkm::test {
+
+TempProgram::TempProgram(const std::string& text) {
+  static int counter = 0;
+  path_ = std::filesystem::temp_directory_path() /
+          ("pkm-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".ngc");
+  std::ofstream(path_) << text;
+}
+
+TempProgram::~TempProgram() {
+  std::error_code ignored;
+  std::filesystem::remove(path_, ignored);
+}
 
 std::filesystem::path example_machine_path(const std::string& file_name) {
   return std::filesystem::path(PKM_SOURCE_DIR) / "examples" / "machines" / file_name;

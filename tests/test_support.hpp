@@ -27,4 +27,17 @@ double dexterity(const Kinematics& kinematics, const Pose& pose);
 std::vector<Pose> sample_reachable_poses(const Machine& machine, int count, std::mt19937_64& rng,
                                          double max_angle_deg = 25.0, double min_dexterity = 0.0);
 
+// A G-code program in a temporary file of its own, removed with the object.
+class TempProgram {
+ public:
+  explicit TempProgram(const std::string& text);
+  ~TempProgram();
+  TempProgram(const TempProgram&) = delete;
+  TempProgram& operator=(const TempProgram&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
 }  // namespace pkm::test

@@ -7,6 +7,7 @@
 
 #include "app.hpp"
 #include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/machine/tension_region.hpp"
 
 namespace pkm::app {
 
@@ -144,8 +145,67 @@ void run_fk(FkOptions options) {
 struct CheckSummary {
   JointVector home_joints;
   std::vector<AxisExtent> extents;
-  double conditioning = 0.0;  // relative_conditioning_at_home
+  double conditioning = 0.0;              // relative_conditioning_at_home
+  std::optional<TensionRegion> tensions;  // a hanging effector's: tension_region
 };
+
+// "x 0.000..2978.400 y -1200.000..0.000 mm" in the machine file's units.
+std::string region_box_text(const Machine& machine, const Eigen::Vector2d& min_mm,
+                            const Eigen::Vector2d& max_mm) {
+  char text[160];
+  std::snprintf(
+      text, sizeof text, "x %.1f..%.1f y %.1f..%.1f %s", machine.axis_to_file(0, min_mm.x()) + 0.0,
+      machine.axis_to_file(0, max_mm.x()) + 0.0, machine.axis_to_file(1, min_mm.y()) + 0.0,
+      machine.axis_to_file(1, max_mm.y()) + 0.0, machine.length_unit());
+  return text;
+}
+
+// "x 1489.2 y -204.1 mm" in the machine file's units.
+std::string point_text(const Machine& machine, const Eigen::Vector2d& at_mm) {
+  char text[96];
+  std::snprintf(text, sizeof text, "x %.1f y %.1f %s", machine.axis_to_file(0, at_mm.x()) + 0.0,
+                machine.axis_to_file(1, at_mm.y()) + 0.0, machine.length_unit());
+  return text;
+}
+
+nlohmann::json region_json(const Machine& machine, const GridRegion& region, int points) {
+  if (region.points == 0 || points == 0) return {{"share", 0.0}};
+  return {
+      {"share", static_cast<double>(region.points) / points},
+      {"x",
+       {machine.axis_to_file(0, region.min_mm.x()), machine.axis_to_file(0, region.max_mm.x())}},
+      {"y",
+       {machine.axis_to_file(1, region.min_mm.y()), machine.axis_to_file(1, region.max_mm.y())}}};
+}
+
+nlohmann::json tension_region_json(const Machine& machine, const std::optional<TensionRegion>& t) {
+  if (!t) return nullptr;
+  const auto& cables = dynamic_cast<const CablePlotterKinematics&>(machine.kinematics());
+  const int points = t->columns * t->rows;
+  const auto at = [&](const Eigen::Vector2d& p) {
+    return nlohmann::json{machine.axis_to_file(0, p.x()), machine.axis_to_file(1, p.y())};
+  };
+  nlohmann::json per_cable = nlohmann::json::array();
+  for (std::size_t c = 0; c < 2; ++c) {
+    per_cable.push_back({{"name", machine.joints()[c].name},
+                         {"slack", region_json(machine, t->slack[c], t->reached.points)},
+                         {"over_max", region_json(machine, t->over_max[c], t->reached.points)}});
+  }
+  const bool limited = cables.geometry().tension_limited;
+  return {{"limits_N",
+           {cables.tension_min_N(),
+            limited ? nlohmann::json(cables.tension_max_N()) : nlohmann::json(nullptr)}},
+          {"grid", {t->columns, t->rows}},
+          {"x", {machine.axis_to_file(0, t->min_mm.x()), machine.axis_to_file(0, t->max_mm.x())}},
+          {"y", {machine.axis_to_file(1, t->min_mm.y()), machine.axis_to_file(1, t->max_mm.y())}},
+          {"reached", region_json(machine, t->reached, points)},
+          {"within", region_json(machine, t->within, t->reached.points)},
+          {"lowest_N", t->lowest_N},
+          {"lowest_at", at(t->lowest_at_mm)},
+          {"highest_N", t->highest_N},
+          {"highest_at", at(t->highest_at_mm)},
+          {"cables", per_cable}};
+}
 
 nlohmann::json check_json(const Machine& machine, const CheckSummary& summary) {
   nlohmann::json joints = nlohmann::json::array();
@@ -190,6 +250,7 @@ nlohmann::json check_json(const Machine& machine, const CheckSummary& summary) {
           {"home", pose_json(machine, machine.home())},
           {"envelope", envelope},
           {"extent", extent},
+          {"tensions", tension_region_json(machine, summary.tensions)},
           {"parameters", parameters}};
 }
 
@@ -204,6 +265,56 @@ void print_check_joints(const Machine& machine, const CheckSummary& summary) {
                 machine.joint_to_file(i, joint.min), machine.joint_to_file(i, joint.max),
                 machine.joint_to_file(i, joint.max_velocity), unit,
                 machine.joint_to_file(i, joint.max_acceleration), unit);
+  }
+}
+
+// A hanging effector's tensions at rest over the frame: where both cables hold it within their
+// limits, and where each goes slack or passes its maximum.
+void print_tension_region(const Machine& machine, const TensionRegion& t) {
+  const auto& cables = dynamic_cast<const CablePlotterKinematics&>(machine.kinematics());
+  const bool limited = cables.geometry().tension_limited;
+  const double reached = t.reached.points;
+  const auto share = [&](const GridRegion& r) {
+    return reached > 0 ? 100.0 * r.points / reached : 0.0;
+  };
+  char limits[96];
+  if (limited) {
+    std::snprintf(limits, sizeof limits, "tension_limits %g..%g N", cables.tension_min_N(),
+                  cables.tension_max_N());
+  } else {
+    std::snprintf(limits, sizeof limits, "no tension_limits: both cables pull");
+  }
+  std::printf(
+      "  tensions at rest (%g kg effector, %s), at the %d of %d grid points over %s the "
+      "joints reach:\n",
+      cables.geometry().effector_mass_kg, limits, t.reached.points, t.columns * t.rows,
+      region_box_text(machine, t.min_mm, t.max_mm).c_str());
+  if (t.reached.points == 0) return;
+  std::printf("    within the limits at %.1f %%", share(t.within));
+  if (t.within.points > 0) {
+    std::printf(" (%s)", region_box_text(machine, t.within.min_mm, t.within.max_mm).c_str());
+  }
+  std::printf("\n");
+  if (t.lowest_cable >= 0) {
+    std::printf("    lowest %.1f N (%s) at %s; highest %.1f N (%s) at %s\n", t.lowest_N,
+                machine.joints()[static_cast<std::size_t>(t.lowest_cable)].name.c_str(),
+                point_text(machine, t.lowest_at_mm).c_str(), t.highest_N,
+                machine.joints()[static_cast<std::size_t>(t.highest_cable)].name.c_str(),
+                point_text(machine, t.highest_at_mm).c_str());
+  }
+  for (std::size_t c = 0; c < 2; ++c) {
+    std::printf("    %-10s slack at %5.1f %%", machine.joints()[c].name.c_str(), share(t.slack[c]));
+    if (t.slack[c].points > 0) {
+      std::printf(" (%s)", region_box_text(machine, t.slack[c].min_mm, t.slack[c].max_mm).c_str());
+    }
+    if (limited) {
+      std::printf(", above %g N at %.1f %%", cables.tension_max_N(), share(t.over_max[c]));
+      if (t.over_max[c].points > 0) {
+        std::printf(" (%s)",
+                    region_box_text(machine, t.over_max[c].min_mm, t.over_max[c].max_mm).c_str());
+      }
+    }
+    std::printf("\n");
   }
 }
 
@@ -234,6 +345,7 @@ void print_check(const Machine& machine, const CheckSummary& summary) {
                 machine.axis_to_file(e.axis, e.max) + 0.0, machine.axis_file_unit(e.axis),
                 clipped ? "  (clipped by the envelope)" : "");
   }
+  if (summary.tensions) print_tension_region(machine, *summary.tensions);
   if (summary.conditioning < kSingularAtHome) {
     std::printf(
         "  warning: the machine is singular at home (relative smallest singular value of its "
@@ -249,6 +361,7 @@ void run_check(const CheckOptions& options) {
   machine.inverse(machine.home(), summary.home_joints);  // checked when the file was loaded
   summary.extents = reachable_extent(machine);
   summary.conditioning = relative_conditioning_at_home(machine);
+  summary.tensions = tension_region(machine);
   if (options.json) {
     std::cout << check_json(machine, summary).dump(2) << "\n";
   } else {

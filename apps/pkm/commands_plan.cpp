@@ -1,5 +1,7 @@
 // pkm plan: G-code to joint samples at the servo period, or (without -o) the estimate of a job:
-// its duration, samples, joint ranges and the moves whose feed the joints lower.
+// its duration, samples, joint ranges and the moves whose feed the joints lower (or whose feed
+// and acceleration a hanging effector's cable tensions lower).
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -59,10 +61,27 @@ nlohmann::json report_json(const Machine& machine, const motion::PlanReport& rep
   }
   nlohmann::json limits = nlohmann::json::array();
   for (const motion::FeedLimit& limit : report.feed_limits) {
-    limits.push_back({{"line", limit.line},
-                      {"joint", machine.joints()[static_cast<std::size_t>(limit.joint)].name},
-                      {"programmed_mm_per_min", limit.programmed_mm_per_s * 60.0},
-                      {"allowed_mm_per_min", limit.allowed_mm_per_s * 60.0}});
+    limits.push_back(
+        {{"line", limit.line},
+         {"joint",
+          limit.joint < 0
+              ? nlohmann::json(nullptr)
+              : nlohmann::json(machine.joints()[static_cast<std::size_t>(limit.joint)].name)},
+         {"cause", limit.cause == motion::LimitCause::tension ? "tension" : "joint"},
+         {"programmed_mm_per_min", limit.programmed_mm_per_s * 60.0},
+         {"allowed_mm_per_min", limit.allowed_mm_per_s * 60.0}});
+  }
+  nlohmann::json tensions = nlohmann::json::array();
+  for (const motion::TensionLimitedMove& move : report.tension_limits) {
+    tensions.push_back(
+        {{"line", move.line},
+         {"cable",
+          move.cable < 0
+              ? nlohmann::json(nullptr)
+              : nlohmann::json(machine.joints()[static_cast<std::size_t>(move.cable)].name)},
+         {"bound", move.slack ? "min" : "max"},
+         {"machine_mm_per_s2", move.machine_mm_per_s2},
+         {"allowed_mm_per_s2", move.allowed_mm_per_s2}});
   }
   return {{"machine", machine.name()},
           {"program", options.program},
@@ -73,7 +92,8 @@ nlohmann::json report_json(const Machine& machine, const motion::PlanReport& rep
           {"path_length_mm", report.path_length_mm},
           {"pen_changes", report.pen_changes},
           {"joints", joints},
-          {"feed_limited_by_joints", limits}};
+          {"feed_limited_by_joints", limits},
+          {"acceleration_limited_by_tensions", tensions}};
 }
 
 // Samples nobody keeps: `pkm demo` without -o, and the estimate (which makes none).
@@ -154,17 +174,46 @@ void print_estimate_head(const Machine& machine, const motion::PlanReport& repor
               size_text(csv_bytes(machine, samples)).c_str());
 }
 
-// The first `count` moves whose feed a joint lowered: what to look at before running the job.
+// "the left cable" (a cable is named as its joint); -1 where the effector would have no
+// balance at all (the tensions' bound was where one ends).
+std::string cable_text(const Machine& machine, int cable) {
+  if (cable < 0) return "the cables' balance";
+  return "the " + machine.joints()[static_cast<std::size_t>(cable)].name + " cable";
+}
+
+// "joint left", or "the left cable's tension".
+std::string limiting(const Machine& machine, int joint, motion::LimitCause cause) {
+  if (cause == motion::LimitCause::tension) {
+    return joint < 0 ? cable_text(machine, joint) : cable_text(machine, joint) + "'s tension";
+  }
+  return "joint " + machine.joints()[static_cast<std::size_t>(joint)].name;
+}
+
+// The first `count` moves whose feed a joint (or a cable's tension) lowered, and whose
+// acceleration a cable's tension lowered: what to look at before running the job.
 void print_feed_limits(const Machine& machine, const motion::PlanReport& report,
                        std::size_t count) {
   for (std::size_t i = 0; i < report.feed_limits.size() && i < count; ++i) {
     const motion::FeedLimit& limit = report.feed_limits[i];
-    std::printf("    line %d: F%.1f lowered to F%.1f by joint %s\n", limit.line,
+    std::printf("    line %d: F%.1f lowered to F%.1f by %s\n", limit.line,
                 limit.programmed_mm_per_s * 60.0, limit.allowed_mm_per_s * 60.0,
-                machine.joints()[static_cast<std::size_t>(limit.joint)].name.c_str());
+                limiting(machine, limit.joint, limit.cause).c_str());
   }
   if (report.feed_limits.size() > count) {
     std::printf("    and %zu more (--report lists them all)\n", report.feed_limits.size() - count);
+  }
+  for (std::size_t i = 0; i < report.tension_limits.size() && i < count; ++i) {
+    const motion::TensionLimitedMove& move = report.tension_limits[i];
+    std::printf("    line %d: acceleration %.1f lowered to %.1f mm/s^2: %s %s\n", move.line,
+                move.machine_mm_per_s2, move.allowed_mm_per_s2,
+                cable_text(machine, move.cable).c_str(),
+                move.cable < 0 ? "would fail"
+                : move.slack   ? "would go slack"
+                               : "would pass its maximum tension");
+  }
+  if (report.tension_limits.size() > count) {
+    std::printf("    and %zu more (--report lists them all)\n",
+                report.tension_limits.size() - count);
   }
 }
 
@@ -193,11 +242,19 @@ void print_summary(const Machine& machine, const motion::PlanReport& report,
     std::printf("  pen down or up %d times, %.3f s of pen delay\n", report.pen_changes,
                 report.pen_changes * machine.tool().delay_s);
   }
-  if (!report.feed_limits.empty()) {
-    std::printf(
-        "  feed lowered by joint limits on %zu moves (first at line %d, joint %s)\n",
-        report.feed_limits.size(), report.feed_limits.front().line,
-        machine.joints()[static_cast<std::size_t>(report.feed_limits.front().joint)].name.c_str());
+  for (const motion::LimitCause cause : {motion::LimitCause::joint, motion::LimitCause::tension}) {
+    const auto caused = [&](const motion::FeedLimit& limit) { return limit.cause == cause; };
+    const auto first = std::find_if(report.feed_limits.begin(), report.feed_limits.end(), caused);
+    if (first == report.feed_limits.end()) continue;
+    std::printf("  feed lowered by %s on %td moves (first at line %d, %s)\n",
+                cause == motion::LimitCause::joint ? "joint limits" : "cable tensions",
+                std::count_if(first, report.feed_limits.end(), caused), first->line,
+                limiting(machine, first->joint, cause).c_str());
+  }
+  if (!report.tension_limits.empty()) {
+    const motion::TensionLimitedMove& first = report.tension_limits.front();
+    std::printf("  acceleration lowered by cable tensions on %zu moves (first at line %d, %s)\n",
+                report.tension_limits.size(), first.line, cable_text(machine, first.cable).c_str());
   }
   if (estimate) print_feed_limits(machine, report, 5);
 }

@@ -393,11 +393,11 @@ std::string CablePlotterKinematics::why_refused(const Pose& pose, const Status& 
   const double lowest = balance.statics.lowest_N[cable], highest = balance.statics.highest_N[cable];
   if (lowest < geometry_.tension_min_N) {
     return "the " + name + " cable would go slack: " +
-           format("%.3g N, below tension_limits' min %g N", lowest, geometry_.tension_min_N) +
+           format("%.3f N, below tension_limits' min %g N", lowest, geometry_.tension_min_N) +
            " (move the pen away from the " + other + " side or lower, or lower the min)";
   }
   return "the " + name + " cable would be overloaded: " +
-         format("%.4g N, above tension_limits' max %g N", highest, geometry_.tension_max_N) +
+         format("%.2f N, above tension_limits' max %g N", highest, geometry_.tension_max_N) +
          " (move the pen lower, away from the top)";
 }
 

@@ -70,6 +70,7 @@ std::string Machine::explain(const Pose& pose, const Status& status) const {
     case StatusCode::joint_limit:
     case StatusCode::unreachable:
     case StatusCode::singular:
+    case StatusCode::tension:
       if (!joint_name.empty() && kinematics_->inverse(pose, joints).ok()) {
         return text + explain_joint(status.joint, joints[status.joint]);
       }

@@ -7,6 +7,7 @@
 
 #include "pkm/motion/segment.hpp"
 #include "pkm/motion/segment_builder.hpp"
+#include "pkm/motion/tension_limit.hpp"
 
 namespace pkm::motion {
 
@@ -126,14 +127,18 @@ struct Piece {
   JointVector joint_slope;  // largest |dq/ds| of each joint along the piece (per mm)
 };
 
-// Direction of travel at the start (at_end false) or end of a segment's position path (in XY
-// where the machine does not move Z).
-Eigen::Vector3d tangent(const Segment& segment, bool at_end) {
-  const double a = at_end ? 1.0 - 1e-6 : 0.0, b = at_end ? 1.0 : 1e-6;
+// Direction of travel from fraction a to b of a segment's position path (in XY where the
+// machine does not move Z).
+Eigen::Vector3d direction(const Segment& segment, double a, double b) {
   Eigen::Vector3d d = segment.at(b).head<3>() - segment.at(a).head<3>();
   if (segment.z_free) d.z() = 0.0;
   const double n = d.norm();
   return n > 0.0 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::Zero();
+}
+
+// Direction of travel at the start (at_end false) or end of a segment.
+Eigen::Vector3d tangent(const Segment& segment, bool at_end) {
+  return at_end ? direction(segment, 1.0 - 1e-6, 1.0) : direction(segment, 0.0, 1e-6);
 }
 
 // G64 without P still keeps corners this close to the programmed path (mm).
@@ -156,7 +161,8 @@ class Planner {
         file_(std::move(file)),
         builder_((options.start ? *options.start : machine.home()).as_vector(), options.origin,
                  options.great_circle_attitude),
-        pen_(machine.tool().z == ToolZ::pen) {
+        pen_(machine.tool().z == ToolZ::pen),
+        tension_(TensionLimit::of(machine.kinematics())) {
     builder_.set_z_free(!machine.kinematics().dof().controls(static_cast<int>(Axis::z)));
     pose_ = builder_.pose();
     pen_down_ = pen_ && machine.tool().pen_down(pose_[2]);
@@ -204,6 +210,19 @@ class Planner {
   }
 
  private:
+  // Where a move leaves the reach, and on a cable machine how far its tensions go beyond their
+  // limits along it.
+  [[noreturn]] void leaves_reach(const Segment& segment) const {
+    const auto pose_at = [&](double u) { return segment.at(u); };
+    std::string message = "the move leaves the machine's reach " + machine_.explain_path(pose_at);
+    if (tension_) message += tension_->beyond_limits_at_rest(pose_at);
+    throw PlanError(file_, segment.line, message);
+  }
+
+  static int sample_points(double length_mm) {
+    return std::clamp(static_cast<int>(std::ceil(length_mm / 0.5)), 8, 512);
+  }
+
   // The feed and acceleration that keep every joint within its limits along a move. With q(s)
   // a joint along the path, its acceleration is q' s'' + q'' s'^2: bounding |q'| by S and |q''|
   // by C over the move (sampled every 0.5 mm), speed^2 C <= amax / 2 and accel S <= amax - speed^2
@@ -216,7 +235,7 @@ class Planner {
     constexpr double kMargin = 0.99;
     // Joint accelerations along the moves use this share of each limit; the rest is left for the
     // change of rate at junctions where the moves join without stopping (limit_junction).
-    const int points = std::clamp(static_cast<int>(std::ceil(length / 0.5)), 8, 512);
+    const int points = sample_points(length);
     const double step = length / points;
     const int joint_count = static_cast<int>(machine_.joints().size());
     JointVector slope_max = JointVector::Zero(joint_count);
@@ -225,11 +244,7 @@ class Planner {
     const auto joints_at = [&](int k, JointVector& q) {
       const Pose pose = Pose::from_vector(segment.at(static_cast<double>(k) / points));
       const Status status = machine_.inverse(pose, q);
-      if (!status.ok()) {
-        throw PlanError(file_, segment.line,
-                        "the move leaves the machine's reach " +
-                            machine_.explain_path([&](double v) { return segment.at(v); }));
-      }
+      if (!status.ok()) leaves_reach(segment);
       require_numbers(pose.as_vector(), q, segment.line, "along the move");
       if (options_.estimate_only) widen_ranges(q);
     };
@@ -272,10 +287,47 @@ class Planner {
       }
     }
     if (limiting >= 0 && speed < programmed * (1.0 - 1e-9)) {
-      const double programmed_feed =
-          segment.rapid ? machine_.cartesian().max_feed_mm_per_min / 60.0 : segment.feed_mm_per_s;
-      report_.feed_limits.push_back({segment.line, limiting, programmed_feed, speed});
+      report_.feed_limits.push_back({segment.line, limiting, programmed_feed(segment), speed});
     }
+  }
+
+  double programmed_feed(const Segment& segment) const {
+    return segment.rapid ? machine_.cartesian().max_feed_mm_per_min / 60.0 : segment.feed_mm_per_s;
+  }
+
+  // A hanging effector's cables: the feed on curves and the acceleration along the move that keep
+  // their tensions within their limits (tension_limit.hpp), every 0.5 mm as limit_by_joints.
+  void limit_by_tensions(Piece& piece) {
+    if (!tension_) return;
+    const Segment& segment = piece.segment;
+    // Tensions change with the position alone on a line: its ends do for a short one.
+    const int points = segment.kind == SegmentKind::line
+                           ? std::clamp(static_cast<int>(std::ceil(piece.length / 0.5)), 2, 512)
+                           : sample_points(piece.length);
+    const TensionBound bound =
+        tension_->along(segment, piece.length, points, piece.max_speed, piece.acceleration);
+    if (bound.speed_limited) {
+      report_.feed_limits.push_back({segment.line, bound.excess.cable, programmed_feed(segment),
+                                     bound.speed_mm_per_s, LimitCause::tension});
+      piece.max_speed = bound.speed_mm_per_s;
+    }
+    if (bound.acceleration_limited) {
+      if (!(bound.acceleration_mm_per_s2 > 0.0)) {
+        throw PlanError(file_, segment.line,
+                        "no acceleration along the move keeps the cables within their tension "
+                        "limits: " +
+                            describe_excess(tension_->kinematics(), bound.excess));
+      }
+      report_.tension_limits.push_back({segment.line, bound.excess.cable, bound.excess.slack,
+                                        piece.acceleration, bound.acceleration_mm_per_s2});
+      piece.acceleration = bound.acceleration_mm_per_s2;
+    }
+  }
+
+  // Everything that bounds a move's feed and acceleration along it.
+  void limit_by_machine(Piece& piece) {
+    limit_by_joints(piece);
+    limit_by_tensions(piece);
   }
 
   void add(const Segment& segment) {
@@ -294,7 +346,7 @@ class Planner {
     }
     piece.acceleration = machine_.cartesian().max_acceleration_mm_per_s2;
     if (segment.kind == SegmentKind::arc) limit_by_curvature(piece, arc_radius(segment));
-    limit_by_joints(piece);
+    limit_by_machine(piece);
     if (!pieces_.empty()) join(pieces_.back(), piece);
     pieces_.push_back(piece);
     pose_ = segment.end;
@@ -374,7 +426,7 @@ class Planner {
     piece.max_speed = std::min(previous.max_speed, next.max_speed);
     piece.acceleration = std::min(previous.acceleration, next.acceleration);
     limit_by_curvature(piece, radius);
-    limit_by_joints(piece);
+    limit_by_machine(piece);
     limit_junction(previous, blend, piece.length);
     limit_junction(piece, next.segment, next.length);
     pieces_.push_back(piece);
@@ -382,20 +434,24 @@ class Planner {
 
   // A joint whose rate along the path (dq/ds) differs across a junction would change its
   // velocity in one servo period: the junction speed keeps that change within what its
-  // acceleration allows in a period.
+  // acceleration allows in a period. So does the effector's velocity, which a hanging effector's
+  // cables feel (TensionLimit::junction_speed).
   void limit_junction(Piece& before, const Segment& after, double after_length) {
-    const auto rate = [&](const Segment& segment, double length, bool at_end) {
+    // Over a thousandth of a mm: a blend's end is its next line's start, not its own formula's
+    // end to the last bit.
+    const auto ends = [](double length, bool at_end, double& from, double& to) {
       const double ds = std::min(1e-3, 0.01 * length);
-      const double from = at_end ? 1.0 - ds / length : 0.0;
-      const double to = at_end ? 1.0 : ds / length;
+      from = at_end ? 1.0 - ds / length : 0.0;
+      to = at_end ? 1.0 : ds / length;
+      return ds;
+    };
+    const auto rate = [&](const Segment& segment, double length, bool at_end) {
+      double from = 0.0, to = 0.0;
+      const double ds = ends(length, at_end, from, to);
       JointVector q0, q1;
       const Status a = machine_.inverse(Pose::from_vector(segment.at(from)), q0);
       const Status b = machine_.inverse(Pose::from_vector(segment.at(to)), q1);
-      if (!a.ok() || !b.ok()) {
-        throw PlanError(file_, segment.line,
-                        "the move leaves the machine's reach " +
-                            machine_.explain_path([&](double v) { return segment.at(v); }));
-      }
+      if (!a.ok() || !b.ok()) leaves_reach(segment);
       return JointVector((q1 - q0) / ds);
     };
     const JointVector out = rate(before.segment, before.length, true);
@@ -407,6 +463,15 @@ class Planner {
                              machine_.joints()[static_cast<std::size_t>(i)].max_acceleration *
                              options_.period_s / jump;
       before.max_exit_speed = std::min(before.max_exit_speed, allowed);
+    }
+    if (tension_) {
+      double out_from = 0.0, out_to = 0.0, in_from = 0.0, in_to = 0.0;
+      ends(before.length, true, out_from, out_to);
+      ends(after_length, false, in_from, in_to);
+      before.max_exit_speed = tension_->junction_speed(
+          before.segment.end, direction(before.segment, out_from, out_to),
+          direction(after, in_from, in_to), std::min(before.length, after_length),
+          options_.period_s, std::min(before.max_exit_speed, before.max_speed));
     }
   }
 
@@ -614,6 +679,8 @@ class Planner {
   SegmentBuilder builder_;  // before pose_: the constructor takes the start from it
   bool pen_ = false;        // the machine has a pen channel
   bool pen_down_ = false;   // its state now
+  // A cable machine whose effector has a mass: its cables' tensions bound the moves.
+  std::optional<TensionLimit> tension_;
   PlanReport report_;
   Vector6d pose_ = Vector6d::Zero();
   double time_ = 0.0;

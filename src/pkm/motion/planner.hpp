@@ -4,8 +4,10 @@
 //
 // Moves are joined by look-ahead (G64 corner blends, tangent joins) with trapezoidal or S-curve
 // speed profiles; the feed of each move is lowered where a joint would exceed its velocity or
-// acceleration limit. On a machine that does not move Z, Z takes no time; with a pen channel
-// the pen changes at rest, where the program's Z crosses its height, for the pen's delay.
+// acceleration limit, and on a cable machine whose effector has a mass, its feed on curves and its
+// acceleration where a cable would go slack or pass its tension limit (tension_limit.hpp). On a
+// machine that does not move Z, Z takes no time; with a pen channel the pen changes at rest, where
+// the program's Z crosses its height, for the pen's delay.
 #pragma once
 
 #include <filesystem>
@@ -68,12 +70,27 @@ struct JointStatistics {
   double peak_acceleration = 0.0;  // per s^2
 };
 
-// A move whose feed a joint lowered.
+// What lowered a move's feed or acceleration: a joint's velocity or acceleration limit, or (on a
+// cable machine whose effector has a mass) a cable's tension limit.
+enum class LimitCause { joint, tension };
+
+// A move whose feed a joint, or a cable's tension on a curve, lowered.
 struct FeedLimit {
   int line = 0;
-  int joint = 0;
+  int joint = 0;  // for LimitCause::tension, the cable: 0 left, 1 right (its joint)
   double programmed_mm_per_s = 0.0;  // the program's F (the machine's max_feed for rapids)
   double allowed_mm_per_s = 0.0;
+  LimitCause cause = LimitCause::joint;
+};
+
+// A move whose acceleration a cable's tension lowered: accelerating or braking harder along it
+// would take the cable below tension_min_N (slack) or above tension_max_N.
+struct TensionLimitedMove {
+  int line = 0;
+  int cable = 0;  // 0 left, 1 right (its joint)
+  bool slack = false;
+  double machine_mm_per_s2 = 0.0;  // what the joints and [cartesian] allowed the move
+  double allowed_mm_per_s2 = 0.0;
 };
 
 struct PlanReport {
@@ -82,6 +99,7 @@ struct PlanReport {
   double path_length_mm = 0.0;
   std::vector<JointStatistics> joints;
   std::vector<FeedLimit> feed_limits;
+  std::vector<TensionLimitedMove> tension_limits;
   std::vector<gcode::Warning> warnings;
   int pen_changes = 0;  // times the pen channel went down or up
 };

@@ -1,0 +1,227 @@
+#include "pkm/motion/tension_limit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <vector>
+
+namespace pkm::motion {
+
+namespace {
+
+using Vector2 = Eigen::Vector2d;
+
+// A headroom's search stops within this margin of the limit (N), or after this many steps.
+constexpr double kMarginTolerance_N = 1e-10;
+constexpr int kIterations = 60;
+
+const char* cable_name(int cable) {
+  return cable == 0 ? "left" : "right";
+}
+
+std::string newtons(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g N", value);
+  return text;
+}
+
+}  // namespace
+
+std::optional<TensionLimit> TensionLimit::of(const Kinematics& kinematics, double share) {
+  const auto* cables = dynamic_cast<const CablePlotterKinematics*>(&kinematics);
+  if (cables == nullptr || !(cables->geometry().effector_mass_kg > 0.0)) return std::nullopt;
+  return TensionLimit(*cables, share);
+}
+
+TensionExcess TensionLimit::excess(const Vector6d& pose,
+                                   const Eigen::Vector2d& acceleration_mm_per_s2) const {
+  CableStatics statics;
+  const Status status =
+      kinematics_->statics(Pose::from_vector(pose), acceleration_mm_per_s2, statics);
+  TensionExcess result;
+  if (!status.ok()) {
+    result.outside = true;
+    result.margin_N = -std::numeric_limits<double>::infinity();
+    if (status.code == StatusCode::tension && (status.joint == 0 || status.joint == 1)) {
+      const std::size_t c = static_cast<std::size_t>(status.joint);
+      result.cable = status.joint;  // it would have to push
+      result.slack = true;
+      result.tension_N = statics.lowest_N[c];
+      result.margin_N = statics.lowest_N[c] - kinematics_->tension_min_N();
+    }
+    return result;
+  }
+  // The tension nearest to (or furthest beyond) its limit.
+  result.margin_N = std::numeric_limits<double>::infinity();
+  for (int cable = 0; cable < 2; ++cable) {
+    const std::size_t c = static_cast<std::size_t>(cable);
+    const double above_min = statics.lowest_N[c] - kinematics_->tension_min_N();
+    const double below_max = kinematics_->tension_max_N() - statics.highest_N[c];
+    if (above_min < result.margin_N) result = {false, cable, true, statics.lowest_N[c], above_min};
+    if (below_max < result.margin_N)
+      result = {false, cable, false, statics.highest_N[c], below_max};
+  }
+  result.outside = result.margin_N < 0.0;
+  return result;
+}
+
+double TensionLimit::headroom(const Vector6d& pose, const Eigen::Vector2d& base,
+                              const Eigen::Vector2d& direction, double cap, double scale,
+                              TensionExcess& excess_found) const {
+  excess_found = excess(pose, scale * (base + cap * direction));
+  if (!excess_found.outside) return cap;
+  const TensionExcess at_base = excess(pose, scale * base);
+  if (at_base.outside) {
+    excess_found = at_base;
+    return 0.0;
+  }
+  // The margin is nearly linear in c (min of linear functions for cables tied at the pen):
+  // regula falsi, Illinois' way (the side that stays has its margin halved), from [0, cap],
+  // keeping `low` within the limits; bisection where a side has no balance at all.
+  double low = 0.0, high = cap, margin_low = at_base.margin_N, margin_high = excess_found.margin_N;
+  int kept = 0;  // +1: low moved last, -1: high moved last
+  for (int i = 0; i < kIterations && high - low > 1e-12 * cap; ++i) {
+    double c = std::isfinite(margin_high)
+                   ? (low * margin_high - high * margin_low) / (margin_high - margin_low)
+                   : 0.5 * (low + high);
+    if (!(c > low && c < high)) c = 0.5 * (low + high);
+    const TensionExcess e = excess(pose, scale * (base + c * direction));
+    if (e.outside) {
+      high = c;
+      margin_high = e.margin_N;
+      excess_found = e;
+      if (kept == -1) margin_low *= 0.5;
+      kept = -1;
+    } else {
+      low = c;
+      margin_low = e.margin_N;
+      if (kept == 1) margin_high *= 0.5;
+      kept = 1;
+      if (e.margin_N < kMarginTolerance_N) break;
+    }
+  }
+  return low;
+}
+
+TensionBound TensionLimit::along(const Segment& segment, double length_mm, int points, double speed,
+                                 double acceleration) const {
+  TensionBound bound;
+  bound.speed_mm_per_s = speed;
+  bound.acceleration_mm_per_s2 = acceleration;
+  if (!(length_mm > 0.0) || points < 2) return bound;
+  const double step = length_mm / points;
+  std::vector<Vector6d> poses(static_cast<std::size_t>(points) + 1);
+  for (int k = 0; k <= points; ++k) {
+    poses[static_cast<std::size_t>(k)] = segment.at(static_cast<double>(k) / points);
+  }
+  const auto xy = [&](int k) -> Vector2 { return poses[static_cast<std::size_t>(k)].head<2>(); };
+  // The path's derivatives in x y by differences: d/ds (a unit tangent in the plane of a plane
+  // move) and d2/ds2 (the curvature vector, 1 / r towards the centre).
+  const auto tangent = [&](int k) -> Vector2 {
+    const int a = std::max(k - 1, 0), b = std::min(k + 1, points);
+    return (xy(b) - xy(a)) / ((b - a) * step);
+  };
+  const auto curvature = [&](int k) -> Vector2 {
+    const int c = std::clamp(k, 1, points - 1);
+    return (xy(c + 1) - 2.0 * xy(c) + xy(c - 1)) / (step * step);
+  };
+  const double scale = 1.0 / share_;
+  // A line is straight (its differences' rounding would read as a curvature on short lines).
+  const bool line = segment.kind == SegmentKind::line;
+  const auto curved = [&](const Vector2& kappa) { return !line && kappa.norm() > 0.0; };
+  TensionExcess excess_found;
+  // On a curve v^2 / r across takes at most half of the headroom.
+  for (int k = 0; k <= points; ++k) {
+    const Vector2 kappa = curvature(k);
+    if (!curved(kappa)) continue;
+    const double bend = kappa.norm();
+    const double across = bound.speed_mm_per_s * bound.speed_mm_per_s * bend;
+    const Vector6d& pose = poses[static_cast<std::size_t>(k)];
+    const double allowed =
+        headroom(pose, Vector2::Zero(), kappa / bend, 2.0 * across, scale, excess_found);
+    if (allowed < 2.0 * across) {
+      bound.speed_mm_per_s = std::sqrt(0.5 * allowed / bend);
+      bound.speed_limited = true;
+      bound.excess = excess_found;
+    }
+  }
+  // Along the path: +-A along the tangent, the centripetal part at that speed across.
+  for (int k = 0; k <= points; ++k) {
+    const Vector2 kappa = curvature(k);
+    const Vector2 across = curved(kappa)
+                               ? Vector2(bound.speed_mm_per_s * bound.speed_mm_per_s * kappa)
+                               : Vector2::Zero();
+    const Vector2 along = tangent(k);
+    const Vector6d& pose = poses[static_cast<std::size_t>(k)];
+    for (const double sign : {1.0, -1.0}) {
+      const double cap = bound.acceleration_mm_per_s2;
+      const double allowed = headroom(pose, across, sign * along, cap, scale, excess_found);
+      if (allowed < cap) {
+        bound.acceleration_mm_per_s2 = allowed;
+        bound.acceleration_limited = true;
+        bound.excess = excess_found;
+      }
+    }
+  }
+  return bound;
+}
+
+double TensionLimit::junction_speed(const Vector6d& pose, const Eigen::Vector3d& out,
+                                    const Eigen::Vector3d& in, double chord_mm, double period_s,
+                                    double speed) const {
+  const Vector2 change = (in - out).head<2>();
+  const double jump = change.norm();
+  if (!(jump > 0.0) || !(speed > 0.0)) return speed;
+  // The velocity's change v |in - out| spread over the period, or over the time between two
+  // junctions where they come closer (v^2 |in - out| / chord: a curve's v^2 / r, in chords).
+  const auto kick = [&](double v) { return v * jump * std::max(1.0 / period_s, v / chord_mm); };
+  TensionExcess excess_found;
+  const double allowed = headroom(pose, Vector2::Zero(), change / jump, kick(speed),
+                                  1.0 / (1.0 - share_), excess_found);
+  if (!(allowed < kick(speed))) return speed;
+  return std::min(allowed * period_s / jump, std::sqrt(allowed * chord_mm / jump));
+}
+
+std::string TensionLimit::beyond_limits_at_rest(
+    const std::function<Vector6d(double)>& pose_at) const {
+  constexpr int kSamples = 1000;
+  double lowest[2] = {1e300, 1e300}, highest[2] = {-1e300, -1e300};
+  for (int k = 0; k <= kSamples; ++k) {
+    CableStatics statics;
+    const Pose pose = Pose::from_vector(pose_at(static_cast<double>(k) / kSamples));
+    if (!kinematics_->statics(pose, Vector2::Zero(), statics).ok()) continue;
+    for (std::size_t c = 0; c < 2; ++c) {
+      lowest[c] = std::min(lowest[c], statics.lowest_N[c]);
+      highest[c] = std::max(highest[c], statics.highest_N[c]);
+    }
+  }
+  std::string text;
+  for (int cable = 0; cable < 2; ++cable) {
+    const std::string name = std::string(" the ") + cable_name(cable) + " cable's tension ";
+    if (highest[cable] > kinematics_->tension_max_N()) {
+      text += (text.empty() ? ";" : ",") + name + "reaches " + newtons(highest[cable]);
+    }
+    if (lowest[cable] < kinematics_->tension_min_N()) {
+      text += (text.empty() ? ";" : ",") + name + "falls to " + newtons(lowest[cable]);
+    }
+  }
+  return text.empty() ? text : text + " along the move";
+}
+
+std::string describe_excess(const CablePlotterKinematics& kinematics, const TensionExcess& excess) {
+  if (!excess.outside) return "the tensions are within their limits";
+  if (excess.cable < 0) return "the effector has no balance there (the cables in line)";
+  const std::string cable = std::string("the ") + cable_name(excess.cable) + " cable";
+  if (excess.slack) {
+    if (!(excess.tension_N > 0.0) && !kinematics.geometry().tension_limited) {
+      return cable + " would go slack (it would have to push)";
+    }
+    return cable + " would go slack: " + newtons(excess.tension_N) +
+           ", below tension_limits' minimum " + newtons(kinematics.tension_min_N());
+  }
+  return cable + "'s tension would be " + newtons(excess.tension_N) +
+         ", above tension_limits' maximum " + newtons(kinematics.tension_max_N());
+}
+
+}  // namespace pkm::motion
