@@ -4,6 +4,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "app.hpp"
 #include "pkm/kinematics/cable_plotter.hpp"
@@ -56,19 +57,36 @@ Pose pose_in_file_units(const Machine& machine, std::vector<double> values) {
 }
 
 // A hanging machine with a weight: how hard each cable pulls at rest, how far the effector tilts.
-void print_cable_statics(const Machine& machine, const Pose& pose) {
+std::optional<CableStatics> cable_statics_at(const Machine& machine, const Pose& pose) {
   const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&machine.kinematics());
-  if (plotter == nullptr || !(plotter->geometry().effector_mass_kg > 0.0)) return;
+  if (plotter == nullptr || !(plotter->geometry().effector_mass_kg > 0.0)) return std::nullopt;
   CableStatics statics;
-  if (!plotter->statics(pose, Eigen::Vector2d::Zero(), statics).ok()) return;
+  if (!plotter->statics(pose, Eigen::Vector2d::Zero(), statics).ok()) return std::nullopt;
+  return statics;
+}
+
+void print_cable_statics(const Machine& machine, const Pose& pose) {
+  const std::optional<CableStatics> statics = cable_statics_at(machine, pose);
+  if (!statics) return;
   for (int cable = 0; cable < 2; ++cable) {
     std::printf("tension %s = %.3f N (%.3f .. %.3f along it)\n",
                 machine.joints()[static_cast<std::size_t>(cable)].name.c_str(),
-                statics.tension_N[cable], statics.lowest_N[cable], statics.highest_N[cable]);
+                statics->tension_N[cable], statics->lowest_N[cable], statics->highest_N[cable]);
   }
-  if (plotter->geometry().tilts()) {
-    std::printf("tilt = %.4f deg\n", radians_to_degrees(statics.tilt_rad));
+  const auto& plotter = dynamic_cast<const CablePlotterKinematics&>(machine.kinematics());
+  if (plotter.geometry().tilts()) {
+    std::printf("tilt = %.4f deg\n", radians_to_degrees(statics->tilt_rad));
   }
+}
+
+// The same for --json: {"tension_N": [..], "lowest_N": [..], "highest_N": [..], "tilt_deg": t}.
+void add_cable_statics(const Machine& machine, const Pose& pose, nlohmann::json& out) {
+  const std::optional<CableStatics> statics = cable_statics_at(machine, pose);
+  if (!statics) return;
+  out["cables"] = {{"tension_N", statics->tension_N},
+                   {"lowest_N", statics->lowest_N},
+                   {"highest_N", statics->highest_N},
+                   {"tilt_deg", radians_to_degrees(statics->tilt_rad)}};
 }
 
 void run_ik(const IkOptions& options) {
@@ -83,11 +101,10 @@ void run_ik(const IkOptions& options) {
   if (options.json) {
     nlohmann::json values = nlohmann::json::array();
     for (int i = 0; i < joints.size(); ++i) values.push_back(machine.joint_to_file(i, joints[i]));
-    std::cout << nlohmann::json{{"joints", values},
-                                {"names", machine.joint_names()},
-                                {"units", machine.length_unit()}}
-                     .dump()
-              << "\n";
+    nlohmann::json out{
+        {"joints", values}, {"names", machine.joint_names()}, {"units", machine.length_unit()}};
+    add_cable_statics(machine, pose, out);
+    std::cout << out.dump() << "\n";
     return;
   }
   for (int i = 0; i < joints.size(); ++i) {
@@ -132,14 +149,21 @@ void run_fk(FkOptions options) {
                        (limit ? machine.explain_joint(status.joint, joints[status.joint])
                               : machine.describe(status)));
   }
+  // Where the joints put the pen is not always where the machine may go: say so.
+  JointVector again;
+  const Status allowed = machine.inverse(pose, again);
   if (options.json) {
-    std::cout << nlohmann::json{{"pose", pose_json(machine, pose)},
-                                {"units", machine.length_unit()}}
-                     .dump()
-              << "\n";
+    nlohmann::json out{{"pose", pose_json(machine, pose)}, {"units", machine.length_unit()}};
+    add_cable_statics(machine, pose, out);
+    if (allowed.code == StatusCode::tension) out["refused"] = machine.explain(pose, allowed);
+    std::cout << out.dump() << "\n";
     return;
   }
   print_pose(machine, pose);
+  print_cable_statics(machine, pose);
+  if (allowed.code == StatusCode::tension) {
+    std::printf("note: IK refuses this pose: %s\n", machine.explain(pose, allowed).c_str());
+  }
 }
 
 struct CheckSummary {

@@ -12,10 +12,6 @@ namespace {
 // then ill-defined and the tension unbounded.
 constexpr double kMinCableAngleSine = 1e-9;
 
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
 std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0) {
   char text[256];
   std::snprintf(text, sizeof text, pattern, a, b, c);
@@ -118,9 +114,9 @@ Status CablePlotterKinematics::ideal_inverse(const Eigen::Vector2d& pen_mm,
   }
   // A cable only pulls: the tensions holding up a weight, t0 u0 + t1 u1 = (0, -1), must both be
   // positive. Above the anchors both would push; outside them one would.
-  const double determinant = cross(direction[0], direction[1]);
+  const double determinant = planar_cross(direction[0], direction[1]);
   const Eigen::Vector2d down(0.0, -1.0);
-  const double left = cross(down, direction[1]), right = cross(direction[0], down);
+  const double left = planar_cross(down, direction[1]), right = planar_cross(direction[0], down);
   if (std::abs(determinant) < kMinCableAngleSine) {
     return left * right > 0.0 ? Status::failure(StatusCode::singular)
                               : Status::failure(StatusCode::unreachable);

@@ -15,17 +15,6 @@ using Vector2 = Eigen::Vector2d;
 using Unknowns = Eigen::Matrix<double, 7, 1>;
 using Residuals = Eigen::Matrix<double, 7, 1>;
 
-constexpr double kTowardsPulley[2] = {-1.0, 1.0};  // the way each cable runs, effector to pulley
-
-double cross(const Vector2& a, const Vector2& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
-Vector2 rotated(const Vector2& v, double angle_rad) {
-  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
-  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
-}
-
 // Unknowns: tilt, then per cable H (N), V (N, upwards on the effector), L (mm).
 // Residuals: per cable, where the catenary's upper end misses the point at which it would leave
 // the pulley tangentially (mm, 2); the forces on the effector (N, 2); their moment about the pen
@@ -36,21 +25,21 @@ Residuals balance_residuals(const CablePlotterGeometry& geometry, const Vector2&
   const double compliance = geometry.compliance_per_N();
   Residuals residuals;
   Vector2 force_sum = load_N;
-  double moment = cross(rotated(geometry.center_of_mass_mm, x[0]), load_N);
+  double moment = planar_cross(planar_rotated(geometry.center_of_mass_mm, x[0]), load_N);
   for (int cable = 0; cable < 2; ++cable) {
     const double h = x[1 + 3 * cable], v = x[2 + 3 * cable], length = x[3 + 3 * cable];
-    const Vector2 arm = rotated(geometry.attach_mm[cable], x[0]);
+    const Vector2 arm = planar_rotated(geometry.attach_mm[cable], x[0]);
     const CatenarySpan span = catenary_span(h, v, length, weight, compliance);
     const Vector2 top =
-        pen_mm + arm + Vector2(kTowardsPulley[cable] * span.across_mm, span.rise_mm);
+        pen_mm + arm + Vector2(kCableTowardsPulley[cable] * span.across_mm, span.rise_mm);
     const double top_vertical = v + weight * length;
     const Vector2 normal =
-        Vector2(-kTowardsPulley[cable] * top_vertical, h) / std::hypot(h, top_vertical);
+        Vector2(-kCableTowardsPulley[cable] * top_vertical, h) / std::hypot(h, top_vertical);
     residuals.segment<2>(3 * cable) =
         top - (geometry.anchors_mm[cable] + geometry.radius_mm(cable) * normal);
-    const Vector2 force(kTowardsPulley[cable] * h, v);
+    const Vector2 force(kCableTowardsPulley[cable] * h, v);
     force_sum += force;
-    moment += cross(arm, force);
+    moment += planar_cross(arm, force);
   }
   residuals[2] = force_sum.x();
   residuals[5] = force_sum.y();
@@ -67,12 +56,13 @@ Eigen::Matrix<double, 7, 7> balance_jacobian(const CablePlotterGeometry& geometr
                                              const Vector2& load_N, const Unknowns& x) {
   const double weight = geometry.cable_weight_N_per_mm();
   Eigen::Matrix<double, 7, 7> jacobian = Eigen::Matrix<double, 7, 7>::Zero();
-  jacobian(6, 0) = cross(turned_quarter(rotated(geometry.center_of_mass_mm, x[0])), load_N);
+  jacobian(6, 0) =
+      planar_cross(turned_quarter(planar_rotated(geometry.center_of_mass_mm, x[0])), load_N);
   for (int cable = 0; cable < 2; ++cable) {
-    const double sigma = kTowardsPulley[cable], r = geometry.radius_mm(cable);
+    const double sigma = kCableTowardsPulley[cable], r = geometry.radius_mm(cable);
     const int column = 1 + 3 * cable, row = 3 * cable;
     const double h = x[column], v = x[column + 1], length = x[column + 2];
-    const Vector2 arm = rotated(geometry.attach_mm[cable], x[0]);
+    const Vector2 arm = planar_rotated(geometry.attach_mm[cable], x[0]);
     const CatenarySpanDerivatives d =
         catenary_span_derivatives(h, v, length, weight, geometry.compliance_per_N());
     // The normal n = (-sigma Vt, H) / Tt at the top, Vt = V + w L.
@@ -92,7 +82,7 @@ Eigen::Matrix<double, 7, 7> balance_jacobian(const CablePlotterGeometry& geometr
     jacobian(2, column) = sigma;  // the forces
     jacobian(5, column + 1) = 1.0;
     const Vector2 force(sigma * h, v);  // the moment
-    jacobian(6, 0) += cross(turned_quarter(arm), force);
+    jacobian(6, 0) += planar_cross(turned_quarter(arm), force);
     jacobian(6, column) = -sigma * arm.y();
     jacobian(6, column + 1) = arm.x();
   }

@@ -12,19 +12,9 @@ namespace {
 
 using Vector2 = Eigen::Vector2d;
 
-double cross(const Vector2& a, const Vector2& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
-Vector2 rotated(const Vector2& v, double angle_rad) {
-  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
-  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
-}
-
 // The left cable's pulley feeds to its right, the right one's to its left: +1 and -1 turn the
-// tangent to the pulley's top side; -1 and +1 are the way each cable runs, effector to pulley.
+// tangent to the pulley's top side.
 constexpr double kWrapSide[2] = {1.0, -1.0};
-constexpr double kTowardsPulley[2] = {-1.0, 1.0};
 
 // A straight cable from its pulley to the point `end_mm` it is tied to.
 struct StraightCable {
@@ -45,7 +35,7 @@ Status straight_cable(const CablePlotterGeometry& geometry, int cable, const Vec
   // The tangent turns the centre-to-end direction by asin(r / distance) towards the top.
   const Vector2 across(from_centre.y(), -from_centre.x());
   out.direction = (out.length_mm * from_centre + kWrapSide[cable] * r * across) / distance_squared;
-  out.wrap_rad = std::atan2(-out.direction.y(), -kTowardsPulley[cable] * out.direction.x());
+  out.wrap_rad = std::atan2(-out.direction.y(), -kCableTowardsPulley[cable] * out.direction.x());
   return Status::success();
 }
 
@@ -70,7 +60,7 @@ Status straight_balance_at(const CablePlotterGeometry& geometry, const Vector2& 
                            const Vector2& load_N, double tilt_rad, StraightState& state) {
   Vector2 arms[2];
   for (int cable = 0; cable < 2; ++cable) {
-    arms[cable] = rotated(geometry.attach_mm[cable], tilt_rad);
+    arms[cable] = planar_rotated(geometry.attach_mm[cable], tilt_rad);
     const Status status =
         straight_cable(geometry, cable, pen_mm + arms[cable], state.cables[cable]);
     if (!status.ok()) return status;
@@ -79,13 +69,14 @@ Status straight_balance_at(const CablePlotterGeometry& geometry, const Vector2& 
   // t0 u0 + t1 u1 = load.
   const Vector2& u0 = state.cables[0].direction;
   const Vector2& u1 = state.cables[1].direction;
-  const double determinant = cross(u0, u1);
+  const double determinant = planar_cross(u0, u1);
   if (std::abs(determinant) < 1e-12) return Status::failure(StatusCode::singular);
-  state.tension_N[0] = cross(load_N, u1) / determinant;
-  state.tension_N[1] = cross(u0, load_N) / determinant;
-  state.moment_Nmm = cross(rotated(geometry.center_of_mass_mm, tilt_rad), load_N);
+  state.tension_N[0] = planar_cross(load_N, u1) / determinant;
+  state.tension_N[1] = planar_cross(u0, load_N) / determinant;
+  state.moment_Nmm = planar_cross(planar_rotated(geometry.center_of_mass_mm, tilt_rad), load_N);
   for (int cable = 0; cable < 2; ++cable) {
-    state.moment_Nmm -= state.tension_N[cable] * cross(arms[cable], state.cables[cable].direction);
+    state.moment_Nmm -=
+        state.tension_N[cable] * planar_cross(arms[cable], state.cables[cable].direction);
   }
   return Status::success();
 }

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <limits>
 
 #include "pkm/kinematics/kinematics.hpp"
@@ -14,6 +15,19 @@
 namespace pkm {
 
 inline constexpr double kStandardGravity_mm_per_s2 = 9806.65;
+
+// The way each cable runs horizontally from the effector to its pulley: left -1, right +1.
+inline constexpr double kCableTowardsPulley[2] = {-1.0, 1.0};
+
+// a x b of two plane vectors (positive: b is counter-clockwise of a).
+inline double planar_cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+inline Eigen::Vector2d planar_rotated(const Eigen::Vector2d& v, double angle_rad) {
+  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
+}
 
 struct CablePlotterGeometry {
   // Pulley centres: left (0) and right (1). The left cable leaves its pulley on the right,
