@@ -233,16 +233,18 @@ class WithoutTensionLimits final : public Kinematics {
 };
 }  // namespace
 
-Status CablePlotterKinematics::ideal_forward(const JointVector& joints,
-                                             Eigen::Vector2d& pen_mm) const {
-  const double left = joints[0] - geometry_.cable_offsets_mm[0];
-  const double right = joints[1] - geometry_.cable_offsets_mm[1];
+namespace {
+// Where circles of radii `left` and `right` about `centres` meet on the side gravity picks
+// (below the line from the left centre to the right one).
+Status lower_intersection(const std::array<Eigen::Vector2d, 2>& centres, double left, double right,
+                          Eigen::Vector2d& pen_mm) {
   if (left <= 0.0) return Status::failure(StatusCode::unreachable, 0);
   if (right <= 0.0) return Status::failure(StatusCode::unreachable, 1);
-  const Eigen::Vector2d between = geometry_.anchors_mm[1] - geometry_.anchors_mm[0];
+  const Eigen::Vector2d between = centres[1] - centres[0];
   const double d = between.norm();
+  if (!(d > 0.0)) return Status::failure(StatusCode::singular);
   const Eigen::Vector2d along = between / d;
-  const Eigen::Vector2d below(along.y(), -along.x());  // the side gravity picks
+  const Eigen::Vector2d below(along.y(), -along.x());
   const double x = (left * left - right * right + d * d) / (2.0 * d);
   const double depth_squared = left * left - x * x;
   if (depth_squared < 0.0) {
@@ -250,8 +252,15 @@ Status CablePlotterKinematics::ideal_forward(const JointVector& joints,
   }
   const double depth = std::sqrt(depth_squared);
   if (depth <= kMinCableAngleSine * d) return Status::failure(StatusCode::singular);
-  pen_mm = geometry_.anchors_mm[0] + x * along + depth * below;
+  pen_mm = centres[0] + x * along + depth * below;
   return Status::success();
+}
+}  // namespace
+
+Status CablePlotterKinematics::ideal_forward(const JointVector& joints,
+                                             Eigen::Vector2d& pen_mm) const {
+  return lower_intersection(geometry_.anchors_mm, joints[0] - geometry_.cable_offsets_mm[0],
+                            joints[1] - geometry_.cable_offsets_mm[1], pen_mm);
 }
 
 Status CablePlotterKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
@@ -309,16 +318,13 @@ Status CablePlotterKinematics::forward(const JointVector& joints, Pose& pose_ino
 
 Status CablePlotterKinematics::straight_guess(const JointVector& joints, double wrap_turns,
                                               Eigen::Vector2d& pen_mm) const {
-  CablePlotterGeometry straight = CablePlotterGeometry::level(1.0);
   const double wrap = geometry_.pulley_radius_mm * wrap_turns * 2.0 * std::numbers::pi;
-  for (int cable = 0; cable < 2; ++cable) {
-    straight.anchors_mm[cable] = geometry_.anchors_mm[cable] - geometry_.attach_mm[cable];
-    straight.cable_offsets_mm[cable] = geometry_.cable_offsets_mm[cable] + wrap;
-  }
-  if (!(straight.anchors_mm[1].x() > straight.anchors_mm[0].x())) {
-    return Status::failure(StatusCode::singular);
-  }
-  return CablePlotterKinematics(straight).ideal_forward(joints, pen_mm);
+  // The pen is where the attachment points' circles meet, shifted back by the attachments.
+  const std::array<Eigen::Vector2d, 2> centres{geometry_.anchors_mm[0] - geometry_.attach_mm[0],
+                                               geometry_.anchors_mm[1] - geometry_.attach_mm[1]};
+  if (!(centres[1].x() > centres[0].x())) return Status::failure(StatusCode::singular);
+  return lower_intersection(centres, joints[0] - geometry_.cable_offsets_mm[0] - wrap,
+                            joints[1] - geometry_.cable_offsets_mm[1] - wrap, pen_mm);
 }
 
 Status CablePlotterKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
