@@ -7,6 +7,7 @@
 
 #include "pkm/kinematics/cable_plotter.hpp"
 #include "pkm/kinematics/elastic_catenary.hpp"
+#include "pkm/post/deviation_bound.hpp"
 #include "test_support.hpp"
 
 namespace pkm {
@@ -85,6 +86,17 @@ TEST(SpoolBuildup, TheJointIsTheDrumsTurnAndTheRadiusFollowsTheCable) {
   Pose pose;
   ASSERT_TRUE(model.forward(joints, pose).ok());
   EXPECT_NEAR((pose.position_mm.head<2>() - Eigen::Vector2d(300.0, -900.0)).norm(), 0.0, 1e-9);
+}
+
+TEST(SpoolBuildup, HasNoDeviationBound) {
+  // Pulleys alone keep post's bound (the wrap adds no curvature beyond the span's); a drum whose
+  // radius follows the cable and whose joint is its turn does not, so post samples it.
+  CablePlotterGeometry g = level_anchors(1000.0);
+  g.pulley_radius_mm = 10.0;
+  const Vector6d centre = Pose::from_mm_deg(300.0, -900.0, 0.0).as_vector();
+  EXPECT_TRUE(post::inverse_hessian_bounds(CablePlotterKinematics(g), centre, 1.0, 100.0, {}));
+  g.spool_buildup_mm_per_m = 0.5;
+  EXPECT_FALSE(post::inverse_hessian_bounds(CablePlotterKinematics(g), centre, 1.0, 100.0, {}));
 }
 
 TEST(CableTension, ASymmetricVByHand) {

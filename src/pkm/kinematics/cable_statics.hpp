@@ -67,6 +67,12 @@ struct CablePlotterGeometry {
     return pulley_radius_mm == 0.0 && attach_mm[0].isZero() && attach_mm[1].isZero() &&
            cable_density_kg_per_m == 0.0 && cable_stretch_mm_per_m_per_N == 0.0 && !tension_limited;
   }
+  // Joints from the geometry alone, not from the effector's balance: cables tied at the pen that
+  // neither sag, stretch nor build up on their drums (pulleys allowed).
+  bool rigid() const {
+    return attach_mm[0].isZero() && attach_mm[1].isZero() && cable_density_kg_per_m == 0.0 &&
+           cable_stretch_mm_per_m_per_N == 0.0 && spool_buildup_mm_per_m == 0.0;
+  }
   // Whether the effector can turn: tied at points off the pen, or weighted off it.
   bool tilts() const {
     return !attach_mm[0].isZero() || !attach_mm[1].isZero() ||

@@ -46,14 +46,13 @@ void add(HessianBounds& bounds, double norm, double along) {
 // Over a pulley of radius r the reading is r phi + s with s the straight span: its gradient is
 // still the cable's unit direction u (the tangent point moves along u), so its Hessian is
 // (I - u u^T) / s, and u is within asin(r / |p - a|) of the direction from the pulley's centre.
-// Models whose cables sag, stretch or tilt the effector have no such bound here.
+// Models whose cables sag, stretch, build up on a drum or tilt the effector have no such bound
+// here.
 std::optional<HessianBounds> cable_plotter_bounds(const CablePlotterKinematics& model,
                                                   const Vector6d& centre, double radius_mm,
                                                   const Chord& chord) {
   const CablePlotterGeometry& g = model.geometry();
-  const bool rigid = g.attach_mm[0].isZero() && g.attach_mm[1].isZero() &&
-                     g.cable_density_kg_per_m == 0.0 && g.cable_stretch_mm_per_m_per_N == 0.0;
-  if (!rigid) return std::nullopt;
+  if (!g.rigid()) return std::nullopt;
   const Eigen::Vector2d p(centre[0], centre[1]);
   const double r = g.pulley_radius_mm;
   HessianBounds bounds;
