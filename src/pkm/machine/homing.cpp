@@ -133,10 +133,7 @@ class HomingPlanner {
     return spec(joint).to_interface(internal(joint, file_feed));
   }
   std::string shown(int joint, double internal_value) const {
-    char text[48];
-    std::snprintf(text, sizeof text, "%.3f %s", machine_.joint_to_file(joint, internal_value),
-                  machine_.joint_file_unit(joint));
-    return text;
+    return machine_.joint_value_text(joint, internal_value);
   }
 
   void home_joint(int joint) {

@@ -115,6 +115,8 @@ class Machine {
   std::string explain(const Pose& pose, const Status& status) const;
   // "joint 'left' = 2345.678 mm passes its max 2100.000 mm" (value in mm or rad inside).
   std::string explain_joint(int joint, double value) const;
+  // A joint value (mm or rad inside) as the machine file writes it: "12.500 mm", "0.4921 in".
+  std::string joint_value_text(int joint, double value) const;
   // A move the machine cannot follow, given as its poses for u in [0, 1] (mm, rad): explains
   // where it first leaves the reach (found by sampling and bisection, so every caller names the
   // same pose and joint), with how far the failing joint goes along the move.

@@ -45,14 +45,16 @@ std::string Machine::format_pose(const Pose& pose) const {
   return text;
 }
 
+std::string Machine::joint_value_text(int joint, double value) const {
+  const char* unit = joint_file_unit(joint);
+  return value_text(joint_to_file(joint, value), unit) + " " + unit;
+}
+
 std::string Machine::explain_joint(int joint, double value) const {
   const JointSpec& spec = joints_[static_cast<std::size_t>(joint)];
   const std::string name = "joint '" + spec.name + "'";
   if (!std::isfinite(value)) return "the inverse kinematics gives no number for " + name;
-  const char* unit = joint_file_unit(joint);
-  const auto shown = [&](double v) {
-    return value_text(joint_to_file(joint, v), unit) + " " + unit;
-  };
+  const auto shown = [&](double v) { return joint_value_text(joint, v); };
   std::string text = name + " = " + shown(value);
   if (value < spec.min) return text + " passes its min " + shown(spec.min);
   if (value > spec.max) return text + " passes its max " + shown(spec.max);
