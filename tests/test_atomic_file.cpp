@@ -1,7 +1,8 @@
 // Temporary files of atomic outputs: removed on a signal (through remove_open_temporaries), and
-// found, named and removed when a killed run left them behind.
+// found, named and removed when a killed run left them behind; devices and pipes written in place.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -9,7 +10,9 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
+#include <thread>
 #include <tuple>
 #include <vector>
 
@@ -141,6 +144,44 @@ TEST_F(AtomicFileTest, WritingAnOutputRemovesItsStaleTemporaries) {
   write_file_atomically(directory_ / "job.csv", "t\n");
   EXPECT_EQ(reported, std::vector<fs::path>{directory_ / killed});
   EXPECT_EQ(names(), std::vector<std::string>{"job.csv"});
+}
+
+// `--html /dev/null` once replaced the device with a regular file (the rename went over it).
+TEST_F(AtomicFileTest, ADeviceIsWrittenInPlaceAndStaysADevice) {
+  write_file_atomically("/dev/null", "a page nobody wants\n");
+  struct stat status {};
+  ASSERT_EQ(::stat("/dev/null", &status), 0);
+  EXPECT_TRUE(S_ISCHR(status.st_mode));
+}
+
+TEST_F(AtomicFileTest, AFifoReceivesTheBytesAndStaysAFifo) {
+  const fs::path fifo = directory_ / "pipe";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string received;
+  std::thread reader([&] {
+    std::ifstream in(fifo);
+    received.assign(std::istreambuf_iterator<char>(in), {});
+  });
+  write_file_atomically(fifo, "t,x\n0,1\n");
+  reader.join();
+  EXPECT_EQ(received, "t,x\n0,1\n");
+  struct stat status {};
+  ASSERT_EQ(::stat(fifo.c_str(), &status), 0);
+  EXPECT_TRUE(S_ISFIFO(status.st_mode));
+  EXPECT_EQ(names(), std::vector<std::string>{"pipe"});  // no temporary beside it
+}
+
+TEST_F(AtomicFileTest, ADirectoryIsRefusedBeforeAnythingIsWritten) {
+  fs::create_directory(directory_ / "pages");
+  try {
+    AtomicFileWriter writer(directory_ / "pages");
+    FAIL() << "a directory was accepted as an output";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("pages: it is a directory; name a file"),
+              std::string::npos)
+        << error.what();
+  }
+  EXPECT_EQ(names(), std::vector<std::string>{"pages"});
 }
 
 }  // namespace

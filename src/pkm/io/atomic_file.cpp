@@ -155,7 +155,28 @@ std::vector<StaleTemporary> remove_stale_temporaries(const std::filesystem::path
   return found;
 }
 
+namespace {
+
+// A target that exists and is neither a regular file nor a directory (/dev/null, a FIFO, a
+// terminal, a socket) is a stream the user chose: renaming over it would replace the device or
+// pipe with a file, so it is written in place.
+bool is_special_file(const std::filesystem::path& path) {
+  struct stat status {};
+  if (::stat(path.c_str(), &status) != 0) return false;
+  return !S_ISREG(status.st_mode) && !S_ISDIR(status.st_mode);
+}
+
+}  // namespace
+
 AtomicFileWriter::AtomicFileWriter(std::filesystem::path path) : path_(std::move(path)) {
+  std::error_code status_error;
+  if (std::filesystem::is_directory(path_, status_error)) {
+    throw std::runtime_error("cannot write " + path_.string() + ": it is a directory; name a file");
+  }
+  if (is_special_file(path_)) {
+    open_in_place();
+    return;
+  }
   remove_stale_temporaries(path_);
   temporary_ =
       (directory_of(path_) / (temporary_prefix(path_) + std::to_string(::getpid()) + "-XXXXXX"))
@@ -177,8 +198,18 @@ AtomicFileWriter::AtomicFileWriter(std::filesystem::path path) : path_(std::move
   }
 }
 
+void AtomicFileWriter::open_in_place() {
+  stream_ = std::fopen(path_.c_str(), "wb");
+  if (stream_ == nullptr) fail("opening it", errno);
+  in_place_ = true;
+}
+
 AtomicFileWriter::~AtomicFileWriter() {
   if (committed_) return;
+  if (in_place_) {
+    if (stream_ != nullptr) std::fclose(stream_);
+    return;
+  }
   if (stream_ != nullptr) std::fclose(stream_);
   ::unlink(temporary_.c_str());
   unlist_temporary(slot_);
@@ -195,12 +226,24 @@ void AtomicFileWriter::write(std::string_view bytes) {
 
 void AtomicFileWriter::write_at(long offset, std::string_view bytes) {
   const long end = std::ftell(stream_);
-  if (std::fseek(stream_, offset, SEEK_SET) != 0) fail("seeking", errno);
+  if (std::fseek(stream_, offset, SEEK_SET) != 0) {
+    fail(in_place_ ? "this output goes back to complete its header, which a device or pipe "
+                     "cannot do; write it to a file"
+                   : "seeking",
+         errno);
+  }
   write(bytes);
   if (std::fseek(stream_, end, SEEK_SET) != 0) fail("seeking", errno);
 }
 
 void AtomicFileWriter::commit() {
+  if (in_place_) {
+    const int closed = std::fclose(stream_);
+    stream_ = nullptr;
+    if (closed != 0) fail("closing", errno);
+    committed_ = true;
+    return;
+  }
   if (std::fflush(stream_) != 0) fail("flushing", errno);
   if (::fsync(::fileno(stream_)) != 0) fail("flushing to disk", errno);
   const int closed = std::fclose(stream_);

@@ -16,7 +16,9 @@ namespace pkm {
 
 // A file being written under a temporary name. commit() renames it into place; destroying it
 // uncommitted removes it, so a failed run leaves nothing behind. Opening one first removes the
-// stale temporaries of the same output (see StaleTemporary).
+// stale temporaries of the same output (see StaleTemporary). A directory is refused at once; an
+// existing device, FIFO or socket (/dev/null, a pipe) is written in place, since renaming over
+// it would replace it with a file.
 class AtomicFileWriter {
  public:
   explicit AtomicFileWriter(std::filesystem::path path);
@@ -33,11 +35,13 @@ class AtomicFileWriter {
 
  private:
   [[noreturn]] void fail(const std::string& what, int error) const;
+  void open_in_place();
   std::filesystem::path path_;
   std::string temporary_;
   std::FILE* stream_ = nullptr;
   int slot_ = -1;  // its entry among the open temporaries, -1 when not listed
   bool committed_ = false;
+  bool in_place_ = false;  // a device or pipe, written directly (no temporary)
 };
 
 // Throws std::runtime_error naming the path and the system's reason; leaves no temporary behind.
