@@ -315,7 +315,13 @@
 
   function legend() {
     var c = data.colour;
-    if (!c) { document.getElementById('legend').style.display = 'none'; return; }
+    if (data.cells) {
+      document.getElementById('legend').textContent =
+          'green: inside, orange: boundary (undecided), blue: largest box, black: largest cylinder';
+    } else if (!c) {
+      document.getElementById('legend').style.display = 'none';
+    }
+    if (!c) return;
     document.getElementById('legend-label').textContent = c.label + ' 0';
     document.getElementById('legend-max').textContent = short(cMax) + ' ' + c.unit;
     var bar = document.getElementById('legend-bar'), g = bar.getContext('2d');
@@ -571,6 +577,9 @@
         }
       }
       box.appendChild(canvas);
+      var x0 = m.origin_mm[0], y0 = m.origin_mm[1];
+      box.appendChild(el('p', 'x ' + short(x0) + ' to ' + short(x0 + nx * m.step_mm) + ' mm, y ' +
+                              short(y0) + ' to ' + short(y0 + ny * m.step_mm) + ' mm (up)'));
       box.appendChild(el('p', 'from ' + short(lo) + ' (blue) to ' + short(hi) +
                               ' (red); grey: unreachable'));
       panel.appendChild(box);
@@ -587,5 +596,6 @@
   sliderSetup();
   drawMaps();
   drawAll();
+  window.pkmView.readyAt = performance.now();  // ms since navigation began: bench/html_views.py
   window.pkmView.ready = true;
 })();

@@ -4,8 +4,9 @@ on a hexapod, a cable plotter and a glide) loads with no console error and no ne
 its drawing and charts are not blank (pixel statistics of screenshots), the slider moves the drawn
 machine, and every number of its summary equals the JSON report's.
 
-usage: test_views.py PKM SOURCE_DIR OUT_DIR [--screenshots DIR]"""
+usage: test_views.py PKM SOURCE_DIR OUT_DIR [--screenshots DIR] [--workspace-page EXE]"""
 
+import argparse
 import json
 import os
 import subprocess
@@ -37,7 +38,7 @@ def run(*command):
     return result.stdout
 
 
-def pages(pkm, source, out):
+def pages(pkm, source, out, workspace_page):
     """Writes each page with its JSON report; returns (name, kind, html, report) tuples."""
     machines = os.path.join(source, "examples", "machines")
     jobs = os.path.join(source, "examples", "jobs")
@@ -61,12 +62,20 @@ def pages(pkm, source, out):
             "--report", report, "--html", html, *extra)
         made.append((name + "-verify", "verify", html, report))
 
+    html, report = os.path.join(out, "demo.html"), os.path.join(out, "demo.json")
+    run(pkm, "demo", "--report", report, "--html", html)
+    made.append(("demo", "plan", html, report))
     plan("sphere-hexapod", "hexapod-bit.toml", os.path.join(jobs, "sphere.ngc"))
     plan("hyperboloid-hexapod", "hexapod-bit-200.toml", os.path.join(jobs, "hyperboloid.ngc"))
     plan("hektor", "hektor.toml", os.path.join(data, "hektor-job.ngc"))
     plan("triaglide", "triaglide.toml", os.path.join(out, "triaglide-square.ngc"))
     post_and_verify("sphere-hexapod", "hexapod-bit.toml", os.path.join(jobs, "sphere.ngc"), "0.01")
     post_and_verify("hektor", "hektor.toml", os.path.join(data, "hektor-job.ngc"), "0.05")
+    if workspace_page:
+        html, report = os.path.join(out, "workspace-hektor.html"), os.path.join(
+            data, "workspace-hektor.json")
+        run(workspace_page, report, html, os.path.join(machines, "hektor.toml"))
+        made.append(("workspace-hektor", "workspace", html, report))
     return made
 
 
@@ -82,6 +91,14 @@ def expected_numbers(kind, report):
         worst = max(range(len(uses)), key=lambda i: uses[i])
         numbers["worst_joint"] = report["joints"][worst]["name"]
         numbers["worst_joint_use"] = 100 * uses[worst]
+        return numbers
+    if kind == "workspace":
+        size = report["area_mm2" if report["planar"] else "volume_mm3"]
+        numbers = {"inside": size["inside"], "boundary": size["boundary"],
+                   "resolution_mm": report["resolution_mm"],
+                   "cylinder_radius": report["largest_cylinder_mm"]["radius"]}
+        for status, cells in report["limited_by"].items():
+            numbers["limited_by." + status] = cells
         return numbers
     if kind == "post":
         numbers = {key: report[key] for key in
@@ -134,6 +151,13 @@ def check_page(browser, name, kind, html, report_path, screenshots):
         check_numbers(browser, name, kind, json.load(file))
     if screenshots:
         browser.driver.save_screenshot(os.path.join(screenshots, name + ".png"))
+    if kind == "workspace":
+        maps = browser.script("return document.querySelectorAll('.map canvas').length")
+        check(maps == len(json.load(open(report_path))["maps"]), f"{name}: {maps} maps drawn")
+        for index in range(maps):
+            image = browser.element_image(f".map:nth-child({index + 1}) canvas")
+            check(distinct_colours(image) > 5, f"{name}: map {index + 1} is blank")
+        return
     # The slider, clicked at its middle as a user would, poses the machine elsewhere (not at
     # its end: many jobs end where they started).
     slider = browser.driver.find_element("css selector", "#slider")
@@ -153,12 +177,18 @@ def check_page(browser, name, kind, html, report_path, screenshots):
 
 
 def main():
-    pkm, source, out = sys.argv[1:4]
-    screenshots = sys.argv[5] if len(sys.argv) > 5 and sys.argv[4] == "--screenshots" else None
+    parser = argparse.ArgumentParser()
+    for positional in ("pkm", "source", "out"):
+        parser.add_argument(positional)
+    parser.add_argument("--screenshots")
+    parser.add_argument("--workspace-page")
+    arguments = parser.parse_args()
+    pkm, source, out, screenshots = (arguments.pkm, arguments.source, arguments.out,
+                                     arguments.screenshots)
     os.makedirs(out, exist_ok=True)
     with open(os.path.join(out, "triaglide-square.ngc"), "w") as job:
         job.write(TRIAGLIDE_JOB)
-    made = pages(pkm, source, out)
+    made = pages(pkm, source, out, arguments.workspace_page)
     browser = Browser()
     try:
         for name, kind, html, report in made:

@@ -90,7 +90,7 @@ json workspace_summary(const json& w) {
   const std::string unit = planar ? "mm^2" : "mm^3";
   json rows =
       json::array({row("inside", planar ? "area inside" : "volume inside", size["inside"], unit),
-                   row("boundary", "boundary cells' share", size["boundary"], unit),
+                   row("boundary", "boundary (undecided)", size["boundary"], unit),
                    row("resolution_mm", "resolution", w["resolution_mm"], "mm")});
   if (w.contains("largest_cylinder_mm")) {
     rows.push_back(row("cylinder_radius", "largest cylinder's radius",
