@@ -273,13 +273,18 @@
     g.drawImage(pathLayer, 0, 0);
     drawSegments(g, project, drawing.fixed);
     var f = indexAt(drawing.t, currentT);
+    if (f >= 0 && f + 1 < drawing.t.length &&
+        drawing.t[f + 1] - currentT < currentT - drawing.t[f]) {
+      f += 1;  // the nearest drawn moment
+    }
     if (f >= 0) drawSegments(g, project, drawing.frames[f].parts);
+    // Marked moves as small red rings: many of them must not hide the path.
+    g.strokeStyle = 'rgba(179, 38, 30, 0.8)';
+    g.lineWidth = 1.2;
     (data.marks || []).forEach(function (m) {
       var p = project(m.x, m.y, m.z);
-      g.strokeStyle = '#b3261e';
-      g.lineWidth = 1.5;
       g.beginPath();
-      g.arc(p[0], p[1], 6, 0, 2 * Math.PI);
+      g.arc(p[0], p[1], 4, 0, 2 * Math.PI);
       g.stroke();
     });
     var tool = toolAt(currentT);
