@@ -11,6 +11,7 @@
 #include "pkm/kinematics/cable_plotter.hpp"
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
+#include "pkm/kinematics/rotary_delta.hpp"
 #include "pkm/motion/planner.hpp"
 #include "pkm/view/decimation.hpp"
 #include "pkm/view/html_page.hpp"
@@ -107,7 +108,9 @@ TEST(MachineDrawing, HexapodLegsAreAsLongAsTheJointsSay) {
   const Machine machine = test::load_example("hexapod-bit.toml");
   const auto& hexapod = dynamic_cast<const HexapodKinematics&>(machine.kinematics());
   std::mt19937_64 rng(7);
-  for (const Pose& pose : test::sample_reachable_poses(machine, 20, rng, 15.0)) {
+  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 20, rng, 15.0);
+  ASSERT_EQ(poses.size(), 20u);
+  for (const Pose& pose : poses) {
     JointVector joints;
     ASSERT_TRUE(machine.inverse(pose, joints).ok());
     int leg = 0;
@@ -125,7 +128,9 @@ TEST(MachineDrawing, GlideStrutsKeepTheirLengthAndCarriagesSitOnTheRails) {
   const Machine machine = test::load_example("triaglide.toml");
   const auto& glide = dynamic_cast<const GlideKinematics&>(machine.kinematics());
   std::mt19937_64 rng(11);
-  for (const Pose& pose : test::sample_reachable_poses(machine, 20, rng)) {
+  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 20, rng);
+  ASSERT_EQ(poses.size(), 20u);
+  for (const Pose& pose : poses) {
     JointVector joints;
     ASSERT_TRUE(machine.inverse(pose, joints).ok());
     std::size_t rail = 0;
@@ -139,6 +144,29 @@ TEST(MachineDrawing, GlideStrutsKeepTheirLengthAndCarriagesSitOnTheRails) {
       ++rail;
     }
     EXPECT_EQ(rail, 3u);
+  }
+}
+
+// A rotary delta's arms and forearms keep their lengths: the elbows are where the joints put them.
+TEST(MachineDrawing, RotaryDeltaArmsAndForearmsKeepTheirLengths) {
+  const Machine machine = test::load_example("linuxcnc-rdelta.toml");
+  const auto& delta = dynamic_cast<const RotaryDeltaKinematics&>(machine.kinematics());
+  std::mt19937_64 rng(5);
+  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 20, rng);
+  ASSERT_EQ(poses.size(), 20u);
+  for (const Pose& pose : poses) {
+    JointVector joints;
+    ASSERT_TRUE(machine.inverse(pose, joints).ok());
+    int link = 0;
+    for (const view::Segment& segment : view::moving_parts(machine, pose, joints)) {
+      if (segment.part != view::Part::link) continue;
+      EXPECT_NEAR(
+          length_of(segment),
+          link % 2 == 0 ? delta.geometry().arm_length_mm : delta.geometry().forearm_length_mm,
+          1e-6);
+      ++link;
+    }
+    EXPECT_EQ(link, 6);
   }
 }
 

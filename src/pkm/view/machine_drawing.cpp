@@ -122,6 +122,23 @@ void add_rotary_delta_base(std::vector<Segment>& out, const RotaryDeltaGeometry&
              Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY());
 }
 
+// Each arm from its pivot to its elbow (joint 0: horizontal and outward, positive: elbow down),
+// the forearm on to its platform joint, the platform as the circle of its joints.
+void add_rotary_delta(std::vector<Segment>& out, const RotaryDeltaGeometry& geometry,
+                      const Pose& pose, const JointVector& joints) {
+  for (int arm = 0; arm < 3; ++arm) {
+    const Eigen::Vector3d outward = RotaryDeltaKinematics::arm_direction(arm);
+    const Eigen::Vector3d pivot = geometry.base_radius_mm * outward;
+    const Eigen::Vector3d elbow =
+        pivot + geometry.arm_length_mm * (std::cos(joints[arm]) * outward -
+                                          std::sin(joints[arm]) * Eigen::Vector3d::UnitZ());
+    out.push_back({Part::link, pivot, elbow});
+    out.push_back({Part::link, elbow, pose.position_mm + geometry.platform_radius_mm * outward});
+  }
+  add_circle(out, Part::platform, pose.position_mm, geometry.platform_radius_mm,
+             Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY());
+}
+
 }  // namespace
 
 bool drawn_planar(const Machine& machine) {
@@ -170,9 +187,7 @@ std::vector<Segment> moving_parts(const Machine& machine, const Pose& pose,
   } else if (const auto* cables = dynamic_cast<const CablePlotterKinematics*>(&model)) {
     add_cables(out, cables->geometry(), pose);
   } else if (const auto* delta = dynamic_cast<const RotaryDeltaKinematics*>(&model)) {
-    const double radius = delta->geometry().platform_radius_mm;
-    add_circle(out, Part::platform, pose.position_mm, radius, Eigen::Vector3d::UnitX(),
-               Eigen::Vector3d::UnitY());
+    add_rotary_delta(out, delta->geometry(), pose, joints);
   }
   return out;
 }
