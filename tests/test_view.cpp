@@ -188,6 +188,22 @@ TEST(MachineDrawing, IdealCablesAreAsLongAsTheJoints) {
   EXPECT_EQ(cable, 2);
 }
 
+// The job's outline for post's and verify's pages: along the job from home, its arc length the
+// job's (verify's job_length_mm of this job is 97.2383047 mm), ending at the job's end.
+TEST(JobOutline, FollowsTheJobFromHomeToItsEnd) {
+  const Machine machine = test::load_example("hektor.toml");
+  Vector6d origin = Vector6d::Zero();
+  origin.head<2>() << 40.0, -80.0;
+  const std::vector<view::PathPoint> outline = view::job_outline(
+      machine, PKM_SOURCE_DIR "/tests/data/square.ngc", gcode::InterpreterOptions{}, origin);
+  ASSERT_GE(outline.size(), 6u);
+  EXPECT_NEAR((outline.front().position - Eigen::Vector3d(50.0, -50.0, 0.0)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((outline.back().position - Eigen::Vector3d(40.0, -80.0, 0.0)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(outline.back().t, std::hypot(10.0, 30.0) + std::hypot(5.0, 20.0) + 10 + 20 + 15,
+              1e-9);
+  for (std::size_t k = 1; k < outline.size(); ++k) EXPECT_GE(outline[k].t, outline[k - 1].t);
+}
+
 // A plan's page: one file with the report's numbers and no reference to anything outside it.
 TEST(PlanPage, IsSelfContainedAndCarriesTheReport) {
   const Machine machine = test::load_example("hektor.toml");

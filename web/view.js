@@ -110,6 +110,8 @@
       drawing.frames.forEach(function (f, i) { if (i % 10 === 0) addFlat(f.parts); });
     }
     for (var i = 0; i < path.x.length; ++i) add(path.x[i], path.y[i], path.z[i]);
+    var job = data.job_outline;
+    if (job) for (var o = 0; o < job.x.length; ++o) add(job.x[o], job.y[o], job.z[o]);
     ['inside', 'boundary'].forEach(function (kind) {
       var cells = (data.cells && data.cells[kind]) || [];
       for (var j = 0; j + 3 < cells.length; j += 4) add(cells[j], cells[j + 1], cells[j + 2]);
@@ -166,6 +168,18 @@
       var p = project(path.x[i], path.y[i], path.z[i]);
       screen[2 * i] = p[0];
       screen[2 * i + 1] = p[1];
+    }
+    var job = data.job_outline;
+    if (job && job.x.length > 1) {  // where the blocks should have gone, under them
+      g.beginPath();
+      for (var o = 0; o < job.x.length; ++o) {
+        var q = project(job.x[o], job.y[o], job.z[o]);
+        if (o === 0) g.moveTo(q[0], q[1]); else g.lineTo(q[0], q[1]);
+      }
+      g.strokeStyle = '#c9ced8';
+      g.lineWidth = 4;
+      g.stroke();
+      g.lineWidth = 1.6;
     }
     for (var b = 0; b < BINS; ++b) {
       g.beginPath();
@@ -334,9 +348,10 @@
       g.fillStyle = rampColour(x / (bar.width - 1));
       g.fillRect(x, 0, 1, bar.height);
     }
-    document.getElementById('scene-help').textContent = planar ?
-        'drag: move, wheel: zoom, double-click: reset' :
-        'drag: turn, shift-drag: move, wheel: zoom, double-click: reset';
+    document.getElementById('scene-help').textContent =
+        (data.job_outline ? 'grey: the job the blocks must trace; dots: block ends. ' : '') +
+        (planar ? 'drag: move, wheel: zoom, double-click: reset' :
+                  'drag: turn, shift-drag: move, wheel: zoom, double-click: reset');
   }
 
   function sceneInput() {

@@ -56,16 +56,20 @@ void write_post_html(const Machine& machine, const PostCommandOptions& options,
   verify_options.on_block = [&recorder](const verify::VerifiedBlock& block) {
     recorder.add(block);
   };
+  std::vector<view::PathPoint> outline;
   try {
     verify_options.job_options.tool_table = read_tool_table(options.tool_table);
     verify::verify_joint_program(machine, options.output, options.program, verify_options);
+    outline = view::job_outline(machine, options.program, verify_options.job_options,
+                                verify_options.origin);
   } catch (const std::exception& error) {
     throw CommandError(options.html + ": cannot trace the written program: " + error.what());
   }
   recorder.finish();
   const std::string job = std::filesystem::path(options.program).filename().string();
-  view::write_page(options.html, view::blocks_page("post", report, recorder, options.tolerance_mm,
-                                                   "pkm post: " + job + " on " + machine.name()));
+  view::write_page(options.html,
+                   view::blocks_page("post", report, recorder, options.tolerance_mm, outline,
+                                     "pkm post: " + job + " on " + machine.name()));
 }
 
 void run_post(const PostCommandOptions& options) {

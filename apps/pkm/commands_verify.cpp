@@ -166,6 +166,25 @@ void fail_unless_passed(const VerifyCommandOptions& options, const verify::Verif
   }
 }
 
+// The verification's page: the blocks as verify traced them, over the job's outline. Written
+// before the verdict, so a failed verification has its page too.
+void write_verify_html(const Machine& machine, const VerifyCommandOptions& options,
+                       const verify::VerifyOptions& verify_options, const nlohmann::json& json,
+                       view::BlockRecorder& recorder) {
+  recorder.finish();
+  std::vector<view::PathPoint> outline;
+  try {
+    outline =
+        view::job_outline(machine, options.job, verify_options.job_options, verify_options.origin);
+  } catch (const gcode::GcodeError& error) {
+    throw CommandError(error.what());
+  }
+  const std::string name = std::filesystem::path(options.joints).filename().string();
+  view::write_page(options.html,
+                   view::blocks_page("verify", json, recorder, verify_options.tolerance_mm, outline,
+                                     "pkm verify: " + name + " on " + machine.name()));
+}
+
 void run_verify(const VerifyCommandOptions& options) {
   for (const std::string& written : {options.report, options.html}) {
     refuse_overwriting_input(written, {{"the joint program", options.joints},
@@ -198,13 +217,7 @@ void run_verify(const VerifyCommandOptions& options) {
   progress.clear();
   const nlohmann::json json = report_json(machine, options, report);
   if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
-  if (!options.html.empty()) {
-    recorder.finish();
-    const std::string name = std::filesystem::path(options.joints).filename().string();
-    view::write_page(options.html,
-                     view::blocks_page("verify", json, recorder, report.tolerance_mm,
-                                       "pkm verify: " + name + " on " + machine.name()));
-  }
+  if (!options.html.empty()) write_verify_html(machine, options, verify_options, json, recorder);
   print_report(machine, options, report);
   fail_unless_passed(options, report);
 }

@@ -100,7 +100,8 @@ double largest_deviation(const BlockRecorder& recorder) {
 }  // namespace
 
 std::string blocks_page(const std::string& kind, const json& report, const BlockRecorder& recorder,
-                        double tolerance_mm, const std::string& title) {
+                        double tolerance_mm, const std::vector<PathPoint>& outline,
+                        const std::string& title) {
   const Machine& machine = recorder.machine();
   json data = base_data(kind, machine, report, title);
   data["summary"] = kind == "verify" ? verify_summary(report)
@@ -108,6 +109,7 @@ std::string blocks_page(const std::string& kind, const json& report, const Block
   data["drawing"] = drawing_json(machine, recorder.moments().moments());
   data["path"] = path_json(recorder.path().points());
   data["block_ends"] = true;
+  if (!outline.empty()) data["job_outline"] = path_json(outline);
   data["colour"] = {{"label", "deviation"}, {"unit", "mm"}};
   data["marks"] = kind == "verify" ? verify_marks(report, recorder.line_starts()) : json::array();
   data["marks_title"] = "Findings";

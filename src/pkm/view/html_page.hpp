@@ -19,10 +19,11 @@ std::string plan_page(const nlohmann::json& report, const PlanRecorder& recorder
                       const std::string& title);
 
 // The page of `pkm post` (kind "post") or `pkm verify` (kind "verify"): the joint program's blocks
-// as verify reconstructs them, coloured by their deviation against `tolerance_mm`.
+// as verify reconstructs them, coloured by their deviation against `tolerance_mm`, over the job's
+// outline (job_outline; empty: none drawn).
 std::string blocks_page(const std::string& kind, const nlohmann::json& report,
                         const BlockRecorder& recorder, double tolerance_mm,
-                        const std::string& title);
+                        const std::vector<PathPoint>& outline, const std::string& title);
 
 // The report of `pkm post` as JSON: the numbers its summary line prints.
 nlohmann::json post_report_json(const Machine& machine, const std::string& program,

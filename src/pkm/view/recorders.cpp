@@ -1,8 +1,10 @@
 #include "pkm/view/recorders.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "pkm/verify/job_path.hpp"
 #include "pkm/view/machine_drawing.hpp"
 
 namespace pkm::view {
@@ -91,6 +93,26 @@ void BlockRecorder::add(const verify::VerifiedBlock& block) {
 void BlockRecorder::finish() {
   path_.finish();
   moments_.finish();
+}
+
+std::vector<PathPoint> job_outline(const Machine& machine, const std::filesystem::path& job,
+                                   const gcode::InterpreterOptions& options,
+                                   const Vector6d& origin) {
+  const double spacing = initial_spacing_mm(machine);
+  PathThinner outline(spacing, kMaxPathPoints);
+  verify::JobPath path(machine, job, options, origin);
+  for (long index = 0;; ++index) {
+    const verify::JobPiece* piece = path.piece(index);
+    if (piece == nullptr) break;
+    const int steps = std::clamp(static_cast<int>(piece->length_mm / spacing), 1, 64);
+    for (int k = 0; k <= steps; ++k) {
+      const double u = static_cast<double>(k) / steps;
+      outline.add(piece->start_mm + u * piece->length_mm, piece->point(u), 0.0, piece->line());
+    }
+    path.forget_before(index + 1);
+  }
+  outline.finish();
+  return outline.points();
 }
 
 }  // namespace pkm::view

@@ -86,4 +86,11 @@ class BlockRecorder {
   long blocks_ = 0;
 };
 
+// The job a joint program must trace, as verify reads it (JobPath: from home, at `origin`, mm and
+// rad; uncontrolled coordinates 0), sampled every few mm of each move and thinned like a plan's
+// path: drawn grey under the blocks so that a reader sees where they should have gone.
+std::vector<PathPoint> job_outline(const Machine& machine, const std::filesystem::path& job,
+                                   const gcode::InterpreterOptions& options,
+                                   const Vector6d& origin);
+
 }  // namespace pkm::view
