@@ -204,8 +204,8 @@
     }
   }
 
-  // Workspace cells: inside green, boundary orange; squares to scale on a planar machine, dots
-  // at their centres otherwise.
+  // Workspace cells: inside green, boundary orange; squares to scale on a planar machine, smaller
+  // squares at their centres otherwise.
   function drawCells(g, project) {
     if (!data.cells) return;
     [['boundary', 'rgba(230, 126, 34, 0.55)'], ['inside', 'rgba(39, 174, 96, 0.45)']]
@@ -218,8 +218,10 @@
               var q = project(flat[i] + flat[i + 3], flat[i + 1] + flat[i + 3], flat[i + 2]);
               var size = Math.max(1, q[0] - p[0]);
               g.fillRect(p[0] - size / 2, p[1] - size / 2, size, size);
-            } else {
-              g.fillRect(p[0] - 1, p[1] - 1, 2, 2);
+            } else {  // a square of 60 % of the cell's projected edge at its centre
+              var e = project(flat[i] + flat[i + 3], flat[i + 1], flat[i + 2]);
+              var side = Math.max(2, 0.6 * Math.hypot(e[0] - p[0], e[1] - p[1]));
+              g.fillRect(p[0] - side / 2, p[1] - side / 2, side, side);
             }
           }
         });

@@ -17,7 +17,8 @@ SHOTS = [("demo", "plan-hexapod", 0.42, False), ("demo", "plan-hexapod-path", 0.
          ("hektor", "plan-hektor", 0.3, False), ("triaglide", "plan-triaglide", 0.55, False),
          ("hektor-post", "post-hektor", 0.5, False),
          ("sphere-hexapod-verify", "verify-hexapod", 0.6, True),
-         ("workspace-hektor", "workspace-hektor", 0.0, False)]
+         ("workspace-hektor", "workspace-hektor", 0.0, False),
+         ("workspace-triaglide", "workspace-triaglide", 0.0, False)]
 
 
 def main():

@@ -76,6 +76,10 @@ def pages(pkm, source, out, workspace_page):
             data, "workspace-hektor.json")
         run(workspace_page, report, html, os.path.join(machines, "hektor.toml"))
         made.append(("workspace-hektor", "workspace", html, report))
+        html, report = os.path.join(out, "workspace-triaglide.html"), os.path.join(
+            data, "workspace-triaglide.json")
+        run(workspace_page, report, html, os.path.join(machines, "triaglide.toml"))
+        made.append(("workspace-triaglide", "workspace", html, report))
     return made
 
 
@@ -94,7 +98,7 @@ def expected_numbers(kind, report):
         return numbers
     if kind == "workspace":
         size = report["area_mm2" if report["planar"] else "volume_mm3"]
-        numbers = {"inside": size["inside"], "boundary": size["boundary"],
+        numbers = {"inside": size["inside"], "boundary": size["boundary"],  # area or volume
                    "resolution_mm": report["resolution_mm"],
                    "cylinder_radius": report["largest_cylinder_mm"]["radius"]}
         for status, cells in report["limited_by"].items():
