@@ -4,6 +4,7 @@
 // tests/browser/test_views.py.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -202,6 +203,26 @@ TEST(JobOutline, FollowsTheJobFromHomeToItsEnd) {
   EXPECT_NEAR(outline.back().t, std::hypot(10.0, 30.0) + std::hypot(5.0, 20.0) + 10 + 20 + 15,
               1e-9);
   for (std::size_t k = 1; k < outline.size(); ++k) EXPECT_GE(outline[k].t, outline[k - 1].t);
+}
+
+// A Maslow's sled, off the centre line, is drawn tilted as its balance tilts it, and stays rigid.
+TEST(MachineDrawing, SledTiltsAsItsBalanceSays) {
+  const Machine machine = test::load_example("maslow-frame.toml");
+  const auto& cables = dynamic_cast<const CablePlotterKinematics&>(machine.kinematics());
+  const Pose pose = Pose::from_mm_deg(900.0, -700.0, 5.0);
+  JointVector joints;
+  ASSERT_TRUE(machine.inverse(pose, joints).ok());
+  CableStatics statics;
+  ASSERT_TRUE(cables.statics(pose, Eigen::Vector2d::Zero(), statics).ok());
+  ASSERT_GT(std::abs(statics.tilt_rad), 1e-3);  // off the centre line the sled tilts
+  const std::vector<view::Segment> parts = view::moving_parts(machine, pose, joints);
+  const auto sled = std::find_if(parts.begin(), parts.end(), [](const view::Segment& segment) {
+    return segment.part == view::Part::platform;
+  });
+  ASSERT_NE(sled, parts.end());
+  const Eigen::Vector3d across = sled->to - sled->from;  // attach 0 to attach 1: 310 mm along x
+  EXPECT_NEAR(across.norm(), 310.0, 1e-9);
+  EXPECT_NEAR(std::atan2(across.y(), across.x()), statics.tilt_rad, 1e-12);
 }
 
 // A plan's page: one file with the report's numbers and no reference to anything outside it.

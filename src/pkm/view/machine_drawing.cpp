@@ -89,12 +89,21 @@ void add_glide(std::vector<Segment>& out, const GlideKinematics& glide, const Po
   for (const Eigen::Vector3d& end : ends) out.push_back({Part::tool, end, pose.position_mm});
 }
 
-void add_cables(std::vector<Segment>& out, const CablePlotterGeometry& geometry, const Pose& pose) {
+// The cables drawn straight (a sagging cable's curve is not drawn), the effector tilted as its
+// balance at rest tilts it (an effector with a mass, tied at two points).
+void add_cables(std::vector<Segment>& out, const CablePlotterKinematics& cables, const Pose& pose) {
+  const CablePlotterGeometry& geometry = cables.geometry();
   const Eigen::Vector3d pen = pose.position_mm;
   const Eigen::Vector3d pen_xy(pen.x(), pen.y(), 0.0);
+  CableStatics statics;
+  if (geometry.effector_mass_kg <= 0.0 ||
+      !cables.statics(pose, Eigen::Vector2d::Zero(), statics).ok()) {
+    statics.tilt_rad = 0.0;
+  }
+  const Eigen::Rotation2Dd tilt(statics.tilt_rad);
   std::array<Eigen::Vector3d, 2> tied;
   for (int cable = 0; cable < 2; ++cable) {
-    tied[cable] = pen_xy + planar(geometry.attach_mm[cable]);
+    tied[cable] = pen_xy + planar(tilt * geometry.attach_mm[cable]);
     // The cable leaves its pulley where its line from the tie point touches the circle: drawn
     // from the pulley's centre when the pulley is a point.
     const Eigen::Vector3d anchor = planar(geometry.anchors_mm[cable]);
@@ -185,7 +194,7 @@ std::vector<Segment> moving_parts(const Machine& machine, const Pose& pose,
   } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
     add_glide(out, *glide, pose, joints);
   } else if (const auto* cables = dynamic_cast<const CablePlotterKinematics*>(&model)) {
-    add_cables(out, cables->geometry(), pose);
+    add_cables(out, *cables, pose);
   } else if (const auto* delta = dynamic_cast<const RotaryDeltaKinematics*>(&model)) {
     add_rotary_delta(out, delta->geometry(), pose, joints);
   }
