@@ -13,6 +13,7 @@
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/io/atomic_file.hpp"
 #include "pkm/io/sample_files.hpp"
+#include "pkm/view/html_page.hpp"
 #include "progress.hpp"
 
 namespace pkm::app {
@@ -38,6 +39,7 @@ struct PlanCommandOptions {
   bool sample_without_output = false;  // pkm demo: make the samples even without -o
   long max_samples = kDefaultMaxSamples;
   std::string display_name;  // how to name the job in the summary (default: its path)
+  std::string html;          // the page of the plan (--html), empty for none
 };
 
 nlohmann::json report_json(const Machine& machine, const motion::PlanReport& report,
@@ -83,6 +85,10 @@ nlohmann::json report_json(const Machine& machine, const motion::PlanReport& rep
          {"machine_mm_per_s2", move.machine_mm_per_s2},
          {"allowed_mm_per_s2", move.allowed_mm_per_s2}});
   }
+  nlohmann::json warnings = nlohmann::json::array();
+  for (const gcode::Warning& warning : report.warnings) {
+    warnings.push_back({{"line", warning.line}, {"message", warning.message}});
+  }
   return {{"machine", machine.name()},
           {"program", options.program},
           {"estimate", estimate},
@@ -93,7 +99,8 @@ nlohmann::json report_json(const Machine& machine, const motion::PlanReport& rep
           {"pen_changes", report.pen_changes},
           {"joints", joints},
           {"feed_limited_by_joints", limits},
-          {"acceleration_limited_by_tensions", tensions}};
+          {"acceleration_limited_by_tensions", tensions},
+          {"warnings", warnings}};
 }
 
 // Samples nobody keeps: `pkm demo` without -o, and the estimate (which makes none).
@@ -292,14 +299,21 @@ void run_plan(const PlanCommandOptions& options) {
                                             {"the machine file", options.machine},
                                             {"the tool table", options.tool_table},
                                             {"the samples' file", options.output}});
+  refuse_overwriting_input(options.html, {{"the job", options.program},
+                                          {"the machine file", options.machine},
+                                          {"the tool table", options.tool_table},
+                                          {"the samples' file", options.output},
+                                          {"the report", options.report}});
   const Machine machine = load_machine_or_default(options.machine);
   PlanSetup setup = plan_setup(machine, options);
   const std::string name = !options.output.empty()         ? options.output
                            : !options.display_name.empty() ? options.display_name
                                                            : options.program;
   // The estimate first: without -o it is the answer; with -o it keeps the run within the bound.
+  // The page draws the samples: --html makes them even without -o.
   const bool estimate_only =
-      options.estimate || (options.output.empty() && !options.sample_without_output);
+      options.estimate ||
+      (options.output.empty() && !options.sample_without_output && options.html.empty());
   if (estimate_only || options.max_samples > 0) {
     setup.plan.estimate_only = true;
     DiscardSamples none;
@@ -331,12 +345,22 @@ void run_plan(const PlanCommandOptions& options) {
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
-  const motion::PlanReport report = run_planner(machine, options, setup, *output);
+  view::PlanRecorder recorder(machine, output.get());
+  motion::SampleSink& sink =
+      options.html.empty() ? static_cast<motion::SampleSink&>(*output) : recorder;
+  const motion::PlanReport report = run_planner(machine, options, setup, sink);
   progress.clear();
   output->commit();
-  if (!options.report.empty()) {
-    write_file_atomically(options.report,
-                          report_json(machine, report, options, false).dump(2) + "\n");
+  const nlohmann::json json = report_json(machine, report, options, false);
+  if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
+  if (!options.html.empty()) {
+    recorder.finish();
+    const std::string job =
+        std::filesystem::path(options.display_name.empty() ? options.program : options.display_name)
+            .filename()
+            .string();
+    view::write_page(options.html,
+                     view::plan_page(json, recorder, "pkm plan: " + job + " on " + machine.name()));
   }
   print_warnings(options, report);
   print_summary(machine, report, name, false);
@@ -369,6 +393,8 @@ void register_plan_commands(CLI::App& app) {
   demo_command->add_option("-o,--output", demo->output,
                            "Also write the samples: OUT.csv or OUT.npy");
   demo_command->add_option("--report", demo->report, "Write the plan report as JSON");
+  demo_command->add_option("--html", demo->html,
+                           "Write the plan's page: one HTML file that opens offline");
   demo_command->add_option("--period", demo->period_s, "Interpolation period, s (default 0.001)")
       ->check(number_in(kMinPeriod, kMaxPeriod));
   demo_command->callback([demo] { run_demo(*demo); });
@@ -394,6 +420,10 @@ void register_plan_commands(CLI::App& app) {
   command->add_option("--period", options->period_s, "Interpolation period, s (default 0.001)")
       ->check(number_in(kMinPeriod, kMaxPeriod));
   command->add_option("--report", options->report, "Write the plan report as JSON");
+  command
+      ->add_option("--html", options->html,
+                   "Write the plan's page: one HTML file that opens offline (makes the samples)")
+      ->excludes("--estimate");
   command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl, mm)");
   add_pose_option(*command, "--start", options->start, "Start pose, mm and deg (default: home)");
   add_pose_option(

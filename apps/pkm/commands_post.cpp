@@ -3,12 +3,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 
 #include "app.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/io/atomic_file.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/post/mach3_export.hpp"
+#include "pkm/verify/joint_path.hpp"
+#include "pkm/view/html_page.hpp"
 #include "progress.hpp"
 
 namespace pkm::app {
@@ -23,6 +26,8 @@ struct PostCommandOptions {
   ToolTableOptions tool_table;
   double tolerance_mm = 0.01;
   std::vector<double> origin;
+  std::string report;  // --report: the summary as JSON
+  std::string html;    // --html: the page of the joint program
 };
 
 // The header is written first with room for the numbers known only at the end, then rewritten
@@ -40,10 +45,43 @@ std::string header(const Machine& machine, const PostCommandOptions& options,
          numbers;
 }
 
+// The page of the written program: its blocks traced by verify's forward kinematics against the
+// job, each coloured by its measured deviation.
+void write_post_html(const Machine& machine, const PostCommandOptions& options,
+                     const nlohmann::json& report) {
+  view::BlockRecorder recorder(machine);
+  verify::VerifyOptions verify_options;
+  verify_options.tolerance_mm = options.tolerance_mm;
+  verify_options.origin = pose_vector_over(verify_options.origin, options.origin);
+  verify_options.on_block = [&recorder](const verify::VerifiedBlock& block) {
+    recorder.add(block);
+  };
+  std::vector<view::PathPoint> outline;
+  try {
+    verify_options.job_options.tool_table = read_tool_table(options.tool_table);
+    verify::verify_joint_program(machine, options.output, options.program, verify_options);
+    outline = view::job_outline(machine, options.program, verify_options.job_options,
+                                verify_options.origin);
+  } catch (const std::exception& error) {
+    throw CommandError(options.html + ": cannot trace the written program: " + error.what());
+  }
+  recorder.finish();
+  const std::string job = std::filesystem::path(options.program).filename().string();
+  view::write_page(options.html,
+                   view::blocks_page("post", report, recorder, options.tolerance_mm, outline,
+                                     "pkm post: " + job + " on " + machine.name()));
+}
+
 void run_post(const PostCommandOptions& options) {
   refuse_overwriting_input(options.output, {{"the job", options.program},
                                             {"the machine file", options.machine},
                                             {"the tool table", options.tool_table.path}});
+  for (const std::string& written : {options.report, options.html}) {
+    refuse_overwriting_input(written, {{"the job", options.program},
+                                       {"the machine file", options.machine},
+                                       {"the tool table", options.tool_table.path},
+                                       {"the joint program", options.output}});
+  }
   const Machine machine = load_machine_or_default(options.machine);
   post::PostOptions post_options;
   post_options.tolerance_mm = options.tolerance_mm;
@@ -80,6 +118,10 @@ void run_post(const PostCommandOptions& options) {
     std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", options.program.c_str(), warning.line,
                  warning.message.c_str());
   }
+  const nlohmann::json json = view::post_report_json(machine, options.program, options.output,
+                                                     report, options.tolerance_mm);
+  if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
+  if (!options.html.empty()) write_post_html(machine, options, json);
   std::printf("%s: %ld blocks for %ld moves, %s %.6f mm (line %d), tolerance %.6f mm\n",
               options.output.c_str(), report.blocks, report.moves,
               report.bounded ? "deviation bounded by" : "largest sampled deviation",
@@ -127,6 +169,9 @@ void register_post_commands(CLI::App& app) {
   add_tool_table_options(*command, options->tool_table);
   add_pose_option(*command, "--origin", options->origin,
                   "Where the program's X0 Y0 Z0 sits in machine coordinates, mm and deg");
+  command->add_option("--report", options->report, "Write the summary as JSON");
+  command->add_option("--html", options->html,
+                      "Write the program's page: one HTML file that opens offline");
   command->callback([options] { run_post(*options); });
 }
 

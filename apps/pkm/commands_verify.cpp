@@ -9,6 +9,7 @@
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/io/atomic_file.hpp"
 #include "pkm/verify/joint_path.hpp"
+#include "pkm/view/html_page.hpp"
 #include "progress.hpp"
 
 namespace pkm::app {
@@ -20,6 +21,7 @@ struct VerifyCommandOptions {
   std::string joints;
   std::string job;
   std::string report;
+  std::string html;           // --html: the page of the verification
   double tolerance_mm = 0.0;  // 0: the one in the joint program's header
   std::vector<double> origin;
   ToolTableOptions tool_table;
@@ -76,31 +78,29 @@ nlohmann::json to_json(const Machine& machine, const verify::ViolationSummary& s
   return json;
 }
 
-void write_report(const Machine& machine, const VerifyCommandOptions& options,
-                  const verify::VerifyReport& report) {
-  const nlohmann::json json = {
-      {"joint_program", options.joints},
-      {"job", options.job},
-      {"blocks", report.blocks},
-      {"tolerance_mm", report.tolerance_mm},
-      {"max_deviation_mm", report.max_deviation_mm},
-      {"rms_deviation_mm", report.rms_deviation_mm},
-      {"max_deviation_joint_line", report.max_deviation_joint_line},
-      {"max_deviation_job_line", report.max_deviation_job_line},
-      {"coverage",
-       {{"complete", report.covered},
-        {"job_length_mm", report.job_length_mm},
-        {"traced_mm", report.traced_mm},
-        {"stopped_at_job_line", report.coverage_stopped_job_line},
-        {"stopped_at_joint_line", report.coverage_stopped_joint_line}}},
-      {"violations",
-       {{"deviation", to_json(machine, report.deviation, "mm")},
-        {"position", to_json(machine, report.position, "")},
-        {"velocity", to_json(machine, report.velocity, "/s")},
-        {"pen", to_json(machine, report.pen, "mm")}}},
-      {"pen_downs", {{"joint_program", report.pen_downs}, {"job", report.job_pen_downs}}},
-      {"passed", report.passed()}};
-  write_file_atomically(options.report, json.dump(2) + "\n");
+nlohmann::json report_json(const Machine& machine, const VerifyCommandOptions& options,
+                           const verify::VerifyReport& report) {
+  return {{"joint_program", options.joints},
+          {"job", options.job},
+          {"blocks", report.blocks},
+          {"tolerance_mm", report.tolerance_mm},
+          {"max_deviation_mm", report.max_deviation_mm},
+          {"rms_deviation_mm", report.rms_deviation_mm},
+          {"max_deviation_joint_line", report.max_deviation_joint_line},
+          {"max_deviation_job_line", report.max_deviation_job_line},
+          {"coverage",
+           {{"complete", report.covered},
+            {"job_length_mm", report.job_length_mm},
+            {"traced_mm", report.traced_mm},
+            {"stopped_at_job_line", report.coverage_stopped_job_line},
+            {"stopped_at_joint_line", report.coverage_stopped_joint_line}}},
+          {"violations",
+           {{"deviation", to_json(machine, report.deviation, "mm")},
+            {"position", to_json(machine, report.position, "")},
+            {"velocity", to_json(machine, report.velocity, "/s")},
+            {"pen", to_json(machine, report.pen, "mm")}}},
+          {"pen_downs", {{"joint_program", report.pen_downs}, {"job", report.job_pen_downs}}},
+          {"passed", report.passed()}};
 }
 
 // One line per kind of finding: how many, the worst, the lines of the first few. Values in the
@@ -166,11 +166,32 @@ void fail_unless_passed(const VerifyCommandOptions& options, const verify::Verif
   }
 }
 
+// The verification's page: the blocks as verify traced them, over the job's outline. Written
+// before the verdict, so a failed verification has its page too.
+void write_verify_html(const Machine& machine, const VerifyCommandOptions& options,
+                       const verify::VerifyOptions& verify_options, const nlohmann::json& json,
+                       view::BlockRecorder& recorder) {
+  recorder.finish();
+  std::vector<view::PathPoint> outline;
+  try {
+    outline =
+        view::job_outline(machine, options.job, verify_options.job_options, verify_options.origin);
+  } catch (const gcode::GcodeError& error) {
+    throw CommandError(error.what());
+  }
+  const std::string name = std::filesystem::path(options.joints).filename().string();
+  view::write_page(options.html,
+                   view::blocks_page("verify", json, recorder, verify_options.tolerance_mm, outline,
+                                     "pkm verify: " + name + " on " + machine.name()));
+}
+
 void run_verify(const VerifyCommandOptions& options) {
-  refuse_overwriting_input(options.report, {{"the joint program", options.joints},
-                                            {"the job", options.job},
-                                            {"the machine file", options.machine},
-                                            {"the tool table", options.tool_table.path}});
+  for (const std::string& written : {options.report, options.html}) {
+    refuse_overwriting_input(written, {{"the joint program", options.joints},
+                                       {"the job", options.job},
+                                       {"the machine file", options.machine},
+                                       {"the tool table", options.tool_table.path}});
+  }
   const Machine machine = load_machine_or_default(options.machine);
   verify::VerifyOptions verify_options;
   verify_options.origin = pose_vector_over(verify_options.origin, options.origin);
@@ -178,6 +199,12 @@ void run_verify(const VerifyCommandOptions& options) {
   ProgressBar progress("verify " + std::filesystem::path(options.joints).filename().string(),
                        options.joints);
   verify_options.on_line = progress.on_line();
+  view::BlockRecorder recorder(machine);
+  if (!options.html.empty()) {
+    verify_options.on_block = [&recorder](const verify::VerifiedBlock& block) {
+      recorder.add(block);
+    };
+  }
   try {
     verify_options.tolerance_mm = tolerance_of(options);
     verify_options.job_options.tool_table = read_tool_table(options.tool_table);
@@ -188,7 +215,9 @@ void run_verify(const VerifyCommandOptions& options) {
     throw CommandError(error.what());
   }
   progress.clear();
-  if (!options.report.empty()) write_report(machine, options, report);
+  const nlohmann::json json = report_json(machine, options, report);
+  if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
+  if (!options.html.empty()) write_verify_html(machine, options, verify_options, json, recorder);
   print_report(machine, options, report);
   fail_unless_passed(options, report);
 }
@@ -208,6 +237,8 @@ void register_verify_commands(CLI::App& app) {
                    "the joint program's header)")
       ->check(number_in(kMinTolerance, kMaxTolerance));
   command->add_option("--report", options->report, "Write the report as JSON");
+  command->add_option("--html", options->html,
+                      "Write the verification's page: one HTML file that opens offline");
   add_pose_option(*command, "--origin", options->origin,
                   "Where the job's X0 Y0 Z0 sits in machine coordinates, mm and deg");
   add_tool_table_options(*command, options->tool_table);

@@ -175,6 +175,9 @@ class Verifier {
       fail(canon.line, "no tool pose for these joints (forward kinematics fails along the block)");
     }
     record(canon.line, deviation);
+    if (options_.on_block) {
+      options_.on_block({canon.line, deviation.job_line, measure_.end_pose(), q, deviation.max_mm});
+    }
     check_pen(canon.line);
     cursor_.advance(end);
     previous_ = q;

@@ -18,12 +18,23 @@
 
 namespace pkm::verify {
 
+// One block of the joint program as verify reconstructs it by forward kinematics: for a view.
+struct VerifiedBlock {
+  int line = 0;      // joint program
+  int job_line = 0;  // the job's line it was held against where it deviates most
+  Pose end_pose;     // the tool's pose at the block's end (mm, rad)
+  JointVector joints;
+  double deviation_mm = 0.0;  // the block's largest distance from the job
+};
+
 struct VerifyOptions {
   double tolerance_mm = 0.01;             // largest deviation accepted, mm (post's default; > 0)
   Vector6d origin = Vector6d::Zero();     // where the job's X0 Y0 Z0 sits (mm, rad)
   gcode::InterpreterOptions job_options;  // the job's tool table and block delete
   // Called with the joint program's line being verified, once per change of line: for progress.
   std::function<void(int line)> on_line;
+  // Called after each block is measured (optional): what pkm's HTML views draw.
+  std::function<void(const VerifiedBlock& block)> on_block;
 };
 
 // One finding, at a line of the joint program and the job line it was held against.

@@ -1,0 +1,122 @@
+#include "pkm/view/html_page.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string_view>
+
+#include "pkm/io/atomic_file.hpp"
+#include "pkm/view/machine_drawing.hpp"
+#include "pkm/view/page_data.hpp"
+
+namespace pkm::view {
+
+namespace {
+
+using nlohmann::json;
+
+json plan_quantities(const Machine& machine, const MinMaxBuckets& buckets) {
+  const int count = static_cast<int>(machine.joints().size());
+  json position = json::array(), velocity = json::array(), acceleration = json::array();
+  for (int i = 0; i < count; ++i) {
+    const JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
+    const double s = interface_scale(joint);
+    position.push_back(series_json(buckets, i, s, joint.min * s, joint.max * s));
+    velocity.push_back(
+        series_json(buckets, count + i, s, -joint.max_velocity * s, joint.max_velocity * s));
+    acceleration.push_back(series_json(buckets, 2 * count + i, s, -joint.max_acceleration * s,
+                                       joint.max_acceleration * s));
+  }
+  return json::array({{{"name", "position"}, {"per_s", 0}, {"series", position}},
+                      {{"name", "velocity"}, {"per_s", 1}, {"series", velocity}},
+                      {{"name", "acceleration"}, {"per_s", 2}, {"series", acceleration}}});
+}
+
+// The joint nearest a limit of its speed or acceleration (the larger of the two fractions):
+// its index, -1 when there are no joints; `use` gets the fraction.
+int worst_joint(const json& joints, double& use) {
+  int worst = -1;
+  use = -1.0;
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const json& joint = joints[i];
+    const double velocity =
+        number_or(joint["peak_velocity"], 0.0) / number_or(joint["max_velocity"], 1.0);
+    const double acceleration =
+        number_or(joint["peak_acceleration"], 0.0) / number_or(joint["max_acceleration"], 1.0);
+    if (std::max(velocity, acceleration) > use) {
+      use = std::max(velocity, acceleration);
+      worst = static_cast<int>(i);
+    }
+  }
+  return worst;
+}
+
+json worst_joint_rows(const json& joints) {
+  double use = 0.0;
+  const int worst = worst_joint(joints, use);
+  if (worst < 0) return json::array();
+  return json::array(
+      {row("worst_joint", "worst joint", joints[static_cast<std::size_t>(worst)]["name"], ""),
+       row("worst_joint_use", "its peak, of its limit", 100.0 * use, "%")});
+}
+
+json plan_summary(const json& report) {
+  json rows = json::array({row("duration_s", "duration", report["duration_s"], "s"),
+                           row("path_length_mm", "path length", report["path_length_mm"], "mm"),
+                           row("samples", "samples", report["samples"], "")});
+  for (const json& worst : worst_joint_rows(report["joints"])) rows.push_back(worst);
+  rows.push_back(row("feed_limited_by_joints", "moves slowed by a joint",
+                     report["feed_limited_by_joints"].size(), ""));
+  rows.push_back(row("acceleration_limited_by_tensions", "moves eased by a cable's tension",
+                     report["acceleration_limited_by_tensions"].size(), ""));
+  rows.push_back(
+      row("warnings", "warnings", report.contains("warnings") ? report["warnings"].size() : 0, ""));
+  return rows;
+}
+
+// The moves a joint (or a cable's tension) slowed, placed where their first sample lies.
+json plan_marks(const json& report, const std::map<int, LineStart>& starts) {
+  json marks = json::array();
+  for (const json& limit : report["feed_limited_by_joints"]) {
+    const auto start = starts.find(limit["line"].get<int>());
+    if (start == starts.end()) continue;
+    char label[160];
+    const std::string by = limit["joint"].is_string() ? limit["joint"].get<std::string>() : "-";
+    std::snprintf(label, sizeof label, "line %d: F%.0f slowed to F%.0f by %s%s",
+                  limit["line"].get<int>(), limit["programmed_mm_per_min"].get<double>(),
+                  limit["allowed_mm_per_min"].get<double>(),
+                  limit["cause"] == "tension" ? "the tension of " : "joint ", by.c_str());
+    const Eigen::Vector3d& p = start->second.position;
+    marks.push_back({{"t", rounded(start->second.t)},
+                     {"x", rounded(p.x())},
+                     {"y", rounded(p.y())},
+                     {"z", rounded(p.z())},
+                     {"label", label}});
+  }
+  return marks;
+}
+
+}  // namespace
+
+std::string plan_page(const json& report, const PlanRecorder& recorder, const std::string& title) {
+  const Machine& machine = recorder.machine();
+  json data = base_data("plan", machine, report, title);
+  data["summary"] = plan_summary(report);
+  double use = 0.0;
+  data["worst_joint_index"] = worst_joint(report["joints"], use);
+  data["marks_title"] = "Moves slowed by a joint";
+  data["drawing"] = drawing_json(machine, recorder.moments().moments());
+  data["path"] = path_json(recorder.path().points());
+  data["colour"] = {{"label", "tool speed"}, {"unit", "mm/s"}};
+  data["marks"] = plan_marks(report, recorder.line_starts());
+  data["charts"] = {{"x", chart_axis(recorder.joint_buckets(), "time", "s")},
+                    {"quantities", plan_quantities(machine, recorder.joint_buckets())}};
+  data["slider"] = {{"label", "time"}, {"unit", "s"}};
+  return page_with(data, title);
+}
+
+void write_page(const std::filesystem::path& path, const std::string& html) {
+  write_file_atomically(path, html);
+}
+
+}  // namespace pkm::view

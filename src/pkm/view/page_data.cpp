@@ -1,0 +1,162 @@
+#include "pkm/view/page_data.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string_view>
+
+#include "pkm/view/machine_drawing.hpp"
+#include "pkm/view/web_assets.hpp"
+
+namespace pkm::view {
+
+using nlohmann::json;
+
+// Six significant digits: a thousandth of a millimetre on a metre-wide machine, and a third of
+// the bytes of a double's full digits. NaN (an empty bucket) becomes null.
+json rounded(double value) {
+  if (!std::isfinite(value)) return nullptr;
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return std::strtod(text, nullptr);
+}
+
+json rounded_array(const std::vector<double>& values, double scale) {
+  json out = json::array();
+  for (double value : values) out.push_back(rounded(value * scale));
+  return out;
+}
+
+json joints_json(const Machine& machine) {
+  json joints = json::array();
+  for (const JointSpec& joint : machine.joints()) {
+    joints.push_back({{"name", joint.name},
+                      {"unit", joint.interface_unit()},
+                      {"min", rounded(joint.to_interface(joint.min))},
+                      {"max", rounded(joint.to_interface(joint.max))},
+                      {"max_velocity", rounded(joint.to_interface(joint.max_velocity))},
+                      {"max_acceleration", rounded(joint.to_interface(joint.max_acceleration))}});
+  }
+  return joints;
+}
+
+static void append_segments(json& flat, const std::vector<Segment>& segments) {
+  for (const Segment& segment : segments) {
+    flat.push_back(static_cast<int>(segment.part));
+    for (const Eigen::Vector3d* point : {&segment.from, &segment.to}) {
+      for (int k = 0; k < 3; ++k) flat.push_back(rounded((*point)[k]));
+    }
+  }
+}
+
+// The machine: fixed parts once, moving parts at each moment (flat: part, x0 y0 z0, x1 y1 z1).
+json drawing_json(const Machine& machine, const std::vector<Moment>& moments) {
+  json fixed = json::array();
+  append_segments(fixed, fixed_parts(machine));
+  json times = json::array(), frames = json::array();
+  for (const Moment& moment : moments) {
+    times.push_back(rounded(moment.t));
+    json flat = json::array();
+    append_segments(flat, moving_parts(machine, moment.pose, moment.joints));
+    json tool = json::array();
+    for (int k = 0; k < 3; ++k) tool.push_back(rounded(moment.pose.position_mm[k]));
+    frames.push_back({{"parts", flat}, {"tool", tool}});
+  }
+  return {{"fixed", fixed}, {"t", times}, {"frames", frames}};
+}
+
+json path_json(const std::vector<PathPoint>& points) {
+  json t = json::array(), x = json::array(), y = json::array(), z = json::array(),
+       c = json::array();
+  for (const PathPoint& point : points) {
+    t.push_back(rounded(point.t));
+    x.push_back(rounded(point.position.x()));
+    y.push_back(rounded(point.position.y()));
+    z.push_back(rounded(point.position.z()));
+    c.push_back(rounded(point.colour));
+  }
+  return {{"t", t}, {"x", x}, {"y", y}, {"z", z}, {"c", c}};
+}
+
+// One chart series: a channel's buckets in interface units, with the band outside [lo, hi].
+json series_json(const MinMaxBuckets& buckets, int channel, double scale, double lo, double hi) {
+  return {{"min", rounded_array(buckets.min(channel), scale)},
+          {"max", rounded_array(buckets.max(channel), scale)},
+          {"lo", rounded(lo)},
+          {"hi", rounded(hi)}};
+}
+
+// Interface units per internal unit of joint i (deg per rad for rotary joints).
+double interface_scale(const JointSpec& joint) {
+  return joint.to_interface(1.0);
+}
+
+json chart_axis(const MinMaxBuckets& buckets, const std::string& label, const std::string& unit) {
+  return {{"label", label},
+          {"unit", unit},
+          {"first", rounded_array(buckets.x_first())},
+          {"last", rounded_array(buckets.x_last())}};
+}
+
+// A summary row: `value` as the report has it (a number or a name), with its unit.
+json row(const std::string& key, const std::string& label, const json& value,
+         const std::string& unit) {
+  return {{"key", key}, {"label", label}, {"value", value}, {"unit", unit}};
+}
+
+double number_or(const json& value, double fallback) {
+  return value.is_number() ? value.get<double>() : fallback;
+}
+
+static std::string escaped_html(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '&')
+      out += "&amp;";
+    else if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '"')
+      out += "&quot;";
+    else
+      out += c;
+  }
+  return out;
+}
+
+// The page: the template with its title and data; every '<' of the data escaped so that no
+// string in it (a job's name) can end the script element that holds it.
+std::string page_with(const json& data, const std::string& title) {
+  std::string text = data.dump(-1, ' ', false, json::error_handler_t::replace);
+  std::string safe;
+  safe.reserve(text.size());
+  for (char c : text) {
+    if (c == '<')
+      safe += "\\u003c";
+    else
+      safe += c;
+  }
+  std::string page(kViewPage);
+  const auto replace = [&page](std::string_view marker, const std::string& with) {
+    for (std::size_t at = page.find(marker); at != std::string::npos;
+         at = page.find(marker, at + with.size())) {
+      page.replace(at, marker.size(), with);
+    }
+  };
+  replace("@PKM_TITLE@", escaped_html(title));
+  replace("@PKM_DATA@", safe);
+  return page;
+}
+
+json base_data(const std::string& kind, const Machine& machine, const json& report,
+               const std::string& title) {
+  return {{"kind", kind},
+          {"title", title},
+          {"machine", machine.name()},
+          {"planar", drawn_planar(machine)},
+          {"joints", joints_json(machine)},
+          {"report", report}};
+}
+
+}  // namespace pkm::view

@@ -1,0 +1,44 @@
+// The pieces every view's data is made of (internal to the view module): numbers rounded to what
+// a screen shows, the machine's joints and drawing, the thinned path, chart series, summary rows,
+// and the page itself from web/'s template.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "pkm/view/recorders.hpp"
+
+namespace pkm::view {
+
+// Six significant digits (null for NaN or infinity).
+nlohmann::json rounded(double value);
+nlohmann::json rounded_array(const std::vector<double>& values, double scale = 1.0);
+
+// Each joint's name, unit and limits in interface units (mm or deg).
+nlohmann::json joints_json(const Machine& machine);
+// {"fixed": [...], "t": [...], "frames": [{"parts": [...], "tool": [x, y, z]}]}; segments flat as
+// part, x0 y0 z0, x1 y1 z1.
+nlohmann::json drawing_json(const Machine& machine, const std::vector<Moment>& moments);
+// {"t", "x", "y", "z", "c"}: the thinned path as columns.
+nlohmann::json path_json(const std::vector<PathPoint>& points);
+// One chart series of a channel: min/max per bucket times `scale`, the band outside [lo, hi].
+nlohmann::json series_json(const MinMaxBuckets& buckets, int channel, double scale, double lo,
+                           double hi);
+// Interface units per internal unit of a joint (deg per rad for rotary joints).
+double interface_scale(const JointSpec& joint);
+// The charts' abscissa: each bucket's first and last x.
+nlohmann::json chart_axis(const MinMaxBuckets& buckets, const std::string& label,
+                          const std::string& unit);
+// A summary row: `value` as the report has it (a number or a name), with its unit.
+nlohmann::json row(const std::string& key, const std::string& label, const nlohmann::json& value,
+                   const std::string& unit);
+double number_or(const nlohmann::json& value, double fallback);
+
+// kind, title, machine name, planar, joints and the report verbatim.
+nlohmann::json base_data(const std::string& kind, const Machine& machine,
+                         const nlohmann::json& report, const std::string& title);
+// The page: web/'s template with the title and the data (every '<' in it escaped).
+std::string page_with(const nlohmann::json& data, const std::string& title);
+
+}  // namespace pkm::view

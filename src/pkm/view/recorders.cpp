@@ -1,0 +1,118 @@
+#include "pkm/view/recorders.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "pkm/verify/job_path.hpp"
+#include "pkm/view/machine_drawing.hpp"
+
+namespace pkm::view {
+
+double initial_spacing_mm(const Machine& machine) {
+  Eigen::Vector3d low = machine.home().position_mm, high = low;
+  for (const Segment& segment : fixed_parts(machine)) {
+    for (const Eigen::Vector3d& point : {segment.from, segment.to}) {
+      low = low.cwiseMin(point);
+      high = high.cwiseMax(point);
+    }
+  }
+  const double size = (high - low).norm();
+  return size > 0.0 ? size / 4000.0 : 0.01;
+}
+
+PlanRecorder::PlanRecorder(const Machine& machine, motion::SampleSink* next)
+    : machine_(machine),
+      next_(next),
+      buckets_(3 * static_cast<int>(machine.joints().size()), kChartBuckets),
+      path_(initial_spacing_mm(machine), kMaxPathPoints),
+      moments_(kDrawnMoments),
+      values_(3 * machine.joints().size()) {}
+
+void PlanRecorder::write(const motion::Sample& sample) {
+  if (next_ != nullptr) next_->write(sample);
+  const Eigen::Vector3d position = sample.pose.head<3>();
+  const double t = sample.time_s;
+  const double dt = t - last_t_;
+  const int count = static_cast<int>(sample.joints.size());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  double speed = 0.0;
+  if (samples_ == 0) last_velocity_ = JointVector::Zero(count);
+  for (int i = 0; i < count; ++i) {
+    double velocity = nan, acceleration = nan;
+    // As the planner's report: velocities from successive samples, their changes over the
+    // midpoints of the two intervals.
+    if (samples_ > 0 && dt > 0.0) {
+      velocity = (sample.joints[i] - last_joints_[i]) / dt;
+      if (samples_ > 1) acceleration = (velocity - last_velocity_[i]) / (0.5 * (dt + last_dt_));
+      last_velocity_[i] = velocity;
+    }
+    values_[static_cast<std::size_t>(i)] = sample.joints[i];
+    values_[static_cast<std::size_t>(count + i)] = velocity;
+    values_[static_cast<std::size_t>(2 * count + i)] = acceleration;
+  }
+  if (samples_ > 0 && dt > 0.0) speed = (position - last_position_).norm() / dt;
+  buckets_.add(t, values_);
+  path_.add(t, position, speed, sample.line);
+  moments_.add(t, Pose::from_vector(sample.pose), sample.joints);
+  line_starts_.try_emplace(sample.line, LineStart{t, position});
+  last_joints_ = sample.joints;
+  last_position_ = position;
+  if (dt > 0.0) last_dt_ = dt;
+  last_t_ = t;
+  ++samples_;
+}
+
+void PlanRecorder::finish() {
+  path_.finish();
+  moments_.finish();
+}
+
+BlockRecorder::BlockRecorder(const Machine& machine)
+    : machine_(machine),
+      buckets_(static_cast<int>(machine.joints().size()) + 1, kChartBuckets),
+      path_(initial_spacing_mm(machine), kMaxPathPoints),
+      moments_(kDrawnMoments),
+      values_(machine.joints().size() + 1) {}
+
+void BlockRecorder::add(const verify::VerifiedBlock& block) {
+  const Eigen::Vector3d position = block.end_pose.position_mm;
+  if (last_position_) length_mm_ += (position - *last_position_).norm();
+  last_position_ = position;
+  const std::size_t count = machine_.joints().size();
+  for (std::size_t i = 0; i < count; ++i) values_[i] = block.joints[static_cast<int>(i)];
+  values_[count] = block.deviation_mm;
+  buckets_.add(length_mm_, values_);
+  // Every block end is kept on the path (its own line), so the page can mark the ends.
+  path_.add(length_mm_, position, block.deviation_mm, block.line);
+  moments_.add(length_mm_, block.end_pose, block.joints);
+  line_starts_.try_emplace(block.line, LineStart{length_mm_, position});
+  ++blocks_;
+}
+
+void BlockRecorder::finish() {
+  path_.finish();
+  moments_.finish();
+}
+
+std::vector<PathPoint> job_outline(const Machine& machine, const std::filesystem::path& job,
+                                   const gcode::InterpreterOptions& options,
+                                   const Vector6d& origin) {
+  const double spacing = initial_spacing_mm(machine);
+  PathThinner outline(spacing, kMaxPathPoints);
+  verify::JobPath path(machine, job, options, origin);
+  for (long index = 0;; ++index) {
+    const verify::JobPiece* piece = path.piece(index);
+    if (piece == nullptr) break;
+    const int steps = std::clamp(static_cast<int>(piece->length_mm / spacing), 1, 64);
+    for (int k = 0; k <= steps; ++k) {
+      const double u = static_cast<double>(k) / steps;
+      outline.add(piece->start_mm + u * piece->length_mm, piece->point(u), 0.0, piece->line());
+    }
+    path.forget_before(index + 1);
+  }
+  outline.finish();
+  return outline.points();
+}
+
+}  // namespace pkm::view

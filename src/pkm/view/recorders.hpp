@@ -1,0 +1,96 @@
+// What a page needs from a plan's million samples or a joint program's blocks, gathered as they
+// stream past in bounded memory (decimation.hpp): the thinned tool path with its colour (speed,
+// deviation), min/max buckets of each joint's position, velocity and acceleration (blocks:
+// position and deviation), the moments the machine is drawn at, and where each G-code line starts.
+#pragma once
+
+#include <map>
+#include <optional>
+
+#include "pkm/motion/planner.hpp"
+#include "pkm/verify/joint_path.hpp"
+#include "pkm/view/decimation.hpp"
+
+namespace pkm::view {
+
+// Where a G-code line's first sample (block) lies: to mark the moves a joint slowed.
+struct LineStart {
+  double t = 0.0;  // s (plan) or mm along the path (blocks)
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+};
+
+// Chart buckets: 1000 to 2000, more than a screen's pixel columns; path: at most 60 000 points.
+inline constexpr std::size_t kChartBuckets = 1000;
+inline constexpr std::size_t kMaxPathPoints = 60000;
+inline constexpr std::size_t kDrawnMoments = 200;
+
+// The spacing a path starts thinned at: a 4000th of the machine's drawing (fixed parts and
+// home), so that a path on screen is exact to a fraction of a pixel.
+double initial_spacing_mm(const Machine& machine);
+
+// A sink of the planner that records the samples for the page and passes each on to `next`
+// (the samples' file), if any.
+class PlanRecorder final : public motion::SampleSink {
+ public:
+  explicit PlanRecorder(const Machine& machine, motion::SampleSink* next = nullptr);
+  void write(const motion::Sample& sample) override;
+  void finish();  // after the last sample
+
+  const Machine& machine() const { return machine_; }
+  // Channels: joint i's position (i), velocity (J + i), acceleration (2J + i), in the machine's
+  // internal units, per s and per s^2 as the planner's report computes them.
+  const MinMaxBuckets& joint_buckets() const { return buckets_; }
+  const PathThinner& path() const { return path_; }  // colour: tool speed, mm/s
+  const MomentSampler& moments() const { return moments_; }
+  const std::map<int, LineStart>& line_starts() const { return line_starts_; }
+
+ private:
+  const Machine& machine_;
+  motion::SampleSink* next_;
+  MinMaxBuckets buckets_;
+  PathThinner path_;
+  MomentSampler moments_;
+  std::map<int, LineStart> line_starts_;
+  std::vector<double> values_;
+  JointVector last_joints_, last_velocity_;
+  Eigen::Vector3d last_position_ = Eigen::Vector3d::Zero();
+  double last_t_ = 0.0, last_dt_ = 0.0;
+  long samples_ = 0;
+};
+
+// Records the blocks of post's or verify's joint program. The slider's parameter and the charts'
+// abscissa is the length of the tool path up to each block's end (mm). Channels: joint i's
+// position (i), the block's deviation (J).
+class BlockRecorder {
+ public:
+  explicit BlockRecorder(const Machine& machine);
+  void add(const verify::VerifiedBlock& block);
+  void finish();
+
+  const Machine& machine() const { return machine_; }
+  const MinMaxBuckets& buckets() const { return buckets_; }
+  const PathThinner& path() const { return path_; }  // colour: deviation, mm
+  const MomentSampler& moments() const { return moments_; }
+  const std::map<int, LineStart>& line_starts() const { return line_starts_; }
+  long blocks() const { return blocks_; }
+
+ private:
+  const Machine& machine_;
+  MinMaxBuckets buckets_;
+  PathThinner path_;
+  MomentSampler moments_;
+  std::map<int, LineStart> line_starts_;
+  std::vector<double> values_;
+  std::optional<Eigen::Vector3d> last_position_;
+  double length_mm_ = 0.0;
+  long blocks_ = 0;
+};
+
+// The job a joint program must trace, as verify reads it (JobPath: from home, at `origin`, mm and
+// rad; uncontrolled coordinates 0), sampled every few mm of each move and thinned like a plan's
+// path: drawn grey under the blocks so that a reader sees where they should have gone.
+std::vector<PathPoint> job_outline(const Machine& machine, const std::filesystem::path& job,
+                                   const gcode::InterpreterOptions& options,
+                                   const Vector6d& origin);
+
+}  // namespace pkm::view

@@ -1,0 +1,261 @@
+// The HTML views' data: decimation that keeps peaks, a path thinned within its spacing, moments
+// evenly spread, the machine drawn to scale (legs, struts and cables as long as the joints say),
+// and the page self-contained with the report's numbers inside. The pages in a browser:
+// tests/browser/test_views.py.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/glide.hpp"
+#include "pkm/kinematics/hexapod.hpp"
+#include "pkm/kinematics/rotary_delta.hpp"
+#include "pkm/motion/planner.hpp"
+#include "pkm/view/decimation.hpp"
+#include "pkm/view/html_page.hpp"
+#include "pkm/view/machine_drawing.hpp"
+#include "test_support.hpp"
+
+namespace pkm {
+namespace {
+
+TEST(MinMaxBuckets, KeepEverySamplesPeakAndHalveWhenFull) {
+  view::MinMaxBuckets buckets(1, 4);
+  // 100 samples of a flat line with one spike (sample 37) and one dip (sample 81).
+  for (int i = 0; i < 100; ++i) {
+    const double value = i == 37 ? 9.0 : i == 81 ? -4.0 : 1.0;
+    const double values[] = {value};
+    buckets.add(i * 0.1, values);
+  }
+  // 4 to 8 buckets remain; full ones hold a power of two samples: 16 each (7 buckets, the last 4).
+  EXPECT_EQ(buckets.samples_per_bucket(), 16u);
+  ASSERT_EQ(buckets.size(), 7u);
+  double top = -1e9, bottom = 1e9;
+  for (std::size_t b = 0; b < buckets.size(); ++b) {
+    top = std::max(top, buckets.max(0)[b]);
+    bottom = std::min(bottom, buckets.min(0)[b]);
+  }
+  EXPECT_EQ(top, 9.0);
+  EXPECT_EQ(bottom, -4.0);
+  EXPECT_EQ(buckets.max(0)[37 / 16], 9.0);  // in the bucket of its sample
+  EXPECT_EQ(buckets.min(0)[81 / 16], -4.0);
+  EXPECT_DOUBLE_EQ(buckets.x_first()[2], 3.2);
+  EXPECT_DOUBLE_EQ(buckets.x_last()[2], 4.7);
+  EXPECT_DOUBLE_EQ(buckets.x_last().back(), 9.9);
+}
+
+TEST(MinMaxBuckets, NaNIsSkippedAndABucketOfNaNStaysNaN) {
+  view::MinMaxBuckets buckets(2, 1);  // two buckets at most, then pairs merge
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double first[] = {nan, 2.0}, second[] = {3.0, nan}, third[] = {nan, nan};
+  buckets.add(0.0, first);
+  buckets.add(1.0, second);
+  buckets.add(2.0, third);  // merges the first two, starts a bucket of its own
+  ASSERT_EQ(buckets.size(), 2u);
+  EXPECT_EQ(buckets.min(0)[0], 3.0);
+  EXPECT_EQ(buckets.max(1)[0], 2.0);
+  EXPECT_TRUE(std::isnan(buckets.min(0)[1]));
+  EXPECT_TRUE(std::isnan(buckets.max(1)[1]));
+}
+
+TEST(PathThinner, KeepsPointsASpacingApartAndEveryNewLine) {
+  view::PathThinner path(1.0, 1000);
+  // A straight line at 0.1 mm steps on line 1, then a corner on line 2.
+  for (int i = 0; i <= 50; ++i) path.add(i, Eigen::Vector3d(0.1 * i, 0, 0), i == 33 ? 7.0 : 1.0, 1);
+  path.add(51, Eigen::Vector3d(5.0, 0.05, 0), 1.0, 2);
+  path.finish();
+  const auto& points = path.points();
+  // x = 0, 1.0, 2.0, ... 5.0 (line 1, 6 points), the corner (new line): 7 points.
+  ASSERT_EQ(points.size(), 7u);
+  for (std::size_t k = 1; k + 1 < points.size(); ++k) {
+    EXPECT_NEAR((points[k].position - points[k - 1].position).norm(), 1.0, 1e-9);
+  }
+  EXPECT_EQ(points[4].colour, 7.0);  // sample 33 (x 3.3) belongs to the point at x 4.0
+  EXPECT_EQ(points[3].colour, 1.0);
+}
+
+TEST(PathThinner, DoublesItsSpacingPastTheCap) {
+  view::PathThinner path(0.5, 20);
+  for (int i = 0; i <= 1000; ++i) path.add(i, Eigen::Vector3d(0.5 * i, 0, 0), i, 1);
+  path.finish();
+  EXPECT_LE(path.points().size(), 21u);
+  EXPECT_GE(path.spacing_mm(), 500.0 / 20.0);
+  EXPECT_EQ(path.points().back().position.x(), 500.0);  // the end stays
+  EXPECT_EQ(path.points().back().colour, 1000.0);       // with the largest colour since
+}
+
+TEST(MomentSampler, KeepsEvenlySpacedMomentsAndTheLast) {
+  view::MomentSampler moments(10);
+  for (int i = 0; i < 1001; ++i) moments.add(i, Pose{}, JointVector::Zero(1));
+  moments.finish();
+  const auto& kept = moments.moments();
+  ASSERT_GE(kept.size(), 10u);
+  ASSERT_LE(kept.size(), 21u);
+  const double step = kept[1].t - kept[0].t;
+  for (std::size_t k = 1; k + 1 < kept.size(); ++k) EXPECT_EQ(kept[k].t - kept[k - 1].t, step);
+  EXPECT_EQ(kept.front().t, 0.0);
+  EXPECT_EQ(kept.back().t, 1000.0);
+}
+
+double length_of(const view::Segment& segment) {
+  return (segment.to - segment.from).norm();
+}
+
+// The drawn legs are as long as inverse kinematics makes them, at random reachable poses.
+TEST(MachineDrawing, HexapodLegsAreAsLongAsTheJointsSay) {
+  const Machine machine = test::load_example("hexapod-bit.toml");
+  const auto& hexapod = dynamic_cast<const HexapodKinematics&>(machine.kinematics());
+  std::mt19937_64 rng(7);
+  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 20, rng, 15.0);
+  ASSERT_EQ(poses.size(), 20u);
+  for (const Pose& pose : poses) {
+    JointVector joints;
+    ASSERT_TRUE(machine.inverse(pose, joints).ok());
+    int leg = 0;
+    for (const view::Segment& segment : view::moving_parts(machine, pose, joints)) {
+      if (segment.part != view::Part::link) continue;
+      EXPECT_NEAR(length_of(segment) + hexapod.geometry().leg_offset_mm[leg], joints[leg], 1e-9);
+      ++leg;
+    }
+    EXPECT_EQ(leg, 6);
+  }
+  EXPECT_FALSE(view::drawn_planar(machine));
+}
+
+TEST(MachineDrawing, GlideStrutsKeepTheirLengthAndCarriagesSitOnTheRails) {
+  const Machine machine = test::load_example("triaglide.toml");
+  const auto& glide = dynamic_cast<const GlideKinematics&>(machine.kinematics());
+  std::mt19937_64 rng(11);
+  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 20, rng);
+  ASSERT_EQ(poses.size(), 20u);
+  for (const Pose& pose : poses) {
+    JointVector joints;
+    ASSERT_TRUE(machine.inverse(pose, joints).ok());
+    std::size_t rail = 0;
+    for (const view::Segment& segment : view::moving_parts(machine, pose, joints)) {
+      if (segment.part != view::Part::link) continue;
+      const GlideRail& r = glide.rails()[rail];
+      EXPECT_NEAR(length_of(segment), r.strut_mm, 1e-9);
+      EXPECT_NEAR(
+          (segment.from - (r.origin_mm + joints[static_cast<int>(rail)] * r.direction)).norm(), 0.0,
+          1e-9);
+      ++rail;
+    }
+    EXPECT_EQ(rail, 3u);
+  }
+}
+
+// A rotary delta's arms and forearms keep their lengths: the elbows are where the joints put them.
+TEST(MachineDrawing, RotaryDeltaArmsAndForearmsKeepTheirLengths) {
+  const Machine machine = test::load_example("linuxcnc-rdelta.toml");
+  const auto& delta = dynamic_cast<const RotaryDeltaKinematics&>(machine.kinematics());
+  std::mt19937_64 rng(5);
+  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 20, rng);
+  ASSERT_EQ(poses.size(), 20u);
+  for (const Pose& pose : poses) {
+    JointVector joints;
+    ASSERT_TRUE(machine.inverse(pose, joints).ok());
+    int link = 0;
+    for (const view::Segment& segment : view::moving_parts(machine, pose, joints)) {
+      if (segment.part != view::Part::link) continue;
+      EXPECT_NEAR(
+          length_of(segment),
+          link % 2 == 0 ? delta.geometry().arm_length_mm : delta.geometry().forearm_length_mm,
+          1e-6);
+      ++link;
+    }
+    EXPECT_EQ(link, 6);
+  }
+}
+
+// Hektor's ideal cables run from the anchors to the pen: as long as the joints, less offsets.
+TEST(MachineDrawing, IdealCablesAreAsLongAsTheJoints) {
+  const Machine machine = test::load_example("hektor.toml");
+  const auto& cables = dynamic_cast<const CablePlotterKinematics&>(machine.kinematics());
+  EXPECT_TRUE(view::drawn_planar(machine));
+  const Pose pose = Pose::from_mm_deg(40.0, -50.0, 0.0);
+  JointVector joints;
+  ASSERT_TRUE(machine.inverse(pose, joints).ok());
+  int cable = 0;
+  for (const view::Segment& segment : view::moving_parts(machine, pose, joints)) {
+    if (segment.part != view::Part::link) continue;
+    EXPECT_NEAR(length_of(segment) + cables.geometry().cable_offsets_mm[cable], joints[cable],
+                1e-9);
+    ++cable;
+  }
+  EXPECT_EQ(cable, 2);
+}
+
+// The job's outline for post's and verify's pages: along the job from home, its arc length the
+// job's (verify's job_length_mm of this job is 97.2383047 mm), ending at the job's end.
+TEST(JobOutline, FollowsTheJobFromHomeToItsEnd) {
+  const Machine machine = test::load_example("hektor.toml");
+  Vector6d origin = Vector6d::Zero();
+  origin.head<2>() << 40.0, -80.0;
+  const std::vector<view::PathPoint> outline = view::job_outline(
+      machine, PKM_SOURCE_DIR "/tests/data/square.ngc", gcode::InterpreterOptions{}, origin);
+  ASSERT_GE(outline.size(), 6u);
+  EXPECT_NEAR((outline.front().position - Eigen::Vector3d(50.0, -50.0, 0.0)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((outline.back().position - Eigen::Vector3d(40.0, -80.0, 0.0)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(outline.back().t, std::hypot(10.0, 30.0) + std::hypot(5.0, 20.0) + 10 + 20 + 15,
+              1e-9);
+  for (std::size_t k = 1; k < outline.size(); ++k) EXPECT_GE(outline[k].t, outline[k - 1].t);
+}
+
+// A Maslow's sled, off the centre line, is drawn tilted as its balance tilts it, and stays rigid.
+TEST(MachineDrawing, SledTiltsAsItsBalanceSays) {
+  const Machine machine = test::load_example("maslow-frame.toml");
+  const auto& cables = dynamic_cast<const CablePlotterKinematics&>(machine.kinematics());
+  const Pose pose = Pose::from_mm_deg(900.0, -700.0, 5.0);
+  JointVector joints;
+  ASSERT_TRUE(machine.inverse(pose, joints).ok());
+  CableStatics statics;
+  ASSERT_TRUE(cables.statics(pose, Eigen::Vector2d::Zero(), statics).ok());
+  ASSERT_GT(std::abs(statics.tilt_rad), 1e-3);  // off the centre line the sled tilts
+  const std::vector<view::Segment> parts = view::moving_parts(machine, pose, joints);
+  const auto sled = std::find_if(parts.begin(), parts.end(), [](const view::Segment& segment) {
+    return segment.part == view::Part::platform;
+  });
+  ASSERT_NE(sled, parts.end());
+  const Eigen::Vector3d across = sled->to - sled->from;  // attach 0 to attach 1: 310 mm along x
+  EXPECT_NEAR(across.norm(), 310.0, 1e-9);
+  EXPECT_NEAR(std::atan2(across.y(), across.x()), statics.tilt_rad, 1e-12);
+}
+
+// A plan's page: one file with the report's numbers and no reference to anything outside it.
+TEST(PlanPage, IsSelfContainedAndCarriesTheReport) {
+  const Machine machine = test::load_example("hektor.toml");
+  test::TempProgram job("G21 G90 F1200\nG1 X20 Y-60\nG1 X80 Y-60\nM2\n");
+  view::PlanRecorder recorder(machine);
+  const motion::PlanReport report =
+      motion::plan_program(machine, job.path(), {}, motion::PlanOptions{}, recorder);
+  recorder.finish();
+  const nlohmann::json json = {{"duration_s", report.duration_s},
+                               {"path_length_mm", report.path_length_mm},
+                               {"samples", report.samples},
+                               {"joints", nlohmann::json::array()},
+                               {"feed_limited_by_joints", nlohmann::json::array()},
+                               {"acceleration_limited_by_tensions", nlohmann::json::array()},
+                               {"program", "</script><script>alert(1)</script>"}};
+  const std::string page = view::plan_page(json, recorder, "a <b> title");
+  EXPECT_EQ(page.find("http://"), std::string::npos);
+  EXPECT_EQ(page.find("https://"), std::string::npos);
+  EXPECT_EQ(page.find(" src="), std::string::npos);
+  EXPECT_EQ(page.find("@PKM_"), std::string::npos);
+  EXPECT_EQ(page.find("<script><script>alert"), std::string::npos);  // '<' escaped in the data
+  EXPECT_NE(page.find("a &lt;b&gt; title"), std::string::npos);
+  const std::size_t start = page.find("type=\"application/json\">") + 24;
+  const nlohmann::json data =
+      nlohmann::json::parse(page.substr(start, page.find("</script>", start) - start));
+  EXPECT_EQ(data["report"], json);
+  EXPECT_EQ(data["summary"][0]["value"].get<double>(), report.duration_s);
+  EXPECT_EQ(data["summary"][2]["value"].get<long>(), report.samples);
+  EXPECT_EQ(data["path"]["t"].back().get<double>(), data["drawing"]["t"].back().get<double>());
+  EXPECT_TRUE(data["planar"].get<bool>());
+}
+
+}  // namespace
+}  // namespace pkm
