@@ -30,6 +30,8 @@ struct FkOptions {
 struct CheckOptions {
   std::string machine;
   bool json = false;
+  std::string job;  // with a job: the certified check of it (commands_certify.cpp)
+  std::vector<double> origin;
 };
 
 nlohmann::json pose_json(const Machine& machine, const Pose& pose) {
@@ -381,6 +383,11 @@ void print_check(const Machine& machine, const CheckSummary& summary) {
 
 void run_check(const CheckOptions& options) {
   const Machine machine = load_machine_or_default(options.machine);
+  if (!options.job.empty()) {
+    run_certified_check(machine, {options.job, options.origin, options.json});
+    return;
+  }
+  if (!options.origin.empty()) throw CommandError("--origin is only read with a JOB");
   CheckSummary summary;
   machine.inverse(machine.home(), summary.home_joints);  // checked when the file was loaded
   summary.extents = reachable_extent(machine);
@@ -425,10 +432,16 @@ void register_kinematics_commands(CLI::App& app) {
 
   auto check = std::make_shared<CheckOptions>();
   CLI::App* check_command = app.add_subcommand(
-      "check", "Validate a machine file; print joints, limits and reachable extent");
+      "check",
+      "Validate a machine file; print joints, limits and reachable extent. With a JOB: prove "
+      "that every pose of its path keeps the machine's limits, or name the first move where not");
   check_command->add_option("-m,--machine", check->machine,
                             "Machine file (default: embedded hexapod)");
-  check_command->add_flag("--json", check->json, "Print the summary as JSON");
+  check_command->add_flag("--json", check->json,
+                          "Print the summary (or the job's verdict) as JSON");
+  check_command->add_option("job", check->job, "A G-code job to check along its whole path");
+  add_pose_option(*check_command, "--origin", check->origin,
+                  "With a JOB: where its X0 Y0 Z0 sits in machine coordinates, mm and deg");
   check_command->callback([check] { run_check(*check); });
 }
 
