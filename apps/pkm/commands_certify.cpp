@@ -61,6 +61,7 @@ double value_in_file_units(const Machine& machine, const certify::Finding& findi
 }
 
 nlohmann::json check_json(const Machine& machine, const certify::JobCheck& check) {
+  const certify::MoveProver names(machine);
   nlohmann::json failure = nullptr;
   if (check.first_failure) {
     const certify::Finding& f = check.first_failure->finding;
@@ -76,7 +77,7 @@ nlohmann::json check_json(const Machine& machine, const certify::JobCheck& check
                {"u", {f.u0, f.u1}},
                {"pose", pose},
                {"quantity", std::string(quantity_name(f.quantity))},
-               {"index", f.index},
+               {"constraint", names.quantity_name(f.quantity, f.index, f.other)},
                {"value", value_in_file_units(machine, f, f.value)},
                {"limit", value_in_file_units(machine, f, f.limit)},
                {"message", f.text}};

@@ -369,11 +369,11 @@ MoveProof MoveProver::prove(const motion::Segment& segment) const {
   }
   if (violation) {
     proof.verdict = Verdict::violated;
-    if (violation->worst_u != violation->u0 && violation->quantity != Quantity::none &&
-        violation->quantity != Quantity::assembly_mode) {
-      violation->text += "; it reaches " +
-                         value_text(violation->quantity, violation->index, violation->worst_value) +
-                         " at " + formatted("%.6f", 100.0 * violation->worst_u) + " % of the move";
+    farthest_past(segment, *violation);
+    if (violation->worst_u != violation->u0) {
+      violation->text +=
+          "; the farthest past it: " + excess_text(*violation, violation->worst_value) + " at " +
+          formatted("%.6f", 100.0 * violation->worst_u) + " % of the move";
     }
     proof.finding = violation;
   } else if (undecided) {
@@ -411,17 +411,20 @@ std::string MoveProver::quantity_name(Quantity quantity, int index, int other) c
 }
 
 std::string MoveProver::value_text(Quantity quantity, int index, double value) const {
+  const bool units_are_inches = machine_.units() == LengthUnit::inch;
   switch (quantity) {
     case Quantity::joint:
-      return formatted("%.10g ", machine_.joint_to_file(index, value)) +
+      return formatted(units_are_inches ? "%.4f " : "%.3f ", machine_.joint_to_file(index, value)) +
              machine_.joint_file_unit(index);
     case Quantity::envelope:
-      return formatted("%.10g ", machine_.axis_to_file(index, value)) +
+      return formatted(units_are_inches && index < 3 ? "%.4f " : "%.3f ",
+                       machine_.axis_to_file(index, value)) +
              machine_.axis_file_unit(index);
     case Quantity::joint_angle:
-      return formatted("%.10g deg", radians_to_degrees(value));
+      return formatted("%.3f deg", radians_to_degrees(value));
     case Quantity::clearance:
-      return formatted("%.10g ", value / machine_.mm_per_unit()) + machine_.length_unit();
+      return formatted(units_are_inches ? "%.4f " : "%.3f ", value / machine_.mm_per_unit()) +
+             machine_.length_unit();
     case Quantity::assembly_mode:
     case Quantity::pull:
     case Quantity::none:
@@ -444,11 +447,86 @@ std::string MoveProver::undecided_text(const Finding& finding) const {
          value_text(finding.quantity, finding.index, finding.limit);
 }
 
-double MoveProver::excess(const Finding& finding, double value) {
+std::optional<double> MoveProver::quantity_at(const Finding& finding, const Pose& pose) const {
+  switch (finding.quantity) {
+    case Quantity::joint: {
+      JointVector joints;
+      JointJacobian jacobian;  // the leg limits do not apply to inverse_and_jacobian
+      if (!machine_.kinematics().inverse_and_jacobian(pose, joints, jacobian).ok()) {
+        return std::nullopt;
+      }
+      return joints[finding.index];
+    }
+    case Quantity::envelope:
+      return pose.as_vector()[finding.index];
+    case Quantity::joint_angle:
+    case Quantity::clearance: {
+      std::vector<MechanismLimit> values;
+      machine_.kinematics().mechanism_limits(pose, values);
+      for (const MechanismLimit& value : values) {
+        if (value.leg == finding.index && value.other == finding.other &&
+            (value.code == StatusCode::joint_angle) ==
+                (finding.quantity == Quantity::joint_angle)) {
+          return value.value;
+        }
+      }
+      return std::nullopt;
+    }
+    default:
+      return std::nullopt;
+  }
+}
+
+void MoveProver::farthest_past(const motion::Segment& segment, Finding& finding) const {
+  constexpr int kSamples = 1000;
+  for (int k = 0; k <= kSamples; ++k) {
+    const double u = finding.u0 + (1.0 - finding.u0) * k / kSamples;
+    const std::optional<double> value = quantity_at(finding, Pose::from_vector(segment.at(u)));
+    if (value && excess(finding, *value) > excess(finding, finding.worst_value)) {
+      finding.worst_value = *value;
+      finding.worst_u = u;
+    }
+  }
+}
+
+std::string MoveProver::excess_text(const Finding& finding, double value) const {
+  double file_units = excess(finding, value);  // past the limit: file units below
+  std::string unit = "deg";
   switch (finding.quantity) {
     case Quantity::joint:
+      file_units = std::abs(machine_.joint_to_file(finding.index, value) -
+                            machine_.joint_to_file(finding.index, finding.limit));
+      unit = machine_.joint_file_unit(finding.index);
+      break;
     case Quantity::envelope:
-      return std::abs(value - finding.limit);
+      file_units = std::abs(machine_.axis_to_file(finding.index, value) -
+                            machine_.axis_to_file(finding.index, finding.limit));
+      unit = machine_.axis_file_unit(finding.index);
+      break;
+    case Quantity::joint_angle:
+      file_units = radians_to_degrees(file_units);
+      break;
+    case Quantity::clearance:
+      file_units /= machine_.mm_per_unit();
+      unit = machine_.length_unit();
+      break;
+    default:
+      unit.clear();
+  }
+  return formatted("%.3g ", file_units) + unit;
+}
+
+double MoveProver::excess(const Finding& finding, double value) const {
+  switch (finding.quantity) {
+    case Quantity::joint: {
+      const bool min =
+          finding.limit == machine_.joints()[static_cast<std::size_t>(finding.index)].min;
+      return min ? finding.limit - value : value - finding.limit;
+    }
+    case Quantity::envelope: {
+      const bool min = finding.limit == machine_.cartesian().envelope_min[finding.index];
+      return min ? finding.limit - value : value - finding.limit;
+    }
     case Quantity::joint_angle:
       return value - finding.limit;
     case Quantity::clearance:
@@ -464,7 +542,7 @@ Finding MoveProver::refusal_at(const motion::Segment& segment, double u,
   finding.u0 = finding.u1 = u;
   finding.pose = segment.at(u);
   const Pose pose = Pose::from_vector(finding.pose);
-  const std::string at = formatted("%.6f", 100.0 * u) + " % of the move: ";
+  const std::string at = "at " + formatted("%.6f", 100.0 * u) + " % of the move: ";
   JointVector joints;
   if (status.code == StatusCode::joint_limit && machine_.kinematics().inverse(pose, joints).ok()) {
     const JointSpec& spec = machine_.joints()[static_cast<std::size_t>(status.joint)];
@@ -474,14 +552,11 @@ Finding MoveProver::refusal_at(const motion::Segment& segment, double u,
     finding.index = status.joint;
     finding.value = value;
     finding.limit = below ? spec.min : spec.max;
-    finding.text =
-        at + "pose " + machine_.format_pose(pose) + ": joint '" + spec.name +
-        "' = " + value_text(Quantity::joint, status.joint, value) + " passes its " +
-        (below ? "min " : "max ") + value_text(Quantity::joint, status.joint, finding.limit) +
-        " by " +
-        formatted("%.3g ", std::abs(machine_.joint_to_file(status.joint, value) -
-                                    machine_.joint_to_file(status.joint, finding.limit))) +
-        machine_.joint_file_unit(status.joint);
+    finding.text = at + "pose " + machine_.format_pose(pose) + ": joint '" + spec.name +
+                   "' = " + value_text(Quantity::joint, status.joint, value) + " passes its " +
+                   (below ? "min " : "max ") +
+                   value_text(Quantity::joint, status.joint, finding.limit) + " (by " +
+                   excess_text(finding, value) + ")";
     finding.worst_u = u;
     finding.worst_value = finding.value;
     return finding;

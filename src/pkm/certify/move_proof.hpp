@@ -36,8 +36,8 @@ struct Finding {
   int other = -1;      // joint_angle: the end (0 inner, 1 platform); clearance: the second leg
   double value = 0.0;  // violated: the value at the pose; undecided: how far the bound reaches
   double limit = 0.0;  // the limit it passes (or may pass)
-  // Violated: the farthest beyond the limit of the refused poses the search met (at u = worst_u),
-  // the same quantity as at u0; worst_value = value at u0 when none went farther.
+  // Violated: the farthest beyond the limit the quantity goes, of the poses the search met and
+  // 1001 samples after u0 (at u = worst_u); worst_value = value at u0 when none went farther.
   double worst_u = 0.0, worst_value = 0.0;
   std::string text;  // a sentence in the machine file's units
 };
@@ -65,16 +65,24 @@ class MoveProver {
   // The verdict on the whole move (dwells are proven: they do not move).
   MoveProof prove(const motion::Segment& segment) const;
 
+  // "joint 'leg1'", "x (the work envelope)", "the platform joint angle of 'leg5'", ...
+  std::string quantity_name(Quantity quantity, int index, int other) const;
+
  private:
   struct Piece;
   struct Outcome;
   Outcome bound_piece(const motion::Segment& segment, double u0, double u1) const;
   Finding refusal_at(const motion::Segment& segment, double u, const Status& status) const;
   std::string undecided_text(const Finding& finding) const;
-  std::string quantity_name(Quantity quantity, int index, int other) const;
   std::string value_text(Quantity quantity, int index, double value) const;
-  // How far beyond its limit a violated finding's value is (> 0), in its own unit.
-  static double excess(const Finding& finding, double value);
+  // How far beyond its limit a violated finding's value is (> 0), in its own unit, and as text
+  // in the machine file's units.
+  double excess(const Finding& finding, double value) const;
+  std::string excess_text(const Finding& finding, double value) const;
+  // The finding's quantity at a pose (joint values without the machine's limits), if defined.
+  std::optional<double> quantity_at(const Finding& finding, const Pose& pose) const;
+  // Moves worst_u and worst_value to the farthest past the limit of 1001 samples from u0 on.
+  void farthest_past(const motion::Segment& segment, Finding& finding) const;
 
   const Machine& machine_;
   ProofOptions options_;
