@@ -280,7 +280,8 @@ TEST(CertifyLegLimits, ProvenMovesKeepJointAnglesAndClearances) {
 INSTANTIATE_TEST_SUITE_P(Examples, CertifyEveryKind,
                          ::testing::Values("hexapod-bit.toml", "hexaglide.toml",
                                            "linear-delta.toml", "triaglide.toml",
-                                           "wall-plotter.toml", "hektor.toml", "matrix-mill.toml"),
+                                           "wall-plotter.toml", "hektor.toml", "matrix-mill.toml",
+                                           "linuxcnc-rdelta.toml"),
                          [](const auto& param_info) { return test::test_name(param_info.param); });
 
 }  // namespace

@@ -40,6 +40,7 @@ std::string covered(const Machine& machine) {
   if (machine.cartesian().has_envelope()) text += ", the work envelope";
   if (machine.kinematics().has_mechanism_limits()) text += ", joint angles and leg clearances";
   if (machine.kinematics().assembly_mode(machine.home()) != 0) text += ", the assembly mode";
+  if (machine.kinematics().type() == "cable_plotter") text += ", both cables pulling";
   return text;
 }
 

@@ -7,6 +7,7 @@
 #include "pkm/kinematics/cable_plotter.hpp"
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
+#include "pkm/kinematics/rotary_delta.hpp"
 #include "pkm/post/deviation_bound.hpp"
 
 namespace pkm::certify {
@@ -66,6 +67,12 @@ LegMotion leg_motion(const Kinematics& model, const JointVector& joints,
       motion.shortest_mm.push_back(rail.strut_mm);
     }
     motion.platform_turn = rotating ? std::sqrt(3.0) / scale : 0.0;
+  } else if (dynamic_cast<const RotaryDeltaKinematics*>(&model) != nullptr) {
+    // No legs to check; each arm's turn per mm over the ball, for the assembly mode's bound.
+    for (int arm = 0; arm < RotaryDeltaKinematics::kArms; ++arm) {
+      motion.inner_speed.push_back(jacobian.block<1, 3>(arm, 0).norm() +
+                                   hessians.norm[static_cast<std::size_t>(arm)] * radius);
+    }
   }
   return motion;
 }
@@ -91,8 +98,31 @@ struct ModeValue {
   double value = 0.0, rate = 0.0;
 };
 
+// A rotary delta's mode is the sign of det(forearms), -1 times it on the usual side
+// (rotary_delta.hpp). Each forearm f = tip - shifted elbow keeps its length S; its elbow moves by
+// the arm's length T times the arm's turn, so f moves by at most 1 + T times the arm's rate per mm
+// (the rate over the ball: `motion.inner_speed`, filled in for rotary deltas below).
+std::optional<ModeValue> rotary_delta_mode(const RotaryDeltaKinematics& delta, int home_mode,
+                                           const Vector6d& centre, const JointVector& joints,
+                                           const LegMotion& motion) {
+  std::array<Eigen::Vector3d, 3> forearm;
+  for (int arm = 0; arm < 3; ++arm) {
+    forearm[static_cast<std::size_t>(arm)] =
+        Eigen::Vector3d(centre.head<3>()) - delta.shifted_elbow(arm, joints[arm]);
+  }
+  const double t = delta.geometry().arm_length_mm, s = delta.geometry().forearm_length_mm;
+  double rate = 0.0;
+  for (std::size_t arm = 0; arm < 3; ++arm) {
+    rate += (1.0 + t * motion.inner_speed[arm]) * s * s;
+  }
+  return ModeValue{-home_mode * forearm[0].dot(forearm[1].cross(forearm[2])), rate};
+}
+
 bool has_assembly_bound(const Kinematics& model, int home_mode) {
-  if (home_mode == 0 || dynamic_cast<const HexapodKinematics*>(&model) != nullptr) return true;
+  if (home_mode == 0 || dynamic_cast<const HexapodKinematics*>(&model) != nullptr ||
+      dynamic_cast<const RotaryDeltaKinematics*>(&model) != nullptr) {
+    return true;
+  }
   const auto* glide = dynamic_cast<const GlideKinematics*>(&model);
   return glide != nullptr && !glide->dof().any_rotation();
 }
@@ -104,6 +134,9 @@ std::optional<ModeValue> assembly_value(const Kinematics& model, int home_mode,
   if (dynamic_cast<const HexapodKinematics*>(&model) != nullptr) {
     // |grad cos a cos b| = sqrt(sin^2 a cos^2 b + cos^2 a sin^2 b) <= 1 per rad.
     return ModeValue{home_mode * std::cos(centre[3]) * std::cos(centre[4]), 1.0 / scale};
+  }
+  if (const auto* delta = dynamic_cast<const RotaryDeltaKinematics*>(&model)) {
+    return rotary_delta_mode(*delta, home_mode, centre, joints, motion);
   }
   const auto* glide = dynamic_cast<const GlideKinematics*>(&model);
   if (glide == nullptr || glide->dof().any_rotation()) return std::nullopt;
