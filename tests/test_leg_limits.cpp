@@ -11,6 +11,7 @@
 #include "pkm/kinematics/leg_limits.hpp"
 #include "pkm/machine/machine.hpp"
 #include "pkm/machine/machine_file_error.hpp"
+#include "pkm/machine/machine_writer.hpp"
 #include "test_support.hpp"
 
 namespace pkm {
@@ -245,6 +246,30 @@ TEST(LegLimits, FileKeysAreChecked) {
                       "0.000 c 0.000 deg: joint_angle: the platform joint of 'leg1' is at 10.000 "
                       "deg"),
             std::string::npos);
+}
+
+}  // namespace
+}  // namespace pkm
+
+namespace pkm {
+namespace {
+
+TEST(LegLimits, CalibrationWritesTheKeysBack) {
+  // A fitted geometry replaces [kinematics]: the limits the file set must survive it.
+  const std::string text = vertical_hexapod(
+      "max_joint_angle = [40, 30]\nleg_diameter = 20\nbase_joint_axis = [0, 0, 2]");
+  const Machine machine = parse_machine(text, "limits.toml");
+  const std::string rewritten =
+      replace_kinematics_section(text, "limits.toml", machine.kinematics(), LengthUnit::mm);
+  const Machine reread = parse_machine(rewritten, "limits.toml");
+  const auto& settings =
+      dynamic_cast<const HexapodKinematics&>(reread.kinematics()).leg_limits().settings();
+  EXPECT_NEAR(radians_to_degrees(settings.max_joint_angle_rad[0]), 40.0, 1e-12);
+  EXPECT_NEAR(radians_to_degrees(settings.max_joint_angle_rad[1]), 30.0, 1e-12);
+  EXPECT_EQ(settings.leg_diameter_mm, 20.0);
+  ASSERT_TRUE(settings.inner_axis.has_value());
+  EXPECT_EQ(*settings.inner_axis, Eigen::Vector3d(0, 0, 1));
+  EXPECT_FALSE(settings.platform_axis.has_value());
 }
 
 }  // namespace
