@@ -1,5 +1,6 @@
 // pkm ik, pkm fk, pkm check. They speak the machine file's units: lengths in its `units` (mm or
 // inch), angles in degrees, for poses and joints alike.
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -8,6 +9,8 @@
 
 #include "app.hpp"
 #include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/glide.hpp"
+#include "pkm/kinematics/hexapod.hpp"
 #include "pkm/machine/tension_region.hpp"
 
 namespace pkm::app {
@@ -233,6 +236,49 @@ nlohmann::json tension_region_json(const Machine& machine, const std::optional<T
           {"cables", per_cable}};
 }
 
+// The joint-angle and interference limits of a hexapod or glide, if its file sets any.
+const LegLimitSettings* leg_limit_settings(const Machine& machine) {
+  const LegLimits* limits = nullptr;
+  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&machine.kinematics())) {
+    limits = &hexapod->leg_limits();
+  } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&machine.kinematics())) {
+    limits = &glide->leg_limits();
+  }
+  return limits != nullptr && limits->active() ? &limits->settings() : nullptr;
+}
+
+// {"max_joint_angle_deg": [inner, platform] (null where unchecked), "leg_diameter": d or null}.
+nlohmann::json leg_limits_json(const Machine& machine) {
+  const LegLimitSettings* settings = leg_limit_settings(machine);
+  if (settings == nullptr) return nullptr;
+  nlohmann::json angles = nlohmann::json::array();
+  for (const double angle : settings->max_joint_angle_rad) {
+    // Rounded to 1e-10 deg: the file's 30 comes back as 30, not 29.999999999999996.
+    const double degrees = std::round(radians_to_degrees(angle) * 1e10) / 1e10;
+    angles.push_back(std::isfinite(angle) ? nlohmann::json(degrees) : nullptr);
+  }
+  return {{"max_joint_angle_deg", angles},
+          {"leg_diameter", settings->leg_diameter_mm > 0.0
+                               ? nlohmann::json(settings->leg_diameter_mm / machine.mm_per_unit())
+                               : nlohmann::json(nullptr)}};
+}
+
+void print_leg_limits(const Machine& machine) {
+  const LegLimitSettings* settings = leg_limit_settings(machine);
+  if (settings == nullptr) return;
+  std::printf("  leg limits:");
+  if (settings->checks_angles()) {
+    std::printf(" max_joint_angle %g deg (inner), %g deg (platform);",
+                radians_to_degrees(settings->max_joint_angle_rad[0]),
+                radians_to_degrees(settings->max_joint_angle_rad[1]));
+  }
+  if (settings->leg_diameter_mm > 0.0) {
+    std::printf(" leg_diameter %g %s", settings->leg_diameter_mm / machine.mm_per_unit(),
+                machine.length_unit());
+  }
+  std::printf("\n");
+}
+
 nlohmann::json check_json(const Machine& machine, const CheckSummary& summary) {
   nlohmann::json joints = nlohmann::json::array();
   for (int i = 0; i < static_cast<int>(machine.joints().size()); ++i) {
@@ -277,6 +323,7 @@ nlohmann::json check_json(const Machine& machine, const CheckSummary& summary) {
           {"envelope", envelope},
           {"extent", extent},
           {"tensions", tension_region_json(machine, summary.tensions)},
+          {"leg_limits", leg_limits_json(machine)},
           {"parameters", parameters}};
 }
 
@@ -355,6 +402,7 @@ void print_check(const Machine& machine, const CheckSummary& summary) {
   }
   std::printf("\n");
   print_check_joints(machine, summary);
+  print_leg_limits(machine);
   const double per_unit = machine.mm_per_unit();
   std::printf("  cartesian: max feed %.1f %s/min, max acceleration %.1f %s/s^2\n",
               machine.cartesian().max_feed_mm_per_min / per_unit, machine.length_unit(),

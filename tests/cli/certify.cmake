@@ -29,3 +29,11 @@ pkm_cli_refuses(check_job_undecided_without_a_bound
   check -m ${MACHINES}/mach3-formula.toml ${CLI_DATA}/hektor-job.ngc)
 pkm_cli_refuses(check_origin_without_a_job "--origin is only read with a JOB"
   check -m ${MACHINES}/hexapod-bit.toml --origin 1 2)
+# The machine summary shows the leg limits the file sets.
+add_test(NAME cli.check_shows_leg_limits COMMAND ${PKM} check -m ${CLI_DATA}/tilting-hexapod.toml)
+set_tests_properties(cli.check_shows_leg_limits PROPERTIES PASS_REGULAR_EXPRESSION
+  "  leg limits: max_joint_angle 30 deg \\(inner\\), 30 deg \\(platform\\). leg_diameter 40 mm\n")
+add_test(NAME cli.check_json_leg_limits
+         COMMAND ${PKM} check -m ${CLI_DATA}/tilting-hexapod.toml --json)
+set_tests_properties(cli.check_json_leg_limits PROPERTIES PASS_REGULAR_EXPRESSION
+  "\"leg_limits\": \\{\n *\"leg_diameter\": 40\\.0,\n *\"max_joint_angle_deg\": \\[\n *30\\.0,\n *30\\.0\n")
