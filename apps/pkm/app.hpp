@@ -69,6 +69,14 @@ CLI::Option* add_pose_option(CLI::App& command, const std::string& name,
 void refuse_overwriting_input(const std::string& output,
                               std::initializer_list<std::pair<std::string, std::string>> inputs);
 
+// `pkm check -m MACHINE JOB`: the certified check of a job (commands_certify.cpp).
+struct CertifiedCheckArguments {
+  std::string job;
+  std::vector<double> origin;  // x y [z [a b c]], mm and deg
+  bool json = false;
+};
+void run_certified_check(const Machine& machine, const CertifiedCheckArguments& arguments);
+
 void register_kinematics_commands(CLI::App& app);
 void register_calibrate_commands(CLI::App& app);
 void register_gcode_commands(CLI::App& app);

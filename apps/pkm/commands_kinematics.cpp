@@ -1,5 +1,6 @@
 // pkm ik, pkm fk, pkm check. They speak the machine file's units: lengths in its `units` (mm or
 // inch), angles in degrees, for poses and joints alike.
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -8,6 +9,8 @@
 
 #include "app.hpp"
 #include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/glide.hpp"
+#include "pkm/kinematics/hexapod.hpp"
 #include "pkm/machine/tension_region.hpp"
 
 namespace pkm::app {
@@ -30,6 +33,8 @@ struct FkOptions {
 struct CheckOptions {
   std::string machine;
   bool json = false;
+  std::string job;  // with a job: the certified check of it (commands_certify.cpp)
+  std::vector<double> origin;
 };
 
 nlohmann::json pose_json(const Machine& machine, const Pose& pose) {
@@ -231,6 +236,49 @@ nlohmann::json tension_region_json(const Machine& machine, const std::optional<T
           {"cables", per_cable}};
 }
 
+// The joint-angle and interference limits of a hexapod or glide, if its file sets any.
+const LegLimitSettings* leg_limit_settings(const Machine& machine) {
+  const LegLimits* limits = nullptr;
+  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&machine.kinematics())) {
+    limits = &hexapod->leg_limits();
+  } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&machine.kinematics())) {
+    limits = &glide->leg_limits();
+  }
+  return limits != nullptr && limits->active() ? &limits->settings() : nullptr;
+}
+
+// {"max_joint_angle_deg": [inner, platform] (null where unchecked), "leg_diameter": d or null}.
+nlohmann::json leg_limits_json(const Machine& machine) {
+  const LegLimitSettings* settings = leg_limit_settings(machine);
+  if (settings == nullptr) return nullptr;
+  nlohmann::json angles = nlohmann::json::array();
+  for (const double angle : settings->max_joint_angle_rad) {
+    // Rounded to 1e-10 deg: the file's 30 comes back as 30, not 29.999999999999996.
+    const double degrees = std::round(radians_to_degrees(angle) * 1e10) / 1e10;
+    angles.push_back(std::isfinite(angle) ? nlohmann::json(degrees) : nullptr);
+  }
+  return {{"max_joint_angle_deg", angles},
+          {"leg_diameter", settings->leg_diameter_mm > 0.0
+                               ? nlohmann::json(settings->leg_diameter_mm / machine.mm_per_unit())
+                               : nlohmann::json(nullptr)}};
+}
+
+void print_leg_limits(const Machine& machine) {
+  const LegLimitSettings* settings = leg_limit_settings(machine);
+  if (settings == nullptr) return;
+  std::printf("  leg limits:");
+  if (settings->checks_angles()) {
+    std::printf(" max_joint_angle %g deg (inner), %g deg (platform);",
+                radians_to_degrees(settings->max_joint_angle_rad[0]),
+                radians_to_degrees(settings->max_joint_angle_rad[1]));
+  }
+  if (settings->leg_diameter_mm > 0.0) {
+    std::printf(" leg_diameter %g %s", settings->leg_diameter_mm / machine.mm_per_unit(),
+                machine.length_unit());
+  }
+  std::printf("\n");
+}
+
 nlohmann::json check_json(const Machine& machine, const CheckSummary& summary) {
   nlohmann::json joints = nlohmann::json::array();
   for (int i = 0; i < static_cast<int>(machine.joints().size()); ++i) {
@@ -275,6 +323,7 @@ nlohmann::json check_json(const Machine& machine, const CheckSummary& summary) {
           {"envelope", envelope},
           {"extent", extent},
           {"tensions", tension_region_json(machine, summary.tensions)},
+          {"leg_limits", leg_limits_json(machine)},
           {"parameters", parameters}};
 }
 
@@ -353,6 +402,7 @@ void print_check(const Machine& machine, const CheckSummary& summary) {
   }
   std::printf("\n");
   print_check_joints(machine, summary);
+  print_leg_limits(machine);
   const double per_unit = machine.mm_per_unit();
   std::printf("  cartesian: max feed %.1f %s/min, max acceleration %.1f %s/s^2\n",
               machine.cartesian().max_feed_mm_per_min / per_unit, machine.length_unit(),
@@ -381,6 +431,11 @@ void print_check(const Machine& machine, const CheckSummary& summary) {
 
 void run_check(const CheckOptions& options) {
   const Machine machine = load_machine_or_default(options.machine);
+  if (!options.job.empty()) {
+    run_certified_check(machine, {options.job, options.origin, options.json});
+    return;
+  }
+  if (!options.origin.empty()) throw CommandError("--origin is only read with a JOB");
   CheckSummary summary;
   machine.inverse(machine.home(), summary.home_joints);  // checked when the file was loaded
   summary.extents = reachable_extent(machine);
@@ -425,10 +480,16 @@ void register_kinematics_commands(CLI::App& app) {
 
   auto check = std::make_shared<CheckOptions>();
   CLI::App* check_command = app.add_subcommand(
-      "check", "Validate a machine file; print joints, limits and reachable extent");
+      "check",
+      "Validate a machine file; print joints, limits and reachable extent. With a JOB: prove "
+      "that every pose of its path keeps the machine's limits, or name the first move where not");
   check_command->add_option("-m,--machine", check->machine,
                             "Machine file (default: embedded hexapod)");
-  check_command->add_flag("--json", check->json, "Print the summary as JSON");
+  check_command->add_flag("--json", check->json,
+                          "Print the summary (or the job's verdict) as JSON");
+  check_command->add_option("job", check->job, "A G-code job to check along its whole path");
+  add_pose_option(*check_command, "--origin", check->origin,
+                  "With a JOB: where its X0 Y0 Z0 sits in machine coordinates, mm and deg");
   check_command->callback([check] { run_check(*check); });
 }
 

@@ -10,7 +10,6 @@ namespace pkm {
 namespace {
 // Below this sine of the angle between the cables they are nearly collinear: the pen's height is
 // then ill-defined and the tension unbounded.
-constexpr double kMinCableAngleSine = 1e-9;
 
 std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0) {
   char text[256];

@@ -15,6 +15,10 @@
 
 namespace pkm {
 
+// Cables closer than this (sine of the angle between them) to parallel are at a singularity
+// (the pen on the line through the anchors).
+inline constexpr double kMinCableAngleSine = 1e-9;
+
 class CablePlotterKinematics final : public Kinematics {
  public:
   explicit CablePlotterKinematics(const CablePlotterGeometry& geometry,

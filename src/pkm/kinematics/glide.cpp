@@ -15,8 +15,10 @@ constexpr double kMinRelativeDiscriminant = 1e-12;
 constexpr std::array<const char*, 3> kComponent = {"x", "y", "z"};
 }  // namespace
 
-GlideKinematics::GlideKinematics(std::vector<GlideRail> rails, Dof dof, PassThroughAxes passthrough)
+GlideKinematics::GlideKinematics(std::vector<GlideRail> rails, Dof dof, PassThroughAxes passthrough,
+                                 const LegLimitSettings& leg_limits)
     : rails_(std::move(rails)), dof_(dof), passthrough_(std::move(passthrough)) {
+  leg_limits_ = LegLimits(leg_limits, static_cast<int>(rails_.size()));
   validate(rails_, dof_);
   if (passthrough_.count() > 0 && dof_.any_rotation()) {
     throw std::invalid_argument("only a translating glide carries pass-through joints");
@@ -67,6 +69,46 @@ Pose GlideKinematics::controlled_part(const Pose& pose) const {
 }
 
 Status GlideKinematics::inverse(const Pose& pose, JointVector& joints) const {
+  const Status status = inverse_without_leg_limits(pose, joints);
+  if (!status.ok() || !leg_limits_.active()) return status;
+  return leg_limits_.check(leg_ends(pose, joints));
+}
+
+LegEnds GlideKinematics::leg_ends(const Pose& pose, const JointVector& joints) const {
+  const Pose part = controlled_part(pose);
+  LegEnds ends;
+  if (dof_.any_rotation()) ends.rotation = rotation_from_abc(part.orientation_rad);
+  ends.inner.resize(3, rail_count());
+  ends.platform.resize(3, rail_count());
+  for (int i = 0; i < rail_count(); ++i) {
+    const GlideRail& rail = rails_[static_cast<std::size_t>(i)];
+    ends.inner.col(i) = rail.origin_mm + joints[i] * rail.direction;
+    ends.platform.col(i) = part.position_mm + ends.rotation * rail.attach_mm;
+  }
+  return ends;
+}
+
+void GlideKinematics::set_home(const Pose& home) {
+  JointVector joints;
+  if (leg_limits_.active() && inverse_without_leg_limits(home, joints).ok()) {
+    leg_limits_.set_home(leg_ends(home, joints));
+  }
+}
+
+void GlideKinematics::mechanism_limits(const Pose& pose, std::vector<MechanismLimit>& out) const {
+  JointVector joints;
+  if (leg_limits_.active() && inverse_without_leg_limits(pose, joints).ok()) {
+    leg_limits_.append_values(leg_ends(pose, joints), out);
+  }
+}
+
+std::string GlideKinematics::leg_limits_why(const Pose& pose, const Status& status) const {
+  JointVector joints;
+  if (!leg_limits_.active() || !inverse_without_leg_limits(pose, joints).ok()) return {};
+  return leg_limits_.why(leg_ends(pose, joints), status, "strut");
+}
+
+Status GlideKinematics::inverse_without_leg_limits(const Pose& pose, JointVector& joints) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
   const Pose part = controlled_part(pose);
   const bool rotates = dof_.any_rotation();
@@ -91,7 +133,7 @@ Status GlideKinematics::inverse(const Pose& pose, JointVector& joints) const {
 
 Status GlideKinematics::inverse_and_jacobian(const Pose& pose, JointVector& joints,
                                              JointJacobian& d_joints_d_pose) const {
-  const Status status = inverse(pose, joints);
+  const Status status = inverse_without_leg_limits(pose, joints);
   if (!status.ok()) return status;
   const Pose part = controlled_part(pose);
   const bool rotates = dof_.any_rotation();
@@ -127,7 +169,7 @@ Status GlideKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pos
 int GlideKinematics::assembly_mode(const Pose& pose) const {
   if (dof_.any_rotation()) return 0;
   JointVector joints;
-  if (!inverse(pose, joints).ok()) return 0;
+  if (!inverse_without_leg_limits(pose, joints).ok()) return 0;
   const Pose part = controlled_part(pose);
   std::array<Eigen::Vector3d, 3> strut;
   for (int i = 0; i < rail_count(); ++i) {
@@ -228,7 +270,7 @@ Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pos
       if (dof_.controls(axis)) trial.position_mm[axis] = candidate[axis];
     }
     JointVector check;
-    if (!inverse(trial, check).ok()) continue;
+    if (!inverse_without_leg_limits(trial, check).ok()) continue;
     if ((check - joints).cwiseAbs().maxCoeff() > 1e-6 * scale) continue;
     const bool same_side = (k == 0) == (seed_side >= 0.0);
     const double score = (same_side ? 0.0 : 1e300) + (candidate - seed).norm();
@@ -240,7 +282,8 @@ Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pos
   const double best_distance = best_score;
   if (!std::isfinite(best_distance)) return Status::failure(StatusCode::unreachable);
   // The closed form loses a few digits to cancellation; Newton from it restores full precision.
-  const Status polished = solve_forward_newton(*this, joints, best, forward_options_);
+  const Status polished = solve_forward_newton(WithoutLegLimits<GlideKinematics>(*this), joints,
+                                               best, forward_options_);
   if (!polished.ok()) return polished;
   pose_inout = best;
   return Status::success();
@@ -250,15 +293,23 @@ Status GlideKinematics::forward(const JointVector& joints, Pose& pose_inout) con
   if (joints.size() != joint_count() || !all_finite(joints) || !all_finite(pose_inout)) {
     return Status::failure(StatusCode::invalid_input);
   }
+  Pose pose = pose_inout;
+  Status status;
   if (!dof_.any_rotation()) {
     // The pass-through coordinates are the joints themselves; the rails solve the rest.
-    Pose pose = pose_inout;
     passthrough_.forward(joints, rail_count(), pose);
-    const Status status = forward_translating(joints, pose);
-    if (status.ok()) pose_inout = pose;
-    return status;
+    status = forward_translating(joints, pose);
+  } else {
+    status = solve_forward_newton(WithoutLegLimits<GlideKinematics>(*this), joints, pose,
+                                  forward_options_);
   }
-  return solve_forward_newton(*this, joints, pose_inout, forward_options_);
+  if (status.ok() && leg_limits_.active()) {
+    const int iterations = status.iterations;
+    status = leg_limits_.check(leg_ends(pose, joints));
+    status.iterations = iterations;
+  }
+  if (status.ok()) pose_inout = pose;
+  return status;
 }
 
 std::vector<Parameter> GlideKinematics::parameters() const {
@@ -342,8 +393,10 @@ std::unique_ptr<Kinematics> make_glide_kinematics(const ModelConfig& config) {
   // A pen on a real Z axis of a biglide, or a rotary axis under a delta, follows the program.
   PassThroughAxes passthrough;
   if (!orientation) passthrough = PassThroughAxes::read(config, dof, Dof::all());
+  const LegLimitSettings leg_limits = read_leg_limit_settings(config, "carriage_joint_axis");
   try {
-    return std::make_unique<GlideKinematics>(std::move(rails), dof, std::move(passthrough));
+    return std::make_unique<GlideKinematics>(std::move(rails), dof, std::move(passthrough),
+                                             leg_limits);
   } catch (const std::invalid_argument& error) {
     config.fail("rails", error.what());
   }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "pkm/kinematics/kinematics.hpp"
+#include "pkm/kinematics/leg_limits.hpp"
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/passthrough.hpp"
 
@@ -24,7 +25,8 @@ class GlideKinematics final : public Kinematics {
  public:
   // `dof` is translation-only (2 or 3 axes, one per rail) or Dof::all() with six rails.
   // Pass-through axes, translating glides only, follow the rails as joints.
-  GlideKinematics(std::vector<GlideRail> rails, Dof dof, PassThroughAxes passthrough = {});
+  GlideKinematics(std::vector<GlideRail> rails, Dof dof, PassThroughAxes passthrough = {},
+                  const LegLimitSettings& leg_limits = {});
 
   std::string_view type() const override { return "glide"; }
   int joint_count() const override { return rail_count() + passthrough_.count(); }
@@ -35,10 +37,15 @@ class GlideKinematics final : public Kinematics {
   int passthrough_axis(int joint) const override {
     return joint < rail_count() ? -1 : passthrough_.axes()[joint - rail_count()];
   }
+  // The carriages' readings, then the leg limits (max_joint_angle, leg_diameter: the struts are
+  // the legs) where the file sets them.
   Status inverse(const Pose& pose, JointVector& joints) const override;
+  Status inverse_without_leg_limits(const Pose& pose, JointVector& joints) const;
+  // jacobian and inverse_and_jacobian do not check the leg limits (see hexapod.hpp).
   Status forward(const JointVector& joints, Pose& pose_inout) const override;
   Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
-  std::string why_refused(const Pose& /*pose*/, const Status& status) const override {
+  std::string why_refused(const Pose& pose, const Status& status) const override {
+    if (const std::string why = leg_limits_why(pose, status); !why.empty()) return why;
     if (status.joint < 0 || status.joint >= rail_count()) return {};
     const std::string rail = "rail " + std::to_string(status.joint + 1);
     if (status.code == StatusCode::singular) return "the strut of " + rail + " is across its rail";
@@ -50,6 +57,9 @@ class GlideKinematics final : public Kinematics {
   // Translating glides: the side of the plane (line, with 2 rails) through the carriages' strut
   // ends on which the platform hangs, i.e. the sign of det[strut vectors].
   int assembly_mode(const Pose& pose) const override;
+  void set_home(const Pose& home) override;
+  bool has_mechanism_limits() const override { return leg_limits_.active(); }
+  void mechanism_limits(const Pose& pose, std::vector<MechanismLimit>& out) const override;
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;
   std::unique_ptr<Kinematics> clone() const override {
@@ -58,6 +68,7 @@ class GlideKinematics final : public Kinematics {
 
   const std::vector<GlideRail>& rails() const { return rails_; }
   const PassThroughAxes& passthrough() const { return passthrough_; }
+  const LegLimits& leg_limits() const { return leg_limits_; }
   // The axes the rails move (dof() adds the pass-through ones).
   Dof rail_dof() const { return dof_; }
 
@@ -69,6 +80,10 @@ class GlideKinematics final : public Kinematics {
   // (2 rails) around each carriage, the candidate matching every rail's branch nearest the seed.
   Status forward_translating(const JointVector& joints, Pose& pose_inout) const;
   static void validate(std::vector<GlideRail>& rails, Dof dof);
+  // The struts' joint centres at a pose whose carriage readings are `joints`.
+  LegEnds leg_ends(const Pose& pose, const JointVector& joints) const;
+  std::string leg_limits_why(const Pose& pose, const Status& status) const;
+  LegLimits leg_limits_;
 
   std::vector<GlideRail> rails_;
   Dof dof_;

@@ -41,7 +41,9 @@ HexapodGeometry HexapodGeometry::semi_regular(double base_radius_mm, double plat
   return geometry;
 }
 
-HexapodKinematics::HexapodKinematics(const HexapodGeometry& geometry) : geometry_(geometry) {
+HexapodKinematics::HexapodKinematics(const HexapodGeometry& geometry,
+                                     const LegLimitSettings& leg_limits)
+    : leg_limits_(leg_limits, 6), geometry_(geometry) {
   update_derived();
 }
 
@@ -61,13 +63,40 @@ void HexapodKinematics::update_derived() {
   }
 }
 
-Status HexapodKinematics::inverse(const Pose& pose, JointVector& joints) const {
+Status HexapodKinematics::inverse_without_leg_limits(const Pose& pose, JointVector& joints) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
   const Eigen::Matrix<double, 3, 6> legs =
       (rotation_from_abc(pose.orientation_rad) * platform_from_tip_mm_).colwise() +
       pose.position_mm - base_mm_;
   joints = legs.colwise().norm().transpose() + leg_offset_mm_;
   return Status::success();
+}
+
+Status HexapodKinematics::inverse(const Pose& pose, JointVector& joints) const {
+  const Status status = inverse_without_leg_limits(pose, joints);
+  if (!status.ok() || !leg_limits_.active()) return status;
+  return leg_limits_.check(leg_ends(pose));
+}
+
+LegEnds HexapodKinematics::leg_ends(const Pose& pose) const {
+  LegEnds ends;
+  ends.rotation = rotation_from_abc(pose.orientation_rad);
+  ends.inner = base_mm_;
+  ends.platform = (ends.rotation * platform_from_tip_mm_).colwise() + pose.position_mm;
+  return ends;
+}
+
+void HexapodKinematics::set_home(const Pose& home) {
+  if (leg_limits_.active() && all_finite(home)) leg_limits_.set_home(leg_ends(home));
+}
+
+void HexapodKinematics::mechanism_limits(const Pose& pose, std::vector<MechanismLimit>& out) const {
+  if (leg_limits_.active() && all_finite(pose)) leg_limits_.append_values(leg_ends(pose), out);
+}
+
+std::string HexapodKinematics::why_refused(const Pose& pose, const Status& status) const {
+  if (!all_finite(pose)) return {};
+  return leg_limits_.why(leg_ends(pose), status, "leg");
 }
 
 void HexapodKinematics::inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
@@ -92,13 +121,24 @@ void HexapodKinematics::inverse_batch(std::span<const Pose> poses, std::span<Joi
     }
     joints[i] = (rotated_from_base.colwise() + pose.position_mm).colwise().norm().transpose() +
                 leg_offset_mm_;
-    statuses[i] = Status::success();
+    statuses[i] = leg_limits_.active() ? leg_limits_.check(leg_ends(pose)) : Status::success();
   }
 }
 
 Status HexapodKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
   if (joints.size() != 6) return Status::failure(StatusCode::invalid_input);
-  return solve_forward_newton(*this, joints, pose_inout, forward_options_);
+  if (!leg_limits_.active())
+    return solve_forward_newton(*this, joints, pose_inout, forward_options_);
+  Pose solved = pose_inout;
+  Status status = solve_forward_newton(WithoutLegLimits<HexapodKinematics>(*this), joints, solved,
+                                       forward_options_);
+  if (status.ok()) {
+    const int iterations = status.iterations;
+    status = leg_limits_.check(leg_ends(solved));
+    status.iterations = iterations;
+  }
+  if (status.ok()) pose_inout = solved;
+  return status;
 }
 
 Status HexapodKinematics::inverse_and_jacobian(const Pose& pose, JointVector& joints,
@@ -204,13 +244,14 @@ std::unique_ptr<Kinematics> make_hexapod_kinematics(const ModelConfig& config) {
     }
     geometry.tool_length_mm = tool_length;
   }
+  const LegLimitSettings leg_limits = read_leg_limit_settings(config, "base_joint_axis");
   if (config.has("leg_offsets")) {
     const std::vector<double> offsets = config.length_list("leg_offsets");
     if (offsets.size() != 6) config.fail("leg_offsets", "needs exactly 6 lengths");
     for (int i = 0; i < 6; ++i) geometry.leg_offset_mm[i] = offsets[i];
   }
   try {
-    return std::make_unique<HexapodKinematics>(geometry);
+    return std::make_unique<HexapodKinematics>(geometry, leg_limits);
   } catch (const std::invalid_argument& error) {
     config.fail(shorthand ? "base_radius" : "base", error.what());
   }

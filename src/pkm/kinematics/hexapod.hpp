@@ -6,6 +6,7 @@
 #include <array>
 
 #include "pkm/kinematics/kinematics.hpp"
+#include "pkm/kinematics/leg_limits.hpp"
 #include "pkm/kinematics/model_config.hpp"
 
 namespace pkm {
@@ -27,12 +28,18 @@ struct HexapodGeometry {
 
 class HexapodKinematics final : public Kinematics {
  public:
-  explicit HexapodKinematics(const HexapodGeometry& geometry);
+  explicit HexapodKinematics(const HexapodGeometry& geometry,
+                             const LegLimitSettings& leg_limits = {});
 
   std::string_view type() const override { return "hexapod"; }
   int joint_count() const override { return 6; }
   Dof dof() const override { return Dof::all(); }
+  // The legs' lengths, then the leg limits (max_joint_angle, leg_diameter) where the file sets
+  // them.
   Status inverse(const Pose& pose, JointVector& joints) const override;
+  Status inverse_without_leg_limits(const Pose& pose, JointVector& joints) const;
+  // jacobian and inverse_and_jacobian do not check the leg limits: they serve the iterations of
+  // forward kinematics, whose answer forward() checks.
   Status forward(const JointVector& joints, Pose& pose_inout) const override;
   Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
   Status inverse_and_jacobian(const Pose& pose, JointVector& joints,
@@ -42,6 +49,10 @@ class HexapodKinematics final : public Kinematics {
   // turns its platform over, and forward kinematics seeded on the machine's side never returns
   // there. Two cosines: cheap enough for every sample.
   int assembly_mode(const Pose& pose) const override;
+  std::string why_refused(const Pose& pose, const Status& status) const override;
+  void set_home(const Pose& home) override;
+  bool has_mechanism_limits() const override { return leg_limits_.active(); }
+  void mechanism_limits(const Pose& pose, std::vector<MechanismLimit>& out) const override;
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;
   std::unique_ptr<Kinematics> clone() const override {
@@ -51,9 +62,12 @@ class HexapodKinematics final : public Kinematics {
                      std::span<Status> statuses) const override;
 
   const HexapodGeometry& geometry() const { return geometry_; }
+  const LegLimits& leg_limits() const { return leg_limits_; }
 
  private:
   void update_derived();
+  LegEnds leg_ends(const Pose& pose) const;
+  LegLimits leg_limits_;
   HexapodGeometry geometry_;
   // Columns: platform joints measured from the tool tip, platform frame (platform + (0, 0,
   // tool_length)); base joints, world frame; leg offsets. Matrix form lets Eigen do the six legs

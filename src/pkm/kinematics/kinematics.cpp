@@ -30,6 +30,10 @@ std::string_view status_name(StatusCode code) {
       return "outside the work envelope";
     case StatusCode::tension:
       return "tension";
+    case StatusCode::joint_angle:
+      return "joint_angle";
+    case StatusCode::interference:
+      return "interference";
   }
   return "unknown";
 }

@@ -31,6 +31,8 @@ enum class StatusCode {
   invalid_input,     // NaN or infinite input
   outside_envelope,  // a coordinate passes the machine file's [cartesian] min or max
   tension,           // a cable would go slack or pass its tension limit (joint: the cable)
+  joint_angle,       // a leg passes max_joint_angle at one of its joints (joint: the leg)
+  interference,      // two legs closer than leg_diameter (joint: the first of the two)
 };
 
 struct Status {
@@ -50,6 +52,18 @@ struct Status {
 std::string_view status_name(StatusCode code);
 // A sentence for a user: "unreachable (joint 3)" style, with the joint's name where given.
 std::string describe(const Status& status, std::span<const std::string> joint_names = {});
+
+// A limit of the mechanism beyond the joints' ranges, evaluated at a pose (leg_limits.hpp): how
+// far a leg's joint end is turned, or how far apart two legs are, and the limit it must keep.
+struct MechanismLimit {
+  StatusCode code = StatusCode::joint_angle;  // joint_angle or interference
+  int leg = -1;                               // the leg; for interference the first of the two
+  int other = -1;      // joint_angle: the end (0 inner: base or carriage, 1 platform); else 2nd leg
+  double value = 0.0;  // rad (the angle from the neutral axis) or mm (between the legs' axes)
+  double limit = 0.0;  // rad (max_joint_angle) or mm (leg_diameter)
+  // >= 0 while the limit holds, in the value's unit.
+  double margin() const { return code == StatusCode::joint_angle ? limit - value : value - limit; }
+};
 
 enum class JointKind { linear, rotary };  // linear joints in mm; rotary in rad inside, deg outside
 
@@ -96,6 +110,15 @@ class Kinematics {
   virtual std::string why_refused(const Pose& /*pose*/, const Status& /*status*/) const {
     return {};
   }
+
+  // The machine's home pose, for models whose limits refer to it (the neutral axes of joints with
+  // a max_joint_angle are the legs' directions at home). Machine's constructor calls it.
+  virtual void set_home(const Pose& /*home*/) {}
+  // Whether inverse() checks limits of the mechanism beyond the joints' ranges (joint angles,
+  // leg interference), and their values at `pose` (appended to `out`; nothing where the pose has
+  // no legs, or the model has no such limits).
+  virtual bool has_mechanism_limits() const { return false; }
+  virtual void mechanism_limits(const Pose& /*pose*/, std::vector<MechanismLimit>& /*out*/) const {}
 
   virtual std::vector<Parameter> parameters() const = 0;
   // Values in the order and units of parameters(); throws std::invalid_argument when the new

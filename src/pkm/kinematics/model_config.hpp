@@ -31,6 +31,8 @@ class ModelConfig {
   // An array of 3 rows of 3 numbers.
   virtual Eigen::Matrix3d matrix3(std::string_view key) const = 0;
   virtual bool boolean(std::string_view key) const = 0;
+  // Whether the value at `key` is an array (keys that take a number or a list).
+  virtual bool is_list(std::string_view key) const = 0;
   virtual std::string string(std::string_view key) const = 0;
   virtual std::vector<std::string> string_list(std::string_view key) const = 0;
   // Sub-tables of numbers or strings, in file order.

@@ -43,6 +43,9 @@ class RotaryDeltaKinematics final : public Kinematics {
     return joint < kArms ? -1 : passthrough_.axes()[joint - kArms];
   }
   Status inverse(const Pose& pose, JointVector& joints) const override;
+  // The elbow of arm `arm` at `angle_rad`, shifted inward by the platform radius: where the tool
+  // point would be if the forearm had zero length (the forearm is tip - this).
+  Eigen::Vector3d shifted_elbow(int arm, double angle_rad) const;
   // Closed form: the tool point is where three spheres meet, one of radius forearm_length around
   // each elbow shifted inward by platform_radius; of their two meeting points the lower one, as
   // rotarydeltakins takes. Joints whose elbows are not the outer ones reaching that point are
@@ -79,9 +82,6 @@ class RotaryDeltaKinematics final : public Kinematics {
   };
   Status solve_arm(int arm, const Eigen::Vector3d& tip, ArmSolution& solution) const;
   Status solve_arms(const Pose& pose, std::array<ArmSolution, kArms>& arms) const;
-  // The elbow of arm `arm` at `angle_rad`, shifted inward by the platform radius: where the tool
-  // point would be if the forearm had zero length.
-  Eigen::Vector3d shifted_elbow(int arm, double angle_rad) const;
   static void validate(const RotaryDeltaGeometry& geometry);
 
   RotaryDeltaGeometry geometry_;

@@ -29,6 +29,7 @@ Machine::Machine(std::string name, std::string source, LengthUnit units,
       home_assembly_mode_(kinematics_->assembly_mode(home)),
       checks_envelope_(cartesian_.has_envelope()) {
   for (const JointSpec& joint : joints_) joint_names_.push_back(joint.name);
+  kinematics_->set_home(home_);
 }
 
 Machine::Machine(const Machine& other)

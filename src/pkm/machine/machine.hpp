@@ -113,6 +113,10 @@ class Machine {
   // joint, its value and the limit it passes, in the machine file's units, e.g.
   // "pose x 1234.000 y -20.000 mm: joint 'left' = 2345.678 mm passes its max 2100.000 mm".
   std::string explain(const Pose& pose, const Status& status) const;
+  // "joint_angle: the platform joint of 'leg3' is at 31.200 deg from its axis; max_joint_angle is
+  // 30.000 deg", "interference: 'leg2' and 'leg5' are 31.400 mm apart (axis to axis);
+  // leg_diameter is 40.000 mm", in the machine file's units.
+  std::string mechanism_limit_text(const MechanismLimit& limit) const;
   // "joint 'left' = 2345.678 mm passes its max 2100.000 mm" (value in mm or rad inside).
   std::string explain_joint(int joint, double value) const;
   // A joint value (mm or rad inside) as the machine file writes it: "12.500 mm", "0.4921 in".
@@ -138,6 +142,8 @@ class Machine {
  private:
   // The envelope part of explain_path: where the move crosses the envelope on `axis`, and how far
   // beyond it the move goes.
+  // The joint_angle or interference part of explain().
+  std::string explain_mechanism_limit(const Pose& pose, const Status& status) const;
   std::string explain_envelope_crossing(const Pose& pose, int axis,
                                         const std::function<Vector6d(double)>& pose_at) const;
 

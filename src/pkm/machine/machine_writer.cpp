@@ -110,6 +110,23 @@ void write_cable_plotter(Writer& w, const CablePlotterGeometry& g) {
   }
 }
 
+// The optional joint-angle and interference keys (leg_limits.hpp), as the file gave them: angles
+// in deg, the diameter in the file's unit; the axes only where the file named them.
+void write_leg_limits(Writer& w, const LegLimitSettings& limits, const char* inner_axis_key) {
+  const auto& angle = limits.max_joint_angle_rad;
+  if (limits.checks_angles()) {
+    if (angle[0] == angle[1]) {
+      w.value("max_joint_angle", radians_to_degrees(angle[0]));
+    } else {
+      w.line("max_joint_angle = [" + toml_number(radians_to_degrees(angle[0])) + ", " +
+             toml_number(radians_to_degrees(angle[1])) + "]");
+    }
+  }
+  if (limits.leg_diameter_mm > 0.0) w.length("leg_diameter", limits.leg_diameter_mm);
+  if (limits.inner_axis) w.vector3(inner_axis_key, *limits.inner_axis, false);
+  if (limits.platform_axis) w.vector3("platform_joint_axis", *limits.platform_axis, false);
+}
+
 std::string axis_list(Dof dof) {
   std::string text = "[";
   for (int axis = 0, n = 0; axis < kPoseSize; ++axis) {
@@ -151,6 +168,7 @@ std::string kinematics_toml(const Kinematics& kinematics, LengthUnit units) {
     w.line(std::string("orientation = ") + (orientation ? "true" : "false"));
     if (!orientation) w.line("axes = " + axis_list(glide->rail_dof()));
     if (glide->passthrough().count() > 0) w.line(glide->passthrough().toml_line());
+    write_leg_limits(w, glide->leg_limits().settings(), "carriage_joint_axis");
     for (const GlideRail& rail : glide->rails()) {
       w.line("");
       w.line("[[kinematics.rails]]");
@@ -166,6 +184,7 @@ std::string kinematics_toml(const Kinematics& kinematics, LengthUnit units) {
     w.points("platform", g.platform_mm);
     w.length("tool_length", g.tool_length_mm);
     w.lengths("leg_offsets", g.leg_offset_mm.data(), 6);
+    write_leg_limits(w, hexapod->leg_limits().settings(), "base_joint_axis");
   } else if (const auto* delta = dynamic_cast<const RotaryDeltaKinematics*>(&kinematics)) {
     const RotaryDeltaGeometry& g = delta->geometry();
     w.length("base_radius", g.base_radius_mm);

@@ -99,6 +99,9 @@ std::string Machine::explain(const Pose& pose, const Status& status) const {
              "carriages, a hexapod platform tilted past 90 deg)";
     case StatusCode::invalid_input:
       return text + "not a finite pose";
+    case StatusCode::joint_angle:
+    case StatusCode::interference:
+      return text + explain_mechanism_limit(pose, status);
     default:
       // A tension limit, a balance not found: the model's own words where it has some.
       if (const std::string why = kinematics_->why_refused(pose, status); !why.empty()) {
@@ -106,6 +109,37 @@ std::string Machine::explain(const Pose& pose, const Status& status) const {
       }
       return text + pkm::describe(status, joint_names());
   }
+}
+
+std::string Machine::explain_mechanism_limit(const Pose& pose, const Status& status) const {
+  std::vector<MechanismLimit> limits;
+  kinematics_->mechanism_limits(pose, limits);
+  const MechanismLimit* worst = nullptr;
+  for (const MechanismLimit& limit : limits) {
+    if (limit.code != status.code || limit.leg != status.joint) continue;
+    if (worst == nullptr || limit.margin() < worst->margin()) worst = &limit;
+  }
+  if (worst == nullptr) return describe(status);
+  return mechanism_limit_text(*worst);
+}
+
+std::string Machine::mechanism_limit_text(const MechanismLimit& limit) const {
+  const auto joint = [&](int leg) {
+    return leg < static_cast<int>(joints_.size())
+               ? "'" + joints_[static_cast<std::size_t>(leg)].name + "'"
+               : std::to_string(leg + 1);
+  };
+  if (limit.code == StatusCode::joint_angle) {
+    return std::string("joint_angle: the ") +
+           (limit.other == 0 ? "inner (base or carriage)" : "platform") + " joint of " +
+           joint(limit.leg) + " is at " + value_text(radians_to_degrees(limit.value), "deg") +
+           " deg from its axis; max_joint_angle is " +
+           value_text(radians_to_degrees(limit.limit), "deg") + " deg";
+  }
+  return "interference: " + joint(limit.leg) + " and " + joint(limit.other) + " are " +
+         value_text(limit.value / mm_per_unit(), length_unit()) + " " + length_unit() +
+         " apart (axis to axis); leg_diameter is " +
+         value_text(limit.limit / mm_per_unit(), length_unit()) + " " + length_unit();
 }
 
 std::string Machine::explain_envelope_crossing(

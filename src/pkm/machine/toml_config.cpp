@@ -190,6 +190,10 @@ const toml::array& TomlSection::require_array(std::string_view key) const {
   return *array;
 }
 
+bool TomlSection::is_list(std::string_view key) const {
+  return require(key).is_array();
+}
+
 std::vector<double> TomlSection::number_list(std::string_view key) const {
   std::vector<double> values;
   for (const toml::node& element : require_array(key)) {

@@ -53,6 +53,7 @@ class TomlSection final : public ModelConfig {
                                                  std::size_t dimension) const override;
   Eigen::Matrix3d matrix3(std::string_view key) const override;
   bool boolean(std::string_view key) const override;
+  bool is_list(std::string_view key) const override;
   std::string string(std::string_view key) const override;
   std::vector<std::string> string_list(std::string_view key) const override;
   std::vector<std::pair<std::string, double>> number_table(std::string_view key) const override;

@@ -12,16 +12,14 @@
 
 namespace pkm::post {
 
+double platform_point_gain(double b_norm_mm, double angle_scale_mm) {
+  return std::sqrt(1.0 + 3.0 * (b_norm_mm / angle_scale_mm) * (b_norm_mm / angle_scale_mm));
+}
+
 namespace {
 
 using motion::Segment;
 using motion::SegmentKind;
-
-// The operator norm, over the scaled pose ball, of the map from pose to a platform point b (mm
-// from the tool tip): the identity on the position and at most |b| / scale per scaled angle.
-double platform_point_gain(double b_norm_mm, double angle_scale_mm) {
-  return std::sqrt(1.0 + 3.0 * (b_norm_mm / angle_scale_mm) * (b_norm_mm / angle_scale_mm));
-}
 
 // Every second derivative of R(a, b, c) b is a product of rotations and unit skew matrices, so
 // |d2(R b)| <= |b| per entry; a 3 x 3 block of them has norm <= 3 |b| (per scaled angle squared).
@@ -125,7 +123,7 @@ HessianBounds hexapod_bounds(const HexapodKinematics& model, const Vector6d& cen
                              double radius_mm, double angle_scale_mm, const Chord& chord) {
   HessianBounds bounds;
   JointVector legs;
-  if (!model.inverse(Pose::from_vector(centre), legs).ok()) {
+  if (!model.inverse_without_leg_limits(Pose::from_vector(centre), legs).ok()) {
     for (int i = 0; i < 6; ++i) add(bounds, INFINITY, INFINITY);
     return bounds;
   }
@@ -186,14 +184,7 @@ HessianBounds rotary_delta_bounds(const RotaryDeltaKinematics& model, const Vect
   return bounds;
 }
 
-// Upper bounds on the speed and acceleration of the programmed piece per unit of the block's
-// fraction (angles are linear in u, so only the position curves).
-struct PieceMotion {
-  Vector6d centre;
-  double length = 0.0;  // of the piece (scaled pose norm), at most
-  double acceleration = 0.0;
-  Chord chord;  // from the piece's start to its end
-};
+}  // namespace
 
 PieceMotion piece_motion(const Segment& segment, double u0, double u1, const std::vector<int>& axes,
                          double angle_scale_mm) {
@@ -232,8 +223,6 @@ PieceMotion piece_motion(const Segment& segment, double u0, double u1, const std
   return {segment.at(0.5 * (u0 + u1)), std::hypot(position_speed, std::sqrt(angle_speed)) * du,
           position_acceleration * du * du, chord};
 }
-
-}  // namespace
 
 namespace {
 

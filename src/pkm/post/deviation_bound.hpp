@@ -19,6 +19,22 @@ struct Chord {
   double angle = 0.0;
 };
 
+// The operator norm, over the scaled pose ball, of the map from pose to a platform point b (mm
+// from the tool tip): the identity on the position and at most |b| / scale per scaled angle.
+double platform_point_gain(double b_norm_mm, double angle_scale_mm);
+
+// Upper bounds on the programmed piece [u0, u1] of a move per unit of the piece's own fraction
+// (angles are linear in u, so only the position curves): its length and the acceleration of its
+// position, in the scaled pose norm below over the coordinates `axes`.
+struct PieceMotion {
+  Vector6d centre;      // the pose at the piece's middle fraction (mm, rad)
+  double length = 0.0;  // of the piece (scaled pose norm), at most
+  double acceleration = 0.0;
+  Chord chord;  // from the piece's start to its end
+};
+PieceMotion piece_motion(const motion::Segment& segment, double u0, double u1,
+                         const std::vector<int>& axes, double angle_scale_mm);
+
 // Per joint, over every pose within `radius_mm` of `centre` (mm, rad) in the model's controlled
 // coordinates with rotations scaled by `angle_scale_mm` (mm per rad, so that one norm serves
 // lengths and angles): `norm`, an upper bound on the operator norm of the Hessian of the joint's

@@ -1,0 +1,629 @@
+#include "pkm/certify/move_proof.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/glide.hpp"
+#include "pkm/kinematics/hexapod.hpp"
+#include "pkm/kinematics/rotary_delta.hpp"
+#include "pkm/post/deviation_bound.hpp"
+
+namespace pkm::certify {
+
+std::string_view verdict_name(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::proven:
+      return "proven";
+    case Verdict::violated:
+      return "violated";
+    case Verdict::undecided:
+      return "undecided";
+  }
+  return "unknown";
+}
+
+namespace {
+
+std::string formatted(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+// How each leg's ends move per unit of the scaled pose norm over a ball, and how short the leg
+// can get there: what the joint-angle and clearance bounds take. Empty for models without legs.
+struct LegMotion {
+  std::vector<double> inner_speed, platform_speed, shortest_mm;
+  double platform_turn = 0.0;  // rad per scaled unit: how fast a platform-fixed axis turns
+};
+
+LegMotion leg_motion(const Kinematics& model, const JointVector& joints,
+                     const JointJacobian& jacobian, const post::HessianBounds& hessians,
+                     double radius, double scale) {
+  LegMotion motion;
+  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
+    const HexapodGeometry& g = hexapod->geometry();
+    for (std::size_t i = 0; i < 6; ++i) {
+      const double b = (g.platform_mm[i] + Eigen::Vector3d(0.0, 0.0, g.tool_length_mm)).norm();
+      const double gain = post::platform_point_gain(b, scale);
+      motion.inner_speed.push_back(0.0);
+      motion.platform_speed.push_back(gain);
+      motion.shortest_mm.push_back(joints[static_cast<int>(i)] - g.leg_offset_mm[i] -
+                                   gain * radius);
+    }
+    motion.platform_turn = std::sqrt(3.0) / scale;
+  } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
+    const bool rotating = glide->dof().any_rotation();
+    for (std::size_t i = 0; i < glide->rails().size(); ++i) {
+      const GlideRail& rail = glide->rails()[i];
+      // The carriage moves as its reading: the gradient at the centre plus its drift.
+      Eigen::VectorXd gradient = jacobian.row(static_cast<int>(i)).transpose();
+      gradient.tail<3>() /= scale;
+      motion.inner_speed.push_back(gradient.norm() + hessians.norm[i] * radius);
+      motion.platform_speed.push_back(
+          rotating ? post::platform_point_gain(rail.attach_mm.norm(), scale) : 1.0);
+      motion.shortest_mm.push_back(rail.strut_mm);
+    }
+    motion.platform_turn = rotating ? std::sqrt(3.0) / scale : 0.0;
+  } else if (dynamic_cast<const RotaryDeltaKinematics*>(&model) != nullptr) {
+    // No legs to check; each arm's turn per mm over the ball, for the assembly mode's bound.
+    for (int arm = 0; arm < RotaryDeltaKinematics::kArms; ++arm) {
+      motion.inner_speed.push_back(jacobian.block<1, 3>(arm, 0).norm() +
+                                   hessians.norm[static_cast<std::size_t>(arm)] * radius);
+    }
+  }
+  return motion;
+}
+
+// How fast (per scaled unit) a joint-angle or clearance value can change over the ball.
+double mechanism_rate(const MechanismLimit& limit, const LegMotion& motion) {
+  const auto k = static_cast<std::size_t>(limit.leg);
+  if (limit.code == StatusCode::joint_angle) {
+    if (!(motion.shortest_mm[k] > 0.0)) return INFINITY;
+    const double turn = (motion.inner_speed[k] + motion.platform_speed[k]) / motion.shortest_mm[k];
+    return turn + (limit.other == kPlatformEnd ? motion.platform_turn : 0.0);
+  }
+  // Each point of a leg is a mix of its ends: it moves no faster than the faster end.
+  const auto j = static_cast<std::size_t>(limit.other);
+  return std::max(motion.inner_speed[k], motion.platform_speed[k]) +
+         std::max(motion.inner_speed[j], motion.platform_speed[j]);
+}
+
+// The assembly mode as a number that keeps its sign within a mode (hexapod: cos a cos b; a
+// translating glide: det of its strut vectors), times home's mode, and a bound on its rate per
+// scaled unit over the ball. Nothing for models whose mode has no such bound here.
+struct ModeValue {
+  double value = 0.0, rate = 0.0;
+};
+
+// A rotary delta's mode is the sign of det(forearms), -1 times it on the usual side
+// (rotary_delta.hpp). Each forearm f = tip - shifted elbow keeps its length S; its elbow moves by
+// the arm's length T times the arm's turn, so f moves by at most 1 + T times the arm's rate per mm
+// (the rate over the ball: `motion.inner_speed`, filled in for rotary deltas below).
+std::optional<ModeValue> rotary_delta_mode(const RotaryDeltaKinematics& delta, int home_mode,
+                                           const Vector6d& centre, const JointVector& joints,
+                                           const LegMotion& motion) {
+  std::array<Eigen::Vector3d, 3> forearm;
+  for (int arm = 0; arm < 3; ++arm) {
+    forearm[static_cast<std::size_t>(arm)] =
+        Eigen::Vector3d(centre.head<3>()) - delta.shifted_elbow(arm, joints[arm]);
+  }
+  const double t = delta.geometry().arm_length_mm, s = delta.geometry().forearm_length_mm;
+  double rate = 0.0;
+  for (std::size_t arm = 0; arm < 3; ++arm) {
+    rate += (1.0 + t * motion.inner_speed[arm]) * s * s;
+  }
+  return ModeValue{-home_mode * forearm[0].dot(forearm[1].cross(forearm[2])), rate};
+}
+
+bool has_assembly_bound(const Kinematics& model, int home_mode) {
+  if (home_mode == 0 || dynamic_cast<const HexapodKinematics*>(&model) != nullptr ||
+      dynamic_cast<const RotaryDeltaKinematics*>(&model) != nullptr) {
+    return true;
+  }
+  const auto* glide = dynamic_cast<const GlideKinematics*>(&model);
+  return glide != nullptr && !glide->dof().any_rotation();
+}
+
+std::optional<ModeValue> assembly_value(const Kinematics& model, int home_mode,
+                                        const Vector6d& centre, const JointVector& joints,
+                                        const LegMotion& motion, double scale) {
+  if (home_mode == 0) return ModeValue{1.0, 0.0};
+  if (dynamic_cast<const HexapodKinematics*>(&model) != nullptr) {
+    // |grad cos a cos b| = sqrt(sin^2 a cos^2 b + cos^2 a sin^2 b) <= 1 per rad.
+    return ModeValue{home_mode * std::cos(centre[3]) * std::cos(centre[4]), 1.0 / scale};
+  }
+  if (const auto* delta = dynamic_cast<const RotaryDeltaKinematics*>(&model)) {
+    return rotary_delta_mode(*delta, home_mode, centre, joints, motion);
+  }
+  const auto* glide = dynamic_cast<const GlideKinematics*>(&model);
+  if (glide == nullptr || glide->dof().any_rotation()) return std::nullopt;
+  const int n = static_cast<int>(glide->rails().size());
+  std::array<Eigen::Vector3d, 3> strut;
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (glide->dof().controls(axis)) tip[axis] = centre[axis];
+  }
+  for (int i = 0; i < n; ++i) {
+    const GlideRail& rail = glide->rails()[static_cast<std::size_t>(i)];
+    strut[i] = tip + rail.attach_mm - rail.origin_mm - joints[i] * rail.direction;
+  }
+  // Each strut keeps its length L and moves its vector by at most (1 + carriage speed) per mm.
+  const auto speed = [&](int i) { return 1.0 + motion.inner_speed[static_cast<std::size_t>(i)]; };
+  const auto length = [&](int i) { return glide->rails()[static_cast<std::size_t>(i)].strut_mm; };
+  if (n == 3) {
+    return ModeValue{home_mode * strut[0].dot(strut[1].cross(strut[2])),
+                     speed(0) * length(1) * length(2) + length(0) * speed(1) * length(2) +
+                         length(0) * length(1) * speed(2)};
+  }
+  int plane[2] = {0, 1};
+  for (int axis = 0, k = 0; axis < 3; ++axis) {
+    if (glide->dof().controls(axis)) plane[k++] = axis;
+  }
+  const double cross =
+      strut[0][plane[0]] * strut[1][plane[1]] - strut[0][plane[1]] * strut[1][plane[0]];
+  return ModeValue{home_mode * cross, speed(0) * length(1) + length(0) * speed(1)};
+}
+
+Finding piece_finding(double u0, double u1, const Vector6d& pose, Quantity quantity, int index,
+                      int other, double value, double limit) {
+  Finding finding;
+  finding.u0 = u0;
+  finding.u1 = u1;
+  finding.pose = pose;
+  finding.quantity = quantity;
+  finding.index = index;
+  finding.other = other;
+  finding.value = value;
+  finding.limit = limit;
+  return finding;
+}
+
+// An ideal cable plotter's pull region (cable_plotter.cpp, ideal_inverse): both cables pull while
+// the pen stays on home's side of each anchor's vertical and the cables keep an angle between
+// them. The sides are linear in x; the sine of the angle, det(u0, u1) with u the unit cables,
+// moves by at most 1 / l0 + 1 / l1 per mm. The smallest margin (mm, or its sine) and its index.
+struct PullMargin {
+  double margin = INFINITY;
+  int index = -1;  // 0, 1: anchor's vertical; 2: the angle between the cables
+};
+
+PullMargin pull_margin(const CablePlotterKinematics& plotter, const Vector6d& home,
+                       const Vector6d& centre, double x_spread, double radius) {
+  const CablePlotterGeometry& g = plotter.geometry();
+  PullMargin worst;
+  std::array<Eigen::Vector2d, 2> unit;
+  double rate = 0.0;
+  for (int i = 0; i < 2; ++i) {
+    const Eigen::Vector2d& anchor = g.anchors_mm[static_cast<std::size_t>(i)];
+    const double side = home[0] >= anchor.x() ? 1.0 : -1.0;
+    const double margin = side * (centre[0] - anchor.x()) - x_spread;
+    if (margin < worst.margin) worst = {margin, i};
+    const Eigen::Vector2d from_anchor = centre.head<2>() - anchor;
+    const double shortest = from_anchor.norm() - radius;
+    rate += shortest > 0.0 ? 1.0 / shortest : INFINITY;
+    unit[static_cast<std::size_t>(i)] = from_anchor.normalized();
+  }
+  const double sine = std::abs(unit[0].x() * unit[1].y() - unit[0].y() * unit[1].x());
+  const double margin = sine - rate * radius - kMinCableAngleSine;
+  if (!(margin >= worst.margin)) worst = {margin, 2};
+  return worst;
+}
+
+}  // namespace
+
+// The outcome of bounding one piece: proven, refused at its middle, or neither (the first
+// quantity whose bound reaches a limit, for the undecided report).
+struct MoveProver::Outcome {
+  enum Kind { proven, refused, open } kind = proven;
+  Status refusal;
+  Finding open_at;
+};
+
+MoveProver::MoveProver(const Machine& machine, ProofOptions options)
+    : machine_(machine), options_(options) {
+  const Kinematics& model = machine.kinematics();
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    if (model.dof().controls(axis)) axes_.push_back(axis);
+  }
+  angle_scale_mm_ = post::pose_angle_scale_mm(model);
+  const Vector6d home = machine.home().as_vector();
+  if (!post::inverse_hessian_bounds(model, home, 0.0, angle_scale_mm_, {})) {
+    unavailable_ = "no bound on the derivatives of this kinematics model (" +
+                   std::string(model.type()) + ") here";
+  } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model);
+             plotter != nullptr && plotter->geometry().effector_mass_kg > 0.0) {
+    unavailable_ = "no bound on how fast a hanging effector's cable tensions change here";
+  } else if (plotter != nullptr && !plotter->geometry().ideal()) {
+    unavailable_ = "no bound on where cables over pulleys (or sagging, stretching) pull here";
+  } else if (!has_assembly_bound(model, model.assembly_mode(machine.home()))) {
+    unavailable_ = "no bound on the assembly mode of this kinematics model (" +
+                   std::string(model.type()) + ") here";
+  }
+}
+
+MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, double u0,
+                                            double u1) const {
+  const Kinematics& model = machine_.kinematics();
+  const double um = 0.5 * (u0 + u1);
+  const Vector6d centre = segment.at(um);
+  JointVector joints;
+  Outcome outcome;
+  outcome.refusal = machine_.inverse(Pose::from_vector(centre), joints);
+  if (!outcome.refusal.ok()) {
+    outcome.kind = Outcome::refused;
+    return outcome;
+  }
+  JointJacobian jacobian;
+  model.inverse_and_jacobian(Pose::from_vector(centre), joints, jacobian);
+  const post::PieceMotion piece = post::piece_motion(segment, u0, u1, axes_, angle_scale_mm_);
+  const bool line = segment.kind == motion::SegmentKind::line;
+  const double radius = 0.5 * piece.length;
+  const double sagitta = line ? 0.0 : piece.acceleration / 8.0;  // off the chord, position only
+  Vector6d chord = segment.at(u1) - segment.at(u0);
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    if (!model.dof().controls(axis)) chord[axis] = 0.0;
+  }
+  const auto hessians =
+      post::inverse_hessian_bounds(model, centre, radius, angle_scale_mm_, piece.chord);
+  if (!hessians) {
+    outcome.kind = Outcome::open;
+    outcome.open_at = piece_finding(u0, u1, centre, Quantity::none, -1, -1, 0.0, 0.0);
+    return outcome;
+  }
+  // The first quantity not proven, kept for the report.
+  const auto open = [&](Quantity quantity, int index, int other, double reach, double limit) {
+    outcome.kind = Outcome::open;
+    outcome.open_at = piece_finding(u0, u1, centre, quantity, index, other, reach, limit);
+    return outcome;
+  };
+  for (int i = 0; i < joints.size(); ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const double slope = 0.5 * std::abs(jacobian.row(i).dot(chord));
+    const double bend = line ? hessians->along[k] / 8.0
+                             : 2.0 * sagitta * jacobian.block<1, 3>(i, 0).norm() +
+                                   0.5 * hessians->norm[k] * radius * radius;
+    const JointSpec& spec = machine_.joints()[k];
+    const double low = joints[i] - slope - bend, high = joints[i] + slope + bend;
+    if (!(low >= spec.min)) return open(Quantity::joint, i, -1, low, spec.min);
+    if (!(high <= spec.max)) return open(Quantity::joint, i, -1, high, spec.max);
+  }
+  const CartesianLimits& limits = machine_.cartesian();
+  for (const int axis : axes_) {
+    const double spread = 0.5 * std::abs(chord[axis]) + (axis < 3 ? 2.0 * sagitta : 0.0);
+    if (!(centre[axis] - spread >= limits.envelope_min[axis])) {
+      return open(Quantity::envelope, axis, -1, centre[axis] - spread, limits.envelope_min[axis]);
+    }
+    if (!(centre[axis] + spread <= limits.envelope_max[axis])) {
+      return open(Quantity::envelope, axis, -1, centre[axis] + spread, limits.envelope_max[axis]);
+    }
+  }
+  const LegMotion motion = leg_motion(model, joints, jacobian, *hessians, radius, angle_scale_mm_);
+  if (model.has_mechanism_limits()) {
+    std::vector<MechanismLimit> values;
+    model.mechanism_limits(Pose::from_vector(centre), values);
+    for (const MechanismLimit& value : values) {
+      const double reach = mechanism_rate(value, motion) * radius;
+      if (!(value.margin() - reach >= 0.0)) {
+        const bool angle = value.code == StatusCode::joint_angle;
+        return open(angle ? Quantity::joint_angle : Quantity::clearance, value.leg, value.other,
+                    angle ? value.value + reach : value.value - reach, value.limit);
+      }
+    }
+  }
+  if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
+    const double x_spread = 0.5 * std::abs(chord[0]) + 2.0 * sagitta;
+    const PullMargin pull =
+        pull_margin(*plotter, machine_.home().as_vector(), centre, x_spread, radius);
+    if (!(pull.margin > 0.0)) return open(Quantity::pull, pull.index, -1, pull.margin, 0.0);
+  }
+  const auto mode = assembly_value(model, model.assembly_mode(machine_.home()), centre, joints,
+                                   motion, angle_scale_mm_);
+  if (!mode || !(mode->value - mode->rate * radius > 0.0)) {
+    return open(Quantity::assembly_mode, -1, -1, mode ? mode->value - mode->rate * radius : 0.0,
+                0.0);
+  }
+  return outcome;
+}
+
+MoveProof MoveProver::prove(const motion::Segment& segment) const {
+  MoveProof proof;
+  if (segment.kind == motion::SegmentKind::dwell) return proof;
+  if (!unavailable_.empty()) {
+    proof.verdict = Verdict::undecided;
+    Finding finding;
+    finding.pose = segment.start;
+    finding.u1 = 1.0;
+    finding.text = unavailable_;
+    proof.finding = finding;
+    return proof;
+  }
+  JointVector joints;
+  if (const Status at_start = machine_.inverse(Pose::from_vector(segment.at(0.0)), joints);
+      !at_start.ok()) {
+    proof.verdict = Verdict::violated;
+    proof.finding = refusal_at(segment, 0.0, at_start);
+    return proof;
+  }
+  struct Span {
+    double u0, u1;
+    int depth;
+  };
+  // Depth first, the earlier half first: everything still on the stack lies after the piece in
+  // hand, so the first refusal found ends the search to its right, and the search goes on to
+  // its left for an earlier one.
+  std::vector<Span> stack{{0.0, 1.0, 0}};
+  std::optional<Finding> violation, undecided;
+  while (!stack.empty()) {
+    if (proof.pieces >= options_.max_pieces_per_move) {
+      if (!undecided) {
+        const Span& next = stack.back();
+        undecided = piece_finding(next.u0, next.u1, segment.at(0.5 * (next.u0 + next.u1)),
+                                  Quantity::none, -1, -1, 0.0, 0.0);
+        undecided->text = "the proof needs more than " +
+                          std::to_string(options_.max_pieces_per_move) + " pieces of this move";
+      }
+      break;
+    }
+    const Span span = stack.back();
+    stack.pop_back();
+    const Outcome outcome = bound_piece(segment, span.u0, span.u1);
+    ++proof.pieces;
+    const double middle = 0.5 * (span.u0 + span.u1);
+    if (outcome.kind == Outcome::refused) {
+      Finding found = refusal_at(segment, middle, outcome.refusal);
+      if (violation && violation->quantity == found.quantity && violation->index == found.index &&
+          violation->other == found.other) {
+        // Earlier, but perhaps not as far beyond: keep the farthest seen.
+        const bool farther =
+            excess(found, found.value) > excess(*violation, violation->worst_value);
+        if (!farther) {
+          found.worst_u = violation->worst_u;
+          found.worst_value = violation->worst_value;
+        }
+      }
+      violation = found;
+      stack.clear();
+      if (span.depth < options_.max_depth) stack.push_back({span.u0, middle, span.depth + 1});
+      continue;
+    }
+    if (outcome.kind == Outcome::proven) continue;
+    if (span.depth >= options_.max_depth) {
+      if (!undecided) {
+        undecided = outcome.open_at;
+        undecided->text = undecided_text(*undecided);
+      }
+      continue;
+    }
+    stack.push_back({middle, span.u1, span.depth + 1});
+    stack.push_back({span.u0, middle, span.depth + 1});
+  }
+  if (violation) {
+    proof.verdict = Verdict::violated;
+    farthest_past(segment, *violation);
+    if (violation->worst_u != violation->u0) {
+      violation->text +=
+          "; the farthest past it: " + excess_text(*violation, violation->worst_value) + " at " +
+          formatted("%.6f", 100.0 * violation->worst_u) + " % of the move";
+    }
+    proof.finding = violation;
+  } else if (undecided) {
+    proof.verdict = Verdict::undecided;
+    proof.finding = undecided;
+  }
+  return proof;
+}
+
+std::string MoveProver::quantity_name(Quantity quantity, int index, int other) const {
+  const auto joint = [&](int i) {
+    return i >= 0 && i < static_cast<int>(machine_.joints().size())
+               ? "'" + machine_.joints()[static_cast<std::size_t>(i)].name + "'"
+               : std::to_string(i + 1);
+  };
+  switch (quantity) {
+    case Quantity::joint:
+      return "joint " + joint(index);
+    case Quantity::envelope:
+      return std::string(kAxisNames[index]) + " (the work envelope)";
+    case Quantity::joint_angle:
+      return std::string("the ") + (other == kInnerEnd ? "inner" : "platform") +
+             " joint angle of " + joint(index);
+    case Quantity::clearance:
+      return "the clearance between " + joint(index) + " and " + joint(other);
+    case Quantity::assembly_mode:
+      return "the assembly mode (the sign of cos a cos b, or of the struts' determinant)";
+    case Quantity::pull:
+      return index < 2 ? "the pen's side of anchor " + std::to_string(index + 1) + "'s vertical"
+                       : std::string("the angle between the cables");
+    case Quantity::none:
+      break;
+  }
+  return "the pose";
+}
+
+std::string MoveProver::value_text(Quantity quantity, int index, double value) const {
+  const bool units_are_inches = machine_.units() == LengthUnit::inch;
+  switch (quantity) {
+    case Quantity::joint:
+      return formatted(units_are_inches ? "%.4f " : "%.3f ", machine_.joint_to_file(index, value)) +
+             machine_.joint_file_unit(index);
+    case Quantity::envelope:
+      return formatted(units_are_inches && index < 3 ? "%.4f " : "%.3f ",
+                       machine_.axis_to_file(index, value)) +
+             machine_.axis_file_unit(index);
+    case Quantity::joint_angle:
+      return formatted("%.3f deg", radians_to_degrees(value));
+    case Quantity::clearance:
+      return formatted(units_are_inches ? "%.4f " : "%.3f ", value / machine_.mm_per_unit()) +
+             machine_.length_unit();
+    case Quantity::assembly_mode:
+    case Quantity::pull:
+    case Quantity::none:
+      break;
+  }
+  return formatted("%.7g", value);
+}
+
+std::string MoveProver::undecided_text(const Finding& finding) const {
+  const std::string where = formatted("%.6f", 100.0 * finding.u0) + " % and " +
+                            formatted("%.6f", 100.0 * finding.u1) + " % of the move (pose " +
+                            machine_.format_pose(Pose::from_vector(finding.pose)) + ")";
+  if (finding.quantity == Quantity::assembly_mode || finding.quantity == Quantity::pull) {
+    return "cannot prove " + quantity_name(finding.quantity, -1, -1) + " keeps its sign between " +
+           where;
+  }
+  return "cannot prove " + quantity_name(finding.quantity, finding.index, finding.other) +
+         " within its limit between " + where + ": its bound reaches " +
+         value_text(finding.quantity, finding.index, finding.value) + " against the limit " +
+         value_text(finding.quantity, finding.index, finding.limit);
+}
+
+std::optional<double> MoveProver::quantity_at(const Finding& finding, const Pose& pose) const {
+  switch (finding.quantity) {
+    case Quantity::joint: {
+      JointVector joints;
+      JointJacobian jacobian;  // the leg limits do not apply to inverse_and_jacobian
+      if (!machine_.kinematics().inverse_and_jacobian(pose, joints, jacobian).ok()) {
+        return std::nullopt;
+      }
+      return joints[finding.index];
+    }
+    case Quantity::envelope:
+      return pose.as_vector()[finding.index];
+    case Quantity::joint_angle:
+    case Quantity::clearance: {
+      std::vector<MechanismLimit> values;
+      machine_.kinematics().mechanism_limits(pose, values);
+      for (const MechanismLimit& value : values) {
+        if (value.leg == finding.index && value.other == finding.other &&
+            (value.code == StatusCode::joint_angle) ==
+                (finding.quantity == Quantity::joint_angle)) {
+          return value.value;
+        }
+      }
+      return std::nullopt;
+    }
+    default:
+      return std::nullopt;
+  }
+}
+
+void MoveProver::farthest_past(const motion::Segment& segment, Finding& finding) const {
+  constexpr int kSamples = 1000;
+  for (int k = 0; k <= kSamples; ++k) {
+    const double u = finding.u0 + (1.0 - finding.u0) * k / kSamples;
+    const std::optional<double> value = quantity_at(finding, Pose::from_vector(segment.at(u)));
+    if (value && excess(finding, *value) > excess(finding, finding.worst_value)) {
+      finding.worst_value = *value;
+      finding.worst_u = u;
+    }
+  }
+}
+
+std::string MoveProver::excess_text(const Finding& finding, double value) const {
+  double file_units = excess(finding, value);  // past the limit: file units below
+  std::string unit = "deg";
+  switch (finding.quantity) {
+    case Quantity::joint:
+      file_units = std::abs(machine_.joint_to_file(finding.index, value) -
+                            machine_.joint_to_file(finding.index, finding.limit));
+      unit = machine_.joint_file_unit(finding.index);
+      break;
+    case Quantity::envelope:
+      file_units = std::abs(machine_.axis_to_file(finding.index, value) -
+                            machine_.axis_to_file(finding.index, finding.limit));
+      unit = machine_.axis_file_unit(finding.index);
+      break;
+    case Quantity::joint_angle:
+      file_units = radians_to_degrees(file_units);
+      break;
+    case Quantity::clearance:
+      file_units /= machine_.mm_per_unit();
+      unit = machine_.length_unit();
+      break;
+    default:
+      unit.clear();
+  }
+  return formatted("%.3g ", file_units) + unit;
+}
+
+double MoveProver::excess(const Finding& finding, double value) const {
+  switch (finding.quantity) {
+    case Quantity::joint: {
+      const bool min =
+          finding.limit == machine_.joints()[static_cast<std::size_t>(finding.index)].min;
+      return min ? finding.limit - value : value - finding.limit;
+    }
+    case Quantity::envelope: {
+      const bool min = finding.limit == machine_.cartesian().envelope_min[finding.index];
+      return min ? finding.limit - value : value - finding.limit;
+    }
+    case Quantity::joint_angle:
+      return value - finding.limit;
+    case Quantity::clearance:
+      return finding.limit - value;
+    default:
+      return 0.0;
+  }
+}
+
+Finding MoveProver::refusal_at(const motion::Segment& segment, double u,
+                               const Status& status) const {
+  Finding finding;
+  finding.u0 = finding.u1 = u;
+  finding.pose = segment.at(u);
+  const Pose pose = Pose::from_vector(finding.pose);
+  const std::string at = "at " + formatted("%.6f", 100.0 * u) + " % of the move: ";
+  JointVector joints;
+  if (status.code == StatusCode::joint_limit && machine_.kinematics().inverse(pose, joints).ok()) {
+    const JointSpec& spec = machine_.joints()[static_cast<std::size_t>(status.joint)];
+    const double value = joints[status.joint];
+    const bool below = value < spec.min;
+    finding.quantity = Quantity::joint;
+    finding.index = status.joint;
+    finding.value = value;
+    finding.limit = below ? spec.min : spec.max;
+    finding.text = at + "pose " + machine_.format_pose(pose) + ": joint '" + spec.name +
+                   "' = " + value_text(Quantity::joint, status.joint, value) + " passes its " +
+                   (below ? "min " : "max ") +
+                   value_text(Quantity::joint, status.joint, finding.limit) + " (by " +
+                   excess_text(finding, value) + ")";
+    finding.worst_u = u;
+    finding.worst_value = finding.value;
+    return finding;
+  }
+  if (status.code == StatusCode::outside_envelope) {
+    finding.quantity = Quantity::envelope;
+    finding.index = status.axis;
+    finding.value = finding.pose[status.axis];
+    const bool below = finding.value < machine_.cartesian().envelope_min[status.axis];
+    finding.limit = below ? machine_.cartesian().envelope_min[status.axis]
+                          : machine_.cartesian().envelope_max[status.axis];
+  } else if (status.code == StatusCode::joint_angle || status.code == StatusCode::interference) {
+    std::vector<MechanismLimit> values;
+    machine_.kinematics().mechanism_limits(pose, values);
+    const MechanismLimit* worst = nullptr;
+    for (const MechanismLimit& value : values) {
+      if (value.code != status.code || value.leg != status.joint) continue;
+      if (worst == nullptr || value.margin() < worst->margin()) worst = &value;
+    }
+    if (worst != nullptr) {
+      finding.quantity =
+          status.code == StatusCode::joint_angle ? Quantity::joint_angle : Quantity::clearance;
+      finding.index = worst->leg;
+      finding.other = worst->other;
+      finding.value = worst->value;
+      finding.limit = worst->limit;
+    }
+  } else if (status.code == StatusCode::other_assembly) {
+    finding.quantity = Quantity::assembly_mode;
+  }
+  finding.text = at + machine_.explain(pose, status);
+  finding.worst_u = u;
+  finding.worst_value = finding.value;
+  return finding;
+}
+
+}  // namespace pkm::certify

@@ -1,0 +1,39 @@
+# pkm check -m MACHINE JOB, the certified check (docs/certified-check.md): the example jobs proven
+# on their machines; a job whose joint-limit crossing falls between plan's samples passes plan and
+# is refused by check at its move; a tilt past max_joint_angle named at the hand-computed angle.
+set(BETWEEN_SAMPLES ${CLI_DATA}/between-samples.ngc)
+add_test(NAME cli.check_job_sphere_is_certified
+         COMMAND ${PKM} check -m ${MACHINES}/hexapod-bit.toml ${PROJECT_SOURCE_DIR}/examples/jobs/sphere.ngc)
+set_tests_properties(cli.check_job_sphere_is_certified PROPERTIES PASS_REGULAR_EXPRESSION
+  "certified: .*sphere\\.ngc on Hexapod of the interpolation paper \\(BIT\\): all 157 moves proven")
+add_test(NAME cli.check_job_hyperboloid_is_certified
+         COMMAND ${PKM} check -m ${MACHINES}/hexapod-bit-200.toml ${PROJECT_SOURCE_DIR}/examples/jobs/hyperboloid.ngc --json)
+set_tests_properties(cli.check_job_hyperboloid_is_certified PROPERTIES PASS_REGULAR_EXPRESSION
+  "\"certified\": true,.*\"moves\": 232,.*\"undecided\": 0")
+# plan writes every sample and checks each (leg1 stays at 600.000 mm): it passes.
+add_test(NAME cli.plan_passes_the_job_between_samples
+         COMMAND ${PKM} plan -m ${MACHINES}/hexapod-bit.toml ${BETWEEN_SAMPLES} -o ${CLI_OUT}/between-samples.csv)
+set_tests_properties(cli.plan_passes_the_job_between_samples PROPERTIES PASS_REGULAR_EXPRESSION
+  "leg1 +600\\.000 \\.\\.")
+pkm_cli_refuses(check_job_crossing_between_samples
+  "between-samples\\.ngc:4: move 2 violated: at 51\\.2326[0-9]* % of the move: pose x 200\\.361 y 153\\.887 z 570\\.000 mm .*joint 'leg1' = 600\\.000 mm passes its min 600\\.000 mm .*the farthest past it: 9\\.[0-9]*e-09 mm at 51\\.245[0-9]* % of the move \\(2 of 3 moves proven, 1 violated, 0 undecided\\)"
+  check -m ${MACHINES}/hexapod-bit.toml ${BETWEEN_SAMPLES})
+pkm_cli_refuses(check_job_tilt_past_the_joint_angle
+  "tilt-28\\.ngc:3: move 2 violated: at 86\\.0879[0-9]* % of the move: pose .* a 25\\.496 b 0\\.000 c 0\\.000 deg: joint_angle: the platform joint of 'leg5' is at 30\\.000 deg from its axis. max_joint_angle is 30\\.000 deg"
+  check -m ${CLI_DATA}/tilting-hexapod.toml ${CLI_DATA}/tilt-28.ngc)
+pkm_cli_refuses(ik_past_the_joint_angle
+  "a 28\\.000 b 0\\.000 c 0\\.000 deg: joint_angle: the platform joint of 'leg4' is at 30\\.341 deg from its axis. max_joint_angle is 30\\.000 deg"
+  ik -m ${CLI_DATA}/tilting-hexapod.toml 0 0 500 28 0 0)
+pkm_cli_refuses(check_job_undecided_without_a_bound
+  "move 1 undecided: no bound on the derivatives of this kinematics model \\(formula\\)"
+  check -m ${MACHINES}/mach3-formula.toml ${CLI_DATA}/hektor-job.ngc)
+pkm_cli_refuses(check_origin_without_a_job "--origin is only read with a JOB"
+  check -m ${MACHINES}/hexapod-bit.toml --origin 1 2)
+# The machine summary shows the leg limits the file sets.
+add_test(NAME cli.check_shows_leg_limits COMMAND ${PKM} check -m ${CLI_DATA}/tilting-hexapod.toml)
+set_tests_properties(cli.check_shows_leg_limits PROPERTIES PASS_REGULAR_EXPRESSION
+  "  leg limits: max_joint_angle 30 deg \\(inner\\), 30 deg \\(platform\\). leg_diameter 40 mm\n")
+add_test(NAME cli.check_json_leg_limits
+         COMMAND ${PKM} check -m ${CLI_DATA}/tilting-hexapod.toml --json)
+set_tests_properties(cli.check_json_leg_limits PROPERTIES PASS_REGULAR_EXPRESSION
+  "\"leg_limits\": \\{\n *\"leg_diameter\": 40\\.0,\n *\"max_joint_angle_deg\": \\[\n *30\\.0,\n *30\\.0\n")

@@ -1,0 +1,288 @@
+// The certified job check: moves proven, violated at the hand-computed place, undecided where no
+// bound exists; the example jobs on their machines proven; a job whose limit crossing falls
+// between two of plan's samples refused at its move.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "pkm/certify/job_check.hpp"
+#include "pkm/motion/segment.hpp"
+#include "test_support.hpp"
+
+namespace pkm::certify {
+namespace {
+
+motion::Segment line(const Vector6d& start, const Vector6d& end) {
+  motion::Segment segment;
+  segment.start = start;
+  segment.end = end;
+  segment.feed_mm_per_s = 10.0;
+  return segment;
+}
+
+Vector6d pose(double x, double y, double z, double a = 0, double b = 0, double c = 0) {
+  return Pose::from_mm_deg(x, y, z, a, b, c).as_vector();
+}
+
+// Leg 1 of the paper's hexapod joins base joint a and platform joint b (tool tip at 30 mm):
+// with the platform level, its length is the distance from the tip to a - b - (0, 0, 30) =
+// (200.3644, 153.8868, -30). Straight above that point the leg is z + 30 long: 600 (its min) at
+// z = 570.
+constexpr double kLegX = 200.3643704832, kLegY = 153.8868015505;
+
+TEST(CertifyMove, AVerticalLinePastALegsMinIsViolatedWhereComputedByHand) {
+  const Machine machine = test::load_example("hexapod-bit.toml");
+  const MoveProver prover(machine);
+  // z from 1000 down to 500: leg 1 reaches 600 mm at z = 570, u = 430 / 500 = 0.86.
+  const MoveProof proof = prover.prove(line(pose(kLegX, kLegY, 1000), pose(kLegX, kLegY, 500)));
+  ASSERT_EQ(proof.verdict, Verdict::violated);
+  const Finding& finding = *proof.finding;
+  EXPECT_EQ(finding.quantity, Quantity::joint);
+  EXPECT_EQ(finding.index, 0);
+  EXPECT_NEAR(finding.u0, 0.86, 1e-9);
+  EXPECT_NEAR(finding.pose[2], 570.0, 1e-6);
+  EXPECT_EQ(finding.limit, 600.0);
+  EXPECT_LT(finding.value, 600.0);
+  EXPECT_NE(finding.text.find("joint 'leg1' = "), std::string::npos) << finding.text;
+}
+
+TEST(CertifyMove, TheSameLineStoppingShortIsProven) {
+  const Machine machine = test::load_example("hexapod-bit.toml");
+  const MoveProver prover(machine);
+  const MoveProof proof = prover.prove(line(pose(kLegX, kLegY, 1000), pose(kLegX, kLegY, 571)));
+  EXPECT_EQ(proof.verdict, Verdict::proven);
+  EXPECT_GT(proof.pieces, 1);
+  EXPECT_FALSE(proof.finding.has_value());
+}
+
+TEST(CertifyMove, ALegsMinimumBetweenSamplesIsFound) {
+  // Along x at y = kLegY, z = 570 - 1e-8, leg 1 is shortest above the point: 600 - 1e-8 mm, below
+  // 600 only within 3.5 um of x = kLegX (sqrt(2 * 600 * 1e-8)); the ends are 600.09 mm.
+  const Machine machine = test::load_example("hexapod-bit.toml");
+  const MoveProver prover(machine);
+  const double z = 570.0 - 1e-8;
+  const MoveProof proof =
+      prover.prove(line(pose(kLegX - 10.25, kLegY, z), pose(kLegX + 9.75, kLegY, z)));
+  ASSERT_EQ(proof.verdict, Verdict::violated);
+  EXPECT_EQ(proof.finding->index, 0);
+  EXPECT_NEAR(proof.finding->u0, 10.25 / 20.0, 0.0036 / 20.0);
+  EXPECT_NEAR(proof.finding->worst_value, 600.0 - 1e-8, 1e-9);
+  EXPECT_NEAR(proof.finding->worst_u, 10.25 / 20.0, 0.0036 / 20.0);
+  // 2e-8 deeper than the limit is needed nowhere on a line 2e-8 higher: proven.
+  const MoveProof clear =
+      prover.prove(line(pose(kLegX - 10.25, kLegY, z + 2e-8), pose(kLegX + 9.75, kLegY, z + 2e-8)));
+  EXPECT_EQ(clear.verdict, Verdict::proven);
+}
+
+TEST(CertifyMove, AnArcBulgingPastTheEnvelopeIsViolatedWhereItCrosses) {
+  // The linear delta's envelope ends at x = 120. A ccw arc about (0, 0) from (110, -50) to
+  // (110, 50) has radius 120.830 and bulges to x = 120.830 at its middle; it crosses x = 120 at
+  // the angle -acos(120 / 120.830) = -6.7305 deg of its -24.444 .. 24.444 deg sweep.
+  const Machine machine = test::load_example("linear-delta.toml");
+  const MoveProver prover(machine);
+  motion::Segment arc = line(pose(110, -50, 100), pose(110, 50, 100));
+  arc.kind = motion::SegmentKind::arc;
+  arc.centre = Eigen::Vector3d(0, 0, 100);
+  const double half_sweep = std::atan2(50.0, 110.0);
+  arc.sweep_rad = 2.0 * half_sweep;
+  const MoveProof proof = prover.prove(arc);
+  ASSERT_EQ(proof.verdict, Verdict::violated);
+  EXPECT_EQ(proof.finding->quantity, Quantity::envelope);
+  EXPECT_EQ(proof.finding->index, 0);
+  const double crossing = -std::acos(120.0 / std::hypot(110.0, 50.0));
+  EXPECT_NEAR(proof.finding->u0, (crossing + half_sweep) / (2.0 * half_sweep), 1e-9);
+  EXPECT_NEAR(proof.finding->worst_value, std::hypot(110.0, 50.0), 1e-3);
+  // The arc through (110, -40) .. (110, 40) stays within x <= 116.3: proven.
+  motion::Segment inside = line(pose(110, -40, 100), pose(110, 40, 100));
+  inside.kind = motion::SegmentKind::arc;
+  inside.centre = Eigen::Vector3d(0, 0, 100);
+  inside.sweep_rad = 2.0 * std::atan2(40.0, 110.0);
+  EXPECT_EQ(prover.prove(inside).verdict, Verdict::proven);
+}
+
+// The vertical-legs hexapod of test_leg_limits.cpp with max_joint_angle = 30: leg 5's platform
+// end reaches 30 deg at a tilt of a = 25.4958 deg (computed there by hand).
+Machine tilting_hexapod(const std::string& keys) {
+  std::string points, joints;
+  for (int k = 0; k < 6; ++k) {
+    const double phi = degrees_to_radians(30.0 + 60.0 * k);
+    points += (k ? ", [" : "[") + std::to_string(300.0 * std::cos(phi)) + ", " +
+              std::to_string(300.0 * std::sin(phi)) + ", 0]";
+    joints += "[[joints]]\nname = \"leg" + std::to_string(k + 1) +
+              "\"\nmin = 100\nmax = 2000\nmax_velocity = 100\nmax_acceleration = 1000\n";
+  }
+  return parse_machine("name = \"vertical legs\"\n[kinematics]\ntype = \"hexapod\"\nbase = [" +
+                           points + "]\nplatform = [" + points + "]\ntool_length = 0\n" + keys +
+                           "\n" + joints +
+                           "[cartesian]\nmax_feed = 6000\nmax_acceleration = 1000\n"
+                           "home = [0, 0, 500, 0, 0, 0]\n",
+                       "tilt.toml");
+}
+
+TEST(CertifyMove, ATiltPastTheJointAngleIsViolatedAtTheHandComputedAngle) {
+  const Machine machine = tilting_hexapod("max_joint_angle = 30");
+  const MoveProver prover(machine);
+  const MoveProof proof = prover.prove(line(pose(0, 0, 500), pose(0, 0, 500, 28)));
+  ASSERT_EQ(proof.verdict, Verdict::violated);
+  EXPECT_EQ(proof.finding->quantity, Quantity::joint_angle);
+  EXPECT_EQ(proof.finding->index, 4);
+  EXPECT_EQ(proof.finding->other, 1);  // the platform end
+  EXPECT_NEAR(proof.finding->u0, 25.495825673868385 / 28.0, 1e-9);
+  EXPECT_NE(proof.finding->text.find("max_joint_angle is 30.000 deg"), std::string::npos);
+  EXPECT_EQ(prover.prove(line(pose(0, 0, 500), pose(0, 0, 500, 25))).verdict, Verdict::proven);
+}
+
+TEST(CertifyMove, LegsBroughtTogetherAreViolatedWhereTheyTouch) {
+  // test_leg_limits.cpp's pair: legs 1 and 2, 60 mm apart, touch 40 mm legs at x = 559.017.
+  const std::string points =
+      "[-30, 200, 0], [30, 200, 0], [300, -150, 0], [-300, -150, 0], [150, -500, 0], "
+      "[-150, -520, 0]";
+  std::string joints;
+  for (int k = 1; k <= 6; ++k) {
+    joints += "[[joints]]\nname = \"leg" + std::to_string(k) +
+              "\"\nmin = 100\nmax = 2000\nmax_velocity = 100\nmax_acceleration = 1000\n";
+  }
+  const Machine machine = parse_machine(
+      "name = \"pair\"\n[kinematics]\ntype = \"hexapod\"\nbase = [" + points + "]\nplatform = [" +
+          points + "]\ntool_length = 0\nleg_diameter = 40\n" + joints +
+          "[cartesian]\nmax_feed = 6000\nmax_acceleration = 1000\nhome = [0, 0, 500, 0, 0, 0]\n",
+      "pair.toml");
+  const MoveProver prover(machine);
+  const MoveProof proof = prover.prove(line(pose(0, 0, 500), pose(600, 0, 500)));
+  ASSERT_EQ(proof.verdict, Verdict::violated);
+  EXPECT_EQ(proof.finding->quantity, Quantity::clearance);
+  EXPECT_EQ(proof.finding->index, 0);
+  EXPECT_EQ(proof.finding->other, 1);
+  EXPECT_NEAR(proof.finding->u0, 500.0 * std::sqrt(1.25) / 600.0, 1e-9);
+  EXPECT_EQ(prover.prove(line(pose(0, 0, 500), pose(550, 0, 500))).verdict, Verdict::proven);
+}
+
+TEST(CertifyMove, AModelWithoutDerivativeBoundsIsUndecided) {
+  const Machine machine = test::load_example("mach3-formula.toml");
+  const MoveProver prover(machine);
+  EXPECT_NE(prover.unavailable().find("no bound on the derivatives"), std::string::npos);
+  const Vector6d home = machine.home().as_vector();
+  Vector6d next = home;
+  next[0] += 1.0;
+  const MoveProof proof = prover.prove(line(home, next));
+  EXPECT_EQ(proof.verdict, Verdict::undecided);
+  EXPECT_EQ(proof.finding->text, prover.unavailable());
+}
+
+TEST(CertifyJob, TheExampleJobsAreProvenOnTheirMachines) {
+  const auto job = [](const char* name) {
+    return std::filesystem::path(PKM_SOURCE_DIR) / "examples" / "jobs" / name;
+  };
+  const JobCheck sphere = check_job(test::load_example("hexapod-bit.toml"), job("sphere.ngc"), {});
+  EXPECT_TRUE(sphere.certified());
+  EXPECT_GT(sphere.moves, 10);
+  EXPECT_EQ(sphere.violated + sphere.undecided, 0);
+  const JobCheck hyperboloid =
+      check_job(test::load_example("hexapod-bit-200.toml"), job("hyperboloid.ngc"), {});
+  EXPECT_TRUE(hyperboloid.certified());
+  EXPECT_GT(hyperboloid.moves, 10);
+}
+
+TEST(CertifyJob, TheFirstFailingMoveIsNamedByItsLine) {
+  const test::TempProgram program(
+      "G21 G90 G61\n"
+      "G1 F3000 X200.3644 Y153.8868 Z900\n"
+      "G1 Z500\n"  // line 3: leg 1 below 600 mm from z = 570
+      "G1 Z400\n"  // line 4: refused too, counted
+      "M2\n");
+  const JobCheck check = check_job(test::load_example("hexapod-bit.toml"), program.path(), {});
+  EXPECT_FALSE(check.certified());
+  EXPECT_EQ(check.moves, 3);
+  EXPECT_EQ(check.proven, 1);
+  EXPECT_EQ(check.violated, 2);
+  ASSERT_TRUE(check.first_failure.has_value());
+  EXPECT_EQ(check.first_failure->line, 3);
+  EXPECT_EQ(check.first_failure->index, 1);
+  EXPECT_NEAR(check.first_failure->finding.pose[2], 570.0, 1e-3);
+}
+
+}  // namespace
+}  // namespace pkm::certify
+
+namespace pkm::certify {
+namespace {
+
+// Soundness, as a property: random moves (lines between random poses of the reachable box,
+// some reaching past it) on machines of each kind; every move proven must pass 4001 samples, and
+// every violation found must be a pose the machine refuses.
+// The property for one machine: returns the numbers of proven and violated moves.
+std::pair<int, int> check_soundness(const Machine& machine, int trials) {
+  const MoveProver prover(machine);
+  std::mt19937_64 rng(13);
+  const PoseBox box = reach_box(machine);
+  std::uniform_real_distribution<double> share(-0.1, 1.1);
+  const auto random_pose = [&] {
+    Vector6d p = machine.home().as_vector();
+    for (int axis = 0; axis < kPoseSize; ++axis) {
+      if (!box.axes.controls(axis)) continue;
+      const double span = box.max[axis] - box.min[axis];
+      const double limited = axis >= 3 ? std::min(span, degrees_to_radians(30.0)) : span;
+      const double low = axis >= 3 ? p[axis] - 0.5 * limited : box.min[axis];
+      p[axis] = low + share(rng) * limited;
+    }
+    return p;
+  };
+  int proven = 0, violated = 0;
+  JointVector joints;
+  for (int trial = 0; trial < trials; ++trial) {
+    const motion::Segment segment = line(random_pose(), random_pose());
+    const MoveProof proof = prover.prove(segment);
+    if (proof.verdict == Verdict::proven) {
+      ++proven;
+      for (int k = 0; k <= 4000; ++k) {
+        const Pose at = Pose::from_vector(segment.at(k / 4000.0));
+        const Status status = machine.inverse(at, joints);
+        EXPECT_TRUE(status.ok()) << "trial " << trial << " sample " << k << ": "
+                                 << machine.explain(at, status);
+        if (!status.ok()) break;
+      }
+    } else if (proof.verdict == Verdict::violated) {
+      ++violated;
+      EXPECT_FALSE(machine.inverse(Pose::from_vector(proof.finding->pose), joints).ok());
+    }
+  }
+  return {proven, violated};
+}
+
+class CertifyEveryKind : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(CertifyEveryKind, ProvenMovesPassDenseSamplesAndViolationsAreRefusedPoses) {
+  const auto [proven, violated] = check_soundness(test::load_example(GetParam()), 100);
+  // Both outcomes occur, so neither half of the property is empty.
+  EXPECT_GT(proven, 0);
+  EXPECT_GT(violated, 0);
+  EXPECT_GE(proven + violated, 50);
+}
+
+TEST(CertifyLegLimits, ProvenMovesKeepJointAnglesAndClearances) {
+  // The paper's hexapod with 30 deg joints and 120 mm legs: the angle and clearance bounds.
+  std::ifstream file(test::example_machine_path("hexapod-bit.toml"));
+  std::stringstream text;
+  text << file.rdbuf();
+  std::string toml = text.str();
+  toml.replace(toml.find("tool_length = 30.0"), 18,
+               "tool_length = 30.0\nmax_joint_angle = 30\nleg_diameter = 120");
+  const Machine machine = parse_machine(toml, "hexapod-limited.toml");
+  const auto [proven, violated] = check_soundness(machine, 150);
+  EXPECT_GT(proven, 0);
+  EXPECT_GT(violated, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, CertifyEveryKind,
+                         ::testing::Values("hexapod-bit.toml", "hexaglide.toml",
+                                           "linear-delta.toml", "triaglide.toml",
+                                           "wall-plotter.toml", "hektor.toml", "matrix-mill.toml",
+                                           "linuxcnc-rdelta.toml"),
+                         [](const auto& param_info) { return test::test_name(param_info.param); });
+
+}  // namespace
+}  // namespace pkm::certify
