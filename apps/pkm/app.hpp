@@ -69,6 +69,18 @@ CLI::Option* add_pose_option(CLI::App& command, const std::string& name,
 void refuse_overwriting_input(const std::string& output,
                               std::initializer_list<std::pair<std::string, std::string>> inputs);
 
+// An output's file name from the command line: "" (--html "") is refused when parsing.
+CLI::Validator file_name();
+
+// An output of a command: the option that names it ("--html") and the path, "" when not given.
+struct OutputTarget {
+  std::string option;
+  std::string path;
+};
+// Refuses, before any work is done, outputs that could only fail at the end: two options naming
+// the same file, a directory, a file in a directory that does not exist or cannot be written.
+void check_outputs(std::initializer_list<OutputTarget> outputs);
+
 void register_kinematics_commands(CLI::App& app);
 void register_calibrate_commands(CLI::App& app);
 void register_gcode_commands(CLI::App& app);
