@@ -360,8 +360,7 @@ TEST(VerifyPage, ListsTheWorstFirstAndSaysWhy) {
   ASSERT_EQ(data["marks"].size(), 3u);  // the 0.02 mm block is within the tolerance
   EXPECT_EQ(data["marks"][0]["label"],
             "deviation 3 mm (tolerance 0.1 mm) at joint-program line 11, job line 101");
-  EXPECT_NE(data["marks"][1]["label"].get<std::string>().find("deviation 2 mm"),
-            std::string::npos);
+  EXPECT_NE(data["marks"][1]["label"].get<std::string>().find("deviation 2 mm"), std::string::npos);
   EXPECT_NE(data["marks"][2]["label"].get<std::string>().find("deviation 0.5 mm"),
             std::string::npos);
   EXPECT_EQ(data["marks_note"], "deviation: all 3 (worst first)");

@@ -1,9 +1,9 @@
 #include "app.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -156,8 +156,7 @@ static std::string unwritable_reason(const std::string& path) {
   if (!fs::exists(parent, error)) return "the directory " + parent.string() + " does not exist";
   if (!fs::is_directory(parent, error)) return parent.string() + " is not a directory";
   if (::access(parent.c_str(), W_OK | X_OK) != 0) {
-    return "the directory " + parent.string() + " cannot be written (" + std::strerror(errno) +
-           ")";
+    return "the directory " + parent.string() + " cannot be written (" + std::strerror(errno) + ")";
   }
   return "";
 }

@@ -174,8 +174,7 @@ void register_post_commands(CLI::App& app) {
   add_tool_table_options(*command, options->tool_table);
   add_pose_option(*command, "--origin", options->origin,
                   "Where the program's X0 Y0 Z0 sits in machine coordinates, mm and deg");
-  command->add_option("--report", options->report, "Write the summary as JSON")
-      ->check(file_name());
+  command->add_option("--report", options->report, "Write the summary as JSON")->check(file_name());
   command
       ->add_option("--html", options->html,
                    "Write the program's page: one HTML file that opens offline")

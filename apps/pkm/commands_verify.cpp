@@ -241,8 +241,7 @@ void register_verify_commands(CLI::App& app) {
                    "Exit non-zero when the deviation exceeds this, mm (default: the tolerance in "
                    "the joint program's header)")
       ->check(number_in(kMinTolerance, kMaxTolerance));
-  command->add_option("--report", options->report, "Write the report as JSON")
-      ->check(file_name());
+  command->add_option("--report", options->report, "Write the report as JSON")->check(file_name());
   command
       ->add_option("--html", options->html,
                    "Write the verification's page: one HTML file that opens offline")

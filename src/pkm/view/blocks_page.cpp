@@ -2,8 +2,8 @@
 // them, coloured by each block's deviation from the job.
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <limits>
+#include <map>
 
 #include "pkm/view/html_page.hpp"
 #include "pkm/view/page_data.hpp"
@@ -40,8 +40,7 @@ json verify_summary(const json& report, const Machine& machine) {
        row("tolerance_mm", "tolerance", report["tolerance_mm"], "mm"),
        row("max_deviation_joint_line", "largest at joint-program line",
            report["max_deviation_joint_line"], ""),
-       row("max_deviation_job_line", "held against job line", report["max_deviation_job_line"],
-           ""),
+       row("max_deviation_job_line", "held against job line", report["max_deviation_job_line"], ""),
        row("traced_mm", "job traced", report["coverage"]["traced_mm"], "mm"),
        row("job_length_mm", "job length", report["coverage"]["job_length_mm"], "mm"),
        row("deviation_violations", "blocks beyond the tolerance", count_of(report, "deviation"),
@@ -67,8 +66,7 @@ json post_summary(const json& report, const BlockRecorder& recorder, double meas
        row("measured_max_deviation_mm", "largest deviation measured (verify)", rounded(measured_mm),
            "mm"),
        row("warnings", "warnings", report["warnings"].size(), ""),
-       row("drawn_blocks", "blocks drawn", recorder.blocks(), ""),
-       units_row(recorder.machine())});
+       row("drawn_blocks", "blocks drawn", recorder.blocks(), ""), units_row(recorder.machine())});
 }
 
 std::string printed(const char* format, auto... values) {
@@ -166,12 +164,11 @@ std::string verdict(const json& report) {
   }
   const long deviations = report["violations"]["deviation"]["count"].get<long>();
   if (deviations > 0) {
-    why += printed(
-        "%ld blocks stray beyond the tolerance %.6g mm; the worst by %.6g mm at %s. ", deviations,
-        tolerance, report["max_deviation_mm"].get<double>(),
-        lines_text(report["max_deviation_joint_line"].get<int>(),
-                   report["max_deviation_job_line"].get<int>())
-            .c_str());
+    why += printed("%ld blocks stray beyond the tolerance %.6g mm; the worst by %.6g mm at %s. ",
+                   deviations, tolerance, report["max_deviation_mm"].get<double>(),
+                   lines_text(report["max_deviation_joint_line"].get<int>(),
+                              report["max_deviation_job_line"].get<int>())
+                       .c_str());
   }
   const long joints = report["violations"]["position"]["count"].get<long>() +
                       report["violations"]["velocity"]["count"].get<long>();

@@ -100,7 +100,8 @@ void PathThinner::rethin() {
   double colour = 0.0;
   for (std::size_t i = 1; i < points_.size(); ++i) {
     colour = std::max(colour, points_[i].colour);
-    const bool pen_changes = i + 1 < points_.size() && points_[i + 1].pen_down != points_[i].pen_down;
+    const bool pen_changes =
+        i + 1 < points_.size() && points_[i + 1].pen_down != points_[i].pen_down;
     if ((points_[i].position - kept.back().position).norm() >= spacing_ || pen_changes ||
         points_[i].pen_down != kept.back().pen_down || i + 1 == points_.size()) {
       kept.push_back(points_[i]);

@@ -51,8 +51,9 @@ struct PathPoint {
 };
 
 // Keeps a sample when it lies at least `spacing` from the last kept one, or starts a new G-code
-// line or lifts or lowers the pen (so corners, move ends and pen changes stay); past `max_points`, the spacing doubles and the kept points
-// are thinned again. The last sample is always kept (finish()).
+// line or lifts or lowers the pen (so corners, move ends and pen changes stay); past `max_points`,
+// the spacing doubles and the kept points are thinned again. The last sample is always kept
+// (finish()).
 class PathThinner {
  public:
   PathThinner(double spacing_mm, std::size_t max_points);
