@@ -164,17 +164,23 @@ std::string verdict(const json& report) {
   }
   const long deviations = report["violations"]["deviation"]["count"].get<long>();
   if (deviations > 0) {
-    why += printed("%ld blocks stray beyond the tolerance %.6g mm; the worst by %.6g mm at %s. ",
-                   deviations, tolerance, report["max_deviation_mm"].get<double>(),
+    why += printed("%ld %s beyond the tolerance %.6g mm; the worst by %.6g mm at %s. ",
+                   deviations, deviations == 1 ? "block strays" : "blocks stray", tolerance, report["max_deviation_mm"].get<double>(),
                    lines_text(report["max_deviation_joint_line"].get<int>(),
                               report["max_deviation_job_line"].get<int>())
                        .c_str());
   }
   const long joints = report["violations"]["position"]["count"].get<long>() +
                       report["violations"]["velocity"]["count"].get<long>();
-  if (joints > 0) why += printed("%ld findings pass a joint's travel or speed. ", joints);
+  if (joints > 0) {
+    why += printed("%ld %s a joint's travel or speed. ", joints,
+                   joints == 1 ? "finding passes" : "findings pass");
+  }
   const long pen = report["violations"]["pen"]["count"].get<long>();
-  if (pen > 0) why += printed("%ld stretches have the pen wrong against the job. ", pen);
+  if (pen > 0) {
+    why += printed("%ld %s the pen wrong against the job. ", pen,
+                   pen == 1 ? "stretch has" : "stretches have");
+  }
   const json& downs = report["pen_downs"];
   if (downs["joint_program"] != downs["job"]) {
     why += printed("The pen goes down %ld times where the job puts it down %ld times. ",
