@@ -164,8 +164,9 @@ std::string verdict(const json& report) {
   }
   const long deviations = report["violations"]["deviation"]["count"].get<long>();
   if (deviations > 0) {
-    why += printed("%ld %s beyond the tolerance %.6g mm; the worst by %.6g mm at %s. ",
-                   deviations, deviations == 1 ? "block strays" : "blocks stray", tolerance, report["max_deviation_mm"].get<double>(),
+    why += printed("%ld %s beyond the tolerance %.6g mm; the worst by %.6g mm at %s. ", deviations,
+                   deviations == 1 ? "block strays" : "blocks stray", tolerance,
+                   report["max_deviation_mm"].get<double>(),
                    lines_text(report["max_deviation_joint_line"].get<int>(),
                               report["max_deviation_job_line"].get<int>())
                        .c_str());
