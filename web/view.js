@@ -464,7 +464,7 @@
     }
     var g = canvas.getContext('2d'), w = canvas.width, h = canvas.height;
     var s = seriesOf(q), xs = charts.x, n = s.min.length;
-    var left = 64, right = 10, top = 22, bottom = 26;
+    var left = 64, right = 10, top = 22, bottom = 36;  // the axis's name on a line of its own
     g.fillStyle = '#fff';
     g.fillRect(0, 0, w, h);
     // Padded by 2 % on each side, so that a peak at either end is not hidden in the frame.
@@ -550,7 +550,7 @@
       g.fillText(short(a[1]), X(a[1]), h - bottom + 14);
     });
     g.textAlign = 'center';
-    g.fillText(charts.x.label + ' (' + charts.x.unit + ')', (left + w - right) / 2 + 60, h - 4);
+    g.fillText(charts.x.label + ' (' + charts.x.unit + ')', (left + w - right) / 2, h - 5);
     g.textAlign = 'left';
   }
 
