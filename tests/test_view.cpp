@@ -317,6 +317,29 @@ TEST(PlanPage, PlotterSpeedIsOverThePaperAndThePenIsShown) {
   EXPECT_NEAR(data["marks"][0]["t"].get<double>(), recorder.line_starts().at(4).t, 1e-5);
 }
 
+// A plotter job that never lowers its pen draws nothing: the page says so in words.
+TEST(PlanPage, SaysWhenThePenNeverGoesDown) {
+  const Machine machine = test::load_example("pen-plotter.toml");
+  test::TempProgram job("G21 G90\nG0 Z5\nG0 X760 Y-700\nG1 X800 F1200\nM2\n");
+  view::PlanRecorder recorder(machine);
+  const motion::PlanReport report =
+      motion::plan_program(machine, job.path(), {}, motion::PlanOptions{}, recorder);
+  recorder.finish();
+  const nlohmann::json json = {{"duration_s", report.duration_s},
+                               {"path_length_mm", report.path_length_mm},
+                               {"samples", report.samples},
+                               {"pen_changes", report.pen_changes},
+                               {"joints", nlohmann::json::array()},
+                               {"feed_limited_by_joints", nlohmann::json::array()},
+                               {"acceleration_limited_by_tensions", nlohmann::json::array()}};
+  const nlohmann::json data = page_data(view::plan_page(json, recorder, "plotter"));
+  const nlohmann::json* never = summary_row(data, "pen_never_down");
+  ASSERT_NE(never, nullptr);
+  EXPECT_EQ((*never)["value"], "never down: this job draws nothing");
+  const nlohmann::json& pen = data["path"]["p"];
+  EXPECT_EQ(std::find(pen.begin(), pen.end(), 1), pen.end());  // every point travelled pen up
+}
+
 // A failing verification's page: the deviations listed worst first (not the first few), each
 // with its joint-program and job line; the reason in a sentence; one block still drawn from home.
 TEST(VerifyPage, ListsTheWorstFirstAndSaysWhy) {
