@@ -17,6 +17,7 @@
 #include "pkm/view/decimation.hpp"
 #include "pkm/view/html_page.hpp"
 #include "pkm/view/machine_drawing.hpp"
+#include "pkm/view/recorders.hpp"
 #include "test_support.hpp"
 
 namespace pkm {
@@ -255,6 +256,146 @@ TEST(PlanPage, IsSelfContainedAndCarriesTheReport) {
   EXPECT_EQ(data["summary"][2]["value"].get<long>(), report.samples);
   EXPECT_EQ(data["path"]["t"].back().get<double>(), data["drawing"]["t"].back().get<double>());
   EXPECT_TRUE(data["planar"].get<bool>());
+}
+
+}  // namespace
+}  // namespace pkm
+
+namespace pkm {
+namespace {
+
+nlohmann::json page_data(const std::string& page) {
+  const std::size_t start = page.find("type=\"application/json\">") + 24;
+  return nlohmann::json::parse(page.substr(start, page.find("</script>", start) - start));
+}
+
+const nlohmann::json* summary_row(const nlohmann::json& data, const std::string& key) {
+  for (const nlohmann::json& row : data["summary"]) {
+    if (row["key"] == key) return &row;
+  }
+  return nullptr;
+}
+
+// A plotter's page: the speed is the pen's over the paper (its Z is the pen channel: lifting
+// 5 mm in one period is no 5000 mm/s), pen-up travel is told from drawing, the pen row is there;
+// and a slowed move without a sample of its own (line 3, a comment) is still marked, at the
+// next line's first sample.
+TEST(PlanPage, PlotterSpeedIsOverThePaperAndThePenIsShown) {
+  const Machine machine = test::load_example("pen-plotter.toml");
+  test::TempProgram job(
+      "G21 G90\nG0 Z5 X750 Y-700\n(nothing moves here)\nG0 X760\nG1 Z-1 F600\nG1 X800 F1200\n"
+      "G0 Z5\nG0 X750\nM2\n");
+  view::PlanRecorder recorder(machine);
+  const motion::PlanReport report =
+      motion::plan_program(machine, job.path(), {}, motion::PlanOptions{}, recorder);
+  recorder.finish();
+  const nlohmann::json slowed = {{"line", 3},
+                                 {"programmed_mm_per_min", 1200.0},
+                                 {"allowed_mm_per_min", 600.0},
+                                 {"joint", "left"},
+                                 {"cause", "joint"}};
+  const nlohmann::json json = {{"duration_s", report.duration_s},
+                               {"path_length_mm", report.path_length_mm},
+                               {"samples", report.samples},
+                               {"pen_changes", report.pen_changes},
+                               {"joints", nlohmann::json::array()},
+                               {"feed_limited_by_joints", nlohmann::json::array({slowed})},
+                               {"acceleration_limited_by_tensions", nlohmann::json::array()}};
+  const nlohmann::json data = page_data(view::plan_page(json, recorder, "plotter"));
+  double fastest = 0.0;
+  for (const nlohmann::json& c : data["path"]["c"]) fastest = std::max(fastest, c.get<double>());
+  EXPECT_LE(fastest, 100.0 + 1e-6);  // the machine's max_feed, 6000 mm/min
+  EXPECT_GT(fastest, 19.0);          // G1 X800 F1200 reaches 20 mm/s
+  const nlohmann::json& pen = data["path"]["p"];
+  EXPECT_NE(std::find(pen.begin(), pen.end(), 0), pen.end());
+  EXPECT_NE(std::find(pen.begin(), pen.end(), 1), pen.end());
+  EXPECT_EQ(report.pen_changes, 2);
+  ASSERT_NE(summary_row(data, "pen_changes"), nullptr);
+  EXPECT_EQ((*summary_row(data, "pen_changes"))["value"], 2);
+  EXPECT_EQ(summary_row(data, "pen_never_down"), nullptr);
+  ASSERT_EQ(data["marks"].size(), 1u);
+  EXPECT_NEAR(data["marks"][0]["t"].get<double>(), recorder.line_starts().at(4).t, 1e-5);
+}
+
+// A plotter job that never lowers its pen draws nothing: the page says so in words.
+TEST(PlanPage, SaysWhenThePenNeverGoesDown) {
+  const Machine machine = test::load_example("pen-plotter.toml");
+  test::TempProgram job("G21 G90\nG0 Z5\nG0 X760 Y-700\nG1 X800 F1200\nM2\n");
+  view::PlanRecorder recorder(machine);
+  const motion::PlanReport report =
+      motion::plan_program(machine, job.path(), {}, motion::PlanOptions{}, recorder);
+  recorder.finish();
+  const nlohmann::json json = {{"duration_s", report.duration_s},
+                               {"path_length_mm", report.path_length_mm},
+                               {"samples", report.samples},
+                               {"pen_changes", report.pen_changes},
+                               {"joints", nlohmann::json::array()},
+                               {"feed_limited_by_joints", nlohmann::json::array()},
+                               {"acceleration_limited_by_tensions", nlohmann::json::array()}};
+  const nlohmann::json data = page_data(view::plan_page(json, recorder, "plotter"));
+  const nlohmann::json* never = summary_row(data, "pen_never_down");
+  ASSERT_NE(never, nullptr);
+  EXPECT_EQ((*never)["value"], "never down: this job draws nothing");
+  const nlohmann::json& pen = data["path"]["p"];
+  EXPECT_EQ(std::find(pen.begin(), pen.end(), 1), pen.end());  // every point travelled pen up
+}
+
+// A failing verification's page: the deviations listed worst first (not the first few), each
+// with its joint-program and job line; the reason in a sentence; one block still drawn from home.
+TEST(VerifyPage, ListsTheWorstFirstAndSaysWhy) {
+  const Machine machine = test::load_example("hektor.toml");
+  view::BlockRecorder recorder(machine);
+  const double deviations[] = {0.5, 3.0, 0.02, 2.0};
+  for (int i = 0; i < 4; ++i) {
+    verify::VerifiedBlock block;
+    block.line = 10 + i;
+    block.job_line = 100 + i;
+    block.end_pose = machine.home();
+    block.end_pose.position_mm.x() += 10.0 * (i + 1);
+    ASSERT_TRUE(machine.inverse(block.end_pose, block.joints).ok());
+    block.deviation_mm = deviations[i];
+    recorder.add(block);
+  }
+  recorder.finish();
+  const nlohmann::json none = {{"count", 0}, {"first", nlohmann::json::array()}};
+  const nlohmann::json report = {
+      {"blocks", 4},
+      {"tolerance_mm", 0.1},
+      {"max_deviation_mm", 3.0},
+      {"rms_deviation_mm", 1.0},
+      {"max_deviation_joint_line", 11},
+      {"max_deviation_job_line", 101},
+      {"coverage",
+       {{"complete", false},
+        {"job_length_mm", 500.0},
+        {"traced_mm", 40.0},
+        {"stopped_at_job_line", 104},
+        {"stopped_at_joint_line", 13}}},
+      {"violations",
+       {{"deviation", {{"count", 3}, {"first", nlohmann::json::array()}}},
+        {"position", none},
+        {"velocity", none},
+        {"pen", none}}},
+      {"pen_downs", {{"joint_program", 0}, {"job", 0}}},
+      {"passed", false}};
+  const nlohmann::json data =
+      page_data(view::blocks_page("verify", report, recorder, 0.1, {}, "verify"));
+  ASSERT_EQ(data["marks"].size(), 3u);  // the 0.02 mm block is within the tolerance
+  EXPECT_EQ(data["marks"][0]["label"],
+            "deviation 3 mm (tolerance 0.1 mm) at joint-program line 11, job line 101");
+  EXPECT_NE(data["marks"][1]["label"].get<std::string>().find("deviation 2 mm"), std::string::npos);
+  EXPECT_NE(data["marks"][2]["label"].get<std::string>().find("deviation 0.5 mm"),
+            std::string::npos);
+  EXPECT_EQ(data["marks_note"], "deviation: all 3 (worst first)");
+  const std::string verdict = data["verdict"];
+  EXPECT_NE(verdict.find("ends at its line 13: it traces the job only to job line 104 "
+                         "(40.0 of 500.0 mm)"),
+            std::string::npos);
+  EXPECT_NE(verdict.find("3 blocks stray beyond the tolerance 0.1 mm"), std::string::npos);
+  // Home and four block ends: the path starts where the program does.
+  ASSERT_EQ(data["path"]["x"].size(), 5u);
+  EXPECT_EQ(data["path"]["x"][0].get<double>(), machine.home().position_mm.x());
+  EXPECT_EQ(data["path"]["t"][1].get<double>(), 10.0);
 }
 
 }  // namespace

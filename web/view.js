@@ -58,9 +58,15 @@
       tr.appendChild(el('td', r.unit));
       body.appendChild(tr);
     });
+    var verdict = document.getElementById('verdict');
+    if (data.verdict) {
+      verdict.textContent = data.verdict;
+      verdict.className = data.passed ? 'passed' : 'failed';
+    }
     var marks = data.marks || [];
     document.getElementById('marks-title').textContent = marks.length ?
         (data.marks_title || 'Marked on the path') + ' (' + marks.length + ')' : '';
+    document.getElementById('marks-note').textContent = marks.length ? data.marks_note || '' : '';
     var list = document.getElementById('marks');
     marks.slice(0, 500).forEach(function (m) {
       var li = el('li', m.label);
@@ -181,9 +187,25 @@
       g.stroke();
       g.lineWidth = 1.6;
     }
+    var pen = path.p;  // plotters: 0 where the pen was up on the way to a point
+    if (pen) {  // pen-up travel grey and dashed, under the drawing
+      g.beginPath();
+      for (var u = 1; u < n; ++u) {
+        if (pen[u]) continue;
+        g.moveTo(screen[2 * u - 2], screen[2 * u - 1]);
+        g.lineTo(screen[2 * u], screen[2 * u + 1]);
+      }
+      g.strokeStyle = '#9aa1ad';
+      g.lineWidth = 1;
+      g.setLineDash([4, 4]);
+      g.stroke();
+      g.setLineDash([]);
+      g.lineWidth = 1.6;
+    }
     for (var b = 0; b < BINS; ++b) {
       g.beginPath();
       for (var j = 1; j < n; ++j) {
+        if (pen && !pen[j]) continue;
         var bin = Math.min(BINS - 1, Math.floor(path.c[j] / cMax * BINS));
         if (bin !== b) continue;
         g.moveTo(screen[2 * j - 2], screen[2 * j - 1]);
@@ -193,15 +215,25 @@
       g.stroke();
     }
     drawCells(g, project);
-    // Block ends as dots, where they lie apart enough on screen to be told from the path.
-    var onScreen = 0;
-    for (var m = 1; m < n; ++m) {
-      onScreen += Math.hypot(screen[2 * m] - screen[2 * m - 2], screen[2 * m + 1] - screen[2 * m - 1]);
+    drawBlockEnds(g, screen, n);
+  }
+
+  // Block ends as small light dots, each at least BLOCK_END_GAP pixels from the last one drawn,
+  // so that where blocks crowd (a circle) the deviation's colour still shows.
+  var BLOCK_END_GAP = 8;
+  function drawBlockEnds(g, screen, n) {
+    if (!data.block_ends) return;
+    g.fillStyle = 'rgba(29, 35, 48, 0.45)';
+    var lastX = -Infinity, lastY = -Infinity, drawn = 0;
+    for (var k = 0; k < n; ++k) {
+      var x = screen[2 * k], y = screen[2 * k + 1];
+      if (Math.hypot(x - lastX, y - lastY) < BLOCK_END_GAP) continue;
+      g.fillRect(x - 1, y - 1, 2, 2);
+      lastX = x;
+      lastY = y;
+      ++drawn;
     }
-    if (data.block_ends && n > 1 && onScreen / (n - 1) > 6) {
-      g.fillStyle = '#1d2330';
-      for (var k = 0; k < n; ++k) g.fillRect(screen[2 * k] - 1.5, screen[2 * k + 1] - 1.5, 3, 3);
-    }
+    window.pkmView.blockEndsDrawn = drawn;
   }
 
   // Workspace cells: inside green, boundary orange; squares to scale on a planar machine, smaller
@@ -294,6 +326,7 @@
       f += 1;  // the nearest drawn moment
     }
     if (f >= 0) drawSegments(g, project, drawing.frames[f].parts);
+    window.pkmView.drawnMoment = f;
     // Marked moves as small red rings: many of them must not hide the path.
     g.strokeStyle = 'rgba(179, 38, 30, 0.8)';
     g.lineWidth = 1.2;
@@ -303,7 +336,9 @@
       g.arc(p[0], p[1], 4, 0, 2 * Math.PI);
       g.stroke();
     });
-    var tool = toolAt(currentT);
+    // The tool dot where the drawn machine holds it (its moment), so the two never part.
+    var tool = f >= 0 && drawing.frames[f].tool ? drawing.frames[f].tool : toolAt(currentT);
+    window.pkmView.toolDrawn = tool ? project(tool[0], tool[1], tool[2]) : null;
     if (tool) {
       var p = project(tool[0], tool[1], tool[2]);
       g.fillStyle = '#111';
@@ -429,11 +464,14 @@
     }
     var g = canvas.getContext('2d'), w = canvas.width, h = canvas.height;
     var s = seriesOf(q), xs = charts.x, n = s.min.length;
-    var left = 64, right = 10, top = 22, bottom = 26;
+    var left = 64, right = 10, top = 22, bottom = 36;  // the axis's name on a line of its own
     g.fillStyle = '#fff';
     g.fillRect(0, 0, w, h);
+    // Padded by 2 % on each side, so that a peak at either end is not hidden in the frame.
     var x0 = xs.first[0], x1 = xs.last[n - 1];
-    if (!(x1 > x0)) x1 = x0 + 1;
+    if (!(x1 > x0)) { x0 -= 0.5; x1 += 0.5; }
+    var xpad = 0.02 * (x1 - x0);
+    x0 -= xpad; x1 += xpad;
     var lo = Infinity, hi = -Infinity;
     for (var i = 0; i < n; ++i) {
       if (s.min[i] !== null) lo = Math.min(lo, s.min[i]);
@@ -460,7 +498,7 @@
       g.beginPath(); g.moveTo(left, Y(v)); g.lineTo(w - right, Y(v)); g.stroke();
     });
     envelope(g, s, xs, X, Y);
-    axes(g, w, h, left, right, top, bottom, x0, x1, lo + pad, hi - pad, X, Y);
+    axes(g, w, h, left, right, top, bottom, x0 + xpad, x1 - xpad, lo + pad, hi - pad, X, Y);
     var name = q.series.length === 1 ? '' : ' of ' + ((data.joints[+jointSelect.value] || {}).name || '');
     g.fillStyle = '#1d2330';
     g.font = '13px system-ui, sans-serif';
@@ -512,7 +550,7 @@
       g.fillText(short(a[1]), X(a[1]), h - bottom + 14);
     });
     g.textAlign = 'center';
-    g.fillText(charts.x.label + ' (' + charts.x.unit + ')', (left + w - right) / 2 + 60, h - 4);
+    g.fillText(charts.x.label + ' (' + charts.x.unit + ')', (left + w - right) / 2, h - 5);
     g.textAlign = 'left';
   }
 

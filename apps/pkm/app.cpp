@@ -1,11 +1,15 @@
 #include "app.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <system_error>
+
+#include <unistd.h>
 
 #include "embedded_machine.hpp"
 
@@ -130,6 +134,54 @@ void refuse_overwriting_input(const std::string& output,
     if (same) {
       throw CommandError(output + ": the output is the input file " + path + " (" + what +
                          "); writing it would destroy the input, so choose another output name");
+    }
+  }
+}
+
+CLI::Validator file_name() {
+  return CLI::Validator(
+      [](const std::string& text) {
+        return text.empty() ? std::string("an empty file name; name the file to write")
+                            : std::string();
+      },
+      "FILE");
+}
+
+// Why `path` cannot be written, "" when it can (as far as can be told before writing it).
+static std::string unwritable_reason(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (fs::is_directory(path, error)) return "it is a directory; name a file";
+  const fs::path parent = fs::path(path).has_parent_path() ? fs::path(path).parent_path() : ".";
+  if (!fs::exists(parent, error)) return "the directory " + parent.string() + " does not exist";
+  if (!fs::is_directory(parent, error)) return parent.string() + " is not a directory";
+  if (::access(parent.c_str(), W_OK | X_OK) != 0) {
+    return "the directory " + parent.string() + " cannot be written (" + std::strerror(errno) + ")";
+  }
+  return "";
+}
+
+void check_outputs(std::initializer_list<OutputTarget> outputs) {
+  namespace fs = std::filesystem;
+  for (auto a = outputs.begin(); a != outputs.end(); ++a) {
+    if (a->path.empty()) continue;
+    const std::string reason = unwritable_reason(a->path);
+    if (!reason.empty()) throw CommandError(a->option + " " + a->path + ": " + reason);
+    // A device or pipe (/dev/null) may take several outputs: it is written in place.
+    std::error_code status_error;
+    const fs::file_status status = fs::status(a->path, status_error);
+    if (fs::exists(status) && !fs::is_regular_file(status)) continue;
+    for (auto b = outputs.begin(); b != a; ++b) {
+      if (b->path.empty()) continue;
+      std::error_code error_a, error_b, same_error;
+      const bool same =
+          fs::equivalent(a->path, b->path, same_error) ||
+          fs::weakly_canonical(a->path, error_a) == fs::weakly_canonical(b->path, error_b);
+      if (same) {
+        throw CommandError(b->option + " " + b->path + " and " + a->option + " " + a->path +
+                           " name the same file: two outputs would share one name; give each "
+                           "its own");
+      }
     }
   }
 }

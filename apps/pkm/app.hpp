@@ -77,6 +77,18 @@ struct CertifiedCheckArguments {
 };
 void run_certified_check(const Machine& machine, const CertifiedCheckArguments& arguments);
 
+// An output's file name from the command line: "" (--html "") is refused when parsing.
+CLI::Validator file_name();
+
+// An output of a command: the option that names it ("--html") and the path, "" when not given.
+struct OutputTarget {
+  std::string option;
+  std::string path;
+};
+// Refuses, before any work is done, outputs that could only fail at the end: two options naming
+// the same file, a directory, a file in a directory that does not exist or cannot be written.
+void check_outputs(std::initializer_list<OutputTarget> outputs);
+
 void register_kinematics_commands(CLI::App& app);
 void register_calibrate_commands(CLI::App& app);
 void register_gcode_commands(CLI::App& app);

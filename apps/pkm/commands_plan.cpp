@@ -292,18 +292,15 @@ void refuse_beyond_bound(const Machine& machine, const PlanCommandOptions& optio
 }
 
 void run_plan(const PlanCommandOptions& options) {
+  check_outputs({{"-o", options.output}, {"--report", options.report}, {"--html", options.html}});
   refuse_overwriting_input(options.output, {{"the job", options.program},
                                             {"the machine file", options.machine},
                                             {"the tool table", options.tool_table}});
-  refuse_overwriting_input(options.report, {{"the job", options.program},
-                                            {"the machine file", options.machine},
-                                            {"the tool table", options.tool_table},
-                                            {"the samples' file", options.output}});
-  refuse_overwriting_input(options.html, {{"the job", options.program},
-                                          {"the machine file", options.machine},
-                                          {"the tool table", options.tool_table},
-                                          {"the samples' file", options.output},
-                                          {"the report", options.report}});
+  for (const std::string& written : {options.report, options.html}) {
+    refuse_overwriting_input(written, {{"the job", options.program},
+                                       {"the machine file", options.machine},
+                                       {"the tool table", options.tool_table}});
+  }
   const Machine machine = load_machine_or_default(options.machine);
   PlanSetup setup = plan_setup(machine, options);
   const std::string name = !options.output.empty()         ? options.output
@@ -364,6 +361,10 @@ void run_plan(const PlanCommandOptions& options) {
   }
   print_warnings(options, report);
   print_summary(machine, report, name, false);
+  if (!options.report.empty()) std::printf("wrote the report %s\n", options.report.c_str());
+  if (!options.html.empty()) {
+    std::printf("wrote the page %s: open it in a browser\n", options.html.c_str());
+  }
 }
 
 // The embedded job on the embedded machine: the paper's sphere on the paper's hexapod. The job
@@ -390,11 +391,14 @@ void register_plan_commands(CLI::App& app) {
   auto demo = std::make_shared<PlanCommandOptions>();
   CLI::App* demo_command = app.add_subcommand(
       "demo", "The embedded default: the paper's sphere planned on the paper's hexapod");
-  demo_command->add_option("-o,--output", demo->output,
-                           "Also write the samples: OUT.csv or OUT.npy");
-  demo_command->add_option("--report", demo->report, "Write the plan report as JSON");
-  demo_command->add_option("--html", demo->html,
-                           "Write the plan's page: one HTML file that opens offline");
+  demo_command
+      ->add_option("-o,--output", demo->output, "Also write the samples: OUT.csv or OUT.npy")
+      ->check(file_name());
+  demo_command->add_option("--report", demo->report, "Write the plan report as JSON")
+      ->check(file_name());
+  demo_command
+      ->add_option("--html", demo->html, "Write the plan's page: one HTML file that opens offline")
+      ->check(file_name());
   demo_command->add_option("--period", demo->period_s, "Interpolation period, s (default 0.001)")
       ->check(number_in(kMinPeriod, kMaxPeriod));
   demo_command->callback([demo] { run_demo(*demo); });
@@ -406,8 +410,10 @@ void register_plan_commands(CLI::App& app) {
       "without -o, the job's estimate");
   command->add_option("-m,--machine", options->machine, "Machine file (default: embedded hexapod)");
   command->add_option("program", options->program, "The G-code job")->required();
-  CLI::Option* output = command->add_option(
-      "-o,--output", options->output, "Samples: OUT.csv or OUT.npy (without it: the estimate)");
+  CLI::Option* output = command
+                            ->add_option("-o,--output", options->output,
+                                         "Samples: OUT.csv or OUT.npy (without it: the estimate)")
+                            ->check(file_name());
   command
       ->add_flag("--estimate", options->estimate,
                  "Print the duration, samples, joint ranges and feed-limited moves; write no "
@@ -419,10 +425,12 @@ void register_plan_commands(CLI::App& app) {
       ->check(number_in(1, 1e15));
   command->add_option("--period", options->period_s, "Interpolation period, s (default 0.001)")
       ->check(number_in(kMinPeriod, kMaxPeriod));
-  command->add_option("--report", options->report, "Write the plan report as JSON");
+  command->add_option("--report", options->report, "Write the plan report as JSON")
+      ->check(file_name());
   command
       ->add_option("--html", options->html,
                    "Write the plan's page: one HTML file that opens offline (makes the samples)")
+      ->check(file_name())
       ->excludes("--estimate");
   command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl, mm)");
   add_pose_option(*command, "--start", options->start, "Start pose, mm and deg (default: home)");

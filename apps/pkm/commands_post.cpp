@@ -73,14 +73,14 @@ void write_post_html(const Machine& machine, const PostCommandOptions& options,
 }
 
 void run_post(const PostCommandOptions& options) {
+  check_outputs({{"-o", options.output}, {"--report", options.report}, {"--html", options.html}});
   refuse_overwriting_input(options.output, {{"the job", options.program},
                                             {"the machine file", options.machine},
                                             {"the tool table", options.tool_table.path}});
   for (const std::string& written : {options.report, options.html}) {
     refuse_overwriting_input(written, {{"the job", options.program},
                                        {"the machine file", options.machine},
-                                       {"the tool table", options.tool_table.path},
-                                       {"the joint program", options.output}});
+                                       {"the tool table", options.tool_table.path}});
   }
   const Machine machine = load_machine_or_default(options.machine);
   post::PostOptions post_options;
@@ -126,6 +126,10 @@ void run_post(const PostCommandOptions& options) {
               options.output.c_str(), report.blocks, report.moves,
               report.bounded ? "deviation bounded by" : "largest sampled deviation",
               report.max_deviation_mm, report.max_deviation_line, options.tolerance_mm);
+  if (!options.report.empty()) std::printf("wrote the report %s\n", options.report.c_str());
+  if (!options.html.empty()) {
+    std::printf("wrote the page %s: open it in a browser\n", options.html.c_str());
+  }
 }
 
 }  // namespace
@@ -159,7 +163,8 @@ void register_post_commands(CLI::App& app) {
   command->add_option("-m,--machine", options->machine, "Machine file (default: embedded hexapod)");
   command->add_option("program", options->program, "The Cartesian G-code job")->required();
   command->add_option("-o,--output", options->output, "The joint-space program to write")
-      ->required();
+      ->required()
+      ->check(file_name());
   command
       ->add_option("--tolerance", options->tolerance_mm,
                    "Largest tool-tip deviation from the programmed path, mm (default 0.01)")
@@ -169,9 +174,11 @@ void register_post_commands(CLI::App& app) {
   add_tool_table_options(*command, options->tool_table);
   add_pose_option(*command, "--origin", options->origin,
                   "Where the program's X0 Y0 Z0 sits in machine coordinates, mm and deg");
-  command->add_option("--report", options->report, "Write the summary as JSON");
-  command->add_option("--html", options->html,
-                      "Write the program's page: one HTML file that opens offline");
+  command->add_option("--report", options->report, "Write the summary as JSON")->check(file_name());
+  command
+      ->add_option("--html", options->html,
+                   "Write the program's page: one HTML file that opens offline")
+      ->check(file_name());
   command->callback([options] { run_post(*options); });
 }
 

@@ -186,6 +186,7 @@ void write_verify_html(const Machine& machine, const VerifyCommandOptions& optio
 }
 
 void run_verify(const VerifyCommandOptions& options) {
+  check_outputs({{"--report", options.report}, {"--html", options.html}});
   for (const std::string& written : {options.report, options.html}) {
     refuse_overwriting_input(written, {{"the joint program", options.joints},
                                        {"the job", options.job},
@@ -219,6 +220,10 @@ void run_verify(const VerifyCommandOptions& options) {
   if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) write_verify_html(machine, options, verify_options, json, recorder);
   print_report(machine, options, report);
+  if (!options.report.empty()) std::printf("wrote the report %s\n", options.report.c_str());
+  if (!options.html.empty()) {
+    std::printf("wrote the page %s: open it in a browser\n", options.html.c_str());
+  }
   fail_unless_passed(options, report);
 }
 
@@ -236,9 +241,11 @@ void register_verify_commands(CLI::App& app) {
                    "Exit non-zero when the deviation exceeds this, mm (default: the tolerance in "
                    "the joint program's header)")
       ->check(number_in(kMinTolerance, kMaxTolerance));
-  command->add_option("--report", options->report, "Write the report as JSON");
-  command->add_option("--html", options->html,
-                      "Write the verification's page: one HTML file that opens offline");
+  command->add_option("--report", options->report, "Write the report as JSON")->check(file_name());
+  command
+      ->add_option("--html", options->html,
+                   "Write the verification's page: one HTML file that opens offline")
+      ->check(file_name());
   add_pose_option(*command, "--origin", options->origin,
                   "Where the job's X0 Y0 Z0 sits in machine coordinates, mm and deg");
   add_tool_table_options(*command, options->tool_table);

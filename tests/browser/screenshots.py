@@ -17,6 +17,7 @@ SHOTS = [("demo", "plan-hexapod", 0.42, False), ("demo", "plan-hexapod-path", 0.
          ("hektor", "plan-hektor", 0.3, False), ("triaglide", "plan-triaglide", 0.55, False),
          ("hektor-post", "post-hektor", 0.5, False),
          ("sphere-hexapod-verify", "verify-hexapod", 0.6, True),
+         ("plotter", "plan-plotter", 0.5, True), ("hektor-failing", "verify-failing", 0.5, False),
          ("workspace-hektor", "workspace-hektor", 0.0, False),
          ("workspace-triaglide", "workspace-triaglide", 0.0, False)]
 
@@ -26,6 +27,8 @@ def main():
     os.makedirs(out, exist_ok=True)
     with open(os.path.join(out, "triaglide-square.ngc"), "w") as job:
         job.write(test_views.TRIAGLIDE_JOB)
+    with open(os.path.join(out, "plotter-square.ngc"), "w") as job:
+        job.write(test_views.PLOTTER_JOB)
     made = {name: html for name, _, html, _ in test_views.pages(pkm, source, out, workspace_page)}
     browser = Browser(width=1400, height=1100)
     try:

@@ -69,8 +69,18 @@ def pages(pkm, source, out, workspace_page):
     plan("hyperboloid-hexapod", "hexapod-bit-200.toml", os.path.join(jobs, "hyperboloid.ngc"))
     plan("hektor", "hektor.toml", os.path.join(data, "hektor-job.ngc"))
     plan("triaglide", "triaglide.toml", os.path.join(out, "triaglide-square.ngc"))
+    plan("plotter", "pen-plotter.toml", os.path.join(out, "plotter-square.ngc"))
     post_and_verify("sphere-hexapod", "hexapod-bit.toml", os.path.join(jobs, "sphere.ngc"), "0.01")
     post_and_verify("hektor", "hektor.toml", os.path.join(data, "hektor-job.ngc"), "0.05")
+    # The same joint program held against the job moved 30 mm: a failing verification.
+    html, report = os.path.join(out, "hektor-failing.html"), os.path.join(out, "hektor-failing.json")
+    result = subprocess.run([pkm, "verify", "-m", os.path.join(machines, "hektor.toml"),
+                             os.path.join(out, "hektor-joints.ngc"), "--against",
+                             os.path.join(data, "hektor-job.ngc"), "--origin", "30", "0",
+                             "--report", report, "--html", html], capture_output=True, text=True)
+    if result.returncode != 1:
+        raise SystemExit(f"the moved verification should fail:\n{result.stdout}{result.stderr}")
+    made.append(("hektor-failing", "verify", html, report))
     if workspace_page:
         html, report = os.path.join(out, "workspace-hektor.html"), os.path.join(
             data, "workspace-hektor.json")
@@ -95,6 +105,8 @@ def expected_numbers(kind, report):
         worst = max(range(len(uses)), key=lambda i: uses[i])
         numbers["worst_joint"] = report["joints"][worst]["name"]
         numbers["worst_joint_use"] = 100 * uses[worst]
+        if report["pen_changes"]:
+            numbers["pen_changes"] = report["pen_changes"]
         return numbers
     if kind == "workspace":
         size = report["area_mm2" if report["planar"] else "volume_mm3"]
@@ -155,6 +167,10 @@ def check_page(browser, name, kind, html, report_path, screenshots):
         check_numbers(browser, name, kind, json.load(file))
     if screenshots:
         browser.driver.save_screenshot(os.path.join(screenshots, name + ".png"))
+    if kind == "verify":
+        check_findings(browser, name, json.load(open(report_path)))
+    if kind == "plan":
+        check_speed_scale(browser, name, json.load(open(report_path)))
     if kind == "workspace":
         maps = browser.script("return document.querySelectorAll('.map canvas').length")
         check(maps == len(json.load(open(report_path))["maps"]), f"{name}: {maps} maps drawn")
@@ -180,6 +196,41 @@ def check_page(browser, name, kind, html, report_path, screenshots):
           f"({changed_pixels(before, after)} pixels changed)")
 
 
+def check_findings(browser, name, report):
+    """The verdict as a sentence; deviations listed worst first, the largest the report's."""
+    verdict = browser.script("return document.getElementById('verdict').textContent")
+    check(verdict.startswith("Passed" if report["passed"] else "Failed"),
+          f"{name}: the verdict reads {verdict!r}")
+    if report["violations"]["deviation"]["count"] == 0:
+        return
+    labels = browser.script("return window.pkmView.data.marks.map(function (m) { return m.label; })")
+    worst = f"at joint-program line {report['max_deviation_joint_line']}, job line"
+    check(labels and labels[0].startswith("deviation ") and worst in labels[0],
+          f"{name}: the first finding is {labels[:1]}, not the worst ({worst})")
+
+
+def check_speed_scale(browser, name, report):
+    """The speed's colour scale ends at most at the machine's fastest feed (a pen plotter's pen
+    jumps are no tool speed)."""
+    top = float(browser.script("return document.getElementById('legend-max').textContent").split()[0])
+    feeds = [j["peak_velocity"] for j in report["joints"]]
+    check(top < 10 * max(feeds), f"{name}: the speed scale ends at {top} mm/s")
+
+
+def check_narrow_window(browser, name, html):
+    """At 800 px the legend and the hint lie below the drawing, not over it."""
+    browser.driver.set_window_size(800, 1000)
+    try:
+        browser.load(html)
+        scene, legend, hint = (browser.script(
+            f"return document.getElementById('{element}').getBoundingClientRect().toJSON()")
+            for element in ("scene", "legend", "scene-help"))
+        check(legend["top"] >= scene["bottom"] - 1 and hint["top"] >= scene["bottom"] - 1,
+              f"{name}: at 800 px the legend or hint covers the drawing")
+    finally:
+        browser.driver.set_window_size(1400, 1500)
+
+
 def main():
     parser = argparse.ArgumentParser()
     for positional in ("pkm", "source", "out"):
@@ -192,12 +243,15 @@ def main():
     os.makedirs(out, exist_ok=True)
     with open(os.path.join(out, "triaglide-square.ngc"), "w") as job:
         job.write(TRIAGLIDE_JOB)
+    with open(os.path.join(out, "plotter-square.ngc"), "w") as job:
+        job.write(PLOTTER_JOB)
     made = pages(pkm, source, out, arguments.workspace_page)
     browser = Browser()
     try:
         for name, kind, html, report in made:
             check_page(browser, name, kind, html, report, screenshots)
             print(f"{name}: {os.path.getsize(html) / 1e3:.0f} kB, checked")
+        check_narrow_window(browser, "plotter", os.path.join(out, "plotter.html"))
     finally:
         browser.close()
     if failures:
@@ -217,6 +271,21 @@ G1 X-40 Y-40
 G0 X30 Y0
 G2 X30 Y0 I-30 J0 F6000
 G0 X0 Y0
+M2
+"""
+
+# A square drawn with the pen down, reached and left with it up (Z5: up, Z-1: down), about the
+# pen plotter's home.
+PLOTTER_JOB = """G21 G90
+G0 Z5
+G0 X700 Y-650
+G1 Z-1 F600
+G1 X800 F3000
+G1 Y-750
+G1 X700
+G1 Y-650
+G0 Z5
+G0 X750 Y-700
 M2
 """
 

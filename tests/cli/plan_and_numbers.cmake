@@ -67,7 +67,7 @@ pkm_cli_refuses(plan_output_is_the_job "square.ngc: the output is the input file
                 plan -m ${PLOTTER} ${SQUARE} --origin 600 -800 -o ${CLI_OUT}/./square.ngc)
 pkm_cli_refuses(plan_report_is_the_job "square.ngc: the output is the input file .*square.ngc \\(the job\\)"
                 plan -m ${PLOTTER} ${SQUARE} --origin 600 -800 --report ${SQUARE})
-pkm_cli_refuses(plan_report_is_the_samples "square.csv: the output is the input file .*square.csv \\(the samples' file\\)"
+pkm_cli_refuses(plan_report_is_the_samples "-o .*square.csv and --report .*square.csv name the same file"
                 plan -m ${PLOTTER} ${SQUARE} --origin 600 -800 -o ${CLI_OUT}/square.csv
                 --report ${CLI_OUT}/square.csv)
 pkm_cli_refuses(calibrate_fit_output_is_the_data "the output is the input file .*hektor-measurements.csv \\(the measurements\\)"

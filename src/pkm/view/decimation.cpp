@@ -70,18 +70,20 @@ void MinMaxBuckets::halve() {
 PathThinner::PathThinner(double spacing_mm, std::size_t max_points)
     : spacing_(spacing_mm), max_points_(std::max<std::size_t>(max_points, 16)) {}
 
-void PathThinner::add(double t, const Eigen::Vector3d& position, double colour, int line) {
+void PathThinner::add(double t, const Eigen::Vector3d& position, double colour, int line,
+                      bool pen_down) {
   colour_since_kept_ = std::max(colour_since_kept_, colour);
-  const bool new_line = line != line_;
+  const bool new_line = line != line_ || pen_down != pen_down_;
   line_ = line;
+  pen_down_ = pen_down;
   if (points_.empty() || new_line || (position - points_.back().position).norm() >= spacing_) {
-    points_.push_back({t, position, colour_since_kept_});
+    points_.push_back({t, position, colour_since_kept_, pen_down});
     colour_since_kept_ = 0.0;
     has_pending_ = false;
     if (points_.size() > max_points_) rethin();
     return;
   }
-  pending_ = {t, position, colour_since_kept_};
+  pending_ = {t, position, colour_since_kept_, pen_down};
   has_pending_ = true;
 }
 
@@ -90,15 +92,18 @@ void PathThinner::finish() {
   has_pending_ = false;
 }
 
-// Twice the spacing, the dropped points' colours carried by the next kept point.
+// Twice the spacing, the dropped points' colours carried by the next kept point; a point where
+// the pen changes stays, so that pen-up travel is never merged into drawing.
 void PathThinner::rethin() {
   spacing_ *= 2.0;
   std::vector<PathPoint> kept{points_.front()};
   double colour = 0.0;
   for (std::size_t i = 1; i < points_.size(); ++i) {
     colour = std::max(colour, points_[i].colour);
-    if ((points_[i].position - kept.back().position).norm() >= spacing_ ||
-        i + 1 == points_.size()) {
+    const bool pen_changes =
+        i + 1 < points_.size() && points_[i + 1].pen_down != points_[i].pen_down;
+    if ((points_[i].position - kept.back().position).norm() >= spacing_ || pen_changes ||
+        points_[i].pen_down != kept.back().pen_down || i + 1 == points_.size()) {
       kept.push_back(points_[i]);
       kept.back().colour = colour;
       colour = 0.0;

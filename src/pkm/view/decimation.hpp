@@ -41,20 +41,24 @@ class MinMaxBuckets {
 };
 
 // One kept point of a thinned path: where, when (the slider's parameter) and the largest colour
-// value (speed, deviation) of the samples it stands for.
+// value (speed, deviation) of the samples it stands for, and whether a plotter's pen was down on
+// the way to it (true on machines without a pen).
 struct PathPoint {
   double t = 0.0;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   double colour = 0.0;
+  bool pen_down = true;
 };
 
 // Keeps a sample when it lies at least `spacing` from the last kept one, or starts a new G-code
-// line (so corners and move ends stay); past `max_points`, the spacing doubles and the kept points
-// are thinned again. The last sample is always kept (finish()).
+// line or lifts or lowers the pen (so corners, move ends and pen changes stay); past `max_points`,
+// the spacing doubles and the kept points are thinned again. The last sample is always kept
+// (finish()).
 class PathThinner {
  public:
   PathThinner(double spacing_mm, std::size_t max_points);
-  void add(double t, const Eigen::Vector3d& position, double colour, int line);
+  void add(double t, const Eigen::Vector3d& position, double colour, int line,
+           bool pen_down = true);
   void finish();
   const std::vector<PathPoint>& points() const { return points_; }
   double spacing_mm() const { return spacing_; }
@@ -68,6 +72,7 @@ class PathThinner {
   bool has_pending_ = false;
   double colour_since_kept_ = 0.0;
   int line_ = -1;
+  bool pen_down_ = true;
 };
 
 // A moment at which the machine is drawn.

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <iterator>
 #include <string_view>
 
 #include "pkm/view/machine_drawing.hpp"
@@ -65,17 +66,39 @@ json drawing_json(const Machine& machine, const std::vector<Moment>& moments) {
   return {{"fixed", fixed}, {"t", times}, {"frames", frames}};
 }
 
-json path_json(const std::vector<PathPoint>& points) {
+json path_json(const std::vector<PathPoint>& points, bool pen) {
   json t = json::array(), x = json::array(), y = json::array(), z = json::array(),
-       c = json::array();
+       c = json::array(), p = json::array();
   for (const PathPoint& point : points) {
     t.push_back(rounded(point.t));
     x.push_back(rounded(point.position.x()));
     y.push_back(rounded(point.position.y()));
     z.push_back(rounded(point.position.z()));
     c.push_back(rounded(point.colour));
+    if (pen) p.push_back(point.pen_down ? 1 : 0);
   }
-  return {{"t", t}, {"x", x}, {"y", y}, {"z", z}, {"c", c}};
+  json out = {{"t", t}, {"x", x}, {"y", y}, {"z", z}, {"c", c}};
+  if (pen) out["p"] = p;
+  return out;
+}
+
+const LineStart& nearest_line_start(const std::map<int, LineStart>& starts, int line) {
+  const auto next = starts.lower_bound(line);
+  return next != starts.end() ? next->second : std::prev(starts.end())->second;
+}
+
+json mark_json(const LineStart& at, const std::string& label) {
+  return {{"t", rounded(at.t)},
+          {"x", rounded(at.position.x())},
+          {"y", rounded(at.position.y())},
+          {"z", rounded(at.position.z())},
+          {"label", label}};
+}
+
+json units_row(const Machine& machine) {
+  const bool inch = machine.units() == LengthUnit::inch;
+  return row("units", "units shown",
+             inch ? "mm and deg (the machine file is in inches)" : "mm and deg", "");
 }
 
 // One chart series: a channel's buckets in interface units, with the band outside [lo, hi].

@@ -20,8 +20,16 @@ nlohmann::json joints_json(const Machine& machine);
 // {"fixed": [...], "t": [...], "frames": [{"parts": [...], "tool": [x, y, z]}]}; segments flat as
 // part, x0 y0 z0, x1 y1 z1.
 nlohmann::json drawing_json(const Machine& machine, const std::vector<Moment>& moments);
-// {"t", "x", "y", "z", "c"}: the thinned path as columns.
-nlohmann::json path_json(const std::vector<PathPoint>& points);
+// {"t", "x", "y", "z", "c"}: the thinned path as columns; with `pen`, "p" too: 1 where the pen
+// was down on the way to the point, 0 where it was up.
+nlohmann::json path_json(const std::vector<PathPoint>& points, bool pen = false);
+// The line start nearest to G-code line `line` (which may have none: a move shorter than one
+// period): its own, else the next line's that has one, else the last. `starts` not empty.
+const LineStart& nearest_line_start(const std::map<int, LineStart>& starts, int line);
+// A mark on the path: {"t", "x", "y", "z", "label"}.
+nlohmann::json mark_json(const LineStart& at, const std::string& label);
+// The "units shown" row: every page is in mm and deg, whatever the machine file's unit.
+nlohmann::json units_row(const Machine& machine);
 // One chart series of a channel: min/max per bucket times `scale`, the band outside [lo, hi].
 nlohmann::json series_json(const MinMaxBuckets& buckets, int channel, double scale, double lo,
                            double hi);

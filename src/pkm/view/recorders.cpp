@@ -21,13 +21,29 @@ double initial_spacing_mm(const Machine& machine) {
   return size > 0.0 ? size / 4000.0 : 0.01;
 }
 
+// The tool's speed counts only the coordinates the machine moves: a plotter's Z is its pen
+// channel (or dropped), and a pen lifted 5 mm in one period is no 5000 mm/s of tool speed.
+double PlanRecorder::controlled_distance_mm(const Eigen::Vector3d& step) const {
+  double squared = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    if (controlled_[k]) squared += step[k] * step[k];
+  }
+  return std::sqrt(squared);
+}
+
 PlanRecorder::PlanRecorder(const Machine& machine, motion::SampleSink* next)
     : machine_(machine),
       next_(next),
+      has_pen_(machine.tool().z == ToolZ::pen),
       buckets_(3 * static_cast<int>(machine.joints().size()), kChartBuckets),
       path_(initial_spacing_mm(machine), kMaxPathPoints),
       moments_(kDrawnMoments),
-      values_(3 * machine.joints().size()) {}
+      values_(3 * machine.joints().size()) {
+  const Dof dof = machine.kinematics().dof();
+  for (int k = 0; k < 3; ++k) {
+    controlled_[k] = dof.controls(k) && !(k == 2 && machine.tool().z != ToolZ::none);
+  }
+}
 
 void PlanRecorder::write(const motion::Sample& sample) {
   if (next_ != nullptr) next_->write(sample);
@@ -51,9 +67,10 @@ void PlanRecorder::write(const motion::Sample& sample) {
     values_[static_cast<std::size_t>(count + i)] = velocity;
     values_[static_cast<std::size_t>(2 * count + i)] = acceleration;
   }
-  if (samples_ > 0 && dt > 0.0) speed = (position - last_position_).norm() / dt;
+  if (samples_ > 0 && dt > 0.0) speed = controlled_distance_mm(position - last_position_) / dt;
   buckets_.add(t, values_);
-  path_.add(t, position, speed, sample.line);
+  path_.add(t, position, speed, sample.line, sample.pen_down || !has_pen_);
+  pen_ever_down_ = pen_ever_down_ || sample.pen_down;
   moments_.add(t, Pose::from_vector(sample.pose), sample.joints);
   line_starts_.try_emplace(sample.line, LineStart{t, position});
   last_joints_ = sample.joints;
@@ -68,16 +85,32 @@ void PlanRecorder::finish() {
   moments_.finish();
 }
 
+// The program starts at home: the path and the charts start there too, so that a program of a
+// single block still draws its move.
 BlockRecorder::BlockRecorder(const Machine& machine)
     : machine_(machine),
       buckets_(static_cast<int>(machine.joints().size()) + 1, kChartBuckets),
       path_(initial_spacing_mm(machine), kMaxPathPoints),
       moments_(kDrawnMoments),
-      values_(machine.joints().size() + 1) {}
+      values_(machine.joints().size() + 1),
+      last_position_(machine.home().position_mm) {
+  JointVector home;
+  if (!machine.inverse(machine.home(), home).ok()) return;
+  const std::size_t count = machine_.joints().size();
+  for (std::size_t i = 0; i < count; ++i) values_[i] = home[static_cast<int>(i)];
+  values_[count] = 0.0;
+  buckets_.add(0.0, values_);
+  path_.add(0.0, last_position_, 0.0, 0);
+  moments_.add(0.0, machine.home(), home);
+}
+
+static bool deviation_greater(const WorstBlock& a, const WorstBlock& b) {
+  return a.deviation_mm > b.deviation_mm;
+}
 
 void BlockRecorder::add(const verify::VerifiedBlock& block) {
   const Eigen::Vector3d position = block.end_pose.position_mm;
-  if (last_position_) length_mm_ += (position - *last_position_).norm();
+  length_mm_ += (position - last_position_).norm();
   last_position_ = position;
   const std::size_t count = machine_.joints().size();
   for (std::size_t i = 0; i < count; ++i) values_[i] = block.joints[static_cast<int>(i)];
@@ -87,7 +120,21 @@ void BlockRecorder::add(const verify::VerifiedBlock& block) {
   path_.add(length_mm_, position, block.deviation_mm, block.line);
   moments_.add(length_mm_, block.end_pose, block.joints);
   line_starts_.try_emplace(block.line, LineStart{length_mm_, position});
+  if (worst_.size() < kWorstKept || block.deviation_mm > worst_.front().deviation_mm) {
+    worst_.push_back({block.deviation_mm, block.line, block.job_line, {length_mm_, position}});
+    std::push_heap(worst_.begin(), worst_.end(), deviation_greater);
+    if (worst_.size() > kWorstKept) {
+      std::pop_heap(worst_.begin(), worst_.end(), deviation_greater);
+      worst_.pop_back();
+    }
+  }
   ++blocks_;
+}
+
+std::vector<WorstBlock> BlockRecorder::worst_blocks() const {
+  std::vector<WorstBlock> sorted = worst_;
+  std::sort(sorted.begin(), sorted.end(), deviation_greater);
+  return sorted;
 }
 
 void BlockRecorder::finish() {

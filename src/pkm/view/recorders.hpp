@@ -40,13 +40,20 @@ class PlanRecorder final : public motion::SampleSink {
   // Channels: joint i's position (i), velocity (J + i), acceleration (2J + i), in the machine's
   // internal units, per s and per s^2 as the planner's report computes them.
   const MinMaxBuckets& joint_buckets() const { return buckets_; }
-  const PathThinner& path() const { return path_; }  // colour: tool speed, mm/s
+  // colour: tool speed over the controlled coordinates, mm/s; pen_down: the pen channel's state
+  const PathThinner& path() const { return path_; }
   const MomentSampler& moments() const { return moments_; }
   const std::map<int, LineStart>& line_starts() const { return line_starts_; }
+  bool has_pen() const { return has_pen_; }
+  bool pen_ever_down() const { return pen_ever_down_; }  // on a machine with a pen
 
  private:
+  double controlled_distance_mm(const Eigen::Vector3d& step) const;
   const Machine& machine_;
   motion::SampleSink* next_;
+  bool has_pen_ = false;
+  bool pen_ever_down_ = false;
+  bool controlled_[3] = {true, true, true};  // x y z: moved by the machine's joints
   MinMaxBuckets buckets_;
   PathThinner path_;
   MomentSampler moments_;
@@ -58,14 +65,24 @@ class PlanRecorder final : public motion::SampleSink {
   long samples_ = 0;
 };
 
+// A block among the worst deviations, where the page marks it.
+struct WorstBlock {
+  double deviation_mm = 0.0;
+  int line = 0, job_line = 0;
+  LineStart at;
+};
+
 // Records the blocks of post's or verify's joint program. The slider's parameter and the charts'
-// abscissa is the length of the tool path up to each block's end (mm). Channels: joint i's
-// position (i), the block's deviation (J).
+// abscissa is the length of the polyline through home (where the program starts) and the blocks'
+// ends (mm). Channels: joint i's position (i), the block's deviation (J).
 class BlockRecorder {
  public:
+  static constexpr std::size_t kWorstKept = 100;
   explicit BlockRecorder(const Machine& machine);
   void add(const verify::VerifiedBlock& block);
   void finish();
+  // The kWorstKept largest deviations, largest first.
+  std::vector<WorstBlock> worst_blocks() const;
 
   const Machine& machine() const { return machine_; }
   const MinMaxBuckets& buckets() const { return buckets_; }
@@ -81,7 +98,8 @@ class BlockRecorder {
   MomentSampler moments_;
   std::map<int, LineStart> line_starts_;
   std::vector<double> values_;
-  std::optional<Eigen::Vector3d> last_position_;
+  std::vector<WorstBlock> worst_;  // a min-heap on deviation_mm, at most kWorstKept
+  Eigen::Vector3d last_position_;
   double length_mm_ = 0.0;
   long blocks_ = 0;
 };
