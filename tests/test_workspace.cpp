@@ -154,7 +154,7 @@ Vector6d point_in(const Workspace& ws, const CellIndex& cell, std::mt19937_64& r
 TEST(Workspace, EveryPoseOfAProvenInsideCellIsReachable) {
   // The hexapod over +-5 deg: random points of proven-inside cells, random orientations.
   const Machine machine = test::load_example("hexapod-bit.toml");
-  WorkspaceOptions options = at_resolution(machine, 16.0);
+  WorkspaceOptions options = at_resolution(machine, 32.0);
   options.orientation_min_rad = Eigen::Vector3d::Constant(degrees_to_radians(-5.0));
   options.orientation_max_rad = Eigen::Vector3d::Constant(degrees_to_radians(5.0));
   const Workspace ws = compute_workspace(machine, options);
@@ -172,7 +172,7 @@ TEST(Workspace, EveryPoseOfAProvenInsideCellIsReachable) {
   }
   EXPECT_EQ(checked, 20000);
   // Every orientation of the range asks more than one: the volume shrinks.
-  const Workspace fixed = compute_workspace(machine, at_resolution(machine, 16.0));
+  const Workspace fixed = compute_workspace(machine, at_resolution(machine, 32.0));
   EXPECT_LT(ws.inside_measure + ws.boundary_measure, fixed.inside_measure);
 }
 

@@ -102,6 +102,8 @@ void print_summary(const workspace::Workspace& ws) {
   std::printf("%s: %.6g .. %.6g %s (proven inside .. inside + boundary cells)\n",
               ws.planar ? "area" : "volume", ws.inside_measure,
               ws.inside_measure + ws.boundary_measure, unit);
+  std::printf("estimate: %.6g %s (inside + the share of boundary cells' sample points reached)\n",
+              ws.estimate, unit);
   if (ws.extent) std::printf("extent: %s\n", box_text(*ws.extent, ws.position_axes).c_str());
   if (ws.largest_box) {
     std::printf("largest box inside: %s\n", box_text(*ws.largest_box, ws.position_axes).c_str());

@@ -177,7 +177,9 @@ struct Worker {
   std::map<std::string, std::int64_t> limited_by;
   std::int64_t judged = 0;
   std::int64_t poses_judged = 0;
-  double estimated_boundary = 0.0;  // measure of the boundary cells whose centre samples pass
+  double estimated_boundary = 0.0;
+  std::int64_t unbounded_refusals = 0;  // cells proven inside whose middle inverse() refused  //
+                                        // measure of the boundary cells whose centre samples pass
   int dimensions = 0;
 };
 
@@ -350,6 +352,9 @@ double reachable_share(Worker& worker, const PoseCell& cell, const OrientationBo
   return static_cast<double>(reached) / (1u << n);
 }
 
+void refine_children(Worker& worker, const Grid& grid, const CellIndex& cell,
+                     const std::vector<OrientationBox>& open);
+
 void refine(Worker& worker, const Grid& grid, const CellIndex& cell,
             const std::vector<OrientationBox>& open) {
   ++worker.judged;
@@ -367,6 +372,23 @@ void refine(Worker& worker, const Grid& grid, const CellIndex& cell,
     }
   }
   if (settling.open.empty()) {
+    // A check on the bounds, not part of the proof: Machine::inverse must accept the cell's
+    // middle. A refusal there means it applies a limit no constraint bounds (a new per-pose
+    // limit of a model): the cell is not claimed, and the result says so.
+    JointVector joints;
+    PoseCell middle = base;
+    middle.centre.tail<3>() = grid.range.centre;
+    const Status status = worker.machine.inverse(Pose::from_vector(middle.centre), joints);
+    if (!status.ok()) {
+      ++worker.unbounded_refusals;
+      ++worker.limited_by[status_key(status.code)];
+      if (cell.level > 0) {
+        refine_children(worker, grid, cell, open);
+      } else {
+        worker.boundary.push_back(cell);
+      }
+      return;
+    }
     worker.inside.push_back(cell);
     return;
   }
@@ -377,6 +399,11 @@ void refine(Worker& worker, const Grid& grid, const CellIndex& cell,
     ++worker.limited_by[status_key(settling.why.code)];
     return;
   }
+  refine_children(worker, grid, cell, settling.open);
+}
+
+void refine_children(Worker& worker, const Grid& grid, const CellIndex& cell,
+                     const std::vector<OrientationBox>& open) {
   const std::int32_t half = std::int32_t{1} << (cell.level - 1);
   for (int child = 0; child < 8; ++child) {
     CellIndex next{cell.at, cell.level - 1};
@@ -386,7 +413,7 @@ void refine(Worker& worker, const Grid& grid, const CellIndex& cell,
       if (!grid.spans[static_cast<std::size_t>(axis)]) duplicate = true;
       next.at[static_cast<std::size_t>(axis)] += half;
     }
-    if (!duplicate) refine(worker, grid, next, settling.open);
+    if (!duplicate) refine(worker, grid, next, open);
   }
 }
 
@@ -488,6 +515,7 @@ void refine_all(const Machine& machine, const Grid& grid, const TopCells& top,
     result.cells_judged += part->judged;
     result.boxes_judged += part->poses_judged;
     result.estimate += part->estimated_boundary;
+    result.unbounded_refusals += part->unbounded_refusals;
   }
 }
 
@@ -583,6 +611,13 @@ Workspace compute_workspace(const Machine& machine, const WorkspaceOptions& opti
           "corners, not bounded: cells are judged from those samples, not proven");
       break;
     }
+  }
+  if (ws.unbounded_refusals > 0) {
+    ws.guaranteed = false;
+    ws.notes.push_back(std::to_string(ws.unbounded_refusals) +
+                       " cells the bounds proved inside were refused by the machine at their "
+                       "middle: it applies a limit no constraint bounds here (they were split, "
+                       "and left as boundary)");
   }
   ws.inside_measure = measure(ws.inside, grid.step_mm, dimensions);
   ws.boundary_measure = measure(ws.boundary, grid.step_mm, dimensions);

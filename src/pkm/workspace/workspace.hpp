@@ -76,6 +76,9 @@ struct Workspace {
   double boundary_measure = 0.0;
   std::int64_t cells_judged = 0;  // position cells
   std::int64_t boxes_judged = 0;  // cells of poses (a position cell by an orientation box)
+  // Cells the bounds proved inside whose middle Machine::inverse refused: a limit of the
+  // machine without a bound here (then guaranteed is false).
+  std::int64_t unbounded_refusals = 0;
   // inside + the boundary cells whose centre the machine reaches at the range's middle and
   // corners: an estimate, not a bound (the Monte-Carlo test holds it to 1 %).
   double estimate = 0.0;

@@ -54,8 +54,8 @@ nlohmann::json to_json(const Workspace& ws) {
                                                    radians_to_degrees(ws.orientation_max_rad[k])};
   }
   doc["orientation_deg"] = orientation;
-  doc[ws.planar ? "area_mm2" : "volume_mm3"] = {{"inside", ws.inside_measure},
-                                                {"boundary", ws.boundary_measure}};
+  doc[ws.planar ? "area_mm2" : "volume_mm3"] = {
+      {"inside", ws.inside_measure}, {"boundary", ws.boundary_measure}, {"estimate", ws.estimate}};
   doc["extent_mm"] = box_json(ws.extent);
   doc["largest_box_mm"] = box_json(ws.largest_box);
   if (ws.largest_cylinder) {
@@ -68,6 +68,7 @@ nlohmann::json to_json(const Workspace& ws) {
   }
   doc["limited_by"] = ws.limited_by;
   doc["cells_judged"] = ws.cells_judged;
+  doc["boxes_judged"] = ws.boxes_judged;
   doc["cells"] = {{"origin_mm", vector3(ws.origin_mm)},
                   {"step_mm", ws.resolution_mm},
                   {"dims", {ws.dims[0], ws.dims[1], ws.dims[2]}},
