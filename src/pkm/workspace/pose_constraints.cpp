@@ -50,6 +50,7 @@ class EnvelopeConstraint final : public PoseConstraint {
     return Status::outside(sides_[static_cast<std::size_t>(index)].axis);
   }
   bool covers_orientation() const override { return true; }
+  bool closed() const override { return true; }
 
  private:
   struct Side {
@@ -72,15 +73,11 @@ class JointLimitConstraint final : public PoseConstraint {
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     std::fill(margins.begin(), margins.end(), Margin{});
     const Kinematics& model = machine_.kinematics();
-    // A pass-through joint is its coordinate: exact, whether or not the mechanism reaches.
+    // Pass-through joints are PassThroughConstraint's.
     for (int joint = 0; joint < model.joint_count(); ++joint) {
-      const int axis = model.passthrough_axis(joint);
-      if (axis < 0) continue;
-      const JointSpec& spec = machine_.joints()[static_cast<std::size_t>(joint)];
-      const double q = cell.centre[axis], spread = cell.half[axis];
-      margins[static_cast<std::size_t>(2 * joint)] = {q - spread - spec.min, q + spread - spec.min};
-      margins[static_cast<std::size_t>(2 * joint + 1)] = {spec.max - q - spread,
-                                                          spec.max - q + spread};
+      if (model.passthrough_axis(joint) < 0) continue;
+      margins[static_cast<std::size_t>(2 * joint)] = {1.0, 1.0};
+      margins[static_cast<std::size_t>(2 * joint + 1)] = {1.0, 1.0};
     }
     if (!model.inverse_and_jacobian(Pose::from_vector(cell.centre), joints_, jacobian_).ok()) {
       return;
@@ -414,6 +411,7 @@ class PassThroughConstraint final : public PoseConstraint {
   }
   int count() const override { return 2 * static_cast<int>(joints_.size()); }
   bool covers_orientation() const override { return true; }
+  bool closed() const override { return true; }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     for (std::size_t k = 0; k < joints_.size(); ++k) {
       const int joint = joints_[k];
@@ -448,8 +446,8 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
     constraints.push_back(std::make_unique<EnvelopeConstraint>(machine));
   }
   const Kinematics& model = machine.kinematics();
+  constraints.push_back(std::make_unique<PassThroughConstraint>(machine));
   if (!has_hessian_bounds(machine)) {
-    constraints.push_back(std::make_unique<PassThroughConstraint>(machine));
     constraints.push_back(std::make_unique<SampledConstraint>(machine));
     return constraints;
   }
@@ -469,12 +467,10 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
     if (plotter->geometry().ideal()) {
       constraints.push_back(std::make_unique<CablePullConstraint>(plotter->geometry()));
     } else {
-      constraints.push_back(std::make_unique<PassThroughConstraint>(machine));
       constraints.push_back(std::make_unique<SampledConstraint>(machine));
     }
   } else if (dynamic_cast<const MatrixKinematics*>(&model) == nullptr) {
     // A rotary delta: its joints are bounded, its reach and assembly mode are sampled.
-    constraints.push_back(std::make_unique<PassThroughConstraint>(machine));
     constraints.push_back(std::make_unique<SampledConstraint>(machine));
   }
   return constraints;

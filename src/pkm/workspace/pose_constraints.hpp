@@ -44,6 +44,9 @@ class PoseConstraint {
   // searches the box itself, or does not depend on orientation): the cell's orientation box need
   // not be split for it.
   virtual bool covers_orientation() const { return false; }
+  // True when g = 0 is allowed (a joint at its limit, a coordinate on the envelope) and the
+  // bound is exact arithmetic on the cell's corners: low >= 0 then proves the cell.
+  virtual bool closed() const { return false; }
 };
 
 // Every constraint Machine::inverse applies, for this machine: the work envelope (exact), the

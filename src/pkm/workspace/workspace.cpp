@@ -230,6 +230,7 @@ Verdict judge(Worker& worker, const PoseCell& cell, Status& why, std::uint64_t* 
                                     static_cast<std::size_t>(constraint->count()));
     const std::uint64_t mine = offset < 64 ? known >> offset : 0;
     constraint->bound(cell, margins, mine);
+    const bool closed = constraint->closed();
     for (std::size_t k = 0; k < margins.size(); ++k) {
       const std::size_t bit = offset + k;
       if (bit < 64 && ((known >> bit) & 1u)) continue;
@@ -237,7 +238,7 @@ Verdict judge(Worker& worker, const PoseCell& cell, Status& why, std::uint64_t* 
         why = constraint->failure(static_cast<int>(k));
         return Verdict::outside;
       }
-      if (margins[k].low > 0.0) {
+      if (margins[k].low > 0.0 || (closed && margins[k].low >= 0.0)) {
         if (settled != nullptr && bit < 64) *settled |= std::uint64_t{1} << bit;
       } else if (verdict == Verdict::inside) {
         verdict = Verdict::undecided;
