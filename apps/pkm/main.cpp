@@ -73,6 +73,7 @@ int main(int argc, char** argv) {
   pkm::app::register_linuxcnc_commands(app);
   pkm::app::register_linuxcnc_import_commands(app);
   pkm::app::register_home_commands(app);
+  pkm::app::register_workspace_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

@@ -1,0 +1,182 @@
+// pkm workspace: the reachable workspace of a machine over an orientation range, with its
+// volume as proven bounds (docs/workspace.md).
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "app.hpp"
+#include "pkm/workspace/workspace.hpp"
+#include "pkm/workspace/workspace_json.hpp"
+
+namespace pkm::app {
+
+namespace {
+
+struct WorkspaceCommandOptions {
+  std::string machine;
+  std::string orientation;
+  double resolution_mm = 0.0;
+  bool json = false;
+  int threads = 2;
+};
+
+double parse_degrees(const std::string& text, const std::string& whole) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(value) || std::abs(value) > 360.0) {
+    throw CommandError("--orientation '" + whole + "': '" + text +
+                       "' is not an angle in degrees within +-360");
+  }
+  return value;
+}
+
+// "10" (+-10 deg about home on every angle the machine controls) or "a=-10:10,b=5,c=-2:2"
+// (absolute deg; an angle not named stays at home's).
+void read_orientation(const Machine& machine, const std::string& text,
+                      workspace::WorkspaceOptions& options) {
+  if (text.empty()) return;
+  if (text.find('=') == std::string::npos) {
+    const double spread = std::abs(parse_degrees(text, text));
+    for (int k = 0; k < 3; ++k) {
+      if (!machine.kinematics().dof().controls(3 + k)) continue;
+      options.orientation_min_rad[k] -= degrees_to_radians(spread);
+      options.orientation_max_rad[k] += degrees_to_radians(spread);
+    }
+    return;
+  }
+  std::stringstream parts(text);
+  std::string part;
+  while (std::getline(parts, part, ',')) {
+    const std::size_t equals = part.find('=');
+    const int axis = equals == std::string::npos ? -1 : axis_index(part.substr(0, equals));
+    if (axis < 3) {
+      throw CommandError("--orientation '" + text + "': '" + part +
+                         "' is not a=MIN:MAX, b=... or c=... (deg)");
+    }
+    if (!machine.kinematics().dof().controls(axis)) {
+      throw CommandError("--orientation '" + text + "': the machine does not control " +
+                         std::string(kAxisNames[axis]));
+    }
+    const std::string range = part.substr(equals + 1);
+    const std::size_t colon = range.find(':', 1);
+    const double lo = parse_degrees(range.substr(0, colon), text);
+    const double hi =
+        colon == std::string::npos ? lo : parse_degrees(range.substr(colon + 1), text);
+    if (lo > hi) throw CommandError("--orientation '" + text + "': " + part + " has min > max");
+    options.orientation_min_rad[axis - 3] = degrees_to_radians(lo);
+    options.orientation_max_rad[axis - 3] = degrees_to_radians(hi);
+  }
+}
+
+std::string box_text(const workspace::AxisBox& box, const std::array<bool, 3>& axes) {
+  std::string text;
+  char part[96];
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!axes[static_cast<std::size_t>(axis)]) continue;
+    std::snprintf(part, sizeof part, "%s%s %.1f..%.1f", text.empty() ? "" : " ",
+                  std::string(kAxisNames[axis]).c_str(), box.min_mm[axis], box.max_mm[axis]);
+    text += part;
+  }
+  return text + " mm";
+}
+
+void print_summary(const workspace::Workspace& ws) {
+  std::printf("%s: workspace at %g mm resolution", ws.machine.c_str(), ws.resolution_mm);
+  std::string angles;
+  for (int k = 0; k < 3; ++k) {
+    if (ws.orientation_max_rad[k] == ws.orientation_min_rad[k]) continue;
+    char part[80];
+    std::snprintf(part, sizeof part, " %s %g..%g", std::string(kAxisNames[3 + k]).c_str(),
+                  radians_to_degrees(ws.orientation_min_rad[k]),
+                  radians_to_degrees(ws.orientation_max_rad[k]));
+    angles += part;
+  }
+  std::printf("%s\n", angles.empty() ? "" : (", every orientation of" + angles + " deg").c_str());
+  const char* unit = ws.planar ? "mm^2" : "mm^3";
+  std::printf("%s: %.6g .. %.6g %s (proven inside .. inside + boundary cells)\n",
+              ws.planar ? "area" : "volume", ws.inside_measure,
+              ws.inside_measure + ws.boundary_measure, unit);
+  std::printf("estimate: %.6g %s (inside + the share of boundary cells' sample points reached)\n",
+              ws.estimate, unit);
+  if (ws.extent) std::printf("extent: %s\n", box_text(*ws.extent, ws.position_axes).c_str());
+  if (ws.largest_box) {
+    std::printf("largest box inside: %s\n", box_text(*ws.largest_box, ws.position_axes).c_str());
+  }
+  if (ws.largest_cylinder) {
+    const workspace::Cylinder& c = *ws.largest_cylinder;
+    std::printf("largest %s about z inside: centre x %.1f y %.1f, radius %.1f mm",
+                ws.planar ? "disk" : "cylinder", c.centre_mm.x(), c.centre_mm.y(), c.radius_mm);
+    if (!ws.planar) std::printf(", z %.1f..%.1f mm", c.z0_mm, c.z1_mm);
+    std::printf("\n");
+  }
+  std::string limits;
+  for (const auto& [name, count] : ws.limited_by) {
+    limits += (limits.empty() ? "" : ", ") + name + " " + std::to_string(count);
+  }
+  std::printf("limited by (outside and boundary cells): %s\n",
+              limits.empty() ? "nothing" : limits.c_str());
+  std::printf("cells: %zu inside, %zu boundary, %lld judged (%lld cells of poses)\n",
+              ws.inside.size(), ws.boundary.size(), static_cast<long long>(ws.cells_judged),
+              static_cast<long long>(ws.boxes_judged));
+  for (const std::string& note : ws.notes) std::printf("note: %s\n", note.c_str());
+}
+
+void run_workspace(const WorkspaceCommandOptions& options) {
+  const Machine machine = load_machine_or_default(options.machine);
+  workspace::WorkspaceOptions settings = workspace::default_options(machine);
+  read_orientation(machine, options.orientation, settings);
+  settings.resolution_mm = options.resolution_mm > 0.0 ? options.resolution_mm : 0.0;
+  if (settings.resolution_mm == 0.0) {
+    // A default that keeps about 200 steps across the reach through home.
+    const PoseBox reach = reach_box(machine);
+    double longest = 1.0;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (reach.axes.controls(axis)) longest = std::max(longest, reach.max[axis] - reach.min[axis]);
+    }
+    settings.resolution_mm = std::max(0.01, std::exp2(std::round(std::log2(longest / 200.0))));
+  }
+  settings.threads = options.threads;
+  workspace::Workspace ws;
+  try {
+    ws = workspace::compute_workspace(machine, settings);
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(error.what());
+  }
+  if (options.json) {
+    std::cout << workspace::to_json(ws).dump() << "\n";
+  } else {
+    print_summary(ws);
+  }
+}
+
+}  // namespace
+
+void register_workspace_commands(CLI::App& app) {
+  auto options = std::make_shared<WorkspaceCommandOptions>();
+  CLI::App* command = app.add_subcommand(
+      "workspace",
+      "The reachable workspace over an orientation range: volume (area) as proven bounds, "
+      "extent, largest box and cylinder, dexterity and joint-speed maps (docs/workspace.md)");
+  command->add_option("-m,--machine", options->machine,
+                      "Machine file (default: the embedded hexapod)");
+  command->add_option("--orientation", options->orientation,
+                      "Orientations every point must reach: DEG (+-DEG about home's on each "
+                      "controlled angle) or a=MIN:MAX,b=MIN:MAX,c=MIN:MAX (deg); default home's");
+  command
+      ->add_option("--resolution", options->resolution_mm,
+                   "Side of the finest cells, mm (the guaranteed resolution; default about "
+                   "1/200 of the reach through home)")
+      ->check(number_in(1e-3, 1e5));
+  command->add_option("--threads", options->threads, "Worker threads (default 2)")
+      ->check(CLI::Range(1, 64));
+  command->add_flag("--json", options->json, "Write the workspace as JSON to standard output");
+  command->callback([options] { run_workspace(*options); });
+}
+
+}  // namespace pkm::app

@@ -1,0 +1,479 @@
+// The constraints of Machine::inverse, bounded over a cell of poses (pose_constraints.hpp).
+#include "pkm/workspace/pose_constraints.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/glide.hpp"
+#include "pkm/kinematics/hexapod.hpp"
+#include "pkm/kinematics/matrix.hpp"
+#include "pkm/post/deviation_bound.hpp"
+
+namespace pkm::workspace {
+
+namespace {
+
+// The cell's half-diagonal over its positions (mm).
+double position_radius(const PoseCell& cell) {
+  return cell.half.head<3>().norm();
+}
+
+// The cell's half-diagonal in the scaled pose norm (rotations weigh angle_scale_mm per rad).
+double scaled_radius(const PoseCell& cell, double angle_scale_mm) {
+  return std::hypot(cell.half.head<3>().norm(), angle_scale_mm * cell.half.tail<3>().norm());
+}
+
+// [cartesian] min and max on each controlled coordinate: exact over a box.
+class EnvelopeConstraint final : public PoseConstraint {
+ public:
+  explicit EnvelopeConstraint(const Machine& machine) {
+    const CartesianLimits& limits = machine.cartesian();
+    for (int axis = 0; axis < kPoseSize; ++axis) {
+      if (!machine.kinematics().dof().controls(axis)) continue;
+      if (std::isfinite(limits.envelope_min[axis]))
+        sides_.push_back({axis, -1, limits.envelope_min[axis]});
+      if (std::isfinite(limits.envelope_max[axis]))
+        sides_.push_back({axis, +1, limits.envelope_max[axis]});
+    }
+  }
+  int count() const override { return static_cast<int>(sides_.size()); }
+  void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
+    for (std::size_t k = 0; k < sides_.size(); ++k) {
+      const Side& side = sides_[k];
+      // g = max - x (side +1) or x - min (side -1).
+      const double at_centre = side.sign * (side.limit - cell.centre[side.axis]);
+      margins[k] = {at_centre - cell.half[side.axis], at_centre + cell.half[side.axis]};
+    }
+  }
+  Status failure(int index) const override {
+    return Status::outside(sides_[static_cast<std::size_t>(index)].axis);
+  }
+  bool covers_orientation() const override { return true; }
+  bool closed() const override { return true; }
+
+ private:
+  struct Side {
+    int axis;
+    int sign;
+    double limit;
+  };
+  std::vector<Side> sides_;
+};
+
+// Each joint within [min, max]: q(x) lies within q(c) + J(c)(x - c) +- H r^2 / 2 over the cell,
+// H the bound on the Hessian's norm over the ball of radius r (the cell's scaled half-diagonal)
+// that post::inverse_hessian_bounds gives, the linear part bounded exactly over the box.
+// Infinite H (the ball reaches a singularity or leaves the model's reach) bounds nothing.
+class JointLimitConstraint final : public PoseConstraint {
+ public:
+  explicit JointLimitConstraint(const Machine& machine)
+      : machine_(machine), scale_(post::pose_angle_scale_mm(machine.kinematics())) {}
+  int count() const override { return 2 * machine_.kinematics().joint_count(); }
+  void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
+    std::fill(margins.begin(), margins.end(), Margin{});
+    const Kinematics& model = machine_.kinematics();
+    // Pass-through joints are PassThroughConstraint's.
+    for (int joint = 0; joint < model.joint_count(); ++joint) {
+      if (model.passthrough_axis(joint) < 0) continue;
+      margins[static_cast<std::size_t>(2 * joint)] = {1.0, 1.0};
+      margins[static_cast<std::size_t>(2 * joint + 1)] = {1.0, 1.0};
+    }
+    if (!model.inverse_and_jacobian(Pose::from_vector(cell.centre), joints_, jacobian_).ok()) {
+      return;
+    }
+    const double r = scaled_radius(cell, scale_);
+    const std::optional<post::HessianBounds> curvature =
+        post::inverse_hessian_bounds(model, cell.centre, r, scale_, post::Chord{});
+    if (!curvature) return;
+    for (int joint = 0; joint < model.joint_count(); ++joint) {
+      if (model.passthrough_axis(joint) >= 0) continue;
+      const double curved = 0.5 * curvature->norm[static_cast<std::size_t>(joint)] * r * r;
+      if (!std::isfinite(curved) || !std::isfinite(joints_[joint])) continue;
+      const double spread = jacobian_.row(joint).cwiseAbs().dot(cell.half) + curved;
+      const JointSpec& spec = machine_.joints()[static_cast<std::size_t>(joint)];
+      const double q = joints_[joint];
+      margins[static_cast<std::size_t>(2 * joint)] = {q - spread - spec.min, q + spread - spec.min};
+      margins[static_cast<std::size_t>(2 * joint + 1)] = {spec.max - q - spread,
+                                                          spec.max - q + spread};
+    }
+  }
+  Status failure(int index) const override {
+    return Status::failure(StatusCode::joint_limit, index / 2);
+  }
+
+ private:
+  const Machine& machine_;
+  double scale_;
+  mutable JointVector joints_;
+  mutable JointJacobian jacobian_;
+};
+
+// A glide's strut reaches its rail: g = L - |u|, u the part of the platform point w - o across
+// the rail. |u| is 1-Lipschitz in w, and w moves at most `platform_point_gain` times the
+// scaled pose change (the identity for a translating platform).
+class GlideReachConstraint final : public PoseConstraint {
+ public:
+  explicit GlideReachConstraint(const GlideKinematics& model)
+      : model_(model), scale_(post::pose_angle_scale_mm(model)) {}
+  int count() const override { return static_cast<int>(model_.rails().size()); }
+  void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
+    const bool rotating = model_.rail_dof().any_rotation();
+    const Eigen::Matrix3d rotation = rotating
+                                         ? rotation_from_abc(Eigen::Vector3d(cell.centre.tail<3>()))
+                                         : Eigen::Matrix3d::Identity();
+    Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+    for (int axis = 0; axis < 3; ++axis) {
+      if (model_.rail_dof().controls(axis)) tip[axis] = cell.centre[axis];
+    }
+    const double r = scaled_radius(cell, scale_);
+    for (std::size_t i = 0; i < model_.rails().size(); ++i) {
+      const GlideRail& rail = model_.rails()[i];
+      const Eigen::Vector3d relative = tip + rotation * rail.attach_mm - rail.origin_mm;
+      const double across = (relative - rail.direction.dot(relative) * rail.direction).norm();
+      const double gain =
+          rotating ? std::sqrt(1.0 + 3.0 * std::pow(rail.attach_mm.norm() / scale_, 2)) : 1.0;
+      const double change = rotating ? gain * r : position_radius(cell);
+      margins[i] = {rail.strut_mm - across - change, rail.strut_mm - across + change};
+    }
+  }
+  Status failure(int index) const override {
+    return Status::failure(StatusCode::unreachable, index);
+  }
+
+ private:
+  const GlideKinematics& model_;
+  double scale_;
+};
+
+// A translating glide stays in home's assembly mode: g = mode * det[struts] / (L1 L2 L3) (the
+// 2-D cross product for two rails). Each strut vector s_i = w - o_i - q_i d_i keeps its length
+// L_i and moves at most L_i / f_i per mm of the tip, f_i = sqrt(L_i^2 - |u_i|^2) its part along
+// the rail, so the normalised determinant moves at most sum 1 / f_i,min per mm.
+class GlideAssemblyConstraint final : public PoseConstraint {
+ public:
+  GlideAssemblyConstraint(const GlideKinematics& model, int home_mode)
+      : model_(model), home_mode_(home_mode) {}
+  int count() const override { return 1; }
+  void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
+    margins[0] = Margin{};
+    const int rails = static_cast<int>(model_.rails().size());
+    const Pose centre = Pose::from_vector(cell.centre);
+    Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+    for (int axis = 0; axis < 3; ++axis) {
+      if (model_.rail_dof().controls(axis)) tip[axis] = cell.centre[axis];
+    }
+    if (!model_.inverse(centre, joints_).ok()) return;
+    const double rho = position_radius(cell);
+    std::array<Eigen::Vector3d, 3> strut;
+    double lengths = 1.0, rate = 0.0;
+    for (int i = 0; i < rails; ++i) {
+      const GlideRail& rail = model_.rails()[static_cast<std::size_t>(i)];
+      strut[static_cast<std::size_t>(i)] =
+          tip + rail.attach_mm - rail.origin_mm - joints_[i] * rail.direction;
+      const Eigen::Vector3d relative = tip + rail.attach_mm - rail.origin_mm;
+      const double widest = (relative - rail.direction.dot(relative) * rail.direction).norm() + rho;
+      if (!(widest < rail.strut_mm)) return;
+      rate += 1.0 / std::sqrt(rail.strut_mm * rail.strut_mm - widest * widest);
+      lengths *= rail.strut_mm;
+    }
+    double determinant = 0.0;
+    if (rails == 3) {
+      determinant = strut[0].dot(strut[1].cross(strut[2]));
+    } else {
+      int plane[2] = {0, 1};
+      for (int axis = 0, n = 0; axis < 3 && n < 2; ++axis) {
+        if (model_.rail_dof().controls(axis)) plane[n++] = axis;
+      }
+      determinant =
+          strut[0][plane[0]] * strut[1][plane[1]] - strut[0][plane[1]] * strut[1][plane[0]];
+    }
+    const double g = home_mode_ * determinant / lengths;
+    margins[0] = {g - rate * rho, g + rate * rho};
+  }
+  Status failure(int) const override { return Status::failure(StatusCode::other_assembly); }
+
+ private:
+  const GlideKinematics& model_;
+  int home_mode_;
+  mutable JointVector joints_;
+};
+
+// A hexapod stays in home's assembly mode (platform normal up): cos a cos b > 0, bounded over
+// the cell's angle intervals (cos on [lo, hi] within (-pi, pi) is least at an end).
+class HexapodAssemblyConstraint final : public PoseConstraint {
+ public:
+  int count() const override { return 1; }
+  void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
+    const auto least_cos = [&](int axis) {
+      const double lo = cell.centre[axis] - cell.half[axis],
+                   hi = cell.centre[axis] + cell.half[axis];
+      if (lo <= -M_PI || hi >= M_PI) return -1.0;
+      return std::min(std::cos(lo), std::cos(hi));
+    };
+    const double a = least_cos(3), b = least_cos(4);
+    margins[0] = {a > 0.0 && b > 0.0 ? a * b : -1.0, 1.0};
+  }
+  Status failure(int) const override { return Status::failure(StatusCode::other_assembly); }
+  bool covers_orientation() const override { return true; }
+};
+
+// An ideal hanging plotter's cables both pull: the pen strictly between the anchors' verticals
+// and below the line through them (both anchors of the pen's weight then lean up). Three
+// linear functions of the pen, bounded exactly over the box.
+class CablePullConstraint final : public PoseConstraint {
+ public:
+  explicit CablePullConstraint(const CablePlotterGeometry& geometry)
+      : left_(geometry.anchors_mm[0]), right_(geometry.anchors_mm[1]) {}
+  int count() const override { return 3; }
+  void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
+    const Eigen::Vector2d pen = cell.centre.head<2>();
+    const Eigen::Vector2d half = cell.half.head<2>();
+    margins[0] = {pen.x() - left_.x() - half.x(), pen.x() - left_.x() + half.x()};
+    margins[1] = {right_.x() - pen.x() - half.x(), right_.x() - pen.x() + half.x()};
+    // Distance below the line from the left anchor to the right one.
+    const Eigen::Vector2d along = (right_ - left_).normalized();
+    const Eigen::Vector2d down(along.y(), -along.x());
+    const double below = down.dot(pen - left_);
+    const double spread = std::abs(down.x()) * half.x() + std::abs(down.y()) * half.y();
+    margins[2] = {below - spread, below + spread};
+  }
+  bool covers_orientation() const override { return true; }
+  Status failure(int index) const override {
+    // The cable on the far side would push: inverse names it (right of the right anchor: 0).
+    if (index == 2) return Status::failure(StatusCode::unreachable);
+    return Status::failure(StatusCode::unreachable, index == 0 ? 1 : 0);
+  }
+
+ private:
+  Eigen::Vector2d left_, right_;
+};
+
+// The largest value over a box of orientations of sign * s(theta), s = v . R(theta) b, bracketed
+// by branch and bound: each box's value and gradient at its middle, plus |v| |b| (sum of its
+// half-widths)^2 / 2 (every second derivative of R b has norm <= |b|). Stops early once the
+// best value found passes `above` or every box's upper bound is at most `below`; boxes within
+// `tolerance` of the best are not split further.
+struct Bracket {
+  double lo = -INFINITY, hi = INFINITY;
+};
+
+Bracket largest_over_orientations(const Eigen::Vector3d& v, const Eigen::Vector3d& b, double sign,
+                                  const Eigen::Vector3d& centre, const Eigen::Vector3d& half,
+                                  double above, double below, double tolerance) {
+  constexpr int kMaxBoxes = 4096;
+  const double curvature = 0.5 * v.norm() * b.norm();
+  struct Box {
+    Eigen::Vector3d centre, half;
+  };
+  std::array<Box, 64> stack;  // depth-first: at most one pending sibling per level
+  int size = 0;
+  stack[static_cast<std::size_t>(size++)] = {centre, half};
+  double best = -INFINITY, closed = -INFINITY;
+  Eigen::Matrix3d rotation;
+  std::array<Eigen::Matrix3d, 3> derivatives;
+  for (int boxes = 0; size > 0; ++boxes) {
+    const Box box = stack[static_cast<std::size_t>(--size)];
+    rotation_and_derivatives_abc(box.centre, rotation, derivatives);
+    const double value = sign * v.dot(rotation * b);
+    double upper = value;
+    for (int k = 0; k < 3; ++k)
+      upper += std::abs(v.dot(derivatives[static_cast<std::size_t>(k)] * b)) * box.half[k];
+    const double width = box.half.sum();
+    upper += curvature * width * width;
+    best = std::max(best, value);
+    if (best > above) return {best, INFINITY};
+    int widest = 0;
+    box.half.maxCoeff(&widest);
+    if (upper <= below || upper - best <= tolerance || box.half[widest] <= 0.0 ||
+        boxes >= kMaxBoxes || size + 2 > static_cast<int>(stack.size())) {
+      closed = std::max(closed, upper);
+      continue;
+    }
+    Box first = box, second = box;
+    first.half[widest] = second.half[widest] = 0.5 * box.half[widest];
+    first.centre[widest] -= first.half[widest];
+    second.centre[widest] += second.half[widest];
+    stack[static_cast<std::size_t>(size++)] = first;
+    stack[static_cast<std::size_t>(size++)] = second;
+  }
+  return {best, std::max(best, closed)};
+}
+
+// Each hexapod leg within [min, max] for every orientation of the cell. A leg's length
+// |t + R b - a| is 1-Lipschitz in the position t for every R, so its largest (smallest) value
+// over the cell's orientations is too: bracketed at the cell's middle position by
+// largest_over_orientations, it moves at most the cell's half-diagonal over the cell. No
+// orientation box needs splitting; the branch and bound searches it.
+class HexapodLegConstraint final : public PoseConstraint {
+ public:
+  HexapodLegConstraint(const Machine& machine, const HexapodKinematics& model)
+      : machine_(machine), geometry_(model.geometry()) {}
+  int count() const override { return 12; }
+  bool covers_orientation() const override { return true; }
+  void bound(const PoseCell& cell, std::span<Margin> margins,
+             std::uint64_t settled) const override {
+    const double rho = position_radius(cell);
+    const Eigen::Vector3d angles = cell.centre.tail<3>(), spread = cell.half.tail<3>();
+    for (std::size_t i = 0; i < 6; ++i) {
+      if (((settled >> (2 * i)) & 3u) == 3u) continue;
+      const Eigen::Vector3d b =
+          geometry_.platform_mm[i] + Eigen::Vector3d(0.0, 0.0, geometry_.tool_length_mm);
+      const Eigen::Vector3d v = cell.centre.head<3>() - geometry_.base_mm[i];
+      const double offset = geometry_.leg_offset_mm[i];
+      const double longest = machine_.joints()[i].max - offset;
+      const double shortest = machine_.joints()[i].min - offset;
+      const double base = v.squaredNorm() + b.squaredNorm();
+      // Leg length (less its offset) as a function of s = v . R b, and its inverse.
+      const auto length = [&](double s) { return std::sqrt(std::max(0.0, base + 2.0 * s)); };
+      const auto s_at = [&](double l) { return 0.5 * (l * std::max(l, 0.0) - base); };
+      const double tolerance = 0.5 * rho * std::max(std::abs(v.norm() - b.norm()), 1.0);
+      const Bracket most = largest_over_orientations(v, b, 1.0, angles, spread, s_at(longest + rho),
+                                                     s_at(longest - rho), tolerance);
+      margins[2 * i + 1] = {longest - length(most.hi) - rho, longest - length(most.lo) + rho};
+      // The smallest length: the largest of -s.
+      const Bracket least = largest_over_orientations(v, b, -1.0, angles, spread,
+                                                      -s_at(std::max(shortest - rho, 0.0)),
+                                                      -s_at(shortest + rho), tolerance);
+      margins[2 * i] = {length(-least.hi) - rho - shortest, length(-least.lo) + rho - shortest};
+    }
+  }
+  Status failure(int index) const override {
+    return Status::failure(StatusCode::joint_limit, index / 2);
+  }
+
+ private:
+  const Machine& machine_;
+  HexapodGeometry geometry_;
+};
+
+// Machine::inverse at the cell's centre and every corner: low 1 when all are ok, high -1 when
+// all fail, else [-1, 1]. Not a proof: what it says holds at the samples.
+class SampledConstraint final : public PoseConstraint {
+ public:
+  explicit SampledConstraint(const Machine& machine) : machine_(machine) {
+    const Kinematics& model = machine.kinematics();
+    for (int joint = 0; joint < model.joint_count(); ++joint) {
+      const int axis = model.passthrough_axis(joint);
+      const JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
+      if (axis >= 0) passthrough_.push_back({axis, {spec.min, spec.max}});
+    }
+  }
+  int count() const override { return 1; }
+  bool proven() const override { return false; }
+  void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
+    std::array<int, kPoseSize> spread{};
+    int n = 0;
+    for (int axis = 0; axis < kPoseSize; ++axis) {
+      if (cell.half[axis] > 0.0) spread[static_cast<std::size_t>(n++)] = axis;
+    }
+    bool any_ok = false, any_failed = false;
+    for (unsigned corner = 0; corner <= (1u << n); ++corner) {
+      Vector6d pose = cell.centre;
+      if (corner < (1u << n)) {
+        for (int k = 0; k < n; ++k) {
+          const int axis = spread[static_cast<std::size_t>(k)];
+          pose[axis] += ((corner >> k) & 1u) ? cell.half[axis] : -cell.half[axis];
+        }
+      }
+      // Pass-through coordinates are judged exactly by PassThroughConstraint: the samples ask
+      // about the mechanism only.
+      for (const auto& [axis, range] : passthrough_)
+        pose[axis] = std::clamp(pose[axis], range[0], range[1]);
+      const Status status = machine_.inverse(Pose::from_vector(pose), joints_);
+      if (status.ok()) {
+        any_ok = true;
+      } else {
+        any_failed = true;
+        last_failure_ = status;
+      }
+    }
+    margins[0] = {any_failed ? -1.0 : 1.0, any_ok ? 1.0 : -1.0};
+  }
+  Status failure(int) const override { return last_failure_; }
+
+ private:
+  const Machine& machine_;
+  std::vector<std::pair<int, std::array<double, 2>>> passthrough_;  // axis, joint's [min, max]
+  mutable JointVector joints_;
+  mutable Status last_failure_;
+};
+
+// Pass-through joints (a plotter's Z) within their limits: each is its coordinate, exact.
+class PassThroughConstraint final : public PoseConstraint {
+ public:
+  explicit PassThroughConstraint(const Machine& machine) {
+    const Kinematics& model = machine.kinematics();
+    for (int joint = 0; joint < model.joint_count(); ++joint) {
+      if (model.passthrough_axis(joint) >= 0) joints_.push_back(joint);
+    }
+    machine_ = &machine;
+  }
+  int count() const override { return 2 * static_cast<int>(joints_.size()); }
+  bool covers_orientation() const override { return true; }
+  bool closed() const override { return true; }
+  void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
+    for (std::size_t k = 0; k < joints_.size(); ++k) {
+      const int joint = joints_[k];
+      const int axis = machine_->kinematics().passthrough_axis(joint);
+      const JointSpec& spec = machine_->joints()[static_cast<std::size_t>(joint)];
+      const double q = cell.centre[axis], spread = cell.half[axis];
+      margins[2 * k] = {q - spread - spec.min, q + spread - spec.min};
+      margins[2 * k + 1] = {spec.max - q - spread, spec.max - q + spread};
+    }
+  }
+  Status failure(int index) const override {
+    return Status::failure(StatusCode::joint_limit, joints_[static_cast<std::size_t>(index / 2)]);
+  }
+
+ private:
+  const Machine* machine_ = nullptr;
+  std::vector<int> joints_;
+};
+
+bool has_hessian_bounds(const Machine& machine) {
+  const Kinematics& model = machine.kinematics();
+  return post::inverse_hessian_bounds(model, machine.home().as_vector(), 0.0,
+                                      post::pose_angle_scale_mm(model), post::Chord{})
+      .has_value();
+}
+
+}  // namespace
+
+std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& machine) {
+  std::vector<std::unique_ptr<PoseConstraint>> constraints;
+  if (machine.cartesian().has_envelope()) {
+    constraints.push_back(std::make_unique<EnvelopeConstraint>(machine));
+  }
+  const Kinematics& model = machine.kinematics();
+  constraints.push_back(std::make_unique<PassThroughConstraint>(machine));
+  if (!has_hessian_bounds(machine)) {
+    constraints.push_back(std::make_unique<SampledConstraint>(machine));
+    return constraints;
+  }
+  const int home_mode = model.assembly_mode(machine.home());
+  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
+    constraints.push_back(std::make_unique<HexapodLegConstraint>(machine, *hexapod));
+    constraints.push_back(std::make_unique<HexapodAssemblyConstraint>());
+    return constraints;
+  }
+  constraints.push_back(std::make_unique<JointLimitConstraint>(machine));
+  if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
+    constraints.push_back(std::make_unique<GlideReachConstraint>(*glide));
+    if (home_mode != 0) {
+      constraints.push_back(std::make_unique<GlideAssemblyConstraint>(*glide, home_mode));
+    }
+  } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
+    if (plotter->geometry().ideal()) {
+      constraints.push_back(std::make_unique<CablePullConstraint>(plotter->geometry()));
+    } else {
+      constraints.push_back(std::make_unique<SampledConstraint>(machine));
+    }
+  } else if (dynamic_cast<const MatrixKinematics*>(&model) == nullptr) {
+    // A rotary delta: its joints are bounded, its reach and assembly mode are sampled.
+    constraints.push_back(std::make_unique<SampledConstraint>(machine));
+  }
+  return constraints;
+}
+
+}  // namespace pkm::workspace

@@ -1,0 +1,634 @@
+// The octree refinement of the reachable workspace (workspace.hpp; the argument is in
+// docs/workspace.md).
+#include "pkm/workspace/workspace.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/glide.hpp"
+#include "pkm/kinematics/hexapod.hpp"
+#include "pkm/kinematics/matrix.hpp"
+#include "pkm/post/deviation_bound.hpp"
+#include "pkm/workspace/inscribed.hpp"
+#include "pkm/workspace/plane_maps.hpp"
+#include "pkm/workspace/pose_constraints.hpp"
+
+namespace pkm::workspace {
+
+WorkspaceOptions default_options(const Machine& machine) {
+  WorkspaceOptions options;
+  options.orientation_min_rad = machine.home().orientation_rad;
+  options.orientation_max_rad = machine.home().orientation_rad;
+  return options;
+}
+
+namespace {
+
+AxisBox box_around(const Eigen::Vector3d& centre, double half_mm) {
+  return {centre.array() - half_mm, centre.array() + half_mm};
+}
+
+void intersect(AxisBox& box, const AxisBox& other) {
+  box.min_mm = box.min_mm.cwiseMax(other.min_mm);
+  box.max_mm = box.max_mm.cwiseMin(other.max_mm);
+}
+
+// Every leg reaches at most its max: the tip is within max - offset + |platform point + tool| of
+// each base joint.
+AxisBox hexapod_box(const HexapodKinematics& model, const Machine& machine) {
+  const HexapodGeometry& g = model.geometry();
+  AxisBox box = box_around(Eigen::Vector3d::Zero(), INFINITY);
+  for (std::size_t i = 0; i < 6; ++i) {
+    const double reach = machine.joints()[i].max - g.leg_offset_mm[i] +
+                         (g.platform_mm[i] + Eigen::Vector3d(0.0, 0.0, g.tool_length_mm)).norm();
+    intersect(box, box_around(g.base_mm[i], std::max(reach, 0.0)));
+  }
+  return box;
+}
+
+// Each strut's platform end lies within its length of its carriage, the carriage on its rail
+// between the joint's limits; the tip is the platform end less the attachment (its length for
+// a rotating platform).
+AxisBox glide_box(const GlideKinematics& model, const Machine& machine) {
+  AxisBox box = box_around(Eigen::Vector3d::Zero(), INFINITY);
+  const bool rotating = model.rail_dof().any_rotation();
+  for (std::size_t i = 0; i < model.rails().size(); ++i) {
+    const GlideRail& rail = model.rails()[i];
+    const Eigen::Vector3d a = rail.origin_mm + machine.joints()[i].min * rail.direction;
+    const Eigen::Vector3d b = rail.origin_mm + machine.joints()[i].max * rail.direction;
+    const double spread = rail.strut_mm + (rotating ? rail.attach_mm.norm() : 0.0);
+    const Eigen::Vector3d shift = rotating ? Eigen::Vector3d::Zero() : rail.attach_mm;
+    intersect(box, {a.cwiseMin(b).array() - spread - shift.array(),
+                    a.cwiseMax(b).array() + spread - shift.array()});
+  }
+  return box;
+}
+
+// Each cable is at most its max (less its offset) plus what wraps a pulley and the gondola's
+// attachment, from its anchor.
+AxisBox cable_box(const CablePlotterKinematics& model, const Machine& machine) {
+  const CablePlotterGeometry& g = model.geometry();
+  AxisBox box = box_around(Eigen::Vector3d::Zero(), INFINITY);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const double reach = machine.joints()[i].max - g.cable_offsets_mm[i] +
+                         2.0 * M_PI * g.pulley_radius_mm + g.attach_mm[i].norm() +
+                         g.center_of_mass_mm.norm();
+    intersect(box, box_around(Eigen::Vector3d(g.anchors_mm[i].x(), g.anchors_mm[i].y(), 0.0),
+                              std::max(reach, 0.0)));
+  }
+  return box;
+}
+
+// Joints = C x: the box of C^-1 over the corners of the joints' box.
+AxisBox matrix_box(const MatrixKinematics& model, const Machine& machine) {
+  JointJacobian jacobian;
+  (void)model.jacobian(machine.home(), jacobian);
+  const Eigen::Matrix3d inverse = jacobian.block<3, 3>(0, 0).inverse();
+  AxisBox box{Eigen::Vector3d::Constant(INFINITY), Eigen::Vector3d::Constant(-INFINITY)};
+  for (int corner = 0; corner < 8; ++corner) {
+    Eigen::Vector3d joints;
+    for (int k = 0; k < 3; ++k) {
+      const JointSpec& spec = machine.joints()[static_cast<std::size_t>(k)];
+      joints[k] = ((corner >> k) & 1) ? spec.max : spec.min;
+    }
+    const Eigen::Vector3d x = inverse * joints;
+    box.min_mm = box.min_mm.cwiseMin(x);
+    box.max_mm = box.max_mm.cwiseMax(x);
+  }
+  return box;
+}
+
+// Pass-through joints copy their axis: its range is the joint's.
+void cut_by_passthrough(const Machine& machine, AxisBox& box) {
+  const Kinematics& model = machine.kinematics();
+  for (int joint = 0; joint < model.joint_count(); ++joint) {
+    const int axis = model.passthrough_axis(joint);
+    if (axis < 0 || axis >= 3) continue;
+    const JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
+    box.min_mm[axis] = std::max(box.min_mm[axis], spec.min);
+    box.max_mm[axis] = std::min(box.max_mm[axis], spec.max);
+  }
+}
+
+}  // namespace
+
+SearchBox search_box(const Machine& machine, const WorkspaceOptions& /*options*/) {
+  const Kinematics& model = machine.kinematics();
+  SearchBox result{box_around(Eigen::Vector3d::Zero(), INFINITY), true};
+  AxisBox& box = result.box;
+  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
+    box = hexapod_box(*hexapod, machine);
+  } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
+    box = glide_box(*glide, machine);
+  } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
+    box = cable_box(*plotter, machine);
+  } else if (const auto* matrix = dynamic_cast<const MatrixKinematics*>(&model)) {
+    box = matrix_box(*matrix, machine);
+  }
+  cut_by_passthrough(machine, box);
+  const CartesianLimits& limits = machine.cartesian();
+  for (int axis = 0; axis < 3; ++axis) {
+    box.min_mm[axis] = std::max(box.min_mm[axis], limits.envelope_min[axis]);
+    box.max_mm[axis] = std::min(box.max_mm[axis], limits.envelope_max[axis]);
+  }
+  // What is still open: the extent along lines through home, widened by half on each side.
+  const std::vector<AxisExtent> extent = reachable_extent(machine);
+  for (const AxisExtent& line : extent) {
+    if (line.axis >= 3) continue;
+    if (std::isfinite(box.min_mm[line.axis]) && std::isfinite(box.max_mm[line.axis])) continue;
+    const double widen = 0.5 * (line.max - line.min) + 1.0;
+    if (!std::isfinite(box.min_mm[line.axis])) box.min_mm[line.axis] = line.min - widen;
+    if (!std::isfinite(box.max_mm[line.axis])) box.max_mm[line.axis] = line.max + widen;
+    result.proven = false;
+  }
+  return result;
+}
+
+namespace {
+
+// A box of orientations (rad): centre +- half on a b c.
+struct OrientationBox {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d half = Eigen::Vector3d::Zero();
+  // Constraint values proven over this box and a position cell holding the current one.
+  std::uint64_t settled = 0;
+};
+
+enum class Verdict { inside, outside, undecided };
+
+// One thread's machine, constraints and findings.
+struct Worker {
+  explicit Worker(const Machine& original) : machine(original) {
+    constraints = machine_constraints(machine);
+    int total = 0;
+    for (const auto& constraint : constraints) total += constraint->count();
+    margins.resize(static_cast<std::size_t>(total));
+  }
+  Machine machine;
+  std::vector<std::unique_ptr<PoseConstraint>> constraints;
+  std::vector<Margin> margins;
+  std::vector<CellIndex> inside, boundary;
+  std::map<std::string, std::int64_t> limited_by;
+  std::int64_t judged = 0;
+  std::int64_t poses_judged = 0;
+  double estimated_boundary = 0.0;
+  std::int64_t unbounded_refusals = 0;  // cells proven inside whose middle inverse() refused  //
+                                        // measure of the boundary cells whose centre samples pass
+  int dimensions = 0;
+};
+
+// The grid, shared read-only by the workers.
+struct Grid {
+  Eigen::Vector3d origin_mm = Eigen::Vector3d::Zero();
+  double step_mm = 1.0;
+  std::array<bool, 3> spans{};
+  Eigen::Vector3d fixed = Eigen::Vector3d::Zero();  // the coordinates of axes not spanned
+  double angle_scale_mm = 100.0;
+  bool split_orientation = true;  // false when every constraint searches the orientation box
+  OrientationBox range;           // the whole orientation range
+  std::atomic<std::int64_t>* judged = nullptr;
+  std::int64_t max_cells = 0;
+};
+
+// The JSON key of a status: its code as an identifier ("joint_limit", "outside_envelope"); codes
+// this file does not name take status_name with spaces as underscores.
+std::string status_key(StatusCode code) {
+  switch (code) {
+    case StatusCode::joint_limit:
+      return "joint_limit";
+    case StatusCode::other_assembly:
+      return "other_assembly";
+    case StatusCode::outside_envelope:
+      return "outside_envelope";
+    case StatusCode::invalid_input:
+      return "invalid_input";
+    case StatusCode::not_converged:
+      return "not_converged";
+    default: {
+      std::string key(status_name(code));
+      for (char& c : key) c = c == ' ' ? '_' : c;
+      return key;
+    }
+  }
+}
+
+// `settled`: the constraint values (bit per value, in the order of worker.margins) proven over a
+// cell holding this one; those proven here are added to it.
+Verdict judge(Worker& worker, const PoseCell& cell, Status& why, std::uint64_t* settled = nullptr) {
+  ++worker.poses_judged;
+  Verdict verdict = Verdict::inside;
+  std::size_t offset = 0;
+  const std::uint64_t known = settled != nullptr ? *settled : 0;
+  for (const auto& constraint : worker.constraints) {
+    const std::span<Margin> margins(worker.margins.data() + offset,
+                                    static_cast<std::size_t>(constraint->count()));
+    const std::uint64_t mine = offset < 64 ? known >> offset : 0;
+    constraint->bound(cell, margins, mine);
+    const bool closed = constraint->closed();
+    for (std::size_t k = 0; k < margins.size(); ++k) {
+      const std::size_t bit = offset + k;
+      if (bit < 64 && ((known >> bit) & 1u)) continue;
+      if (margins[k].high < 0.0) {
+        why = constraint->failure(static_cast<int>(k));
+        return Verdict::outside;
+      }
+      if (margins[k].low > 0.0 || (closed && margins[k].low >= 0.0)) {
+        if (settled != nullptr && bit < 64) *settled |= std::uint64_t{1} << bit;
+      } else if (verdict == Verdict::inside) {
+        verdict = Verdict::undecided;
+        why = constraint->failure(static_cast<int>(k));
+      }
+    }
+    offset += margins.size();
+  }
+  return verdict;
+}
+
+PoseCell position_cell(const Grid& grid, const CellIndex& cell) {
+  PoseCell pose;
+  const double side = grid.step_mm * std::ldexp(1.0, cell.level);
+  for (int axis = 0; axis < 3; ++axis) {
+    if (grid.spans[static_cast<std::size_t>(axis)]) {
+      pose.centre[axis] = grid.origin_mm[axis] +
+                          grid.step_mm * cell.at[static_cast<std::size_t>(axis)] + 0.5 * side;
+      pose.half[axis] = 0.5 * side;
+    } else {
+      pose.centre[axis] = grid.fixed[axis];
+    }
+  }
+  return pose;
+}
+
+// The undecided orientation boxes of a position cell, split while they are wider (scaled) than
+// the cell; `outside` set (with why) when some orientation fails for every point of the cell.
+struct Settling {
+  std::vector<OrientationBox> open;
+  bool outside = false;
+  Status why;
+};
+
+void settle(Worker& worker, const Grid& grid, PoseCell cell, OrientationBox box,
+            Settling& settling) {
+  cell.centre.tail<3>() = box.centre;
+  cell.half.tail<3>() = box.half;
+  Status why;
+  const Verdict verdict = judge(worker, cell, why, &box.settled);
+  if (verdict == Verdict::inside) return;
+  if (verdict == Verdict::outside) {
+    settling.outside = true;
+    settling.why = why;
+    return;
+  }
+  // Undecided: split while the box is wider (scaled) than the position cell, whose own size
+  // bounds what a finer box can settle.
+  const double position_radius = cell.half.head<3>().norm();
+  const double angle_radius = grid.angle_scale_mm * box.half.norm();
+  if (grid.split_orientation && angle_radius > position_radius) {
+    std::array<int, 3> spread{};
+    int n = 0;
+    for (int k = 0; k < 3; ++k) {
+      if (box.half[k] > 0.0) spread[static_cast<std::size_t>(n++)] = k;
+    }
+    for (unsigned part = 0; part < (1u << n) && !settling.outside; ++part) {
+      OrientationBox piece = box;
+      for (int k = 0; k < n; ++k) {
+        const int axis = spread[static_cast<std::size_t>(k)];
+        piece.half[axis] = 0.5 * box.half[axis];
+        piece.centre[axis] += ((part >> k) & 1u) ? piece.half[axis] : -piece.half[axis];
+      }
+      settle(worker, grid, cell, piece, settling);
+    }
+    return;
+  }
+  // At the box's middle orientation alone, does every point of the cell fail?
+  if (box.half.squaredNorm() > 0.0) {
+    PoseCell point = cell;
+    point.half.tail<3>().setZero();
+    Status middle_why;
+    if (judge(worker, point, middle_why) == Verdict::outside) {
+      settling.outside = true;
+      settling.why = middle_why;
+      return;
+    }
+  }
+  settling.open.push_back(box);
+  settling.why = why;
+}
+
+// The share of the cell's quarter points (each coordinate at +-1/4 of its side: the midpoint
+// rule on its sub-cells) where Machine::inverse accepts the range's middle and corners.
+double reachable_share(Worker& worker, const PoseCell& cell, const OrientationBox& range) {
+  JointVector joints;
+  std::array<int, 3> spread{};
+  int n = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (cell.half[axis] > 0.0) spread[static_cast<std::size_t>(n++)] = axis;
+  }
+  int reached = 0;
+  for (unsigned point = 0; point < (1u << n); ++point) {
+    Vector6d position = cell.centre;
+    for (int k = 0; k < n; ++k) {
+      const int axis = spread[static_cast<std::size_t>(k)];
+      position[axis] += ((point >> k) & 1u) ? 0.5 * cell.half[axis] : -0.5 * cell.half[axis];
+    }
+    bool all = true;
+    for (unsigned corner = 0; corner <= 8 && all; ++corner) {
+      Vector6d pose = position;
+      pose.tail<3>() = range.centre;
+      if (corner < 8) {
+        for (int k = 0; k < 3; ++k)
+          pose[3 + k] += ((corner >> k) & 1u) ? range.half[k] : -range.half[k];
+      }
+      all = worker.machine.inverse(Pose::from_vector(pose), joints).ok();
+      if (range.half.squaredNorm() == 0.0) break;
+    }
+    reached += all ? 1 : 0;
+  }
+  return static_cast<double>(reached) / (1u << n);
+}
+
+void refine_children(Worker& worker, const Grid& grid, const CellIndex& cell,
+                     const std::vector<OrientationBox>& open);
+
+void refine(Worker& worker, const Grid& grid, const CellIndex& cell,
+            const std::vector<OrientationBox>& open) {
+  ++worker.judged;
+  if (grid.judged->fetch_add(1, std::memory_order_relaxed) > grid.max_cells) {
+    throw std::invalid_argument("more than " + std::to_string(grid.max_cells) +
+                                " cells to judge: choose a coarser --resolution");
+  }
+  const PoseCell base = position_cell(grid, cell);
+  Settling settling;
+  for (const OrientationBox& box : open) {
+    settle(worker, grid, base, box, settling);
+    if (settling.outside) {
+      ++worker.limited_by[status_key(settling.why.code)];
+      return;
+    }
+  }
+  if (settling.open.empty()) {
+    // A check on the bounds, not part of the proof: Machine::inverse must accept the cell's
+    // middle. A refusal there means it applies a limit no constraint bounds (a new per-pose
+    // limit of a model): the cell is not claimed, and the result says so.
+    JointVector joints;
+    PoseCell middle = base;
+    middle.centre.tail<3>() = grid.range.centre;
+    const Status status = worker.machine.inverse(Pose::from_vector(middle.centre), joints);
+    if (!status.ok()) {
+      ++worker.unbounded_refusals;
+      ++worker.limited_by[status_key(status.code)];
+      if (cell.level > 0) {
+        refine_children(worker, grid, cell, open);
+      } else {
+        worker.boundary.push_back(cell);
+      }
+      return;
+    }
+    worker.inside.push_back(cell);
+    return;
+  }
+  if (cell.level == 0) {
+    worker.boundary.push_back(cell);
+    worker.estimated_boundary +=
+        reachable_share(worker, base, grid.range) * std::pow(grid.step_mm, worker.dimensions);
+    ++worker.limited_by[status_key(settling.why.code)];
+    return;
+  }
+  refine_children(worker, grid, cell, settling.open);
+}
+
+void refine_children(Worker& worker, const Grid& grid, const CellIndex& cell,
+                     const std::vector<OrientationBox>& open) {
+  const std::int32_t half = std::int32_t{1} << (cell.level - 1);
+  for (int child = 0; child < 8; ++child) {
+    CellIndex next{cell.at, cell.level - 1};
+    bool duplicate = false;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!((child >> axis) & 1)) continue;
+      if (!grid.spans[static_cast<std::size_t>(axis)]) duplicate = true;
+      next.at[static_cast<std::size_t>(axis)] += half;
+    }
+    if (!duplicate) refine(worker, grid, next, open);
+  }
+}
+
+struct TopCells {
+  std::vector<CellIndex> cells;
+  int level = 0;
+};
+
+// Top cells of side 2^level steps, at most 8 along the longest spanned axis; dims rounded up to
+// whole top cells.
+TopCells top_cells(const Eigen::Vector3d& size_mm, const std::array<bool, 3>& spans, double step_mm,
+                   std::array<int, 3>& dims) {
+  double longest = 0.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (spans[static_cast<std::size_t>(axis)]) longest = std::max(longest, size_mm[axis]);
+  }
+  TopCells top;
+  while (step_mm * std::ldexp(1.0, top.level) * 8.0 < longest && top.level < 24) ++top.level;
+  const int side = 1 << top.level;
+  std::array<int, 3> count{1, 1, 1};
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<std::size_t>(axis);
+    if (!spans[a]) {
+      dims[a] = 1;
+      continue;
+    }
+    count[a] = std::max(1, static_cast<int>(std::ceil(size_mm[axis] / (step_mm * side) - 1e-9)));
+    dims[a] = count[a] * side;
+  }
+  for (int i = 0; i < count[0]; ++i) {
+    for (int j = 0; j < count[1]; ++j) {
+      for (int k = 0; k < count[2]; ++k) {
+        top.cells.push_back({{i * side, j * side, k * side}, top.level});
+      }
+    }
+  }
+  // Axes not spanned stay at index 0.
+  for (CellIndex& cell : top.cells) {
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!spans[static_cast<std::size_t>(axis)]) cell.at[static_cast<std::size_t>(axis)] = 0;
+    }
+  }
+  return top;
+}
+
+}  // namespace
+
+namespace {
+
+// The orientation range as the one box every top cell starts from: the controlled angles only.
+OrientationBox orientation_range(const Machine& machine, const WorkspaceOptions& options) {
+  OrientationBox box;
+  for (int k = 0; k < 3; ++k) {
+    const double lo = options.orientation_min_rad[k], hi = options.orientation_max_rad[k];
+    if (!(lo <= hi) || !std::isfinite(lo) || !std::isfinite(hi)) {
+      throw std::invalid_argument("orientation range " + std::string(kAxisNames[3 + k]) +
+                                  " is empty or not finite: give min <= max");
+    }
+    if (machine.kinematics().dof().controls(3 + k)) {
+      box.centre[k] = 0.5 * (lo + hi);
+      box.half[k] = 0.5 * (hi - lo);
+    } else {
+      box.centre[k] = machine.home().orientation_rad[k];
+    }
+  }
+  return box;
+}
+
+// Runs the refinement of every top cell on `threads` workers; the findings in top-cell order.
+void refine_all(const Machine& machine, const Grid& grid, const TopCells& top,
+                const OrientationBox& range, int threads, int dimensions, Workspace& result) {
+  std::vector<std::unique_ptr<Worker>> parts(top.cells.size());
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  const auto work = [&] {
+    try {
+      for (std::size_t k = next++; k < top.cells.size(); k = next++) {
+        auto worker = std::make_unique<Worker>(machine);
+        worker->dimensions = dimensions;
+        refine(*worker, grid, top.cells[k], {range});
+        parts[k] = std::move(worker);
+      }
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
+      next = top.cells.size();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::max(1, threads); ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& thread : pool) thread.join();
+  if (failure) std::rethrow_exception(failure);
+  for (const auto& part : parts) {
+    result.inside.insert(result.inside.end(), part->inside.begin(), part->inside.end());
+    result.boundary.insert(result.boundary.end(), part->boundary.begin(), part->boundary.end());
+    for (const auto& [name, count] : part->limited_by) result.limited_by[name] += count;
+    result.cells_judged += part->judged;
+    result.boxes_judged += part->poses_judged;
+    result.estimate += part->estimated_boundary;
+    result.unbounded_refusals += part->unbounded_refusals;
+  }
+}
+
+double measure(const std::vector<CellIndex>& cells, double step_mm, int dimensions) {
+  double total = 0.0;
+  for (const CellIndex& cell : cells) {
+    total += std::pow(step_mm * std::ldexp(1.0, cell.level), dimensions);
+  }
+  return total;
+}
+
+std::optional<AxisBox> extent_of(const Workspace& ws, const Eigen::Vector3d& fixed) {
+  if (ws.inside.empty() && ws.boundary.empty()) return std::nullopt;
+  AxisBox box{Eigen::Vector3d::Constant(INFINITY), Eigen::Vector3d::Constant(-INFINITY)};
+  for (const auto* cells : {&ws.inside, &ws.boundary}) {
+    for (const CellIndex& cell : *cells) {
+      const int side = 1 << cell.level;
+      for (int axis = 0; axis < 3; ++axis) {
+        const auto a = static_cast<std::size_t>(axis);
+        if (!ws.position_axes[a]) continue;
+        const double lo = ws.origin_mm[axis] + ws.resolution_mm * cell.at[a];
+        box.min_mm[axis] = std::min(box.min_mm[axis], lo);
+        box.max_mm[axis] = std::max(box.max_mm[axis], lo + ws.resolution_mm * side);
+      }
+    }
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!ws.position_axes[static_cast<std::size_t>(axis)])
+      box.min_mm[axis] = box.max_mm[axis] = fixed[axis];
+  }
+  return box;
+}
+
+}  // namespace
+
+Workspace compute_workspace(const Machine& machine, const WorkspaceOptions& options) {
+  if (!(options.resolution_mm > 0.0) || !std::isfinite(options.resolution_mm)) {
+    throw std::invalid_argument("the resolution must be a positive length (mm)");
+  }
+  const Kinematics& model = machine.kinematics();
+  Workspace ws;
+  ws.machine = machine.name();
+  ws.resolution_mm = options.resolution_mm;
+  const OrientationBox range = orientation_range(machine, options);
+  ws.orientation_min_rad = range.centre - range.half;
+  ws.orientation_max_rad = range.centre + range.half;
+  Grid grid;
+  grid.range = range;
+  int dimensions = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    ws.position_axes[static_cast<std::size_t>(axis)] = model.dof().controls(axis);
+    dimensions += model.dof().controls(axis) ? 1 : 0;
+  }
+  ws.planar = dimensions == 2 && !model.dof().controls(2);
+  grid.spans = ws.position_axes;
+  grid.fixed = machine.home().position_mm;
+  grid.step_mm = options.resolution_mm;
+  grid.angle_scale_mm = post::pose_angle_scale_mm(model);
+  grid.max_cells = options.max_cells;
+  grid.split_orientation = false;
+  for (const auto& constraint : machine_constraints(machine)) {
+    grid.split_orientation = grid.split_orientation || !constraint->covers_orientation();
+  }
+  std::atomic<std::int64_t> judged{0};
+  grid.judged = &judged;
+
+  const SearchBox search = search_box(machine, options);
+  if (!search.proven) {
+    ws.notes.push_back(
+        "the search box comes from the extent through home, widened by half: cells beyond it "
+        "were not searched");
+  }
+  const Eigen::Vector3d size = (search.box.max_mm - search.box.min_mm).cwiseMax(0.0);
+  const TopCells top = top_cells(size, grid.spans, grid.step_mm, ws.dims);
+  bool empty = false;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!grid.spans[static_cast<std::size_t>(axis)]) {
+      grid.origin_mm[axis] = grid.fixed[axis];
+      continue;
+    }
+    empty = empty || !(search.box.max_mm[axis] >= search.box.min_mm[axis]);
+    // Cells start at the box's low side: a side the machine's limits set exactly (a pass-through
+    // joint's min, the envelope's) falls between cells rather than through them.
+    grid.origin_mm[axis] = search.box.min_mm[axis];
+  }
+  ws.origin_mm = grid.origin_mm;
+  if (!empty) refine_all(machine, grid, top, range, options.threads, dimensions, ws);
+  for (const auto& constraint : machine_constraints(machine)) {
+    if (!constraint->proven()) {
+      ws.guaranteed = false;
+      ws.notes.push_back(
+          "this model's reach (or its cables' tensions) is sampled at each cell's centre and "
+          "corners, not bounded: cells are judged from those samples, not proven");
+      break;
+    }
+  }
+  if (ws.unbounded_refusals > 0) {
+    ws.guaranteed = false;
+    ws.notes.push_back(std::to_string(ws.unbounded_refusals) +
+                       " cells the bounds proved inside were refused by the machine at their "
+                       "middle: it applies a limit no constraint bounds here (they were split, "
+                       "and left as boundary)");
+  }
+  ws.inside_measure = measure(ws.inside, grid.step_mm, dimensions);
+  ws.boundary_measure = measure(ws.boundary, grid.step_mm, dimensions);
+  ws.estimate += ws.inside_measure;
+  ws.extent = extent_of(ws, grid.fixed);
+  const InscribedShapes shapes = largest_inscribed(ws);
+  ws.largest_box = shapes.box;
+  ws.largest_cylinder = shapes.cylinder;
+  ws.maps = plane_maps(machine, ws, options.map_points);
+  return ws;
+}
+
+}  // namespace pkm::workspace

@@ -1,0 +1,21 @@
+# pkm workspace: the summary, the JSON document's names, and the refusals of bad ranges.
+add_test(NAME cli.workspace_hektor_summary
+         COMMAND ${PKM} workspace -m ${MACHINES}/hektor.toml --resolution 2)
+set_tests_properties(cli.workspace_hektor_summary PROPERTIES PASS_REGULAR_EXPRESSION
+  "area: [0-9.e+]+ \\.\\. [0-9.e+]+ mm\\^2 \\(proven inside \\.\\. inside \\+ boundary cells\\)\nestimate: [0-9.e+]+ mm\\^2[^\n]*\nextent: x -2\\.0\\.\\.102\\.0 y -180\\.0\\.\\.2\\.0 mm")
+add_test(NAME cli.workspace_json_names
+         COMMAND sh -c "\"$0\" workspace -m \"$1\" --resolution 128 --orientation 5 --json | python3 -c \"import json, sys; d = json.load(sys.stdin); assert d['orientation_deg']['a'] == [-5.0, 5.0]; assert set(d['volume_mm3']) >= {'inside', 'boundary'}; assert d['cells']['step_mm'] == 128.0; assert len(d['cells']['dims']) == 3; assert [m['name'] for m in d['maps']] == ['dexterity', 'joint_speed_per_tool_speed']; assert d['largest_cylinder_mm']['radius'] > 0; print('ok')\""
+                 ${PKM} ${MACHINES}/hexapod-bit.toml)
+set_tests_properties(cli.workspace_json_names PROPERTIES PASS_REGULAR_EXPRESSION "^ok\n$")
+add_test(NAME cli.workspace_planar_json_has_an_area
+         COMMAND ${PKM} workspace -m ${MACHINES}/pen-plotter.toml --resolution 50 --json)
+set_tests_properties(cli.workspace_planar_json_has_an_area PROPERTIES PASS_REGULAR_EXPRESSION
+  "\"area_mm2\":\\{\"boundary\":[0-9.e+]+,\"estimate\":[0-9.e+]+,\"inside\":[0-9.e+]+\\}")
+pkm_cli_refuses(workspace_angle_the_machine_lacks "the machine does not control a"
+                workspace -m ${MACHINES}/hektor.toml --orientation a=-5:5)
+pkm_cli_refuses(workspace_empty_range "a=5:1 has min > max"
+                workspace -m ${MACHINES}/hexapod-bit.toml --orientation a=5:1)
+pkm_cli_refuses(workspace_range_not_an_angle "'x' is not an angle in degrees"
+                workspace -m ${MACHINES}/hektor.toml --orientation x)
+pkm_cli_refuses(workspace_resolution_not_a_length "--resolution: 0 is outside"
+                workspace -m ${MACHINES}/hektor.toml --resolution 0)

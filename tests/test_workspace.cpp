@@ -1,0 +1,318 @@
+// pkm workspace: hand-computed areas, the proof's claims checked at random poses, and a
+// Monte-Carlo cross-check of every example machine's volume.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <set>
+
+#include "pkm/workspace/pose_constraints.hpp"
+#include "pkm/workspace/workspace.hpp"
+#include "pkm/workspace/workspace_json.hpp"
+#include "test_support.hpp"
+
+namespace pkm::workspace {
+namespace {
+
+// Two carriages on one rail along x (readings 0..300 mm), struts of 100 mm to the platform point
+// hanging below the rail: carriage 1 at x - f, carriage 2 at x + f, f = sqrt(100^2 - y^2).
+Machine biglide() {
+  return parse_machine(R"(
+name = "biglide"
+[kinematics]
+type = "glide"
+[[kinematics.rails]]
+origin = [0.0, 0.0, 0.0]
+direction = [1.0, 0.0, 0.0]
+strut = 100.0
+attach = [0.0, 0.0, 0.0]
+branch = -1
+[[kinematics.rails]]
+origin = [0.0, 0.0, 0.0]
+direction = [1.0, 0.0, 0.0]
+strut = 100.0
+attach = [0.0, 0.0, 0.0]
+branch = 1
+[[joints]]
+name = "left"
+min = 0.0
+max = 300.0
+max_velocity = 100.0
+max_acceleration = 1000.0
+[[joints]]
+name = "right"
+min = 0.0
+max = 300.0
+max_velocity = 100.0
+max_acceleration = 1000.0
+[cartesian]
+max_feed = 6000.0
+max_acceleration = 1000.0
+home = [150.0, -50.0]
+)",
+                       "biglide.toml");
+}
+
+// Anchors 1000 mm apart, cables 10..1200 mm.
+Machine plotter() {
+  return parse_machine(R"(
+name = "plotter"
+[kinematics]
+type = "cable_plotter"
+anchor_distance = 1000.0
+[[joints]]
+name = "left"
+min = 10.0
+max = 1200.0
+max_velocity = 100.0
+max_acceleration = 1000.0
+[[joints]]
+name = "right"
+min = 10.0
+max = 1200.0
+max_velocity = 100.0
+max_acceleration = 1000.0
+[cartesian]
+max_feed = 6000.0
+max_acceleration = 1000.0
+home = [500.0, -500.0]
+)",
+                       "plotter.toml");
+}
+
+WorkspaceOptions at_resolution(const Machine& machine, double resolution_mm) {
+  WorkspaceOptions options = default_options(machine);
+  options.resolution_mm = resolution_mm;
+  return options;
+}
+
+TEST(Workspace, BiglideAreaFromItsRailAndStruts) {
+  // For y in (-100, 0) the platform reaches x in [f, 300 - f]: the area is
+  // 300 * 100 - 2 * (quarter disk of radius 100) = 30000 - 5000 pi = 14292.04 mm^2.
+  const double exact = 30000.0 - 5000.0 * M_PI;
+  const Machine machine = biglide();
+  const Workspace ws = compute_workspace(machine, at_resolution(machine, 0.5));
+  EXPECT_TRUE(ws.planar);
+  EXPECT_TRUE(ws.guaranteed);
+  EXPECT_LE(ws.inside_measure, exact);
+  EXPECT_GE(ws.inside_measure + ws.boundary_measure, exact);
+  // Above the rail, where the struts stand nearly square to it, the assembly-mode bound cannot
+  // decide: a strip of boundary cells stays there (docs/workspace.md).
+  EXPECT_LT(ws.boundary_measure, 0.12 * exact);
+  EXPECT_NEAR(ws.estimate, exact, 0.002 * exact);
+  ASSERT_TRUE(ws.extent);
+  EXPECT_NEAR(ws.extent->min_mm.y(), -100.0, 1.0);
+  // Both ends of the rail limit it, the struts' reach at y = -100 and the assembly mode at 0.
+  EXPECT_GT(ws.limited_by.count("joint_limit"), 0u);
+  EXPECT_GT(ws.limited_by.count("other_assembly"), 0u);
+}
+
+TEST(Workspace, CablePlotterBetweenTheAnchors) {
+  // Between the anchors' verticals (x in (0, 1000)) and below them, each cable at most 1200 mm:
+  // for x >= 500 the left cable is the longer, so the area is 2 * integral over [500, 1000] of
+  // sqrt(1200^2 - x^2), less the quarter disks of radius 10 where a cable is below its min.
+  const auto primitive = [](double x) {
+    const double r = 1200.0;
+    return 0.5 * (x * std::sqrt(r * r - x * x) + r * r * std::asin(x / r));
+  };
+  const double exact = 2.0 * (primitive(1000.0) - primitive(500.0)) - 0.5 * M_PI * 100.0;
+  EXPECT_NEAR(exact, 917415.2, 0.5);
+  const Machine machine = plotter();
+  const Workspace ws = compute_workspace(machine, at_resolution(machine, 2.0));
+  EXPECT_TRUE(ws.guaranteed);
+  EXPECT_LE(ws.inside_measure, exact);
+  EXPECT_GE(ws.inside_measure + ws.boundary_measure, exact);
+  EXPECT_NEAR(ws.estimate, exact, 0.002 * exact);
+  ASSERT_TRUE(ws.extent);
+  EXPECT_NEAR(ws.extent->min_mm.x(), 0.0, 2.0);
+  EXPECT_NEAR(ws.extent->max_mm.x(), 1000.0, 2.0);
+  EXPECT_NEAR(ws.extent->min_mm.y(), -std::sqrt(1200.0 * 1200.0 - 500.0 * 500.0), 2.0);
+  // The largest disk sits between the anchors, clear of both sides.
+  ASSERT_TRUE(ws.largest_cylinder);
+  EXPECT_GT(ws.largest_cylinder->radius_mm, 300.0);
+  EXPECT_LT(ws.largest_cylinder->radius_mm, 500.0);
+}
+
+// A point drawn uniformly in a cell of the list.
+Vector6d point_in(const Workspace& ws, const CellIndex& cell, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Vector6d pose = Vector6d::Zero();
+  const double side = ws.resolution_mm * std::ldexp(1.0, cell.level);
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<std::size_t>(axis);
+    pose[axis] = ws.position_axes[a]
+                     ? ws.origin_mm[axis] + ws.resolution_mm * cell.at[a] + side * unit(rng)
+                     : ws.origin_mm[axis];
+  }
+  for (int k = 0; k < 3; ++k) {
+    pose[3 + k] = ws.orientation_min_rad[k] +
+                  (ws.orientation_max_rad[k] - ws.orientation_min_rad[k]) * unit(rng);
+  }
+  return pose;
+}
+
+TEST(Workspace, EveryPoseOfAProvenInsideCellIsReachable) {
+  // The hexapod over +-5 deg: random points of proven-inside cells, random orientations.
+  const Machine machine = test::load_example("hexapod-bit.toml");
+  WorkspaceOptions options = at_resolution(machine, 32.0);
+  options.orientation_min_rad = Eigen::Vector3d::Constant(degrees_to_radians(-5.0));
+  options.orientation_max_rad = Eigen::Vector3d::Constant(degrees_to_radians(5.0));
+  const Workspace ws = compute_workspace(machine, options);
+  ASSERT_GT(ws.inside.size(), 100u);
+  EXPECT_TRUE(ws.guaranteed);
+  std::mt19937_64 rng(7);
+  JointVector joints;
+  int checked = 0;
+  for (int n = 0; n < 20000; ++n) {
+    const CellIndex& cell = ws.inside[rng() % ws.inside.size()];
+    const Pose pose = Pose::from_vector(point_in(ws, cell, rng));
+    ASSERT_TRUE(machine.inverse(pose, joints).ok())
+        << machine.explain(pose, machine.inverse(pose, joints));
+    ++checked;
+  }
+  EXPECT_EQ(checked, 20000);
+  // Every orientation of the range asks more than one: the volume shrinks.
+  const Workspace fixed = compute_workspace(machine, at_resolution(machine, 32.0));
+  EXPECT_LT(ws.inside_measure, fixed.inside_measure);
+  EXPECT_LT(ws.estimate, 0.9 * fixed.estimate);
+  // A cell outside at home's orientation is outside for the range: the outer bound shrinks too.
+  EXPECT_LE(ws.inside_measure + ws.boundary_measure, fixed.inside_measure + fixed.boundary_measure);
+}
+
+TEST(Workspace, EveryPointOutsideTheCellsIsRefused) {
+  // Points of the grid in neither an inside nor a boundary cell were proven outside: the machine
+  // must refuse each (triaglide: joint limits, reach and the assembly mode all decide cells).
+  const Machine machine = test::load_example("triaglide.toml");
+  const Workspace ws = compute_workspace(machine, at_resolution(machine, 16.0));
+  std::set<std::array<std::int32_t, 4>> kept;
+  for (const auto* cells : {&ws.inside, &ws.boundary}) {
+    for (const CellIndex& cell : *cells)
+      kept.insert({cell.at[0], cell.at[1], cell.at[2], cell.level});
+  }
+  int top = 0;
+  for (const CellIndex& cell : ws.inside) top = std::max(top, cell.level);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  JointVector joints;
+  int outside = 0;
+  for (int n = 0; n < 20000; ++n) {
+    Pose pose = machine.home();
+    std::array<std::int32_t, 3> index{};
+    for (int axis = 0; axis < 3; ++axis) {
+      const auto a = static_cast<std::size_t>(axis);
+      const double steps = ws.dims[a] * unit(rng);
+      pose.position_mm[axis] = ws.origin_mm[axis] + ws.resolution_mm * steps;
+      index[a] = static_cast<std::int32_t>(steps);
+    }
+    bool in_a_cell = false;
+    for (int level = 0; level <= top && !in_a_cell; ++level) {
+      const auto snap = [&](std::int32_t i) { return (i >> level) << level; };
+      in_a_cell = kept.count({snap(index[0]), snap(index[1]), snap(index[2]), level}) > 0;
+    }
+    if (in_a_cell) continue;
+    ++outside;
+    ASSERT_FALSE(machine.inverse(pose, joints).ok()) << machine.format_pose(pose);
+  }
+  EXPECT_GT(outside, 1000);
+}
+
+// The fraction of `samples` uniform points of the grid's box where the machine stands.
+struct MonteCarlo {
+  double volume = 0.0, sigma = 0.0;
+};
+
+MonteCarlo monte_carlo(const Machine& machine, const Workspace& ws, int samples) {
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double box = 1.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (ws.position_axes[static_cast<std::size_t>(axis)])
+      box *= ws.resolution_mm * ws.dims[static_cast<std::size_t>(axis)];
+  }
+  JointVector joints;
+  int hits = 0;
+  for (int n = 0; n < samples; ++n) {
+    Pose pose = machine.home();
+    for (int axis = 0; axis < 3; ++axis) {
+      const auto a = static_cast<std::size_t>(axis);
+      if (ws.position_axes[a]) {
+        pose.position_mm[axis] = ws.origin_mm[axis] + ws.resolution_mm * ws.dims[a] * unit(rng);
+      }
+    }
+    hits += machine.inverse(pose, joints).ok() ? 1 : 0;
+  }
+  const double p = static_cast<double>(hits) / samples;
+  return {p * box, std::sqrt(p * (1.0 - p) / samples) * box};
+}
+
+class WorkspaceOfEveryExample : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(WorkspaceOfEveryExample, VolumeAgreesWithMonteCarlo) {
+  const Machine machine = test::load_example(GetParam());
+  // Coarse enough to stay fast: about 160 finest cells across the search box.
+  const SearchBox search = search_box(machine, default_options(machine));
+  double longest = 0.0, shortest = INFINITY;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (machine.kinematics().dof().controls(axis)) {
+      longest = std::max(longest, search.box.max_mm[axis] - search.box.min_mm[axis]);
+      shortest = std::min(shortest, search.box.max_mm[axis] - search.box.min_mm[axis]);
+    }
+  }
+  // Models whose inverse solves a balance are slow (and sampled): coarser cells, fewer Monte
+  // Carlo samples, a wider statistical error.
+  bool slow = false;
+  for (const auto& constraint : machine_constraints(machine)) slow = slow || !constraint->proven();
+  // A thin axis (a Maslow's 60 mm of Z) needs a few cells across.
+  const double resolution = std::min(longest / (slow ? 100.0 : 160.0), shortest / 4.0);
+  const Workspace ws = compute_workspace(machine, at_resolution(machine, resolution));
+  const MonteCarlo mc = monte_carlo(machine, ws, slow ? 20000 : 400000);
+  ASSERT_GT(mc.volume, 0.0);
+  const double spread = 3.0 * mc.sigma;
+  // What the cells claim: inside <= volume <= inside + boundary.
+  EXPECT_LE(ws.inside_measure, mc.volume + spread);
+  EXPECT_GE(ws.inside_measure + ws.boundary_measure, mc.volume - spread);
+  // The estimate within 1 % (plus Monte Carlo's own error).
+  std::printf("%s: inside %.6g boundary %.6g estimate %.6g monte carlo %.6g +- %.2g\n",
+              GetParam().c_str(), ws.inside_measure, ws.boundary_measure, ws.estimate, mc.volume,
+              mc.sigma);
+  EXPECT_NEAR(ws.estimate, mc.volume, 0.01 * mc.volume + spread)
+      << "inside " << ws.inside_measure << " boundary " << ws.boundary_measure;
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, WorkspaceOfEveryExample,
+                         ::testing::ValuesIn(test::example_machine_files()),
+                         [](const auto& parameter) { return test::test_name(parameter.param); });
+
+TEST(Workspace, JsonKeepsTheSchemaNames) {
+  const Machine machine = biglide();
+  const Workspace ws = compute_workspace(machine, at_resolution(machine, 4.0));
+  const nlohmann::json doc = to_json(ws);
+  EXPECT_EQ(doc["machine"], "biglide");
+  EXPECT_TRUE(doc["planar"].get<bool>());
+  EXPECT_TRUE(doc.contains("area_mm2"));
+  EXPECT_FALSE(doc.contains("volume_mm3"));
+  EXPECT_DOUBLE_EQ(doc["area_mm2"]["inside"].get<double>(), ws.inside_measure);
+  EXPECT_EQ(doc["cells"]["dims"][2], 1);
+  EXPECT_EQ(doc["cells"]["inside"].size(), ws.inside.size());
+  EXPECT_EQ(doc["maps"].size(), 2u);
+  EXPECT_EQ(doc["maps"][0]["name"], "dexterity");
+  const auto& values = doc["maps"][1]["values"];
+  EXPECT_EQ(values.size(), static_cast<std::size_t>(doc["maps"][1]["dims"][0].get<int>() *
+                                                    doc["maps"][1]["dims"][1].get<int>()));
+  // Above the rail the machine cannot stand: null there.
+  bool any_null = false;
+  for (const auto& v : values) any_null = any_null || v.is_null();
+  EXPECT_TRUE(any_null);
+}
+
+TEST(Workspace, RefusesAResolutionThatIsNotALength) {
+  const Machine machine = biglide();
+  EXPECT_THROW(compute_workspace(machine, at_resolution(machine, 0.0)), std::invalid_argument);
+  WorkspaceOptions options = at_resolution(machine, 1e-4);
+  options.max_cells = 1000;
+  EXPECT_THROW(compute_workspace(machine, options), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace pkm::workspace
