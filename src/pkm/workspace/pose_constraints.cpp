@@ -9,6 +9,7 @@
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/matrix.hpp"
 #include "pkm/post/deviation_bound.hpp"
+#include "pkm/post/mechanism_rate.hpp"
 
 namespace pkm::workspace {
 
@@ -431,6 +432,56 @@ class PassThroughConstraint final : public PoseConstraint {
   std::vector<int> joints_;
 };
 
+// Each joint end's angle and each leg pair's clearance (Kinematics::mechanism_limits, the
+// values Machine::inverse refuses by): the margin at the cell's centre, moved at most
+// post::mechanism_rate times the cell's scaled half-diagonal, the rate bound the certified job
+// check proves moves with. Unknown where the centre has no legs (a glide out of reach) or the
+// ball has no derivative bound.
+class MechanismLimitConstraint final : public PoseConstraint {
+ public:
+  explicit MechanismLimitConstraint(const Machine& machine)
+      : machine_(machine), scale_(post::pose_angle_scale_mm(machine.kinematics())) {
+    machine.kinematics().mechanism_limits(machine.home(), values_);
+    count_ = static_cast<int>(values_.size());
+    for (const MechanismLimit& value : values_) failures_.push_back({value.code, value.leg});
+  }
+  int count() const override { return count_; }
+  void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
+    std::fill(margins.begin(), margins.end(), Margin{});
+    const Kinematics& model = machine_.kinematics();
+    const Pose centre = Pose::from_vector(cell.centre);
+    if (!model.inverse_and_jacobian(centre, joints_, jacobian_).ok()) return;
+    values_.clear();
+    model.mechanism_limits(centre, values_);
+    if (static_cast<int>(values_.size()) != count_) return;
+    const double r = scaled_radius(cell, scale_);
+    const std::optional<post::HessianBounds> curvature =
+        post::inverse_hessian_bounds(model, cell.centre, r, scale_, post::Chord{});
+    if (!curvature) return;
+    const post::LegMotion motion =
+        post::leg_motion(model, joints_, jacobian_, *curvature, r, scale_);
+    for (std::size_t k = 0; k < values_.size(); ++k) {
+      const double reach = post::mechanism_rate(values_[k], motion) * r;
+      const double margin = values_[k].margin();
+      if (std::isfinite(reach) && std::isfinite(margin))
+        margins[k] = {margin - reach, margin + reach};
+    }
+  }
+  Status failure(int index) const override {
+    const auto& [code, leg] = failures_[static_cast<std::size_t>(index)];
+    return Status::failure(code, leg);
+  }
+
+ private:
+  const Machine& machine_;
+  double scale_;
+  int count_ = 0;
+  std::vector<std::pair<StatusCode, int>> failures_;
+  mutable std::vector<MechanismLimit> values_;
+  mutable JointVector joints_;
+  mutable JointJacobian jacobian_;
+};
+
 bool has_hessian_bounds(const Machine& machine) {
   const Kinematics& model = machine.kinematics();
   return post::inverse_hessian_bounds(model, machine.home().as_vector(), 0.0,
@@ -455,6 +506,9 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
   if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
     constraints.push_back(std::make_unique<HexapodLegConstraint>(machine, *hexapod));
     constraints.push_back(std::make_unique<HexapodAssemblyConstraint>());
+    if (model.has_mechanism_limits()) {
+      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine));
+    }
     return constraints;
   }
   constraints.push_back(std::make_unique<JointLimitConstraint>(machine));
@@ -462,6 +516,9 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
     constraints.push_back(std::make_unique<GlideReachConstraint>(*glide));
     if (home_mode != 0) {
       constraints.push_back(std::make_unique<GlideAssemblyConstraint>(*glide, home_mode));
+    }
+    if (model.has_mechanism_limits()) {
+      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine));
     }
   } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
     if (plotter->geometry().ideal()) {
