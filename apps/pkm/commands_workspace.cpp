@@ -152,7 +152,9 @@ void run_workspace(const WorkspaceCommandOptions& options) {
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
-  const nlohmann::json json = workspace::to_json(ws);
+  // The document only when asked for: it is the largest thing made (a 4 mm hexapod's cells).
+  const nlohmann::json json =
+      options.json || !options.html.empty() ? workspace::to_json(ws) : nlohmann::json();
   if (!options.html.empty()) view::write_workspace_html(options.html, json, &machine);
   if (options.json) {
     std::cout << json.dump() << "\n";
