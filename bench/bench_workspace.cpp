@@ -1,6 +1,8 @@
 // pkm workspace per example machine, at about 1/200 of its search box (fixed orientation, home's),
-// and the paper's hexapod over +-10 deg at 32 and 16 mm. Counters: the proven-inside and the
-// boundary volume (area for planar machines) and the cells judged.
+// the paper's hexapod over +-10 deg at 32, 16 and 8 mm, and with 45 deg joints and 40 mm legs
+// (fixed orientation at 16 mm; +-2 deg at 32 mm: those limits split the orientation range).
+// Counters: the proven-inside and the boundary volume (area for planar machines) and the cells
+// judged.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -53,6 +55,27 @@ void hexapod_over_ten_degrees(benchmark::State& state) {
   run(state, machine, options);
 }
 
+// The paper's hexapod with max_joint_angle = 45 and leg_diameter = 40 (the joint-angle and
+// interference constraints); state.range(0): mm, state.range(1): +- deg.
+void hexapod_with_leg_limits(benchmark::State& state) {
+  std::string text;
+  {
+    std::FILE* file = std::fopen((kMachines / "hexapod-bit.toml").c_str(), "r");
+    for (int c; file != nullptr && (c = std::fgetc(file)) != EOF;) text += static_cast<char>(c);
+    if (file != nullptr) std::fclose(file);
+  }
+  const std::string tool = "tool_length = 30.0\n";
+  text.replace(text.find(tool), tool.size(),
+               tool + "max_joint_angle = 45.0\nleg_diameter = 40.0\n");
+  const pkm::Machine machine = pkm::parse_machine(text, "hexapod-limited.toml");
+  pkm::workspace::WorkspaceOptions options = pkm::workspace::default_options(machine);
+  options.resolution_mm = static_cast<double>(state.range(0));
+  const double spread = pkm::degrees_to_radians(static_cast<double>(state.range(1)));
+  options.orientation_min_rad = Eigen::Vector3d::Constant(-spread);
+  options.orientation_max_rad = Eigen::Vector3d::Constant(spread);
+  run(state, machine, options);
+}
+
 const int kRegistered = [] {
   for (const auto& entry : fs::directory_iterator(kMachines)) {
     if (entry.path().extension() != ".toml") continue;
@@ -71,6 +94,14 @@ const int kRegistered = [] {
 BENCHMARK(hexapod_over_ten_degrees)
     ->Arg(32)
     ->Arg(16)
+    ->Arg(8)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->UseRealTime();
+
+BENCHMARK(hexapod_with_leg_limits)
+    ->Args({16, 0})
+    ->Args({32, 2})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
     ->UseRealTime();

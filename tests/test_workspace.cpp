@@ -4,9 +4,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <random>
 #include <set>
+#include <sstream>
 
+#include "pkm/kinematics/hexapod.hpp"
 #include "pkm/workspace/pose_constraints.hpp"
 #include "pkm/workspace/workspace.hpp"
 #include "pkm/workspace/workspace_json.hpp"
@@ -178,6 +181,109 @@ TEST(Workspace, EveryPoseOfAProvenInsideCellIsReachable) {
   EXPECT_LT(ws.estimate, 0.9 * fixed.estimate);
   // A cell outside at home's orientation is outside for the range: the outer bound shrinks too.
   EXPECT_LE(ws.inside_measure + ws.boundary_measure, fixed.inside_measure + fixed.boundary_measure);
+}
+
+// The paper's hexapod with `keys` added to its [kinematics] and its legs' min set to `leg_min_mm`.
+Machine hexapod_with(const std::string& keys, double leg_min_mm = 600.0) {
+  std::ifstream file(test::example_machine_path("hexapod-bit.toml"));
+  std::stringstream text;
+  text << file.rdbuf();
+  std::string toml = text.str();
+  const std::string tool = "tool_length = 30.0\n";
+  toml.replace(toml.find(tool), tool.size(), tool + keys + "\n");
+  const std::string min = "min = 600.0";
+  for (std::size_t at = toml.find(min); at != std::string::npos; at = toml.find(min, at + 1))
+    toml.replace(at, min.size(), "min = " + std::to_string(leg_min_mm));
+  return parse_machine(toml, "hexapod-limited.toml");
+}
+
+// 5000 random points of the proven-inside cells (random orientations of the range) must all be
+// accepted by the machine, and no cell proven inside was refused at its middle.
+void expect_inside_cells_reachable(const Machine& machine, const Workspace& ws) {
+  EXPECT_TRUE(ws.guaranteed);
+  EXPECT_EQ(ws.unbounded_refusals, 0);
+  ASSERT_FALSE(ws.inside.empty());
+  std::mt19937_64 rng(13);
+  JointVector joints;
+  for (int n = 0; n < 5000; ++n) {
+    const Pose pose = Pose::from_vector(point_in(ws, ws.inside[rng() % ws.inside.size()], rng));
+    ASSERT_TRUE(machine.inverse(pose, joints).ok())
+        << machine.explain(pose, machine.inverse(pose, joints));
+  }
+}
+
+TEST(Workspace, JointAngleLimitLiftsTheLowestPointAsComputedByHand) {
+  // Both joint axes vertical, 30 deg, the platform level: each leg's direction lies within 30 deg
+  // of vertical, so with h_i the horizontal offset from base joint i to platform joint i (the
+  // same for every tip position on the z axis) the tip at (0, 0, z) needs
+  // dz_i = z + tool + p_i.z - a_i.z >= |h_i| / tan 30. The workspace (convex in this cut: an
+  // intersection of cones, symmetric under the hexapod's 120 deg turn) is lowest on the axis.
+  const Machine machine = hexapod_with(
+      "max_joint_angle = 30.0\nbase_joint_axis = [0.0, 0.0, 1.0]\n"
+      "platform_joint_axis = [0.0, 0.0, 1.0]",
+      100.0);
+  const auto& geometry = dynamic_cast<const HexapodKinematics&>(machine.kinematics()).geometry();
+  double lowest = -INFINITY;
+  for (std::size_t i = 0; i < 6; ++i) {
+    const Eigen::Vector3d offset = geometry.platform_mm[i] - geometry.base_mm[i];
+    const double h = offset.head<2>().norm();
+    lowest = std::max(lowest, h / std::tan(degrees_to_radians(30.0)) - 30.0 - offset.z());
+  }
+  JointVector joints;
+  ASSERT_TRUE(machine.inverse(Pose{{0.0, 0.0, lowest + 1e-6}, {0.0, 0.0, 0.0}}, joints).ok());
+  EXPECT_EQ(machine.inverse(Pose{{0.0, 0.0, lowest - 1.0}, {0.0, 0.0, 0.0}}, joints).code,
+            StatusCode::joint_angle);
+  const double resolution = 8.0;
+  const Workspace ws = compute_workspace(machine, at_resolution(machine, resolution));
+  expect_inside_cells_reachable(machine, ws);
+  ASSERT_TRUE(ws.extent);
+  // The cell holding the lowest point cannot be proven outside; cells far enough below it must
+  // be: 4 cells is what the rate bound (about 1/|leg| rad per mm) leaves undecided here.
+  EXPECT_LE(ws.extent->min_mm.z(), lowest);
+  EXPECT_GE(ws.extent->min_mm.z(), lowest - 4.0 * resolution);
+  // No proven-inside cell reaches below the lowest point.
+  for (const CellIndex& cell : ws.inside)
+    EXPECT_GE(ws.origin_mm.z() + resolution * cell.at[2], lowest);
+  // Without the angle limit the same legs reach far lower (the mirror image below the base).
+  const Machine free = hexapod_with("", 100.0);
+  const Workspace unlimited = compute_workspace(free, at_resolution(free, resolution));
+  EXPECT_LT(unlimited.extent->min_mm.z(), -500.0);
+  EXPECT_LT(ws.inside_measure + ws.boundary_measure, unlimited.inside_measure);
+}
+
+TEST(Workspace, JointAngleLimitRemovesTheMirrorImageBelowTheBase) {
+  // The paper's hexapod reaches a mirror image of its workspace below the base (legs pointing
+  // down, platform level). Joints of 45 deg about the legs' directions at home refuse it: a
+  // platform joint below its base joint turns its leg more than 90 deg from home's.
+  const Machine free = test::load_example("hexapod-bit.toml");
+  const Workspace mirror = compute_workspace(free, at_resolution(free, 32.0));
+  double below = 0.0;
+  for (const CellIndex& cell : mirror.inside) {
+    if (mirror.origin_mm.z() + 32.0 * (cell.at[2] + (1 << cell.level)) <= 0.0)
+      below += std::pow(32.0 * (1 << cell.level), 3);
+  }
+  EXPECT_GT(below, 0.3 * mirror.inside_measure);
+  const Machine machine = hexapod_with("max_joint_angle = 45.0");
+  const Workspace ws = compute_workspace(machine, at_resolution(machine, 32.0));
+  expect_inside_cells_reachable(machine, ws);
+  // Platform joints lie 30 mm above the tip: no kept cell reaches below -30 mm and a cell.
+  ASSERT_TRUE(ws.extent);
+  EXPECT_GT(ws.extent->min_mm.z(), -30.0 - 32.0);
+  EXPECT_LT(ws.inside_measure, mirror.inside_measure - below);
+}
+
+TEST(Workspace, LegInterferenceShrinksTheWorkspace) {
+  // The paper's 40 mm legs: poses where two legs pass within 40 mm leave the workspace.
+  const Machine free = test::load_example("hexapod-bit.toml");
+  const Machine machine = hexapod_with("leg_diameter = 40.0");
+  const Workspace unlimited = compute_workspace(free, at_resolution(free, 32.0));
+  const Workspace ws = compute_workspace(machine, at_resolution(machine, 32.0));
+  expect_inside_cells_reachable(machine, ws);
+  EXPECT_LT(ws.inside_measure, 0.95 * unlimited.inside_measure);
+  EXPECT_GT(ws.limited_by.count("interference"), 0u);
+  // Nothing the joint limits refuse comes back.
+  EXPECT_LE(ws.inside_measure + ws.boundary_measure,
+            unlimited.inside_measure + unlimited.boundary_measure);
 }
 
 TEST(Workspace, EveryPointOutsideTheCellsIsRefused) {

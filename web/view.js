@@ -620,6 +620,9 @@
         if (v !== null) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
       });
       if (!isFinite(lo)) { lo = 0; hi = 1; }
+      // A map equal everywhere but for rounding (a hexapod's or cable machine's joint speed per
+      // tool speed is 1 at every point) is one colour, not its rounding noise spread on the ramp.
+      var constant = hi - lo <= 1e-9 * Math.max(Math.abs(lo), Math.abs(hi));
       var box = el('div', undefined, 'map');
       box.appendChild(el('h2', m.name.replace(/_/g, ' ') + ' (plane ' + m.plane + ' = ' +
                                 short(m.at_mm) + ' mm)'));
@@ -632,7 +635,8 @@
       for (var j = 0; j < ny; ++j) {
         for (var i = 0; i < nx; ++i) {
           var v = m.values[j * nx + i];
-          g.fillStyle = v === null ? '#e4e6ea' : rampColour((v - lo) / ((hi - lo) || 1));
+          g.fillStyle = v === null ? '#e4e6ea'
+                                   : rampColour(constant ? 0.5 : (v - lo) / ((hi - lo) || 1));
           g.fillRect(i * k, (ny - 1 - j) * k, k, k);  // y up
         }
       }
@@ -640,8 +644,9 @@
       var x0 = m.origin_mm[0], y0 = m.origin_mm[1];
       box.appendChild(el('p', 'x ' + short(x0) + ' to ' + short(x0 + nx * m.step_mm) + ' mm, y ' +
                               short(y0) + ' to ' + short(y0 + ny * m.step_mm) + ' mm (up)'));
-      box.appendChild(el('p', 'from ' + short(lo) + ' (blue) to ' + short(hi) +
-                              ' (red); grey: unreachable'));
+      box.appendChild(el('p', constant ? short(lo) + ' at every reachable point; grey: unreachable'
+                                       : 'from ' + short(lo) + ' (blue) to ' + short(hi) +
+                                             ' (red); grey: unreachable'));
       panel.appendChild(box);
     });
   }

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "app.hpp"
+#include "pkm/view/html_page.hpp"
 #include "pkm/workspace/workspace.hpp"
 #include "pkm/workspace/workspace_json.hpp"
 
@@ -18,6 +19,7 @@ struct WorkspaceCommandOptions {
   std::string orientation;
   double resolution_mm = 0.0;
   bool json = false;
+  std::string html;  // the workspace's page (--html), empty for none
   int threads = 2;
 };
 
@@ -128,6 +130,8 @@ void print_summary(const workspace::Workspace& ws) {
 }
 
 void run_workspace(const WorkspaceCommandOptions& options) {
+  check_outputs({{"--html", options.html}});
+  refuse_overwriting_input(options.html, {{"the machine file", options.machine}});
   const Machine machine = load_machine_or_default(options.machine);
   workspace::WorkspaceOptions settings = workspace::default_options(machine);
   read_orientation(machine, options.orientation, settings);
@@ -148,10 +152,17 @@ void run_workspace(const WorkspaceCommandOptions& options) {
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
+  // The document only when asked for: it is the largest thing made (a 4 mm hexapod's cells).
+  const nlohmann::json json =
+      options.json || !options.html.empty() ? workspace::to_json(ws) : nlohmann::json();
+  if (!options.html.empty()) view::write_workspace_html(options.html, json, &machine);
   if (options.json) {
-    std::cout << workspace::to_json(ws).dump() << "\n";
-  } else {
-    print_summary(ws);
+    std::cout << json.dump() << "\n";
+    return;
+  }
+  print_summary(ws);
+  if (!options.html.empty()) {
+    std::printf("wrote the page %s: open it in a browser\n", options.html.c_str());
   }
 }
 
@@ -176,6 +187,10 @@ void register_workspace_commands(CLI::App& app) {
   command->add_option("--threads", options->threads, "Worker threads (default 2)")
       ->check(CLI::Range(1, 64));
   command->add_flag("--json", options->json, "Write the workspace as JSON to standard output");
+  command
+      ->add_option("--html", options->html,
+                   "Write the workspace's page: one HTML file that opens offline")
+      ->check(file_name());
   command->callback([options] { run_workspace(*options); });
 }
 

@@ -7,6 +7,7 @@ machine, and every number of its summary equals the JSON report's.
 usage: test_views.py PKM SOURCE_DIR OUT_DIR [--screenshots DIR] [--workspace-page EXE]"""
 
 import argparse
+import collections
 import json
 import os
 import subprocess
@@ -81,6 +82,21 @@ def pages(pkm, source, out, workspace_page):
     if result.returncode != 1:
         raise SystemExit(f"the moved verification should fail:\n{result.stdout}{result.stderr}")
     made.append(("hektor-failing", "verify", html, report))
+    # Real `pkm workspace --json --html` outputs: the paper's hexapod with 45 deg joints and 40 mm
+    # legs (3-D), and Hektor (planar).
+    with open(os.path.join(machines, "hexapod-bit.toml")) as file:
+        limited = file.read().replace("tool_length = 30.0\n", "tool_length = 30.0\n"
+                                      "max_joint_angle = 45.0\nleg_diameter = 40.0\n")
+    with open(os.path.join(out, "hexapod-limited.toml"), "w") as file:
+        file.write(limited)
+    for name, machine, resolution in (
+            ("workspace-hexapod-limited", os.path.join(out, "hexapod-limited.toml"), "16"),
+            ("workspace-hektor-real", os.path.join(machines, "hektor.toml"), "1")):
+        html, report = os.path.join(out, name + ".html"), os.path.join(out, name + ".json")
+        with open(report, "w") as file:
+            file.write(run(pkm, "workspace", "-m", machine, "--resolution", resolution, "--json",
+                           "--html", html))
+        made.append((name, "workspace", html, report))
     if workspace_page:
         html, report = os.path.join(out, "workspace-hektor.html"), os.path.join(
             data, "workspace-hektor.json")
@@ -172,11 +188,23 @@ def check_page(browser, name, kind, html, report_path, screenshots):
     if kind == "plan":
         check_speed_scale(browser, name, json.load(open(report_path)))
     if kind == "workspace":
+        report_maps = json.load(open(report_path))["maps"]
         maps = browser.script("return document.querySelectorAll('.map canvas').length")
-        check(maps == len(json.load(open(report_path))["maps"]), f"{name}: {maps} maps drawn")
-        for index in range(maps):
+        check(maps == len(report_maps), f"{name}: {maps} maps drawn")
+        for index in range(min(maps, len(report_maps))):
             image = browser.element_image(f".map:nth-child({index + 1}) canvas")
-            check(distinct_colours(image) > 5, f"{name}: map {index + 1} is blank")
+            values = [v for v in report_maps[index]["values"] if v is not None]
+            if max(values) - min(values) > 1e-9 * max(abs(v) for v in values):
+                check(distinct_colours(image) > 5, f"{name}: map {index + 1} is blank")
+                continue
+            # Equal everywhere (joint speed per tool speed of legs and cables): one colour, said
+            # so, and no rounding noise drawn as a range.
+            text = browser.script(f"return document.querySelectorAll('.map')[{index}].textContent")
+            counts = sorted(collections.Counter(image.getdata()).values(), reverse=True)
+            two = sum(counts[:2]) / sum(counts)  # the map's colour and grey (unreachable)
+            check("at every reachable point" in text and two > 0.97 and
+                  non_background_fraction(image) > 0.2,
+                  f"{name}: constant map {index + 1}: its two main colours cover {two:.3f}")
         return
     # The slider, clicked at its middle as a user would, poses the machine elsewhere (not at
     # its end: many jobs end where they started).

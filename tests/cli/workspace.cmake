@@ -19,3 +19,18 @@ pkm_cli_refuses(workspace_range_not_an_angle "'x' is not an angle in degrees"
                 workspace -m ${MACHINES}/hektor.toml --orientation x)
 pkm_cli_refuses(workspace_resolution_not_a_length "--resolution: 0 is outside"
                 workspace -m ${MACHINES}/hektor.toml --resolution 0)
+# --html: the page written through the HTML view (the browser test opens one), outputs checked
+# before the work, never over the machine file.
+add_test(NAME cli.workspace_html_page
+         COMMAND sh -c "\"$0\" workspace -m \"$1\" --resolution 4 --html \"$2\" && grep -c 'largest_box_mm' \"$2\""
+                 ${PKM} ${MACHINES}/hektor.toml ${CLI_OUT}/workspace-hektor.html)
+set_tests_properties(cli.workspace_html_page PROPERTIES PASS_REGULAR_EXPRESSION
+  "wrote the page .*workspace-hektor.html: open it in a browser\n[1-9]")
+pkm_cli_refuses(workspace_html_into_a_directory "--html .*is a directory"
+                workspace -m ${MACHINES}/hektor.toml --html ${CLI_OUT})
+configure_file(${MACHINES}/hektor.toml ${CLI_OUT}/workspace-machine.toml COPYONLY)
+pkm_cli_refuses(workspace_html_over_the_machine "the output is the input file .*workspace-machine.toml \\(the machine file\\)"
+                workspace -m ${CLI_OUT}/workspace-machine.toml
+                --html ${CLI_OUT}/workspace-machine.toml)
+pkm_cli_refuses(workspace_html_empty_name "--html"
+                workspace -m ${MACHINES}/hektor.toml --html "")

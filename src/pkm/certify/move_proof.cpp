@@ -9,6 +9,7 @@
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/rotary_delta.hpp"
 #include "pkm/post/deviation_bound.hpp"
+#include "pkm/post/mechanism_rate.hpp"
 
 namespace pkm::certify {
 
@@ -32,65 +33,6 @@ std::string formatted(const char* pattern, double value) {
   return text;
 }
 
-// How each leg's ends move per unit of the scaled pose norm over a ball, and how short the leg
-// can get there: what the joint-angle and clearance bounds take. Empty for models without legs.
-struct LegMotion {
-  std::vector<double> inner_speed, platform_speed, shortest_mm;
-  double platform_turn = 0.0;  // rad per scaled unit: how fast a platform-fixed axis turns
-};
-
-LegMotion leg_motion(const Kinematics& model, const JointVector& joints,
-                     const JointJacobian& jacobian, const post::HessianBounds& hessians,
-                     double radius, double scale) {
-  LegMotion motion;
-  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
-    const HexapodGeometry& g = hexapod->geometry();
-    for (std::size_t i = 0; i < 6; ++i) {
-      const double b = (g.platform_mm[i] + Eigen::Vector3d(0.0, 0.0, g.tool_length_mm)).norm();
-      const double gain = post::platform_point_gain(b, scale);
-      motion.inner_speed.push_back(0.0);
-      motion.platform_speed.push_back(gain);
-      motion.shortest_mm.push_back(joints[static_cast<int>(i)] - g.leg_offset_mm[i] -
-                                   gain * radius);
-    }
-    motion.platform_turn = std::sqrt(3.0) / scale;
-  } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
-    const bool rotating = glide->dof().any_rotation();
-    for (std::size_t i = 0; i < glide->rails().size(); ++i) {
-      const GlideRail& rail = glide->rails()[i];
-      // The carriage moves as its reading: the gradient at the centre plus its drift.
-      Eigen::VectorXd gradient = jacobian.row(static_cast<int>(i)).transpose();
-      gradient.tail<3>() /= scale;
-      motion.inner_speed.push_back(gradient.norm() + hessians.norm[i] * radius);
-      motion.platform_speed.push_back(
-          rotating ? post::platform_point_gain(rail.attach_mm.norm(), scale) : 1.0);
-      motion.shortest_mm.push_back(rail.strut_mm);
-    }
-    motion.platform_turn = rotating ? std::sqrt(3.0) / scale : 0.0;
-  } else if (dynamic_cast<const RotaryDeltaKinematics*>(&model) != nullptr) {
-    // No legs to check; each arm's turn per mm over the ball, for the assembly mode's bound.
-    for (int arm = 0; arm < RotaryDeltaKinematics::kArms; ++arm) {
-      motion.inner_speed.push_back(jacobian.block<1, 3>(arm, 0).norm() +
-                                   hessians.norm[static_cast<std::size_t>(arm)] * radius);
-    }
-  }
-  return motion;
-}
-
-// How fast (per scaled unit) a joint-angle or clearance value can change over the ball.
-double mechanism_rate(const MechanismLimit& limit, const LegMotion& motion) {
-  const auto k = static_cast<std::size_t>(limit.leg);
-  if (limit.code == StatusCode::joint_angle) {
-    if (!(motion.shortest_mm[k] > 0.0)) return INFINITY;
-    const double turn = (motion.inner_speed[k] + motion.platform_speed[k]) / motion.shortest_mm[k];
-    return turn + (limit.other == kPlatformEnd ? motion.platform_turn : 0.0);
-  }
-  // Each point of a leg is a mix of its ends: it moves no faster than the faster end.
-  const auto j = static_cast<std::size_t>(limit.other);
-  return std::max(motion.inner_speed[k], motion.platform_speed[k]) +
-         std::max(motion.inner_speed[j], motion.platform_speed[j]);
-}
-
 // The assembly mode as a number that keeps its sign within a mode (hexapod: cos a cos b; a
 // translating glide: det of its strut vectors), times home's mode, and a bound on its rate per
 // scaled unit over the ball. Nothing for models whose mode has no such bound here.
@@ -104,7 +46,7 @@ struct ModeValue {
 // (the rate over the ball: `motion.inner_speed`, filled in for rotary deltas below).
 std::optional<ModeValue> rotary_delta_mode(const RotaryDeltaKinematics& delta, int home_mode,
                                            const Vector6d& centre, const JointVector& joints,
-                                           const LegMotion& motion) {
+                                           const post::LegMotion& motion) {
   std::array<Eigen::Vector3d, 3> forearm;
   for (int arm = 0; arm < 3; ++arm) {
     forearm[static_cast<std::size_t>(arm)] =
@@ -129,7 +71,7 @@ bool has_assembly_bound(const Kinematics& model, int home_mode) {
 
 std::optional<ModeValue> assembly_value(const Kinematics& model, int home_mode,
                                         const Vector6d& centre, const JointVector& joints,
-                                        const LegMotion& motion, double scale) {
+                                        const post::LegMotion& motion, double scale) {
   if (home_mode == 0) return ModeValue{1.0, 0.0};
   if (dynamic_cast<const HexapodKinematics*>(&model) != nullptr) {
     // |grad cos a cos b| = sqrt(sin^2 a cos^2 b + cos^2 a sin^2 b) <= 1 per rad.
@@ -300,12 +242,13 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
       return open(Quantity::envelope, axis, -1, centre[axis] + spread, limits.envelope_max[axis]);
     }
   }
-  const LegMotion motion = leg_motion(model, joints, jacobian, *hessians, radius, angle_scale_mm_);
+  const post::LegMotion motion =
+      post::leg_motion(model, joints, jacobian, *hessians, radius, angle_scale_mm_);
   if (model.has_mechanism_limits()) {
     std::vector<MechanismLimit> values;
     model.mechanism_limits(Pose::from_vector(centre), values);
     for (const MechanismLimit& value : values) {
-      const double reach = mechanism_rate(value, motion) * radius;
+      const double reach = post::mechanism_rate(value, motion) * radius;
       if (!(value.margin() - reach >= 0.0)) {
         const bool angle = value.code == StatusCode::joint_angle;
         return open(angle ? Quantity::joint_angle : Quantity::clearance, value.leg, value.other,

@@ -9,6 +9,7 @@
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/matrix.hpp"
 #include "pkm/post/deviation_bound.hpp"
+#include "pkm/post/mechanism_rate.hpp"
 
 namespace pkm::workspace {
 
@@ -249,32 +250,108 @@ class CablePullConstraint final : public PoseConstraint {
   Eigen::Vector2d left_, right_;
 };
 
+// The boxes of orientations the branch and bound below visits, as a tree below one root box:
+// each box's rotation and its derivatives at the box's middle, computed once and reused by every
+// leg, both directions and every position cell searched over the same root (a hexapod's cells
+// all search the whole range). The split rule is fixed (the widest half-width, halved), so a
+// box is a function of its path from the root: the cache changes no answer, only its cost (the
+// sines and cosines were 60 % of a hexapod's time over +-10 deg).
+class OrientationTree {
+ public:
+  struct Node {
+    Eigen::Vector3d centre, half;
+    Eigen::Matrix3d rotation;
+    std::array<Eigen::Matrix3d, 3> derivatives;
+    std::array<int, 2> child{-1, -1};
+  };
+  // Starts the tree again from this root box (node 0).
+  void reset(const Eigen::Vector3d& centre, const Eigen::Vector3d& half) {
+    nodes_.clear();
+    add(centre, half);
+  }
+  bool has_root(const Eigen::Vector3d& centre, const Eigen::Vector3d& half) const {
+    return !nodes_.empty() && nodes_[0].centre == centre && nodes_[0].half == half;
+  }
+  // Child `which` (0: the lower half) of `node` split along `axis`; -1 when the tree is full
+  // (then the caller evaluates it itself).
+  int child(int node, int which, int axis) {
+    const auto k = static_cast<std::size_t>(node);
+    if (nodes_[k].child[static_cast<std::size_t>(which)] >= 0) {
+      return nodes_[k].child[static_cast<std::size_t>(which)];
+    }
+    if (nodes_.size() >= kMaxNodes) return -1;
+    Eigen::Vector3d centre = nodes_[k].centre, half = nodes_[k].half;
+    half[axis] *= 0.5;
+    centre[axis] += which == 0 ? -half[axis] : half[axis];
+    const int made = add(centre, half);
+    nodes_[k].child[static_cast<std::size_t>(which)] = made;
+    return made;
+  }
+  const Node& operator[](int node) const { return nodes_[static_cast<std::size_t>(node)]; }
+
+ private:
+  static constexpr std::size_t kMaxNodes = 1u << 17;  // 44 MB at most
+  int add(const Eigen::Vector3d& centre, const Eigen::Vector3d& half) {
+    Node node;
+    node.centre = centre;
+    node.half = half;
+    rotation_and_derivatives_abc(centre, node.rotation, node.derivatives);
+    nodes_.push_back(node);
+    return static_cast<int>(nodes_.size()) - 1;
+  }
+  std::vector<Node> nodes_;
+};
+
+// A few trees by root box, the oldest replaced: a cell's whole orientation box and the single
+// orientation at its middle (settle() asks both) each keep theirs.
+class OrientationForest {
+ public:
+  OrientationTree& tree_for(const Eigen::Vector3d& centre, const Eigen::Vector3d& half) {
+    for (OrientationTree& tree : trees_) {
+      if (tree.has_root(centre, half)) return tree;
+    }
+    OrientationTree& tree = trees_[next_];
+    next_ = (next_ + 1) % trees_.size();
+    tree.reset(centre, half);
+    return tree;
+  }
+
+ private:
+  std::array<OrientationTree, 4> trees_;
+  std::size_t next_ = 0;
+};
+
 // The largest value over a box of orientations of sign * s(theta), s = v . R(theta) b, bracketed
 // by branch and bound: each box's value and gradient at its middle, plus |v| |b| (sum of its
 // half-widths)^2 / 2 (every second derivative of R b has norm <= |b|). Stops early once the
 // best value found passes `above` or every box's upper bound is at most `below`; boxes within
-// `tolerance` of the best are not split further.
+// `tolerance` of the best are not split further. The boxes come from `tree` (its root: the
+// whole box), or are evaluated here where the tree is full.
 struct Bracket {
   double lo = -INFINITY, hi = INFINITY;
 };
 
 Bracket largest_over_orientations(const Eigen::Vector3d& v, const Eigen::Vector3d& b, double sign,
-                                  const Eigen::Vector3d& centre, const Eigen::Vector3d& half,
-                                  double above, double below, double tolerance) {
+                                  OrientationTree& tree, int root, double above, double below,
+                                  double tolerance) {
   constexpr int kMaxBoxes = 4096;
   const double curvature = 0.5 * v.norm() * b.norm();
   struct Box {
     Eigen::Vector3d centre, half;
+    int node;  // in `tree`, or -1
   };
   std::array<Box, 64> stack;  // depth-first: at most one pending sibling per level
   int size = 0;
-  stack[static_cast<std::size_t>(size++)] = {centre, half};
+  stack[static_cast<std::size_t>(size++)] = {tree[root].centre, tree[root].half, root};
   double best = -INFINITY, closed = -INFINITY;
-  Eigen::Matrix3d rotation;
-  std::array<Eigen::Matrix3d, 3> derivatives;
+  Eigen::Matrix3d own_rotation;
+  std::array<Eigen::Matrix3d, 3> own_derivatives;
   for (int boxes = 0; size > 0; ++boxes) {
     const Box box = stack[static_cast<std::size_t>(--size)];
-    rotation_and_derivatives_abc(box.centre, rotation, derivatives);
+    if (box.node < 0) rotation_and_derivatives_abc(box.centre, own_rotation, own_derivatives);
+    const Eigen::Matrix3d& rotation = box.node >= 0 ? tree[box.node].rotation : own_rotation;
+    const std::array<Eigen::Matrix3d, 3>& derivatives =
+        box.node >= 0 ? tree[box.node].derivatives : own_derivatives;
     const double value = sign * v.dot(rotation * b);
     double upper = value;
     for (int k = 0; k < 3; ++k)
@@ -294,6 +371,8 @@ Bracket largest_over_orientations(const Eigen::Vector3d& v, const Eigen::Vector3
     first.half[widest] = second.half[widest] = 0.5 * box.half[widest];
     first.centre[widest] -= first.half[widest];
     second.centre[widest] += second.half[widest];
+    first.node = box.node >= 0 ? tree.child(box.node, 0, widest) : -1;
+    second.node = box.node >= 0 ? tree.child(box.node, 1, widest) : -1;
     stack[static_cast<std::size_t>(size++)] = first;
     stack[static_cast<std::size_t>(size++)] = second;
   }
@@ -314,7 +393,11 @@ class HexapodLegConstraint final : public PoseConstraint {
   void bound(const PoseCell& cell, std::span<Margin> margins,
              std::uint64_t settled) const override {
     const double rho = position_radius(cell);
-    const Eigen::Vector3d angles = cell.centre.tail<3>(), spread = cell.half.tail<3>();
+    // One tree per thread, kept from cell to cell and from worker to worker (a worker lives for
+    // one top cell only).
+    static thread_local OrientationForest forest;
+    OrientationTree& tree = forest.tree_for(cell.centre.tail<3>(), cell.half.tail<3>());
+    const int root = 0;
     for (std::size_t i = 0; i < 6; ++i) {
       if (((settled >> (2 * i)) & 3u) == 3u) continue;
       const Eigen::Vector3d b =
@@ -328,13 +411,13 @@ class HexapodLegConstraint final : public PoseConstraint {
       const auto length = [&](double s) { return std::sqrt(std::max(0.0, base + 2.0 * s)); };
       const auto s_at = [&](double l) { return 0.5 * (l * std::max(l, 0.0) - base); };
       const double tolerance = 0.5 * rho * std::max(std::abs(v.norm() - b.norm()), 1.0);
-      const Bracket most = largest_over_orientations(v, b, 1.0, angles, spread, s_at(longest + rho),
+      const Bracket most = largest_over_orientations(v, b, 1.0, tree, root, s_at(longest + rho),
                                                      s_at(longest - rho), tolerance);
       margins[2 * i + 1] = {longest - length(most.hi) - rho, longest - length(most.lo) + rho};
       // The smallest length: the largest of -s.
-      const Bracket least = largest_over_orientations(v, b, -1.0, angles, spread,
-                                                      -s_at(std::max(shortest - rho, 0.0)),
-                                                      -s_at(shortest + rho), tolerance);
+      const Bracket least =
+          largest_over_orientations(v, b, -1.0, tree, root, -s_at(std::max(shortest - rho, 0.0)),
+                                    -s_at(shortest + rho), tolerance);
       margins[2 * i] = {length(-least.hi) - rho - shortest, length(-least.lo) + rho - shortest};
     }
   }
@@ -431,6 +514,56 @@ class PassThroughConstraint final : public PoseConstraint {
   std::vector<int> joints_;
 };
 
+// Each joint end's angle and each leg pair's clearance (Kinematics::mechanism_limits, the
+// values Machine::inverse refuses by): the margin at the cell's centre, moved at most
+// post::mechanism_rate times the cell's scaled half-diagonal, the rate bound the certified job
+// check proves moves with. Unknown where the centre has no legs (a glide out of reach) or the
+// ball has no derivative bound.
+class MechanismLimitConstraint final : public PoseConstraint {
+ public:
+  explicit MechanismLimitConstraint(const Machine& machine)
+      : machine_(machine), scale_(post::pose_angle_scale_mm(machine.kinematics())) {
+    machine.kinematics().mechanism_limits(machine.home(), values_);
+    count_ = static_cast<int>(values_.size());
+    for (const MechanismLimit& value : values_) failures_.push_back({value.code, value.leg});
+  }
+  int count() const override { return count_; }
+  void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
+    std::fill(margins.begin(), margins.end(), Margin{});
+    const Kinematics& model = machine_.kinematics();
+    const Pose centre = Pose::from_vector(cell.centre);
+    if (!model.inverse_and_jacobian(centre, joints_, jacobian_).ok()) return;
+    values_.clear();
+    model.mechanism_limits(centre, values_);
+    if (static_cast<int>(values_.size()) != count_) return;
+    const double r = scaled_radius(cell, scale_);
+    const std::optional<post::HessianBounds> curvature =
+        post::inverse_hessian_bounds(model, cell.centre, r, scale_, post::Chord{});
+    if (!curvature) return;
+    const post::LegMotion motion =
+        post::leg_motion(model, joints_, jacobian_, *curvature, r, scale_);
+    for (std::size_t k = 0; k < values_.size(); ++k) {
+      const double reach = post::mechanism_rate(values_[k], motion) * r;
+      const double margin = values_[k].margin();
+      if (std::isfinite(reach) && std::isfinite(margin))
+        margins[k] = {margin - reach, margin + reach};
+    }
+  }
+  Status failure(int index) const override {
+    const auto& [code, leg] = failures_[static_cast<std::size_t>(index)];
+    return Status::failure(code, leg);
+  }
+
+ private:
+  const Machine& machine_;
+  double scale_;
+  int count_ = 0;
+  std::vector<std::pair<StatusCode, int>> failures_;
+  mutable std::vector<MechanismLimit> values_;
+  mutable JointVector joints_;
+  mutable JointJacobian jacobian_;
+};
+
 bool has_hessian_bounds(const Machine& machine) {
   const Kinematics& model = machine.kinematics();
   return post::inverse_hessian_bounds(model, machine.home().as_vector(), 0.0,
@@ -455,6 +588,9 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
   if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
     constraints.push_back(std::make_unique<HexapodLegConstraint>(machine, *hexapod));
     constraints.push_back(std::make_unique<HexapodAssemblyConstraint>());
+    if (model.has_mechanism_limits()) {
+      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine));
+    }
     return constraints;
   }
   constraints.push_back(std::make_unique<JointLimitConstraint>(machine));
@@ -462,6 +598,9 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
     constraints.push_back(std::make_unique<GlideReachConstraint>(*glide));
     if (home_mode != 0) {
       constraints.push_back(std::make_unique<GlideAssemblyConstraint>(*glide, home_mode));
+    }
+    if (model.has_mechanism_limits()) {
+      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine));
     }
   } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
     if (plotter->geometry().ideal()) {
