@@ -27,12 +27,6 @@ std::string_view verdict_name(Verdict verdict) {
 
 namespace {
 
-std::string formatted(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
-
 // The assembly mode as a number that keeps its sign within a mode (hexapod: cos a cos b; a
 // translating glide: det of its strut vectors), times home's mode, and a bound on its rate per
 // scaled unit over the ball. Nothing for models whose mode has no such bound here.
@@ -107,6 +101,58 @@ std::optional<ModeValue> assembly_value(const Kinematics& model, int home_mode,
   const double cross =
       strut[0][plane[0]] * strut[1][plane[1]] - strut[0][plane[1]] * strut[1][plane[0]];
   return ModeValue{home_mode * cross, speed(0) * length(1) + length(0) * speed(1)};
+}
+
+// What a piece spans: its middle pose, its chord (zero in the coordinates the model does not
+// control), its half-length in the scaled norm and, for an arc, how far it bows off the chord.
+struct PieceSpan {
+  Vector6d centre;
+  Vector6d chord;
+  double radius = 0.0;
+  double sagitta = 0.0;
+  bool line = true;
+};
+
+// A quantity not proven within its limit over a piece: how far its bound reaches, and the limit.
+struct Unproven {
+  Quantity quantity = Quantity::none;
+  int index = -1;
+  double reach = 0.0, limit = 0.0;
+};
+
+// The first joint whose range over the piece (its value at the middle, the first-order change
+// along the chord, the second-order bend) is not proven within [min, max].
+std::optional<Unproven> unproven_joint(const Machine& machine, const PieceSpan& span,
+                                       const JointVector& joints, const JointJacobian& jacobian,
+                                       const post::HessianBounds& hessians) {
+  for (int i = 0; i < joints.size(); ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const double slope = 0.5 * std::abs(jacobian.row(i).dot(span.chord));
+    const double bend = span.line ? hessians.along[k] / 8.0
+                                  : 2.0 * span.sagitta * jacobian.block<1, 3>(i, 0).norm() +
+                                        0.5 * hessians.norm[k] * span.radius * span.radius;
+    const JointSpec& spec = machine.joints()[k];
+    const double low = joints[i] - slope - bend, high = joints[i] + slope + bend;
+    if (!(low >= spec.min)) return Unproven{Quantity::joint, i, low, spec.min};
+    if (!(high <= spec.max)) return Unproven{Quantity::joint, i, high, spec.max};
+  }
+  return std::nullopt;
+}
+
+// The first controlled coordinate whose range over the piece is not proven within the envelope.
+std::optional<Unproven> unproven_envelope(const CartesianLimits& limits,
+                                          const std::vector<int>& axes, const PieceSpan& span) {
+  for (const int axis : axes) {
+    const double spread = 0.5 * std::abs(span.chord[axis]) + (axis < 3 ? 2.0 * span.sagitta : 0.0);
+    const double low = span.centre[axis] - spread, high = span.centre[axis] + spread;
+    if (!(low >= limits.envelope_min[axis])) {
+      return Unproven{Quantity::envelope, axis, low, limits.envelope_min[axis]};
+    }
+    if (!(high <= limits.envelope_max[axis])) {
+      return Unproven{Quantity::envelope, axis, high, limits.envelope_max[axis]};
+    }
+  }
+  return std::nullopt;
 }
 
 Finding piece_finding(double u0, double u1, const Vector6d& pose, Quantity quantity, int index,
@@ -221,26 +267,12 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
     outcome.open_at = piece_finding(u0, u1, centre, quantity, index, other, reach, limit);
     return outcome;
   };
-  for (int i = 0; i < joints.size(); ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    const double slope = 0.5 * std::abs(jacobian.row(i).dot(chord));
-    const double bend = line ? hessians->along[k] / 8.0
-                             : 2.0 * sagitta * jacobian.block<1, 3>(i, 0).norm() +
-                                   0.5 * hessians->norm[k] * radius * radius;
-    const JointSpec& spec = machine_.joints()[k];
-    const double low = joints[i] - slope - bend, high = joints[i] + slope + bend;
-    if (!(low >= spec.min)) return open(Quantity::joint, i, -1, low, spec.min);
-    if (!(high <= spec.max)) return open(Quantity::joint, i, -1, high, spec.max);
+  const PieceSpan span{centre, chord, radius, sagitta, line};
+  if (const auto joint = unproven_joint(machine_, span, joints, jacobian, *hessians)) {
+    return open(joint->quantity, joint->index, -1, joint->reach, joint->limit);
   }
-  const CartesianLimits& limits = machine_.cartesian();
-  for (const int axis : axes_) {
-    const double spread = 0.5 * std::abs(chord[axis]) + (axis < 3 ? 2.0 * sagitta : 0.0);
-    if (!(centre[axis] - spread >= limits.envelope_min[axis])) {
-      return open(Quantity::envelope, axis, -1, centre[axis] - spread, limits.envelope_min[axis]);
-    }
-    if (!(centre[axis] + spread <= limits.envelope_max[axis])) {
-      return open(Quantity::envelope, axis, -1, centre[axis] + spread, limits.envelope_max[axis]);
-    }
+  if (const auto axis = unproven_envelope(machine_.cartesian(), axes_, span)) {
+    return open(axis->quantity, axis->index, -1, axis->reach, axis->limit);
   }
   const post::LegMotion motion =
       post::leg_motion(model, joints, jacobian, *hessians, radius, angle_scale_mm_);
@@ -269,6 +301,18 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
                 0.0);
   }
   return outcome;
+}
+
+Finding MoveProver::earlier_violation(Finding found, const std::optional<Finding>& later) const {
+  if (later && later->quantity == found.quantity && later->index == found.index &&
+      later->other == found.other) {
+    // Earlier, but perhaps not as far beyond: keep the farthest seen.
+    if (!(excess(found, found.value) > excess(*later, later->worst_value))) {
+      found.worst_u = later->worst_u;
+      found.worst_value = later->worst_value;
+    }
+  }
+  return found;
 }
 
 MoveProof MoveProver::prove(const motion::Segment& segment) const {
@@ -316,18 +360,7 @@ MoveProof MoveProver::prove(const motion::Segment& segment) const {
     ++proof.pieces;
     const double middle = 0.5 * (span.u0 + span.u1);
     if (outcome.kind == Outcome::refused) {
-      Finding found = refusal_at(segment, middle, outcome.refusal);
-      if (violation && violation->quantity == found.quantity && violation->index == found.index &&
-          violation->other == found.other) {
-        // Earlier, but perhaps not as far beyond: keep the farthest seen.
-        const bool farther =
-            excess(found, found.value) > excess(*violation, violation->worst_value);
-        if (!farther) {
-          found.worst_u = violation->worst_u;
-          found.worst_value = violation->worst_value;
-        }
-      }
-      violation = found;
+      violation = earlier_violation(refusal_at(segment, middle, outcome.refusal), violation);
       stack.clear();
       if (span.depth < options_.max_depth) stack.push_back({span.u0, middle, span.depth + 1});
       continue;
@@ -349,7 +382,7 @@ MoveProof MoveProver::prove(const motion::Segment& segment) const {
     if (violation->worst_u != violation->u0) {
       violation->text +=
           "; the farthest past it: " + excess_text(*violation, violation->worst_value) + " at " +
-          formatted("%.6f", 100.0 * violation->worst_u) + " % of the move";
+          formatted_number("%.6f", 100.0 * violation->worst_u) + " % of the move";
     }
     proof.finding = violation;
   } else if (undecided) {
@@ -390,28 +423,30 @@ std::string MoveProver::value_text(Quantity quantity, int index, double value) c
   const bool units_are_inches = machine_.units() == LengthUnit::inch;
   switch (quantity) {
     case Quantity::joint:
-      return formatted(units_are_inches ? "%.4f " : "%.3f ", machine_.joint_to_file(index, value)) +
+      return formatted_number(units_are_inches ? "%.4f " : "%.3f ",
+                              machine_.joint_to_file(index, value)) +
              machine_.joint_file_unit(index);
     case Quantity::envelope:
-      return formatted(units_are_inches && index < 3 ? "%.4f " : "%.3f ",
-                       machine_.axis_to_file(index, value)) +
+      return formatted_number(units_are_inches && index < 3 ? "%.4f " : "%.3f ",
+                              machine_.axis_to_file(index, value)) +
              machine_.axis_file_unit(index);
     case Quantity::joint_angle:
-      return formatted("%.3f deg", radians_to_degrees(value));
+      return formatted_number("%.3f deg", radians_to_degrees(value));
     case Quantity::clearance:
-      return formatted(units_are_inches ? "%.4f " : "%.3f ", value / machine_.mm_per_unit()) +
+      return formatted_number(units_are_inches ? "%.4f " : "%.3f ",
+                              value / machine_.mm_per_unit()) +
              machine_.length_unit();
     case Quantity::assembly_mode:
     case Quantity::pull:
     case Quantity::none:
       break;
   }
-  return formatted("%.7g", value);
+  return formatted_number("%.7g", value);
 }
 
 std::string MoveProver::undecided_text(const Finding& finding) const {
-  const std::string where = formatted("%.6f", 100.0 * finding.u0) + " % and " +
-                            formatted("%.6f", 100.0 * finding.u1) + " % of the move (pose " +
+  const std::string where = formatted_number("%.6f", 100.0 * finding.u0) + " % and " +
+                            formatted_number("%.6f", 100.0 * finding.u1) + " % of the move (pose " +
                             machine_.format_pose(Pose::from_vector(finding.pose)) + ")";
   if (finding.quantity == Quantity::assembly_mode || finding.quantity == Quantity::pull) {
     return "cannot prove " + quantity_name(finding.quantity, -1, -1) + " keeps its sign between " +
@@ -489,7 +524,7 @@ std::string MoveProver::excess_text(const Finding& finding, double value) const 
     default:
       unit.clear();
   }
-  return formatted("%.3g ", file_units) + unit;
+  return formatted_number("%.3g ", file_units) + unit;
 }
 
 double MoveProver::excess(const Finding& finding, double value) const {
@@ -518,7 +553,7 @@ Finding MoveProver::refusal_at(const motion::Segment& segment, double u,
   finding.u0 = finding.u1 = u;
   finding.pose = segment.at(u);
   const Pose pose = Pose::from_vector(finding.pose);
-  const std::string at = "at " + formatted("%.6f", 100.0 * u) + " % of the move: ";
+  const std::string at = "at " + formatted_number("%.6f", 100.0 * u) + " % of the move: ";
   JointVector joints;
   if (status.code == StatusCode::joint_limit && machine_.kinematics().inverse(pose, joints).ok()) {
     const JointSpec& spec = machine_.joints()[static_cast<std::size_t>(status.joint)];

@@ -78,6 +78,9 @@ class MoveProver {
   // How far beyond its limit a violated finding's value is (> 0), in its own unit, and as text
   // in the machine file's units.
   double excess(const Finding& finding, double value) const;
+  // `found`, a violation earlier on the move than `later` (if any): where both concern the same
+  // quantity, it keeps the farther excess of the two as the farthest past the limit.
+  Finding earlier_violation(Finding found, const std::optional<Finding>& later) const;
   std::string excess_text(const Finding& finding, double value) const;
   // The finding's quantity at a pose (joint values without the machine's limits), if defined.
   std::optional<double> quantity_at(const Finding& finding, const Pose& pose) const;
