@@ -4,9 +4,16 @@
 #include <Eigen/LU>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace pkm {
+
+std::string formatted_number(const char* printf_pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, printf_pattern, value);
+  return text;
+}
 
 std::string_view status_name(StatusCode code) {
   switch (code) {

@@ -141,6 +141,9 @@ class Kinematics {
   ForwardOptions forward_options_;
 };
 
+// `value` printed with a printf pattern ("%.3f", "%g"): the numbers of error messages.
+std::string formatted_number(const char* printf_pattern, double value);
+
 // True when every entry is finite.
 bool all_finite(const Pose& pose);
 bool all_finite(const JointVector& joints);

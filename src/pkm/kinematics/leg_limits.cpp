@@ -9,12 +9,6 @@ namespace pkm {
 
 namespace {
 
-std::string number_text(const char* pattern, double value) {
-  char text[48];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
-
 // An optional unit direction key [x, y, z].
 std::optional<Eigen::Vector3d> read_axis(const ModelConfig& config, const char* key) {
   if (!config.has(key)) return std::nullopt;
@@ -48,7 +42,7 @@ LegLimitSettings read_leg_limit_settings(const ModelConfig& config, const char* 
     for (int end = 0; end < 2; ++end) {
       if (!(degrees[end] > 0.0 && degrees[end] < 180.0)) {
         config.fail("max_joint_angle", "must be between 0 and 180 deg (exclusive), not " +
-                                           number_text("%g", degrees[end]));
+                                           formatted_number("%g", degrees[end]));
       }
       settings.max_joint_angle_rad[end] = degrees_to_radians(degrees[end]);
     }
@@ -165,14 +159,14 @@ std::string LegLimits::why(const LegEnds& ends, const Status& status, const char
   if (worst->code == StatusCode::joint_angle) {
     const char* end = worst->other == kInnerEnd ? "inner (base or carriage)" : "platform";
     return "the " + std::string(end) + " joint of " + leg + " is at " +
-           number_text("%.3f", radians_to_degrees(worst->value)) +
+           formatted_number("%.3f", radians_to_degrees(worst->value)) +
            " deg from its axis, beyond max_joint_angle " +
-           number_text("%g", radians_to_degrees(worst->limit)) + " deg";
+           formatted_number("%g", radians_to_degrees(worst->limit)) + " deg";
   }
   return std::string(leg_word) + "s " + std::to_string(worst->leg + 1) + " and " +
-         std::to_string(worst->other + 1) + " are " + number_text("%.3f", worst->value) +
-         " mm apart (axis to axis), closer than leg_diameter " + number_text("%g", worst->limit) +
-         " mm";
+         std::to_string(worst->other + 1) + " are " + formatted_number("%.3f", worst->value) +
+         " mm apart (axis to axis), closer than leg_diameter " +
+         formatted_number("%g", worst->limit) + " mm";
 }
 
 // Closest points of two segments: minimise |p0 + s u - q0 - t v| over s, t in [0, 1]; the

@@ -19,12 +19,6 @@ constexpr double kMinFeed = 1e-3, kMaxFeed = 6e7;
 // The back-off when the table gives none: 5 mm (5 deg for a rotary joint).
 constexpr double kDefaultBackoff_mm = 5.0;
 
-std::string number_text(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
-
 // A number of the [homing] table within [low, high] (low itself refused unless `zero_ok`).
 double bounded(const ModelConfig& section, std::string_view key, double low, double high,
                const std::string& unit, bool zero_ok = false) {
@@ -32,8 +26,9 @@ double bounded(const ModelConfig& section, std::string_view key, double low, dou
   const bool above_low = zero_ok ? value >= low : value > low;
   if (!(above_low && value <= high)) {
     section.fail(key, std::string("must be ") + (zero_ok ? "at least " : "greater than ") +
-                          number_text(low) + " and at most " + number_text(high) + " " + unit +
-                          ", not " + number_text(value));
+                          formatted_number("%g", low) + " and at most " +
+                          formatted_number("%g", high) + " " + unit + ", not " +
+                          formatted_number("%g", value));
   }
   return value;
 }
@@ -233,7 +228,7 @@ std::optional<HomeSwitch> read_home_switch(const ModelConfig& table, const Joint
   }
   const double value = table.number("home_switch");
   if (!(std::abs(value) <= kMaxDistance)) {
-    table.fail("home_switch", "must be within 1e+06 of 0, not " + number_text(value));
+    table.fail("home_switch", "must be within 1e+06 of 0, not " + formatted_number("%g", value));
   }
   HomeSwitch home_switch;
   home_switch.position = value * scale;

@@ -153,19 +153,14 @@ constexpr double kMinRate = 1e-3;
 constexpr double kMaxVelocity = 1e6;
 constexpr double kMaxAcceleration = 1e9;
 
-std::string number_text(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
-
 // A number of the file (in its units), refused outside [low, high].
 double ranged(const ModelConfig& table, std::string_view key, double low, double high,
               const std::string& unit) {
   const double value = table.number(key);
   if (!(value >= low && value <= high)) {
-    table.fail(key, "must be between " + number_text(low) + " and " + number_text(high) + " " +
-                        unit + ", not " + number_text(value));
+    table.fail(key, "must be between " + formatted_number("%g", low) + " and " +
+                        formatted_number("%g", high) + " " + unit + ", not " +
+                        formatted_number("%g", value));
   }
   return value;
 }

@@ -12,15 +12,9 @@ namespace pkm {
 
 namespace {
 
-std::string formatted(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
-
 // Values in the machine file's units: three decimals of a mm or a degree, four of an inch.
 std::string value_text(double value, const char* unit) {
-  std::string text = formatted(std::string(unit) == "in" ? "%.4f" : "%.3f", value);
+  std::string text = formatted_number(std::string(unit) == "in" ? "%.4f" : "%.3f", value);
   // A crossing found by bisection lies a hair past zero: "-0.000" says nothing more than 0.
   if (text[0] == '-' && text.find_first_not_of("-0.") == std::string::npos) text.erase(0, 1);
   return text;
@@ -179,8 +173,8 @@ std::string Machine::explain_path(const std::function<Vector6d(double)>& pose_at
   }
   const Pose pose = Pose::from_vector(pose_at(bad));
   const Status status = inverse(pose, joints);
-  std::string text =
-      first_bad == 0 ? "at its start: " : "at " + formatted("%.1f", 100.0 * bad) + " % of it: ";
+  std::string text = first_bad == 0 ? "at its start: "
+                                    : "at " + formatted_number("%.1f", 100.0 * bad) + " % of it: ";
   if (status.code == StatusCode::outside_envelope) {
     return text + explain_envelope_crossing(pose, status.axis, pose_at);
   }
@@ -269,7 +263,8 @@ std::string box_text(const PoseBox& box, Dof axes) {
   for (int axis = 0; axis < 3; ++axis) {
     if (!axes.controls(axis)) continue;
     text += (text.empty() ? "" : " ") + std::string(kAxisNames[axis]) + " " +
-            formatted("%.3f", box.min[axis] + 0.0) + ".." + formatted("%.3f", box.max[axis] + 0.0);
+            formatted_number("%.3f", box.min[axis] + 0.0) + ".." +
+            formatted_number("%.3f", box.max[axis] + 0.0);
   }
   return text + " mm";
 }
@@ -298,7 +293,7 @@ std::string outside_reach_hint(const Machine& machine, const PoseBox& job, const
     const double centred = shared.controls(axis) ? 0.5 * (reach.min[axis] + reach.max[axis]) -
                                                        0.5 * (job.min[axis] + job.max[axis])
                                                  : origin[axis];
-    suggestion += " " + formatted("%.0f", centred);
+    suggestion += " " + formatted_number("%.0f", centred);
     if (shared.controls(axis) &&
         job.max[axis] - job.min[axis] > reach.max[axis] - reach.min[axis]) {
       too_big += std::string(too_big.empty() ? "" : ", ") + std::string(kAxisNames[axis]);
