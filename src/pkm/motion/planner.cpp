@@ -5,6 +5,7 @@
 #include <deque>
 #include <numbers>
 
+#include "pkm/motion/joint_rates.hpp"
 #include "pkm/motion/segment.hpp"
 #include "pkm/motion/segment_builder.hpp"
 #include "pkm/motion/tension_limit.hpp"
@@ -647,26 +648,19 @@ class Planner {
                           " s: " + machine_.explain(Pose::from_vector(pose), status));
     }
     require_numbers(pose, sample.joints, line, "", t);
-    const double dt = t - last_sample_time_;
+    rates_.add(t, sample.joints);
     for (int i = 0; i < sample.joints.size(); ++i) {
       JointStatistics& stats = report_.joints[static_cast<std::size_t>(i)];
       stats.min = std::min(stats.min, sample.joints[i]);
       stats.max = std::max(stats.max, sample.joints[i]);
-      if (report_.samples > 0 && dt > 0.0) {
-        const double velocity = (sample.joints[i] - last_joints_[i]) / dt;
-        stats.peak_velocity = std::max(stats.peak_velocity, std::abs(velocity));
-        if (report_.samples > 1) {
-          // Velocities are averages over their intervals: their change spans the midpoints.
-          const double spacing = 0.5 * (dt + last_dt_);
-          stats.peak_acceleration =
-              std::max(stats.peak_acceleration, std::abs(velocity - last_velocity_[i]) / spacing);
-        }
-        last_velocity_[i] = velocity;
+      if (rates_.has_velocity()) {
+        stats.peak_velocity = std::max(stats.peak_velocity, std::abs(rates_.velocity()[i]));
+      }
+      if (rates_.has_acceleration()) {
+        stats.peak_acceleration =
+            std::max(stats.peak_acceleration, std::abs(rates_.acceleration()[i]));
       }
     }
-    if (report_.samples == 0) last_velocity_ = JointVector::Zero(sample.joints.size());
-    last_joints_ = sample.joints;
-    if (dt > 0.0) last_dt_ = dt;
     last_sample_time_ = t;
     ++report_.samples;
     sink_.write(sample);
@@ -688,10 +682,9 @@ class Planner {
   std::deque<Piece> pieces_;
   double entry_speed_ = 0.0;  // the speed the first buffered piece is entered at
   double last_sample_time_ = 0.0;
-  double last_dt_ = 0.0;
   int last_line_ = 0;
   Sample sample_;
-  JointVector last_joints_, last_velocity_;
+  JointRates rates_;  // of the samples emitted, for the report's peaks
 };
 
 }  // namespace

@@ -53,19 +53,14 @@ void PlanRecorder::write(const motion::Sample& sample) {
   const int count = static_cast<int>(sample.joints.size());
   const double nan = std::numeric_limits<double>::quiet_NaN();
   double speed = 0.0;
-  if (samples_ == 0) last_velocity_ = JointVector::Zero(count);
+  // The planner's own measure, so that the charts' peaks are the report's.
+  rates_.add(t, sample.joints);
   for (int i = 0; i < count; ++i) {
-    double velocity = nan, acceleration = nan;
-    // As the planner's report: velocities from successive samples, their changes over the
-    // midpoints of the two intervals.
-    if (samples_ > 0 && dt > 0.0) {
-      velocity = (sample.joints[i] - last_joints_[i]) / dt;
-      if (samples_ > 1) acceleration = (velocity - last_velocity_[i]) / (0.5 * (dt + last_dt_));
-      last_velocity_[i] = velocity;
-    }
     values_[static_cast<std::size_t>(i)] = sample.joints[i];
-    values_[static_cast<std::size_t>(count + i)] = velocity;
-    values_[static_cast<std::size_t>(2 * count + i)] = acceleration;
+    values_[static_cast<std::size_t>(count + i)] =
+        rates_.has_velocity() ? rates_.velocity()[i] : nan;
+    values_[static_cast<std::size_t>(2 * count + i)] =
+        rates_.has_acceleration() ? rates_.acceleration()[i] : nan;
   }
   if (samples_ > 0 && dt > 0.0) speed = controlled_distance_mm(position - last_position_) / dt;
   buckets_.add(t, values_);
@@ -73,9 +68,7 @@ void PlanRecorder::write(const motion::Sample& sample) {
   pen_ever_down_ = pen_ever_down_ || sample.pen_down;
   moments_.add(t, Pose::from_vector(sample.pose), sample.joints);
   line_starts_.try_emplace(sample.line, LineStart{t, position});
-  last_joints_ = sample.joints;
   last_position_ = position;
-  if (dt > 0.0) last_dt_ = dt;
   last_t_ = t;
   ++samples_;
 }

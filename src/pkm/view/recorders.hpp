@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 
+#include "pkm/motion/joint_rates.hpp"
 #include "pkm/motion/planner.hpp"
 #include "pkm/verify/joint_path.hpp"
 #include "pkm/view/decimation.hpp"
@@ -59,9 +60,9 @@ class PlanRecorder final : public motion::SampleSink {
   MomentSampler moments_;
   std::map<int, LineStart> line_starts_;
   std::vector<double> values_;
-  JointVector last_joints_, last_velocity_;
+  motion::JointRates rates_;
   Eigen::Vector3d last_position_ = Eigen::Vector3d::Zero();
-  double last_t_ = 0.0, last_dt_ = 0.0;
+  double last_t_ = 0.0;
   long samples_ = 0;
 };
 
