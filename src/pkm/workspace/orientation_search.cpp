@@ -141,8 +141,9 @@ Bracket OrientationSearch::largest(const Eigen::Vector3d& v, const Eigen::Vector
   while (size > 0) {
     const Box box = stack[static_cast<std::size_t>(--size)];
     const double settles = best > goal.below ? goal.above : goal.below;
-    if ((std::isfinite(settles) && box.upper <= settles) || box.upper - best <= goal.tolerance || box.half.maxCoeff() <= 0.0 ||
-        boxes >= kMaxBoxes || size + 2 > static_cast<int>(stack.size())) {
+    if ((std::isfinite(settles) && box.upper <= settles) || box.upper - best <= goal.tolerance ||
+        box.half.maxCoeff() <= 0.0 || boxes >= kMaxBoxes ||
+        size + 2 > static_cast<int>(stack.size())) {
       closed = std::max(closed, box.upper);
       continue;
     }
