@@ -84,5 +84,60 @@ TEST(OrientationSearch, DecidesTheThresholdsItIsGiven) {
   }
 }
 
+// -cos of a joint end's angle, sampled on a grid of the range.
+double sampled_largest_turn(const LegJointEnd& end, const Eigen::Vector3d& centre,
+                            const Eigen::Vector3d& half, int n) {
+  double best = -INFINITY;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const Eigen::Vector3d step(i, j, k);
+        const Eigen::Vector3d abc =
+            centre - half + 2.0 * half.cwiseProduct(step / static_cast<double>(n - 1));
+        const Eigen::Matrix3d rotation = rotation_from_abc(abc);
+        const Eigen::Vector3d leg = (end.v + rotation * end.p).normalized();
+        const Eigen::Vector3d axis =
+            end.turns_with_platform ? Eigen::Vector3d(rotation * end.axis) : end.axis;
+        best = std::max(best, -axis.dot(leg));
+      }
+  return best;
+}
+
+TEST(OrientationSearch, JointTurnBracketHoldsTheSampledLargest) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), angle(0.0, 0.4);
+  for (int trial = 0; trial < 200; ++trial) {
+    LegJointEnd end;
+    end.v = Eigen::Vector3d(600.0 * unit(rng), 600.0 * unit(rng), 700.0 + 300.0 * unit(rng));
+    end.p = Eigen::Vector3d(250.0 * unit(rng), 250.0 * unit(rng), 30.0 * unit(rng));
+    end.axis = Eigen::Vector3d(0.4 * unit(rng), 0.4 * unit(rng), 1.0).normalized();
+    end.turns_with_platform = trial % 2 == 1;
+    const Eigen::Vector3d centre(0.2 * unit(rng), 0.2 * unit(rng), 0.3 * unit(rng));
+    const Eigen::Vector3d half(angle(rng), angle(rng), angle(rng));
+    const double tolerance = 1e-2;  // about half a degree: well within the box budget
+    const Bracket found = largest_joint_turn(end, centre, half, {INFINITY, -INFINITY, tolerance});
+    const double sampled = sampled_largest_turn(end, centre, half, 21);
+    ASSERT_LE(sampled, found.hi + 1e-12) << "trial " << trial;
+    ASSERT_GE(found.lo, sampled - tolerance - 1e-12) << "trial " << trial;
+    ASSERT_LE(found.hi - found.lo, tolerance + 1e-12) << "trial " << trial;
+  }
+}
+
+// A base joint whose axis is the leg at the range's middle: the leg turns from it by the angle
+// the platform point swings through, here about z by c only (p across the leg): at +-0.2 rad
+// of c the largest turn is atan(|p| sin 0.2 / ...) computed by hand from the two end poses.
+TEST(OrientationSearch, JointTurnOfAHandMadeSwing) {
+  LegJointEnd end;
+  end.v = Eigen::Vector3d(0.0, 0.0, 1000.0);
+  end.p = Eigen::Vector3d(200.0, 0.0, 0.0);
+  end.axis = Eigen::Vector3d(200.0, 0.0, 1000.0).normalized();
+  const Bracket found = largest_joint_turn(
+      end, Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, 0.2), {INFINITY, -INFINITY, 1e-9});
+  const Eigen::Vector3d turned(200.0 * std::cos(0.2), 200.0 * std::sin(0.2), 1000.0);
+  const double expected = -end.axis.dot(turned.normalized());
+  EXPECT_NEAR(found.lo, expected, 1e-9);
+  EXPECT_NEAR(found.hi, expected, 2e-9);
+}
+
 }  // namespace
 }  // namespace pkm::workspace

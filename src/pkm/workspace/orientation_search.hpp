@@ -82,4 +82,20 @@ class OrientationSearch {
   long boxes_ = 0;
 };
 
+// One end of a hexapod leg: the base joint at the origin of v, the platform joint at v + R p
+// (mm); its neutral axis (unit) fixed in the world (a base joint) or turning with the platform
+// (R axis, a platform joint).
+struct LegJointEnd {
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), p = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  bool turns_with_platform = false;
+};
+
+// The largest of -cos(angle between the leg and the end's axis) over a b c within centre +- half
+// (rad), bracketed for `goal`: a branch and bound over boxes of (a, b, c), each bounded by its
+// value and gradient at the middle and a bound on the second derivative (docs/workspace.md,
+// "Joint angles"). Not cached: only cells near an angle limit search more than one box.
+Bracket largest_joint_turn(const LegJointEnd& end, const Eigen::Vector3d& centre_rad,
+                           const Eigen::Vector3d& half_rad, const SearchGoal& goal);
+
 }  // namespace pkm::workspace

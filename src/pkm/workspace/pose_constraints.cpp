@@ -301,6 +301,61 @@ class HexapodLegConstraint final : public PoseConstraint {
   HexapodGeometry geometry_;
 };
 
+// Each hexapod joint end's angle within max_joint_angle for every orientation of the cell:
+// cos(angle) >= cos(max), the smallest cosine over the orientations bracketed at the cell's
+// middle position by largest_joint_turn (no orientation box needs splitting), moved at most
+// rho / (shortest leg over the cell) over it (the leg's direction turns no faster than 1 / its
+// length per mm of the platform joint; the platform end's axis does not depend on position).
+class HexapodJointAngleConstraint final : public PoseConstraint {
+ public:
+  explicit HexapodJointAngleConstraint(const HexapodKinematics& model)
+      : geometry_(model.geometry()), limits_(model.leg_limits()) {}
+  int count() const override { return 12; }
+  bool covers_orientation() const override { return true; }
+  void bound(const PoseCell& cell, std::span<Margin> margins,
+             std::uint64_t settled) const override {
+    const double rho = position_radius(cell);
+    const Eigen::Vector3d orientation = cell.centre.tail<3>(), spread = cell.half.tail<3>();
+    for (std::size_t i = 0; i < 6; ++i) {
+      LegJointEnd end;
+      end.p = geometry_.platform_mm[i] + Eigen::Vector3d(0.0, 0.0, geometry_.tool_length_mm);
+      end.v = cell.centre.head<3>() - geometry_.base_mm[i];
+      // The leg's shortest over the cell: at the middle pose, less what the orientations and
+      // positions of the cell can take off (|d(R p)| <= |p| per rad of each angle).
+      const double middle =
+          (end.v + rotation_from_abc(orientation) * end.p).norm() - end.p.norm() * spread.sum();
+      const double shortest = std::max(middle, end.v.norm() - end.p.norm()) - rho;
+      const double drift = shortest > 0.0 ? rho / shortest : INFINITY;
+      for (int side = 0; side < 2; ++side) {
+        const std::size_t k = 2 * i + static_cast<std::size_t>(side);
+        const double cos_max = limits_.cos_max_joint_angle(side);
+        if (cos_max <= -1.0 || ((settled >> k) & 1u)) {
+          margins[k] = {1.0, 1.0};
+          continue;
+        }
+        if (!std::isfinite(drift)) {
+          margins[k] = Margin{};
+          continue;
+        }
+        end.axis = limits_.neutral_axis(static_cast<int>(i), side);
+        end.turns_with_platform = side == kPlatformEnd;
+        // The largest of -cos: at most -(cos_max + drift) proves the end, past -(cos_max -
+        // drift) at one orientation fails every position of the cell.
+        const Bracket turn = largest_joint_turn(end, orientation, spread,
+                                                {drift - cos_max, -drift - cos_max, 0.05 * drift});
+        margins[k] = {-turn.hi - drift - cos_max, -turn.lo + drift - cos_max};
+      }
+    }
+  }
+  Status failure(int index) const override {
+    return Status::failure(StatusCode::joint_angle, index / 2);
+  }
+
+ private:
+  HexapodGeometry geometry_;
+  const LegLimits& limits_;
+};
+
 // Machine::inverse at the cell's centre and every corner: low 1 when all are ok, high -1 when
 // all fail, else [-1, 1]. Not a proof: what it says holds at the samples.
 class SampledConstraint final : public PoseConstraint {
@@ -392,13 +447,19 @@ class PassThroughConstraint final : public PoseConstraint {
 // ball has no derivative bound.
 class MechanismLimitConstraint final : public PoseConstraint {
  public:
-  explicit MechanismLimitConstraint(const Machine& machine)
+  // `with_angles` false: the joint angles are another constraint's (a hexapod's); the leg
+  // clearances only.
+  MechanismLimitConstraint(const Machine& machine, bool with_angles)
       : machine_(machine), scale_(post::pose_angle_scale_mm(machine.kinematics())) {
     machine.kinematics().mechanism_limits(machine.home(), values_);
-    count_ = static_cast<int>(values_.size());
-    for (const MechanismLimit& value : values_) failures_.push_back({value.code, value.leg});
+    for (std::size_t k = 0; k < values_.size(); ++k) {
+      if (!with_angles && values_[k].code == StatusCode::joint_angle) continue;
+      used_.push_back(k);
+      failures_.push_back({values_[k].code, values_[k].leg});
+    }
+    total_ = values_.size();
   }
-  int count() const override { return count_; }
+  int count() const override { return static_cast<int>(used_.size()); }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     std::fill(margins.begin(), margins.end(), Margin{});
     const Kinematics& model = machine_.kinematics();
@@ -406,16 +467,17 @@ class MechanismLimitConstraint final : public PoseConstraint {
     if (!model.inverse_and_jacobian(centre, joints_, jacobian_).ok()) return;
     values_.clear();
     model.mechanism_limits(centre, values_);
-    if (static_cast<int>(values_.size()) != count_) return;
+    if (values_.size() != total_) return;
     const double r = scaled_radius(cell, scale_);
     const std::optional<post::HessianBounds> curvature =
         post::inverse_hessian_bounds(model, cell.centre, r, scale_, post::Chord{});
     if (!curvature) return;
     const post::LegMotion motion =
         post::leg_motion(model, joints_, jacobian_, *curvature, r, scale_);
-    for (std::size_t k = 0; k < values_.size(); ++k) {
-      const double reach = post::mechanism_rate(values_[k], motion) * r;
-      const double margin = values_[k].margin();
+    for (std::size_t k = 0; k < used_.size(); ++k) {
+      const MechanismLimit& value = values_[used_[k]];
+      const double reach = post::mechanism_rate(value, motion) * r;
+      const double margin = value.margin();
       if (std::isfinite(reach) && std::isfinite(margin))
         margins[k] = {margin - reach, margin + reach};
     }
@@ -428,7 +490,8 @@ class MechanismLimitConstraint final : public PoseConstraint {
  private:
   const Machine& machine_;
   double scale_;
-  int count_ = 0;
+  std::size_t total_ = 0;          // values mechanism_limits gives
+  std::vector<std::size_t> used_;  // the ones bounded here
   std::vector<std::pair<StatusCode, int>> failures_;
   mutable std::vector<MechanismLimit> values_;
   mutable JointVector joints_;
@@ -459,8 +522,11 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
   if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
     constraints.push_back(std::make_unique<HexapodLegConstraint>(machine, *hexapod));
     constraints.push_back(std::make_unique<HexapodAssemblyConstraint>());
-    if (model.has_mechanism_limits()) {
-      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine));
+    if (hexapod->leg_limits().settings().checks_angles()) {
+      constraints.push_back(std::make_unique<HexapodJointAngleConstraint>(*hexapod));
+    }
+    if (hexapod->leg_limits().settings().leg_diameter_mm > 0.0) {
+      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine, false));
     }
     return constraints;
   }
@@ -471,7 +537,7 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
       constraints.push_back(std::make_unique<GlideAssemblyConstraint>(*glide, home_mode));
     }
     if (model.has_mechanism_limits()) {
-      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine));
+      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine, true));
     }
   } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
     if (plotter->geometry().ideal()) {

@@ -217,8 +217,11 @@ std::string status_key(StatusCode code) {
 }
 
 // `settled`: the constraint values (bit per value, in the order of worker.margins) proven over a
-// cell holding this one; those proven here are added to it.
-Verdict judge(Worker& worker, const PoseCell& cell, Status& why, std::uint64_t* settled = nullptr) {
+// cell holding this one; those proven here are added to it. `splits_orientation`, when given, is
+// set if an undecided value's constraint would be tighter over a smaller orientation box (one
+// that does not search the box itself).
+Verdict judge(Worker& worker, const PoseCell& cell, Status& why, std::uint64_t* settled = nullptr,
+              bool* splits_orientation = nullptr) {
   ++worker.poses_judged;
   Verdict verdict = Verdict::inside;
   std::size_t offset = 0;
@@ -238,9 +241,13 @@ Verdict judge(Worker& worker, const PoseCell& cell, Status& why, std::uint64_t* 
       }
       if (margins[k].low > 0.0 || (closed && margins[k].low >= 0.0)) {
         if (settled != nullptr && bit < 64) *settled |= std::uint64_t{1} << bit;
-      } else if (verdict == Verdict::inside) {
-        verdict = Verdict::undecided;
-        why = constraint->failure(static_cast<int>(k));
+      } else {
+        if (splits_orientation != nullptr && !constraint->covers_orientation())
+          *splits_orientation = true;
+        if (verdict == Verdict::inside) {
+          verdict = Verdict::undecided;
+          why = constraint->failure(static_cast<int>(k));
+        }
       }
     }
     offset += margins.size();
@@ -276,7 +283,8 @@ void settle(Worker& worker, const Grid& grid, PoseCell cell, OrientationBox box,
   cell.centre.tail<3>() = box.centre;
   cell.half.tail<3>() = box.half;
   Status why;
-  const Verdict verdict = judge(worker, cell, why, &box.settled);
+  bool splits_orientation = false;
+  const Verdict verdict = judge(worker, cell, why, &box.settled, &splits_orientation);
   if (verdict == Verdict::inside) return;
   if (verdict == Verdict::outside) {
     settling.outside = true;
@@ -287,7 +295,7 @@ void settle(Worker& worker, const Grid& grid, PoseCell cell, OrientationBox box,
   // bounds what a finer box can settle.
   const double position_radius = cell.half.head<3>().norm();
   const double angle_radius = grid.angle_scale_mm * box.half.norm();
-  if (grid.split_orientation && angle_radius > position_radius) {
+  if (grid.split_orientation && splits_orientation && angle_radius > position_radius) {
     std::array<int, 3> spread{};
     int n = 0;
     for (int k = 0; k < 3; ++k) {
