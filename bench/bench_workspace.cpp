@@ -1,6 +1,7 @@
 // pkm workspace per example machine, at about 1/200 of its search box (fixed orientation, home's),
-// the paper's hexapod over +-10 deg at 32, 16 and 8 mm, and with 45 deg joints and 40 mm legs
-// (fixed orientation at 16 mm; +-2 deg at 32 mm: those limits split the orientation range).
+// the paper's hexapod over +-10 deg at 32 to 4 mm, with 45 deg joints over +-10 deg at 32 to 8 mm
+// (searched over the range like the legs), and with 40 mm legs as well (fixed orientation at
+// 16 mm; +-2 deg at 32 mm: leg clearances split the orientation range).
 // Counters: the proven-inside and the boundary volume (area for planar machines) and the cells
 // judged.
 #include <benchmark/benchmark.h>
@@ -55,8 +56,8 @@ void hexapod_over_ten_degrees(benchmark::State& state) {
   run(state, machine, options);
 }
 
-// The paper's hexapod with max_joint_angle = 45 and leg_diameter = 40 (the joint-angle and
-// interference constraints); state.range(0): mm, state.range(1): +- deg.
+// The paper's hexapod with max_joint_angle = 45 and, when state.range(2) is 1, leg_diameter = 40
+// (the joint-angle and interference constraints); state.range(0): mm, state.range(1): +- deg.
 void hexapod_with_leg_limits(benchmark::State& state) {
   std::string text;
   {
@@ -65,8 +66,9 @@ void hexapod_with_leg_limits(benchmark::State& state) {
     if (file != nullptr) std::fclose(file);
   }
   const std::string tool = "tool_length = 30.0\n";
-  text.replace(text.find(tool), tool.size(),
-               tool + "max_joint_angle = 45.0\nleg_diameter = 40.0\n");
+  text.replace(
+      text.find(tool), tool.size(),
+      tool + "max_joint_angle = 45.0\n" + (state.range(2) != 0 ? "leg_diameter = 40.0\n" : ""));
   const pkm::Machine machine = pkm::parse_machine(text, "hexapod-limited.toml");
   pkm::workspace::WorkspaceOptions options = pkm::workspace::default_options(machine);
   options.resolution_mm = static_cast<double>(state.range(0));
@@ -95,13 +97,17 @@ BENCHMARK(hexapod_over_ten_degrees)
     ->Arg(32)
     ->Arg(16)
     ->Arg(8)
+    ->Arg(4)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
     ->UseRealTime();
 
 BENCHMARK(hexapod_with_leg_limits)
-    ->Args({16, 0})
-    ->Args({32, 2})
+    ->Args({32, 10, 0})
+    ->Args({16, 10, 0})
+    ->Args({8, 10, 0})
+    ->Args({16, 0, 1})
+    ->Args({32, 2, 1})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
     ->UseRealTime();

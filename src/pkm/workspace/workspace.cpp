@@ -513,9 +513,19 @@ void refine_all(const Machine& machine, const Grid& grid, const TopCells& top,
   work();
   for (std::thread& thread : pool) thread.join();
   if (failure) std::rethrow_exception(failure);
+  // Each part's cells freed once copied: the lists are most of the memory at a fine resolution.
+  std::size_t inside = 0, boundary = 0;
+  for (const auto& part : parts) {
+    inside += part->inside.size();
+    boundary += part->boundary.size();
+  }
+  result.inside.reserve(inside);
+  result.boundary.reserve(boundary);
   for (const auto& part : parts) {
     result.inside.insert(result.inside.end(), part->inside.begin(), part->inside.end());
     result.boundary.insert(result.boundary.end(), part->boundary.begin(), part->boundary.end());
+    std::vector<CellIndex>().swap(part->inside);
+    std::vector<CellIndex>().swap(part->boundary);
     for (const auto& [name, count] : part->limited_by) result.limited_by[name] += count;
     result.cells_judged += part->judged;
     result.boxes_judged += part->poses_judged;
