@@ -412,6 +412,25 @@ TEST(Workspace, JsonKeepsTheSchemaNames) {
   EXPECT_TRUE(any_null);
 }
 
+// The streamed document is the built one, byte for byte; a page's thinned lists keep every k-th
+// cell and at most the number asked for.
+TEST(Workspace, StreamedJsonIsTheBuiltDocumentAndThinnedListsKeepEveryKth) {
+  const Machine machine = biglide();
+  const Workspace ws = compute_workspace(machine, at_resolution(machine, 2.0));
+  ASSERT_GT(ws.boundary.size(), 100u);
+  std::ostringstream streamed;
+  write_json(streamed, ws);
+  EXPECT_EQ(streamed.str(), to_json(ws).dump());
+  const nlohmann::json thin = to_json(ws, 50);
+  const auto& boundary = thin["cells"]["boundary"];
+  ASSERT_LE(boundary.size(), 50u);
+  ASSERT_GE(boundary.size(), 25u);
+  const std::size_t every = (ws.boundary.size() + 49) / 50;
+  for (std::size_t n = 0; n < boundary.size(); ++n)
+    EXPECT_EQ(boundary[n][0].get<int>(), ws.boundary[n * every].at[0]);
+  EXPECT_TRUE(to_json(ws, 0)["cells"]["inside"].empty());
+}
+
 TEST(Workspace, RefusesAResolutionThatIsNotALength) {
   const Machine machine = biglide();
   EXPECT_THROW(compute_workspace(machine, at_resolution(machine, 0.0)), std::invalid_argument);
