@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <string>
 
@@ -124,6 +125,25 @@ TEST(LegLimits, UpsideDownPlatformIsRefusedByTheModel) {
                 180.0 - radians_to_degrees(std::atan(600.0 * std::abs(cos_phi) / 500.0)),
                 1e-6);  // the points are written to 6 decimals
   }
+}
+
+// The leg-limit-free view forward kinematics iterates on: its inverse is the model's without the
+// angle check, and a clone of it keeps working after the model it was made from is gone.
+TEST(LegLimits, ALegLimitFreeCloneOutlivesItsModel) {
+  const Machine machine = parse_machine(vertical_hexapod("max_joint_angle = 45"), "flip.toml");
+  const Pose flipped = Pose::from_mm_deg(0, 0, 500, 0, 180, 0);
+  std::unique_ptr<Kinematics> clone;
+  {
+    const auto model = std::make_unique<HexapodKinematics>(
+        dynamic_cast<const HexapodKinematics&>(machine.kinematics()));
+    clone = WithoutLegLimits<HexapodKinematics>(*model).clone();
+  }
+  JointVector joints, expected;
+  ASSERT_TRUE(clone->inverse(flipped, joints).ok());
+  ASSERT_TRUE(dynamic_cast<const HexapodKinematics&>(machine.kinematics())
+                  .inverse_without_leg_limits(flipped, expected)
+                  .ok());
+  for (int leg = 0; leg < 6; ++leg) EXPECT_DOUBLE_EQ(joints[leg], expected[leg]);
 }
 
 // Legs 1 and 2 stand 60 mm apart along x, 500 mm tall; moving the platform by d along x leans

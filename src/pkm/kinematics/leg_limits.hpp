@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -104,10 +105,13 @@ class LegLimits {
 // A legged model seen without its leg limits: what forward kinematics iterates on (a Newton step
 // may pass a pose the joints do not allow on its way to one they do; the answer is checked after).
 // `Model` gives inverse_without_leg_limits; everything else is the model's own.
+// It refers to the model it is made from; a clone owns a copy of it, so it may outlive that one.
 template <class Model>
 class WithoutLegLimits final : public Kinematics {
  public:
   explicit WithoutLegLimits(const Model& model) : model_(model) {}
+  explicit WithoutLegLimits(std::shared_ptr<const Model> owned)
+      : owned_(std::move(owned)), model_(*owned_) {}
   std::string_view type() const override { return model_.type(); }
   int joint_count() const override { return model_.joint_count(); }
   Dof dof() const override { return model_.dof(); }
@@ -129,10 +133,11 @@ class WithoutLegLimits final : public Kinematics {
   std::vector<Parameter> parameters() const override { return model_.parameters(); }
   void set_parameters(std::span<const double>) override {}
   std::unique_ptr<Kinematics> clone() const override {
-    return std::make_unique<WithoutLegLimits>(model_);
+    return std::make_unique<WithoutLegLimits>(std::make_shared<const Model>(model_));
   }
 
  private:
+  std::shared_ptr<const Model> owned_;  // empty unless cloned
   const Model& model_;
 };
 
