@@ -279,12 +279,15 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
   if (model.has_mechanism_limits()) {
     std::vector<MechanismLimit> values;
     model.mechanism_limits(Pose::from_vector(centre), values);
+    const std::optional<LegEnds> ends = post::legs_at(model, Pose::from_vector(centre), joints);
     for (const MechanismLimit& value : values) {
-      const double reach = post::mechanism_rate(value, motion) * radius;
-      if (!(value.margin() - reach >= 0.0)) {
-        const bool angle = value.code == StatusCode::joint_angle;
+      const post::Reach reach =
+          post::mechanism_reach(value, motion, radius, ends ? &*ends : nullptr);
+      const bool angle = value.code == StatusCode::joint_angle;
+      const double falls = angle ? reach.up : reach.down;  // how far the margin can fall
+      if (!(value.margin() - falls >= 0.0)) {
         return open(angle ? Quantity::joint_angle : Quantity::clearance, value.leg, value.other,
-                    angle ? value.value + reach : value.value - reach, value.limit);
+                    angle ? value.value + falls : value.value - falls, value.limit);
       }
     }
   }

@@ -69,6 +69,8 @@ class GlideKinematics final : public Kinematics {
   const std::vector<GlideRail>& rails() const { return rails_; }
   const PassThroughAxes& passthrough() const { return passthrough_; }
   const LegLimits& leg_limits() const { return leg_limits_; }
+  // The struts' joint centres at a pose whose carriage readings are `joints`.
+  LegEnds leg_ends(const Pose& pose, const JointVector& joints) const;
   // The axes the rails move (dof() adds the pass-through ones).
   Dof rail_dof() const { return dof_; }
 
@@ -80,8 +82,6 @@ class GlideKinematics final : public Kinematics {
   // (2 rails) around each carriage, the candidate matching every rail's branch nearest the seed.
   Status forward_translating(const JointVector& joints, Pose& pose_inout) const;
   static void validate(std::vector<GlideRail>& rails, Dof dof);
-  // The struts' joint centres at a pose whose carriage readings are `joints`.
-  LegEnds leg_ends(const Pose& pose, const JointVector& joints) const;
   std::string leg_limits_why(const Pose& pose, const Status& status) const;
   LegLimits leg_limits_;
 

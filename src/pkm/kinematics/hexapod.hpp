@@ -63,10 +63,11 @@ class HexapodKinematics final : public Kinematics {
 
   const HexapodGeometry& geometry() const { return geometry_; }
   const LegLimits& leg_limits() const { return leg_limits_; }
+  // The legs' joint centres at a pose (what the leg limits judge).
+  LegEnds leg_ends(const Pose& pose) const;
 
  private:
   void update_derived();
-  LegEnds leg_ends(const Pose& pose) const;
   LegLimits leg_limits_;
   HexapodGeometry geometry_;
   // Columns: platform joints measured from the tool tip, platform frame (platform + (0, 0,

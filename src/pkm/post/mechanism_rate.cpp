@@ -2,6 +2,7 @@
 #include "pkm/post/mechanism_rate.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "pkm/kinematics/glide.hpp"
@@ -22,6 +23,7 @@ LegMotion leg_motion(const Kinematics& model, const JointVector& joints,
       const double gain = platform_point_gain(b, scale);
       motion.inner_speed.push_back(0.0);
       motion.platform_speed.push_back(gain);
+      motion.platform_arm_mm.push_back(b);
       motion.shortest_mm.push_back(joints[static_cast<int>(i)] - g.leg_offset_mm[i] -
                                    gain * radius);
     }
@@ -36,6 +38,7 @@ LegMotion leg_motion(const Kinematics& model, const JointVector& joints,
       motion.inner_speed.push_back(gradient.norm() + hessians.norm[i] * radius);
       motion.platform_speed.push_back(rotating ? platform_point_gain(rail.attach_mm.norm(), scale)
                                                : 1.0);
+      motion.platform_arm_mm.push_back(rail.attach_mm.norm());
       motion.shortest_mm.push_back(rail.strut_mm);
     }
     motion.platform_turn = rotating ? std::sqrt(3.0) / scale : 0.0;
@@ -61,6 +64,141 @@ double mechanism_rate(const MechanismLimit& limit, const LegMotion& motion) {
   const auto j = static_cast<std::size_t>(limit.other);
   return std::max(motion.inner_speed[k], motion.platform_speed[k]) +
          std::max(motion.inner_speed[j], motion.platform_speed[j]);
+}
+
+std::optional<LegEnds> legs_at(const Kinematics& model, const Pose& pose,
+                               const JointVector& joints) {
+  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model))
+    return hexapod->leg_ends(pose);
+  if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model))
+    return glide->leg_ends(pose, joints);
+  return std::nullopt;
+}
+
+namespace {
+
+// How far the points of two legs can move relative to each other over the ball: the shared
+// translation moves the point at s of one leg and the point at u of the other alike, so it
+// parts them by at most shared |s - u|; the rest (a carriage's own travel at the inner end, the
+// platform's turn at the platform end) moves a leg's point by at most the mix of its ends.
+struct PairMotion {
+  double shared = 0.0;               // mm: the platform's translation
+  std::array<double, 2> inner{};     // mm: each leg's inner end, not counting the translation
+  std::array<double, 2> platform{};  // mm: each leg's platform end, not counting it
+  double own(int leg, double s) const {
+    const auto k = static_cast<std::size_t>(leg);
+    return inner[k] + s * (platform[k] - inner[k]);
+  }
+  double apart(double s, double u) const {
+    return shared * std::abs(s - u) + own(0, s) + own(1, u);
+  }
+};
+
+// min over u in [low, high] of |b - u w| - slope u: convex in u; the stationary point of
+// sqrt(h^2 + (u - e)^2 |w|^2) - slope u, clamped, where |slope| < |w|; else an end.
+double least_along(const Eigen::Vector3d& b, const Eigen::Vector3d& w, double slope, double low,
+                   double high, double& u) {
+  const double ww = w.squaredNorm();
+  const auto value = [&](double at) { return (b - at * w).norm() - slope * at; };
+  if (ww > 0.0 && slope * slope < ww) {
+    const double e = b.dot(w) / ww;
+    const double h = std::sqrt(std::max(0.0, b.squaredNorm() - e * e * ww));
+    u = std::clamp(e + slope * h / std::sqrt(ww * (ww - slope * slope)), low, high);
+    return value(u);
+  }
+  const double at_low = value(low), at_high = value(high);
+  u = at_low <= at_high ? low : high;
+  return std::min(at_low, at_high);
+}
+
+struct Clearance {
+  double least = 0.0, most = 0.0;  // bounds on the legs' distance over the ball
+};
+
+// The least of F(s, u) = |X(s) - Y(u)| - motion.apart(s, u) over one triangle of the unit
+// square (u <= s, or u >= s), where F is convex (a norm of an affine map less a linear
+// function): min over u in closed form, convex in s, golden-section search on s; the minimum
+// lies in the last bracket (or at an end), so F there less its Lipschitz constant times the
+// bracket's width bounds it from below. `at`: the (s, u) of that minimum.
+double least_on_triangle(const Eigen::Vector3d& base, const Eigen::Vector3d& wi,
+                         const Eigen::Vector3d& wj, const PairMotion& motion, bool u_below_s,
+                         std::array<double, 2>& at) {
+  const double slope_u =
+      motion.platform[1] - motion.inner[1] + (u_below_s ? -1.0 : 1.0) * motion.shared;
+  const double slope_s =
+      motion.platform[0] - motion.inner[0] + (u_below_s ? 1.0 : -1.0) * motion.shared;
+  const auto at_s = [&](double s, double& u) {
+    const double low = u_below_s ? 0.0 : s, high = u_below_s ? s : 1.0;
+    return least_along(base + s * wi, wj, slope_u, low, high, u) - slope_s * s - motion.inner[0] -
+           motion.inner[1];
+  };
+  constexpr double kGolden = 0.6180339887498949;
+  double low = 0.0, high = 1.0, u = 0.0;
+  double left = high - kGolden, right = kGolden;
+  double f_left = at_s(left, u), f_right = at_s(right, u);
+  for (int step = 0; step < 40; ++step) {
+    if (f_left <= f_right) {
+      high = right;
+      right = left;
+      f_right = f_left;
+      left = high - kGolden * (high - low);
+      f_left = at_s(left, u);
+    } else {
+      low = left;
+      left = right;
+      f_left = f_right;
+      right = low + kGolden * (high - low);
+      f_right = at_s(right, u);
+    }
+  }
+  const double lipschitz = wi.norm() + std::abs(slope_s) + 1e-9;
+  double best = at_s(0.5 * (low + high), u) - lipschitz * (high - low);
+  at = {0.5 * (low + high), u};
+  for (const double end : {0.0, 1.0}) {
+    const double f_end = at_s(end, u);
+    if (f_end < best) {
+      best = f_end;
+      at = {end, u};
+    }
+  }
+  return best;
+}
+
+Clearance leg_clearance(const Eigen::Vector3d& inner_i, const Eigen::Vector3d& platform_i,
+                        const Eigen::Vector3d& inner_j, const Eigen::Vector3d& platform_j,
+                        const PairMotion& motion) {
+  const Eigen::Vector3d wi = platform_i - inner_i, wj = platform_j - inner_j;
+  const Eigen::Vector3d base = inner_i - inner_j;
+  std::array<double, 2> below{}, above{};
+  const double least_below = least_on_triangle(base, wi, wj, motion, true, below);
+  const double least_above = least_on_triangle(base, wi, wj, motion, false, above);
+  const std::array<double, 2>& at = least_below <= least_above ? below : above;
+  const double apart = (base + at[0] * wi - at[1] * wj).norm();
+  return {std::min(least_below, least_above), apart + motion.apart(at[0], at[1])};
+}
+
+}  // namespace
+
+Reach mechanism_reach(const MechanismLimit& limit, const LegMotion& motion, double radius,
+                      const LegEnds* ends) {
+  const double spread = mechanism_rate(limit, motion) * radius;
+  // The rate alone is enough where it keeps the legs apart (most pairs, most of the time).
+  if (limit.code == StatusCode::joint_angle || ends == nullptr || !std::isfinite(spread) ||
+      motion.platform_arm_mm.empty() || limit.value - spread > limit.limit)
+    return {spread, spread};
+  const int i = limit.leg, j = limit.other;
+  const auto k = static_cast<std::size_t>(i), l = static_cast<std::size_t>(j);
+  // Over the ball the translation is at most the radius and the turn at most platform_turn
+  // times it; a carriage travels at most its inner speed times it.
+  PairMotion pair;
+  pair.shared = radius;
+  pair.inner = {motion.inner_speed[k] * radius, motion.inner_speed[l] * radius};
+  pair.platform = {motion.platform_arm_mm[k] * motion.platform_turn * radius,
+                   motion.platform_arm_mm[l] * motion.platform_turn * radius};
+  const Clearance clearance = leg_clearance(ends->inner.col(i), ends->platform.col(i),
+                                            ends->inner.col(j), ends->platform.col(j), pair);
+  return {std::min(spread, limit.value - clearance.least),
+          std::min(spread, clearance.most - limit.value)};
 }
 
 }  // namespace pkm::post

@@ -4,9 +4,11 @@
 // (a ball around a cell of poses) both prove with: value at the centre +- rate * radius.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "pkm/kinematics/kinematics.hpp"
+#include "pkm/kinematics/leg_limits.hpp"
 #include "pkm/post/deviation_bound.hpp"
 
 namespace pkm::post {
@@ -15,6 +17,8 @@ namespace pkm::post {
 // can get there: what the joint-angle and clearance bounds take. Empty for models without legs.
 struct LegMotion {
   std::vector<double> inner_speed, platform_speed, shortest_mm;
+  // Each leg's platform joint's distance from the pose's point (mm): how far a turn moves it.
+  std::vector<double> platform_arm_mm;
   double platform_turn = 0.0;  // rad per scaled unit: how fast a platform-fixed axis turns
 };
 
@@ -27,5 +31,24 @@ LegMotion leg_motion(const Kinematics& model, const JointVector& joints,
 
 // How fast (per scaled unit) a joint-angle or clearance value can change over the ball.
 double mechanism_rate(const MechanismLimit& limit, const LegMotion& motion);
+
+// The legs at the ball's centre (hexapods and glides; nothing for other models).
+std::optional<LegEnds> legs_at(const Kinematics& model, const Pose& pose,
+                               const JointVector& joints);
+
+// How far a value can fall below (down) and rise above (up) its value at the ball's centre:
+// rate * radius both ways for a joint angle, and for a clearance without `ends`. With them, a
+// clearance is bounded where the legs are closest: the translation moves the point at s of one
+// leg and the point at u of the other alike (parting them by at most radius |s - u|), and a
+// leg's own motion (its carriage, the platform's turn) moves its point at s by at most the mix
+// of its ends', so the legs stay at least
+//   min over (s, u) in [0, 1]^2 of |X(s) - Y(u)| - radius |s - u| - own_i(s) - own_j(u)
+// apart (X, Y the legs at the centre: convex on each side of s = u, minimised to 1e-6 mm), and
+// at most that minimum's |X(s*) - Y(u*)| plus those moves.
+struct Reach {
+  double down = 0.0, up = 0.0;
+};
+Reach mechanism_reach(const MechanismLimit& limit, const LegMotion& motion, double radius,
+                      const LegEnds* ends);
 
 }  // namespace pkm::post

@@ -474,12 +474,16 @@ class MechanismLimitConstraint final : public PoseConstraint {
     if (!curvature) return;
     const post::LegMotion motion =
         post::leg_motion(model, joints_, jacobian_, *curvature, r, scale_);
+    const std::optional<LegEnds> ends = post::legs_at(model, centre, joints_);
     for (std::size_t k = 0; k < used_.size(); ++k) {
       const MechanismLimit& value = values_[used_[k]];
-      const double reach = post::mechanism_rate(value, motion) * r;
+      const post::Reach reach = post::mechanism_reach(value, motion, r, ends ? &*ends : nullptr);
+      // The margin falls as an angle rises or a clearance falls.
+      const bool angle = value.code == StatusCode::joint_angle;
+      const double falls = angle ? reach.up : reach.down, rises = angle ? reach.down : reach.up;
       const double margin = value.margin();
-      if (std::isfinite(reach) && std::isfinite(margin))
-        margins[k] = {margin - reach, margin + reach};
+      if (std::isfinite(falls) && std::isfinite(rises) && std::isfinite(margin))
+        margins[k] = {margin - falls, margin + rises};
     }
   }
   Status failure(int index) const override {
