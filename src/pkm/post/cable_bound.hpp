@@ -1,0 +1,54 @@
+// Proven bounds on a hanging two-cable effector's balance over a box of pen positions: the
+// effector's tilt, each cable's tension, the signs that say both cables pull, and each cable's
+// joint reading, for every pen position in the box. Interval arithmetic on the balance of
+// cable_statics.hpp (straight cables over pulleys, an effector tied at two points that tilts
+// under its weight, cables that stretch); the tilt is enclosed by discarding every tilt where
+// the moment on the effector provably keeps one sign. One place for what the certified job
+// check (the box around a piece of a move) and the workspace (a cell) both prove with. The
+// argument is in docs/cable-bounds.md.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "pkm/kinematics/cable_statics.hpp"
+
+namespace pkm::post {
+
+// A closed interval; infinite ends where nothing is known.
+struct Range {
+  double lo = -INFINITY, hi = INFINITY;
+  static Range point(double v) { return {v, v}; }
+  bool known() const { return std::isfinite(lo) && std::isfinite(hi); }
+  double mid() const { return 0.5 * (lo + hi); }
+};
+
+// Empty when cable_box_bound applies to this geometry; else why not, as a sentence fragment
+// ("cables that sag (cable_density > 0)..."). Ideal plotters are bounded too (their pull region
+// has a closed form elsewhere, but this one holds for them).
+std::string cable_bound_unavailable(const CablePlotterGeometry& geometry);
+
+// The pull margins: the tensions' signs and the sine of the angle between the cables.
+enum CablePullMargin { kLeftPulls = 0, kRightPulls = 1, kCablesApart = 2 };
+
+struct CableBoxBound {
+  // False where nothing below is known: a cable's end may reach its pulley within the box, or
+  // the tilt could not be enclosed (the bounds then prove nothing, and refute nothing).
+  bool known = false;
+  Range tilt_rad;
+  // Each cable's tension (N) where it meets the effector; for a massless effector, the
+  // tensions under a unit load (only their signs mean anything). Positive: the cable pulls.
+  std::array<Range, 2> tension_N;
+  // |sin| of the angle between the cables, less the 1e-12 below which the balance is singular.
+  Range apart;
+  std::array<Range, 2> joint_mm;  // each cable's joint reading (cable past the top + offset)
+};
+
+// Over every pen position within `centre_mm` +- `half_mm` (x, y; vertical plane, y up), at
+// rest (gravity along -y): Machine::inverse's balance lies within these bounds wherever it
+// finds one.
+CableBoxBound cable_box_bound(const CablePlotterGeometry& geometry, const Eigen::Vector2d& centre_mm,
+                              const Eigen::Vector2d& half_mm);
+
+}  // namespace pkm::post
