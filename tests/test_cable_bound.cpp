@@ -142,8 +142,8 @@ void expect_sound(const CablePlotterGeometry& g, const Eigen::Vector2d& lo,
         if (scale > 0.0) {
           ASSERT_TRUE(holds(bound.tension_N[k], balance.statics.tension_N[k]))
               << "cable " << c << " tension " << balance.statics.tension_N[k] << " not in ["
-              << bound.tension_N[k].lo << ", " << bound.tension_N[k].hi << "] at "
-              << at.transpose() << " box " << centre.transpose() << " +- " << half.transpose();
+              << bound.tension_N[k].lo << ", " << bound.tension_N[k].hi << "] at " << at.transpose()
+              << " box " << centre.transpose() << " +- " << half.transpose();
         }
         if (bound.tension_N[k].lo > 0.0) {
           ASSERT_TRUE(balance.pulls[k]);

@@ -20,17 +20,27 @@ constexpr double kTiltLeaf_rad = 1e-6;
 // relative to its size (the balance itself is solved to about 1e-13).
 constexpr double kRounding = 1e-10;
 
-Range operator+(Range a, Range b) { return {a.lo + b.lo, a.hi + b.hi}; }
-Range operator-(Range a, Range b) { return {a.lo - b.hi, a.hi - b.lo}; }
-Range operator-(Range a) { return {-a.hi, -a.lo}; }
-Range operator+(Range a, double k) { return {a.lo + k, a.hi + k}; }
+Range operator+(Range a, Range b) {
+  return {a.lo + b.lo, a.hi + b.hi};
+}
+Range operator-(Range a, Range b) {
+  return {a.lo - b.hi, a.hi - b.lo};
+}
+Range operator-(Range a) {
+  return {-a.hi, -a.lo};
+}
+Range operator+(Range a, double k) {
+  return {a.lo + k, a.hi + k};
+}
 
 Range operator*(Range a, Range b) {
   if (!a.known() || !b.known()) return {};
   const double p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
   return {*std::min_element(p, p + 4), *std::max_element(p, p + 4)};
 }
-Range operator*(double k, Range a) { return Range::point(k) * a; }
+Range operator*(double k, Range a) {
+  return Range::point(k) * a;
+}
 
 Range divided(Range a, Range b) {
   if (!(b.lo > 0.0) && !(b.hi < 0.0)) return {};
@@ -49,7 +59,9 @@ Range sin_of(Range a) {
   if (holds(-0.5 * kPi)) out.lo = -1.0;
   return out;
 }
-Range cos_of(Range a) { return sin_of(a + 0.5 * kPi); }
+Range cos_of(Range a) {
+  return sin_of(a + 0.5 * kPi);
+}
 
 Range abs_of(Range a) {
   if (a.lo >= 0.0) return a;
@@ -212,7 +224,8 @@ Range joint_range(const CablePlotterGeometry& g, int cable, const CableRange& c,
   if (!(c.gamma.lo >= -0.5 * kPi && c.gamma.hi < 1.5 * kPi)) return {};
   const Range arc = g.radius_mm(cable) * (-c.gamma + 0.5 * kPi);
   const double compliance = g.compliance_per_N();
-  if (compliance == 0.0) return arc + c.span_mm + g.cable_offsets_mm[static_cast<std::size_t>(cable)];
+  if (compliance == 0.0)
+    return arc + c.span_mm + g.cable_offsets_mm[static_cast<std::size_t>(cable)];
   const Range stretch = compliance * tension + 1.0;
   const Range pulled{std::max(0.0, tension.lo), std::max(0.0, tension.hi)};
   return divided(arc, compliance * pulled + 1.0) + divided(c.span_mm, stretch) +
@@ -254,8 +267,8 @@ CableBoxBound cable_box_bound(const CablePlotterGeometry& g, const Eigen::Vector
   for (int cable = 0; cable < 2; ++cable) {
     const auto k = static_cast<std::size_t>(cable);
     out.tension_N[k] = widened(t[k]);
-    out.joint_mm[k] = widened(
-        joint_range(g, cable, cables[k], massless ? Range::point(0.0) : out.tension_N[k]));
+    out.joint_mm[k] =
+        widened(joint_range(g, cable, cables[k], massless ? Range::point(0.0) : out.tension_N[k]));
   }
   return out;
 }

@@ -48,7 +48,7 @@ struct CableBoxBound {
 // Over every pen position within `centre_mm` +- `half_mm` (x, y; vertical plane, y up), at
 // rest (gravity along -y): Machine::inverse's balance lies within these bounds wherever it
 // finds one.
-CableBoxBound cable_box_bound(const CablePlotterGeometry& geometry, const Eigen::Vector2d& centre_mm,
-                              const Eigen::Vector2d& half_mm);
+CableBoxBound cable_box_bound(const CablePlotterGeometry& geometry,
+                              const Eigen::Vector2d& centre_mm, const Eigen::Vector2d& half_mm);
 
 }  // namespace pkm::post
