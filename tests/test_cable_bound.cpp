@@ -161,6 +161,30 @@ void expect_sound(const CablePlotterGeometry& g, const Eigen::Vector2d& lo,
   }
   std::printf("%d boxes bounded of %d, %d points compared, %d in proven-pulling boxes\n", known,
               boxes, compared, tight);
+  // Segments: the box's diagonal, either way; points on it only (the mean-value form along it).
+  int on_segments = 0;
+  for (int b = 0; b < boxes; ++b) {
+    const Eigen::Vector2d centre(lo.x() + (hi.x() - lo.x()) * unit(rng),
+                                 lo.y() + (hi.y() - lo.y()) * unit(rng));
+    const double size = std::pow(10.0, -2.0 + 3.7 * unit(rng));
+    Eigen::Vector2d half_chord(size * (2.0 * unit(rng) - 1.0), size * (2.0 * unit(rng) - 1.0));
+    const CableBoxBound bound = cable_box_bound(g, centre, half_chord.cwiseAbs(), &half_chord);
+    if (!bound.known) continue;
+    for (int p = 0; p < points_per_box; ++p) {
+      const double s = p == 0 ? -1.0 : (p == 1 ? 1.0 : 2.0 * unit(rng) - 1.0);
+      CableBalance balance;
+      const Eigen::Vector2d at = centre + s * half_chord;
+      if (!solve_cable_balance(g, at, {0.0, -kStandardGravity_mm_per_s2}, balance).ok()) continue;
+      ++on_segments;
+      for (std::size_t k = 0; k < 2 && g.effector_mass_kg > 0.0; ++k) {
+        ASSERT_TRUE(holds(bound.tension_N[k], balance.statics.tension_N[k]))
+            << "segment: cable " << k << " tension " << balance.statics.tension_N[k] << " not in ["
+            << bound.tension_N[k].lo << ", " << bound.tension_N[k].hi << "]";
+      }
+    }
+  }
+  std::printf("%d points compared on segments\n", on_segments);
+  EXPECT_GT(on_segments, boxes * points_per_box / 3);
   EXPECT_GT(known, boxes / 2);
   EXPECT_GT(compared, boxes * points_per_box / 3);
 }

@@ -3,6 +3,7 @@
 #include "pkm/post/cable_bound.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <numbers>
 
 namespace pkm::post {
@@ -15,7 +16,7 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kTangentTurn[2] = {1.0, -1.0};
 // The balance's tilt search range (cable_statics.cpp: Newton and its scan stay within 1.5 rad).
 constexpr double kTiltSearch_rad = 1.5 + 1e-6;
-constexpr double kTiltLeaf_rad = 1e-6;
+constexpr double kTiltLeaf_rad = 1e-12;
 // Double arithmetic rounds to nearest, not outwards: every bound is widened by this much
 // relative to its size (the balance itself is solved to about 1e-13).
 constexpr double kRounding = 1e-10;
@@ -67,6 +68,14 @@ Range abs_of(Range a) {
   if (a.lo >= 0.0) return a;
   if (a.hi <= 0.0) return -a;
   return {0.0, std::max(-a.lo, a.hi)};
+}
+
+bool holds_value(Range a, double v) {
+  return a.lo <= v && v <= a.hi;
+}
+
+Range operator*(Range a, double k) {
+  return Range::point(k) * a;
 }
 
 Range widened(Range a) {
@@ -232,6 +241,113 @@ Range joint_range(const CablePlotterGeometry& g, int cable, const CableRange& c,
          g.cable_offsets_mm[static_cast<std::size_t>(cable)];
 }
 
+// The tensions' derivatives in the pen position, enclosed over the pen box and tilt range.
+// With t_i = f_i(gamma0, gamma1) (tensions()) and each gamma turning at n / s per mm of its
+// cable's end (n the unit normal of the cable, s its span), the effector's tilt phi adds
+// d(gamma_i)/d(phi) d(phi)/dp, d(phi)/dp = -M_p / M_phi by the implicit function theorem on the
+// moment M (moment_range), M_phi kept away from zero. Rows: cables; columns: x, y.
+struct TensionGradient {
+  bool known = false;
+  std::array<std::array<Range, 2>, 2> d;  // d[cable][axis], N/mm
+};
+
+TensionGradient tension_gradient(const CablePlotterGeometry& g, Range tilt,
+                                 const std::array<CableRange, 2>& cables) {
+  TensionGradient out;
+  const double w = load_N(g);
+  const Range g0 = cables[0].gamma, g1 = cables[1].gamma, sum = g0 + g1;
+  if (!(g0.lo > 0.0 && g1.lo > 0.0 && sum.lo > 0.0 && sum.hi < kPi)) return out;
+  const Range sin_sum = sin_of(sum), cos_sum = cos_of(sum);
+  const Range sin_squared = sin_sum * sin_sum;
+  // df[i][j] = d t_i / d gamma_j.
+  const Range t0 = divided(w * sin_of(g1), sin_sum), t1 = divided(w * sin_of(g0), sin_sum);
+  const std::array<std::array<Range, 2>, 2> df{
+      {{divided(-w * (sin_of(g1) * cos_sum), sin_squared), divided(w * sin_of(g0), sin_squared)},
+       {divided(w * sin_of(g1), sin_squared), divided(-w * (sin_of(g0) * cos_sum), sin_squared)}}};
+  const std::array<Range, 2> t{t0, t1};
+  // Per cable: beta (its direction from straight down), its end's gradient of gamma, the arm.
+  std::array<std::array<Range, 2>, 2> grad_gamma;  // [cable][axis]
+  std::array<Range, 2> x_arm, y_arm, gamma_tilt;  // cross(R a, u), its beta-derivative, dgamma/dphi
+  for (int c = 0; c < 2; ++c) {
+    const auto k = static_cast<std::size_t>(c);
+    const double sign = c == 0 ? 1.0 : -1.0;  // beta0 = gamma0, beta1 = -gamma1
+    const Range beta = sign * cables[k].gamma;
+    const Range cb = cos_of(beta), sb = sin_of(beta);
+    const Range inverse_span = divided(Range::point(1.0), cables[k].span_mm);
+    grad_gamma[k] = {sign * (cb * inverse_span), sign * (sb * inverse_span)};
+    const Box2 arm = turned(g.attach_mm[k], tilt);
+    x_arm[k] = arm.x * (-cb) - arm.y * sb;
+    y_arm[k] = sign * (arm.x * sb - arm.y * cb);  // d X / d gamma
+    // The end moves by (-A.y, A.x) per rad of tilt.
+    gamma_tilt[k] = grad_gamma[k][0] * (-arm.y) + grad_gamma[k][1] * arm.x;
+  }
+  std::array<Range, 2> tilt_slope{Range::point(0.0), Range::point(0.0)};  // d phi / d p
+  if (g.tilts()) {
+    const Box2 com = turned(g.center_of_mass_mm, tilt);
+    // M_phi: the centre of mass's turn, the tensions' change with the gammas, the arms' turn.
+    Range m_phi = w * com.y;
+    for (std::size_t c = 0; c < 2; ++c) {
+      const Range dt = df[c][0] * gamma_tilt[0] + df[c][1] * gamma_tilt[1];
+      const Box2 arm = turned(g.attach_mm[c], tilt);
+      const double sign = c == 0 ? 1.0 : -1.0;
+      const Range beta = sign * cables[c].gamma;
+      const Range x_turn = arm.y * cos_of(beta) - arm.x * sin_of(beta);  // dX/dphi at fixed beta
+      m_phi = m_phi - (dt * x_arm[c] + t[c] * (y_arm[c] * gamma_tilt[c] + x_turn));
+    }
+    if (!(m_phi.hi < 0.0) && !(m_phi.lo > 0.0)) return out;
+    for (std::size_t axis = 0; axis < 2; ++axis) {
+      Range m_p = Range::point(0.0);
+      for (std::size_t c = 0; c < 2; ++c) {
+        const Range dt = df[c][0] * grad_gamma[0][axis] + df[c][1] * grad_gamma[1][axis];
+        m_p = m_p - (dt * x_arm[c] + t[c] * (y_arm[c] * grad_gamma[c][axis]));
+      }
+      tilt_slope[axis] = -divided(m_p, m_phi);
+    }
+  }
+  for (std::size_t c = 0; c < 2; ++c) {
+    for (std::size_t axis = 0; axis < 2; ++axis) {
+      const Range d0 = grad_gamma[0][axis] + gamma_tilt[0] * tilt_slope[axis];
+      const Range d1 = grad_gamma[1][axis] + gamma_tilt[1] * tilt_slope[axis];
+      out.d[c][axis] = df[c][0] * d0 + df[c][1] * d1;
+    }
+  }
+  out.known =
+      out.d[0][0].known() && out.d[0][1].known() && out.d[1][0].known() && out.d[1][1].known();
+  return out;
+}
+
+// Intersects each tension's range with the mean-value form about the box's middle:
+// t(c) + sum_k dt/dp_k (p_k - c_k), over the segment c +- s `half_chord` (s in [-1, 1]) where
+// given (the directional derivative there is small where a tension turns along a move: the
+// bound is then of second order in the piece), else over the box. t(c) from the statics.
+void tighten_by_mean_value(const CablePlotterGeometry& g, const Eigen::Vector2d& centre,
+                           const Box2& pen, const Eigen::Vector2d* half_chord,
+                           const TensionGradient& gradient, CableBoxBound& out) {
+  if (!gradient.known || !(g.effector_mass_kg > 0.0)) return;
+  CableBalance balance;
+  const Eigen::Vector2d gravity(0.0, -kStandardGravity_mm_per_s2);
+  if (!solve_cable_balance(g, centre, gravity, balance).ok()) return;
+  for (std::size_t c = 0; c < 2; ++c) {
+    const double at_centre = balance.statics.tension_N[c];
+    if (!holds_value(out.tension_N[c], at_centre)) continue;  // the centre's balance is another
+    Range change;
+    if (half_chord != nullptr) {
+      change = Range{-1.0, 1.0} *
+               (gradient.d[c][0] * half_chord->x() + gradient.d[c][1] * half_chord->y());
+    } else {
+      change = gradient.d[c][0] * Range{pen.x.lo - centre.x(), pen.x.hi - centre.x()} +
+               gradient.d[c][1] * Range{pen.y.lo - centre.y(), pen.y.hi - centre.y()};
+    }
+    // The change widened as every bound is; the centre's tension by a few units in the last
+    // place only (the tilt's Newton iteration ends at rounding level), so that the bound shrinks
+    // with the piece instead of stopping at a floor near a limit.
+    const double ulps = 16.0 * std::numeric_limits<double>::epsilon() * std::abs(at_centre);
+    const Range mean_value = widened(change) + Range{at_centre - ulps, at_centre + ulps};
+    out.tension_N[c] = {std::max(out.tension_N[c].lo, mean_value.lo),
+                        std::min(out.tension_N[c].hi, mean_value.hi)};
+  }
+}
+
 }  // namespace
 
 std::string cable_bound_unavailable(const CablePlotterGeometry& geometry) {
@@ -247,7 +363,8 @@ std::string cable_bound_unavailable(const CablePlotterGeometry& geometry) {
 }
 
 CableBoxBound cable_box_bound(const CablePlotterGeometry& g, const Eigen::Vector2d& centre_mm,
-                              const Eigen::Vector2d& half_mm) {
+                              const Eigen::Vector2d& half_mm,
+                              const Eigen::Vector2d* half_chord_mm) {
   CableBoxBound out;
   if (!cable_bound_unavailable(g).empty()) return out;
   const Box2 pen{{centre_mm.x() - half_mm.x(), centre_mm.x() + half_mm.x()},
@@ -255,7 +372,8 @@ CableBoxBound cable_box_bound(const CablePlotterGeometry& g, const Eigen::Vector
   Range tilt = Range::point(0.0);
   if (g.tilts()) {
     tilt = {tilt_end(g, pen, true), tilt_end(g, pen, false)};
-    if (!(tilt.lo <= tilt.hi)) return out;  // no balance anywhere in the box: not bounded here
+    if (!(tilt.lo <= tilt.hi)) return out;      // no balance anywhere in the box: not bounded here
+    tilt = {tilt.lo - 1e-11, tilt.hi + 1e-11};  // the solver's own tolerance
   }
   std::array<CableRange, 2> cables;
   if (!cables_at(g, pen, tilt, cables)) return out;
@@ -270,6 +388,7 @@ CableBoxBound cable_box_bound(const CablePlotterGeometry& g, const Eigen::Vector
     out.joint_mm[k] =
         widened(joint_range(g, cable, cables[k], massless ? Range::point(0.0) : out.tension_N[k]));
   }
+  tighten_by_mean_value(g, centre_mm, pen, half_chord_mm, tension_gradient(g, tilt, cables), out);
   return out;
 }
 

@@ -47,8 +47,11 @@ struct CableBoxBound {
 
 // Over every pen position within `centre_mm` +- `half_mm` (x, y; vertical plane, y up), at
 // rest (gravity along -y): Machine::inverse's balance lies within these bounds wherever it
-// finds one.
+// finds one. With `half_chord_mm`, the positions are only those of the segment centre +- s
+// half_chord (s in [-1, 1], inside the box): a line piece, whose tensions the mean-value form
+// along it bounds to second order where they turn.
 CableBoxBound cable_box_bound(const CablePlotterGeometry& geometry,
-                              const Eigen::Vector2d& centre_mm, const Eigen::Vector2d& half_mm);
+                              const Eigen::Vector2d& centre_mm, const Eigen::Vector2d& half_mm,
+                              const Eigen::Vector2d* half_chord_mm = nullptr);
 
 }  // namespace pkm::post
