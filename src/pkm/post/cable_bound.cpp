@@ -372,7 +372,11 @@ CableBoxBound cable_box_bound(const CablePlotterGeometry& g, const Eigen::Vector
   Range tilt = Range::point(0.0);
   if (g.tilts()) {
     tilt = {tilt_end(g, pen, true), tilt_end(g, pen, false)};
-    if (!(tilt.lo <= tilt.hi)) return out;      // no balance anywhere in the box: not bounded here
+    if (!(tilt.lo <= tilt.hi)) {
+      // Every tilt's moment keeps one sign (an undefined one is kept as a possible root).
+      out.no_balance = true;
+      return out;
+    }
     tilt = {tilt.lo - 1e-11, tilt.hi + 1e-11};  // the solver's own tolerance
   }
   std::array<CableRange, 2> cables;

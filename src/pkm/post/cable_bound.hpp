@@ -36,6 +36,9 @@ struct CableBoxBound {
   // False where nothing below is known: a cable's end may reach its pulley within the box, or
   // the tilt could not be enclosed (the bounds then prove nothing, and refute nothing).
   bool known = false;
+  // Proven: the effector has no balance within the solver's tilt range (1.5 rad) anywhere in
+  // the box, where its cables' ends keep clear of their pulleys: Machine::inverse refuses it all.
+  bool no_balance = false;
   Range tilt_rad;
   // Each cable's tension (N) where it meets the effector; for a massless effector, the
   // tensions under a unit load (only their signs mean anything). Positive: the cable pulls.
