@@ -392,7 +392,16 @@ CableBoxBound cable_box_bound(const CablePlotterGeometry& g, const Eigen::Vector
     out.joint_mm[k] =
         widened(joint_range(g, cable, cables[k], massless ? Range::point(0.0) : out.tension_N[k]));
   }
-  tighten_by_mean_value(g, centre_mm, pen, half_chord_mm, tension_gradient(g, tilt, cables), out);
+  // The mean-value form costs a balance at the middle: only where the box's ranges decide
+  // nothing about a tension's sign or limits.
+  const auto decided = [&](const Range& tension) {
+    const auto clear_of = [&](double limit) { return tension.lo > limit || tension.hi < limit; };
+    return clear_of(0.0) &&
+           (!g.tension_limited || (clear_of(g.tension_min_N) && clear_of(g.tension_max_N)));
+  };
+  if (!decided(out.tension_N[0]) || !decided(out.tension_N[1])) {
+    tighten_by_mean_value(g, centre_mm, pen, half_chord_mm, tension_gradient(g, tilt, cables), out);
+  }
   return out;
 }
 
