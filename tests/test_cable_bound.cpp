@@ -145,6 +145,14 @@ void expect_sound(const CablePlotterGeometry& g, const Eigen::Vector2d& lo,
               << bound.tension_N[k].lo << ", " << bound.tension_N[k].hi << "] at " << at.transpose()
               << " box " << centre.transpose() << " +- " << half.transpose();
         }
+        const double w = g.effector_mass_kg > 0.0 ? g.effector_mass_kg * kG : 1.0;
+        const double unit_tension = balance.statics.tension_N[k] / (scale > 0.0 ? 1.0 : 0.0);
+        if (scale > 0.0) {
+          ASSERT_TRUE(holds(bound.inverse_tension_per_N[k], 1.0 / unit_tension))
+              << "1 / tension " << 1.0 / unit_tension << " not in ["
+              << bound.inverse_tension_per_N[k].lo << ", " << bound.inverse_tension_per_N[k].hi
+              << "] (w " << w << ")";
+        }
         if (bound.tension_N[k].lo > 0.0) {
           ASSERT_TRUE(balance.pulls[k]);
         }

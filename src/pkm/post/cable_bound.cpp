@@ -183,20 +183,25 @@ bool cables_at(const CablePlotterGeometry& g, const Box2& pen, Range tilt,
   return true;
 }
 
-// The moment about the pen (N mm, counter-clockwise) over the pen box and a tilt range:
-// cross(R c, load) - sum t_i cross(R a_i, u_i), load (0, -w), u_i = (sin b, -cos b) with
-// b = gamma0 and -gamma1 the cables' directions from straight down. Unknown where undefined.
-Range moment_range(const CablePlotterGeometry& g, const Box2& pen, Range tilt) {
+// The moment about the pen (N mm, counter-clockwise) times sin(gamma0 + gamma1), over the pen
+// box and a tilt range: cross(R c, load) - sum t_i cross(R a_i, u_i), load (0, -w),
+// u_i = (sin b, -cos b) with b = gamma0 and -gamma1 the cables' directions from straight down,
+// and t_i sin(sum) = w sin(the other gamma) by the law of sines. The factor keeps the value
+// bounded where the cables come into line (the tensions grow without bound there); it vanishes
+// where the moment does, and where the cables are in line, which only adds tilts to keep.
+// Unknown where a cable's end may touch its pulley.
+Range scaled_moment_range(const CablePlotterGeometry& g, const Box2& pen, Range tilt) {
   std::array<CableRange, 2> cables;
   if (!cables_at(g, pen, tilt, cables)) return {};
   const double w = load_N(g);
-  const std::array<Range, 2> t = tensions(w, cables[0].gamma, cables[1].gamma);
-  Range moment = -w * turned(g.center_of_mass_mm, tilt).x;
+  const Range sum = cables[0].gamma + cables[1].gamma;
+  Range moment = (-w * turned(g.center_of_mass_mm, tilt).x) * sin_of(sum);
   for (int cable = 0; cable < 2; ++cable) {
     const Box2 arm = turned(g.attach_mm[static_cast<std::size_t>(cable)], tilt);
     const Range b = cable == 0 ? cables[0].gamma : -cables[1].gamma;
     const Range arm_cross_u = arm.x * (-cos_of(b)) - arm.y * sin_of(b);
-    moment = moment - t[static_cast<std::size_t>(cable)] * arm_cross_u;
+    const Range scaled_tension = w * sin_of(cables[static_cast<std::size_t>(1 - cable)].gamma);
+    moment = moment - scaled_tension * arm_cross_u;
   }
   return moment;
 }
@@ -213,7 +218,7 @@ double tilt_end(const CablePlotterGeometry& g, const Box2& pen, bool from_low) {
   stack[static_cast<std::size_t>(size++)] = {-kTiltSearch_rad, kTiltSearch_rad};
   while (size > 0) {
     const Span span = stack[static_cast<std::size_t>(--size)];
-    const Range moment = moment_range(g, pen, {span.lo, span.hi});
+    const Range moment = scaled_moment_range(g, pen, {span.lo, span.hi});
     if (moment.lo > 0.0 || moment.hi < 0.0) continue;
     if (span.hi - span.lo <= kTiltLeaf_rad || size + 2 > static_cast<int>(stack.size())) {
       return from_low ? span.lo : span.hi;
@@ -385,6 +390,11 @@ CableBoxBound cable_box_bound(const CablePlotterGeometry& g, const Eigen::Vector
   out.tilt_rad = tilt;
   const std::array<Range, 2> t = tensions(load_N(g), cables[0].gamma, cables[1].gamma);
   out.apart = widened(abs_of(sin_of(cables[0].gamma + cables[1].gamma)) + (-1e-12));
+  for (std::size_t c = 0; c < 2; ++c) {
+    // 1 / t_c = sin(sum) / (w sin(the other gamma)): smooth where the cables come into line.
+    out.inverse_tension_per_N[c] = widened(divided(sin_of(cables[0].gamma + cables[1].gamma),
+                                                   load_N(g) * sin_of(cables[1 - c].gamma)));
+  }
   const bool massless = !(g.effector_mass_kg > 0.0);
   for (int cable = 0; cable < 2; ++cable) {
     const auto k = static_cast<std::size_t>(cable);

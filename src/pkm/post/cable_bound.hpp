@@ -46,6 +46,10 @@ struct CableBoxBound {
   // |sin| of the angle between the cables, less the 1e-12 below which the balance is singular.
   Range apart;
   std::array<Range, 2> joint_mm;  // each cable's joint reading (cable past the top + offset)
+  // 1 / tension (per N; unit load without a mass): bounded where the cables come into line,
+  // where the tension is not. 1 / t >= 1 / max says at once that the cable pulls, is not in line
+  // with the other, and stays within max.
+  std::array<Range, 2> inverse_tension_per_N;
 };
 
 // Over every pen position within `centre_mm` +- `half_mm` (x, y; vertical plane, y up), at

@@ -256,12 +256,13 @@ class CablePullConstraint final : public PoseConstraint {
 // sign: the cable pulls; under a unit load where the effector has no mass), the sine of the
 // angle between the cables, then where tension_limits are given each tension less the min and
 // the max less it, then, where `joints` (no Hessian bound: the effector tilts or the cables
-// stretch), each cable's joint less its min and its max less it.
+// stretch), each cable's joint less its min and its max less it; last 1 / t - 1 / max per
+// cable, which decides the cells where the cables come into line.
 class CableBalanceConstraint final : public PoseConstraint {
  public:
   CableBalanceConstraint(const Machine& machine, const CablePlotterKinematics& plotter, bool joints)
       : machine_(machine), geometry_(plotter.geometry()), joints_(joints) {}
-  int count() const override { return 11; }
+  int count() const override { return 13; }
   bool covers_orientation() const override { return true; }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     std::fill(margins.begin(), margins.end(), Margin{1.0, 1.0});
@@ -269,6 +270,7 @@ class CableBalanceConstraint final : public PoseConstraint {
         post::cable_box_bound(geometry_, cell.centre.head<2>(), cell.half.head<2>());
     if (!b.known) {
       std::fill(margins.begin(), margins.begin() + 3, Margin{});
+      margins[11] = margins[12] = Margin{};
       if (b.no_balance) margins[2] = {-1.0, -1.0};  // refused everywhere
       if (geometry_.tension_limited) std::fill(margins.begin() + 3, margins.begin() + 7, Margin{});
       if (joints_) std::fill(margins.begin() + 7, margins.end(), Margin{});
@@ -291,6 +293,11 @@ class CableBalanceConstraint final : public PoseConstraint {
       }
     }
     margins[2] = from(b.apart, 0.0, 1.0);
+    // 1 / t - 1 / max: refutes cells where a cable pushes, comes into line or passes its max,
+    // across the line where the tension's own range is unbounded.
+    const double inverse_max = 1.0 / geometry_.tension_max_N;  // 0 without a max
+    for (std::size_t c = 0; c < 2; ++c)
+      margins[11 + c] = from(b.inverse_tension_per_N[c], inverse_max, 1.0);
   }
   Status failure(int index) const override {
     const bool weighed = geometry_.effector_mass_kg > 0.0;
@@ -299,7 +306,8 @@ class CableBalanceConstraint final : public PoseConstraint {
     }
     if (index == 2) return Status::failure(StatusCode::unreachable);  // in line, or no balance
     if (index < 7) return Status::failure(StatusCode::tension, (index - 3) / 2);
-    return Status::failure(StatusCode::joint_limit, (index - 7) / 2);
+    if (index < 11) return Status::failure(StatusCode::joint_limit, (index - 7) / 2);
+    return Status::failure(weighed ? StatusCode::tension : StatusCode::unreachable, index - 11);
   }
 
  private:
