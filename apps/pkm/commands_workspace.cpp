@@ -152,12 +152,14 @@ void run_workspace(const WorkspaceCommandOptions& options) {
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
-  // The document only when asked for: it is the largest thing made (a 4 mm hexapod's cells).
-  const nlohmann::json json =
-      options.json || !options.html.empty() ? workspace::to_json(ws) : nlohmann::json();
-  if (!options.html.empty()) view::write_workspace_html(options.html, json, &machine);
+  // The page gets the cells it draws, the document all of them, streamed (a 1 mm hexapod's).
+  if (!options.html.empty()) {
+    view::write_workspace_html(options.html, workspace::to_json(ws, view::kWorkspaceCellsDrawn),
+                               &machine);
+  }
   if (options.json) {
-    std::cout << json.dump() << "\n";
+    workspace::write_json(std::cout, ws);
+    std::cout << "\n";
     return;
   }
   print_summary(ws);

@@ -76,6 +76,14 @@ class LegLimits {
   std::string why(const LegEnds& ends, const Status& status, const char* leg_word) const;
 
   const LegLimitSettings& settings() const { return settings_; }
+  bool homed() const { return homed_; }
+  // The neutral axis (unit) of `leg`'s `end`: the inner end's in the world frame, the platform
+  // end's in the platform frame. Set by set_home.
+  const Eigen::Vector3d& neutral_axis(int leg, int end) const {
+    return axes_[static_cast<std::size_t>(end)][static_cast<std::size_t>(leg)];
+  }
+  // cos(max_joint_angle) of an end; -1 where the end is not checked.
+  double cos_max_joint_angle(int end) const { return cos_max_[static_cast<std::size_t>(end)]; }
 
  private:
   // Unit neutral axis of `leg`'s `end`, in the world frame at `rotation`.

@@ -30,6 +30,10 @@ nlohmann::json post_report_json(const Machine& machine, const std::string& progr
                                 const std::string& output, const post::PostReport& report,
                                 double tolerance_mm);
 
+// Workspace cells the page draws at most, per kind: past it, every k-th (the page says how many
+// it stands for). A document thinned to this many beforehand draws the same.
+inline constexpr std::size_t kWorkspaceCellsDrawn = 40000;
+
 // The page of `pkm workspace`: `workspace` follows the workspace JSON schema
 // (docs/html-views.md, "Workspace"); its machine is drawn at home when `machine` is given.
 std::string workspace_page(const nlohmann::json& workspace, const Machine* machine,

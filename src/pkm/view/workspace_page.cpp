@@ -14,9 +14,6 @@ namespace {
 
 using nlohmann::json;
 
-// Cells drawn at most, per kind: past it, every k-th (the page says how many it stands for).
-constexpr std::size_t kMaxDrawnCells = 40000;
-
 Eigen::Vector3d vector3(const json& values) {
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < 3 && k < values.size(); ++k) v[static_cast<int>(k)] = values[k];
@@ -31,7 +28,8 @@ json cells_json(const json& cells, const char* kind) {
   const json& list = cells[kind];
   const Eigen::Vector3d origin = vector3(cells.value("origin_mm", json::array({0, 0, 0})));
   const double step = cells.value("step_mm", 1.0);
-  const std::size_t every = list.size() / kMaxDrawnCells + 1;
+  const std::size_t every =
+      std::max<std::size_t>(1, (list.size() + kWorkspaceCellsDrawn - 1) / kWorkspaceCellsDrawn);
   for (std::size_t n = 0; n < list.size(); n += every) {
     const json& cell = list[n];
     if (!cell.is_array() || cell.size() < 3) continue;

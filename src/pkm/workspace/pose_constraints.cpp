@@ -11,6 +11,7 @@
 #include "pkm/post/cable_bound.hpp"
 #include "pkm/post/deviation_bound.hpp"
 #include "pkm/post/mechanism_rate.hpp"
+#include "pkm/workspace/orientation_search.hpp"
 
 namespace pkm::workspace {
 
@@ -316,139 +317,10 @@ class CableBalanceConstraint final : public PoseConstraint {
   bool joints_;
 };
 
-// The boxes of orientations the branch and bound below visits, as a tree below one root box:
-// each box's rotation and its derivatives at the box's middle, computed once and reused by every
-// leg, both directions and every position cell searched over the same root (a hexapod's cells
-// all search the whole range). The split rule is fixed (the widest half-width, halved), so a
-// box is a function of its path from the root: the cache changes no answer, only its cost (the
-// sines and cosines were 60 % of a hexapod's time over +-10 deg).
-class OrientationTree {
- public:
-  struct Node {
-    Eigen::Vector3d centre, half;
-    Eigen::Matrix3d rotation;
-    std::array<Eigen::Matrix3d, 3> derivatives;
-    std::array<int, 2> child{-1, -1};
-  };
-  // Starts the tree again from this root box (node 0).
-  void reset(const Eigen::Vector3d& centre, const Eigen::Vector3d& half) {
-    nodes_.clear();
-    add(centre, half);
-  }
-  bool has_root(const Eigen::Vector3d& centre, const Eigen::Vector3d& half) const {
-    return !nodes_.empty() && nodes_[0].centre == centre && nodes_[0].half == half;
-  }
-  // Child `which` (0: the lower half) of `node` split along `axis`; -1 when the tree is full
-  // (then the caller evaluates it itself).
-  int child(int node, int which, int axis) {
-    const auto k = static_cast<std::size_t>(node);
-    if (nodes_[k].child[static_cast<std::size_t>(which)] >= 0) {
-      return nodes_[k].child[static_cast<std::size_t>(which)];
-    }
-    if (nodes_.size() >= kMaxNodes) return -1;
-    Eigen::Vector3d centre = nodes_[k].centre, half = nodes_[k].half;
-    half[axis] *= 0.5;
-    centre[axis] += which == 0 ? -half[axis] : half[axis];
-    const int made = add(centre, half);
-    nodes_[k].child[static_cast<std::size_t>(which)] = made;
-    return made;
-  }
-  const Node& operator[](int node) const { return nodes_[static_cast<std::size_t>(node)]; }
-
- private:
-  static constexpr std::size_t kMaxNodes = 1u << 17;  // 44 MB at most
-  int add(const Eigen::Vector3d& centre, const Eigen::Vector3d& half) {
-    Node node;
-    node.centre = centre;
-    node.half = half;
-    rotation_and_derivatives_abc(centre, node.rotation, node.derivatives);
-    nodes_.push_back(node);
-    return static_cast<int>(nodes_.size()) - 1;
-  }
-  std::vector<Node> nodes_;
-};
-
-// A few trees by root box, the oldest replaced: a cell's whole orientation box and the single
-// orientation at its middle (settle() asks both) each keep theirs.
-class OrientationForest {
- public:
-  OrientationTree& tree_for(const Eigen::Vector3d& centre, const Eigen::Vector3d& half) {
-    for (OrientationTree& tree : trees_) {
-      if (tree.has_root(centre, half)) return tree;
-    }
-    OrientationTree& tree = trees_[next_];
-    next_ = (next_ + 1) % trees_.size();
-    tree.reset(centre, half);
-    return tree;
-  }
-
- private:
-  std::array<OrientationTree, 4> trees_;
-  std::size_t next_ = 0;
-};
-
-// The largest value over a box of orientations of sign * s(theta), s = v . R(theta) b, bracketed
-// by branch and bound: each box's value and gradient at its middle, plus |v| |b| (sum of its
-// half-widths)^2 / 2 (every second derivative of R b has norm <= |b|). Stops early once the
-// best value found passes `above` or every box's upper bound is at most `below`; boxes within
-// `tolerance` of the best are not split further. The boxes come from `tree` (its root: the
-// whole box), or are evaluated here where the tree is full.
-struct Bracket {
-  double lo = -INFINITY, hi = INFINITY;
-};
-
-Bracket largest_over_orientations(const Eigen::Vector3d& v, const Eigen::Vector3d& b, double sign,
-                                  OrientationTree& tree, int root, double above, double below,
-                                  double tolerance) {
-  constexpr int kMaxBoxes = 4096;
-  const double curvature = 0.5 * v.norm() * b.norm();
-  struct Box {
-    Eigen::Vector3d centre, half;
-    int node;  // in `tree`, or -1
-  };
-  std::array<Box, 64> stack;  // depth-first: at most one pending sibling per level
-  int size = 0;
-  stack[static_cast<std::size_t>(size++)] = {tree[root].centre, tree[root].half, root};
-  double best = -INFINITY, closed = -INFINITY;
-  Eigen::Matrix3d own_rotation;
-  std::array<Eigen::Matrix3d, 3> own_derivatives;
-  for (int boxes = 0; size > 0; ++boxes) {
-    const Box box = stack[static_cast<std::size_t>(--size)];
-    if (box.node < 0) rotation_and_derivatives_abc(box.centre, own_rotation, own_derivatives);
-    const Eigen::Matrix3d& rotation = box.node >= 0 ? tree[box.node].rotation : own_rotation;
-    const std::array<Eigen::Matrix3d, 3>& derivatives =
-        box.node >= 0 ? tree[box.node].derivatives : own_derivatives;
-    const double value = sign * v.dot(rotation * b);
-    double upper = value;
-    for (int k = 0; k < 3; ++k)
-      upper += std::abs(v.dot(derivatives[static_cast<std::size_t>(k)] * b)) * box.half[k];
-    const double width = box.half.sum();
-    upper += curvature * width * width;
-    best = std::max(best, value);
-    if (best > above) return {best, INFINITY};
-    int widest = 0;
-    box.half.maxCoeff(&widest);
-    if (upper <= below || upper - best <= tolerance || box.half[widest] <= 0.0 ||
-        boxes >= kMaxBoxes || size + 2 > static_cast<int>(stack.size())) {
-      closed = std::max(closed, upper);
-      continue;
-    }
-    Box first = box, second = box;
-    first.half[widest] = second.half[widest] = 0.5 * box.half[widest];
-    first.centre[widest] -= first.half[widest];
-    second.centre[widest] += second.half[widest];
-    first.node = box.node >= 0 ? tree.child(box.node, 0, widest) : -1;
-    second.node = box.node >= 0 ? tree.child(box.node, 1, widest) : -1;
-    stack[static_cast<std::size_t>(size++)] = first;
-    stack[static_cast<std::size_t>(size++)] = second;
-  }
-  return {best, std::max(best, closed)};
-}
-
 // Each hexapod leg within [min, max] for every orientation of the cell. A leg's length
 // |t + R b - a| is 1-Lipschitz in the position t for every R, so its largest (smallest) value
 // over the cell's orientations is too: bracketed at the cell's middle position by
-// largest_over_orientations, it moves at most the cell's half-diagonal over the cell. No
+// OrientationSearch, it moves at most the cell's half-diagonal over the cell. No
 // orientation box needs splitting; the branch and bound searches it.
 class HexapodLegConstraint final : public PoseConstraint {
  public:
@@ -459,11 +331,10 @@ class HexapodLegConstraint final : public PoseConstraint {
   void bound(const PoseCell& cell, std::span<Margin> margins,
              std::uint64_t settled) const override {
     const double rho = position_radius(cell);
-    // One tree per thread, kept from cell to cell and from worker to worker (a worker lives for
-    // one top cell only).
-    static thread_local OrientationForest forest;
-    OrientationTree& tree = forest.tree_for(cell.centre.tail<3>(), cell.half.tail<3>());
-    const int root = 0;
+    // One search (and its trees of boxes) per thread, kept from cell to cell and from worker to
+    // worker (a worker lives for one top cell only).
+    static thread_local OrientationSearch search;
+    const Eigen::Vector3d orientation = cell.centre.tail<3>(), spread = cell.half.tail<3>();
     for (std::size_t i = 0; i < 6; ++i) {
       if (((settled >> (2 * i)) & 3u) == 3u) continue;
       const Eigen::Vector3d b =
@@ -476,14 +347,14 @@ class HexapodLegConstraint final : public PoseConstraint {
       // Leg length (less its offset) as a function of s = v . R b, and its inverse.
       const auto length = [&](double s) { return std::sqrt(std::max(0.0, base + 2.0 * s)); };
       const auto s_at = [&](double l) { return 0.5 * (l * std::max(l, 0.0) - base); };
-      const double tolerance = 0.5 * rho * std::max(std::abs(v.norm() - b.norm()), 1.0);
-      const Bracket most = largest_over_orientations(v, b, 1.0, tree, root, s_at(longest + rho),
-                                                     s_at(longest - rho), tolerance);
+      const double tolerance = 0.05 * rho * std::max(std::abs(v.norm() - b.norm()), 1.0);
+      const Bracket most = search.largest(v, b, orientation, spread,
+                                          {s_at(longest + rho), s_at(longest - rho), tolerance});
       margins[2 * i + 1] = {longest - length(most.hi) - rho, longest - length(most.lo) + rho};
-      // The smallest length: the largest of -s.
+      // The smallest length: the largest of -s = (-v) . R b.
       const Bracket least =
-          largest_over_orientations(v, b, -1.0, tree, root, -s_at(std::max(shortest - rho, 0.0)),
-                                    -s_at(shortest + rho), tolerance);
+          search.largest(-v, b, orientation, spread,
+                         {-s_at(std::max(shortest - rho, 0.0)), -s_at(shortest + rho), tolerance});
       margins[2 * i] = {length(-least.hi) - rho - shortest, length(-least.lo) + rho - shortest};
     }
   }
@@ -494,6 +365,61 @@ class HexapodLegConstraint final : public PoseConstraint {
  private:
   const Machine& machine_;
   HexapodGeometry geometry_;
+};
+
+// Each hexapod joint end's angle within max_joint_angle for every orientation of the cell:
+// cos(angle) >= cos(max), the smallest cosine over the orientations bracketed at the cell's
+// middle position by largest_joint_turn (no orientation box needs splitting), moved at most
+// rho / (shortest leg over the cell) over it (the leg's direction turns no faster than 1 / its
+// length per mm of the platform joint; the platform end's axis does not depend on position).
+class HexapodJointAngleConstraint final : public PoseConstraint {
+ public:
+  explicit HexapodJointAngleConstraint(const HexapodKinematics& model)
+      : geometry_(model.geometry()), limits_(model.leg_limits()) {}
+  int count() const override { return 12; }
+  bool covers_orientation() const override { return true; }
+  void bound(const PoseCell& cell, std::span<Margin> margins,
+             std::uint64_t settled) const override {
+    const double rho = position_radius(cell);
+    const Eigen::Vector3d orientation = cell.centre.tail<3>(), spread = cell.half.tail<3>();
+    for (std::size_t i = 0; i < 6; ++i) {
+      LegJointEnd end;
+      end.p = geometry_.platform_mm[i] + Eigen::Vector3d(0.0, 0.0, geometry_.tool_length_mm);
+      end.v = cell.centre.head<3>() - geometry_.base_mm[i];
+      // The leg's shortest over the cell: at the middle pose, less what the orientations and
+      // positions of the cell can take off (|d(R p)| <= |p| per rad of each angle).
+      const double middle =
+          (end.v + rotation_from_abc(orientation) * end.p).norm() - end.p.norm() * spread.sum();
+      const double shortest = std::max(middle, end.v.norm() - end.p.norm()) - rho;
+      const double drift = shortest > 0.0 ? rho / shortest : INFINITY;
+      for (int side = 0; side < 2; ++side) {
+        const std::size_t k = 2 * i + static_cast<std::size_t>(side);
+        const double cos_max = limits_.cos_max_joint_angle(side);
+        if (cos_max <= -1.0 || ((settled >> k) & 1u)) {
+          margins[k] = {1.0, 1.0};
+          continue;
+        }
+        if (!std::isfinite(drift)) {
+          margins[k] = Margin{};
+          continue;
+        }
+        end.axis = limits_.neutral_axis(static_cast<int>(i), side);
+        end.turns_with_platform = side == kPlatformEnd;
+        // The largest of -cos: at most -(cos_max + drift) proves the end, past -(cos_max -
+        // drift) at one orientation fails every position of the cell.
+        const Bracket turn = largest_joint_turn(end, orientation, spread,
+                                                {drift - cos_max, -drift - cos_max, 0.05 * drift});
+        margins[k] = {-turn.hi - drift - cos_max, -turn.lo + drift - cos_max};
+      }
+    }
+  }
+  Status failure(int index) const override {
+    return Status::failure(StatusCode::joint_angle, index / 2);
+  }
+
+ private:
+  HexapodGeometry geometry_;
+  const LegLimits& limits_;
 };
 
 // Machine::inverse at the cell's centre and every corner: low 1 when all are ok, high -1 when
@@ -587,13 +513,19 @@ class PassThroughConstraint final : public PoseConstraint {
 // ball has no derivative bound.
 class MechanismLimitConstraint final : public PoseConstraint {
  public:
-  explicit MechanismLimitConstraint(const Machine& machine)
+  // `with_angles` false: the joint angles are another constraint's (a hexapod's); the leg
+  // clearances only.
+  MechanismLimitConstraint(const Machine& machine, bool with_angles)
       : machine_(machine), scale_(post::pose_angle_scale_mm(machine.kinematics())) {
     machine.kinematics().mechanism_limits(machine.home(), values_);
-    count_ = static_cast<int>(values_.size());
-    for (const MechanismLimit& value : values_) failures_.push_back({value.code, value.leg});
+    for (std::size_t k = 0; k < values_.size(); ++k) {
+      if (!with_angles && values_[k].code == StatusCode::joint_angle) continue;
+      used_.push_back(k);
+      failures_.push_back({values_[k].code, values_[k].leg});
+    }
+    total_ = values_.size();
   }
-  int count() const override { return count_; }
+  int count() const override { return static_cast<int>(used_.size()); }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     std::fill(margins.begin(), margins.end(), Margin{});
     const Kinematics& model = machine_.kinematics();
@@ -601,16 +533,17 @@ class MechanismLimitConstraint final : public PoseConstraint {
     if (!model.inverse_and_jacobian(centre, joints_, jacobian_).ok()) return;
     values_.clear();
     model.mechanism_limits(centre, values_);
-    if (static_cast<int>(values_.size()) != count_) return;
+    if (values_.size() != total_) return;
     const double r = scaled_radius(cell, scale_);
     const std::optional<post::HessianBounds> curvature =
         post::inverse_hessian_bounds(model, cell.centre, r, scale_, post::Chord{});
     if (!curvature) return;
     const post::LegMotion motion =
         post::leg_motion(model, joints_, jacobian_, *curvature, r, scale_);
-    for (std::size_t k = 0; k < values_.size(); ++k) {
-      const double reach = post::mechanism_rate(values_[k], motion) * r;
-      const double margin = values_[k].margin();
+    for (std::size_t k = 0; k < used_.size(); ++k) {
+      const MechanismLimit& value = values_[used_[k]];
+      const double reach = post::mechanism_rate(value, motion) * r;
+      const double margin = value.margin();
       if (std::isfinite(reach) && std::isfinite(margin))
         margins[k] = {margin - reach, margin + reach};
     }
@@ -623,7 +556,8 @@ class MechanismLimitConstraint final : public PoseConstraint {
  private:
   const Machine& machine_;
   double scale_;
-  int count_ = 0;
+  std::size_t total_ = 0;          // values mechanism_limits gives
+  std::vector<std::size_t> used_;  // the ones bounded here
   std::vector<std::pair<StatusCode, int>> failures_;
   mutable std::vector<MechanismLimit> values_;
   mutable JointVector joints_;
@@ -664,8 +598,11 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
   if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
     constraints.push_back(std::make_unique<HexapodLegConstraint>(machine, *hexapod));
     constraints.push_back(std::make_unique<HexapodAssemblyConstraint>());
-    if (model.has_mechanism_limits()) {
-      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine));
+    if (hexapod->leg_limits().settings().checks_angles()) {
+      constraints.push_back(std::make_unique<HexapodJointAngleConstraint>(*hexapod));
+    }
+    if (hexapod->leg_limits().settings().leg_diameter_mm > 0.0) {
+      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine, false));
     }
     return constraints;
   }
@@ -676,7 +613,7 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
       constraints.push_back(std::make_unique<GlideAssemblyConstraint>(*glide, home_mode));
     }
     if (model.has_mechanism_limits()) {
-      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine));
+      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine, true));
     }
   } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
     if (plotter->geometry().ideal()) {

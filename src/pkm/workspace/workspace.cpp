@@ -177,9 +177,7 @@ struct Worker {
   std::map<std::string, std::int64_t> limited_by;
   std::int64_t judged = 0;
   std::int64_t poses_judged = 0;
-  double estimated_boundary = 0.0;
-  std::int64_t unbounded_refusals = 0;  // cells proven inside whose middle inverse() refused  //
-                                        // measure of the boundary cells whose centre samples pass
+  std::int64_t unbounded_refusals = 0;  // cells proven inside whose middle inverse() refused
   int dimensions = 0;
 };
 
@@ -219,8 +217,11 @@ std::string status_key(StatusCode code) {
 }
 
 // `settled`: the constraint values (bit per value, in the order of worker.margins) proven over a
-// cell holding this one; those proven here are added to it.
-Verdict judge(Worker& worker, const PoseCell& cell, Status& why, std::uint64_t* settled = nullptr) {
+// cell holding this one; those proven here are added to it. `splits_orientation`, when given, is
+// set if an undecided value's constraint would be tighter over a smaller orientation box (one
+// that does not search the box itself).
+Verdict judge(Worker& worker, const PoseCell& cell, Status& why, std::uint64_t* settled = nullptr,
+              bool* splits_orientation = nullptr) {
   ++worker.poses_judged;
   Verdict verdict = Verdict::inside;
   std::size_t offset = 0;
@@ -240,9 +241,13 @@ Verdict judge(Worker& worker, const PoseCell& cell, Status& why, std::uint64_t* 
       }
       if (margins[k].low > 0.0 || (closed && margins[k].low >= 0.0)) {
         if (settled != nullptr && bit < 64) *settled |= std::uint64_t{1} << bit;
-      } else if (verdict == Verdict::inside) {
-        verdict = Verdict::undecided;
-        why = constraint->failure(static_cast<int>(k));
+      } else {
+        if (splits_orientation != nullptr && !constraint->covers_orientation())
+          *splits_orientation = true;
+        if (verdict == Verdict::inside) {
+          verdict = Verdict::undecided;
+          why = constraint->failure(static_cast<int>(k));
+        }
       }
     }
     offset += margins.size();
@@ -278,7 +283,8 @@ void settle(Worker& worker, const Grid& grid, PoseCell cell, OrientationBox box,
   cell.centre.tail<3>() = box.centre;
   cell.half.tail<3>() = box.half;
   Status why;
-  const Verdict verdict = judge(worker, cell, why, &box.settled);
+  bool splits_orientation = false;
+  const Verdict verdict = judge(worker, cell, why, &box.settled, &splits_orientation);
   if (verdict == Verdict::inside) return;
   if (verdict == Verdict::outside) {
     settling.outside = true;
@@ -289,7 +295,7 @@ void settle(Worker& worker, const Grid& grid, PoseCell cell, OrientationBox box,
   // bounds what a finer box can settle.
   const double position_radius = cell.half.head<3>().norm();
   const double angle_radius = grid.angle_scale_mm * box.half.norm();
-  if (grid.split_orientation && angle_radius > position_radius) {
+  if (grid.split_orientation && splits_orientation && angle_radius > position_radius) {
     std::array<int, 3> spread{};
     int n = 0;
     for (int k = 0; k < 3; ++k) {
@@ -323,7 +329,7 @@ void settle(Worker& worker, const Grid& grid, PoseCell cell, OrientationBox box,
 
 // The share of the cell's quarter points (each coordinate at +-1/4 of its side: the midpoint
 // rule on its sub-cells) where Machine::inverse accepts the range's middle and corners.
-double reachable_share(Worker& worker, const PoseCell& cell, const OrientationBox& range) {
+double reachable_share(const Machine& machine, const PoseCell& cell, const OrientationBox& range) {
   JointVector joints;
   std::array<int, 3> spread{};
   int n = 0;
@@ -345,7 +351,7 @@ double reachable_share(Worker& worker, const PoseCell& cell, const OrientationBo
         for (int k = 0; k < 3; ++k)
           pose[3 + k] += ((corner >> k) & 1u) ? range.half[k] : -range.half[k];
       }
-      all = worker.machine.inverse(Pose::from_vector(pose), joints).ok();
+      all = machine.inverse(Pose::from_vector(pose), joints).ok();
       if (range.half.squaredNorm() == 0.0) break;
     }
     reached += all ? 1 : 0;
@@ -395,8 +401,6 @@ void refine(Worker& worker, const Grid& grid, const CellIndex& cell,
   }
   if (cell.level == 0) {
     worker.boundary.push_back(cell);
-    worker.estimated_boundary +=
-        reachable_share(worker, base, grid.range) * std::pow(grid.step_mm, worker.dimensions);
     ++worker.limited_by[status_key(settling.why.code)];
     return;
   }
@@ -515,9 +519,51 @@ void refine_all(const Machine& machine, const Grid& grid, const TopCells& top,
     for (const auto& [name, count] : part->limited_by) result.limited_by[name] += count;
     result.cells_judged += part->judged;
     result.boxes_judged += part->poses_judged;
-    result.estimate += part->estimated_boundary;
     result.unbounded_refusals += part->unbounded_refusals;
   }
+}
+
+// A cell's place in the sample of boundary cells the estimate visits: a hash of its indices,
+// so the sample does not depend on the order the threads found the cells in.
+std::uint64_t cell_hash(const CellIndex& cell) {
+  std::uint64_t h = 0x9e3779b97f4a7c15u;
+  for (const std::int32_t index : cell.at) {
+    h ^= static_cast<std::uint32_t>(index);
+    h *= 0xbf58476d1ce4e5b9u;
+    h ^= h >> 31;
+  }
+  return h;
+}
+
+// The measure of the boundary cells' reachable share (reachable_share), from every cell up to
+// kEstimateCells of them, beyond that from a sample of about that many chosen by cell_hash and
+// scaled to all: an estimate either way (docs/workspace.md, "What a cell's answer means").
+double estimate_boundary(const Machine& machine, const Grid& grid,
+                         const std::vector<CellIndex>& boundary, int threads, int dimensions) {
+  constexpr std::size_t kEstimateCells = 250'000;
+  if (boundary.empty()) return 0.0;
+  const std::uint64_t stride = std::max<std::uint64_t>(1, boundary.size() / kEstimateCells);
+  std::vector<const CellIndex*> sample;
+  for (const CellIndex& cell : boundary) {
+    if (stride == 1 || cell_hash(cell) % stride == 0) sample.push_back(&cell);
+  }
+  if (sample.empty()) sample.push_back(&boundary.front());
+  std::vector<double> share(static_cast<std::size_t>(std::max(1, threads)), 0.0);
+  std::atomic<std::size_t> next{0};
+  const auto work = [&](std::size_t part) {
+    const Machine own = machine;  // per-call scratch of the model stays in this thread
+    for (std::size_t k = next++; k < sample.size(); k = next++) {
+      share[part] += reachable_share(own, position_cell(grid, *sample[k]), grid.range);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < share.size(); ++t) pool.emplace_back(work, t);
+  work(0);
+  for (std::thread& thread : pool) thread.join();
+  double reached = 0.0;
+  for (const double part : share) reached += part;
+  return reached * std::pow(grid.step_mm, dimensions) * static_cast<double>(boundary.size()) /
+         static_cast<double>(sample.size());
 }
 
 double measure(const std::vector<CellIndex>& cells, double step_mm, int dimensions) {
@@ -622,7 +668,8 @@ Workspace compute_workspace(const Machine& machine, const WorkspaceOptions& opti
   }
   ws.inside_measure = measure(ws.inside, grid.step_mm, dimensions);
   ws.boundary_measure = measure(ws.boundary, grid.step_mm, dimensions);
-  ws.estimate += ws.inside_measure;
+  ws.estimate = ws.inside_measure +
+                estimate_boundary(machine, grid, ws.boundary, options.threads, dimensions);
   ws.extent = extent_of(ws, grid.fixed);
   const InscribedShapes shapes = largest_inscribed(ws);
   ws.largest_box = shapes.box;
