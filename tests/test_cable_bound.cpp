@@ -205,6 +205,16 @@ TEST(CableBound, MakelangeloStretchingCablesJointsLieWithinTheBounds) {
   expect_sound(straight_makelangelo(true), {-400.0, -600.0}, {400.0, 450.0}, 200, 12);
 }
 
+TEST(CableBound, MaslowSledOnStraightChainsLiesWithinTheBounds) {
+  // maslow-frame.toml without its chain's weight: a 9 kg sled tied 155 mm either side of the bit
+  // and 139 mm above it, 10.275 mm sprockets 2978.4 mm apart, stretching chains.
+  const Machine machine = test::load_example("maslow-frame.toml");
+  CablePlotterGeometry g =
+      dynamic_cast<const CablePlotterKinematics&>(machine.kinematics()).geometry();
+  g.cable_density_kg_per_m = 0.0;
+  expect_sound(g, {-200.0, -2200.0}, {3200.0, 100.0}, 200, 12);
+}
+
 TEST(CableBound, PulleysWithoutMassPullWithinTheBounds) {
   const Machine machine = test::load_example("hektor-pulleys.toml");
   const CablePlotterGeometry& g =
