@@ -286,3 +286,88 @@ INSTANTIATE_TEST_SUITE_P(Examples, CertifyEveryKind,
 
 }  // namespace
 }  // namespace pkm::certify
+
+namespace pkm::certify {
+namespace {
+
+TEST(CertifyCables, ABeltCrossingItsPulleysOuterTangentIsViolatedWhereComputedByHand) {
+  // hektor-pulleys.toml: the left belt hangs straight down from its pulley's rightmost point at
+  // x = r = 6.366 mm; left of it the right belt would push. Along y = -50 from x = 10 to 3 that
+  // is u = (10 - 6.366) / 7.
+  const Machine machine = test::load_example("hektor-pulleys.toml");
+  const MoveProver prover(machine);
+  EXPECT_TRUE(prover.unavailable().empty()) << prover.unavailable();
+  const MoveProof proof = prover.prove(line(pose(10, -50, 0), pose(3, -50, 0)));
+  ASSERT_EQ(proof.verdict, Verdict::violated);
+  EXPECT_EQ(proof.finding->quantity, Quantity::pull);
+  EXPECT_EQ(proof.finding->index, 1);
+  EXPECT_NEAR(proof.finding->u0, (10.0 - 6.366) / 7.0, 1e-9);
+  const MoveProof clear = prover.prove(line(pose(10, -50, 0), pose(6.4, -50, 0)));
+  EXPECT_EQ(clear.verdict, Verdict::proven);
+}
+
+Machine straight_makelangelo() {
+  return load_machine(std::string(PKM_SOURCE_DIR) + "/tests/data/makelangelo-straight.toml");
+}
+
+// The line of tests/data/tension-between-samples.ngc: the left cable's tension least (0.5 N -
+// 1e-8 N, below tension_limits' min) 10.1 mm along its 19.8 mm, below the min from u = 0.504378
+// to 0.515825 (found by 2 million samples).
+const Eigen::Vector2d kDipStart(238.673597626, 10.064767823), kDipEnd(237.021219713, -9.666163407);
+
+TEST(CertifyCables, ATensionDipBelowTheMinBetweenSamplesIsViolatedWhereItStarts) {
+  const Machine machine = straight_makelangelo();
+  const MoveProver prover(machine);
+  EXPECT_TRUE(prover.unavailable().empty()) << prover.unavailable();
+  const MoveProof proof =
+      prover.prove(line(pose(kDipStart.x(), kDipStart.y(), 0), pose(kDipEnd.x(), kDipEnd.y(), 0)));
+  ASSERT_EQ(proof.verdict, Verdict::violated);
+  EXPECT_EQ(proof.finding->quantity, Quantity::tension);
+  EXPECT_EQ(proof.finding->index, 0);
+  EXPECT_EQ(proof.finding->limit, 0.5);
+  EXPECT_NEAR(proof.finding->u0, 0.504378, 1e-6);
+  EXPECT_NEAR(proof.finding->worst_value, 0.5 - 1e-8, 1e-10);
+  EXPECT_NE(proof.finding->text.find("left cable would go slack"), std::string::npos);
+  // 3.06e-6 mm up the tension's gradient (0.0065 N/mm), the line's least tension is 0.5 + 1e-8:
+  // proven.
+  const Eigen::Vector2d up = Eigen::Vector2d(-0.99651, 0.08345) * 3.06e-6;
+  const MoveProof clear = prover.prove(line(pose(kDipStart.x() + up.x(), kDipStart.y() + up.y(), 0),
+                                            pose(kDipEnd.x() + up.x(), kDipEnd.y() + up.y(), 0)));
+  EXPECT_EQ(clear.verdict, Verdict::proven);
+}
+
+TEST(CertifyCables, SaggingCablesAreUndecidedSayingWhy) {
+  const Machine machine = test::load_example("makelangelo.toml");
+  const MoveProver prover(machine);
+  EXPECT_NE(prover.unavailable().find("cables that sag (cable_density > 0)"), std::string::npos);
+  EXPECT_EQ(prover.prove(line(pose(0, 0, 0), pose(10, 0, 0))).verdict, Verdict::undecided);
+}
+
+// Random lines over a weighed, tilting, straight-cable gondola: every proven move passes 401
+// samples of the machine's inverse; every violation found is a pose the machine refuses.
+TEST(CertifyCables, ProvenMovesOfAWeighedGondolaPassEverySample) {
+  const Machine machine = straight_makelangelo();
+  const MoveProver prover(machine);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> x(-350.0, 350.0), y(-700.0, 480.0);
+  int proven = 0, violated = 0;
+  JointVector joints;
+  for (int n = 0; n < 60; ++n) {
+    const motion::Segment segment = line(pose(x(rng), y(rng), 0), pose(x(rng), y(rng), 0));
+    const MoveProof proof = prover.prove(segment);
+    if (proof.verdict == Verdict::proven) {
+      ++proven;
+      for (int k = 0; k <= 400; ++k) {
+        ASSERT_TRUE(machine.inverse(Pose::from_vector(segment.at(k / 400.0)), joints).ok());
+      }
+    } else if (proof.verdict == Verdict::violated) {
+      ++violated;
+      ASSERT_FALSE(machine.inverse(Pose::from_vector(proof.finding->pose), joints).ok());
+    }
+  }
+  EXPECT_GT(proven, 10);
+  EXPECT_GT(violated, 10);
+}
+
+}  // namespace
+}  // namespace pkm::certify

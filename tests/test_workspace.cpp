@@ -390,6 +390,61 @@ INSTANTIATE_TEST_SUITE_P(Examples, WorkspaceOfEveryExample,
                          ::testing::ValuesIn(test::example_machine_files()),
                          [](const auto& parameter) { return test::test_name(parameter.param); });
 
+// A cell of pen positions judged by every constraint of the machine: 1 proven inside, -1
+// proven outside, 0 neither.
+int judge(const Machine& machine, const Eigen::Vector2d& centre, const Eigen::Vector2d& half) {
+  PoseCell cell;
+  cell.centre = machine.home().as_vector();
+  cell.centre.head<2>() = centre;
+  cell.half.head<2>() = half;
+  bool inside = true;
+  for (const auto& constraint : machine_constraints(machine)) {
+    EXPECT_TRUE(constraint->proven());
+    std::vector<Margin> margins(static_cast<std::size_t>(constraint->count()));
+    constraint->bound(cell, margins);
+    for (const Margin& m : margins) {
+      if (m.high < 0.0) return -1;
+      inside = inside && m.low > 0.0;
+    }
+  }
+  return inside ? 1 : 0;
+}
+
+TEST(Workspace, PulleysPullRegionEndsBelowEachPulleysOuterTangent) {
+  // hektor-pulleys.toml: the left belt hangs straight down from its pulley's rightmost point
+  // when the pen is at x = r = 6.366 mm (the right one at 100 - r): left of it the right belt
+  // would push. Cells clear of it either side are proven; one across it is neither.
+  const Machine machine = test::load_example("hektor-pulleys.toml");
+  EXPECT_EQ(judge(machine, {6.366 + 0.25, -50.0}, {0.2, 0.5}), 1);
+  EXPECT_EQ(judge(machine, {6.366 - 0.25, -50.0}, {0.2, 0.5}), -1);
+  EXPECT_EQ(judge(machine, {6.366, -50.0}, {0.2, 0.5}), 0);
+  EXPECT_EQ(judge(machine, {100.0 - 6.366 - 0.25, -50.0}, {0.2, 0.5}), 1);
+  EXPECT_EQ(judge(machine, {100.0 - 6.366 + 0.25, -50.0}, {0.2, 0.5}), -1);
+  const Workspace ws = compute_workspace(machine, at_resolution(machine, 1.0));
+  EXPECT_TRUE(ws.guaranteed);
+}
+
+TEST(Workspace, WeighedStraightCablesAreGuaranteedAndAgreeWithMonteCarlo) {
+  // The gondola of makelangelo.toml on straight cables: its tension limits [0.5, 30] N bound
+  // the region; the balance's bounds prove cells (guaranteed), and the estimate agrees with
+  // Monte Carlo within 1 %.
+  const Machine machine =
+      load_machine(std::string(PKM_SOURCE_DIR) + "/tests/data/makelangelo-straight.toml");
+  EXPECT_EQ(judge(machine, {0.0, 0.0}, {4.0, 4.0}), 1);     // 1.72 N each, 584 mm of belt
+  EXPECT_EQ(judge(machine, {0.0, 700.0}, {4.0, 4.0}), -1);  // above the anchors
+  const Workspace ws = compute_workspace(machine, at_resolution(machine, 8.0));
+  EXPECT_TRUE(ws.guaranteed);
+  const MonteCarlo mc = monte_carlo(machine, ws, 100000);
+  const double spread = 3.0 * mc.sigma;
+  std::printf(
+      "makelangelo-straight: inside %.6g boundary %.6g estimate %.6g monte carlo %.6g +- "
+      "%.2g\n",
+      ws.inside_measure, ws.boundary_measure, ws.estimate, mc.volume, mc.sigma);
+  EXPECT_LE(ws.inside_measure, mc.volume + spread);
+  EXPECT_GE(ws.inside_measure + ws.boundary_measure, mc.volume - spread);
+  EXPECT_NEAR(ws.estimate, mc.volume, 0.01 * mc.volume + spread);
+}
+
 TEST(Workspace, JsonKeepsTheSchemaNames) {
   const Machine machine = biglide();
   const Workspace ws = compute_workspace(machine, at_resolution(machine, 4.0));

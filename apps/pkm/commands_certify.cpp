@@ -8,6 +8,7 @@
 #include "app.hpp"
 #include "pkm/certify/job_check.hpp"
 #include "pkm/gcode/gcode_error.hpp"
+#include "pkm/kinematics/cable_plotter.hpp"
 #include "progress.hpp"
 
 namespace pkm::app {
@@ -28,6 +29,8 @@ std::string_view quantity_name(certify::Quantity quantity) {
       return "assembly_mode";
     case certify::Quantity::pull:
       return "pull";
+    case certify::Quantity::tension:
+      return "tension";
     case certify::Quantity::none:
       break;
   }
@@ -41,6 +44,10 @@ std::string covered(const Machine& machine) {
   if (machine.kinematics().has_mechanism_limits()) text += ", joint angles and leg clearances";
   if (machine.kinematics().assembly_mode(machine.home()) != 0) text += ", the assembly mode";
   if (machine.kinematics().type() == "cable_plotter") text += ", both cables pulling";
+  if (const auto* cables = dynamic_cast<const CablePlotterKinematics*>(&machine.kinematics());
+      cables != nullptr && cables->geometry().tension_limited) {
+    text += ", the cables' tension limits";
+  }
   return text;
 }
 

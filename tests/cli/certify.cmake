@@ -37,3 +37,22 @@ add_test(NAME cli.check_json_leg_limits
          COMMAND ${PKM} check -m ${CLI_DATA}/tilting-hexapod.toml --json)
 set_tests_properties(cli.check_json_leg_limits PROPERTIES PASS_REGULAR_EXPRESSION
   "\"leg_limits\": \\{\n *\"leg_diameter\": 40\\.0,\n *\"max_joint_angle_deg\": \\[\n *30\\.0,\n *30\\.0\n")
+# Cable plotters as built (docs/cable-bounds.md): hektor-pulleys' job proven; a gondola's left
+# cable dipping 1e-8 N below tension_limits' min over 0.23 mm between post's samples: post passes
+# it, check refuses it where the dip starts; sagging cables undecided, saying why.
+set(TENSION_DIP ${CLI_DATA}/tension-between-samples.ngc)
+add_test(NAME cli.check_job_on_pulleys_is_certified
+         COMMAND ${PKM} check -m ${MACHINES}/hektor-pulleys.toml ${CLI_DATA}/hektor-job.ngc)
+set_tests_properties(cli.check_job_on_pulleys_is_certified PROPERTIES PASS_REGULAR_EXPRESSION
+  "certified: .*hektor-job\\.ngc on Hektor with GT2 pulleys \\(d = 100\\): all 4 moves proven")
+add_test(NAME cli.post_passes_the_tension_dip_between_samples
+         COMMAND ${PKM} post -m ${CLI_DATA}/makelangelo-straight.toml ${TENSION_DIP}
+                 -o ${CLI_OUT}/tension-between-samples.ngc)
+set_tests_properties(cli.post_passes_the_tension_dip_between_samples PROPERTIES
+  PASS_REGULAR_EXPRESSION "blocks for 2 moves")
+pkm_cli_refuses(check_job_tension_dip_between_samples
+  "tension-between-samples\\.ngc:6: move 2 violated: at 50\\.4377[0-9]* % of the move: pose x 237\\.840 y 0\\.113 mm: tension: the left cable would go slack: .*the farthest past it: 9\\.9[0-9]*e-09 N at 51\\.03[0-9]* % of the move \\(1 of 2 moves proven, 1 violated, 0 undecided\\)"
+  check -m ${CLI_DATA}/makelangelo-straight.toml ${TENSION_DIP})
+pkm_cli_refuses(check_job_sagging_cables_undecided
+  "move 1 undecided: no bound on the balance of cables that sag \\(cable_density > 0\\)"
+  check -m ${MACHINES}/makelangelo.toml ${CLI_DATA}/hektor-job.ngc)

@@ -8,6 +8,7 @@
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/rotary_delta.hpp"
+#include "pkm/post/cable_bound.hpp"
 #include "pkm/post/deviation_bound.hpp"
 #include "pkm/post/mechanism_rate.hpp"
 
@@ -200,6 +201,59 @@ PullMargin pull_margin(const CablePlotterKinematics& plotter, const Vector6d& ho
   return worst;
 }
 
+// A cable plotter as built (pulleys, a weighed or tilting effector, stretch), whose balance
+// post::cable_box_bound bounds; nullptr for the ideal plotter and other models.
+const CablePlotterKinematics* as_built_plotter(const Kinematics& model) {
+  const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model);
+  return plotter != nullptr && !plotter->geometry().ideal() ? plotter : nullptr;
+}
+
+// The first of a cable plotter's quantities not proven over the box the piece lies in (its
+// middle +- half its chord, plus twice its sagitta on an arc): with `joints_too` (no Hessian
+// bound: the effector tilts or the cables stretch) each joint, the pass-through joints exactly;
+// then both cables pulling (index 0, 1: that cable's tension; 2: the angle between them; 3:
+// the balance unbounded) and the tension limits.
+std::optional<Unproven> unproven_cable(const Machine& machine,
+                                       const CablePlotterKinematics& plotter, const PieceSpan& span,
+                                       bool joints_too) {
+  Eigen::Vector2d half;
+  for (int axis = 0; axis < 2; ++axis)
+    half[axis] = 0.5 * std::abs(span.chord[axis]) + 2.0 * span.sagitta;
+  // A line's piece is the segment itself: its tensions by the mean-value form along it.
+  const Eigen::Vector2d half_chord = 0.5 * span.chord.head<2>();
+  const post::CableBoxBound bound = post::cable_box_bound(plotter.geometry(), span.centre.head<2>(),
+                                                          half, span.line ? &half_chord : nullptr);
+  if (!bound.known) return Unproven{Quantity::pull, 3, -INFINITY, 0.0};
+  const Kinematics& model = machine.kinematics();
+  for (int joint = 0; joints_too && joint < model.joint_count(); ++joint) {
+    const JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
+    post::Range range;
+    if (const int axis = model.passthrough_axis(joint); axis >= 0) {
+      const double spread =
+          0.5 * std::abs(span.chord[axis]) + (axis < 3 ? 2.0 * span.sagitta : 0.0);
+      range = {span.centre[axis] - spread, span.centre[axis] + spread};
+    } else {
+      range = bound.joint_mm[static_cast<std::size_t>(joint)];
+    }
+    if (!(range.lo >= spec.min)) return Unproven{Quantity::joint, joint, range.lo, spec.min};
+    if (!(range.hi <= spec.max)) return Unproven{Quantity::joint, joint, range.hi, spec.max};
+  }
+  for (int cable = 0; cable < 2; ++cable) {
+    const post::Range& t = bound.tension_N[static_cast<std::size_t>(cable)];
+    if (!(t.lo > 0.0)) return Unproven{Quantity::pull, cable, t.lo, 0.0};
+  }
+  if (!(bound.apart.lo > 0.0)) return Unproven{Quantity::pull, 2, bound.apart.lo, 0.0};
+  const CablePlotterGeometry& g = plotter.geometry();
+  for (int cable = 0; cable < 2 && g.tension_limited; ++cable) {
+    const post::Range& t = bound.tension_N[static_cast<std::size_t>(cable)];
+    if (!(t.lo >= g.tension_min_N))
+      return Unproven{Quantity::tension, cable, t.lo, g.tension_min_N};
+    if (!(t.hi <= g.tension_max_N))
+      return Unproven{Quantity::tension, cable, t.hi, g.tension_max_N};
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 // The outcome of bounding one piece: proven, refused at its middle, or neither (the first
@@ -218,14 +272,13 @@ MoveProver::MoveProver(const Machine& machine, ProofOptions options)
   }
   angle_scale_mm_ = post::pose_angle_scale_mm(model);
   const Vector6d home = machine.home().as_vector();
-  if (!post::inverse_hessian_bounds(model, home, 0.0, angle_scale_mm_, {})) {
+  cables_ = as_built_plotter(model);
+  if (cables_ != nullptr) {
+    // Pulleys, a weighed or tilting effector, stretch: the balance's bounds (post/cable_bound).
+    unavailable_ = post::cable_bound_unavailable(cables_->geometry());
+  } else if (!post::inverse_hessian_bounds(model, home, 0.0, angle_scale_mm_, {})) {
     unavailable_ = "no bound on the derivatives of this kinematics model (" +
                    std::string(model.type()) + ") here";
-  } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model);
-             plotter != nullptr && plotter->geometry().effector_mass_kg > 0.0) {
-    unavailable_ = "no bound on how fast a hanging effector's cable tensions change here";
-  } else if (plotter != nullptr && !plotter->geometry().ideal()) {
-    unavailable_ = "no bound on where cables over pulleys (or sagging, stretching) pull here";
   } else if (!has_assembly_bound(model, model.assembly_mode(machine.home()))) {
     unavailable_ = "no bound on the assembly mode of this kinematics model (" +
                    std::string(model.type()) + ") here";
@@ -256,7 +309,7 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
   }
   const auto hessians =
       post::inverse_hessian_bounds(model, centre, radius, angle_scale_mm_, piece.chord);
-  if (!hessians) {
+  if (!hessians && cables_ == nullptr) {
     outcome.kind = Outcome::open;
     outcome.open_at = piece_finding(u0, u1, centre, Quantity::none, -1, -1, 0.0, 0.0);
     return outcome;
@@ -268,11 +321,20 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
     return outcome;
   };
   const PieceSpan span{centre, chord, radius, sagitta, line};
-  if (const auto joint = unproven_joint(machine_, span, joints, jacobian, *hessians)) {
-    return open(joint->quantity, joint->index, -1, joint->reach, joint->limit);
+  if (hessians) {
+    if (const auto joint = unproven_joint(machine_, span, joints, jacobian, *hessians)) {
+      return open(joint->quantity, joint->index, -1, joint->reach, joint->limit);
+    }
   }
   if (const auto axis = unproven_envelope(machine_.cartesian(), axes_, span)) {
     return open(axis->quantity, axis->index, -1, axis->reach, axis->limit);
+  }
+  if (cables_ != nullptr) {
+    // Cables as built: their balance bounded over the box the piece lies in (no legs, no mode).
+    if (const auto cable = unproven_cable(machine_, *cables_, span, !hessians)) {
+      return open(cable->quantity, cable->index, -1, cable->reach, cable->limit);
+    }
+    return outcome;
   }
   const post::LegMotion motion =
       post::leg_motion(model, joints, jacobian, *hessians, radius, angle_scale_mm_);
@@ -395,6 +457,21 @@ MoveProof MoveProver::prove(const motion::Segment& segment) const {
   return proof;
 }
 
+namespace {
+std::string as_built_pull_name(int index) {
+  switch (index) {
+    case 0:
+      return "the left cable's pull (its tension's sign)";
+    case 1:
+      return "the right cable's pull (its tension's sign)";
+    case 2:
+      return "the angle between the cables";
+    default:
+      return "the effector's balance (a cable's end near its pulley, or its tilt not enclosed)";
+  }
+}
+}  // namespace
+
 std::string MoveProver::quantity_name(Quantity quantity, int index, int other) const {
   const auto joint = [&](int i) {
     return i >= 0 && i < static_cast<int>(machine_.joints().size())
@@ -414,8 +491,11 @@ std::string MoveProver::quantity_name(Quantity quantity, int index, int other) c
     case Quantity::assembly_mode:
       return "the assembly mode (the sign of cos a cos b, or of the struts' determinant)";
     case Quantity::pull:
+      if (cables_ != nullptr) return as_built_pull_name(index);
       return index < 2 ? "the pen's side of anchor " + std::to_string(index + 1) + "'s vertical"
                        : std::string("the angle between the cables");
+    case Quantity::tension:
+      return "the " + std::string(index == 0 ? "left" : "right") + " cable's tension";
     case Quantity::none:
       break;
   }
@@ -439,6 +519,8 @@ std::string MoveProver::value_text(Quantity quantity, int index, double value) c
       return formatted_number(units_are_inches ? "%.4f " : "%.3f ",
                               value / machine_.mm_per_unit()) +
              machine_.length_unit();
+    case Quantity::tension:
+      return formatted_number("%.3f N", value);
     case Quantity::assembly_mode:
     case Quantity::pull:
     case Quantity::none:
@@ -452,8 +534,8 @@ std::string MoveProver::undecided_text(const Finding& finding) const {
                             formatted_number("%.6f", 100.0 * finding.u1) + " % of the move (pose " +
                             machine_.format_pose(Pose::from_vector(finding.pose)) + ")";
   if (finding.quantity == Quantity::assembly_mode || finding.quantity == Quantity::pull) {
-    return "cannot prove " + quantity_name(finding.quantity, -1, -1) + " keeps its sign between " +
-           where;
+    return "cannot prove " + quantity_name(finding.quantity, finding.index, -1) +
+           " keeps its sign between " + where;
   }
   return "cannot prove " + quantity_name(finding.quantity, finding.index, finding.other) +
          " within its limit between " + where + ": its bound reaches " +
@@ -473,6 +555,15 @@ std::optional<double> MoveProver::quantity_at(const Finding& finding, const Pose
     }
     case Quantity::envelope:
       return pose.as_vector()[finding.index];
+    case Quantity::tension: {
+      CableStatics statics;
+      if (cables_ == nullptr || !cables_->statics(pose, Eigen::Vector2d::Zero(), statics).ok()) {
+        return std::nullopt;
+      }
+      const auto cable = static_cast<std::size_t>(finding.index);
+      const bool min = finding.limit == cables_->tension_min_N();
+      return min ? statics.lowest_N[cable] : statics.highest_N[cable];
+    }
     case Quantity::joint_angle:
     case Quantity::clearance: {
       std::vector<MechanismLimit> values;
@@ -524,6 +615,9 @@ std::string MoveProver::excess_text(const Finding& finding, double value) const 
       file_units /= machine_.mm_per_unit();
       unit = machine_.length_unit();
       break;
+    case Quantity::tension:
+      unit = "N";
+      break;
     default:
       unit.clear();
   }
@@ -545,6 +639,10 @@ double MoveProver::excess(const Finding& finding, double value) const {
       return value - finding.limit;
     case Quantity::clearance:
       return finding.limit - value;
+    case Quantity::tension:
+      return cables_ != nullptr && finding.limit == cables_->tension_min_N()
+                 ? finding.limit - value
+                 : value - finding.limit;
     default:
       return 0.0;
   }
@@ -600,11 +698,39 @@ Finding MoveProver::refusal_at(const motion::Segment& segment, double u,
     }
   } else if (status.code == StatusCode::other_assembly) {
     finding.quantity = Quantity::assembly_mode;
+  } else if (cables_ != nullptr && status.joint >= 0 && status.joint < 2 &&
+             (status.code == StatusCode::tension || status.code == StatusCode::unreachable)) {
+    cable_refusal(pose, status.joint, finding);
   }
   finding.text = at + machine_.explain(pose, status);
   finding.worst_u = u;
   finding.worst_value = finding.value;
   return finding;
+}
+
+}  // namespace pkm::certify
+
+namespace pkm::certify {
+
+void MoveProver::cable_refusal(const Pose& pose, int cable, Finding& finding) const {
+  CableStatics statics;
+  finding.index = cable;
+  const Status balance = cables_->statics(pose, Eigen::Vector2d::Zero(), statics);
+  if (balance.code == StatusCode::tension && balance.joint == cable) {
+    finding.quantity = Quantity::pull;  // the cable would push
+    return;
+  }
+  if (!balance.ok()) return;
+  const auto k = static_cast<std::size_t>(cable);
+  if (statics.lowest_N[k] < cables_->tension_min_N()) {
+    finding.quantity = Quantity::tension;
+    finding.value = statics.lowest_N[k];
+    finding.limit = cables_->tension_min_N();
+  } else if (statics.highest_N[k] > cables_->tension_max_N()) {
+    finding.quantity = Quantity::tension;
+    finding.value = statics.highest_N[k];
+    finding.limit = cables_->tension_max_N();
+  }
 }
 
 }  // namespace pkm::certify

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "pkm/kinematics/cable_plotter.hpp"
 #include "pkm/machine/machine.hpp"
 #include "pkm/motion/segment.hpp"
 
@@ -24,8 +25,10 @@ std::string_view verdict_name(Verdict verdict);
 // What a constrained quantity is: a joint, a coordinate of the work envelope, a joint end's angle,
 // a pair of legs, the assembly mode.
 // `pull`: a cable plotter's pen between its anchors' verticals and off the anchors' line, where
-// both cables pull.
-enum class Quantity { joint, envelope, joint_angle, clearance, assembly_mode, pull, none };
+// both cables pull (as built, over pulleys or weighed: index 0, 1 that cable's tension's sign,
+// 2 the angle between the cables, 3 the balance itself). `tension`: a cable's tension (N,
+// index: the cable) within tension_limits.
+enum class Quantity { joint, envelope, joint_angle, clearance, assembly_mode, pull, tension, none };
 
 // Where a move fails or where its proof stops. Values in the machine's internal units (mm, rad).
 struct Finding {
@@ -73,6 +76,9 @@ class MoveProver {
   struct Outcome;
   Outcome bound_piece(const motion::Segment& segment, double u0, double u1) const;
   Finding refusal_at(const motion::Segment& segment, double u, const Status& status) const;
+  // What a cable plotter's refusal at `pose` for `cable` is: a cable that would push, or one
+  // past a tension limit (its value and the limit).
+  void cable_refusal(const Pose& pose, int cable, Finding& finding) const;
   std::string undecided_text(const Finding& finding) const;
   std::string value_text(Quantity quantity, int index, double value) const;
   // How far beyond its limit a violated finding's value is (> 0), in its own unit, and as text
@@ -88,6 +94,7 @@ class MoveProver {
   void farthest_past(const motion::Segment& segment, Finding& finding) const;
 
   const Machine& machine_;
+  const CablePlotterKinematics* cables_ = nullptr;  // a cable plotter as built, else nullptr
   ProofOptions options_;
   std::vector<int> axes_;  // the pose coordinates the model controls
   double angle_scale_mm_ = 100.0;

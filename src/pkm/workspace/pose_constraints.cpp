@@ -8,6 +8,7 @@
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/matrix.hpp"
+#include "pkm/post/cable_bound.hpp"
 #include "pkm/post/deviation_bound.hpp"
 #include "pkm/post/mechanism_rate.hpp"
 #include "pkm/workspace/orientation_search.hpp"
@@ -249,6 +250,71 @@ class CablePullConstraint final : public PoseConstraint {
 
  private:
   Eigen::Vector2d left_, right_;
+};
+
+// A cable plotter as built (pulleys, a weighed or tilting effector, stretching cables): its
+// balance bounded over the cell by post::cable_box_bound. Values: each cable's tension (its
+// sign: the cable pulls; under a unit load where the effector has no mass), the sine of the
+// angle between the cables, then where tension_limits are given each tension less the min and
+// the max less it, then, where `joints` (no Hessian bound: the effector tilts or the cables
+// stretch), each cable's joint less its min and its max less it; last 1 / t - 1 / max per
+// cable, which decides the cells where the cables come into line.
+class CableBalanceConstraint final : public PoseConstraint {
+ public:
+  CableBalanceConstraint(const Machine& machine, const CablePlotterKinematics& plotter, bool joints)
+      : machine_(machine), geometry_(plotter.geometry()), joints_(joints) {}
+  int count() const override { return 13; }
+  bool covers_orientation() const override { return true; }
+  void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
+    std::fill(margins.begin(), margins.end(), Margin{1.0, 1.0});
+    const post::CableBoxBound b =
+        post::cable_box_bound(geometry_, cell.centre.head<2>(), cell.half.head<2>());
+    if (!b.known) {
+      std::fill(margins.begin(), margins.begin() + 3, Margin{});
+      margins[11] = margins[12] = Margin{};
+      if (b.no_balance) margins[2] = {-1.0, -1.0};  // refused everywhere
+      if (geometry_.tension_limited) std::fill(margins.begin() + 3, margins.begin() + 7, Margin{});
+      if (joints_) std::fill(margins.begin() + 7, margins.end(), Margin{});
+      return;
+    }
+    const auto from = [](const post::Range& r, double offset, double sign) {
+      return sign > 0.0 ? Margin{r.lo - offset, r.hi - offset}
+                        : Margin{offset - r.hi, offset - r.lo};
+    };
+    for (std::size_t c = 0; c < 2; ++c) {
+      margins[c] = from(b.tension_N[c], 0.0, 1.0);
+      if (geometry_.tension_limited) {
+        margins[3 + 2 * c] = from(b.tension_N[c], geometry_.tension_min_N, 1.0);
+        margins[4 + 2 * c] = from(b.tension_N[c], geometry_.tension_max_N, -1.0);
+      }
+      if (joints_) {
+        const JointSpec& spec = machine_.joints()[c];
+        margins[7 + 2 * c] = from(b.joint_mm[c], spec.min, 1.0);
+        margins[8 + 2 * c] = from(b.joint_mm[c], spec.max, -1.0);
+      }
+    }
+    margins[2] = from(b.apart, 0.0, 1.0);
+    // 1 / t - 1 / max: refutes cells where a cable pushes, comes into line or passes its max,
+    // across the line where the tension's own range is unbounded.
+    const double inverse_max = 1.0 / geometry_.tension_max_N;  // 0 without a max
+    for (std::size_t c = 0; c < 2; ++c)
+      margins[11 + c] = from(b.inverse_tension_per_N[c], inverse_max, 1.0);
+  }
+  Status failure(int index) const override {
+    const bool weighed = geometry_.effector_mass_kg > 0.0;
+    if (index < 2) {
+      return Status::failure(weighed ? StatusCode::tension : StatusCode::unreachable, index);
+    }
+    if (index == 2) return Status::failure(StatusCode::unreachable);  // in line, or no balance
+    if (index < 7) return Status::failure(StatusCode::tension, (index - 3) / 2);
+    if (index < 11) return Status::failure(StatusCode::joint_limit, (index - 7) / 2);
+    return Status::failure(weighed ? StatusCode::tension : StatusCode::unreachable, index - 11);
+  }
+
+ private:
+  const Machine& machine_;
+  CablePlotterGeometry geometry_;
+  bool joints_;
 };
 
 // Each hexapod leg within [min, max] for every orientation of the cell. A leg's length
@@ -518,6 +584,16 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
   }
   const Kinematics& model = machine.kinematics();
   constraints.push_back(std::make_unique<PassThroughConstraint>(machine));
+  if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model);
+      plotter != nullptr && !plotter->geometry().ideal() &&
+      post::cable_bound_unavailable(plotter->geometry()).empty()) {
+    // As built: the joints by their Hessian bound where the cables are rigid (second order),
+    // else with the balance.
+    const bool rigid = has_hessian_bounds(machine);
+    if (rigid) constraints.push_back(std::make_unique<JointLimitConstraint>(machine));
+    constraints.push_back(std::make_unique<CableBalanceConstraint>(machine, *plotter, !rigid));
+    return constraints;
+  }
   if (!has_hessian_bounds(machine)) {
     constraints.push_back(std::make_unique<SampledConstraint>(machine));
     return constraints;
