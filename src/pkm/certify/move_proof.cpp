@@ -119,7 +119,29 @@ struct Unproven {
   Quantity quantity = Quantity::none;
   int index = -1;
   double reach = 0.0, limit = 0.0;
+  int other = -1;  // joint angle: the end; clearance: the second leg
 };
+
+// The first joint angle or leg clearance whose reach over the ball of `radius` about the piece's
+// middle (post::mechanism_reach) may pass its limit.
+std::optional<Unproven> unproven_leg_limit(const Kinematics& model, const Vector6d& centre,
+                                           const JointVector& joints, const post::LegMotion& motion,
+                                           double radius) {
+  if (!model.has_mechanism_limits()) return std::nullopt;
+  std::vector<MechanismLimit> values;
+  model.mechanism_limits(Pose::from_vector(centre), values);
+  const std::optional<LegEnds> ends = post::legs_at(model, Pose::from_vector(centre), joints);
+  for (const MechanismLimit& value : values) {
+    const post::Reach reach = post::mechanism_reach(value, motion, radius, ends ? &*ends : nullptr);
+    const bool angle = value.code == StatusCode::joint_angle;
+    const double falls = angle ? reach.up : reach.down;  // how far the margin can fall
+    if (!(value.margin() - falls >= 0.0)) {
+      return Unproven{angle ? Quantity::joint_angle : Quantity::clearance, value.leg,
+                      angle ? value.value + falls : value.value - falls, value.limit, value.other};
+    }
+  }
+  return std::nullopt;
+}
 
 // The first joint whose range over the piece (its value at the middle, the first-order change
 // along the chord, the second-order bend) is not proven within [min, max].
@@ -338,20 +360,8 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
   }
   const post::LegMotion motion =
       post::leg_motion(model, joints, jacobian, *hessians, radius, angle_scale_mm_);
-  if (model.has_mechanism_limits()) {
-    std::vector<MechanismLimit> values;
-    model.mechanism_limits(Pose::from_vector(centre), values);
-    const std::optional<LegEnds> ends = post::legs_at(model, Pose::from_vector(centre), joints);
-    for (const MechanismLimit& value : values) {
-      const post::Reach reach =
-          post::mechanism_reach(value, motion, radius, ends ? &*ends : nullptr);
-      const bool angle = value.code == StatusCode::joint_angle;
-      const double falls = angle ? reach.up : reach.down;  // how far the margin can fall
-      if (!(value.margin() - falls >= 0.0)) {
-        return open(angle ? Quantity::joint_angle : Quantity::clearance, value.leg, value.other,
-                    angle ? value.value + falls : value.value - falls, value.limit);
-      }
-    }
+  if (const auto leg = unproven_leg_limit(model, centre, joints, motion, radius)) {
+    return open(leg->quantity, leg->index, leg->other, leg->reach, leg->limit);
   }
   if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
     const double x_spread = 0.5 * std::abs(chord[0]) + 2.0 * sagitta;
