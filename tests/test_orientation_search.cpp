@@ -12,13 +12,10 @@
 namespace pkm::workspace {
 namespace {
 
-double s_at(const Eigen::Vector3d& v, const Eigen::Vector3d& p, const Eigen::Vector3d& abc) {
-  return v.dot(rotation_from_abc(abc) * p);
-}
-
-// The largest of s over a grid of n^3 orientations of the box (a lower bound of the truth).
-double sampled_largest(const Eigen::Vector3d& v, const Eigen::Vector3d& p,
-                       const Eigen::Vector3d& centre, const Eigen::Vector3d& half, int n) {
+// The largest of value(R) over a grid of n^3 orientations of the box (a lower bound of the truth).
+template <class Value>
+double largest_on_grid(const Eigen::Vector3d& centre, const Eigen::Vector3d& half, int n,
+                       Value&& value) {
   double best = -INFINITY;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
@@ -26,9 +23,16 @@ double sampled_largest(const Eigen::Vector3d& v, const Eigen::Vector3d& p,
         const Eigen::Vector3d step(i, j, k);
         const Eigen::Vector3d abc =
             centre - half + 2.0 * half.cwiseProduct(step / static_cast<double>(n - 1));
-        best = std::max(best, s_at(v, p, abc));
+        best = std::max(best, value(rotation_from_abc(abc)));
       }
   return best;
+}
+
+// s = v . R p, sampled on a grid of the range.
+double sampled_largest(const Eigen::Vector3d& v, const Eigen::Vector3d& p,
+                       const Eigen::Vector3d& centre, const Eigen::Vector3d& half, int n) {
+  return largest_on_grid(centre, half, n,
+                         [&](const Eigen::Matrix3d& rotation) { return v.dot(rotation * p); });
 }
 
 TEST(OrientationSearch, BracketHoldsTheSampledLargestAndIsTight) {
@@ -87,20 +91,12 @@ TEST(OrientationSearch, DecidesTheThresholdsItIsGiven) {
 // -cos of a joint end's angle, sampled on a grid of the range.
 double sampled_largest_turn(const LegJointEnd& end, const Eigen::Vector3d& centre,
                             const Eigen::Vector3d& half, int n) {
-  double best = -INFINITY;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k) {
-        const Eigen::Vector3d step(i, j, k);
-        const Eigen::Vector3d abc =
-            centre - half + 2.0 * half.cwiseProduct(step / static_cast<double>(n - 1));
-        const Eigen::Matrix3d rotation = rotation_from_abc(abc);
-        const Eigen::Vector3d leg = (end.v + rotation * end.p).normalized();
-        const Eigen::Vector3d axis =
-            end.turns_with_platform ? Eigen::Vector3d(rotation * end.axis) : end.axis;
-        best = std::max(best, -axis.dot(leg));
-      }
-  return best;
+  return largest_on_grid(centre, half, n, [&](const Eigen::Matrix3d& rotation) {
+    const Eigen::Vector3d leg = (end.v + rotation * end.p).normalized();
+    const Eigen::Vector3d axis =
+        end.turns_with_platform ? Eigen::Vector3d(rotation * end.axis) : end.axis;
+    return -axis.dot(leg);
+  });
 }
 
 TEST(OrientationSearch, JointTurnBracketHoldsTheSampledLargest) {
