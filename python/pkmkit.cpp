@@ -80,11 +80,10 @@ std::size_t checked_rows(const Array& array, std::size_t columns, const std::str
   return static_cast<std::size_t>(array.shape(0));
 }
 
-// The status identifiers of `codes` as a NumPy array of strings (one lookup per row in NumPy).
+// The status identifiers of `codes` as a NumPy array of strings: one lookup per row in NumPy, in
+// the array of identifiers made once at import (the module's _STATUS_NAMES).
 py::array status_array(const std::vector<std::int8_t>& codes) {
-  const py::module_ numpy = py::module_::import("numpy");
-  const py::array names = numpy.attr("array")(
-      std::vector<std::string>(std::begin(kStatusIdentifiers), std::end(kStatusIdentifiers)));
+  const py::object names = py::module_::import("pkmkit").attr("_STATUS_NAMES");
   const py::array indices =
       py::array_t<std::int8_t>(static_cast<py::ssize_t>(codes.size()), codes.data());
   return names.attr("__getitem__")(indices);
@@ -303,8 +302,10 @@ void bind_machine_file_error(py::module_& module) {
 
 PYBIND11_MODULE(pkmkit, module) {
   module.doc() = "pkmkit: machine files and their kinematics over NumPy arrays (mm, deg)";
-  module.attr("STATUSES") = std::vector<std::string>(std::begin(pkm::python::kStatusIdentifiers),
-                                                     std::end(pkm::python::kStatusIdentifiers));
+  const std::vector<std::string> statuses(std::begin(pkm::python::kStatusIdentifiers),
+                                          std::end(pkm::python::kStatusIdentifiers));
+  module.attr("STATUSES") = py::tuple(py::cast(statuses));
+  module.attr("_STATUS_NAMES") = py::module_::import("numpy").attr("array")(statuses);
   pkm::python::bind_machine_file_error(module);
   pkm::python::bind_joint(module);
   pkm::python::bind_machine(module);

@@ -106,3 +106,9 @@ def test_other_layouts_and_types_are_converted(machines):
         assert np.array_equal(joints, expected) and status.tolist() == ["ok", "ok"]
     joints, _ = m.inverse(np.rint(poses).astype(np.int64))
     np.testing.assert_array_equal(joints, m.inverse(np.rint(poses))[0])
+
+
+def test_statuses_are_the_status_code_identifiers():
+    assert len(pkmkit.STATUSES) == 12
+    assert pkmkit.STATUSES[:3] == ("ok", "unreachable", "joint_limit")
+    assert pkmkit.STATUSES[-1] == "interference"
