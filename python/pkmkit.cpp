@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <iterator>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,22 +22,47 @@ namespace {
 
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-// The status codes as identifiers, indexed by StatusCode: what the status arrays hold.
-constexpr const char* kStatusIdentifiers[] = {"ok",
-                                              "unreachable",
-                                              "joint_limit",
-                                              "singular",
-                                              "not_converged",
-                                              "branch_changed",
-                                              "other_assembly",
-                                              "invalid_input",
-                                              "outside_envelope",
-                                              "tension",
-                                              "joint_angle",
-                                              "interference"};
-constexpr int kStatusCount = static_cast<int>(std::size(kStatusIdentifiers));
-static_assert(static_cast<int>(StatusCode::interference) == kStatusCount - 1,
-              "a status code without an identifier");
+// A status code as an identifier, what the status arrays hold. A switch without default: a code
+// added to StatusCode without an identifier here fails the build (-Wswitch, -Werror).
+const char* status_identifier(StatusCode code) {
+  switch (code) {
+    case StatusCode::ok:
+      return "ok";
+    case StatusCode::unreachable:
+      return "unreachable";
+    case StatusCode::joint_limit:
+      return "joint_limit";
+    case StatusCode::singular:
+      return "singular";
+    case StatusCode::not_converged:
+      return "not_converged";
+    case StatusCode::branch_changed:
+      return "branch_changed";
+    case StatusCode::other_assembly:
+      return "other_assembly";
+    case StatusCode::invalid_input:
+      return "invalid_input";
+    case StatusCode::outside_envelope:
+      return "outside_envelope";
+    case StatusCode::tension:
+      return "tension";
+    case StatusCode::joint_angle:
+      return "joint_angle";
+    case StatusCode::interference:
+      return "interference";
+  }
+  return "unknown";
+}
+
+// Every identifier, indexed by the code's value (the last code is interference; a code added
+// after it needs this bound moved as well as its case above).
+std::vector<std::string> status_identifiers() {
+  std::vector<std::string> names;
+  for (int code = 0; code <= static_cast<int>(StatusCode::interference); ++code) {
+    names.emplace_back(status_identifier(static_cast<StatusCode>(code)));
+  }
+  return names;
+}
 
 // The pose coordinates (0..5 = x y z a b c) the machine controls, in that order: the columns of
 // every pose array.
@@ -302,8 +326,7 @@ void bind_machine_file_error(py::module_& module) {
 
 PYBIND11_MODULE(pkmkit, module) {
   module.doc() = "pkmkit: machine files and their kinematics over NumPy arrays (mm, deg)";
-  const std::vector<std::string> statuses(std::begin(pkm::python::kStatusIdentifiers),
-                                          std::end(pkm::python::kStatusIdentifiers));
+  const std::vector<std::string> statuses = pkm::python::status_identifiers();
   module.attr("STATUSES") = py::tuple(py::cast(statuses));
   module.attr("_STATUS_NAMES") = py::module_::import("numpy").attr("array")(statuses);
   pkm::python::bind_machine_file_error(module);
