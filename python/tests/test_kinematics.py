@@ -1,0 +1,127 @@
+"""Batch kinematics: IK equals `pkm ik`, FK round trips, refused poses, threads."""
+import json
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import pkmkit
+
+# A few poses (mm, deg; the machine's coordinates) of three example machines.
+POSES = {
+    "hektor.toml": [[34.0, -40.0], [50.0, -50.0], [10.25, -120.5], [90.0, -15.0]],
+    "hexapod-bit.toml": [[0.0, 0.0, 1000.0, 0.0, 0.0, 0.0], [12.5, -30.0, 950.0, 3.0, -2.0, 10.0],
+                         [-80.0, 45.0, 1100.0, -5.0, 4.5, -20.0]],
+    "triaglide.toml": [[0.0, 0.0, 200.0], [100.0, 50.0, 250.0], [-60.5, -30.25, 180.0]],
+}
+
+
+def pkm_ik(pkm_binary, machine_file, pose):
+    """`pkm ik --json` of one pose: the joint values it prints."""
+    result = subprocess.run(
+        [pkm_binary, "ik", "-m", str(machine_file), "--json", "--", *map(repr, pose)],
+        capture_output=True, text=True, check=True)
+    return json.loads(result.stdout)["joints"]
+
+
+@pytest.mark.parametrize("name", sorted(POSES))
+def test_batch_inverse_equals_pkm_ik(machines, pkm_binary, name):
+    m = pkmkit.Machine.load(str(machines / name))
+    poses = np.array(POSES[name])
+    joints, status = m.inverse(poses)
+    assert joints.shape == (len(poses), len(m.joints))
+    assert status.tolist() == ["ok"] * len(poses)
+    for row, pose in enumerate(POSES[name]):
+        assert joints[row].tolist() == pkm_ik(pkm_binary, machines / name, pose)
+
+
+def test_inverse_speaks_mm_and_deg_whatever_the_file_says(machines, pkm_binary):
+    # pkm ik speaks the file's units and takes x y z a b c in order; pkmkit takes mm and deg over
+    # the controlled coordinates only. An inch rotary delta (joints in deg) and a 5-axis table
+    # (x y z a c, no b).
+    rdelta = pkmkit.Machine.load(str(machines / "linuxcnc-rdelta.toml"))
+    pose_mm = [25.4, -12.7, -270.0]
+    joints, status = rdelta.inverse(np.array([pose_mm]))
+    assert status.tolist() == ["ok"] and [j.unit for j in rdelta.joints] == ["deg"] * 3
+    expected = pkm_ik(pkm_binary, machines / "linuxcnc-rdelta.toml", [1.0, -0.5, -270.0 / 25.4])
+    np.testing.assert_allclose(joints[0], expected, rtol=0, atol=1e-9)
+    table = pkmkit.Machine.load(str(machines / "linuxcnc-xyzac-trt.toml"))
+    assert table.coordinates == ["x", "y", "z", "a", "c"]
+    joints, status = table.inverse(np.array([[10.0, 20.0, 90.0, -30.0, 45.0]]))
+    assert status.tolist() == ["ok"]
+    expected = pkm_ik(pkm_binary, machines / "linuxcnc-xyzac-trt.toml",
+                      [10.0, 20.0, 90.0, -30.0, 0.0, 45.0])
+    assert joints[0].tolist() == expected
+
+
+def test_forward_round_trip_on_100000_hexapod_poses(machines):
+    m = pkmkit.Machine.load(str(machines / "hexapod-bit.toml"))
+    rng = np.random.default_rng(15)
+    count = 100_000
+    spread = np.array([50.0, 50.0, 50.0, 5.0, 5.0, 5.0])  # mm and deg around home
+    poses = m.home + rng.uniform(-1.0, 1.0, (count, 6)) * spread
+    joints, status = m.inverse(poses)
+    assert np.all(status == "ok")
+    back, status = m.forward(joints)
+    assert np.all(status == "ok")
+    assert np.max(np.abs(back[:, :3] - poses[:, :3])) <= 1e-9  # mm
+    assert np.max(np.abs(back[:, 3:] - poses[:, 3:])) <= 1e-9  # deg
+
+
+def test_forward_with_seed_and_single_row(machines):
+    m = pkmkit.Machine.load(str(machines / "triaglide.toml"))
+    pose = np.array([[40.0, -25.0, 230.0]])
+    joints, _ = m.inverse(pose)
+    back, status = m.forward(joints, seed=np.array([0.0, 0.0, 200.0]))
+    assert status.tolist() == ["ok"]
+    np.testing.assert_allclose(back, pose, atol=1e-9)
+
+
+def test_refused_poses_give_their_status_and_finite_joints(machines, pkm_binary):
+    m = pkmkit.Machine.load(str(machines / "hektor.toml"))
+    # The second pose needs 500 mm of belt (max 180); the third is not a number.
+    poses = np.array([[34.0, -40.0], [50.0, -500.0], [np.nan, -40.0]])
+    joints, status = m.inverse(poses)
+    assert status.tolist() == ["ok", "joint_limit", "invalid_input"]
+    assert np.all(np.isfinite(joints))
+    assert joints[1:].tolist() == [[0.0, 0.0], [0.0, 0.0]]
+    refused = subprocess.run([pkm_binary, "ik", "-m", str(machines / "hektor.toml"), "50", "-500"],
+                             capture_output=True, text=True)
+    assert refused.returncode != 0 and "joint" in refused.stderr
+
+
+def test_forward_refuses_joints_past_their_limits(machines):
+    m = pkmkit.Machine.load(str(machines / "hektor.toml"))
+    poses, status = m.forward(np.array([[52.0, 77.0], [200.0, 77.0]]))
+    assert status.tolist() == ["ok", "joint_limit"]
+    assert poses[1].tolist() == [0.0, 0.0]
+
+
+@pytest.mark.parametrize("name", ["hexapod-bit.toml", "mach3-formula.toml"])
+def test_two_threads_run_batch_inverse_at_once(machines, name):
+    # Both threads share one machine and start their batches together (a barrier); the batch
+    # loop runs without the GIL, so they overlap, and each works on its own copy of the machine:
+    # both results equal one single-threaded call's. (Whether they overlap is not asserted: that
+    # would take timing.)
+    # A formula machine's evaluator keeps state per call: the case a shared machine would break.
+    m = pkmkit.Machine.load(str(machines / name))
+    rng = np.random.default_rng(7)
+    poses = m.home + rng.uniform(-1.0, 1.0, (20_000, m.dof)) * 4.0
+    expected, expected_status = m.inverse(poses)
+    results = [None, None]
+    started = threading.Barrier(2)
+
+    def run(slot):
+        started.wait()
+        results[slot] = m.inverse(poses)
+
+    threads = [threading.Thread(target=run, args=(slot,)) for slot in range(2)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert np.all(expected_status == "ok")
+    for joints, status in results:
+        assert np.array_equal(joints, expected)
+        assert np.array_equal(status, expected_status)
