@@ -145,6 +145,9 @@ const BadCase kBadInputs[] = {
     {"p_with_g81", "G21 G0 Z5\nG81 X0 Y0 Z-1 R1 F100 P1\nM2\n", 2, 23, "P word with no"},
     // Bytes the reader cannot take.
     {"nul_byte", std::string("G0 X1\0Y2\nM2\n", 12), 1, 6, "NUL byte in the line"},
+    {"nul_byte_in_comment", std::string("G0 X1 (a\0b)\nM2\n", 15), 1, 9, "NUL byte in the line"},
+    {"nul_byte_in_semicolon_comment", std::string("G0 X1 ;a\0b\nM2\n", 14), 1, 9,
+     "NUL byte in the line"},
     {"line_too_long", "G0 X1" + std::string(kMaxLineBytes, ' ') + "\nM2\n", 1, 0,
      "line longer than 1048576 bytes"},
     {"endwhile_with_letters_is_no_endwhile", "o1 while [0]\no1 endwhileXYZ\nG0 X1\nM2\n", 1, 1,

@@ -155,7 +155,11 @@ class Reader {
     }
     while (true) {
       const char c = peek();
-      if (c == 0) break;
+      if (c == 0) {
+        // A NUL before the end would end the line early, silently: refused.
+        if (pos_ < line_.size()) fail(static_cast<int>(pos_) + 1, "NUL byte in the line");
+        break;
+      }
       const int column = static_cast<int>(pos_) + 1;
       if (c >= 'a' && c <= 'z' && kIsWord[static_cast<std::size_t>(c - 'a')]) {
         // Most words are a letter and a number: first in line.
@@ -168,6 +172,7 @@ class Reader {
         block.plain = false;
       } else if (c == ';') {
         block.comments.push_back({std::string(line_.substr(pos_ + 1)), column});
+        refuse_nul_in(block.comments.back().text, column + 1);
         block.plain = false;
         pos_ = line_.size();
       } else if (c == 'n' && block.empty && block.n_label.empty()) {
@@ -245,6 +250,11 @@ class Reader {
     fail(column, std::string(1, display(letter)) + written_number(value) +
                      " is out of range: G and M codes are below " + written_number(kMaxCodeNumber));
   }
+  // A comment's `text`, starting at `column`, holds no NUL byte.
+  void refuse_nul_in(const std::string& text, int column) const {
+    const std::size_t nul = text.find('\0');
+    if (nul != std::string::npos) fail(column + static_cast<int>(nul), "NUL byte in the line");
+  }
   // A value must be finite (rs274: "calculation resulted in 'infinity'").
   double finite(double value, int column) const {
     if (!std::isfinite(value)) fail(column, "calculation resulted in infinity or NaN");
@@ -305,6 +315,7 @@ class Reader {
     if (open != std::string::npos && open < close)
       fail(static_cast<int>(open) + 1, "nested comment");
     std::string text(line_.substr(pos_ + 1, close - pos_ - 1));
+    refuse_nul_in(text, column + 1);
     pos_ = close + 1;
     return text;
   }

@@ -223,7 +223,7 @@ class LineSource {
   bool is_open() const { return file_ != nullptr; }
   // A read or seek failed (read() then returned nothing, as at the end of the file).
   bool failed() const { return failed_; }
-  // The line read was longer than kMaxLineBytes (read() then returned nothing).
+  // The line read was longer than kMaxLineBytes (read() then returned nothing, and failed()).
   bool too_long() const { return too_long_; }
 
   // The line starting at byte `offset`, without its "\n" or "\r\n", as a view into the
@@ -256,10 +256,6 @@ class LineSource {
         const std::int64_t following =
             offset + static_cast<std::int64_t>(length + (newline != nullptr ? 1 : 0));
         if (length > 0 && start[length - 1] == '\r') --length;
-        if (length > kMaxLineBytes) {
-          too_long_ = true;
-          return std::nullopt;
-        }
         // The buffer always has a byte to spare after what was read: the NUL fits.
         patched_ = start + length;
         patched_character_ = *patched_;
@@ -272,11 +268,15 @@ class LineSource {
       buffer_offset_ += static_cast<std::int64_t>(begin);
       filled_ = available;
       begin = 0;
-      if (filled_ > kMaxLineBytes) {
-        too_long_ = true;
-        return std::nullopt;
+      if (filled_ + 1 >= buffer_.size()) {
+        // The buffer holds at most kMaxLineBytes + 2: a line that fills it is too long, and any
+        // line found in it is short enough without a test on the way.
+        if (buffer_.size() >= kMaxLineBytes + 2) {
+          too_long_ = failed_ = true;
+          return std::nullopt;
+        }
+        buffer_.resize(std::min(2 * buffer_.size(), kMaxLineBytes + 2));
       }
-      if (filled_ + 1 >= buffer_.size()) buffer_.resize(2 * buffer_.size());
       const std::size_t count =
           std::fread(buffer_.data() + filled_, 1, buffer_.size() - 1 - filled_, file_.get());
       filled_ += count;
@@ -320,7 +320,7 @@ struct Interpreter::State {
   const InterpreterOptions& options;
   std::vector<Warning>& warnings;
   const CanonSink* sink = nullptr;
-  CanonSink checked_sink;  // `sink` behind require_finite: what compensation hands commands to
+  CanonSink checked_sink;  // `sink` behind all_finite: what compensation hands commands to
   Parameters parameters;
 
   // Modal state. Lengths are in program units (those of G20/G21) where they are program
@@ -405,12 +405,12 @@ struct Interpreter::State {
 
   // ---- source -------------------------------------------------------------------------
   // The next line into `line`, a view valid until the next read.
-  bool read_line(std::string_view& line) {
+  // Inlined: it is on the path of every line (the compiler stopped inlining it on its own).
+  [[gnu::always_inline]] bool read_line(std::string_view& line) {
     current = next;
     const auto read = source.read(next.position);
     if (!read) {
       if (source.failed()) cannot_read();
-      if (source.too_long()) line_too_long();
       return false;
     }
     line = read->first;
@@ -418,11 +418,11 @@ struct Interpreter::State {
     return true;
   }
   [[noreturn, gnu::cold, gnu::noinline]] void cannot_read() const {
+    if (source.too_long()) {
+      fail(0, "line longer than " + std::to_string(kMaxLineBytes) +
+                  " bytes, the longest the interpreter reads");
+    }
     fail(0, "cannot read the program");
-  }
-  [[noreturn, gnu::cold, gnu::noinline]] void line_too_long() const {
-    fail(0, "line longer than " + std::to_string(kMaxLineBytes) +
-                " bytes, the longest the interpreter reads");
   }
   void jump(const Mark& mark) { next = mark; }
   Mark after(const Mark& mark) {
@@ -497,7 +497,12 @@ struct Interpreter::State {
     move_.turns = 0;
     return move_;
   }
-  void emit(const Canon& canon) { compensation.pass(canon); }
+  void emit(const Canon& canon) {
+    // Behind held moves a command waits in compensation, whose output checked_sink checks.
+    if (compensation.holding()) return compensation.pass(canon);
+    if (!all_finite(canon)) not_finite(canon);
+    (*sink)(canon);
+  }
   void emit(CanonKind kind, const Block& block) { emit(make(kind, block)); }
   void dwell(const Block& block, double seconds) {
     Canon c = make(CanonKind::dwell, block);
@@ -547,20 +552,22 @@ struct Interpreter::State {
                              const std::string& what) const;
   // Words no code of the block uses are refused, as rs274 refuses them.
   void refuse_unused_words(const Block& block) const;
-  // Every value handed to the sink is finite.
-  void require_finite(const Canon& canon) const;
+  // Every value handed to the sink is finite: all_finite on each (inline, every command passes
+  // it), not_finite refusing one that is not.
+  static bool all_finite(const Canon& canon) {
+    // x * 0 is 0 for a finite x and NaN otherwise: one test for all, no branch per number.
+    double probe =
+        canon.value * 0.0 + canon.value2 * 0.0 + canon.center[0] * 0.0 + canon.center[1] * 0.0;
+    for (const double value : canon.end) probe += value * 0.0;
+    return probe == 0.0;
+  }
+  [[noreturn, gnu::cold, gnu::noinline]] void not_finite(const Canon& canon) const;
   void require_finite_tool(const ToolEntry& entry, int column) const {
     bool finite = std::isfinite(entry.diameter);
     for (const double value : entry.offset) finite = finite && std::isfinite(value);
     if (!finite) fail(column, "calculation resulted in infinity or NaN (a tool offset too large)");
   }
-  // A NUL byte would end the line early for the reader: refused (rs274 reads no NUL either).
-  void refuse_nul(std::string_view line) const {
-    if (const void* nul = std::memchr(line.data(), '\0', line.size())) {
-      fail(static_cast<int>(static_cast<const char*>(nul) - line.data()) + 1,
-           "NUL byte in the line");
-    }
-  }
+
   void execute_block(const Block& block);
   void skip_to(const std::string& label, std::initializer_list<std::string_view> keywords,
                std::string* found_keyword, int column);
@@ -618,7 +625,7 @@ struct Interpreter::State {
 void Interpreter::State::start(const CanonSink& output) {
   sink = &output;
   checked_sink = [this](const Canon& canon) {
-    require_finite(canon);
+    if (!all_finite(canon)) not_finite(canon);
     (*sink)(canon);
   };
   compensation.reset(checked_sink);
@@ -689,7 +696,6 @@ void Interpreter::State::execute_line(std::string_view line) {
   // #5420..#5428: the current position in the active coordinate system, offsets included, in
   // program units, as LinuxCNC gives them to a line that reads them (pkm home's programs do).
   for (int axis = 0; axis < kAxes; ++axis) parameters.set_numbered(5420 + axis, pos[axis]);
-  refuse_nul(line);
   try {
     read_block(line, parameters, block);
   } catch (const SyntaxError& error) {
@@ -1021,17 +1027,12 @@ void Interpreter::State::refuse_unused_words(const Block& block) const {
   }
 }
 
-void Interpreter::State::require_finite(const Canon& canon) const {
-  bool finite = std::isfinite(canon.value) && std::isfinite(canon.value2) &&
-                std::isfinite(canon.center[0]) && std::isfinite(canon.center[1]);
-  for (const double value : canon.end) finite = finite && std::isfinite(value);
-  if (!finite) {
-    // A move's column is its motion code's; other commands come from the line as a whole.
-    const bool move = canon.kind == CanonKind::traverse || canon.kind == CanonKind::feed ||
-                      canon.kind == CanonKind::arc || canon.kind == CanonKind::probe;
-    throw GcodeError(file_name, canon.line, move ? move_column : 0,
-                     "calculation resulted in infinity or NaN (a number too large to use)");
-  }
+void Interpreter::State::not_finite(const Canon& canon) const {
+  // A move's column is its motion code's; other commands come from the line as a whole.
+  const bool move = canon.kind == CanonKind::traverse || canon.kind == CanonKind::feed ||
+                    canon.kind == CanonKind::arc || canon.kind == CanonKind::probe;
+  throw GcodeError(file_name, canon.line, move ? move_column : 0,
+                   "calculation resulted in infinity or NaN (a number too large to use)");
 }
 
 void Interpreter::State::target(const Block& block, bool machine_coordinates, Position& end) const {
