@@ -727,5 +727,39 @@ TEST(Conditioning, AHexapodWithParallelLegsIsSingularAtHome) {
   EXPECT_GT(relative_conditioning_at_home(test::load_example("hexapod-bit.toml")), 1e-2);
 }
 
+// Text that would make toml++ recurse without bound is refused, located, before it is parsed
+// (a 62 KB `a.a.a....b = 1` overflowed the stack).
+TEST(MachineFile, TextBeyondTheParsersBoundsIsALocatedError) {
+  const auto error_of = [](const std::string& text) {
+    try {
+      (void)parse_machine(text, "bounds.toml");
+    } catch (const MachineFileError& error) {
+      return std::pair{error.line(), std::string(error.what())};
+    }
+    return std::pair{0, std::string("no error")};
+  };
+  std::string dotted = "a";
+  for (int i = 0; i < 31000; ++i) dotted += ".a";
+  const auto [line, message] = error_of("name = \"x\"\n" + dotted + ".b = 1\n");
+  EXPECT_EQ(line, 2);
+  EXPECT_NE(message.find("bounds.toml:2:(syntax): a dotted key of more than 32 parts"),
+            std::string::npos)
+      << message;
+  const auto nested = error_of("x = " + std::string(100000, '[') + std::string(100000, ']'));
+  EXPECT_EQ(nested.first, 1);
+  EXPECT_NE(nested.second.find("nested deeper than 32"), std::string::npos) << nested.second;
+  const auto long_line = error_of("\n\n# " + std::string(70000, 'c') + "\n");
+  EXPECT_EQ(long_line.first, 3);
+  EXPECT_NE(long_line.second.find("line longer than 65536 bytes"), std::string::npos);
+  // Up to the bounds toml++ reads on (and the loader reports what it makes of the keys); strings
+  // and numbers hold dots and brackets that are not keys or nesting.
+  std::string deep = "a";
+  for (int i = 0; i < 31; ++i) deep += ".a";
+  EXPECT_EQ(error_of(deep + " = 1\n").second.find("dotted key"), std::string::npos);
+  EXPECT_EQ(error_of("s = \"" + std::string(100, '.') + "[[[[\"\nv = [1.5, 2.5]\n")
+                .second.find("(syntax)"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace pkm

@@ -72,6 +72,8 @@ inline const char* scan_plain_number(const char* p, double& value) {
 }
 
 constexpr double kEqualTolerance = 1e-4;  // LinuxCNC's EQ/NE compare within this
+// O-word numbers computed by an expression (o[...]) stay below this.
+constexpr double kMaxONumber = 1e9;
 
 // O-word keywords, a keyword before any other it is a prefix of ("endsub" before "end...").
 constexpr std::string_view kOKeywords[] = {"endsub", "endwhile", "endif",  "endrepeat", "elseif",
@@ -153,7 +155,11 @@ class Reader {
     }
     while (true) {
       const char c = peek();
-      if (c == 0) break;
+      if (c == 0) {
+        // A NUL before the end would end the line early, silently: refused.
+        if (pos_ < line_.size()) fail(static_cast<int>(pos_) + 1, "NUL byte in the line");
+        break;
+      }
       const int column = static_cast<int>(pos_) + 1;
       if (c >= 'a' && c <= 'z' && kIsWord[static_cast<std::size_t>(c - 'a')]) {
         // Most words are a letter and a number: first in line.
@@ -166,6 +172,7 @@ class Reader {
         block.plain = false;
       } else if (c == ';') {
         block.comments.push_back({std::string(line_.substr(pos_ + 1)), column});
+        refuse_nul_in(block.comments.back().text, column + 1);
         block.plain = false;
         pos_ = line_.size();
       } else if (c == 'n' && block.empty && block.n_label.empty()) {
@@ -190,6 +197,7 @@ class Reader {
         ++pos_;
         const double value = read_real();
         const double tenths = value * 10.0;
+        if (!(value < kMaxCodeNumber)) fail_code_range(c, value, column);
         if (std::abs(tenths - std::round(tenths)) > 1e-3 || value < 0.0) {
           fail(column, std::string("bad ") + static_cast<char>(std::toupper(c)) + " code");
         }
@@ -229,6 +237,7 @@ class Reader {
       fail(column, std::string("multiple ") + display(letter) + " words on one line");
     }
     word = Word{read_real(), column};
+    if (!std::isfinite(word->value)) fail(column, "calculation resulted in infinity or NaN");
     block.letters |= 1u << slot;
     block.empty = false;
   }
@@ -236,6 +245,38 @@ class Reader {
   [[noreturn]] void fail(int column, const std::string& message) const {
     throw SyntaxError{column, message};
   }
+  [[noreturn, gnu::cold, gnu::noinline]] void fail_code_range(char letter, double value,
+                                                              int column) const {
+    fail(column, std::string(1, display(letter)) + written_number(value) +
+                     " is out of range: G and M codes are below " + written_number(kMaxCodeNumber));
+  }
+  // A comment's `text`, starting at `column`, holds no NUL byte.
+  void refuse_nul_in(const std::string& text, int column) const {
+    const std::size_t nul = text.find('\0');
+    if (nul != std::string::npos) fail(column + static_cast<int>(nul), "NUL byte in the line");
+  }
+  // A value must be finite (rs274: "calculation resulted in 'infinity'").
+  double finite(double value, int column) const {
+    if (!std::isfinite(value)) fail(column, "calculation resulted in infinity or NaN");
+    return value;
+  }
+
+  // Counts the nesting of values inside values while one is read.
+  class NestingGuard {
+   public:
+    NestingGuard(Reader& reader, int column) : reader_(reader) {
+      if (++reader_.nesting_ > kMaxValueNesting) {
+        reader_.fail(column, "value nested deeper than " + std::to_string(kMaxValueNesting) +
+                                 " levels (brackets, signs, # indirections or functions)");
+      }
+    }
+    ~NestingGuard() { --reader_.nesting_; }
+    NestingGuard(const NestingGuard&) = delete;
+    NestingGuard& operator=(const NestingGuard&) = delete;
+
+   private:
+    Reader& reader_;
+  };
 
   bool at_end() const { return pos_ >= line_.size(); }
   void skip_space() {
@@ -274,6 +315,7 @@ class Reader {
     if (open != std::string::npos && open < close)
       fail(static_cast<int>(open) + 1, "nested comment");
     std::string text(line_.substr(pos_ + 1, close - pos_ - 1));
+    refuse_nul_in(text, column + 1);
     pos_ = close + 1;
     return text;
   }
@@ -338,6 +380,7 @@ class Reader {
   // and functions; kept out of read_real so that stays small.
   [[gnu::noinline]] double read_other_real() {
     const char c = peek();
+    const NestingGuard nesting(*this, static_cast<int>(pos_) + 1);
     if (c == '-') {
       ++pos_;
       return -read_real();
@@ -378,8 +421,11 @@ class Reader {
   int read_parameter_number(int column) {
     const double value = read_real();
     const double rounded = std::round(value);
-    if (std::abs(value - rounded) > 1e-4 || !parameters_.valid_number(static_cast<int>(rounded))) {
-      fail(column, "parameter number out of range");
+    // Compared as doubles: a number beyond int must not reach the conversion.
+    if (!(std::abs(value - rounded) <= 1e-4 && rounded >= 1.0 &&
+          rounded < static_cast<double>(Parameters::kCount))) {
+      fail(column, "parameter number " + written_number(value) + " out of range (1 to " +
+                       std::to_string(Parameters::kCount - 1) + ")");
     }
     return static_cast<int>(rounded);
   }
@@ -430,7 +476,10 @@ class Reader {
       if (!accept(']')) fail(static_cast<int>(pos_) + 1, "right bracket missing after EXISTS");
       return parameters_.exists(parameter) ? 1.0 : 0.0;
     }
-    const double argument = read_expression();
+    return finite(evaluate_function(name, read_expression(), column), column);
+  }
+
+  double evaluate_function(const std::string& name, double argument, int column) {
     if (name == "atan") {
       if (!accept('/')) fail(static_cast<int>(pos_) + 1, "slash missing after first ATAN argument");
       if (!accept('['))
@@ -560,7 +609,8 @@ class Reader {
         const double right = values.back();
         values.pop_back();
         values.back() =
-            apply(operators.back().first, values.back(), right, operators.back().second);
+            finite(apply(operators.back().first, values.back(), right, operators.back().second),
+                   operators.back().second);
         operators.pop_back();
       }
       operators.emplace_back(op, op_column);
@@ -569,7 +619,9 @@ class Reader {
     while (!operators.empty()) {
       const double right = values.back();
       values.pop_back();
-      values.back() = apply(operators.back().first, values.back(), right, operators.back().second);
+      values.back() =
+          finite(apply(operators.back().first, values.back(), right, operators.back().second),
+                 operators.back().second);
       operators.pop_back();
     }
     return values.back();
@@ -584,7 +636,13 @@ class Reader {
       o.label = "<" + read_name(column) + ">";
     } else if (peek() == '[') {
       ++pos_;
-      o.label = std::to_string(std::lround(read_expression()));
+      const double number = read_expression();
+      // Compared as a double: a number beyond long must not reach the conversion.
+      if (!(std::abs(number) < kMaxONumber)) {
+        fail(column, "O-word number " + written_number(number) + " out of range (below " +
+                         written_number(kMaxONumber) + ")");
+      }
+      o.label = std::to_string(std::lround(number));
     } else {
       o.label = read_digits(column);
       o.label.erase(0, std::min(o.label.find_first_not_of('0'), o.label.size() - 1));
@@ -612,6 +670,7 @@ class Reader {
   const char* data_;  // line_.data(), a NUL after its last character
   const Parameters& parameters_;
   std::size_t pos_ = 0;
+  int nesting_ = 0;  // values being read inside one another (NestingGuard)
 };
 
 }  // namespace
@@ -666,6 +725,10 @@ std::string o_word_keyword(std::string_view line, std::string* label) {
   }
   for (const std::string_view keyword : kOKeywords) {
     if (compact.compare(pos, keyword.size(), keyword) == 0) {
+      // Only a value may follow the keyword ("endwhileXYZ" is no endwhile: the reader refuses
+      // it when it runs, and skipping must not take it for one either).
+      const std::size_t after = pos + keyword.size();
+      if (after < compact.size() && compact[after] != '[') return {};
       if (label != nullptr) *label = name;
       return std::string(keyword);
     }

@@ -85,6 +85,12 @@ struct Block {
   double value(char letter) const { return words[letter - 'a']->value; }
 };
 
+// The deepest a value may nest (brackets, signs, parameter indirections and functions inside one
+// another): beyond it the reader refuses the line rather than recurse on.
+inline constexpr int kMaxValueNesting = 100;
+// The largest G or M code number the reader takes (G and M codes are below 10000).
+inline constexpr double kMaxCodeNumber = 10000.0;
+
 // Reads `line` (one physical line, without its line end). Throws SyntaxError with the column of
 // the problem.
 Block read_block(const std::string& line, const Parameters& parameters);

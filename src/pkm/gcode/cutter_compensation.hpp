@@ -57,6 +57,8 @@ class CutterCompensation {
   // tool is. Compensation stays on (M2 and M30 then call turn_off()).
   void flush();
 
+  // Moves are held (pass() would queue a command behind them).
+  bool holding() const { return !held_.empty(); }
   // Any command other than a compensated move: out at once, or behind the held moves.
   void pass(const Canon& canon) {
     if (held_.empty()) {

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <charconv>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -32,6 +34,17 @@ class GcodeError : public std::runtime_error {
   int column_;
   std::string message_;
 };
+
+// A number for an error message: a whole number as an integer ("4294967296", "100000"), any
+// other as short as it can be written and still read back exactly ("1e+300", "0.5", "inf").
+inline std::string written_number(double value) {
+  if (std::abs(value) < 1e15 && value == std::floor(value)) {
+    return std::to_string(static_cast<long long>(value));
+  }
+  char text[32];
+  const auto result = std::to_chars(text, text + sizeof text, value);
+  return std::string(text, result.ptr);
+}
 
 // Raised inside the reader with a column only; the interpreter adds file and line.
 struct SyntaxError {

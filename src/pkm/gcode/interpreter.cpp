@@ -16,6 +16,10 @@ namespace pkm::gcode {
 namespace {
 
 constexpr double kMmPerInch = 25.4;
+// Tool numbers (T, H, D, M61 Q, G10 P) in magnitude: as a tool table holds them (tool_table.cpp).
+constexpr double kMaxToolNumber = 1e6;
+// The most turns a G2/G3 P word may ask for.
+constexpr double kMaxArcTurns = 1e6;
 constexpr int kX = 0, kY = 1, kZ = 2;
 
 // The axis letters in Position order, the word slots (Block::words) they use, and the axis of
@@ -219,6 +223,8 @@ class LineSource {
   bool is_open() const { return file_ != nullptr; }
   // A read or seek failed (read() then returned nothing, as at the end of the file).
   bool failed() const { return failed_; }
+  // The line read was longer than kMaxLineBytes (read() then returned nothing, and failed()).
+  bool too_long() const { return too_long_; }
 
   // The line starting at byte `offset`, without its "\n" or "\r\n", as a view into the
   // buffer with a NUL after it (what the block reader needs); valid until the next read.
@@ -262,7 +268,15 @@ class LineSource {
       buffer_offset_ += static_cast<std::int64_t>(begin);
       filled_ = available;
       begin = 0;
-      if (filled_ + 1 >= buffer_.size()) buffer_.resize(2 * buffer_.size());
+      if (filled_ + 1 >= buffer_.size()) {
+        // The buffer holds at most kMaxLineBytes + 2: a line that fills it is too long, and any
+        // line found in it is short enough without a test on the way.
+        if (buffer_.size() >= kMaxLineBytes + 2) {
+          too_long_ = failed_ = true;
+          return std::nullopt;
+        }
+        buffer_.resize(std::min(2 * buffer_.size(), kMaxLineBytes + 2));
+      }
       const std::size_t count =
           std::fread(buffer_.data() + filled_, 1, buffer_.size() - 1 - filled_, file_.get());
       filled_ += count;
@@ -286,6 +300,7 @@ class LineSource {
   char* patched_ = nullptr;         // where the last line's NUL stands
   char patched_character_ = 0;      // and what stood there
   bool failed_ = false;
+  bool too_long_ = false;
 };
 
 }  // namespace
@@ -305,6 +320,7 @@ struct Interpreter::State {
   const InterpreterOptions& options;
   std::vector<Warning>& warnings;
   const CanonSink* sink = nullptr;
+  CanonSink checked_sink;  // `sink` behind all_finite: what compensation hands commands to
   Parameters parameters;
 
   // Modal state. Lengths are in program units (those of G20/G21) where they are program
@@ -351,9 +367,10 @@ struct Interpreter::State {
       repeat,
     } type;
     std::string label;
-    Mark start;          // the line that opened the frame
-    long remaining = 0;  // repeat count
-    bool taken = false;  // an if branch already ran
+    Mark start;           // the line that opened the frame
+    long remaining = 0;   // repeat count
+    bool taken = false;   // an if branch already ran
+    long iterations = 0;  // times the loop went round (bounded by max_loop_iterations)
   };
   std::vector<Frame> flow;
   struct Call {
@@ -367,6 +384,7 @@ struct Interpreter::State {
   Canon move_;   // see next_move()
   CodesByGroup<16> g_by_group;
   CodesByGroup<12> m_by_group;  // 11: M7 and M8 on one line
+  long program_iterations = 0;  // bounded by max_program_iterations
   bool percent_program = false;
   bool first_content = true;  // no line with content read yet
   bool ended = false;
@@ -387,7 +405,8 @@ struct Interpreter::State {
 
   // ---- source -------------------------------------------------------------------------
   // The next line into `line`, a view valid until the next read.
-  bool read_line(std::string_view& line) {
+  // Inlined: it is on the path of every line (the compiler stopped inlining it on its own).
+  [[gnu::always_inline]] bool read_line(std::string_view& line) {
     current = next;
     const auto read = source.read(next.position);
     if (!read) {
@@ -399,6 +418,10 @@ struct Interpreter::State {
     return true;
   }
   [[noreturn, gnu::cold, gnu::noinline]] void cannot_read() const {
+    if (source.too_long()) {
+      fail(0, "line longer than " + std::to_string(kMaxLineBytes) +
+                  " bytes, the longest the interpreter reads");
+    }
     fail(0, "cannot read the program");
   }
   void jump(const Mark& mark) { next = mark; }
@@ -474,7 +497,12 @@ struct Interpreter::State {
     move_.turns = 0;
     return move_;
   }
-  void emit(const Canon& canon) { compensation.pass(canon); }
+  void emit(const Canon& canon) {
+    // Behind held moves a command waits in compensation, whose output checked_sink checks.
+    if (compensation.holding()) return compensation.pass(canon);
+    if (!all_finite(canon)) not_finite(canon);
+    (*sink)(canon);
+  }
   void emit(CanonKind kind, const Block& block) { emit(make(kind, block)); }
   void dwell(const Block& block, double seconds) {
     Canon c = make(CanonKind::dwell, block);
@@ -515,6 +543,31 @@ struct Interpreter::State {
   void execute_line(std::string_view line);
   void apply_assignments(const Block& block);
   void execute_o_word(const Block& block);
+  // Bounds (docs/gcode.md): one more round of `loop`, one more unit of the program's work.
+  void count_loop_iteration(Frame& loop, int column);
+  void count_program_iteration(int column);
+  void require_call_depth(const OWord& o) const;
+  // A word that must hold a number in [low, high] before it is converted to an integer.
+  void require_word_in_range(const Block& block, char letter, double low, double high,
+                             const std::string& what) const;
+  // Words no code of the block uses are refused, as rs274 refuses them.
+  void refuse_unused_words(const Block& block) const;
+  // Every value handed to the sink is finite: all_finite on each (inline, every command passes
+  // it), not_finite refusing one that is not.
+  static bool all_finite(const Canon& canon) {
+    // x * 0 is 0 for a finite x and NaN otherwise: one test for all, no branch per number.
+    double probe =
+        canon.value * 0.0 + canon.value2 * 0.0 + canon.center[0] * 0.0 + canon.center[1] * 0.0;
+    for (const double value : canon.end) probe += value * 0.0;
+    return probe == 0.0;
+  }
+  [[noreturn, gnu::cold, gnu::noinline]] void not_finite(const Canon& canon) const;
+  void require_finite_tool(const ToolEntry& entry, int column) const {
+    bool finite = std::isfinite(entry.diameter);
+    for (const double value : entry.offset) finite = finite && std::isfinite(value);
+    if (!finite) fail(column, "calculation resulted in infinity or NaN (a tool offset too large)");
+  }
+
   void execute_block(const Block& block);
   void skip_to(const std::string& label, std::initializer_list<std::string_view> keywords,
                std::string* found_keyword, int column);
@@ -571,7 +624,11 @@ struct Interpreter::State {
 
 void Interpreter::State::start(const CanonSink& output) {
   sink = &output;
-  compensation.reset(output);
+  checked_sink = [this](const Canon& canon) {
+    if (!all_finite(canon)) not_finite(canon);
+    (*sink)(canon);
+  };
+  compensation.reset(checked_sink);
 }
 
 void Interpreter::State::run(const CanonSink& output) {
@@ -729,6 +786,8 @@ void Interpreter::State::execute_o_word(const Block& block) {
     skip_to(o.label, {"endsub"}, nullptr, o.column);
   } else if (o.keyword == "call") {
     const Mark sub = find_subroutine(o.label, o.column);
+    require_call_depth(o);
+    count_program_iteration(o.column);
     calls.push_back({o.label, next, flow.size()});
     parameters.push_scope(o.arguments);
     jump(after(sub));
@@ -777,6 +836,7 @@ void Interpreter::State::execute_o_word(const Block& block) {
     if (!flow.empty() && flow.back().type == Frame::Type::do_ && flow.back().label == o.label) {
       // The end of a do-while loop.
       if (value_of() != 0.0) {
+        count_loop_iteration(flow.back(), o.column);
         jump(after(flow.back().start));
       } else {
         flow.pop_back();
@@ -796,9 +856,16 @@ void Interpreter::State::execute_o_word(const Block& block) {
     if (flow.empty() || flow.back().type != Frame::Type::while_ || flow.back().label != o.label) {
       fail(o.column, "o" + o.label + " endwhile without its while");
     }
+    count_loop_iteration(flow.back(), o.column);
     jump(flow.back().start);  // re-evaluates the condition
   } else if (o.keyword == "repeat") {
-    const long count = std::lround(value_of());
+    const double wanted = value_of();
+    if (wanted > static_cast<double>(options.max_loop_iterations)) {
+      fail(o.column, "o" + o.label + " repeat [" + written_number(wanted) + "]: more than the " +
+                         std::to_string(options.max_loop_iterations) +
+                         " iterations one loop may make");
+    }
+    const long count = std::lround(wanted);
     if (count <= 0) {
       skip_to(o.label, {"endrepeat"}, nullptr, o.column);
     } else {
@@ -809,6 +876,7 @@ void Interpreter::State::execute_o_word(const Block& block) {
       fail(o.column, "o" + o.label + " endrepeat without its repeat");
     }
     if (--flow.back().remaining > 0) {
+      count_loop_iteration(flow.back(), o.column);
       jump(after(flow.back().start));
     } else {
       flow.pop_back();
@@ -826,6 +894,7 @@ void Interpreter::State::execute_o_word(const Block& block) {
                                                           : "endwhile";
       skip_to(o.label, {end}, nullptr, o.column);
     } else if (frame.type == Frame::Type::while_) {
+      count_loop_iteration(flow.back(), o.column);
       jump(frame.start);
     } else if (frame.type == Frame::Type::repeat) {
       skip_to(o.label, {"endrepeat"}, nullptr, o.column);
@@ -835,6 +904,135 @@ void Interpreter::State::execute_o_word(const Block& block) {
       jump(current);
     }
   }
+}
+
+void Interpreter::State::count_loop_iteration(Frame& loop, int column) {
+  if (++loop.iterations > options.max_loop_iterations) {
+    throw GcodeError(file_name, loop.start.line, 0,
+                     "the loop o" + loop.label + " went round more than " +
+                         std::to_string(options.max_loop_iterations) +
+                         " times (the bound on one loop: an endless loop?)");
+  }
+  count_program_iteration(column);
+}
+
+void Interpreter::State::count_program_iteration(int column) {
+  if (++program_iterations > options.max_program_iterations) {
+    fail(column, "the program made more than " + std::to_string(options.max_program_iterations) +
+                     " loop iterations, subroutine calls and canned-cycle holes and pecks "
+                     "(the bound on a whole program)");
+  }
+}
+
+void Interpreter::State::require_call_depth(const OWord& o) const {
+  if (calls.size() >= kMaxCallDepth) {
+    fail(o.column, "o" + o.label + " call: subroutine calls nested deeper than " +
+                       std::to_string(kMaxCallDepth) + " (LinuxCNC's limit)");
+  }
+}
+
+void Interpreter::State::require_word_in_range(const Block& block, char letter, double low,
+                                               double high, const std::string& what) const {
+  const auto& word = block.word(letter);
+  if (!word || (word->value >= low && word->value <= high)) return;
+  fail(word->column, std::string(1, static_cast<char>(std::toupper(letter))) +
+                         written_number(word->value) + " is out of range: " + what + " " +
+                         written_number(low) + " to " + written_number(high));
+}
+
+namespace {
+// The word letters and the codes that use them (rs274's check of "other" words), known from the
+// block: `n` its non-modal G code, `m` the motion it makes (its own or the modal one), `g64`
+// whether it sets G64 and `user_m` whether it holds a user M code (M100-M199).
+struct WordUsers {
+  int n = -1, m = -1;
+  bool g64 = false, user_m = false;
+  int m5 = -1, m6 = -1, m9 = -1;  // codes of M groups 5, 6 and 9, or -1
+  bool arc() const { return m == 20 || m == 30; }
+  bool cycle() const { return m >= 730 && m != 800; }
+  bool threading() const { return m == 760; }  // G76: passed on with its words
+};
+
+// The message refusing `letter`, or nullptr when a code of the block uses it.
+const char* unused_word_message(char letter, const WordUsers& u) {
+  switch (letter) {
+    case 'e':
+      if (u.threading() || (u.m5 >= 660 && u.m5 <= 680)) return nullptr;
+      return "E word with no G76, M66, M67 or M68 to use it (a number such as 1e-05 is not "
+             "G-code: X1e-05 reads as X1 and an E word)";
+    case 'i':
+    case 'j':
+      if (u.arc() || u.n == 100 || u.threading() || (letter == 'i' && u.m == 331)) return nullptr;
+      return letter == 'i' ? "I word with no G2, G3, G10, G33.1 or G76 to use it"
+                           : "J word with no G2, G3, G10 or G76 to use it";
+    case 'k':
+      if (u.arc() || u.m == 330 || u.m == 331 || u.threading()) return nullptr;
+      return "K word with no G2, G3, G33, G33.1 or G76 to use it";
+    case 'h':
+      return nullptr;  // checked by refuse_unused_words: it needs the G43 of group 8
+    case 'l':
+      if (u.n == 100 || u.cycle() || u.m5 == 660) return nullptr;
+      return "L word with no G10, cutter compensation, canned cycle or M66 to use it";
+    case 'p':
+      if (u.arc() || u.n == 40 || u.n == 100 || u.g64 || u.m == 820 || u.m == 860 || u.m == 880 ||
+          u.m == 890 || u.threading() || u.user_m || (u.m9 >= 500 && u.m9 <= 530) ||
+          (u.m5 >= 620 && u.m5 <= 660)) {
+        return nullptr;
+      }
+      return "P word with no G2, G3, G4, G10, G64, G76, G82, G86, G88, G89, M50-M53, M62-M66 or "
+             "user M code to use it";
+    case 'q':
+      if (u.n == 100 || u.g64 || u.m == 730 || u.m == 830 || u.threading() || u.user_m ||
+          u.m6 == 610 || (u.m5 >= 660 && u.m5 <= 680)) {
+        return nullptr;
+      }
+      return "Q word with no G10, G64, G73, G76, G83, M61, M66, M67, M68 or user M code to use it";
+    case 'r':
+      if (u.arc() || u.cycle() || u.n == 100 || u.threading()) return nullptr;
+      return "R word with no G code that uses it";
+    default:
+      return nullptr;
+  }
+}
+}  // namespace
+
+void Interpreter::State::refuse_unused_words(const Block& block) const {
+  for (const Code& code : block.m_codes) {
+    if (m_group(code.tenths) < 0) return;  // a code with no meaning here: passed on, words and all
+  }
+  constexpr std::uint32_t kChecked =
+      (1u << ('e' - 'a')) | (1u << ('h' - 'a')) | (1u << ('i' - 'a')) | (1u << ('j' - 'a')) |
+      (1u << ('k' - 'a')) | (1u << ('l' - 'a')) | (1u << ('p' - 'a')) | (1u << ('q' - 'a')) |
+      (1u << ('r' - 'a'));
+  if ((block.letters & kChecked) == 0) return;
+  WordUsers users;
+  users.n = g_by_group[0] ? g_by_group[0]->tenths : -1;
+  // G10, G28, G30 and G92 take the axis words: they make no motion of the modal mode.
+  const bool axes_taken = users.n == 100 || users.n == 280 || users.n == 300 || users.n == 920;
+  const bool has_axis = (block.letters & (kAxisSlots | kPolarSlots)) != 0;
+  users.m = g_by_group[1] ? g_by_group[1]->tenths : (has_axis && !axes_taken ? motion : -1);
+  users.g64 = g_by_group[13] && g_by_group[13]->tenths == 640;
+  users.user_m = m_by_group[10] != nullptr;
+  users.m5 = m_by_group[5] ? m_by_group[5]->tenths : -1;
+  users.m6 = m_by_group[6] ? m_by_group[6]->tenths : -1;
+  users.m9 = m_by_group[9] ? m_by_group[9]->tenths : -1;
+  for (const char letter : std::string_view("ehijklpqr")) {
+    const auto& word = block.word(letter);
+    if (!word) continue;
+    if (letter == 'h' && !(g_by_group[8] && g_by_group[8]->tenths == 430) && !users.threading()) {
+      fail(word->column, "H word with no G43 or G76 to use it");
+    }
+    if (letter == 'l' && g_by_group[7]) continue;  // cutter compensation's tool orientation
+    if (const char* message = unused_word_message(letter, users)) fail(word->column, message);
+  }
+}
+
+void Interpreter::State::not_finite(const Canon& canon) const {
+  // A move's column is its motion code's; other commands come from the line as a whole.
+  const bool move = canon.kind == CanonKind::traverse || canon.kind == CanonKind::feed ||
+                    canon.kind == CanonKind::arc || canon.kind == CanonKind::probe;
+  throw GcodeError(file_name, canon.line, move ? move_column : 0,
+                   "calculation resulted in infinity or NaN (a number too large to use)");
 }
 
 void Interpreter::State::target(const Block& block, bool machine_coordinates, Position& end) const {
@@ -919,6 +1117,7 @@ void Interpreter::State::arc(const Block& block, int code, const Position& end) 
     const double p = block.value('p');
     if (p < 1.0 || p != std::floor(p))
       fail(block.word('p')->column, "P must be a whole number of turns, 1 or more");
+    require_word_in_range(block, 'p', 1.0, kMaxArcTurns, "an arc's turns go from");
     turns *= static_cast<int>(p);
   }
   if (block.has('r')) {
@@ -1019,6 +1218,8 @@ void Interpreter::State::cycle(const Block& block, int code, const Position& end
     cycle_old_cc = pos[normal];
     cycle_series = true;
   }
+  require_word_in_range(block, 'l', 0.0, static_cast<double>(options.max_loop_iterations),
+                        "a canned cycle's repeats (the bound on one loop) go from");
   const long repeats = block.has('l') ? std::lround(block.value('l')) : 1;
   double r = r_value, bottom = z_value;
   if (!absolute) {
@@ -1045,6 +1246,7 @@ void Interpreter::State::cycle(const Block& block, int code, const Position& end
   const bool polar = !absolute && plane == Plane::xy && (polar_radius || polar_angle);
   double at_1 = pos[first], at_2 = pos[second];
   for (long repeat = 0; repeat < repeats; ++repeat) {
+    count_program_iteration(column);
     if (absolute) {
       at_1 = end[first];
       at_2 = end[second];
@@ -1071,8 +1273,14 @@ void Interpreter::State::cycle(const Block& block, int code, const Position& end
         break;
       case 830:
       case 730: {
+        if ((r - bottom) / cycle_q > static_cast<double>(options.max_loop_iterations)) {
+          fail(column, "Q" + written_number(cycle_q) + " makes more than " +
+                           std::to_string(options.max_loop_iterations) +
+                           " pecks (the bound on one loop)");
+        }
         double depth = r;
         while (true) {
+          count_program_iteration(column);
           depth = std::max(depth - cycle_q, bottom);
           move(CanonKind::feed, at_1, at_2, depth);
           if (depth <= bottom) break;
@@ -1128,6 +1336,7 @@ void Interpreter::State::start_compensation(const Block& block, const Code& code
     int tool = tool_in_spindle;
     const int column = d ? d->column : code.column;
     if (d) {
+      require_word_in_range(block, 'd', -kMaxToolNumber, kMaxToolNumber, "tool numbers go from");
       const double number = std::round(d->value);
       if (std::abs(d->value - number) >= 1e-4) {
         fail(d->column, name + " needs D to be a whole number: a tool in the tool table");
@@ -1178,6 +1387,8 @@ void Interpreter::State::set_coordinates(const Block& block) {
   if (!block.has('l')) fail(column, "G10 needs an L word");
   const long l = std::lround(block.value('l'));
   if (!block.has('p')) fail(column, "G10 needs a P word");
+  require_word_in_range(block, 'p', -kMaxToolNumber, kMaxToolNumber,
+                        "G10 P (a coordinate system or tool) goes from");
   const long p = std::lround(block.value('p'));
   if (l == 2 || l == 20) {
     const int system = p == 0 ? coord_system : static_cast<int>(p);
@@ -1213,6 +1424,7 @@ void Interpreter::State::set_coordinates(const Block& block) {
         entry.offset[axis] = axis_to_mm(axis, block.value(kAxisLetters[axis]));
     }
     if (block.has('r')) entry.diameter = 2.0 * to_mm(block.value('r'));
+    require_finite_tool(entry, column);
   } else {
     fail(block.word('l')->column, "G10 L" + std::to_string(l) + " is not supported");
   }
@@ -1289,6 +1501,7 @@ void Interpreter::State::execute_block(const Block& block) {
     }
     m_by_group.set(group, code);
   }
+  refuse_unused_words(block);
   const auto g_in = [&](int group) { return g_by_group[group]; };
   const Code* const non_modal = g_in(0);
   const Code* const motion_code = g_in(1);
@@ -1320,6 +1533,7 @@ void Interpreter::State::execute_block(const Block& block) {
     emit(c);
   }
   if (block.has('t')) {
+    require_word_in_range(block, 't', -kMaxToolNumber, kMaxToolNumber, "tool numbers go from");
     const long t = std::lround(block.value('t'));
     if (t < 0) fail(block.word('t')->column, "negative tool number");
     if (options.tool_table && t != 0 && !options.tool_table->count(static_cast<int>(t))) {
@@ -1345,6 +1559,7 @@ void Interpreter::State::execute_block(const Block& block) {
       }
       if (tool_off_path) pos = *tool_off_path;
       tool_off_path.reset();
+      require_word_in_range(block, 'q', -kMaxToolNumber, kMaxToolNumber, "tool numbers go from");
       tool_in_spindle = code.tenths == 610 ? static_cast<int>(block.has('q') ? block.value('q') : 0)
                                            : selected_tool;
     }
@@ -1419,6 +1634,7 @@ void Interpreter::State::execute_block(const Block& block) {
       refuse_with_compensation(*code, "change the tool length offset");
       Position offset{};
       if (code->tenths == 430) {
+        require_word_in_range(block, 'h', -kMaxToolNumber, kMaxToolNumber, "tool numbers go from");
         const int tool =
             block.has('h') ? static_cast<int>(std::lround(block.value('h'))) : tool_in_spindle;
         if (tool != 0) {

@@ -28,7 +28,18 @@ struct InterpreterOptions {
   // interpreted: codes no rs274 dialect knows that a machine's controller takes (a plotter's pen
   // commands such as "M280 P0 S30"). A line is one of them when it equals one after trimming.
   std::vector<std::string> event_lines;
+  // Bounds on the work one program may ask for (docs/gcode.md, "Bounds"): the iterations of one
+  // loop (while, do, repeat), and of the whole program (every loop iteration, subroutine call
+  // and canned-cycle hole or peck). Beyond either the program ends in an error naming the line.
+  long max_loop_iterations = 100'000;
+  long max_program_iterations = 1'000'000;
 };
+
+// The longest line the interpreter reads, in bytes: a longer one is an error (memory stays
+// bounded by it).
+inline constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
+// The deepest subroutine calls nest: LinuxCNC's 10 levels, the main program one of them.
+inline constexpr std::size_t kMaxCallDepth = 9;
 
 struct Warning {
   int line = 0;

@@ -377,6 +377,7 @@ std::vector<bool> passthrough_joints(const Kinematics& kinematics) {
 }  // namespace
 
 Machine parse_machine(std::string_view toml_text, const std::string& source_name) {
+  refuse_unbounded_toml(toml_text, source_name);
   toml::table document;
   try {
     document = toml::parse(toml_text, source_name);

@@ -15,6 +15,8 @@
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/matrix.hpp"
 #include "pkm/kinematics/rotary_delta.hpp"
+#include "pkm/machine/machine_file_error.hpp"
+#include "pkm/machine/toml_config.hpp"
 
 namespace pkm {
 
@@ -212,6 +214,7 @@ std::string replace_kinematics_section(const std::string& original_text,
                                        LengthUnit units) {
   // Where the section starts and ends comes from the parser, not from scanning text: a line
   // beginning with '[' may as well be a row of a multi-line array.
+  refuse_unbounded_toml(original_text, source_name);
   toml::table document;
   try {
     document = toml::parse(original_text, source_name);

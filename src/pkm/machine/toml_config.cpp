@@ -45,6 +45,40 @@ std::size_t misspelling_distance(std::string_view typed, std::string_view valid)
   if (prefix && 2 * shorter >= longer && shorter >= 3) return distance;
   return std::numeric_limits<std::size_t>::max();
 }
+
+// Where a TOML scan stands: in which kind of string, if any.
+enum class TomlText { plain, basic, literal, multiline_basic, multiline_literal, comment };
+
+// The string that starts at text[at] (a quote), and how many quote characters open it.
+std::pair<TomlText, std::size_t> opening(std::string_view text, std::size_t at) {
+  const char quote = text[at];
+  const bool triple = text.substr(at, 3) == std::string(3, quote);
+  if (quote == '"') return {triple ? TomlText::multiline_basic : TomlText::basic, triple ? 3 : 1};
+  return {triple ? TomlText::multiline_literal : TomlText::literal, triple ? 3 : 1};
+}
+
+// Whether text[at] closes a string of kind `in` (for a basic string: not escaped), and how many
+// characters the closing takes.
+std::size_t closing(std::string_view text, std::size_t at, TomlText in) {
+  const char c = text[at];
+  switch (in) {
+    case TomlText::basic:
+      return c == '"' ? 1 : 0;
+    case TomlText::literal:
+      return c == '\'' ? 1 : 0;
+    case TomlText::multiline_basic:
+      return text.substr(at, 3) == "\"\"\"" ? 3 : 0;
+    case TomlText::multiline_literal:
+      return text.substr(at, 3) == "\'\'\'" ? 3 : 0;
+    default:
+      return 0;
+  }
+}
+
+[[noreturn]] void refuse_line(const std::string& source_name, int line, const std::string& what) {
+  throw MachineFileError(source_name, line, "(syntax)", what);
+}
+
 }  // namespace
 
 void KeyTracker::register_table(const toml::table& table, std::string path) {
@@ -321,6 +355,84 @@ TomlSection TomlSection::section(std::string_view key) const {
   const toml::table* table = require(key).as_table();
   if (table == nullptr) fail(key, "must be a table [" + key_path(key) + "]");
   return TomlSection(*table, key_path(key), tracker_, mm_per_unit_, joint_names_);
+}
+
+void refuse_unbounded_toml(std::string_view text, const std::string& source_name) {
+  TomlText in = TomlText::plain;
+  int line = 1, nesting = 0, key_parts = 1;
+  std::size_t line_start = 0;
+  for (std::size_t at = 0; at < text.size(); ++at) {
+    const char c = text[at];
+    if (c == '\n') {
+      if (at - line_start > kMaxTomlLineBytes) {
+        refuse_line(source_name, line,
+                    "line longer than " + std::to_string(kMaxTomlLineBytes) + " bytes");
+      }
+      ++line;
+      line_start = at + 1;
+      key_parts = 1;
+      if (in == TomlText::comment || in == TomlText::basic || in == TomlText::literal) {
+        in = TomlText::plain;  // a single-line string left open is toml++'s error to report
+      }
+      continue;
+    }
+    if (in == TomlText::comment) continue;
+    if (in != TomlText::plain) {
+      if (in == TomlText::basic || in == TomlText::multiline_basic) {
+        if (c == '\\' && at + 1 < text.size() && text[at + 1] != '\n') {
+          ++at;  // the escaped character cannot close the string
+          continue;
+        }
+      }
+      if (const std::size_t length = closing(text, at, in)) {
+        at += length - 1;
+        in = TomlText::plain;
+      }
+      continue;
+    }
+    switch (c) {
+      case '#':
+        in = TomlText::comment;
+        break;
+      case '"':
+      case '\'': {
+        const auto [kind, length] = opening(text, at);
+        in = kind;
+        at += length - 1;
+        break;
+      }
+      case '[':
+      case '{':
+        if (++nesting > kMaxTomlNesting) {
+          refuse_line(source_name, line,
+                      "arrays and tables nested deeper than " + std::to_string(kMaxTomlNesting));
+        }
+        key_parts = 1;
+        break;
+      case ']':
+      case '}':
+        nesting = std::max(0, nesting - 1);
+        key_parts = 1;
+        break;
+      case '=':
+      case ',':
+        key_parts = 1;
+        break;
+      case '.':
+        // Numbers hold one point; only a key holds many.
+        if (++key_parts > kMaxTomlKeyParts) {
+          refuse_line(source_name, line,
+                      "a dotted key of more than " + std::to_string(kMaxTomlKeyParts) + " parts");
+        }
+        break;
+      default:
+        break;
+    }
+  }
+  if (text.size() - line_start > kMaxTomlLineBytes) {
+    refuse_line(source_name, line,
+                "line longer than " + std::to_string(kMaxTomlLineBytes) + " bytes");
+  }
 }
 
 }  // namespace pkm

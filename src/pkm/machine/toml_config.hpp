@@ -13,6 +13,15 @@
 
 namespace pkm {
 
+// Bounds on a machine file's text, checked before toml++ reads it: toml++ recurses once per part
+// of a dotted key and per level of nested arrays and inline tables, so text beyond these would
+// overflow the stack. docs/machine-file.md states them.
+inline constexpr std::size_t kMaxTomlLineBytes = 65536;
+inline constexpr int kMaxTomlKeyParts = 32;  // parts of one dotted key ("a.b.c" has 3)
+inline constexpr int kMaxTomlNesting = 32;   // arrays and inline tables inside one another
+// Throws MachineFileError (file:line:(syntax)) for the first line beyond a bound.
+void refuse_unbounded_toml(std::string_view text, const std::string& source_name);
+
 // Shared by a file's sections: which keys of which table have been read.
 class KeyTracker {
  public:

@@ -1,0 +1,55 @@
+// What the fuzz targets share: the input as a file (the readers under test read paths), and the
+// oracle that every number handed out is finite.
+#pragma once
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <string_view>
+
+namespace pkm::fuzz {
+
+// A file of this process holding `bytes`, rewritten for each input (in the temp directory, so a
+// RAM disk when TMPDIR points at one).
+inline std::filesystem::path input_file(const std::uint8_t* data, std::size_t size,
+                                        const char* extension) {
+  static const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                            ("pkm-fuzz-" + std::to_string(::getpid()) + extension);
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  return path;
+}
+
+// The oracle's failure: libFuzzer keeps the input that reached it.
+[[noreturn]] inline void oracle_failed(const std::string& what) {
+  std::fprintf(stderr, "oracle failed: %s\n", what.c_str());
+  std::abort();
+}
+
+inline void require_finite(double value, std::string_view what) {
+  if (!std::isfinite(value)) oracle_failed(std::string(what) + " is not finite");
+}
+
+// No "inf" or "nan" in text meant for people or LinuxCNC.
+inline void require_no_non_finite_text(std::string_view text) {
+  for (const std::string_view word : {"inf", "nan", "INF", "NAN"}) {
+    for (std::size_t at = text.find(word); at != std::string_view::npos;
+         at = text.find(word, at + 1)) {
+      // A whole number token: preceded by a sign, space, '(' or ',' (not a word like "info").
+      const char before = at == 0 ? ' ' : text[at - 1];
+      const char after = at + 3 < text.size() ? text[at + 3] : ' ';
+      const bool alone = (before == ' ' || before == '-' || before == '(' || before == ',' ||
+                          before == '+' || before == '=') &&
+                         !std::isalpha(static_cast<unsigned char>(after));
+      if (alone) oracle_failed("non-finite number in \"" + std::string(text) + "\"");
+    }
+  }
+}
+
+}  // namespace pkm::fuzz
