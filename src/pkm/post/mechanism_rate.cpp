@@ -118,8 +118,9 @@ struct Clearance {
 // The least of F(s, u) = |X(s) - Y(u)| - motion.apart(s, u) over one triangle of the unit
 // square (u <= s, or u >= s), where F is convex (a norm of an affine map less a linear
 // function): min over u in closed form, convex in s, golden-section search on s; the minimum
-// lies in the last bracket (or at an end), so F there less its Lipschitz constant times the
-// bracket's width bounds it from below. `at`: the (s, u) of that minimum.
+// lies in the last bracket, so F there less its Lipschitz constant times the bracket's width
+// bounds it from below (the ends' values, taken if lower, only make it safer). `at`: the (s, u)
+// of the least value found, whose distance bounds the legs' from above.
 double least_on_triangle(const Eigen::Vector3d& base, const Eigen::Vector3d& wi,
                          const Eigen::Vector3d& wj, const PairMotion& motion, bool u_below_s,
                          std::array<double, 2>& at) {
@@ -151,7 +152,9 @@ double least_on_triangle(const Eigen::Vector3d& base, const Eigen::Vector3d& wi,
       f_right = at_s(right, u);
     }
   }
-  const double lipschitz = wi.norm() + std::abs(slope_s) + 1e-9;
+  // The min over u moves with s through F's slope in s and, where the triangle's side s = u
+  // cuts the minimiser off, through its slope in u.
+  const double lipschitz = wi.norm() + std::abs(slope_s) + wj.norm() + std::abs(slope_u) + 1e-9;
   double best = at_s(0.5 * (low + high), u) - lipschitz * (high - low);
   at = {0.5 * (low + high), u};
   for (const double end : {0.0, 1.0}) {

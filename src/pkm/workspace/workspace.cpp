@@ -560,16 +560,25 @@ double estimate_boundary(const Machine& machine, const Grid& grid,
   if (sample.empty()) sample.push_back(&boundary.front());
   std::vector<double> share(static_cast<std::size_t>(std::max(1, threads)), 0.0);
   std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
   const auto work = [&](std::size_t part) {
-    const Machine own = machine;  // per-call scratch of the model stays in this thread
-    for (std::size_t k = next++; k < sample.size(); k = next++) {
-      share[part] += reachable_share(own, position_cell(grid, *sample[k]), grid.range);
+    try {
+      const Machine own = machine;  // per-call scratch of the model stays in this thread
+      for (std::size_t k = next++; k < sample.size(); k = next++) {
+        share[part] += reachable_share(own, position_cell(grid, *sample[k]), grid.range);
+      }
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
+      next = sample.size();
     }
   };
   std::vector<std::thread> pool;
   for (std::size_t t = 1; t < share.size(); ++t) pool.emplace_back(work, t);
   work(0);
   for (std::thread& thread : pool) thread.join();
+  if (failure) std::rethrow_exception(failure);
   double reached = 0.0;
   for (const double part : share) reached += part;
   return reached * std::pow(grid.step_mm, dimensions) * static_cast<double>(boundary.size()) /
