@@ -22,38 +22,6 @@ namespace {
 
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-// A status code as an identifier, what the status arrays hold. A switch without default: a code
-// added to StatusCode without an identifier here fails the build (-Wswitch, -Werror).
-const char* status_identifier(StatusCode code) {
-  switch (code) {
-    case StatusCode::ok:
-      return "ok";
-    case StatusCode::unreachable:
-      return "unreachable";
-    case StatusCode::joint_limit:
-      return "joint_limit";
-    case StatusCode::singular:
-      return "singular";
-    case StatusCode::not_converged:
-      return "not_converged";
-    case StatusCode::branch_changed:
-      return "branch_changed";
-    case StatusCode::other_assembly:
-      return "other_assembly";
-    case StatusCode::invalid_input:
-      return "invalid_input";
-    case StatusCode::outside_envelope:
-      return "outside_envelope";
-    case StatusCode::tension:
-      return "tension";
-    case StatusCode::joint_angle:
-      return "joint_angle";
-    case StatusCode::interference:
-      return "interference";
-  }
-  return "unknown";
-}
-
 // Every identifier, indexed by the code's value (the last code is interference; a code added
 // after it needs this bound moved as well as its case above).
 std::vector<std::string> status_identifiers() {

@@ -45,6 +45,38 @@ std::string_view status_name(StatusCode code) {
   return "unknown";
 }
 
+// A switch without default: a code added to StatusCode without an identifier fails the build
+// (-Wswitch, warnings are errors).
+std::string_view status_identifier(StatusCode code) {
+  switch (code) {
+    case StatusCode::ok:
+      return "ok";
+    case StatusCode::unreachable:
+      return "unreachable";
+    case StatusCode::joint_limit:
+      return "joint_limit";
+    case StatusCode::singular:
+      return "singular";
+    case StatusCode::not_converged:
+      return "not_converged";
+    case StatusCode::branch_changed:
+      return "branch_changed";
+    case StatusCode::other_assembly:
+      return "other_assembly";
+    case StatusCode::invalid_input:
+      return "invalid_input";
+    case StatusCode::outside_envelope:
+      return "outside_envelope";
+    case StatusCode::tension:
+      return "tension";
+    case StatusCode::joint_angle:
+      return "joint_angle";
+    case StatusCode::interference:
+      return "interference";
+  }
+  return "unknown";
+}
+
 std::string describe(const Status& status, std::span<const std::string> joint_names) {
   std::string text(status_name(status.code));
   if (status.joint >= 0) {

@@ -50,6 +50,9 @@ struct Status {
 };
 
 std::string_view status_name(StatusCode code);
+// The code as an identifier ("joint_limit", "other_assembly"): what JSON keys and the Python
+// module's status arrays hold.
+std::string_view status_identifier(StatusCode code);
 // A sentence for a user: "unreachable (joint 3)" style, with the joint's name where given.
 std::string describe(const Status& status, std::span<const std::string> joint_names = {});
 

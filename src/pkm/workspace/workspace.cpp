@@ -194,28 +194,6 @@ struct Grid {
   std::int64_t max_cells = 0;
 };
 
-// The JSON key of a status: its code as an identifier ("joint_limit", "outside_envelope"); codes
-// this file does not name take status_name with spaces as underscores.
-std::string status_key(StatusCode code) {
-  switch (code) {
-    case StatusCode::joint_limit:
-      return "joint_limit";
-    case StatusCode::other_assembly:
-      return "other_assembly";
-    case StatusCode::outside_envelope:
-      return "outside_envelope";
-    case StatusCode::invalid_input:
-      return "invalid_input";
-    case StatusCode::not_converged:
-      return "not_converged";
-    default: {
-      std::string key(status_name(code));
-      for (char& c : key) c = c == ' ' ? '_' : c;
-      return key;
-    }
-  }
-}
-
 // `settled`: the constraint values (bit per value, in the order of worker.margins) proven over a
 // cell holding this one; those proven here are added to it. `splits_orientation`, when given, is
 // set if an undecided value's constraint would be tighter over a smaller orientation box (one
@@ -374,7 +352,7 @@ void refine(Worker& worker, const Grid& grid, const CellIndex& cell,
   for (const OrientationBox& box : open) {
     settle(worker, grid, base, box, settling);
     if (settling.outside) {
-      ++worker.limited_by[status_key(settling.why.code)];
+      ++worker.limited_by[std::string(status_identifier(settling.why.code))];
       return;
     }
   }
@@ -388,7 +366,7 @@ void refine(Worker& worker, const Grid& grid, const CellIndex& cell,
     const Status status = worker.machine.inverse(Pose::from_vector(middle.centre), joints);
     if (!status.ok()) {
       ++worker.unbounded_refusals;
-      ++worker.limited_by[status_key(status.code)];
+      ++worker.limited_by[std::string(status_identifier(status.code))];
       if (cell.level > 0) {
         refine_children(worker, grid, cell, open);
       } else {
@@ -401,7 +379,7 @@ void refine(Worker& worker, const Grid& grid, const CellIndex& cell,
   }
   if (cell.level == 0) {
     worker.boundary.push_back(cell);
-    ++worker.limited_by[status_key(settling.why.code)];
+    ++worker.limited_by[std::string(status_identifier(settling.why.code))];
     return;
   }
   refine_children(worker, grid, cell, settling.open);
