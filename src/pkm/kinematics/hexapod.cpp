@@ -56,8 +56,7 @@ void HexapodKinematics::update_derived() {
         !std::isfinite(geometry_.leg_offset_mm[i])) {
       throw std::invalid_argument("leg " + std::to_string(i + 1) + " has a non-finite joint");
     }
-    platform_from_tip_mm_.col(i) =
-        geometry_.platform_mm[i] + Eigen::Vector3d(0.0, 0.0, geometry_.tool_length_mm);
+    platform_from_tip_mm_.col(i) = geometry_.platform_from_tip_mm(i);
     base_mm_.col(i) = geometry_.base_mm[i];
     leg_offset_mm_[i] = geometry_.leg_offset_mm[i];
   }

@@ -18,6 +18,11 @@ struct HexapodGeometry {
   // Added to each leg's geometric length (joint centre to joint centre) to give its joint reading.
   std::array<double, 6> leg_offset_mm{};
 
+  // Platform joint `leg` measured from the tool tip, platform frame: where R acts (mm).
+  Eigen::Vector3d platform_from_tip_mm(std::size_t leg) const {
+    return platform_mm[leg] + Eigen::Vector3d(0.0, 0.0, tool_length_mm);
+  }
+
   // The semi-regular hexagons of the literature: joints on circles of the given radii, in pairs
   // whose short side is `side_ratio` times the long side; the platform's pairs sit 60 deg from
   // the base's so that each base pair feeds two different platform pairs. Base pair k is centred

@@ -130,8 +130,7 @@ HessianBounds hexapod_bounds(const HexapodKinematics& model, const Vector6d& cen
   const HexapodGeometry& geometry = model.geometry();
   for (int i = 0; i < 6; ++i) {
     const std::size_t k = static_cast<std::size_t>(i);
-    const double b =
-        (geometry.platform_mm[k] + Eigen::Vector3d(0.0, 0.0, geometry.tool_length_mm)).norm();
+    const double b = geometry.platform_from_tip_mm(k).norm();
     const double gain = platform_point_gain(b, angle_scale_mm);
     const double shortest = legs[i] - geometry.leg_offset_mm[k] - gain * radius_mm;
     if (!(shortest > 0.0)) {
@@ -272,10 +271,8 @@ std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, con
 double pose_angle_scale_mm(const Kinematics& model) {
   double farthest = 0.0;
   if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
-    for (const Eigen::Vector3d& b : hexapod->geometry().platform_mm) {
-      farthest = std::max(
-          farthest, (b + Eigen::Vector3d(0.0, 0.0, hexapod->geometry().tool_length_mm)).norm());
-    }
+    for (std::size_t leg = 0; leg < 6; ++leg)
+      farthest = std::max(farthest, hexapod->geometry().platform_from_tip_mm(leg).norm());
   } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
     for (const GlideRail& rail : glide->rails())
       farthest = std::max(farthest, rail.attach_mm.norm());

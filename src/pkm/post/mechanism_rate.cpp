@@ -19,7 +19,7 @@ LegMotion leg_motion(const Kinematics& model, const JointVector& joints,
   if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
     const HexapodGeometry& g = hexapod->geometry();
     for (std::size_t i = 0; i < 6; ++i) {
-      const double b = (g.platform_mm[i] + Eigen::Vector3d(0.0, 0.0, g.tool_length_mm)).norm();
+      const double b = g.platform_from_tip_mm(i).norm();
       const double gain = platform_point_gain(b, scale);
       motion.inner_speed.push_back(0.0);
       motion.platform_speed.push_back(gain);

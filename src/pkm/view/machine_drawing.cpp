@@ -63,8 +63,8 @@ void add_hexapod(std::vector<Segment>& out, const HexapodGeometry& geometry, con
   const Eigen::Vector3d up(0.0, 0.0, geometry.tool_length_mm);
   const Eigen::Vector3d centre = pose.position_mm + rotation * up;
   std::vector<Eigen::Vector3d> joints;
-  for (int i = 0; i < 6; ++i) {
-    joints.push_back(pose.position_mm + rotation * (geometry.platform_mm[i] + up));
+  for (std::size_t i = 0; i < 6; ++i) {
+    joints.push_back(pose.position_mm + rotation * geometry.platform_from_tip_mm(i));
     out.push_back({Part::link, geometry.base_mm[i], joints.back()});
   }
   add_loop(out, Part::platform, joints);

@@ -337,8 +337,7 @@ class HexapodLegConstraint final : public PoseConstraint {
     const Eigen::Vector3d orientation = cell.centre.tail<3>(), spread = cell.half.tail<3>();
     for (std::size_t i = 0; i < 6; ++i) {
       if (((settled >> (2 * i)) & 3u) == 3u) continue;
-      const Eigen::Vector3d b =
-          geometry_.platform_mm[i] + Eigen::Vector3d(0.0, 0.0, geometry_.tool_length_mm);
+      const Eigen::Vector3d b = geometry_.platform_from_tip_mm(i);
       const Eigen::Vector3d v = cell.centre.head<3>() - geometry_.base_mm[i];
       const double offset = geometry_.leg_offset_mm[i];
       const double longest = machine_.joints()[i].max - offset;
@@ -382,14 +381,14 @@ class HexapodJointAngleConstraint final : public PoseConstraint {
              std::uint64_t settled) const override {
     const double rho = position_radius(cell);
     const Eigen::Vector3d orientation = cell.centre.tail<3>(), spread = cell.half.tail<3>();
+    const Eigen::Matrix3d middle_rotation = rotation_from_abc(orientation);
     for (std::size_t i = 0; i < 6; ++i) {
       LegJointEnd end;
-      end.p = geometry_.platform_mm[i] + Eigen::Vector3d(0.0, 0.0, geometry_.tool_length_mm);
+      end.p = geometry_.platform_from_tip_mm(i);
       end.v = cell.centre.head<3>() - geometry_.base_mm[i];
       // The leg's shortest over the cell: at the middle pose, less what the orientations and
       // positions of the cell can take off (|d(R p)| <= |p| per rad of each angle).
-      const double middle =
-          (end.v + rotation_from_abc(orientation) * end.p).norm() - end.p.norm() * spread.sum();
+      const double middle = (end.v + middle_rotation * end.p).norm() - end.p.norm() * spread.sum();
       const double shortest = std::max(middle, end.v.norm() - end.p.norm()) - rho;
       const double drift = shortest > 0.0 ? rho / shortest : INFINITY;
       for (int side = 0; side < 2; ++side) {

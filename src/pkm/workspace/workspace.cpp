@@ -45,8 +45,8 @@ AxisBox hexapod_box(const HexapodKinematics& model, const Machine& machine) {
   const HexapodGeometry& g = model.geometry();
   AxisBox box = box_around(Eigen::Vector3d::Zero(), INFINITY);
   for (std::size_t i = 0; i < 6; ++i) {
-    const double reach = machine.joints()[i].max - g.leg_offset_mm[i] +
-                         (g.platform_mm[i] + Eigen::Vector3d(0.0, 0.0, g.tool_length_mm)).norm();
+    const double reach =
+        machine.joints()[i].max - g.leg_offset_mm[i] + g.platform_from_tip_mm(i).norm();
     intersect(box, box_around(g.base_mm[i], std::max(reach, 0.0)));
   }
   return box;
@@ -188,8 +188,7 @@ struct Grid {
   std::array<bool, 3> spans{};
   Eigen::Vector3d fixed = Eigen::Vector3d::Zero();  // the coordinates of axes not spanned
   double angle_scale_mm = 100.0;
-  bool split_orientation = true;  // false when every constraint searches the orientation box
-  OrientationBox range;           // the whole orientation range
+  OrientationBox range;  // the whole orientation range
   std::atomic<std::int64_t>* judged = nullptr;
   std::int64_t max_cells = 0;
 };
@@ -273,7 +272,7 @@ void settle(Worker& worker, const Grid& grid, PoseCell cell, OrientationBox box,
   // bounds what a finer box can settle.
   const double position_radius = cell.half.head<3>().norm();
   const double angle_radius = grid.angle_scale_mm * box.half.norm();
-  if (grid.split_orientation && splits_orientation && angle_radius > position_radius) {
+  if (splits_orientation && angle_radius > position_radius) {
     std::array<int, 3> spread{};
     int n = 0;
     for (int k = 0; k < 3; ++k) {
@@ -619,10 +618,7 @@ Workspace compute_workspace(const Machine& machine, const WorkspaceOptions& opti
   grid.step_mm = options.resolution_mm;
   grid.angle_scale_mm = post::pose_angle_scale_mm(model);
   grid.max_cells = options.max_cells;
-  grid.split_orientation = false;
-  for (const auto& constraint : machine_constraints(machine)) {
-    grid.split_orientation = grid.split_orientation || !constraint->covers_orientation();
-  }
+
   std::atomic<std::int64_t> judged{0};
   grid.judged = &judged;
 
