@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -169,6 +171,94 @@ TEST(Motion, ArcsUnitsAndOffsets) {
   EXPECT_DOUBLE_EQ(moves[6].end[0], 2.0);  // G91: one more
   // G10 L2 P1 X2 (inches, 50.8 mm) moves the G54 origin; X0 is then 2 inches from machine 0.
   EXPECT_NEAR(moves[7].end[0], 0.0, 1e-12);
+}
+
+// The last command of `kind` a run handed on.
+const Canon& last_of(const Result& result, CanonKind kind) {
+  const auto found = std::find_if(result.canon.rbegin(), result.canon.rend(),
+                                  [&](const Canon& c) { return c.kind == kind; });
+  EXPECT_NE(found, result.canon.rend());
+  return *found;
+}
+
+TEST(Offsets, G52GivesTheOffsetWhereG92GivesThePosition) {
+  // G52 X10 Y5: the G92/G52 offset becomes (10, 5) whatever the position; G0 X0 Y0 then goes
+  // to (10, 5) from the G54 origin. G92 X0 there keeps it (0 + 10 - 0); G52 X3 then sets X's to
+  // 3 and moves the program position by 7 so the machine stays; G92.1 clears both.
+  const Result result =
+      interpret("G21 G90\nG52 X10 Y5\nG0 X0 Y0\nG92 X0\nG52 X3\nG0 X1\nG92.1\nG0 X0\nM2\n");
+  ASSERT_EQ(result.error, "");
+  std::vector<std::array<double, 2>> g92;
+  for (const Canon& c : result.canon) {
+    if (c.kind == CanonKind::g92_offset) g92.push_back({c.end[0], c.end[1]});
+  }
+  ASSERT_GE(g92.size(), 4u);
+  EXPECT_EQ(g92[0], (std::array<double, 2>{10.0, 5.0}));  // G52 X10 Y5
+  EXPECT_EQ(g92[1], (std::array<double, 2>{10.0, 5.0}));  // G92 X0 at X0
+  EXPECT_EQ(g92[2], (std::array<double, 2>{3.0, 5.0}));   // G52 X3
+  EXPECT_EQ(g92[3], (std::array<double, 2>{0.0, 0.0}));   // G92.1
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 3u);
+  EXPECT_DOUBLE_EQ(moves[1].end[0], 1.0);  // program X1 is machine 4 now
+  EXPECT_DOUBLE_EQ(moves[2].end[0], 0.0);
+}
+
+TEST(Offsets, ToolTouchOffByHand) {
+  // Tool 1 is 10 mm long: with G43 H1, G0 Z5 goes to machine Z15, and G52 Z4 makes that
+  // program Z1. G10 L10 P1 Z-2 asks for the length that makes it program Z-2 with the G52 offset
+  // kept: 15 - 4 - (-2) = 13; G43 H1 after G52 Z0 takes it up, and G53 Z0 is then program Z-13.
+  // G10 L11 P2 Z3 measures from G59.3's origin (Z-20) without the G52 offset: 15 + 20 - 3 = 32.
+  InterpreterOptions options;
+  options.tool_table = parse_tool_table("T1 P1 Z10 D6\nT2 P2 Z0 D6\n", "t.tbl", LengthUnits::mm);
+  const Result result = interpret(
+      "G21 G90\nG10 L2 P9 Z-20\nT1 M6\nG43 H1\nG0 Z5\nG52 Z4\nG10 L10 P1 Z-2\n"
+      "G10 L11 P2 Z3\nG52 Z0\nG43 H1\nG53 G0 Z0\nM2\n",
+      options);
+  ASSERT_EQ(result.error, "");
+  EXPECT_DOUBLE_EQ(options.tool_table->at(1).offset[2], 10.0);  // the caller's table is a copy
+  EXPECT_DOUBLE_EQ(last_of(result, CanonKind::tool_length_offset).end[2], 13.0);
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 2u);
+  EXPECT_DOUBLE_EQ(moves[1].end[2], -13.0);
+  const Result fixture = interpret(
+      "G21 G90\nG10 L2 P9 Z-20\nT1 M6\nG43 H1\nG0 Z5\nG52 Z4\nG10 L11 P2 Z3\nT2 M6\nG43 H2\n"
+      "M2\n",
+      options);
+  ASSERT_EQ(fixture.error, "");
+  EXPECT_DOUBLE_EQ(last_of(fixture, CanonKind::tool_length_offset).end[2], 32.0);
+}
+
+TEST(Offsets, G43KeepsTheMachineWhereItIs) {
+  // rs274: G0 Z10, then G43 with a 12.7 mm tool, then G0 X5: Z goes to -2.7 in the program.
+  InterpreterOptions options;
+  options.tool_table = parse_tool_table("T1 P1 Z12.7 D6\n", "t.tbl", LengthUnits::mm);
+  const Result result = interpret("G21\nG0 Z10\nT1 M6\nG43 H1\nG0 X5\nG49\nG0 X6\nM2\n", options);
+  ASSERT_EQ(result.error, "");
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 3u);
+  EXPECT_NEAR(moves[1].end[2], -2.7, 1e-12);
+  EXPECT_NEAR(moves[2].end[2], 10.0, 1e-12);
+}
+
+TEST(Offsets, RotationByHand) {
+  // G54 at (10, 5) turned by 90 deg: program (1, 0) is machine (10, 6), program (0, 0) machine
+  // (10, 5). G53 X0 leaves machine Y where it is (6): program (1, 10). G28.1 there stores
+  // machine (0, 6); from G55 (unturned, at the machine origin) G28 goes to (0, 6).
+  const Result result =
+      interpret("G21 G90\nG10 L2 P1 X10 Y5 R90\nG54\nG0 X1 Y0\nG53 G0 X0\nG28.1\nG55\nG28\nM2\n");
+  ASSERT_EQ(result.error, "");
+  std::vector<double> rotations;  // G10 on the active system, G54, G55 (not turned), M2 (G54)
+  for (const Canon& c : result.canon) {
+    if (c.kind == CanonKind::xy_rotation) rotations.push_back(c.value);
+  }
+  EXPECT_EQ(rotations, (std::vector<double>{90.0, 90.0, 0.0, 90.0}));
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 4u);
+  EXPECT_NEAR(moves[0].end[0], 1.0, 1e-12);
+  EXPECT_NEAR(moves[1].end[0], 1.0, 1e-12);
+  EXPECT_NEAR(moves[1].end[1], 10.0, 1e-12);
+  EXPECT_NEAR(moves[3].end[0], 0.0, 1e-12);
+  EXPECT_NEAR(moves[3].end[1], 6.0, 1e-12);
 }
 
 TEST(Events, CodesWithNoMeaningHereArePassedOnWithAWarning) {
@@ -343,6 +433,9 @@ const ErrorCase kErrors[] = {
     {"plane_change_with_compensation", "G21 G41.1 D2\nG18\n", 2, 1, "cannot change planes"},
     {"compensated_tool_does_not_fit", "G21 G0 X0 Y-10\nG41.1 D10\nG1 X0 Y0 F100\nX10\nY1\nX0\n", 6,
      1, "cannot be cut without gouging"},
+    {"xz_arc_in_a_turned_system", "G21 G10 L2 P1 R30\nG54 G0 X0 Y0 Z0\nG18 G2 X10 Z0 I5 F100\n", 3,
+     5, "XZ or YZ plane (G18, G19) in a coordinate system turned by G10 L2 R30"},
+    {"rotation_in_g10_l20", "G21 G10 L20 P1 X0 R30\n", 1, 19, "R is not allowed in G10 L20"},
 };
 
 INSTANTIATE_TEST_SUITE_P(Table, GcodeErrors, ::testing::ValuesIn(kErrors),

@@ -61,6 +61,28 @@ TEST(SegmentBuilder, ProgramStartsAtTheMachinePoseSeenFromItsOrigin) {
   EXPECT_TRUE(started.block_delete);  // the other options pass through
 }
 
+TEST(SegmentBuilder, ATurnedCoordinateSystemTurnsLinesAndArcsAboutItsOrigin) {
+  // G54 at (10, 5) turned by 90 deg, G92 shifting the program by (1, 0) first: program (0, 0) is
+  // machine (10, 6) (G92 is turned with the system); an arc about program (-1, 0) ends at
+  // program (-1, 1), machine (9, 5). G53 X0 Y0 is the machine origin.
+  const auto path = write_program(
+      "G21 G90\nG10 L2 P1 X10 Y5 R90\nG54\nG0 X1 Y0\nG92 X0 Y0\nG0 X0 Y0\n"
+      "G3 X-1 Y1 I-1 J0 F100\nG53 G0 X0 Y0\nM2\n");
+  SegmentBuilder builder(Vector6d::Zero(), Vector6d::Zero(), false);
+  std::vector<Segment> segments;
+  gcode::Interpreter(path).run([&](const gcode::Canon& canon) {
+    if (auto segment = builder.take(canon)) segments.push_back(*segment);
+  });
+  std::filesystem::remove(path);
+  ASSERT_EQ(segments.size(), 4u);
+  EXPECT_NEAR((segments[1].end.head<2>() - Eigen::Vector2d(10.0, 6.0)).norm(), 0.0, 1e-12);
+  ASSERT_EQ(segments[2].kind, SegmentKind::arc);
+  EXPECT_NEAR((segments[2].centre.head<2>() - Eigen::Vector2d(10.0, 5.0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((segments[2].end.head<2>() - Eigen::Vector2d(9.0, 5.0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(segments[2].sweep_rad, std::numbers::pi / 2.0, 1e-12);  // a quarter, ccw
+  EXPECT_NEAR(segments[3].end.head<2>().norm(), 0.0, 1e-12);
+}
+
 TEST(Plan, LineSamplesLieOnTheLineAndTheDurationIsClosedForm) {
   // Hexapod: 1000 mm/s^2. G1 X50 at F3000 (50 mm/s) from home: ramps of 0.05 s over 1.25 mm
   // each, 47.5 mm cruising at 50 mm/s: 1.05 s.

@@ -47,11 +47,12 @@ enum class CanonKind {
   tool_length_offset,  // `end` holds the offset per axis
   g5x_offset,          // `integer` coordinate system 1..9, `end` its offsets
   g92_offset,          // `end`
-  path_control,        // `integer` 61 exact path, 611 exact stop, 64 continuous with `value` P
-  program_stop,        // M0
-  optional_stop,       // M1
-  program_end,         // M2, M30, or the end of the file
-  event,               // a code with no meaning off a real machine, passed on: `text`
+  xy_rotation,    // `value` deg: the XY plane of the active coordinate system turned (G10 L2 R)
+  path_control,   // `integer` 61 exact path, 611 exact stop, 64 continuous with `value` P
+  program_stop,   // M0
+  optional_stop,  // M1
+  program_end,    // M2, M30, or the end of the file
+  event,          // a code with no meaning off a real machine, passed on: `text`
 };
 
 struct Canon {

@@ -103,6 +103,8 @@ std::string canon_text(const Canon& c) {
       return format("SET_G5X_OFFSET(%d, ", c.integer) + six(c.end) + ")";
     case CanonKind::g92_offset:
       return "SET_G92_OFFSET(" + six(c.end) + ")";
+    case CanonKind::xy_rotation:
+      return format("SET_XY_ROTATION(%.4f)", c.value);
     case CanonKind::path_control:
       if (c.integer == 64) return format("SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, %f)", c.value);
       return c.integer == 61 ? "SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)"

@@ -54,6 +54,13 @@ void Interpreter::State::execute_block(const Block& block) {
     if (previous_cycle && motion < 730) cycle_series = false;
   }
   if (m_by_group[4]) stop_or_end(block);
+  if (resync_position) {
+    // After a tool change the position is where the last move left the tool (off the
+    // programmed point after G40), as LinuxCNC re-reads it before the next line.
+    pos = canon_pos = tool_off_path.value_or(canon_pos);
+    tool_off_path.reset();
+    resync_position = false;
+  }
 }
 
 void Interpreter::State::emit_comments(const Block& block) {
@@ -170,7 +177,9 @@ void Interpreter::State::set_units(LengthUnits wanted) {
   if (wanted == units) return;
   const double factor = wanted == LengthUnits::inch ? 1.0 / kMmPerInch : kMmPerInch;
   for (int axis = 0; axis < kAxes; ++axis) {
-    if (is_linear(axis)) pos[axis] *= factor;
+    if (!is_linear(axis)) continue;
+    pos[axis] *= factor;
+    canon_pos[axis] *= factor;
   }
   feed *= factor;
   units = wanted;
@@ -199,10 +208,11 @@ void Interpreter::State::stop_or_end(const Block& block) {
 
 void Interpreter::State::end_program(const Block& block) {
   // LinuxCNC resets the modal state at the program end.
-  const Position old_total = total_offset_mm();
+  const Offsets old = offsets();
   coord_system = 1;
+  rotation_deg = rotation_of(1);
   g92_mm = {};
-  reexpress(old_total);
+  reexpress(old);
   plane = Plane::xy;
   absolute = true;
   feed_mode = FeedMode::units_per_minute;

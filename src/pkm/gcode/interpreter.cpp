@@ -18,7 +18,7 @@ Interpreter::State::State(const std::filesystem::path& path, const InterpreterOp
   }
   // G54 offsets start at zero; #5220 holds the active coordinate system.
   parameters.set_numbered(5220, 1.0);
-  pos = options.start_position;
+  pos = canon_pos = options.start_position;
 }
 
 void Interpreter::State::start(const CanonSink& output) {

@@ -91,7 +91,11 @@ struct Interpreter::State {
   bool retract_to_old = false;  // G99 (retract to R) until G98, as LinuxCNC starts
   Position pos{};               // program coordinates
   int coord_system = 1;
-  Position g92_mm{};
+  Position g92_mm{};  // G92 and G52 offsets (one offset in LinuxCNC)
+  // The active coordinate system's XY rotation (G10 L2 R), deg, about its origin: a machine
+  // position's XY is R(rotation) (program + G92) + G5x + tool, as LinuxCNC composes them.
+  double rotation_deg = 0.0;
+  double rotation_sent_deg = 0.0;  // the rotation last handed on (xy_rotation)
   Position tool_offset_mm{};
   int tool_in_spindle = 0;
   int selected_tool = 0;
@@ -105,6 +109,12 @@ struct Interpreter::State {
   // After G40 the tool stays off the programmed point until the next move. A tool change
   // takes the machine's position as the program's (LinuxCNC re-reads it), so it matters then.
   std::optional<Position> tool_off_path;
+  // Where rs274's canonical layer holds the tool, program coordinates: the last move's end,
+  // moved with G5x and G92 offsets but not with tool length offsets or rotations. After a block
+  // with a tool change LinuxCNC re-reads the position from there (`resync_position`), dropping
+  // what a G43 on the same line did to the program position.
+  Position canon_pos{};
+  bool resync_position = false;
 
   // Canned cycles: sticky words and the level the current series started from.
   double cycle_r = 0.0, cycle_z = 0.0;  // mm
@@ -281,10 +291,26 @@ struct Interpreter::State {
 
   // ---- coordinate systems and offsets (coordinate_systems.cpp) ---------------------------
   Position g5x_mm(int system) const;
-  // Everything between program and machine coordinates, mm.
+  double rotation_of(int system) const { return parameters.numbered(5210 + 20 * system); }
+  // Everything between program and machine coordinates but the rotation, mm.
   Position total_offset_mm() const;
-  // Moves the program position so the machine position stays put when offsets change.
-  void reexpress(const Position& old_total_mm);
+  // What lies between program and machine coordinates, kept to re-express the position when
+  // it changes.
+  struct Offsets {
+    Position total_mm, g5x_mm, g92_mm, tool_mm;
+    double rotation_deg;
+  };
+  Offsets offsets() const {
+    return {total_offset_mm(), g5x_mm(coord_system), g92_mm, tool_offset_mm, rotation_deg};
+  }
+  // The machine position (mm, deg) of program coordinates, and back, under the active offsets.
+  Position machine_mm(const Position& program) const;
+  Position program_from_machine(const Position& machine_mm) const;
+  // Moves the program position so the machine position stays put when offsets change from
+  // `old`. LinuxCNC's G10 L2/L20 on the active system turns the position without its G92
+  // offset (`g92_turns` false), which moves the machine when both a G92 offset and a change of
+  // rotation are in effect; so does pkm, to make the same moves.
+  void reexpress(const Offsets& old, bool g92_turns = true);
   void emit_offsets(const Block& block);
   // Where the block's axis words lead, into `end` (the current point where a word is missing).
   void target(const Block& block, bool machine_coordinates, Position& end) const;
@@ -293,12 +319,20 @@ struct Interpreter::State {
     target(block, machine_coordinates, end);
     return end;
   }
+  // G53's X and Y under a rotation: machine coordinates turned into the program's.
+  void machine_xy_under_rotation(const Block& block, Position& end) const;
   void select_coordinate_system(const Block& block, const Code& code);
-  // G10, G28, G30, G28.1, G30.1 and G92..G92.3; true when the axis words were theirs.
+  // G10, G28, G30, G28.1, G30.1, G52 and G92..G92.3; true when the axis words were theirs.
   bool execute_non_modal(const Block& block, const Code& code);
   void set_coordinates(const Block& block);
   void set_coordinate_system(const Block& block, long l, long p);
-  void set_tool_entry(const Block& block, long p, int column);
+  // G10 L20's new origin of `system` (mm): the current point gets the block's coordinates there.
+  Position origin_making_current(const Block& block, int system) const;
+  // The current point in `system` (mm, deg) as LinuxCNC finds it for G10, with the
+  // tool length offset taken off (`without_tool`) for G10 L10/L11.
+  Position current_in_system_mm(int system, bool without_tool) const;
+  void set_tool_entry(const Block& block, long l, long p, int column);
+  void set_tool_offset_from_current(const Block& block, long l, ToolEntry& entry) const;
   void go_home(const Block& block, int code);
   void store_home(int code);
   void set_axis_offsets(const Block& block, int code);
@@ -335,6 +369,7 @@ struct Interpreter::State {
       emit(move);
     }
     pos = move.end;
+    canon_pos = move.end;
   }
 
   // ---- canned cycles (canned_cycles.cpp) -------------------------------------------------

@@ -66,7 +66,7 @@ void Interpreter::State::make_motion(const Block& block, const Code* motion_code
       event.text = code_name('G', motion) + " (spindle-synchronised motion) passed on";
       warn(event.text);
       emit(event);
-      if (motion == 330) pos = end;
+      if (motion == 330) pos = canon_pos = end;
       break;
     }
     case 382:
@@ -95,6 +95,13 @@ void Interpreter::State::arc(const Block& block, int code, const Position& end) 
   const int column = block.g_codes.empty() ? 1 : block.g_codes.front().column;
   if (straight_exit) {
     fail(column, "the move after G40 (cutter compensation off) must be straight, not an arc");
+  }
+  if (rotation_deg != 0.0 && plane != Plane::xy) {
+    // Turned about Z, an XZ or YZ arc leaves the principal planes the planner's arcs lie in.
+    fail(move_column,
+         "an arc in the XZ or YZ plane (G18, G19) in a coordinate system turned by G10 L2 "
+         "R" +
+             written_number(rotation_deg) + " is not supported: give it as G1 moves");
   }
   const std::array<double, 2> start{pos[axes.first], pos[axes.second]};
   const std::array<double, 2> to{end[axes.first], end[axes.second]};
@@ -188,7 +195,7 @@ void Interpreter::State::probe(const Block& block, int column, const Position& e
   for (int axis = 0; axis < 3; ++axis) {
     after_probe[axis] = end[axis] - back_off * (end[axis] - pos[axis]) / length;
   }
-  pos = after_probe;
+  pos = canon_pos = after_probe;
 }
 
 }  // namespace pkm::gcode

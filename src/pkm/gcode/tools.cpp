@@ -30,8 +30,7 @@ void Interpreter::State::change_tool(const Block& block, const Code& code) {
     c.integer = selected_tool;
     emit(c);
   }
-  if (tool_off_path) pos = *tool_off_path;
-  tool_off_path.reset();
+  resync_position = true;
   require_word_in_range(block, 'q', -kMaxToolNumber, kMaxToolNumber, "tool numbers go from");
   tool_in_spindle =
       code.tenths == 610 ? static_cast<int>(block.has('q') ? block.value('q') : 0) : selected_tool;
@@ -60,7 +59,13 @@ void Interpreter::State::set_tool_length_offset(const Block& block, const Code& 
   } else if (code.tenths == 432) {
     fail(code.column, "G43.2 is not supported");
   }
-  // The program position stays: the machine makes up the new length on the next move.
+  // The machine stays where it is: the program position takes up the change of length, so
+  // an axis the next move does not name keeps its machine coordinate (as rs274 shows: G43 H1
+  // at Z10 with a 12.7 mm tool, then G0 X5, goes to Z-2.7). LinuxCNC does not turn the change
+  // by a coordinate system's rotation, and neither does pkm.
+  for (int axis = 0; axis < kAxes; ++axis) {
+    pos[axis] += axis_from_mm(axis, tool_offset_mm[axis] - offset[axis]);
+  }
   tool_offset_mm = offset;
   Canon c = make(CanonKind::tool_length_offset, block);
   for (int axis = 0; axis < kAxes; ++axis) c.end[axis] = axis_from_mm(axis, offset[axis]);

@@ -126,8 +126,9 @@ void Interpreter::State::refuse_unused_words(const Block& block) const {
   if ((block.letters & kChecked) == 0) return;
   WordUsers users;
   users.n = g_by_group[0] ? g_by_group[0]->tenths : -1;
-  // G10, G28, G30 and G92 take the axis words: they make no motion of the modal mode.
-  const bool axes_taken = users.n == 100 || users.n == 280 || users.n == 300 || users.n == 920;
+  // G10, G28, G30, G52 and G92 take the axis words: they make no motion of the modal mode.
+  const bool axes_taken =
+      users.n == 100 || users.n == 280 || users.n == 300 || users.n == 520 || users.n == 920;
   const bool has_axis = (block.letters & (kAxisSlots | kPolarSlots)) != 0;
   users.m = g_by_group[1] ? g_by_group[1]->tenths : (has_axis && !axes_taken ? motion : -1);
   users.g64 = g_by_group[13] && g_by_group[13]->tenths == 640;

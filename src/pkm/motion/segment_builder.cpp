@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 namespace pkm::motion {
 
@@ -41,6 +42,9 @@ std::optional<Segment> SegmentBuilder::take(const gcode::Canon& canon) {
       return std::nullopt;
     case CanonKind::tool_length_offset:
       store_offset(canon, tool_mm_);
+      return std::nullopt;
+    case CanonKind::xy_rotation:
+      xy_rotation_rad_ = degrees_to_radians(canon.value);
       return std::nullopt;
     case CanonKind::traverse:
     case CanonKind::feed:
@@ -90,7 +94,21 @@ Vector6d SegmentBuilder::machine_pose(const gcode::Canon& canon) const {
         axis < 3 ? canon.end[axis] * to_mm(canon.units) : degrees_to_radians(canon.end[axis]);
     pose[axis] = value + origin_[axis] + g5x_mm_[axis] + g92_mm_[axis] + tool_mm_[axis];
   }
+  if (xy_rotation_rad_ != 0.0) {
+    double x = canon.end[0] * to_mm(canon.units) + g92_mm_[0];
+    double y = canon.end[1] * to_mm(canon.units) + g92_mm_[1];
+    turn_xy(x, y);
+    pose[0] = x + origin_[0] + g5x_mm_[0] + tool_mm_[0];
+    pose[1] = y + origin_[1] + g5x_mm_[1] + tool_mm_[1];
+  }
   return pose;
+}
+
+void SegmentBuilder::turn_xy(double& x, double& y) const {
+  const double cos = std::cos(xy_rotation_rad_), sin = std::sin(xy_rotation_rad_);
+  const double turned_x = x * cos - y * sin;
+  y = x * sin + y * cos;
+  x = turned_x;
 }
 
 void SegmentBuilder::set_feed(const gcode::Canon& canon, Segment& segment) const {
@@ -124,8 +142,20 @@ Segment SegmentBuilder::arc_segment(const gcode::Canon& canon) const {
   }
   const Vector6d offset = origin_ + g5x_mm_ + g92_mm_ + tool_mm_;
   const double scale = to_mm(canon.units);
-  segment.centre[segment.first_axis] = canon.center[0] * scale + offset[segment.first_axis];
-  segment.centre[segment.second_axis] = canon.center[1] * scale + offset[segment.second_axis];
+  if (xy_rotation_rad_ != 0.0) {
+    // A turned XY plane stays a principal plane; a turned XZ or YZ plane does not (segments'
+    // arcs lie in principal planes): the interpreter refuses those arcs.
+    if (canon.plane != gcode::Plane::xy) {
+      throw std::logic_error("an XZ or YZ arc in a turned coordinate system reached the planner");
+    }
+    double x = canon.center[0] * scale + g92_mm_[0], y = canon.center[1] * scale + g92_mm_[1];
+    turn_xy(x, y);
+    segment.centre[0] = x + origin_[0] + g5x_mm_[0] + tool_mm_[0];
+    segment.centre[1] = y + origin_[1] + g5x_mm_[1] + tool_mm_[1];
+  } else {
+    segment.centre[segment.first_axis] = canon.center[0] * scale + offset[segment.first_axis];
+    segment.centre[segment.second_axis] = canon.center[1] * scale + offset[segment.second_axis];
+  }
   const auto angle_of = [&](const Vector6d& p) {
     return std::atan2(p[segment.second_axis] - segment.centre[segment.second_axis],
                       p[segment.first_axis] - segment.centre[segment.first_axis]);

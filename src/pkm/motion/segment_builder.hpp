@@ -45,8 +45,12 @@ class SegmentBuilder {
   Vector6d origin_;
   bool great_circle_attitude_;
   bool z_free_ = false;
+  // A program position's XY to the machine's under the coordinate system's rotation.
+  void turn_xy(double& x, double& y) const;
+
   Vector6d g5x_mm_ = Vector6d::Zero(), g92_mm_ = Vector6d::Zero(), tool_mm_ = Vector6d::Zero();
-  int path_mode_ = 64;  // LinuxCNC starts in G64
+  double xy_rotation_rad_ = 0.0;  // G10 L2 R: XY turned about the G5x origin, after G92
+  int path_mode_ = 64;            // LinuxCNC starts in G64
   double blend_tolerance_mm_ = 0.0;
 };
 
