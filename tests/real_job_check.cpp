@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <stdexcept>
+#include <string>
 
 #include "pkm/gcode/interpreter.hpp"
 
@@ -300,6 +302,13 @@ std::vector<PathMove> programmed_path(const std::filesystem::path& job,
       case CanonKind::arc:
         path.push_back(arc_move(canon, at, place));
         break;
+      case CanonKind::xy_rotation:
+        // This independent reading composes translations only: a turned job needs it taught.
+        if (canon.value != 0.0) {
+          throw std::runtime_error(job.string() + ":" + std::to_string(canon.line) +
+                                   ": the independent check does not turn coordinate systems");
+        }
+        return;
       default:
         return;
     }
