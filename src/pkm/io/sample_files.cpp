@@ -8,41 +8,6 @@ namespace pkm {
 
 namespace {
 
-bool shows_orientation(const Machine& machine) {
-  return machine.kinematics().dof().any_rotation();
-}
-
-bool shows_pen(const Machine& machine) {
-  return machine.tool().z == ToolZ::pen;
-}
-
-// The values of a row in column order and interface units.
-class RowBuilder {
- public:
-  explicit RowBuilder(const Machine& machine)
-      : machine_(machine), orientation_(shows_orientation(machine)), pen_(shows_pen(machine)) {}
-  std::size_t fill(const motion::Sample& s, double* row) const {
-    std::size_t n = 0;
-    row[n++] = s.time_s;
-    row[n++] = s.line;
-    for (int axis = 0; axis < 3; ++axis) row[n++] = s.pose[axis];
-    if (orientation_) {
-      for (int axis = 3; axis < 6; ++axis) row[n++] = radians_to_degrees(s.pose[axis]);
-    }
-    for (int i = 0; i < s.joints.size(); ++i) {
-      row[n++] = machine_.joints()[static_cast<std::size_t>(i)].to_interface(s.joints[i]);
-    }
-    if (pen_) row[n++] = s.pen_down ? 1.0 : 0.0;
-    return n;
-  }
-  bool pen() const { return pen_; }
-
- private:
-  const Machine& machine_;
-  bool orientation_;
-  bool pen_;
-};
-
 class CsvFile final : public SampleFile {
  public:
   CsvFile(const std::filesystem::path& path, const Machine& machine) : file_(path), rows_(machine) {
@@ -53,7 +18,7 @@ class CsvFile final : public SampleFile {
     file_.write(header + "\n");
   }
   void write(const motion::Sample& sample) override {
-    double row[32];
+    double row[SampleRows::kMaxColumns];
     const std::size_t n = rows_.fill(sample, row);
     std::FILE* out = file_.stream();
     std::fprintf(out, "%.6f,%d", row[0], static_cast<int>(row[1]));
@@ -66,7 +31,7 @@ class CsvFile final : public SampleFile {
 
  private:
   AtomicFileWriter file_;
-  RowBuilder rows_;
+  SampleRows rows_;
 };
 
 // A Python string literal of `text` (the column names in the NPY header).
@@ -99,7 +64,7 @@ class NpyFile final : public SampleFile {
     file_.write(header(0));
   }
   void write(const motion::Sample& sample) override {
-    double row[32];
+    double row[SampleRows::kMaxColumns];
     const std::size_t n = rows_.fill(sample, row);
     if (std::fwrite(row, sizeof(double), n, file_.stream()) != n) {
       throw std::runtime_error("cannot write " + file_.path().string());
@@ -131,20 +96,12 @@ class NpyFile final : public SampleFile {
   }
 
   AtomicFileWriter file_;
-  RowBuilder rows_;
+  SampleRows rows_;
   std::string descr_;  // the structured dtype: [('t', '<f8'), ('line', '<f8'), ...]
   long count_ = 0;
 };
 
 }  // namespace
-
-std::vector<std::string> sample_columns(const Machine& machine) {
-  std::vector<std::string> columns = {"t", "line", "x", "y", "z"};
-  if (shows_orientation(machine)) columns.insert(columns.end(), {"a", "b", "c"});
-  for (const JointSpec& joint : machine.joints()) columns.push_back("j_" + joint.name);
-  if (shows_pen(machine)) columns.push_back("pen");
-  return columns;
-}
 
 std::unique_ptr<SampleFile> SampleFile::open(const std::filesystem::path& path,
                                              const Machine& machine) {
