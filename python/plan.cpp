@@ -119,6 +119,29 @@ py::tuple plan(const Machine& machine, const std::string& program, double period
       json_to_python(json));
 }
 
+// Samples nobody keeps: the estimate makes none.
+struct DiscardSamples final : motion::SampleSink {
+  void write(const motion::Sample&) override {}
+};
+
+py::object estimate(const Machine& machine, const std::string& program, double period_s,
+                    const std::vector<double>& origin, const std::optional<Array>& start,
+                    const std::string& attitude, double jerk_mm_per_s3,
+                    const std::optional<std::string>& tool_table) {
+  PlanArguments arguments = plan_arguments(machine, program, period_s, origin, start, attitude,
+                                           jerk_mm_per_s3, tool_table, 0);
+  arguments.plan.estimate_only = true;
+  const Machine own = machine;
+  DiscardSamples none;
+  motion::PlanReport report;
+  {
+    const py::gil_scoped_release released;
+    report =
+        motion::plan_program(own, arguments.program, arguments.interpreter, arguments.plan, none);
+  }
+  return json_to_python(view::plan_report_json(own, report, arguments.program, period_s, true));
+}
+
 // Thrown into the planner's thread when the iterator goes away before the plan has ended.
 struct PlanAbandoned {};
 
@@ -277,6 +300,13 @@ void bind_plan(py::module_& module) {
              "mm and deg, j_<joint> in mm or deg, [pen]); report the dict of pkm plan --report. "
              "period in s, origin x y [z [a b c]] (mm, deg) where the program's zero sits, start "
              "a pose of the machine's coordinates (default home), jerk in mm/s^3 (0: none).");
+  module.def("estimate", &estimate, py::arg("machine"), py::arg("program"), py::kw_only(),
+             py::arg("period") = 0.001, py::arg("origin") = std::vector<double>{},
+             py::arg("start") = py::none(), py::arg("attitude") = "linear", py::arg("jerk") = 0.0,
+             py::arg("tool_table") = py::none(),
+             "The report of pkm plan --estimate as a dict: the job's duration, samples, joint "
+             "ranges and feed-limited moves, without making the samples (a fraction of plan's "
+             "time). Options as plan's.");
   module.def("plan_chunks", &plan_chunks, py::arg("machine"), py::arg("program"), py::kw_only(),
              py::arg("chunk") = 65536, py::arg("period") = 0.001,
              py::arg("origin") = std::vector<double>{}, py::arg("start") = py::none(),

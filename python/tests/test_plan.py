@@ -119,3 +119,17 @@ def test_plan_bound_and_arguments(machines, test_data):
         pkmkit.plan(m, job, attitude="spherical")
     with pytest.raises(ValueError, match="start must have 2 values"):
         pkmkit.plan(m, job, start=np.zeros(3))
+
+
+def test_estimate_equals_pkm_plan_estimate(machines, jobs, pkm_binary, tmp_path):
+    machine_file, job = machines / "hexapod-bit.toml", jobs / "sphere.ngc"
+    report_file = tmp_path / "estimate.json"
+    subprocess.run([pkm_binary, "plan", "-m", str(machine_file), str(job), "--estimate",
+                    "--period", "0.004", "--report", str(report_file)], capture_output=True,
+                   check=True)
+    m = pkmkit.Machine.load(str(machine_file))
+    estimate = pkmkit.estimate(m, str(job), period=0.004)
+    assert estimate == json.loads(report_file.read_text())
+    assert estimate["estimate"] is True and estimate["joints"][0]["peak_acceleration"] is None
+    _, report = pkmkit.plan(m, str(job), period=0.004)
+    assert estimate["samples"] == report["samples"]  # the count is exact
