@@ -10,7 +10,9 @@ checks, and converts units: the ratio is what a pose costs from Python over the 
 
 The overhead per call is split into: an empty call of the binding (a property, no arrays), a
 one-pose inverse and forward (argument conversion, the machine's copy, the result arrays and
-status strings) and a jacobian. Takes about 15 s (plus bench_kinematics' few seconds).
+status strings) and a jacobian. Last, the wall time of two threads each running the batch IK
+against one thread running it once (1.0: perfect overlap, 2.0: none; on 2 cores). Takes about
+20 s (plus bench_kinematics' few seconds).
 
 usage: PYTHONPATH=build/release/python bench/python_kinematics.py [--cxx BENCH_KINEMATICS]"""
 
@@ -18,6 +20,7 @@ import argparse
 import json
 import os
 import subprocess
+import threading
 import timeit
 
 import numpy as np
@@ -55,6 +58,17 @@ def per_call_us(m):
                                            lambda: m.forward(joints), lambda: m.jacobian(m.home))]
 
 
+def two_threads_over_one(m, poses):
+    """Wall time of two threads each running inverse(poses), over one thread running it once."""
+    def both():
+        threads = [threading.Thread(target=m.inverse, args=(poses,)) for _ in range(2)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join()
+    return best(both) / best(lambda: m.inverse(poses))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     default = os.path.join(HERE, "..", "build", "release", "bench", "bench_kinematics")
@@ -79,6 +93,10 @@ def main():
                  for v, mine in ((cxx_ik, ik), (cxx_fk, fk))]
         calls = " ".join(f"{c:6.2f}" for c in per_call_us(m))
         print(f"{name:>18} {ik:10.1f} {shown[0]} {fk:10.1f} {shown[1]} |              {calls}")
+    m = pkmkit.Machine.load(os.path.join(MACHINES, "hexapod-bit.toml"))
+    poses = m.home + np.random.default_rng(2).uniform(-1, 1, (IK_POSES // 2, 6)) * 4.0
+    print(f"hexapod-bit IK, two threads at once: {two_threads_over_one(m, poses):.2f} x the wall "
+          f"time of one (2.0: no overlap)")
 
 
 if __name__ == "__main__":

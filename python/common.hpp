@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "pkm/gcode/interpreter.hpp"
 #include "pkm/machine/machine.hpp"
 
 namespace pkm::python {
@@ -34,6 +35,14 @@ Vector6d origin_argument(const std::vector<double>& values, const std::string& w
 
 // A JSON document (a report) as Python's json module reads it: dicts, lists, numbers, None.
 py::object json_to_python(const nlohmann::json& document);
+
+// Raises the module's exception `type_name` (PlanError, PostError) with `message` and the hint of
+// a job out of the machine's reach appended, as pkm prints it (motion/job_reach.hpp); `line`, when
+// not negative, as its .line.
+[[noreturn]] void raise_with_reach_hint(const char* type_name, const std::string& message, int line,
+                                        const Machine& machine, const std::string& program,
+                                        const gcode::InterpreterOptions& interpreter,
+                                        const Vector6d& origin);
 
 void bind_plan(py::module_& module);
 void bind_canon(py::module_& module);

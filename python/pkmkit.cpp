@@ -14,6 +14,7 @@
 #include "common.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/machine/machine_parameters.hpp"
+#include "pkm/motion/job_reach.hpp"
 #include "pkm/motion/planner.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/verify/joint_path.hpp"
@@ -69,6 +70,21 @@ Vector6d origin_argument(const std::vector<double>& values, const std::string& w
 
 py::object json_to_python(const nlohmann::json& document) {
   return py::module_::import("json").attr("loads")(document.dump());
+}
+
+void raise_with_reach_hint(const char* type_name, const std::string& message, int line,
+                           const Machine& machine, const std::string& program,
+                           const gcode::InterpreterOptions& interpreter, const Vector6d& origin) {
+  std::string hint;
+  {
+    const py::gil_scoped_release released;  // the job is read again
+    hint = motion::job_reach_hint(machine, program, interpreter, origin);
+  }
+  const py::object type = py::module_::import("pkmkit").attr(type_name);
+  py::object instance = type(message + hint);
+  if (line >= 0) instance.attr("line") = line;
+  PyErr_SetObject(type.ptr(), instance.ptr());
+  throw py::error_already_set();
 }
 
 namespace {

@@ -107,10 +107,13 @@ py::tuple plan(const Machine& machine, const std::string& program, double period
   const Machine own = machine;  // the loop runs without the GIL: a copy of its own (pkmkit.cpp)
   RowCollector rows(own);
   motion::PlanReport report;
-  {
+  try {
     const py::gil_scoped_release released;
     report =
         motion::plan_program(own, arguments.program, arguments.interpreter, arguments.plan, rows);
+  } catch (const motion::PlanError& error) {
+    raise_with_reach_hint("PlanError", error.what(), error.line(), own, arguments.program,
+                          arguments.interpreter, arguments.plan.origin);
   }
   const nlohmann::json json =
       view::plan_report_json(own, report, arguments.program, period_s, false);
@@ -197,7 +200,14 @@ class PlanChunks final : public motion::SampleSink {
       changed_.notify_all();
       return sample_array(dtype_, std::move(values), columns_);
     }
-    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+    if (error_) {
+      try {
+        std::rethrow_exception(std::exchange(error_, nullptr));
+      } catch (const motion::PlanError& error) {
+        raise_with_reach_hint("PlanError", error.what(), error.line(), machine_, arguments_.program,
+                              arguments_.interpreter, arguments_.plan.origin);
+      }
+    }
     if (report_.is_none() && finished_report_) {
       report_ = json_to_python(view::plan_report_json(
           machine_, *finished_report_, arguments_.program, arguments_.plan.period_s, false));

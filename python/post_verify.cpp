@@ -55,7 +55,7 @@ py::object post(const Machine& machine, const std::string& program, const std::s
   interpreter.tool_table = tool_table_argument(tool_table, tool_table_units);
   const Machine own = machine;  // the loop runs without the GIL (pkmkit.cpp)
   post::PostReport report;
-  {
+  try {
     const py::gil_scoped_release released;
     AtomicFileWriter file(output);
     file.write(post::joint_program_header(own, program, options.dialect, tolerance_mm, nullptr));
@@ -64,6 +64,8 @@ py::object post(const Machine& machine, const std::string& program, const std::s
     file.write_at(0,
                   post::joint_program_header(own, program, options.dialect, tolerance_mm, &report));
     file.commit();
+  } catch (const post::PostError& error) {
+    raise_with_reach_hint("PostError", error.what(), -1, own, program, interpreter, options.origin);
   }
   return json_to_python(view::post_report_json(own, program, output, report, tolerance_mm));
 }

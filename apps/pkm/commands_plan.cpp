@@ -13,6 +13,7 @@
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/io/atomic_file.hpp"
 #include "pkm/io/sample_files.hpp"
+#include "pkm/motion/job_reach.hpp"
 #include "pkm/view/html_page.hpp"
 #include "pkm/view/reports.hpp"
 #include "progress.hpp"
@@ -81,8 +82,8 @@ motion::PlanReport run_planner(const Machine& machine, const PlanCommandOptions&
   } catch (const gcode::GcodeError& error) {
     throw CommandError(error.what());
   } catch (const motion::PlanError& error) {
-    throw CommandError(error.what() + job_reach_hint(machine, options.program, setup.interpreter,
-                                                     setup.plan.origin));
+    throw CommandError(error.what() + motion::job_reach_hint(machine, options.program,
+                                                             setup.interpreter, setup.plan.origin));
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }

@@ -8,6 +8,7 @@
 #include "app.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/io/atomic_file.hpp"
+#include "pkm/motion/job_reach.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/post/mach3_export.hpp"
 #include "pkm/post/program_header.hpp"
@@ -93,8 +94,9 @@ void run_post(const PostCommandOptions& options) {
   } catch (const gcode::GcodeError& error) {
     throw CommandError(error.what());
   } catch (const post::PostError& error) {
-    throw CommandError(error.what() + job_reach_hint(machine, options.program, interpreter_options,
-                                                     post_options.origin));
+    throw CommandError(error.what() + motion::job_reach_hint(machine, options.program,
+                                                             interpreter_options,
+                                                             post_options.origin));
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }

@@ -91,6 +91,7 @@ def test_plan_of_a_move_out_of_reach_raises_plan_error(machines, test_data, pkm_
     with pytest.raises(pkmkit.PlanError) as raised:
         pkmkit.plan(m, str(job))
     assert raised.value.line == 3 and str(raised.value).startswith(f"{job}:3: ")
+    assert "\n  hint: the job spans" in str(raised.value)  # where the job would fit
     cli = subprocess.run([pkm_binary, "plan", "-m", str(machines / "hexapod-bit.toml"), str(job)],
                          capture_output=True, text=True)
     assert cli.returncode != 0 and str(raised.value) in cli.stderr

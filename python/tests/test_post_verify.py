@@ -51,10 +51,15 @@ def test_verify_gives_pkm_verifys_report(machines, test_data, pkm_binary, tmp_pa
     assert tight["violations"]["deviation"]["count"] > 0
 
 
-def test_post_and_verify_errors(machines, test_data, tmp_path):
+def test_post_and_verify_errors(machines, test_data, pkm_binary, tmp_path):
     hexapod = pkmkit.Machine.load(str(machines / "hexapod-bit.toml"))
-    with pytest.raises(pkmkit.PostError, match=r"hexapod-out-of-reach.ngc:3: "):
-        pkmkit.post(hexapod, str(test_data / "hexapod-out-of-reach.ngc"), str(tmp_path / "o.ngc"))
+    job = test_data / "hexapod-out-of-reach.ngc"
+    with pytest.raises(pkmkit.PostError, match=r"hexapod-out-of-reach.ngc:3: ") as raised:
+        pkmkit.post(hexapod, str(job), str(tmp_path / "o.ngc"))
+    cli = subprocess.run([pkm_binary, "post", "-m", str(machines / "hexapod-bit.toml"), str(job),
+                          "-o", str(tmp_path / "cli.ngc")], capture_output=True, text=True)
+    assert cli.returncode != 0 and cli.stderr == f"pkm: error: {raised.value}\n"
+    assert "\n  hint: " in str(raised.value)
     assert not (tmp_path / "o.ngc").exists()  # nothing left behind
     m = pkmkit.Machine.load(str(machines / "hektor.toml"))
     with pytest.raises(ValueError, match="unknown dialect"):
