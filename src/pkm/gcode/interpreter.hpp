@@ -14,6 +14,7 @@
 
 #include "pkm/gcode/block.hpp"
 #include "pkm/gcode/canon.hpp"
+#include "pkm/gcode/line_source.hpp"  // kMaxLineBytes
 #include "pkm/gcode/tool_table.hpp"
 
 namespace pkm::gcode {
@@ -35,9 +36,6 @@ struct InterpreterOptions {
   long max_program_iterations = 1'000'000;
 };
 
-// The longest line the interpreter reads, in bytes: a longer one is an error (memory stays
-// bounded by it).
-inline constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
 // The deepest subroutine calls nest: LinuxCNC's 10 levels, the main program one of them.
 inline constexpr std::size_t kMaxCallDepth = 9;
 

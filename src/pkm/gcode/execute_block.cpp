@@ -1,0 +1,221 @@
+// One block executed in LinuxCNC's order of execution: comments and messages, feed mode, feed,
+// spindle speed, tool selection, M codes (tool change, spindle, coolant, passed-on events),
+// dwell, modes (plane, units, cutter compensation, tool length, coordinate system, path control,
+// distance and retract modes), the non-modal codes (G10, G28/G30, G92), motion, stop and end.
+#include <cctype>
+
+#include "pkm/gcode/interpreter_state.hpp"
+
+namespace pkm::gcode {
+
+void Interpreter::State::execute_block(const Block& block) {
+  // Most lines of a CAM program are bare axis words continuing a G0 or G1: nothing but the move
+  // to make. (The general path below makes the same move; this one skips its checks.)
+  if (block.plain && (motion == 0 || motion == 10) && block.letters != 0 &&
+      (block.letters & ~kAxisSlots) == 0) {
+    motion_changed = false;
+    move_column = 1;
+    if (motion == 10) require_feed(block, 1);
+    target(block, false, move_.end);  // built in place: straight() finds it there
+    straight(motion == 0 ? CanonKind::traverse : CanonKind::feed, block, move_.end);
+    return;
+  }
+  apply_assignments(block);
+  emit_comments(block);
+  if (block.empty) return;
+  group_codes(block);
+  refuse_unused_words(block);
+  const Code* const non_modal = g_by_group[0];
+  const Code* const motion_code = g_by_group[1];
+  bool has_axis = (block.letters & (kAxisSlots | kPolarSlots)) != 0;
+
+  set_feed_speed_and_tool(block, g_by_group[5]);
+  if (m_by_group.any()) execute_m_codes(block);  // most blocks have no M code
+  dwell_if_asked(block, non_modal);
+  if (!g_by_group[7] && block.word('d')) {
+    fail(block.word('d')->column, "D word with no G41, G42, G41.1 or G42.1 to use it");
+  }
+  if (g_by_group.any()) set_modes(block, has_axis);  // most blocks have no G code
+  const bool axes_used = non_modal && execute_non_modal(block, *non_modal);
+
+  const bool machine_coordinates = non_modal && non_modal->tenths == 530;
+  const bool previous_cycle = motion >= 730 && motion != 800;
+  motion_changed = false;
+  if (motion_code) {
+    motion_changed = motion_code->tenths != motion;
+    if (motion_code->tenths == 800) cycle_series = false;
+    motion = motion_code->tenths;
+  }
+  // An explicit G0..G3 moves even without axis words (to where it is, as LinuxCNC does).
+  const bool explicit_move = motion_code && motion_code->tenths <= 30;
+  if (!axes_used && (has_axis || explicit_move))
+    make_motion(block, motion_code, machine_coordinates);
+  if (!motion_code || motion_code->tenths < 730) {
+    if (previous_cycle && motion < 730) cycle_series = false;
+  }
+  if (m_by_group[4]) stop_or_end(block);
+}
+
+void Interpreter::State::emit_comments(const Block& block) {
+  for (const Comment& comment : block.comments) {
+    std::string text = comment.text;
+    std::string lower = text;
+    for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const auto first = lower.find_first_not_of(" \t");
+    if (first != std::string::npos && lower.compare(first, 4, "msg,") == 0) {
+      Canon message = make(CanonKind::message, block);
+      message.text = text.substr(first + 4);
+      emit(message);
+    } else {
+      Canon c = make(CanonKind::comment, block);
+      c.text = text;
+      emit(c);
+    }
+  }
+}
+
+void Interpreter::State::set_feed_speed_and_tool(const Block& block, const Code* feed_mode_code) {
+  if (feed_mode_code) {
+    if (feed_mode_code->tenths == 950) {
+      fail(feed_mode_code->column, "G95 (feed per revolution) is not supported");
+    }
+    feed_mode = feed_mode_code->tenths == 930 ? FeedMode::inverse_time : FeedMode::units_per_minute;
+    Canon c = make(CanonKind::set_feed_mode, block);
+    c.feed_mode = feed_mode;
+    emit(c);
+  }
+  if (block.has('f')) {
+    const double f = block.value('f');
+    if (f < 0.0) fail(block.word('f')->column, "negative F word");
+    feed = f;
+    if (feed_mode == FeedMode::units_per_minute) {
+      Canon c = make(CanonKind::set_feed_rate, block);
+      c.value = f;
+      emit(c);
+    }
+  }
+  if (block.has('s')) {
+    if (block.value('s') < 0.0) fail(block.word('s')->column, "negative spindle speed");
+    speed = block.value('s');
+    Canon c = make(CanonKind::spindle_speed, block);
+    c.value = speed;
+    emit(c);
+  }
+  if (block.has('t')) select_tool(block);
+}
+
+void Interpreter::State::execute_m_codes(const Block& block) {
+  if (m_by_group[6]) change_tool(block, *m_by_group[6]);
+  if (m_by_group[7]) {
+    const int code = m_by_group[7]->tenths;
+    if (code == 30) emit(CanonKind::spindle_clockwise, block);
+    if (code == 40) emit(CanonKind::spindle_counterclockwise, block);
+    if (code == 50) emit(CanonKind::spindle_stop, block);
+  }
+  for (const int group : {8, 11}) {
+    if (!m_by_group[group]) continue;
+    const int code = m_by_group[group]->tenths;
+    if (code == 70) emit(CanonKind::mist_on, block);
+    if (code == 80) emit(CanonKind::flood_on, block);
+    if (code == 90) {
+      emit(CanonKind::mist_off, block);
+      emit(CanonKind::flood_off, block);
+    }
+  }
+  // Overrides, digital and analog I/O and user codes: a real machine's business, passed on.
+  for (const int group : {9, 5, 10}) {
+    if (!m_by_group[group]) continue;
+    const int code = m_by_group[group]->tenths;
+    Canon event = make(CanonKind::event, block);
+    event.text = code_name('M', code);
+    if (group == 10) warn(code_name('M', code) + " (user M-code) passed on as an event");
+    emit(event);
+  }
+}
+
+void Interpreter::State::dwell_if_asked(const Block& block, const Code* non_modal) {
+  if (!non_modal || non_modal->tenths != 40) return;
+  if (!block.has('p')) fail(non_modal->column, "G4 needs a P word (seconds)");
+  if (block.value('p') < 0.0) fail(block.word('p')->column, "negative dwell");
+  dwell(block, block.value('p'));
+}
+
+void Interpreter::State::set_modes(const Block& block, bool& has_axis) {
+  if (const auto code = g_by_group[2]) {
+    const Plane wanted = code->tenths == 170   ? Plane::xy
+                         : code->tenths == 180 ? Plane::xz
+                                               : Plane::yz;
+    if (wanted != plane) refuse_with_compensation(*code, "change planes");
+    plane = wanted;
+    emit(CanonKind::select_plane, block);
+  }
+  if (const auto code = g_by_group[6]) {
+    set_units(code->tenths == 200 ? LengthUnits::inch : LengthUnits::mm);
+    emit(CanonKind::use_length_units, block);
+  }
+  if (const auto code = g_by_group[7]) set_compensation(block, *code);
+  if (const auto code = g_by_group[8]) set_tool_length_offset(block, *code, has_axis);
+  if (const auto code = g_by_group[12]) select_coordinate_system(block, *code);
+  if (const auto code = g_by_group[13]) set_path_control(block, *code);
+  if (const auto code = g_by_group[3]) absolute = code->tenths == 900;
+  if (const auto code = g_by_group[4]) arc_absolute = code->tenths == 901;
+  if (const auto code = g_by_group[10]) retract_to_old = code->tenths == 980;
+  if (const auto code = g_by_group[14]) {
+    if (code->tenths == 960) fail(code->column, "G96 (constant surface speed) is not supported");
+  }
+  // Group 15, lathe radius/diameter mode (G7/G8): no effect on these machines.
+}
+
+void Interpreter::State::set_units(LengthUnits wanted) {
+  if (wanted == units) return;
+  const double factor = wanted == LengthUnits::inch ? 1.0 / kMmPerInch : kMmPerInch;
+  for (int axis = 0; axis < kAxes; ++axis) {
+    if (is_linear(axis)) pos[axis] *= factor;
+  }
+  feed *= factor;
+  units = wanted;
+  compensation.rescale(factor, units);
+}
+
+void Interpreter::State::set_path_control(const Block& block, const Code& code) {
+  refuse_with_compensation(code, "change the path control mode");
+  path_mode = code.tenths == 640 ? 64 : code.tenths == 610 ? 61 : 611;
+  path_tolerance = code.tenths == 640 && block.has('p') ? block.value('p') : 0.0;
+  Canon c = make(CanonKind::path_control, block);
+  c.integer = path_mode;
+  c.value = path_tolerance;
+  c.value2 = block.has('q') ? block.value('q') : 0.0;
+  emit(c);
+}
+
+void Interpreter::State::stop_or_end(const Block& block) {
+  const int code = m_by_group[4]->tenths;
+  release_compensation(m_by_group[4]->column);
+  if (code == 0) emit(CanonKind::program_stop, block);
+  if (code == 10) emit(CanonKind::optional_stop, block);
+  if (code == 600) emit(CanonKind::program_stop, block);
+  if (code == 20 || code == 300) end_program(block);
+}
+
+void Interpreter::State::end_program(const Block& block) {
+  // LinuxCNC resets the modal state at the program end.
+  const Position old_total = total_offset_mm();
+  coord_system = 1;
+  g92_mm = {};
+  reexpress(old_total);
+  plane = Plane::xy;
+  absolute = true;
+  feed_mode = FeedMode::units_per_minute;
+  motion = 10;
+  cycle_series = false;
+  compensation.turn_off();  // nothing is held any more: the stop released it
+  straight_exit = false;
+  emit_offsets(block);
+  emit(CanonKind::select_plane, block);
+  emit(CanonKind::spindle_stop, block);
+  emit(CanonKind::program_end, block);
+  saw_end = true;
+  ended = true;
+}
+
+}  // namespace pkm::gcode

@@ -1,0 +1,398 @@
+// The interpreter's state while it runs a program, private to the interpreter's rooms: one
+// struct, its members defined by concern in
+//   interpreter.cpp         lines of the program, the run, assignments
+//   execute_block.cpp       a block's steps in LinuxCNC's order of execution
+//   word_checks.cpp         the block's codes by modal group, words no code uses, word ranges
+//   coordinate_systems.cpp  offsets, G5x, G10, G28/G30, G92, where axis words lead
+//   motion.cpp              straight moves, arcs, probing
+//   canned_cycles.cpp       G73, G81-G89
+//   tools.cpp               tool selection and change, tool length, cutter compensation
+//   o_word_flow.cpp         subroutines, conditionals and loops
+// Members used on the path of every line are defined here, inline.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <initializer_list>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "pkm/gcode/block.hpp"
+#include "pkm/gcode/canon.hpp"
+#include "pkm/gcode/cutter_compensation.hpp"
+#include "pkm/gcode/gcode_error.hpp"
+#include "pkm/gcode/interpreter.hpp"
+#include "pkm/gcode/line_source.hpp"
+#include "pkm/gcode/modal_groups.hpp"
+#include "pkm/gcode/parameters.hpp"
+
+namespace pkm::gcode {
+
+inline constexpr double kMmPerInch = 25.4;
+// Tool numbers (T, H, D, M61 Q, G10 P) in magnitude: as a tool table holds them (tool_table.cpp).
+inline constexpr double kMaxToolNumber = 1e6;
+inline constexpr int kX = 0, kY = 1, kZ = 2;
+
+// The axis letters in Position order, the word slots (Block::words) they use, and the axis of
+// each slot (-1: not an axis). The polar words @ and ^ use the slots of G and M.
+inline constexpr char kAxisLetters[kAxes] = {'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'};
+inline constexpr std::uint32_t kAxisSlots = [] {
+  std::uint32_t mask = 0;
+  for (const char letter : kAxisLetters) mask |= 1u << (letter - 'a');
+  return mask;
+}();
+inline constexpr std::array<int, 26> kAxisOfSlot = [] {
+  std::array<int, 26> axis_of{};
+  axis_of.fill(-1);
+  for (int axis = 0; axis < kAxes; ++axis) axis_of[kAxisLetters[axis] - 'a'] = axis;
+  return axis_of;
+}();
+inline constexpr std::uint32_t kPolarSlots = (1u << ('g' - 'a')) | (1u << ('m' - 'a'));
+
+inline bool is_linear(int axis) {
+  return axis < 3 || axis >= 6;
+}
+
+struct CycleLevels;  // canned_cycles.cpp
+
+struct Interpreter::State {
+  struct Mark {
+    std::int64_t position = 0;  // byte offset in the file
+    int line = 0;
+  };
+
+  // The source, read a line at a time.
+  LineSource source;
+  std::string file_name;
+  Mark next{0, 1};
+  Mark current;  // the line being executed
+
+  const InterpreterOptions& options;
+  std::vector<Warning>& warnings;
+  const CanonSink* sink = nullptr;
+  CanonSink checked_sink;  // `sink` behind all_finite: what compensation hands commands to
+  Parameters parameters;
+
+  // Modal state. Lengths are in program units (those of G20/G21) where they are program
+  // coordinates, in mm where they are offsets kept for the machine.
+  LengthUnits units = LengthUnits::mm;
+  Plane plane = Plane::xy;
+  bool absolute = true;
+  bool arc_absolute = false;
+  FeedMode feed_mode = FeedMode::units_per_minute;
+  double feed = 0.0;
+  double speed = 0.0;
+  int motion = 0;               // G code times ten of the active motion mode, -1 after G80
+  bool retract_to_old = false;  // G99 (retract to R) until G98, as LinuxCNC starts
+  Position pos{};               // program coordinates
+  int coord_system = 1;
+  Position g92_mm{};
+  Position tool_offset_mm{};
+  int tool_in_spindle = 0;
+  int selected_tool = 0;
+  int path_mode = 64;
+  double path_tolerance = 0.0;
+  // G41/G42: moves go through it, and every other command too (it holds them behind a move
+  // whose end the next move settles). `pos` stays the programmed point.
+  CutterCompensation compensation;
+  bool straight_exit = false;  // offset moves ended at G40: the next move must be straight
+  int move_column = 1;         // where the block's motion is, for errors found making it
+  // After G40 the tool stays off the programmed point until the next move. A tool change
+  // takes the machine's position as the program's (LinuxCNC re-reads it), so it matters then.
+  std::optional<Position> tool_off_path;
+
+  // Canned cycles: sticky words and the level the current series started from.
+  double cycle_r = 0.0, cycle_z = 0.0;  // mm
+  double cycle_q = 0.0, cycle_p = 0.0;
+  double cycle_old_cc = 0.0;
+  bool cycle_series = false;
+  bool motion_changed = false;  // this block changes the motion mode
+
+  // Control flow.
+  struct Frame {
+    enum class Type {
+      if_,
+      while_,
+      do_,
+      repeat,
+    } type;
+    std::string label;
+    Mark start;           // the line that opened the frame
+    long remaining = 0;   // repeat count
+    bool taken = false;   // an if branch already ran
+    long iterations = 0;  // times the loop went round (bounded by max_loop_iterations)
+  };
+  std::vector<Frame> flow;
+  struct Call {
+    std::string label;
+    Mark return_to;
+    std::size_t flow_depth;
+  };
+  std::vector<Call> calls;
+  std::map<std::string, Mark> subroutines;
+  Block block_;  // the line being executed; one block's storage serves every line
+  Canon move_;   // see next_move()
+  CodesByGroup<16> g_by_group;
+  CodesByGroup<12> m_by_group;  // 11: M7 and M8 on one line
+  long program_iterations = 0;  // bounded by max_program_iterations
+  bool percent_program = false;
+  bool first_content = true;  // no line with content read yet
+  bool ended = false;
+  bool saw_end = false;
+
+  State(const std::filesystem::path& path, const InterpreterOptions& opts,
+        std::vector<Warning>& warns);
+
+  // ---- the run (interpreter.cpp) ---------------------------------------------------------
+  void start(const CanonSink& output);
+  void run(const CanonSink& output);
+  bool step();
+  // The next line to execute (blank lines and the opening '%' skipped); false at the end.
+  bool next_line(std::string_view& line);
+  void execute(std::string_view line) {
+    if (!options.event_lines.empty() && is_event_line(line)) return;
+    execute_line(line);
+  }
+  // After the last line: the program end a file without M2, M30 or '%' lacks.
+  void finish();
+  bool is_event_line(std::string_view line);
+  void execute_line(std::string_view line);
+  // Parameters set on a line take effect before it runs, with every value read before them.
+  void apply_assignments(const Block& block);
+
+  // ---- the source ------------------------------------------------------------------------
+  // The next line into `line`, a view valid until the next read.
+  // Inlined: it is on the path of every line (the compiler stopped inlining it on its own).
+  [[gnu::always_inline]] bool read_line(std::string_view& line) {
+    current = next;
+    const auto read = source.read(next.position);
+    if (!read) {
+      if (source.failed()) cannot_read();
+      return false;
+    }
+    line = read->first;
+    next = {read->second, current.line + 1};
+    return true;
+  }
+  [[noreturn, gnu::cold, gnu::noinline]] void cannot_read() const;
+  void jump(const Mark& mark) { next = mark; }
+  // The line after the one at `mark`.
+  Mark after(const Mark& mark);
+
+  [[noreturn]] void fail(int column, const std::string& message) const {
+    throw GcodeError(file_name, current.line, column, message);
+  }
+  void warn(const std::string& message) { warnings.push_back({current.line, message}); }
+
+  // ---- units -----------------------------------------------------------------------------
+  double to_mm(double value) const {
+    return units == LengthUnits::inch ? value * kMmPerInch : value;
+  }
+  double from_mm(double value) const {
+    return units == LengthUnits::inch ? value / kMmPerInch : value;
+  }
+  double axis_from_mm(int axis, double value) const {
+    return is_linear(axis) ? from_mm(value) : value;
+  }
+  double axis_to_mm(int axis, double value) const { return is_linear(axis) ? to_mm(value) : value; }
+
+  // ---- output ----------------------------------------------------------------------------
+  Canon make(CanonKind kind, const Block& block) const {
+    Canon c;
+    c.kind = kind;
+    c.line = current.line;
+    c.n_label = block.n_label;
+    c.units = units;
+    c.plane = plane;
+    c.end = pos;
+    return c;
+  }
+  // The move being made: one Canon serves every move, keeping its strings' storage.
+  Canon& next_move(CanonKind kind, const Block& block) {
+    move_.kind = kind;
+    move_.line = current.line;
+    if (block.n_label.empty()) {
+      move_.n_label.clear();  // most lines have no N word: no call into the string's assign
+    } else {
+      move_.n_label = block.n_label;
+    }
+    move_.units = units;
+    move_.plane = plane;
+    // Moves set value and feed_mode themselves and never value2, integer or text.
+    move_.center = {};
+    move_.turns = 0;
+    return move_;
+  }
+  void emit(const Canon& canon) {
+    // Behind held moves a command waits in compensation, whose output checked_sink checks.
+    if (compensation.holding()) return compensation.pass(canon);
+    if (!all_finite(canon)) not_finite(canon);
+    (*sink)(canon);
+  }
+  void emit(CanonKind kind, const Block& block) { emit(make(kind, block)); }
+  void dwell(const Block& block, double seconds) {
+    Canon c = make(CanonKind::dwell, block);
+    c.value = seconds;
+    emit(c);
+  }
+  // Every value handed to the sink is finite: all_finite on each (inline, every command passes
+  // it), not_finite refusing one that is not.
+  static bool all_finite(const Canon& canon) {
+    // x * 0 is 0 for a finite x and NaN otherwise: one test for all, no branch per number.
+    double probe =
+        canon.value * 0.0 + canon.value2 * 0.0 + canon.center[0] * 0.0 + canon.center[1] * 0.0;
+    for (const double value : canon.end) probe += value * 0.0;
+    return probe == 0.0;
+  }
+  [[noreturn, gnu::cold, gnu::noinline]] void not_finite(const Canon& canon) const;
+
+  // ---- a block's steps (execute_block.cpp) -----------------------------------------------
+  void execute_block(const Block& block);
+  void emit_comments(const Block& block);
+  void set_feed_speed_and_tool(const Block& block, const Code* feed_mode_code);
+  void execute_m_codes(const Block& block);
+  void dwell_if_asked(const Block& block, const Code* non_modal);
+  // Plane, units, cutter compensation, tool length, coordinate system, path control, distance
+  // and retract modes. Clears `has_axis` where the axis words were an offset (G43.1).
+  void set_modes(const Block& block, bool& has_axis);
+  void set_units(LengthUnits wanted);
+  void set_path_control(const Block& block, const Code& code);
+  void stop_or_end(const Block& block);
+  void end_program(const Block& block);
+
+  // ---- the block's words (word_checks.cpp) -----------------------------------------------
+  // Sorts the block's codes into g_by_group and m_by_group, refusing two of one group; M codes
+  // with no meaning here are passed on as events.
+  void group_codes(const Block& block);
+  // A word that must hold a number in [low, high] before it is converted to an integer.
+  void require_word_in_range(const Block& block, char letter, double low, double high,
+                             const std::string& what) const;
+  // Words no code of the block uses are refused, as rs274 refuses them.
+  void refuse_unused_words(const Block& block) const;
+  void require_feed(const Block& block, int column) const {
+    if (feed_mode == FeedMode::inverse_time ? !block.has('f') : !(feed > 0.0)) missing_feed(column);
+  }
+  [[noreturn, gnu::cold, gnu::noinline]] void missing_feed(int column) const;
+
+  // ---- coordinate systems and offsets (coordinate_systems.cpp) ---------------------------
+  Position g5x_mm(int system) const;
+  // Everything between program and machine coordinates, mm.
+  Position total_offset_mm() const;
+  // Moves the program position so the machine position stays put when offsets change.
+  void reexpress(const Position& old_total_mm);
+  void emit_offsets(const Block& block);
+  // Where the block's axis words lead, into `end` (the current point where a word is missing).
+  void target(const Block& block, bool machine_coordinates, Position& end) const;
+  Position target(const Block& block, bool machine_coordinates) const {
+    Position end;
+    target(block, machine_coordinates, end);
+    return end;
+  }
+  void select_coordinate_system(const Block& block, const Code& code);
+  // G10, G28, G30, G28.1, G30.1 and G92..G92.3; true when the axis words were theirs.
+  bool execute_non_modal(const Block& block, const Code& code);
+  void set_coordinates(const Block& block);
+  void set_coordinate_system(const Block& block, long l, long p);
+  void set_tool_entry(const Block& block, long p, int column);
+  void go_home(const Block& block, int code);
+  void store_home(int code);
+  void set_axis_offsets(const Block& block, int code);
+
+  // ---- motion (motion.cpp) ---------------------------------------------------------------
+  // The block's move in the active motion mode (axis words given, or G0-G3 alone).
+  void make_motion(const Block& block, const Code* motion_code, bool machine_coordinates);
+  void straight(CanonKind kind, const Block& block, const Position& end);
+  void arc(const Block& block, int code, const Position& end);
+  std::array<double, 2> arc_centre_from_radius(const Block& block, int code,
+                                               const std::array<double, 2>& start,
+                                               const std::array<double, 2>& end) const;
+  // An I/J/K centre must be as far from the start as from the end, within LinuxCNC's tolerance.
+  void check_arc_radii(int column, const std::array<double, 2>& centre,
+                       const std::array<double, 2>& start, const std::array<double, 2>& end) const;
+  void probe(const Block& block, int column, const Position& end);
+  // Runs `action` on cutter compensation; a path it refuses is an error at `column`.
+  template <class Action>
+  void compensating(int column, Action&& action) {
+    try {
+      action();
+    } catch (const CompensationError& error) {
+      fail(column, error.what());
+    }
+  }
+  // Hands a move on, through cutter compensation (made by `compensate`, from the programmed
+  // point `pos`) when that offsets moves, and makes its end the programmed point.
+  void send_move(const Canon& move,
+                 void (CutterCompensation::*compensate)(Canon, const Position&)) {
+    tool_off_path.reset();
+    if (compensation.offsetting()) {
+      compensating(move_column, [&] { (compensation.*compensate)(move, pos); });
+    } else {
+      emit(move);
+    }
+    pos = move.end;
+  }
+
+  // ---- canned cycles (canned_cycles.cpp) -------------------------------------------------
+  void cycle(const Block& block, int code, const Position& end);
+  // The block's sticky words taken, its levels along the plane's normal worked out.
+  CycleLevels cycle_levels(const Block& block, int code);
+  void cycle_move(const Block& block, const CycleLevels& levels, CanonKind kind, double at_1,
+                  double at_2, double height);
+  void cycle_hole(const Block& block, int code, const CycleLevels& levels, double at_1,
+                  double at_2);
+  void peck(const Block& block, int code, const CycleLevels& levels, double at_1, double at_2);
+
+  // ---- tools and cutter compensation (tools.cpp) -----------------------------------------
+  void select_tool(const Block& block);
+  void change_tool(const Block& block, const Code& code);
+  void set_tool_length_offset(const Block& block, const Code& code, bool& has_axis);
+  void set_compensation(const Block& block, const Code& code);
+  void start_compensation(const Block& block, const Code& code);
+  double compensation_radius(const Block& block, const Code& code);
+  // Held commands go out (program stops and ends): the last offset move ends where the tool is.
+  void release_compensation(int column) {
+    compensating(column, [&] { compensation.flush(); });
+  }
+  // Codes LinuxCNC refuses while compensation is on: they would move the path under it.
+  void refuse_with_compensation(const Code& code, const std::string& what) const {
+    if (compensation.on()) {
+      fail(code.column, "cannot " + what + " with cutter radius compensation on (G40 first)");
+    }
+  }
+  void require_finite_tool(const ToolEntry& entry, int column) const {
+    bool finite = std::isfinite(entry.diameter);
+    for (const double value : entry.offset) finite = finite && std::isfinite(value);
+    if (!finite) fail(column, "calculation resulted in infinity or NaN (a tool offset too large)");
+  }
+
+  // ---- O-word flow (o_word_flow.cpp) -----------------------------------------------------
+  void execute_o_word(const Block& block);
+  double o_value(const OWord& o) const;
+  // The innermost open frame is `type` and belongs to `label`.
+  bool innermost_is(Frame::Type type, const std::string& label) const {
+    return !flow.empty() && flow.back().type == type && flow.back().label == label;
+  }
+  void call_subroutine(const OWord& o);
+  void return_from_subroutine(const OWord& o);
+  void o_if(const OWord& o);
+  void o_else(const OWord& o);
+  void o_while(const OWord& o);
+  void o_endwhile(const OWord& o);
+  void o_repeat(const OWord& o);
+  void o_endrepeat(const OWord& o);
+  void o_break_or_continue(const OWord& o);
+  void skip_to(const std::string& label, std::initializer_list<std::string_view> keywords,
+               std::string* found_keyword, int column);
+  Mark find_subroutine(const std::string& label, int column);
+  // Bounds (docs/gcode.md): one more round of `loop`, one more unit of the program's work.
+  void count_loop_iteration(Frame& loop, int column);
+  void count_program_iteration(int column);
+  void require_call_depth(const OWord& o) const;
+};
+
+}  // namespace pkm::gcode

@@ -1,0 +1,135 @@
+// Tools: selection (T), change (M6, M61), tool length offsets (G43, G43.1, G49) from the tool
+// table, and cutter radius compensation (G40, G41/G42 with a tool's diameter, G41.1/G42.1 with
+// a D word's) turned on and off; the offset path itself is cutter_compensation.cpp's.
+#include <cmath>
+
+#include "pkm/gcode/interpreter_state.hpp"
+
+namespace pkm::gcode {
+
+void Interpreter::State::select_tool(const Block& block) {
+  require_word_in_range(block, 't', -kMaxToolNumber, kMaxToolNumber, "tool numbers go from");
+  const long t = std::lround(block.value('t'));
+  if (t < 0) fail(block.word('t')->column, "negative tool number");
+  if (options.tool_table && t != 0 && !options.tool_table->count(static_cast<int>(t))) {
+    fail(block.word('t')->column,
+         "requested tool " + std::to_string(t) + " not found in the tool table");
+  }
+  if (!options.tool_table && t != 0)
+    warn("T" + std::to_string(t) + " without a tool table: no offsets known");
+  selected_tool = static_cast<int>(t);
+  Canon c = make(CanonKind::select_tool, block);
+  c.integer = selected_tool;
+  emit(c);
+}
+
+void Interpreter::State::change_tool(const Block& block, const Code& code) {
+  refuse_with_compensation(code, "change tools");
+  if (code.tenths == 60) {
+    Canon c = make(CanonKind::change_tool, block);
+    c.integer = selected_tool;
+    emit(c);
+  }
+  if (tool_off_path) pos = *tool_off_path;
+  tool_off_path.reset();
+  require_word_in_range(block, 'q', -kMaxToolNumber, kMaxToolNumber, "tool numbers go from");
+  tool_in_spindle =
+      code.tenths == 610 ? static_cast<int>(block.has('q') ? block.value('q') : 0) : selected_tool;
+}
+
+void Interpreter::State::set_tool_length_offset(const Block& block, const Code& code,
+                                                bool& has_axis) {
+  refuse_with_compensation(code, "change the tool length offset");
+  Position offset{};
+  if (code.tenths == 430) {
+    require_word_in_range(block, 'h', -kMaxToolNumber, kMaxToolNumber, "tool numbers go from");
+    const int tool =
+        block.has('h') ? static_cast<int>(std::lround(block.value('h'))) : tool_in_spindle;
+    if (tool != 0) {
+      if (options.tool_table && !options.tool_table->count(tool)) {
+        fail(code.column, "tool " + std::to_string(tool) + " for G43 not in the tool table");
+      }
+      if (options.tool_table) offset = options.tool_table->at(tool).offset;
+    }
+  } else if (code.tenths == 431) {
+    for (int axis = 0; axis < kAxes; ++axis) {
+      if (block.has(kAxisLetters[axis]))
+        offset[axis] = axis_to_mm(axis, block.value(kAxisLetters[axis]));
+    }
+    has_axis = false;  // the axis words were the offset
+  } else if (code.tenths == 432) {
+    fail(code.column, "G43.2 is not supported");
+  }
+  // The program position stays: the machine makes up the new length on the next move.
+  tool_offset_mm = offset;
+  Canon c = make(CanonKind::tool_length_offset, block);
+  for (int axis = 0; axis < kAxes; ++axis) c.end[axis] = axis_from_mm(axis, offset[axis]);
+  emit(c);
+}
+
+void Interpreter::State::set_compensation(const Block& block, const Code& code) {
+  if (code.tenths != 400) return start_compensation(block, code);
+  const Position tool = compensation.tool_position(pos);
+  compensating(code.column, [&] { straight_exit = compensation.turn_off(); });
+  if (straight_exit) tool_off_path = tool;
+}
+
+void Interpreter::State::start_compensation(const Block& block, const Code& code) {
+  if (plane == Plane::yz) {
+    fail(code.column, "cutter radius compensation works in the XY (G17) or XZ (G18) plane only");
+  }
+  if (compensation.on()) fail(code.column, "cutter radius compensation is already on (G40 first)");
+  const double radius = compensation_radius(block, code);
+  compensation.turn_on(
+      code.tenths == 410 || code.tenths == 411 ? CompensationSide::left : CompensationSide::right,
+      radius, plane);
+}
+
+double Interpreter::State::compensation_radius(const Block& block, const Code& code) {
+  const std::string name = code_name('G', code.tenths);
+  const auto& d = block.word('d');
+  if (code.tenths == 411 || code.tenths == 421) {
+    // G41.1/G42.1: the D word is the tool's diameter.
+    if (!d) fail(code.column, name + " needs a D word: the tool diameter");
+    if (const auto& l = block.word('l')) {
+      if (plane != Plane::xz) {
+        fail(l->column, name + " with an L word (lathe tool orientation) needs the XZ plane (G18)");
+      }
+      if (l->value != 0.0 && l->value != 9.0) {
+        fail(l->column, "lathe tool orientations are not supported: L0 or L9 (a round tool) only");
+      }
+    }
+    return d->value / 2.0;
+  }
+  // G41/G42: the D word names a tool in the table; without one, the tool in the spindle.
+  int tool = tool_in_spindle;
+  const int column = d ? d->column : code.column;
+  if (d) {
+    require_word_in_range(block, 'd', -kMaxToolNumber, kMaxToolNumber, "tool numbers go from");
+    const double number = std::round(d->value);
+    if (std::abs(d->value - number) >= 1e-4) {
+      fail(d->column, name + " needs D to be a whole number: a tool in the tool table");
+    }
+    if (number < 0.0) fail(d->column, "negative D word (tool number)");
+    tool = static_cast<int>(number);
+  }
+  double radius = 0.0;  // program units
+  if (tool != 0) {
+    if (!options.tool_table) {
+      fail(column, name + " needs a tool table (--tool-table) for the diameter of tool " +
+                       std::to_string(tool));
+    }
+    const auto entry = options.tool_table->find(tool);
+    if (entry == options.tool_table->end()) {
+      fail(column, "tool " + std::to_string(tool) + " for " + name + " is not in the tool table");
+    }
+    radius = from_mm(entry->second.diameter) / 2.0;
+  }
+  if (radius == 0.0) {
+    warn(name + " with tool " + std::to_string(tool) +
+         " of zero diameter: the moves are not offset");
+  }
+  return radius;
+}
+
+}  // namespace pkm::gcode

@@ -1,0 +1,156 @@
+// The words of a block: its codes sorted by modal group (at most one of each), words no code
+// uses refused as rs274 refuses them, numbers checked against the range of what they index.
+#include <cctype>
+#include <string_view>
+
+#include "pkm/gcode/interpreter_state.hpp"
+
+namespace pkm::gcode {
+
+void Interpreter::State::group_codes(const Block& block) {
+  g_by_group.clear();
+  m_by_group.clear();
+  for (const Code& code : block.g_codes) {
+    const int group = g_group(code.tenths);
+    if (group < 0) fail(code.column, "unknown G code " + code_name('G', code.tenths));
+    const Code* slot = g_by_group[group];
+    if (!slot) {
+      g_by_group.set(group, code);
+      continue;
+    }
+    if (group == 1 && (slot->tenths == 800 || code.tenths == 800)) {
+      // "G80 G0": the cycle ends and the other motion mode takes over, as LinuxCNC allows.
+      if (slot->tenths == 800) g_by_group.set(group, code);
+      cycle_series = false;
+      continue;
+    }
+    if (group == 0) fail(code.column, "two non-modal G codes on one line");
+    fail(code.column, "two G codes of one modal group: " + code_name('G', slot->tenths) + " and " +
+                          code_name('G', code.tenths));
+  }
+  for (const Code& code : block.m_codes) {
+    int group = m_group(code.tenths);
+    if (group < 0) {
+      // Codes with no meaning off a real machine (M280 pen servo, M200+) are passed on.
+      Canon event = make(CanonKind::event, block);
+      event.text = code_name('M', code.tenths) + " passed on";
+      warn(code_name('M', code.tenths) + " has no meaning here; passed on as an event");
+      emit(event);
+      continue;
+    }
+    if (group == 8 && m_by_group[8] && (code.tenths == 70 || code.tenths == 80) &&
+        (m_by_group[8]->tenths == 70 || m_by_group[8]->tenths == 80)) {
+      group = 11;  // M7 and M8 may share a line
+    }
+    if (const Code* slot = m_by_group[group]) {
+      fail(code.column, "two M codes of one modal group: " + code_name('M', slot->tenths) +
+                            " and " + code_name('M', code.tenths));
+    }
+    m_by_group.set(group, code);
+  }
+}
+
+void Interpreter::State::require_word_in_range(const Block& block, char letter, double low,
+                                               double high, const std::string& what) const {
+  const auto& word = block.word(letter);
+  if (!word || (word->value >= low && word->value <= high)) return;
+  fail(word->column, std::string(1, static_cast<char>(std::toupper(letter))) +
+                         written_number(word->value) + " is out of range: " + what + " " +
+                         written_number(low) + " to " + written_number(high));
+}
+
+namespace {
+// The word letters and the codes that use them (rs274's check of "other" words), known from the
+// block: `n` its non-modal G code, `m` the motion it makes (its own or the modal one), `g64`
+// whether it sets G64 and `user_m` whether it holds a user M code (M100-M199).
+struct WordUsers {
+  int n = -1, m = -1;
+  bool g64 = false, user_m = false;
+  int m5 = -1, m6 = -1, m9 = -1;  // codes of M groups 5, 6 and 9, or -1
+  bool arc() const { return m == 20 || m == 30; }
+  bool cycle() const { return m >= 730 && m != 800; }
+  bool threading() const { return m == 760; }  // G76: passed on with its words
+};
+
+// The message refusing `letter`, or nullptr when a code of the block uses it.
+const char* unused_word_message(char letter, const WordUsers& u) {
+  switch (letter) {
+    case 'e':
+      if (u.threading() || (u.m5 >= 660 && u.m5 <= 680)) return nullptr;
+      return "E word with no G76, M66, M67 or M68 to use it (a number such as 1e-05 is not "
+             "G-code: X1e-05 reads as X1 and an E word)";
+    case 'i':
+    case 'j':
+      if (u.arc() || u.n == 100 || u.threading() || (letter == 'i' && u.m == 331)) return nullptr;
+      return letter == 'i' ? "I word with no G2, G3, G10, G33.1 or G76 to use it"
+                           : "J word with no G2, G3, G10 or G76 to use it";
+    case 'k':
+      if (u.arc() || u.m == 330 || u.m == 331 || u.threading()) return nullptr;
+      return "K word with no G2, G3, G33, G33.1 or G76 to use it";
+    case 'h':
+      return nullptr;  // checked by refuse_unused_words: it needs the G43 of group 8
+    case 'l':
+      if (u.n == 100 || u.cycle() || u.m5 == 660) return nullptr;
+      return "L word with no G10, cutter compensation, canned cycle or M66 to use it";
+    case 'p':
+      if (u.arc() || u.n == 40 || u.n == 100 || u.g64 || u.m == 820 || u.m == 860 || u.m == 880 ||
+          u.m == 890 || u.threading() || u.user_m || (u.m9 >= 500 && u.m9 <= 530) ||
+          (u.m5 >= 620 && u.m5 <= 660)) {
+        return nullptr;
+      }
+      return "P word with no G2, G3, G4, G10, G64, G76, G82, G86, G88, G89, M50-M53, M62-M66 or "
+             "user M code to use it";
+    case 'q':
+      if (u.n == 100 || u.g64 || u.m == 730 || u.m == 830 || u.threading() || u.user_m ||
+          u.m6 == 610 || (u.m5 >= 660 && u.m5 <= 680)) {
+        return nullptr;
+      }
+      return "Q word with no G10, G64, G73, G76, G83, M61, M66, M67, M68 or user M code to use it";
+    case 'r':
+      if (u.arc() || u.cycle() || u.n == 100 || u.threading()) return nullptr;
+      return "R word with no G code that uses it";
+    default:
+      return nullptr;
+  }
+}
+}  // namespace
+
+void Interpreter::State::refuse_unused_words(const Block& block) const {
+  for (const Code& code : block.m_codes) {
+    if (m_group(code.tenths) < 0) return;  // a code with no meaning here: passed on, words and all
+  }
+  constexpr std::uint32_t kChecked =
+      (1u << ('e' - 'a')) | (1u << ('h' - 'a')) | (1u << ('i' - 'a')) | (1u << ('j' - 'a')) |
+      (1u << ('k' - 'a')) | (1u << ('l' - 'a')) | (1u << ('p' - 'a')) | (1u << ('q' - 'a')) |
+      (1u << ('r' - 'a'));
+  if ((block.letters & kChecked) == 0) return;
+  WordUsers users;
+  users.n = g_by_group[0] ? g_by_group[0]->tenths : -1;
+  // G10, G28, G30 and G92 take the axis words: they make no motion of the modal mode.
+  const bool axes_taken = users.n == 100 || users.n == 280 || users.n == 300 || users.n == 920;
+  const bool has_axis = (block.letters & (kAxisSlots | kPolarSlots)) != 0;
+  users.m = g_by_group[1] ? g_by_group[1]->tenths : (has_axis && !axes_taken ? motion : -1);
+  users.g64 = g_by_group[13] && g_by_group[13]->tenths == 640;
+  users.user_m = m_by_group[10] != nullptr;
+  users.m5 = m_by_group[5] ? m_by_group[5]->tenths : -1;
+  users.m6 = m_by_group[6] ? m_by_group[6]->tenths : -1;
+  users.m9 = m_by_group[9] ? m_by_group[9]->tenths : -1;
+  for (const char letter : std::string_view("ehijklpqr")) {
+    const auto& word = block.word(letter);
+    if (!word) continue;
+    if (letter == 'h' && !(g_by_group[8] && g_by_group[8]->tenths == 430) && !users.threading()) {
+      fail(word->column, "H word with no G43 or G76 to use it");
+    }
+    if (letter == 'l' && g_by_group[7]) continue;  // cutter compensation's tool orientation
+    if (const char* message = unused_word_message(letter, users)) fail(word->column, message);
+  }
+}
+
+void Interpreter::State::missing_feed(int column) const {
+  if (feed_mode == FeedMode::inverse_time) {
+    fail(column, "F word missing with inverse time (G93) motion");
+  }
+  fail(column, "cannot do a feed move with zero feed rate: give an F word");
+}
+
+}  // namespace pkm::gcode
