@@ -1,4 +1,5 @@
 """pkmkit.canon: the canonical commands of `pkm gcode --canon`, field for field."""
+import os
 import pathlib
 import subprocess
 
@@ -6,7 +7,9 @@ import pytest
 
 import pkmkit
 
-REAL = pathlib.Path("/work/shared/gcode/real")
+# The real G-code corpus, outside the repository (tests/CMakeLists.txt, PKM_REAL_CORPUS).
+REAL = pathlib.Path(os.environ.get("PKM_REAL_CORPUS",
+                                   pathlib.Path(__file__).resolve().parents[3] / "shared/gcode/real"))
 # A real program (LinuxCNC's torture test: helical arcs in all three planes, comments between
 # words, a message, M0) and its backplot test (full circles in three planes, inch, N numbers).
 PROGRAMS = [REAL / "linuxcnc" / "tort.ngc", REAL / "linuxcnc" / "3dtest.ngc"]
