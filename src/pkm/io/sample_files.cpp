@@ -8,6 +8,9 @@ namespace pkm {
 
 namespace {
 
+// The values of a row in column order and interface units (sample_rows.hpp).
+using RowBuilder = SampleRows;
+
 class CsvFile final : public SampleFile {
  public:
   CsvFile(const std::filesystem::path& path, const Machine& machine) : file_(path), rows_(machine) {
@@ -18,7 +21,7 @@ class CsvFile final : public SampleFile {
     file_.write(header + "\n");
   }
   void write(const motion::Sample& sample) override {
-    double row[SampleRows::kMaxColumns];
+    double row[32];
     const std::size_t n = rows_.fill(sample, row);
     std::FILE* out = file_.stream();
     std::fprintf(out, "%.6f,%d", row[0], static_cast<int>(row[1]));
@@ -31,7 +34,7 @@ class CsvFile final : public SampleFile {
 
  private:
   AtomicFileWriter file_;
-  SampleRows rows_;
+  RowBuilder rows_;
 };
 
 // A Python string literal of `text` (the column names in the NPY header).
@@ -64,7 +67,7 @@ class NpyFile final : public SampleFile {
     file_.write(header(0));
   }
   void write(const motion::Sample& sample) override {
-    double row[SampleRows::kMaxColumns];
+    double row[32];
     const std::size_t n = rows_.fill(sample, row);
     if (std::fwrite(row, sizeof(double), n, file_.stream()) != n) {
       throw std::runtime_error("cannot write " + file_.path().string());
@@ -96,7 +99,7 @@ class NpyFile final : public SampleFile {
   }
 
   AtomicFileWriter file_;
-  SampleRows rows_;
+  RowBuilder rows_;
   std::string descr_;  // the structured dtype: [('t', '<f8'), ('line', '<f8'), ...]
   long count_ = 0;
 };
