@@ -2,25 +2,92 @@
 // kinematics over NumPy arrays, in mm and degrees as every pkm interface (docs/python.md). A thin
 // layer: the kinematics, limits and units are the pkm libraries'; this file only converts arrays
 // and units, and runs the batch loops without the GIL.
-#include <pybind11/numpy.h>
-#include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "pkm/machine/machine.hpp"
-
-namespace py = pybind11;
+#include "common.hpp"
+#include "pkm/gcode/gcode_error.hpp"
+#include "pkm/machine/machine_parameters.hpp"
+#include "pkm/motion/job_reach.hpp"
+#include "pkm/motion/planner.hpp"
+#include "pkm/post/joint_program.hpp"
+#include "pkm/verify/joint_path.hpp"
 
 namespace pkm::python {
 
 namespace {
 
-using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+// "x y z": the coordinates of a pose array, for messages.
+std::string axes_text(const std::vector<int>& axes) {
+  std::string text;
+  for (int axis : axes) text += (text.empty() ? "" : " ") + std::string(kAxisNames[axis]);
+  return text;
+}
+
+}  // namespace
+
+std::vector<int> controlled_axes(const Machine& machine) {
+  std::vector<int> axes;
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    if (machine.kinematics().dof().controls(axis)) axes.push_back(axis);
+  }
+  return axes;
+}
+
+Pose pose_from_row(const Machine& machine, const std::vector<int>& axes, const double* row) {
+  Vector6d values = machine.home().as_vector();
+  for (std::size_t i = 0; i < axes.size(); ++i) {
+    values[axes[i]] = axes[i] < 3 ? row[i] : degrees_to_radians(row[i]);
+  }
+  return Pose::from_vector(values);
+}
+
+Pose pose_argument(const Machine& machine, const Array& pose, const std::string& what) {
+  const std::vector<int> axes = controlled_axes(machine);
+  if (pose.ndim() != 1 || static_cast<std::size_t>(pose.shape(0)) != axes.size()) {
+    throw py::value_error(what + " must have " + std::to_string(axes.size()) + " values (" +
+                          axes_text(axes) + ")");
+  }
+  return pose_from_row(machine, axes, pose.data());
+}
+
+Vector6d origin_argument(const std::vector<double>& values, const std::string& what) {
+  if (values.size() > kPoseSize) {
+    throw py::value_error(what + " takes at most six values (x y z a b c, mm and deg)");
+  }
+  Vector6d origin = Vector6d::Zero();
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    origin[static_cast<int>(i)] = i < 3 ? values[i] : degrees_to_radians(values[i]);
+  }
+  return origin;
+}
+
+py::object json_to_python(const nlohmann::json& document) {
+  return py::module_::import("json").attr("loads")(document.dump());
+}
+
+void raise_with_reach_hint(const char* type_name, const std::string& message, int line,
+                           const Machine& machine, const std::string& program,
+                           const gcode::InterpreterOptions& interpreter, const Vector6d& origin) {
+  std::string hint;
+  {
+    const py::gil_scoped_release released;  // the job is read again
+    hint = motion::job_reach_hint(machine, program, interpreter, origin);
+  }
+  const py::object type = py::module_::import("pkmkit").attr(type_name);
+  py::object instance = type(message + hint);
+  if (line >= 0) instance.attr("line") = line;
+  PyErr_SetObject(type.ptr(), instance.ptr());
+  throw py::error_already_set();
+}
+
+namespace {
 
 // Every identifier, indexed by the code's value (the last code is interference; a code added
 // after it needs this bound moved as well as its case above).
@@ -32,36 +99,11 @@ std::vector<std::string> status_identifiers() {
   return names;
 }
 
-// The pose coordinates (0..5 = x y z a b c) the machine controls, in that order: the columns of
-// every pose array.
-std::vector<int> controlled_axes(const Machine& machine) {
-  std::vector<int> axes;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    if (machine.kinematics().dof().controls(axis)) axes.push_back(axis);
-  }
-  return axes;
-}
-
-// One row of a pose array (mm, deg; the controlled coordinates) over home's other coordinates.
-Pose pose_from_row(const Machine& machine, const std::vector<int>& axes, const double* row) {
-  Vector6d values = machine.home().as_vector();
-  for (std::size_t i = 0; i < axes.size(); ++i) {
-    values[axes[i]] = axes[i] < 3 ? row[i] : degrees_to_radians(row[i]);
-  }
-  return Pose::from_vector(values);
-}
-
 void pose_to_row(const Pose& pose, const std::vector<int>& axes, double* row) {
   const Vector6d values = pose.as_vector();
   for (std::size_t i = 0; i < axes.size(); ++i) {
     row[i] = axes[i] < 3 ? values[axes[i]] : radians_to_degrees(values[axes[i]]);
   }
-}
-
-std::string axes_text(const std::vector<int>& axes) {
-  std::string text;
-  for (int axis : axes) text += (text.empty() ? "" : " ") + std::string(kAxisNames[axis]);
-  return text;
 }
 
 // The rows of an (N, columns) array, or a ValueError naming what it should have been.
@@ -120,7 +162,28 @@ void forward_rows(const Machine& machine, const std::vector<int>& axes, const do
   }
 }
 
-py::tuple inverse(const Machine& machine, const Array& poses) {
+// A batch's input as the C-contiguous float64 array the loop reads: the array itself when it is
+// one (no copy), else a converted copy, with a CopyWarning when it was a NumPy array (a list is
+// expected to be converted; an array the caller may not know is strided, transposed or of
+// another type).
+Array batch_input(const py::object& input, const char* what) {
+  Array array = Array::ensure(input);
+  if (!array) throw py::type_error(std::string(what) + " must be an array of numbers");
+  // A view (a memmap's, a subclass's) reads the same memory: only new data is a copy.
+  if (py::isinstance<py::array>(input) &&
+      py::reinterpret_borrow<py::array>(input).data() != array.data()) {
+    const py::object warning = py::module_::import("pkmkit").attr("CopyWarning");
+    const std::string message = std::string(what) +
+                                " is not a C-contiguous float64 array: a copy was made "
+                                "(np.ascontiguousarray(" +
+                                what + ", dtype=float) once avoids it)";
+    if (PyErr_WarnEx(warning.ptr(), message.c_str(), 2) != 0) throw py::error_already_set();
+  }
+  return array;
+}
+
+py::tuple inverse(const Machine& machine, const py::object& pose_input) {
+  const Array poses = batch_input(pose_input, "poses");
   const std::vector<int> axes = controlled_axes(machine);
   const std::size_t rows = checked_rows(poses, axes.size(), "poses (" + axes_text(axes) + ")");
   const std::size_t n = machine.joints().size();
@@ -138,17 +201,12 @@ py::tuple inverse(const Machine& machine, const Array& poses) {
   return py::make_tuple(joints, status_array(codes));
 }
 
-py::tuple forward(const Machine& machine, const Array& joints, const std::optional<Array>& seed) {
+py::tuple forward(const Machine& machine, const py::object& joint_input,
+                  const std::optional<Array>& seed) {
+  const Array joints = batch_input(joint_input, "joints");
   const std::vector<int> axes = controlled_axes(machine);
   const std::size_t rows = checked_rows(joints, machine.joints().size(), "joints");
-  Pose start = machine.home();
-  if (seed) {
-    if (seed->ndim() != 1 || static_cast<std::size_t>(seed->shape(0)) != axes.size()) {
-      throw py::value_error("seed must be a pose of " + std::to_string(axes.size()) + " values (" +
-                            axes_text(axes) + ")");
-    }
-    start = pose_from_row(machine, axes, seed->data());
-  }
+  const Pose start = seed ? pose_argument(machine, *seed, "seed") : machine.home();
   Array poses({rows, axes.size()});
   std::vector<std::int8_t> codes(rows);
   const double* in = joints.data();
@@ -164,11 +222,7 @@ py::tuple forward(const Machine& machine, const Array& joints, const std::option
 // d joints / d pose at one pose, (n, k): joints in mm or deg per pose coordinate in mm or deg.
 Array jacobian(const Machine& machine, const Array& pose) {
   const std::vector<int> axes = controlled_axes(machine);
-  if (pose.ndim() != 1 || static_cast<std::size_t>(pose.shape(0)) != axes.size()) {
-    throw py::value_error("pose must have " + std::to_string(axes.size()) + " values (" +
-                          axes_text(axes) + ")");
-  }
-  const Pose at = pose_from_row(machine, axes, pose.data());
+  const Pose at = pose_argument(machine, pose, "pose");
   JointJacobian d_joints_d_pose;
   const Status status = machine.kinematics().jacobian(at, d_joints_d_pose);
   if (!status.ok()) throw py::value_error("no jacobian at this pose: " + machine.describe(status));
@@ -206,6 +260,32 @@ py::dict parameters(const Machine& machine, bool units) {
     }
   }
   return out;
+}
+
+// The machine with the named parameters changed (mm, or deg for angles, as parameters() shows
+// them), the others kept: a new machine, as calibration makes one.
+Machine with_parameters(const Machine& machine, const std::map<std::string, double>& changes) {
+  const std::vector<Parameter> parameters = machine.kinematics().parameters();
+  std::vector<double> values;
+  for (const Parameter& parameter : parameters) values.push_back(parameter.value);
+  for (const auto& [name, value] : changes) {
+    const auto found = std::find_if(parameters.begin(), parameters.end(),
+                                    [&](const Parameter& p) { return p.name == name; });
+    if (found == parameters.end()) {
+      std::string names;
+      for (const Parameter& p : parameters) names += (names.empty() ? "" : ", ") + p.name;
+      throw py::key_error("no parameter '" + name + "' in the " +
+                          std::string(machine.kinematics().type()) +
+                          " model; its parameters: " + names);
+    }
+    values[static_cast<std::size_t>(found - parameters.begin())] =
+        found->unit == "rad" ? degrees_to_radians(value) : value;
+  }
+  try {
+    return with_kinematics_parameters(machine, values);
+  } catch (const std::invalid_argument& error) {
+    throw py::value_error(std::string("impossible geometry: ") + error.what());
+  }
 }
 
 void bind_joint(py::module_& module) {
@@ -263,6 +343,9 @@ void bind_machine(py::module_& module) {
       "load", [](const std::string& path) { return load_machine(path); }, py::arg("path"),
       "Reads a machine file (TOML); a MachineFileError says file:line:key of a problem.");
   bind_machine_properties(machine);
+  machine.def("with_parameters", &with_parameters, py::arg("changes"),
+              "A new machine with the named parameters of the kinematic model changed (a dict, "
+              "mm or deg as .parameters shows them); this one is left as it is.");
   machine.def("inverse", &inverse, py::arg("poses"),
               "IK of an (N, k) pose array (mm, deg): (joints (N, n), status (N,) of str).");
   machine.def("forward", &forward, py::arg("joints"), py::arg("seed") = py::none(),
@@ -288,16 +371,52 @@ void bind_machine_file_error(py::module_& module) {
   });
 }
 
+// GcodeError(ValueError) with .file, .line and .column (a G-code program's error, as pkm prints
+// it), PlanError(ValueError) with .line (a move the machine cannot make), PostError and
+// VerifyError (ValueError) with pkm's message (file:line: what).
+void bind_job_errors(py::module_& module) {
+  static py::exception<gcode::GcodeError> gcode_type(module, "GcodeError", PyExc_ValueError);
+  static py::exception<motion::PlanError> plan_type(module, "PlanError", PyExc_ValueError);
+  py::register_exception<post::PostError>(module, "PostError", PyExc_ValueError);
+  py::register_exception<verify::VerifyError>(module, "VerifyError", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr thrown) {
+    try {
+      if (thrown) std::rethrow_exception(thrown);
+    } catch (const gcode::GcodeError& error) {
+      py::object instance = py::reinterpret_borrow<py::object>(gcode_type.ptr())(error.what());
+      instance.attr("file") = error.file();
+      instance.attr("line") = error.line();
+      instance.attr("column") = error.column();
+      PyErr_SetObject(gcode_type.ptr(), instance.ptr());
+    } catch (const motion::PlanError& error) {
+      py::object instance = py::reinterpret_borrow<py::object>(plan_type.ptr())(error.what());
+      instance.attr("line") = error.line();
+      PyErr_SetObject(plan_type.ptr(), instance.ptr());
+    }
+  });
+}
+
 }  // namespace
 
 }  // namespace pkm::python
+
+namespace py = pybind11;
 
 PYBIND11_MODULE(pkmkit, module) {
   module.doc() = "pkmkit: machine files and their kinematics over NumPy arrays (mm, deg)";
   const std::vector<std::string> statuses = pkm::python::status_identifiers();
   module.attr("STATUSES") = py::tuple(py::cast(statuses));
   module.attr("_STATUS_NAMES") = py::module_::import("numpy").attr("array")(statuses);
+  module.attr("CopyWarning") = py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(
+      "pkmkit.CopyWarning",
+      "A batch call's NumPy input was not C-contiguous float64 and was copied first.",
+      PyExc_UserWarning, nullptr));
   pkm::python::bind_machine_file_error(module);
   pkm::python::bind_joint(module);
   pkm::python::bind_machine(module);
+  pkm::python::bind_job_errors(module);
+  pkm::python::bind_plan(module);
+  pkm::python::bind_canon(module);
+  pkm::python::bind_post_verify(module);
+  pkm::python::bind_calibrate(module);
 }

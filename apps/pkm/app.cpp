@@ -60,31 +60,6 @@ std::optional<gcode::ToolTable> read_tool_table(const ToolTableOptions& options)
       options.path, options.units == "inch" ? gcode::LengthUnits::inch : gcode::LengthUnits::mm);
 }
 
-std::string job_reach_hint(const Machine& machine, const std::string& program,
-                           const gcode::InterpreterOptions& options, const Vector6d& origin) {
-  PoseBox job;
-  job.min = Vector6d::Constant(INFINITY);
-  job.max = Vector6d::Constant(-INFINITY);
-  try {
-    gcode::Interpreter(program, options).run([&](const gcode::Canon& canon) {
-      if (canon.kind != gcode::CanonKind::traverse && canon.kind != gcode::CanonKind::feed) return;
-      const double scale = canon.units == gcode::LengthUnits::inch ? 25.4 : 1.0;
-      for (int axis = 0; axis < 3; ++axis) {
-        job.min[axis] = std::min(job.min[axis], canon.end[axis] * scale);
-        job.max[axis] = std::max(job.max[axis], canon.end[axis] * scale);
-      }
-    });
-  } catch (const std::exception&) {
-    return "";  // the error being reported says what is wrong with the job
-  }
-  for (int axis = 0; axis < 3; ++axis) {
-    if (!std::isfinite(job.min[axis])) return "";
-    job.axes = job.axes.with(axis);
-  }
-  const std::string hint = outside_reach_hint(machine, job, origin);
-  return hint.empty() ? "" : "\n  hint: " + hint;
-}
-
 namespace {
 
 // A number for messages, as short as it was likely typed.

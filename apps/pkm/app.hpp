@@ -40,12 +40,6 @@ void add_tool_table_options(CLI::App& command, ToolTableOptions& options);
 // The table the options name, or none without a file. Throws gcode::GcodeError (file:line).
 std::optional<gcode::ToolTable> read_tool_table(const ToolTableOptions& options);
 
-// When the job's moves, placed at `origin` (mm, rad), lie outside the machine's reach: a line
-// with both boxes and the --origin that would centre the job, to append to the error; "" when
-// the job fits (or cannot be read again).
-std::string job_reach_hint(const Machine& machine, const std::string& program,
-                           const gcode::InterpreterOptions& options, const Vector6d& origin);
-
 // The one check of every number read from the command line: it must parse whole, be finite and
 // lie within [min, max]. CLI11's own range checks let NaN through. For an option of several
 // numbers it checks each.

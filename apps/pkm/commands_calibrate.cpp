@@ -14,6 +14,7 @@
 #include "embedded_machine.hpp"
 #include "pkm/calibration/calibration_pattern.hpp"
 #include "pkm/calibration/distance_fit.hpp"
+#include "pkm/calibration/fit_report.hpp"
 #include "pkm/calibration/geometry_fit.hpp"
 #include "pkm/calibration/matrix_calibration.hpp"
 #include "pkm/io/atomic_file.hpp"
@@ -169,30 +170,7 @@ FitReport fit_machine(const FitCommandOptions& options, Machine& machine) {
 }
 
 void print_fit_json(const FitReport& report, const std::string& output) {
-  nlohmann::json parameters = nlohmann::json::array();
-  for (const ParameterEstimate& p : report.parameters) {
-    parameters.push_back({{"name", p.name},
-                          {"unit", p.unit},
-                          {"nominal", p.nominal},
-                          {"fitted", p.fitted},
-                          {"standard_deviation", p.standard_deviation},
-                          {"held", !p.free}});
-  }
-  std::cout << nlohmann::json{{"measurements", report.measurements},
-                              {"rms_before_mm", report.rms_before_mm},
-                              {"max_before_mm", report.max_before_mm},
-                              {"rms_after_mm", report.rms_after_mm},
-                              {"max_after_mm", report.max_after_mm},
-                              {"max_after_line", report.max_after_line},
-                              {"parameters", parameters},
-                              {"indistinguishable", report.indistinguishable},
-                              {"held_rigid_motion", report.held_rigid_motion},
-                              {"no_effect", report.no_effect},
-                              {"held", report.held},
-                              {"converged", report.converged},
-                              {"output", output}}
-                   .dump(2)
-            << "\n";
+  std::cout << fit_report_json(report, output).dump(2) << "\n";
 }
 
 void print_fit_text(const FitReport& report, const std::string& output, bool distances) {

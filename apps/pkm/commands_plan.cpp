@@ -13,7 +13,9 @@
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/io/atomic_file.hpp"
 #include "pkm/io/sample_files.hpp"
+#include "pkm/motion/job_reach.hpp"
 #include "pkm/view/html_page.hpp"
+#include "pkm/view/reports.hpp"
 #include "progress.hpp"
 
 namespace pkm::app {
@@ -41,67 +43,6 @@ struct PlanCommandOptions {
   std::string display_name;  // how to name the job in the summary (default: its path)
   std::string html;          // the page of the plan (--html), empty for none
 };
-
-nlohmann::json report_json(const Machine& machine, const motion::PlanReport& report,
-                           const PlanCommandOptions& options, bool estimate) {
-  nlohmann::json joints = nlohmann::json::array();
-  for (std::size_t i = 0; i < machine.joints().size(); ++i) {
-    const JointSpec& joint = machine.joints()[i];
-    const motion::JointStatistics& s = report.joints[i];
-    joints.push_back(
-        {{"name", joint.name},
-         {"unit", joint.interface_unit()},
-         {"min", joint.to_interface(s.min)},
-         {"max", joint.to_interface(s.max)},
-         {"limit_min", joint.to_interface(joint.min)},
-         {"limit_max", joint.to_interface(joint.max)},
-         {"peak_velocity", joint.to_interface(s.peak_velocity)},
-         {"max_velocity", joint.to_interface(joint.max_velocity)},
-         {"peak_acceleration", estimate ? nlohmann::json(nullptr)
-                                        : nlohmann::json(joint.to_interface(s.peak_acceleration))},
-         {"max_acceleration", joint.to_interface(joint.max_acceleration)}});
-  }
-  nlohmann::json limits = nlohmann::json::array();
-  for (const motion::FeedLimit& limit : report.feed_limits) {
-    limits.push_back(
-        {{"line", limit.line},
-         {"joint",
-          limit.joint < 0
-              ? nlohmann::json(nullptr)
-              : nlohmann::json(machine.joints()[static_cast<std::size_t>(limit.joint)].name)},
-         {"cause", limit.cause == motion::LimitCause::tension ? "tension" : "joint"},
-         {"programmed_mm_per_min", limit.programmed_mm_per_s * 60.0},
-         {"allowed_mm_per_min", limit.allowed_mm_per_s * 60.0}});
-  }
-  nlohmann::json tensions = nlohmann::json::array();
-  for (const motion::TensionLimitedMove& move : report.tension_limits) {
-    tensions.push_back(
-        {{"line", move.line},
-         {"cable",
-          move.cable < 0
-              ? nlohmann::json(nullptr)
-              : nlohmann::json(machine.joints()[static_cast<std::size_t>(move.cable)].name)},
-         {"bound", move.slack ? "min" : "max"},
-         {"machine_mm_per_s2", move.machine_mm_per_s2},
-         {"allowed_mm_per_s2", move.allowed_mm_per_s2}});
-  }
-  nlohmann::json warnings = nlohmann::json::array();
-  for (const gcode::Warning& warning : report.warnings) {
-    warnings.push_back({{"line", warning.line}, {"message", warning.message}});
-  }
-  return {{"machine", machine.name()},
-          {"program", options.program},
-          {"estimate", estimate},
-          {"period_s", options.period_s},
-          {"duration_s", report.duration_s},
-          {"samples", report.samples},
-          {"path_length_mm", report.path_length_mm},
-          {"pen_changes", report.pen_changes},
-          {"joints", joints},
-          {"feed_limited_by_joints", limits},
-          {"acceleration_limited_by_tensions", tensions},
-          {"warnings", warnings}};
-}
 
 // Samples nobody keeps: `pkm demo` without -o, and the estimate (which makes none).
 struct DiscardSamples final : SampleFile {
@@ -141,8 +82,8 @@ motion::PlanReport run_planner(const Machine& machine, const PlanCommandOptions&
   } catch (const gcode::GcodeError& error) {
     throw CommandError(error.what());
   } catch (const motion::PlanError& error) {
-    throw CommandError(error.what() + job_reach_hint(machine, options.program, setup.interpreter,
-                                                     setup.plan.origin));
+    throw CommandError(error.what() + motion::job_reach_hint(machine, options.program,
+                                                             setup.interpreter, setup.plan.origin));
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
@@ -317,8 +258,11 @@ void run_plan(const PlanCommandOptions& options) {
     const motion::PlanReport estimate = run_planner(machine, options, setup, none);
     if (estimate_only) {
       if (!options.report.empty()) {
-        write_file_atomically(options.report,
-                              report_json(machine, estimate, options, true).dump(2) + "\n");
+        write_file_atomically(
+            options.report,
+            view::plan_report_json(machine, estimate, options.program, options.period_s, true)
+                    .dump(2) +
+                "\n");
       }
       print_warnings(options, estimate);
       print_summary(machine, estimate, name, true);
@@ -348,7 +292,8 @@ void run_plan(const PlanCommandOptions& options) {
   const motion::PlanReport report = run_planner(machine, options, setup, sink);
   progress.clear();
   output->commit();
-  const nlohmann::json json = report_json(machine, report, options, false);
+  const nlohmann::json json =
+      view::plan_report_json(machine, report, options.program, options.period_s, false);
   if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) {
     recorder.finish();

@@ -8,8 +8,10 @@
 #include "app.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/io/atomic_file.hpp"
+#include "pkm/motion/job_reach.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/post/mach3_export.hpp"
+#include "pkm/post/program_header.hpp"
 #include "pkm/verify/joint_path.hpp"
 #include "pkm/view/html_page.hpp"
 #include "progress.hpp"
@@ -29,21 +31,6 @@ struct PostCommandOptions {
   std::string report;  // --report: the summary as JSON
   std::string html;    // --html: the page of the joint program
 };
-
-// The header is written first with room for the numbers known only at the end, then rewritten
-// in place: the numbers line keeps its width (79 characters, within grbl's 80).
-std::string header(const Machine& machine, const PostCommandOptions& options,
-                   const post::PostReport* report) {
-  const std::size_t width = post::rules_of(post::dialect_named(options.dialect)).max_line;
-  char numbers[128];
-  std::snprintf(numbers, sizeof numbers, "(tolerance %11.6f mm; %s %11.6f mm, %10ld blocks)\n",
-                options.tolerance_mm,
-                report && !report->bounded ? "sampled deviation" : "bounded deviation",
-                report ? report->max_deviation_mm : 0.0, report ? report->blocks : 0L);
-  return post::comment_line("joint-space program by pkmkit for ", machine.name(), "", width) +
-         post::comment_line("from ", options.program, ", dialect " + options.dialect, width) +
-         numbers;
-}
 
 // The page of the written program: its blocks traced by verify's forward kinematics against the
 // job, each coloured by its measured deviation.
@@ -94,7 +81,8 @@ void run_post(const PostCommandOptions& options) {
   post_options.origin = pose_vector_over(post_options.origin, options.origin);
   gcode::InterpreterOptions interpreter_options;
   AtomicFileWriter file(options.output);
-  file.write(header(machine, options, nullptr));
+  file.write(post::joint_program_header(machine, options.program, post_options.dialect,
+                                        options.tolerance_mm, nullptr));
   post::PostReport report;
   ProgressBar progress("post " + std::filesystem::path(options.program).filename().string(),
                        options.program);
@@ -106,13 +94,15 @@ void run_post(const PostCommandOptions& options) {
   } catch (const gcode::GcodeError& error) {
     throw CommandError(error.what());
   } catch (const post::PostError& error) {
-    throw CommandError(error.what() + job_reach_hint(machine, options.program, interpreter_options,
-                                                     post_options.origin));
+    throw CommandError(error.what() + motion::job_reach_hint(machine, options.program,
+                                                             interpreter_options,
+                                                             post_options.origin));
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
   progress.clear();
-  file.write_at(0, header(machine, options, &report));
+  file.write_at(0, post::joint_program_header(machine, options.program, post_options.dialect,
+                                              options.tolerance_mm, &report));
   file.commit();
   for (const gcode::Warning& warning : report.warnings) {
     std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", options.program.c_str(), warning.line,

@@ -10,6 +10,7 @@
 #include "pkm/io/atomic_file.hpp"
 #include "pkm/verify/joint_path.hpp"
 #include "pkm/view/html_page.hpp"
+#include "pkm/view/reports.hpp"
 #include "progress.hpp"
 
 namespace pkm::app {
@@ -50,66 +51,13 @@ std::string joint_name(const Machine& machine, int joint) {
   return joint >= 0 ? machine.joints()[static_cast<std::size_t>(joint)].name : "";
 }
 
-// The unit of a finding's value and limit: a joint's own (mm or deg, per s for speeds) followed by
-// `unit`, or `unit` alone where no joint is concerned (deviations and pen stretches, mm).
-std::string unit_of(const Machine& machine, const verify::Violation& v, const std::string& unit) {
-  if (v.joint < 0) return unit;
-  return machine.joints()[static_cast<std::size_t>(v.joint)].interface_unit() + unit;
-}
-
-nlohmann::json to_json(const Machine& machine, const verify::Violation& v,
-                       const std::string& unit) {
-  nlohmann::json json = {{"line", v.line},
-                         {"job_line", v.job_line},
-                         {"value", v.value},
-                         {"limit", v.limit},
-                         {"unit", unit_of(machine, v, unit)}};
-  if (v.joint >= 0) json["joint"] = joint_name(machine, v.joint);
-  if (!v.detail.empty()) json["detail"] = v.detail;
-  return json;
-}
-
-nlohmann::json to_json(const Machine& machine, const verify::ViolationSummary& summary,
-                       const std::string& unit) {
-  nlohmann::json first = nlohmann::json::array();
-  for (const verify::Violation& v : summary.first) first.push_back(to_json(machine, v, unit));
-  nlohmann::json json = {{"count", summary.count}, {"first", first}};
-  if (summary.count > 0) json["worst"] = to_json(machine, summary.worst, unit);
-  return json;
-}
-
-nlohmann::json report_json(const Machine& machine, const VerifyCommandOptions& options,
-                           const verify::VerifyReport& report) {
-  return {{"joint_program", options.joints},
-          {"job", options.job},
-          {"blocks", report.blocks},
-          {"tolerance_mm", report.tolerance_mm},
-          {"max_deviation_mm", report.max_deviation_mm},
-          {"rms_deviation_mm", report.rms_deviation_mm},
-          {"max_deviation_joint_line", report.max_deviation_joint_line},
-          {"max_deviation_job_line", report.max_deviation_job_line},
-          {"coverage",
-           {{"complete", report.covered},
-            {"job_length_mm", report.job_length_mm},
-            {"traced_mm", report.traced_mm},
-            {"stopped_at_job_line", report.coverage_stopped_job_line},
-            {"stopped_at_joint_line", report.coverage_stopped_joint_line}}},
-          {"violations",
-           {{"deviation", to_json(machine, report.deviation, "mm")},
-            {"position", to_json(machine, report.position, "")},
-            {"velocity", to_json(machine, report.velocity, "/s")},
-            {"pen", to_json(machine, report.pen, "mm")}}},
-          {"pen_downs", {{"joint_program", report.pen_downs}, {"job", report.job_pen_downs}}},
-          {"passed", report.passed()}};
-}
-
 // One line per kind of finding: how many, the worst, the lines of the first few. Values in the
-// units of the machine file: `unit` as unit_of has it.
+// units of the machine file: `unit` as view::violation_unit has it.
 void print_summary(const Machine& machine, const char* what, const std::string& unit,
                    const verify::ViolationSummary& summary) {
   if (summary.count == 0) return;
   const verify::Violation& w = summary.worst;
-  const std::string units = unit_of(machine, w, unit);
+  const std::string units = view::violation_unit(machine, w, unit);
   std::string worst =
       joint_name(machine, w.joint) + (w.joint >= 0 ? " " : "") + mm(w.value) + " " + units;
   worst += w.detail.empty() ? ", limit " + mm(w.limit) + " " + units : " with the " + w.detail;
@@ -216,7 +164,8 @@ void run_verify(const VerifyCommandOptions& options) {
     throw CommandError(error.what());
   }
   progress.clear();
-  const nlohmann::json json = report_json(machine, options, report);
+  const nlohmann::json json =
+      view::verify_report_json(machine, options.joints, options.job, report);
   if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) write_verify_html(machine, options, verify_options, json, recorder);
   print_report(machine, options, report);

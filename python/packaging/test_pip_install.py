@@ -21,6 +21,8 @@ assert pathlib.Path(pkmkit.__file__).is_relative_to(sys.prefix), pkmkit.__file__
 m = pkmkit.Machine.load(sys.argv[1])
 joints, status = m.inverse(np.array([[34.0, -40.0]]))
 assert status.tolist() == ["ok"] and round(joints[0, 0], 3) == 52.498, (joints, status)
+samples, report = pkmkit.plan(m, sys.argv[2], period=0.01)
+assert len(samples) == report["samples"] > 10 and samples.dtype.names[-1] == "j_right", report
 print("pkmkit installed at", pkmkit.__file__)
 """
 
@@ -40,7 +42,8 @@ def main():
     subprocess.run([str(python), "-m", "pip", "install", "-q", "--no-build-isolation", "--no-index", "--no-cache-dir",
                     str(tree)], check=True, env=env, cwd=work)
     del env["PKMKIT_BUILD_DIR"]
-    subprocess.run([str(python), "-c", CHECK, str(source / "examples/machines/hektor.toml")],
+    subprocess.run([str(python), "-c", CHECK, str(source / "examples/machines/hektor.toml"),
+                    str(source / "tests/data/hektor-job.ngc")],
                    check=True, env=env, cwd=work)
 
 

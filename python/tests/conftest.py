@@ -23,3 +23,13 @@ def pkm_binary():
     if not os.access(binary, os.X_OK):
         pytest.fail(f"no pkm binary at {binary} (set PKM_BINARY)")
     return binary
+
+
+@pytest.fixture
+def jobs():
+    return SOURCE_DIR / "examples" / "jobs"
+
+
+@pytest.fixture
+def test_data():
+    return SOURCE_DIR / "tests" / "data"

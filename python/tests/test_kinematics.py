@@ -1,7 +1,10 @@
 """Batch kinematics: IK equals `pkm ik`, FK round trips, refused poses, threads."""
 import json
 import subprocess
+import sys
 import threading
+import time
+import warnings
 
 import numpy as np
 import pytest
@@ -125,3 +128,66 @@ def test_two_threads_run_batch_inverse_at_once(machines, name):
     for joints, status in results:
         assert np.array_equal(joints, expected)
         assert np.array_equal(status, expected_status)
+
+
+def count_while_calling(call):
+    """How far a Python thread counts while `call` runs in this thread.
+
+    The switch interval is made so long that a thread holding the GIL keeps it: the counter
+    thread can only run where this thread lets the GIL go. It is let go by the call (if at all)
+    and by nothing else between the start signal and the read after the call returns.
+    """
+    counter = [0]
+    go, stop = threading.Event(), threading.Event()
+
+    def count():
+        go.wait()
+        while not stop.is_set():
+            counter[0] += 1
+            time.sleep(1e-4)  # lets the GIL go, so the caller gets it back when the call ends
+
+    interval = sys.getswitchinterval()
+    thread = threading.Thread(target=count)
+    thread.start()
+    sys.setswitchinterval(1000.0)
+    try:
+        go.set()
+        result = call()
+        counted = counter[0]
+    finally:
+        stop.set()
+        sys.setswitchinterval(interval)
+        thread.join()
+    return counted, result
+
+
+def test_a_python_thread_runs_while_batch_calls_run(machines):
+    # Without the GIL released the count would be 0: the counter thread cannot start before the
+    # call (this thread holds the GIL from go.set() on) and the count is read right after it.
+    m = pkmkit.Machine.load(str(machines / "hexapod-bit.toml"))
+    rng = np.random.default_rng(5)
+    poses = m.home + rng.uniform(-1.0, 1.0, (1_000_000, 6)) * 4.0
+    counted, (joints, status) = count_while_calling(lambda: m.inverse(poses))
+    assert counted > 0 and np.all(status == "ok")
+    counted, (back, status) = count_while_calling(lambda: m.forward(joints[:100_000]))
+    assert counted > 0 and np.all(status == "ok")
+    counted, _ = count_while_calling(lambda: sum(range(1_000_000)))
+    assert counted == 0  # the method's control: a call that keeps the GIL lets nobody count
+
+
+def test_contiguous_input_is_not_copied_other_input_is_with_a_warning(machines):
+    m = pkmkit.Machine.load(str(machines / "hektor.toml"))
+    poses = np.array([[34.0, -40.0], [50.0, -50.0], [10.0, -60.0], [60.0, -20.0]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a CopyWarning would raise
+        expected, _ = m.inverse(poses)
+        m.inverse(poses[1:3])  # a slice of rows is still C-contiguous
+        m.inverse(poses.tolist())  # a list must be converted: no warning for it
+        m.forward(np.ascontiguousarray(expected))
+    for copied in (np.asfortranarray(poses), np.repeat(poses, 2, axis=0)[::2],
+                   poses.astype(np.float32)):
+        with pytest.warns(pkmkit.CopyWarning, match="poses is not a C-contiguous float64"):
+            joints, _ = m.inverse(copied)
+        np.testing.assert_allclose(joints, expected, atol=1e-4)
+    with pytest.warns(pkmkit.CopyWarning, match="joints is not"):
+        m.forward(np.asfortranarray(expected))

@@ -95,6 +95,7 @@ def test_wrong_pose_shape_raises(machines):
         m.inverse(np.zeros((4, 3)))
 
 
+@pytest.mark.filterwarnings("ignore::pkmkit.CopyWarning")
 def test_other_layouts_and_types_are_converted(machines):
     # C-contiguous float64 is read in place; anything else (lists, ints, Fortran order, a strided
     # view) is converted first, to the same answer.

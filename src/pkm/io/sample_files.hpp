@@ -10,12 +10,11 @@
 #include <vector>
 
 #include "pkm/io/atomic_file.hpp"
+#include "pkm/io/sample_rows.hpp"
 #include "pkm/machine/machine.hpp"
 #include "pkm/motion/planner.hpp"
 
 namespace pkm {
-
-std::vector<std::string> sample_columns(const Machine& machine);
 
 class SampleFile : public motion::SampleSink {
  public:

@@ -1,0 +1,122 @@
+// pkmkit.post and pkmkit.verify: a joint-space program written from a Cartesian job within a
+// tolerance (post::post_program, with the header `pkm post` writes), and such a program checked
+// against its job by forward kinematics (verify::verify_joint_program); each returns the report
+// `--report` writes, as a dict. The file is the same byte for byte as pkm post's.
+#include <pybind11/stl.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common.hpp"
+#include "pkm/gcode/tool_table.hpp"
+#include "pkm/io/atomic_file.hpp"
+#include "pkm/post/joint_program.hpp"
+#include "pkm/post/program_header.hpp"
+#include "pkm/verify/joint_path.hpp"
+#include "pkm/view/html_page.hpp"
+#include "pkm/view/reports.hpp"
+
+namespace pkm::python {
+
+namespace {
+
+// The bounds of pkm's --tolerance (kMinTolerance, kMaxTolerance in apps/pkm/app.hpp), mm.
+void check_tolerance(double tolerance_mm) {
+  if (!(tolerance_mm >= 1e-4 && tolerance_mm <= 1000.0)) {
+    throw py::value_error("tolerance must lie within [0.0001, 1000] mm");
+  }
+}
+
+std::optional<gcode::ToolTable> tool_table_argument(const std::optional<std::string>& path,
+                                                    const std::string& units) {
+  if (units != "mm" && units != "inch") {
+    throw py::value_error("tool_table_units must be 'mm' or 'inch'");
+  }
+  if (!path) return std::nullopt;
+  return gcode::read_tool_table(
+      *path, units == "inch" ? gcode::LengthUnits::inch : gcode::LengthUnits::mm);
+}
+
+py::object post(const Machine& machine, const std::string& program, const std::string& output,
+                double tolerance_mm, const std::string& dialect, const std::vector<double>& origin,
+                const std::optional<std::string>& tool_table, const std::string& tool_table_units) {
+  check_tolerance(tolerance_mm);
+  post::PostOptions options;
+  options.tolerance_mm = tolerance_mm;
+  try {
+    options.dialect = post::dialect_named(dialect);
+    post::check_axis_letters(machine, options.dialect);
+  } catch (const std::invalid_argument& error) {
+    throw py::value_error(machine.source() + ": " + error.what());
+  }
+  options.origin = origin_argument(origin, "origin");
+  gcode::InterpreterOptions interpreter;
+  interpreter.tool_table = tool_table_argument(tool_table, tool_table_units);
+  const Machine own = machine;  // the loop runs without the GIL (pkmkit.cpp)
+  post::PostReport report;
+  try {
+    const py::gil_scoped_release released;
+    AtomicFileWriter file(output);
+    file.write(post::joint_program_header(own, program, options.dialect, tolerance_mm, nullptr));
+    report = post::post_program(own, program, interpreter, options,
+                                [&](const std::string& line) { file.write(line + "\n"); });
+    file.write_at(0,
+                  post::joint_program_header(own, program, options.dialect, tolerance_mm, &report));
+    file.commit();
+  } catch (const post::PostError& error) {
+    raise_with_reach_hint("PostError", error.what(), -1, own, program, interpreter, options.origin);
+  }
+  return json_to_python(view::post_report_json(own, program, output, report, tolerance_mm));
+}
+
+py::object verify(const Machine& machine, const std::string& joint_program,
+                  const std::string& against, const std::optional<double>& tolerance_mm,
+                  const std::vector<double>& origin, const std::optional<std::string>& tool_table,
+                  const std::string& tool_table_units) {
+  verify::VerifyOptions options;
+  if (tolerance_mm) {
+    check_tolerance(*tolerance_mm);
+    options.tolerance_mm = *tolerance_mm;
+  } else {
+    const std::optional<double> header = verify::tolerance_in_header(joint_program);
+    if (!header) {
+      throw py::value_error(joint_program +
+                            ": no tolerance to verify against: give tolerance= (mm; the joint "
+                            "program's header, where pkm post writes one, has none)");
+    }
+    options.tolerance_mm = *header;
+  }
+  options.origin = origin_argument(origin, "origin");
+  options.job_options.tool_table = tool_table_argument(tool_table, tool_table_units);
+  const Machine own = machine;
+  verify::VerifyReport report;
+  {
+    const py::gil_scoped_release released;
+    report = verify::verify_joint_program(own, joint_program, against, options);
+  }
+  return json_to_python(view::verify_report_json(own, joint_program, against, report));
+}
+
+}  // namespace
+
+void bind_post_verify(py::module_& module) {
+  module.def("post", &post, py::arg("machine"), py::arg("program"), py::arg("output"),
+             py::kw_only(), py::arg("tolerance") = 0.01, py::arg("dialect") = "linuxcnc",
+             py::arg("origin") = std::vector<double>{}, py::arg("tool_table") = py::none(),
+             py::arg("tool_table_units") = "mm",
+             "Writes the joint-space program of a G-code job to `output` as pkm post does (the "
+             "tool tip within `tolerance` mm of the programmed path; dialect linuxcnc, mach3, "
+             "grbl or grblhal; origin x y [z [a b c]] in mm and deg) and returns the report of "
+             "pkm post --report as a dict. A move the machine cannot make raises PostError.");
+  module.def("verify", &verify, py::arg("machine"), py::arg("joint_program"), py::kw_only(),
+             py::arg("against"), py::arg("tolerance") = py::none(),
+             py::arg("origin") = std::vector<double>{}, py::arg("tool_table") = py::none(),
+             py::arg("tool_table_units") = "mm",
+             "Checks a joint-space program against the Cartesian job it should follow, by "
+             "forward kinematics, as pkm verify does; returns the report of pkm verify --report "
+             "as a dict ('passed' says whether pkm verify would exit 0). tolerance in mm "
+             "(default: the one in the program's header, as pkm post writes it).");
+}
+
+}  // namespace pkm::python

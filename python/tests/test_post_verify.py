@@ -1,0 +1,70 @@
+"""pkmkit.post and pkmkit.verify: the files and reports of `pkm post` and `pkm verify`."""
+import json
+import subprocess
+
+import pytest
+
+import pkmkit
+
+
+def run_pkm(pkm_binary, *arguments, check=True):
+    return subprocess.run([pkm_binary, *map(str, arguments)], capture_output=True, text=True,
+                          check=check)
+
+
+@pytest.mark.parametrize("dialect,tolerance", [("linuxcnc", 0.01), ("mach3", 0.05)])
+def test_post_writes_pkm_posts_file_and_report(machines, test_data, pkm_binary, tmp_path, dialect,
+                                               tolerance):
+    machine_file, job = machines / "hektor.toml", test_data / "hektor-job.ngc"
+    cli_out, cli_report = tmp_path / "cli.ngc", tmp_path / "cli.json"
+    run_pkm(pkm_binary, "post", "-m", machine_file, job, "-o", cli_out, "--report", cli_report,
+            "--dialect", dialect, "--tolerance", tolerance)
+    out = tmp_path / "py.ngc"
+    report = pkmkit.post(pkmkit.Machine.load(str(machine_file)), str(job), str(out),
+                         dialect=dialect, tolerance=tolerance)
+    assert out.read_bytes() == cli_out.read_bytes()
+    expected = json.loads(cli_report.read_text())
+    assert report["output"] == str(out) and expected["output"] == str(cli_out)
+    assert {**report, "output": None} == {**expected, "output": None}
+    assert report["blocks"] > report["moves"] >= 4 and report["max_deviation_mm"] <= tolerance
+
+
+def test_verify_gives_pkm_verifys_report(machines, test_data, pkm_binary, tmp_path):
+    machine_file, job = machines / "hektor.toml", test_data / "hektor-job.ngc"
+    m = pkmkit.Machine.load(str(machine_file))
+    joints = tmp_path / "joints.ngc"
+    pkmkit.post(m, str(job), str(joints), tolerance=0.01)
+    report = pkmkit.verify(m, str(joints), against=str(job))  # the header's tolerance
+    cli_report = tmp_path / "cli.json"
+    run_pkm(pkm_binary, "verify", "-m", machine_file, joints, "--against", job, "--report",
+            cli_report)
+    assert report == json.loads(cli_report.read_text())
+    assert report["passed"] is True and report["tolerance_mm"] == 0.01
+    assert report["coverage"]["complete"] is True
+    # Against a tighter tolerance than it was written for it fails, as pkm verify does (which
+    # exits non-zero but writes the same report).
+    tight = pkmkit.verify(m, str(joints), against=str(job), tolerance=0.0001)
+    failed = run_pkm(pkm_binary, "verify", "-m", machine_file, joints, "--against", job,
+                     "--tolerance", "0.0001", "--report", cli_report, check=False)
+    assert failed.returncode != 0 and tight["passed"] is False
+    assert tight == json.loads(cli_report.read_text())
+    assert tight["violations"]["deviation"]["count"] > 0
+
+
+def test_post_and_verify_errors(machines, test_data, pkm_binary, tmp_path):
+    hexapod = pkmkit.Machine.load(str(machines / "hexapod-bit.toml"))
+    job = test_data / "hexapod-out-of-reach.ngc"
+    with pytest.raises(pkmkit.PostError, match=r"hexapod-out-of-reach.ngc:3: ") as raised:
+        pkmkit.post(hexapod, str(job), str(tmp_path / "o.ngc"))
+    cli = subprocess.run([pkm_binary, "post", "-m", str(machines / "hexapod-bit.toml"), str(job),
+                          "-o", str(tmp_path / "cli.ngc")], capture_output=True, text=True)
+    assert cli.returncode != 0 and cli.stderr == f"pkm: error: {raised.value}\n"
+    assert "\n  hint: " in str(raised.value)
+    assert not (tmp_path / "o.ngc").exists()  # nothing left behind
+    m = pkmkit.Machine.load(str(machines / "hektor.toml"))
+    with pytest.raises(ValueError, match="unknown dialect"):
+        pkmkit.post(m, str(test_data / "hektor-job.ngc"), str(tmp_path / "o.ngc"), dialect="fanuc")
+    bare = tmp_path / "bare.ngc"
+    bare.write_text("G1 X52 Y77 F600\nM2\n")
+    with pytest.raises(ValueError, match="no tolerance to verify against"):
+        pkmkit.verify(m, str(bare), against=str(test_data / "hektor-job.ngc"))

@@ -1,0 +1,18 @@
+#include "pkm/machine/machine_parameters.hpp"
+
+#include <memory>
+#include <utility>
+
+namespace pkm {
+
+Machine with_kinematics_parameters(const Machine& machine, std::span<const double> values) {
+  std::unique_ptr<Kinematics> kinematics = machine.kinematics().clone();
+  kinematics->set_parameters(values);
+  Machine out(machine.name(), machine.source(), machine.units(), std::move(kinematics),
+              machine.joints(), machine.cartesian(), machine.home());
+  out.set_tool(machine.tool());
+  out.set_homing(machine.homing());
+  return out;
+}
+
+}  // namespace pkm
