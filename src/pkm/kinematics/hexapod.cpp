@@ -1,15 +1,82 @@
 #include "pkm/kinematics/hexapod.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+
+#include "pkm/kinematics/lanes.hpp"
 
 namespace pkm {
 
 namespace {
 constexpr std::array<const char*, 3> kComponent = {"x", "y", "z"};
+
+static_assert(sizeof(Pose) == kPoseSize * sizeof(double), "poses are read as 6 doubles");
+
+// The squared lengths of the six legs (mm^2), from the tool position (mm) and the sines and
+// cosines of A B C: one pose (T = double) or four (T = lanes::Lanes4). `platform` and `base` are
+// the model's 3x6 column-major joint matrices (platform joints from the tool tip).
+template <class T>
+[[gnu::always_inline]] inline void squared_leg_lengths(const double* platform, const double* base,
+                                                       const T (&position)[3], const T (&sines)[3],
+                                                       const T (&cosines)[3], T (&squared)[6]) {
+  T r[9];
+  lanes::rotation_abc(sines, cosines, r);
+  for (int leg = 0; leg < 6; ++leg) {
+    const double* p = platform + 3 * leg;
+    const double* b = base + 3 * leg;
+    T turned[3];
+    lanes::rotate(r, p, turned);
+    const T x = turned[0] + (position[0] - b[0]);
+    const T y = turned[1] + (position[1] - b[1]);
+    const T z = turned[2] + (position[2] - b[2]);
+    squared[leg] = x * x + y * y + z * z;
+  }
 }
+
+#if PKM_HAS_AVX2_LANES
+// inverse_without_leg_limits of every pose, four at a time; a last partial block repeats its last
+// pose in the spare lanes.
+PKM_AVX2 void leg_lengths_avx2(const double* platform, const double* base, const double* offsets,
+                               std::span<const Pose> poses, std::span<JointVector> joints,
+                               std::span<Status> statuses) {
+  using lanes::Lanes4;
+  const std::size_t count = poses.size();
+  for (std::size_t first = 0; first < count; first += lanes::kLanes) {
+    const std::size_t used = std::min<std::size_t>(lanes::kLanes, count - first);
+    Pose block[lanes::kLanes];
+    for (std::size_t k = 0; k < lanes::kLanes; ++k) block[k] = poses[first + std::min(k, used - 1)];
+    const double* values = block[0].position_mm.data();
+    const Lanes4 position[3] = {lanes::gather(values, kPoseSize),
+                                lanes::gather(values + 1, kPoseSize),
+                                lanes::gather(values + 2, kPoseSize)};
+    const Lanes4 angles[3] = {lanes::gather(values + 3, kPoseSize),
+                              lanes::gather(values + 4, kPoseSize),
+                              lanes::gather(values + 5, kPoseSize)};
+    const Lanes4 sines[3] = {lanes::sin(angles[0]), lanes::sin(angles[1]), lanes::sin(angles[2])};
+    const Lanes4 cosines[3] = {lanes::cos(angles[0]), lanes::cos(angles[1]), lanes::cos(angles[2])};
+    Lanes4 squared[6];
+    squared_leg_lengths(platform, base, position, sines, cosines, squared);
+    Lanes4 lengths[6];
+    for (int leg = 0; leg < 6; ++leg) lengths[leg] = lanes::sqrt(squared[leg]) + offsets[leg];
+    for (std::size_t k = 0; k < used; ++k) {
+      const std::size_t i = first + k;
+      if (!all_finite(poses[i])) {
+        statuses[i] = Status::failure(StatusCode::invalid_input);
+        continue;
+      }
+      JointVector& out = joints[i];
+      out.resize(6);
+      for (int leg = 0; leg < 6; ++leg) out[leg] = lengths[leg][k];
+      statuses[i] = Status::success();
+    }
+  }
+}
+#endif
+}  // namespace
 
 HexapodGeometry HexapodGeometry::semi_regular(double base_radius_mm, double platform_radius_mm,
                                               double side_ratio, double tool_length_mm) {
@@ -64,10 +131,14 @@ void HexapodKinematics::update_derived() {
 
 Status HexapodKinematics::inverse_without_leg_limits(const Pose& pose, JointVector& joints) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
-  const Eigen::Matrix<double, 3, 6> legs =
-      (rotation_from_abc(pose.orientation_rad) * platform_from_tip_mm_).colwise() +
-      pose.position_mm - base_mm_;
-  joints = legs.colwise().norm().transpose() + leg_offset_mm_;
+  double sines[3], cosines[3];
+  lanes::sin_cos_3(pose.orientation_rad.data(), sines, cosines);
+  const double position[3] = {pose.position_mm.x(), pose.position_mm.y(), pose.position_mm.z()};
+  double squared[6];
+  squared_leg_lengths(platform_from_tip_mm_.data(), base_mm_.data(), position, sines, cosines,
+                      squared);
+  joints.resize(6);
+  for (int leg = 0; leg < 6; ++leg) joints[leg] = std::sqrt(squared[leg]) + leg_offset_mm_[leg];
   return Status::success();
 }
 
@@ -103,6 +174,18 @@ void HexapodKinematics::inverse_batch(std::span<const Pose> poses, std::span<Joi
   if (joints.size() < poses.size() || statuses.size() < poses.size()) {
     throw std::invalid_argument("inverse_batch: output spans shorter than the input");
   }
+#if PKM_HAS_AVX2_LANES
+  if (lanes::avx2_enabled()) {
+    leg_lengths_avx2(platform_from_tip_mm_.data(), base_mm_.data(), leg_offset_mm_.data(), poses,
+                     joints, statuses);
+    if (leg_limits_.active()) {
+      for (std::size_t i = 0; i < poses.size(); ++i) {
+        if (statuses[i].ok()) statuses[i] = leg_limits_.check(leg_ends(poses[i]));
+      }
+    }
+    return;
+  }
+#endif
   // Along a path with a fixed tool attitude (the paper's "fixed attitude mode") the rotated
   // platform, less the base, is the same for every pose: each leg is then one vector sum and a
   // norm. The rotation's sines and cosines are most of the cost of a pose with a varying attitude.
