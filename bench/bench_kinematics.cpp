@@ -104,15 +104,20 @@ void forward_along_path(benchmark::State& state, const std::string& file) {
   machine.kinematics().inverse_batch(poses, joints, statuses);
   std::vector<Pose> solved(poses.size());
   int64_t succeeded = 0;
+  int64_t iterations = 0;
   for (auto _ : state) {
     machine.kinematics().forward_path(joints, poses.front(), solved, statuses);
-    for (const Status& status : statuses) succeeded += status.ok() ? 1 : 0;
+    for (const Status& status : statuses) {
+      succeeded += status.ok() ? 1 : 0;
+      iterations += status.iterations;
+    }
     benchmark::DoNotOptimize(solved.data());
   }
   const int64_t attempted = state.iterations() * static_cast<int64_t>(poses.size());
   state.SetItemsProcessed(attempted);
   state.counters["success_pct"] =
       100.0 * static_cast<double>(succeeded) / static_cast<double>(attempted);
+  state.counters["newton_steps"] = static_cast<double>(iterations) / static_cast<double>(attempted);
 }
 
 void forward_from_home(benchmark::State& state, const std::string& file) {

@@ -1,9 +1,13 @@
 #include "pkm/kinematics/glide.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <stdexcept>
 #include <string>
+
+#include "pkm/kinematics/lanes.hpp"
 
 namespace pkm {
 
@@ -13,6 +17,97 @@ namespace {
 constexpr double kMinRelativeDiscriminant = 1e-12;
 
 constexpr std::array<const char*, 3> kComponent = {"x", "y", "z"};
+
+static_assert(sizeof(Pose) == kPoseSize * sizeof(double), "poses are read as 6 doubles");
+
+// The carriage reading `along` (mm) where the strut's foot projects onto the rail, and the
+// discriminant (mm^2) whose root is how far either way of it the carriage sits: one pose (T =
+// double) or four (T = lanes::Lanes4). `rotation` is row-major R, or null for a translating
+// platform.
+template <class T>
+[[gnu::always_inline]] inline void rail_solution(const GlideRail& rail, const T* rotation,
+                                                 const T (&position)[3], T& along,
+                                                 T& discriminant) {
+  T foot[3];
+  if (rotation != nullptr) {
+    T turned[3];
+    lanes::rotate(rotation, rail.attach_mm.data(), turned);
+    for (int k = 0; k < 3; ++k) foot[k] = position[k] + turned[k] - rail.origin_mm[k];
+  } else {
+    for (int k = 0; k < 3; ++k) foot[k] = position[k] + rail.attach_mm[k] - rail.origin_mm[k];
+  }
+  along = rail.direction[0] * foot[0] + rail.direction[1] * foot[1] + rail.direction[2] * foot[2];
+  discriminant = along * along - (foot[0] * foot[0] + foot[1] * foot[1] + foot[2] * foot[2]) +
+                 rail.strut_mm * rail.strut_mm;
+}
+
+// The singular margin of a rail: a discriminant at or below it is refused.
+double singular_discriminant(const GlideRail& rail) {
+  return kMinRelativeDiscriminant * rail.strut_mm * rail.strut_mm;
+}
+
+// Why rail `i` with this discriminant has no carriage reading (ok where it has one).
+Status rail_status(const GlideRail& rail, int i, double discriminant) {
+  // Written to refuse NaN too: a pose far enough away overflows the squares (inf - inf).
+  if (!(discriminant >= 0.0)) return Status::failure(StatusCode::unreachable, i);
+  if (discriminant <= singular_discriminant(rail)) return Status::failure(StatusCode::singular, i);
+  return Status::success();
+}
+
+#if PKM_HAS_AVX2_LANES
+// The rails' readings of every pose, four at a time (statuses: invalid input, a rail's refusal, or
+// ok); pass-through joints and leg limits are the caller's. Uncontrolled coordinates read as 0.
+PKM_AVX2 void rail_readings_avx2(std::span<const GlideRail> rails, Dof dof,
+                                 std::span<const Pose> poses, std::span<JointVector> joints,
+                                 std::span<Status> statuses, int joint_count) {
+  using lanes::Lanes4;
+  const std::size_t count = poses.size();
+  const int rail_count = static_cast<int>(rails.size());
+  for (std::size_t first = 0; first < count; first += lanes::kLanes) {
+    const std::size_t used = std::min<std::size_t>(lanes::kLanes, count - first);
+    Pose tail[lanes::kLanes];  // a last partial block, its last pose repeated
+    if (used < lanes::kLanes) {
+      for (std::size_t k = 0; k < lanes::kLanes; ++k) tail[k] = poses[first + std::min(k, used - 1)];
+    }
+    const double* values =
+        used < lanes::kLanes ? tail[0].position_mm.data() : poses[first].position_mm.data();
+    Lanes4 position[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      position[axis] = dof.controls(axis) ? lanes::gather(values + axis, kPoseSize) : lanes::zero();
+    }
+    Lanes4 rotation[9] = {};
+    if (dof.any_rotation()) {
+      Lanes4 angles[3], sines[3], cosines[3];
+      for (int k = 0; k < 3; ++k) {
+        angles[k] = lanes::gather(values + 3 + k, kPoseSize);
+        sines[k] = lanes::sin(angles[k]);
+        cosines[k] = lanes::cos(angles[k]);
+      }
+      lanes::rotation_abc(sines, cosines, rotation);
+    }
+    Lanes4 along[6], discriminant[6], reading[6];
+    int refused = 0;  // bit k: pose k has a rail without a reading
+    for (int i = 0; i < rail_count; ++i) {
+      const GlideRail& rail = rails[static_cast<std::size_t>(i)];
+      rail_solution(rail, dof.any_rotation() ? rotation : nullptr, position, along[i],
+                    discriminant[i]);
+      refused |= lanes::lanes_not_above(discriminant[i], singular_discriminant(rail));
+      reading[i] = along[i] + rail.branch * lanes::sqrt(discriminant[i]);
+    }
+    for (std::size_t k = 0; k < used; ++k) {
+      const std::size_t p = first + k;
+      Status& status = statuses[p];
+      status = all_finite(poses[p]) ? Status::success() : Status::failure(StatusCode::invalid_input);
+      for (int i = 0; status.ok() && (refused >> k & 1) != 0 && i < rail_count; ++i) {
+        status = rail_status(rails[static_cast<std::size_t>(i)], i, discriminant[i][k]);
+      }
+      if (!status.ok()) continue;
+      joints[p].resize(joint_count);
+      for (int i = 0; i < rail_count; ++i) joints[p][i] = reading[i][k];
+    }
+  }
+}
+#endif
 }  // namespace
 
 GlideKinematics::GlideKinematics(std::vector<GlideRail> rails, Dof dof, PassThroughAxes passthrough,
@@ -111,24 +206,43 @@ std::string GlideKinematics::leg_limits_why(const Pose& pose, const Status& stat
 Status GlideKinematics::inverse_without_leg_limits(const Pose& pose, JointVector& joints) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
   const Pose part = controlled_part(pose);
-  const bool rotates = dof_.any_rotation();
-  const Eigen::Matrix3d rotation =
-      rotates ? rotation_from_abc(part.orientation_rad) : Eigen::Matrix3d::Identity();
+  double rotation[9] = {};
+  if (dof_.any_rotation()) {
+    double sines[3], cosines[3];
+    lanes::sin_cos_3(part.orientation_rad.data(), sines, cosines);
+    lanes::rotation_abc(sines, cosines, rotation);
+  }
+  const double position[3] = {part.position_mm.x(), part.position_mm.y(), part.position_mm.z()};
   joints.resize(joint_count());
   for (int i = 0; i < rail_count(); ++i) {
-    const GlideRail& rail = rails_[i];
-    const Eigen::Vector3d foot = part.position_mm + rotation * rail.attach_mm - rail.origin_mm;
-    const double along = rail.direction.dot(foot);
-    const double discriminant = along * along - foot.squaredNorm() + rail.strut_mm * rail.strut_mm;
-    // Written to refuse NaN too: a pose far enough away overflows the squares (inf - inf).
-    if (!(discriminant >= 0.0)) return Status::failure(StatusCode::unreachable, i);
-    if (discriminant <= kMinRelativeDiscriminant * rail.strut_mm * rail.strut_mm) {
-      return Status::failure(StatusCode::singular, i);
-    }
+    const GlideRail& rail = rails_[static_cast<std::size_t>(i)];
+    double along = 0.0, discriminant = 0.0;
+    rail_solution(rail, dof_.any_rotation() ? rotation : nullptr, position, along, discriminant);
+    const Status status = rail_status(rail, i, discriminant);
+    if (!status.ok()) return status;
     joints[i] = along + rail.branch * std::sqrt(discriminant);
   }
   passthrough_.inverse(pose, joints, rail_count());
   return Status::success();
+}
+
+void GlideKinematics::inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
+                                    std::span<Status> statuses) const {
+#if PKM_HAS_AVX2_LANES
+  if (lanes::avx2_enabled()) {
+    if (joints.size() < poses.size() || statuses.size() < poses.size()) {
+      throw std::invalid_argument("inverse_batch: output spans shorter than the input");
+    }
+    rail_readings_avx2(rails_, dof_, poses, joints, statuses, joint_count());
+    for (std::size_t p = 0; p < poses.size(); ++p) {
+      if (!statuses[p].ok()) continue;
+      passthrough_.inverse(poses[p], joints[p], rail_count());
+      if (leg_limits_.active()) statuses[p] = leg_limits_.check(leg_ends(poses[p], joints[p]));
+    }
+    return;
+  }
+#endif
+  Kinematics::inverse_batch(poses, joints, statuses);
 }
 
 Status GlideKinematics::inverse_and_jacobian(const Pose& pose, JointVector& joints,

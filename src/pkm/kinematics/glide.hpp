@@ -65,6 +65,9 @@ class GlideKinematics final : public Kinematics {
   std::unique_ptr<Kinematics> clone() const override {
     return std::make_unique<GlideKinematics>(*this);
   }
+  // Four poses at a time where AVX2 runs (lanes.hpp); the single-pose calls otherwise.
+  void inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
+                     std::span<Status> statuses) const override;
 
   const std::vector<GlideRail>& rails() const { return rails_; }
   const PassThroughAxes& passthrough() const { return passthrough_; }

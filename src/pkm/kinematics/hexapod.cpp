@@ -47,9 +47,12 @@ PKM_AVX2 void leg_lengths_avx2(const double* platform, const double* base, const
   const std::size_t count = poses.size();
   for (std::size_t first = 0; first < count; first += lanes::kLanes) {
     const std::size_t used = std::min<std::size_t>(lanes::kLanes, count - first);
-    Pose block[lanes::kLanes];
-    for (std::size_t k = 0; k < lanes::kLanes; ++k) block[k] = poses[first + std::min(k, used - 1)];
-    const double* values = block[0].position_mm.data();
+    Pose tail[lanes::kLanes];  // a last partial block, its last pose repeated
+    if (used < lanes::kLanes) {
+      for (std::size_t k = 0; k < lanes::kLanes; ++k) tail[k] = poses[first + std::min(k, used - 1)];
+    }
+    const double* values =
+        used < lanes::kLanes ? tail[0].position_mm.data() : poses[first].position_mm.data();
     const Lanes4 position[3] = {lanes::gather(values, kPoseSize),
                                 lanes::gather(values + 1, kPoseSize),
                                 lanes::gather(values + 2, kPoseSize)};
@@ -137,8 +140,10 @@ Status HexapodKinematics::inverse_without_leg_limits(const Pose& pose, JointVect
   double squared[6];
   squared_leg_lengths(platform_from_tip_mm_.data(), base_mm_.data(), position, sines, cosines,
                       squared);
+  double lengths[6];
+  lanes::sqrt_6(squared, lengths);
   joints.resize(6);
-  for (int leg = 0; leg < 6; ++leg) joints[leg] = std::sqrt(squared[leg]) + leg_offset_mm_[leg];
+  for (int leg = 0; leg < 6; ++leg) joints[leg] = lengths[leg] + leg_offset_mm_[leg];
   return Status::success();
 }
 
@@ -247,6 +252,12 @@ Status HexapodKinematics::inverse_and_jacobian(const Pose& pose, JointVector& jo
 }
 
 int HexapodKinematics::assembly_mode(const Pose& pose) const {
+  // Every machine tilts less than 90 deg about X and Y: no cosine needed there.
+  constexpr double kQuarterTurn = std::numbers::pi / 2.0;
+  if (std::abs(pose.orientation_rad.x()) < kQuarterTurn &&
+      std::abs(pose.orientation_rad.y()) < kQuarterTurn) {
+    return 1;
+  }
   const double normal_z = std::cos(pose.orientation_rad.x()) * std::cos(pose.orientation_rad.y());
   return normal_z > 0.0 ? 1 : -1;
 }

@@ -63,6 +63,8 @@ class HexapodKinematics final : public Kinematics {
   std::unique_ptr<Kinematics> clone() const override {
     return std::make_unique<HexapodKinematics>(*this);
   }
+  // Four poses at a time where AVX2 runs (lanes.hpp); elsewhere pose by pose, the rotation
+  // computed once while the attitude stays (the paper's fixed-attitude mode).
   void inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
                      std::span<Status> statuses) const override;
 

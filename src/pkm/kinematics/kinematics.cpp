@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -94,12 +95,20 @@ std::string describe(const Status& status, std::span<const std::string> joint_na
   return text;
 }
 
+// Plain loops: Eigen's allFinite (x - x == 0 over the whole vector) costs several times more, on
+// every sample.
 bool all_finite(const Pose& pose) {
-  return pose.position_mm.allFinite() && pose.orientation_rad.allFinite();
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(pose.position_mm[k]) || !std::isfinite(pose.orientation_rad[k])) return false;
+  }
+  return true;
 }
 
 bool all_finite(const JointVector& joints) {
-  return joints.allFinite();
+  for (int j = 0; j < joints.size(); ++j) {
+    if (!std::isfinite(joints[j])) return false;
+  }
+  return true;
 }
 
 Status Kinematics::inverse_and_jacobian(const Pose& pose, JointVector& joints,
@@ -115,20 +124,6 @@ void Kinematics::inverse_batch(std::span<const Pose> poses, std::span<JointVecto
     throw std::invalid_argument("inverse_batch: output spans shorter than the input");
   }
   for (std::size_t i = 0; i < poses.size(); ++i) statuses[i] = inverse(poses[i], joints[i]);
-}
-
-void Kinematics::forward_path(std::span<const JointVector> joints, const Pose& seed,
-                              std::span<Pose> poses, std::span<Status> statuses) const {
-  if (poses.size() < joints.size() || statuses.size() < joints.size()) {
-    throw std::invalid_argument("forward_path: output spans shorter than the input");
-  }
-  Pose previous = seed;
-  for (std::size_t i = 0; i < joints.size(); ++i) {
-    Pose pose = previous;
-    statuses[i] = forward(joints[i], pose);
-    poses[i] = pose;
-    if (statuses[i].ok()) previous = pose;
-  }
 }
 
 namespace {
@@ -191,6 +186,134 @@ double max_abs(const JointVector& v) {
 }
 
 }  // namespace
+
+void Kinematics::forward_path(std::span<const JointVector> joints, const Pose& seed,
+                              std::span<Pose> poses, std::span<Status> statuses) const {
+  if (poses.size() < joints.size() || statuses.size() < joints.size()) {
+    throw std::invalid_argument("forward_path: output spans shorter than the input");
+  }
+  ForwardTrack track;
+  Pose previous = seed;
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    Pose pose = previous;
+    statuses[i] = forward_along(joints[i], pose, track);
+    poses[i] = pose;
+    if (statuses[i].ok()) previous = pose;
+  }
+}
+
+namespace {
+// A seed this close (mm or rad) to the track's last solution continues the path: a pose that went
+// through a machine's units and back may differ in its last digits.
+constexpr double kTrackContinues = 1e-9;
+// Newton steps a sample may take along a track before it is handed to forward().
+constexpr int kTrackSteps = 4;
+
+// The next sample's seed from the last solutions, for samples evenly spaced in time: constant,
+// linear, then quadratic extrapolation as they accumulate.
+Vector6d extrapolated(const std::array<Vector6d, 3>& solutions, int count) {
+  if (count >= 3) return 3.0 * (solutions[0] - solutions[1]) + solutions[2];
+  if (count == 2) return 2.0 * solutions[0] - solutions[1];
+  return solutions[0];
+}
+}  // namespace
+
+Status Kinematics::forward_along(const JointVector& joints, Pose& pose_inout,
+                                 ForwardTrack& track) const {
+  const ControlledAxes axes(dof());
+  const bool square = axes.count == joint_count() && joints.size() == joint_count();
+  const Vector6d given = pose_inout.as_vector();
+  const bool continues = track.count_ > 0 && all_finite(pose_inout) &&
+                         (given - track.solutions_[0]).cwiseAbs().maxCoeff() <= kTrackContinues;
+  int iterations = 0;
+  if (square && continues && all_finite(joints)) {
+    Vector6d x = extrapolated(track.solutions_, track.count_);
+    if (track_steps(joints, x, track, iterations)) {
+      track.solutions_[2] = track.solutions_[1];
+      track.solutions_[1] = track.solutions_[0];
+      track.solutions_[0] = x;
+      track.count_ = std::min(track.count_ + 1, 3);
+      pose_inout = Pose::from_vector(x);
+      Status status = Status::success();
+      status.iterations = iterations;
+      return status;
+    }
+  }
+  track.restart();
+  Status status = forward(joints, pose_inout);
+  status.iterations += iterations;
+  if (status.ok()) {
+    track.solutions_[0] = pose_inout.as_vector();
+    track.count_ = 1;
+  }
+  return status;
+}
+
+bool Kinematics::track_steps(const JointVector& joints, Vector6d& x, ForwardTrack& track,
+                             int& iterations) const {
+  const ControlledAxes axes(dof());
+  const int joint_total = joint_count();
+  JointVector at_x(joint_total);
+  const auto residual_at = [&](const Vector6d& pose, Vector6d& residual) {
+    if (!inverse(Pose::from_vector(pose), at_x).ok()) return false;
+    residual.setZero();
+    for (int j = 0; j < joint_total; ++j) residual[j] = at_x[j] - joints[j];
+    return true;
+  };
+  Vector6d residual;
+  if (!residual_at(x, residual)) return false;
+  double error = residual.cwiseAbs().maxCoeff();
+  int factored_at = -1;  // the step whose Jacobian this sample factorised, if any
+  for (iterations = 0; error > forward_options_.tolerance_mm; ++iterations) {
+    if (iterations == kTrackSteps) return false;
+    if (!track.factored_) {
+      if (!factorise(x, track)) return false;
+      factored_at = iterations;
+    }
+    const Vector6d step = -(track.inverse_ * residual);
+    Vector6d trial = x;
+    for (int k = 0; k < axes.count; ++k) trial[axes.index[k]] += step[k];
+    Vector6d trial_residual;
+    if (!step.allFinite() || !residual_at(trial, trial_residual)) return false;
+    const double trial_error = trial_residual.cwiseAbs().maxCoeff();
+    if (!(trial_error < error)) return false;
+    // A step that cuts the residual less than tenfold, short of the tolerance (below it rounding
+    // decides the ratio): the Jacobian has moved on.
+    if (trial_error > forward_options_.tolerance_mm && trial_error > 0.1 * error) {
+      track.factored_ = false;
+    }
+    x = trial;
+    residual = trial_residual;
+    error = trial_error;
+  }
+  if (factored_at >= 0) {
+    track.fresh_steps_ = iterations - factored_at;
+  } else if (iterations > track.fresh_steps_) {
+    track.factored_ = false;  // more than a fresh factorisation needs: the next seed refreshes it
+  }
+  return true;
+}
+
+bool Kinematics::factorise(const Vector6d& x, ForwardTrack& track) const {
+  const ControlledAxes axes(dof());
+  JointVector at_x(joint_count());
+  JointJacobian jacobian(joint_count(), kPoseSize);
+  if (!inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian).ok()) return false;
+  // Padded with identity, so that every square model (2 to 6 coordinates) has one 6x6 LU.
+  Eigen::Matrix<double, 6, 6> padded = Eigen::Matrix<double, 6, 6>::Identity();
+  for (int k = 0; k < axes.count; ++k) {
+    padded.col(k).head(joint_count()) = jacobian.col(axes.index[k]);
+  }
+  const Eigen::PartialPivLU<Eigen::Matrix<double, 6, 6>> lu(padded);
+  const double det_sign = std::copysign(1.0, lu.determinant());
+  // Across a singularity from the path so far: forward() decides, from the last solution.
+  if (track.det_sign_ != 0.0 && det_sign != track.det_sign_) return false;
+  track.inverse_ = lu.inverse();
+  if (!track.inverse_.allFinite()) return false;
+  track.det_sign_ = det_sign;
+  track.factored_ = true;
+  return true;
+}
 
 Status solve_forward_newton(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
                             const ForwardOptions& options) {

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/LU>
+#include <array>
 #include <memory>
 #include <span>
 #include <string>
@@ -83,6 +85,31 @@ struct ForwardOptions {
   int max_iterations = 50;
 };
 
+// The per-call scratch of forward kinematics along a path: the model stays constant, this changes
+// with every sample (Pinocchio's Model/Data split). It keeps the last solutions, to extrapolate the
+// next sample's seed from, and a recent Jacobian, factorised, which Newton steps reuse while they
+// keep converging. One per path and thread; a default-constructed one starts a path.
+class ForwardTrack {
+ public:
+  // Forget the path: the next call starts from its seed, with the model's full forward().
+  void restart() {
+    count_ = 0;
+    factored_ = false;
+    det_sign_ = 0.0;
+  }
+
+ private:
+  friend class Kinematics;
+  std::array<Vector6d, 3> solutions_{};  // [0] the latest
+  int count_ = 0;
+  // The inverse of J (padded to 6x6 with identity), from its LU: a step is then one 6x6 product,
+  // where the LU's triangular solves would take six dependent divisions.
+  Eigen::Matrix<double, 6, 6> inverse_;
+  bool factored_ = false;
+  int fresh_steps_ = 0;    // Newton steps the sample that factorised took: what a fresh one needs
+  double det_sign_ = 0.0;  // sign of det J along the path; 0 before the first factorisation
+};
+
 class Kinematics {
  public:
   virtual ~Kinematics() = default;
@@ -134,14 +161,30 @@ class Kinematics {
   void set_forward_options(const ForwardOptions& options) { forward_options_ = options; }
 
   // Batch entry points. Defaults loop over the single-pose calls; models with a cheap closed form
-  // override them. forward_path seeds each sample with the previous solution, as along a tool path.
+  // override them. forward_path runs forward_along over the samples with one track.
   virtual void inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
                              std::span<Status> statuses) const;
   void forward_path(std::span<const JointVector> joints, const Pose& seed, std::span<Pose> poses,
                     std::span<Status> statuses) const;
+  // FK of the next sample along a path, samples evenly spaced in time (a servo period, a planner's
+  // step). While `pose_inout` is the track's last solution (to 1e-9 mm or rad) the seed is
+  // extrapolated from the last three, and Newton steps go through the track's factorised
+  // Jacobian, refreshed (at the next seed) once a sample needs more steps than the one that
+  // factorised it, or a step cuts the residual less than tenfold: one step per sample on a
+  // smooth servo-rate path. Otherwise, or when that does not converge within a few steps, or det J changes
+  // sign, it is forward() from `pose_inout`, as without a track. Square models only (as many
+  // joints as controlled coordinates); the others always take forward().
+  Status forward_along(const JointVector& joints, Pose& pose_inout, ForwardTrack& track) const;
 
  protected:
   ForwardOptions forward_options_;
+
+ private:
+  // forward_along's Newton steps from `x`; false where they do not get within the tolerance.
+  bool track_steps(const JointVector& joints, Vector6d& x, ForwardTrack& track,
+                   int& iterations) const;
+  // The track's LU of the Jacobian at `x`; false where IK fails there or det J changed sign.
+  bool factorise(const Vector6d& x, ForwardTrack& track) const;
 };
 
 // `value` printed with a printf pattern ("%.3f", "%g"): the numbers of error messages.

@@ -28,6 +28,11 @@ PKM_AVX2 void sin_cos_3_avx2(const double angles[3], double sines[3], double cos
     cosines[k] = c[k];
   }
 }
+
+PKM_AVX2 void sqrt_6_avx2(const double squares[6], double roots[6]) {
+  _mm256_storeu_pd(roots, _mm256_sqrt_pd(_mm256_loadu_pd(squares)));
+  _mm_storeu_pd(roots + 4, _mm_sqrt_pd(_mm_loadu_pd(squares + 4)));
+}
 #endif
 }  // namespace
 
@@ -50,6 +55,16 @@ void sin_cos_3(const double angles[3], double sines[3], double cosines[3]) {
     sines[k] = std::sin(angles[k]);
     cosines[k] = std::cos(angles[k]);
   }
+}
+
+void sqrt_6(const double squares[6], double roots[6]) {
+#if PKM_HAS_AVX2_LANES
+  if (avx2_enabled()) {
+    sqrt_6_avx2(squares, roots);
+    return;
+  }
+#endif
+  for (int k = 0; k < 6; ++k) roots[k] = std::sqrt(squares[k]);
 }
 
 }  // namespace pkm::lanes

@@ -26,6 +26,9 @@ bool set_avx2_enabled(bool enabled);
 // The sines and cosines of three angles (rad) through one vector call each where AVX2 runs,
 // std::sin and std::cos otherwise.
 void sin_cos_3(const double angles[3], double sines[3], double cosines[3]);
+// The square roots of six numbers (a hexapod's legs): two vector square roots where AVX2 runs.
+// Bit for bit std::sqrt's (IEEE square roots are correctly rounded).
+void sqrt_6(const double squares[6], double roots[6]);
 
 #if PKM_HAS_AVX2_LANES
 #define PKM_AVX2 __attribute__((target("avx2,fma")))
@@ -48,9 +51,12 @@ PKM_AVX2 inline Lanes4 sqrt(Lanes4 x) {
 PKM_AVX2 inline Lanes4 gather(const double* values, int stride) {
   return _mm256_set_pd(values[3 * stride], values[2 * stride], values[stride], values[0]);
 }
-// Bit k set where lane k is below `limit` or NaN (not >= limit).
-PKM_AVX2 inline int lanes_not_at_least(Lanes4 x, Lanes4 limit) {
-  return _mm256_movemask_pd(_mm256_cmp_pd(x, limit, _CMP_NGE_UQ));
+// Bit k set where lane k is not above `limit`: at or below it, or NaN.
+PKM_AVX2 inline int lanes_not_above(Lanes4 x, double limit) {
+  return _mm256_movemask_pd(_mm256_cmp_pd(x, _mm256_set1_pd(limit), _CMP_NGT_UQ));
+}
+PKM_AVX2 inline Lanes4 zero() {
+  return _mm256_setzero_pd();
 }
 #endif
 
@@ -80,7 +86,7 @@ template <class T>
 // r * v for a constant vector v (mm) of the model. (Results by reference: a function returning a
 // Lanes4 by value has an ABI of its own outside AVX2 code.)
 template <class T>
-[[gnu::always_inline]] inline void rotate(const T (&r)[9], const double* v, T (&out)[3]) {
+[[gnu::always_inline]] inline void rotate(const T* r, const double* v, T (&out)[3]) {
   for (int k = 0; k < 3; ++k) out[k] = r[3 * k] * v[0] + r[3 * k + 1] * v[1] + r[3 * k + 2] * v[2];
 }
 

@@ -102,7 +102,7 @@ Status KinsAdapter::forward(const double* joints, WorldPose& world_inout) {
   Pose pose = to_pose(world_inout);
   const bool seeded = all_finite(pose);
   if (!seeded) pose = last_forward_;
-  const Status status = machine_.forward(internal, pose);
+  const Status status = machine_.forward(internal, pose, forward_track_);
   counters_.fk_status = status_number(status);
   counters_.fk_iterations = status.iterations;
   if (!status.ok()) {

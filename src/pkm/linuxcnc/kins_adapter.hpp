@@ -96,6 +96,7 @@ class KinsAdapter {
   double mm_per_world_unit_;
   int joint_count_;
   Pose last_forward_;
+  ForwardTrack forward_track_;  // LinuxCNC calls forward once a servo period along the path
   // The last failed inverse: the pose, its status, the joint values IK found (when it got that
   // far: a joint limit), and how many failures in a row it ends.
   Pose failed_pose_;

@@ -113,6 +113,15 @@ double Machine::axis_from_file(int axis, double value) const {
 }
 
 Status Machine::forward(const JointVector& joints, Pose& pose_inout) const {
+  return forward_with(joints, pose_inout, nullptr);
+}
+
+Status Machine::forward(const JointVector& joints, Pose& pose_inout, ForwardTrack& track) const {
+  return forward_with(joints, pose_inout, &track);
+}
+
+Status Machine::forward_with(const JointVector& joints, Pose& pose_inout,
+                             ForwardTrack* track) const {
   if (joints.size() != static_cast<int>(joints_.size())) {
     return Status::failure(StatusCode::invalid_input);
   }
@@ -120,7 +129,8 @@ Status Machine::forward(const JointVector& joints, Pose& pose_inout) const {
   const Status limits = check_joint_limits(joints);
   if (!limits.ok()) return limits;
   Pose solved = pose_inout;
-  Status status = kinematics_->forward(joints, solved);
+  Status status = track != nullptr ? kinematics_->forward_along(joints, solved, *track)
+                                   : kinematics_->forward(joints, solved);
   const auto wrong_mode = [&] {
     return status.ok() && home_assembly_mode_ != 0 &&
            kinematics_->assembly_mode(solved) != home_assembly_mode_;
@@ -130,6 +140,7 @@ Status Machine::forward(const JointVector& joints, Pose& pose_inout) const {
     // A seed across a singularity from the answer leads FK astray (or to the mirror-image pose);
     // home is on the machine's side by definition, so it is the seed of last resort.
     const int iterations_from_seed = status.iterations;
+    if (track != nullptr) track->restart();
     solved = home_;
     status = kinematics_->forward(joints, solved);
     const int iterations = iterations_from_seed + status.iterations;

@@ -104,6 +104,9 @@ class Machine {
   // Joint limits first, then FK seeded with pose_inout; a result in another assembly mode than
   // home's is solved again from home, and refused if it stays there.
   Status forward(const JointVector& joints, Pose& pose_inout) const;
+  // The same for the next sample of a path: the model's forward_along with `track` (the path's
+  // scratch, kinematics.hpp) before the fall-back to home.
+  Status forward(const JointVector& joints, Pose& pose_inout, ForwardTrack& track) const;
   // Refuses NaN as well as values beyond [min, max].
   Status check_joint_limits(const JointVector& joints) const;
   Status check_envelope(const Pose& pose) const;
@@ -140,6 +143,8 @@ class Machine {
   std::string format_pose(const Pose& pose) const;
 
  private:
+  // forward() with the model's forward_along where `track` is given, forward where it is null.
+  Status forward_with(const JointVector& joints, Pose& pose_inout, ForwardTrack* track) const;
   // The envelope part of explain_path: where the move crosses the envelope on `axis`, and how far
   // beyond it the move goes.
   // The joint_angle or interference part of explain().
