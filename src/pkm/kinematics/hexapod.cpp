@@ -38,6 +38,19 @@ template <class T>
 }
 
 #if PKM_HAS_AVX2_LANES
+// One pose's leg lengths (mm): the scalar arithmetic with the sines, cosines and square roots in
+// vector registers.
+PKM_AVX2 void leg_lengths_one_avx2(const double* platform, const double* base,
+                                   const double* offsets, const Pose& pose, double* lengths) {
+  double sines[3], cosines[3];
+  lanes::sin_cos_3_avx2(pose.orientation_rad.data(), sines, cosines);
+  const double position[3] = {pose.position_mm.x(), pose.position_mm.y(), pose.position_mm.z()};
+  double squared[6];
+  squared_leg_lengths(platform, base, position, sines, cosines, squared);
+  lanes::sqrt_6_avx2(squared, lengths);
+  for (int leg = 0; leg < 6; ++leg) lengths[leg] += offsets[leg];
+}
+
 // inverse_without_leg_limits of every pose, four at a time; a last partial block repeats its last
 // pose in the spare lanes.
 PKM_AVX2 void leg_lengths_avx2(const double* platform, const double* base, const double* offsets,
@@ -134,16 +147,21 @@ void HexapodKinematics::update_derived() {
 
 Status HexapodKinematics::inverse_without_leg_limits(const Pose& pose, JointVector& joints) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
+  joints.resize(6);
+#if PKM_HAS_AVX2_LANES
+  if (lanes::avx2_enabled()) {
+    leg_lengths_one_avx2(platform_from_tip_mm_.data(), base_mm_.data(), leg_offset_mm_.data(), pose,
+                         joints.data());
+    return Status::success();
+  }
+#endif
   double sines[3], cosines[3];
   lanes::sin_cos_3(pose.orientation_rad.data(), sines, cosines);
   const double position[3] = {pose.position_mm.x(), pose.position_mm.y(), pose.position_mm.z()};
   double squared[6];
   squared_leg_lengths(platform_from_tip_mm_.data(), base_mm_.data(), position, sines, cosines,
                       squared);
-  double lengths[6];
-  lanes::sqrt_6(squared, lengths);
-  joints.resize(6);
-  for (int leg = 0; leg < 6; ++leg) joints[leg] = lengths[leg] + leg_offset_mm_[leg];
+  for (int leg = 0; leg < 6; ++leg) joints[leg] = std::sqrt(squared[leg]) + leg_offset_mm_[leg];
   return Status::success();
 }
 

@@ -95,15 +95,6 @@ std::string describe(const Status& status, std::span<const std::string> joint_na
   return text;
 }
 
-// Plain loops: Eigen's allFinite (x - x == 0 over the whole vector) costs several times more, on
-// every sample.
-bool all_finite(const Pose& pose) {
-  for (int k = 0; k < 3; ++k) {
-    if (!std::isfinite(pose.position_mm[k]) || !std::isfinite(pose.orientation_rad[k])) return false;
-  }
-  return true;
-}
-
 bool all_finite(const JointVector& joints) {
   for (int j = 0; j < joints.size(); ++j) {
     if (!std::isfinite(joints[j])) return false;
@@ -208,6 +199,8 @@ namespace {
 constexpr double kTrackContinues = 1e-9;
 // Newton steps a sample may take along a track before it is handed to forward().
 constexpr int kTrackSteps = 4;
+// Steps beyond one per sample, since the last factorisation, that call for a new one.
+constexpr int kRefreshAfterExtraSteps = 2;
 
 // The next sample's seed from the last solutions, for samples evenly spaced in time: constant,
 // linear, then quadratic extrapolation as they accumulate.
@@ -286,11 +279,11 @@ bool Kinematics::track_steps(const JointVector& joints, Vector6d& x, ForwardTrac
     residual = trial_residual;
     error = trial_error;
   }
-  if (factored_at >= 0) {
-    track.fresh_steps_ = iterations - factored_at;
-  } else if (iterations > track.fresh_steps_) {
-    track.factored_ = false;  // more than a fresh factorisation needs: the next seed refreshes it
-  }
+  // Steps beyond one per sample pay for a fresh factorisation (about two steps' work) once they
+  // add up to it: rent or buy. The next seed gets it.
+  const int extra = std::max(0, iterations - (factored_at >= 0 ? factored_at : 0) - 1);
+  track.extra_steps_ = (factored_at >= 0 ? 0 : track.extra_steps_) + extra;
+  if (track.extra_steps_ >= kRefreshAfterExtraSteps) track.factored_ = false;
   return true;
 }
 
@@ -308,7 +301,8 @@ bool Kinematics::factorise(const Vector6d& x, ForwardTrack& track) const {
   const double det_sign = std::copysign(1.0, lu.determinant());
   // Across a singularity from the path so far: forward() decides, from the last solution.
   if (track.det_sign_ != 0.0 && det_sign != track.det_sign_) return false;
-  track.inverse_ = lu.inverse();
+  // Column by column: the fixed-size vector solves, where inverse() takes Eigen's blocked paths.
+  for (int k = 0; k < 6; ++k) track.inverse_.col(k) = lu.solve(Vector6d::Unit(k));
   if (!track.inverse_.allFinite()) return false;
   track.det_sign_ = det_sign;
   track.factored_ = true;

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <array>
+#include <cmath>
 #include <memory>
 #include <span>
 #include <string>
@@ -106,7 +107,7 @@ class ForwardTrack {
   // where the LU's triangular solves would take six dependent divisions.
   Eigen::Matrix<double, 6, 6> inverse_;
   bool factored_ = false;
-  int fresh_steps_ = 0;    // Newton steps the sample that factorised took: what a fresh one needs
+  int extra_steps_ = 0;    // Newton steps beyond one per sample since the factorisation
   double det_sign_ = 0.0;  // sign of det J along the path; 0 before the first factorisation
 };
 
@@ -169,8 +170,8 @@ class Kinematics {
   // FK of the next sample along a path, samples evenly spaced in time (a servo period, a planner's
   // step). While `pose_inout` is the track's last solution (to 1e-9 mm or rad) the seed is
   // extrapolated from the last three, and Newton steps go through the track's factorised
-  // Jacobian, refreshed (at the next seed) once a sample needs more steps than the one that
-  // factorised it, or a step cuts the residual less than tenfold: one step per sample on a
+  // Jacobian, refreshed (at the next seed) once the samples since it have taken two steps more
+  // than one each, or a step cuts the residual less than tenfold: one step per sample on a
   // smooth servo-rate path. Otherwise, or when that does not converge within a few steps, or det J changes
   // sign, it is forward() from `pose_inout`, as without a track. Square models only (as many
   // joints as controlled coordinates); the others always take forward().
@@ -190,8 +191,14 @@ class Kinematics {
 // `value` printed with a printf pattern ("%.3f", "%g"): the numbers of error messages.
 std::string formatted_number(const char* printf_pattern, double value);
 
-// True when every entry is finite.
-bool all_finite(const Pose& pose);
+// True when every entry is finite. Plain loops, inline: Eigen's allFinite (x - x == 0 over the
+// whole vector) cost several times more, on every sample.
+inline bool all_finite(const Pose& pose) {
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(pose.position_mm[k]) || !std::isfinite(pose.orientation_rad[k])) return false;
+  }
+  return true;
+}
 bool all_finite(const JointVector& joints);
 
 // Damped Newton (Levenberg-Marquardt) forward kinematics over the model's controlled

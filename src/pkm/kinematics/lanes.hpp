@@ -26,9 +26,6 @@ bool set_avx2_enabled(bool enabled);
 // The sines and cosines of three angles (rad) through one vector call each where AVX2 runs,
 // std::sin and std::cos otherwise.
 void sin_cos_3(const double angles[3], double sines[3], double cosines[3]);
-// The square roots of six numbers (a hexapod's legs): two vector square roots where AVX2 runs.
-// Bit for bit std::sqrt's (IEEE square roots are correctly rounded).
-void sqrt_6(const double squares[6], double roots[6]);
 
 #if PKM_HAS_AVX2_LANES
 #define PKM_AVX2 __attribute__((target("avx2,fma")))
@@ -57,6 +54,22 @@ PKM_AVX2 inline int lanes_not_above(Lanes4 x, double limit) {
 }
 PKM_AVX2 inline Lanes4 zero() {
   return _mm256_setzero_pd();
+}
+// sin_cos_3 for callers that are AVX2 code themselves.
+PKM_AVX2 inline void sin_cos_3_avx2(const double angles[3], double sines[3], double cosines[3]) {
+  const Lanes4 x = _mm256_set_pd(0.0, angles[2], angles[1], angles[0]);
+  const Lanes4 s = sin(x);
+  const Lanes4 c = cos(x);
+  for (int k = 0; k < 3; ++k) {
+    sines[k] = s[k];
+    cosines[k] = c[k];
+  }
+}
+// The square roots of six numbers (a hexapod's legs) in two vector square roots: bit for bit
+// std::sqrt's (IEEE square roots are correctly rounded).
+PKM_AVX2 inline void sqrt_6_avx2(const double squares[6], double roots[6]) {
+  _mm256_storeu_pd(roots, _mm256_sqrt_pd(_mm256_loadu_pd(squares)));
+  _mm_storeu_pd(roots + 4, _mm_sqrt_pd(_mm_loadu_pd(squares + 4)));
 }
 #endif
 
