@@ -17,11 +17,15 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <map>
 #include <memory>
+#include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "pkm/kinematics/lanes.hpp"
 #include "pkm/linuxcnc/kins_adapter.hpp"
 
 // HAL and RTAPI stand-ins for LinuxCNC's modules (C linkage; the executable exports them).
@@ -269,6 +273,230 @@ void linuxcnc_forward(benchmark::State& state, const Case* which) {
   state.counters["worst_vs_path"] = worst;
 }
 
+// ---- Side by side: pkm and genhexkins timed alternately in the same benchmark, the ratio reported
+// (x_genhexkins: genhexkins' time per pose over pkm's; above 1 pkm is faster), CPU time of this
+// thread, so that the load of a shared machine weighs on both alike. Every figure of issue 16's
+// kinematics targets, in one run.
+
+double thread_cpu_ns() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return 1e9 * static_cast<double>(now.tv_sec) + static_cast<double>(now.tv_nsec);
+}
+
+// A stretch of samples: what one benchmark iteration does with each side.
+constexpr std::size_t kStretch = 1000;
+
+// genhexkins' inverse and forward (seeded with the previous pose) over samples [first, first +
+// kStretch) of the hexapod path.
+void genhexkins_inverse_stretch(const Loaded& hexapod, std::size_t first) {
+  double joints[9];
+  unsigned long iflags = 0, fflags = 0;
+  for (std::size_t k = first; k < first + kStretch; ++k) {
+    hexapod.reference.inverse(&hexapod.path[k], joints, &iflags, &fflags);
+    benchmark::DoNotOptimize(joints);
+  }
+}
+void genhexkins_forward_stretch(const Loaded& hexapod, std::size_t first) {
+  WorldPose pose = hexapod.path[first];
+  unsigned long iflags = 0, fflags = 0;
+  for (std::size_t k = first; k < first + kStretch; ++k) {
+    hexapod.reference.forward(hexapod.joints[k].data(), &pose, &fflags, &iflags);
+    benchmark::DoNotOptimize(pose);
+  }
+}
+
+// Runs `pkm(first)` and `reference(first)` on successive stretches of the path, each timed on its
+// own; reports ns per pose of both and their ratio.
+template <class Pkm, class Reference>
+void alternate(benchmark::State& state, std::size_t samples, Pkm pkm, Reference reference,
+               const char* ratio_name) {
+  double pkm_ns = 0.0, reference_ns = 0.0;
+  std::size_t first = 0;
+  for (auto _ : state) {
+    const double start = thread_cpu_ns();
+    pkm(first);
+    const double middle = thread_cpu_ns();
+    state.PauseTiming();
+    const double reference_start = thread_cpu_ns();
+    reference(first);
+    reference_ns += thread_cpu_ns() - reference_start;
+    state.ResumeTiming();
+    pkm_ns += middle - start;
+    first = first + 2 * kStretch <= samples ? first + kStretch : 0;
+  }
+  const double poses = static_cast<double>(state.iterations()) * static_cast<double>(kStretch);
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(kStretch));
+  state.counters["pkm_ns"] = pkm_ns / poses;
+  state.counters["reference_ns"] = reference_ns / poses;
+  state.counters[ratio_name] = reference_ns / pkm_ns;
+}
+
+// A machine of pkm's own (examples/machines), its path in mm and rad, and its joints along it.
+struct PkmCase {
+  pkm::Machine machine;
+  std::vector<pkm::Pose> path;
+  std::vector<pkm::JointVector> joints;
+};
+
+// The hexapod simulator's path in pkm's units, or a machine's own: 10 s of a helix at 25 mm/s
+// about home, 1 ms apart, tilting by a few degrees where the machine controls orientation.
+PkmCase& pkm_case(const std::string& file) {
+  static std::map<std::string, std::unique_ptr<PkmCase>> cache;
+  std::unique_ptr<PkmCase>& entry = cache[file];
+  if (entry) return *entry;
+  entry = std::make_unique<PkmCase>(PkmCase{
+      pkm::load_machine(std::string(PKM_SOURCE_DIR) + "/examples/machines/" + file), {}, {}});
+  if (file == kHexapod.machine_file) {
+    const Loaded& hexapod = loaded(kHexapod);
+    for (const WorldPose& world : hexapod.path)
+      entry->path.push_back(hexapod.pkmkins.to_pose(world));
+  } else {
+    const pkm::Dof dof = entry->machine.kinematics().dof();
+    for (int k = 0; k < 10000; ++k) {
+      const double angle = k * 0.001 / 2.0;  // 25 mm/s on a 50 mm radius
+      pkm::Vector6d values = entry->machine.home().as_vector();
+      values[0] += 50.0 * (std::cos(angle) - 1.0);
+      values[1] += 50.0 * std::sin(angle);
+      values[2] -= 1.0 * k * 0.001;
+      if (dof.any_rotation()) {
+        values[3] += pkm::degrees_to_radians(3.0) * std::sin(angle);
+        values[4] += pkm::degrees_to_radians(2.0) * std::cos(angle);
+        values[5] += pkm::degrees_to_radians(4.0) * std::sin(2.0 * angle);
+      }
+      entry->path.push_back(pkm::Pose::from_vector(values));
+    }
+  }
+  entry->joints.resize(entry->path.size());
+  std::vector<pkm::Status> statuses(entry->path.size());
+  entry->machine.kinematics().inverse_batch(entry->path, entry->joints, statuses);
+  for (const pkm::Status& status : statuses) {
+    if (!status.ok()) throw std::runtime_error(file + ": the benchmark's path leaves the reach");
+  }
+  return *entry;
+}
+
+bool genhexkins_missing(benchmark::State& state) {
+  const Loaded& hexapod = loaded(kHexapod);
+  if (hexapod.reference.inverse != nullptr) return false;
+  state.SkipWithError(hexapod.reference.error.c_str());
+  return true;
+}
+
+// IK one pose at a time (the model's inverse), against genhexkins' inverse.
+void ik_single_vs_genhexkins(benchmark::State& state, const char* file) {
+  if (genhexkins_missing(state)) return;
+  PkmCase& pkm_side = pkm_case(file);
+  const Loaded& hexapod = loaded(kHexapod);
+  pkm::JointVector joints;
+  alternate(
+      state, pkm_side.path.size(),
+      [&](std::size_t first) {
+        for (std::size_t k = first; k < first + kStretch; ++k) {
+          benchmark::DoNotOptimize(pkm_side.machine.kinematics().inverse(pkm_side.path[k], joints));
+          benchmark::DoNotOptimize(joints.data());
+        }
+      },
+      [&](std::size_t first) { genhexkins_inverse_stretch(hexapod, first); }, "x_genhexkins");
+}
+
+// IK through inverse_batch, the attitude varying from pose to pose, against genhexkins' inverse.
+void ik_batch_vs_genhexkins(benchmark::State& state, const char* file) {
+  if (genhexkins_missing(state)) return;
+  PkmCase& pkm_side = pkm_case(file);
+  const Loaded& hexapod = loaded(kHexapod);
+  std::vector<pkm::JointVector> joints(kStretch);
+  std::vector<pkm::Status> statuses(kStretch);
+  alternate(
+      state, pkm_side.path.size(),
+      [&](std::size_t first) {
+        pkm_side.machine.kinematics().inverse_batch(
+            std::span<const pkm::Pose>(pkm_side.path).subspan(first, kStretch), joints, statuses);
+        benchmark::DoNotOptimize(joints.data());
+      },
+      [&](std::size_t first) { genhexkins_inverse_stretch(hexapod, first); }, "x_genhexkins");
+}
+
+// Warm FK along the path (Machine::forward with a track, each sample seeded with the previous
+// solution), against genhexkins' forward seeded with its previous solution.
+void fk_path_vs_genhexkins(benchmark::State& state, const char* file) {
+  if (genhexkins_missing(state)) return;
+  PkmCase& pkm_side = pkm_case(file);
+  const Loaded& hexapod = loaded(kHexapod);
+  long steps = 0, failures = 0;
+  alternate(
+      state, pkm_side.path.size(),
+      [&](std::size_t first) {
+        pkm::ForwardTrack track;
+        pkm::Pose pose = pkm_side.path[first];
+        for (std::size_t k = first; k < first + kStretch; ++k) {
+          const pkm::Status status = pkm_side.machine.forward(pkm_side.joints[k], pose, track);
+          steps += status.iterations;
+          failures += status.ok() ? 0 : 1;
+        }
+        benchmark::DoNotOptimize(pose);
+      },
+      [&](std::size_t first) { genhexkins_forward_stretch(hexapod, first); }, "x_genhexkins");
+  const double poses = static_cast<double>(state.iterations()) * static_cast<double>(kStretch);
+  state.counters["newton_steps"] = static_cast<double>(steps) / poses;
+  state.counters["success_pct"] = 100.0 * (1.0 - static_cast<double>(failures) / poses);
+}
+
+// The pkmkins module's calls as LinuxCNC's servo thread makes them (units converted, the
+// machine's limits), against genhexkins'.
+void pkmkins_ik_vs_genhexkins(benchmark::State& state) {
+  if (genhexkins_missing(state)) return;
+  Loaded& hexapod = loaded(kHexapod);
+  double joints[9];
+  alternate(
+      state, hexapod.path.size(),
+      [&](std::size_t first) {
+        for (std::size_t k = first; k < first + kStretch; ++k) {
+          hexapod.pkmkins.inverse(hexapod.path[k], joints);
+          benchmark::DoNotOptimize(joints);
+        }
+      },
+      [&](std::size_t first) { genhexkins_inverse_stretch(hexapod, first); }, "x_genhexkins");
+}
+void pkmkins_fk_vs_genhexkins(benchmark::State& state) {
+  if (genhexkins_missing(state)) return;
+  Loaded& hexapod = loaded(kHexapod);
+  alternate(
+      state, hexapod.path.size(),
+      [&](std::size_t first) {
+        WorldPose pose = hexapod.path[first];
+        for (std::size_t k = first; k < first + kStretch; ++k) {
+          hexapod.pkmkins.forward(hexapod.joints[k].data(), pose);
+          benchmark::DoNotOptimize(pose);
+        }
+      },
+      [&](std::size_t first) { genhexkins_forward_stretch(hexapod, first); }, "x_genhexkins");
+}
+
+// The same with the vector paths off: what a CPU without AVX2 gets.
+void ik_batch_scalar_vs_genhexkins(benchmark::State& state, const char* file) {
+  const bool previous = pkm::lanes::set_avx2_enabled(false);
+  ik_batch_vs_genhexkins(state, file);
+  pkm::lanes::set_avx2_enabled(previous);
+}
+
+BENCHMARK_CAPTURE(ik_single_vs_genhexkins, hexapod, "linuxcnc-hexapod-sim.toml");
+BENCHMARK_CAPTURE(ik_batch_vs_genhexkins, hexapod, "linuxcnc-hexapod-sim.toml");
+BENCHMARK_CAPTURE(ik_batch_scalar_vs_genhexkins, hexapod, "linuxcnc-hexapod-sim.toml");
+BENCHMARK_CAPTURE(fk_path_vs_genhexkins, hexapod, "linuxcnc-hexapod-sim.toml");
+BENCHMARK(pkmkins_ik_vs_genhexkins);
+BENCHMARK(pkmkins_fk_vs_genhexkins);
+BENCHMARK_CAPTURE(ik_single_vs_genhexkins, hexaglide, "hexaglide.toml");
+BENCHMARK_CAPTURE(ik_batch_vs_genhexkins, hexaglide, "hexaglide.toml");
+BENCHMARK_CAPTURE(fk_path_vs_genhexkins, hexaglide, "hexaglide.toml");
+BENCHMARK_CAPTURE(ik_single_vs_genhexkins, ldelta, "linuxcnc-ldelta.toml");
+BENCHMARK_CAPTURE(ik_batch_vs_genhexkins, ldelta, "linuxcnc-ldelta.toml");
+BENCHMARK_CAPTURE(fk_path_vs_genhexkins, ldelta, "linuxcnc-ldelta.toml");
+BENCHMARK_CAPTURE(ik_single_vs_genhexkins, linear_delta, "linear-delta.toml");
+BENCHMARK_CAPTURE(ik_batch_vs_genhexkins, linear_delta, "linear-delta.toml");
+BENCHMARK_CAPTURE(fk_path_vs_genhexkins, linear_delta, "linear-delta.toml");
+
+// ---- Each side on its own, LinuxCNC's lineardeltakins and rotarydeltakins too.
 BENCHMARK_CAPTURE(pkmkins_inverse, hexapod, &kHexapod);
 BENCHMARK_CAPTURE(linuxcnc_inverse, hexapod_genhexkins, &kHexapod);
 BENCHMARK_CAPTURE(pkmkins_forward, hexapod, &kHexapod);

@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdlib>
 #include <new>
 
+#include "pkm/kinematics/lanes.hpp"
 #include "pkm/linuxcnc/kins_adapter.hpp"
 #include "test_support.hpp"
 
@@ -58,6 +60,36 @@ TEST_P(NoAllocation, InverseJacobianAndForwardAllocateNothing) {
     machine.inverse(poses[i], joints[i]);
   }
   EXPECT_EQ(allocations.load() - before, 0);
+}
+
+// Along a path: FK with a track (the seed extrapolated, the Jacobian's factorisation kept), and
+// the batch IK on both of its paths (AVX2 lanes where the CPU has them, scalar).
+TEST_P(NoAllocation, ForwardAlongAPathAndBothBatchPathsAllocateNothing) {
+  const Machine machine = test::load_example(GetParam());
+  std::vector<Pose> path;
+  for (int i = 0; i < 400; ++i) {
+    Pose pose = machine.home();
+    pose.position_mm.x() += 2.0 * std::sin(0.01 * i);  // 0.02 mm servo steps
+    pose.position_mm.y() += 2.0 * (1.0 - std::cos(0.01 * i));
+    path.push_back(pose);
+  }
+  std::vector<JointVector> joints(path.size());
+  std::vector<Status> statuses(path.size());
+  machine.kinematics().inverse_batch(path, joints, statuses);
+  ForwardTrack track;
+  Pose pose = machine.home();
+  int solved = 0;
+  const bool vector_path = lanes::avx2_enabled();
+  const long before = allocations.load();
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    if (statuses[i].ok()) solved += machine.forward(joints[i], pose, track).ok() ? 1 : 0;
+  }
+  machine.kinematics().inverse_batch(path, joints, statuses);
+  lanes::set_avx2_enabled(false);
+  machine.kinematics().inverse_batch(path, joints, statuses);
+  lanes::set_avx2_enabled(vector_path);
+  EXPECT_EQ(allocations.load() - before, 0);
+  EXPECT_GT(solved, 0);
 }
 
 // The pkmkins module's servo-thread calls: inverse, forward from the previous pose, the failure

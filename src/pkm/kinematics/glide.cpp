@@ -37,8 +37,12 @@ template <class T>
     for (int k = 0; k < 3; ++k) foot[k] = position[k] + rail.attach_mm[k] - rail.origin_mm[k];
   }
   along = rail.direction[0] * foot[0] + rail.direction[1] * foot[1] + rail.direction[2] * foot[2];
-  discriminant = along * along - (foot[0] * foot[0] + foot[1] * foot[1] + foot[2] * foot[2]) +
-                 rail.strut_mm * rail.strut_mm;
+  // strut^2 less the foot's squared distance from the rail, from its component across the rail:
+  // along^2 - |foot|^2 would cancel two large squares where the foot is far along the rail.
+  T across[3];
+  for (int k = 0; k < 3; ++k) across[k] = foot[k] - along * rail.direction[k];
+  discriminant = rail.strut_mm * rail.strut_mm -
+                 (across[0] * across[0] + across[1] * across[1] + across[2] * across[2]);
 }
 
 // The singular margin of a rail: a discriminant at or below it is refused.
@@ -67,7 +71,8 @@ PKM_AVX2 void rail_readings_avx2(std::span<const GlideRail> rails, Dof dof,
     const std::size_t used = std::min<std::size_t>(lanes::kLanes, count - first);
     Pose tail[lanes::kLanes];  // a last partial block, its last pose repeated
     if (used < lanes::kLanes) {
-      for (std::size_t k = 0; k < lanes::kLanes; ++k) tail[k] = poses[first + std::min(k, used - 1)];
+      for (std::size_t k = 0; k < lanes::kLanes; ++k)
+        tail[k] = poses[first + std::min(k, used - 1)];
     }
     const double* values =
         used < lanes::kLanes ? tail[0].position_mm.data() : poses[first].position_mm.data();
@@ -97,7 +102,8 @@ PKM_AVX2 void rail_readings_avx2(std::span<const GlideRail> rails, Dof dof,
     for (std::size_t k = 0; k < used; ++k) {
       const std::size_t p = first + k;
       Status& status = statuses[p];
-      status = all_finite(poses[p]) ? Status::success() : Status::failure(StatusCode::invalid_input);
+      status =
+          all_finite(poses[p]) ? Status::success() : Status::failure(StatusCode::invalid_input);
       for (int i = 0; status.ok() && (refused >> k & 1) != 0 && i < rail_count; ++i) {
         status = rail_status(rails[static_cast<std::size_t>(i)], i, discriminant[i][k]);
       }

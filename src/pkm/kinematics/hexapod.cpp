@@ -62,7 +62,8 @@ PKM_AVX2 void leg_lengths_avx2(const double* platform, const double* base, const
     const std::size_t used = std::min<std::size_t>(lanes::kLanes, count - first);
     Pose tail[lanes::kLanes];  // a last partial block, its last pose repeated
     if (used < lanes::kLanes) {
-      for (std::size_t k = 0; k < lanes::kLanes; ++k) tail[k] = poses[first + std::min(k, used - 1)];
+      for (std::size_t k = 0; k < lanes::kLanes; ++k)
+        tail[k] = poses[first + std::min(k, used - 1)];
     }
     const double* values =
         used < lanes::kLanes ? tail[0].position_mm.data() : poses[first].position_mm.data();

@@ -172,9 +172,9 @@ class Kinematics {
   // extrapolated from the last three, and Newton steps go through the track's factorised
   // Jacobian, refreshed (at the next seed) once the samples since it have taken two steps more
   // than one each, or a step cuts the residual less than tenfold: one step per sample on a
-  // smooth servo-rate path. Otherwise, or when that does not converge within a few steps, or det J changes
-  // sign, it is forward() from `pose_inout`, as without a track. Square models only (as many
-  // joints as controlled coordinates); the others always take forward().
+  // smooth servo-rate path. Otherwise, or when that does not converge within a few steps, or det J
+  // changes sign, it is forward() from `pose_inout`, as without a track. Square models only (as
+  // many joints as controlled coordinates); the others always take forward().
   Status forward_along(const JointVector& joints, Pose& pose_inout, ForwardTrack& track) const;
 
  protected:
@@ -195,7 +195,8 @@ std::string formatted_number(const char* printf_pattern, double value);
 // whole vector) cost several times more, on every sample.
 inline bool all_finite(const Pose& pose) {
   for (int k = 0; k < 3; ++k) {
-    if (!std::isfinite(pose.position_mm[k]) || !std::isfinite(pose.orientation_rad[k])) return false;
+    if (!std::isfinite(pose.position_mm[k]) || !std::isfinite(pose.orientation_rad[k]))
+      return false;
   }
   return true;
 }
