@@ -58,7 +58,41 @@ Status rail_status(const GlideRail& rail, int i, double discriminant) {
   return Status::success();
 }
 
+// Every rail's `along` and discriminant for one pose (`part`: its controlled coordinates), and
+// the first rail's refusal, if any. At most six rails.
+[[gnu::always_inline]] inline Status rails_before_roots(std::span<const GlideRail> rails,
+                                                        const double* rotation, const Pose& part,
+                                                        double* along, double* discriminant) {
+  const double position[3] = {part.position_mm.x(), part.position_mm.y(), part.position_mm.z()};
+  for (std::size_t i = 0; i < rails.size(); ++i) {
+    rail_solution(rails[i], rotation, position, along[i], discriminant[i]);
+    const Status status = rail_status(rails[i], static_cast<int>(i), discriminant[i]);
+    if (!status.ok()) return status;
+  }
+  return Status::success();
+}
+
 #if PKM_HAS_AVX2_LANES
+// One pose's rail readings: the scalar arithmetic, with the sines, cosines and square roots in
+// vector registers.
+PKM_AVX2 Status rail_readings_one_avx2(std::span<const GlideRail> rails, bool rotates,
+                                       const Pose& part, double* readings) {
+  double rotation[9] = {};
+  if (rotates) {
+    double sines[3], cosines[3];
+    lanes::sin_cos_3_avx2(part.orientation_rad.data(), sines, cosines);
+    lanes::rotation_abc(sines, cosines, rotation);
+  }
+  double along[6] = {}, discriminant[6] = {}, roots[6];
+  const Status status =
+      rails_before_roots(rails, rotates ? rotation : nullptr, part, along, discriminant);
+  if (!status.ok()) return status;
+  lanes::sqrt_6_avx2(discriminant, roots);
+  for (std::size_t i = 0; i < rails.size(); ++i)
+    readings[i] = along[i] + rails[i].branch * roots[i];
+  return status;
+}
+
 // The rails' readings of every pose, four at a time (statuses: invalid input, a rail's refusal, or
 // ok); pass-through joints and leg limits are the caller's. Uncontrolled coordinates read as 0.
 PKM_AVX2 void rail_readings_avx2(std::span<const GlideRail> rails, Dof dof,
@@ -74,19 +108,20 @@ PKM_AVX2 void rail_readings_avx2(std::span<const GlideRail> rails, Dof dof,
       for (std::size_t k = 0; k < lanes::kLanes; ++k)
         tail[k] = poses[first + std::min(k, used - 1)];
     }
-    const double* values =
-        used < lanes::kLanes ? tail[0].position_mm.data() : poses[first].position_mm.data();
+    Lanes4 coordinates[kPoseSize];  // x y z a b c of the four poses
+    lanes::load_6_by_4(
+        used < lanes::kLanes ? tail[0].position_mm.data() : poses[first].position_mm.data(),
+        coordinates);
     Lanes4 position[3];
     for (int axis = 0; axis < 3; ++axis) {
-      position[axis] = dof.controls(axis) ? lanes::gather(values + axis, kPoseSize) : lanes::zero();
+      position[axis] = dof.controls(axis) ? coordinates[axis] : lanes::zero();
     }
     Lanes4 rotation[9] = {};
     if (dof.any_rotation()) {
-      Lanes4 angles[3], sines[3], cosines[3];
+      Lanes4 sines[3], cosines[3];
       for (int k = 0; k < 3; ++k) {
-        angles[k] = lanes::gather(values + 3 + k, kPoseSize);
-        sines[k] = lanes::sin(angles[k]);
-        cosines[k] = lanes::cos(angles[k]);
+        sines[k] = lanes::sin(coordinates[3 + k]);
+        cosines[k] = lanes::cos(coordinates[3 + k]);
       }
       lanes::rotation_abc(sines, cosines, rotation);
     }
@@ -212,22 +247,29 @@ std::string GlideKinematics::leg_limits_why(const Pose& pose, const Status& stat
 Status GlideKinematics::inverse_without_leg_limits(const Pose& pose, JointVector& joints) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
   const Pose part = controlled_part(pose);
-  double rotation[9] = {};
-  if (dof_.any_rotation()) {
-    double sines[3], cosines[3];
-    lanes::sin_cos_3(part.orientation_rad.data(), sines, cosines);
-    lanes::rotation_abc(sines, cosines, rotation);
-  }
-  const double position[3] = {part.position_mm.x(), part.position_mm.y(), part.position_mm.z()};
   joints.resize(joint_count());
-  for (int i = 0; i < rail_count(); ++i) {
-    const GlideRail& rail = rails_[static_cast<std::size_t>(i)];
-    double along = 0.0, discriminant = 0.0;
-    rail_solution(rail, dof_.any_rotation() ? rotation : nullptr, position, along, discriminant);
-    const Status status = rail_status(rail, i, discriminant);
-    if (!status.ok()) return status;
-    joints[i] = along + rail.branch * std::sqrt(discriminant);
+  Status status;
+#if PKM_HAS_AVX2_LANES
+  if (lanes::avx2_enabled()) {
+    status = rail_readings_one_avx2(rails_, dof_.any_rotation(), part, joints.data());
+  } else
+#endif
+  {
+    double rotation[9] = {};
+    if (dof_.any_rotation()) {
+      double sines[3], cosines[3];
+      lanes::sin_cos_3(part.orientation_rad.data(), sines, cosines);
+      lanes::rotation_abc(sines, cosines, rotation);
+    }
+    double along[6] = {}, discriminant[6] = {};
+    status = rails_before_roots(rails_, dof_.any_rotation() ? rotation : nullptr, part, along,
+                                discriminant);
+    for (int i = 0; status.ok() && i < rail_count(); ++i) {
+      joints[i] =
+          along[i] + rails_[static_cast<std::size_t>(i)].branch * std::sqrt(discriminant[i]);
+    }
   }
+  if (!status.ok()) return status;
   passthrough_.inverse(pose, joints, rail_count());
   return Status::success();
 }

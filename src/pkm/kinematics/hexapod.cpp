@@ -65,30 +65,36 @@ PKM_AVX2 void leg_lengths_avx2(const double* platform, const double* base, const
       for (std::size_t k = 0; k < lanes::kLanes; ++k)
         tail[k] = poses[first + std::min(k, used - 1)];
     }
-    const double* values =
-        used < lanes::kLanes ? tail[0].position_mm.data() : poses[first].position_mm.data();
-    const Lanes4 position[3] = {lanes::gather(values, kPoseSize),
-                                lanes::gather(values + 1, kPoseSize),
-                                lanes::gather(values + 2, kPoseSize)};
-    const Lanes4 angles[3] = {lanes::gather(values + 3, kPoseSize),
-                              lanes::gather(values + 4, kPoseSize),
-                              lanes::gather(values + 5, kPoseSize)};
-    const Lanes4 sines[3] = {lanes::sin(angles[0]), lanes::sin(angles[1]), lanes::sin(angles[2])};
-    const Lanes4 cosines[3] = {lanes::cos(angles[0]), lanes::cos(angles[1]), lanes::cos(angles[2])};
-    Lanes4 squared[6];
-    squared_leg_lengths(platform, base, position, sines, cosines, squared);
+    Lanes4 coordinates[kPoseSize];  // x y z a b c of the four poses
+    lanes::load_6_by_4(
+        used < lanes::kLanes ? tail[0].position_mm.data() : poses[first].position_mm.data(),
+        coordinates);
+    const Lanes4 position[3] = {coordinates[0], coordinates[1], coordinates[2]};
+    Lanes4 sines[3], cosines[3];
+    for (int k = 0; k < 3; ++k) {
+      sines[k] = lanes::sin(coordinates[3 + k]);
+      cosines[k] = lanes::cos(coordinates[3 + k]);
+    }
     Lanes4 lengths[6];
-    for (int leg = 0; leg < 6; ++leg) lengths[leg] = lanes::sqrt(squared[leg]) + offsets[leg];
+    squared_leg_lengths(platform, base, position, sines, cosines, lengths);
+    for (int leg = 0; leg < 6; ++leg) lengths[leg] = lanes::sqrt(lengths[leg]) + offsets[leg];
+    bool all_valid = used == lanes::kLanes;
     for (std::size_t k = 0; k < used; ++k) {
       const std::size_t i = first + k;
-      if (!all_finite(poses[i])) {
-        statuses[i] = Status::failure(StatusCode::invalid_input);
-        continue;
-      }
-      JointVector& out = joints[i];
-      out.resize(6);
-      for (int leg = 0; leg < 6; ++leg) out[leg] = lengths[leg][k];
-      statuses[i] = Status::success();
+      const bool finite = all_finite(poses[i]);
+      all_valid = all_valid && finite;
+      statuses[i] = finite ? Status::success() : Status::failure(StatusCode::invalid_input);
+      joints[i].resize(6);
+    }
+    if (all_valid) {
+      double* const rows[lanes::kLanes] = {joints[first].data(), joints[first + 1].data(),
+                                           joints[first + 2].data(), joints[first + 3].data()};
+      lanes::store_6_by_4(lengths, rows);
+      continue;
+    }
+    for (std::size_t k = 0; k < used; ++k) {
+      if (!statuses[first + k].ok()) continue;
+      for (int leg = 0; leg < 6; ++leg) joints[first + k][leg] = lengths[leg][k];
     }
   }
 }

@@ -44,10 +44,40 @@ PKM_AVX2 inline Lanes4 cos(Lanes4 x) {
 PKM_AVX2 inline Lanes4 sqrt(Lanes4 x) {
   return _mm256_sqrt_pd(x);
 }
-// Lane k = values[k * stride]: one coordinate of four consecutive records (poses).
-PKM_AVX2 inline Lanes4 gather(const double* values, int stride) {
-  return _mm256_set_pd(values[3 * stride], values[2 * stride], values[stride], values[0]);
+// Six coordinates of four records of six doubles each, from `records` on (four poses): out[c]
+// lane k = records[6 k + c]. Four 4x4 and 2x4 transposes instead of 24 single loads.
+PKM_AVX2 inline void load_6_by_4(const double* records, Lanes4 (&out)[6]) {
+  const Lanes4 r0 = _mm256_loadu_pd(records), r1 = _mm256_loadu_pd(records + 6);
+  const Lanes4 r2 = _mm256_loadu_pd(records + 12), r3 = _mm256_loadu_pd(records + 18);
+  const Lanes4 t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+  const Lanes4 t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+  out[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+  out[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+  out[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+  out[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+  const Lanes4 h01 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(records + 4)),
+                                          _mm_loadu_pd(records + 16), 1);  // r0 r2 [4..5]
+  const Lanes4 h23 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(records + 10)),
+                                          _mm_loadu_pd(records + 22), 1);  // r1 r3 [4..5]
+  out[4] = _mm256_unpacklo_pd(h01, h23);
+  out[5] = _mm256_unpackhi_pd(h01, h23);
 }
+
+// The transpose back: six values of each of four records, out[k][c] = in[c] lane k.
+PKM_AVX2 inline void store_6_by_4(const Lanes4 (&in)[6], double* const (&out)[4]) {
+  const Lanes4 t0 = _mm256_unpacklo_pd(in[0], in[1]), t1 = _mm256_unpackhi_pd(in[0], in[1]);
+  const Lanes4 t2 = _mm256_unpacklo_pd(in[2], in[3]), t3 = _mm256_unpackhi_pd(in[2], in[3]);
+  _mm256_storeu_pd(out[0], _mm256_permute2f128_pd(t0, t2, 0x20));
+  _mm256_storeu_pd(out[1], _mm256_permute2f128_pd(t1, t3, 0x20));
+  _mm256_storeu_pd(out[2], _mm256_permute2f128_pd(t0, t2, 0x31));
+  _mm256_storeu_pd(out[3], _mm256_permute2f128_pd(t1, t3, 0x31));
+  const Lanes4 t4 = _mm256_unpacklo_pd(in[4], in[5]), t5 = _mm256_unpackhi_pd(in[4], in[5]);
+  _mm_storeu_pd(out[0] + 4, _mm256_castpd256_pd128(t4));
+  _mm_storeu_pd(out[1] + 4, _mm256_castpd256_pd128(t5));
+  _mm_storeu_pd(out[2] + 4, _mm256_extractf128_pd(t4, 1));
+  _mm_storeu_pd(out[3] + 4, _mm256_extractf128_pd(t5, 1));
+}
+
 // Bit k set where lane k is not above `limit`: at or below it, or NaN.
 PKM_AVX2 inline int lanes_not_above(Lanes4 x, double limit) {
   return _mm256_movemask_pd(_mm256_cmp_pd(x, _mm256_set1_pd(limit), _CMP_NGT_UQ));
