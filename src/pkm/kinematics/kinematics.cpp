@@ -213,14 +213,25 @@ Vector6d extrapolated(const std::array<Vector6d, 3>& solutions, int count) {
 
 Status Kinematics::forward_along(const JointVector& joints, Pose& pose_inout,
                                  ForwardTrack& track) const {
-  const ControlledAxes axes(dof());
-  const bool square = axes.count == joint_count() && joints.size() == joint_count();
+  const Dof controlled = dof();
+  const ControlledAxes axes(controlled);
+  bool trackable = axes.count == joint_count() && joints.size() == joint_count();
+  for (int j = 0; trackable && j < joint_count(); ++j) {
+    // A rotary joint of the mechanism: its residual is in rad, and the tolerance then leaves the
+    // tool 1e-9 mm off (an arm's lever), where forward()'s closed forms and fresh Newton steps
+    // land nearer. Pass-through rotary joints are exact.
+    trackable = joint_kind(j) == JointKind::linear || passthrough_axis(j) >= 0;
+  }
   const Vector6d given = pose_inout.as_vector();
   const bool continues = track.count_ > 0 && all_finite(pose_inout) &&
                          (given - track.solutions_[0]).cwiseAbs().maxCoeff() <= kTrackContinues;
   int iterations = 0;
-  if (square && continues && all_finite(joints)) {
+  if (trackable && continues && all_finite(joints)) {
     Vector6d x = extrapolated(track.solutions_, track.count_);
+    // Coordinates the model does not control stay as seeded, as forward() leaves them.
+    for (int axis = 0; axis < kPoseSize; ++axis) {
+      if (!controlled.controls(axis)) x[axis] = given[axis];
+    }
     if (track_steps(joints, x, track, iterations)) {
       track.solutions_[2] = track.solutions_[1];
       track.solutions_[1] = track.solutions_[0];

@@ -173,8 +173,9 @@ class Kinematics {
   // Jacobian, refreshed (at the next seed) once the samples since it have taken two steps more
   // than one each, or a step cuts the residual less than tenfold: one step per sample on a
   // smooth servo-rate path. Otherwise, or when that does not converge within a few steps, or det J
-  // changes sign, it is forward() from `pose_inout`, as without a track. Square models only (as
-  // many joints as controlled coordinates); the others always take forward().
+  // changes sign, it is forward() from `pose_inout`, as without a track. Square models with
+  // linear joints only (as many joints as controlled coordinates; rotary ones only passing
+  // through); the others always take forward().
   Status forward_along(const JointVector& joints, Pose& pose_inout, ForwardTrack& track) const;
 
  protected:
