@@ -73,8 +73,8 @@ Status rail_status(const GlideRail& rail, int i, double discriminant) {
 }
 
 #if PKM_HAS_AVX2_LANES
-// One pose's rail readings: the scalar arithmetic, with the sines, cosines and square roots in
-// vector registers.
+// One pose's rail readings: the scalar arithmetic, with the sines and cosines in vector
+// registers.
 PKM_AVX2 Status rail_readings_one_avx2(std::span<const GlideRail> rails, bool rotates,
                                        const Pose& part, double* readings) {
   double rotation[9] = {};
@@ -83,13 +83,13 @@ PKM_AVX2 Status rail_readings_one_avx2(std::span<const GlideRail> rails, bool ro
     lanes::sin_cos_3_avx2(part.orientation_rad.data(), sines, cosines);
     lanes::rotation_abc(sines, cosines, rotation);
   }
-  double along[6] = {}, discriminant[6] = {}, roots[6];
+  double along[6] = {}, discriminant[6] = {};
   const Status status =
       rails_before_roots(rails, rotates ? rotation : nullptr, part, along, discriminant);
   if (!status.ok()) return status;
-  lanes::sqrt_6_avx2(discriminant, roots);
-  for (std::size_t i = 0; i < rails.size(); ++i)
-    readings[i] = along[i] + rails[i].branch * roots[i];
+  for (std::size_t i = 0; i < rails.size(); ++i) {
+    readings[i] = along[i] + rails[i].branch * std::sqrt(discriminant[i]);
+  }
   return status;
 }
 

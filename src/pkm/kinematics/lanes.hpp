@@ -98,8 +98,13 @@ PKM_AVX2 inline void sin_cos_3_avx2(const double angles[3], double sines[3], dou
 // The square roots of six numbers (a hexapod's legs) in two vector square roots: bit for bit
 // std::sqrt's (IEEE square roots are correctly rounded).
 PKM_AVX2 inline void sqrt_6_avx2(const double squares[6], double roots[6]) {
-  _mm256_storeu_pd(roots, _mm256_sqrt_pd(_mm256_loadu_pd(squares)));
-  _mm_storeu_pd(roots + 4, _mm_sqrt_pd(_mm_loadu_pd(squares + 4)));
+  // Built from the values (in registers when inlined), not loaded: a 32-byte load of values just
+  // stored one by one stalls on store forwarding.
+  const Lanes4 low = sqrt(_mm256_set_pd(squares[3], squares[2], squares[1], squares[0]));
+  const __m128d high = _mm_sqrt_pd(_mm_set_pd(squares[5], squares[4]));
+  for (int k = 0; k < 4; ++k) roots[k] = low[k];
+  roots[4] = high[0];
+  roots[5] = high[1];
 }
 #endif
 
