@@ -12,6 +12,7 @@ Interpreter::State::State(const std::filesystem::path& path, const InterpreterOp
                           std::vector<Warning>& warns)
     : options(opts), warnings(warns) {
   files.push_back(std::make_unique<SourceFile>(path));
+  reading = &files[0]->lines;
   if (!files[0]->lines.is_open()) {
     throw GcodeError(path.string(), 0, 0, cannot_open_reason(path, false));
   }

@@ -80,6 +80,7 @@ struct Interpreter::State {
   std::vector<std::unique_ptr<SourceFile>> files;  // files[0] is the program
   Mark next{0, 1, 0};
   Mark current;  // the line being executed
+  LineSource* reading = nullptr;  // the file of `next`: jump() keeps it
   const std::string& file_name() const { return files[current.file]->name; }
 
   const InterpreterOptions& options;
@@ -200,10 +201,9 @@ struct Interpreter::State {
   // Inlined: it is on the path of every line (the compiler stopped inlining it on its own).
   [[gnu::always_inline]] bool read_line(std::string_view& line) {
     current = next;
-    LineSource& source = files[next.file]->lines;
-    const auto read = source.read(next.position);
+    const auto read = reading->read(next.position);
     if (!read) {
-      if (source.failed()) cannot_read();
+      if (reading->failed()) cannot_read();
       return false;
     }
     line = read->first;
@@ -211,7 +211,10 @@ struct Interpreter::State {
     return true;
   }
   [[noreturn, gnu::cold, gnu::noinline]] void cannot_read() const;
-  void jump(const Mark& mark) { next = mark; }
+  void jump(const Mark& mark) {
+    next = mark;
+    reading = &files[mark.file]->lines;
+  }
   // The line after the one at `mark`.
   Mark after(const Mark& mark);
 
