@@ -83,6 +83,8 @@ const char* kind_name(gcode::CanonKind kind) {
       return "program_end";
     case K::event:
       return "event";
+    case K::xy_rotation:
+      return "xy_rotation";
   }
   return "";  // unreachable: -Wswitch names a kind added without its name
 }
