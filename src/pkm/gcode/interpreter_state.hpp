@@ -79,7 +79,7 @@ struct Interpreter::State {
   };
   std::vector<std::unique_ptr<SourceFile>> files;  // files[0] is the program
   Mark next{0, 1, 0};
-  Mark current;  // the line being executed
+  Mark current;                   // the line being executed
   LineSource* reading = nullptr;  // the file of `next`: jump() keeps it
   const std::string& file_name() const { return files[current.file]->name; }
 
