@@ -6,6 +6,10 @@
 #include <cstdlib>
 #include <new>
 
+#include <unistd.h>
+#include <filesystem>
+
+#include "pkm/io/sample_files.hpp"
 #include "pkm/linuxcnc/kins_adapter.hpp"
 #include "test_support.hpp"
 
@@ -85,6 +89,36 @@ TEST_P(NoAllocation, LinuxCncModuleAllocatesNothing) {
   kins.failure_message(message, sizeof message);
   EXPECT_EQ(allocations.load() - before, 0);
   EXPECT_EQ(kins.counters().fk_failures, 0u) << kins.counters().fk_status;
+}
+
+// `pkm plan`'s samples into its files: a CSV row or NPY record per sample, the blocks written as
+// they fill (more samples than a block holds, after one to warm up: the stream's own buffer).
+TEST_P(NoAllocation, SampleFilesAllocateNothingPerSample) {
+  const Machine machine = test::load_example(GetParam());
+  std::mt19937_64 rng(3);
+  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 200, rng, 10.0, 0.05);
+  std::vector<motion::Sample> samples(poses.size());
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    samples[i].line = static_cast<int>(i);
+    samples[i].pose = poses[i].as_vector();
+    ASSERT_TRUE(machine.inverse(poses[i], samples[i].joints).ok());
+  }
+  for (const char* extension : {".csv", ".npy"}) {
+    const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                       ("pkm-alloc-" + std::to_string(::getpid()) + extension);
+    auto file = SampleFile::open(path, machine);
+    file->write(samples.front());
+    const long before = allocations.load();
+    for (int i = 0; i < 5000; ++i) {
+      motion::Sample& s = samples[static_cast<std::size_t>(i) % samples.size()];
+      s.time_s = 0.001 * i;
+      file->write(s);
+    }
+    EXPECT_EQ(allocations.load() - before, 0) << extension;
+    file->commit();
+    EXPECT_GT(std::filesystem::file_size(path), 5000u * 8u * 3u) << extension;
+    std::filesystem::remove(path);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, NoAllocation, ::testing::ValuesIn(test::example_machine_files()),
