@@ -1,3 +1,4 @@
+#include <cstring>
 #include <initializer_list>
 #include <string_view>
 
@@ -8,42 +9,55 @@ namespace pkm::gcode {
 
 namespace {
 
-// The text of one command, built in place at the end of a string: `rs274 -g` prints numbers as
-// %.4f (and one as %f), written here by pkm::text, which gives printf's digits.
+// The text of one command, written in place at the end of a buffer: `rs274 -g` prints numbers as
+// %.4f (and one as %f), written here by pkm::text, which gives printf's digits. Room for the
+// longest command is made once, so each piece is written without a check.
 class CanonWriter {
  public:
-  explicit CanonWriter(text::TextBuffer& out) : out_(out) {}
+  CanonWriter(text::TextBuffer& out, std::size_t text_bytes)
+      : out_(out), cursor_(out.room(kLongestWords + 9 * (text::kMaxFixedChars + 2) + text_bytes)) {}
+  ~CanonWriter() { out_.commit(cursor_); }
+  CanonWriter(const CanonWriter&) = delete;
+  CanonWriter& operator=(const CanonWriter&) = delete;
+
   CanonWriter& operator<<(std::string_view text) {
-    out_.append(text);
+    std::memcpy(cursor_, text.data(), text.size());
+    cursor_ += text.size();
     return *this;
   }
   CanonWriter& operator<<(char c) {
-    out_.push_back(c);
+    *cursor_++ = c;
     return *this;
   }
   CanonWriter& operator<<(int value) {
-    text::append_int(out_, value);
+    cursor_ = text::write_int(cursor_, value);
     return *this;
   }
   CanonWriter& operator<<(double value) {  // %.4f
-    text::append_fixed<4>(out_, value);
+    cursor_ = text::write_fixed<4>(cursor_, value);
+    return *this;
+  }
+  CanonWriter& with_6_decimals(double value) {  // %f
+    cursor_ = text::write_fixed<6>(cursor_, value);
     return *this;
   }
   // Numbers separated by `separator`.
   CanonWriter& list(std::initializer_list<double> values, std::string_view separator = ", ") {
     bool first = true;
     for (const double value : values) {
-      if (!first) out_.append(separator);
+      if (!first) *this << separator;
       first = false;
       *this << value;
     }
     return *this;
   }
   CanonWriter& six(const Position& p) { return list({p[0], p[1], p[2], p[3], p[4], p[5]}); }
-  text::TextBuffer& out() { return out_; }
 
  private:
+  // Room for every word, separator and integer of a command but its numbers and its text.
+  static constexpr std::size_t kLongestWords = 256;
   text::TextBuffer& out_;
+  char* cursor_;
 };
 
 // The arc's first and second axes and the axis normal to its plane, as LinuxCNC orders them.
@@ -76,7 +90,7 @@ const char* plane_name(Plane plane) {
 }  // namespace
 
 void append_canon_text(const Canon& c, text::TextBuffer& out) {
-  CanonWriter w(out);
+  CanonWriter w(out, c.text.size());
   switch (c.kind) {
     case CanonKind::traverse:
       w << "STRAIGHT_TRAVERSE(";
@@ -170,8 +184,7 @@ void append_canon_text(const Canon& c, text::TextBuffer& out) {
     case CanonKind::path_control:
       if (c.integer == 64) {  // the tolerance as %f
         w << "SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, ";
-        text::append_fixed<6>(w.out(), c.value);
-        w << ')';
+        w.with_6_decimals(c.value) << ')';
         return;
       }
       w << (c.integer == 61 ? "SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)"

@@ -22,17 +22,67 @@ constexpr char kDigitPairs[] =
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
 
-// Writes the `count` lowest decimal digits of `value`, zero-padded, ending at `end`.
-void write_digits_backwards(char* end, std::uint64_t value, int count) {
-  for (; count >= 2; count -= 2) {
-    std::memcpy(end -= 2, kDigitPairs + 2 * (value % 100), 2);
-    value /= 100;
-  }
-  if (count == 1) *--end = static_cast<char>('0' + value % 10);
+// Digits of an integer part: how many, then written backwards two at a time (a division by a
+// constant is a multiplication; pairs halve them).
+int decimal_digits(std::uint64_t value) {
+  int digits = 1;
+  for (; value >= 10000; value /= 10000) digits += 4;
+  return digits + (value >= 10) + (value >= 100) + (value >= 1000);
 }
 
-char* write_unsigned(char* out, std::uint64_t value) {
-  return std::to_chars(out, out + 20, value).ptr;
+// Writes `value` ending at `end` in its decimal_digits; returns where the digits start.
+char* write_backwards(char* end, std::uint64_t value) {
+  for (; value >= 100; value /= 100) std::memcpy(end -= 2, kDigitPairs + 2 * (value % 100), 2);
+  if (value >= 10) {
+    std::memcpy(end -= 2, kDigitPairs + 2 * value, 2);
+  } else {
+    *--end = static_cast<char>('0' + value);
+  }
+  return end;
+}
+
+// Writes `value` (< 10^Digits) as exactly `Digits` digits, zero-padded. Without a division per
+// pair: value / 10^(Digits - lead) as a 57-bit fixed-point number, whose integer part is the
+// leading digit (or pair) and whose fraction, times 100, gives the next pair, and so on. The
+// multiplier is rounded up; its error, value * 10^(Digits - lead) < 2^57 units for Digits <= 9,
+// never reaches the next digit.
+template <int Digits>
+void write_exact_digits(char* out, std::uint64_t value) {
+  static_assert(Digits >= 1 && Digits <= 9);
+  if constexpr (Digits <= 2) {
+    if constexpr (Digits == 1) *out = static_cast<char>('0' + value);
+    if constexpr (Digits == 2) std::memcpy(out, kDigitPairs + 2 * value, 2);
+  } else {
+    constexpr int kLead = Digits % 2 == 0 ? 2 : 1;
+    constexpr int kBits = 57;
+    constexpr std::uint64_t kOne = std::uint64_t{1} << kBits;
+    constexpr std::uint64_t kDivisor = kPowersOfTen[Digits - kLead];
+    constexpr std::uint64_t kMultiplier = (kOne + kDivisor - 1) / kDivisor;
+    std::uint64_t fixed = value * kMultiplier;
+    if constexpr (kLead == 1) {
+      *out++ = static_cast<char>('0' + (fixed >> kBits));
+    } else {
+      std::memcpy(out, kDigitPairs + 2 * (fixed >> kBits), 2);
+      out += 2;
+    }
+    for (int pair = 0; pair < (Digits - kLead) / 2; ++pair, out += 2) {
+      fixed = (fixed & (kOne - 1)) * 100;
+      std::memcpy(out, kDigitPairs + 2 * (fixed >> kBits), 2);
+    }
+  }
+}
+
+// std::to_chars is exact too (and spells infinities and NaNs as printf does), only slower.
+[[gnu::noinline]] char* write_fixed_slowly(char* out, double value, int decimals) {
+  return std::to_chars(out, out + kMaxFixedChars, value, std::chars_format::fixed, decimals).ptr;
+}
+
+// product / 2^shift (shift 1..127) rounded to the nearest integer, an exact tie to the even one.
+[[gnu::noinline]] std::uint64_t round_shifted(Uint128 product, int shift) {
+  const auto quotient = static_cast<std::uint64_t>(product >> shift);
+  const Uint128 remainder = product & ((static_cast<Uint128>(1) << shift) - 1);
+  const Uint128 half = static_cast<Uint128>(1) << (shift - 1);
+  return quotient + ((remainder > half) | ((remainder == half) & (quotient & 1)));
 }
 
 // The value times 10^Decimals rounded to an integer as printf rounds it, when the product fits in
@@ -63,11 +113,17 @@ bool scaled(double value, std::uint64_t& result) {
   }
   // mantissa * scale < 2^53 * 2^30: exact in 128 bits.
   const Uint128 product = static_cast<Uint128>(mantissa) * scale;
-  std::uint64_t quotient = static_cast<std::uint64_t>(product >> shift);
-  const Uint128 remainder = product & ((static_cast<Uint128>(1) << shift) - 1);
-  const Uint128 half = static_cast<Uint128>(1) << (shift - 1);
-  if (remainder > half || (remainder == half && (quotient & 1) != 0)) ++quotient;
-  result = quotient;
+  if (shift >= 64) {  // below 2^-11: rare
+    result = round_shifted(product, shift);
+    return true;
+  }
+  // The same in 64-bit halves, for the values jobs hold.
+  const auto low = static_cast<std::uint64_t>(product);
+  const auto high = static_cast<std::uint64_t>(product >> 64);
+  const std::uint64_t quotient = (high << (64 - shift)) | (low >> shift);
+  const std::uint64_t discarded = low << (64 - shift);  // left-aligned: 2^63 is half a unit
+  constexpr std::uint64_t kHalf = std::uint64_t{1} << 63;
+  result = quotient + ((discarded > kHalf) | ((discarded == kHalf) & (quotient & 1)));
   return true;
 }
 
@@ -76,20 +132,29 @@ bool scaled(double value, std::uint64_t& result) {
 template <int Decimals>
 char* write_fixed(char* out, double value) {
   static_assert(Decimals >= 0 && Decimals <= 9);
+  if (value == 0.0) {  // a third of the numbers a job prints (A B C, offsets): "0.0000"
+    constexpr char kZero[] = "-0.000000000";
+    const bool negative = std::signbit(value);
+    std::memcpy(out, kZero + !negative, 12);  // room for kMaxFixedChars
+    return out + negative + (Decimals > 0 ? Decimals + 2 : 1);
+  }
   std::uint64_t units = 0;
   if (!scaled<Decimals>(value, units)) {
-    // std::to_chars is exact too (and spells infinities and NaNs as printf does), only slower.
-    return std::to_chars(out, out + kMaxFixedChars, value, std::chars_format::fixed, Decimals).ptr;
+    return write_fixed_slowly(out, value, Decimals);
   }
-  if (std::signbit(value)) *out++ = '-';
+  *out = '-';
+  out += std::signbit(value);
   constexpr std::uint64_t scale = kPowersOfTen[Decimals];
-  out = write_unsigned(out, units / scale);
+  const std::uint64_t integer_part = units / scale;
+  char* const end = out + decimal_digits(integer_part) + (Decimals > 0 ? Decimals + 1 : 0);
   if constexpr (Decimals > 0) {
-    *out++ = '.';
-    out += Decimals;
-    write_digits_backwards(out, units % scale, Decimals);
+    write_exact_digits<Decimals>(end - Decimals, units % scale);
+    end[-Decimals - 1] = '.';
+    write_backwards(end - Decimals - 1, integer_part);
+  } else {
+    write_backwards(end, integer_part);
   }
-  return out;
+  return end;
 }
 
 template char* write_fixed<0>(char*, double);
@@ -104,7 +169,14 @@ template char* write_fixed<8>(char*, double);
 template char* write_fixed<9>(char*, double);
 
 char* write_int(char* out, long value) {
-  return std::to_chars(out, out + 24, value).ptr;
+  *out = '-';
+  out += value < 0;
+  // The magnitude in unsigned arithmetic, where that of LONG_MIN fits.
+  const std::uint64_t magnitude =
+      value < 0 ? 0 - static_cast<std::uint64_t>(value) : static_cast<std::uint64_t>(value);
+  char* const end = out + decimal_digits(magnitude);
+  write_backwards(end, magnitude);
+  return end;
 }
 
 void append_int_right(TextBuffer& out, long value, std::size_t width) {
