@@ -3,14 +3,17 @@
 // program (interpreting included, nothing written), and `pkm plan`'s sample files (CSV, NPY) in
 // samples/s. The whole-command ratio against LinuxCNC's rs274 is bench/canon_vs_rs274.sh.
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "legacy_text_formats.hpp"
 #include "pkm/gcode/interpreter.hpp"
 #include "pkm/io/sample_files.hpp"
+#include "pkm/io/sample_rows.hpp"
 #include "pkm/text/decimal_text.hpp"
 
 namespace {
@@ -117,21 +120,9 @@ void fixed_number(benchmark::State& state) {
 BENCHMARK(fixed_number<4>)->ArgName("snprintf")->Arg(1)->Arg(0);
 BENCHMARK(fixed_number<9>)->ArgName("snprintf")->Arg(1)->Arg(0);
 
-// Samples through a sample file of the paper's hexapod (t, line, x y z a b c, six legs: 14
-// columns): the samples of a slow circle, written to /dev/null (range(0) == 0: the formatting
-// and the writes, no disk) or to a file in the temporary directory. items = samples.
-void sample_file(benchmark::State& state, const char* extension) {
-  const pkm::Machine machine =
-      pkm::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
-  const bool to_disk = state.range(0) != 0;
-  // Without the disk: a link named .csv/.npy to /dev/null, which the file writes in place.
-  const std::filesystem::path output =
-      std::filesystem::temp_directory_path() /
-      ((to_disk ? "pkm-bench-samples" : "pkm-bench-null") + std::string(extension));
-  if (!to_disk && !std::filesystem::is_symlink(output)) {
-    std::filesystem::create_symlink("/dev/null", output);
-  }
-  constexpr int kSamples = 100000;
+// The samples of a slow circle on the paper's hexapod (t, line, x y z a b c, six legs: 14
+// columns).
+std::vector<pkm::motion::Sample> circle_samples() {
   std::vector<pkm::motion::Sample> samples(1000);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const double angle = 0.001 * static_cast<double>(i);
@@ -142,9 +133,34 @@ void sample_file(benchmark::State& state, const char* extension) {
     s.joints.resize(6);
     for (int j = 0; j < 6; ++j) s.joints[j] = 1060.531484 + 3.0 * std::sin(angle + j);
   }
+  return samples;
+}
+
+// Where the samples go: a file in the temporary directory (range(0) != 0: the disk's part
+// included), or a link named .csv/.npy to /dev/null, which the file writes in place (the
+// formatting and the write calls alone).
+std::filesystem::path sample_output(const benchmark::State& state, const char* extension) {
+  const bool to_disk = state.range(0) != 0;
+  const std::filesystem::path output =
+      std::filesystem::temp_directory_path() /
+      ((to_disk ? "pkm-bench-samples" : "pkm-bench-null") + std::string(extension));
+  if (!to_disk && !std::filesystem::is_symlink(output)) {
+    std::filesystem::create_symlink("/dev/null", output);
+  }
+  return output;
+}
+
+constexpr int kSamplesPerFile = 100000;
+
+// pkm::SampleFile as `pkm plan -o` writes it. items = samples.
+void sample_file(benchmark::State& state, const char* extension) {
+  const pkm::Machine machine =
+      pkm::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
+  const std::filesystem::path output = sample_output(state, extension);
+  std::vector<pkm::motion::Sample> samples = circle_samples();
   for (auto _ : state) {
     auto file = pkm::SampleFile::open(output, machine);
-    for (int i = 0; i < kSamples; ++i) {
+    for (int i = 0; i < kSamplesPerFile; ++i) {
       pkm::motion::Sample& s = samples[static_cast<std::size_t>(i) % samples.size()];
       s.time_s = 0.001 * i;
       file->write(s);
@@ -152,7 +168,7 @@ void sample_file(benchmark::State& state, const char* extension) {
     file->commit();
   }
   std::filesystem::remove(output);
-  state.SetItemsProcessed(state.iterations() * kSamples);
+  state.SetItemsProcessed(state.iterations() * kSamplesPerFile);
 }
 BENCHMARK_CAPTURE(sample_file, csv, ".csv")
     ->ArgName("disk")
@@ -160,6 +176,46 @@ BENCHMARK_CAPTURE(sample_file, csv, ".csv")
     ->Arg(1)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(sample_file, npy, ".npy")
+    ->ArgName("disk")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+
+// The same rows written as before issue 16: fprintf per CSV value, an fwrite per NPY row, to a
+// plain stream (no header, no temporary and rename: a little less work than the file above).
+void sample_file_before(benchmark::State& state, const char* extension) {
+  const pkm::Machine machine =
+      pkm::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
+  const pkm::SampleRows rows(machine);
+  const bool csv = std::string(extension) == ".csv";
+  const std::filesystem::path output = sample_output(state, extension);
+  std::vector<pkm::motion::Sample> samples = circle_samples();
+  for (auto _ : state) {
+    std::FILE* file = std::fopen(output.c_str(), "wb");
+    for (int i = 0; i < kSamplesPerFile; ++i) {
+      pkm::motion::Sample& s = samples[static_cast<std::size_t>(i) % samples.size()];
+      s.time_s = 0.001 * i;
+      double row[pkm::SampleRows::kMaxColumns];
+      const std::size_t n = rows.fill(s, row);
+      if (csv) {
+        pkm::legacy::write_csv_row(file, row, n, rows.pen());
+      } else {
+        std::fwrite(row, sizeof(double), n, file);
+      }
+    }
+    std::fflush(file);
+    if (state.range(0) != 0) ::fsync(::fileno(file));  // as the file's commit does
+    std::fclose(file);
+  }
+  std::filesystem::remove(output);
+  state.SetItemsProcessed(state.iterations() * kSamplesPerFile);
+}
+BENCHMARK_CAPTURE(sample_file_before, csv, ".csv")
+    ->ArgName("disk")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(sample_file_before, npy, ".npy")
     ->ArgName("disk")
     ->Arg(0)
     ->Arg(1)

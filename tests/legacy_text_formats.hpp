@@ -157,4 +157,13 @@ inline std::string csv_row(const double* row, std::size_t n, bool pen) {
   return out + "\n";
 }
 
+// A CSV sample row written as sample_files.cpp wrote it: fprintf per value to the file's stream.
+inline void write_csv_row(std::FILE* out, const double* row, std::size_t n, bool pen) {
+  std::fprintf(out, "%.6f,%d", row[0], static_cast<int>(row[1]));
+  const std::size_t reals = pen ? n - 1 : n;
+  for (std::size_t i = 2; i < reals; ++i) std::fprintf(out, ",%.9f", row[i]);
+  if (pen) std::fprintf(out, ",%d", static_cast<int>(row[n - 1]));
+  std::fputc('\n', out);
+}
+
 }  // namespace pkm::legacy
