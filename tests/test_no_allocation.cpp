@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include <filesystem>
 
+#include "pkm/gcode/interpreter.hpp"
 #include "pkm/io/sample_files.hpp"
 #include "pkm/linuxcnc/kins_adapter.hpp"
 #include "test_support.hpp"
@@ -119,6 +120,39 @@ TEST_P(NoAllocation, SampleFilesAllocateNothingPerSample) {
     EXPECT_GT(std::filesystem::file_size(path), 5000u * 8u * 3u) << extension;
     std::filesystem::remove(path);
   }
+}
+
+// `pkm gcode --canon`'s lines: every command of the test programs formatted into the buffer the
+// command line uses, emptied as it writes it out, allocates nothing.
+TEST(NoAllocationOfText, CanonLinesAllocateNothing) {
+  std::vector<gcode::Canon> commands;
+  gcode::InterpreterOptions options;  // the tool table the programs' G41 and G43 need
+  options.tool_table = gcode::read_tool_table(
+      std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "conformance" / "conformance.tbl",
+      gcode::LengthUnits::inch);
+  for (const auto& entry : std::filesystem::directory_iterator(
+           std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "gcode")) {
+    gcode::Interpreter interpreter(entry.path(), options);
+    interpreter.run([&](const gcode::Canon& canon) { commands.push_back(canon); });
+  }
+  ASSERT_GT(commands.size(), 100u);
+  text::TextBuffer out(1 << 16);
+  long bytes = 0;
+  const long before = allocations.load();
+  for (int pass = 0; pass < 20; ++pass) {
+    int sequence = 0;
+    for (const gcode::Canon& canon : commands) {
+      gcode::append_canon_line_start(++sequence, canon.n_label, out);
+      gcode::append_canon_text(canon, out);
+      out.push_back('\n');
+      if (out.size() >= (1 << 15)) {
+        bytes += static_cast<long>(out.size());
+        out.clear();
+      }
+    }
+  }
+  EXPECT_EQ(allocations.load() - before, 0);
+  EXPECT_GT(bytes, 20L * 100 * 40);  // 40 characters or more a line
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, NoAllocation, ::testing::ValuesIn(test::example_machine_files()),
