@@ -243,8 +243,10 @@ std::vector<std::string> csv_rows(const fs::path& path) {
 
 // Samples whose values are every kind a CSV row must keep: negatives, -0, tiny, huge, ties.
 std::vector<motion::Sample> edge_samples(const Machine& machine, int count) {
-  const double edges[] = {-0.0,  1e-10, -5e-10, 1.0000000005, 0.001953125, -1e300, 123456789.123456,
-                          -2e-9, 1e15,  0.1,    -1060.531484, 0.0000000015};
+  // 0.0078125 and 0.0009765625 are exact ties at 6 and 9 decimals (even digit: down).
+  const double edges[] = {-0.0,   1e-10,     -5e-10,           1.0000000005, 0.001953125,
+                          -1e300, 0.0078125, 0.0009765625,     1e15,         -1060.531484,
+                          0.1,    -2e-9,     123456789.123456, 0.0000000015};
   std::vector<motion::Sample> samples(static_cast<std::size_t>(count));
   for (int i = 0; i < count; ++i) {
     motion::Sample& s = samples[static_cast<std::size_t>(i)];
