@@ -5,6 +5,9 @@
 #include <array>
 #include <numbers>
 #include <string>
+#include <string_view>
+
+#include "pkm/text/text_buffer.hpp"
 
 namespace pkm::gcode {
 
@@ -72,7 +75,12 @@ struct Canon {
 };
 
 // The command in the text form of LinuxCNC's `rs274 -g` (numbers as %.4f), without the leading
-// sequence number and N label.
-std::string canon_text(const Canon& canon);
+// sequence number and N label, appended to `out` (which allocates nothing once grown).
+void append_canon_text(const Canon& canon, text::TextBuffer& out);
+std::string canon_text(const Canon& canon);  // the same as a new string
+
+// The start of each line `rs274 -g` prints (printf's "%5d N%-5s "): the sequence number, then
+// the N label as written, "....." when the block has none.
+void append_canon_line_start(int sequence, std::string_view n_label, text::TextBuffer& out);
 
 }  // namespace pkm::gcode
