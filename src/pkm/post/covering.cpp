@@ -65,12 +65,22 @@ void Covering::finish() {
 }
 
 // The open block fits up to the start of the last piece and not to its end: it ends in between,
-// as far as bisection finds, or at the piece's start.
+// as far as bisection finds, or at the piece's start. Where it cannot go even a bisection's step
+// into the piece (a corner, or a block whose budget the moves before have spent), one test says
+// so.
 void Covering::end_in_last_piece() {
   const std::size_t count = pieces_.size();
   double good = pieces_.back().from, bad = pieces_.back().to;
   JointsAt good_at = open_end_, at;
   double good_deviation = open_deviation_mm_, deviation_mm = 0.0;
+  const double step = good + (bad - good) / (1 << kBisections);
+  if (!fits(count, step, at, deviation_mm)) {
+    write_and_restart(count - 1, pieces_[count - 2].to, good_at, good_deviation);
+    return;
+  }
+  good = step;
+  good_at = at;
+  good_deviation = deviation_mm;
   for (int i = 0; i < kBisections; ++i) {
     const double middle = 0.5 * (good + bad);
     if (fits(count, middle, at, deviation_mm)) {
