@@ -527,7 +527,7 @@ type = "glide"
             "'V' as V, 'W' as W: use --dialect linuxcnc or grblhal, or change the joints' axis "
             "letters in the machine file");
   EXPECT_EQ(message(uvw, Dialect::linuxcnc), "");
-  EXPECT_THROW(posted_lines(hektor, "G1 X40 Y-50 F600\nM2\n", {0.01, Dialect::grbl, {}, {}}),
+  EXPECT_THROW(posted_lines(hektor, "G1 X40 Y-50 F600\nM2\n", {0.01, Dialect::grbl, {}, {}, true}),
                std::invalid_argument);
 }
 

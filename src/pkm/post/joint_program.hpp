@@ -51,11 +51,11 @@ struct PostOptions {
   double tolerance_mm = 0.01;
   Dialect dialect = Dialect::linuxcnc;
   Vector6d origin = Vector6d::Zero();  // where the program's X0 Y0 Z0 sits (mm, rad)
+  // Called with the program's line being posted, once per change of line: for progress.
+  std::function<void(int line)> on_line;
   // Let one block span consecutive feed moves where it keeps within the tolerance of all of them
   // (docs/post.md, "Spanning moves"); false: every move covered on its own.
   bool span_moves = true;
-  // Called with the program's line being posted, once per change of line: for progress.
-  std::function<void(int line)> on_line;
 };
 
 struct PostReport {
