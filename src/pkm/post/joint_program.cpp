@@ -264,7 +264,7 @@ class Poster : private CoveringHost {
   // programmed point at the same fraction found by forward kinematics at kSampledPoints + 1
   // points (infinity where FK fails).
   double deviation(const Span& span, const BlockEnds& ends) const override {
-    if (bound_.available()) return span_deviation_bound(bound_, span, ends);
+    if (bound_.available()) return span_deviation_bound(bound_, span, ends, options_.tolerance_mm);
     const Segment& segment = span.first().segment;
     const double u0 = span.start, u1 = span.end;
     double worst = 0.0;

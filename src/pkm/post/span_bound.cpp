@@ -60,8 +60,11 @@ double chord_offset_mm(const Span& span, const std::vector<int>& axes, double an
 // The block's tool tip is within `bound` of the chord's point at the same fraction (the bound of
 // a straight move from the span's start to its end: its ends are the same programmed points, so
 // the same joints), and that point within chord_offset_mm of the path's point at its fraction.
-double span_deviation_bound(const DeviationBound& bound, const Span& span, const BlockEnds& ends) {
+double span_deviation_bound(const DeviationBound& bound, const Span& span, const BlockEnds& ends,
+                            double give_up_above_mm) {
   if (span.count == 1) return bound(span.first().segment, span.start, span.end, ends);
+  const double offset = chord_offset_mm(span, bound.axes(), bound.angle_scale_mm());
+  if (!(offset <= give_up_above_mm)) return INFINITY;
   motion::Segment chord;
   chord.kind = motion::SegmentKind::line;
   chord.start = span.start_pose();
@@ -69,7 +72,7 @@ double span_deviation_bound(const DeviationBound& bound, const Span& span, const
   chord.z_free = span.first().segment.z_free;
   const double to_chord = bound(chord, 0.0, 1.0, ends);
   if (!std::isfinite(to_chord)) return INFINITY;
-  return to_chord + chord_offset_mm(span, bound.axes(), bound.angle_scale_mm());
+  return to_chord + offset;
 }
 
 }  // namespace pkm::post

@@ -4,6 +4,7 @@
 // same fraction (docs/post.md, "Spanning moves").
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -47,7 +48,10 @@ double chord_offset_mm(const Span& span, const std::vector<int>& axes, double an
 // An upper bound (mm) on the distance between the tool tip of the joint-linear block with
 // `ends` and the programmed path of `span`, each point of one against the other's at a matching
 // fraction (so both ways, and in order): for one piece, `bound` itself; for several, `bound` on
-// the chord between the span's ends plus chord_offset_mm. Infinity where there is none.
-double span_deviation_bound(const DeviationBound& bound, const Span& span, const BlockEnds& ends);
+// the chord between the span's ends plus chord_offset_mm. Infinity where there is none, and
+// where the chord offset alone exceeds `give_up_above_mm` (a corner: the bound of the chord, the
+// costly part, is then not worked out).
+double span_deviation_bound(const DeviationBound& bound, const Span& span, const BlockEnds& ends,
+                            double give_up_above_mm = INFINITY);
 
 }  // namespace pkm::post
