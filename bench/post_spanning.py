@@ -23,6 +23,10 @@ drawings before anything is built:
 Prints per drawing: moves, today's blocks, blocks with spanning (lines only; lines and arcs),
 the ratios. The issue asks to build
 spanning only if it saves 1.5x or more.
+
+It was built (docs/post.md, "Spanning moves"), on by default: `pkm post` now writes spanning
+blocks, so run this with a build from before it, or read the per-move count from
+bench/bench_post, which measures the covering itself both ways.
 """
 import argparse
 import json
