@@ -28,6 +28,7 @@ struct PostCommandOptions {
   ToolTableOptions tool_table;
   std::vector<std::filesystem::path> subroutine_path;
   double tolerance_mm = 0.01;
+  bool no_span_moves = false;  // --no-span-moves: every move covered on its own
   std::vector<double> origin;
   std::string report;  // --report: the summary as JSON
   std::string html;    // --html: the page of the joint program
@@ -75,6 +76,7 @@ void run_post(const PostCommandOptions& options) {
   post::PostOptions post_options;
   post_options.tolerance_mm = options.tolerance_mm;
   post_options.dialect = post::dialect_named(options.dialect);
+  post_options.span_moves = !options.no_span_moves;
   try {
     post::check_axis_letters(machine, post_options.dialect);
   } catch (const std::invalid_argument& error) {
@@ -162,6 +164,9 @@ void register_post_commands(CLI::App& app) {
       ->add_option("--tolerance", options->tolerance_mm,
                    "Largest tool-tip deviation from the programmed path, mm (default 0.01)")
       ->check(number_in(kMinTolerance, kMaxTolerance));
+  command->add_flag("--no-span-moves", options->no_span_moves,
+                    "Cover every programmed move with blocks of its own (by default one block "
+                    "may span consecutive feed moves where it keeps within the tolerance)");
   command->add_option("--dialect", options->dialect, "linuxcnc (default), mach3, grbl or grblhal")
       ->check(CLI::IsMember({"linuxcnc", "mach3", "grbl", "grblhal"}));
   add_tool_table_options(*command, options->tool_table);
