@@ -128,8 +128,9 @@ void Interpreter::State::cycle_hole(const Block& block, int code, const CycleLev
   const auto move = [&](CanonKind kind, double height) {
     cycle_move(block, levels, kind, at_1, at_2, height);
   };
-  // Across to the hole at the current height, or at R where that is higher.
-  move(CanonKind::traverse, std::max(pos[levels.normal], levels.r));
+  // Across to the hole at the current height when above R, else at the clearance height (a
+  // G98 level above R, though the tool waits at R after G99 holes), then down to R.
+  move(CanonKind::traverse, pos[levels.normal] > levels.r ? pos[levels.normal] : levels.clear);
   if (pos[levels.normal] != levels.r) move(CanonKind::traverse, levels.r);
   switch (code) {
     case 810:

@@ -218,19 +218,20 @@ void Interpreter::State::stop_or_end(const Block& block) {
 void Interpreter::State::end_program(const Block& block) {
   // LinuxCNC resets the modal state at the program end.
   const Offsets old = offsets();
+  const bool plane_changes = plane != Plane::xy;
   coord_system = 1;
   rotation_deg = rotation_of(1);
   g92_mm = {};
   reexpress(old);
   plane = Plane::xy;
   absolute = true;
-  feed_mode = FeedMode::units_per_minute;
   motion = 10;
   cycle_series = false;
   compensation.turn_off();  // nothing is held any more: the stop released it
   straight_exit = false;
   emit_offsets(block);
-  emit(CanonKind::select_plane, block);
+  if (plane_changes) emit(CanonKind::select_plane, block);
+  set_feed_mode(block, 940);  // G94 and no feed rate, as rs274 ends
   emit(CanonKind::spindle_stop, block);
   spindle_direction = 0;
   emit(CanonKind::program_end, block);
