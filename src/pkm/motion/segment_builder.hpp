@@ -1,9 +1,12 @@
 // Canonical commands to moves in machine coordinates: the offsets a program sets, its units, its
-// feed modes and arcs, turned into segments (mm, rad). Shared by every consumer of a program's
-// path (the planner, the joint-space post-processor).
+// feed modes (per minute, inverse time, per revolution of the spindle) and arcs, turned into
+// segments (mm, rad); a rigid tap (G33.1) into its two moves, in and back out. Shared by every
+// consumer of a program's path (the planner, the joint-space post-processor, verify, the job
+// summary).
 #pragma once
 
-#include <optional>
+#include <array>
+#include <string>
 
 #include "pkm/gcode/canon.hpp"
 #include "pkm/gcode/interpreter.hpp"
@@ -17,15 +20,33 @@ namespace pkm::motion {
 gcode::InterpreterOptions starting_at(gcode::InterpreterOptions options, const Vector6d& start,
                                       const Vector6d& origin);
 
+// The moves one command makes: none (a change of state), one, or two (a rigid tap).
+class Moves {
+ public:
+  const Segment* begin() const { return items_.data(); }
+  const Segment* end() const { return items_.data() + count_; }
+  bool empty() const { return count_ == 0; }
+  int size() const { return count_; }
+  const Segment& front() const { return items_[0]; }
+  void add(const Segment& segment) { items_[static_cast<std::size_t>(count_++)] = segment; }
+
+ private:
+  std::array<Segment, 2> items_;
+  int count_ = 0;
+};
+
 class SegmentBuilder {
  public:
   // `start`: the machine pose the program starts from; `origin`: where the program's origin sits
   // in machine coordinates (both mm, rad).
   SegmentBuilder(const Vector6d& start, const Vector6d& origin, bool great_circle_attitude);
 
-  // The move a command makes (line, arc, dwell), or nothing for the commands that only change
-  // state (offsets, path control, ...), which the builder keeps.
-  std::optional<Segment> take(const gcode::Canon& canon);
+  // The moves a command makes (line, arc, dwell; a rigid tap's two lines), or none for the
+  // commands that only change state (offsets, path control, ...), which the builder keeps.
+  // A move fed per revolution with the spindle stopped, at S0 or at a zero pitch cannot be
+  // timed: a gcode::GcodeError at its line in `file` (set_file).
+  Moves take(const gcode::Canon& canon);
+  void set_file(std::string file) { file_ = std::move(file); }
 
   // The machine does not move Z: moves are measured without it (Segment::z_free), which sets
   // the time of inverse-time (G93) moves.
@@ -39,8 +60,12 @@ class SegmentBuilder {
   void store_offset(const gcode::Canon& canon, Vector6d& offset) const;
   Vector6d machine_pose(const gcode::Canon& canon) const;
   void set_feed(const gcode::Canon& canon, Segment& segment) const;
+  Segment line_segment(const gcode::Canon& canon, const Vector6d& end) const;
+  void add_rigid_tap(const gcode::Canon& canon, Moves& moves);
   Segment arc_segment(const gcode::Canon& canon) const;
+  double per_revolution_feed(const gcode::Canon& canon, const Segment& segment) const;
 
+  std::string file_;
   Vector6d pose_;
   Vector6d origin_;
   bool great_circle_attitude_;
