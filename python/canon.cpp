@@ -18,9 +18,9 @@ namespace pkm::python {
 namespace {
 
 // The fields of pkmkit.Canon: those of gcode::Canon, which of them a kind uses as canon.hpp says.
-constexpr const char* kCanonFields[] = {"kind",    "line",      "n",     "units", "end",
-                                        "plane",   "center",    "turns", "value", "value2",
-                                        "integer", "feed_mode", "text"};
+constexpr const char* kCanonFields[] = {"kind",    "line",      "n",     "units",      "end",
+                                        "plane",   "center",    "turns", "value",      "value2",
+                                        "integer", "feed_mode", "text",  "spindle_rpm"};
 
 const char* kind_name(gcode::CanonKind kind) {
   using K = gcode::CanonKind;
@@ -128,7 +128,7 @@ py::object canon_tuple(const py::object& type, const gcode::Canon& c) {
   return type(kind_name(c.kind), c.line, c.n_label,
               c.units == gcode::LengthUnits::inch ? "inch" : "mm", py::tuple(py::cast(c.end)),
               plane_name(c.plane), py::make_tuple(c.center[0], c.center[1]), c.turns, c.value,
-              c.value2, c.integer, feed_mode_name(c.feed_mode), c.text);
+              c.value2, c.integer, feed_mode_name(c.feed_mode), c.text, c.spindle_rpm);
 }
 
 // The interpreter, stepped as the commands are pulled; the commands of the last line stepped

@@ -84,6 +84,15 @@ def test_canon_fields_of_a_small_program(tmp_path):
     assert isinstance(arc, tuple) and arc._fields[0] == "kind"
 
 
+def test_canon_of_a_move_fed_per_revolution(tmp_path):
+    job = tmp_path / "thread.ngc"
+    job.write_text("G21 G18 S500 M3\nG33 Z-10 K1.5\nM2\n")
+    sync, feed, stop = [c for c in pkmkit.canon(str(job)) if c.line == 2]
+    assert (sync.kind, sync.value, stop.kind) == ("speed_feed_sync", 1.5, "speed_feed_sync_stop")
+    assert (feed.kind, feed.feed_mode, feed.value, feed.spindle_rpm) == (
+        "feed", "units_per_revolution", 1.5, 500.0)
+
+
 def test_canon_error_is_raised_where_the_iterator_reaches_it(tmp_path):
     job = tmp_path / "bad.ngc"
     job.write_text("G21\nG1 X1 F100\nG1 X2 Q\nM2\n")
