@@ -31,48 +31,46 @@ SegmentBuilder::SegmentBuilder(const Vector6d& start, const Vector6d& origin,
 
 Moves SegmentBuilder::take(const gcode::Canon& canon) {
   using gcode::CanonKind;
-  Moves moves;
   switch (canon.kind) {
     case CanonKind::path_control:
       path_mode_ = canon.integer;
       blend_tolerance_mm_ = canon.value > 0.0 ? canon.value * to_mm(canon.units) : 0.0;
-      return moves;
+      return {};
     case CanonKind::g5x_offset:
       store_offset(canon, g5x_mm_);
-      return moves;
+      return {};
     case CanonKind::g92_offset:
       store_offset(canon, g92_mm_);
-      return moves;
+      return {};
     case CanonKind::tool_length_offset:
       store_offset(canon, tool_mm_);
-      return moves;
+      return {};
     case CanonKind::xy_rotation:
       xy_rotation_rad_ = degrees_to_radians(canon.value);
-      return moves;
+      return {};
     case CanonKind::traverse:
     case CanonKind::feed:
     case CanonKind::probe:
-      moves.add(line_segment(canon, machine_pose(canon)));
-      pose_ = moves.front().end;
-      return moves;
+      moves_[0] = line_segment(canon, machine_pose(canon));
+      pose_ = moves_[0].end;
+      return {moves_.data(), 1};
     case CanonKind::rigid_tap:
-      add_rigid_tap(canon, moves);
-      return moves;
+      return rigid_tap(canon);
     case CanonKind::arc:
-      moves.add(arc_segment(canon));
-      pose_ = moves.front().end;
-      return moves;
+      moves_[0] = arc_segment(canon);
+      pose_ = moves_[0].end;
+      return {moves_.data(), 1};
     case CanonKind::dwell: {
-      Segment segment;
+      Segment& segment = moves_[0];
+      segment = Segment();
       segment.kind = SegmentKind::dwell;
       segment.line = canon.line;
       segment.start = segment.end = pose_;
       segment.dwell_s = canon.value;
-      moves.add(segment);
-      return moves;
+      return {moves_.data(), 1};
     }
     default:
-      return moves;
+      return {};
   }
 }
 
@@ -91,15 +89,14 @@ Segment SegmentBuilder::line_segment(const gcode::Canon& canon, const Vector6d& 
 
 // In to the tap's end along X Y Z and back out to where it started, both at the pitch times the
 // spindle's speed (the spindle reverses at the bottom): the tool ends where it was.
-void SegmentBuilder::add_rigid_tap(const gcode::Canon& canon, Moves& moves) {
+Moves SegmentBuilder::rigid_tap(const gcode::Canon& canon) {
   Vector6d bottom = machine_pose(canon);
   bottom.tail<3>() = pose_.tail<3>();  // the tap moves X Y Z only
-  const Segment in = line_segment(canon, bottom);
-  Segment out = in;
-  out.start = in.end;
-  out.end = in.start;
-  moves.add(in);
-  moves.add(out);
+  moves_[0] = line_segment(canon, bottom);
+  moves_[1] = moves_[0];
+  moves_[1].start = moves_[0].end;
+  moves_[1].end = moves_[0].start;
+  return {moves_.data(), 2};
 }
 
 void SegmentBuilder::store_offset(const gcode::Canon& canon, Vector6d& offset) const {

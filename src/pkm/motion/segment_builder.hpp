@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <span>
 #include <string>
 
 #include "pkm/gcode/canon.hpp"
@@ -20,20 +21,9 @@ namespace pkm::motion {
 gcode::InterpreterOptions starting_at(gcode::InterpreterOptions options, const Vector6d& start,
                                       const Vector6d& origin);
 
-// The moves one command makes: none (a change of state), one, or two (a rigid tap).
-class Moves {
- public:
-  const Segment* begin() const { return items_.data(); }
-  const Segment* end() const { return items_.data() + count_; }
-  bool empty() const { return count_ == 0; }
-  int size() const { return count_; }
-  const Segment& front() const { return items_[0]; }
-  void add(const Segment& segment) { items_[static_cast<std::size_t>(count_++)] = segment; }
-
- private:
-  std::array<Segment, 2> items_;
-  int count_ = 0;
-};
+// The moves one command makes: none (a change of state), one, or two (a rigid tap); valid until
+// the builder's next take.
+using Moves = std::span<const Segment>;
 
 class SegmentBuilder {
  public:
@@ -61,11 +51,12 @@ class SegmentBuilder {
   Vector6d machine_pose(const gcode::Canon& canon) const;
   void set_feed(const gcode::Canon& canon, Segment& segment) const;
   Segment line_segment(const gcode::Canon& canon, const Vector6d& end) const;
-  void add_rigid_tap(const gcode::Canon& canon, Moves& moves);
+  Moves rigid_tap(const gcode::Canon& canon);
   Segment arc_segment(const gcode::Canon& canon) const;
   double per_revolution_feed(const gcode::Canon& canon, const Segment& segment) const;
 
   std::string file_;
+  std::array<Segment, 2> moves_;  // what take returns points here: made once, not per command
   Vector6d pose_;
   Vector6d origin_;
   bool great_circle_attitude_;

@@ -109,7 +109,7 @@ class Poster {
     move(moves.front());
     if (!pen()) write(spindle_clockwise_ ? "M4" : "M3", line);
     ++report_.moves;
-    move(*(moves.begin() + 1));
+    move(moves[1]);
     if (!pen()) write(spindle_clockwise_ ? "M3" : "M4", line);
   }
 
