@@ -29,6 +29,9 @@ const fs::path kCorpus = pkm::test::real_corpus();  // absent in a plain clone: 
 const std::string kOwnPrefix = "tests/gcode/";
 const fs::path kOwn = kSource / "tests" / "gcode";
 const fs::path kToolTable = kSource / "tests" / "conformance" / "conformance.tbl";
+// The subroutine files the project's own programs call (LinuxCNC's SUBROUTINE_PATH): not
+// programs of their own.
+const fs::path kOwnSubroutines = kOwn / "subroutines";
 
 struct Program {
   std::string name;  // path relative to its corpus, as in unsupported.txt
@@ -50,6 +53,7 @@ std::vector<Program> programs() {
     if (!fs::exists(root)) continue;
     for (const auto& entry : fs::recursive_directory_iterator(root)) {
       if (!entry.is_regular_file() || entry.path().filename() == "SOURCES.md") continue;
+      if (entry.path().parent_path() == kOwnSubroutines) continue;
       const std::string relative = fs::relative(entry.path(), root).string();
       found.push_back({root == kOwn ? kOwnPrefix + relative : relative, entry.path()});
     }
@@ -120,8 +124,13 @@ ProgramRun run_rs274(const fs::path& program) {
   ProgramRun run;
   const fs::path errors =
       fs::temp_directory_path() / ("pkm-rs274-" + std::to_string(::getpid()) + ".err");
-  const std::string command = "rs274 -t " + shell_quote(kToolTable.string()) + " -g " +
-                              shell_quote(program.string()) + " 2>" + shell_quote(errors.string());
+  // An INI file gives rs274 the own programs' subroutine path.
+  const fs::path ini =
+      fs::temp_directory_path() / ("pkm-rs274-" + std::to_string(::getpid()) + ".ini");
+  std::ofstream(ini) << "[RS274NGC]\nSUBROUTINE_PATH = " << kOwnSubroutines.string() << "\n";
+  const std::string command = "rs274 -t " + shell_quote(kToolTable.string()) + " -i " +
+                              shell_quote(ini.string()) + " -g " + shell_quote(program.string()) +
+                              " 2>" + shell_quote(errors.string());
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) {
     run.error = "cannot start rs274";
@@ -147,6 +156,7 @@ ProgramRun run_rs274(const fs::path& program) {
   std::stringstream error_text;
   error_text << error_file.rdbuf();
   fs::remove(errors);
+  fs::remove(ini);
   if (status != 0) run.error = error_text.str().empty() ? "rs274 failed" : error_text.str();
   return run;
 }
@@ -155,6 +165,7 @@ ProgramRun run_pkm(const fs::path& program) {
   ProgramRun run;
   InterpreterOptions options;
   options.tool_table = read_tool_table(kToolTable, LengthUnits::inch);  // as rs274 reads it
+  options.subroutine_path = {kOwnSubroutines};
   Interpreter interpreter(program, options);
   MotionFilter filter;
   try {

@@ -18,6 +18,7 @@ struct GcodeOptions {
   std::string tool_table_units = "mm";
   bool canon = false;
   bool block_delete = false;
+  std::vector<std::filesystem::path> subroutine_path;
 };
 
 void print_warnings(const std::string& program, const std::vector<gcode::Warning>& warnings) {
@@ -75,6 +76,7 @@ void run_summary(const GcodeOptions& options,
 void run_gcode(const GcodeOptions& options) {
   gcode::InterpreterOptions interpreter_options;
   interpreter_options.block_delete = options.block_delete;
+  interpreter_options.subroutine_path = options.subroutine_path;
   try {
     if (!options.tool_table.empty()) {
       interpreter_options.tool_table = gcode::read_tool_table(
@@ -130,6 +132,7 @@ void register_gcode_commands(CLI::App& app) {
                    "stand-alone rs274 reads them)")
       ->check(CLI::IsMember({"mm", "inch"}));
   command->add_flag("--block-delete", options->block_delete, "Skip lines starting with '/'");
+  add_subroutine_path_option(*command, options->subroutine_path);
   command->add_option("program", options->program, "The G-code file")->required();
   command->callback([options] { run_gcode(*options); });
 }

@@ -24,6 +24,7 @@ void Interpreter::State::execute_block(const Block& block) {
   emit_comments(block);
   if (block.empty) return;
   group_codes(block);
+  if (m_by_group[4] && m_by_group[4]->tenths == 980) return call_fanuc_program_alone(block);
   refuse_unused_words(block);
   check_synchronised_words(block);
   const Code* const non_modal = g_by_group[0];
@@ -206,8 +207,22 @@ void Interpreter::State::set_path_control(const Block& block, const Code& code) 
   emit(c);
 }
 
+void Interpreter::State::call_fanuc_program_alone(const Block& block) {
+  // LinuxCNC runs an M98 line as a call and nothing else (it refuses axis words and G codes
+  // there, and drops other M codes): pkm refuses whatever else the line asks for.
+  constexpr std::uint32_t kCallWords = (1u << ('p' - 'a')) | (1u << ('l' - 'a'));
+  const Code& m98 = *m_by_group[4];
+  if (!block.g_codes.empty() || block.m_codes.size() > 1 || (block.letters & ~kCallWords) != 0) {
+    fail(m98.column,
+         "M98 takes only its P and L words: put the line's other codes and words on "
+         "a line of their own");
+  }
+  call_fanuc_program(block, m98);
+}
+
 void Interpreter::State::stop_or_end(const Block& block) {
   const int code = m_by_group[4]->tenths;
+  if (code == 990) return return_from_fanuc_program(block, *m_by_group[4]);
   release_compensation(m_by_group[4]->column);
   if (code == 0) emit(CanonKind::program_stop, block);
   if (code == 10) emit(CanonKind::optional_stop, block);

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -73,13 +74,23 @@ struct Interpreter::State {
   struct Mark {
     std::int64_t position = 0;  // byte offset in the file
     int line = 0;
+    std::size_t file = 0;  // index in `files`
   };
 
-  // The source, read a line at a time.
-  LineSource source;
-  std::string file_name;
-  Mark next{0, 1};
-  Mark current;  // the line being executed
+  // The program and the subroutine files its calls opened (o<name> call finds name.ngc beside
+  // the program or on the subroutine path), each read a line at a time.
+  struct SourceFile {
+    explicit SourceFile(const std::filesystem::path& file)
+        : lines(file), path(file), name(file.string()) {}
+    LineSource lines;
+    std::filesystem::path path;
+    std::string name;
+  };
+  std::vector<std::unique_ptr<SourceFile>> files;  // files[0] is the program
+  Mark next{0, 1, 0};
+  Mark current;                   // the line being executed
+  LineSource* reading = nullptr;  // the file of `next`: jump() keeps it
+  const std::string& file_name() const { return files[current.file]->name; }
 
   const InterpreterOptions& options;
   std::vector<Warning>& warnings;
@@ -152,9 +163,19 @@ struct Interpreter::State {
     std::string label;
     Mark return_to;
     std::size_t flow_depth;
+    bool fanuc = false;   // M98's call of an O-number program, which M99 ends
+    Mark start;           // the definition's line
+    long repeats = 0;     // M98 L: runs still to make after this one
+    long iterations = 0;  // runs made (bounded by max_loop_iterations)
   };
   std::vector<Call> calls;
-  std::map<std::string, Mark> subroutines;
+  // Subroutines by label: `o<name> sub` lines, or Fanuc O-number lines (`fanuc`), which only
+  // M98 calls, as LinuxCNC keeps the two apart.
+  struct Definition {
+    Mark mark;
+    bool fanuc = false;
+  };
+  std::map<std::string, Definition> subroutines;
   Block block_;  // the line being executed; one block's storage serves every line
   Canon move_;   // see next_move()
   CodesByGroup<16> g_by_group;
@@ -190,22 +211,25 @@ struct Interpreter::State {
   // Inlined: it is on the path of every line (the compiler stopped inlining it on its own).
   [[gnu::always_inline]] bool read_line(std::string_view& line) {
     current = next;
-    const auto read = source.read(next.position);
+    const auto read = reading->read(next.position);
     if (!read) {
-      if (source.failed()) cannot_read();
+      if (reading->failed()) cannot_read();
       return false;
     }
     line = read->first;
-    next = {read->second, current.line + 1};
+    next = {read->second, current.line + 1, current.file};
     return true;
   }
   [[noreturn, gnu::cold, gnu::noinline]] void cannot_read() const;
-  void jump(const Mark& mark) { next = mark; }
+  void jump(const Mark& mark) {
+    next = mark;
+    reading = &files[mark.file]->lines;
+  }
   // The line after the one at `mark`.
   Mark after(const Mark& mark);
 
   [[noreturn]] void fail(int column, const std::string& message) const {
-    throw GcodeError(file_name, current.line, column, message);
+    throw GcodeError(file_name(), current.line, column, message);
   }
   void warn(const std::string& message) { warnings.push_back({current.line, message}); }
 
@@ -283,6 +307,8 @@ struct Interpreter::State {
   void set_modes(const Block& block, bool& has_axis);
   void set_units(LengthUnits wanted);
   void set_path_control(const Block& block, const Code& code);
+  // M98 with nothing else on its line but P and L.
+  void call_fanuc_program_alone(const Block& block);
   void stop_or_end(const Block& block);
   void end_program(const Block& block);
 
@@ -449,6 +475,11 @@ struct Interpreter::State {
   }
   void call_subroutine(const OWord& o);
   void return_from_subroutine(const OWord& o);
+  // Leaves the innermost call for the line after it.
+  void leave_call();
+  // M98 P L (Fanuc-style subprogram call) and M99 (its return, or the main program's end).
+  void call_fanuc_program(const Block& block, const Code& m98);
+  void return_from_fanuc_program(const Block& block, const Code& m99);
   void o_if(const OWord& o);
   void o_else(const OWord& o);
   void o_while(const OWord& o);
@@ -458,11 +489,21 @@ struct Interpreter::State {
   void o_break_or_continue(const OWord& o);
   void skip_to(const std::string& label, std::initializer_list<std::string_view> keywords,
                std::string* found_keyword, int column);
-  Mark find_subroutine(const std::string& label, int column);
+  // Where subroutine `label` starts: known already, defined further on in this file, or in a
+  // file of its name on the subroutine path. `fanuc`: called by M98 (an O-number program).
+  Mark find_subroutine(const std::string& label, bool fanuc, int column);
+  // Reads on to the end of the file `mark` is in, registering the definitions found, until
+  // `label`'s; where it is, or nothing. Leaves the position as it was.
+  std::optional<Mark> scan_for_definition(const Mark& mark, const std::string& label);
+  // The file `label`'s subroutine lives in by itself (name.ngc), opened, or nothing.
+  std::optional<Mark> open_subroutine_file(const std::string& label, int column);
   // Bounds (docs/gcode.md): one more round of `loop`, one more unit of the program's work.
   void count_loop_iteration(Frame& loop, int column);
   void count_program_iteration(int column);
-  void require_call_depth(const OWord& o) const;
+  // `what` ("o<name> call", "M98 P100") may nest one more call.
+  void require_call_depth(const std::string& what, int column) const;
+  // Where subroutine files are looked for: beside the program, then the subroutine path.
+  std::vector<std::filesystem::path> subroutine_directories() const;
 };
 
 }  // namespace pkm::gcode

@@ -43,7 +43,7 @@ constexpr GroupTable<1000> kGGroups = [] {
 
 constexpr GroupTable<2000> kMGroups = [] {
   GroupTable<2000> table;
-  table.assign(4, {0, 10, 20, 300, 600});
+  table.assign(4, {0, 10, 20, 300, 600, 980, 990});  // M98/M99: Fanuc-style subprograms
   table.assign(5, {620, 630, 640, 650, 660, 670, 680});
   table.assign(6, {60, 610});
   table.assign(7, {30, 40, 50, 190});
