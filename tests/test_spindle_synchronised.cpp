@@ -230,6 +230,7 @@ const ErrorCase kErrors[] = {
     {"lathe_finishing_cycle", "G21 G18\nG70 P1 Q2\n", 2, 1, "G70 (lathe finishing cycle)"},
     {"lathe_roughing_cycle", "G21 G18\nG0 X1 G71.2 P1 Q2\n", 2, 7, "G71.2 (lathe roughing cycle)"},
     {"lathe_facing_cycle", "G72 P1 Q2\n", 1, 1, "G72 (lathe roughing cycle) is not supported"},
+    {"lathe_diameter_mode", "G21 G18 G7\nG0 X10\n", 1, 9, "G7 (lathe diameter mode)"},
 };
 
 INSTANTIATE_TEST_SUITE_P(Table, SynchronisedErrors, ::testing::ValuesIn(kErrors),

@@ -180,7 +180,13 @@ void Interpreter::State::set_modes(const Block& block, bool& has_axis) {
   if (const auto code = g_by_group[14]) {
     if (code->tenths == 960) fail(code->column, "G96 (constant surface speed) is not supported");
   }
-  // Group 15, lathe radius/diameter mode (G7/G8): no effect on these machines.
+  // Group 15, lathe radius (G8) and diameter (G7) mode: after G7 LinuxCNC reads X words (and
+  // G76's I J K) as diameters, which pkm does not: refused rather than cut twice as far out.
+  if (const auto code = g_by_group[15]; code && code->tenths == 70) {
+    fail(code->column,
+         "G7 (lathe diameter mode) is not supported: X would be a diameter; give "
+         "radii in G8");
+  }
 }
 
 void Interpreter::State::set_units(LengthUnits wanted) {
