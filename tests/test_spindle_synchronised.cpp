@@ -15,6 +15,7 @@
 #include "pkm/gcode/interpreter.hpp"
 #include "pkm/motion/planner.hpp"
 #include "pkm/post/joint_program.hpp"
+#include "pkm/verify/joint_path.hpp"
 #include "test_support.hpp"
 
 namespace pkm {
@@ -326,6 +327,28 @@ TEST(SynchronisedTiming, PostTimesFeedPerRevolution) {
   });
   ASSERT_NE(block, lines.end());
   EXPECT_EQ(feed_word(*block), "F16.666");
+}
+
+TEST(SynchronisedTiming, VerifyReadsAJointProgramFedPerRevolution) {
+  // The 5-axis machine (identity X Y Z, C passed through at 30 deg/s) checked against its own
+  // job in G95: F1 mm/rev at S600 is 600 mm/min, X10 takes 1 s, so C turns at 90 deg/s. With the
+  // spindle stopped the block cannot be timed: refused at its line.
+  const Machine trt = test::load_example("linuxcnc-xyzac-trt.toml");
+  const auto job = write_program("G21 G90 S600 M3 G95\nG1 F1 X10 C90\nM2\n");
+  const verify::VerifyReport report = verify::verify_joint_program(trt, job, job, {});
+  std::filesystem::remove(job);
+  ASSERT_EQ(report.velocity.count, 1);
+  EXPECT_EQ(report.velocity.first[0].line, 2);
+  EXPECT_NEAR(report.velocity.first[0].value, 90.0, 1e-9);
+  const auto stopped = write_program("G21 G90 S600 G95\nG1 F1 X10 C90\nM2\n");
+  try {
+    verify::verify_joint_program(trt, stopped, stopped, {});
+    ADD_FAILURE() << "verified a block fed per revolution with the spindle stopped";
+  } catch (const std::exception& error) {
+    EXPECT_NE(std::string(error.what()).find(":2: "), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("stopped"), std::string::npos) << error.what();
+  }
+  std::filesystem::remove(stopped);
 }
 
 }  // namespace
