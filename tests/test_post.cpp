@@ -37,8 +37,9 @@ std::vector<motion::Segment> programmed_moves(const Machine& machine,
   motion::SegmentBuilder builder(home, origin, false);
   std::vector<motion::Segment> moves;
   gcode::Interpreter(job, options).run([&](const gcode::Canon& canon) {
-    const auto segment = builder.take(canon);
-    if (segment && segment->kind != motion::SegmentKind::dwell) moves.push_back(*segment);
+    for (const motion::Segment& segment : builder.take(canon)) {
+      if (segment.kind != motion::SegmentKind::dwell) moves.push_back(segment);
+    }
   });
   return moves;
 }

@@ -119,7 +119,8 @@ void append_canon_text(const Canon& c, text::TextBuffer& out) {
       w << "SET_FEED_RATE(" << c.value << ')';
       return;
     case CanonKind::set_feed_mode:
-      w << "SET_FEED_MODE(0, " << (c.feed_mode == FeedMode::inverse_time ? 1 : 0) << ')';
+      // rs274 tells the machine per minute (0) or per revolution (1); G93 is per minute to it.
+      w << "SET_FEED_MODE(0, " << (c.feed_mode == FeedMode::units_per_revolution ? 1 : 0) << ')';
       return;
     case CanonKind::select_plane:
       w << "SELECT_PLANE(" << plane_name(c.plane) << ')';
@@ -201,6 +202,23 @@ void append_canon_text(const Canon& c, text::TextBuffer& out) {
       return;
     case CanonKind::event:
       w << "COMMENT(\"pkmkit: " << c.text << "\")";
+      return;
+    case CanonKind::speed_feed_sync:  // the pitch as %f
+      w << "START_SPEED_FEED_SYNC(";
+      w.with_6_decimals(c.value) << ",0)";
+      return;
+    case CanonKind::speed_feed_sync_stop:
+      w << "STOP_SPEED_FEED_SYNCH()";
+      return;
+    case CanonKind::rigid_tap:
+      w << "RIGID_TAP(";
+      w.list({c.end[0], c.end[1], c.end[2]}) << ')';
+      return;
+    case CanonKind::feed_override:
+      w << (c.integer ? "ENABLE_FEED_OVERRIDE()" : "DISABLE_FEED_OVERRIDE()");
+      return;
+    case CanonKind::speed_override:
+      w << (c.integer ? "ENABLE_SPEED_OVERRIDE(0)" : "DISABLE_SPEED_OVERRIDE(0)");
       return;
   }
 }

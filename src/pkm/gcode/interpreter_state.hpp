@@ -4,8 +4,9 @@
 //   execute_block.cpp       a block's steps in LinuxCNC's order of execution
 //   word_checks.cpp         the block's codes by modal group, words no code uses, word ranges
 //   coordinate_systems.cpp  offsets, G5x, G10, G28/G30, G92, where axis words lead
-//   motion.cpp              straight moves, arcs, probing
-//   canned_cycles.cpp       G73, G81-G89
+//   motion.cpp              straight moves, arcs, probing, G33 and G33.1
+//   canned_cycles.cpp       G73, G74, G81-G89
+//   threading.cpp           G76
 //   tools.cpp               tool selection and change, tool length, cutter compensation
 //   o_word_flow.cpp         subroutines, conditionals and loops
 // Members used on the path of every line are defined here, inline.
@@ -37,6 +38,8 @@ namespace pkm::gcode {
 inline constexpr double kMmPerInch = 25.4;
 // Tool numbers (T, H, D, M61 Q, G10 P) in magnitude: as a tool table holds them (tool_table.cpp).
 inline constexpr double kMaxToolNumber = 1e6;
+// Spindle speeds (S, rpm): beyond any spindle, and far from overflowing a feed per revolution.
+inline constexpr double kMaxSpindleRpm = 1e6;
 inline constexpr int kX = 0, kY = 1, kZ = 2;
 
 // The axis letters in Position order, the word slots (Block::words) they use, and the axis of
@@ -59,7 +62,13 @@ inline bool is_linear(int axis) {
   return axis < 3 || axis >= 6;
 }
 
-struct CycleLevels;  // canned_cycles.cpp
+struct CycleLevels;   // canned_cycles.cpp
+struct ThreadPasses;  // threading.cpp
+
+// G73, G74 and G81-G89 (G76, between them, is the threading cycle: no canned cycle series).
+inline bool is_canned_cycle(int motion_tenths) {
+  return motion_tenths >= 730 && motion_tenths != 760 && motion_tenths != 800;
+}
 
 struct Interpreter::State {
   struct Mark {
@@ -98,6 +107,7 @@ struct Interpreter::State {
   FeedMode feed_mode = FeedMode::units_per_minute;
   double feed = 0.0;
   double speed = 0.0;
+  int spindle_direction = 0;    // 1 clockwise (M3), -1 counterclockwise (M4), 0 stopped
   int motion = 0;               // G code times ten of the active motion mode, -1 after G80
   bool retract_to_old = false;  // G99 (retract to R) until G98, as LinuxCNC starts
   Position pos{};               // program coordinates
@@ -289,6 +299,7 @@ struct Interpreter::State {
   void execute_block(const Block& block);
   void emit_comments(const Block& block);
   void set_feed_speed_and_tool(const Block& block, const Code* feed_mode_code);
+  void set_feed_mode(const Block& block, int code);  // G93, G94, G95
   void execute_m_codes(const Block& block);
   void dwell_if_asked(const Block& block, const Code* non_modal);
   // Plane, units, cutter compensation, tool length, coordinate system, path control, distance
@@ -312,7 +323,15 @@ struct Interpreter::State {
   void refuse_unused_words(const Block& block) const;
   void require_feed(const Block& block, int column) const {
     if (feed_mode == FeedMode::inverse_time ? !block.has('f') : !(feed > 0.0)) missing_feed(column);
+    if (feed_mode == FeedMode::units_per_revolution && !(speed > 0.0)) missing_feed(column);
   }
+  // G33, G33.1 and G76 take their words (K, I J K P ...) and need axis words and a turning
+  // spindle; these are refused before the block runs, as rs274 refuses them.
+  void check_synchronised_words(const Block& block) const;
+  // The motion the block makes: its group 1 code, or the modal one when it has axis words of
+  // its own (not those of G10, G28, G30, G52, G92); -1 for none.
+  int block_motion(const Block& block) const;
+  [[noreturn]] void refuse_g_code(const Code& code) const;  // unknown, or a lathe cycle
   [[noreturn, gnu::cold, gnu::noinline]] void missing_feed(int column) const;
 
   // ---- coordinate systems and offsets (coordinate_systems.cpp) ---------------------------
@@ -375,6 +394,19 @@ struct Interpreter::State {
   void check_arc_radii(int column, const std::array<double, 2>& centre,
                        const std::array<double, 2>& start, const std::array<double, 2>& end) const;
   void probe(const Block& block, int column, const Position& end);
+  // The speed of the spindle a move fed per revolution follows: 0 when it is stopped.
+  double turning_rpm() const { return spindle_direction != 0 ? speed : 0.0; }
+  void require_turning_spindle(int code) const;
+  // Spindle-synchronised motion: G33's straight move, G33.1's rigid tap (motion.cpp).
+  void synchronised_move(const Block& block, const Position& end);
+  void rigid_tap(const Block& block, const Position& end);
+  // A straight feed at `pitch` units per revolution of the spindle (G33, G76's passes).
+  void synchronised_feed(const Block& block, const Position& end, double pitch);
+  // G76 (threading.cpp): passes of synchronised feeds, deeper each time.
+  void threading_cycle(const Block& block, const Position& end);
+  void require_thread_words(const Block& block, const Position& end) const;
+  ThreadPasses thread_passes(const Block& block, const Position& end) const;
+  void threading_pass(const Block& block, const ThreadPasses& passes, double depth);
   // Runs `action` on cutter compensation; a path it refuses is an error at `column`.
   template <class Action>
   void compensating(int column, Action&& action) {
@@ -407,6 +439,9 @@ struct Interpreter::State {
   void cycle_hole(const Block& block, int code, const CycleLevels& levels, double at_1,
                   double at_2);
   void peck(const Block& block, int code, const CycleLevels& levels, double at_1, double at_2);
+  // G84 (right hand) and G74 (left hand): in with the spindle, out with it reversed.
+  void tap(const Block& block, int code, const CycleLevels& levels, double at_1, double at_2);
+  void emit_overrides(const Block& block, bool enabled);
 
   // ---- tools and cutter compensation (tools.cpp) -----------------------------------------
   void select_tool(const Block& block);

@@ -75,15 +75,17 @@ class Poster : private CoveringHost {
   void on_canon(const gcode::Canon& canon) {
     if (!spans_across(canon)) covering_.finish();
     if (on_machine_command(canon)) return;
-    const std::optional<Segment> segment = builder_.take(canon);
-    if (!segment) return;
-    if (segment->kind == SegmentKind::dwell) {
-      write(format("G4 P%.3f", segment->dwell_s), segment->line);
-      return;
+    const motion::Moves moves = builder_.take(canon);
+    if (canon.kind == gcode::CanonKind::rigid_tap) return rigid_tap(moves);
+    for (const Segment& segment : moves) {
+      if (segment.kind == SegmentKind::dwell) {
+        write(format("G4 P%.3f", segment.dwell_s), segment.line);
+        continue;
+      }
+      if (segment.length() <= 0.0) continue;
+      ++report_.moves;
+      move(segment, canon.kind != gcode::CanonKind::probe);  // a probe stops where it touches
     }
-    if (segment->length() <= 0.0) return;
-    ++report_.moves;
-    move(*segment, canon.kind != gcode::CanonKind::probe);  // a probe stops where it touches
   }
 
   PostReport finish() {
@@ -94,6 +96,20 @@ class Poster : private CoveringHost {
 
  private:
   bool pen() const { return machine_.tool().z == ToolZ::pen; }
+
+  // A rigid tap (G33.1) in joint space: timed moves in and out at the pitch times S, with the
+  // spindle reversed for the way out (as G84 does it) where the controller would have
+  // reversed it for the synchronised tap; the joints cannot follow the spindle's turns.
+  void rigid_tap(const motion::Moves& moves) {
+    if (moves.empty() || moves.front().length() <= 0.0) return;
+    const int line = moves.front().line;
+    ++report_.moves;
+    move(moves.front(), false);
+    if (!pen()) write(spindle_clockwise_ ? "M4" : "M3", line);
+    ++report_.moves;
+    move(moves[1], false);
+    if (!pen()) write(spindle_clockwise_ ? "M3" : "M4", line);
+  }
 
   static std::string format(const char* pattern, double value) {
     char text[160];
@@ -125,6 +141,7 @@ class Poster : private CoveringHost {
       case CanonKind::spindle_counterclockwise:
         if (!pen()) write(canon.kind == CanonKind::spindle_clockwise ? "M3" : "M4", canon.line);
         spindle_on_ = true;
+        spindle_clockwise_ = canon.kind == CanonKind::spindle_clockwise;
         return true;
       case CanonKind::spindle_stop:
         // The interpreter stops the spindle again at M2: one M5 is enough.
@@ -337,6 +354,7 @@ class Poster : private CoveringHost {
   bool ended_ = false;
   bool pen_down_ = false;
   std::optional<bool> spindle_on_;  // unknown until the program says
+  bool spindle_clockwise_ = true;   // M3 (or M4) last
   PostReport report_;
 };
 
