@@ -15,12 +15,22 @@
 
 namespace pkm::fuzz {
 
-// A file of this process holding `bytes`, rewritten for each input (in the temp directory, so a
-// RAM disk when TMPDIR points at one).
+// This process's own directory in the temp directory (a RAM disk when TMPDIR points at one):
+// what the G-code interpreter finds beside its program is only what a target puts there.
+inline const std::filesystem::path& input_directory() {
+  static const std::filesystem::path directory = [] {
+    const auto path =
+        std::filesystem::temp_directory_path() / ("pkm-fuzz-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(path);
+    return path;
+  }();
+  return directory;
+}
+
+// A file of this process holding `bytes`, rewritten for each input.
 inline std::filesystem::path input_file(const std::uint8_t* data, std::size_t size,
                                         const char* extension) {
-  static const std::filesystem::path path = std::filesystem::temp_directory_path() /
-                                            ("pkm-fuzz-" + std::to_string(::getpid()) + extension);
+  static const std::filesystem::path path = input_directory() / (std::string("input") + extension);
   std::ofstream(path, std::ios::binary | std::ios::trunc)
       .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return path;

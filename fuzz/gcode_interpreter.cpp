@@ -1,10 +1,12 @@
 // libFuzzer target: bytes as a G-code program, run to its end by the interpreter with every
 // canonical command rendered as `pkm gcode --canon` renders it. Oracles: no sanitizer report, no
 // exception but GcodeError, no non-finite number in a command or its text. A tool table and a
-// plotter's pen lines are given, so tool and event paths are explored; the loop bounds are
-// lowered so one input stays fast (tests/test_gcode_bad_input.cpp tests them at their defaults).
+// plotter's pen lines are given, and subroutine files beside the program, so tool, event and
+// subroutine-file paths are explored; the loop bounds are lowered so one input stays fast
+// (tests/test_gcode_bad_input.cpp tests them at their defaults).
 #include <cstddef>
 #include <cstdint>
+#include <fstream>
 
 #include "fuzz_support.hpp"
 #include "pkm/gcode/canon.hpp"
@@ -14,7 +16,16 @@
 
 namespace {
 
+// Subroutine files beside the program, so calls into files of their own are explored.
+void write_subroutine_files() {
+  const auto& directory = pkm::fuzz::input_directory();
+  std::ofstream(directory / "sub.ngc") << "o<sub> sub\nG0 X#1\no<sub> endsub [#1]\nM2\n";
+  std::ofstream(directory / "100.ngc") << "O100\nG91 G0 X1\nG90\nM99\n";
+  std::ofstream(directory / "nosub.ngc") << "G0 X1\nM2\n";
+}
+
 pkm::gcode::InterpreterOptions fuzz_options() {
+  write_subroutine_files();
   pkm::gcode::InterpreterOptions options;
   options.max_loop_iterations = 1000;
   options.max_program_iterations = 10000;

@@ -18,9 +18,9 @@ namespace pkm::python {
 namespace {
 
 // The fields of pkmkit.Canon: those of gcode::Canon, which of them a kind uses as canon.hpp says.
-constexpr const char* kCanonFields[] = {"kind",    "line",      "n",     "units", "end",
-                                        "plane",   "center",    "turns", "value", "value2",
-                                        "integer", "feed_mode", "text"};
+constexpr const char* kCanonFields[] = {"kind",    "line",      "n",     "units",      "end",
+                                        "plane",   "center",    "turns", "value",      "value2",
+                                        "integer", "feed_mode", "text",  "spindle_rpm"};
 
 const char* kind_name(gcode::CanonKind kind) {
   using K = gcode::CanonKind;
@@ -83,8 +83,32 @@ const char* kind_name(gcode::CanonKind kind) {
       return "program_end";
     case K::event:
       return "event";
+    case K::xy_rotation:
+      return "xy_rotation";
+    case K::speed_feed_sync:
+      return "speed_feed_sync";
+    case K::speed_feed_sync_stop:
+      return "speed_feed_sync_stop";
+    case K::rigid_tap:
+      return "rigid_tap";
+    case K::feed_override:
+      return "feed_override";
+    case K::speed_override:
+      return "speed_override";
   }
   return "";  // unreachable: -Wswitch names a kind added without its name
+}
+
+const char* feed_mode_name(gcode::FeedMode mode) {
+  switch (mode) {
+    case gcode::FeedMode::units_per_minute:
+      return "units_per_minute";
+    case gcode::FeedMode::inverse_time:
+      return "inverse_time";
+    case gcode::FeedMode::units_per_revolution:
+      return "units_per_revolution";
+  }
+  return "";
 }
 
 const char* plane_name(gcode::Plane plane) {
@@ -101,11 +125,10 @@ const char* plane_name(gcode::Plane plane) {
 
 // One command as a pkmkit.Canon, in the program's units (`units`), as the interpreter made it.
 py::object canon_tuple(const py::object& type, const gcode::Canon& c) {
-  return type(
-      kind_name(c.kind), c.line, c.n_label, c.units == gcode::LengthUnits::inch ? "inch" : "mm",
-      py::tuple(py::cast(c.end)), plane_name(c.plane), py::make_tuple(c.center[0], c.center[1]),
-      c.turns, c.value, c.value2, c.integer,
-      c.feed_mode == gcode::FeedMode::inverse_time ? "inverse_time" : "units_per_minute", c.text);
+  return type(kind_name(c.kind), c.line, c.n_label,
+              c.units == gcode::LengthUnits::inch ? "inch" : "mm", py::tuple(py::cast(c.end)),
+              plane_name(c.plane), py::make_tuple(c.center[0], c.center[1]), c.turns, c.value,
+              c.value2, c.integer, feed_mode_name(c.feed_mode), c.text, c.spindle_rpm);
 }
 
 // The interpreter, stepped as the commands are pulled; the commands of the last line stepped

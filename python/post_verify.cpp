@@ -40,10 +40,12 @@ std::optional<gcode::ToolTable> tool_table_argument(const std::optional<std::str
 
 py::object post(const Machine& machine, const std::string& program, const std::string& output,
                 double tolerance_mm, const std::string& dialect, const std::vector<double>& origin,
-                const std::optional<std::string>& tool_table, const std::string& tool_table_units) {
+                const std::optional<std::string>& tool_table, const std::string& tool_table_units,
+                bool span_moves) {
   check_tolerance(tolerance_mm);
   post::PostOptions options;
   options.tolerance_mm = tolerance_mm;
+  options.span_moves = span_moves;
   try {
     options.dialect = post::dialect_named(dialect);
     post::check_axis_letters(machine, options.dialect);
@@ -104,10 +106,11 @@ void bind_post_verify(py::module_& module) {
   module.def("post", &post, py::arg("machine"), py::arg("program"), py::arg("output"),
              py::kw_only(), py::arg("tolerance") = 0.01, py::arg("dialect") = "linuxcnc",
              py::arg("origin") = std::vector<double>{}, py::arg("tool_table") = py::none(),
-             py::arg("tool_table_units") = "mm",
+             py::arg("tool_table_units") = "mm", py::arg("span_moves") = true,
              "Writes the joint-space program of a G-code job to `output` as pkm post does (the "
              "tool tip within `tolerance` mm of the programmed path; dialect linuxcnc, mach3, "
-             "grbl or grblhal; origin x y [z [a b c]] in mm and deg) and returns the report of "
+             "grbl or grblhal; origin x y [z [a b c]] in mm and deg; span_moves=False covers "
+             "every move on its own, as --no-span-moves) and returns the report of "
              "pkm post --report as a dict. A move the machine cannot make raises PostError.");
   module.def("verify", &verify, py::arg("machine"), py::arg("joint_program"), py::kw_only(),
              py::arg("against"), py::arg("tolerance") = py::none(),

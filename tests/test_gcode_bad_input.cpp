@@ -108,6 +108,14 @@ const BadCase kBadInputs[] = {
     {"peck_with_exponent", "G21 G0 Z5\nG83 X1 Z-1000 R1 Q1e-9 F100\nM2\n", 2, 20, "E word"},
     {"pecks_beyond_loop_bound", "G21 G0 Z5\nG83 X1 Z-1000 R1 Q[10**-9] F100\nM2\n", 2, 1,
      "Q1e-09 makes more than 100000 pecks"},
+    // rs274 runs this G76 for ever: (K/J)^R = 1e12 passes.
+    {"thread_passes_beyond_loop_bound", "G21 G18 S100 M3\nG76 P1 Z-5 I-1 J0.0001 K1 R3\nM2\n", 2, 1,
+     "G76 would make more than 100000 passes"},
+    {"thread_spring_passes_beyond_loop_bound",
+     "G21 G18 S100 M3\nG76 P1 Z-5 I-1 J0.2 K1 H[10**12]\nM2\n", 2, 24,
+     "H1000000000000 is out of range: G76's spring passes"},
+    {"spindle_speed_beyond_bound", "G21 S[10**300] M3\nM2\n", 1, 5,
+     "S1e+300 is out of range: a spindle speed (rpm) goes from 0 to 1000000"},
     // Values that are not finite.
     {"exp_overflow", "G0 X[EXP[1000]]\nM2\n", 1, 6, "calculation resulted in infinity or NaN"},
     {"inf_minus_inf", "G0 X[EXP[1000]-EXP[1000]]\nM2\n", 1, 6, "infinity or NaN"},
@@ -169,6 +177,7 @@ TEST(BadInput, WhatCodesUseAndTheBoundsEdgesStillRun) {
       "M280 P0 S30\nM2\n",        // a code with no meaning here is passed on with its words
       "N4294967296 G0 X1\nM2\n",  // line numbers are kept as written
       "o1 repeat [100000]\no1 endrepeat\nM2\n",
+      "G21 G18 S1000000 M3\nG76 P1 Z-5 I-1 J0.2 K1 H2 L3 E1\nM2\n",  // the bounds' edges
   };
   for (const char* program : programs) {
     const Outcome outcome = run(program);

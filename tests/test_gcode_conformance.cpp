@@ -1,8 +1,9 @@
 // Differential test against LinuxCNC's rs274: every program of the real corpus, and the
 // project's own test programs, must give the same motion (STRAIGHT_TRAVERSE, STRAIGHT_FEED,
-// STRAIGHT_PROBE, ARC_FEED, DWELL) as `rs274 -t TOOLTABLE -g`, line for line, numbers within one
-// unit of the fourth decimal rs274 prints. Where rs274 stops with an error, its motion up to there
-// counts.
+// STRAIGHT_PROBE, ARC_FEED, DWELL, RIGID_TAP, the spindle synchronisation's start and stop, the
+// override locks of the tapping and threading cycles and the spindle's turning within them) as
+// `rs274 -t TOOLTABLE -g`, line for line, numbers within one unit of the fourth decimal rs274
+// prints. Where rs274 stops with an error, its motion up to there counts.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -28,6 +29,9 @@ const fs::path kCorpus = pkm::test::real_corpus();  // absent in a plain clone: 
 const std::string kOwnPrefix = "tests/gcode/";
 const fs::path kOwn = kSource / "tests" / "gcode";
 const fs::path kToolTable = kSource / "tests" / "conformance" / "conformance.tbl";
+// The subroutine files the project's own programs call (LinuxCNC's SUBROUTINE_PATH): not
+// programs of their own.
+const fs::path kOwnSubroutines = kOwn / "subroutines";
 
 struct Program {
   std::string name;  // path relative to its corpus, as in unsupported.txt
@@ -49,6 +53,7 @@ std::vector<Program> programs() {
     if (!fs::exists(root)) continue;
     for (const auto& entry : fs::recursive_directory_iterator(root)) {
       if (!entry.is_regular_file() || entry.path().filename() == "SOURCES.md") continue;
+      if (entry.path().parent_path() == kOwnSubroutines) continue;
       const std::string relative = fs::relative(entry.path(), root).string();
       found.push_back({root == kOwn ? kOwnPrefix + relative : relative, entry.path()});
     }
@@ -69,11 +74,40 @@ std::map<std::string, std::string> unsupported() {
   return listed;
 }
 
-bool is_motion(const std::string& text) {
-  return text.rfind("STRAIGHT_TRAVERSE(", 0) == 0 || text.rfind("STRAIGHT_FEED(", 0) == 0 ||
-         text.rfind("STRAIGHT_PROBE(", 0) == 0 || text.rfind("ARC_FEED(", 0) == 0 ||
-         text.rfind("DWELL(", 0) == 0;
+bool starts_with(const std::string& text, const char* start) {
+  return text.rfind(start, 0) == 0;
 }
+
+// Which commands are compared. The spindle's commands count inside the tapping cycles (between
+// their override locks), where the spindle's reversal is the cycle's: elsewhere rs274 adds stops
+// of its own (at tool changes) that are no motion.
+class MotionFilter {
+ public:
+  bool keep(const std::string& text) {
+    static const char* const kMotion[] = {"STRAIGHT_TRAVERSE(",
+                                          "STRAIGHT_FEED(",
+                                          "STRAIGHT_PROBE(",
+                                          "ARC_FEED(",
+                                          "DWELL(",
+                                          "RIGID_TAP(",
+                                          "START_SPEED_FEED_SYNC(",
+                                          "STOP_SPEED_FEED_SYNCH(",
+                                          "ENABLE_SPEED_OVERRIDE(",
+                                          "DISABLE_SPEED_OVERRIDE("};
+    if (starts_with(text, "DISABLE_FEED_OVERRIDE(")) return locked_ = true;
+    if (starts_with(text, "ENABLE_FEED_OVERRIDE(")) {
+      locked_ = false;
+      return true;
+    }
+    for (const char* start : kMotion) {
+      if (starts_with(text, start)) return true;
+    }
+    return locked_ && (starts_with(text, "START_SPINDLE_") || starts_with(text, "STOP_SPINDLE_"));
+  }
+
+ private:
+  bool locked_ = false;
+};
 
 struct ProgramRun {
   std::vector<std::string> motion;
@@ -90,8 +124,13 @@ ProgramRun run_rs274(const fs::path& program) {
   ProgramRun run;
   const fs::path errors =
       fs::temp_directory_path() / ("pkm-rs274-" + std::to_string(::getpid()) + ".err");
-  const std::string command = "rs274 -t " + shell_quote(kToolTable.string()) + " -g " +
-                              shell_quote(program.string()) + " 2>" + shell_quote(errors.string());
+  // An INI file gives rs274 the own programs' subroutine path.
+  const fs::path ini =
+      fs::temp_directory_path() / ("pkm-rs274-" + std::to_string(::getpid()) + ".ini");
+  std::ofstream(ini) << "[RS274NGC]\nSUBROUTINE_PATH = " << kOwnSubroutines.string() << "\n";
+  const std::string command = "rs274 -t " + shell_quote(kToolTable.string()) + " -i " +
+                              shell_quote(ini.string()) + " -g " + shell_quote(program.string()) +
+                              " 2>" + shell_quote(errors.string());
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) {
     run.error = "cannot start rs274";
@@ -99,6 +138,7 @@ ProgramRun run_rs274(const fs::path& program) {
   }
   // "   12 N..... STRAIGHT_FEED(...)": the command follows the sequence number and N label.
   static const std::regex kLine(R"(^\s*\d+ N\S*\s+(.*)$)");
+  MotionFilter filter;
   char buffer[4096];
   std::string line;
   while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) {
@@ -106,7 +146,9 @@ ProgramRun run_rs274(const fs::path& program) {
     if (line.empty() || line.back() != '\n') continue;
     line.pop_back();
     std::smatch match;
-    if (std::regex_match(line, match, kLine) && is_motion(match[1])) run.motion.push_back(match[1]);
+    if (std::regex_match(line, match, kLine) && filter.keep(match[1])) {
+      run.motion.push_back(match[1]);
+    }
     line.clear();
   }
   const int status = ::pclose(pipe);
@@ -114,6 +156,7 @@ ProgramRun run_rs274(const fs::path& program) {
   std::stringstream error_text;
   error_text << error_file.rdbuf();
   fs::remove(errors);
+  fs::remove(ini);
   if (status != 0) run.error = error_text.str().empty() ? "rs274 failed" : error_text.str();
   return run;
 }
@@ -122,14 +165,14 @@ ProgramRun run_pkm(const fs::path& program) {
   ProgramRun run;
   InterpreterOptions options;
   options.tool_table = read_tool_table(kToolTable, LengthUnits::inch);  // as rs274 reads it
+  options.subroutine_path = {kOwnSubroutines};
   Interpreter interpreter(program, options);
+  MotionFilter filter;
   try {
     interpreter.run([&](const Canon& canon) {
-      if (canon.kind == CanonKind::traverse || canon.kind == CanonKind::feed ||
-          canon.kind == CanonKind::probe || canon.kind == CanonKind::arc ||
-          canon.kind == CanonKind::dwell) {
-        run.motion.push_back(canon_text(canon));
-      }
+      if (canon.kind == CanonKind::comment || canon.kind == CanonKind::message) return;
+      std::string text = canon_text(canon);
+      if (filter.keep(text)) run.motion.push_back(std::move(text));
     });
   } catch (const GcodeError& error) {
     run.error = error.what();

@@ -71,7 +71,7 @@ TEST(SegmentBuilder, ATurnedCoordinateSystemTurnsLinesAndArcsAboutItsOrigin) {
   SegmentBuilder builder(Vector6d::Zero(), Vector6d::Zero(), false);
   std::vector<Segment> segments;
   gcode::Interpreter(path).run([&](const gcode::Canon& canon) {
-    if (auto segment = builder.take(canon)) segments.push_back(*segment);
+    for (const Segment& segment : builder.take(canon)) segments.push_back(segment);
   });
   std::filesystem::remove(path);
   ASSERT_EQ(segments.size(), 4u);

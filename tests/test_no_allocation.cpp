@@ -7,6 +7,11 @@
 #include <cstdlib>
 #include <new>
 
+#include <unistd.h>
+#include <filesystem>
+
+#include "pkm/gcode/interpreter.hpp"
+#include "pkm/io/sample_files.hpp"
 #include "pkm/kinematics/lanes.hpp"
 #include "pkm/linuxcnc/kins_adapter.hpp"
 #include "test_support.hpp"
@@ -117,6 +122,69 @@ TEST_P(NoAllocation, LinuxCncModuleAllocatesNothing) {
   kins.failure_message(message, sizeof message);
   EXPECT_EQ(allocations.load() - before, 0);
   EXPECT_EQ(kins.counters().fk_failures, 0u) << kins.counters().fk_status;
+}
+
+// `pkm plan`'s samples into its files: a CSV row or NPY record per sample, the blocks written as
+// they fill (more samples than a block holds, after one to warm up: the stream's own buffer).
+TEST_P(NoAllocation, SampleFilesAllocateNothingPerSample) {
+  const Machine machine = test::load_example(GetParam());
+  std::mt19937_64 rng(3);
+  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 200, rng, 10.0, 0.05);
+  std::vector<motion::Sample> samples(poses.size());
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    samples[i].line = static_cast<int>(i);
+    samples[i].pose = poses[i].as_vector();
+    ASSERT_TRUE(machine.inverse(poses[i], samples[i].joints).ok());
+  }
+  for (const char* extension : {".csv", ".npy"}) {
+    const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                       ("pkm-alloc-" + std::to_string(::getpid()) + extension);
+    auto file = SampleFile::open(path, machine);
+    file->write(samples.front());
+    const long before = allocations.load();
+    for (int i = 0; i < 5000; ++i) {
+      motion::Sample& s = samples[static_cast<std::size_t>(i) % samples.size()];
+      s.time_s = 0.001 * i;
+      file->write(s);
+    }
+    EXPECT_EQ(allocations.load() - before, 0) << extension;
+    file->commit();
+    EXPECT_GT(std::filesystem::file_size(path), 5000u * 8u * 3u) << extension;
+    std::filesystem::remove(path);
+  }
+}
+
+// `pkm gcode --canon`'s lines: every command of the test programs formatted into the buffer the
+// command line uses, emptied as it writes it out, allocates nothing.
+TEST(NoAllocationOfText, CanonLinesAllocateNothing) {
+  std::vector<gcode::Canon> commands;
+  gcode::InterpreterOptions options;  // the tool table the programs' G41 and G43 need
+  options.tool_table = gcode::read_tool_table(
+      std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "conformance" / "conformance.tbl",
+      gcode::LengthUnits::inch);
+  for (const auto& entry : std::filesystem::directory_iterator(
+           std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "gcode")) {
+    gcode::Interpreter interpreter(entry.path(), options);
+    interpreter.run([&](const gcode::Canon& canon) { commands.push_back(canon); });
+  }
+  ASSERT_GT(commands.size(), 100u);
+  text::TextBuffer out(1 << 16);
+  long bytes = 0;
+  const long before = allocations.load();
+  for (int pass = 0; pass < 20; ++pass) {
+    int sequence = 0;
+    for (const gcode::Canon& canon : commands) {
+      gcode::append_canon_line_start(++sequence, canon.n_label, out);
+      gcode::append_canon_text(canon, out);
+      out.push_back('\n');
+      if (out.size() >= (1 << 15)) {
+        bytes += static_cast<long>(out.size());
+        out.clear();
+      }
+    }
+  }
+  EXPECT_EQ(allocations.load() - before, 0);
+  EXPECT_GT(bytes, 20L * 100 * 40);  // 40 characters or more a line
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, NoAllocation, ::testing::ValuesIn(test::example_machine_files()),

@@ -37,8 +37,9 @@ std::vector<motion::Segment> programmed_moves(const Machine& machine,
   motion::SegmentBuilder builder(home, origin, false);
   std::vector<motion::Segment> moves;
   gcode::Interpreter(job, options).run([&](const gcode::Canon& canon) {
-    const auto segment = builder.take(canon);
-    if (segment && segment->kind != motion::SegmentKind::dwell) moves.push_back(*segment);
+    for (const motion::Segment& segment : builder.take(canon)) {
+      if (segment.kind != motion::SegmentKind::dwell) moves.push_back(segment);
+    }
   });
   return moves;
 }
@@ -158,8 +159,8 @@ double dense_deviation(const Machine& machine, const std::vector<JointVector>& b
   return worst;
 }
 
-// A small job about home in the machine's first two controlled axes, with an arc where those are
-// x and y, and an attitude change on machines that control one.
+// A small job about home in the machine's first two controlled axes, with an arc and a run of
+// short moves where those are x and y, and an attitude change on machines that control one.
 std::string job_about_home(const Machine& machine) {
   const Vector6d home = machine.home().as_vector();
   const bool xy = machine.kinematics().dof().controls(0) && machine.kinematics().dof().controls(1);
@@ -171,6 +172,12 @@ std::string job_about_home(const Machine& machine) {
   if (xy) {
     std::snprintf(text, sizeof text, "G3 X%.4f Y%.4f I-8 J0\n", home[0] - 8, home[1] + 8);
     job += text;
+    // A run of 32 short moves along a gentle curve, which blocks may span.
+    for (int k = 1; k <= 32; ++k) {
+      std::snprintf(text, sizeof text, "G1 X%.4f Y%.4f\n", home[0] - 8 + 0.0004 * k * k,
+                    home[1] + 8 - 0.25 * k);
+      job += text;
+    }
   }
   if (machine.kinematics().dof().any_rotation()) job += "G1 A4 B-3\n";
   std::snprintf(text, sizeof text, "G0 X%.4f Y%.4f\nM2\n", home[0], home[1]);
@@ -521,7 +528,7 @@ type = "glide"
             "'V' as V, 'W' as W: use --dialect linuxcnc or grblhal, or change the joints' axis "
             "letters in the machine file");
   EXPECT_EQ(message(uvw, Dialect::linuxcnc), "");
-  EXPECT_THROW(posted_lines(hektor, "G1 X40 Y-50 F600\nM2\n", {0.01, Dialect::grbl, {}, {}}),
+  EXPECT_THROW(posted_lines(hektor, "G1 X40 Y-50 F600\nM2\n", {0.01, Dialect::grbl, {}, {}, true}),
                std::invalid_argument);
 }
 

@@ -54,6 +54,10 @@ const RealJob kTable[] = {
      "linuxcnc-polargraph-2366.toml",
      {1130.0, -1200.0, 0.0},
      "closed contours, pen-up travel back across drawn lines"},
+    {"plotter/inkscape/btc_laser_qr_unbt_0001.gcode",
+     "linuxcnc-polargraph-2366.toml",
+     {1130.0, -1200.0, 0.0},
+     "hatching: lines 0.2 mm apart, travel between them"},
     {"cam/maslow/calibration-benchmark-test.nc",
      "maslow.toml",
      {1489.2, -1072.6, 0.0},
@@ -189,6 +193,51 @@ INSTANTIATE_TEST_SUITE_P(Real, RealJobTable, ::testing::ValuesIn(cases()),
                          [](const ::testing::TestParamInfo<Case>& case_info) {
                            return case_name(case_info.param);
                          });
+
+// CAMotics' raster of la_peinture (180,000 moves of 0.125 mm along rows, S on every one) on the
+// polargraph for grbl: blocks spanning moves (docs/post.md, "Spanning moves") write 16 times
+// fewer blocks than one covering per move, and the program verifies, the independent check (at
+// 100 points per block, 11,000 blocks) agreeing.
+TEST(RealJobTable, CamoticsRasterSpannedIsVerified) {
+  PKM_SKIP_WITHOUT_REAL_CORPUS();
+  const Machine machine = load_example("linuxcnc-polargraph-2366.toml");
+  const fs::path job = kCorpus / "plotter/camotics/la_peinture.gc";
+  const fs::path joints = scratch("la_peinture.ngc");
+  post::PostOptions options;
+  options.tolerance_mm = kToleranceMm;
+  options.dialect = post::Dialect::grbl;
+  options.origin << 1130.0, -1200.0, 0.0, 0.0, 0.0, 0.0;
+  options.span_moves = false;
+  const post::PostReport per_move = post_to_file(machine, job, options, joints);
+  options.span_moves = true;
+  const post::PostReport spanned = post_to_file(machine, job, options, joints);
+  EXPECT_EQ(spanned.moves, 180582);
+  EXPECT_GE(per_move.moves, per_move.blocks - per_move.blocks / 50);  // about one block per move
+  EXPECT_GT(per_move.blocks, 15 * spanned.blocks);
+  EXPECT_LE(spanned.max_deviation_mm, kToleranceMm);
+  verify::VerifyOptions verify_options;
+  verify_options.origin = options.origin;
+  verify_options.tolerance_mm = kToleranceMm;
+  const verify::VerifyReport verified =
+      verify::verify_joint_program(machine, joints, job, verify_options);
+  EXPECT_TRUE(verified.passed()) << verified.position.count + verified.velocity.count
+                                 << " joint violations, " << verified.pen.count
+                                 << " pen stretches, covered " << verified.covered;
+  EXPECT_LE(verified.max_deviation_mm, kToleranceMm);
+  const IndependentReport mine = check_independently(
+      machine, programmed_path(job, options.origin.head<3>(), machine.home().position_mm),
+      joint_blocks(machine, joints), 100, kToleranceMm);
+  EXPECT_EQ(mine.blocks, spanned.blocks);
+  EXPECT_EQ(mine.lost_at_line, 0);
+  EXPECT_TRUE(mine.reached_end);
+  EXPECT_EQ(mine.points_over_tolerance, 0) << "worst " << mine.max_deviation_mm << " mm";
+  EXPECT_LE(mine.max_untraced_mm, 2.0 * kToleranceMm) << "at line " << mine.max_untraced_line;
+  std::printf(
+      "REAL-JOB | plotter/camotics/la_peinture.gc | linuxcnc-polargraph-2366 | grbl | "
+      "%ld blocks (per move %ld) | %.6f | %.6f\n",
+      spanned.blocks, per_move.blocks, verified.max_deviation_mm, mine.max_deviation_mm);
+  fs::remove(joints);
+}
 
 // The independent check itself, on a case computed by hand: a quarter circle of radius 10 mm
 // cut as one joint-linear block on an identity machine is its chord, which misses the arc by the

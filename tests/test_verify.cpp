@@ -178,14 +178,15 @@ ProgrammedPath programmed_path(const Machine& machine, const fs::path& job,
   ProgrammedPath path;
   gcode::Interpreter(job, motion::starting_at({}, home, origin))
       .run([&](const gcode::Canon& canon) {
-        const auto segment = builder.take(canon);
-        if (!segment || segment->kind == motion::SegmentKind::dwell) return;
-        std::vector<Eigen::Vector3d> points;
-        const int count = polyline_pieces(*segment);
-        for (int k = 0; k <= count; ++k) {
-          points.push_back(segment->at(k / double(count)).head<3>().cwiseProduct(mask));
+        for (const motion::Segment& segment : builder.take(canon)) {
+          if (segment.kind == motion::SegmentKind::dwell) continue;
+          std::vector<Eigen::Vector3d> points;
+          const int count = polyline_pieces(segment);
+          for (int k = 0; k <= count; ++k) {
+            points.push_back(segment.at(k / double(count)).head<3>().cwiseProduct(mask));
+          }
+          add_chunks(points, path.chunks);
         }
-        add_chunks(points, path.chunks);
       });
   for (std::size_t c = 0; c < path.chunks.size(); ++c) path.index(c);
   return path;

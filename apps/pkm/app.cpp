@@ -54,6 +54,18 @@ void add_tool_table_options(CLI::App& command, ToolTableOptions& options) {
       ->check(CLI::IsMember({"mm", "inch"}));
 }
 
+void add_subroutine_path_option(CLI::App& command,
+                                std::vector<std::filesystem::path>& directories) {
+  command
+      .add_option("--subroutine-path", directories,
+                  "Directories where o<name> call finds name.ngc (and M98 P100 finds 100.ngc) "
+                  "when the program does not define it, after the program's own directory "
+                  "(LinuxCNC's SUBROUTINE_PATH; DIR:DIR or repeated)")
+      ->delimiter(':')
+      ->allow_extra_args(false)
+      ->check(CLI::ExistingDirectory);
+}
+
 std::optional<gcode::ToolTable> read_tool_table(const ToolTableOptions& options) {
   if (options.path.empty()) return std::nullopt;
   return gcode::read_tool_table(

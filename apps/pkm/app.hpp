@@ -2,6 +2,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <initializer_list>
 #include <optional>
 #include <stdexcept>
@@ -37,6 +38,10 @@ struct ToolTableOptions {
   std::string units = "mm";
 };
 void add_tool_table_options(CLI::App& command, ToolTableOptions& options);
+
+// --subroutine-path DIR (repeated, or DIR:DIR): where `o<name> call` and M98 look for name.ngc
+// when the program does not define it, after the program's own directory.
+void add_subroutine_path_option(CLI::App& command, std::vector<std::filesystem::path>& directories);
 // The table the options name, or none without a file. Throws gcode::GcodeError (file:line).
 std::optional<gcode::ToolTable> read_tool_table(const ToolTableOptions& options);
 

@@ -18,6 +18,7 @@ struct GcodeOptions {
   std::string tool_table_units = "mm";
   bool canon = false;
   bool block_delete = false;
+  std::vector<std::filesystem::path> subroutine_path;
 };
 
 void print_warnings(const std::string& program, const std::vector<gcode::Warning>& warnings) {
@@ -65,6 +66,44 @@ void print_summary(const std::string& program, const motion::JobSummary& job) {
               job.warnings.empty() ? "" : " (on stderr)");
 }
 
+// The lines of `rs274 -g`, gathered in one buffer written out when it fills: a printf per line
+// cost more than the interpreter (issue 16). No allocation per command once the buffer and the
+// longest command have been seen.
+class CanonPrinter {
+ public:
+  CanonPrinter() {
+    // The preamble rs274 prints when its canonical interface starts.
+    for (const char* text :
+         {"USE_LENGTH_UNITS(CANON_UNITS_MM)",
+          "SET_G5X_OFFSET(1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+          "SET_G92_OFFSET(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+          "SET_XY_ROTATION(0.0000)", "SET_FEED_REFERENCE(CANON_XYZ)", "ON_RESET()"}) {
+      gcode::append_canon_line_start(++sequence_, "", buffer_);
+      buffer_.append(text);
+      buffer_.push_back('\n');
+    }
+  }
+  ~CanonPrinter() { flush(); }  // what was printed before an exception
+  CanonPrinter(const CanonPrinter&) = delete;
+  CanonPrinter& operator=(const CanonPrinter&) = delete;
+  void print(const gcode::Canon& canon) {
+    gcode::append_canon_line_start(++sequence_, canon.n_label, buffer_);
+    gcode::append_canon_text(canon, buffer_);
+    buffer_.push_back('\n');
+    if (buffer_.size() >= kFlushBytes) flush();
+  }
+  void flush() {
+    if (!buffer_.empty()) std::fwrite(buffer_.view().data(), 1, buffer_.size(), stdout);
+    std::fflush(stdout);
+    buffer_.clear();
+  }
+
+ private:
+  static constexpr std::size_t kFlushBytes = std::size_t{1} << 16;
+  text::TextBuffer buffer_{kFlushBytes + 4096};
+  int sequence_ = 0;
+};
+
 void run_summary(const GcodeOptions& options,
                  const gcode::InterpreterOptions& interpreter_options) {
   const motion::JobSummary job = motion::summarize_job(options.program, interpreter_options);
@@ -75,6 +114,7 @@ void run_summary(const GcodeOptions& options,
 void run_gcode(const GcodeOptions& options) {
   gcode::InterpreterOptions interpreter_options;
   interpreter_options.block_delete = options.block_delete;
+  interpreter_options.subroutine_path = options.subroutine_path;
   try {
     if (!options.tool_table.empty()) {
       interpreter_options.tool_table = gcode::read_tool_table(
@@ -86,26 +126,14 @@ void run_gcode(const GcodeOptions& options) {
       return;
     }
     gcode::Interpreter interpreter(options.program, interpreter_options);
-    // The preamble rs274 prints when its canonical interface starts.
-    int sequence = 0;
-    const auto print = [&](const std::string& label, const std::string& text) {
-      std::printf("%5d N%-5s %s\n", ++sequence, label.empty() ? "....." : label.c_str(),
-                  text.c_str());
-    };
-    print("", "USE_LENGTH_UNITS(CANON_UNITS_MM)");
-    print("", "SET_G5X_OFFSET(1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)");
-    print("", "SET_G92_OFFSET(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)");
-    print("", "SET_XY_ROTATION(0.0000)");
-    print("", "SET_FEED_REFERENCE(CANON_XYZ)");
-    print("", "ON_RESET()");
+    CanonPrinter printer;
     std::string error;
     try {
-      interpreter.run(
-          [&](const gcode::Canon& canon) { print(canon.n_label, gcode::canon_text(canon)); });
+      interpreter.run([&](const gcode::Canon& canon) { printer.print(canon); });
     } catch (const gcode::GcodeError& failure) {
       error = failure.what();
     }
-    std::fflush(stdout);
+    printer.flush();
     print_warnings(options.program, interpreter.warnings());
     if (!error.empty()) throw CommandError(error);
   } catch (const gcode::GcodeError& failure) {
@@ -130,6 +158,7 @@ void register_gcode_commands(CLI::App& app) {
                    "stand-alone rs274 reads them)")
       ->check(CLI::IsMember({"mm", "inch"}));
   command->add_flag("--block-delete", options->block_delete, "Skip lines starting with '/'");
+  add_subroutine_path_option(*command, options->subroutine_path);
   command->add_option("program", options->program, "The G-code file")->required();
   command->callback([options] { run_gcode(*options); });
 }

@@ -32,6 +32,7 @@ struct PlanCommandOptions {
   std::string output;
   std::string report;
   std::string tool_table;
+  std::vector<std::filesystem::path> subroutine_path;
   double period_s = 0.001;
   std::vector<double> start;
   std::vector<double> origin;
@@ -60,6 +61,7 @@ struct PlanSetup {
 PlanSetup plan_setup(const Machine& machine, const PlanCommandOptions& options) {
   PlanSetup setup;
   setup.plan.period_s = options.period_s;
+  setup.interpreter.subroutine_path = options.subroutine_path;
   if (!options.start.empty()) setup.plan.start = pose_from_arguments(machine, options.start);
   setup.plan.origin = pose_vector_over(setup.plan.origin, options.origin);
   setup.plan.great_circle_attitude = options.attitude == "great-circle";
@@ -378,6 +380,7 @@ void register_plan_commands(CLI::App& app) {
       ->check(file_name())
       ->excludes("--estimate");
   command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl, mm)");
+  add_subroutine_path_option(*command, options->subroutine_path);
   add_pose_option(*command, "--start", options->start, "Start pose, mm and deg (default: home)");
   add_pose_option(
       *command, "--origin", options->origin,

@@ -26,7 +26,9 @@ struct PostCommandOptions {
   std::string output;
   std::string dialect = "linuxcnc";
   ToolTableOptions tool_table;
+  std::vector<std::filesystem::path> subroutine_path;
   double tolerance_mm = 0.01;
+  bool no_span_moves = false;  // --no-span-moves: every move covered on its own
   std::vector<double> origin;
   std::string report;  // --report: the summary as JSON
   std::string html;    // --html: the page of the joint program
@@ -46,6 +48,7 @@ void write_post_html(const Machine& machine, const PostCommandOptions& options,
   std::vector<view::PathPoint> outline;
   try {
     verify_options.job_options.tool_table = read_tool_table(options.tool_table);
+    verify_options.job_options.subroutine_path = options.subroutine_path;
     verify::verify_joint_program(machine, options.output, options.program, verify_options);
     outline = view::job_outline(machine, options.program, verify_options.job_options,
                                 verify_options.origin);
@@ -73,6 +76,7 @@ void run_post(const PostCommandOptions& options) {
   post::PostOptions post_options;
   post_options.tolerance_mm = options.tolerance_mm;
   post_options.dialect = post::dialect_named(options.dialect);
+  post_options.span_moves = !options.no_span_moves;
   try {
     post::check_axis_letters(machine, post_options.dialect);
   } catch (const std::invalid_argument& error) {
@@ -89,6 +93,7 @@ void run_post(const PostCommandOptions& options) {
   post_options.on_line = progress.on_line();
   try {
     interpreter_options.tool_table = read_tool_table(options.tool_table);
+    interpreter_options.subroutine_path = options.subroutine_path;
     report = post::post_program(machine, options.program, interpreter_options, post_options,
                                 [&](const std::string& line) { file.write(line + "\n"); });
   } catch (const gcode::GcodeError& error) {
@@ -159,9 +164,13 @@ void register_post_commands(CLI::App& app) {
       ->add_option("--tolerance", options->tolerance_mm,
                    "Largest tool-tip deviation from the programmed path, mm (default 0.01)")
       ->check(number_in(kMinTolerance, kMaxTolerance));
+  command->add_flag("--no-span-moves", options->no_span_moves,
+                    "Cover every programmed move with blocks of its own (by default one block "
+                    "may span consecutive feed moves where it keeps within the tolerance)");
   command->add_option("--dialect", options->dialect, "linuxcnc (default), mach3, grbl or grblhal")
       ->check(CLI::IsMember({"linuxcnc", "mach3", "grbl", "grblhal"}));
   add_tool_table_options(*command, options->tool_table);
+  add_subroutine_path_option(*command, options->subroutine_path);
   add_pose_option(*command, "--origin", options->origin,
                   "Where the program's X0 Y0 Z0 sits in machine coordinates, mm and deg");
   command->add_option("--report", options->report, "Write the summary as JSON")->check(file_name());

@@ -26,6 +26,7 @@ struct VerifyCommandOptions {
   double tolerance_mm = 0.0;  // 0: the one in the joint program's header
   std::vector<double> origin;
   ToolTableOptions tool_table;
+  std::vector<std::filesystem::path> subroutine_path;
 };
 
 // The tolerance given, or the one post wrote in the joint program's header.
@@ -157,6 +158,7 @@ void run_verify(const VerifyCommandOptions& options) {
   try {
     verify_options.tolerance_mm = tolerance_of(options);
     verify_options.job_options.tool_table = read_tool_table(options.tool_table);
+    verify_options.job_options.subroutine_path = options.subroutine_path;
     report = verify::verify_joint_program(machine, options.joints, options.job, verify_options);
   } catch (const gcode::GcodeError& error) {
     throw CommandError(error.what());
@@ -198,6 +200,7 @@ void register_verify_commands(CLI::App& app) {
   add_pose_option(*command, "--origin", options->origin,
                   "Where the job's X0 Y0 Z0 sits in machine coordinates, mm and deg");
   add_tool_table_options(*command, options->tool_table);
+  add_subroutine_path_option(*command, options->subroutine_path);
   command->callback([options] { run_verify(*options); });
 }
 

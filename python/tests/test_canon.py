@@ -23,6 +23,8 @@ def canon_text(c):
     six = ", ".join(f"{v:.4f}" for v in c.end[:6])
     simple = {"traverse": f"STRAIGHT_TRAVERSE({six})", "feed": f"STRAIGHT_FEED({six})",
               "dwell": f"DWELL({c.value:.4f})", "set_feed_rate": f"SET_FEED_RATE({c.value:.4f})",
+              "set_feed_mode": "SET_FEED_MODE(0, " +
+                               ("1)" if c.feed_mode == "units_per_revolution" else "0)"),
               "comment": f'COMMENT("{c.text}")', "message": f'MESSAGE("{c.text}")',
               "program_stop": "PROGRAM_STOP()", "program_end": "PROGRAM_END()",
               "select_plane": f"SELECT_PLANE(CANON_PLANE_{c.plane.upper()})",
@@ -66,11 +68,11 @@ def test_canon_fields_of_a_small_program(tmp_path):
     commands = pkmkit.canon(str(job))
     assert iter(commands) is commands
     kinds = [(c.kind, c.line) for c in commands]
-    # rs274's order: the feed rate before the units on line 1; M2 resets the offsets, the plane
-    # and the spindle before the end.
+    # rs274's order: the feed rate before the units on line 1; M2 resets the offsets, the feed
+    # mode and rate and the spindle before the end.
     assert kinds == [("set_feed_rate", 1), ("use_length_units", 1), ("comment", 2), ("feed", 3),
-                     ("arc", 4), ("g5x_offset", 5), ("g92_offset", 5), ("select_plane", 5),
-                     ("spindle_stop", 5), ("program_end", 5)]
+                     ("arc", 4), ("g5x_offset", 5), ("g92_offset", 5), ("set_feed_mode", 5),
+                     ("set_feed_rate", 5), ("spindle_stop", 5), ("program_end", 5)]
     feed_rate, units, comment, feed, arc, *_ = pkmkit.canon(str(job))
     assert units.units == "inch" and feed_rate.value == 30.0 and comment.text == "cut"
     assert feed.n == "10" and feed.end[:3] == (1.0, 2.0, 0.0) and len(feed.end) == 9
@@ -80,6 +82,15 @@ def test_canon_fields_of_a_small_program(tmp_path):
     assert arc.plane == "xy" and arc.center == (2.0, 2.0) and arc.turns == 1
     assert arc.end[:2] == (3.0, 2.0)
     assert isinstance(arc, tuple) and arc._fields[0] == "kind"
+
+
+def test_canon_of_a_move_fed_per_revolution(tmp_path):
+    job = tmp_path / "thread.ngc"
+    job.write_text("G21 G18 S500 M3\nG33 Z-10 K1.5\nM2\n")
+    sync, feed, stop = [c for c in pkmkit.canon(str(job)) if c.line == 2]
+    assert (sync.kind, sync.value, stop.kind) == ("speed_feed_sync", 1.5, "speed_feed_sync_stop")
+    assert (feed.kind, feed.feed_mode, feed.value, feed.spindle_rpm) == (
+        "feed", "units_per_revolution", 1.5, 500.0)
 
 
 def test_canon_error_is_raised_where_the_iterator_reaches_it(tmp_path):

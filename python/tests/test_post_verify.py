@@ -68,3 +68,18 @@ def test_post_and_verify_errors(machines, test_data, pkm_binary, tmp_path):
     bare.write_text("G1 X52 Y77 F600\nM2\n")
     with pytest.raises(ValueError, match="no tolerance to verify against"):
         pkmkit.verify(m, str(bare), against=str(test_data / "hektor-job.ngc"))
+
+
+def test_post_span_moves_false_is_no_span_moves(machines, pkm_binary, tmp_path):
+    # 50 collinear moves of 0.2 mm: spanned by a few blocks, or at least one block each.
+    machine_file, job = machines / "hektor.toml", tmp_path / "tiny.ngc"
+    job.write_text("G21 G90 G0 X40 Y-50\nG1 F600\n" +
+                   "".join("G1 X%.1f Y-50\n" % (40 + 0.2 * k) for k in range(1, 51)) + "M2\n")
+    m = pkmkit.Machine.load(str(machine_file))
+    cli_out, out = tmp_path / "cli.ngc", tmp_path / "py.ngc"
+    run_pkm(pkm_binary, "post", "-m", machine_file, job, "-o", cli_out, "--no-span-moves")
+    per_move = pkmkit.post(m, str(job), str(out), span_moves=False)
+    assert out.read_bytes() == cli_out.read_bytes()
+    assert per_move["moves"] == 51 and per_move["blocks"] >= 51
+    spanned = pkmkit.post(m, str(job), str(out))
+    assert spanned["blocks"] * 5 < per_move["blocks"]

@@ -178,6 +178,12 @@ class Reader {
       } else if (c == 'n' && block.empty && block.n_label.empty()) {
         ++pos_;
         block.n_label = read_digits(column);
+        // A fractional line number (N1.5) is LinuxCNC's too: the fraction is read and dropped,
+        // as rs274 labels the line N1.
+        if (peek() == '.') {
+          ++pos_;
+          while (is_digit(peek())) ++pos_;
+        }
         // A line number counts as content only together with other words.
       } else if (c == 'o') {
         if (!block.empty) fail(column, "an O-word must come first on its line");
@@ -653,7 +659,16 @@ class Reader {
         break;
       }
     }
-    if (o.keyword.empty()) fail(static_cast<int>(pos_) + 1, "unknown O-word keyword");
+    if (o.keyword.empty()) {
+      // A bare number is a Fanuc-style program number: the main program's, or the start of a
+      // subprogram that M98 calls and M99 ends.
+      const char rest = peek();
+      if (o.label.front() == '<' || (rest != 0 && rest != '(' && rest != ';')) {
+        fail(static_cast<int>(pos_) + 1, "unknown O-word keyword");
+      }
+      o.keyword = kProgramNumberKeyword;
+      return o;
+    }
     if (o.keyword == "call") {
       while (peek() == '[') {
         ++pos_;
@@ -705,9 +720,16 @@ std::string o_word_keyword(std::string_view line, std::string* label) {
   }
   std::size_t pos = 0;
   if (pos < compact.size() && compact[pos] == '/') ++pos;
+  const auto skip_digits = [&] {
+    while (pos < compact.size() && std::isdigit(static_cast<unsigned char>(compact[pos]))) ++pos;
+  };
   if (pos < compact.size() && compact[pos] == 'n') {
     ++pos;
-    while (pos < compact.size() && std::isdigit(static_cast<unsigned char>(compact[pos]))) ++pos;
+    skip_digits();
+    if (pos < compact.size() && compact[pos] == '.') {
+      ++pos;
+      skip_digits();
+    }
   }
   if (pos >= compact.size() || compact[pos] != 'o') return {};
   ++pos;
@@ -732,6 +754,10 @@ std::string o_word_keyword(std::string_view line, std::string* label) {
       if (label != nullptr) *label = name;
       return std::string(keyword);
     }
+  }
+  if (pos == compact.size() && !name.empty() && name.front() != '<') {
+    if (label != nullptr) *label = name;
+    return std::string(kProgramNumberKeyword);
   }
   return {};
 }

@@ -39,10 +39,13 @@ struct Code {
   int column = 0;
 };
 
+// The keyword of a bare O-number line (Fanuc's "O100"), which no O-word can spell.
+inline constexpr std::string_view kProgramNumberKeyword = "O-number";
+
 struct OWord {
   std::string label;    // "100" or "<name>" lower case, as written between o and the keyword
   std::string keyword;  // sub, endsub, call, return, do, while, endwhile, if, elseif, else,
-                        // endif, repeat, endrepeat, break, continue
+                        // endif, repeat, endrepeat, break, continue, or kProgramNumberKeyword
   std::vector<double> arguments;  // call arguments
   std::optional<double> value;    // condition, repeat count, or return value
   int column = 0;

@@ -1,7 +1,7 @@
-// Canned cycles G73 and G81-G89 as LinuxCNC expands them into moves: sticky R, Z (the plane's
-// normal), Q and P words, the level a series of cycles started from (G98/G99), repeats (L), G91
-// steps between holes (in radius and angle with polar words), pecks. Each hole and peck counts
-// against the program's bound.
+// Canned cycles G73, G74 and G81-G89 as LinuxCNC expands them into moves: sticky R, Z (the
+// plane's normal), Q and P words, the level a series of cycles started from (G98/G99), repeats
+// (L), G91 steps between holes (in radius and angle with polar words), pecks, the tapping
+// cycles' spindle reversal. Each hole and peck counts against the program's bound.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -128,8 +128,9 @@ void Interpreter::State::cycle_hole(const Block& block, int code, const CycleLev
   const auto move = [&](CanonKind kind, double height) {
     cycle_move(block, levels, kind, at_1, at_2, height);
   };
-  // Across to the hole at the current height, or at R where that is higher.
-  move(CanonKind::traverse, std::max(pos[levels.normal], levels.r));
+  // Across to the hole at the current height when above R, else at the clearance height (a
+  // G98 level above R, though the tool waits at R after G99 holes), then down to R.
+  move(CanonKind::traverse, pos[levels.normal] > levels.r ? pos[levels.normal] : levels.clear);
   if (pos[levels.normal] != levels.r) move(CanonKind::traverse, levels.r);
   switch (code) {
     case 810:
@@ -152,6 +153,10 @@ void Interpreter::State::cycle_hole(const Block& block, int code, const CycleLev
       move(CanonKind::feed, levels.bottom);
       dwell(block, cycle_p);
       move(CanonKind::feed, levels.clear);
+      return;
+    case 840:
+    case 740:
+      tap(block, code, levels, at_1, at_2);
       return;
     default:
       fail(levels.column, code_name('G', code) + " is not supported (spindle-synchronised cycle)");
@@ -178,6 +183,47 @@ void Interpreter::State::peck(const Block& block, int code, const CycleLevels& l
     // G83 goes back out to R between pecks, G73 only breaks the chip.
     if (code == 830) move(CanonKind::traverse, levels.r);
     move(CanonKind::traverse, depth + levels.peck_clear);
+  }
+}
+
+void Interpreter::State::tap(const Block& block, int code, const CycleLevels& levels, double at_1,
+                             double at_2) {
+  // A right-hand tap (G84) cuts with the spindle clockwise (M3), a left-hand one (G74) with it
+  // counterclockwise (M4); at the bottom the spindle reverses and backs the tap out, as the
+  // floating tap holder LinuxCNC's cycle is made for needs.
+  const int cutting = code == 840 ? 1 : -1;
+  const std::string name = code_name('G', code);
+  if (spindle_direction == 0) {
+    fail(levels.column, "spindle not turning in " + name + " (M3 or M4 first)");
+  }
+  if (spindle_direction != cutting) {
+    fail(levels.column, cutting > 0 ? "spindle turning counterclockwise in G84 (a right-hand "
+                                      "tap: M3 first, or G74 for a left-hand one)"
+                                    : "spindle turning clockwise in G74 (a left-hand tap: M4 "
+                                      "first, or G84 for a right-hand one)");
+  }
+  const auto move = [&](double height) {
+    cycle_move(block, levels, CanonKind::feed, at_1, at_2, height);
+  };
+  const auto turn_spindle = [&](int direction) {
+    emit(CanonKind::spindle_stop, block);
+    emit(direction > 0 ? CanonKind::spindle_clockwise : CanonKind::spindle_counterclockwise, block);
+    spindle_direction = direction;
+  };
+  emit_overrides(block, false);
+  move(levels.bottom);
+  turn_spindle(-cutting);
+  dwell(block, cycle_p);
+  move(levels.clear);
+  turn_spindle(cutting);
+  emit_overrides(block, true);
+}
+
+void Interpreter::State::emit_overrides(const Block& block, bool enabled) {
+  for (const CanonKind kind : {CanonKind::feed_override, CanonKind::speed_override}) {
+    Canon c = make(kind, block);
+    c.integer = enabled ? 1 : 0;
+    emit(c);
   }
 }
 

@@ -5,6 +5,9 @@
 #include <array>
 #include <numbers>
 #include <string>
+#include <string_view>
+
+#include "pkm/text/text_buffer.hpp"
 
 namespace pkm::gcode {
 
@@ -14,7 +17,9 @@ using Position = std::array<double, kAxes>;
 
 enum class Plane { xy, xz, yz };
 enum class LengthUnits { inch, mm };
-enum class FeedMode { units_per_minute, inverse_time };
+// G94, G93, G95. A move fed per revolution (G95, and the spindle-synchronised moves of G33,
+// G33.1 and G76) runs at its `value` (units per revolution) times the spindle's speed.
+enum class FeedMode { units_per_minute, inverse_time, units_per_revolution };
 
 // LinuxCNC's tolerance on the two radii of a centre-format arc (and on the arcs cutter
 // compensation makes), in `units`: 0.02*sqrt(2) mm or 0.002*sqrt(2) inch.
@@ -53,6 +58,13 @@ enum class CanonKind {
   optional_stop,  // M1
   program_end,    // M2, M30, or the end of the file
   event,          // a code with no meaning off a real machine, passed on: `text`
+  // Spindle-synchronised motion (G33, G33.1, G76). The moves between a sync and a sync_stop
+  // are fed per revolution at the pitch; each says so itself (feed_mode, value, spindle_rpm).
+  speed_feed_sync,       // START_SPEED_FEED_SYNC: `value` the pitch, units per revolution (signed)
+  speed_feed_sync_stop,  // STOP_SPEED_FEED_SYNCH
+  rigid_tap,       // RIGID_TAP (G33.1): from where the tool is to `end` (X Y Z) and back again
+  feed_override,   // `integer` 1 ENABLE_FEED_OVERRIDE, 0 DISABLE_ (tapping and threading cycles)
+  speed_override,  // `integer` 1 ENABLE_SPEED_OVERRIDE, 0 DISABLE_ (tapping cycles)
 };
 
 struct Canon {
@@ -64,15 +76,24 @@ struct Canon {
   Plane plane = Plane::xy;
   std::array<double, 2> center{};  // arc centre in the plane's first and second axis
   int turns = 0;
-  double value = 0.0;  // moves: the F word in effect (units/min, or 1/min in inverse time)
+  double value = 0.0;  // moves: the F word in effect (units/min, 1/min in inverse time, units/rev
+                       // fed per revolution, where a synchronised move's is its pitch)
   double value2 = 0.0;
+  // Moves fed per revolution: the speed of the spindle (rpm), 0 when it is stopped (the move
+  // cannot run then: its consumer refuses it at its line).
+  double spindle_rpm = 0.0;
   int integer = 0;
   FeedMode feed_mode = FeedMode::units_per_minute;
   std::string text;
 };
 
 // The command in the text form of LinuxCNC's `rs274 -g` (numbers as %.4f), without the leading
-// sequence number and N label.
-std::string canon_text(const Canon& canon);
+// sequence number and N label, appended to `out` (which allocates nothing once grown).
+void append_canon_text(const Canon& canon, text::TextBuffer& out);
+std::string canon_text(const Canon& canon);  // the same as a new string
+
+// The start of each line `rs274 -g` prints (printf's "%5d N%-5s "): the sequence number, then
+// the N label as written, "....." when the block has none.
+void append_canon_line_start(int sequence, std::string_view n_label, text::TextBuffer& out);
 
 }  // namespace pkm::gcode

@@ -1,20 +1,64 @@
-#include <cstdio>
+#include <cstring>
+#include <initializer_list>
+#include <string_view>
 
 #include "pkm/gcode/canon.hpp"
+#include "pkm/text/decimal_text.hpp"
 
 namespace pkm::gcode {
 
 namespace {
 
-std::string format(const char* pattern, auto... values) {
-  char buffer[512];
-  std::snprintf(buffer, sizeof buffer, pattern, values...);
-  return buffer;
-}
+// The text of one command, written in place at the end of a buffer: `rs274 -g` prints numbers as
+// %.4f (and one as %f), written here by pkm::text, which gives printf's digits. Room for the
+// longest command is made once, so each piece is written without a check.
+class CanonWriter {
+ public:
+  CanonWriter(text::TextBuffer& out, std::size_t text_bytes)
+      : out_(out), cursor_(out.room(kLongestWords + 9 * (text::kMaxFixedChars + 2) + text_bytes)) {}
+  ~CanonWriter() { out_.commit(cursor_); }
+  CanonWriter(const CanonWriter&) = delete;
+  CanonWriter& operator=(const CanonWriter&) = delete;
 
-std::string six(const Position& p) {
-  return format("%.4f, %.4f, %.4f, %.4f, %.4f, %.4f", p[0], p[1], p[2], p[3], p[4], p[5]);
-}
+  CanonWriter& operator<<(std::string_view text) {
+    std::memcpy(cursor_, text.data(), text.size());
+    cursor_ += text.size();
+    return *this;
+  }
+  CanonWriter& operator<<(char c) {
+    *cursor_++ = c;
+    return *this;
+  }
+  CanonWriter& operator<<(int value) {
+    cursor_ = text::write_int(cursor_, value);
+    return *this;
+  }
+  CanonWriter& operator<<(double value) {  // %.4f
+    cursor_ = text::write_fixed<4>(cursor_, value);
+    return *this;
+  }
+  CanonWriter& with_6_decimals(double value) {  // %f
+    cursor_ = text::write_fixed<6>(cursor_, value);
+    return *this;
+  }
+  // Numbers separated by `separator`.
+  CanonWriter& list(std::initializer_list<double> values, std::string_view separator = ", ") {
+    bool first = true;
+    for (const double value : values) {
+      if (!first) *this << separator;
+      first = false;
+      *this << value;
+    }
+    return *this;
+  }
+  CanonWriter& six(const Position& p) { return list({p[0], p[1], p[2], p[3], p[4], p[5]}); }
+
+ private:
+  // Room for every word, separator and integer of a command but its numbers and its text.
+  static constexpr std::size_t kLongestWords = 256;
+  text::TextBuffer& out_;
+  char* cursor_;
+};
 
 // The arc's first and second axes and the axis normal to its plane, as LinuxCNC orders them.
 void plane_axes(Plane plane, int& first, int& second, int& normal) {
@@ -45,80 +89,151 @@ const char* plane_name(Plane plane) {
 
 }  // namespace
 
-std::string canon_text(const Canon& c) {
+void append_canon_text(const Canon& c, text::TextBuffer& out) {
+  CanonWriter w(out, c.text.size());
   switch (c.kind) {
     case CanonKind::traverse:
-      return "STRAIGHT_TRAVERSE(" + six(c.end) + ")";
+      w << "STRAIGHT_TRAVERSE(";
+      w.six(c.end) << ')';
+      return;
     case CanonKind::feed:
-      return "STRAIGHT_FEED(" + six(c.end) + ")";
+      w << "STRAIGHT_FEED(";
+      w.six(c.end) << ')';
+      return;
     case CanonKind::probe:
-      return "STRAIGHT_PROBE(" + six(c.end) + ")";
+      w << "STRAIGHT_PROBE(";
+      w.six(c.end) << ')';
+      return;
     case CanonKind::arc: {
       int first = 0, second = 0, normal = 0;
       plane_axes(c.plane, first, second, normal);
-      return format("ARC_FEED(%.4f, %.4f, %.4f, %.4f, %d, %.4f, %.4f, %.4f, %.4f)", c.end[first],
-                    c.end[second], c.center[0], c.center[1], c.turns, c.end[normal], c.end[3],
-                    c.end[4], c.end[5]);
+      w << "ARC_FEED(";
+      w.list({c.end[first], c.end[second], c.center[0], c.center[1]}) << ", " << c.turns << ", ";
+      w.list({c.end[normal], c.end[3], c.end[4], c.end[5]}) << ')';
+      return;
     }
     case CanonKind::dwell:
-      return format("DWELL(%.4f)", c.value);
+      w << "DWELL(" << c.value << ')';
+      return;
     case CanonKind::set_feed_rate:
-      return format("SET_FEED_RATE(%.4f)", c.value);
+      w << "SET_FEED_RATE(" << c.value << ')';
+      return;
     case CanonKind::set_feed_mode:
-      return format("SET_FEED_MODE(0, %d)", c.feed_mode == FeedMode::inverse_time ? 1 : 0);
+      // rs274 tells the machine per minute (0) or per revolution (1); G93 is per minute to it.
+      w << "SET_FEED_MODE(0, " << (c.feed_mode == FeedMode::units_per_revolution ? 1 : 0) << ')';
+      return;
     case CanonKind::select_plane:
-      return std::string("SELECT_PLANE(") + plane_name(c.plane) + ")";
+      w << "SELECT_PLANE(" << plane_name(c.plane) << ')';
+      return;
     case CanonKind::use_length_units:
-      return c.units == LengthUnits::inch ? "USE_LENGTH_UNITS(CANON_UNITS_INCHES)"
-                                          : "USE_LENGTH_UNITS(CANON_UNITS_MM)";
+      w << (c.units == LengthUnits::inch ? "USE_LENGTH_UNITS(CANON_UNITS_INCHES)"
+                                         : "USE_LENGTH_UNITS(CANON_UNITS_MM)");
+      return;
     case CanonKind::comment:
-      return "COMMENT(\"" + c.text + "\")";
+      w << "COMMENT(\"" << c.text << "\")";
+      return;
     case CanonKind::message:
-      return "MESSAGE(\"" + c.text + "\")";
+      w << "MESSAGE(\"" << c.text << "\")";
+      return;
     case CanonKind::spindle_speed:
-      return format("SET_SPINDLE_SPEED(0, %.4f)", c.value);
+      w << "SET_SPINDLE_SPEED(0, " << c.value << ')';
+      return;
     case CanonKind::spindle_clockwise:
-      return "START_SPINDLE_CLOCKWISE(0)";
+      w << "START_SPINDLE_CLOCKWISE(0)";
+      return;
     case CanonKind::spindle_counterclockwise:
-      return "START_SPINDLE_COUNTERCLOCKWISE(0)";
+      w << "START_SPINDLE_COUNTERCLOCKWISE(0)";
+      return;
     case CanonKind::spindle_stop:
-      return "STOP_SPINDLE_TURNING(0)";
+      w << "STOP_SPINDLE_TURNING(0)";
+      return;
     case CanonKind::mist_on:
-      return "MIST_ON()";
+      w << "MIST_ON()";
+      return;
     case CanonKind::mist_off:
-      return "MIST_OFF()";
+      w << "MIST_OFF()";
+      return;
     case CanonKind::flood_on:
-      return "FLOOD_ON()";
+      w << "FLOOD_ON()";
+      return;
     case CanonKind::flood_off:
-      return "FLOOD_OFF()";
+      w << "FLOOD_OFF()";
+      return;
     case CanonKind::select_tool:
-      return format("SELECT_TOOL(%d)", c.integer);
+      w << "SELECT_TOOL(" << c.integer << ')';
+      return;
     case CanonKind::change_tool:
-      return format("CHANGE_TOOL(%d)", c.integer);
+      w << "CHANGE_TOOL(" << c.integer << ')';
+      return;
     case CanonKind::tool_length_offset:
-      return format("USE_TOOL_LENGTH_OFFSET(%.4f %.4f %.4f, %.4f %.4f %.4f, %.4f %.4f %.4f)",
-                    c.end[0], c.end[1], c.end[2], c.end[3], c.end[4], c.end[5], c.end[6], c.end[7],
-                    c.end[8]);
+      w << "USE_TOOL_LENGTH_OFFSET(";
+      w.list({c.end[0], c.end[1], c.end[2]}, " ") << ", ";
+      w.list({c.end[3], c.end[4], c.end[5]}, " ") << ", ";
+      w.list({c.end[6], c.end[7], c.end[8]}, " ") << ')';
+      return;
     case CanonKind::g5x_offset:
-      return format("SET_G5X_OFFSET(%d, ", c.integer) + six(c.end) + ")";
+      w << "SET_G5X_OFFSET(" << c.integer << ", ";
+      w.six(c.end) << ')';
+      return;
     case CanonKind::g92_offset:
-      return "SET_G92_OFFSET(" + six(c.end) + ")";
+      w << "SET_G92_OFFSET(";
+      w.six(c.end) << ')';
+      return;
     case CanonKind::xy_rotation:
-      return format("SET_XY_ROTATION(%.4f)", c.value);
+      w << "SET_XY_ROTATION(" << c.value << ')';
+      return;
     case CanonKind::path_control:
-      if (c.integer == 64) return format("SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, %f)", c.value);
-      return c.integer == 61 ? "SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)"
-                             : "SET_MOTION_CONTROL_MODE(CANON_EXACT_STOP)";
+      if (c.integer == 64) {  // the tolerance as %f
+        w << "SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, ";
+        w.with_6_decimals(c.value) << ')';
+        return;
+      }
+      w << (c.integer == 61 ? "SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)"
+                            : "SET_MOTION_CONTROL_MODE(CANON_EXACT_STOP)");
+      return;
     case CanonKind::program_stop:
-      return "PROGRAM_STOP()";
+      w << "PROGRAM_STOP()";
+      return;
     case CanonKind::optional_stop:
-      return "OPTIONAL_PROGRAM_STOP()";
+      w << "OPTIONAL_PROGRAM_STOP()";
+      return;
     case CanonKind::program_end:
-      return "PROGRAM_END()";
+      w << "PROGRAM_END()";
+      return;
     case CanonKind::event:
-      return "COMMENT(\"pkmkit: " + c.text + "\")";
+      w << "COMMENT(\"pkmkit: " << c.text << "\")";
+      return;
+    case CanonKind::speed_feed_sync:  // the pitch as %f
+      w << "START_SPEED_FEED_SYNC(";
+      w.with_6_decimals(c.value) << ",0)";
+      return;
+    case CanonKind::speed_feed_sync_stop:
+      w << "STOP_SPEED_FEED_SYNCH()";
+      return;
+    case CanonKind::rigid_tap:
+      w << "RIGID_TAP(";
+      w.list({c.end[0], c.end[1], c.end[2]}) << ')';
+      return;
+    case CanonKind::feed_override:
+      w << (c.integer ? "ENABLE_FEED_OVERRIDE()" : "DISABLE_FEED_OVERRIDE()");
+      return;
+    case CanonKind::speed_override:
+      w << (c.integer ? "ENABLE_SPEED_OVERRIDE(0)" : "DISABLE_SPEED_OVERRIDE(0)");
+      return;
   }
-  return "";
+}
+
+std::string canon_text(const Canon& canon) {
+  text::TextBuffer text(256);
+  append_canon_text(canon, text);
+  return std::string(text.view());
+}
+
+void append_canon_line_start(int sequence, std::string_view n_label, text::TextBuffer& out) {
+  text::append_int_right(out, sequence, 5);
+  out.append(" N");
+  text::append_left(out, n_label.empty() ? std::string_view(".....") : n_label, 5);
+  out.push_back(' ');
 }
 
 }  // namespace pkm::gcode

@@ -24,7 +24,9 @@ void Interpreter::State::execute_block(const Block& block) {
   emit_comments(block);
   if (block.empty) return;
   group_codes(block);
+  if (m_by_group[4] && m_by_group[4]->tenths == 980) return call_fanuc_program_alone(block);
   refuse_unused_words(block);
+  check_synchronised_words(block);
   const Code* const non_modal = g_by_group[0];
   const Code* const motion_code = g_by_group[1];
   bool has_axis = (block.letters & (kAxisSlots | kPolarSlots)) != 0;
@@ -39,7 +41,7 @@ void Interpreter::State::execute_block(const Block& block) {
   const bool axes_used = non_modal && execute_non_modal(block, *non_modal);
 
   const bool machine_coordinates = non_modal && non_modal->tenths == 530;
-  const bool previous_cycle = motion >= 730 && motion != 800;
+  const bool previous_cycle = is_canned_cycle(motion);
   motion_changed = false;
   if (motion_code) {
     motion_changed = motion_code->tenths != motion;
@@ -50,8 +52,8 @@ void Interpreter::State::execute_block(const Block& block) {
   const bool explicit_move = motion_code && motion_code->tenths <= 30;
   if (!axes_used && (has_axis || explicit_move))
     make_motion(block, motion_code, machine_coordinates);
-  if (!motion_code || motion_code->tenths < 730) {
-    if (previous_cycle && motion < 730) cycle_series = false;
+  if (!motion_code || !is_canned_cycle(motion_code->tenths)) {
+    if (previous_cycle && !is_canned_cycle(motion)) cycle_series = false;
   }
   if (m_by_group[4]) stop_or_end(block);
   if (resync_position) {
@@ -82,20 +84,12 @@ void Interpreter::State::emit_comments(const Block& block) {
 }
 
 void Interpreter::State::set_feed_speed_and_tool(const Block& block, const Code* feed_mode_code) {
-  if (feed_mode_code) {
-    if (feed_mode_code->tenths == 950) {
-      fail(feed_mode_code->column, "G95 (feed per revolution) is not supported");
-    }
-    feed_mode = feed_mode_code->tenths == 930 ? FeedMode::inverse_time : FeedMode::units_per_minute;
-    Canon c = make(CanonKind::set_feed_mode, block);
-    c.feed_mode = feed_mode;
-    emit(c);
-  }
+  if (feed_mode_code) set_feed_mode(block, feed_mode_code->tenths);
   if (block.has('f')) {
     const double f = block.value('f');
     if (f < 0.0) fail(block.word('f')->column, "negative F word");
     feed = f;
-    if (feed_mode == FeedMode::units_per_minute) {
+    if (feed_mode != FeedMode::inverse_time) {
       Canon c = make(CanonKind::set_feed_rate, block);
       c.value = f;
       emit(c);
@@ -103,12 +97,27 @@ void Interpreter::State::set_feed_speed_and_tool(const Block& block, const Code*
   }
   if (block.has('s')) {
     if (block.value('s') < 0.0) fail(block.word('s')->column, "negative spindle speed");
+    require_word_in_range(block, 's', 0.0, kMaxSpindleRpm, "a spindle speed (rpm) goes from");
     speed = block.value('s');
     Canon c = make(CanonKind::spindle_speed, block);
     c.value = speed;
     emit(c);
   }
   if (block.has('t')) select_tool(block);
+}
+
+void Interpreter::State::set_feed_mode(const Block& block, int code) {
+  feed_mode = code == 930   ? FeedMode::inverse_time
+              : code == 950 ? FeedMode::units_per_revolution
+                            : FeedMode::units_per_minute;
+  Canon c = make(CanonKind::set_feed_mode, block);
+  c.feed_mode = feed_mode;
+  emit(c);
+  // G94 and G95 forget the feed rate, as LinuxCNC does: F is per minute or per revolution.
+  if (code != 930) {
+    feed = 0.0;
+    emit(make(CanonKind::set_feed_rate, block));
+  }
 }
 
 void Interpreter::State::execute_m_codes(const Block& block) {
@@ -118,6 +127,7 @@ void Interpreter::State::execute_m_codes(const Block& block) {
     if (code == 30) emit(CanonKind::spindle_clockwise, block);
     if (code == 40) emit(CanonKind::spindle_counterclockwise, block);
     if (code == 50) emit(CanonKind::spindle_stop, block);
+    spindle_direction = code == 30 ? 1 : code == 40 ? -1 : 0;  // M19 orients it: stopped
   }
   for (const int group : {8, 11}) {
     if (!m_by_group[group]) continue;
@@ -170,7 +180,13 @@ void Interpreter::State::set_modes(const Block& block, bool& has_axis) {
   if (const auto code = g_by_group[14]) {
     if (code->tenths == 960) fail(code->column, "G96 (constant surface speed) is not supported");
   }
-  // Group 15, lathe radius/diameter mode (G7/G8): no effect on these machines.
+  // Group 15, lathe radius (G8) and diameter (G7) mode: after G7 LinuxCNC reads X words (and
+  // G76's I J K) as diameters, which pkm does not: refused rather than cut twice as far out.
+  if (const auto code = g_by_group[15]; code && code->tenths == 70) {
+    fail(code->column,
+         "G7 (lathe diameter mode) is not supported: X would be a diameter; give "
+         "radii in G8");
+  }
 }
 
 void Interpreter::State::set_units(LengthUnits wanted) {
@@ -197,8 +213,22 @@ void Interpreter::State::set_path_control(const Block& block, const Code& code) 
   emit(c);
 }
 
+void Interpreter::State::call_fanuc_program_alone(const Block& block) {
+  // LinuxCNC runs an M98 line as a call and nothing else (it refuses axis words and G codes
+  // there, and drops other M codes): pkm refuses whatever else the line asks for.
+  constexpr std::uint32_t kCallWords = (1u << ('p' - 'a')) | (1u << ('l' - 'a'));
+  const Code& m98 = *m_by_group[4];
+  if (!block.g_codes.empty() || block.m_codes.size() > 1 || (block.letters & ~kCallWords) != 0) {
+    fail(m98.column,
+         "M98 takes only its P and L words: put the line's other codes and words on "
+         "a line of their own");
+  }
+  call_fanuc_program(block, m98);
+}
+
 void Interpreter::State::stop_or_end(const Block& block) {
   const int code = m_by_group[4]->tenths;
+  if (code == 990) return return_from_fanuc_program(block, *m_by_group[4]);
   release_compensation(m_by_group[4]->column);
   if (code == 0) emit(CanonKind::program_stop, block);
   if (code == 10) emit(CanonKind::optional_stop, block);
@@ -209,20 +239,22 @@ void Interpreter::State::stop_or_end(const Block& block) {
 void Interpreter::State::end_program(const Block& block) {
   // LinuxCNC resets the modal state at the program end.
   const Offsets old = offsets();
+  const bool plane_changes = plane != Plane::xy;
   coord_system = 1;
   rotation_deg = rotation_of(1);
   g92_mm = {};
   reexpress(old);
   plane = Plane::xy;
   absolute = true;
-  feed_mode = FeedMode::units_per_minute;
   motion = 10;
   cycle_series = false;
   compensation.turn_off();  // nothing is held any more: the stop released it
   straight_exit = false;
   emit_offsets(block);
-  emit(CanonKind::select_plane, block);
+  if (plane_changes) emit(CanonKind::select_plane, block);
+  set_feed_mode(block, 940);  // G94 and no feed rate, as rs274 ends
   emit(CanonKind::spindle_stop, block);
+  spindle_direction = 0;
   emit(CanonKind::program_end, block);
   saw_end = true;
   ended = true;

@@ -10,11 +10,15 @@ namespace pkm::gcode {
 
 Interpreter::State::State(const std::filesystem::path& path, const InterpreterOptions& opts,
                           std::vector<Warning>& warns)
-    : source(path), file_name(path.string()), options(opts), warnings(warns) {
-  if (!source.is_open()) throw GcodeError(file_name, 0, 0, cannot_open_reason(path, false));
+    : options(opts), warnings(warns) {
+  files.push_back(std::make_unique<SourceFile>(path));
+  reading = &files[0]->lines;
+  if (!files[0]->lines.is_open()) {
+    throw GcodeError(path.string(), 0, 0, cannot_open_reason(path, false));
+  }
   std::error_code ignored;
   if (std::filesystem::is_directory(path, ignored)) {
-    throw GcodeError(file_name, 0, 0, cannot_open_reason(path, true));
+    throw GcodeError(path.string(), 0, 0, cannot_open_reason(path, true));
   }
   // G54 offsets start at zero; #5220 holds the active coordinate system.
   parameters.set_numbered(5220, 1.0);
@@ -64,7 +68,7 @@ bool Interpreter::State::next_line(std::string_view& line) {
 }
 
 void Interpreter::State::cannot_read() const {
-  if (source.too_long()) {
+  if (files[current.file]->lines.too_long()) {
     fail(0, "line longer than " + std::to_string(kMaxLineBytes) +
                 " bytes, the longest the interpreter reads");
   }
@@ -152,7 +156,7 @@ void Interpreter::State::not_finite(const Canon& canon) const {
   // A move's column is its motion code's; other commands come from the line as a whole.
   const bool move = canon.kind == CanonKind::traverse || canon.kind == CanonKind::feed ||
                     canon.kind == CanonKind::arc || canon.kind == CanonKind::probe;
-  throw GcodeError(file_name, canon.line, move ? move_column : 0,
+  throw GcodeError(file_name(), canon.line, move ? move_column : 0,
                    "calculation resulted in infinity or NaN (a number too large to use)");
 }
 

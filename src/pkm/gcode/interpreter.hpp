@@ -34,10 +34,15 @@ struct InterpreterOptions {
   // and canned-cycle hole or peck). Beyond either the program ends in an error naming the line.
   long max_loop_iterations = 100'000;
   long max_program_iterations = 1'000'000;
+  // Directories where `o<name> call` looks for name.ngc (and M98 P100 for 100.ngc) when the
+  // program does not define it, after the program's own directory, in this order.
+  std::vector<std::filesystem::path> subroutine_path;
 };
 
 // The deepest subroutine calls nest: LinuxCNC's 10 levels, the main program one of them.
 inline constexpr std::size_t kMaxCallDepth = 9;
+// The most subroutine files one program may open (each holds a file handle and a buffer).
+inline constexpr std::size_t kMaxSubroutineFiles = 256;
 
 struct Warning {
   int line = 0;

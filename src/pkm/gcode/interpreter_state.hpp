@@ -4,8 +4,9 @@
 //   execute_block.cpp       a block's steps in LinuxCNC's order of execution
 //   word_checks.cpp         the block's codes by modal group, words no code uses, word ranges
 //   coordinate_systems.cpp  offsets, G5x, G10, G28/G30, G92, where axis words lead
-//   motion.cpp              straight moves, arcs, probing
-//   canned_cycles.cpp       G73, G81-G89
+//   motion.cpp              straight moves, arcs, probing, G33 and G33.1
+//   canned_cycles.cpp       G73, G74, G81-G89
+//   threading.cpp           G76
 //   tools.cpp               tool selection and change, tool length, cutter compensation
 //   o_word_flow.cpp         subroutines, conditionals and loops
 // Members used on the path of every line are defined here, inline.
@@ -17,6 +18,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -36,6 +38,8 @@ namespace pkm::gcode {
 inline constexpr double kMmPerInch = 25.4;
 // Tool numbers (T, H, D, M61 Q, G10 P) in magnitude: as a tool table holds them (tool_table.cpp).
 inline constexpr double kMaxToolNumber = 1e6;
+// Spindle speeds (S, rpm): beyond any spindle, and far from overflowing a feed per revolution.
+inline constexpr double kMaxSpindleRpm = 1e6;
 inline constexpr int kX = 0, kY = 1, kZ = 2;
 
 // The axis letters in Position order, the word slots (Block::words) they use, and the axis of
@@ -58,19 +62,35 @@ inline bool is_linear(int axis) {
   return axis < 3 || axis >= 6;
 }
 
-struct CycleLevels;  // canned_cycles.cpp
+struct CycleLevels;   // canned_cycles.cpp
+struct ThreadPasses;  // threading.cpp
+
+// G73, G74 and G81-G89 (G76, between them, is the threading cycle: no canned cycle series).
+inline bool is_canned_cycle(int motion_tenths) {
+  return motion_tenths >= 730 && motion_tenths != 760 && motion_tenths != 800;
+}
 
 struct Interpreter::State {
   struct Mark {
     std::int64_t position = 0;  // byte offset in the file
     int line = 0;
+    std::size_t file = 0;  // index in `files`
   };
 
-  // The source, read a line at a time.
-  LineSource source;
-  std::string file_name;
-  Mark next{0, 1};
-  Mark current;  // the line being executed
+  // The program and the subroutine files its calls opened (o<name> call finds name.ngc beside
+  // the program or on the subroutine path), each read a line at a time.
+  struct SourceFile {
+    explicit SourceFile(const std::filesystem::path& file)
+        : lines(file), path(file), name(file.string()) {}
+    LineSource lines;
+    std::filesystem::path path;
+    std::string name;
+  };
+  std::vector<std::unique_ptr<SourceFile>> files;  // files[0] is the program
+  Mark next{0, 1, 0};
+  Mark current;                   // the line being executed
+  LineSource* reading = nullptr;  // the file of `next`: jump() keeps it
+  const std::string& file_name() const { return files[current.file]->name; }
 
   const InterpreterOptions& options;
   std::vector<Warning>& warnings;
@@ -87,6 +107,7 @@ struct Interpreter::State {
   FeedMode feed_mode = FeedMode::units_per_minute;
   double feed = 0.0;
   double speed = 0.0;
+  int spindle_direction = 0;    // 1 clockwise (M3), -1 counterclockwise (M4), 0 stopped
   int motion = 0;               // G code times ten of the active motion mode, -1 after G80
   bool retract_to_old = false;  // G99 (retract to R) until G98, as LinuxCNC starts
   Position pos{};               // program coordinates
@@ -142,9 +163,19 @@ struct Interpreter::State {
     std::string label;
     Mark return_to;
     std::size_t flow_depth;
+    bool fanuc = false;   // M98's call of an O-number program, which M99 ends
+    Mark start;           // the definition's line
+    long repeats = 0;     // M98 L: runs still to make after this one
+    long iterations = 0;  // runs made (bounded by max_loop_iterations)
   };
   std::vector<Call> calls;
-  std::map<std::string, Mark> subroutines;
+  // Subroutines by label: `o<name> sub` lines, or Fanuc O-number lines (`fanuc`), which only
+  // M98 calls, as LinuxCNC keeps the two apart.
+  struct Definition {
+    Mark mark;
+    bool fanuc = false;
+  };
+  std::map<std::string, Definition> subroutines;
   Block block_;  // the line being executed; one block's storage serves every line
   Canon move_;   // see next_move()
   CodesByGroup<16> g_by_group;
@@ -180,22 +211,25 @@ struct Interpreter::State {
   // Inlined: it is on the path of every line (the compiler stopped inlining it on its own).
   [[gnu::always_inline]] bool read_line(std::string_view& line) {
     current = next;
-    const auto read = source.read(next.position);
+    const auto read = reading->read(next.position);
     if (!read) {
-      if (source.failed()) cannot_read();
+      if (reading->failed()) cannot_read();
       return false;
     }
     line = read->first;
-    next = {read->second, current.line + 1};
+    next = {read->second, current.line + 1, current.file};
     return true;
   }
   [[noreturn, gnu::cold, gnu::noinline]] void cannot_read() const;
-  void jump(const Mark& mark) { next = mark; }
+  void jump(const Mark& mark) {
+    next = mark;
+    reading = &files[mark.file]->lines;
+  }
   // The line after the one at `mark`.
   Mark after(const Mark& mark);
 
   [[noreturn]] void fail(int column, const std::string& message) const {
-    throw GcodeError(file_name, current.line, column, message);
+    throw GcodeError(file_name(), current.line, column, message);
   }
   void warn(const std::string& message) { warnings.push_back({current.line, message}); }
 
@@ -265,6 +299,7 @@ struct Interpreter::State {
   void execute_block(const Block& block);
   void emit_comments(const Block& block);
   void set_feed_speed_and_tool(const Block& block, const Code* feed_mode_code);
+  void set_feed_mode(const Block& block, int code);  // G93, G94, G95
   void execute_m_codes(const Block& block);
   void dwell_if_asked(const Block& block, const Code* non_modal);
   // Plane, units, cutter compensation, tool length, coordinate system, path control, distance
@@ -272,6 +307,8 @@ struct Interpreter::State {
   void set_modes(const Block& block, bool& has_axis);
   void set_units(LengthUnits wanted);
   void set_path_control(const Block& block, const Code& code);
+  // M98 with nothing else on its line but P and L.
+  void call_fanuc_program_alone(const Block& block);
   void stop_or_end(const Block& block);
   void end_program(const Block& block);
 
@@ -286,7 +323,15 @@ struct Interpreter::State {
   void refuse_unused_words(const Block& block) const;
   void require_feed(const Block& block, int column) const {
     if (feed_mode == FeedMode::inverse_time ? !block.has('f') : !(feed > 0.0)) missing_feed(column);
+    if (feed_mode == FeedMode::units_per_revolution && !(speed > 0.0)) missing_feed(column);
   }
+  // G33, G33.1 and G76 take their words (K, I J K P ...) and need axis words and a turning
+  // spindle; these are refused before the block runs, as rs274 refuses them.
+  void check_synchronised_words(const Block& block) const;
+  // The motion the block makes: its group 1 code, or the modal one when it has axis words of
+  // its own (not those of G10, G28, G30, G52, G92); -1 for none.
+  int block_motion(const Block& block) const;
+  [[noreturn]] void refuse_g_code(const Code& code) const;  // unknown, or a lathe cycle
   [[noreturn, gnu::cold, gnu::noinline]] void missing_feed(int column) const;
 
   // ---- coordinate systems and offsets (coordinate_systems.cpp) ---------------------------
@@ -349,6 +394,19 @@ struct Interpreter::State {
   void check_arc_radii(int column, const std::array<double, 2>& centre,
                        const std::array<double, 2>& start, const std::array<double, 2>& end) const;
   void probe(const Block& block, int column, const Position& end);
+  // The speed of the spindle a move fed per revolution follows: 0 when it is stopped.
+  double turning_rpm() const { return spindle_direction != 0 ? speed : 0.0; }
+  void require_turning_spindle(int code) const;
+  // Spindle-synchronised motion: G33's straight move, G33.1's rigid tap (motion.cpp).
+  void synchronised_move(const Block& block, const Position& end);
+  void rigid_tap(const Block& block, const Position& end);
+  // A straight feed at `pitch` units per revolution of the spindle (G33, G76's passes).
+  void synchronised_feed(const Block& block, const Position& end, double pitch);
+  // G76 (threading.cpp): passes of synchronised feeds, deeper each time.
+  void threading_cycle(const Block& block, const Position& end);
+  void require_thread_words(const Block& block, const Position& end) const;
+  ThreadPasses thread_passes(const Block& block, const Position& end) const;
+  void threading_pass(const Block& block, const ThreadPasses& passes, double depth);
   // Runs `action` on cutter compensation; a path it refuses is an error at `column`.
   template <class Action>
   void compensating(int column, Action&& action) {
@@ -381,6 +439,9 @@ struct Interpreter::State {
   void cycle_hole(const Block& block, int code, const CycleLevels& levels, double at_1,
                   double at_2);
   void peck(const Block& block, int code, const CycleLevels& levels, double at_1, double at_2);
+  // G84 (right hand) and G74 (left hand): in with the spindle, out with it reversed.
+  void tap(const Block& block, int code, const CycleLevels& levels, double at_1, double at_2);
+  void emit_overrides(const Block& block, bool enabled);
 
   // ---- tools and cutter compensation (tools.cpp) -----------------------------------------
   void select_tool(const Block& block);
@@ -414,6 +475,11 @@ struct Interpreter::State {
   }
   void call_subroutine(const OWord& o);
   void return_from_subroutine(const OWord& o);
+  // Leaves the innermost call for the line after it.
+  void leave_call();
+  // M98 P L (Fanuc-style subprogram call) and M99 (its return, or the main program's end).
+  void call_fanuc_program(const Block& block, const Code& m98);
+  void return_from_fanuc_program(const Block& block, const Code& m99);
   void o_if(const OWord& o);
   void o_else(const OWord& o);
   void o_while(const OWord& o);
@@ -423,11 +489,21 @@ struct Interpreter::State {
   void o_break_or_continue(const OWord& o);
   void skip_to(const std::string& label, std::initializer_list<std::string_view> keywords,
                std::string* found_keyword, int column);
-  Mark find_subroutine(const std::string& label, int column);
+  // Where subroutine `label` starts: known already, defined further on in this file, or in a
+  // file of its name on the subroutine path. `fanuc`: called by M98 (an O-number program).
+  Mark find_subroutine(const std::string& label, bool fanuc, int column);
+  // Reads on to the end of the file `mark` is in, registering the definitions found, until
+  // `label`'s; where it is, or nothing. Leaves the position as it was.
+  std::optional<Mark> scan_for_definition(const Mark& mark, const std::string& label);
+  // The file `label`'s subroutine lives in by itself (name.ngc), opened, or nothing.
+  std::optional<Mark> open_subroutine_file(const std::string& label, int column);
   // Bounds (docs/gcode.md): one more round of `loop`, one more unit of the program's work.
   void count_loop_iteration(Frame& loop, int column);
   void count_program_iteration(int column);
-  void require_call_depth(const OWord& o) const;
+  // `what` ("o<name> call", "M98 P100") may nest one more call.
+  void require_call_depth(const std::string& what, int column) const;
+  // Where subroutine files are looked for: beside the program, then the subroutine path.
+  std::vector<std::filesystem::path> subroutine_directories() const;
 };
 
 }  // namespace pkm::gcode

@@ -24,7 +24,7 @@ struct GroupTable {
 constexpr GroupTable<1000> kGGroups = [] {
   GroupTable<1000> table;
   table.assign(0, {40, 100, 280, 281, 300, 301, 520, 530, 920, 921, 922, 923});
-  table.assign(1, {0,   10,  20,  30,  330, 331, 382, 383, 384, 385, 730,
+  table.assign(1, {0,   10,  20,  30,  330, 331, 382, 383, 384, 385, 730, 740,
                    760, 800, 810, 820, 830, 840, 850, 860, 870, 880, 890});
   table.assign(2, {170, 180, 190});
   table.assign(3, {900, 910});
@@ -43,7 +43,7 @@ constexpr GroupTable<1000> kGGroups = [] {
 
 constexpr GroupTable<2000> kMGroups = [] {
   GroupTable<2000> table;
-  table.assign(4, {0, 10, 20, 300, 600});
+  table.assign(4, {0, 10, 20, 300, 600, 980, 990});  // M98/M99: Fanuc-style subprograms
   table.assign(5, {620, 630, 640, 650, 660, 670, 680});
   table.assign(6, {60, 610});
   table.assign(7, {30, 40, 50, 190});

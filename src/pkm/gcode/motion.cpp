@@ -1,6 +1,7 @@
 // Motion: the block's move in the active motion mode, straight traverses and feeds, arcs in the
 // selected plane (centre from R or from I/J/K, checked as LinuxCNC checks them), probing as the
-// stand-alone interpreter simulates it; spindle-synchronised motion is passed on.
+// stand-alone interpreter simulates it; spindle-synchronised motion (G33's straight move and
+// G33.1's rigid tap), fed at a pitch per revolution of the spindle.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -41,9 +42,11 @@ void Interpreter::State::make_motion(const Block& block, const Code* motion_code
   const Position end = target(block, machine_coordinates);
   const int column = motion_code ? motion_code->column : 1;
   move_column = column;
-  if (compensation.on() && motion >= 380 && motion != 800) {
-    fail(column, "cannot use " + code_name('G', motion) +
-                     (motion < 390 ? " (probing)" : " (canned cycle)") +
+  if (compensation.on() && motion >= 330 && motion != 800) {
+    const char* what = motion < 380 || motion == 760 ? " (spindle-synchronised motion)"
+                       : motion < 390                ? " (probing)"
+                                                     : " (canned cycle)";
+    fail(column, "cannot use " + code_name('G', motion) + what +
                      " with cutter radius compensation on (G40 first)");
   }
   switch (motion) {
@@ -60,15 +63,14 @@ void Interpreter::State::make_motion(const Block& block, const Code* motion_code
       arc(block, motion, end);
       break;
     case 330:
-    case 331:
-    case 760: {
-      Canon event = make(CanonKind::event, block);
-      event.text = code_name('G', motion) + " (spindle-synchronised motion) passed on";
-      warn(event.text);
-      emit(event);
-      if (motion == 330) pos = canon_pos = end;
+      synchronised_move(block, end);
       break;
-    }
+    case 331:
+      rigid_tap(block, end);
+      break;
+    case 760:
+      threading_cycle(block, end);
+      break;
     case 382:
     case 383:
     case 384:
@@ -86,6 +88,7 @@ void Interpreter::State::straight(CanonKind kind, const Block& block, const Posi
   if (&end != &canon.end) canon.end = end;
   canon.value = feed;  // the F in effect: the planner's programmed speed (or inverse time)
   canon.feed_mode = feed_mode;
+  canon.spindle_rpm = turning_rpm();
   straight_exit = false;
   send_move(canon, &CutterCompensation::straight);
 }
@@ -129,6 +132,7 @@ void Interpreter::State::arc(const Block& block, int code, const Position& end) 
   canon.end = end;
   canon.value = feed;
   canon.feed_mode = feed_mode;
+  canon.spindle_rpm = turning_rpm();
   canon.center = centre;
   canon.turns = turns;
   send_move(canon, &CutterCompensation::arc);
@@ -180,6 +184,9 @@ void Interpreter::State::check_arc_radii(int column, const std::array<double, 2>
 void Interpreter::State::probe(const Block& block, int column, const Position& end) {
   // Probing as LinuxCNC's stand-alone interpreter simulates it: the probe trips at the target
   // (#5061.. hold it), and the tool backs off 0.01 inch towards the start.
+  if (feed_mode == FeedMode::units_per_revolution) {
+    fail(column, "cannot probe in feed per revolution mode (G95): give G94 first");
+  }
   require_feed(block, column);
   double length = 0.0;
   for (int axis = 0; axis < 3; ++axis) length += (end[axis] - pos[axis]) * (end[axis] - pos[axis]);
@@ -196,6 +203,50 @@ void Interpreter::State::probe(const Block& block, int column, const Position& e
     after_probe[axis] = end[axis] - back_off * (end[axis] - pos[axis]) / length;
   }
   pos = canon_pos = after_probe;
+}
+
+void Interpreter::State::require_turning_spindle(int code) const {
+  if (spindle_direction != 0) return;
+  fail(move_column, "spindle not turning in " + code_name('G', code) +
+                        ": a synchronised move follows the spindle (M3 or M4 first)");
+}
+
+void Interpreter::State::synchronised_feed(const Block& block, const Position& end, double pitch) {
+  Canon& canon = next_move(CanonKind::feed, block);
+  canon.end = end;
+  canon.value = std::abs(pitch);  // the sign is the machine's business; the speed is |pitch| S
+  canon.feed_mode = FeedMode::units_per_revolution;
+  canon.spindle_rpm = turning_rpm();
+  straight_exit = false;
+  send_move(canon, &CutterCompensation::straight);
+}
+
+void Interpreter::State::synchronised_move(const Block& block, const Position& end) {
+  require_turning_spindle(330);
+  const double pitch = block.value('k');
+  Canon sync = make(CanonKind::speed_feed_sync, block);
+  sync.value = pitch;
+  emit(sync);
+  synchronised_feed(block, end, pitch);
+  emit(CanonKind::speed_feed_sync_stop, block);
+}
+
+void Interpreter::State::rigid_tap(const Block& block, const Position& end) {
+  require_turning_spindle(331);
+  const double pitch = block.value('k');
+  Canon sync = make(CanonKind::speed_feed_sync, block);
+  sync.value = pitch;
+  emit(sync);
+  // The tap goes along X Y Z and comes back: only those move. Other axis words are kept as
+  // the program's position, as rs274 keeps them (the next move goes there).
+  Canon tap = make(CanonKind::rigid_tap, block);
+  for (int axis = 0; axis < 3; ++axis) tap.end[axis] = end[axis];
+  tap.value = std::abs(pitch);
+  tap.feed_mode = FeedMode::units_per_revolution;
+  tap.spindle_rpm = turning_rpm();
+  emit(tap);
+  emit(CanonKind::speed_feed_sync_stop, block);
+  for (int axis = 3; axis < kAxes; ++axis) pos[axis] = end[axis];
 }
 
 }  // namespace pkm::gcode

@@ -5,13 +5,15 @@ namespace pkm::gcode {
 Parameters::Parameters() : numbered_(kCount, 0.0), scopes_(1) {}
 
 double Parameters::numbered(int number) const {
-  if (number <= kLocalNumbered && scopes_.size() > 1) return scopes_.back().numbered[number];
+  if (number <= kLocalNumbered && local_owner_ != 0) {
+    return scopes_[local_owner_].numbered[number];
+  }
   return numbered_[number];
 }
 
 void Parameters::set_numbered(int number, double value) {
-  if (number <= kLocalNumbered && scopes_.size() > 1) {
-    scopes_.back().numbered[number] = value;
+  if (number <= kLocalNumbered && local_owner_ != 0) {
+    scopes_[local_owner_].numbered[number] = value;
   } else {
     numbered_[number] = value;
   }
@@ -42,11 +44,20 @@ void Parameters::push_scope(const std::vector<double>& arguments) {
   for (std::size_t i = 0; i < arguments.size() && i < kLocalNumbered; ++i) {
     scope.numbered[i + 1] = arguments[i];
   }
+  scope.numbered_owner = scopes_.size();
+  scopes_.push_back(std::move(scope));
+  local_owner_ = scopes_.back().numbered_owner;
+}
+
+void Parameters::push_scope_sharing_numbered() {
+  Scope scope;
+  scope.numbered_owner = scopes_.back().numbered_owner;
   scopes_.push_back(std::move(scope));
 }
 
 void Parameters::pop_scope() {
   if (scopes_.size() > 1) scopes_.pop_back();
+  local_owner_ = scopes_.back().numbered_owner;
 }
 
 }  // namespace pkm::gcode

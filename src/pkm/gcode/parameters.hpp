@@ -27,6 +27,8 @@ class Parameters {
 
   // A subroutine call: #1..#30 and local names get a fresh scope, with arguments in #1..
   void push_scope(const std::vector<double>& arguments);
+  // A Fanuc-style M98 call: local names get a fresh scope, #1..#30 stay the caller's.
+  void push_scope_sharing_numbered();
   void pop_scope();
   int depth() const { return static_cast<int>(scopes_.size()); }
 
@@ -34,10 +36,13 @@ class Parameters {
   struct Scope {
     std::array<double, kLocalNumbered + 1> numbered{};
     std::unordered_map<std::string, double> named;
+    std::size_t numbered_owner = 0;  // the scope whose #1..#30 these are (0: numbered_)
   };
   std::vector<double> numbered_;
   std::unordered_map<std::string, double> globals_;
   std::vector<Scope> scopes_;  // scopes_[0] is the main program's
+  // The scope whose #1..#30 are in use now (0: numbered_, the main program's).
+  std::size_t local_owner_ = 0;
 };
 
 }  // namespace pkm::gcode

@@ -12,7 +12,7 @@ void Interpreter::State::group_codes(const Block& block) {
   m_by_group.clear();
   for (const Code& code : block.g_codes) {
     const int group = g_group(code.tenths);
-    if (group < 0) fail(code.column, "unknown G code " + code_name('G', code.tenths));
+    if (group < 0) refuse_g_code(code);
     const Code* slot = g_by_group[group];
     if (!slot) {
       g_by_group.set(group, code);
@@ -50,6 +50,18 @@ void Interpreter::State::group_codes(const Block& block) {
   }
 }
 
+void Interpreter::State::refuse_g_code(const Code& code) const {
+  const int tenths = code.tenths;
+  if (tenths == 700 || tenths == 710 || tenths == 711 || tenths == 712 || tenths == 720 ||
+      tenths == 721 || tenths == 722) {
+    fail(code.column, code_name('G', tenths) +
+                          (tenths == 700 ? " (lathe finishing cycle)" : " (lathe roughing cycle)") +
+                          " is not supported: give its passes as G0/G1 moves (G70, G71, G72 "
+                          "and their .1/.2 forms are refused)");
+  }
+  fail(code.column, "unknown G code " + code_name('G', tenths));
+}
+
 void Interpreter::State::require_word_in_range(const Block& block, char letter, double low,
                                                double high, const std::string& what) const {
   const auto& word = block.word(letter);
@@ -69,7 +81,7 @@ struct WordUsers {
   int m5 = -1, m6 = -1, m9 = -1;  // codes of M groups 5, 6 and 9, or -1
   bool arc() const { return m == 20 || m == 30; }
   bool cycle() const { return m >= 730 && m != 800; }
-  bool threading() const { return m == 760; }  // G76: passed on with its words
+  bool threading() const { return m == 760; }  // G76
 };
 
 // The message refusing `letter`, or nullptr when a code of the block uses it.
@@ -94,12 +106,12 @@ const char* unused_word_message(char letter, const WordUsers& u) {
       return "L word with no G10, cutter compensation, canned cycle or M66 to use it";
     case 'p':
       if (u.arc() || u.n == 40 || u.n == 100 || u.g64 || u.m == 820 || u.m == 860 || u.m == 880 ||
-          u.m == 890 || u.threading() || u.user_m || (u.m9 >= 500 && u.m9 <= 530) ||
-          (u.m5 >= 620 && u.m5 <= 660)) {
+          u.m == 890 || u.m == 840 || u.m == 740 || u.threading() || u.user_m ||
+          (u.m9 >= 500 && u.m9 <= 530) || (u.m5 >= 620 && u.m5 <= 660)) {
         return nullptr;
       }
-      return "P word with no G2, G3, G4, G10, G64, G76, G82, G86, G88, G89, M50-M53, M62-M66 or "
-             "user M code to use it";
+      return "P word with no G2, G3, G4, G10, G64, G74, G76, G82, G84, G86, G88, G89, M50-M53, "
+             "M62-M66 or user M code to use it";
     case 'q':
       if (u.n == 100 || u.g64 || u.m == 730 || u.m == 830 || u.threading() || u.user_m ||
           u.m6 == 610 || (u.m5 >= 660 && u.m5 <= 680)) {
@@ -127,10 +139,7 @@ void Interpreter::State::refuse_unused_words(const Block& block) const {
   WordUsers users;
   users.n = g_by_group[0] ? g_by_group[0]->tenths : -1;
   // G10, G28, G30, G52 and G92 take the axis words: they make no motion of the modal mode.
-  const bool axes_taken =
-      users.n == 100 || users.n == 280 || users.n == 300 || users.n == 520 || users.n == 920;
-  const bool has_axis = (block.letters & (kAxisSlots | kPolarSlots)) != 0;
-  users.m = g_by_group[1] ? g_by_group[1]->tenths : (has_axis && !axes_taken ? motion : -1);
+  users.m = block_motion(block);
   users.g64 = g_by_group[13] && g_by_group[13]->tenths == 640;
   users.user_m = m_by_group[10] != nullptr;
   users.m5 = m_by_group[5] ? m_by_group[5]->tenths : -1;
@@ -147,9 +156,48 @@ void Interpreter::State::refuse_unused_words(const Block& block) const {
   }
 }
 
+int Interpreter::State::block_motion(const Block& block) const {
+  if (g_by_group[1]) return g_by_group[1]->tenths;
+  const int n = g_by_group[0] ? g_by_group[0]->tenths : -1;
+  // G10, G28, G30, G52 and G92 take the axis words: they make no motion of the modal mode.
+  const bool axes_taken = n == 100 || n == 280 || n == 300 || n == 520 || n == 920;
+  const bool has_axis = (block.letters & (kAxisSlots | kPolarSlots)) != 0;
+  return has_axis && !axes_taken ? motion : -1;
+}
+
+void Interpreter::State::check_synchronised_words(const Block& block) const {
+  const int m = block_motion(block);
+  if (m != 330 && m != 331 && m != 760) return;
+  const int column = g_by_group[1] ? g_by_group[1]->column : 1;
+  const std::string name = code_name('G', m);
+  if ((block.letters & (kAxisSlots | kPolarSlots)) == 0) {
+    fail(column, "all axes missing with " + name + ": give the end point");
+  }
+  if (m == 760) {
+    if (!block.has('p')) fail(column, "P word (the thread's pitch) missing with G76");
+    if (!(block.value('p') > 0.0)) {
+      fail(block.word('p')->column, "G76 P (the thread's pitch) must be positive");
+    }
+    if (!block.has('i') || !block.has('j') || !block.has('k')) {
+      fail(column, "I, J or K word missing with G76 (thread depth I, first cut J, full depth K)");
+    }
+    return;
+  }
+  if (!block.has('k')) fail(column, "K word (the pitch, per revolution) missing with " + name);
+  if (block.has('f')) {
+    fail(block.word('f')->column,
+         "F word used with " + name + ": its feed is the pitch K times the spindle speed");
+  }
+}
+
 void Interpreter::State::missing_feed(int column) const {
   if (feed_mode == FeedMode::inverse_time) {
     fail(column, "F word missing with inverse time (G93) motion");
+  }
+  if (feed_mode == FeedMode::units_per_revolution && feed > 0.0) {
+    fail(column,
+         "cannot feed with zero spindle speed in feed per revolution mode (G95): give "
+         "an S word");
   }
   fail(column, "cannot do a feed move with zero feed rate: give an F word");
 }

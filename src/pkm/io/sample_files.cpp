@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "pkm/text/decimal_text.hpp"
+
 namespace pkm {
 
 namespace {
@@ -11,9 +13,36 @@ namespace {
 // The values of a row in column order and interface units (sample_rows.hpp).
 using RowBuilder = SampleRows;
 
+// Rows gather in memory and reach the file in blocks of about this many bytes: a write per
+// row (and a printf per value) cost several times the formatting (issue 16).
+constexpr std::size_t kBlockBytes = std::size_t{1} << 16;
+
+// A CSV row's longest text: every value at its longest %.9f, a comma or newline after each.
+constexpr std::size_t kMaxRowChars = SampleRows::kMaxColumns * (text::kMaxFixedChars + 1);
+
+// A row of `n` values as the CSV has always had it (printf's digits): t as %.6f, the line and
+// the pen's 0 or 1 as %d, every other value as %.9f.
+void append_csv_row(const double* row, std::size_t n, bool pen, text::TextBuffer& out) {
+  char* end = text::write_fixed<6>(out.room(kMaxRowChars), row[0]);
+  *end++ = ',';
+  end = text::write_int(end, static_cast<int>(row[1]));
+  const std::size_t reals = pen ? n - 1 : n;  // the pen's 0 or 1 is no real number
+  for (std::size_t i = 2; i < reals; ++i) {
+    *end++ = ',';
+    end = text::write_fixed<9>(end, row[i]);
+  }
+  if (pen) {
+    *end++ = ',';
+    end = text::write_int(end, static_cast<int>(row[n - 1]));
+  }
+  *end++ = '\n';
+  out.commit(end);
+}
+
 class CsvFile final : public SampleFile {
  public:
-  CsvFile(const std::filesystem::path& path, const Machine& machine) : file_(path), rows_(machine) {
+  CsvFile(const std::filesystem::path& path, const Machine& machine)
+      : file_(path), rows_(machine), pending_(kBlockBytes + kMaxRowChars) {
     std::string header;
     for (const std::string& column : sample_columns(machine)) {
       header += (header.empty() ? "" : ",") + column;
@@ -23,18 +52,23 @@ class CsvFile final : public SampleFile {
   void write(const motion::Sample& sample) override {
     double row[32];
     const std::size_t n = rows_.fill(sample, row);
-    std::FILE* out = file_.stream();
-    std::fprintf(out, "%.6f,%d", row[0], static_cast<int>(row[1]));
-    const std::size_t reals = rows_.pen() ? n - 1 : n;  // the pen's 0 or 1 is no real number
-    for (std::size_t i = 2; i < reals; ++i) std::fprintf(out, ",%.9f", row[i]);
-    if (rows_.pen()) std::fprintf(out, ",%d", static_cast<int>(row[n - 1]));
-    std::fputc('\n', out);
+    append_csv_row(row, n, rows_.pen(), pending_);
+    if (pending_.size() >= kBlockBytes) write_pending();
   }
-  void commit() override { file_.commit(); }
+  void commit() override {
+    write_pending();
+    file_.commit();
+  }
 
  private:
+  void write_pending() {
+    file_.write(pending_.view());
+    pending_.clear();
+  }
+
   AtomicFileWriter file_;
   RowBuilder rows_;
+  text::TextBuffer pending_;
 };
 
 // A Python string literal of `text` (the column names in the NPY header).
@@ -59,7 +93,11 @@ std::string python_string(const std::string& text) {
 // the header is written with room for it and rewritten on commit.
 class NpyFile final : public SampleFile {
  public:
-  NpyFile(const std::filesystem::path& path, const Machine& machine) : file_(path), rows_(machine) {
+  NpyFile(const std::filesystem::path& path, const Machine& machine)
+      : file_(path),
+        rows_(machine),
+        block_rows_(kBlockBytes / (sizeof(double) * rows_.columns())),
+        pending_(block_rows_ * rows_.columns() + SampleRows::kMaxColumns) {
     for (const std::string& column : sample_columns(machine)) {
       descr_ += (descr_.empty() ? "[" : ", ") + ("(" + python_string(column) + ", '<f8')");
     }
@@ -67,14 +105,15 @@ class NpyFile final : public SampleFile {
     file_.write(header(0));
   }
   void write(const motion::Sample& sample) override {
-    double row[32];
-    const std::size_t n = rows_.fill(sample, row);
-    if (std::fwrite(row, sizeof(double), n, file_.stream()) != n) {
-      throw std::runtime_error("cannot write " + file_.path().string());
+    // Straight into the block: a row is its values' bytes (little-endian, as the header says).
+    if (rows_.fill(sample, pending_.data() + pending_rows_ * rows_.columns()) != rows_.columns()) {
+      throw std::logic_error("a sample with another number of joints than the machine's");
     }
+    if (++pending_rows_ == block_rows_) write_pending();
     ++count_;
   }
   void commit() override {
+    write_pending();
     file_.write_at(0, header(count_));
     file_.commit();
   }
@@ -98,8 +137,17 @@ class NpyFile final : public SampleFile {
     return out + text;
   }
 
+  void write_pending() {
+    file_.write(std::string_view(reinterpret_cast<const char*>(pending_.data()),
+                                 pending_rows_ * rows_.columns() * sizeof(double)));
+    pending_rows_ = 0;
+  }
+
   AtomicFileWriter file_;
   RowBuilder rows_;
+  std::size_t block_rows_;       // rows in about kBlockBytes
+  std::vector<double> pending_;  // block_rows_ rows, and room for a row too long
+  std::size_t pending_rows_ = 0;
   std::string descr_;  // the structured dtype: [('t', '<f8'), ('line', '<f8'), ...]
   long count_ = 0;
 };

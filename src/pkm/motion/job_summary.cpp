@@ -35,46 +35,54 @@ void extreme_points(const Segment& segment, const Add& add) {
 
 class Summariser {
  public:
-  explicit Summariser(JobSummary& summary)
-      : summary_(summary), builder_(Vector6d::Zero(), Vector6d::Zero(), false) {}
+  Summariser(JobSummary& summary, const std::string& file)
+      : summary_(summary), builder_(Vector6d::Zero(), Vector6d::Zero(), false) {
+    builder_.set_file(file);
+  }
 
   void on_canon(const gcode::Canon& canon) {
     using gcode::CanonKind;
     if (canon.kind == CanonKind::select_tool || canon.kind == CanonKind::change_tool) {
       summary_.tools.insert(canon.integer);
     }
-    const std::optional<Segment> segment = builder_.take(canon);
-    if (!segment) return;
-    if (segment->kind == SegmentKind::dwell) {
-      summary_.dwell_s += segment->dwell_s;
+    for (const Segment& segment : builder_.take(canon)) add(canon, segment);
+  }
+
+ private:
+  void add(const gcode::Canon& canon, const Segment& segment) {
+    if (segment.kind == SegmentKind::dwell) {
+      summary_.dwell_s += segment.dwell_s;
       return;
     }
     ++summary_.moves;
     summary_.units.insert(canon.units);
-    const bool turns_only = segment->kind == SegmentKind::line &&
-                            (segment->end.head<3>() - segment->start.head<3>()).norm() == 0.0;
-    const double length = segment->length();
+    const bool turns_only = segment.kind == SegmentKind::line &&
+                            (segment.end.head<3>() - segment.start.head<3>()).norm() == 0.0;
+    const double length = segment.length();
     if (turns_only) {
       summary_.angles_deg += length;
-    } else if (segment->rapid) {
+    } else if (segment.rapid) {
       summary_.rapid_mm += length;
     } else {
-      (segment->kind == SegmentKind::arc ? summary_.arc_mm : summary_.feed_mm) += length;
+      (segment.kind == SegmentKind::arc ? summary_.arc_mm : summary_.feed_mm) += length;
     }
-    extreme_points(*segment, [&](const Eigen::Vector3d& point) {
+    extreme_points(segment, [&](const Eigen::Vector3d& point) {
       summary_.box.add(point);
-      if (!segment->rapid) summary_.feed_box.add(point);
+      if (!segment.rapid) summary_.feed_box.add(point);
     });
-    if (!segment->rapid) note_feed(canon);
+    if (!segment.rapid) note_feed(canon);
   }
 
- private:
   void note_feed(const gcode::Canon& canon) {
     if (canon.feed_mode == gcode::FeedMode::inverse_time) {
       summary_.inverse_time = true;
       return;
     }
-    const double feed = canon.value * (canon.units == gcode::LengthUnits::inch ? 25.4 : 1.0);
+    // Fed per revolution (G95, G33, G76): F or the pitch times the spindle's speed, per minute.
+    const double per_minute = canon.feed_mode == gcode::FeedMode::units_per_revolution
+                                  ? canon.value * canon.spindle_rpm
+                                  : canon.value;
+    const double feed = per_minute * (canon.units == gcode::LengthUnits::inch ? 25.4 : 1.0);
     summary_.min_feed_mm_per_min = any_feed_ ? std::min(summary_.min_feed_mm_per_min, feed) : feed;
     summary_.max_feed_mm_per_min = any_feed_ ? std::max(summary_.max_feed_mm_per_min, feed) : feed;
     any_feed_ = true;
@@ -90,7 +98,7 @@ class Summariser {
 JobSummary summarize_job(const std::filesystem::path& program,
                          const gcode::InterpreterOptions& options) {
   JobSummary summary;
-  Summariser summariser(summary);
+  Summariser summariser(summary, program.string());
   gcode::Interpreter interpreter(program, starting_at(options, Vector6d::Zero(), Vector6d::Zero()));
   interpreter.run([&](const gcode::Canon& canon) { summariser.on_canon(canon); });
   summary.warnings = interpreter.warnings();

@@ -165,6 +165,7 @@ class Planner {
         pen_(machine.tool().z == ToolZ::pen),
         tension_(TensionLimit::of(machine.kinematics())) {
     builder_.set_z_free(!machine.kinematics().dof().controls(static_cast<int>(Axis::z)));
+    builder_.set_file(file_);
     pose_ = builder_.pose();
     pen_down_ = pen_ && machine.tool().pen_down(pose_[2]);
     const int joints = static_cast<int>(machine.joints().size());
@@ -185,16 +186,16 @@ class Planner {
   }
 
   void on_canon(const gcode::Canon& canon) {
-    std::optional<Segment> segment = builder_.take(canon);
-    if (!segment) return;
-    if (segment->kind == SegmentKind::dwell) {
-      flush(true);
-      entry_speed_ = 0.0;
-      run_dwell(*segment);
-    } else if (pen_) {
-      add_with_pen(*segment);
-    } else {
-      add(*segment);
+    for (const Segment& segment : builder_.take(canon)) {
+      if (segment.kind == SegmentKind::dwell) {
+        flush(true);
+        entry_speed_ = 0.0;
+        run_dwell(segment);
+      } else if (pen_) {
+        add_with_pen(segment);
+      } else {
+        add(segment);
+      }
     }
   }
 

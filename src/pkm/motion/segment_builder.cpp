@@ -4,6 +4,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "pkm/gcode/gcode_error.hpp"
+
 namespace pkm::motion {
 
 namespace {
@@ -27,56 +29,74 @@ SegmentBuilder::SegmentBuilder(const Vector6d& start, const Vector6d& origin,
                                bool great_circle_attitude)
     : pose_(start), origin_(origin), great_circle_attitude_(great_circle_attitude) {}
 
-std::optional<Segment> SegmentBuilder::take(const gcode::Canon& canon) {
+Moves SegmentBuilder::take(const gcode::Canon& canon) {
   using gcode::CanonKind;
   switch (canon.kind) {
     case CanonKind::path_control:
       path_mode_ = canon.integer;
       blend_tolerance_mm_ = canon.value > 0.0 ? canon.value * to_mm(canon.units) : 0.0;
-      return std::nullopt;
+      return {};
     case CanonKind::g5x_offset:
       store_offset(canon, g5x_mm_);
-      return std::nullopt;
+      return {};
     case CanonKind::g92_offset:
       store_offset(canon, g92_mm_);
-      return std::nullopt;
+      return {};
     case CanonKind::tool_length_offset:
       store_offset(canon, tool_mm_);
-      return std::nullopt;
+      return {};
     case CanonKind::xy_rotation:
       xy_rotation_rad_ = degrees_to_radians(canon.value);
-      return std::nullopt;
+      return {};
     case CanonKind::traverse:
     case CanonKind::feed:
-    case CanonKind::probe: {
-      Segment segment;
-      segment.kind = SegmentKind::line;
-      segment.line = canon.line;
-      segment.rapid = canon.kind == CanonKind::traverse;
-      segment.start = pose_;
-      segment.end = machine_pose(canon);
-      segment.great_circle_attitude = great_circle_attitude_;
-      segment.z_free = z_free_;
-      set_feed(canon, segment);
-      pose_ = segment.end;
-      return segment;
-    }
-    case CanonKind::arc: {
-      Segment segment = arc_segment(canon);
-      pose_ = segment.end;
-      return segment;
-    }
+    case CanonKind::probe:
+      moves_[0] = line_segment(canon, machine_pose(canon));
+      pose_ = moves_[0].end;
+      return {moves_.data(), 1};
+    case CanonKind::rigid_tap:
+      return rigid_tap(canon);
+    case CanonKind::arc:
+      moves_[0] = arc_segment(canon);
+      pose_ = moves_[0].end;
+      return {moves_.data(), 1};
     case CanonKind::dwell: {
-      Segment segment;
+      Segment& segment = moves_[0];
+      segment = Segment();
       segment.kind = SegmentKind::dwell;
       segment.line = canon.line;
       segment.start = segment.end = pose_;
       segment.dwell_s = canon.value;
-      return segment;
+      return {moves_.data(), 1};
     }
     default:
-      return std::nullopt;
+      return {};
   }
+}
+
+Segment SegmentBuilder::line_segment(const gcode::Canon& canon, const Vector6d& end) const {
+  Segment segment;
+  segment.kind = SegmentKind::line;
+  segment.line = canon.line;
+  segment.rapid = canon.kind == gcode::CanonKind::traverse;
+  segment.start = pose_;
+  segment.end = end;
+  segment.great_circle_attitude = great_circle_attitude_;
+  segment.z_free = z_free_;
+  set_feed(canon, segment);
+  return segment;
+}
+
+// In to the tap's end along X Y Z and back out to where it started, both at the pitch times the
+// spindle's speed (the spindle reverses at the bottom): the tool ends where it was.
+Moves SegmentBuilder::rigid_tap(const gcode::Canon& canon) {
+  Vector6d bottom = machine_pose(canon);
+  bottom.tail<3>() = pose_.tail<3>();  // the tap moves X Y Z only
+  moves_[0] = line_segment(canon, bottom);
+  moves_[1] = moves_[0];
+  moves_[1].start = moves_[0].end;
+  moves_[1].end = moves_[0].start;
+  return {moves_.data(), 2};
 }
 
 void SegmentBuilder::store_offset(const gcode::Canon& canon, Vector6d& offset) const {
@@ -115,10 +135,36 @@ void SegmentBuilder::set_feed(const gcode::Canon& canon, Segment& segment) const
   if (segment.rapid) return;
   if (canon.feed_mode == gcode::FeedMode::inverse_time) {
     segment.feed_mm_per_s = segment.length() * canon.value / 60.0;  // done in 1/F minutes
-  } else {
-    const bool angles_only = (segment.end.head<3>() - segment.start.head<3>()).norm() == 0.0;
-    segment.feed_mm_per_s = canon.value * (angles_only ? 1.0 : to_mm(canon.units)) / 60.0;
+    return;
   }
+  const bool angles_only = (segment.end.head<3>() - segment.start.head<3>()).norm() == 0.0;
+  const double per_minute = canon.feed_mode == gcode::FeedMode::units_per_revolution
+                                ? per_revolution_feed(canon, segment)
+                                : canon.value;
+  segment.feed_mm_per_s = per_minute * (angles_only ? 1.0 : to_mm(canon.units)) / 60.0;
+}
+
+// Units per minute of a move fed per revolution: F (or the pitch) times the spindle's rpm. A
+// move that cannot run (the spindle stopped, S0, no pitch) is refused at its line rather than
+// planned at no speed.
+double SegmentBuilder::per_revolution_feed(const gcode::Canon& canon,
+                                           const Segment& segment) const {
+  const double feed = canon.value * canon.spindle_rpm;
+  if (feed > 0.0 && std::isfinite(feed)) return feed;
+  if (segment.length() == 0.0) return 1.0;  // no motion: it takes no time at any feed
+  std::string why;
+  if (!(canon.spindle_rpm > 0.0)) {
+    why = "the spindle is stopped or at S0";
+  } else if (!(canon.value > 0.0)) {
+    why = "its pitch (K, P) or F per revolution is 0";
+  } else {
+    why = "its speed overflows (" + gcode::written_number(canon.value) + " per revolution at " +
+          gcode::written_number(canon.spindle_rpm) + " rpm)";
+  }
+  throw gcode::GcodeError(file_, canon.line, 0,
+                          "a move fed per revolution of the spindle (G33, G33.1, G76, G95) "
+                          "cannot run: " +
+                              why);
 }
 
 Segment SegmentBuilder::arc_segment(const gcode::Canon& canon) const {

@@ -1,9 +1,13 @@
 // Canonical commands to moves in machine coordinates: the offsets a program sets, its units, its
-// feed modes and arcs, turned into segments (mm, rad). Shared by every consumer of a program's
-// path (the planner, the joint-space post-processor).
+// feed modes (per minute, inverse time, per revolution of the spindle) and arcs, turned into
+// segments (mm, rad); a rigid tap (G33.1) into its two moves, in and back out. Shared by every
+// consumer of a program's path (the planner, the joint-space post-processor, verify, the job
+// summary).
 #pragma once
 
-#include <optional>
+#include <array>
+#include <span>
+#include <string>
 
 #include "pkm/gcode/canon.hpp"
 #include "pkm/gcode/interpreter.hpp"
@@ -17,15 +21,22 @@ namespace pkm::motion {
 gcode::InterpreterOptions starting_at(gcode::InterpreterOptions options, const Vector6d& start,
                                       const Vector6d& origin);
 
+// The moves one command makes: none (a change of state), one, or two (a rigid tap); valid until
+// the builder's next take.
+using Moves = std::span<const Segment>;
+
 class SegmentBuilder {
  public:
   // `start`: the machine pose the program starts from; `origin`: where the program's origin sits
   // in machine coordinates (both mm, rad).
   SegmentBuilder(const Vector6d& start, const Vector6d& origin, bool great_circle_attitude);
 
-  // The move a command makes (line, arc, dwell), or nothing for the commands that only change
-  // state (offsets, path control, ...), which the builder keeps.
-  std::optional<Segment> take(const gcode::Canon& canon);
+  // The moves a command makes (line, arc, dwell; a rigid tap's two lines), or none for the
+  // commands that only change state (offsets, path control, ...), which the builder keeps.
+  // A move fed per revolution with the spindle stopped, at S0 or at a zero pitch cannot be
+  // timed: a gcode::GcodeError at its line in `file` (set_file).
+  Moves take(const gcode::Canon& canon);
+  void set_file(std::string file) { file_ = std::move(file); }
 
   // The machine does not move Z: moves are measured without it (Segment::z_free), which sets
   // the time of inverse-time (G93) moves.
@@ -39,8 +50,13 @@ class SegmentBuilder {
   void store_offset(const gcode::Canon& canon, Vector6d& offset) const;
   Vector6d machine_pose(const gcode::Canon& canon) const;
   void set_feed(const gcode::Canon& canon, Segment& segment) const;
+  Segment line_segment(const gcode::Canon& canon, const Vector6d& end) const;
+  Moves rigid_tap(const gcode::Canon& canon);
   Segment arc_segment(const gcode::Canon& canon) const;
+  double per_revolution_feed(const gcode::Canon& canon, const Segment& segment) const;
 
+  std::string file_;
+  std::array<Segment, 2> moves_;  // what take returns points here: made once, not per command
   Vector6d pose_;
   Vector6d origin_;
   bool great_circle_attitude_;

@@ -73,6 +73,9 @@ class DeviationBound {
 
   // False for models without a second-derivative bound: their deviation is sampled instead.
   bool available() const { return available_; }
+  // The pose coordinates the model controls, and the scale of its angles (mm per rad).
+  const std::vector<int>& axes() const { return axes_; }
+  double angle_scale_mm() const { return angle_scale_mm_; }
 
   // An upper bound (mm) on the distance between the tool tip of the joint-linear block and the
   // programmed point at the same fraction of the piece [u0, u1] of `segment`, over the whole

@@ -6,7 +6,9 @@
 #include <optional>
 
 #include "pkm/motion/segment_builder.hpp"
+#include "pkm/post/covering.hpp"
 #include "pkm/post/deviation_bound.hpp"
+#include "pkm/post/span_bound.hpp"
 
 namespace pkm::post {
 
@@ -16,14 +18,7 @@ using motion::Segment;
 using motion::SegmentKind;
 
 constexpr int kSampledPoints = 32;  // FK checks per block where the model has no bound
-constexpr int kMaxDepth = 40;       // halvings of one move before giving up
 constexpr int kFeedDecimals = 3;    // digits after the point of G93 F, more for very slow blocks
-
-// The joints at one point of the programmed path: as the inverse kinematics gives them, and as
-// written (rounded to the dialect's decimals).
-struct JointsAt {
-  JointVector exact, written;
-};
 
 // Whether the coordinates the model controls change along the move (a plotter's Z-only move
 // does not move it).
@@ -55,7 +50,7 @@ std::string inverse_time_feed(double duration_s) {
   throw std::invalid_argument("a block too slow for inverse time");
 }
 
-class Poster {
+class Poster : private CoveringHost {
  public:
   Poster(const Machine& machine, const PostOptions& options,
          const std::function<void(const std::string&)>& write_line, std::string file)
@@ -65,7 +60,8 @@ class Poster {
         write_line_(write_line),
         file_(std::move(file)),
         builder_(machine.home().as_vector(), options.origin, false),
-        bound_(machine, options.tolerance_mm) {
+        bound_(machine, options.tolerance_mm),
+        covering_(*this, options.tolerance_mm) {
     JointVector home;
     const Status status = machine_.inverse(machine_.home(), home);
     if (!status.ok())
@@ -77,25 +73,43 @@ class Poster {
   }
 
   void on_canon(const gcode::Canon& canon) {
+    if (!spans_across(canon)) covering_.finish();
     if (on_machine_command(canon)) return;
-    const std::optional<Segment> segment = builder_.take(canon);
-    if (!segment) return;
-    if (segment->kind == SegmentKind::dwell) {
-      write(format("G4 P%.3f", segment->dwell_s), segment->line);
-      return;
+    const motion::Moves moves = builder_.take(canon);
+    if (canon.kind == gcode::CanonKind::rigid_tap) return rigid_tap(moves);
+    for (const Segment& segment : moves) {
+      if (segment.kind == SegmentKind::dwell) {
+        write(format("G4 P%.3f", segment.dwell_s), segment.line);
+        continue;
+      }
+      if (segment.length() <= 0.0) continue;
+      ++report_.moves;
+      move(segment, canon.kind != gcode::CanonKind::probe);  // a probe stops where it touches
     }
-    if (segment->length() <= 0.0) return;
-    ++report_.moves;
-    move(*segment);
   }
 
   PostReport finish() {
+    covering_.finish();
     if (!ended_) end_program(0);
     return report_;
   }
 
  private:
   bool pen() const { return machine_.tool().z == ToolZ::pen; }
+
+  // A rigid tap (G33.1) in joint space: timed moves in and out at the pitch times S, with the
+  // spindle reversed for the way out (as G84 does it) where the controller would have
+  // reversed it for the synchronised tap; the joints cannot follow the spindle's turns.
+  void rigid_tap(const motion::Moves& moves) {
+    if (moves.empty() || moves.front().length() <= 0.0) return;
+    const int line = moves.front().line;
+    ++report_.moves;
+    move(moves.front(), false);
+    if (!pen()) write(spindle_clockwise_ ? "M4" : "M3", line);
+    ++report_.moves;
+    move(moves[1], false);
+    if (!pen()) write(spindle_clockwise_ ? "M3" : "M4", line);
+  }
 
   static std::string format(const char* pattern, double value) {
     char text[160];
@@ -127,6 +141,7 @@ class Poster {
       case CanonKind::spindle_counterclockwise:
         if (!pen()) write(canon.kind == CanonKind::spindle_clockwise ? "M3" : "M4", canon.line);
         spindle_on_ = true;
+        spindle_clockwise_ = canon.kind == CanonKind::spindle_clockwise;
         return true;
       case CanonKind::spindle_stop:
         // The interpreter stops the spindle again at M2: one M5 is enough.
@@ -165,7 +180,49 @@ class Poster {
     pen_down_ = down;
   }
 
-  void move(const Segment& segment) {
+  // Whether a command may stand between two moves one block spans: what only sets the state of
+  // the next moves (the feed, the plane, units, offsets: their moves carry it), comments, and on
+  // a machine with a pen channel the spindle words post leaves out. Everything else post writes
+  // or the job means at that point (a dwell, a stop, a tool change, an event, G61) ends the run.
+  bool spans_across(const gcode::Canon& canon) const {
+    using gcode::CanonKind;
+    switch (canon.kind) {
+      case CanonKind::feed:
+      case CanonKind::arc:
+      case CanonKind::set_feed_rate:
+      case CanonKind::set_feed_mode:
+      case CanonKind::select_plane:
+      case CanonKind::use_length_units:
+      case CanonKind::comment:
+      case CanonKind::tool_length_offset:
+      case CanonKind::g5x_offset:
+      case CanonKind::g92_offset:
+      case CanonKind::xy_rotation:
+        return true;
+      case CanonKind::spindle_speed:
+      case CanonKind::spindle_clockwise:
+      case CanonKind::spindle_counterclockwise:
+      case CanonKind::spindle_stop:
+        return pen();
+      default:
+        return false;
+    }
+  }
+
+  // Whether a block may span the move with its neighbours (docs/post.md, "Spanning moves"): a
+  // feed move (line or arc) in G64 that keeps the attitude, on a model with a deviation bound.
+  bool spannable(const Segment& segment) const {
+    if (!options_.span_moves || !bound_.available() || segment.rapid) return false;
+    if (builder_.path_mode() != 64) return false;  // G61, G61.1: every vertex exactly
+    if (segment.kind == SegmentKind::dwell) return false;
+    const Dof dof = machine_.kinematics().dof();
+    for (int axis = 3; axis < kPoseSize; ++axis) {
+      if (dof.controls(axis) && segment.start[axis] != segment.end[axis]) return false;
+    }
+    return true;
+  }
+
+  void move(const Segment& segment, bool may_span) {
     const bool moves = moves_controlled(segment, machine_.kinematics().dof());
     if (moves) {
       JointVector end;
@@ -176,15 +233,23 @@ class Poster {
                             machine_.explain_path([&](double v) { return segment.at(v); }));
       }
     }
+    const std::vector<double> crossings =
+        pen() ? motion::z_crossings(segment, machine_.tool().down_below_mm) : std::vector<double>{};
+    if (!moves && crossings.empty()) return;  // nothing written, nothing that ends a run
+    // A run of moves at one feed: a block spanning moves of different feeds would share its
+    // time out evenly where the job does not.
+    const bool spanned = may_span && crossings.empty() && spannable(segment);
+    if (!spanned || segment.feed_mm_per_s != run_feed_mm_per_s_) covering_.finish();
     double from = 0.0;
-    if (pen()) {
-      for (const double crossing : motion::z_crossings(segment, machine_.tool().down_below_mm)) {
-        if (moves) trace(segment, from, crossing);
-        set_pen(!pen_down_, segment.line);
-        from = crossing;
-      }
+    for (const double crossing : crossings) {
+      if (moves) covering_.add(segment, from, crossing);
+      covering_.finish();
+      set_pen(!pen_down_, segment.line);
+      from = crossing;
     }
-    if (moves) trace(segment, from, 1.0);
+    if (moves) covering_.add(segment, from, 1.0);
+    if (!spanned) covering_.finish();
+    run_feed_mm_per_s_ = segment.feed_mm_per_s;
   }
 
   // Joint values as the controller will read them: rounded to the dialect's decimals in
@@ -199,7 +264,7 @@ class Poster {
     return result;
   }
 
-  JointsAt joints_at(const Segment& segment, double u) const {
+  JointsAt joints_at(const Segment& segment, double u) const override {
     JointVector q;
     const Status status = machine_.inverse(Pose::from_vector(segment.at(u)), q);
     if (!status.ok()) {
@@ -210,11 +275,15 @@ class Poster {
     return {q, rounded(q)};
   }
 
-  // The deviation of the block from the programmed piece [u0, u1]: the bound, or, for models
-  // without one, the largest distance to the programmed point at the same fraction found by
-  // forward kinematics at kSampledPoints + 1 points (infinity where FK fails).
-  double deviation(const Segment& segment, double u0, double u1, const BlockEnds& ends) const {
-    if (bound_.available()) return bound_(segment, u0, u1, ends);
+  const JointVector& written_joints() const override { return joints_; }
+
+  // The bound; for models without one (no spanning there), the largest distance to the
+  // programmed point at the same fraction found by forward kinematics at kSampledPoints + 1
+  // points (infinity where FK fails).
+  double deviation(const Span& span, const BlockEnds& ends) const override {
+    if (bound_.available()) return span_deviation_bound(bound_, span, ends, options_.tolerance_mm);
+    const Segment& segment = span.first().segment;
+    const double u0 = span.start, u1 = span.end;
     double worst = 0.0;
     for (int k = 0; k <= kSampledPoints; ++k) {
       const double lambda = static_cast<double>(k) / kSampledPoints;
@@ -232,61 +301,16 @@ class Poster {
     return worst;
   }
 
-  // Covers the piece [from, to] of the move greedily with blocks as long as the tolerance
-  // allows: from each block's start, the furthest end (found by halving, then bisection) whose
-  // joint-linear block keeps within the tolerance. Block lengths follow how sharply the
-  // kinematics bends the path.
-  void trace(const Segment& segment, double from, double to) {
-    JointsAt start_joints{joints_at(segment, from).exact, joints_};
-    double start = from;
-    const auto try_end = [&](double end, JointsAt& at, double& deviation_mm) {
-      at = joints_at(segment, end);
-      deviation_mm = deviation(segment, start, end,
-                               {start_joints.written, start_joints.exact, at.written, at.exact});
-      return deviation_mm <= options_.tolerance_mm;
-    };
-    while (start < to) {
-      JointsAt good_joints, candidate;
-      double good = -1.0, good_deviation = 0.0, d = 0.0;
-      if (try_end(to, candidate, d)) {
-        write_block(segment, start, to, candidate.written, d);
-        return;
-      }
-      double step = 0.5 * (to - start);
-      for (int halvings = 0; halvings < kMaxDepth && good < 0.0; ++halvings, step *= 0.5) {
-        if (try_end(start + step, candidate, d)) {
-          good = start + step;
-          good_deviation = d;
-          good_joints = candidate;
-        }
-      }
-      if (good < 0.0) {
-        throw PostError(file_, segment.line,
-                        format("cannot keep within %g mm here: no block, however short, is "
-                               "(a singularity, or a tolerance too small for joints rounded to ",
-                               options_.tolerance_mm) +
-                            std::to_string(rules_.decimals) + " decimals)");
-      }
-      // Between `good` (within) and twice the step (not, or the end): bisect for the furthest.
-      double bad = std::min(to, start + 4.0 * step);
-      for (int i = 0; i < 10; ++i) {
-        const double middle = 0.5 * (good + bad);
-        if (try_end(middle, candidate, d)) {
-          good = middle;
-          good_deviation = d;
-          good_joints = candidate;
-        } else {
-          bad = middle;
-        }
-      }
-      write_block(segment, start, good, good_joints.written, good_deviation);
-      start_joints = good_joints;
-      start = good;
-    }
+  [[noreturn]] void cannot_keep_within(const Segment& segment) const override {
+    throw PostError(file_, segment.line,
+                    format("cannot keep within %g mm here: no block, however short, is "
+                           "(a singularity, or a tolerance too small for joints rounded to ",
+                           options_.tolerance_mm) +
+                        std::to_string(rules_.decimals) + " decimals)");
   }
 
-  void write_block(const Segment& segment, double u0, double u1, const JointVector& q1,
-                   double deviation_mm) {
+  void write_block(const Span& span, const JointVector& q1, double deviation_mm) override {
+    const Segment& segment = span.first().segment;
     std::string line = segment.rapid ? "G0" : "G1";
     if (!segment.rapid && !inverse_time_) {
       line = "G93 " + line;
@@ -296,9 +320,10 @@ class Poster {
       line += joint_word(machine_.joints()[static_cast<std::size_t>(i)], q1[i], rules_);
     }
     if (!segment.rapid) {
-      // Inverse time: the block takes the programmed path's length at the programmed feed, or
-      // longer where a joint would otherwise exceed its velocity.
-      double duration = segment.length() * (u1 - u0) / segment.feed_mm_per_s;
+      // Inverse time: the block takes the programmed path's time at the programmed feed (the
+      // sum over the moves it spans), or longer where a joint would otherwise exceed its
+      // velocity.
+      double duration = span.programmed_s();
       for (int i = 0; i < q1.size(); ++i) {
         duration =
             std::max(duration, std::abs(q1[i] - joints_[i]) /
@@ -322,11 +347,14 @@ class Poster {
   std::string file_;
   motion::SegmentBuilder builder_;
   DeviationBound bound_;
-  JointVector joints_;  // as last written
+  Covering covering_;
+  double run_feed_mm_per_s_ = 0.0;  // of the moves the open block may span
+  JointVector joints_;              // as last written
   bool inverse_time_ = false;
   bool ended_ = false;
   bool pen_down_ = false;
   std::optional<bool> spindle_on_;  // unknown until the program says
+  bool spindle_clockwise_ = true;   // M3 (or M4) last
   PostReport report_;
 };
 

@@ -1,8 +1,10 @@
 // Joint-space G-code for controllers without kinematics (Mach3, grbl, grblHAL, LinuxCNC with
-// trivkins): axis words are joint positions, and every programmed move is split adaptively, from
-// its start to its end, so that the tool tip of a controller that interpolates the joints linearly
-// stays within a tolerance of it, by a bound on the deviation (deviation_bound.hpp). Machines with
-// a pen channel get the pen commands where the program's Z crosses the pen height.
+// trivkins): axis words are joint positions, and the programmed path is covered adaptively by
+// joint-linear blocks, each move from its start to its end and runs of short feed moves by blocks
+// spanning several (covering.hpp), so that the tool tip of a controller that interpolates the
+// joints linearly stays within a tolerance of it, by a bound on the deviation
+// (deviation_bound.hpp, span_bound.hpp). Machines with a pen channel get the pen commands where
+// the program's Z crosses the pen height.
 #pragma once
 
 #include <filesystem>
@@ -51,6 +53,9 @@ struct PostOptions {
   Vector6d origin = Vector6d::Zero();  // where the program's X0 Y0 Z0 sits (mm, rad)
   // Called with the program's line being posted, once per change of line: for progress.
   std::function<void(int line)> on_line;
+  // Let one block span consecutive feed moves where it keeps within the tolerance of all of them
+  // (docs/post.md, "Spanning moves"); false: every move covered on its own.
+  bool span_moves = true;
 };
 
 struct PostReport {

@@ -102,6 +102,7 @@ JobPath::JobPath(const Machine& machine, const std::filesystem::path& job,
       builder_(machine.home().as_vector(), origin, false),
       interpreter_(job, motion::starting_at(options, machine.home().as_vector(), origin)),
       sink_([this](const gcode::Canon& canon) { take(canon); }) {
+  builder_.set_file(file_);
   interpreter_.start(sink_);
 }
 
@@ -124,11 +125,12 @@ void JobPath::forget_before(long index) {
 
 void JobPath::take(const gcode::Canon& canon) {
   if (canon.kind == gcode::CanonKind::program_end) end_line_ = canon.line;
-  const std::optional<motion::Segment> segment = builder_.take(canon);
-  if (!segment || segment->kind == motion::SegmentKind::dwell || segment->length() <= 0.0) return;
-  window_.push_back(make_piece(*segment));
-  end_mm_ += window_.back().length_mm;
-  if (tool_.z == ToolZ::pen) count_pen(*segment);
+  for (const motion::Segment& segment : builder_.take(canon)) {
+    if (segment.kind == motion::SegmentKind::dwell || segment.length() <= 0.0) continue;
+    window_.push_back(make_piece(segment));
+    end_mm_ += window_.back().length_mm;
+    if (tool_.z == ToolZ::pen) count_pen(segment);
+  }
 }
 
 void JobPath::count_pen(const motion::Segment& segment) {

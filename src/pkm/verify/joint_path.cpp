@@ -73,8 +73,10 @@ class Verifier {
       pen_down_ = down;
       return;
     }
-    if (canon.kind == CanonKind::arc || canon.kind == CanonKind::probe) {
-      fail(canon.line, "joint-space arcs and probes are not verified (only G0 and G1 blocks)");
+    if (canon.kind == CanonKind::arc || canon.kind == CanonKind::probe ||
+        canon.kind == CanonKind::rigid_tap) {
+      fail(canon.line,
+           "joint-space arcs, probes and rigid taps are not verified (only G0 and G1 blocks)");
     }
     if (canon.kind == CanonKind::traverse || canon.kind == CanonKind::feed) on_block(canon);
   }
@@ -136,10 +138,21 @@ class Verifier {
       squares[letter_index_[i] / 3] += step * step;
     }
     const double scale = canon.units == gcode::LengthUnits::inch ? 25.4 : 1.0;
-    const double mm_per_s = canon.value * scale / 60.0;
+    const double per_minute = units_per_minute(canon);
+    const double mm_per_s = per_minute * scale / 60.0;
     if (squares[0] > 0.0) return std::sqrt(squares[0]) / mm_per_s;
     if (squares[2] > 0.0) return std::sqrt(squares[2]) / mm_per_s;
-    return std::sqrt(squares[1]) / (canon.value / 60.0);
+    return std::sqrt(squares[1]) / (per_minute / 60.0);
+  }
+
+  // F per minute; fed per revolution (G95, G33), F or the pitch times the spindle's speed, which
+  // must turn.
+  double units_per_minute(const gcode::Canon& canon) const {
+    if (canon.feed_mode != gcode::FeedMode::units_per_revolution) return canon.value;
+    if (!(canon.spindle_rpm > 0.0)) {
+      fail(canon.line, "a block fed per revolution (G95, G33) with the spindle stopped or at S0");
+    }
+    return canon.value * canon.spindle_rpm;
   }
 
   // G93 blocks take 1/F minutes; G94 ones as units_per_minute_duration_s; rapids are the

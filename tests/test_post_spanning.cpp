@@ -1,0 +1,313 @@
+// Blocks that span several programmed moves (src/pkm/post/covering.hpp, span_bound.hpp): the
+// bound of a spanning block held against dense forward kinematics both ways on every model with a
+// bound, and hand-made jobs whose block counts follow from the rules of docs/post.md ("Spanning
+// moves"): a run of collinear moves becomes one block, a corner beyond the tolerance keeps its
+// vertex, and anything the job means between two moves ends the run there.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "pkm/motion/segment_builder.hpp"
+#include "pkm/post/joint_program.hpp"
+#include "pkm/post/span_bound.hpp"
+#include "test_support.hpp"
+
+namespace pkm::post {
+namespace {
+
+// The programmed moves of a job, in machine coordinates.
+std::vector<motion::Segment> moves_of(const Machine& machine, const std::filesystem::path& job) {
+  const Vector6d home = machine.home().as_vector();
+  motion::SegmentBuilder builder(home, Vector6d::Zero(), false);
+  std::vector<motion::Segment> moves;
+  gcode::Interpreter(job, motion::starting_at({}, home, Vector6d::Zero()))
+      .run([&](const gcode::Canon& canon) {
+        const auto segment = builder.take(canon);
+        if (segment && segment->kind != motion::SegmentKind::dwell) moves.push_back(*segment);
+      });
+  return moves;
+}
+
+// A half circle of radius 15 mm in 2-degree steps (0.52 mm moves) about the machine's home, each
+// vertex off the circle by up to 4 um, every tenth move an arc on the circle itself.
+std::string tiny_moves_about_home(const Machine& machine) {
+  const Vector6d home = machine.home().as_vector();
+  std::mt19937_64 rng(16);
+  std::uniform_real_distribution<double> jitter(-0.004, 0.004);
+  const double radius = 15.0;
+  std::string job = "G21 G90 G17 F600\n";
+  char text[160];
+  for (int k = 0; k <= 90; ++k) {
+    const double angle = k * 2.0 * M_PI / 180.0;
+    const bool on_circle = k % 10 == 0 || k % 10 == 1;
+    const double x = home[0] - radius + radius * std::cos(angle) + (on_circle ? 0.0 : jitter(rng));
+    const double y = home[1] + radius * std::sin(angle) + (on_circle ? 0.0 : jitter(rng));
+    if (k % 10 == 1) {
+      // From the vertex before (on the circle) about the circle's centre.
+      const double previous = (k - 1) * 2.0 * M_PI / 180.0;
+      std::snprintf(text, sizeof text, "G3 X%.6f Y%.6f I%.6f J%.6f\n", x, y,
+                    -radius * std::cos(previous), -radius * std::sin(previous));
+    } else {
+      std::snprintf(text, sizeof text, "G1 X%.6f Y%.6f\n", x, y);
+    }
+    job += text;
+  }
+  return job + "M2\n";
+}
+
+// The controlled position of a pose (the others zero: a plotter's Z never counts).
+Eigen::Vector3d controlled(const Machine& machine, const Eigen::Vector3d& position) {
+  Eigen::Vector3d result = Eigen::Vector3d::Zero();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (machine.kinematics().dof().controls(axis)) result[axis] = position[axis];
+  }
+  return result;
+}
+
+double distance_to_polyline(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& line) {
+  double nearest = INFINITY;
+  for (std::size_t i = 1; i < line.size(); ++i) {
+    const Eigen::Vector3d a = line[i - 1], ab = line[i] - a;
+    const double t =
+        ab.squaredNorm() > 0.0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+    nearest = std::min(nearest, (a + t * ab - p).norm());
+  }
+  return nearest;
+}
+
+// Joints rounded to 3 decimals of the interface units (grbl's), so that rounding counts too.
+JointVector rounded(const Machine& machine, const JointVector& q) {
+  JointVector result = q;
+  for (int i = 0; i < q.size(); ++i) {
+    const JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
+    result[i] = joint.from_interface(std::round(joint.to_interface(q[i]) * 1000.0) / 1000.0);
+  }
+  return result;
+}
+
+struct DenseResult {
+  double there = 0.0, back = 0.0;  // tool path to the programmed path, and the other way
+};
+
+// Forward kinematics at 401 points of the joint-linear block against the span's path at 31
+// points per piece, both ways (each point's distance to the other as a polyline).
+DenseResult dense_both_ways(const Machine& machine, const Span& span, const BlockEnds& ends) {
+  std::vector<Eigen::Vector3d> programmed, traced;
+  for (std::size_t k = 0; k < span.count; ++k) {
+    for (int i = 0; i <= 30; ++i) {
+      const double u = span.from(k) + (span.to(k) - span.from(k)) * i / 30.0;
+      programmed.push_back(controlled(machine, span.pieces[k].segment.at(u).head<3>()));
+    }
+  }
+  Pose pose = Pose::from_vector(span.start_pose());
+  for (int i = 0; i <= 400; ++i) {
+    const double lambda = i / 400.0;
+    const JointVector q = ends.written0 + lambda * (ends.written1 - ends.written0);
+    EXPECT_TRUE(machine.forward(q, pose).ok());
+    traced.push_back(controlled(machine, pose.position_mm));
+  }
+  DenseResult result;
+  for (const Eigen::Vector3d& p : traced)
+    result.there = std::max(result.there, distance_to_polyline(p, programmed));
+  for (const Eigen::Vector3d& p : programmed)
+    result.back = std::max(result.back, distance_to_polyline(p, traced));
+  return result;
+}
+
+class SpanBoundEveryModel : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SpanBoundEveryModel, ProvenBoundHoldsAgainstDenseSamplingBothWays) {
+  // Spans of 2 to 13 moves of a jittered polyline with arcs, whole or cut inside their first and
+  // last moves: wherever the bound is finite, forward kinematics along the block finds nothing
+  // farther from the path than it, nor any point of the path farther from the block.
+  const Machine machine = test::load_example(GetParam());
+  const test::TempProgram job(tiny_moves_about_home(machine));
+  const std::vector<motion::Segment> moves = moves_of(machine, job.path());
+  ASSERT_EQ(moves.size(), 91u);
+  std::vector<Piece> pieces;
+  for (const motion::Segment& move : moves) pieces.push_back({move, 0.0, 1.0});
+  const DeviationBound bound(machine, 0.01);
+  ASSERT_TRUE(bound.available());
+  int tested = 0, within_a_tenth = 0;
+  double tightest = 0.0;
+  for (std::size_t first = 1; first + 2 < pieces.size(); first += 3) {
+    for (const std::size_t count : {2u, 3u, 5u, 8u, 13u}) {
+      if (first + count > pieces.size()) continue;
+      for (const auto& [start, end] : {std::pair{0.0, 1.0}, std::pair{0.3, 0.6}}) {
+        const Span span{pieces.data() + first, count, start, end};
+        JointVector q0, q1;
+        ASSERT_TRUE(machine.inverse(Pose::from_vector(span.start_pose()), q0).ok());
+        ASSERT_TRUE(machine.inverse(Pose::from_vector(span.end_pose()), q1).ok());
+        const BlockEnds ends{rounded(machine, q0), q0, rounded(machine, q1), q1};
+        const double proven = span_deviation_bound(bound, span, ends);
+        if (!(proven <= 0.5)) continue;  // none, or too loose to say anything
+        const DenseResult dense = dense_both_ways(machine, span, ends);
+        EXPECT_LE(dense.there, proven) << "span of " << count << " from move " << first;
+        EXPECT_LE(dense.back, proven) << "span of " << count << " from move " << first;
+        tightest = std::max(tightest, std::max(dense.there, dense.back) / proven);
+        ++tested;
+        within_a_tenth += proven <= 0.1;
+      }
+    }
+  }
+  std::cout << "[ span     ] " << tested << " spans bounded within 0.5 mm (" << within_a_tenth
+            << " within 0.1 mm), dense/bound at most " << tightest << "\n";
+  EXPECT_GE(within_a_tenth, 20) << "too few spans with a useful bound to test anything";
+}
+
+INSTANTIATE_TEST_SUITE_P(Models, SpanBoundEveryModel,
+                         ::testing::Values("wall-plotter.toml", "hektor-pulleys.toml",
+                                           "hexapod-bit.toml", "hexaglide.toml",
+                                           "linear-delta.toml", "linuxcnc-rdelta.toml",
+                                           "triaglide-fanned.toml", "matrix-mill.toml"),
+                         [](const auto& param_info) { return test::test_name(param_info.param); });
+
+motion::Segment straight(double x0, double y0, double x1, double y1) {
+  motion::Segment segment;
+  segment.start << x0, y0, 0.0, 0.0, 0.0, 0.0;
+  segment.end << x1, y1, 0.0, 0.0, 0.0, 0.0;
+  return segment;
+}
+
+TEST(SpanBound, ChordOffsetIsTheVertexDistanceOnAHandMadeCorner) {
+  // (0,0) -> (10, 0.05) -> (20, 0): the vertex projects to the chord's middle, 0.05 mm from it.
+  const Piece corner[] = {{straight(0, 0, 10, 0.05), 0.0, 1.0},
+                          {straight(10, 0.05, 20, 0), 0.0, 1.0}};
+  EXPECT_NEAR(chord_offset_mm({corner, 2, 0.0, 1.0}, {0, 1}, 100.0), 0.05, 1e-12);
+  // Cut at a quarter of each move: chord (2.5, 0.0125) -> (17.5, 0.0125), the vertex 0.0375 off.
+  EXPECT_NEAR(chord_offset_mm({corner, 2, 0.25, 0.75}, {0, 1}, 100.0), 0.0375, 1e-12);
+  // Going back along the chord: (0,0) -> (10,0) -> (4,0) -> (20,0). The third vertex projects
+  // behind the second; its fraction is held at the second's, 6 mm from it.
+  const Piece back[] = {{straight(0, 0, 10, 0), 0.0, 1.0},
+                        {straight(10, 0, 4, 0), 0.0, 1.0},
+                        {straight(4, 0, 20, 0), 0.0, 1.0}};
+  EXPECT_NEAR(chord_offset_mm({back, 3, 0.0, 1.0}, {0, 1}, 100.0), 6.0, 1e-12);
+  // Only the coordinates the machine controls: a Z bump on a plotter is no offset.
+  const Piece bump[] = {{straight(0, 0, 10, 0), 0.0, 1.0}, {straight(10, 0, 20, 0), 0.0, 1.0}};
+  Piece raised[] = {bump[0], bump[1]};
+  raised[0].segment.end[2] = raised[1].segment.start[2] = 3.0;
+  EXPECT_EQ(chord_offset_mm({raised, 2, 0.0, 1.0}, {0, 1}, 100.0), 0.0);
+  EXPECT_NEAR(chord_offset_mm({raised, 2, 0.0, 1.0}, {0, 1, 2}, 100.0), 3.0, 1e-12);
+}
+
+// ---- Posting: block counts on the matrix mill, whose blocks bend nothing (H = 0) ----
+
+struct Posted {
+  PostReport report;
+  std::vector<std::string> lines;
+};
+
+Posted post_text(const Machine& machine, const std::string& job_text, bool span_moves = true,
+                 double tolerance_mm = 0.01) {
+  const test::TempProgram job(job_text);
+  PostOptions options;
+  options.tolerance_mm = tolerance_mm;
+  options.span_moves = span_moves;
+  Posted posted;
+  posted.report = post_program(machine, job.path(), {}, options,
+                               [&](const std::string& line) { posted.lines.push_back(line); });
+  return posted;
+}
+
+// G1 from (100, 100) to (100 + 0.1 k, 100), k = 1..count.
+std::string collinear(int count, int first = 1) {
+  std::string job;
+  char text[80];
+  for (int k = first; k < first + count; ++k) {
+    std::snprintf(text, sizeof text, "G1 X%.3f Y100\n", 100.0 + 0.1 * k);
+    job += text;
+  }
+  return job;
+}
+
+// A rapid to (100, 100, -10): the runs below start exactly there.
+const std::string kStart = "G21 G90 G0 X100 Y100 Z-10 F600\n";
+
+TEST(PostSpanning, CollinearTinyMovesBecomeOneBlockAtTheirFeed) {
+  const Machine machine = test::load_example("matrix-mill.toml");
+  const Posted spanned = post_text(machine, kStart + collinear(100) + "M2\n");
+  EXPECT_EQ(spanned.report.moves, 101);
+  EXPECT_EQ(spanned.report.blocks, 2);  // the rapid to the start, and the 100 moves of 0.1 mm
+  // 10 mm at 600 mm/min: 1 s, F60 in inverse time (rounded down to 3 decimals).
+  const auto last_block =
+      std::find_if(spanned.lines.rbegin(), spanned.lines.rend(),
+                   [](const std::string& line) { return line.find("G1 ") != std::string::npos; });
+  ASSERT_NE(last_block, spanned.lines.rend());
+  const std::size_t feed = last_block->find(" F");
+  ASSERT_NE(feed, std::string::npos) << *last_block;
+  EXPECT_NEAR(std::stod(last_block->substr(feed + 2)), 60.0, 0.0011) << *last_block;
+  EXPECT_EQ(post_text(machine, kStart + collinear(100) + "M2\n", false).report.blocks, 101);
+}
+
+TEST(PostSpanning, ACornerBeyondTheToleranceKeepsItsVertex) {
+  const Machine machine = test::load_example("matrix-mill.toml");
+  // A vertex 0.05 mm off the chord at 0.01 mm: two blocks; 0.005 mm off: one.
+  EXPECT_EQ(post_text(machine, kStart + "G1 X110 Y100.05\nG1 X120 Y100\nM2\n").report.blocks, 3);
+  EXPECT_EQ(post_text(machine, kStart + "G1 X110 Y100.005\nG1 X120 Y100\nM2\n").report.blocks, 2);
+  // A turn back (100 -> 110 -> 104 -> 120 along X) is not the chord however straight.
+  EXPECT_EQ(post_text(machine, kStart + "G1 X110\nG1 X104\nG1 X120\nM2\n").report.blocks, 4);
+}
+
+TEST(PostSpanning, WhatTheJobMeansBetweenTwoMovesEndsTheRun) {
+  const Machine machine = test::load_example("matrix-mill.toml");
+  const std::string first = kStart + collinear(10);
+  const std::string second = collinear(10, 11) + "M2\n";
+  EXPECT_EQ(post_text(machine, first + "(a comment)\n" + second).report.blocks, 2);
+  for (const std::string between : {"M8", "G4 P0.5", "S1000", "M3 S1000", "M0", "M1", "T2 M6",
+                                    "(MSG, look)", "F300", "G0 X101.05 Y100"}) {
+    const Posted posted = post_text(machine, first + between + "\n" + second);
+    // The move to the start, a block either side; a rapid is a block of its own.
+    EXPECT_EQ(posted.report.blocks, between.rfind("G0", 0) == 0 ? 4 : 3) << between;
+  }
+  // G61 (exact path): every move after it keeps its vertices, 10 blocks for 10 moves.
+  EXPECT_EQ(post_text(machine, first + "G61\n" + second).report.blocks, 12);
+  // Where post writes the command, it stands between the two blocks.
+  const Posted coolant = post_text(machine, first + "M8\n" + second);
+  const auto m8 = std::find(coolant.lines.begin(), coolant.lines.end(), "M8");
+  ASSERT_NE(m8, coolant.lines.end());
+  EXPECT_NE((m8 - 1)->find("G1 X"), std::string::npos) << *(m8 - 1);  // "G93 G1 X..." first
+  EXPECT_EQ((m8 + 1)->rfind("G1 X", 0), 0u) << *(m8 + 1);
+}
+
+TEST(PostSpanning, APenPlottersSpindleWordsDoNotEndARunButItsPenDoes) {
+  // A laser's raster (S on every move, as CAMotics writes) on a pen plotter, which leaves S
+  // out: the same blocks as without the S words. Lifting the pen between two moves ends the run.
+  const Machine machine = test::load_example("pen-plotter.toml");
+  std::string plain = "G21 G90 G0 X700 Y-700\nG1 Z-1 F600\n", with_s = plain, lifted = plain;
+  char text[80];
+  for (int k = 1; k <= 60; ++k) {
+    std::snprintf(text, sizeof text, "G1 X%.2f Y-700", 700.0 + 0.25 * k);
+    plain += std::string(text) + "\n";
+    with_s += std::string(text) + " S" + std::to_string(100 + k) + "\n";
+    lifted += std::string(text) + (k == 30 ? "\nG1 Z1\nG1 Z-1\n" : "\n");
+  }
+  const Posted without = post_text(machine, plain + "M2\n");
+  EXPECT_EQ(post_text(machine, with_s + "M2\n").lines, without.lines);
+  EXPECT_LT(without.report.blocks, 10);  // 60 moves of 0.25 mm
+  const Posted pen = post_text(machine, lifted + "M2\n");
+  const auto down = std::find(pen.lines.begin(), pen.lines.end(), machine.tool().down_command);
+  const auto up = std::find(down, pen.lines.end(), machine.tool().up_command);
+  ASSERT_NE(up, pen.lines.end());
+  // The block before the pen lifts ends at the 30th move's end, X707.5 (joints at its IK).
+  JointVector at_lift;
+  ASSERT_TRUE(
+      machine
+          .inverse(Pose::from_vector((Vector6d() << 707.5, -700.0, 0.0, 0.0, 0.0, 0.0).finished()),
+                   at_lift)
+          .ok());
+  std::string expected;
+  for (std::size_t i = 0; i < machine.joints().size(); ++i) {
+    expected +=
+        joint_word(machine.joints()[i], at_lift[static_cast<int>(i)], rules_of(Dialect::linuxcnc));
+  }
+  EXPECT_NE((up - 1)->find(expected), std::string::npos) << *(up - 1) << " against" << expected;
+}
+
+}  // namespace
+}  // namespace pkm::post
