@@ -75,7 +75,8 @@ inline std::string canon_text(const gcode::Canon& c) {
     case CanonKind::set_feed_rate:
       return format("SET_FEED_RATE(%.4f)", c.value);
     case CanonKind::set_feed_mode:
-      return format("SET_FEED_MODE(0, %d)", c.feed_mode == gcode::FeedMode::inverse_time ? 1 : 0);
+      return format("SET_FEED_MODE(0, %d)",
+                    c.feed_mode == gcode::FeedMode::units_per_revolution ? 1 : 0);
     case CanonKind::select_plane:
       return std::string("SELECT_PLANE(") + detail::plane_name(c.plane) + ")";
     case CanonKind::use_length_units:
@@ -127,6 +128,16 @@ inline std::string canon_text(const gcode::Canon& c) {
       return "PROGRAM_END()";
     case CanonKind::event:
       return "COMMENT(\"pkmkit: " + c.text + "\")";
+    case CanonKind::speed_feed_sync:
+      return format("START_SPEED_FEED_SYNC(%f,0)", c.value);
+    case CanonKind::speed_feed_sync_stop:
+      return "STOP_SPEED_FEED_SYNCH()";
+    case CanonKind::rigid_tap:
+      return format("RIGID_TAP(%.4f, %.4f, %.4f)", c.end[0], c.end[1], c.end[2]);
+    case CanonKind::feed_override:
+      return c.integer ? "ENABLE_FEED_OVERRIDE()" : "DISABLE_FEED_OVERRIDE()";
+    case CanonKind::speed_override:
+      return c.integer ? "ENABLE_SPEED_OVERRIDE(0)" : "DISABLE_SPEED_OVERRIDE(0)";
   }
   return "";
 }

@@ -158,12 +158,15 @@ TEST_P(NoAllocation, SampleFilesAllocateNothingPerSample) {
 // command line uses, emptied as it writes it out, allocates nothing.
 TEST(NoAllocationOfText, CanonLinesAllocateNothing) {
   std::vector<gcode::Canon> commands;
-  gcode::InterpreterOptions options;  // the tool table the programs' G41 and G43 need
+  // The tool table the programs' G41 and G43 need, and their subroutine files.
+  const std::filesystem::path programs = std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "gcode";
+  gcode::InterpreterOptions options;
   options.tool_table = gcode::read_tool_table(
       std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "conformance" / "conformance.tbl",
       gcode::LengthUnits::inch);
-  for (const auto& entry : std::filesystem::directory_iterator(
-           std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "gcode")) {
+  options.subroutine_path = {programs / "subroutines"};
+  for (const auto& entry : std::filesystem::directory_iterator(programs)) {
+    if (entry.path().extension() != ".ngc") continue;
     gcode::Interpreter interpreter(entry.path(), options);
     interpreter.run([&](const gcode::Canon& canon) { commands.push_back(canon); });
   }

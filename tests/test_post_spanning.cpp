@@ -28,8 +28,9 @@ std::vector<motion::Segment> moves_of(const Machine& machine, const std::filesys
   std::vector<motion::Segment> moves;
   gcode::Interpreter(job, motion::starting_at({}, home, Vector6d::Zero()))
       .run([&](const gcode::Canon& canon) {
-        const auto segment = builder.take(canon);
-        if (segment && segment->kind != motion::SegmentKind::dwell) moves.push_back(*segment);
+        for (const motion::Segment& segment : builder.take(canon)) {
+          if (segment.kind != motion::SegmentKind::dwell) moves.push_back(segment);
+        }
       });
   return moves;
 }

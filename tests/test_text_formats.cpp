@@ -141,12 +141,14 @@ TEST(FixedDecimal, IntegersAndPaddingAsPrintf) {
   }
 }
 
-// The conformance tests' tool table, which the test programs' G41 and G43 need.
+// The conformance tests' tool table, which the test programs' G41 and G43 need, and their
+// subroutine files.
 gcode::InterpreterOptions with_tool_table() {
   gcode::InterpreterOptions options;
   options.tool_table =
       gcode::read_tool_table(fs::path(PKM_SOURCE_DIR) / "tests" / "conformance" / "conformance.tbl",
                              gcode::LengthUnits::inch);
+  options.subroutine_path = {fs::path(PKM_SOURCE_DIR) / "tests" / "gcode" / "subroutines"};
   return options;
 }
 
