@@ -59,16 +59,9 @@ PKM_AVX2 void leg_lengths_avx2(const double* platform, const double* base, const
   using lanes::Lanes4;
   const std::size_t count = poses.size();
   for (std::size_t first = 0; first < count; first += lanes::kLanes) {
-    const std::size_t used = std::min<std::size_t>(lanes::kLanes, count - first);
-    Pose tail[lanes::kLanes];  // a last partial block, its last pose repeated
-    if (used < lanes::kLanes) {
-      for (std::size_t k = 0; k < lanes::kLanes; ++k)
-        tail[k] = poses[first + std::min(k, used - 1)];
-    }
     Lanes4 coordinates[kPoseSize];  // x y z a b c of the four poses
-    lanes::load_6_by_4(
-        used < lanes::kLanes ? tail[0].position_mm.data() : poses[first].position_mm.data(),
-        coordinates);
+    const std::size_t used =
+        lanes::load_block_6_by_4(poses[first].position_mm.data(), count - first, coordinates);
     const Lanes4 position[3] = {coordinates[0], coordinates[1], coordinates[2]};
     Lanes4 sines[3], cosines[3];
     for (int k = 0; k < 3; ++k) {

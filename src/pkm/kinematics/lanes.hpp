@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && defined(__GLIBC__)
 #define PKM_HAS_AVX2_LANES 1
@@ -61,6 +62,25 @@ PKM_AVX2 inline void load_6_by_4(const double* records, Lanes4 (&out)[6]) {
                                           _mm_loadu_pd(records + 22), 1);  // r1 r3 [4..5]
   out[4] = _mm256_unpacklo_pd(h01, h23);
   out[5] = _mm256_unpackhi_pd(h01, h23);
+}
+
+// The next block of records of six doubles, `available` of them left from `records` on, into
+// lanes as load_6_by_4 does; a last partial block repeats its last record in the spare lanes.
+// Returns how many lanes hold records of their own.
+PKM_AVX2 inline std::size_t load_block_6_by_4(const double* records, std::size_t available,
+                                              Lanes4 (&out)[6]) {
+  const std::size_t used = available < kLanes ? available : std::size_t{kLanes};
+  if (used == kLanes) {
+    load_6_by_4(records, out);
+    return used;
+  }
+  double tail[kLanes * 6];
+  for (std::size_t k = 0; k < kLanes; ++k) {
+    const double* record = records + 6 * (k < used ? k : used - 1);
+    for (int c = 0; c < 6; ++c) tail[6 * k + static_cast<std::size_t>(c)] = record[c];
+  }
+  load_6_by_4(tail, out);
+  return used;
 }
 
 // The transpose back: six values of each of four records, out[k][c] = in[c] lane k.
