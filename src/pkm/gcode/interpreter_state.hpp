@@ -397,7 +397,9 @@ struct Interpreter::State {
   // The speed of the spindle a move fed per revolution follows: 0 when it is stopped.
   double turning_rpm() const { return spindle_direction != 0 ? speed : 0.0; }
   void require_turning_spindle(int code) const;
-  // Spindle-synchronised motion: G33's straight move, G33.1's rigid tap (motion.cpp).
+  // Spindle-synchronised motion: G33's straight move, G33.1's rigid tap (motion.cpp), and the
+  // START_SPEED_FEED_SYNC that opens them and G76's passes.
+  void start_synchronisation(const Block& block, double pitch);
   void synchronised_move(const Block& block, const Position& end);
   void rigid_tap(const Block& block, const Position& end);
   // A straight feed at `pitch` units per revolution of the spindle (G33, G76's passes).

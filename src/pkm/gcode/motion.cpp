@@ -221,12 +221,16 @@ void Interpreter::State::synchronised_feed(const Block& block, const Position& e
   send_move(canon, &CutterCompensation::straight);
 }
 
-void Interpreter::State::synchronised_move(const Block& block, const Position& end) {
-  require_turning_spindle(330);
-  const double pitch = block.value('k');
+void Interpreter::State::start_synchronisation(const Block& block, double pitch) {
   Canon sync = make(CanonKind::speed_feed_sync, block);
   sync.value = pitch;
   emit(sync);
+}
+
+void Interpreter::State::synchronised_move(const Block& block, const Position& end) {
+  require_turning_spindle(330);
+  const double pitch = block.value('k');
+  start_synchronisation(block, pitch);
   synchronised_feed(block, end, pitch);
   emit(CanonKind::speed_feed_sync_stop, block);
 }
@@ -234,9 +238,7 @@ void Interpreter::State::synchronised_move(const Block& block, const Position& e
 void Interpreter::State::rigid_tap(const Block& block, const Position& end) {
   require_turning_spindle(331);
   const double pitch = block.value('k');
-  Canon sync = make(CanonKind::speed_feed_sync, block);
-  sync.value = pitch;
-  emit(sync);
+  start_synchronisation(block, pitch);
   // The tap goes along X Y Z and comes back: only those move. Other axis words are kept as
   // the program's position, as rs274 keeps them (the next move goes there).
   Canon tap = make(CanonKind::rigid_tap, block);

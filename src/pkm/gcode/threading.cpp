@@ -117,11 +117,6 @@ void Interpreter::State::threading_pass(const Block& block, const ThreadPasses& 
     p[kZ] = z;
     return p;
   };
-  const auto sync = [&](double pitch) {
-    Canon c = make(CanonKind::speed_feed_sync, block);
-    c.value = pitch;
-    emit(c);
-  };
   const auto feed_override = [&](bool enabled) {
     Canon c = make(CanonKind::feed_override, block);
     c.integer = enabled ? 1 : 0;
@@ -132,18 +127,18 @@ void Interpreter::State::threading_pass(const Block& block, const ThreadPasses& 
   straight(CanonKind::traverse, block, to(out_x, start_z));
   if (t.taper != 0.0 && t.taper_in) {
     feed_override(false);
-    sync(t.taper_pitch);
+    start_synchronisation(block, t.taper_pitch);
     synchronised_feed(block, to(crest_x, start_z), t.taper_pitch);
     synchronised_feed(block, to(t.x_at(depth), start_z - t.taper), t.taper_pitch);
-    sync(t.pitch);
+    start_synchronisation(block, t.pitch);
   } else {
     straight(CanonKind::traverse, block, to(t.x_at(depth), start_z));
     feed_override(false);
-    sync(t.pitch);
+    start_synchronisation(block, t.pitch);
   }
   if (t.taper != 0.0 && t.taper_out) {
     synchronised_feed(block, to(t.x_at(depth), end_z + t.taper), t.pitch);
-    sync(t.taper_pitch);
+    start_synchronisation(block, t.taper_pitch);
     synchronised_feed(block, to(crest_x, end_z), t.taper_pitch);
   } else {
     synchronised_feed(block, to(t.x_at(depth), end_z), t.pitch);
