@@ -93,51 +93,56 @@ PKM_AVX2 Status rail_readings_one_avx2(std::span<const GlideRail> rails, bool ro
   return status;
 }
 
-// The rails' readings of every pose, four at a time (statuses: invalid input, a rail's refusal, or
-// ok); pass-through joints and leg limits are the caller's. Uncontrolled coordinates read as 0.
+// The rails' readings of one block of four poses from `first` on (statuses: invalid input, a
+// rail's refusal, or ok); pass-through joints and leg limits are the caller's. Uncontrolled
+// coordinates read as 0.
+PKM_AVX2 void rail_readings_block(std::span<const GlideRail> rails, Dof dof,
+                                  const lanes::PoseChunk& chunk, std::size_t block,
+                                  std::span<const Pose> poses, std::size_t first,
+                                  std::span<JointVector> joints, std::span<Status> statuses,
+                                  int joint_count) {
+  using lanes::Lanes4;
+  const int rail_count = static_cast<int>(rails.size());
+  Lanes4 position[3];
+  for (int axis = 0; axis < 3; ++axis) {
+    position[axis] = dof.controls(axis) ? chunk.coordinates[block][axis] : lanes::zero();
+  }
+  Lanes4 rotation[9] = {};
+  if (dof.any_rotation()) lanes::rotation_abc(chunk.sines[block], chunk.cosines[block], rotation);
+  Lanes4 along[6], discriminant[6], reading[6];
+  int refused = 0;  // bit k: pose k has a rail without a reading
+  for (int i = 0; i < rail_count; ++i) {
+    const GlideRail& rail = rails[static_cast<std::size_t>(i)];
+    rail_solution(rail, dof.any_rotation() ? rotation : nullptr, position, along[i],
+                  discriminant[i]);
+    refused |= lanes::lanes_not_above(discriminant[i], singular_discriminant(rail));
+    reading[i] = along[i] + rail.branch * lanes::sqrt(discriminant[i]);
+  }
+  for (std::size_t k = 0; k < chunk.used[block]; ++k) {
+    const std::size_t p = first + k;
+    Status& status = statuses[p];
+    status = all_finite(poses[p]) ? Status::success() : Status::failure(StatusCode::invalid_input);
+    for (int i = 0; status.ok() && (refused >> k & 1) != 0 && i < rail_count; ++i) {
+      status = rail_status(rails[static_cast<std::size_t>(i)], i, discriminant[i][k]);
+    }
+    if (!status.ok()) continue;
+    joints[p].resize(joint_count);
+    for (int i = 0; i < rail_count; ++i) joints[p][i] = reading[i][k];
+  }
+}
+
+// rail_readings_block over every pose, a chunk of blocks at a time; a last partial block repeats
+// its last pose in the spare lanes.
 PKM_AVX2 void rail_readings_avx2(std::span<const GlideRail> rails, Dof dof,
                                  std::span<const Pose> poses, std::span<JointVector> joints,
                                  std::span<Status> statuses, int joint_count) {
-  using lanes::Lanes4;
-  const std::size_t count = poses.size();
-  const int rail_count = static_cast<int>(rails.size());
-  for (std::size_t first = 0; first < count; first += lanes::kLanes) {
-    Lanes4 coordinates[kPoseSize];  // x y z a b c of the four poses
-    const std::size_t used =
-        lanes::load_block_6_by_4(poses[first].position_mm.data(), count - first, coordinates);
-    Lanes4 position[3];
-    for (int axis = 0; axis < 3; ++axis) {
-      position[axis] = dof.controls(axis) ? coordinates[axis] : lanes::zero();
-    }
-    Lanes4 rotation[9] = {};
-    if (dof.any_rotation()) {
-      Lanes4 sines[3], cosines[3];
-      for (int k = 0; k < 3; ++k) {
-        sines[k] = lanes::sin(coordinates[3 + k]);
-        cosines[k] = lanes::cos(coordinates[3 + k]);
-      }
-      lanes::rotation_abc(sines, cosines, rotation);
-    }
-    Lanes4 along[6], discriminant[6], reading[6];
-    int refused = 0;  // bit k: pose k has a rail without a reading
-    for (int i = 0; i < rail_count; ++i) {
-      const GlideRail& rail = rails[static_cast<std::size_t>(i)];
-      rail_solution(rail, dof.any_rotation() ? rotation : nullptr, position, along[i],
-                    discriminant[i]);
-      refused |= lanes::lanes_not_above(discriminant[i], singular_discriminant(rail));
-      reading[i] = along[i] + rail.branch * lanes::sqrt(discriminant[i]);
-    }
-    for (std::size_t k = 0; k < used; ++k) {
-      const std::size_t p = first + k;
-      Status& status = statuses[p];
-      status =
-          all_finite(poses[p]) ? Status::success() : Status::failure(StatusCode::invalid_input);
-      for (int i = 0; status.ok() && (refused >> k & 1) != 0 && i < rail_count; ++i) {
-        status = rail_status(rails[static_cast<std::size_t>(i)], i, discriminant[i][k]);
-      }
-      if (!status.ok()) continue;
-      joints[p].resize(joint_count);
-      for (int i = 0; i < rail_count; ++i) joints[p][i] = reading[i][k];
+  lanes::PoseChunk chunk;
+  for (std::size_t first = 0; first < poses.size();) {
+    lanes::load_pose_chunk(poses[first].position_mm.data(), poses.size() - first,
+                           dof.any_rotation(), chunk);
+    for (std::size_t block = 0; block < chunk.blocks; ++block) {
+      rail_readings_block(rails, dof, chunk, block, poses, first, joints, statuses, joint_count);
+      first += chunk.used[block];
     }
   }
 }

@@ -26,14 +26,12 @@ template <class T>
   T r[9];
   lanes::rotation_abc(sines, cosines, r);
   for (int leg = 0; leg < 6; ++leg) {
-    const double* p = platform + 3 * leg;
+    const double* joint = platform + 3 * leg;
     const double* b = base + 3 * leg;
-    T turned[3];
-    lanes::rotate(r, p, turned);
-    const T x = turned[0] + (position[0] - b[0]);
-    const T y = turned[1] + (position[1] - b[1]);
-    const T z = turned[2] + (position[2] - b[2]);
-    squared[leg] = x * x + y * y + z * z;
+    T strut[3];  // tool side less base side
+    for (int k = 0; k < 3; ++k)
+      lanes::row_times_add(r + 3 * k, joint, position[k] - b[k], strut[k]);
+    lanes::squared_norm(strut, squared[leg]);
   }
 }
 
@@ -51,43 +49,54 @@ PKM_AVX2 void leg_lengths_one_avx2(const double* platform, const double* base,
   for (int leg = 0; leg < 6; ++leg) lengths[leg] += offsets[leg];
 }
 
+// The leg lengths of one block of four poses from `first` on (`used` of them its own), with
+// their statuses.
+PKM_AVX2 void leg_lengths_block(const double* platform, const double* base, const double* offsets,
+                                const lanes::PoseChunk& chunk, std::size_t block,
+                                std::span<const Pose> poses, std::size_t first,
+                                std::span<JointVector> joints, std::span<Status> statuses) {
+  using lanes::Lanes4;
+  const std::size_t used = chunk.used[block];
+  const Lanes4 position[3] = {chunk.coordinates[block][0], chunk.coordinates[block][1],
+                              chunk.coordinates[block][2]};
+  Lanes4 lengths[6];
+  squared_leg_lengths(platform, base, position, chunk.sines[block], chunk.cosines[block], lengths);
+  int finite = 0b1111;  // bit k: pose k's legs are finite, so the pose is
+  for (int leg = 0; leg < 6; ++leg) {
+    lengths[leg] = lanes::sqrt(lengths[leg]) + offsets[leg];
+    finite &= lanes::lanes_finite(lengths[leg]);
+  }
+  // A non-finite coordinate makes a leg non-finite; a finite pose far enough away can too.
+  const bool all_valid = used == lanes::kLanes && finite == 0b1111;
+  for (std::size_t k = 0; k < used; ++k) {
+    const std::size_t i = first + k;
+    statuses[i] = all_valid || all_finite(poses[i]) ? Status::success()
+                                                    : Status::failure(StatusCode::invalid_input);
+    joints[i].resize(6);
+  }
+  if (all_valid) {
+    double* const rows[lanes::kLanes] = {joints[first].data(), joints[first + 1].data(),
+                                         joints[first + 2].data(), joints[first + 3].data()};
+    lanes::store_6_by_4(lengths, rows);
+    return;
+  }
+  for (std::size_t k = 0; k < used; ++k) {
+    if (!statuses[first + k].ok()) continue;
+    for (int leg = 0; leg < 6; ++leg) joints[first + k][leg] = lengths[leg][k];
+  }
+}
+
 // inverse_without_leg_limits of every pose, four at a time; a last partial block repeats its last
 // pose in the spare lanes.
 PKM_AVX2 void leg_lengths_avx2(const double* platform, const double* base, const double* offsets,
                                std::span<const Pose> poses, std::span<JointVector> joints,
                                std::span<Status> statuses) {
-  using lanes::Lanes4;
-  const std::size_t count = poses.size();
-  for (std::size_t first = 0; first < count; first += lanes::kLanes) {
-    Lanes4 coordinates[kPoseSize];  // x y z a b c of the four poses
-    const std::size_t used =
-        lanes::load_block_6_by_4(poses[first].position_mm.data(), count - first, coordinates);
-    const Lanes4 position[3] = {coordinates[0], coordinates[1], coordinates[2]};
-    Lanes4 sines[3], cosines[3];
-    for (int k = 0; k < 3; ++k) {
-      sines[k] = lanes::sin(coordinates[3 + k]);
-      cosines[k] = lanes::cos(coordinates[3 + k]);
-    }
-    Lanes4 lengths[6];
-    squared_leg_lengths(platform, base, position, sines, cosines, lengths);
-    for (int leg = 0; leg < 6; ++leg) lengths[leg] = lanes::sqrt(lengths[leg]) + offsets[leg];
-    bool all_valid = used == lanes::kLanes;
-    for (std::size_t k = 0; k < used; ++k) {
-      const std::size_t i = first + k;
-      const bool finite = all_finite(poses[i]);
-      all_valid = all_valid && finite;
-      statuses[i] = finite ? Status::success() : Status::failure(StatusCode::invalid_input);
-      joints[i].resize(6);
-    }
-    if (all_valid) {
-      double* const rows[lanes::kLanes] = {joints[first].data(), joints[first + 1].data(),
-                                           joints[first + 2].data(), joints[first + 3].data()};
-      lanes::store_6_by_4(lengths, rows);
-      continue;
-    }
-    for (std::size_t k = 0; k < used; ++k) {
-      if (!statuses[first + k].ok()) continue;
-      for (int leg = 0; leg < 6; ++leg) joints[first + k][leg] = lengths[leg][k];
+  lanes::PoseChunk chunk;
+  for (std::size_t first = 0; first < poses.size();) {
+    lanes::load_pose_chunk(poses[first].position_mm.data(), poses.size() - first, true, chunk);
+    for (std::size_t block = 0; block < chunk.blocks; ++block) {
+      leg_lengths_block(platform, base, offsets, chunk, block, poses, first, joints, statuses);
+      first += chunk.used[block];
     }
   }
 }
