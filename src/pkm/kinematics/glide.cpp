@@ -73,24 +73,55 @@ Status rail_status(const GlideRail& rail, int i, double discriminant) {
 }
 
 #if PKM_HAS_AVX2_LANES
-// One pose's rail readings: the scalar arithmetic, with the sines and cosines in vector
-// registers.
-PKM_AVX2 Status rail_readings_one_avx2(std::span<const GlideRail> rails, bool rotates,
-                                       const Pose& part, double* readings) {
+// One pose's rail readings, four rails at a time in vector lanes: rail_solution's arithmetic,
+// operation for operation (no fused multiply-add), so bit for bit the scalar path's readings;
+// the first rail without a reading refuses, as rails_before_roots does.
+PKM_AVX2 Status rail_readings_one_avx2(const GlideKinematics::RailsSideBySide& side,
+                                       std::span<const GlideRail> rails, bool rotates,
+                                       const Pose& part, JointVector& joints) {
+  static_assert(kMaxJoints >= 8, "two blocks of four rails' readings fit in a JointVector");
+  using lanes::Lanes4;
   double rotation[9] = {};
   if (rotates) {
     double sines[3], cosines[3];
     lanes::sin_cos_3_avx2(part.orientation_rad.data(), sines, cosines);
     lanes::rotation_abc(sines, cosines, rotation);
   }
-  double along[6] = {}, discriminant[6] = {};
-  const Status status =
-      rails_before_roots(rails, rotates ? rotation : nullptr, part, along, discriminant);
-  if (!status.ok()) return status;
-  for (std::size_t i = 0; i < rails.size(); ++i) {
-    readings[i] = along[i] + rails[i].branch * std::sqrt(discriminant[i]);
+  const int rail_count = static_cast<int>(rails.size());
+  alignas(32) double discriminant[GlideKinematics::RailsSideBySide::kSlots];
+  int refused = 0;  // bit i: rail i has no reading
+  for (int first = 0; first < rail_count; first += lanes::kLanes) {
+    Lanes4 foot[3];
+    for (int k = 0; k < 3; ++k) {
+      Lanes4 turned = _mm256_load_pd(side.attach_mm[k] + first);
+      if (rotates) {
+        turned = rotation[3 * k] * _mm256_load_pd(side.attach_mm[0] + first) +
+                 rotation[3 * k + 1] * _mm256_load_pd(side.attach_mm[1] + first) +
+                 rotation[3 * k + 2] * _mm256_load_pd(side.attach_mm[2] + first);
+      }
+      foot[k] = part.position_mm[k] + turned - _mm256_load_pd(side.origin_mm[k] + first);
+    }
+    const Lanes4 direction[3] = {_mm256_load_pd(side.direction[0] + first),
+                                 _mm256_load_pd(side.direction[1] + first),
+                                 _mm256_load_pd(side.direction[2] + first)};
+    const Lanes4 along = direction[0] * foot[0] + direction[1] * foot[1] + direction[2] * foot[2];
+    Lanes4 across[3];
+    for (int k = 0; k < 3; ++k) across[k] = foot[k] - along * direction[k];
+    const Lanes4 disc = _mm256_load_pd(side.strut_squared_mm2 + first) -
+                        (across[0] * across[0] + across[1] * across[1] + across[2] * across[2]);
+    _mm256_store_pd(discriminant + first, disc);
+    refused |= lanes::lanes_not_above(disc, _mm256_load_pd(side.singular_mm2 + first)) << first;
+    // Spare lanes land in the joints' spare capacity, where pass-through joints go next.
+    _mm256_storeu_pd(joints.data() + first,
+                     along + _mm256_load_pd(side.branch + first) * lanes::sqrt(disc));
   }
-  return status;
+  refused &= (1 << rail_count) - 1;
+  for (int i = 0; refused != 0 && i < rail_count; ++i) {
+    if ((refused >> i & 1) != 0) {
+      return rail_status(rails[static_cast<std::size_t>(i)], i, discriminant[i]);
+    }
+  }
+  return Status::success();
 }
 
 // The rails' readings of one block of four poses from `first` on (statuses: invalid input, a
@@ -154,6 +185,7 @@ GlideKinematics::GlideKinematics(std::vector<GlideRail> rails, Dof dof, PassThro
     : rails_(std::move(rails)), dof_(dof), passthrough_(std::move(passthrough)) {
   leg_limits_ = LegLimits(leg_limits, static_cast<int>(rails_.size()));
   validate(rails_, dof_);
+  update_side_by_side();
   if (passthrough_.count() > 0 && dof_.any_rotation()) {
     throw std::invalid_argument("only a translating glide carries pass-through joints");
   }
@@ -249,7 +281,7 @@ Status GlideKinematics::inverse_without_leg_limits(const Pose& pose, JointVector
   Status status;
 #if PKM_HAS_AVX2_LANES
   if (lanes::avx2_enabled()) {
-    status = rail_readings_one_avx2(rails_, dof_.any_rotation(), part, joints.data());
+    status = rail_readings_one_avx2(side_by_side_, rails_, dof_.any_rotation(), part, joints);
   } else
 #endif
   {
@@ -504,6 +536,21 @@ void GlideKinematics::set_parameters(std::span<const double> values) {
   }
   validate(rails, dof_);
   rails_ = std::move(rails);
+  update_side_by_side();
+}
+
+void GlideKinematics::update_side_by_side() {
+  for (int slot = 0; slot < RailsSideBySide::kSlots; ++slot) {
+    const GlideRail& rail = rails_[std::min(static_cast<std::size_t>(slot), rails_.size() - 1)];
+    for (int k = 0; k < 3; ++k) {
+      side_by_side_.origin_mm[k][slot] = rail.origin_mm[k];
+      side_by_side_.direction[k][slot] = rail.direction[k];
+      side_by_side_.attach_mm[k][slot] = rail.attach_mm[k];
+    }
+    side_by_side_.strut_squared_mm2[slot] = rail.strut_mm * rail.strut_mm;
+    side_by_side_.branch[slot] = rail.branch;
+    side_by_side_.singular_mm2[slot] = singular_discriminant(rail);
+  }
 }
 
 std::unique_ptr<Kinematics> make_glide_kinematics(const ModelConfig& config) {

@@ -91,6 +91,23 @@ class GlideKinematics final : public Kinematics {
   std::vector<GlideRail> rails_;
   Dof dof_;
   PassThroughAxes passthrough_;
+
+ public:
+  // The rails' constants side by side, rail i in slot i and the spare slots copies of the last
+  // rail: one pose's readings, rails in vector lanes, read them. Rebuilt with rails_.
+  struct RailsSideBySide {
+    static constexpr int kSlots = 8;
+    alignas(32) double origin_mm[3][kSlots];
+    alignas(32) double direction[3][kSlots];
+    alignas(32) double attach_mm[3][kSlots];
+    alignas(32) double strut_squared_mm2[kSlots];
+    alignas(32) double branch[kSlots];
+    alignas(32) double singular_mm2[kSlots];  // the discriminant at or below which it is refused
+  };
+
+ private:
+  void update_side_by_side();
+  RailsSideBySide side_by_side_{};
 };
 
 std::unique_ptr<Kinematics> make_glide_kinematics(const ModelConfig& config);

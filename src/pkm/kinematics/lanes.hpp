@@ -138,6 +138,10 @@ PKM_AVX2 inline void store_6_by_4(const Lanes4 (&in)[6], double* const (&out)[4]
 PKM_AVX2 inline int lanes_not_above(Lanes4 x, double limit) {
   return _mm256_movemask_pd(_mm256_cmp_pd(x, _mm256_set1_pd(limit), _CMP_NGT_UQ));
 }
+// Bit k set where lane k is not above lane k of `limit`: at or below it, or NaN.
+PKM_AVX2 inline int lanes_not_above(Lanes4 x, Lanes4 limit) {
+  return _mm256_movemask_pd(_mm256_cmp_pd(x, limit, _CMP_NGT_UQ));
+}
 // Bit k set where lane k is finite (x - x is 0 there, NaN for an infinity or a NaN).
 PKM_AVX2 inline int lanes_finite(Lanes4 x) {
   return _mm256_movemask_pd(_mm256_cmp_pd(x - x, _mm256_setzero_pd(), _CMP_EQ_OQ));
