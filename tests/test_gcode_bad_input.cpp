@@ -151,6 +151,13 @@ const BadCase kBadInputs[] = {
     {"l_without_user", "G1 X1 F1 L1\nM2\n", 1, 10, "L word with no G10"},
     {"p_without_user", "M3 S100 P5\nM2\n", 1, 9, "P word with no G2, G3, G4"},
     {"p_with_g81", "G21 G0 Z5\nG81 X0 Y0 Z-1 R1 F100 P1\nM2\n", 2, 23, "P word with no"},
+    // A motion code that needs an end point or a hole, without axis words (rs274: "All axes
+    // missing with motion code"). Found by the joint-program fuzz target: the next line's L and
+    // polar word then made 99,990 holes of the G85 that had none.
+    {"cycle_without_axes", "T1G85 ;G10 @11.\nL99990 F6120 ^4\n", 1, 3,
+     "all axes missing with G85: give the hole's position"},
+    {"probe_without_axes", "G38.2 F10\nM2\n", 1, 1,
+     "all axes missing with G38.2: give the end point"},
     // Bytes the reader cannot take.
     {"nul_byte", std::string("G0 X1\0Y2\nM2\n", 12), 1, 6, "NUL byte in the line"},
     {"nul_byte_in_comment", std::string("G0 X1 (a\0b)\nM2\n", 15), 1, 9, "NUL byte in the line"},

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "pkm/gcode/gcode_error.hpp"
 #include "pkm/gcode/tool_table.hpp"
 #include "pkm/motion/segment_builder.hpp"
 #include "pkm/post/joint_program.hpp"
@@ -505,6 +506,30 @@ TEST(Verify, AnEmptyProgramFailsAtTheJobsFirstMove) {
   EXPECT_FALSE(report.covered);
   EXPECT_EQ(report.coverage_stopped_job_line, 1);
   EXPECT_EQ(report.traced_mm, 0.0);
+  fs::remove(job);
+  fs::remove(joints);
+}
+
+// A joint program's repeat counts ask for work as a job's do: the job's loop bounds hold for it.
+TEST(Verify, HoldsTheJointProgramToTheJobsLoopBounds) {
+  const Machine plotter = test::load_example("wall-plotter.toml");
+  const fs::path job = write_file("square-bounds.ngc", kSquare);
+  const fs::path joints =
+      write_file("repeat-joints.ngc", "G21 G90\no1 repeat [50]\nG4 P0\no1 endrepeat\nM2\n");
+  VerifyOptions options;
+  options.origin = kSheet;
+  options.job_options.max_loop_iterations = 10;
+  try {
+    (void)verify_joint_program(plotter, joints, job, options);
+    ADD_FAILURE() << "50 repeats passed a bound of 10";
+  } catch (const gcode::GcodeError& error) {
+    EXPECT_EQ(error.line(), 2);
+    EXPECT_NE(std::string(error.what()).find("more than the 10 iterations one loop may make"),
+              std::string::npos)
+        << error.what();
+  }
+  options.job_options.max_loop_iterations = 50;
+  EXPECT_FALSE(verify_joint_program(plotter, joints, job, options).covered);
   fs::remove(job);
   fs::remove(joints);
 }

@@ -25,6 +25,7 @@ void Interpreter::State::execute_block(const Block& block) {
   if (block.empty) return;
   group_codes(block);
   if (m_by_group[4] && m_by_group[4]->tenths == 980) return call_fanuc_program_alone(block);
+  refuse_motion_without_axes(block);
   refuse_unused_words(block);
   check_synchronised_words(block);
   const Code* const non_modal = g_by_group[0];

@@ -325,6 +325,9 @@ struct Interpreter::State {
     if (feed_mode == FeedMode::inverse_time ? !block.has('f') : !(feed > 0.0)) missing_feed(column);
     if (feed_mode == FeedMode::units_per_revolution && !(speed > 0.0)) missing_feed(column);
   }
+  // A motion code other than G0-G3 and G80 with neither axis nor polar words: rs274's "All axes
+  // missing with motion code".
+  void refuse_motion_without_axes(const Block& block) const;
   // G33, G33.1 and G76 take their words (K, I J K P ...) and need axis words and a turning
   // spindle; these are refused before the block runs, as rs274 refuses them.
   void check_synchronised_words(const Block& block) const;

@@ -165,14 +165,23 @@ int Interpreter::State::block_motion(const Block& block) const {
   return has_axis && !axes_taken ? motion : -1;
 }
 
+void Interpreter::State::refuse_motion_without_axes(const Block& block) const {
+  const Code* const code = g_by_group[1];
+  if (code == nullptr || (block.letters & (kAxisSlots | kPolarSlots)) != 0) return;
+  // rs274 lets G0 to G3 go without axis words (no motion, or an arc's own error), and G80 needs
+  // none; every other motion code of the block needs an end point or a hole.
+  const int m = code->tenths;
+  if (m == 0 || m == 10 || m == 20 || m == 30 || m == 800) return;
+  const bool cycle = m == 730 || m == 740 || (m >= 810 && m <= 890);
+  fail(code->column, "all axes missing with " + code_name('G', m) +
+                         (cycle ? ": give the hole's position" : ": give the end point"));
+}
+
 void Interpreter::State::check_synchronised_words(const Block& block) const {
   const int m = block_motion(block);
   if (m != 330 && m != 331 && m != 760) return;
   const int column = g_by_group[1] ? g_by_group[1]->column : 1;
   const std::string name = code_name('G', m);
-  if ((block.letters & (kAxisSlots | kPolarSlots)) == 0) {
-    fail(column, "all axes missing with " + name + ": give the end point");
-  }
   if (m == 760) {
     if (!block.has('p')) fail(column, "P word (the thread's pitch) missing with G76");
     if (!(block.value('p') > 0.0)) {

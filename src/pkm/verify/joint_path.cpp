@@ -52,9 +52,12 @@ class Verifier {
     report_.tolerance_mm = options.tolerance_mm;
   }
 
-  // The joint program starts where the machine is: at home.
+  // The joint program starts where the machine is: at home. The job's loop bounds hold for it
+  // too: a joint program's repeat count can ask for as much work as the job's.
   gcode::InterpreterOptions joint_program_options() const {
     gcode::InterpreterOptions options;
+    options.max_loop_iterations = options_.job_options.max_loop_iterations;
+    options.max_program_iterations = options_.job_options.max_program_iterations;
     for (std::size_t i = 0; i < letter_index_.size(); ++i) {
       options.start_position[letter_index_[i]] =
           machine_.joints()[i].to_interface(previous_[int(i)]);

@@ -28,9 +28,10 @@ struct VerifiedBlock {
 };
 
 struct VerifyOptions {
-  double tolerance_mm = 0.01;             // largest deviation accepted, mm (post's default; > 0)
-  Vector6d origin = Vector6d::Zero();     // where the job's X0 Y0 Z0 sits (mm, rad)
-  gcode::InterpreterOptions job_options;  // the job's tool table and block delete
+  double tolerance_mm = 0.01;          // largest deviation accepted, mm (post's default; > 0)
+  Vector6d origin = Vector6d::Zero();  // where the job's X0 Y0 Z0 sits (mm, rad)
+  // The job's tool table and block delete; its loop bounds hold for the joint program too.
+  gcode::InterpreterOptions job_options;
   // Called with the joint program's line being verified, once per change of line: for progress.
   std::function<void(int line)> on_line;
   // Called after each block is measured (optional): what pkm's HTML views draw.
