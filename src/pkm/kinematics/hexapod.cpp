@@ -29,8 +29,10 @@ template <class T>
     const double* joint = platform + 3 * leg;
     const double* b = base + 3 * leg;
     T strut[3];  // tool side less base side
-    for (int k = 0; k < 3; ++k)
-      lanes::row_times_add(r + 3 * k, joint, position[k] - b[k], strut[k]);
+    for (int k = 0; k < 3; ++k) {
+      const T from_base = position[k] - b[k];
+      lanes::row_times_add(r + 3 * k, joint, from_base, strut[k]);
+    }
     lanes::squared_norm(strut, squared[leg]);
   }
 }

@@ -215,7 +215,8 @@ template <class T>
   out = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
 }
 #if PKM_HAS_AVX2_LANES
-PKM_AVX2 inline void row_times_add(const Lanes4* row, const double* v, Lanes4 offset, Lanes4& out) {
+PKM_AVX2 inline void row_times_add(const Lanes4* row, const double* v, const Lanes4& offset,
+                                   Lanes4& out) {
   out = _mm256_fmadd_pd(row[0], _mm256_set1_pd(v[0]), offset);
   out = _mm256_fmadd_pd(row[1], _mm256_set1_pd(v[1]), out);
   out = _mm256_fmadd_pd(row[2], _mm256_set1_pd(v[2]), out);
