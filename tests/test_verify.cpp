@@ -14,6 +14,7 @@
 #include "pkm/gcode/tool_table.hpp"
 #include "pkm/motion/segment_builder.hpp"
 #include "pkm/post/joint_program.hpp"
+#include "pkm/verify/block_deviation.hpp"
 #include "pkm/verify/job_path.hpp"
 #include "pkm/verify/joint_path.hpp"
 #include "test_support.hpp"
@@ -508,6 +509,40 @@ TEST(Verify, AnEmptyProgramFailsAtTheJobsFirstMove) {
   EXPECT_EQ(report.traced_mm, 0.0);
   fs::remove(job);
   fs::remove(joints);
+}
+
+// A block a hundred tolerances or more off the job fails whatever its exact peak: it is held to
+// the estimates of the intervals it leaves unrefined (a bound, above every sample), without the
+// halvings that would otherwise chase the peak of a corrupted program's metres-long moves.
+TEST(Verify, HoldsABlockFarOffTheJobToABoundWithoutRefiningIt) {
+  const Machine plotter = test::load_example("wall-plotter.toml");
+  JobPiece line;  // the job: a 600 mm line across the sheet
+  const Eigen::Vector3d left = kSheet.head<3>() - Eigen::Vector3d(300.0, 0.0, 0.0);
+  line.segment.start.head<3>() = left;
+  line.segment.end.head<3>() = left + Eigen::Vector3d(600.0, 0.0, 0.0);
+  line.segment.line = 7;
+  line.mask = position_mask(plotter);
+  line.length_mm = 600.0;
+  const std::vector<PieceRange> stretch = {{&line, 0.0, 1.0}};
+  // One joint-linear block from end to end: the cables' lengths change linearly, the pen bows off
+  // the line in the middle, its peak between the grid's samples.
+  Pose start = Pose::from_mm_deg(left.x(), left.y(), 0.0);
+  Pose end = Pose::from_mm_deg(left.x() + 600.0, left.y(), 0.0);
+  JointVector q0, q1;
+  ASSERT_TRUE(plotter.inverse(start, q0).ok());
+  ASSERT_TRUE(plotter.inverse(end, q1).ok());
+  BlockDeviation coarse, refined;
+  BlockMeasure measure(plotter);
+  ASSERT_TRUE(measure.sample_grid(q0, q1, start));
+  ASSERT_TRUE(measure.measure(stretch, 0.01, coarse));  // thousands of tolerances off
+  ASSERT_TRUE(measure.sample_grid(q0, q1, start));
+  ASSERT_TRUE(measure.measure(stretch, 1000.0, refined));  // within: refined to its peak
+  EXPECT_EQ(coarse.halvings, 0);
+  EXPECT_GT(refined.halvings, 0);
+  EXPECT_GT(refined.max_mm, 10.0) << "the bow is the test's premise";
+  EXPECT_GE(coarse.max_mm, refined.max_mm);
+  EXPECT_LT(coarse.max_mm, 1.5 * refined.max_mm);  // an estimate, not a wild one
+  EXPECT_EQ(coarse.job_line, 7);
 }
 
 // A joint program's repeat counts ask for work as a job's do: the job's loop bounds hold for it.

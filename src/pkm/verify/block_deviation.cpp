@@ -9,6 +9,13 @@ namespace {
 constexpr double kRelativeMargin = 0.004;   // refine until no interval may hide 0.4 % more
 constexpr double kAbsoluteMarginMm = 1e-7;  // ... or 1e-7 mm, far below any displayed digit
 constexpr int kMaxDepth = 24;               // halvings of a grid interval
+// Intervals halved per block at most: the real jobs' posted blocks needed up to 389; a block
+// metres long and far from the job (a corrupted program) would otherwise take millions of forward
+// kinematics.
+constexpr int kMaxHalvings = 2048;
+// A block this many times beyond the tolerance fails whatever its exact peak: it is held to the
+// estimates of its unrefined intervals from there on.
+constexpr double kBeyondTolerance = 100.0;
 }  // namespace
 
 BlockMeasure::BlockMeasure(const Machine& machine)
@@ -80,7 +87,8 @@ double BlockMeasure::upper_estimate(const Interval& interval) const {
   return along_chord + off_chord;
 }
 
-bool BlockMeasure::measure(const std::vector<PieceRange>& stretch, BlockDeviation& result) {
+bool BlockMeasure::measure(const std::vector<PieceRange>& stretch, double tolerance_mm,
+                           BlockDeviation& result) {
   stretch_ = &stretch;
   result = {};
   double largest = 0.0;
@@ -96,13 +104,24 @@ bool BlockMeasure::measure(const std::vector<PieceRange>& stretch, BlockDeviatio
   for (std::size_t k = 0; k + 2 <= static_cast<std::size_t>(kGrid); k += 2) {
     pending_.push_back({k, k + 1, k + 2, 0});
   }
+  int halvings = 0;
+  double unresolved_mm = 0.0;  // the largest estimate of an interval left unrefined
+  std::size_t unresolved_at = 0;
   while (!pending_.empty()) {
     const Interval interval = pending_.back();
     pending_.pop_back();
-    if (interval.depth >= kMaxDepth ||
-        upper_estimate(interval) <= largest * (1.0 + kRelativeMargin) + kAbsoluteMarginMm) {
+    const double estimate = upper_estimate(interval);
+    if (estimate <= largest * (1.0 + kRelativeMargin) + kAbsoluteMarginMm) continue;
+    if (interval.depth >= kMaxDepth || halvings == kMaxHalvings ||
+        largest > kBeyondTolerance * tolerance_mm) {
+      // Not refined further: the block is held to the estimate there, not to its samples.
+      if (estimate > unresolved_mm) {
+        unresolved_mm = estimate;
+        unresolved_at = interval.middle;
+      }
       continue;
     }
+    ++halvings;
     const Sample &a = samples_[interval.a], &m = samples_[interval.middle];
     const double left = 0.5 * (a.lambda + m.lambda);
     const double right = 0.5 * (m.lambda + samples_[interval.b].lambda);
@@ -120,6 +139,12 @@ bool BlockMeasure::measure(const std::vector<PieceRange>& stretch, BlockDeviatio
       result.max_mm = sample.distance_mm;
       result.job_line = stretch[static_cast<std::size_t>(sample.nearest_range)].piece->line();
     }
+  }
+  result.halvings = halvings;
+  if (unresolved_mm > result.max_mm) {
+    result.max_mm = unresolved_mm;
+    const Sample& middle = samples_[unresolved_at];
+    result.job_line = stretch[static_cast<std::size_t>(middle.nearest_range)].piece->line();
   }
   return true;
 }

@@ -15,6 +15,7 @@ struct BlockDeviation {
   int job_line = 0;                 // the move of the stretch nearest where the block peaks
   double sum_of_squares_mm2 = 0.0;  // over the uniform grid of the block, for the RMS
   int grid_points = 0;
+  int halvings = 0;  // intervals halved beyond the grid to find the peak: the work it took
 };
 
 class BlockMeasure {
@@ -29,8 +30,9 @@ class BlockMeasure {
   const Pose& end_pose() const { return samples_[kGrid].pose; }
 
   // The largest distance of the block from `stretch`, refined where the samples leave room for a
-  // larger one. False where forward kinematics fails.
-  bool measure(const std::vector<PieceRange>& stretch, BlockDeviation& result);
+  // larger one; where refinement stops short (a budget per block, or a block already a hundred
+  // tolerances off), the upper estimate of what is left. False where forward kinematics fails.
+  bool measure(const std::vector<PieceRange>& stretch, double tolerance_mm, BlockDeviation& result);
 
  private:
   static constexpr int kGrid = 16;  // intervals of the uniform grid

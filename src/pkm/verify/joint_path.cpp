@@ -187,7 +187,7 @@ class Verifier {
         0.25 * options_.tolerance_mm);
     cursor_.stretch_to(end, stretch_);
     BlockDeviation deviation;
-    if (!measure_.measure(stretch_, deviation)) {
+    if (!measure_.measure(stretch_, options_.tolerance_mm, deviation)) {
       fail(canon.line, "no tool pose for these joints (forward kinematics fails along the block)");
     }
     record(canon.line, deviation);
