@@ -1,6 +1,7 @@
 #include "pkm/kinematics/glide.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -93,12 +94,11 @@ PKM_AVX2 Status rail_readings_one_avx2(const GlideKinematics::RailsSideBySide& s
   for (int first = 0; first < rail_count; first += lanes::kLanes) {
     Lanes4 foot[3];
     for (int k = 0; k < 3; ++k) {
-      Lanes4 turned = _mm256_load_pd(side.attach_mm[k] + first);
-      if (rotates) {
-        turned = rotation[3 * k] * _mm256_load_pd(side.attach_mm[0] + first) +
-                 rotation[3 * k + 1] * _mm256_load_pd(side.attach_mm[1] + first) +
-                 rotation[3 * k + 2] * _mm256_load_pd(side.attach_mm[2] + first);
-      }
+      const Lanes4 turned =
+          rotates ? rotation[3 * k] * _mm256_load_pd(side.attach_mm[0] + first) +
+                        rotation[3 * k + 1] * _mm256_load_pd(side.attach_mm[1] + first) +
+                        rotation[3 * k + 2] * _mm256_load_pd(side.attach_mm[2] + first)
+                  : _mm256_load_pd(side.attach_mm[k] + first);
       foot[k] = part.position_mm[k] + turned - _mm256_load_pd(side.origin_mm[k] + first);
     }
     const Lanes4 direction[3] = {_mm256_load_pd(side.direction[0] + first),
@@ -116,12 +116,9 @@ PKM_AVX2 Status rail_readings_one_avx2(const GlideKinematics::RailsSideBySide& s
                      along + _mm256_load_pd(side.branch + first) * lanes::sqrt(disc));
   }
   refused &= (1 << rail_count) - 1;
-  for (int i = 0; refused != 0 && i < rail_count; ++i) {
-    if ((refused >> i & 1) != 0) {
-      return rail_status(rails[static_cast<std::size_t>(i)], i, discriminant[i]);
-    }
-  }
-  return Status::success();
+  if (refused == 0) return Status::success();
+  const int i = std::countr_zero(static_cast<unsigned>(refused));  // the first refusing rail
+  return rail_status(rails[static_cast<std::size_t>(i)], i, discriminant[i]);
 }
 
 // The rails' readings of one block of four poses from `first` on (statuses: invalid input, a
