@@ -5,6 +5,7 @@
 #include <random>
 
 #include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/formula.hpp"
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/matrix.hpp"
@@ -145,6 +146,39 @@ TEST(Formula, Mach3FormulasAgreeWithTheCablePlotterModel) {
     ASSERT_TRUE(plotter.inverse(pose, from_model).ok());
     EXPECT_NEAR(from_formula[0], from_model[0], 1e-12);
     EXPECT_NEAR(from_formula[1], from_model[1], 1e-12);
+  }
+}
+
+TEST(Formula, ComparisonsAreNotAssignmentsAndAFormulaGivesOneValueEveryTime) {
+  // '<=', '>=', '==' and '!=' hold an '=' and are comparisons, accepted; the joint's value at a
+  // pose is the same at every evaluation (an assignment would have moved it).
+  FormulaDefinition definition;
+  definition.axes = {0, 1};
+  definition.constants = {{"d", 100.0}};
+  definition.formulas = {{"a", "y <= 0 && x >= 0 && x != 1e9 ? sqrt(x^2 + y^2) : 0"},
+                         {"b", "(d == 100) * sqrt((d - x)^2 + y^2)"}};
+  const FormulaKinematics model(definition);
+  const Pose pose = Pose::from_mm_deg(30.0, -40.0, 0.0);
+  JointVector first, again;
+  ASSERT_TRUE(model.inverse(pose, first).ok());
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(model.inverse(pose, again).ok());
+  EXPECT_DOUBLE_EQ(first[0], 50.0);
+  EXPECT_DOUBLE_EQ(first[1], std::sqrt(70.0 * 70.0 + 40.0 * 40.0));
+  EXPECT_EQ(first, again);
+}
+
+TEST(Formula, AnAssignmentIsRefusedWithItsColumn) {
+  FormulaDefinition definition;
+  definition.axes = {0, 1};
+  definition.constants = {{"d", 100.0}};
+  definition.formulas = {{"a", "sqrt(x^2 + y^2)"}, {"b", "d = d + 1e-3, sqrt((d - x)^2 + y^2)"}};
+  try {
+    const FormulaKinematics model(definition);
+    FAIL() << "a formula that assigns to its constant was accepted";
+  } catch (const FormulaError& error) {
+    EXPECT_EQ(error.joint(), "b");
+    EXPECT_NE(std::string(error.what()).find("assigns with '=' at column 3"), std::string::npos)
+        << error.what();
   }
 }
 

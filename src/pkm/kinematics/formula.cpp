@@ -17,6 +17,38 @@ FormulaKinematics::FormulaKinematics(FormulaDefinition definition)
   build_parsers();
 }
 
+namespace {
+
+// muparser's assignment operator '=' (enabled in every parser) would let a formula change a
+// constant or an axis for every later evaluation: `d = d + 1e-3, sqrt(...)` moves an anchor by a
+// micrometre per call. '=' is an operator character only in '=', '==', '<=', '>=' and '!=', so
+// the first '=' not part of a comparison is an assignment; its 1-based column, or 0.
+std::size_t assignment_column(const std::string& expression) {
+  for (std::size_t i = 0; i < expression.size(); ++i) {
+    if (expression[i] != '=') continue;
+    if (i + 1 < expression.size() && expression[i + 1] == '=') {
+      ++i;  // '==': a comparison
+      continue;
+    }
+    if (i > 0 &&
+        (expression[i - 1] == '<' || expression[i - 1] == '>' || expression[i - 1] == '!')) {
+      continue;
+    }
+    return i + 1;
+  }
+  return 0;
+}
+
+void refuse_assignment(const std::string& joint, const std::string& expression) {
+  if (const std::size_t column = assignment_column(expression); column != 0) {
+    throw FormulaError(joint, "assigns with '=' at column " + std::to_string(column) +
+                                  ": a formula only computes its joint from the pose; its "
+                                  "constants and axes cannot be changed (compare with '==')");
+  }
+}
+
+}  // namespace
+
 void FormulaKinematics::build_parsers() {
   // Constants live in a vector sized once, so the addresses bound into muparser stay valid.
   constant_values_.clear();
@@ -24,6 +56,7 @@ void FormulaKinematics::build_parsers() {
   parsers_.clear();
   parsers_.reserve(definition_.formulas.size());
   for (const auto& [joint, expression] : definition_.formulas) {
+    refuse_assignment(joint, expression);
     mu::Parser& parser = parsers_.emplace_back();
     try {
       for (const int axis : definition_.axes) {
@@ -36,6 +69,11 @@ void FormulaKinematics::build_parsers() {
       parser.SetExpr(expression);
       pose_variables_.fill(0.0);
       parser.Eval();  // parses now, so a bad formula fails at load, not mid-job
+      if (parser.GetNumResults() != 1) {
+        throw FormulaError(joint, "gives " + std::to_string(parser.GetNumResults()) +
+                                      " values separated by commas: a formula gives its joint "
+                                      "one value");
+      }
     } catch (const mu::Parser::exception_type& error) {
       throw FormulaError(joint, error.GetMsg());
     }
