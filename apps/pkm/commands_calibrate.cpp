@@ -20,6 +20,7 @@
 #include "pkm/io/atomic_file.hpp"
 #include "pkm/kinematics/matrix.hpp"
 #include "pkm/machine/machine_writer.hpp"
+#include "pkm/text/text_file.hpp"
 
 namespace pkm::app {
 
@@ -54,11 +55,11 @@ struct PatternCommandOptions {
 
 std::string machine_text(const std::string& path) {
   if (path.empty()) return std::string(kEmbeddedMachineToml);
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw CommandError("cannot read " + path);
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
+  try {
+    return text::read_text_file(path, text::kMaxConfigFileBytes);
+  } catch (const text::FileReadError& error) {
+    throw CommandError(path + ": " + error.what());
+  }
 }
 
 // Writes the machine file with its kinematics replaced, after checking that it loads.

@@ -8,6 +8,7 @@
 
 #include "app.hpp"
 #include "pkm/linuxcnc/config_export.hpp"
+#include "pkm/text/text_file.hpp"
 
 namespace pkm::app {
 
@@ -21,11 +22,11 @@ struct ExportLinuxcncOptions {
 };
 
 std::string read_text(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (!file) throw CommandError("cannot read " + path);
-  return text.str();
+  try {
+    return text::read_text_file(path, text::kMaxConfigFileBytes);
+  } catch (const text::FileReadError& error) {
+    throw CommandError(path + ": " + error.what());
+  }
 }
 
 void export_linuxcnc(const ExportLinuxcncOptions& options) {

@@ -6,10 +6,15 @@ pkm_cli_refuses(program_missing "no-such-file\\.ngc: cannot open \\(No such file
 pkm_cli_refuses(program_is_a_directory "cli-out: cannot open \\(it is a directory\\)$"
                 plan ${CLI_OUT} -o ${CLI_OUT}/never.csv)
 pkm_cli_refuses(tool_table_missing
-                "no-such-file\\.tbl: cannot open the tool table \\(No such file or directory\\)$"
+                "no-such-file\\.tbl: the tool table: cannot open \\(No such file or directory\\)$"
                 gcode --canon --tool-table ${NOWHERE}.tbl ${PROJECT_SOURCE_DIR}/examples/jobs/sphere.ngc)
 pkm_cli_refuses(machine_missing "no-such-file\\.toml: cannot open \\(No such file or directory\\)$"
                 check -m ${NOWHERE}.toml)
 pkm_cli_refuses(joint_program_missing
                 "no-such-file\\.ngc: cannot open \\(No such file or directory\\)$"
                 verify ${NOWHERE}.ngc --against ${PROJECT_SOURCE_DIR}/examples/jobs/sphere.ngc)
+# A machine file or an INI that is a device is refused at once, not read for gigabytes.
+pkm_cli_refuses(machine_is_a_device "/dev/zero: cannot open \\(it is a device, not a regular file\\)$"
+                check -m /dev/zero)
+pkm_cli_refuses(linuxcnc_ini_is_a_device "/dev/zero: cannot open \\(it is a device, not a regular file\\)"
+                import linuxcnc /dev/zero)

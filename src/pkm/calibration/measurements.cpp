@@ -1,4 +1,5 @@
 #include "pkm/calibration/measurements.hpp"
+#include "pkm/text/text_file.hpp"
 
 #include <cctype>
 #include <charconv>
@@ -40,11 +41,11 @@ bool csv_number(const std::string& text, double& value) {
 }
 
 std::string read_text_file(const std::filesystem::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw MeasurementFileError(path.string() + ":0:0: cannot open the file");
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
+  try {
+    return text::read_text_file(path, text::kMaxDataFileBytes);
+  } catch (const text::FileReadError& error) {
+    throw MeasurementFileError(path.string() + ":0:0: " + error.what());
+  }
 }
 
 std::vector<Measurement> parse_measurements_csv(const std::string& text,

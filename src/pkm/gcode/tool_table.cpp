@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "pkm/gcode/gcode_error.hpp"
+#include "pkm/text/text_file.hpp"
 
 namespace pkm::gcode {
 
@@ -82,14 +83,13 @@ ToolTable parse_tool_table(const std::string& text, const std::string& source_na
 }
 
 ToolTable read_tool_table(const std::filesystem::path& path, LengthUnits units) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    throw GcodeError(path.string(), 0, 0,
-                     std::string("cannot open the tool table (") + std::strerror(errno) + ")");
+  std::string text;
+  try {
+    text = text::read_text_file(path, text::kMaxDataFileBytes);
+  } catch (const text::FileReadError& error) {
+    throw GcodeError(path.string(), 0, 0, std::string("the tool table: ") + error.what());
   }
-  std::ostringstream text;
-  text << file.rdbuf();
-  return parse_tool_table(text.str(), path.string(), units);
+  return parse_tool_table(text, path.string(), units);
 }
 
 }  // namespace pkm::gcode

@@ -1,4 +1,5 @@
 #include "pkm/linuxcnc/ini_file.hpp"
+#include "pkm/text/text_file.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -66,16 +67,11 @@ std::optional<double> parse_config_number(std::string_view text) {
 }
 
 std::string read_config_text(const std::filesystem::path& path) {
-  std::error_code code;
-  if (std::filesystem::is_directory(path, code)) {
-    throw ConfigError(path.string(), "cannot open (it is a directory)");
+  try {
+    return text::read_text_file(path, text::kMaxConfigFileBytes);
+  } catch (const text::FileReadError& error) {
+    throw ConfigError(path.string(), error.what());
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw ConfigError(path.string(), std::string("cannot open (") + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 IniFile IniFile::read(const std::filesystem::path& path) {
@@ -93,6 +89,7 @@ IniFile IniFile::parse(std::string_view text, const std::string& source_name) {
 
 void IniFile::parse_into(std::string_view text, const std::string& source_name, int depth,
                          std::vector<std::string>& open_files, std::string& section) {
+  parsed_bytes_ += text.size();
   std::istringstream in{std::string(text)};
   int line_number = 0;
   for (std::string raw; std::getline(in, raw);) {
@@ -117,6 +114,12 @@ void IniFile::parse_into(std::string_view text, const std::string& source_name, 
         included_text = read_config_text(included);
       } catch (const ConfigError& error) {
         throw ConfigError(source_name, line_number, "#INCLUDE " + name + ": " + error.what());
+      }
+      if (parsed_bytes_ + included_text.size() > text::kMaxConfigFileBytes) {
+        throw ConfigError(source_name, line_number,
+                          "#INCLUDE " + name + ": the configuration with its includes passes " +
+                              std::to_string(text::kMaxConfigFileBytes >> 20) +
+                              " MB (files included again and again?)");
       }
       open_files.push_back(included_name);
       parse_into(included_text, included.string(), depth + 1, open_files, section);

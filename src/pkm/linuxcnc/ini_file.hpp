@@ -78,6 +78,9 @@ class IniFile {
   std::filesystem::path path_;
   std::vector<IniEntry> entries_;
   std::vector<std::pair<std::string, SourceLocation>> sections_;
+  // Bytes of the file and its #INCLUDEs read so far: bounded as one file's, since includes
+  // within the depth limit can still fan out without end (each file including another twice).
+  std::size_t parsed_bytes_ = 0;
 };
 
 // A number written as LinuxCNC configs write them ("270", "-1e6", "1.0"), whole and finite.

@@ -13,6 +13,7 @@
 
 #include "pkm/kinematics/registry.hpp"
 #include "pkm/machine/toml_config.hpp"
+#include "pkm/text/text_file.hpp"
 
 namespace pkm {
 
@@ -444,21 +445,13 @@ Machine parse_machine(std::string_view toml_text, const std::string& source_name
 }
 
 Machine load_machine(const std::filesystem::path& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    throw MachineFileError(path.string(), "cannot open (it is a directory)");
+  std::string text;
+  try {
+    text = text::read_text_file(path, text::kMaxConfigFileBytes);
+  } catch (const text::FileReadError& error) {
+    throw MachineFileError(path.string(), error.what());
   }
-  errno = 0;
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    const int reason = errno;
-    throw MachineFileError(
-        path.string(),
-        std::string("cannot open (") + (reason != 0 ? std::strerror(reason) : "unreadable") + ")");
-  }
-  std::ostringstream text;
-  text << file.rdbuf();
-  return parse_machine(text.str(), path.string());
+  return parse_machine(text, path.string());
 }
 
 }  // namespace pkm
