@@ -69,6 +69,29 @@ TEST_F(AtomicFileTest, TemporaryIsNamedAfterTheOutputAndThisProcess) {
   EXPECT_EQ(names(), std::vector<std::string>{name});
 }
 
+TEST_F(AtomicFileTest, FilesWrittenTogetherAreNeverANewOneBesideAnOldOne) {
+  // calibrate pattern's drawing and marks (issue 26: written one after the other, a fault
+  // between them paired a new drawing with old marks).
+  const fs::path drawing = make_file("pattern.ngc", 3), marks = make_file("pattern.json", 4);
+  const std::string new_drawing = "G1 X1\n", new_marks = "[]\n";
+  const FileContent pair[] = {{drawing, new_drawing}, {marks, new_marks}};
+  write_files_together(pair);
+  const auto read = [](const fs::path& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_EQ(read(drawing), new_drawing);
+  EXPECT_EQ(read(marks), new_marks);
+  EXPECT_EQ(names(), (std::vector<std::string>{"pattern.json", "pattern.ngc"}));
+  // The second cannot be written (a directory holds its name): neither is replaced.
+  fs::remove(marks);
+  fs::create_directory(marks);
+  const FileContent refused[] = {{drawing, std::string_view("G1 X2\n")}, {marks, new_marks}};
+  EXPECT_THROW(write_files_together(refused), std::runtime_error);
+  EXPECT_EQ(read(drawing), new_drawing);
+  EXPECT_EQ(names(), (std::vector<std::string>{"pattern.json", "pattern.ngc"}));
+}
+
 TEST_F(AtomicFileTest, SignalCleanupRemovesOpenTemporariesOnly) {
   write_file_atomically(directory_ / "done.json", "{}\n");
   {

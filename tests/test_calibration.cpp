@@ -78,6 +78,37 @@ TEST(MatrixCalibration, ImpossibleMeasurementsNameTheFlag) {
   EXPECT_THROW(calibrate_matrix(nan), std::invalid_argument);
 }
 
+TEST(MatrixCalibration, ACorrectionNoMachineNeedsIsRefusedWithItsNumbers) {
+  // A denormal travel made an infinite coefficient, written with exit status 0 (issue 26).
+  MatrixMeasurements denormal;
+  denormal.x_to_spindle = {{0.02, 1e-310}};
+  try {
+    calibrate_matrix(denormal);
+    FAIL() << "an infinite C_zx was accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("--x-to-spindle: a reading of 0.02 over a travel of 1e-310 gives a "
+                        "correction of inf, more than the 0.1"),
+              std::string::npos)
+        << error.what();
+  }
+  // Diagonals in inches and mm: 5.57 against 141.5 is no squareness error.
+  MatrixMeasurements mixed_units;
+  mixed_units.diagonals = {{141.5, 5.57}};
+  EXPECT_THROW(calibrate_matrix(mixed_units), std::invalid_argument);
+  MatrixMeasurements tilt;
+  tilt.z_tilt_y = {{30.0, 80.0}};  // 0.375: 20 deg
+  EXPECT_THROW(calibrate_matrix(tilt), std::invalid_argument);
+  MatrixMeasurements scale;
+  scale.widths = {{254.0, 100.0}};  // one of them in inches
+  EXPECT_THROW(calibrate_matrix(scale), std::invalid_argument);
+  // The largest real ones pass: 5 deg of tilt, 40 % of scale.
+  MatrixMeasurements largest;
+  largest.z_tilt_x = {{8.7, 100.0}};
+  largest.widths = {{140.0, 100.0}};
+  EXPECT_NO_THROW(calibrate_matrix(largest));
+}
+
 TEST(MatrixCalibration, LinuxcncLines) {
   Eigen::Matrix3d c = Eigen::Matrix3d::Identity();
   c(0, 1) = -0.0021;

@@ -294,8 +294,9 @@ void run_pattern(const PatternCommandOptions& options) {
   } catch (const FitError& error) {
     throw CommandError(error.what());
   }
-  write_file_atomically(options.output, program);
-  write_file_atomically(json_path, pattern_json_text(pattern.marks));
+  const std::string marks_json = pattern_json_text(pattern.marks);
+  const FileContent pair[] = {{options.output, program}, {json_path, marks_json}};
+  write_files_together(pair);
   const std::size_t pairs = pattern.marks.size() * (pattern.marks.size() - 1) / 2;
   if (options.json) {
     std::cout << nlohmann::json{{"marks", pattern.marks.size()},

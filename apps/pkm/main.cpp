@@ -1,8 +1,11 @@
 // pkm: the command-line layer. Parses arguments, wires modules, prints, and exits.
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <exception>
+#include <iostream>
 #include <string>
 
 #include "app.hpp"
@@ -49,6 +52,27 @@ void warn_of_stale_temporary(const pkm::StaleTemporary& stale) {
   }
 }
 
+// Whether everything written to the standard output reached it: a full disk or a closed pipe
+// shows only when the buffers are flushed, and a command whose output did not arrive has failed
+// (`pkm import linuxcnc X.ini > m.toml` on a full disk once exited 0 with an empty file).
+bool standard_output_written() {
+  // stdio keeps only a flag once a write failed; errno still holds the write's reason unless a
+  // later call failed for another: the reason is named when it is one a write gives.
+  const int earlier = errno;
+  errno = 0;
+  std::fflush(stdout);
+  std::cout.flush();  // synchronised with stdio: flushes stdout again
+  const int reason = errno != 0 ? errno : earlier;
+  if (std::cout.good() && std::ferror(stdout) == 0) return true;
+  const bool write_reason =
+      reason == ENOSPC || reason == EPIPE || reason == EIO || reason == EDQUOT || reason == EFBIG;
+  std::fprintf(stderr,
+               "pkm: error: writing the standard output failed (%s): what it holds is "
+               "incomplete\n",
+               write_reason ? std::strerror(reason) : "a write error");
+  return false;
+}
+
 std::string version_text() {
   std::string text = std::string("pkm ") + pkm::app::kVersion;
   if (pkm::app::kGitDescribe[0] != '\0')
@@ -74,6 +98,7 @@ int main(int argc, char** argv) {
   pkm::app::register_linuxcnc_import_commands(app);
   pkm::app::register_home_commands(app);
   pkm::app::register_workspace_commands(app);
+  errno = 0;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -95,5 +120,5 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "pkm: error: %s\n", error.what());
     return 1;
   }
-  return 0;
+  return standard_output_written() ? 0 : 1;
 }

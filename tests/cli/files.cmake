@@ -18,3 +18,15 @@ pkm_cli_refuses(machine_is_a_device "/dev/zero: cannot open \\(it is a device, n
                 check -m /dev/zero)
 pkm_cli_refuses(linuxcnc_ini_is_a_device "/dev/zero: cannot open \\(it is a device, not a regular file\\)"
                 import linuxcnc /dev/zero)
+# What a command writes to its standard output is checked: on a full disk (/dev/full) the
+# command fails, naming the reason, instead of exiting 0 with a truncated output.
+add_test(NAME cli.refuses.canon_to_a_full_disk
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/expect-refusal
+                 "writing the standard output failed \\(No space left on device\\)"
+                 /bin/sh -c "exec \"$0\" gcode --canon \"$1\" > /dev/full" $<TARGET_FILE:pkm>
+                 ${PROJECT_SOURCE_DIR}/examples/jobs/sphere.ngc)
+add_test(NAME cli.refuses.import_linuxcnc_to_a_full_disk
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/expect-refusal
+                 "writing the standard output failed \\(No space left on device\\)"
+                 /bin/sh -c "exec \"$0\" import linuxcnc \"$1\" > /dev/full" $<TARGET_FILE:pkm>
+                 ${PKM_LINUXCNC_SAMPLES}/sim/axis/ldelta.ini)

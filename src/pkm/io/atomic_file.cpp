@@ -12,6 +12,7 @@
 #include <ctime>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
@@ -261,6 +262,24 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
   AtomicFileWriter file(path);
   file.write(content);
   file.commit();
+}
+
+void write_files_together(std::span<const FileContent> files) {
+  std::vector<std::unique_ptr<AtomicFileWriter>> writers;
+  for (const FileContent& file : files) {
+    writers.push_back(std::make_unique<AtomicFileWriter>(file.path));
+    writers.back()->write(file.content);
+  }
+  // Every file is whole under its temporary name; the old ones after the first go before any
+  // rename, so that an interruption between the renames leaves files missing, never a new one
+  // beside an old one. Devices and pipes, written in place, stay.
+  for (std::size_t i = 1; i < files.size(); ++i) {
+    std::error_code error;
+    if (std::filesystem::is_regular_file(std::filesystem::symlink_status(files[i].path, error))) {
+      std::filesystem::remove(files[i].path, error);
+    }
+  }
+  for (const auto& writer : writers) writer->commit();
 }
 
 }  // namespace pkm

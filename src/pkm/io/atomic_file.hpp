@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -46,6 +47,15 @@ class AtomicFileWriter {
 
 // Throws std::runtime_error naming the path and the system's reason; leaves no temporary behind.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
+
+// Files that belong together (a calibration pattern's drawing and its marks): all written whole
+// before any is renamed into place, and never one new beside another old. A failure or a
+// signal between the renames leaves the later files absent, not stale.
+struct FileContent {
+  std::filesystem::path path;
+  std::string_view content;
+};
+void write_files_together(std::span<const FileContent> files);
 
 // Removes the temporary file of every AtomicFileWriter still open. Async-signal-safe (it only
 // calls unlink), for the SIGINT/SIGTERM handler of a program: the library installs none itself.
