@@ -37,9 +37,12 @@ std::vector<MarkDistance> read_distances_csv(const std::filesystem::path& path,
 // measured.
 std::vector<MarkDistance> all_pairs(const std::vector<PatternMark>& marks);
 
-// What measured distances between the marks can identify, at the nominal geometry.
+// What measured distances between the marks can identify, at the nominal geometry: the rank
+// identification of the fit, then what a tape of FitOptions::design_noise_mm would pin less well
+// than the machine file does (held, as the fit holds it).
 struct DistanceIdentification {
   std::vector<std::string> identified;
+  std::vector<PoorlyDetermined> poorly_determined;
   std::vector<std::string> held_rigid_motion;  // they only move the whole drawing
   std::vector<std::vector<std::string>> indistinguishable;
   std::vector<std::string> no_effect;  // FitReport::no_effect
