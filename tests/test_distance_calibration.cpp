@@ -710,6 +710,7 @@ TEST(DistanceCalibration, AccuracyByMarksAndPairs) {
     PatternOptions options;
     options.marks = marks;
     const CalibrationPattern pattern = design_pattern(machine, options);
+    double mean_of_all = 0.0;
     for (const int scheme : {0, 1, 2}) {
       const auto pairs = scheme == 0   ? every_pair(marks)
                          : scheme == 1 ? neighbour_pairs(pattern.marks, 3)
@@ -720,14 +721,17 @@ TEST(DistanceCalibration, AccuracyByMarksAndPairs) {
         worst = std::max(worst, error);
         sum += error;
       }
+      if (scheme == 0) mean_of_all = sum / kSeeds;
+      // With the pulley radius the tape cannot pin held at its machine file's value, 0.37 mm;
+      // fitted to the tape's noise, it was 0.58 mm.
       if (scheme == 0 && marks == 12) {
-        EXPECT_LT(sum / kSeeds, 0.7);
+        EXPECT_LT(sum / kSeeds, 0.45);
       }
       if (scheme == 0 && marks == 25) {
         EXPECT_LT(worst, 0.5);
       }
       if (scheme == 1 && marks >= 12) {
-        EXPECT_GT(sum / kSeeds, 0.8);  // neighbours see less
+        EXPECT_GT(sum / kSeeds, 2.0 * mean_of_all);  // neighbours see less
       }
       std::printf("%5d %10s %9zu %10.3f %9.3f\n", marks,
                   scheme == 0   ? "all"
