@@ -644,6 +644,10 @@ TEST(DistanceCalibration, MaslowSledOnItsSheet) {
       // Only where the drawing sits is held: the sled's tilt shows how the frame is turned.
       EXPECT_EQ(run.report.held_rigid_motion,
                 (std::vector<std::string>{"anchor_left_x", "anchor_left_y"}));
+      // The tape cannot pin the sprocket radius within a fifth of itself: held, with its numbers.
+      EXPECT_TRUE(std::any_of(run.report.poorly_determined.begin(),
+                              run.report.poorly_determined.end(),
+                              [](const PoorlyDetermined& p) { return p.name == "pulley_radius"; }));
     }
   }
 }

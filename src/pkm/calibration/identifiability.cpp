@@ -28,16 +28,22 @@ Precision fit_precision(const Eigen::MatrixXd& jacobian,
   result.correlation = Eigen::MatrixXd::Identity(n, n);
   result.trades.resize(static_cast<std::size_t>(n));
   if (n == 0) return result;
-  // (J^T J)^-1 by the pseudo-inverse: a column the data do not see gets 0, not infinity, and is
-  // the rank identification's to hold.
+  // (J^T J)^-1 by the pseudo-inverse of the column-normalised J^T J (columns in mm, kg and
+  // mm/m/N differ by orders of magnitude): a column the data do not see gets 0, not infinity,
+  // and is the rank identification's to hold.
+  Eigen::VectorXd scale = jacobian.colwise().norm().transpose();
+  for (Eigen::Index c = 0; c < n; ++c) scale[c] = scale[c] > 0.0 ? 1.0 / scale[c] : 1.0;
+  const Eigen::MatrixXd normalised = jacobian * scale.asDiagonal();
   const Eigen::MatrixXd inverse =
-      (jacobian.transpose() * jacobian).completeOrthogonalDecomposition().pseudoInverse();
+      scale.asDiagonal() *
+      (normalised.transpose() * normalised).completeOrthogonalDecomposition().pseudoInverse() *
+      scale.asDiagonal();
   for (Eigen::Index c = 0; c < n; ++c)
     result.deviation[static_cast<std::size_t>(c)] = sigma * std::sqrt(std::max(0.0, inverse(c, c)));
   for (Eigen::Index a = 0; a < n; ++a) {
     for (Eigen::Index b = 0; b < n; ++b) {
-      const double scale = std::sqrt(std::max(0.0, inverse(a, a) * inverse(b, b)));
-      if (a != b && scale > 0.0) result.correlation(a, b) = inverse(a, b) / scale;
+      const double spread = std::sqrt(std::max(0.0, inverse(a, a) * inverse(b, b)));
+      if (a != b && spread > 0.0) result.correlation(a, b) = inverse(a, b) / spread;
     }
   }
   for (Eigen::Index a = 0; a < n; ++a) {
