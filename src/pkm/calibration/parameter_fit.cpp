@@ -311,10 +311,11 @@ std::vector<ScreenedParameter> screened_parameters(const Kinematics& kinematics,
                                                    const std::vector<double>& values,
                                                    double extent_mm) {
   const std::vector<Parameter> parameters = kinematics.parameters();
+  const double size_mm = machine_size_mm(parameters, extent_mm);
   std::vector<ScreenedParameter> result;
   for (const int index : free) {
     const Parameter& p = parameters[static_cast<std::size_t>(index)];
-    const Plausibility plausibility = parameter_plausibility(kinematics.type(), p, extent_mm);
+    const Plausibility plausibility = parameter_plausibility(kinematics.type(), p, size_mm);
     result.push_back({p.name, p.unit, plausibility.kind, p.value,
                       values[static_cast<std::size_t>(index)], plausibility.deviation});
   }
@@ -421,12 +422,12 @@ FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& resid
     const auto at = std::find(free.begin(), free.end(), index);
     return at == free.end() ? -1 : static_cast<int>(at - free.begin());
   };
-  const double extent = residuals.extent_mm();
+  const double size_mm = machine_size_mm(parameters, residuals.extent_mm());
   for (const int index : requested) {
     const int column = free_column(index);
     if (column < 0) report.held.push_back(parameters[index].name);
     const Plausibility plausibility =
-        parameter_plausibility(kinematics.type(), parameters[index], extent);
+        parameter_plausibility(kinematics.type(), parameters[index], size_mm);
     report.parameters.push_back(
         {parameters[index].name, parameters[index].unit, nominal[index], fitted[index],
          column < 0 ? 0.0 : precision.deviation[static_cast<std::size_t>(column)], column >= 0,

@@ -6,6 +6,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "pkm/kinematics/kinematics.hpp"
 
@@ -25,9 +26,14 @@ struct Plausibility {
 // A fitted value more than this many plausible deviations from nominal is nonsense: refused.
 inline constexpr double kImplausibleDeviations = 3.0;
 
-// `model_type` as Kinematics::type(); `extent_mm`: the size of what was measured (the diagonal
-// of the measured positions' or marks' bounding box), the scale of frame positions and lengths.
+// The scale of frame positions and lengths: the larger of `extent_mm`, the size of what was
+// measured (the diagonal of the measured positions' or marks' bounding box), and the largest
+// length or coordinate of the machine file's geometry (a hexapod measured over 100 mm of its
+// 600 mm frame).
+double machine_size_mm(const std::vector<Parameter>& parameters, double extent_mm);
+
+// `model_type` as Kinematics::type(); `size_mm` as machine_size_mm gives.
 Plausibility parameter_plausibility(std::string_view model_type, const Parameter& parameter,
-                                    double extent_mm);
+                                    double size_mm);
 
 }  // namespace pkm
