@@ -65,7 +65,7 @@ add_test(NAME cli.calibrate_pattern_names_the_pulley_it_cannot_pin
          COMMAND ${PKM} calibrate pattern -m ${CLI_DATA}/wall-plotter-gt2.toml
                  -o ${CLI_OUT}/tape-gt2-pattern.ngc)
 set_tests_properties(cli.calibrate_pattern_names_the_pulley_it_cannot_pin PROPERTIES
-  PASS_REGULAR_EXPRESSION "identify: anchor_right_x, cable_offset_left, cable_offset_right\n.*held pulley_radius at its nominal 6\\.366 mm: measured to \\+-0\\.5 mm, the distances would pin it only to \\+-5\\.0[0-9]+ mm, worse than the \\+-1\\.273 mm a pulley's radius plausibly is off its machine file; it trades with anchor_right_x \\(correlation 1\\.00\\)")
+  PASS_REGULAR_EXPRESSION "identify: anchor_right_x, cable_offset_left, cable_offset_right\n.*held pulley_radius at its nominal 6\\.366 mm: measured to \\+-0\\.5 mm, the distances would pin it only to \\+-5\\.0[0-9]+ mm, worse than the \\+-1\\.273 mm \\(20 % of its nominal value\\) a pulley's radius plausibly is off its machine file; it trades with anchor_right_x \\(correlation 1\\.00\\)")
 add_test(NAME cli.calibrate_fit_distances_holds_the_gt2_pulley
          COMMAND ${PKM} calibrate fit -m ${CLI_DATA}/wall-plotter-gt2.toml
                  --distances ${CLI_DATA}/wall-plotter-gt2-distances.csv
@@ -75,7 +75,7 @@ set_tests_properties(cli.calibrate_fit_distances_holds_the_gt2_pulley PROPERTIES
 # Distances 10 % long (another tape than the pattern's): the offsets the data pin firmly come out
 # 140 mm off, beyond three times what a cable's zero plausibly is off: refused, nothing written.
 pkm_cli_refuses(calibrate_fit_nonsense_offsets
-                "the fit is nonsense, nothing written: cable_offset_left = 137\\.9 mm \\(standard deviation 17\\.8 mm\\) is nonsense for a cable's zero of this machine: 137\\.9 mm from the machine file's 0 mm, more than 3 x 43\\.01 mm.{2}it trades with cable_offset_right \\(correlation 1\\.00\\)"
+                "the fit is nonsense, nothing written: cable_offset_left = 137\\.9 mm \\(standard deviation 17\\.8 mm\\) is nonsense for a cable's zero of this machine: 137\\.9 mm from the machine file's 0 mm, more than 3 x 43\\.01 mm \\(2 mm \\+ 2 % of the machine's size of 2051 mm\\).{2}it trades with cable_offset_right \\(correlation 1\\.00\\)"
                 NO_FILE ${CLI_OUT}/tape-never.toml
                 calibrate fit -m ${PLOTTER} --distances ${CLI_DATA}/wall-plotter-distances-long.csv
                 --pattern ${TAPE_PATTERN} -o ${CLI_OUT}/tape-never.toml)

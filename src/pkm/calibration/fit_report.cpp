@@ -32,8 +32,8 @@ std::string poorly_determined_text(const PoorlyDetermined& held, double design_n
   text += " only to +-" + shown_number(held.standard_deviation) + unit;
   if (design_noise_mm <= 0.0)
     text += " (the fit put it at " + shown_number(held.fitted) + unit + ")";
-  text += ", worse than the +-" + shown_number(held.plausible_deviation) + unit + " " + held.kind +
-          " plausibly is off its machine file; it trades with " +
+  text += ", worse than the +-" + shown_number(held.plausible_deviation) + unit + " (" + held.rule +
+          ") " + held.kind + " plausibly is off its machine file; it trades with " +
           describe_trades(held.trades_with) + " (alone it would be pinned to +-" +
           shown_number(held.alone_deviation) + unit + ")";
   return text;

@@ -80,8 +80,8 @@ std::vector<PoorlyDetermined> poorly_determined(const Eigen::MatrixXd& jacobian,
     const auto column = static_cast<Eigen::Index>(worst);
     const double norm = columns.col(column).norm();
     held.push_back({p.name, p.unit, p.kind, p.nominal, p.fitted, precision.deviation[worst],
-                    norm > 0.0 ? sigma / norm : 0.0, p.plausible_deviation,
-                    precision.trades[worst]});
+                    norm > 0.0 ? sigma / norm : 0.0, p.plausible_deviation, precision.trades[worst],
+                    p.rule});
     columns = without_column(columns, column);
     remaining.erase(remaining.begin() + static_cast<std::ptrdiff_t>(worst));
   }

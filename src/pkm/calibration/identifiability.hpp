@@ -27,6 +27,7 @@ struct PoorlyDetermined {
   double alone_deviation = 0.0;  // its standard deviation were it the only parameter fitted
   double plausible_deviation = 0.0;
   std::vector<TradeOff> trades_with;  // |correlation| >= 0.5, strongest first, at most 4
+  std::string rule;                   // how plausible_deviation was made (Plausibility::rule)
 };
 
 // One fitted parameter as the screen sees it.
@@ -37,6 +38,7 @@ struct ScreenedParameter {
   double nominal = 0.0;
   double fitted = 0.0;
   double plausible_deviation = 0.0;  // 0: not judged
+  std::string rule;                  // how plausible_deviation was made (Plausibility::rule)
 };
 
 struct Precision {

@@ -155,7 +155,7 @@ void refuse_implausible(const std::vector<ScreenedParameter>& screened,
                ") is nonsense for " + p.kind + " of this machine: " + shown_number(off) + unit +
                " from the machine file's " + shown_number(p.nominal) + unit + ", more than " +
                shown_number(kImplausibleDeviations) + " x " + shown_number(p.plausible_deviation) +
-               unit + "; it trades with " + describe_trades(precision.trades[c]);
+               unit + " (" + p.rule + "); it trades with " + describe_trades(precision.trades[c]);
   }
   if (message.empty()) return;
   throw FitError("the fit is nonsense, nothing written: " + message +
@@ -317,7 +317,8 @@ std::vector<ScreenedParameter> screened_parameters(const Kinematics& kinematics,
     const Parameter& p = parameters[static_cast<std::size_t>(index)];
     const Plausibility plausibility = parameter_plausibility(kinematics.type(), p, size_mm);
     result.push_back({p.name, p.unit, plausibility.kind, p.value,
-                      values[static_cast<std::size_t>(index)], plausibility.deviation});
+                      values[static_cast<std::size_t>(index)], plausibility.deviation,
+                      plausibility.rule});
   }
   return result;
 }

@@ -18,7 +18,8 @@ bool contains(std::string_view text, std::string_view part) {
 // Frame points, link lengths and joint zeros are built and measured to about the same share of
 // the machine's size: a tape over the frame, a leg cut to length, a cable marked at its zero.
 Plausibility size_relative(std::string kind, double size_mm) {
-  return {std::move(kind), 2.0 + 0.02 * size_mm, "2 mm + 2 % of the machine's size"};
+  return {std::move(kind), 2.0 + 0.02 * size_mm,
+          "2 mm + 2 % of the machine's size of " + std::to_string(std::lround(size_mm)) + " mm"};
 }
 
 // A catalogue part (a pulley) or a weighed or looked-up property is known as a share of itself.
