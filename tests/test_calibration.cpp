@@ -9,6 +9,7 @@
 
 #include "pkm/calibration/fit_report.hpp"
 #include "pkm/calibration/geometry_fit.hpp"
+#include "pkm/calibration/identifiability.hpp"
 #include "pkm/calibration/matrix_calibration.hpp"
 #include "pkm/calibration/parameter_plausibility.hpp"
 #include "pkm/kinematics/matrix.hpp"
@@ -223,6 +224,50 @@ INSTANTIATE_TEST_SUITE_P(Examples, RecoversKnownGeometry, ::testing::ValuesIn(kF
                          [](const auto& test_info) {
                            return test::test_name(test_info.param.file);
                          });
+
+// Two parameters whose residual columns are (1, 0, 0) and (1, 1, 0), noise 1: J^T J = [[1, 1],
+// [1, 2]], its inverse [[2, -1], [-1, 1]]: standard deviations sqrt 2 and 1, correlation
+// -1/sqrt 2; alone, 1 and 1/sqrt 2. With plausible deviations 1 and 2 the first is held (sqrt 2
+// > 1), and the second, then alone (1/sqrt 2 < 2), is kept.
+TEST(Identifiability, PrecisionAndHoldsByHand) {
+  Eigen::MatrixXd jacobian(3, 2);
+  jacobian << 1, 1, 0, 1, 0, 0;
+  const std::vector<ScreenedParameter> parameters = {{"a", "mm", "a thing", 0, 0, 1.0, "1"},
+                                                     {"b", "mm", "a thing", 0, 0, 2.0, "2"}};
+  const Precision precision = fit_precision(jacobian, parameters, 1.0);
+  EXPECT_NEAR(precision.deviation[0], std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(precision.deviation[1], 1.0, 1e-12);
+  EXPECT_NEAR(precision.correlation(0, 1), -1.0 / std::sqrt(2.0), 1e-12);
+  ASSERT_EQ(precision.trades[0].size(), 1u);
+  EXPECT_EQ(precision.trades[0][0].name, "b");
+  const std::vector<PoorlyDetermined> held = poorly_determined(jacobian, parameters, 1.0);
+  ASSERT_EQ(held.size(), 1u);
+  EXPECT_EQ(held[0].name, "a");
+  EXPECT_NEAR(held[0].standard_deviation, std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(held[0].alone_deviation, 1.0, 1e-12);
+  EXPECT_EQ(describe_trades(held[0].trades_with), "b (correlation -0.71)");
+  // Ten times less noise pins both.
+  EXPECT_TRUE(poorly_determined(jacobian, parameters, 0.1).empty());
+}
+
+TEST(Identifiability, PlausibleDeviationsByKind) {
+  const auto deviation = [](std::string_view model, const std::string& name, double value) {
+    return parameter_plausibility(model, {name, value, "mm"}, 1500.0).deviation;
+  };
+  EXPECT_DOUBLE_EQ(deviation("cable_plotter", "pulley_radius", 6.366), 0.2 * 6.366);
+  EXPECT_DOUBLE_EQ(deviation("cable_plotter", "anchor_right_x", 1500.0), 2.0 + 0.02 * 1500.0);
+  EXPECT_DOUBLE_EQ(deviation("cable_plotter", "effector_mass", 0.3), 0.15);
+  EXPECT_EQ(deviation("cable_plotter", "effector_mass", 0.0), 0.0);  // no mass: not judged
+  EXPECT_DOUBLE_EQ(deviation("glide", "rail2.direction.x", -0.5), 0.02);
+  EXPECT_DOUBLE_EQ(deviation("hexapod", "leg3.offset", 0.0), 32.0);
+  EXPECT_DOUBLE_EQ(deviation("matrix", "C_xy", 0.0), 0.01);
+  EXPECT_EQ(deviation("formula", "d", 3.0), 0.0);  // a formula's constant: not judged
+  EXPECT_EQ(parameter_plausibility("formula", {"d", 3.0, ""}, 1500.0).kind, "");
+  // The machine's size: the larger of what was measured and the file's largest length.
+  const std::vector<Parameter> frame = {{"leg1.base.x", -320.0, "mm"}, {"C_xx", 1e4, ""}};
+  EXPECT_EQ(machine_size_mm(frame, 100.0), 320.0);
+  EXPECT_EQ(machine_size_mm(frame, 700.0), 700.0);
+}
 
 // Every pose fit's default parameters (all) on every example machine, measured at 20..40 poses
 // spread over the reach to 0.05 mm: what the data cannot tell apart is held by rank, what they

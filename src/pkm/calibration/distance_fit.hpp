@@ -3,7 +3,8 @@
 // joints its nominal model gives for the mark's nominal position, q_k = IK_nominal(p_k); with a
 // candidate geometry the pen was at FK(q_k); a residual is |FK(q_a) - FK(q_b)| - measured.
 // Distances cannot see where the whole drawing sits or how it is turned (a rigid motion): the
-// fit holds the parameters that only move the drawing as a whole.
+// fit holds the parameters that only move the drawing as a whole, and, as every fit, those the
+// distances pin less well than the machine file does (parameter_fit.hpp).
 #pragma once
 
 #include <filesystem>
