@@ -141,8 +141,9 @@ std::vector<double> evaluated(const ParameterResiduals& residuals,
 
 // Throws FitError naming every fitted value more than kImplausibleDeviations plausible
 // deviations from its nominal value, with its standard deviation and what it trades with.
-void refuse_implausible(const std::vector<ScreenedParameter>& screened,
-                        const Precision& precision) {
+// `precision` unknown (the model fails beside the solution): said so instead of its numbers.
+void refuse_implausible(const std::vector<ScreenedParameter>& screened, const Precision& precision,
+                        bool precision_known) {
   std::string message;
   for (std::size_t c = 0; c < screened.size(); ++c) {
     const ScreenedParameter& p = screened[c];
@@ -151,11 +152,15 @@ void refuse_implausible(const std::vector<ScreenedParameter>& screened,
       continue;
     const std::string unit = p.unit.empty() ? "" : " " + p.unit;
     message += std::string(message.empty() ? "" : "; ") + p.name + " = " + shown_number(p.fitted) +
-               unit + " (standard deviation " + shown_number(precision.deviation[c]) + unit +
-               ") is nonsense for " + p.kind + " of this machine: " + shown_number(off) + unit +
+               unit +
+               (precision_known
+                    ? " (standard deviation " + shown_number(precision.deviation[c]) + unit + ")"
+                    : " (standard deviation unknown: the model fails beside it)") +
+               " is nonsense for " + p.kind + " of this machine: " + shown_number(off) + unit +
                " from the machine file's " + shown_number(p.nominal) + unit + ", more than " +
                shown_number(kImplausibleDeviations) + " x " + shown_number(p.plausible_deviation) +
-               unit + " (" + p.rule + "); it trades with " + describe_trades(precision.trades[c]);
+               unit + " (" + p.rule + ")" +
+               (precision_known ? "; it trades with " + describe_trades(precision.trades[c]) : "");
   }
   if (message.empty()) return;
   throw FitError("the fit is nonsense, nothing written: " + message +
@@ -417,7 +422,7 @@ FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& resid
   // Where the model fails beside the solution, no precision is known: deviations 0.
   const Precision precision =
       fit_precision(at_solution.jacobian, screened, at_solution.ok ? at_solution.sigma : 0.0);
-  refuse_implausible(screened, precision);
+  refuse_implausible(screened, precision, at_solution.ok);
 
   const auto free_column = [&](int index) {
     const auto at = std::find(free.begin(), free.end(), index);
