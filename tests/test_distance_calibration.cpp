@@ -698,6 +698,8 @@ TEST(DistanceCalibration, DefaultPatternIdentifiesTheDefaultParameters) {
                       [&](const PoorlyDetermined& p) { return p.name == name; });
       EXPECT_TRUE(free || named) << machine.name() << " " << name;
     }
+    for (const PoorlyDetermined& p : run.report.poorly_determined)
+      std::printf("%s, fit: %s\n", machine.name().c_str(), poorly_determined_text(p).c_str());
     for (const PoorlyDetermined& p : identified.poorly_determined)
       std::printf("%s: %s\n", machine.name().c_str(), poorly_determined_text(p, 0.5).c_str());
   }
