@@ -7,8 +7,11 @@
 #include <fstream>
 #include <random>
 
+#include "pkm/calibration/fit_report.hpp"
 #include "pkm/calibration/geometry_fit.hpp"
+#include "pkm/calibration/identifiability.hpp"
 #include "pkm/calibration/matrix_calibration.hpp"
+#include "pkm/calibration/parameter_plausibility.hpp"
 #include "pkm/kinematics/matrix.hpp"
 #include "pkm/kinematics/rotary_delta.hpp"
 #include "pkm/machine/machine_writer.hpp"
@@ -252,6 +255,115 @@ INSTANTIATE_TEST_SUITE_P(Examples, RecoversKnownGeometry, ::testing::ValuesIn(kF
                          [](const auto& test_info) {
                            return test::test_name(test_info.param.file);
                          });
+
+// Two parameters whose residual columns are (1, 0, 0) and (1, 1, 0), noise 1: J^T J = [[1, 1],
+// [1, 2]], its inverse [[2, -1], [-1, 1]]: standard deviations sqrt 2 and 1, correlation
+// -1/sqrt 2; alone, 1 and 1/sqrt 2. With plausible deviations 1 and 2 the first is held (sqrt 2
+// > 1), and the second, then alone (1/sqrt 2 < 2), is kept.
+TEST(Identifiability, PrecisionAndHoldsByHand) {
+  Eigen::MatrixXd jacobian(3, 2);
+  jacobian << 1, 1, 0, 1, 0, 0;
+  const std::vector<ScreenedParameter> parameters = {{"a", "mm", "a thing", 0, 0, 1.0, "1"},
+                                                     {"b", "mm", "a thing", 0, 0, 2.0, "2"}};
+  const Precision precision = fit_precision(jacobian, parameters, 1.0);
+  EXPECT_NEAR(precision.deviation[0], std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(precision.deviation[1], 1.0, 1e-12);
+  EXPECT_NEAR(precision.correlation(0, 1), -1.0 / std::sqrt(2.0), 1e-12);
+  ASSERT_EQ(precision.trades[0].size(), 1u);
+  EXPECT_EQ(precision.trades[0][0].name, "b");
+  const std::vector<PoorlyDetermined> held = poorly_determined(jacobian, parameters, 1.0);
+  ASSERT_EQ(held.size(), 1u);
+  EXPECT_EQ(held[0].name, "a");
+  EXPECT_NEAR(held[0].standard_deviation, std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(held[0].alone_deviation, 1.0, 1e-12);
+  EXPECT_EQ(describe_trades(held[0].trades_with), "b (correlation -0.71)");
+  // Ten times less noise pins both.
+  EXPECT_TRUE(poorly_determined(jacobian, parameters, 0.1).empty());
+}
+
+TEST(Identifiability, PlausibleDeviationsByKind) {
+  const auto deviation = [](std::string_view model, const std::string& name, double value) {
+    return parameter_plausibility(model, {name, value, "mm"}, 1500.0).deviation;
+  };
+  EXPECT_DOUBLE_EQ(deviation("cable_plotter", "pulley_radius", 6.366), 0.2 * 6.366);
+  EXPECT_DOUBLE_EQ(deviation("cable_plotter", "anchor_right_x", 1500.0), 2.0 + 0.02 * 1500.0);
+  EXPECT_DOUBLE_EQ(deviation("cable_plotter", "effector_mass", 0.3), 0.15);
+  EXPECT_EQ(deviation("cable_plotter", "effector_mass", 0.0), 0.0);  // no mass: not judged
+  EXPECT_DOUBLE_EQ(deviation("glide", "rail2.direction.x", -0.5), 0.02);
+  EXPECT_DOUBLE_EQ(deviation("hexapod", "leg3.offset", 0.0), 32.0);
+  EXPECT_DOUBLE_EQ(deviation("matrix", "C_xy", 0.0), 0.01);
+  EXPECT_EQ(deviation("formula", "d", 3.0), 0.0);  // a formula's constant: not judged
+  EXPECT_EQ(parameter_plausibility("formula", {"d", 3.0, ""}, 1500.0).kind, "");
+  // The machine's size: the larger of what was measured and the file's largest length.
+  const std::vector<Parameter> frame = {{"leg1.base.x", -320.0, "mm"}, {"C_xx", 1e4, ""}};
+  EXPECT_EQ(machine_size_mm(frame, 100.0), 320.0);
+  EXPECT_EQ(machine_size_mm(frame, 700.0), 700.0);
+}
+
+// Every pose fit's default parameters (all) on every example machine, measured at 20..40 poses
+// spread over the reach to 0.05 mm: what the data cannot tell apart is held by rank, what they
+// pin less well than the machine file by precision (with its numbers); no fit is refused, and
+// every parameter fitted is pinned within its plausible deviation and lands within four
+// standard deviations of the truth (the machine file's geometry: the held parameters are true).
+TEST(GeometryFit, DefaultParametersOfEveryExampleArePinnedOrHeld) {
+  for (const std::string& file : test::example_machine_files()) {
+    Machine machine = test::load_example(file);
+    std::vector<double> truth;
+    for (const Parameter& p : machine.kinematics().parameters()) truth.push_back(p.value);
+    std::mt19937_64 rng(11);
+    // A cable machine solves its forward kinematics by Newton's method (sag, a tilting effector):
+    // 20 poses keep the test within seconds, 40 for the others.
+    const int poses = machine.kinematics().type() == "cable_plotter" ? 20 : 40;
+    const auto data = synthetic_measurements(machine, truth, poses, 0.05, rng);
+    FitReport report;
+    try {
+      report = fit_geometry(machine.kinematics(), machine.home(), data, {});
+    } catch (const FitError& error) {
+      ADD_FAILURE() << file << ": " << error.what();
+      continue;
+    }
+    int fitted = 0;
+    for (std::size_t i = 0; i < truth.size(); ++i) {
+      const ParameterEstimate& p = report.parameters[i];
+      if (!p.free) continue;
+      ++fitted;
+      if (p.plausible_deviation > 0.0) {
+        EXPECT_LE(p.standard_deviation, p.plausible_deviation) << file << " " << p.name;
+      }
+      EXPECT_LE(std::abs(p.fitted - truth[i]), 4.0 * p.standard_deviation + 1e-9)
+          << file << " " << p.name << " fitted " << p.fitted << " true " << truth[i] << " sd "
+          << p.standard_deviation;
+    }
+    EXPECT_GT(fitted, 0) << file;
+    // Down to the noise: 0.05 mm on each of up to six coordinates (angles weighted alike).
+    EXPECT_LT(report.rms_after_mm, 1.3 * 0.05 * std::sqrt(6.0)) << file;
+  }
+}
+
+// A Hektor on GT2 pulleys measured with a camera over the wall (positions to 0.5 mm, 40 poses):
+// its pulley radius trades with the cable offsets, and 0.5 mm cannot pin it within a fifth of
+// itself. Held at its nominal 6.366 mm with the numbers, the rest fitted.
+TEST(GeometryFit, APulleyTheCameraCannotPinIsHeldWithItsNumbers) {
+  Machine machine = test::load_example("hektor-pulleys.toml");
+  std::vector<double> truth;
+  for (const Parameter& p : machine.kinematics().parameters())
+    truth.push_back(p.value + (p.name == "cable_offset_left" ? 1.0 : 0.0));
+  std::mt19937_64 rng(4);
+  const auto data = synthetic_measurements(machine, truth, 40, 0.5, rng, false);
+  const FitReport report = fit_geometry(machine.kinematics(), machine.home(), data, {});
+  ASSERT_FALSE(report.poorly_determined.empty());
+  const PoorlyDetermined& pulley = report.poorly_determined.front();
+  std::printf("%s\n", poorly_determined_text(pulley).c_str());
+  EXPECT_EQ(pulley.name, "pulley_radius");
+  EXPECT_GT(pulley.standard_deviation, pulley.plausible_deviation);
+  EXPECT_FALSE(pulley.trades_with.empty());
+  for (const ParameterEstimate& p : report.parameters) {
+    if (p.name == "pulley_radius") {
+      EXPECT_FALSE(p.free);
+      EXPECT_EQ(p.fitted, 6.366);
+    }
+  }
+}
 
 TEST(GeometryFit, ASledsMassMovesNothingAndIsHeld) {
   // A gondola without sag or stretch: its mass scales both tensions and moves no pen, so no

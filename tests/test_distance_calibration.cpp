@@ -14,6 +14,7 @@
 
 #include "pkm/calibration/calibration_pattern.hpp"
 #include "pkm/calibration/distance_fit.hpp"
+#include "pkm/calibration/fit_report.hpp"
 #include "pkm/calibration/measurements.hpp"
 #include "pkm/gcode/interpreter.hpp"
 #include "test_support.hpp"
@@ -444,16 +445,116 @@ TEST(DistanceCalibration, HiddenCableMachinePredictsUnseenPointsWithinOneMillime
   EXPECT_NE(std::find(no_effect.begin(), no_effect.end(), "attach_left_x"), no_effect.end());
   for (const auto& [name, change] : kHiddenGeometry)
     EXPECT_EQ(std::find(no_effect.begin(), no_effect.end(), name), no_effect.end()) << name;
-  // The pulley radius is fitted, within three standard deviations of the hidden 11.5 mm; it and
-  // the offsets are nearly interchangeable (deviations of several mm) yet predict within 1 mm.
+  // The pulley radius and the offsets are nearly interchangeable: the tape pins the radius to
+  // several mm only, more than a pulley is plausibly off its 10 mm, so it is held there (the
+  // hidden machine's is 11.5 mm), named with its numbers; the offsets take up the difference and
+  // the fit still predicts within 1 mm.
+  ASSERT_EQ(run.report.poorly_determined.size(), 1u);
+  EXPECT_EQ(run.report.poorly_determined.front().name, "pulley_radius");
+  EXPECT_GT(run.report.poorly_determined.front().standard_deviation, 2.0);
   for (const ParameterEstimate& p : run.report.parameters) {
     std::printf("%-20s %12.4f %12.4f %10.4f %s\n", p.name.c_str(), p.nominal, p.fitted,
                 p.standard_deviation, p.free ? "" : "(held)");
-    if (p.name != "pulley_radius") continue;
-    EXPECT_TRUE(p.free);
-    EXPECT_LT(std::abs(p.fitted - 11.5), 3.0 * p.standard_deviation);
+    if (p.name == "pulley_radius") {
+      EXPECT_FALSE(p.free);
+    }
   }
   std::printf("before %.3f after %.3f mm\n", run.before_mm, run.after_mm);
+}
+
+// The wall plotter on GT2 pulleys (tests/data/wall-plotter-gt2.toml), its default pattern
+// measured with a tape of 0.5 mm on a machine with the machine file's pulleys, anchors a few mm
+// off and cable offsets of +6 and -4 mm (tests/data/wall-plotter-gt2-*). The pulley radius
+// trades with the anchors' distance and the offsets: the fit once drove it to 0 mm with a
+// standard deviation of 0 and wrote it. It is held at the pulley's 6.366 mm with its numbers, and
+// the offsets come out as the hidden machine's.
+TEST(DistanceFit, Gt2PulleyTheTapeCannotPinIsHeldWithItsNumbers) {
+  const std::string data = std::string(PKM_SOURCE_DIR) + "/tests/data/";
+  Machine machine = load_machine(data + "wall-plotter-gt2.toml");
+  const std::vector<PatternMark> marks = read_pattern_json(data + "wall-plotter-gt2-pattern.json");
+  const std::vector<MarkDistance> distances =
+      read_distances_csv(data + "wall-plotter-gt2-distances.csv", marks);
+  const FitReport report =
+      fit_distances(machine.kinematics(), machine.home(), marks, distances, FitOptions{});
+  ASSERT_EQ(report.poorly_determined.size(), 1u);
+  const PoorlyDetermined& pulley = report.poorly_determined.front();
+  EXPECT_EQ(pulley.name, "pulley_radius");
+  EXPECT_LT(pulley.fitted, 0.01);             // where the unscreened fit put it
+  EXPECT_GT(pulley.standard_deviation, 4.0);  // mm: the tape pins it to centimetres only
+  EXPECT_LT(pulley.alone_deviation, 0.5);     // alone it would be pinned: it trades
+  EXPECT_NEAR(pulley.plausible_deviation, 0.2 * 6.366, 1e-12);
+  std::vector<std::string> trades;
+  for (const TradeOff& t : pulley.trades_with) {
+    trades.push_back(t.name);
+    EXPECT_GT(std::abs(t.correlation), 0.9) << t.name;
+  }
+  EXPECT_EQ(trades, (std::vector<std::string>{"anchor_right_x", "cable_offset_right",
+                                              "cable_offset_left"}));
+  for (const ParameterEstimate& p : report.parameters) {
+    if (p.name == "pulley_radius") {
+      EXPECT_FALSE(p.free);
+      EXPECT_EQ(p.fitted, 6.366);
+    }
+    if (p.name == "cable_offset_left") {
+      EXPECT_NEAR(p.fitted, 6.0, 3.0 * p.standard_deviation);
+    }
+    if (p.name == "cable_offset_right") {
+      EXPECT_NEAR(p.fitted, -4.0, 3.0 * p.standard_deviation);
+    }
+    if (p.free) {
+      EXPECT_LE(p.standard_deviation, p.plausible_deviation) << p.name;
+    }
+  }
+  EXPECT_LT(report.rms_after_mm, 0.6);  // the tape's half millimetre
+}
+
+// The Makelangelo of the examples (GT2 pulleys, a 0.3 kg gondola), its default pattern measured
+// with a tape of 0.5 mm on the same hidden machine (tests/data/makelangelo-*). Fitting every
+// parameter, the fit once stopped at an RMS of 4.7 mm with standard deviations of 50..147 mm
+// (the pulley radius 5.3 mm +- 107 mm) and wrote it. Now what the tape cannot pin is held with its
+// numbers, the rest is pinned within its plausible deviation and fits the tape's noise.
+TEST(DistanceFit, MakelangeloHoldsWhatTheTapeCannotPinAndFits) {
+  const std::string data = std::string(PKM_SOURCE_DIR) + "/tests/data/";
+  Machine machine = test::load_example("makelangelo.toml");
+  const std::vector<PatternMark> marks = read_pattern_json(data + "makelangelo-pattern.json");
+  const std::vector<MarkDistance> distances =
+      read_distances_csv(data + "makelangelo-distances.csv", marks);
+  const FitReport report =
+      fit_distances(machine.kinematics(), machine.home(), marks, distances, FitOptions{});
+  std::vector<std::string> poor;
+  for (const PoorlyDetermined& p : report.poorly_determined) {
+    poor.push_back(p.name);
+    EXPECT_GT(p.standard_deviation, p.plausible_deviation) << p.name;
+    std::printf("%s\n", poorly_determined_text(p).c_str());
+  }
+  EXPECT_NE(std::find(poor.begin(), poor.end(), "pulley_radius"), poor.end());
+  for (const ParameterEstimate& p : report.parameters) {
+    if (p.free) {
+      EXPECT_LE(p.standard_deviation, p.plausible_deviation) << p.name;
+    }
+  }
+  EXPECT_LT(report.rms_after_mm, 0.6);
+  EXPECT_GT(report.rms_before_mm, 5.0);
+}
+
+// Distances read 10 % long (a tape that is not the one the pattern was measured with): the
+// anchors' distance the data pin firmly comes out 150 mm off, more than three times what a
+// frame is plausibly off its machine file. Refused with its numbers, nothing fitted.
+TEST(DistanceFit, AFirmlyPinnedNonsenseValueIsRefusedWithItsNumbers) {
+  const std::string data = std::string(PKM_SOURCE_DIR) + "/tests/data/";
+  Machine machine = test::load_example("wall-plotter.toml");
+  const std::vector<PatternMark> marks = read_pattern_json(data + "wall-plotter-pattern.json");
+  std::vector<MarkDistance> distances =
+      read_distances_csv(data + "wall-plotter-distances.csv", marks);
+  for (MarkDistance& d : distances) d.distance_mm *= 1.1;
+  const std::string error = error_of(
+      [&] { fit_distances(machine.kinematics(), machine.home(), marks, distances, FitOptions{}); });
+  std::printf("%s\n", error.c_str());
+  EXPECT_NE(error.find("the fit is nonsense, nothing written: anchor_right_x = "),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("is nonsense for an anchor's position of this machine"), std::string::npos);
+  EXPECT_NE(error.find("standard deviation"), std::string::npos);
 }
 
 // A cable plotter whose both anchors are parameters (a formula machine: the straight-cable
@@ -543,7 +644,64 @@ TEST(DistanceCalibration, MaslowSledOnItsSheet) {
       // Only where the drawing sits is held: the sled's tilt shows how the frame is turned.
       EXPECT_EQ(run.report.held_rigid_motion,
                 (std::vector<std::string>{"anchor_left_x", "anchor_left_y"}));
+      // The tape cannot pin the sprocket radius within a fifth of itself: held, with its numbers.
+      EXPECT_TRUE(std::any_of(run.report.poorly_determined.begin(),
+                              run.report.poorly_determined.end(),
+                              [](const PoorlyDetermined& p) { return p.name == "pulley_radius"; }));
     }
+  }
+}
+
+// Every tape-measure fit's default parameters are what its default pattern identifies: the
+// pattern's identification (a tape of 0.5 mm assumed) names them, a tape of that noise over all
+// the pattern's distances fits exactly those, each pinned within its plausible deviation and
+// within three standard deviations of the hidden machine's value.
+TEST(DistanceCalibration, DefaultPatternIdentifiesTheDefaultParameters) {
+  PatternOptions maslow_sheet;
+  maslow_sheet.sheet_mm = {{270.0, -1682.2, 2708.4, -463.0}};
+  const std::vector<std::pair<Machine, PatternOptions>> cases = {
+      {test::load_example("wall-plotter.toml"), {}},
+      {pulley_wall_plotter(), {}},
+      {load_machine(std::string(PKM_SOURCE_DIR) + "/tests/data/wall-plotter-gt2.toml"), {}},
+      {gondola_wall_plotter(), {}},
+      {test::load_example("makelangelo.toml"), {}},
+      {test::load_example("maslow-frame.toml"), maslow_sheet}};
+  for (const auto& [machine, options] : cases) {
+    const CalibrationPattern pattern = design_pattern(machine, options);
+    const DistanceIdentification identified = identify_from_distances(
+        machine.kinematics(), machine.home(), pattern.marks, all_pairs(pattern.marks), {});
+    const auto marks = static_cast<int>(pattern.marks.size());
+    const CalibrationRun run = calibrate_synthetic(machine, pattern, every_pair(marks), 3);
+    const std::unique_ptr<Kinematics> truth = moved(machine.kinematics(), kHiddenGeometry);
+    const std::vector<Parameter> hidden = truth->parameters();
+    std::vector<std::string> fitted;
+    for (const ParameterEstimate& p : run.report.parameters) {
+      if (!p.free) continue;
+      fitted.push_back(p.name);
+      const auto value = std::find_if(hidden.begin(), hidden.end(),
+                                      [&](const Parameter& q) { return q.name == p.name; });
+      EXPECT_LE(p.standard_deviation, p.plausible_deviation) << machine.name() << " " << p.name;
+      EXPECT_LE(std::abs(p.fitted - value->value), 3.0 * p.standard_deviation)
+          << machine.name() << " " << p.name << " fitted " << p.fitted << " true " << value->value;
+    }
+    // The fit frees nothing the pattern's identification holds; what it holds beyond (its noise
+    // taken from the tape, its precision at the solution) it names with its numbers.
+    for (const std::string& name : fitted) {
+      EXPECT_NE(std::find(identified.identified.begin(), identified.identified.end(), name),
+                identified.identified.end())
+          << machine.name() << " " << name;
+    }
+    for (const std::string& name : identified.identified) {
+      const bool free = std::find(fitted.begin(), fitted.end(), name) != fitted.end();
+      const bool named =
+          std::any_of(run.report.poorly_determined.begin(), run.report.poorly_determined.end(),
+                      [&](const PoorlyDetermined& p) { return p.name == name; });
+      EXPECT_TRUE(free || named) << machine.name() << " " << name;
+    }
+    for (const PoorlyDetermined& p : run.report.poorly_determined)
+      std::printf("%s, fit: %s\n", machine.name().c_str(), poorly_determined_text(p).c_str());
+    for (const PoorlyDetermined& p : identified.poorly_determined)
+      std::printf("%s: %s\n", machine.name().c_str(), poorly_determined_text(p, 0.5).c_str());
   }
 }
 
@@ -558,6 +716,7 @@ TEST(DistanceCalibration, AccuracyByMarksAndPairs) {
     PatternOptions options;
     options.marks = marks;
     const CalibrationPattern pattern = design_pattern(machine, options);
+    double mean_of_all = 0.0;
     for (const int scheme : {0, 1, 2}) {
       const auto pairs = scheme == 0   ? every_pair(marks)
                          : scheme == 1 ? neighbour_pairs(pattern.marks, 3)
@@ -568,14 +727,17 @@ TEST(DistanceCalibration, AccuracyByMarksAndPairs) {
         worst = std::max(worst, error);
         sum += error;
       }
+      if (scheme == 0) mean_of_all = sum / kSeeds;
+      // With the pulley radius the tape cannot pin held at its machine file's value, 0.37 mm;
+      // fitted to the tape's noise, it was 0.58 mm.
       if (scheme == 0 && marks == 12) {
-        EXPECT_LT(sum / kSeeds, 0.7);
+        EXPECT_LT(sum / kSeeds, 0.45);
       }
       if (scheme == 0 && marks == 25) {
         EXPECT_LT(worst, 0.5);
       }
       if (scheme == 1 && marks >= 12) {
-        EXPECT_GT(sum / kSeeds, 0.8);  // neighbours see less
+        EXPECT_GT(sum / kSeeds, 2.0 * mean_of_all);  // neighbours see less
       }
       std::printf("%5d %10s %9zu %10.3f %9.3f\n", marks,
                   scheme == 0   ? "all"

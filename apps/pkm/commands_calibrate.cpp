@@ -200,6 +200,8 @@ void print_fit_text(const FitReport& report, const std::string& output, bool dis
   for (const auto& group : report.indistinguishable) {
     std::printf("the data cannot tell these apart: %s\n", joined(group).c_str());
   }
+  for (const PoorlyDetermined& p : report.poorly_determined)
+    std::printf("warning: %s\n", poorly_determined_text(p).c_str());
   if (!report.no_effect.empty()) {
     std::printf(
         "no effect on the data at the nominal geometry (or at the edge of their range): %s\n",
@@ -302,6 +304,8 @@ void run_pattern(const PatternCommandOptions& options) {
     std::cout << nlohmann::json{{"marks", pattern.marks.size()},
                                 {"cross_size_mm", pattern.cross_size_mm},
                                 {"identified", identified.identified},
+                                {"poorly_determined",
+                                 poorly_determined_json(identified.poorly_determined)},
                                 {"held_rigid_motion", identified.held_rigid_motion},
                                 {"indistinguishable", identified.indistinguishable},
                                 {"no_effect", identified.no_effect},
@@ -322,6 +326,8 @@ void run_pattern(const PatternCommandOptions& options) {
                 joined(identified.held_rigid_motion).c_str());
   for (const auto& group : identified.indistinguishable)
     std::printf("cannot be told apart: %s\n", joined(group).c_str());
+  for (const PoorlyDetermined& p : identified.poorly_determined)
+    std::printf("%s\n", poorly_determined_text(p, FitOptions{}.design_noise_mm).c_str());
   if (!identified.no_effect.empty())
     std::printf("no effect at the nominal geometry (or at the edge of their range): %s\n",
                 joined(identified.no_effect).c_str());

@@ -62,3 +62,22 @@ def test_fit_of_a_known_geometry_finds_it(machines):
         pkmkit.calibrate.fit(m, joints, np.full_like(poses, np.nan))
     with pytest.raises(ValueError, match=r"joints must be an \(N, 2\) array"):
         pkmkit.calibrate.fit(m, joints[:, :1], poses)
+
+
+def test_a_pulley_the_data_cannot_pin_is_held_with_its_numbers(machines):
+    # Hektor on GT2 pulleys measured by a camera to 0.5 mm: the pulley radius trades with the
+    # cable offsets, and the data pin it to worse than a fifth of its 6.366 mm. Held there, and
+    # the report says why with its numbers.
+    m = pkmkit.Machine.load(str(machines / "hektor-pulleys.toml"))
+    truth = m.with_parameters({"cable_offset_left": 1.0})
+    rng = np.random.default_rng(4)
+    poses = np.column_stack([rng.uniform(20, 80, 40), rng.uniform(-90, -30, 40)])
+    joints, status = truth.inverse(poses)
+    assert np.all(status == "ok")
+    fitted, report = pkmkit.calibrate.fit(m, joints, poses + rng.normal(0.0, 0.5, poses.shape))
+    held = {p["name"]: p for p in report["poorly_determined"]}
+    pulley = held["pulley_radius"]
+    assert pulley["standard_deviation"] > pulley["plausible_deviation"] == pytest.approx(0.2 * 6.366)
+    assert pulley["kind"] == "a pulley's radius" and pulley["trades_with"]
+    assert fitted.parameters["pulley_radius"] == 6.366
+    assert "pulley_radius" in report["held"]

@@ -56,3 +56,26 @@ add_test(NAME cli.calibrate_pattern_pen_heights_given
                  -o ${CLI_OUT}/tape-mill-given.ngc --down-z -2 --up-z -1)
 set_tests_properties(cli.calibrate_pattern_pen_heights_given PROPERTIES
   PASS_REGULAR_EXPRESSION "12 marks.*wrote")
+
+# The wall plotter on GT2 pulleys (tests/data/wall-plotter-gt2*): the tape cannot pin the pulley
+# radius, which trades with the anchors' distance and the offsets. The pattern says so before
+# anything is drawn, and the fit holds it at the pulley's 6.366 mm with its numbers (it once
+# drove it to 0 mm with a standard deviation of 0, silently).
+add_test(NAME cli.calibrate_pattern_names_the_pulley_it_cannot_pin
+         COMMAND ${PKM} calibrate pattern -m ${CLI_DATA}/wall-plotter-gt2.toml
+                 -o ${CLI_OUT}/tape-gt2-pattern.ngc)
+set_tests_properties(cli.calibrate_pattern_names_the_pulley_it_cannot_pin PROPERTIES
+  PASS_REGULAR_EXPRESSION "identify: anchor_right_x, cable_offset_left, cable_offset_right\n.*held pulley_radius at its nominal 6\\.366 mm: measured to \\+-0\\.5 mm, the distances would pin it only to \\+-5\\.0[0-9]+ mm, worse than the \\+-1\\.273 mm \\(20 % of its nominal value\\) a pulley's radius plausibly is off its machine file; it trades with anchor_right_x \\(correlation 1\\.00\\)")
+add_test(NAME cli.calibrate_fit_distances_holds_the_gt2_pulley
+         COMMAND ${PKM} calibrate fit -m ${CLI_DATA}/wall-plotter-gt2.toml
+                 --distances ${CLI_DATA}/wall-plotter-gt2-distances.csv
+                 --pattern ${CLI_DATA}/wall-plotter-gt2-pattern.json -o ${CLI_OUT}/tape-gt2-fitted.toml)
+set_tests_properties(cli.calibrate_fit_distances_holds_the_gt2_pulley PROPERTIES
+  PASS_REGULAR_EXPRESSION "pulley_radius +6\\.366000 +\\(held\\).*cable_offset_left +0\\.000000 +6\\.5[0-9]+.*warning: held pulley_radius at its nominal 6\\.366 mm: the data pin it only to \\+-5\\.2[0-9]+ mm \\(the fit put it at [0-9.e+-]+ mm\\).*trades with anchor_right_x \\(correlation 1\\.00\\), cable_offset_right \\(correlation -0\\.98\\), cable_offset_left \\(correlation -0\\.98\\).*wrote")
+# Distances 10 % long (another tape than the pattern's): the offsets the data pin firmly come out
+# 140 mm off, beyond three times what a cable's zero plausibly is off: refused, nothing written.
+pkm_cli_refuses(calibrate_fit_nonsense_offsets
+                "the fit is nonsense, nothing written: cable_offset_left = 137\\.9 mm \\(standard deviation 17\\.8 mm\\) is nonsense for a cable's zero of this machine: 137\\.9 mm from the machine file's 0 mm, more than 3 x 43\\.01 mm \\(2 mm \\+ 2 % of the machine's size of 2051 mm\\).{2}it trades with cable_offset_right \\(correlation 1\\.00\\)"
+                NO_FILE ${CLI_OUT}/tape-never.toml
+                calibrate fit -m ${PLOTTER} --distances ${CLI_DATA}/wall-plotter-distances-long.csv
+                --pattern ${TAPE_PATTERN} -o ${CLI_OUT}/tape-never.toml)

@@ -1,6 +1,7 @@
 #include "pkm/calibration/distance_fit.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <Eigen/QR>
 #include <Eigen/SVD>
 #include <algorithm>
@@ -128,6 +129,12 @@ class DistanceResiduals final : public ParameterResiduals {
 
   std::string nominal_failure_hint() const override {
     return "forward kinematics fails for the joints a mark was drawn with";
+  }
+
+  double extent_mm() const override {
+    Eigen::AlignedBox3d box;
+    for (const Pose& pose : seeds_) box.extend(pose.position_mm);
+    return seeds_.empty() ? 0.0 : box.diagonal().norm();
   }
 
  private:
@@ -336,7 +343,26 @@ DistanceIdentification identify_from_distances(const Kinematics& kinematics, con
       kinematics, residuals, requested, result.held_rigid_motion, options.rank_tolerance);
   result.indistinguishable = identified.indistinguishable;
   result.no_effect = identified.no_effect;
-  for (const int index : identified.free) result.identified.push_back(parameters[index].name);
+  // How well a tape of the design noise would pin each: those it pins less well than the machine
+  // file does are held, as the fit would hold them.
+  std::vector<double> nominal;
+  for (const Parameter& p : parameters) nominal.push_back(p.value);
+  Eigen::MatrixXd jacobian;
+  const auto function = [&](std::span<const double> p, double* out) {
+    return residuals.evaluate(p, out);
+  };
+  if (!identified.free.empty() &&
+      parameter_jacobian(function, residuals.count(), nominal, identified.free, jacobian)) {
+    result.poorly_determined = poorly_determined(
+        jacobian, screened_parameters(kinematics, identified.free, nominal, residuals.extent_mm()),
+        options.design_noise_mm);
+  }
+  for (const int index : identified.free) {
+    const std::string& name = parameters[index].name;
+    const bool poor = std::any_of(result.poorly_determined.begin(), result.poorly_determined.end(),
+                                  [&](const PoorlyDetermined& p) { return p.name == name; });
+    if (!poor) result.identified.push_back(name);
+  }
   return result;
 }
 

@@ -3,7 +3,8 @@
 // joints its nominal model gives for the mark's nominal position, q_k = IK_nominal(p_k); with a
 // candidate geometry the pen was at FK(q_k); a residual is |FK(q_a) - FK(q_b)| - measured.
 // Distances cannot see where the whole drawing sits or how it is turned (a rigid motion): the
-// fit holds the parameters that only move the drawing as a whole.
+// fit holds the parameters that only move the drawing as a whole, and, as every fit, those the
+// distances pin less well than the machine file does (parameter_fit.hpp).
 #pragma once
 
 #include <filesystem>
@@ -37,9 +38,12 @@ std::vector<MarkDistance> read_distances_csv(const std::filesystem::path& path,
 // measured.
 std::vector<MarkDistance> all_pairs(const std::vector<PatternMark>& marks);
 
-// What measured distances between the marks can identify, at the nominal geometry.
+// What measured distances between the marks can identify, at the nominal geometry: the rank
+// identification of the fit, then what a tape of FitOptions::design_noise_mm would pin less well
+// than the machine file does (held, as the fit holds it).
 struct DistanceIdentification {
   std::vector<std::string> identified;
+  std::vector<PoorlyDetermined> poorly_determined;
   std::vector<std::string> held_rigid_motion;  // they only move the whole drawing
   std::vector<std::vector<std::string>> indistinguishable;
   std::vector<std::string> no_effect;  // FitReport::no_effect

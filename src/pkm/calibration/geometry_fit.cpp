@@ -1,6 +1,8 @@
 #include "pkm/calibration/geometry_fit.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 namespace pkm {
@@ -69,6 +71,23 @@ class PoseResiduals final : public ParameterResiduals {
   std::string nominal_failure_hint() const override {
     return "forward kinematics fails for a measurement; check that every row's joints are "
            "inside the machine's reach";
+  }
+
+  double extent_mm() const override {
+    Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector3d high = -low;
+    for (const Measurement& m : measurements_) {
+      for (int axis = 0; axis < 3; ++axis) {
+        if (!m.measured[axis]) continue;
+        low[axis] = std::min(low[axis], m.pose[axis]);
+        high[axis] = std::max(high[axis], m.pose[axis]);
+      }
+    }
+    double squared = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (high[axis] >= low[axis]) squared += (high[axis] - low[axis]) * (high[axis] - low[axis]);
+    }
+    return std::sqrt(squared);
   }
 
  private:

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pkm/calibration/parameter_plausibility.hpp"
+
 namespace pkm {
 
 namespace {
@@ -101,32 +103,69 @@ Solution solve(const ParameterResiduals& residuals, const std::vector<double>& n
   return solution;
 }
 
-// Standard deviations of the free parameters (full-vector order, 0 for held ones) from the
-// Jacobian at the solution: sigma^2 (J^T J)^-1, sigma^2 estimated from the residuals.
-std::vector<double> standard_deviations(const ParameterResiduals& residuals,
-                                        const std::vector<double>& fitted,
-                                        const std::vector<int>& free,
-                                        const std::vector<double>& after) {
-  std::vector<double> deviation(fitted.size(), 0.0);
+// The residuals' Jacobian over the free parameters at a solution, and the noise sigma (mm) the
+// residuals there show: sqrt(sum of squares / (measurements - free parameters)).
+struct SolutionJacobian {
   Eigen::MatrixXd jacobian;
+  double sigma = 0.0;
+  bool ok = false;  // false where the model fails beside the solution: no precision known
+};
+
+SolutionJacobian solution_jacobian(const ParameterResiduals& residuals,
+                                   const std::vector<double>& fitted, const std::vector<int>& free,
+                                   const std::vector<double>& after) {
+  SolutionJacobian result;
   const auto function = [&](std::span<const double> p, double* out) {
     return residuals.evaluate(p, out);
   };
-  if (free.empty() || !parameter_jacobian(function, residuals.count(), fitted, free, jacobian)) {
-    return deviation;
-  }
+  // One-sided at the edge of a range: a pulley radius the fit drove to 0 has a precision too.
+  if (free.empty() || !parameter_jacobian(function, residuals.count(), fitted, free,
+                                          result.jacobian, Differencing::one_sided_at_edges))
+    return result;
   double sum_of_squares = 0.0;
   for (const double r : after) sum_of_squares += r * r;
-  const double variance =
-      sum_of_squares / static_cast<double>(residuals.count() - static_cast<int>(free.size()));
-  const Eigen::MatrixXd normal = jacobian.transpose() * jacobian;
-  const Eigen::MatrixXd covariance =
-      variance * normal.completeOrthogonalDecomposition().pseudoInverse();
-  for (std::size_t i = 0; i < free.size(); ++i) {
-    const auto k = static_cast<Eigen::Index>(i);
-    deviation[free[i]] = std::sqrt(std::max(0.0, covariance(k, k)));
+  result.sigma = std::sqrt(sum_of_squares /
+                           static_cast<double>(residuals.count() - static_cast<int>(free.size())));
+  result.ok = true;
+  return result;
+}
+
+std::vector<double> evaluated(const ParameterResiduals& residuals,
+                              const std::vector<double>& values) {
+  std::vector<double> result(static_cast<std::size_t>(residuals.count()));
+  if (!residuals.evaluate(values, result.data())) {
+    throw FitError("the fitted geometry fails for a measurement: nothing written");
   }
-  return deviation;
+  return result;
+}
+
+// Throws FitError naming every fitted value more than kImplausibleDeviations plausible
+// deviations from its nominal value, with its standard deviation and what it trades with.
+// `precision` unknown (the model fails beside the solution): said so instead of its numbers.
+void refuse_implausible(const std::vector<ScreenedParameter>& screened, const Precision& precision,
+                        bool precision_known) {
+  std::string message;
+  for (std::size_t c = 0; c < screened.size(); ++c) {
+    const ScreenedParameter& p = screened[c];
+    const double off = std::abs(p.fitted - p.nominal);
+    if (!(p.plausible_deviation > 0.0) || off <= kImplausibleDeviations * p.plausible_deviation)
+      continue;
+    const std::string unit = p.unit.empty() ? "" : " " + p.unit;
+    message += std::string(message.empty() ? "" : "; ") + p.name + " = " + shown_number(p.fitted) +
+               unit +
+               (precision_known
+                    ? " (standard deviation " + shown_number(precision.deviation[c]) + unit + ")"
+                    : " (standard deviation unknown: the model fails beside it)") +
+               " is nonsense for " + p.kind + " of this machine: " + shown_number(off) + unit +
+               " from the machine file's " + shown_number(p.nominal) + unit + ", more than " +
+               shown_number(kImplausibleDeviations) + " x " + shown_number(p.plausible_deviation) +
+               unit + " (" + p.rule + ")" +
+               (precision_known ? "; it trades with " + describe_trades(precision.trades[c]) : "");
+  }
+  if (message.empty()) return;
+  throw FitError("the fit is nonsense, nothing written: " + message +
+                 ". Check the measurements and the machine file's values, or fit fewer "
+                 "parameters with --params");
 }
 
 }  // namespace
@@ -272,6 +311,63 @@ Identification identify_at_nominal(const Kinematics& kinematics,
   return identify_parameters(jacobian, candidates, parameters, rank_tolerance);
 }
 
+std::vector<ScreenedParameter> screened_parameters(const Kinematics& kinematics,
+                                                   const std::vector<int>& free,
+                                                   const std::vector<double>& values,
+                                                   double extent_mm) {
+  const std::vector<Parameter> parameters = kinematics.parameters();
+  const double size_mm = machine_size_mm(parameters, extent_mm);
+  std::vector<ScreenedParameter> result;
+  for (const int index : free) {
+    const Parameter& p = parameters[static_cast<std::size_t>(index)];
+    const Plausibility plausibility = parameter_plausibility(kinematics.type(), p, size_mm);
+    result.push_back({p.name, p.unit, plausibility.kind, p.value,
+                      values[static_cast<std::size_t>(index)], plausibility.deviation,
+                      plausibility.rule});
+  }
+  return result;
+}
+
+namespace {
+
+// The solution with the poorly determined parameters held, and what the precision is taken from.
+struct FinalSolution {
+  Solution solution;
+  std::vector<double> after;  // residuals
+  SolutionJacobian at_solution;
+  std::vector<ScreenedParameter> screened;  // the free parameters, at the solution
+};
+
+// Fits `free`, holds what the solution shows the data pin less well than the machine file
+// (removed from `free`, added to report.poorly_determined), and fits again without it: each
+// round holds at least one parameter, so this ends.
+FinalSolution solve_holding_poorly_determined(const Kinematics& kinematics,
+                                              const ParameterResiduals& residuals,
+                                              const std::vector<double>& nominal,
+                                              std::vector<int>& free, FitReport& report) {
+  const std::vector<Parameter> parameters = kinematics.parameters();
+  FinalSolution result;
+  for (;;) {
+    result.solution = solve(residuals, nominal, free);
+    result.after = evaluated(residuals, result.solution.fitted);
+    result.at_solution = solution_jacobian(residuals, result.solution.fitted, free, result.after);
+    result.screened =
+        screened_parameters(kinematics, free, result.solution.fitted, residuals.extent_mm());
+    if (!result.at_solution.ok) return result;
+    const std::vector<PoorlyDetermined> poor =
+        poorly_determined(result.at_solution.jacobian, result.screened, result.at_solution.sigma);
+    if (poor.empty()) return result;
+    for (const PoorlyDetermined& p : poor) {
+      report.poorly_determined.push_back(p);
+      free.erase(std::find_if(free.begin(), free.end(), [&](int index) {
+        return parameters[static_cast<std::size_t>(index)].name == p.name;
+      }));
+    }
+  }
+}
+
+}  // namespace
+
 FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& residuals,
                          const std::vector<int>& requested,
                          const std::vector<std::string>& held_rigid_motion,
@@ -295,32 +391,26 @@ FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& resid
 
   const Identification identified = identify_at_nominal(kinematics, residuals, requested,
                                                         held_rigid_motion, options.rank_tolerance);
-  const std::vector<int>& free = identified.free;
+  std::vector<int> free = identified.free;
   report.indistinguishable = identified.indistinguishable;
   report.no_effect = identified.no_effect;
   report.held_rigid_motion = held_rigid_motion;
-  const auto is_free = [&](int index) {
-    return std::binary_search(free.begin(), free.end(), index);
-  };
-  for (const int index : requested) {
-    if (!is_free(index)) report.held.push_back(parameters[index].name);
-  }
   if (residuals.count() <= static_cast<int>(free.size())) {
     throw FitError(std::to_string(residuals.count()) + " measured values cannot fit " +
                    std::to_string(free.size()) +
                    " parameters: measure more, or fit fewer with --params");
   }
 
-  const Solution solution = solve(residuals, nominal, free);
+  const FinalSolution final_solution =
+      solve_holding_poorly_determined(kinematics, residuals, nominal, free, report);
+  const Solution& solution = final_solution.solution;
+  const std::vector<double>& after = final_solution.after;
+  const SolutionJacobian& at_solution = final_solution.at_solution;
+  const std::vector<ScreenedParameter>& screened = final_solution.screened;
   report.converged = solution.converged;
   report.iterations = solution.iterations;
   const std::vector<double>& fitted = solution.fitted;
-  std::vector<double> after(residuals.count());
-  if (!residuals.evaluate(fitted, after.data())) {
-    throw FitError("the fitted geometry fails for a measurement: nothing written");
-  }
   residuals.summarise(after, report.rms_after_mm, report.max_after_mm, report.max_after_line);
-  const std::vector<double> deviation = standard_deviations(residuals, fitted, free, after);
   const bool finite =
       std::isfinite(report.rms_after_mm) && std::isfinite(report.max_after_mm) &&
       std::all_of(fitted.begin(), fitted.end(), [](double value) { return std::isfinite(value); });
@@ -329,9 +419,25 @@ FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& resid
                    std::to_string(report.rms_after_mm) +
                    " mm): nothing written; check the measurements");
   }
+  // Where the model fails beside the solution, no precision is known: deviations 0.
+  const Precision precision =
+      fit_precision(at_solution.jacobian, screened, at_solution.ok ? at_solution.sigma : 0.0);
+  refuse_implausible(screened, precision, at_solution.ok);
+
+  const auto free_column = [&](int index) {
+    const auto at = std::find(free.begin(), free.end(), index);
+    return at == free.end() ? -1 : static_cast<int>(at - free.begin());
+  };
+  const double size_mm = machine_size_mm(parameters, residuals.extent_mm());
   for (const int index : requested) {
-    report.parameters.push_back({parameters[index].name, parameters[index].unit, nominal[index],
-                                 fitted[index], deviation[index], is_free(index)});
+    const int column = free_column(index);
+    if (column < 0) report.held.push_back(parameters[index].name);
+    const Plausibility plausibility =
+        parameter_plausibility(kinematics.type(), parameters[index], size_mm);
+    report.parameters.push_back(
+        {parameters[index].name, parameters[index].unit, nominal[index], fitted[index],
+         column < 0 ? 0.0 : precision.deviation[static_cast<std::size_t>(column)], column >= 0,
+         plausibility.kind, plausibility.deviation});
   }
   kinematics.set_parameters(fitted);
   return report;

@@ -1,7 +1,9 @@
 // The least-squares machinery every calibration fit shares: which named parameters of a model
 // the residuals can identify (column-pivoted QR of the Jacobian, SVD for the groups it cannot
-// tell apart), the Ceres solve over those, and the report with standard deviations. A fit
-// supplies only its residuals (measured poses, measured distances between drawn marks).
+// tell apart), the Ceres solve over those, the parameters held because the data pin them less
+// well than their kind's plausible deviation, the refusal of a fitted value no such hardware can
+// have, and the report with standard deviations. A fit supplies only its residuals (measured
+// poses, measured distances between drawn marks).
 #pragma once
 
 #include <Eigen/Core>
@@ -11,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "pkm/calibration/identifiability.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 
 namespace pkm {
@@ -23,6 +26,9 @@ struct FitOptions {
   // A direction of parameter space whose (column-normalised) singular value is below this
   // fraction of the largest cannot be told apart by the data.
   double rank_tolerance = 1e-6;
+  // The measurement noise an identification before any measurement assumes (`pkm calibrate
+  // pattern`: a tape read to the half millimetre), mm. A fit takes its noise from its residuals.
+  double design_noise_mm = 0.5;
 };
 
 struct ParameterEstimate {
@@ -30,8 +36,10 @@ struct ParameterEstimate {
   std::string unit;
   double nominal = 0.0;
   double fitted = 0.0;
-  double standard_deviation = 0.0;  // 0 for parameters held at nominal
-  bool free = false;                // fitted (true) or held at its nominal value
+  double standard_deviation = 0.0;   // 0 for parameters held at nominal
+  bool free = false;                 // fitted (true) or held at its nominal value
+  std::string kind;                  // parameter_plausibility.hpp; "" when not judged
+  double plausible_deviation = 0.0;  // from nominal, in `unit`; 0 when not judged
 };
 
 struct FitReport {
@@ -54,6 +62,10 @@ struct FitReport {
   // Parameters held because together they only move the whole drawing (a rigid motion), which
   // distances between marks cannot see. Empty for pose fits.
   std::vector<std::string> held_rigid_motion;
+  // Parameters the data determine less well than their kind's plausible deviation from the
+  // machine file (a pulley radius to +-18 mm): held at nominal, each with its numbers and the
+  // parameters it trades with, in the order held.
+  std::vector<PoorlyDetermined> poorly_determined;
   std::vector<std::string> held;  // requested parameters held at nominal (all reasons)
   bool converged = false;
   int iterations = 0;
@@ -77,6 +89,9 @@ class ParameterResiduals {
                          int& max_line) const = 0;
   // What to check when the nominal geometry already fails ("every row's joints inside reach").
   virtual std::string nominal_failure_hint() const = 0;
+  // The size of what was measured (the diagonal of the bounding box of the measured positions
+  // or of the marks), mm: the scale of a frame position's plausible deviation.
+  virtual double extent_mm() const = 0;
 };
 
 // Indices (parameters() order) of the parameters `patterns` name ('*' wildcards; empty: all).
@@ -116,9 +131,18 @@ Identification identify_at_nominal(const Kinematics& kinematics,
                                    const std::vector<int>& requested,
                                    const std::vector<std::string>& held, double rank_tolerance);
 
+// The parameters of `free` (indices) with their kinds' plausible deviations, at `values`.
+std::vector<ScreenedParameter> screened_parameters(const Kinematics& kinematics,
+                                                   const std::vector<int>& free,
+                                                   const std::vector<double>& values,
+                                                   double extent_mm);
+
 // The whole fit: identification at the model's current (nominal) geometry over `requested`
 // minus `held_rigid_motion`, Levenberg-Marquardt over the identified parameters, standard
-// deviations from sigma^2 (J^T J)^-1 at the solution. Updates `kinematics` to the fit.
+// deviations from sigma^2 (J^T J)^-1 at the solution (sigma^2 from the residuals); parameters
+// poorly determined (poorly_determined()) are held and the rest fitted again. Throws FitError,
+// naming its numbers, when a fitted value is more than kImplausibleDeviations plausible
+// deviations from nominal. Updates `kinematics` to the fit.
 FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& residuals,
                          const std::vector<int>& requested,
                          const std::vector<std::string>& held_rigid_motion,
