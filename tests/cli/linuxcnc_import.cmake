@@ -116,3 +116,15 @@ set_tests_properties(cli.import_linuxcnc_matrixkins_then_ik PROPERTIES PASS_REGU
 lcnc_config(pkmkins "[KINS]\nKINEMATICS = pkmkins machine=hexapod.toml\nJOINTS = 6\n")
 lcnc_refuses(pkmkins
   "pkmkins\\.ini:2:\\[KINS\\]KINEMATICS: this configuration runs pkmkit's own module with hexapod\\.toml: use that machine file itself$")
+
+# LinuxCNC's hexapod simulator: its -1000..1000 in joint and axis limits are placeholders, said on
+# standard error with the numbers (the machine file is still written).
+if(EXISTS ${PKM_LINUXCNC_SAMPLES}/sim/axis/vismach/hexapod-sim/hexapod.ini)
+  add_test(NAME cli.linuxcnc_import_warns_of_placeholder_limits
+           COMMAND pkm import linuxcnc
+                   ${PKM_LINUXCNC_SAMPLES}/sim/axis/vismach/hexapod-sim/hexapod.ini
+                   -o ${LCNC}/hexapod-sim-placeholders.toml)
+  set_tests_properties(cli.linuxcnc_import_warns_of_placeholder_limits PROPERTIES
+    PASS_REGULAR_EXPRESSION
+    "hexapod\\.ini: warning: \\[JOINT_0\\] \\.\\. \\[JOINT_5\\] MIN_LIMIT/MAX_LIMIT are -1000 \\.\\. 1000 in on every joint: placeholders[^\n]*\n[^\n]*hexapod\\.ini: warning: \\[AXIS_X\\] \\[AXIS_Y\\] \\[AXIS_Z\\] MIN_LIMIT/MAX_LIMIT are -1000 \\.\\. 1000 in on every axis: placeholders, not a work envelope")
+endif()
