@@ -137,7 +137,7 @@ class Migrator {
     edit_ini_hal();
     edit_paths();
     set_file(migration_.ini_name, join_lines(ini_lines_));
-    migration_.files.push_back({options_.machine_file_name, options_.machine_text});
+    set_file(options_.machine_file_name, options_.machine_text);  // over a file of that name
     warn_switchkins_users();
     return std::move(migration_);
   }
