@@ -387,7 +387,8 @@ TEST(LinuxcncExport, UnwritablePlaceLeavesNothing) {
   const std::filesystem::path parent = scratch("parent");
   std::filesystem::create_directories(parent);
   LinuxcncConfig broken = config;
-  broken.files.push_back({"no-such-dir/x.hal", "x"});
+  // (a directory where the configuration already has a file of that name)
+  broken.files.push_back({broken.files.front().name + "/x.hal", "x"});
   EXPECT_THROW(write_config_directory(parent / "config", broken, false), std::runtime_error);
   EXPECT_TRUE(std::filesystem::is_empty(parent));
   std::filesystem::remove_all(parent);

@@ -91,6 +91,40 @@ TEST(LinuxcncImport, HexapodSimGivesTheExampleGeometry) {
   EXPECT_DOUBLE_EQ(imported.cartesian().max_acceleration_mm_per_s2, 20.0 * 25.4);
 }
 
+// The sample's -1000..1000 in on every leg and on X Y Z (and A B C) describe no machine: the
+// import says so with the numbers; the legs keep them (there is no other travel to take), the
+// work envelope is left out (the reach is what the legs allow).
+TEST(LinuxcncImport, HexapodSimPlaceholderLimitsAreWarnedAndNoEnvelopeIsWritten) {
+  PKM_SKIP_WITHOUT_LINUXCNC_SAMPLES();
+  const fs::path ini = kSamples / "sim/axis/vismach/hexapod-sim/hexapod.ini";
+  const ImportedConfig config = read_config(ini);
+  ASSERT_EQ(config.warnings.size(), 2u);
+  EXPECT_NE(config.warnings[0].find("[JOINT_0] .. [JOINT_5] MIN_LIMIT/MAX_LIMIT are -1000 .. 1000 "
+                                    "in on every joint: placeholders"),
+            std::string::npos)
+      << config.warnings[0];
+  EXPECT_NE(config.warnings[1].find("[AXIS_X] [AXIS_Y] [AXIS_Z] MIN_LIMIT/MAX_LIMIT are -1000 .. "
+                                    "1000 in on every axis: placeholders"),
+            std::string::npos)
+      << config.warnings[1];
+  EXPECT_FALSE(config.envelope_min.has_value());
+  EXPECT_TRUE(has_note(config, "WARNING: [JOINT_0] .. [JOINT_5]"));
+  const std::string text = machine_file_text(config, "imported.toml");
+  EXPECT_EQ(text.find("\nmin = ["), std::string::npos) << text;
+  EXPECT_NE(text.find("\nmin = -1000.0\n"), std::string::npos) << text;  // the legs, kept
+}
+
+// Real travel is no placeholder: LinuxCNC's linear delta (joints 0..375 mm, axes of their own)
+// and its rotary delta import without a warning.
+TEST(LinuxcncImport, RealLimitsAreNotPlaceholders) {
+  PKM_SKIP_WITHOUT_LINUXCNC_SAMPLES();
+  for (const char* name : {"sim/axis/ldelta.ini", "sim/axis/rdelta.ini"}) {
+    const ImportedConfig config = read_config(kSamples / name);
+    EXPECT_TRUE(config.warnings.empty()) << name << ": " << config.warnings.front();
+    EXPECT_TRUE(config.envelope_min.has_value()) << name;
+  }
+}
+
 // The hexapod of kinematics.hal at a tilted pose: the imported joints are genhexkins' struts.
 TEST(LinuxcncImport, HexapodSimJointsAreGenhexkinsStruts) {
   PKM_SKIP_WITHOUT_LINUXCNC_SAMPLES();

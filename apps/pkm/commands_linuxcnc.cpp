@@ -1,4 +1,5 @@
-// pkm export linuxcnc: a LinuxCNC configuration running the pkmkins kinematics module.
+// pkm export linuxcnc: a LinuxCNC configuration running the pkmkins kinematics module; pkm
+// linuxcnc migrate: a configuration of LinuxCNC's own kinematics switched to pkmkins.
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -8,6 +9,7 @@
 
 #include "app.hpp"
 #include "pkm/linuxcnc/config_export.hpp"
+#include "pkm/linuxcnc/config_migrate.hpp"
 #include "pkm/text/text_file.hpp"
 
 namespace pkm::app {
@@ -62,9 +64,72 @@ void export_linuxcnc(const ExportLinuxcncOptions& options) {
   for (const std::string& line : config.cost) std::printf("  %s\n", line.c_str());
 }
 
+struct MigrateOptionsCli {
+  std::string config;
+  std::string machine;
+  std::string directory;
+  std::string hallib = linuxcnc::kDefaultHallib.string();
+  bool force = false;
+};
+
+void migrate_linuxcnc(const MigrateOptionsCli& options) {
+  std::error_code same_error;
+  const std::filesystem::path source = std::filesystem::absolute(options.config).parent_path();
+  if (std::filesystem::equivalent(options.directory, source, same_error)) {
+    throw CommandError(options.directory +
+                       " is the configuration's own directory: give a new one (the "
+                       "configuration is copied, never edited in place)");
+  }
+  const Machine machine = load_machine(options.machine);
+  linuxcnc::MigrateOptions migrate_options;
+  migrate_options.hallib = options.hallib;
+  migrate_options.machine_file_name = std::filesystem::path(options.machine).filename().string();
+  migrate_options.machine_text = read_text(options.machine);
+  migrate_options.machine_joints = static_cast<int>(machine.joints().size());
+  migrate_options.machine_units = machine.units() == LengthUnit::inch ? "inch" : "mm";
+  linuxcnc::Migration migration;
+  try {
+    migration = linuxcnc::migrate_linuxcnc_config(options.config, migrate_options);
+    linuxcnc::write_config_directory(options.directory, migration.files, options.force);
+  } catch (const std::runtime_error& error) {
+    throw CommandError(error.what());
+  }
+  std::printf("%s: %s switched from %s to pkmkins (%s), %zu files; the edits:\n",
+              options.directory.c_str(), migration.ini_name.c_str(), migration.module.c_str(),
+              migrate_options.machine_file_name.c_str(), migration.files.size());
+  for (const std::string& edit : migration.edits) std::printf("  %s\n", edit.c_str());
+  for (const std::string& warning : migration.warnings)
+    std::fprintf(stderr, "warning: %s\n", warning.c_str());
+}
+
+void register_migrate_command(CLI::App& app) {
+  CLI::App* group = app.add_subcommand("linuxcnc", "Work on LinuxCNC configurations");
+  group->require_subcommand(1);
+  auto options = std::make_shared<MigrateOptionsCli>();
+  CLI::App* command = group->add_subcommand(
+      "migrate",
+      "Copy a genhexkins, lineardeltakins, rotarydeltakins or matrixkins configuration to a new "
+      "directory running pkmkins with a machine file, keeping its HAL wiring, panels and remaps");
+  command->add_option("config", options->config, "The configuration's INI file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("-m,--machine", options->machine, "Machine file (copied beside the INI)")
+      ->required();
+  command->add_option("-o,--output", options->directory, "The configuration directory to write")
+      ->required();
+  command
+      ->add_option("--hallib", options->hallib,
+                   "LinuxCNC's HAL library, where HALFILE = LIB:name is found")
+      ->capture_default_str();
+  command->add_flag("--force", options->force,
+                    "Write into a directory that is not empty (replacing the files it writes)");
+  command->callback([options] { migrate_linuxcnc(*options); });
+}
+
 }  // namespace
 
 void register_linuxcnc_commands(CLI::App& app) {
+  register_migrate_command(app);
   CLI::App* export_command = app.get_subcommand("export");
   auto options = std::make_shared<ExportLinuxcncOptions>();
   CLI::App* command = export_command->add_subcommand(

@@ -23,6 +23,8 @@ void run_import_linuxcnc(const ImportOptionsCli& options) {
   import_options.hallib = options.hallib;
   const linuxcnc::ImportedConfig config =
       linuxcnc::read_linuxcnc_config(options.config, import_options);
+  for (const std::string& warning : config.warnings)
+    std::fprintf(stderr, "%s: warning: %s\n", options.config.c_str(), warning.c_str());
   const std::string text = linuxcnc::machine_file_text(
       config, options.output.empty() ? std::string("(standard output)") : options.output);
   if (options.output.empty()) {

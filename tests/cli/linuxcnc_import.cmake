@@ -116,3 +116,37 @@ set_tests_properties(cli.import_linuxcnc_matrixkins_then_ik PROPERTIES PASS_REGU
 lcnc_config(pkmkins "[KINS]\nKINEMATICS = pkmkins machine=hexapod.toml\nJOINTS = 6\n")
 lcnc_refuses(pkmkins
   "pkmkins\\.ini:2:\\[KINS\\]KINEMATICS: this configuration runs pkmkit's own module with hexapod\\.toml: use that machine file itself$")
+
+# LinuxCNC's hexapod simulator: its -1000..1000 in joint and axis limits are placeholders, said on
+# standard error with the numbers (the machine file is still written).
+if(EXISTS ${PKM_LINUXCNC_SAMPLES}/sim/axis/vismach/hexapod-sim/hexapod.ini)
+  add_test(NAME cli.linuxcnc_import_warns_of_placeholder_limits
+           COMMAND pkm import linuxcnc
+                   ${PKM_LINUXCNC_SAMPLES}/sim/axis/vismach/hexapod-sim/hexapod.ini
+                   -o ${LCNC}/hexapod-sim-placeholders.toml)
+  set_tests_properties(cli.linuxcnc_import_warns_of_placeholder_limits PROPERTIES
+    PASS_REGULAR_EXPRESSION
+    "hexapod\\.ini: warning: \\[JOINT_0\\] \\.\\. \\[JOINT_5\\] MIN_LIMIT/MAX_LIMIT are -1000 \\.\\. 1000 in on every joint: placeholders[^\n]*\n[^\n]*hexapod\\.ini: warning: \\[AXIS_X\\] \\[AXIS_Y\\] \\[AXIS_Z\\] MIN_LIMIT/MAX_LIMIT are -1000 \\.\\. 1000 in on every axis: placeholders, not a work envelope")
+endif()
+
+# pkm linuxcnc migrate refuses, saying where and why, and writes no directory: a module it does
+# not switch from, JOINTS other than the machine file's (LinuxCNC's rdelta: 9 joints, the
+# rotary delta 3), the configuration's own directory.
+lcnc_config(migrate_trivkins "${LCNC_MILL}")
+pkm_cli_refuses(linuxcnc_migrate_trivkins
+  "migrate_trivkins\\.ini:2:\\[KINS\\]KINEMATICS: 'trivkins' is not a kinematics module pkm linuxcnc migrate switches from"
+  NO_FILE ${LCNC}/migrate_trivkins-out
+  linuxcnc migrate ${LCNC}/migrate_trivkins/migrate_trivkins.ini
+  -m ${PROJECT_SOURCE_DIR}/examples/machines/matrix-mill.toml -o ${LCNC}/migrate_trivkins-out)
+lcnc_config(migrate_joints "[KINS]\nKINEMATICS = genhexkins\nJOINTS = 3\n")
+pkm_cli_refuses(linuxcnc_migrate_joints_not_the_machines
+  "migrate_joints\\.ini:3:\\[KINS\\]JOINTS: \\[KINS\\] JOINTS = 3 but linuxcnc-hexapod-sim\\.toml has 6 joints"
+  NO_FILE ${LCNC}/migrate_joints-out
+  linuxcnc migrate ${LCNC}/migrate_joints/migrate_joints.ini
+  -m ${PROJECT_SOURCE_DIR}/examples/machines/linuxcnc-hexapod-sim.toml -o ${LCNC}/migrate_joints-out)
+lcnc_config(migrate_in_place "[KINS]\nKINEMATICS = genhexkins\nJOINTS = 6\n")
+pkm_cli_refuses(linuxcnc_migrate_in_place
+  "migrate_in_place is the configuration's own directory: give a new one"
+  linuxcnc migrate ${LCNC}/migrate_in_place/migrate_in_place.ini
+  -m ${PROJECT_SOURCE_DIR}/examples/machines/linuxcnc-hexapod-sim.toml -o ${LCNC}/migrate_in_place
+  --force)

@@ -383,6 +383,23 @@ bool is_empty_directory(const std::filesystem::path& directory) {
 
 void write_config_directory(const std::filesystem::path& directory, const LinuxcncConfig& config,
                             bool force) {
+  write_config_directory(directory, config.files, force);
+}
+
+namespace {
+
+void write_config_file(const std::filesystem::path& directory, const ConfigFile& file) {
+  const std::filesystem::path path = directory / file.name;
+  std::error_code error;
+  std::filesystem::create_directories(path.parent_path(), error);
+  if (error) fail("create the directory", path.parent_path(), error);
+  write_file_atomically(path, file.text);
+}
+
+}  // namespace
+
+void write_config_directory(const std::filesystem::path& directory,
+                            const std::vector<ConfigFile>& files, bool force) {
   namespace fs = std::filesystem;
   std::error_code error;
   const bool exists = fs::exists(directory, error);
@@ -395,8 +412,7 @@ void write_config_directory(const std::filesystem::path& directory, const Linuxc
                                " exists and is not empty: give another directory, or --force "
                                "to replace the configuration's files in it");
     }
-    for (const ConfigFile& file : config.files)
-      write_file_atomically(directory / file.name, file.text);
+    for (const ConfigFile& file : files) write_config_file(directory, file);
     return;
   }
   const fs::path target = directory.has_filename() ? directory : directory.parent_path();
@@ -409,8 +425,7 @@ void write_config_directory(const std::filesystem::path& directory, const Linuxc
   fs::remove_all(staging, error);
   if (!fs::create_directory(staging, error)) fail("create the directory", staging, error);
   try {
-    for (const ConfigFile& file : config.files)
-      write_file_atomically(staging / file.name, file.text);
+    for (const ConfigFile& file : files) write_config_file(staging, file);
     fs::rename(staging, target, error);  // over an empty directory too
     if (error) fail("rename the finished configuration to", target, error);
   } catch (...) {

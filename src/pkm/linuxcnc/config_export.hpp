@@ -49,5 +49,8 @@ LinuxcncConfig make_linuxcnc_config(const Machine& machine, const ExportOptions&
 // Throws std::runtime_error naming the path and the system's reason.
 void write_config_directory(const std::filesystem::path& directory, const LinuxcncConfig& config,
                             bool force);
+// The same for any files (names may hold subdirectories: "remap_subs/428remap.ngc").
+void write_config_directory(const std::filesystem::path& directory,
+                            const std::vector<ConfigFile>& files, bool force);
 
 }  // namespace pkm::linuxcnc

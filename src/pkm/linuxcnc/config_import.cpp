@@ -6,6 +6,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <sstream>
 
@@ -22,6 +23,8 @@ constexpr std::string_view kAxisLetters = "XYZABCUVW";
 // pkmkit's bounds on positions in machine files (file units or deg): LinuxCNC's "no limit"
 // (1e99) is written as this.
 constexpr double kLargestPosition = 1e6;
+// The smallest limit that, the same -M..M on every joint or every axis, is a placeholder.
+constexpr double kPlaceholderLimit = 1000.0;
 
 // The module and its parameters, from the HAL line that loads it (loadrt [KINS]KINEMATICS) or
 // else from [KINS] KINEMATICS itself.
@@ -461,6 +464,65 @@ void read_envelope(const IniFile& ini, ImportedConfig& config,
   config.envelope_max = max;
 }
 
+// Placeholder limits: every one of `ranges` is the same -M..M with M at least
+// kPlaceholderLimit units (LinuxCNC's simulators write +-1000 where the machine has no travel
+// to describe). The M when they are, for the warning.
+std::optional<double> placeholder_limit(const std::vector<std::pair<double, double>>& ranges) {
+  if (ranges.empty()) return std::nullopt;
+  const double m = ranges.front().second;
+  for (const auto& [low, high] : ranges) {
+    if (!(high >= kPlaceholderLimit) || high != m || low != -m) return std::nullopt;
+  }
+  return m;
+}
+
+std::string unit_name(const ImportedConfig& config) {
+  return config.inch ? "in" : "mm";
+}
+
+// "-1000 .. 1000 in".
+std::string placeholder_range(const ImportedConfig& config, double m) {
+  char text[96];
+  std::snprintf(text, sizeof text, "-%g .. %g %s", m, m, unit_name(config).c_str());
+  return text;
+}
+
+// The model's linear joints with placeholder limits: kept (pkmkit needs a travel and the
+// configuration gives no other), said loudly.
+void warn_placeholder_joints(ImportedConfig& config, int model_joints) {
+  std::vector<std::pair<double, double>> ranges;
+  for (int i = 0; i < model_joints; ++i) {
+    const ImportedJoint& joint = config.joints[static_cast<std::size_t>(i)];
+    if (joint.angular) return;
+    ranges.emplace_back(joint.min, joint.max);
+  }
+  const std::optional<double> m = placeholder_limit(ranges);
+  if (!m) return;
+  config.warnings.push_back(
+      "[JOINT_0] .. [JOINT_" + std::to_string(model_joints - 1) + "] MIN_LIMIT/MAX_LIMIT are " +
+      placeholder_range(config, *m) +
+      " on every joint: placeholders, not the joints' travel. Written as they are (the "
+      "configuration gives no other); set each [[joints]] min and max to the real travel before "
+      "trusting workspace, check or certify");
+}
+
+// X Y Z with placeholder limits: no work envelope (pkmkit then takes what the joints reach).
+void drop_placeholder_envelope(ImportedConfig& config) {
+  if (!config.envelope_min || !config.envelope_max) return;
+  std::vector<std::pair<double, double>> ranges;
+  for (std::size_t axis = 0; axis < 3; ++axis)
+    ranges.emplace_back((*config.envelope_min)[axis], (*config.envelope_max)[axis]);
+  const std::optional<double> m = placeholder_limit(ranges);
+  if (!m) return;
+  config.envelope_min.reset();
+  config.envelope_max.reset();
+  const std::string message = "[AXIS_X] [AXIS_Y] [AXIS_Z] MIN_LIMIT/MAX_LIMIT are " +
+                              placeholder_range(config, *m) +
+                              " on every axis: placeholders, not a work envelope. No [cartesian] "
+                              "min/max written: the machine's reach is what its joints allow";
+  config.warnings.push_back(message);
+}
+
 // [TRAJ] HOME lists x y z a b c u v w; the pose's coordinates are its first ones.
 void read_home(const IniFile& ini, ImportedConfig& config) {
   std::optional<std::vector<double>> home = ini.numbers("TRAJ", "HOME");
@@ -627,6 +689,9 @@ ImportedConfig read_linuxcnc_config(const std::filesystem::path& ini_path,
                                             "max_acceleration", config.notes);
   read_home(ini, config);
   read_envelope(ini, config, controlled);
+  warn_placeholder_joints(config, plan.model_joints);
+  drop_placeholder_envelope(config);
+  for (const std::string& warning : config.warnings) config.notes.push_back("WARNING: " + warning);
   note_unread_lines(hal, module, config.notes);
   return config;
 }

@@ -40,6 +40,9 @@ struct ImportedConfig {
   std::optional<std::vector<double>> home;                        // [TRAJ] HOME, pose_size values
   std::optional<std::vector<double>> envelope_min, envelope_max;  // [AXIS_x] limits
   std::vector<std::string> notes;  // decisions and what was not imported, for the file's header
+  // What the user must act on (also among the notes): limits that are placeholders (the same
+  // -M..M, M >= 1000 units, on every linear joint, or on X Y Z; docs/linuxcnc-import.md).
+  std::vector<std::string> warnings;
 };
 
 struct ImportOptions {
