@@ -106,7 +106,7 @@ nlohmann::json check_json(const Machine& machine, const certify::JobCheck& check
 
 void run_certified_check(const Machine& machine, const CertifiedCheckArguments& arguments) {
   certify::JobCheckOptions options;
-  options.origin = pose_vector_over(options.origin, arguments.origin);
+  options.origin = pose_vector_over(machine, options.origin, arguments.origin);
   ProgressBar progress("check " + std::filesystem::path(arguments.job).filename().string(),
                        arguments.job);
   options.on_line = progress.on_line();
