@@ -18,6 +18,7 @@
 #include "pkm/view/html_page.hpp"
 #include "pkm/view/machine_drawing.hpp"
 #include "pkm/view/recorders.hpp"
+#include "pkm/view/reports.hpp"
 #include "test_support.hpp"
 
 namespace pkm {
@@ -192,6 +193,37 @@ TEST(MachineDrawing, IdealCablesAreAsLongAsTheJoints) {
 
 // The job's outline for post's and verify's pages: along the job from home, its arc length the
 // job's (verify's job_length_mm of this job is 97.2383047 mm), ending at the job's end.
+TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
+  // LinuxCNC's inch hexapod: F10 (in/min) lowered to F5 by leg2's velocity, which at F10 would
+  // be 39.6 in/s against the 19.8 in/s (99 % of 20) a move may use: every number in inches.
+  const Machine hexapod = test::load_example("linuxcnc-hexapod-sim.toml");
+  motion::FeedLimit limit;
+  limit.line = 3;
+  limit.joint = 2;
+  limit.programmed_mm_per_s = 10.0 * 25.4 / 60.0;
+  limit.allowed_mm_per_s = 5.0 * 25.4 / 60.0;
+  limit.bound = motion::JointBound::velocity;
+  limit.needed_at_programmed = 39.6 * 25.4;
+  limit.usable = 0.99 * 20.0 * 25.4;
+  EXPECT_EQ(view::feed_limit_text(hexapod, limit),
+            "F10.0 lowered to F5.0: joint leg2's velocity would be 39.6 in/s at F10.0, over the "
+            "19.8 in/s it may use (99 % of max_velocity 20.0)");
+  // The same on an arc of 0.5 in: the curve, and what v^2/r within half of max_acceleration
+  // (200 in/s^2) allows there, sqrt(100 * 0.5) in/s = F424.3.
+  limit.bound = motion::JointBound::acceleration;
+  limit.needed_at_programmed = 250.0 * 25.4;
+  limit.usable = 0.5 * 0.8 * 200.0 * 25.4;
+  limit.curve = motion::CurveKind::arc;
+  limit.radius_mm = 0.5 * 25.4;
+  limit.curve_acceleration_mm_per_s2 = 100.0 * 25.4;
+  limit.curve_allowed_mm_per_s = std::sqrt(100.0 * 0.5) * 25.4;
+  EXPECT_EQ(view::feed_limit_text(hexapod, limit),
+            "F10.0 lowered to F5.0 on the arc (radius 0.5000 in): joint leg2's acceleration would "
+            "be 250.0 in/s^2 at F10.0, over the 80.0 in/s^2 it may use on a bend (half of 80 % "
+            "of max_acceleration 200.0); the tool's own v^2/r allows F424.3 (within 100.0 "
+            "in/s^2, half the acceleration the move may use; max_acceleration 200.0)");
+}
+
 TEST(JobOutline, FollowsTheJobFromHomeToItsEnd) {
   const Machine machine = test::load_example("hektor.toml");
   Vector6d origin = Vector6d::Zero();

@@ -350,8 +350,10 @@ class Planner {
     const TensionBound bound =
         tension_->along(segment, piece.length, points, piece.max_speed, piece.acceleration);
     if (bound.speed_limited) {
-      report_.feed_limits.push_back(
-          feed_limit(piece, bound.excess.cable, bound.speed_mm_per_s, LimitCause::tension));
+      FeedLimit limit =
+          feed_limit(piece, bound.excess.cable, bound.speed_mm_per_s, LimitCause::tension);
+      limit.slack = bound.excess.slack;
+      report_.feed_limits.push_back(limit);
       piece.max_speed = bound.speed_mm_per_s;
     }
     if (bound.acceleration_limited) {

@@ -100,6 +100,8 @@ struct FeedLimit {
   double usable = 0.0;
   // The curve, when the move is one. For a blend, `line` is the line after the corner and
   // `previous_line` the one before; `turn_rad` the angle between them.
+  // For LimitCause::tension: faster, the cable would go slack (else pass its maximum tension).
+  bool slack = false;
   CurveKind curve = CurveKind::none;
   int previous_line = 0;
   double radius_mm = 0.0;

@@ -56,15 +56,16 @@ std::string curve_text(const Machine& machine, const motion::FeedLimit& limit) {
   return "";
 }
 
-// "; the tool's own v^2/r allows F271.5 (600.0 of max_acceleration 1200.0 mm/s^2)"
+// "; the tool's own v^2/r allows F271.6 (within 600.0 mm/s^2, half the acceleration the move
+// may use; max_acceleration 1200.0)"
 std::string cartesian_curve_text(const Machine& machine, const motion::FeedLimit& limit) {
   if (limit.curve == motion::CurveKind::none) return "";
   const double per_unit = machine.mm_per_unit();
   return "; the tool's own v^2/r allows " + feed_text(machine, limit.curve_allowed_mm_per_s) +
-         " (" + formatted_number("%.1f", limit.curve_acceleration_mm_per_s2 / per_unit) +
-         " of max_acceleration " +
-         formatted_number("%.1f", machine.cartesian().max_acceleration_mm_per_s2 / per_unit) + " " +
-         machine.length_unit() + "/s^2)";
+         " (within " + formatted_number("%.1f", limit.curve_acceleration_mm_per_s2 / per_unit) +
+         " " + machine.length_unit() +
+         "/s^2, half the acceleration the move may use; max_acceleration " +
+         formatted_number("%.1f", machine.cartesian().max_acceleration_mm_per_s2 / per_unit) + ")";
 }
 
 // "joint right's velocity would be 156.4 mm/s at F1500.0, over the 148.5 mm/s it may use (99 %
@@ -98,9 +99,10 @@ std::string feed_limit_text(const Machine& machine, const motion::FeedLimit& lim
                      feed_text(machine, limit.allowed_mm_per_s) + curve_text(machine, limit) + ": ";
   if (limit.cause == motion::LimitCause::tension) {
     text += limit.joint < 0
-                ? std::string("the cables' balance")
+                ? std::string("the cables' balance would fail at a higher speed")
                 : "the " + machine.joints()[static_cast<std::size_t>(limit.joint)].name +
-                      " cable's tension";
+                      " cable would " + (limit.slack ? "go slack" : "pass its maximum tension") +
+                      " at a higher speed";
     return text + cartesian_curve_text(machine, limit);
   }
   return text + joint_bound_text(machine, limit) + cartesian_curve_text(machine, limit);
