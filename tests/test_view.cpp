@@ -347,6 +347,16 @@ TEST(PlanPage, PlotterSpeedIsOverThePaperAndThePenIsShown) {
   EXPECT_EQ(summary_row(data, "pen_never_down"), nullptr);
   ASSERT_EQ(data["marks"].size(), 1u);
   EXPECT_NEAR(data["marks"][0]["t"].get<double>(), recorder.line_starts().at(4).t, 1e-5);
+  EXPECT_EQ(data["marks"][0]["label"], "line 3: F1200 slowed to F600 by joint left");
+  // With the report's reason (view::feed_limit_text) the mark says the cause, not just a joint.
+  nlohmann::json reasoned = json;
+  reasoned["feed_limited_by_joints"][0]["reason"] =
+      "F1200.0 lowered to F600.0: joint left's velocity would be 300.0 mm/s at F1200.0, over the "
+      "148.5 mm/s it may use (99 % of max_velocity 150.0)";
+  const nlohmann::json with_reason = page_data(view::plan_page(reasoned, recorder, "plotter"));
+  EXPECT_EQ(with_reason["marks"][0]["label"],
+            "line 3: F1200.0 lowered to F600.0: joint left's velocity would be 300.0 mm/s at "
+            "F1200.0, over the 148.5 mm/s it may use (99 % of max_velocity 150.0)");
 }
 
 // A plotter job that never lowers its pen draws nothing: the page says so in words.
