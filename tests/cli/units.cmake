@@ -43,3 +43,8 @@ add_test(NAME cli.units.plan_names_the_corner_blend
          COMMAND ${PKM} plan -m ${MACHINES}/makelangelo.toml ${CLI_DATA}/vitruvian-first-square.ngc)
 set_tests_properties(cli.units.plan_names_the_corner_blend PROPERTIES PASS_REGULAR_EXPRESSION
   "feed lowered by joint acceleration on 1 moves, 1 of them G64 corner blends: G64 P with a larger tolerance rounds them wider and faster \\(first at line 8, joint right\\)\n    line 8: F1500\\.0 lowered to F271\\.3 at the G64 corner blend after line 7 \\(turn 90\\.0 deg, radius 0\\.0341 mm\\): joint right's acceleration would be 18342\\.7 mm/s\\^2 at F1500\\.0, over the 600\\.0 mm/s\\^2 it may use on a bend \\(half of 80 % of max_acceleration 1500\\.0\\); the tool's own v\\^2/r allows F271\\.6 \\(within 600\\.0 mm/s\\^2, half the acceleration the move may use. max_acceleration 1200\\.0\\)")
+
+# A pose with too few numbers says the unit it is read in (it said "(mm, deg)" on an inch machine).
+pkm_cli_refuses(units_pose_says_inches
+  "this machine takes the pose as x y z a b c \\(in, deg\\). got 2 numbers"
+  ik -m ${INCH_HEXAPOD} 1 2)
