@@ -224,6 +224,31 @@ TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
             "in/s^2, half the acceleration the move may use; max_acceleration 200.0)");
 }
 
+TEST(FeedLimitText, ThePlanReportCarriesTheBoundTheCurveAndTheReason) {
+  // The first square of the real corpus' vitruvianMan on the Makelangelo: its corner after line 7
+  // is a G64 blend whose speed the right joint's acceleration sets (tests/cli/units.cmake).
+  const Machine plotter = test::load_example("makelangelo.toml");
+  motion::PlanOptions options;
+  options.estimate_only = true;
+  struct : motion::SampleSink {
+    void write(const motion::Sample&) override {}
+  } none;
+  const motion::PlanReport report = motion::plan_program(
+      plotter, std::string(PKM_SOURCE_DIR) + "/tests/data/vitruvian-first-square.ngc", {}, options,
+      none);
+  const nlohmann::json json = view::plan_report_json(plotter, report, "square.ngc", 0.001, true);
+  const nlohmann::json& limit = json["feed_limited_by_joints"].at(0);
+  EXPECT_EQ(limit["line"], 8);
+  EXPECT_EQ(limit["bound"]["limit"], "acceleration");
+  EXPECT_EQ(limit["bound"]["unit"], "mm/s^2");
+  EXPECT_DOUBLE_EQ(limit["bound"]["usable"].get<double>(), 600.0);
+  EXPECT_GT(limit["bound"]["at_programmed_feed"].get<double>(), 600.0);
+  EXPECT_EQ(limit["curve"]["kind"], "blend");
+  EXPECT_EQ(limit["curve"]["after_line"], 7);
+  EXPECT_NEAR(limit["curve"]["radius_mm"].get<double>(), 0.034142, 3e-4);
+  EXPECT_EQ(limit["reason"], view::feed_limit_text(plotter, report.feed_limits.at(0)));
+}
+
 TEST(JobOutline, FollowsTheJobFromHomeToItsEnd) {
   const Machine machine = test::load_example("hektor.toml");
   Vector6d origin = Vector6d::Zero();

@@ -98,10 +98,10 @@ struct FeedLimit {
   JointBound bound = JointBound::velocity;
   double needed_at_programmed = 0.0;
   double usable = 0.0;
-  // The curve, when the move is one. For a blend, `line` is the line after the corner and
-  // `previous_line` the one before; `turn_rad` the angle between them.
   // For LimitCause::tension: faster, the cable would go slack (else pass its maximum tension).
   bool slack = false;
+  // The curve, when the move is one. For a blend, `line` is the line after the corner and
+  // `previous_line` the one before; `turn_rad` the angle between them.
   CurveKind curve = CurveKind::none;
   int previous_line = 0;
   double radius_mm = 0.0;

@@ -117,9 +117,13 @@ std::string violation_unit(const Machine& machine, const verify::Violation& v,
 namespace {
 
 // {"limit": "velocity", "unit": "mm/s", "at_programmed_feed": 156.4, "usable": 148.5}, in the
-// joint's interface units (mm or deg); null for a cable's tension.
+// joint's interface units (mm or deg); for a cable's tension {"limit": "tension", "bound": "min"}
+// ("min": faster, it would go slack; "max": over its maximum).
 nlohmann::json limit_bound_json(const Machine& machine, const motion::FeedLimit& limit) {
-  if (limit.cause != motion::LimitCause::joint || limit.joint < 0) return nullptr;
+  if (limit.cause == motion::LimitCause::tension) {
+    return {{"limit", "tension"}, {"bound", limit.slack ? "min" : "max"}};
+  }
+  if (limit.joint < 0) return nullptr;
   const JointSpec& joint = machine.joints()[static_cast<std::size_t>(limit.joint)];
   const bool velocity = limit.bound == motion::JointBound::velocity;
   return {{"limit", velocity ? "velocity" : "acceleration"},
@@ -129,8 +133,7 @@ nlohmann::json limit_bound_json(const Machine& machine, const motion::FeedLimit&
 }
 
 // {"kind": "blend", "after_line": 43, "turn_deg": 90, "radius_mm": ..,
-// "cartesian_allowed_mm_per_min":
-// ..}, or null off curves.
+// "cartesian_allowed_mm_per_min": .., "cartesian_acceleration_mm_per_s2": ..}, or null off curves.
 nlohmann::json curve_json(const motion::FeedLimit& limit) {
   if (limit.curve == motion::CurveKind::none) return nullptr;
   nlohmann::json json = {{"kind", limit.curve == motion::CurveKind::blend ? "blend" : "arc"},
