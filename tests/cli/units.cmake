@@ -48,3 +48,9 @@ set_tests_properties(cli.units.plan_names_the_corner_blend PROPERTIES PASS_REGUL
 pkm_cli_refuses(units_pose_says_inches
   "this machine takes the pose as x y z a b c \\(in, deg\\). got 2 numbers"
   ik -m ${INCH_HEXAPOD} 1 2)
+
+# check refuses the job placed by 20 mm typed as inches with the same hint as plan and post: where
+# it would fit, in inches (it said only which leg passes its min).
+pkm_cli_refuses(units_check_hint_in_inches
+  "move 1 violated: .*\n  hint: the job spans x 0\\.000\\.\\.1\\.000 y 0\\.000\\.\\.1\\.000 z 0\\.737\\.\\.1\\.287 in. .*--origin -0\\.50 -0\\.78 18\\.79 would centre it"
+  check -m ${INCH_HEXAPOD} ${INCH_JOB} --origin 0 0 0.787)
