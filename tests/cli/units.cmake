@@ -52,5 +52,12 @@ pkm_cli_refuses(units_pose_says_inches
 # check refuses the job placed by 20 mm typed as inches with the same hint as plan and post: where
 # it would fit, in inches (it said only which leg passes its min).
 pkm_cli_refuses(units_check_hint_in_inches
-  "move 1 violated: .*\n  hint: the job spans x 0\\.000\\.\\.1\\.000 y 0\\.000\\.\\.1\\.000 z 0\\.737\\.\\.1\\.287 in. .*--origin -0\\.50 -0\\.78 18\\.79 would centre it"
+  "hint: the job spans x 0\\.000\\.\\.1\\.000 y 0\\.000\\.\\.1\\.000 z 0\\.737\\.\\.1\\.287 in. .*--origin -0\\.50 -0\\.78 18\\.79 would centre it"
   check -m ${INCH_HEXAPOD} ${INCH_JOB} --origin 0 0 0.787)
+
+# The tool table of an inch machine is read in inches unless --tool-table-units says otherwise, as
+# LinuxCNC reads it: post places the job with the 0.5 in tool, and verify agrees only in inches.
+add_test(NAME cli.units.tool_table_in_the_machines_units
+         COMMAND sh -c "\"$0\" post -m \"$1\" \"$2\" -o \"$4\" --origin 0 0 20 --tool-table \"$3\" && \"$0\" verify -m \"$1\" \"$4\" --against \"$2\" --origin 0 0 20 --tool-table \"$3\" --tool-table-units inch && ! \"$0\" verify -m \"$1\" \"$4\" --against \"$2\" --origin 0 0 20 --tool-table \"$3\" --tool-table-units mm"
+                 ${PKM} ${INCH_HEXAPOD} ${CLI_DATA}/tool-length-job.ngc ${CLI_DATA}/inch-tools.tbl
+                 ${CLI_OUT}/inch-machine-tool-joints.ngc)
