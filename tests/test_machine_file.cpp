@@ -728,6 +728,31 @@ TEST(Explained, OutsideReachHintSuggestsAnOrigin) {
   EXPECT_EQ(outside_reach_hint(plotter, job, centred), "");
 }
 
+TEST(Explained, OutsideReachHintSpeaksTheMachineFilesUnits) {
+  // LinuxCNC's inch hexapod: --origin is typed in inches, so the boxes and the --origin the hint
+  // suggests are in inches too (it said mm, and an --origin of mm values, on an inch machine).
+  const Machine hexapod = test::load_example("linuxcnc-hexapod-sim.toml");
+  PoseBox job;
+  job.axes = Dof::all();
+  job.min << 0, 0, 0, 0, 0, 0;
+  job.max << 25.4, 50.8, 0, 0, 0, 0;  // 1 x 2 in at Z0
+  Vector6d origin = Vector6d::Zero();
+  origin[2] = 20.0;  // "--origin 0 0 20" read as mm: the job 0.787 in above the base
+  const std::string hint = outside_reach_hint(hexapod, job, origin);
+  EXPECT_EQ(hint.rfind("the job spans x 0.000..1.000 y 0.000..2.000 z 0.787..0.787 in; the machine "
+                       "reaches x -7.932..7.932 y ",
+                       0),
+            0u)
+      << hint;
+  const PoseBox reach = reach_box(hexapod);
+  char suggestion[96];
+  std::snprintf(suggestion, sizeof suggestion, "--origin %.2f %.2f %.2f would centre it",
+                (0.5 * (reach.min[0] + reach.max[0]) - 12.7) / 25.4,
+                (0.5 * (reach.min[1] + reach.max[1]) - 25.4) / 25.4,
+                0.5 * (reach.min[2] + reach.max[2]) / 25.4);
+  EXPECT_NE(hint.find(suggestion), std::string::npos) << hint;
+}
+
 TEST(Conditioning, AHexapodWithParallelLegsIsSingularAtHome) {
   // Base and platform joints on the same circle: at home every leg is vertical.
   std::string text = read_example("hexapod-bit.toml");

@@ -18,6 +18,7 @@
 #include "pkm/view/html_page.hpp"
 #include "pkm/view/machine_drawing.hpp"
 #include "pkm/view/recorders.hpp"
+#include "pkm/view/reports.hpp"
 #include "test_support.hpp"
 
 namespace pkm {
@@ -192,6 +193,62 @@ TEST(MachineDrawing, IdealCablesAreAsLongAsTheJoints) {
 
 // The job's outline for post's and verify's pages: along the job from home, its arc length the
 // job's (verify's job_length_mm of this job is 97.2383047 mm), ending at the job's end.
+TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
+  // LinuxCNC's inch hexapod: F10 (in/min) lowered to F5 by leg2's velocity, which at F10 would
+  // be 39.6 in/s against the 19.8 in/s (99 % of 20) a move may use: every number in inches.
+  const Machine hexapod = test::load_example("linuxcnc-hexapod-sim.toml");
+  motion::FeedLimit limit;
+  limit.line = 3;
+  limit.joint = 2;
+  limit.programmed_mm_per_s = 10.0 * 25.4 / 60.0;
+  limit.allowed_mm_per_s = 5.0 * 25.4 / 60.0;
+  limit.bound = motion::JointBound::velocity;
+  limit.needed_at_programmed = 39.6 * 25.4;
+  limit.usable = 0.99 * 20.0 * 25.4;
+  EXPECT_EQ(view::feed_limit_text(hexapod, limit),
+            "F10.0 lowered to F5.0: joint leg2's velocity would be 39.6 in/s at F10.0, over the "
+            "19.8 in/s it may use (99 % of max_velocity 20.0)");
+  // The same on an arc of 0.5 in: the curve, and what v^2/r within half of max_acceleration
+  // (200 in/s^2) allows there, sqrt(100 * 0.5) in/s = F424.3.
+  limit.bound = motion::JointBound::acceleration;
+  limit.needed_at_programmed = 250.0 * 25.4;
+  limit.usable = 0.5 * 0.8 * 200.0 * 25.4;
+  limit.curve = motion::CurveKind::arc;
+  limit.radius_mm = 0.5 * 25.4;
+  limit.curve_acceleration_mm_per_s2 = 100.0 * 25.4;
+  limit.curve_allowed_mm_per_s = std::sqrt(100.0 * 0.5) * 25.4;
+  EXPECT_EQ(view::feed_limit_text(hexapod, limit),
+            "F10.0 lowered to F5.0 on the arc (radius 0.5000 in): joint leg2's acceleration would "
+            "be 250.0 in/s^2 at F10.0, over the 80.0 in/s^2 it may use on a bend (half of 80 % "
+            "of max_acceleration 200.0); the tool's own v^2/r allows F424.3 (within 100.0 "
+            "in/s^2, half the acceleration the move may use; max_acceleration 200.0)");
+}
+
+TEST(FeedLimitText, ThePlanReportCarriesTheBoundTheCurveAndTheReason) {
+  // The first square of the real corpus' vitruvianMan on the Makelangelo: its corner after line 7
+  // is a G64 blend whose speed the right joint's acceleration sets (tests/cli/units.cmake).
+  const Machine plotter = test::load_example("makelangelo.toml");
+  motion::PlanOptions options;
+  options.estimate_only = true;
+  struct : motion::SampleSink {
+    void write(const motion::Sample&) override {}
+  } none;
+  const motion::PlanReport report = motion::plan_program(
+      plotter, std::string(PKM_SOURCE_DIR) + "/tests/data/vitruvian-first-square.ngc", {}, options,
+      none);
+  const nlohmann::json json = view::plan_report_json(plotter, report, "square.ngc", 0.001, true);
+  const nlohmann::json& limit = json["feed_limited_by_joints"].at(0);
+  EXPECT_EQ(limit["line"], 8);
+  EXPECT_EQ(limit["bound"]["limit"], "acceleration");
+  EXPECT_EQ(limit["bound"]["unit"], "mm/s^2");
+  EXPECT_DOUBLE_EQ(limit["bound"]["usable"].get<double>(), 600.0);
+  EXPECT_GT(limit["bound"]["at_programmed_feed"].get<double>(), 600.0);
+  EXPECT_EQ(limit["curve"]["kind"], "blend");
+  EXPECT_EQ(limit["curve"]["after_line"], 7);
+  EXPECT_NEAR(limit["curve"]["radius_mm"].get<double>(), 0.034142, 3e-4);
+  EXPECT_EQ(limit["reason"], view::feed_limit_text(plotter, report.feed_limits.at(0)));
+}
+
 TEST(JobOutline, FollowsTheJobFromHomeToItsEnd) {
   const Machine machine = test::load_example("hektor.toml");
   Vector6d origin = Vector6d::Zero();
@@ -315,6 +372,16 @@ TEST(PlanPage, PlotterSpeedIsOverThePaperAndThePenIsShown) {
   EXPECT_EQ(summary_row(data, "pen_never_down"), nullptr);
   ASSERT_EQ(data["marks"].size(), 1u);
   EXPECT_NEAR(data["marks"][0]["t"].get<double>(), recorder.line_starts().at(4).t, 1e-5);
+  EXPECT_EQ(data["marks"][0]["label"], "line 3: F1200 slowed to F600 by joint left");
+  // With the report's reason (view::feed_limit_text) the mark says the cause, not just a joint.
+  nlohmann::json reasoned = json;
+  reasoned["feed_limited_by_joints"][0]["reason"] =
+      "F1200.0 lowered to F600.0: joint left's velocity would be 300.0 mm/s at F1200.0, over the "
+      "148.5 mm/s it may use (99 % of max_velocity 150.0)";
+  const nlohmann::json with_reason = page_data(view::plan_page(reasoned, recorder, "plotter"));
+  EXPECT_EQ(with_reason["marks"][0]["label"],
+            "line 3: F1200.0 lowered to F600.0: joint left's velocity would be 300.0 mm/s at "
+            "F1200.0, over the 148.5 mm/s it may use (99 % of max_velocity 150.0)");
 }
 
 // A plotter job that never lowers its pen draws nothing: the page says so in words.

@@ -32,25 +32,31 @@ Pose pose_from_arguments(const Machine& machine, const std::vector<double>& valu
       if (dof.controls(axis))
         names += std::string(names.empty() ? "" : " ") + std::string(kAxisNames[axis]);
     }
-    throw CommandError("this machine takes the pose as " + names + " (mm, deg); got " +
-                       std::to_string(values.size()) + " numbers");
+    throw CommandError("this machine takes the pose as " + names + " (" + machine.length_unit() +
+                       ", deg); got " + std::to_string(values.size()) + " numbers");
   }
-  return Pose::from_vector(pose_vector_over(machine.home().as_vector(), values));
+  return Pose::from_vector(pose_vector_over(machine, machine.home().as_vector(), values));
 }
 
-Vector6d pose_vector_over(Vector6d base, const std::vector<double>& values) {
+Vector6d pose_vector_over(const Machine& machine, Vector6d base,
+                          const std::vector<double>& values) {
   for (std::size_t i = 0; i < values.size() && i < kPoseSize; ++i) {
-    base[static_cast<int>(i)] = i < 3 ? values[i] : degrees_to_radians(values[i]);
+    const int axis = static_cast<int>(i);
+    base[axis] = machine.axis_from_file(axis, values[i]);
   }
   return base;
+}
+
+double mm_from_machine_units(const Machine& machine, double value) {
+  return value * machine.mm_per_unit();
 }
 
 void add_tool_table_options(CLI::App& command, ToolTableOptions& options) {
   command.add_option("--tool-table", options.path, "LinuxCNC tool table (.tbl)");
   command
       .add_option("--tool-table-units", options.units,
-                  "Units of the tool table's lengths: mm (default) or inch (as LinuxCNC's "
-                  "stand-alone rs274 reads them)")
+                  "Units of the tool table's lengths: mm or inch (default: the machine file's "
+                  "units, as LinuxCNC reads a table in its machine's units)")
       ->check(CLI::IsMember({"mm", "inch"}));
 }
 
@@ -66,10 +72,13 @@ void add_subroutine_path_option(CLI::App& command,
       ->check(CLI::ExistingDirectory);
 }
 
-std::optional<gcode::ToolTable> read_tool_table(const ToolTableOptions& options) {
+std::optional<gcode::ToolTable> read_tool_table(const Machine& machine,
+                                                const ToolTableOptions& options) {
   if (options.path.empty()) return std::nullopt;
-  return gcode::read_tool_table(
-      options.path, options.units == "inch" ? gcode::LengthUnits::inch : gcode::LengthUnits::mm);
+  const bool inch =
+      options.units.empty() ? machine.units() == LengthUnit::inch : options.units == "inch";
+  return gcode::read_tool_table(options.path,
+                                inch ? gcode::LengthUnits::inch : gcode::LengthUnits::mm);
 }
 
 namespace {

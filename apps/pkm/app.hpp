@@ -26,16 +26,25 @@ class CommandError : public std::runtime_error {
 // The machine named by -m, or the embedded default (the paper's hexapod) when none is given.
 Machine load_machine_or_default(const std::string& path);
 
-// x y z [a b c] in mm and deg from the command line; missing coordinates take the home pose's.
+// Every length typed on the command line (poses, --origin, --start, tolerances, resolutions,
+// jerk) is in the machine file's units (`units`: mm or inch), angles in degrees, as ik, fk and
+// check print them (docs/machine-file.md). These turn them into mm and rad.
+
+// x y z [a b c] in the machine file's units and deg from the command line; missing coordinates
+// take the home pose's.
 Pose pose_from_arguments(const Machine& machine, const std::vector<double>& values);
 
-// `base` (mm, rad) with its leading coordinates replaced by `values` (x y z a b c, mm and deg).
-Vector6d pose_vector_over(Vector6d base, const std::vector<double>& values);
+// `base` (mm, rad) with its leading coordinates replaced by `values` (x y z a b c, in the machine
+// file's units and deg), as --origin places a job.
+Vector6d pose_vector_over(const Machine& machine, Vector6d base, const std::vector<double>& values);
 
-// --tool-table FILE and --tool-table-units mm|inch, as post and verify take them.
+// A length (or a length per s, per s^2, per s^3) typed in the machine file's units, in mm.
+double mm_from_machine_units(const Machine& machine, double value);
+
+// --tool-table FILE and --tool-table-units mm|inch, as plan, post and verify take them.
 struct ToolTableOptions {
   std::string path;
-  std::string units = "mm";
+  std::string units;  // "mm", "inch", or "" for the machine file's units
 };
 void add_tool_table_options(CLI::App& command, ToolTableOptions& options);
 
@@ -43,23 +52,27 @@ void add_tool_table_options(CLI::App& command, ToolTableOptions& options);
 // when the program does not define it, after the program's own directory.
 void add_subroutine_path_option(CLI::App& command, std::vector<std::filesystem::path>& directories);
 // The table the options name, or none without a file. Throws gcode::GcodeError (file:line).
-std::optional<gcode::ToolTable> read_tool_table(const ToolTableOptions& options);
+std::optional<gcode::ToolTable> read_tool_table(const Machine& machine,
+                                                const ToolTableOptions& options);
 
 // The one check of every number read from the command line: it must parse whole, be finite and
 // lie within [min, max]. CLI11's own range checks let NaN through. For an option of several
 // numbers it checks each.
 CLI::Validator number_in(double min, double max);
 
-// Largest coordinate accepted from the command line, mm (and deg for a b c): far beyond any
+// Largest coordinate accepted from the command line, mm or inch (and deg for a b c): far beyond any
 // machine, small enough that no arithmetic on it overflows.
 inline constexpr double kMaxCoordinate = 1e6;
-// Tolerances on the tool tip's path (post, verify), mm: finer than any machine can resolve is
-// refused, because the work to honour it grows without end.
+// Tolerances on the tool tip's path (post, verify), in the machine file's units: finer than any
+// machine can resolve is refused, because the work to honour it grows without end.
 inline constexpr double kMinTolerance = 1e-4, kMaxTolerance = 1000.0;
+// post's tolerance when none is given, mm (whatever the machine file's units).
+inline constexpr double kDefaultTolerance_mm = 0.01;
 // The interpolation period, s: a servo loop runs between a few microseconds and a second.
 inline constexpr double kMinPeriod = 1e-6, kMaxPeriod = 1.0;
 
-// x y [z [a b c]] (mm, deg) options such as --origin and --start: 2 to 6 numbers, each checked.
+// x y [z [a b c]] options such as --origin and --start (the machine file's units, deg): 2 to 6
+// numbers, each checked.
 CLI::Option* add_pose_option(CLI::App& command, const std::string& name,
                              std::vector<double>& values, const std::string& description);
 
@@ -71,7 +84,7 @@ void refuse_overwriting_input(const std::string& output,
 // `pkm check -m MACHINE JOB`: the certified check of a job (commands_certify.cpp).
 struct CertifiedCheckArguments {
   std::string job;
-  std::vector<double> origin;  // x y [z [a b c]], mm and deg
+  std::vector<double> origin;  // x y [z [a b c]], the machine file's units and deg
   bool json = false;
 };
 void run_certified_check(const Machine& machine, const CertifiedCheckArguments& arguments);

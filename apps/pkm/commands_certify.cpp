@@ -9,6 +9,7 @@
 #include "pkm/certify/job_check.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/motion/job_reach.hpp"
 #include "progress.hpp"
 
 namespace pkm::app {
@@ -106,7 +107,7 @@ nlohmann::json check_json(const Machine& machine, const certify::JobCheck& check
 
 void run_certified_check(const Machine& machine, const CertifiedCheckArguments& arguments) {
   certify::JobCheckOptions options;
-  options.origin = pose_vector_over(options.origin, arguments.origin);
+  options.origin = pose_vector_over(machine, options.origin, arguments.origin);
   ProgressBar progress("check " + std::filesystem::path(arguments.job).filename().string(),
                        arguments.job);
   options.on_line = progress.on_line();
@@ -130,10 +131,16 @@ void run_certified_check(const Machine& machine, const CertifiedCheckArguments& 
     return;
   }
   const certify::FailedMove& failed = *check.first_failure;
+  // A job placed off the machine says where it would fit, as plan and post say it.
+  std::string hint;
+  if (failed.finding.quantity == certify::Quantity::joint ||
+      failed.finding.quantity == certify::Quantity::envelope) {
+    hint = motion::job_reach_hint(machine, arguments.job, options.job_options, options.origin);
+  }
   throw CommandError(arguments.job + ":" + std::to_string(failed.line) + ": move " +
                      std::to_string(failed.index + 1) + " " +
                      std::string(certify::verdict_name(failed.verdict)) + ": " +
-                     failed.finding.text + " (" + counts + ")");
+                     failed.finding.text + " (" + counts + ")" + hint);
 }
 
 }  // namespace pkm::app

@@ -55,12 +55,6 @@ void print_pose(const Machine& machine, const Pose& pose) {
   }
 }
 
-// A pose typed in the machine file's units, to mm and rad (angles default to home's).
-Pose pose_in_file_units(const Machine& machine, std::vector<double> values) {
-  for (std::size_t i = 0; i < values.size() && i < 3; ++i) values[i] *= machine.mm_per_unit();
-  return pose_from_arguments(machine, values);
-}
-
 // A hanging machine with a weight: how hard each cable pulls at rest, how far the effector tilts.
 std::optional<CableStatics> cable_statics_at(const Machine& machine, const Pose& pose) {
   const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&machine.kinematics());
@@ -96,7 +90,7 @@ void add_cable_statics(const Machine& machine, const Pose& pose, nlohmann::json&
 
 void run_ik(const IkOptions& options) {
   const Machine machine = load_machine_or_default(options.machine);
-  const Pose pose = pose_in_file_units(machine, options.pose);
+  const Pose pose = pose_from_arguments(machine, options.pose);
   JointVector joints;
   const Status status = machine.inverse(pose, joints);
   if (!status.ok()) {
@@ -141,7 +135,7 @@ void run_fk(FkOptions options) {
   Pose pose = machine.home();
   if (!options.seed.empty()) {
     try {
-      pose = pose_in_file_units(machine, options.seed);
+      pose = pose_from_arguments(machine, options.seed);
     } catch (const CommandError& error) {
       throw CommandError(std::string(error.what()) + " for --seed, before the " +
                          std::to_string(joint_count) + " joint values");
@@ -468,8 +462,8 @@ void register_kinematics_commands(CLI::App& app) {
   fk_command->add_flag("--json", fk->json, "Print {\"pose\": {\"x\": .., ..}}");
   fk_command
       ->add_option("--seed", fk->seed,
-                   "Pose to start from, x y z [a b c] (default: home); the joint values may "
-                   "follow it directly")
+                   "Pose to start from, x y z [a b c] in the machine file's units and deg "
+                   "(default: home); the joint values may follow it directly")
       ->expected(2, -1)
       ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   fk_command
@@ -489,7 +483,8 @@ void register_kinematics_commands(CLI::App& app) {
                           "Print the summary (or the job's verdict) as JSON");
   check_command->add_option("job", check->job, "A G-code job to check along its whole path");
   add_pose_option(*check_command, "--origin", check->origin,
-                  "With a JOB: where its X0 Y0 Z0 sits in machine coordinates, mm and deg");
+                  "With a JOB: where its X0 Y0 Z0 sits in machine coordinates, in the machine "
+                  "file's units (mm or inch) and deg");
   check_command->callback([check] { run_check(*check); });
 }
 

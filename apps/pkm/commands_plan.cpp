@@ -31,7 +31,7 @@ struct PlanCommandOptions {
   std::string program;
   std::string output;
   std::string report;
-  std::string tool_table;
+  ToolTableOptions tool_table;
   std::vector<std::filesystem::path> subroutine_path;
   double period_s = 0.001;
   std::vector<double> start;
@@ -63,13 +63,11 @@ PlanSetup plan_setup(const Machine& machine, const PlanCommandOptions& options) 
   setup.plan.period_s = options.period_s;
   setup.interpreter.subroutine_path = options.subroutine_path;
   if (!options.start.empty()) setup.plan.start = pose_from_arguments(machine, options.start);
-  setup.plan.origin = pose_vector_over(setup.plan.origin, options.origin);
+  setup.plan.origin = pose_vector_over(machine, setup.plan.origin, options.origin);
   setup.plan.great_circle_attitude = options.attitude == "great-circle";
-  setup.plan.jerk_mm_per_s3 = options.jerk;
+  setup.plan.jerk_mm_per_s3 = mm_from_machine_units(machine, options.jerk);
   try {
-    if (!options.tool_table.empty()) {
-      setup.interpreter.tool_table = gcode::read_tool_table(options.tool_table);
-    }
+    setup.interpreter.tool_table = read_tool_table(machine, options.tool_table);
   } catch (const gcode::GcodeError& error) {
     throw CommandError(error.what());
   }
@@ -114,9 +112,10 @@ void print_estimate_head(const Machine& machine, const motion::PlanReport& repor
                          const std::string& name) {
   // Seconds to the millisecond; an absurd job's (1e152 s) in powers of ten.
   std::printf(report.duration_s < 1e9
-                  ? "%s on %s (estimate, no samples made): %.3f s, path %.3f mm\n"
-                  : "%s on %s (estimate, no samples made): %.4g s, path %.3f mm\n",
-              name.c_str(), machine.name().c_str(), report.duration_s, report.path_length_mm);
+                  ? "%s on %s (estimate, no samples made): %.3f s, path %.3f %s\n"
+                  : "%s on %s (estimate, no samples made): %.4g s, path %.3f %s\n",
+              name.c_str(), machine.name().c_str(), report.duration_s,
+              report.path_length_mm / machine.mm_per_unit(), machine.length_unit());
   const double samples = static_cast<double>(report.samples);
   std::printf("  %s%ld samples at the period: NPY %s, CSV about %s\n",
               report.samples >= motion::kSampleCountCap ? "more than " : "", report.samples,
@@ -139,23 +138,67 @@ std::string limiting(const Machine& machine, int joint, motion::LimitCause cause
   return "joint " + machine.joints()[static_cast<std::size_t>(joint)].name;
 }
 
+// The kinds of feed limits the summary counts apart: what a user does about each differs (a
+// faster joint, gentler corners, lighter acceleration on a hanging effector).
+enum class FeedLimitKind { joint_velocity, joint_acceleration, tension };
+
+FeedLimitKind kind_of(const motion::FeedLimit& limit) {
+  if (limit.cause == motion::LimitCause::tension) return FeedLimitKind::tension;
+  return limit.bound == motion::JointBound::velocity ? FeedLimitKind::joint_velocity
+                                                     : FeedLimitKind::joint_acceleration;
+}
+
+const char* kind_text(FeedLimitKind kind) {
+  switch (kind) {
+    case FeedLimitKind::joint_velocity:
+      return "joint velocity";
+    case FeedLimitKind::joint_acceleration:
+      return "joint acceleration";
+    case FeedLimitKind::tension:
+      break;
+  }
+  return "cable tensions";
+}
+
+// "feed lowered by joint acceleration on 98 moves, 96 of them G64 corner blends (first at line
+// 44, joint right)": one line per kind of limit.
+void print_feed_limit_counts(const Machine& machine, const motion::PlanReport& report) {
+  for (const FeedLimitKind kind :
+       {FeedLimitKind::joint_velocity, FeedLimitKind::joint_acceleration, FeedLimitKind::tension}) {
+    const auto of_kind = [&](const motion::FeedLimit& limit) { return kind_of(limit) == kind; };
+    const auto first = std::find_if(report.feed_limits.begin(), report.feed_limits.end(), of_kind);
+    if (first == report.feed_limits.end()) continue;
+    const auto blends = std::count_if(first, report.feed_limits.end(), [&](const auto& limit) {
+      return of_kind(limit) && limit.curve == motion::CurveKind::blend;
+    });
+    std::string corners;
+    if (blends > 0) {
+      corners = ", " + std::to_string(blends) +
+                " of them G64 corner blends: G64 P with a larger tolerance rounds them wider and "
+                "faster";
+    }
+    std::printf("  feed lowered by %s on %td moves%s (first at line %d, %s)\n", kind_text(kind),
+                std::count_if(first, report.feed_limits.end(), of_kind), corners.c_str(),
+                first->line, limiting(machine, first->joint, first->cause).c_str());
+  }
+}
+
 // The first `count` moves whose feed a joint (or a cable's tension) lowered, and whose
 // acceleration a cable's tension lowered: what to look at before running the job.
 void print_feed_limits(const Machine& machine, const motion::PlanReport& report,
                        std::size_t count) {
   for (std::size_t i = 0; i < report.feed_limits.size() && i < count; ++i) {
     const motion::FeedLimit& limit = report.feed_limits[i];
-    std::printf("    line %d: F%.1f lowered to F%.1f by %s\n", limit.line,
-                limit.programmed_mm_per_s * 60.0, limit.allowed_mm_per_s * 60.0,
-                limiting(machine, limit.joint, limit.cause).c_str());
+    std::printf("    line %d: %s\n", limit.line, view::feed_limit_text(machine, limit).c_str());
   }
   if (report.feed_limits.size() > count) {
     std::printf("    and %zu more (--report lists them all)\n", report.feed_limits.size() - count);
   }
   for (std::size_t i = 0; i < report.tension_limits.size() && i < count; ++i) {
     const motion::TensionLimitedMove& move = report.tension_limits[i];
-    std::printf("    line %d: acceleration %.1f lowered to %.1f mm/s^2: %s %s\n", move.line,
-                move.machine_mm_per_s2, move.allowed_mm_per_s2,
+    std::printf("    line %d: acceleration %.1f lowered to %.1f %s/s^2: %s %s\n", move.line,
+                move.machine_mm_per_s2 / machine.mm_per_unit(),
+                move.allowed_mm_per_s2 / machine.mm_per_unit(), machine.length_unit(),
                 cable_text(machine, move.cable).c_str(),
                 move.cable < 0 ? "would fail"
                 : move.slack   ? "would go slack"
@@ -172,19 +215,23 @@ void print_summary(const Machine& machine, const motion::PlanReport& report,
   if (estimate) {
     print_estimate_head(machine, report, name);
   } else {
-    std::printf("%s: %ld samples, %.3f s of machine motion, path %.3f mm on %s\n", name.c_str(),
-                report.samples, report.duration_s, report.path_length_mm, machine.name().c_str());
+    std::printf("%s: %ld samples, %.3f s of machine motion, path %.3f %s on %s\n", name.c_str(),
+                report.samples, report.duration_s, report.path_length_mm / machine.mm_per_unit(),
+                machine.length_unit(), machine.name().c_str());
   }
+  // Joints as check prints them: in the machine file's units.
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
+    const int j = static_cast<int>(i);
     const JointSpec& joint = machine.joints()[i];
     const motion::JointStatistics& s = report.joints[i];
-    const char* unit = joint.interface_unit();
+    const char* unit = machine.joint_file_unit(j);
     std::printf("  %-10s %10.3f .. %10.3f %s, peak %8.2f of %.1f %s/s", joint.name.c_str(),
-                joint.to_interface(s.min), joint.to_interface(s.max), unit,
-                joint.to_interface(s.peak_velocity), joint.to_interface(joint.max_velocity), unit);
+                machine.joint_to_file(j, s.min), machine.joint_to_file(j, s.max), unit,
+                machine.joint_to_file(j, s.peak_velocity),
+                machine.joint_to_file(j, joint.max_velocity), unit);
     if (!estimate) {
-      std::printf(", %9.1f of %.1f %s/s^2", joint.to_interface(s.peak_acceleration),
-                  joint.to_interface(joint.max_acceleration), unit);
+      std::printf(", %9.1f of %.1f %s/s^2", machine.joint_to_file(j, s.peak_acceleration),
+                  machine.joint_to_file(j, joint.max_acceleration), unit);
     }
     std::printf("\n");
   }
@@ -192,15 +239,7 @@ void print_summary(const Machine& machine, const motion::PlanReport& report,
     std::printf("  pen down or up %d times, %.3f s of pen delay\n", report.pen_changes,
                 report.pen_changes * machine.tool().delay_s);
   }
-  for (const motion::LimitCause cause : {motion::LimitCause::joint, motion::LimitCause::tension}) {
-    const auto caused = [&](const motion::FeedLimit& limit) { return limit.cause == cause; };
-    const auto first = std::find_if(report.feed_limits.begin(), report.feed_limits.end(), caused);
-    if (first == report.feed_limits.end()) continue;
-    std::printf("  feed lowered by %s on %td moves (first at line %d, %s)\n",
-                cause == motion::LimitCause::joint ? "joint limits" : "cable tensions",
-                std::count_if(first, report.feed_limits.end(), caused), first->line,
-                limiting(machine, first->joint, cause).c_str());
-  }
+  print_feed_limit_counts(machine, report);
   if (!report.tension_limits.empty()) {
     const motion::TensionLimitedMove& first = report.tension_limits.front();
     std::printf("  acceleration lowered by cable tensions on %zu moves (first at line %d, %s)\n",
@@ -238,11 +277,11 @@ void run_plan(const PlanCommandOptions& options) {
   check_outputs({{"-o", options.output}, {"--report", options.report}, {"--html", options.html}});
   refuse_overwriting_input(options.output, {{"the job", options.program},
                                             {"the machine file", options.machine},
-                                            {"the tool table", options.tool_table}});
+                                            {"the tool table", options.tool_table.path}});
   for (const std::string& written : {options.report, options.html}) {
     refuse_overwriting_input(written, {{"the job", options.program},
                                        {"the machine file", options.machine},
-                                       {"the tool table", options.tool_table}});
+                                       {"the tool table", options.tool_table.path}});
   }
   const Machine machine = load_machine_or_default(options.machine);
   PlanSetup setup = plan_setup(machine, options);
@@ -379,12 +418,13 @@ void register_plan_commands(CLI::App& app) {
                    "Write the plan's page: one HTML file that opens offline (makes the samples)")
       ->check(file_name())
       ->excludes("--estimate");
-  command->add_option("--tool-table", options->tool_table, "LinuxCNC tool table (.tbl, mm)");
+  add_tool_table_options(*command, options->tool_table);
   add_subroutine_path_option(*command, options->subroutine_path);
-  add_pose_option(*command, "--start", options->start, "Start pose, mm and deg (default: home)");
-  add_pose_option(
-      *command, "--origin", options->origin,
-      "Where the program's X0 Y0 Z0 sits in machine coordinates, mm and deg (default 0)");
+  add_pose_option(*command, "--start", options->start,
+                  "Start pose, in the machine file's units (mm or inch) and deg (default: home)");
+  add_pose_option(*command, "--origin", options->origin,
+                  "Where the program's X0 Y0 Z0 sits in machine coordinates, in the machine "
+                  "file's units (mm or inch) and deg (default 0)");
   command
       ->add_option("--attitude", options->attitude,
                    "Tool attitude within a move: linear (A B C, as LinuxCNC) or great-circle "
@@ -392,7 +432,8 @@ void register_plan_commands(CLI::App& app) {
       ->check(CLI::IsMember({"linear", "great-circle"}));
   command
       ->add_option("--jerk", options->jerk,
-                   "Tool-tip jerk limit, mm/s^3: S-curve speed changes (default: none)")
+                   "Tool-tip jerk limit, the machine file's length unit per s^3: S-curve speed "
+                   "changes (default: none)")
       ->check(number_in(0.0, 1e12));
   command->callback([options] { run_plan(*options); });
 }

@@ -27,7 +27,7 @@ struct PostCommandOptions {
   std::string dialect = "linuxcnc";
   ToolTableOptions tool_table;
   std::vector<std::filesystem::path> subroutine_path;
-  double tolerance_mm = 0.01;
+  double tolerance = 0.0;      // the machine file's units; 0: kDefaultTolerance_mm
   bool no_span_moves = false;  // --no-span-moves: every move covered on its own
   std::vector<double> origin;
   std::string report;  // --report: the summary as JSON
@@ -37,17 +37,17 @@ struct PostCommandOptions {
 // The page of the written program: its blocks traced by verify's forward kinematics against the
 // job, each coloured by its measured deviation.
 void write_post_html(const Machine& machine, const PostCommandOptions& options,
-                     const nlohmann::json& report) {
+                     const post::PostOptions& post_options, const nlohmann::json& report) {
   view::BlockRecorder recorder(machine);
   verify::VerifyOptions verify_options;
-  verify_options.tolerance_mm = options.tolerance_mm;
-  verify_options.origin = pose_vector_over(verify_options.origin, options.origin);
+  verify_options.tolerance_mm = post_options.tolerance_mm;
+  verify_options.origin = post_options.origin;
   verify_options.on_block = [&recorder](const verify::VerifiedBlock& block) {
     recorder.add(block);
   };
   std::vector<view::PathPoint> outline;
   try {
-    verify_options.job_options.tool_table = read_tool_table(options.tool_table);
+    verify_options.job_options.tool_table = read_tool_table(machine, options.tool_table);
     verify_options.job_options.subroutine_path = options.subroutine_path;
     verify::verify_joint_program(machine, options.output, options.program, verify_options);
     outline = view::job_outline(machine, options.program, verify_options.job_options,
@@ -58,7 +58,7 @@ void write_post_html(const Machine& machine, const PostCommandOptions& options,
   recorder.finish();
   const std::string job = std::filesystem::path(options.program).filename().string();
   view::write_page(options.html,
-                   view::blocks_page("post", report, recorder, options.tolerance_mm, outline,
+                   view::blocks_page("post", report, recorder, post_options.tolerance_mm, outline,
                                      "pkm post: " + job + " on " + machine.name()));
 }
 
@@ -74,7 +74,9 @@ void run_post(const PostCommandOptions& options) {
   }
   const Machine machine = load_machine_or_default(options.machine);
   post::PostOptions post_options;
-  post_options.tolerance_mm = options.tolerance_mm;
+  post_options.tolerance_mm = options.tolerance > 0.0
+                                  ? mm_from_machine_units(machine, options.tolerance)
+                                  : kDefaultTolerance_mm;
   post_options.dialect = post::dialect_named(options.dialect);
   post_options.span_moves = !options.no_span_moves;
   try {
@@ -82,17 +84,17 @@ void run_post(const PostCommandOptions& options) {
   } catch (const std::invalid_argument& error) {
     throw CommandError(machine.source() + ": " + error.what());
   }
-  post_options.origin = pose_vector_over(post_options.origin, options.origin);
+  post_options.origin = pose_vector_over(machine, post_options.origin, options.origin);
   gcode::InterpreterOptions interpreter_options;
   AtomicFileWriter file(options.output);
   file.write(post::joint_program_header(machine, options.program, post_options.dialect,
-                                        options.tolerance_mm, nullptr));
+                                        post_options.tolerance_mm, nullptr));
   post::PostReport report;
   ProgressBar progress("post " + std::filesystem::path(options.program).filename().string(),
                        options.program);
   post_options.on_line = progress.on_line();
   try {
-    interpreter_options.tool_table = read_tool_table(options.tool_table);
+    interpreter_options.tool_table = read_tool_table(machine, options.tool_table);
     interpreter_options.subroutine_path = options.subroutine_path;
     report = post::post_program(machine, options.program, interpreter_options, post_options,
                                 [&](const std::string& line) { file.write(line + "\n"); });
@@ -107,20 +109,22 @@ void run_post(const PostCommandOptions& options) {
   }
   progress.clear();
   file.write_at(0, post::joint_program_header(machine, options.program, post_options.dialect,
-                                              options.tolerance_mm, &report));
+                                              post_options.tolerance_mm, &report));
   file.commit();
   for (const gcode::Warning& warning : report.warnings) {
     std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", options.program.c_str(), warning.line,
                  warning.message.c_str());
   }
   const nlohmann::json json = view::post_report_json(machine, options.program, options.output,
-                                                     report, options.tolerance_mm);
+                                                     report, post_options.tolerance_mm);
   if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
-  if (!options.html.empty()) write_post_html(machine, options, json);
-  std::printf("%s: %ld blocks for %ld moves, %s %.6f mm (line %d), tolerance %.6f mm\n",
+  if (!options.html.empty()) write_post_html(machine, options, post_options, json);
+  const double per_unit = machine.mm_per_unit();
+  std::printf("%s: %ld blocks for %ld moves, %s %.6f %s (line %d), tolerance %.6f %s\n",
               options.output.c_str(), report.blocks, report.moves,
               report.bounded ? "deviation bounded by" : "largest sampled deviation",
-              report.max_deviation_mm, report.max_deviation_line, options.tolerance_mm);
+              report.max_deviation_mm / per_unit, machine.length_unit(), report.max_deviation_line,
+              post_options.tolerance_mm / per_unit, machine.length_unit());
   if (!options.report.empty()) std::printf("wrote the report %s\n", options.report.c_str());
   if (!options.html.empty()) {
     std::printf("wrote the page %s: open it in a browser\n", options.html.c_str());
@@ -161,8 +165,9 @@ void register_post_commands(CLI::App& app) {
       ->required()
       ->check(file_name());
   command
-      ->add_option("--tolerance", options->tolerance_mm,
-                   "Largest tool-tip deviation from the programmed path, mm (default 0.01)")
+      ->add_option("--tolerance", options->tolerance,
+                   "Largest tool-tip deviation from the programmed path, in the machine file's "
+                   "units (default 0.01 mm: 0.0003937 in on an inch machine)")
       ->check(number_in(kMinTolerance, kMaxTolerance));
   command->add_flag("--no-span-moves", options->no_span_moves,
                     "Cover every programmed move with blocks of its own (by default one block "
@@ -172,7 +177,8 @@ void register_post_commands(CLI::App& app) {
   add_tool_table_options(*command, options->tool_table);
   add_subroutine_path_option(*command, options->subroutine_path);
   add_pose_option(*command, "--origin", options->origin,
-                  "Where the program's X0 Y0 Z0 sits in machine coordinates, mm and deg");
+                  "Where the program's X0 Y0 Z0 sits in machine coordinates, in the machine "
+                  "file's units (mm or inch) and deg");
   command->add_option("--report", options->report, "Write the summary as JSON")->check(file_name());
   command
       ->add_option("--html", options->html,

@@ -22,27 +22,35 @@ struct VerifyCommandOptions {
   std::string joints;
   std::string job;
   std::string report;
-  std::string html;           // --html: the page of the verification
-  double tolerance_mm = 0.0;  // 0: the one in the joint program's header
+  std::string html;        // --html: the page of the verification
+  double tolerance = 0.0;  // the machine file's units; 0: the one in the joint program's header
   std::vector<double> origin;
   ToolTableOptions tool_table;
   std::vector<std::filesystem::path> subroutine_path;
 };
 
-// The tolerance given, or the one post wrote in the joint program's header.
-double tolerance_of(const VerifyCommandOptions& options) {
-  if (options.tolerance_mm != 0.0) return options.tolerance_mm;  // checked by number_in
+// The tolerance given (in the machine file's units), or the one post wrote in the joint
+// program's header (mm, as the program): mm.
+double tolerance_mm_of(const Machine& machine, const VerifyCommandOptions& options) {
+  if (options.tolerance != 0.0) return mm_from_machine_units(machine, options.tolerance);
   const std::optional<double> header = verify::tolerance_in_header(options.joints);
   if (!header) {
-    throw CommandError(options.joints +
-                       ": no tolerance to verify against: give --tolerance MM (the joint "
-                       "program's header, where pkm post writes one, has none)");
+    throw CommandError(options.joints + ": no tolerance to verify against: give --tolerance " +
+                       (machine.units() == LengthUnit::inch ? "IN" : "MM") +
+                       " (the joint program's header, where pkm post writes one, has none)");
   }
   return *header;
 }
 
-// mm with 7 decimals: a deviation just above a tolerance of 0.01 shows as 0.0100145, not 0.010000.
-std::string mm(double value, int decimals = 7) {
+// A finding's value (mm, mm/s, deg or deg/s) in the machine file's units.
+double in_machine_units(const Machine& machine, const verify::Violation& v, double value) {
+  const bool rotary =
+      v.joint >= 0 && machine.joints()[static_cast<std::size_t>(v.joint)].kind == JointKind::rotary;
+  return rotary ? value : value / machine.mm_per_unit();
+}
+
+// 7 decimals: a deviation just above a tolerance of 0.01 shows as 0.0100145, not 0.010000.
+std::string fixed(double value, int decimals = 7) {
   char text[64];
   std::snprintf(text, sizeof text, "%.*f", decimals, value);
   return text;
@@ -53,15 +61,18 @@ std::string joint_name(const Machine& machine, int joint) {
 }
 
 // One line per kind of finding: how many, the worst, the lines of the first few. Values in the
-// units of the machine file: `unit` as view::violation_unit has it.
-void print_summary(const Machine& machine, const char* what, const std::string& unit,
+// units of the machine file: a joint's, or its length unit, followed by `per` ("" or "/s").
+void print_summary(const Machine& machine, const char* what, const std::string& per,
                    const verify::ViolationSummary& summary) {
   if (summary.count == 0) return;
   const verify::Violation& w = summary.worst;
-  const std::string units = view::violation_unit(machine, w, unit);
-  std::string worst =
-      joint_name(machine, w.joint) + (w.joint >= 0 ? " " : "") + mm(w.value) + " " + units;
-  worst += w.detail.empty() ? ", limit " + mm(w.limit) + " " + units : " with the " + w.detail;
+  const std::string units =
+      std::string(w.joint >= 0 ? machine.joint_file_unit(w.joint) : machine.length_unit()) + per;
+  std::string worst = joint_name(machine, w.joint) + (w.joint >= 0 ? " " : "") +
+                      fixed(in_machine_units(machine, w, w.value)) + " " + units;
+  worst += w.detail.empty()
+               ? ", limit " + fixed(in_machine_units(machine, w, w.limit)) + " " + units
+               : " with the " + w.detail;
   // A joint past its travel reads as ik, plan and post say it (Machine::explain_joint).
   if (w.joint >= 0 && !w.detail.empty()) worst = w.detail;
   std::string first;
@@ -73,23 +84,29 @@ void print_summary(const Machine& machine, const char* what, const std::string& 
 
 void print_report(const Machine& machine, const VerifyCommandOptions& options,
                   const verify::VerifyReport& report) {
+  const double per_unit = machine.mm_per_unit();
+  const char* unit = machine.length_unit();
   std::printf(
-      "%s against %s: %ld blocks, job traced %.3f of %.3f mm, deviation max %.7f mm (line %d of "
-      "the joint program, line %d of the job), RMS %.7f mm, tolerance %.7f mm\n",
-      options.joints.c_str(), options.job.c_str(), report.blocks, report.traced_mm,
-      report.job_length_mm, report.max_deviation_mm, report.max_deviation_joint_line,
-      report.max_deviation_job_line, report.rms_deviation_mm, report.tolerance_mm);
-  print_summary(machine, "blocks beyond the tolerance", "mm", report.deviation);
+      "%s against %s: %ld blocks, job traced %.3f of %.3f %s, deviation max %.7f %s (line %d of "
+      "the joint program, line %d of the job), RMS %.7f %s, tolerance %.7f %s\n",
+      options.joints.c_str(), options.job.c_str(), report.blocks, report.traced_mm / per_unit,
+      report.job_length_mm / per_unit, unit, report.max_deviation_mm / per_unit, unit,
+      report.max_deviation_joint_line, report.max_deviation_job_line,
+      report.rms_deviation_mm / per_unit, unit, report.tolerance_mm / per_unit, unit);
+  print_summary(machine, "blocks beyond the tolerance", "", report.deviation);
   print_summary(machine, "block ends beyond a joint's travel", "", report.position);
   print_summary(machine, "feed blocks beyond a joint's max_velocity", "/s", report.velocity);
-  print_summary(machine, "pen stretches against the job", "mm", report.pen);
+  print_summary(machine, "pen stretches against the job", "", report.pen);
   if (report.pen_downs != report.job_pen_downs) {
     std::printf("  pen: down %ld times, where the job puts it down %ld times (first at line %d)\n",
                 report.pen_downs, report.job_pen_downs, report.first_job_pen_down_line);
   }
 }
 
-void fail_unless_passed(const VerifyCommandOptions& options, const verify::VerifyReport& report) {
+void fail_unless_passed(const Machine& machine, const VerifyCommandOptions& options,
+                        const verify::VerifyReport& report) {
+  const double per_unit = machine.mm_per_unit();
+  const std::string unit = machine.length_unit();
   if (!report.covered) {
     const std::string where = report.blocks == 0
                                   ? options.joints + " has no blocks"
@@ -97,14 +114,15 @@ void fail_unless_passed(const VerifyCommandOptions& options, const verify::Verif
                                         std::to_string(report.coverage_stopped_joint_line);
     throw CommandError(where + ": the job " + options.job + " is traced only to line " +
                        std::to_string(report.coverage_stopped_job_line) + " (" +
-                       mm(report.traced_mm, 3) + " of " + mm(report.job_length_mm, 3) + " mm)");
+                       fixed(report.traced_mm / per_unit, 3) + " of " +
+                       fixed(report.job_length_mm / per_unit, 3) + " " + unit + ")");
   }
   if (report.deviation.count > 0) {
-    throw CommandError("deviation " + mm(report.max_deviation_mm) + " mm exceeds the tolerance " +
-                       mm(report.tolerance_mm) + " mm at line " +
-                       std::to_string(report.max_deviation_joint_line) + " of " + options.joints +
-                       " (line " + std::to_string(report.max_deviation_job_line) + " of " +
-                       options.job + ")");
+    throw CommandError("deviation " + fixed(report.max_deviation_mm / per_unit) + " " + unit +
+                       " exceeds the tolerance " + fixed(report.tolerance_mm / per_unit) + " " +
+                       unit + " at line " + std::to_string(report.max_deviation_joint_line) +
+                       " of " + options.joints + " (line " +
+                       std::to_string(report.max_deviation_job_line) + " of " + options.job + ")");
   }
   const long others = report.position.count + report.velocity.count + report.pen.count;
   if (others > 0 || report.pen_downs != report.job_pen_downs) {
@@ -144,7 +162,7 @@ void run_verify(const VerifyCommandOptions& options) {
   }
   const Machine machine = load_machine_or_default(options.machine);
   verify::VerifyOptions verify_options;
-  verify_options.origin = pose_vector_over(verify_options.origin, options.origin);
+  verify_options.origin = pose_vector_over(machine, verify_options.origin, options.origin);
   verify::VerifyReport report;
   ProgressBar progress("verify " + std::filesystem::path(options.joints).filename().string(),
                        options.joints);
@@ -156,8 +174,8 @@ void run_verify(const VerifyCommandOptions& options) {
     };
   }
   try {
-    verify_options.tolerance_mm = tolerance_of(options);
-    verify_options.job_options.tool_table = read_tool_table(options.tool_table);
+    verify_options.tolerance_mm = tolerance_mm_of(machine, options);
+    verify_options.job_options.tool_table = read_tool_table(machine, options.tool_table);
     verify_options.job_options.subroutine_path = options.subroutine_path;
     report = verify::verify_joint_program(machine, options.joints, options.job, verify_options);
   } catch (const gcode::GcodeError& error) {
@@ -175,7 +193,7 @@ void run_verify(const VerifyCommandOptions& options) {
   if (!options.html.empty()) {
     std::printf("wrote the page %s: open it in a browser\n", options.html.c_str());
   }
-  fail_unless_passed(options, report);
+  fail_unless_passed(machine, options, report);
 }
 
 }  // namespace
@@ -188,9 +206,9 @@ void register_verify_commands(CLI::App& app) {
   command->add_option("joints", options->joints, "The joint-space program")->required();
   command->add_option("--against", options->job, "The Cartesian job it should follow")->required();
   command
-      ->add_option("--tolerance", options->tolerance_mm,
-                   "Exit non-zero when the deviation exceeds this, mm (default: the tolerance in "
-                   "the joint program's header)")
+      ->add_option("--tolerance", options->tolerance,
+                   "Exit non-zero when the deviation exceeds this, in the machine file's units "
+                   "(default: the tolerance in the joint program's header)")
       ->check(number_in(kMinTolerance, kMaxTolerance));
   command->add_option("--report", options->report, "Write the report as JSON")->check(file_name());
   command
@@ -198,7 +216,8 @@ void register_verify_commands(CLI::App& app) {
                    "Write the verification's page: one HTML file that opens offline")
       ->check(file_name());
   add_pose_option(*command, "--origin", options->origin,
-                  "Where the job's X0 Y0 Z0 sits in machine coordinates, mm and deg");
+                  "Where the job's X0 Y0 Z0 sits in machine coordinates, in the machine file's "
+                  "units (mm or inch) and deg");
   add_tool_table_options(*command, options->tool_table);
   add_subroutine_path_option(*command, options->subroutine_path);
   command->callback([options] { run_verify(*options); });

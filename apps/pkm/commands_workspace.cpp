@@ -17,7 +17,7 @@ namespace {
 struct WorkspaceCommandOptions {
   std::string machine;
   std::string orientation;
-  double resolution_mm = 0.0;
+  double resolution = 0.0;  // the machine file's units; 0: the default
   bool json = false;
   std::string html;  // the workspace's page (--html), empty for none
   int threads = 2;
@@ -76,20 +76,29 @@ void read_orientation(const Machine& machine, const std::string& text,
   }
 }
 
-std::string box_text(const workspace::AxisBox& box, const std::array<bool, 3>& axes) {
+// "x -200.0..200.0 y ... mm", in the machine file's units (one more decimal for inches).
+std::string box_text(const Machine& machine, const workspace::AxisBox& box,
+                     const std::array<bool, 3>& axes) {
   std::string text;
   char part[96];
+  const int decimals = machine.units() == LengthUnit::inch ? 2 : 1;
   for (int axis = 0; axis < 3; ++axis) {
     if (!axes[static_cast<std::size_t>(axis)]) continue;
-    std::snprintf(part, sizeof part, "%s%s %.1f..%.1f", text.empty() ? "" : " ",
-                  std::string(kAxisNames[axis]).c_str(), box.min_mm[axis], box.max_mm[axis]);
+    std::snprintf(part, sizeof part, "%s%s %.*f..%.*f", text.empty() ? "" : " ",
+                  std::string(kAxisNames[axis]).c_str(), decimals,
+                  machine.axis_to_file(axis, box.min_mm[axis]) + 0.0, decimals,
+                  machine.axis_to_file(axis, box.max_mm[axis]) + 0.0);
     text += part;
   }
-  return text + " mm";
+  return text + " " + machine.length_unit();
 }
 
-void print_summary(const workspace::Workspace& ws) {
-  std::printf("%s: workspace at %g mm resolution", ws.machine.c_str(), ws.resolution_mm);
+// The summary in the machine file's units (the JSON document keeps mm: its keys say so).
+void print_summary(const Machine& machine, const workspace::Workspace& ws) {
+  const double per_unit = machine.mm_per_unit();
+  const std::string unit = machine.length_unit();
+  std::printf("%s: workspace at %g %s resolution", ws.machine.c_str(), ws.resolution_mm / per_unit,
+              unit.c_str());
   std::string angles;
   for (int k = 0; k < 3; ++k) {
     if (ws.orientation_max_rad[k] == ws.orientation_min_rad[k]) continue;
@@ -100,21 +109,29 @@ void print_summary(const workspace::Workspace& ws) {
     angles += part;
   }
   std::printf("%s\n", angles.empty() ? "" : (", every orientation of" + angles + " deg").c_str());
-  const char* unit = ws.planar ? "mm^2" : "mm^3";
+  const std::string measure_unit = unit + (ws.planar ? "^2" : "^3");
+  const double per_measure = ws.planar ? per_unit * per_unit : per_unit * per_unit * per_unit;
   std::printf("%s: %.6g .. %.6g %s (proven inside .. inside + boundary cells)\n",
-              ws.planar ? "area" : "volume", ws.inside_measure,
-              ws.inside_measure + ws.boundary_measure, unit);
+              ws.planar ? "area" : "volume", ws.inside_measure / per_measure,
+              (ws.inside_measure + ws.boundary_measure) / per_measure, measure_unit.c_str());
   std::printf("estimate: %.6g %s (inside + the share of boundary cells' sample points reached)\n",
-              ws.estimate, unit);
-  if (ws.extent) std::printf("extent: %s\n", box_text(*ws.extent, ws.position_axes).c_str());
+              ws.estimate / per_measure, measure_unit.c_str());
+  if (ws.extent) {
+    std::printf("extent: %s\n", box_text(machine, *ws.extent, ws.position_axes).c_str());
+  }
   if (ws.largest_box) {
-    std::printf("largest box inside: %s\n", box_text(*ws.largest_box, ws.position_axes).c_str());
+    std::printf("largest box inside: %s\n",
+                box_text(machine, *ws.largest_box, ws.position_axes).c_str());
   }
   if (ws.largest_cylinder) {
     const workspace::Cylinder& c = *ws.largest_cylinder;
-    std::printf("largest %s about z inside: centre x %.1f y %.1f, radius %.1f mm",
-                ws.planar ? "disk" : "cylinder", c.centre_mm.x(), c.centre_mm.y(), c.radius_mm);
-    if (!ws.planar) std::printf(", z %.1f..%.1f mm", c.z0_mm, c.z1_mm);
+    std::printf("largest %s about z inside: centre x %.1f y %.1f, radius %.1f %s",
+                ws.planar ? "disk" : "cylinder", c.centre_mm.x() / per_unit + 0.0,
+                c.centre_mm.y() / per_unit + 0.0, c.radius_mm / per_unit, unit.c_str());
+    if (!ws.planar) {
+      std::printf(", z %.1f..%.1f %s", c.z0_mm / per_unit + 0.0, c.z1_mm / per_unit + 0.0,
+                  unit.c_str());
+    }
     std::printf("\n");
   }
   std::string limits;
@@ -135,15 +152,21 @@ void run_workspace(const WorkspaceCommandOptions& options) {
   const Machine machine = load_machine_or_default(options.machine);
   workspace::WorkspaceOptions settings = workspace::default_options(machine);
   read_orientation(machine, options.orientation, settings);
-  settings.resolution_mm = options.resolution_mm > 0.0 ? options.resolution_mm : 0.0;
+  settings.resolution_mm =
+      options.resolution > 0.0 ? mm_from_machine_units(machine, options.resolution) : 0.0;
   if (settings.resolution_mm == 0.0) {
-    // A default that keeps about 200 steps across the reach through home.
+    // A default that keeps about 200 steps across the reach through home: a power of two in
+    // the machine file's units (1/8 in on an inch machine, not 3.175 mm's awkward 0.125).
     const PoseBox reach = reach_box(machine);
+    const double per_unit = machine.mm_per_unit();
     double longest = 1.0;
     for (int axis = 0; axis < 3; ++axis) {
-      if (reach.axes.controls(axis)) longest = std::max(longest, reach.max[axis] - reach.min[axis]);
+      if (reach.axes.controls(axis)) {
+        longest = std::max(longest, (reach.max[axis] - reach.min[axis]) / per_unit);
+      }
     }
-    settings.resolution_mm = std::max(0.01, std::exp2(std::round(std::log2(longest / 200.0))));
+    settings.resolution_mm =
+        per_unit * std::max(0.01, std::exp2(std::round(std::log2(longest / 200.0))));
   }
   settings.threads = options.threads;
   workspace::Workspace ws;
@@ -162,7 +185,7 @@ void run_workspace(const WorkspaceCommandOptions& options) {
     std::cout << "\n";
     return;
   }
-  print_summary(ws);
+  print_summary(machine, ws);
   if (!options.html.empty()) {
     std::printf("wrote the page %s: open it in a browser\n", options.html.c_str());
   }
@@ -182,9 +205,9 @@ void register_workspace_commands(CLI::App& app) {
                       "Orientations every point must reach: DEG (+-DEG about home's on each "
                       "controlled angle) or a=MIN:MAX,b=MIN:MAX,c=MIN:MAX (deg); default home's");
   command
-      ->add_option("--resolution", options->resolution_mm,
-                   "Side of the finest cells, mm (the guaranteed resolution; default about "
-                   "1/200 of the reach through home)")
+      ->add_option("--resolution", options->resolution,
+                   "Side of the finest cells, in the machine file's units (the guaranteed "
+                   "resolution; default about 1/200 of the reach through home)")
       ->check(number_in(1e-3, 1e5));
   command->add_option("--threads", options->threads, "Worker threads (default 2)")
       ->check(CLI::Range(1, 64));

@@ -103,7 +103,7 @@ set_tests_properties(cli.gcode_summary PROPERTIES PASS_REGULAR_EXPRESSION
 foreach(command plan post verify)
   add_test(NAME cli.${command}_help_names_the_origin COMMAND ${PKM} ${command} --help)
   set_tests_properties(cli.${command}_help_names_the_origin PROPERTIES PASS_REGULAR_EXPRESSION
-    "--origin x y \\[z \\[a b c\\]\\] +Where the (program|job)'s X0 Y0 Z0 sits in machine coordinates, mm and deg")
+    "--origin x y \\[z \\[a b c\\]\\] +Where the (program|job)'s X0 Y0 Z0 sits in machine coordinates, in the machine file.s units \\(mm or inch\\) and deg")
 endforeach()
 
 # A refused option reads like every other error, with a status a shell script can tell apart

@@ -14,6 +14,12 @@ set_tests_properties(cli.check_tension_region PROPERTIES PASS_REGULAR_EXPRESSION
 add_test(NAME cli.check_tension_region_json COMMAND ${PKM} check -m ${TENSION_FRAME} --json)
 set_tests_properties(cli.check_tension_region_json PROPERTIES PASS_REGULAR_EXPRESSION
   "\"tensions\": \\{[^}]*\"cables\": \\[")
+# A feed a cable's tension lowered says which way the cable fails (it said "by the right cable's
+# tension"), and at a G64 corner what the tool's own acceleration allows there.
+add_test(NAME cli.plan_says_how_a_tension_lowers_a_feed
+         COMMAND ${PKM} plan -m ${TENSION_FRAME} ${TENSION_JOB} --origin 1489.2 -1072.6)
+set_tests_properties(cli.plan_says_how_a_tension_lowers_a_feed PROPERTIES PASS_REGULAR_EXPRESSION
+  "    line 5: F30000\\.0 lowered to F314\\.2 at the G64 corner blend after line 4 \\(turn 162\\.2 deg, radius 0\\.0118 mm\\): the right cable would go slack at a higher speed. the tool's own v\\^2/r allows F343\\.4")
 add_test(NAME cli.plan_names_tension_limited_moves
          COMMAND ${PKM} plan -m ${TENSION_FRAME} ${TENSION_JOB} --origin 1489.2 -1072.6)
 set_tests_properties(cli.plan_names_tension_limited_moves PROPERTIES PASS_REGULAR_EXPRESSION

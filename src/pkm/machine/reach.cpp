@@ -257,16 +257,17 @@ PoseBox reach_box(const Machine& machine) {
 
 namespace {
 
-// "x 0.000..500.000 y -20.000..40.000 mm" over the translational axes both boxes share.
-std::string box_text(const PoseBox& box, Dof axes) {
+// "x 0.000..500.000 y -20.000..40.000 mm" over the translational axes both boxes share, in the
+// machine file's units.
+std::string box_text(const Machine& machine, const PoseBox& box, Dof axes) {
   std::string text;
   for (int axis = 0; axis < 3; ++axis) {
     if (!axes.controls(axis)) continue;
     text += (text.empty() ? "" : " ") + std::string(kAxisNames[axis]) + " " +
-            formatted_number("%.3f", box.min[axis] + 0.0) + ".." +
-            formatted_number("%.3f", box.max[axis] + 0.0);
+            formatted_number("%.3f", machine.axis_to_file(axis, box.min[axis]) + 0.0) + ".." +
+            formatted_number("%.3f", machine.axis_to_file(axis, box.max[axis]) + 0.0);
   }
-  return text + " mm";
+  return text + " " + machine.length_unit();
 }
 
 }  // namespace
@@ -281,8 +282,11 @@ std::string outside_reach_hint(const Machine& machine, const PoseBox& job, const
   placed.min += origin;
   placed.max += origin;
   if (reach.contains(placed)) return "";
-  std::string text = "the job spans " + box_text(placed, shared) + "; the machine reaches " +
-                     box_text(reach, shared) + " (along lines through home)";
+  std::string text = "the job spans " + box_text(machine, placed, shared) +
+                     "; the machine reaches " + box_text(machine, reach, shared) +
+                     " (along lines through home)";
+  // --origin is typed in the machine file's units: whole mm, or hundredths of an inch.
+  const char* origin_format = machine.units() == LengthUnit::inch ? "%.2f" : "%.0f";
   std::string suggestion;
   std::string too_big;
   int last = -1;
@@ -293,7 +297,7 @@ std::string outside_reach_hint(const Machine& machine, const PoseBox& job, const
     const double centred = shared.controls(axis) ? 0.5 * (reach.min[axis] + reach.max[axis]) -
                                                        0.5 * (job.min[axis] + job.max[axis])
                                                  : origin[axis];
-    suggestion += " " + formatted_number("%.0f", centred);
+    suggestion += " " + formatted_number(origin_format, machine.axis_to_file(axis, centred) + 0.0);
     if (shared.controls(axis) &&
         job.max[axis] - job.min[axis] > reach.max[axis] - reach.min[axis]) {
       too_big += std::string(too_big.empty() ? "" : ", ") + std::string(kAxisNames[axis]);

@@ -126,6 +126,12 @@ struct Piece {
   double max_exit_speed = 1e300;  // where the joints' rates jump at the junction to the next
   double entry_speed = 0.0, exit_speed = 0.0;
   JointVector joint_slope;  // largest |dq/ds| of each joint along the piece (per mm)
+  // On an arc or a corner blend: its radius, and the speed and acceleration v^2/r may take
+  // (limit_by_curvature); the line before a blend's corner.
+  double curve_radius_mm = 0.0;
+  double curve_speed_mm_per_s = 0.0;
+  double curve_acceleration_mm_per_s2 = 0.0;
+  int previous_line = 0;
 };
 
 // Direction of travel from fraction a to b of a segment's position path (in XY where the
@@ -267,6 +273,7 @@ class Planner {
     const double programmed = speed;
     piece.joint_slope = slope_max;
     int limiting = -1;
+    JointBound bound = JointBound::velocity;
     for (int i = 0; i < joint_count; ++i) {
       const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
       const double max_velocity = kMargin * joint.max_velocity;
@@ -274,10 +281,12 @@ class Planner {
       if (slope_max[i] > 0.0 && max_velocity / slope_max[i] < speed) {
         speed = max_velocity / slope_max[i];
         limiting = i;
+        bound = JointBound::velocity;
       }
       if (curvature_max[i] > 0.0 && std::sqrt(0.5 * max_acceleration / curvature_max[i]) < speed) {
         speed = std::sqrt(0.5 * max_acceleration / curvature_max[i]);
         limiting = i;
+        bound = JointBound::acceleration;
       }
     }
     for (int i = 0; i < joint_count; ++i) {
@@ -289,12 +298,44 @@ class Planner {
       }
     }
     if (limiting >= 0 && speed < programmed * (1.0 - 1e-9)) {
-      report_.feed_limits.push_back({segment.line, limiting, programmed_feed(segment), speed});
+      FeedLimit limit = feed_limit(piece, limiting, speed, LimitCause::joint);
+      const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(limiting)];
+      const double feed = std::min(programmed_feed(segment), max_feed());
+      limit.bound = bound;
+      if (bound == JointBound::velocity) {
+        limit.needed_at_programmed = slope_max[limiting] * feed;
+        limit.usable = kMargin * joint.max_velocity;
+      } else {
+        limit.needed_at_programmed = curvature_max[limiting] * feed * feed;
+        limit.usable = 0.5 * kMoveAccelerationShare * joint.max_acceleration;
+      }
+      report_.feed_limits.push_back(limit);
     }
   }
 
   double programmed_feed(const Segment& segment) const {
-    return segment.rapid ? machine_.cartesian().max_feed_mm_per_min / 60.0 : segment.feed_mm_per_s;
+    return segment.rapid ? max_feed() : segment.feed_mm_per_s;
+  }
+  double max_feed() const { return machine_.cartesian().max_feed_mm_per_min / 60.0; }
+
+  // The report's entry for a move whose feed `joint` (or cable) lowered to `speed`, with the
+  // curve it is, if any.
+  FeedLimit feed_limit(const Piece& piece, int joint, double speed, LimitCause cause) const {
+    FeedLimit limit;
+    limit.line = piece.segment.line;
+    limit.joint = joint;
+    limit.programmed_mm_per_s = programmed_feed(piece.segment);
+    limit.allowed_mm_per_s = speed;
+    limit.cause = cause;
+    if (piece.curve_radius_mm > 0.0) {
+      limit.curve = piece.segment.kind == SegmentKind::blend ? CurveKind::blend : CurveKind::arc;
+      limit.previous_line = piece.previous_line;
+      limit.radius_mm = piece.curve_radius_mm;
+      limit.turn_rad = piece.segment.kind == SegmentKind::blend ? piece.segment.sweep_rad : 0.0;
+      limit.curve_allowed_mm_per_s = piece.curve_speed_mm_per_s;
+      limit.curve_acceleration_mm_per_s2 = piece.curve_acceleration_mm_per_s2;
+    }
+    return limit;
   }
 
   // A hanging effector's cables: the feed on curves and the acceleration along the move that keep
@@ -309,8 +350,10 @@ class Planner {
     const TensionBound bound =
         tension_->along(segment, piece.length, points, piece.max_speed, piece.acceleration);
     if (bound.speed_limited) {
-      report_.feed_limits.push_back({segment.line, bound.excess.cable, programmed_feed(segment),
-                                     bound.speed_mm_per_s, LimitCause::tension});
+      FeedLimit limit =
+          feed_limit(piece, bound.excess.cable, bound.speed_mm_per_s, LimitCause::tension);
+      limit.slack = bound.excess.slack;
+      report_.feed_limits.push_back(limit);
       piece.max_speed = bound.speed_mm_per_s;
     }
     if (bound.acceleration_limited) {
@@ -341,8 +384,7 @@ class Planner {
       pose_ = segment.end;  // a move to where the tool is: nothing to plan
       return;
     }
-    const double max_feed = machine_.cartesian().max_feed_mm_per_min / 60.0;
-    piece.max_speed = segment.rapid ? max_feed : std::min(segment.feed_mm_per_s, max_feed);
+    piece.max_speed = segment.rapid ? max_feed() : std::min(segment.feed_mm_per_s, max_feed());
     if (!(piece.max_speed > 0.0)) {
       throw PlanError(file_, segment.line, "a feed move with no feed rate");
     }
@@ -364,7 +406,10 @@ class Planner {
   // v^2/r <= a/2 and a tangential of 0.866 a keep the sum within a.
   static void limit_by_curvature(Piece& piece, double radius) {
     if (radius <= 0.0) return;
-    piece.max_speed = std::min(piece.max_speed, std::sqrt(0.5 * piece.acceleration * radius));
+    piece.curve_radius_mm = radius;
+    piece.curve_acceleration_mm_per_s2 = 0.5 * piece.acceleration;
+    piece.curve_speed_mm_per_s = std::sqrt(0.5 * piece.acceleration * radius);
+    piece.max_speed = std::min(piece.max_speed, piece.curve_speed_mm_per_s);
     piece.acceleration *= std::sqrt(0.75);
   }
 
@@ -427,6 +472,7 @@ class Planner {
     piece.length = blend.length();
     piece.max_speed = std::min(previous.max_speed, next.max_speed);
     piece.acceleration = std::min(previous.acceleration, next.acceleration);
+    piece.previous_line = previous.segment.line;
     limit_by_curvature(piece, radius);
     limit_by_machine(piece);
     limit_junction(previous, blend, piece.length);

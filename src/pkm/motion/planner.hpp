@@ -74,13 +74,42 @@ struct JointStatistics {
 // cable machine whose effector has a mass) a cable's tension limit.
 enum class LimitCause { joint, tension };
 
-// A move whose feed a joint, or a cable's tension on a curve, lowered.
+// Which of a joint's limits lowered a move's feed: its velocity (its rate along the path times
+// the speed), or its acceleration where the path bends in joint space (an arc, a G64 corner
+// blend, a cable's line near its anchor: the joint's second derivative times the speed squared).
+enum class JointBound { velocity, acceleration };
+
+// The curve a move is, where its own bend bounds the speed: v^2/r within half of the Cartesian
+// max_acceleration. A blend is the arc G64 puts at the corner between two lines.
+enum class CurveKind { none, arc, blend };
+
+// A move whose feed a joint, or a cable's tension on a curve, lowered: the limit that did it and
+// its numbers, so that a user can tell a joint too slow for the job from a corner too sharp.
 struct FeedLimit {
   int line = 0;
   int joint = 0;  // for LimitCause::tension, the cable: 0 left, 1 right (its joint)
   double programmed_mm_per_s = 0.0;  // the program's F (the machine's max_feed for rapids)
   double allowed_mm_per_s = 0.0;
   LimitCause cause = LimitCause::joint;
+  // For LimitCause::joint: the limit that bound, the joint's velocity (per s) or acceleration
+  // (per s^2) the move would need at the programmed feed (capped at max_feed), and the part of
+  // the limit a move may use (99 % of max_velocity; half of the moves' 80 % of max_acceleration
+  // for the bend). mm or rad, as the joint.
+  JointBound bound = JointBound::velocity;
+  double needed_at_programmed = 0.0;
+  double usable = 0.0;
+  // For LimitCause::tension: faster, the cable would go slack (else pass its maximum tension).
+  bool slack = false;
+  // The curve, when the move is one. For a blend, `line` is the line after the corner and
+  // `previous_line` the one before; `turn_rad` the angle between them.
+  CurveKind curve = CurveKind::none;
+  int previous_line = 0;
+  double radius_mm = 0.0;
+  double turn_rad = 0.0;
+  // What the Cartesian acceleration alone allows on the curve: the speed, and the part of
+  // max_acceleration v^2/r may take. 0 off curves.
+  double curve_allowed_mm_per_s = 0.0;
+  double curve_acceleration_mm_per_s2 = 0.0;
 };
 
 // A move whose acceleration a cable's tension lowered: accelerating or braking harder along it

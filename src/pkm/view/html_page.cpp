@@ -100,6 +100,12 @@ json plan_marks(const json& report, const std::map<int, LineStart>& starts) {
   for (const json& limit : report["feed_limited_by_joints"]) {
     const int line = limit["line"].get<int>();
     const LineStart& start = nearest_line_start(starts, line);
+    // The report's sentence (view::feed_limit_text): the limit, its numbers, the corner or arc.
+    if (limit.contains("reason") && limit["reason"].is_string()) {
+      marks.push_back(mark_json(
+          start, "line " + std::to_string(line) + ": " + limit["reason"].get<std::string>()));
+      continue;
+    }
     char label[160];
     const std::string by = limit["joint"].is_string() ? limit["joint"].get<std::string>() : "-";
     std::snprintf(label, sizeof label, "line %d: F%.0f slowed to F%.0f by %s%s", line,

@@ -1,5 +1,7 @@
 #include "pkm/view/reports.hpp"
 
+#include <algorithm>
+
 namespace pkm::view {
 
 namespace {
@@ -29,13 +31,123 @@ nlohmann::json to_json(const Machine& machine, const verify::ViolationSummary& s
   return json;
 }
 
+// "F1500.0": a feed (mm/s inside) in the machine's length unit per minute.
+std::string feed_text(const Machine& machine, double mm_per_s) {
+  return "F" + formatted_number("%.1f", mm_per_s * 60.0 / machine.mm_per_unit());
+}
+
+// "at the G64 corner blend after line 43 (turn 90.0 deg, radius 0.0341 mm)", "on the arc (radius
+// 1.52 mm)", or "" off curves.
+std::string curve_text(const Machine& machine, const motion::FeedLimit& limit) {
+  const double radius = limit.radius_mm / machine.mm_per_unit();
+  const std::string radius_text = "radius " +
+                                  formatted_number(radius < 1.0 ? "%.4f" : "%.3f", radius) + " " +
+                                  machine.length_unit();
+  switch (limit.curve) {
+    case motion::CurveKind::blend:
+      return " at the G64 corner blend after line " + std::to_string(limit.previous_line) +
+             " (turn " + formatted_number("%.1f", radians_to_degrees(limit.turn_rad)) + " deg, " +
+             radius_text + ")";
+    case motion::CurveKind::arc:
+      return " on the arc (" + radius_text + ")";
+    case motion::CurveKind::none:
+      break;
+  }
+  return "";
+}
+
+// "; the tool's own v^2/r allows F271.6 (within 600.0 mm/s^2, half the acceleration the move
+// may use; max_acceleration 1200.0)"
+std::string cartesian_curve_text(const Machine& machine, const motion::FeedLimit& limit) {
+  if (limit.curve == motion::CurveKind::none) return "";
+  const double per_unit = machine.mm_per_unit();
+  return "; the tool's own v^2/r allows " + feed_text(machine, limit.curve_allowed_mm_per_s) +
+         " (within " + formatted_number("%.1f", limit.curve_acceleration_mm_per_s2 / per_unit) +
+         " " + machine.length_unit() +
+         "/s^2, half the acceleration the move may use; max_acceleration " +
+         formatted_number("%.1f", machine.cartesian().max_acceleration_mm_per_s2 / per_unit) + ")";
+}
+
+// "joint right's velocity would be 156.4 mm/s at F1500.0, over the 148.5 mm/s it may use (99 %
+// of max_velocity 150.0)"
+std::string joint_bound_text(const Machine& machine, const motion::FeedLimit& limit) {
+  const JointSpec& joint = machine.joints()[static_cast<std::size_t>(limit.joint)];
+  const bool velocity = limit.bound == motion::JointBound::velocity;
+  const std::string unit =
+      std::string(machine.joint_file_unit(limit.joint)) + (velocity ? "/s" : "/s^2");
+  const auto value = [&](double internal) {
+    return formatted_number("%.1f", machine.joint_to_file(limit.joint, internal)) + " " + unit;
+  };
+  const double programmed =
+      std::min(limit.programmed_mm_per_s, machine.cartesian().max_feed_mm_per_min / 60.0);
+  std::string text = "joint " + joint.name + "'s " + (velocity ? "velocity" : "acceleration") +
+                     " would be " + value(limit.needed_at_programmed) + " at " +
+                     feed_text(machine, programmed) + ", over the " + value(limit.usable) +
+                     " it may use";
+  if (velocity) {
+    return text + " (99 % of max_velocity " +
+           formatted_number("%.1f", machine.joint_to_file(limit.joint, joint.max_velocity)) + ")";
+  }
+  return text + " on a bend (half of 80 % of max_acceleration " +
+         formatted_number("%.1f", machine.joint_to_file(limit.joint, joint.max_acceleration)) + ")";
+}
+
 }  // namespace
+
+std::string feed_limit_text(const Machine& machine, const motion::FeedLimit& limit) {
+  std::string text = feed_text(machine, limit.programmed_mm_per_s) + " lowered to " +
+                     feed_text(machine, limit.allowed_mm_per_s) + curve_text(machine, limit) + ": ";
+  if (limit.cause == motion::LimitCause::tension) {
+    text += limit.joint < 0
+                ? std::string("the cables' balance would fail at a higher speed")
+                : "the " + machine.joints()[static_cast<std::size_t>(limit.joint)].name +
+                      " cable would " + (limit.slack ? "go slack" : "pass its maximum tension") +
+                      " at a higher speed";
+    return text + cartesian_curve_text(machine, limit);
+  }
+  return text + joint_bound_text(machine, limit) + cartesian_curve_text(machine, limit);
+}
 
 std::string violation_unit(const Machine& machine, const verify::Violation& v,
                            const std::string& unit) {
   if (v.joint < 0) return unit;
   return machine.joints()[static_cast<std::size_t>(v.joint)].interface_unit() + unit;
 }
+
+namespace {
+
+// {"limit": "velocity", "unit": "mm/s", "at_programmed_feed": 156.4, "usable": 148.5}, in the
+// joint's interface units (mm or deg); for a cable's tension {"limit": "tension", "bound": "min"}
+// ("min": faster, it would go slack; "max": over its maximum).
+nlohmann::json limit_bound_json(const Machine& machine, const motion::FeedLimit& limit) {
+  if (limit.cause == motion::LimitCause::tension) {
+    return {{"limit", "tension"}, {"bound", limit.slack ? "min" : "max"}};
+  }
+  if (limit.joint < 0) return nullptr;
+  const JointSpec& joint = machine.joints()[static_cast<std::size_t>(limit.joint)];
+  const bool velocity = limit.bound == motion::JointBound::velocity;
+  return {{"limit", velocity ? "velocity" : "acceleration"},
+          {"unit", std::string(joint.interface_unit()) + (velocity ? "/s" : "/s^2")},
+          {"at_programmed_feed", joint.to_interface(limit.needed_at_programmed)},
+          {"usable", joint.to_interface(limit.usable)}};
+}
+
+// {"kind": "blend", "after_line": 43, "turn_deg": 90, "radius_mm": ..,
+// "cartesian_allowed_mm_per_min": .., "cartesian_acceleration_mm_per_s2": ..}, or null off curves.
+nlohmann::json curve_json(const motion::FeedLimit& limit) {
+  if (limit.curve == motion::CurveKind::none) return nullptr;
+  nlohmann::json json = {{"kind", limit.curve == motion::CurveKind::blend ? "blend" : "arc"},
+                         {"radius_mm", limit.radius_mm},
+                         {"cartesian_allowed_mm_per_min", limit.curve_allowed_mm_per_s * 60.0},
+                         {"cartesian_acceleration_mm_per_s2", limit.curve_acceleration_mm_per_s2}};
+  if (limit.curve == motion::CurveKind::blend) {
+    json["after_line"] = limit.previous_line;
+    json["turn_deg"] = radians_to_degrees(limit.turn_rad);
+  }
+  return json;
+}
+
+}  // namespace
 
 nlohmann::json plan_report_json(const Machine& machine, const motion::PlanReport& report,
                                 const std::string& program, double period_s, bool estimate) {
@@ -66,7 +178,10 @@ nlohmann::json plan_report_json(const Machine& machine, const motion::PlanReport
               : nlohmann::json(machine.joints()[static_cast<std::size_t>(limit.joint)].name)},
          {"cause", limit.cause == motion::LimitCause::tension ? "tension" : "joint"},
          {"programmed_mm_per_min", limit.programmed_mm_per_s * 60.0},
-         {"allowed_mm_per_min", limit.allowed_mm_per_s * 60.0}});
+         {"allowed_mm_per_min", limit.allowed_mm_per_s * 60.0},
+         {"bound", limit_bound_json(machine, limit)},
+         {"curve", curve_json(limit)},
+         {"reason", feed_limit_text(machine, limit)}});
   }
   nlohmann::json tensions = nlohmann::json::array();
   for (const motion::TensionLimitedMove& move : report.tension_limits) {

@@ -17,6 +17,17 @@ namespace pkm::view {
 nlohmann::json plan_report_json(const Machine& machine, const motion::PlanReport& report,
                                 const std::string& program, double period_s, bool estimate);
 
+// Why a move's feed was lowered, in the machine file's units: the limit that did it with its
+// value at the programmed feed against what the move may use, and the curve (arc or G64 corner
+// blend) with what the Cartesian acceleration alone allows on it, e.g.
+// "F1500.0 lowered to F271.3 at the G64 corner blend after line 7 (turn 90.0 deg, radius
+// 0.0341 mm): joint right's acceleration would be 18342.7 mm/s^2 at F1500.0, over the 600.0
+// mm/s^2 it may use on a bend (half of 80 % of max_acceleration 1500.0); the tool's own v^2/r
+// allows F271.6 (within 600.0 mm/s^2, half the acceleration the move may use; max_acceleration
+// 1200.0)", or "F30000.0 lowered to F314.2 ...: the right cable would go slack at a higher
+// speed". Feeds in the machine's length unit per minute.
+std::string feed_limit_text(const Machine& machine, const motion::FeedLimit& limit);
+
 // The report of a verification of the joint program `joint_program` against the job `job`.
 nlohmann::json verify_report_json(const Machine& machine, const std::string& joint_program,
                                   const std::string& job, const verify::VerifyReport& report);
