@@ -180,8 +180,7 @@ std::string PenPath::suggestion() const {
   }
   if (levels_overflow_ || levels_.size() < 2 || feed.empty()) return "";
   std::vector<double> draw, travel;
-  if (!feed.empty() && !rapid.empty() &&
-      (feed.back() < rapid.front() || feed.front() > rapid.back())) {
+  if (!rapid.empty() && (feed.back() < rapid.front() || feed.front() > rapid.back())) {
     draw = feed;
     travel = rapid;
   } else {
