@@ -205,6 +205,23 @@ TEST(CertifyJob, TheFirstFailingMoveIsNamedByItsLine) {
   EXPECT_NEAR(check.first_failure->finding.pose[2], 570.0, 1e-3);
 }
 
+TEST(CertifyJob, APenThatNeverGoesDownIsAWarning) {
+  // A LinuxCNC polargraph's drawing (Z90 draws, Z0 travels) on examples/machines/pen-plotter.toml
+  // (down below 0): every move keeps the limits, and the pen never goes down.
+  const test::TempProgram program(
+      "G21 G90\nG0 X1 Y0\nG0 Z90\nG1 X5 Y20 F400\nG1 X10\nG0 Z0\nG0 X18\nG0 Z90\n"
+      "G1 X21 Y15\nG0 Z0\nM2\n");
+  JobCheckOptions options;
+  options.origin = pose(750, -700, 0);
+  const JobCheck check = check_job(test::load_example("pen-plotter.toml"), program.path(), options);
+  EXPECT_TRUE(check.certified());
+  ASSERT_EQ(check.warnings.size(), 1u);
+  EXPECT_EQ(check.warnings[0].line, 2);
+  EXPECT_NE(check.warnings[0].message.find("[tool] down_above = 45 would draw at Z 90"),
+            std::string::npos)
+      << check.warnings[0].message;
+}
+
 }  // namespace
 }  // namespace pkm::certify
 

@@ -161,6 +161,24 @@ TEST(LinuxcncExport, HardwareConfigMarksWhatToWire) {
   EXPECT_EQ(hardware.find("=> joint.0.motor-pos-fb"), std::string::npos);  // no loopback
 }
 
+TEST(LinuxcncExport, APenThatDrawsAboveItsHeightIsUpBelowIt) {
+  // comp's out (pen-up) is true while in1 > in0: for down_above = 45 the height is in1 and the
+  // commanded Z in0, so the pen is up below Z 45 (down_below puts them the other way round).
+  std::ifstream in(PKM_SOURCE_DIR "/examples/machines/linuxcnc-polargraph-2366.toml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text = text.substr(0, text.find("[tool]")) +
+         "[tool]\nz = \"pen\"\ndown_above = 45.0\ndown = \"M3\"\nup = \"M5\"\n";
+  const Machine machine = parse_machine(text, "polargraph.toml");
+  const LinuxcncConfig config =
+      make_linuxcnc_config(machine, options_for("polargraph.toml", text, true));
+  const std::string hal = file_named(config, "polargraph.hal").text;
+  EXPECT_TRUE(has_line(hal, "setp pen-up.in1 45")) << hal;
+  EXPECT_TRUE(has_line(hal, "net pen-z axis.z.pos-cmd => pen-up.in0")) << hal;
+  EXPECT_TRUE(has_line(hal,
+                       "# The pen: up while the commanded Z is below the machine file's "
+                       "[tool] down_above"));
+}
+
 TEST(LinuxcncExport, InchMachineSpeaksInches) {
   const Machine machine = load_machine(PKM_SOURCE_DIR "/tests/data/hektor-inch.toml");
   const LinuxcncConfig config = make_linuxcnc_config(machine, options_for("h.toml", "", true));

@@ -390,6 +390,36 @@ const BadFileCase kCases[] = {
        "home = [750.0, -700.0]\n[tool]\nz = \"pen\"\ndown_below = nan # <-"}},
      "tool.down_below",
      "finite"},
+    {"tool_down_below_and_down_above",
+     "wall-plotter.toml",
+     {{"home = [750.0, -700.0]",
+       "home = [750.0, -700.0]\n[tool]\nz = \"pen\"\ndown_below = 0.0\ndown_above = 45.0 # <-"}},
+     "tool.down_above",
+     "down_below is given too: one height says on which side of it the pen draws"},
+    {"pen_command_moving_the_joints",  // issue 26: a pen command that moves the mechanism
+     "wall-plotter.toml",
+     {{"home = [750.0, -700.0]",
+       "home = [750.0, -700.0]\n[tool]\nz = \"pen\"\ndown = \"M3\"\nup = \"G0 X0 Y0\" # <-"}},
+     "tool.up",
+     "\"G0 X0 Y0\" moves joint 'left' (its axis X): post writes every move of the joints itself"},
+    {"pen_command_feeding_the_servo_axis",
+     "wall-plotter.toml",
+     {{"home = [750.0, -700.0]",
+       "home = [750.0, -700.0]\n[tool]\nz = \"pen\"\ndown = \"G1 Z90\" # <-\nup = \"G0 Z0\""}},
+     "tool.down",
+     "\"G1 Z90\" holds G1: a pen command may use G0 (of axes no joint uses) and G4 only"},
+    {"pen_command_switching_to_incremental",
+     "wall-plotter.toml",
+     {{"home = [750.0, -700.0]",
+       "home = [750.0, -700.0]\n[tool]\nz = \"pen\"\ndown = \"G91 M3\" # <-"}},
+     "tool.down",
+     "holds G91"},
+    {"pen_command_moving_an_axis_in_the_modal_motion",
+     "wall-plotter.toml",
+     {{"home = [750.0, -700.0]",
+       "home = [750.0, -700.0]\n[tool]\nz = \"pen\"\ndown = \"Z90\" # <-"}},
+     "tool.down",
+     "moves axis Z without G0"},
     {"two_joints_one_letter_names_both",
      "hektor.toml",
      {{"axis = \"B\"", "axis = \"A\" # <-"}},
@@ -488,13 +518,30 @@ TEST(MachineFile, EveryExampleLoads) {
   EXPECT_DOUBLE_EQ(pen.tool().delay_s, 0.15);
 }
 
+TEST(MachineFile, PenThatDrawsAboveItsHeight) {
+  // A LinuxCNC polargraph's drawings draw at Z90 and travel at Z0: down_above = 45; its servo
+  // on the controller's Z, an axis no joint uses, is switched with G0 (and G4 may wait).
+  const std::string text =
+      read_example("wall-plotter.toml") +
+      "\n[tool]\nz = \"pen\"\ndown_above = 45.0\ndown = \"G0 Z90 (pen) G4 P0.2\"\n"
+      "up = \"G0 Z0\"\n";
+  const Machine machine = parse_machine(text, "pen.toml");
+  EXPECT_TRUE(machine.tool().down_above);
+  EXPECT_DOUBLE_EQ(machine.tool().pen_height_mm, 45.0);
+  EXPECT_TRUE(machine.tool().pen_down(90.0));
+  EXPECT_FALSE(machine.tool().pen_down(45.0));
+  EXPECT_FALSE(machine.tool().pen_down(0.0));
+  EXPECT_EQ(machine.tool().down_command, "G0 Z90 (pen) G4 P0.2");
+}
+
 TEST(MachineFile, ToolChannelOfAPenPlotter) {
   const std::string text = read_example("wall-plotter.toml") +
                            "\n[tool]\nz = \"pen\"\ndown_below = 0.5\ndown = \"M280 P0 S30\"\n"
                            "up = \"M280 P0 S90\"\ndelay = 0.15\n";
   const Machine machine = parse_machine(text, "pen.toml");
   EXPECT_EQ(machine.tool().z, ToolZ::pen);
-  EXPECT_DOUBLE_EQ(machine.tool().down_below_mm, 0.5);
+  EXPECT_DOUBLE_EQ(machine.tool().pen_height_mm, 0.5);
+  EXPECT_FALSE(machine.tool().down_above);
   EXPECT_EQ(machine.tool().down_command, "M280 P0 S30");
   EXPECT_EQ(machine.tool().up_command, "M280 P0 S90");
   EXPECT_DOUBLE_EQ(machine.tool().delay_s, 0.15);

@@ -271,6 +271,44 @@ TEST(PenChannel, ThePenChangesAtRestForItsDelay) {
   EXPECT_EQ(out.samples.back().pose[0], 760.0);
 }
 
+TEST(PenChannel, ThePenIsUpAtTheStartWhateverTheStartPosesZ) {
+  // down_below = 10 puts home's Z 0 on the drawing side. The pen stays up over the travel to
+  // X 10 and the feed to X 20 (the job has not moved in Z yet), and goes down where the job first
+  // moves Z to the drawing side: the G1 Z2 at X 20, drawing the 10 mm to X 30 only.
+  Machine pen = pen_plotter();
+  ToolChannel tool = pen.tool();
+  tool.pen_height_mm = 10.0;
+  pen.set_tool(tool);
+  Collect out;
+  const PlanReport report = plan_text(
+      pen, "G21 G90\nG0 X10 Y0\nG1 X20 F600\nG0 Z20\nG1 Z2\nG1 X30\nG0 Z20\nM2\n", out, at_home());
+  EXPECT_FALSE(out.samples.front().pen_down);
+  EXPECT_EQ(pen_changes(out.samples), std::make_pair(1, 1));
+  EXPECT_EQ(report.pen_changes, 2);
+  for (const Sample& s : out.samples) {
+    if (s.pen_down) {
+      EXPECT_GE(s.pose[0], 770.0 - 1e-9) << "t = " << s.time_s;
+    }
+  }
+  EXPECT_TRUE(report.warnings.empty());
+}
+
+TEST(PenChannel, WarnsWhenThePenNeverGoesDown) {
+  // A LinuxCNC polargraph's way (Z90 draws, Z0 travels) on the pen plotter (down below 0).
+  Collect out;
+  const PlanReport report = plan_text(pen_plotter(),
+                                      "G21 G90\nG0 X1 Y0\nG0 Z90\nG1 X5 Y20 F400\nG1 X10\n"
+                                      "G0 Z0\nG0 X18\nG0 Z90\nG1 X21 Y15\nG0 Z0\nM2\n",
+                                      out, at_home());
+  EXPECT_EQ(report.pen_changes, 0);
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_EQ(report.warnings[0].line, 2);
+  EXPECT_EQ(report.warnings[0].message,
+            "the pen never goes down: the job's moves in X and Y run at Z 90 mm (feed), 0 mm "
+            "(rapid); the pen draws below Z 0 mm ([tool] down_below); [tool] down_above = 45 "
+            "would draw at Z 90 and lift the pen at Z 0");
+}
+
 TEST(PenChannel, AMoveThatCrossesThePenHeightIsSplitWhereItCrosses) {
   // From Z5 to Z-1 over 12 mm of X: Z passes 0 at 10 mm, where the pen goes down.
   const Machine pen = pen_plotter();

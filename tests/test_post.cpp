@@ -652,7 +652,7 @@ std::vector<std::pair<Eigen::Vector2d, bool>> job_pen_changes(
   for (const motion::Segment& move : moves) {
     if (tool.pen_down(move.end[2]) == down) continue;
     EXPECT_EQ(move.kind, motion::SegmentKind::line);
-    const double u = (tool.down_below_mm - move.start[2]) / (move.end[2] - move.start[2]);
+    const double u = (tool.pen_height_mm - move.start[2]) / (move.end[2] - move.start[2]);
     changes.emplace_back(move.start.head<2>() + u * (move.end.head<2>() - move.start.head<2>()),
                          !down);
     down = !down;
@@ -673,8 +673,8 @@ Machine pen_plotter() {
 // Posts the job on the pen plotter in every dialect and checks, read back, that the pen goes
 // down and up exactly where the job's Z crosses 0: after a block whose end is there (within the
 // tolerance), each followed by its G4, and the program starts with the pen up.
-void expect_pen_where_the_job_crosses(const std::filesystem::path& job, const Vector6d& origin) {
-  const Machine machine = pen_plotter();
+void expect_pen_where_the_job_crosses(const std::filesystem::path& job, const Vector6d& origin,
+                                      const Machine& machine = pen_plotter()) {
   const auto moves = programmed_moves(machine, job, origin);
   const auto expected = job_pen_changes(moves, machine.tool(), false);
   ASSERT_GE(expected.size(), 2u);
@@ -752,6 +752,125 @@ TEST(PostPen, ServoCommandsOfThePenPlotterVerbatimAndNoZ) {
   }
   EXPECT_EQ(commands, (std::vector<std::string>{"M280 P0 S90", "G4 P0.150", "M280 P0 S30",
                                                 "G4 P0.150", "M280 P0 S90", "G4 P0.150", "M2"}));
+}
+
+// The start of LinuxText.ngc, the LinuxCNC splash text as drawn by the LinuxCNC polargraph of
+// Chojins/LinuxCNC-Polargraph (nc_files/, commit 29149999): its first two letters. The pen draws
+// at Z90 (the servo at 90 degrees) and travels at Z0; the Z moves are rapids.
+constexpr const char* kLinuxTextStart =
+    "G21 G90 G64 G40\nM3 S10000\nG17\n"
+    "G0 X1.75781 Y0.5\nG0 Z90\nG1 F400.0 X5.95508 Y20.54297\nG1 X10.07031\n"
+    "G1 X6.58398 Y3.84961\nG1 X16.7832\nG1 X16.08594 Y0.5\nG1 X1.75781\nG0 Z0\n"
+    "G0 X18.72461\nG0 Z90\nG1 F400.0 X21.75977 Y15.01953\nG1 X25.68359\n"
+    "G1 X22.64844 Y0.5\nG1 X18.72461\nG0 Z0\n"
+    "G0 X26.09375 Y16.98828\nG0 Z90\nG1 F400.0 X22.16992\nG1 X22.9082 Y20.54297\n"
+    "G1 X26.83203\nG1 X26.09375 Y16.98828\nG0 Z0\nM5\nM2\n";
+
+// Chojins' polargraph (examples/machines/linuxcnc-polargraph-2366.toml) with the [tool] height
+// its drawings need: `tool` replaces the example's [tool] table.
+Machine polargraph_2366(const std::string& tool) {
+  std::ifstream in(test::example_machine_path("linuxcnc-polargraph-2366.toml"));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text = text.substr(0, text.find("[tool]")) + tool;
+  return parse_machine(text, "polargraph-2366.toml");
+}
+
+TEST(PostPen, LinuxCncPolargraphDrawingDrawsAboveItsHeight) {
+  // down_above = 45: down at each G0 Z90, up at each G0 Z0, three strokes; no warning.
+  const Machine machine = polargraph_2366(
+      "[tool]\nz = \"pen\"\ndown_above = 45.0\ndown = \"G0 Z90\"\nup = \"G0 Z0\"\ndelay = 0.2\n");
+  EXPECT_TRUE(machine.tool().down_above);
+  const auto job = temp_file("linuxtext.ngc");
+  std::ofstream(job) << kLinuxTextStart;
+  const Vector6d origin = Pose::from_mm_deg(1130, -1200, 0).as_vector();
+  const auto expected =
+      job_pen_changes(programmed_moves(machine, job, origin), machine.tool(), false);
+  ASSERT_EQ(expected.size(), 6u);  // three strokes
+  PostOptions options;
+  options.origin = origin;
+  PostReport report;
+  const auto lines = posted_lines(machine, kLinuxTextStart, options, &report);
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), "G0 Z90"), 3);
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), "G0 Z0"), 4);  // at the start, and 3 lifts
+  EXPECT_TRUE(report.warnings.empty()) << report.warnings.front().message;
+  std::filesystem::remove(job);
+}
+
+TEST(PostPen, PenIsUpAtTheStartWhateverHomesZ) {
+  // down_below = 10 puts home's Z 0 on the drawing side: the pen stays up over the travel to the
+  // first point and the job's own Z0 there, and goes down where the job first moves in Z down
+  // (the G1 Z2 of line 5); line 4's lift was to Z 20.
+  Machine machine = pen_plotter();
+  ToolChannel tool = machine.tool();
+  tool.pen_height_mm = 10.0;
+  machine.set_tool(tool);
+  PostOptions options;
+  options.origin = Pose::from_mm_deg(750, -700, 0).as_vector();
+  const auto lines = posted_lines(
+      machine, "G21 G90\nG0 X10 Y10\nG1 X20 F600\nG0 Z20\nG1 Z2\nG1 X30\nG0 Z20\nM2\n", options);
+  std::vector<std::string> pen;
+  std::size_t moves_before_down = 0;
+  for (const std::string& l : lines) {
+    if (l == "M3 S1000" || l == "M5") pen.push_back(l);
+    if (pen.size() < 2 && (l.rfind("G0 ", 0) == 0 || l.find("G1 ") != std::string::npos)) {
+      ++moves_before_down;
+    }
+  }
+  EXPECT_EQ(pen, (std::vector<std::string>{"M5", "M3 S1000", "M5"}));
+  EXPECT_GE(moves_before_down, 2u);  // the travel and the G1 X20 with the pen up
+}
+
+TEST(PostPen, WarnsWhenThePenNeverGoesDown) {
+  // The LinuxCNC polargraph's drawing (Z90 down) on examples/machines/pen-plotter.toml (down
+  // below 0): nothing is drawn; the warning names the job's Z and the setting that draws it.
+  const Machine machine = test::load_example("pen-plotter.toml");
+  PostOptions options;
+  options.origin = Pose::from_mm_deg(750, -900, 0).as_vector();
+  PostReport report;
+  const auto lines = posted_lines(machine, kLinuxTextStart, options, &report);
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), "M280 P0 S30"), 0);
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_EQ(report.warnings[0].line, 4);  // the job's first move in X and Y
+  EXPECT_EQ(report.warnings[0].message,
+            "the pen never goes down: the job's moves in X and Y run at Z 90 mm (feed), 0 mm "
+            "(rapid); the pen draws below Z 0 mm ([tool] down_below); [tool] down_above = 45 "
+            "would draw at Z 90 and lift the pen at Z 0");
+}
+
+TEST(PostPen, WarnsWhenThePenNeverComesUp) {
+  // The same drawing with down_below = 100: every Z draws, the travel too.
+  const Machine machine =
+      polargraph_2366("[tool]\nz = \"pen\"\ndown_below = 100.0\ndown = \"M3\"\nup = \"M5\"\n");
+  PostOptions options;
+  options.origin = Pose::from_mm_deg(1130, -1200, 0).as_vector();
+  PostReport report;
+  posted_lines(machine, kLinuxTextStart, options, &report);
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_EQ(report.warnings[0].line, 5);  // G0 Z90: the job's first move in Z
+  EXPECT_NE(report.warnings[0].message.find("the pen goes down here and never comes up"),
+            std::string::npos);
+  EXPECT_NE(report.warnings[0].message.find("[tool] down_above = 45 would draw at Z 90"),
+            std::string::npos)
+      << report.warnings[0].message;
+}
+
+TEST(PostPen, OneStrokeDrawingIsNoWarning) {
+  // A guilloche of the same polargraph (guilloche-2014-02-14_16-21-51.ngc's shape): one feed
+  // move at home's Z to the start, a ramp to Z65 that draws, one long stroke, the lift to Z90
+  // at the end. With down_above = 32.5 the pen goes down once and stays down: not a warning.
+  const Machine machine =
+      polargraph_2366("[tool]\nz = \"pen\"\ndown_above = 32.5\ndown = \"M3\"\nup = \"M5\"\n");
+  PostOptions options;
+  options.origin = Pose::from_mm_deg(1180, -1200, 0).as_vector();
+  PostReport report;
+  const auto lines = posted_lines(
+      machine,
+      "G21 G90 G64 G40\nT0 M6\nM3 S1000 F2000\nG1 X65.33 Y-31.45\n"
+      "G1 G21 F600 X64.2 Y-31.39 Z65\nG1 X63.22 Y-31.35\nG1 X62.4 Y-31.29\nG1 X61.77 Y-31.18\n"
+      "G1 X61.35 Y-31\nG1 X61.14 Y-30.71\nG0 Z90.0\nM5\nM30\n",
+      options, &report);
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), "M3"), 1);
+  EXPECT_TRUE(report.warnings.empty()) << report.warnings.front().message;
 }
 
 // Joints rounded as the linuxcnc dialect writes them (5 decimals of mm or deg).

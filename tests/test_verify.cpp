@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -737,6 +738,36 @@ TEST(Verify, PassesPostsPenCommandsInEveryDialect) {
     fs::remove(joints);
   }
   fs::remove(job);
+}
+
+TEST(Verify, AgreesWithPostOnAPenLiftedFromHomesZ) {
+  // down_below = 10 puts home's Z 0 on the drawing side. The job travels at home's Z, then ramps
+  // up to Z 20 over 20 mm of X (crossing Z 10 half way), draws 20 mm at Z 2 and lifts. post
+  // keeps the pen up over the travel and the whole ramp (the job lifting its pen first) and
+  // lowers it once; verify expects just that: nothing on the ramp, one pen-down each.
+  std::ifstream in(test::example_machine_path("wall-plotter.toml"));
+  std::stringstream text;
+  text
+      << in.rdbuf()
+      << "\n[tool]\nz = \"pen\"\ndown_below = 10.0\ndown = \"M280 P0 S30\"\nup = \"M280 P0 S90\"\n";
+  const Machine plotter = parse_machine(text.str(), "wall-plotter-pen-10.toml");
+  const fs::path job =
+      write_file("lift.ngc", "G0 X0 Y0\nG1 X20 Z20 F600\nG1 Z2\nG1 X40\nG0 Z20\nG0 X0\nM2\n");
+  post::PostOptions options;
+  options.origin = kSheet;
+  std::vector<std::string> lines;
+  post::post_program(plotter, job, {}, options,
+                     [&](const std::string& line) { lines.push_back(line); });
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), "M280 P0 S30"), 1);
+  const fs::path joints = write_lines("lift-joints.ngc", lines);
+  const VerifyReport report = verify(plotter, joints, job, kSheet, 0.01);
+  EXPECT_TRUE(report.passed()) << report.max_deviation_mm;
+  EXPECT_EQ(report.pen.count, 0);
+  EXPECT_EQ(report.pen_downs, 1);
+  EXPECT_EQ(report.job_pen_downs, 1);
+  EXPECT_EQ(report.first_job_pen_down_line, 3);
+  fs::remove(job);
+  fs::remove(joints);
 }
 
 TEST(Verify, PenLinesReachTheReaderAsEvents) {

@@ -281,7 +281,10 @@ void run_pattern(const PatternCommandOptions& options) {
   try {
     pattern = design_pattern(machine, pattern_options);
     PenHeights pen = default_pen_heights(machine);
-    if (options.down_z) pen = {*options.down_z, *options.down_z + 5.0};
+    if (options.down_z) {
+      const double up_side = machine.tool().down_above ? -5.0 : 5.0;
+      pen = {*options.down_z, *options.down_z + up_side};
+    }
     if (options.up_z) pen.up_mm = *options.up_z;
     try {
       program = pattern_gcode(machine, pattern, pen);
@@ -410,11 +413,13 @@ void register_calibrate_commands(CLI::App& app) {
       ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   pattern_command
       ->add_option("--down-z", pattern->down_z,
-                   "Program Z with the pen down, mm (default: [tool] down_below - 1, or 0)")
+                   "Program Z with the pen down, mm (default: 1 mm past [tool] down_below or "
+                   "down_above, or 0)")
       ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   pattern_command
-      ->add_option("--up-z", pattern->up_z,
-                   "Program Z with the pen up, mm (default: 5 above --down-z if given)")
+      ->add_option(
+          "--up-z", pattern->up_z,
+          "Program Z with the pen up, mm (default: 5 past --down-z on the pen's up side if given)")
       ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   pattern_command->add_flag("--json", pattern->json, "Print the report as JSON");
   pattern_command->callback([pattern] { run_pattern(*pattern); });

@@ -91,6 +91,10 @@ nlohmann::json check_json(const Machine& machine, const certify::JobCheck& check
                {"limit", value_in_file_units(machine, f, f.limit)},
                {"message", f.text}};
   }
+  nlohmann::json warnings = nlohmann::json::array();
+  for (const gcode::Warning& warning : check.warnings) {
+    warnings.push_back({{"line", warning.line}, {"message", warning.message}});
+  }
   return {{"job", check.file},
           {"machine", machine.name()},
           {"units", machine.length_unit()},
@@ -100,6 +104,7 @@ nlohmann::json check_json(const Machine& machine, const certify::JobCheck& check
           {"violated", check.violated},
           {"undecided", check.undecided},
           {"pieces", check.pieces},
+          {"warnings", warnings},
           {"first_failure", failure}};
 }
 
@@ -118,6 +123,10 @@ void run_certified_check(const Machine& machine, const CertifiedCheckArguments& 
     throw CommandError(error.what());
   }
   progress.clear();
+  for (const gcode::Warning& warning : check.warnings) {
+    std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", arguments.job.c_str(), warning.line,
+                 warning.message.c_str());
+  }
   if (arguments.json) std::cout << check_json(machine, check).dump(2) << "\n";
   const std::string counts = std::to_string(check.proven) + " of " + std::to_string(check.moves) +
                              " moves proven, " + std::to_string(check.violated) + " violated, " +

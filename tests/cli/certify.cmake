@@ -56,3 +56,21 @@ pkm_cli_refuses(check_job_tension_dip_between_samples
 pkm_cli_refuses(check_job_sagging_cables_undecided
   "move 1 undecided: no bound on the balance of cables that sag \\(cable_density > 0\\)"
   check -m ${MACHINES}/makelangelo.toml ${CLI_DATA}/hektor-job.ngc)
+# A plotter's pen (docs/post.md, "The pen channel"): the LinuxCNC polargraph's guilloche draws at
+# Z65; on pen-plotter.toml (down below 0) the pen never goes down. plan, post and check finish
+# (exit 0: EXIT0 follows) and warn, naming the job's Z and the [tool] setting that draws it.
+set(GUILLOCHE ${CLI_DATA}/polargraph-guilloche-z65.ngc)
+set(PEN_NEVER_DOWN "pkm: warning: [^\n]*polargraph-guilloche-z65\\.ngc:6: the pen never goes down: the job's moves in X and Y run at Z 0 and 65 mm \\(feed\\), its moves in Z alone to Z 90 mm; the pen draws below Z 0 mm \\(\\[tool\\] down_below\\); \\[tool\\] down_above = 32\\.5 would draw at Z 65 and lift the pen at Z 0\n.*EXIT0")
+foreach(command post plan check)
+  set(output)
+  if(command STREQUAL "post")
+    set(output -o ${CLI_OUT}/guilloche-joints.ngc)
+  elseif(command STREQUAL "plan")
+    set(output -o ${CLI_OUT}/guilloche-samples.csv)
+  endif()
+  add_test(NAME cli.${command}_warns_when_the_pen_never_goes_down
+           COMMAND sh -c "\"$@\" 2>&1 && echo EXIT0" sh ${PKM} ${command}
+                   -m ${MACHINES}/pen-plotter.toml ${GUILLOCHE} --origin 700 -900 ${output})
+  set_tests_properties(cli.${command}_warns_when_the_pen_never_goes_down PROPERTIES
+    PASS_REGULAR_EXPRESSION "${PEN_NEVER_DOWN}")
+endforeach()

@@ -416,8 +416,10 @@ PenHeights default_pen_heights(const Machine& machine) {
     const double home_z = machine.home().position_mm.z();
     return {0.0, home_z > 0.0 ? home_z : 5.0};
   }
-  const double down_below = machine.tool().z == ToolZ::pen ? machine.tool().down_below_mm : 0.0;
-  return {down_below - 1.0, down_below + 5.0};
+  const ToolChannel& tool = machine.tool();
+  if (tool.z != ToolZ::pen) return {-1.0, 5.0};
+  const double side = tool.down_above ? -1.0 : 1.0;  // towards the pen's up side
+  return {tool.pen_height_mm - side, tool.pen_height_mm + 5.0 * side};
 }
 
 std::string pattern_gcode(const Machine& machine, const CalibrationPattern& pattern,

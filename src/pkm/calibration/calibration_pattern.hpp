@@ -72,8 +72,9 @@ std::vector<std::vector<Eigen::Vector2d>> mark_strokes(const PatternMark& mark,
 
 // The program's Z with the pen down and up (mm, machine coordinates). By default: on a machine
 // whose kinematics controls Z (a Maslow's router), down at 0 and up at home's Z (5 mm if home is
-// at or below 0); otherwise the [tool] table's down_below - 1 mm and + 5 mm (down_below 0
-// without the table, whose machine ignores Z).
+// at or below 0); otherwise 1 mm past the [tool] table's height on its drawing side and 5 mm
+// past it on the other (down_below - 1 and + 5, down_above + 1 and - 5; -1 and 5 without the
+// table, whose machine ignores Z).
 struct PenHeights {
   double down_mm = -1.0;
   double up_mm = 5.0;

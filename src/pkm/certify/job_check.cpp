@@ -34,6 +34,7 @@ JobCheck check_job(const Machine& machine, const std::filesystem::path& job,
       check.first_failure = FailedMove{index, piece->line(), proof.verdict, *proof.finding};
     }
   }
+  if (const auto warning = path.pen_warning()) check.warnings.push_back(*warning);
   return check;
 }
 

@@ -7,6 +7,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "pkm/certify/move_proof.hpp"
 #include "pkm/gcode/interpreter.hpp"
@@ -33,7 +34,8 @@ struct JobCheck {
   long moves = 0, proven = 0, violated = 0, undecided = 0;
   long pieces = 0;  // pieces bounded over all moves
   std::optional<FailedMove> first_failure;
-  std::string unavailable;  // why no move can be proven on this machine, or empty
+  std::string unavailable;               // why no move can be proven on this machine, or empty
+  std::vector<gcode::Warning> warnings;  // a plotter's pen that never goes down or up
   bool certified() const { return moves == proven; }
 };
 

@@ -277,12 +277,18 @@ std::string ini_text(const Machine& machine, const LinuxcncConfig& config,
   return s;
 }
 
+// comp's out is true while in1 > in0: the commanded Z above down_below, or below down_above.
 std::string pen_hal(const Machine& machine) {
-  if (machine.tool().z != ToolZ::pen) return "";
-  return "\n# The pen: up while the commanded Z is above the machine file's [tool] down_below\n"
-         "loadrt comp names=pen-up\naddf pen-up servo-thread\nsetp pen-up.in0 " +
-         number(machine.tool().down_below_mm / machine.mm_per_unit()) +
-         "\nnet pen-z axis.z.pos-cmd => pen-up.in1\nnet pen-up pen-up.out\n";
+  const ToolChannel& tool = machine.tool();
+  if (tool.z != ToolZ::pen) return "";
+  const std::string height = number(tool.pen_height_mm / machine.mm_per_unit());
+  const std::string z = "axis.z.pos-cmd";
+  return std::string("\n# The pen: up while the commanded Z is ") +
+         (tool.down_above ? "below" : "above") + " the machine file's [tool] " + tool.height_key() +
+         "\nloadrt comp names=pen-up\naddf pen-up servo-thread\n" +
+         (tool.down_above ? "setp pen-up.in1 " + height + "\nnet pen-z " + z + " => pen-up.in0\n"
+                          : "setp pen-up.in0 " + height + "\nnet pen-z " + z + " => pen-up.in1\n") +
+         "net pen-up pen-up.out\n";
 }
 
 std::string main_hal(const Machine& machine, const std::string& name) {

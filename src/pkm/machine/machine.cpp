@@ -320,8 +320,83 @@ CartesianLimits read_cartesian(const TomlSection& cartesian, const Pose& home) {
   return limits;
 }
 
+// The words of one line of G-code (comments left out): letter and the text of its value.
+std::vector<std::pair<char, std::string>> gcode_words(const std::string& line) {
+  std::vector<std::pair<char, std::string>> words;
+  for (std::size_t i = 0; i < line.size();) {
+    const char c = line[i];
+    if (c == ';') break;
+    if (c == '(') {
+      const std::size_t close = line.find(')', i);
+      i = close == std::string::npos ? line.size() : close + 1;
+      continue;
+    }
+    if (!std::isalpha(static_cast<unsigned char>(c))) {
+      ++i;
+      continue;
+    }
+    std::string value;
+    for (++i; i < line.size() &&
+              std::string_view("+-.0123456789 ").find(line[i]) != std::string_view::npos;
+         ++i) {
+      if (line[i] != ' ') value += line[i];
+    }
+    words.emplace_back(static_cast<char>(std::toupper(static_cast<unsigned char>(c))), value);
+  }
+  return words;
+}
+
+// Why a pen command would do more than switch the pen, or empty: post writes it between its
+// own blocks, so it may not move the mechanism (a word of a joint's axis) nor change how the
+// controller reads the next block (any G code but a rapid of the other axes, G0, and a dwell,
+// G4: G1 in post's inverse time would need an F, G91 or G20 would change every later block).
+std::string pen_command_problem(const std::string& command, const std::vector<JointSpec>& joints) {
+  bool rapid = false;
+  std::vector<char> axes;
+  for (const auto& [letter, value] : gcode_words(command)) {
+    if (letter == 'G') {
+      char* end = nullptr;
+      const double code = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || (code != 0.0 && code != 4.0)) {
+        return "holds G" + value + ": a pen command may use G0 (of axes no joint uses) and G4 only";
+      }
+      rapid |= code == 0.0;
+    } else if (std::string_view("XYZABCUVW").find(letter) != std::string_view::npos) {
+      for (const JointSpec& joint : joints) {
+        if (joint.axis_letter == letter) {
+          return std::string("moves joint '") + joint.name + "' (its axis " + letter +
+                 "): post writes every move of the joints itself";
+        }
+      }
+      axes.push_back(letter);
+    } else if (std::string_view("IJKR").find(letter) != std::string_view::npos) {
+      return std::string("holds the arc word ") + letter + ": a pen command does not move";
+    }
+  }
+  if (!axes.empty() && !rapid) {
+    return std::string("moves axis ") + axes.front() +
+           " without G0: the modal motion there is post's (G1 in inverse time)";
+  }
+  return "";
+}
+
+// The height of the pen: `down_below` (the default, 0) or `down_above`, not both.
+void read_pen_height(const TomlSection& tool, ToolChannel& channel) {
+  if (tool.has("down_below") && tool.has("down_above")) {
+    tool.fail("down_above",
+              "down_below is given too: one height says on which side of it the pen draws");
+  }
+  channel.down_above = tool.has("down_above");
+  const char* key = channel.height_key();
+  channel.pen_height_mm = tool.length_or(key, 0.0);
+  if (!(std::abs(channel.pen_height_mm) <= kMaxPosition)) {
+    tool.fail(key, "must be within a kilometre of 0");
+  }
+}
+
 // The optional [tool] table: the pen channel of machines that do not move in Z.
-ToolChannel read_tool(const TomlSection& tool, const Kinematics& kinematics) {
+ToolChannel read_tool(const TomlSection& tool, const Kinematics& kinematics,
+                      const std::vector<JointSpec>& joints) {
   ToolChannel channel;
   const std::string z = tool.string("z");
   if (z == "pen") {
@@ -334,10 +409,7 @@ ToolChannel read_tool(const TomlSection& tool, const Kinematics& kinematics) {
   if (kinematics.dof().controls(2)) {
     tool.fail("z", "this machine moves in Z itself; a [tool] channel is for machines that do not");
   }
-  channel.down_below_mm = tool.length_or("down_below", 0.0);
-  if (!(std::abs(channel.down_below_mm) <= kMaxPosition)) {
-    tool.fail("down_below", "must be within a kilometre of 0");
-  }
+  read_pen_height(tool, channel);
   if (tool.has("down")) channel.down_command = tool.string("down");
   if (tool.has("up")) channel.up_command = tool.string("up");
   channel.delay_s = tool.number_or("delay", 0.0);
@@ -349,6 +421,8 @@ ToolChannel read_tool(const TomlSection& tool, const Kinematics& kinematics) {
     if (command.find_first_of("\n\r") != std::string::npos) {
       tool.fail(key, "must be one line of G-code");
     }
+    const std::string problem = pen_command_problem(command, joints);
+    if (!problem.empty()) tool.fail(key, "\"" + command + "\" " + problem);
   }
   return channel;
 }
@@ -419,7 +493,7 @@ Machine parse_machine(std::string_view toml_text, const std::string& source_name
   const CartesianLimits cartesian = read_cartesian(cartesian_section, home);
 
   ToolChannel tool;
-  if (root.has("tool")) tool = read_tool(root.section("tool"), *kinematics);
+  if (root.has("tool")) tool = read_tool(root.section("tool"), *kinematics, joints);
   std::optional<TomlSection> homing_section;
   std::optional<HomingTable> homing;
   if (root.has("homing")) {

@@ -44,8 +44,10 @@ struct JointSpec {
 };
 
 // What a machine without a Z joint does with the program's Z (the machine file's [tool] table).
-// A plotter's pen: programmed Z below `down_below_mm` puts the pen down, at or above lifts it; the
-// commands are written by post and the delay is spent by plan (a dwell) and post (G4).
+// A plotter's pen: programmed Z on the drawing side of `pen_height_mm` (below it, or above it for
+// `down_above`) puts the pen down, on the other side or at the height lifts it; the commands are
+// written by post and the delay is spent by plan (a dwell) and post (G4). Where along a job the
+// pen changes is motion/pen_path.hpp's.
 enum class ToolZ {
   none,    // no [tool] table: Z is an ordinary coordinate (a joint of the model, or ignored)
   pen,     // Z drives the pen channel
@@ -53,13 +55,18 @@ enum class ToolZ {
 };
 struct ToolChannel {
   ToolZ z = ToolZ::none;
-  double down_below_mm = 0.0;
+  double pen_height_mm = 0.0;  // [tool] down_below or down_above
+  bool down_above = false;     // the pen draws above pen_height_mm (LinuxCNC polargraphs: Z90)
   std::string down_command = "M3 S1000";
   std::string up_command = "M5";
   double delay_s = 0.0;
 
-  // Whether the program's Z (mm, machine coordinates) leaves the pen on the paper.
-  bool pen_down(double z_mm) const { return z_mm < down_below_mm; }
+  // Whether the program's Z (mm, machine coordinates) is on the drawing side.
+  bool pen_down(double z_mm) const {
+    return down_above ? z_mm > pen_height_mm : z_mm < pen_height_mm;
+  }
+  // The [tool] key that sets the height: "down_below" or "down_above".
+  const char* height_key() const { return down_above ? "down_above" : "down_below"; }
 };
 
 struct CartesianLimits {

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "pkm/motion/joint_rates.hpp"
+#include "pkm/motion/pen_path.hpp"
 #include "pkm/motion/segment.hpp"
 #include "pkm/motion/segment_builder.hpp"
 #include "pkm/motion/tension_limit.hpp"
@@ -169,11 +170,11 @@ class Planner {
         builder_((options.start ? *options.start : machine.home()).as_vector(), options.origin,
                  options.great_circle_attitude),
         pen_(machine.tool().z == ToolZ::pen),
+        pen_path_(machine),
         tension_(TensionLimit::of(machine.kinematics())) {
     builder_.set_z_free(!machine.kinematics().dof().controls(static_cast<int>(Axis::z)));
     builder_.set_file(file_);
     pose_ = builder_.pose();
-    pen_down_ = pen_ && machine.tool().pen_down(pose_[2]);
     const int joints = static_cast<int>(machine.joints().size());
     report_.joints.resize(static_cast<std::size_t>(joints));
     JointVector start_joints;
@@ -214,6 +215,9 @@ class Planner {
     // The last sample lands exactly on the end of the program.
     if (last_sample_time_ < time_) emit(time_, last_line_, pose_);
     report_.duration_s = time_;
+    if (const auto warning = pen_path_.warning(); pen_ && warning) {
+      report_.warnings.push_back(*warning);
+    }
     return report_;
   }
 
@@ -585,22 +589,21 @@ class Planner {
     sample_until(time_ + segment.dwell_s, segment.line, [&](double) { return segment.start; });
   }
 
-  // A move on a machine with a pen channel: wherever its Z crosses the pen's height the machine
-  // stops, the pen goes down or up (samples carry the new state from then on) and the pen's
-  // delay passes; the move runs on from there.
+  // A move on a machine with a pen channel: wherever the pen changes along it (pen_path.hpp)
+  // the machine stops, the pen goes down or up (samples carry the new state from then on) and
+  // the pen's delay passes; the move runs on from there.
   void add_with_pen(const Segment& segment) {
-    const ToolChannel& tool = machine_.tool();
     double from = 0.0;
-    for (const double crossing : z_crossings(segment, tool.down_below_mm)) {
-      if (crossing > from) add(segment.part(from, crossing));
+    for (const PenChange& change : pen_path_.follow(segment)) {
+      if (change.u > from) add(segment.part(from, change.u));
       flush(true);
       entry_speed_ = 0.0;
-      pen_down_ = !pen_down_;
+      pen_down_ = change.down;
       ++report_.pen_changes;
       last_line_ = segment.line;
       const Vector6d here = pose_;
-      sample_until(time_ + tool.delay_s, segment.line, [&](double) { return here; });
-      from = crossing;
+      sample_until(time_ + machine_.tool().delay_s, segment.line, [&](double) { return here; });
+      from = change.u;
     }
     add(from > 0.0 ? segment.part(from, 1.0) : segment);
   }
@@ -719,7 +722,8 @@ class Planner {
   std::string file_;
   SegmentBuilder builder_;  // before pose_: the constructor takes the start from it
   bool pen_ = false;        // the machine has a pen channel
-  bool pen_down_ = false;   // its state now
+  PenPath pen_path_;        // where the pen changes
+  bool pen_down_ = false;   // its state now: up at the start
   // A cable machine whose effector has a mass: its cables' tensions bound the moves.
   std::optional<TensionLimit> tension_;
   PlanReport report_;
@@ -752,7 +756,9 @@ PlanReport plan_program(const Machine& machine, const std::filesystem::path& pro
     planner.on_canon(canon);
   });
   PlanReport report = planner.finish();
-  report.warnings = interpreter.warnings();
+  // The interpreter's warnings first, in the job's order; the planner's own (the pen) after.
+  report.warnings.insert(report.warnings.begin(), interpreter.warnings().begin(),
+                         interpreter.warnings().end());
   return report;
 }
 

@@ -128,22 +128,4 @@ Vector6d Segment::at(double u) const {
   return pose;
 }
 
-std::vector<double> z_crossings(const Segment& segment, double height_mm) {
-  constexpr int kPieces = 64;
-  const auto below_at = [&](double u) { return segment.at(u)[2] < height_mm; };
-  std::vector<double> crossings;
-  bool below = below_at(0.0);
-  for (int k = 1; k <= kPieces; ++k) {
-    double low = static_cast<double>(k - 1) / kPieces, high = static_cast<double>(k) / kPieces;
-    if (below_at(high) == below) continue;
-    for (int i = 0; i < 60; ++i) {
-      const double middle = 0.5 * (low + high);
-      (below_at(middle) == below ? low : high) = middle;
-    }
-    crossings.push_back(high);
-    below = !below;
-  }
-  return crossings;
-}
-
 }  // namespace pkm::motion

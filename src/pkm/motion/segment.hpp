@@ -49,9 +49,4 @@ struct Segment {
   Eigen::Vector3d attitude_at(double u) const;
 };
 
-// The fractions of the move (0..1, in order) where its Z crosses `height_mm`: each the first point
-// on the other side, where "below" is z < height_mm (a pen's down_below). Found in 64 pieces,
-// each bisected, so a move whose Z goes down and up again (an arc in XZ) shows both.
-std::vector<double> z_crossings(const Segment& segment, double height_mm);
-
 }  // namespace pkm::motion

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <optional>
 
+#include "pkm/motion/pen_path.hpp"
 #include "pkm/motion/segment_builder.hpp"
 #include "pkm/post/covering.hpp"
 #include "pkm/post/deviation_bound.hpp"
@@ -61,7 +62,8 @@ class Poster : private CoveringHost {
         file_(std::move(file)),
         builder_(machine.home().as_vector(), options.origin, false),
         bound_(machine, options.tolerance_mm),
-        covering_(*this, options.tolerance_mm) {
+        covering_(*this, options.tolerance_mm),
+        pen_path_(machine) {
     JointVector home;
     const Status status = machine_.inverse(machine_.home(), home);
     if (!status.ok())
@@ -69,7 +71,7 @@ class Poster : private CoveringHost {
     joints_ = rounded(home);
     report_.bounded = bound_.available();
     write("G21 G90 G94", 0);
-    if (pen()) set_pen(machine_.tool().pen_down(builder_.pose()[2]), 0);
+    if (pen()) set_pen(false, 0);  // a plotter starts with its pen up, whatever home's Z
   }
 
   void on_canon(const gcode::Canon& canon) {
@@ -91,6 +93,9 @@ class Poster : private CoveringHost {
   PostReport finish() {
     covering_.finish();
     if (!ended_) end_program(0);
+    if (const auto warning = pen_path_.warning(); pen() && warning) {
+      report_.warnings.push_back(*warning);
+    }
     return report_;
   }
 
@@ -233,19 +238,19 @@ class Poster : private CoveringHost {
                             machine_.explain_path([&](double v) { return segment.at(v); }));
       }
     }
-    const std::vector<double> crossings =
-        pen() ? motion::z_crossings(segment, machine_.tool().down_below_mm) : std::vector<double>{};
-    if (!moves && crossings.empty()) return;  // nothing written, nothing that ends a run
+    const std::vector<motion::PenChange> changes =
+        pen() ? pen_path_.follow(segment) : std::vector<motion::PenChange>{};
+    if (!moves && changes.empty()) return;  // nothing written, nothing that ends a run
     // A run of moves at one feed: a block spanning moves of different feeds would share its
     // time out evenly where the job does not.
-    const bool spanned = may_span && crossings.empty() && spannable(segment);
+    const bool spanned = may_span && changes.empty() && spannable(segment);
     if (!spanned || segment.feed_mm_per_s != run_feed_mm_per_s_) covering_.finish();
     double from = 0.0;
-    for (const double crossing : crossings) {
-      if (moves) covering_.add(segment, from, crossing);
+    for (const motion::PenChange& change : changes) {
+      if (moves && change.u > from) covering_.add(segment, from, change.u);
       covering_.finish();
-      set_pen(!pen_down_, segment.line);
-      from = crossing;
+      set_pen(change.down, segment.line);
+      from = change.u;
     }
     if (moves) covering_.add(segment, from, 1.0);
     if (!spanned) covering_.finish();
@@ -348,6 +353,7 @@ class Poster : private CoveringHost {
   motion::SegmentBuilder builder_;
   DeviationBound bound_;
   Covering covering_;
+  motion::PenPath pen_path_;        // where the pen changes along the job
   double run_feed_mm_per_s_ = 0.0;  // of the moves the open block may span
   JointVector joints_;              // as last written
   bool inverse_time_ = false;
@@ -480,7 +486,9 @@ PostReport post_program(const Machine& machine, const std::filesystem::path& pro
     poster.on_canon(canon);
   });
   PostReport report = poster.finish();
-  report.warnings = interpreter.warnings();
+  // The interpreter's warnings first, in the job's order; post's own (the pen) after.
+  report.warnings.insert(report.warnings.begin(), interpreter.warnings().begin(),
+                         interpreter.warnings().end());
   return report;
 }
 

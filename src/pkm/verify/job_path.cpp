@@ -99,6 +99,7 @@ JobPath::JobPath(const Machine& machine, const std::filesystem::path& job,
     : file_(job.string()),
       mask_(position_mask(machine)),
       tool_(machine.tool()),
+      pen_(machine),
       builder_(machine.home().as_vector(), origin, false),
       interpreter_(job, motion::starting_at(options, machine.home().as_vector(), origin)),
       sink_([this](const gcode::Canon& canon) { take(canon); }) {
@@ -127,19 +128,10 @@ void JobPath::take(const gcode::Canon& canon) {
   if (canon.kind == gcode::CanonKind::program_end) end_line_ = canon.line;
   for (const motion::Segment& segment : builder_.take(canon)) {
     if (segment.kind == motion::SegmentKind::dwell || segment.length() <= 0.0) continue;
+    if (tool_.z == ToolZ::pen) pen_.follow(segment);
     window_.push_back(make_piece(segment));
     end_mm_ += window_.back().length_mm;
-    if (tool_.z == ToolZ::pen) count_pen(segment);
   }
-}
-
-void JobPath::count_pen(const motion::Segment& segment) {
-  const bool down = tool_.pen_down(segment.end[2]);
-  if (down && !pen_down_) {
-    if (pen_downs_ == 0) first_pen_down_line_ = segment.line;
-    ++pen_downs_;
-  }
-  pen_down_ = down;
 }
 
 JobPiece JobPath::make_piece(const motion::Segment& segment) const {
@@ -147,6 +139,7 @@ JobPiece JobPath::make_piece(const motion::Segment& segment) const {
   piece.segment = segment;
   piece.mask = mask_;
   piece.start_mm = end_mm_;
+  piece.pen_follows_from = pen_.follows_from();
   if (segment.kind != motion::SegmentKind::arc) {
     piece.length_mm = (piece.point(1.0) - piece.point(0.0)).norm();
   } else {

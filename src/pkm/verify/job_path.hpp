@@ -10,6 +10,7 @@
 
 #include "pkm/gcode/interpreter.hpp"
 #include "pkm/machine/machine.hpp"
+#include "pkm/motion/pen_path.hpp"
 #include "pkm/motion/segment_builder.hpp"
 
 namespace pkm::verify {
@@ -24,6 +25,9 @@ struct JobPiece {
   double start_mm = 0.0;          // arc length of the job before it, in controlled coordinates
   double length_mm = 0.0;         // its own: 0 for a move of uncontrolled coordinates only (pen Z)
   double curvature_per_mm = 0.0;  // largest curvature of its path: 0 for lines, 1/r for arcs
+  // On a pen plotter: the pen is up before this fraction of the move, and down where the Z is
+  // on the drawing side from it on (motion::PenPath::follows_from).
+  double pen_follows_from = motion::PenPath::kNever;
 
   int line() const { return segment.line; }
   // The controlled position at fraction u of the move (uncontrolled coordinates are 0).
@@ -53,20 +57,24 @@ class JobPath {
   // The line of the job's end (its M2, or its last line), once piece() has returned nullptr.
   int end_line() const { return end_line_; }
   // On a machine with a pen channel: how often the job puts the pen down (starting from up, as a
-  // plotter does) in the moves read so far, and the line of the first time.
-  long pen_downs() const { return pen_downs_; }
-  int first_pen_down_line() const { return first_pen_down_line_; }
+  // plotter does) in the moves read so far, the line of the first time, and once the job is
+  // read, the warning when it never goes down or never comes up (motion/pen_path.hpp).
+  long pen_downs() const { return pen_.downs(); }
+  int first_pen_down_line() const { return pen_.first_down_line(); }
+  std::optional<gcode::Warning> pen_warning() const {
+    return tool_.z == ToolZ::pen ? pen_.warning() : std::nullopt;
+  }
   const std::string& file() const { return file_; }
   const std::vector<gcode::Warning>& warnings() const { return interpreter_.warnings(); }
 
  private:
   void take(const gcode::Canon& canon);
   JobPiece make_piece(const motion::Segment& segment) const;
-  void count_pen(const motion::Segment& segment);
 
   std::string file_;
   Eigen::Vector3d mask_;
   ToolChannel tool_;
+  motion::PenPath pen_;  // where the job puts the pen down
   motion::SegmentBuilder builder_;
   gcode::Interpreter interpreter_;
   gcode::CanonSink sink_;
@@ -74,9 +82,6 @@ class JobPath {
   long first_index_ = 0;  // index of window_.front()
   double end_mm_ = 0.0;   // arc length at the end of the last move read
   int end_line_ = 0;
-  bool pen_down_ = false;
-  long pen_downs_ = 0;
-  int first_pen_down_line_ = 0;
   bool ended_ = false;
 };
 

@@ -25,8 +25,11 @@ double reach_mm(double block_length_mm, double tolerance_mm) {
 }
 
 // What the job asks of the pen over a range: down (1), up (0), or either (-1, the range crosses
-// `down_below`).
+// the pen's height, or where the pen starts following the job's Z: motion/pen_path.hpp).
 int pen_asked(const ToolChannel& tool, const PieceRange& range) {
+  const double from = range.piece->pen_follows_from;
+  if (range.u1 <= from) return 0;
+  if (range.u0 < from) return -1;
   const bool down0 = tool.pen_down(range.piece->segment.at(range.u0)[2]);
   const bool down1 = tool.pen_down(range.piece->segment.at(range.u1)[2]);
   return down0 == down1 ? int(down0) : -1;
