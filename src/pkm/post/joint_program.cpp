@@ -481,6 +481,7 @@ PostReport post_program(const Machine& machine, const std::filesystem::path& pro
   });
   PostReport report = poster.finish();
   report.warnings = interpreter.warnings();
+  report.files_read = interpreter.files_read();
   return report;
 }
 
