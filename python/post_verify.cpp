@@ -11,6 +11,7 @@
 #include "common.hpp"
 #include "pkm/gcode/tool_table.hpp"
 #include "pkm/io/atomic_file.hpp"
+#include "pkm/io/input_files.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/post/program_header.hpp"
 #include "pkm/verify/joint_path.hpp"
@@ -55,6 +56,12 @@ py::object post(const Machine& machine, const std::string& program, const std::s
   options.origin = origin_argument(origin, "origin");
   gcode::InterpreterOptions interpreter;
   interpreter.tool_table = tool_table_argument(tool_table, tool_table_units);
+  std::vector<NamedInput> inputs{{"the job", program},
+                                 {"the machine file", machine.source()},
+                                 {"the tool table", tool_table.value_or("")}};
+  if (const std::string reason = overwrites_input(output, inputs); !reason.empty()) {
+    throw py::value_error(reason);
+  }
   const Machine own = machine;  // the loop runs without the GIL (pkmkit.cpp)
   post::PostReport report;
   try {
@@ -65,6 +72,12 @@ py::object post(const Machine& machine, const std::string& program, const std::s
                                 [&](const std::string& line) { file.write(line + "\n"); });
     file.write_at(0,
                   post::joint_program_header(own, program, options.dialect, tolerance_mm, &report));
+    for (std::size_t i = 1; i < report.files_read.size(); ++i) {
+      inputs.push_back({"a subroutine file the job calls", report.files_read[i]});
+    }
+    if (const std::string reason = overwrites_input(output, inputs); !reason.empty()) {
+      throw std::invalid_argument(reason);
+    }
     file.commit();
   } catch (const post::PostError& error) {
     raise_with_reach_hint("PostError", error.what(), -1, own, program, interpreter, options.origin);

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "embedded_machine.hpp"
+#include "pkm/io/input_files.hpp"
 
 namespace pkm::app {
 
@@ -118,20 +119,10 @@ CLI::Option* add_pose_option(CLI::App& command, const std::string& name,
 
 void refuse_overwriting_input(const std::string& output,
                               std::initializer_list<std::pair<std::string, std::string>> inputs) {
-  if (output.empty()) return;
-  namespace fs = std::filesystem;
-  std::error_code error;
-  const fs::path out = fs::weakly_canonical(output, error);
-  for (const auto& [what, path] : inputs) {
-    if (path.empty()) continue;
-    std::error_code same_error, canonical_error;
-    const bool same = fs::equivalent(output, path, same_error) ||
-                      (!error && fs::weakly_canonical(path, canonical_error) == out);
-    if (same) {
-      throw CommandError(output + ": the output is the input file " + path + " (" + what +
-                         "); writing it would destroy the input, so choose another output name");
-    }
-  }
+  std::vector<NamedInput> named;
+  for (const auto& [what, path] : inputs) named.push_back({what, path});
+  const std::string reason = overwrites_input(output, named);
+  if (!reason.empty()) throw CommandError(reason);
 }
 
 CLI::Validator file_name() {

@@ -8,6 +8,7 @@
 #include "app.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/io/atomic_file.hpp"
+#include "pkm/io/input_files.hpp"
 #include "pkm/motion/job_reach.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/post/mach3_export.hpp"
@@ -108,6 +109,16 @@ void run_post(const PostCommandOptions& options) {
     throw CommandError(error.what());
   }
   progress.clear();
+  // A subroutine file the job called is known only now: the joint program replaces none.
+  std::vector<NamedInput> subroutines;
+  for (std::size_t i = 1; i < report.files_read.size(); ++i) {
+    subroutines.push_back({"a subroutine file the job calls", report.files_read[i]});
+  }
+  for (const std::string& written : {options.output, options.report, options.html}) {
+    if (const std::string reason = overwrites_input(written, subroutines); !reason.empty()) {
+      throw CommandError(reason);
+    }
+  }
   file.write_at(0, post::joint_program_header(machine, options.program, post_options.dialect,
                                               post_options.tolerance_mm, &report));
   file.commit();

@@ -83,3 +83,26 @@ def test_post_span_moves_false_is_no_span_moves(machines, pkm_binary, tmp_path):
     assert per_move["moves"] == 51 and per_move["blocks"] >= 51
     spanned = pkmkit.post(m, str(job), str(out))
     assert spanned["blocks"] * 5 < per_move["blocks"]
+
+
+def test_post_never_writes_over_its_inputs(machines, pkm_binary, tmp_path):
+    # pkmkit.post once overwrote the job or the machine file given as its output (issue 26);
+    # pkm refuses both, and a subroutine file the job calls, as the Python call now does.
+    machine_file = tmp_path / "hektor.toml"
+    machine_file.write_text((machines / "hektor.toml").read_text())
+    m = pkmkit.Machine.load(str(machine_file))
+    square = tmp_path / "square.ngc"
+    square.write_text("o<square> sub\nG1 X40 Y-60 F600\nG1 X60 Y-60\no<square> endsub\nM2\n")
+    job = tmp_path / "job.ngc"
+    job.write_text("G0 X50 Y-50\no<square> call\nM2\n")
+    for output, what in [(job, "the job"), (machine_file, "the machine file"),
+                         (square, "a subroutine file the job calls")]:
+        before = output.read_text()
+        with pytest.raises(ValueError, match=f"the output is the input file .* \\({what}\\)"):
+            pkmkit.post(m, str(job), str(output))
+        assert output.read_text() == before
+        cli = run_pkm(pkm_binary, "post", "-m", machine_file, job, "-o", output, check=False)
+        assert cli.returncode == 1 and f"({what})" in cli.stderr
+        assert output.read_text() == before
+    pkmkit.post(m, str(job), str(tmp_path / "joints.ngc"))
+    assert "X" in (tmp_path / "joints.ngc").read_text() or "A" in (tmp_path / "joints.ngc").read_text()

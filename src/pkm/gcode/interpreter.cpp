@@ -181,4 +181,11 @@ bool Interpreter::step() {
   return state_ && state_->step();
 }
 
+std::vector<std::filesystem::path> Interpreter::files_read() const {
+  std::vector<std::filesystem::path> paths;
+  if (!state_) return {program_};
+  for (const auto& file : state_->files) paths.push_back(file->path);
+  return paths;
+}
+
 }  // namespace pkm::gcode

@@ -85,6 +85,9 @@ class Interpreter {
   bool step();
 
   const std::vector<Warning>& warnings() const { return warnings_; }
+  // The program and every subroutine file it has opened so far: the inputs an output written
+  // from it must not replace.
+  std::vector<std::filesystem::path> files_read() const;
 
  private:
   struct State;

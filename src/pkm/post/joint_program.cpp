@@ -489,6 +489,7 @@ PostReport post_program(const Machine& machine, const std::filesystem::path& pro
   // The interpreter's warnings first, in the job's order; post's own (the pen) after.
   report.warnings.insert(report.warnings.begin(), interpreter.warnings().begin(),
                          interpreter.warnings().end());
+  report.files_read = interpreter.files_read();
   return report;
 }
 

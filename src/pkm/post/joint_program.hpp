@@ -68,6 +68,8 @@ struct PostReport {
   bool bounded = true;
   int max_deviation_line = 0;  // source line of the move where it peaks
   std::vector<gcode::Warning> warnings;
+  // The job and the subroutine files it called: what the joint program must not be written over.
+  std::vector<std::filesystem::path> files_read;
 };
 
 class PostError : public std::runtime_error {
