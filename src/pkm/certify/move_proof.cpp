@@ -520,8 +520,8 @@ std::string MoveProver::quantity_name(Quantity quantity, int index, int other) c
       return "the clearance between " + joint(index) + " and " + joint(other);
     case Quantity::assembly_mode:
       if (index >= 0) {
-        return "the assembly mode (the side of the base plane " + joint(index) +
-               "'s platform joint is on)";
+        return "the assembly mode (the side of the base plane the platform joint of " +
+               joint(index) + " is on)";
       }
       return "the assembly mode (the sign of cos a cos b, or of the struts' determinant)";
     case Quantity::pull:
