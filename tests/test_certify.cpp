@@ -10,7 +10,9 @@
 #include <string>
 
 #include "pkm/certify/job_check.hpp"
+#include "pkm/kinematics/hexapod.hpp"
 #include "pkm/motion/segment.hpp"
+#include "real_corpus.hpp"
 #include "test_support.hpp"
 
 namespace pkm::certify {
@@ -222,6 +224,53 @@ TEST(CertifyJob, APenThatNeverGoesDownIsAWarning) {
       << check.warnings[0].message;
 }
 
+// LinuxCNC's hexapod sample as `pkm import linuxcnc` writes it, legs 20..40 in (tests/data):
+// home 20 in above the base plane z = 0; tool_length 0, so the platform joints are at the tip's
+// height. The same leg lengths hold the platform's mirror image below the base.
+Machine linuxcnc_sample_hexapod() {
+  return load_machine(std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "data" /
+                      "linuxcnc-hexapod-sample-legs-20-40.toml");
+}
+
+TEST(CertifyMove, AHexapodThroughItsBasePlaneIsViolatedWhereThePlatformMeetsIt) {
+  // Level, down the axis from z = 1 in to z = -1 in: every platform joint meets the base plane at
+  // z = 0 (u = 0.5), each leg lying flat there, 22.02 in long (within 20..40 in); below it the
+  // legs hold the mirror image. The joints alone never leave their limits on this line.
+  const Machine machine = linuxcnc_sample_hexapod();
+  const MoveProver prover(machine);
+  const MoveProof proof = prover.prove(line(pose(0, 0, 25.4), pose(0, 0, -25.4)));
+  ASSERT_EQ(proof.verdict, Verdict::violated);
+  const Finding& finding = *proof.finding;
+  EXPECT_EQ(finding.quantity, Quantity::assembly_mode);
+  EXPECT_NEAR(finding.u0, 0.5, 1e-9);
+  EXPECT_NEAR(finding.pose[2], 0.0, 1e-6);
+  EXPECT_NE(finding.text.find("past the base joints' plane"), std::string::npos) << finding.text;
+  // The same line stopping 0.001 in above the plane is proven.
+  EXPECT_EQ(prover.prove(line(pose(0, 0, 25.4), pose(0, 0, 0.0254))).verdict, Verdict::proven);
+  // A tilt that takes one platform joint through the plane: level at z = 0.1 in, the joints of
+  // legs 1 and 2 at y = 11.5 in go down by 11.5 sin(a) for a tilt a about x, through the plane
+  // at sin(a) = 0.1 / 11.5 (a = 0.498 deg); 1 deg is past it.
+  const MoveProof tilt = prover.prove(line(pose(0, 0, 2.54), pose(0, 0, 2.54, -1.0)));
+  ASSERT_EQ(tilt.verdict, Verdict::violated);
+  EXPECT_EQ(tilt.finding->quantity, Quantity::assembly_mode);
+  EXPECT_NEAR(radians_to_degrees(-tilt.finding->pose[3]), 0.4982, 1e-3);
+}
+
+TEST(CertifyJob, ARealJobThroughTheHexapodsBasePlaneIsRefusedAtItsLine) {
+  PKM_SKIP_WITHOUT_REAL_CORPUS();
+  // pcb2gcode's drill.ngc without --origin on LinuxCNC's hexapod sample: line 24's drilling cycle
+  // plunges from Z0.08 to Z-0.063 in, through the base plane (post refused it there, with "no
+  // block, however short", while check certified every move).
+  const JobCheck check =
+      check_job(linuxcnc_sample_hexapod(), test::real_corpus() / "cam/pcb2gcode/drill.ngc", {});
+  EXPECT_FALSE(check.certified());
+  ASSERT_TRUE(check.first_failure.has_value());
+  EXPECT_EQ(check.first_failure->line, 24);
+  EXPECT_EQ(check.first_failure->finding.quantity, Quantity::assembly_mode);
+  EXPECT_NEAR(check.first_failure->finding.pose[2], 0.0, 1e-6);
+  EXPECT_NEAR(check.first_failure->finding.pose[0], 0.9 * 25.4, 1e-9);
+}
+
 }  // namespace
 }  // namespace pkm::certify
 
@@ -300,6 +349,42 @@ INSTANTIATE_TEST_SUITE_P(Examples, CertifyEveryKind,
                                            "wall-plotter.toml", "hektor.toml", "matrix-mill.toml",
                                            "linuxcnc-rdelta.toml"),
                          [](const auto& param_info) { return test::test_name(param_info.param); });
+
+TEST(CertifySoundness, TheLinuxcncSampleHexapodsMovesAcrossItsBasePlane) {
+  // Random lines near the base plane (z from -1 to 3 in, tilts within 3 deg, x and y within 1 in,
+  // where the legs stay within 20..40 in): a proven move keeps every platform joint above the plane
+  // at 4001 samples; a violated one is refused for the assembly mode at a pose the machine refuses;
+  // both occur.
+  const Machine machine = linuxcnc_sample_hexapod();
+  const MoveProver prover(machine);
+  std::mt19937_64 rng(25);
+  std::uniform_real_distribution<double> across(-1.0, 1.0), height(-1.0, 3.0), tilt(-3.0, 3.0);
+  const auto random_pose = [&] {
+    return pose(25.4 * across(rng), 25.4 * across(rng), 25.4 * height(rng), tilt(rng), tilt(rng),
+                tilt(rng));
+  };
+  const auto& hexapod = dynamic_cast<const HexapodKinematics&>(machine.kinematics());
+  int proven = 0, crossing = 0;
+  JointVector joints;
+  for (int trial = 0; trial < 200; ++trial) {
+    const motion::Segment segment = line(random_pose(), random_pose());
+    const MoveProof proof = prover.prove(segment);
+    if (proof.verdict == Verdict::proven) {
+      ++proven;
+      for (int k = 0; k <= 4000; ++k) {
+        const Pose at = Pose::from_vector(segment.at(k / 4000.0));
+        ASSERT_GT(hexapod.base_side(at).margin_mm, 0.0) << "trial " << trial << " sample " << k;
+      }
+    } else if (proof.verdict == Verdict::violated &&
+               proof.finding->quantity == Quantity::assembly_mode) {
+      ++crossing;
+      EXPECT_EQ(machine.inverse(Pose::from_vector(proof.finding->pose), joints).code,
+                StatusCode::other_assembly);
+    }
+  }
+  EXPECT_GT(proven, 10);
+  EXPECT_GT(crossing, 10);
+}
 
 }  // namespace
 }  // namespace pkm::certify

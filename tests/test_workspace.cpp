@@ -244,32 +244,60 @@ TEST(Workspace, JointAngleLimitLiftsTheLowestPointAsComputedByHand) {
   // No proven-inside cell reaches below the lowest point.
   for (const CellIndex& cell : ws.inside)
     EXPECT_GE(ws.origin_mm.z() + resolution * cell.at[2], lowest);
-  // Without the angle limit the same legs reach far lower (the mirror image below the base).
+  // Without the angle limit the same legs reach lower, down to the base plane (platform joints
+  // 30 mm above the tip), not into the mirror image below it.
   const Machine free = hexapod_with("", 100.0);
   const Workspace unlimited = compute_workspace(free, at_resolution(free, resolution));
-  EXPECT_LT(unlimited.extent->min_mm.z(), -500.0);
+  EXPECT_LT(unlimited.extent->min_mm.z(), lowest - 4.0 * resolution);
+  EXPECT_GE(unlimited.extent->min_mm.z(), -30.0 - resolution);
   EXPECT_LT(ws.inside_measure + ws.boundary_measure, unlimited.inside_measure);
 }
 
-TEST(Workspace, JointAngleLimitRemovesTheMirrorImageBelowTheBase) {
-  // The paper's hexapod reaches a mirror image of its workspace below the base (legs pointing
-  // down, platform level). Joints of 45 deg about the legs' directions at home refuse it: a
-  // platform joint below its base joint turns its leg more than 90 deg from home's.
+TEST(Workspace, TheMirrorImageBelowTheBaseIsNoPartOfTheWorkspace) {
+  // The paper's hexapod's legs reach a mirror image of its workspace below the base (legs
+  // pointing down, platform level), 30 % of its volume before the assembly mode kept home's side
+  // of the base plane. Platform joints lie 30 mm above the tip: no kept cell reaches below -30 mm
+  // and a cell, with or without joints of 45 deg about the legs' directions at home.
   const Machine free = test::load_example("hexapod-bit.toml");
-  const Workspace mirror = compute_workspace(free, at_resolution(free, 32.0));
-  double below = 0.0;
-  for (const CellIndex& cell : mirror.inside) {
-    if (mirror.origin_mm.z() + 32.0 * (cell.at[2] + (1 << cell.level)) <= 0.0)
-      below += std::pow(32.0 * (1 << cell.level), 3);
-  }
-  EXPECT_GT(below, 0.3 * mirror.inside_measure);
+  const Workspace ws_free = compute_workspace(free, at_resolution(free, 32.0));
+  expect_inside_cells_reachable(free, ws_free);
+  ASSERT_TRUE(ws_free.extent);
+  EXPECT_GT(ws_free.extent->min_mm.z(), -30.0 - 32.0);
+  EXPECT_GT(ws_free.limited_by.count("other_assembly"), 0u);
   const Machine machine = hexapod_with("max_joint_angle = 45.0");
   const Workspace ws = compute_workspace(machine, at_resolution(machine, 32.0));
   expect_inside_cells_reachable(machine, ws);
-  // Platform joints lie 30 mm above the tip: no kept cell reaches below -30 mm and a cell.
   ASSERT_TRUE(ws.extent);
   EXPECT_GT(ws.extent->min_mm.z(), -30.0 - 32.0);
-  EXPECT_LT(ws.inside_measure, mirror.inside_measure - below);
+  EXPECT_LE(ws.inside_measure, ws_free.inside_measure);
+}
+
+TEST(Workspace, TheLinuxcncSampleHexapodsBoxIsAboveItsBaseNotInTheMirrorImage) {
+  // LinuxCNC's hexapod sample as imported, legs 20..40 in (tests/data): the same leg lengths hold
+  // the platform above the base plane z = 0 and its mirror image below; home (z = 20 in) reaches
+  // only the first. The largest box was z -637..-381 mm, below the base.
+  const Machine machine = load_machine(std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "data" /
+                                       "linuxcnc-hexapod-sample-legs-20-40.toml");
+  const double resolution = 8.0;
+  const Workspace ws = compute_workspace(machine, at_resolution(machine, resolution));
+  expect_inside_cells_reachable(machine, ws);
+  ASSERT_TRUE(ws.extent && ws.largest_box);
+  // Platform joints at the tip's height: nothing below z = 0 but the cells holding it.
+  EXPECT_GE(ws.extent->min_mm.z(), -resolution);
+  for (const CellIndex& cell : ws.inside)
+    EXPECT_GE(ws.origin_mm.z() + resolution * cell.at[2], 0.0);
+  EXPECT_GT(ws.largest_box->min_mm.z(), 0.0);
+  EXPECT_GT(ws.largest_box->max_mm.z(), 20.0 * 25.4 - 200.0);
+  EXPECT_GT(ws.limited_by.count("other_assembly"), 0u);
+  // The mirror image of home, refused with the leg and how far past the plane it is.
+  JointVector joints;
+  const Pose mirror{{0.0, 0.0, -20.0 * 25.4}, {0.0, 0.0, 0.0}};
+  const Status status = machine.inverse(mirror, joints);
+  EXPECT_EQ(status.code, StatusCode::other_assembly);
+  EXPECT_NE(machine.explain(mirror, status)
+                .find("the platform joint of 'leg0' is 20.0000 in past the base"),
+            std::string::npos)
+      << machine.explain(mirror, status);
 }
 
 TEST(Workspace, LegInterferenceShrinksTheWorkspace) {

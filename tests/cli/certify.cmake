@@ -74,3 +74,13 @@ foreach(command post plan check)
   set_tests_properties(cli.${command}_warns_when_the_pen_never_goes_down PROPERTIES
     PASS_REGULAR_EXPRESSION "${PEN_NEVER_DOWN}")
 endforeach()
+# A hexapod's path through its base plane leaves home's assembly mode (issue 25): LinuxCNC's
+# hexapod sample (legs 20..40 in) refuses the drilling cycle at its line, with the leg and how far
+# past the plane; ik refuses home's mirror image below the base.
+set(SAMPLE_HEXAPOD ${CLI_DATA}/linuxcnc-hexapod-sample-legs-20-40.toml)
+pkm_cli_refuses(check_job_through_the_hexapods_base_plane
+  "drill-through-the-base-plane\\.ngc:6: move [0-9]+ violated: .* pose x 0\\.9000 y -0\\.4500 z 0\\.0000 in .*another assembly mode than home's: the platform joint of 'leg[0-5]' is 0\\.0000 in past the base joints' plane.*the farthest past it: 0\\.063 in at 100\\.0* % of the move"
+  check -m ${SAMPLE_HEXAPOD} ${CLI_DATA}/drill-through-the-base-plane.ngc)
+pkm_cli_refuses(ik_the_hexapods_mirror_image
+  "the platform joint of 'leg0' is 20\\.0000 in past the base joints' plane, on the other side of it than at home"
+  ik -m ${SAMPLE_HEXAPOD} 0 0 -20)

@@ -28,9 +28,9 @@ std::string_view verdict_name(Verdict verdict) {
 
 namespace {
 
-// The assembly mode as a number that keeps its sign within a mode (hexapod: cos a cos b; a
-// translating glide: det of its strut vectors), times home's mode, and a bound on its rate per
-// scaled unit over the ball. Nothing for models whose mode has no such bound here.
+// The assembly mode as a number that keeps its sign within a mode (a translating glide: det of
+// its strut vectors), times home's mode, and a bound on its rate per scaled unit over the ball.
+// Nothing for models whose mode has no such bound here (a hexapod's is unproven_hexapod_mode's).
 struct ModeValue {
   double value = 0.0, rate = 0.0;
 };
@@ -66,12 +66,8 @@ bool has_assembly_bound(const Kinematics& model, int home_mode) {
 
 std::optional<ModeValue> assembly_value(const Kinematics& model, int home_mode,
                                         const Vector6d& centre, const JointVector& joints,
-                                        const post::LegMotion& motion, double scale) {
+                                        const post::LegMotion& motion) {
   if (home_mode == 0) return ModeValue{1.0, 0.0};
-  if (dynamic_cast<const HexapodKinematics*>(&model) != nullptr) {
-    // |grad cos a cos b| = sqrt(sin^2 a cos^2 b + cos^2 a sin^2 b) <= 1 per rad.
-    return ModeValue{home_mode * std::cos(centre[3]) * std::cos(centre[4]), 1.0 / scale};
-  }
   if (const auto* delta = dynamic_cast<const RotaryDeltaKinematics*>(&model)) {
     return rotary_delta_mode(*delta, home_mode, centre, joints, motion);
   }
@@ -162,12 +158,33 @@ std::optional<Unproven> unproven_joint(const Machine& machine, const PieceSpan& 
   return std::nullopt;
 }
 
+// How far a coordinate of the piece strays from the middle's: half the chord, and for a position
+// on an arc twice its sagitta (the box centre +- spread holds the piece).
+double spread(const PieceSpan& span, int axis) {
+  return 0.5 * std::abs(span.chord[axis]) + (axis < 3 ? 2.0 * span.sagitta : 0.0);
+}
+
+// A hexapod's assembly mode over the box the piece lies in (HexapodKinematics's bounds, the ones
+// workspace takes over a cell): the platform tilted less than 90 deg (index -1), and each
+// platform joint on home's side of the base plane (index: the leg, reach in mm).
+std::optional<Unproven> unproven_hexapod_mode(const HexapodKinematics& hexapod, int home_mode,
+                                              const PieceSpan& span) {
+  Vector6d half;
+  for (int axis = 0; axis < kPoseSize; ++axis) half[axis] = spread(span, axis);
+  const double tilt = HexapodKinematics::tilt_low(span.centre, half);
+  // A home upside down has no bound here.
+  if (home_mode < 0 || !(tilt > 0.0)) return Unproven{Quantity::assembly_mode, -1, tilt, 0.0};
+  const HexapodKinematics::BaseSideBound side = hexapod.base_side_bound(span.centre, half);
+  if (!(side.low > 0.0)) return Unproven{Quantity::assembly_mode, side.leg, side.low, 0.0};
+  return std::nullopt;
+}
+
 // The first controlled coordinate whose range over the piece is not proven within the envelope.
 std::optional<Unproven> unproven_envelope(const CartesianLimits& limits,
                                           const std::vector<int>& axes, const PieceSpan& span) {
   for (const int axis : axes) {
-    const double spread = 0.5 * std::abs(span.chord[axis]) + (axis < 3 ? 2.0 * span.sagitta : 0.0);
-    const double low = span.centre[axis] - spread, high = span.centre[axis] + spread;
+    const double low = span.centre[axis] - spread(span, axis),
+                 high = span.centre[axis] + spread(span, axis);
     if (!(low >= limits.envelope_min[axis])) {
       return Unproven{Quantity::envelope, axis, low, limits.envelope_min[axis]};
     }
@@ -239,8 +256,7 @@ std::optional<Unproven> unproven_cable(const Machine& machine,
                                        const CablePlotterKinematics& plotter, const PieceSpan& span,
                                        bool joints_too) {
   Eigen::Vector2d half;
-  for (int axis = 0; axis < 2; ++axis)
-    half[axis] = 0.5 * std::abs(span.chord[axis]) + 2.0 * span.sagitta;
+  for (int axis = 0; axis < 2; ++axis) half[axis] = spread(span, axis);
   // A line's piece is the segment itself: its tensions by the mean-value form along it.
   const Eigen::Vector2d half_chord = 0.5 * span.chord.head<2>();
   const post::CableBoxBound bound = post::cable_box_bound(plotter.geometry(), span.centre.head<2>(),
@@ -251,9 +267,7 @@ std::optional<Unproven> unproven_cable(const Machine& machine,
     const JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
     post::Range range;
     if (const int axis = model.passthrough_axis(joint); axis >= 0) {
-      const double spread =
-          0.5 * std::abs(span.chord[axis]) + (axis < 3 ? 2.0 * span.sagitta : 0.0);
-      range = {span.centre[axis] - spread, span.centre[axis] + spread};
+      range = {span.centre[axis] - spread(span, axis), span.centre[axis] + spread(span, axis)};
     } else {
       range = bound.joint_mm[static_cast<std::size_t>(joint)];
     }
@@ -364,13 +378,19 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
     return open(leg->quantity, leg->index, leg->other, leg->reach, leg->limit);
   }
   if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
-    const double x_spread = 0.5 * std::abs(chord[0]) + 2.0 * sagitta;
+    const double x_spread = spread(span, 0);
     const PullMargin pull =
         pull_margin(*plotter, machine_.home().as_vector(), centre, x_spread, radius);
     if (!(pull.margin > 0.0)) return open(Quantity::pull, pull.index, -1, pull.margin, 0.0);
   }
-  const auto mode = assembly_value(model, model.assembly_mode(machine_.home()), centre, joints,
-                                   motion, angle_scale_mm_);
+  const int home_mode = model.assembly_mode(machine_.home());
+  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
+    if (const auto mode = unproven_hexapod_mode(*hexapod, home_mode, span)) {
+      return open(mode->quantity, mode->index, -1, mode->reach, mode->limit);
+    }
+    return outcome;
+  }
+  const auto mode = assembly_value(model, home_mode, centre, joints, motion);
   if (!mode || !(mode->value - mode->rate * radius > 0.0)) {
     return open(Quantity::assembly_mode, -1, -1, mode ? mode->value - mode->rate * radius : 0.0,
                 0.0);
@@ -499,6 +519,10 @@ std::string MoveProver::quantity_name(Quantity quantity, int index, int other) c
     case Quantity::clearance:
       return "the clearance between " + joint(index) + " and " + joint(other);
     case Quantity::assembly_mode:
+      if (index >= 0) {
+        return "the assembly mode (the side of the base plane the platform joint of " +
+               joint(index) + " is on)";
+      }
       return "the assembly mode (the sign of cos a cos b, or of the struts' determinant)";
     case Quantity::pull:
       if (cables_ != nullptr) return as_built_pull_name(index);
@@ -565,6 +589,12 @@ std::optional<double> MoveProver::quantity_at(const Finding& finding, const Pose
     }
     case Quantity::envelope:
       return pose.as_vector()[finding.index];
+    case Quantity::assembly_mode: {
+      // A hexapod's platform past its base plane: how far (mm), as refusal_at measured it.
+      const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&machine_.kinematics());
+      if (hexapod == nullptr || finding.index < 0) return std::nullopt;
+      return hexapod->base_side(pose).margin_mm;
+    }
     case Quantity::tension: {
       CableStatics statics;
       if (cables_ == nullptr || !cables_->statics(pose, Eigen::Vector2d::Zero(), statics).ok()) {
@@ -622,6 +652,7 @@ std::string MoveProver::excess_text(const Finding& finding, double value) const 
       file_units = radians_to_degrees(file_units);
       break;
     case Quantity::clearance:
+    case Quantity::assembly_mode:
       file_units /= machine_.mm_per_unit();
       unit = machine_.length_unit();
       break;
@@ -648,6 +679,7 @@ double MoveProver::excess(const Finding& finding, double value) const {
     case Quantity::joint_angle:
       return value - finding.limit;
     case Quantity::clearance:
+    case Quantity::assembly_mode:  // a hexapod's side of its base plane (mm), limit 0
       return finding.limit - value;
     case Quantity::tension:
       return cables_ != nullptr && finding.limit == cables_->tension_min_N()
@@ -708,6 +740,13 @@ Finding MoveProver::refusal_at(const motion::Segment& segment, double u,
     }
   } else if (status.code == StatusCode::other_assembly) {
     finding.quantity = Quantity::assembly_mode;
+    if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&machine_.kinematics())) {
+      const HexapodKinematics::BaseSide side = hexapod->base_side(pose);
+      if (side.margin_mm <= 0.0) {
+        finding.index = side.leg;
+        finding.value = side.margin_mm;
+      }
+    }
   } else if (cables_ != nullptr && status.joint >= 0 && status.joint < 2 &&
              (status.code == StatusCode::tension || status.code == StatusCode::unreachable)) {
     cable_refusal(pose, status.joint, finding);

@@ -1,5 +1,6 @@
 #include "pkm/kinematics/hexapod.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -154,6 +155,77 @@ void HexapodKinematics::update_derived() {
     base_mm_.col(i) = geometry_.base_mm[i];
     leg_offset_mm_[i] = geometry_.leg_offset_mm[i];
   }
+  // The base plane: the direction in which the base joints spread least. A base on one line (or
+  // a point) has no plane, and no mirror image in it.
+  const Eigen::Vector3d mean = base_mm_.rowwise().mean();
+  const Eigen::Matrix<double, 3, 6> spread = base_mm_.colwise() - mean;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> axes(spread * spread.transpose());
+  const Eigen::Vector3d extent = axes.eigenvalues();  // ascending
+  base_normal_ = extent[1] > 1e-12 * extent[2] ? Eigen::Vector3d(axes.eigenvectors().col(0))
+                                               : Eigen::Vector3d::Zero();
+  if (base_normal_.z() < 0.0) base_normal_ = -base_normal_;
+  // A level base (every joint at one z, as most are) has the z axis itself: exactly.
+  if (base_normal_ != Eigen::Vector3d::Zero() && (spread.row(2).array() == 0.0).all()) {
+    base_normal_ = Eigen::Vector3d::UnitZ();
+  }
+  update_home_side();
+}
+
+void HexapodKinematics::update_home_side() {
+  home_side_.fill(0.0);
+  if (!home_ || !all_finite(*home_)) return;
+  const LegEnds ends = leg_ends(*home_);
+  const double size = (base_mm_.colwise() - base_mm_.rowwise().mean()).colwise().norm().maxCoeff();
+  for (std::size_t leg = 0; leg < 6; ++leg) {
+    const auto i = static_cast<Eigen::Index>(leg);
+    const double rise = base_normal_.dot(ends.platform.col(i) - base_mm_.col(i));
+    // A leg (all but) in the base plane at home tells no side.
+    if (std::abs(rise) > 1e-9 * size) home_side_[leg] = rise > 0.0 ? 1.0 : -1.0;
+  }
+}
+
+Eigen::Vector3d HexapodKinematics::normal_in_platform(const Eigen::Vector3d& abc_rad) const {
+  if (base_normal_ == Eigen::Vector3d::UnitZ()) {
+    // The last row of Rz(c) Ry(b) Rx(a): no c, two sines and cosines (the per-sample path).
+    const double cos_b = std::cos(abc_rad.y());
+    return {-std::sin(abc_rad.y()), cos_b * std::sin(abc_rad.x()), cos_b * std::cos(abc_rad.x())};
+  }
+  return rotation_from_abc(abc_rad).transpose() * base_normal_;
+}
+
+HexapodKinematics::BaseSide HexapodKinematics::base_side(const Pose& pose) const {
+  BaseSide side;
+  if (!home_) return side;
+  const Eigen::Vector3d tilted = normal_in_platform(pose.orientation_rad);
+  const double height = base_normal_.dot(pose.position_mm);
+  for (int leg = 0; leg < 6; ++leg) {
+    if (home_side_[static_cast<std::size_t>(leg)] == 0.0) continue;
+    const double rise =
+        height + tilted.dot(platform_from_tip_mm_.col(leg)) - base_normal_.dot(base_mm_.col(leg));
+    const double margin = home_side_[static_cast<std::size_t>(leg)] * rise;
+    if (!(margin >= side.margin_mm)) side = {margin, leg};
+  }
+  return side;
+}
+
+HexapodKinematics::BaseSideBound HexapodKinematics::base_side_bound(const Vector6d& centre,
+                                                                    const Vector6d& half) const {
+  BaseSideBound bound;
+  if (!home_) return bound;
+  const Pose middle = Pose::from_vector(centre);
+  const Eigen::Vector3d tilted = normal_in_platform(middle.orientation_rad);
+  const double height = base_normal_.dot(middle.position_mm);
+  const double moves = base_normal_.cwiseAbs().dot(half.head<3>().cwiseAbs());
+  const double turns = half.tail<3>().cwiseAbs().sum();
+  for (int leg = 0; leg < 6; ++leg) {
+    const double side = home_side_[static_cast<std::size_t>(leg)];
+    if (side == 0.0) continue;
+    const double margin = side * (height + tilted.dot(platform_from_tip_mm_.col(leg)) -
+                                  base_normal_.dot(base_mm_.col(leg)));
+    const double change = moves + platform_from_tip_mm_.col(leg).norm() * turns;
+    if (!(margin - change >= bound.low)) bound = {margin - change, margin + change, leg};
+  }
+  return bound;
 }
 
 Status HexapodKinematics::inverse_without_leg_limits(const Pose& pose, JointVector& joints) const {
@@ -192,6 +264,8 @@ LegEnds HexapodKinematics::leg_ends(const Pose& pose) const {
 
 void HexapodKinematics::set_home(const Pose& home) {
   if (leg_limits_.active() && all_finite(home)) leg_limits_.set_home(leg_ends(home));
+  home_ = home;
+  update_home_side();
 }
 
 void HexapodKinematics::mechanism_limits(const Pose& pose, std::vector<MechanismLimit>& out) const {
@@ -200,6 +274,7 @@ void HexapodKinematics::mechanism_limits(const Pose& pose, std::vector<Mechanism
 
 std::string HexapodKinematics::why_refused(const Pose& pose, const Status& status) const {
   if (!all_finite(pose)) return {};
+
   return leg_limits_.why(leg_ends(pose), status, "leg");
 }
 
@@ -280,7 +355,18 @@ Status HexapodKinematics::inverse_and_jacobian(const Pose& pose, JointVector& jo
   return Status::success();
 }
 
+double HexapodKinematics::tilt_low(const Vector6d& centre, const Vector6d& half) {
+  const auto least_cos = [&](int axis) {
+    const double lo = centre[axis] - std::abs(half[axis]), hi = centre[axis] + std::abs(half[axis]);
+    if (!(lo > -std::numbers::pi && hi < std::numbers::pi)) return -1.0;
+    return std::min(std::cos(lo), std::cos(hi));
+  };
+  const double a = least_cos(3), b = least_cos(4);
+  return a > 0.0 && b > 0.0 ? a * b : -1.0;
+}
+
 int HexapodKinematics::assembly_mode(const Pose& pose) const {
+  if (!(base_side(pose).margin_mm > 0.0)) return -1;
   // Every machine tilts less than 90 deg about X and Y: no cosine needed there.
   constexpr double kQuarterTurn = std::numbers::pi / 2.0;
   if (std::abs(pose.orientation_rad.x()) < kQuarterTurn &&

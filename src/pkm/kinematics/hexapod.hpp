@@ -1,9 +1,13 @@
 // Stewart/Gough hexapod: six telescopic legs between base joints (world frame) and platform
-// joints (platform frame). The tool tip is at (0, 0, -tool_length) in the platform frame.
+// joints (platform frame). The tool tip is at (0, 0, -tool_length) in the platform frame. Its
+// assembly mode: the platform's tilt below 90 deg and each platform joint on home's side of the
+// base plane, with one bound over a box of poses that certify and workspace share.
 #pragma once
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
+#include <optional>
 
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/leg_limits.hpp"
@@ -50,10 +54,33 @@ class HexapodKinematics final : public Kinematics {
   Status inverse_and_jacobian(const Pose& pose, JointVector& joints,
                               JointJacobian& d_joints_d_pose) const override;
   // +1 while the platform is tilted less than 90 deg from the base (cos A cos B > 0, the z of its
-  // normal), -1 beyond: an upside-down platform (B = 180) has leg lengths too, but no machine
-  // turns its platform over, and forward kinematics seeded on the machine's side never returns
-  // there. Two cosines: cheap enough for every sample.
+  // normal) and every platform joint stays on home's side of the base plane (base_side below),
+  // -1 otherwise: an upside-down platform (B = 180) and the mirror image of the machine in its
+  // base plane (the platform below the base, same leg lengths) are other assembly modes, which
+  // the machine cannot reach from home without passing a singularity (with the platform in the
+  // base plane every leg lies in it and nothing holds the platform up or down).
   int assembly_mode(const Pose& pose) const override;
+  // How far the platform stands on home's side of the base plane (mm): the least over the legs
+  // of (platform joint - base joint) . n, n the normal of the plane through the base joints,
+  // signed by that leg's side at home. Legs in the plane at home, or a base whose joints lie on
+  // one line, take no part (+infinity without any leg, and before set_home).
+  struct BaseSide {
+    double margin_mm = INFINITY;
+    int leg = -1;  // the leg of the least margin
+  };
+  BaseSide base_side(const Pose& pose) const;
+  // Bounds on base_side's margin over every pose within centre +- half (mm, rad), and the leg of
+  // the least low bound: (n . position) moves by at most sum |n_k| half_k over the box, and a
+  // platform joint at distance q from the tool tip by at most q (|half a| + |half b| + |half c|)
+  // (the angular speed of R = Rz Ry Rx is at most the sum of its angles' speeds).
+  struct BaseSideBound {
+    double low = INFINITY, high = INFINITY;
+    int leg = -1;
+  };
+  BaseSideBound base_side_bound(const Vector6d& centre, const Vector6d& half) const;
+  // A lower bound on cos a cos b (the z of the platform's normal) over centre +- half: each
+  // cosine is least at the end of its interval farther from 0 (-1 once an interval reaches pi).
+  static double tilt_low(const Vector6d& centre, const Vector6d& half);
   std::string why_refused(const Pose& pose, const Status& status) const override;
   void set_home(const Pose& home) override;
   bool has_mechanism_limits() const override { return leg_limits_.active(); }
@@ -75,6 +102,10 @@ class HexapodKinematics final : public Kinematics {
 
  private:
   void update_derived();
+  // home_side_ from home_ (none without a home).
+  void update_home_side();
+  // The base plane's normal in the platform frame at these angles: R^T n.
+  Eigen::Vector3d normal_in_platform(const Eigen::Vector3d& abc_rad) const;
   LegLimits leg_limits_;
   HexapodGeometry geometry_;
   // Columns: platform joints measured from the tool tip, platform frame (platform + (0, 0,
@@ -83,6 +114,11 @@ class HexapodKinematics final : public Kinematics {
   Eigen::Matrix<double, 3, 6> platform_from_tip_mm_;
   Eigen::Matrix<double, 3, 6> base_mm_;
   Eigen::Matrix<double, 6, 1> leg_offset_mm_;
+  // The base plane's unit normal (zero where the base joints lie on one line), and each leg's
+  // side of it at home: +1, -1, or 0 (in the plane, or no home yet).
+  Eigen::Vector3d base_normal_ = Eigen::Vector3d::Zero();
+  std::array<double, 6> home_side_{};
+  std::optional<Pose> home_;
 };
 
 std::unique_ptr<Kinematics> make_hexapod_kinematics(const ModelConfig& config);

@@ -27,10 +27,11 @@ Machine::Machine(std::string name, std::string source, LengthUnit units,
       joints_(std::move(joints)),
       cartesian_(cartesian),
       home_(home),
-      home_assembly_mode_(kinematics_->assembly_mode(home)),
       checks_envelope_(cartesian_.has_envelope()) {
   for (const JointSpec& joint : joints_) joint_names_.push_back(joint.name);
+  // Home first: a hexapod's mode is each leg's side of the base plane at home.
   kinematics_->set_home(home_);
+  home_assembly_mode_ = kinematics_->assembly_mode(home_);
 }
 
 Machine::Machine(const Machine& other)

@@ -156,6 +156,8 @@ class Machine {
   // beyond it the move goes.
   // The joint_angle or interference part of explain().
   std::string explain_mechanism_limit(const Pose& pose, const Status& status) const;
+  // The other_assembly part of explain(): a hexapod's leg past the base plane with its numbers.
+  std::string explain_other_assembly(const Pose& pose) const;
   std::string explain_envelope_crossing(const Pose& pose, int axis,
                                         const std::function<Vector6d(double)>& pose_at) const;
 

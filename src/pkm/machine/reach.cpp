@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "pkm/kinematics/hexapod.hpp"
 #include "pkm/machine/machine.hpp"
 
 namespace pkm {
@@ -88,9 +89,7 @@ std::string Machine::explain(const Pose& pose, const Status& status) const {
              (below ? "min" : "max") + ")";
     }
     case StatusCode::other_assembly:
-      return text +
-             "another assembly mode than home's, across a singularity (a platform below its "
-             "carriages, a hexapod platform tilted past 90 deg)";
+      return text + explain_other_assembly(pose);
     case StatusCode::invalid_input:
       return text + "not a finite pose";
     case StatusCode::joint_angle:
@@ -103,6 +102,21 @@ std::string Machine::explain(const Pose& pose, const Status& status) const {
       }
       return text + pkm::describe(status, joint_names());
   }
+}
+
+std::string Machine::explain_other_assembly(const Pose& pose) const {
+  const std::string across =
+      "another assembly mode than home's, across a singularity (a platform below its "
+      "carriages, a hexapod platform tilted past 90 deg)";
+  const auto* hexapod = dynamic_cast<const HexapodKinematics*>(kinematics_.get());
+  if (hexapod == nullptr) return across;
+  const HexapodKinematics::BaseSide side = hexapod->base_side(pose);
+  if (!(side.margin_mm <= 0.0)) return across;
+  return "another assembly mode than home's: the platform joint of '" +
+         joints_[static_cast<std::size_t>(side.leg)].name + "' is " +
+         value_text(-side.margin_mm / mm_per_unit(), length_unit()) + " " + length_unit() +
+         " past the base joints' plane, on the other side of it than at home: toward the machine's "
+         "mirror image, beyond the singularity where its legs lie flat in that plane";
 }
 
 std::string Machine::explain_mechanism_limit(const Pose& pose, const Status& status) const {

@@ -208,17 +208,27 @@ class HexapodAssemblyConstraint final : public PoseConstraint {
  public:
   int count() const override { return 1; }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
-    const auto least_cos = [&](int axis) {
-      const double lo = cell.centre[axis] - cell.half[axis],
-                   hi = cell.centre[axis] + cell.half[axis];
-      if (lo <= -M_PI || hi >= M_PI) return -1.0;
-      return std::min(std::cos(lo), std::cos(hi));
-    };
-    const double a = least_cos(3), b = least_cos(4);
-    margins[0] = {a > 0.0 && b > 0.0 ? a * b : -1.0, 1.0};
+    margins[0] = {HexapodKinematics::tilt_low(cell.centre, cell.half), 1.0};
   }
   Status failure(int) const override { return Status::failure(StatusCode::other_assembly); }
   bool covers_orientation() const override { return true; }
+};
+
+// A hexapod stays on home's side of its base plane: each platform joint's rise above (or below)
+// its base joint, bounded over the cell by HexapodKinematics::base_side_bound, the bound
+// certify uses along a move. Without it the mirror image below the base counts as workspace.
+class HexapodBaseSideConstraint final : public PoseConstraint {
+ public:
+  explicit HexapodBaseSideConstraint(const HexapodKinematics& model) : model_(model) {}
+  int count() const override { return 1; }
+  void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
+    const HexapodKinematics::BaseSideBound side = model_.base_side_bound(cell.centre, cell.half);
+    margins[0] = {side.low, side.high};
+  }
+  Status failure(int) const override { return Status::failure(StatusCode::other_assembly); }
+
+ private:
+  const HexapodKinematics& model_;
 };
 
 // An ideal hanging plotter's cables both pull: the pen strictly between the anchors' verticals
@@ -601,6 +611,7 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
   if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
     constraints.push_back(std::make_unique<HexapodLegConstraint>(machine, *hexapod));
     constraints.push_back(std::make_unique<HexapodAssemblyConstraint>());
+    constraints.push_back(std::make_unique<HexapodBaseSideConstraint>(*hexapod));
     if (hexapod->leg_limits().settings().checks_angles()) {
       constraints.push_back(std::make_unique<HexapodJointAngleConstraint>(*hexapod));
     }
