@@ -159,6 +159,32 @@ TEST_P(EveryExampleMachine, ForwardAlongAPathAlwaysSucceeds) {
   }
 }
 
+// The reproducer: both of the spheres' intersections lie 0.09 mm apart across the
+// struts' plane, and home lies on the other side of the spheres' centres from the one in home's
+// assembly mode. FK chose by that side and refused the pose IK accepts.
+TEST(TriaglideForward, ChoosesTheCandidateInTheSeedsAssemblyMode) {
+  const Machine machine = test::load_example("triaglide.toml");
+  JointVector joints(3);
+  joints << -55.255987, 78.861922, 144.881560;
+  Pose solved = machine.home();
+  const Status status = machine.forward(joints, solved);
+  ASSERT_TRUE(status.ok()) << machine.describe(status);
+  EXPECT_NEAR(solved.position_mm.x(), -69.584789, 1e-6);
+  EXPECT_NEAR(solved.position_mm.y(), 39.474569, 1e-6);
+  EXPECT_NEAR(solved.position_mm.z(), 174.179306, 1e-6);
+  JointVector back;
+  ASSERT_TRUE(machine.inverse(solved, back).ok());
+  EXPECT_LE((back - joints).cwiseAbs().maxCoeff(), 1e-9);
+  // The mirror image (the other intersection) gives the same joints in the other assembly mode:
+  // IK refuses it, and FK seeded there at the model's level returns it, not home's.
+  Pose mirror = Pose::from_vector(Vector6d::Zero());
+  mirror.position_mm = {-69.49546134602504, 39.44374538926106, 174.14889118928411};
+  EXPECT_EQ(machine.inverse(mirror, back).code, StatusCode::other_assembly);
+  Pose from_mirror = mirror;
+  ASSERT_TRUE(machine.kinematics().forward(joints, from_mirror).ok());
+  EXPECT_LE((from_mirror.position_mm - mirror.position_mm).norm(), 1e-9);
+}
+
 INSTANTIATE_TEST_SUITE_P(Examples, EveryExampleMachine,
                          ::testing::ValuesIn(test::example_machine_files()),
                          [](const auto& test_info) { return test::test_name(test_info.param); });

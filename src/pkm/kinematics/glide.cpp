@@ -359,11 +359,13 @@ int GlideKinematics::assembly_mode(const Pose& pose) const {
   if (dof_.any_rotation()) return 0;
   JointVector joints;
   if (!inverse_without_leg_limits(pose, joints).ok()) return 0;
-  const Pose part = controlled_part(pose);
+  return mode_of_tip(controlled_part(pose).position_mm, joints);
+}
+
+int GlideKinematics::mode_of_tip(const Eigen::Vector3d& tip_mm, const JointVector& joints) const {
   std::array<Eigen::Vector3d, 3> strut;
   for (int i = 0; i < rail_count(); ++i) {
-    strut[i] = part.position_mm + rails_[i].attach_mm - rails_[i].origin_mm -
-               joints[i] * rails_[i].direction;
+    strut[i] = tip_mm + rails_[i].attach_mm - rails_[i].origin_mm - joints[i] * rails_[i].direction;
   }
   double orientation = 0.0;
   if (rail_count() == 3) {
@@ -444,12 +446,18 @@ Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pos
     }
   }
   // Both intersections satisfy the strut lengths; only those whose carriages sit on the
-  // configured branch reproduce the joint readings. Of those, the one on the seed's side of the
-  // centres (the seed's assembly mode) wins, however far the seed is; nearest only breaks a tie.
+  // configured branch reproduce the joint readings. Of those, the one in the seed's assembly mode
+  // (the side of the struts' plane the platform hangs on, which the joints move with) wins,
+  // however far the seed is; nearest only breaks a tie. A seed the rails cannot reach has no
+  // mode: then the candidate on the seed's side of the spheres' centres.
   const double scale = 1.0 + joints.cwiseAbs().maxCoeff();
   const Eigen::Vector3d seed = controlled_part(pose_inout).position_mm;
-  const double seed_side =
-      (seed - 0.5 * (candidates[0] + candidates[1])).dot(candidates[0] - candidates[1]);
+  int seed_mode = assembly_mode(pose_inout);
+  if (seed_mode == 0) {
+    const double seed_side =
+        (seed - 0.5 * (candidates[0] + candidates[1])).dot(candidates[0] - candidates[1]);
+    seed_mode = mode_of_tip(seed_side >= 0.0 ? candidates[0] : candidates[1], joints);
+  }
   double best_score = std::numeric_limits<double>::infinity();
   Pose best = pose_inout;
   for (int k = 0; k < 2; ++k) {
@@ -461,8 +469,8 @@ Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pos
     JointVector check;
     if (!inverse_without_leg_limits(trial, check).ok()) continue;
     if ((check - joints).cwiseAbs().maxCoeff() > 1e-6 * scale) continue;
-    const bool same_side = (k == 0) == (seed_side >= 0.0);
-    const double score = (same_side ? 0.0 : 1e300) + (candidate - seed).norm();
+    const bool same_mode = mode_of_tip(candidate, joints) == seed_mode;
+    const double score = (same_mode ? 0.0 : 1e300) + (candidate - seed).norm();
     if (score < best_score) {
       best_score = score;
       best = trial;
