@@ -2,8 +2,11 @@
 // and FK along paths.
 #include <gtest/gtest.h>
 
+#include <Eigen/SVD>
 #include <cmath>
 #include <random>
+#include <sstream>
+#include <string>
 
 #include "test_support.hpp"
 
@@ -183,6 +186,97 @@ TEST(TriaglideForward, ChoosesTheCandidateInTheSeedsAssemblyMode) {
   Pose from_mirror = mirror;
   ASSERT_TRUE(machine.kinematics().forward(joints, from_mirror).ok());
   EXPECT_LE((from_mirror.position_mm - mirror.position_mm).norm(), 1e-9);
+}
+
+// The sign of det(d joints / d pose) over the controlled coordinates: which side of the
+// singularities a pose is on.
+double determinant_sign(const Machine& machine, const Pose& pose) {
+  JointJacobian jacobian;
+  if (!machine.kinematics().jacobian(pose, jacobian).ok()) return 0.0;
+  const Dof dof = machine.kinematics().dof();
+  Eigen::MatrixXd reduced(jacobian.rows(), dof.count());
+  for (int axis = 0, k = 0; axis < kPoseSize; ++axis) {
+    if (dof.controls(axis)) reduced.col(k++) = jacobian.col(axis);
+  }
+  return reduced.rows() == reduced.cols() ? std::copysign(1.0, reduced.determinant()) : 0.0;
+}
+
+std::string text(const Pose& pose) {
+  std::ostringstream out;
+  out << pose.as_vector().transpose();
+  return out.str();
+}
+
+// The smallest singular value of d joints / d pose over the controlled coordinates (mm per mm,
+// rad per rad): how much the joints move per unit of the least visible pose motion.
+double smallest_singular_value(const Machine& machine, const Pose& pose) {
+  JointJacobian jacobian;
+  if (!machine.kinematics().jacobian(pose, jacobian).ok()) return 0.0;
+  const Dof dof = machine.kinematics().dof();
+  Eigen::MatrixXd reduced(jacobian.rows(), dof.count());
+  for (int axis = 0, k = 0; axis < kPoseSize; ++axis) {
+    if (dof.controls(axis)) reduced.col(k++) = jacobian.col(axis);
+  }
+  return reduced.jacobiSvd().singularValues().minCoeff();
+}
+
+// FK solves the joints to 1e-11 (ForwardOptions): that pins the pose down to 1e-9 mm where the
+// joints move at least 1e-2 mm per mm the pose moves. Nearer a singularity FK must give a pose
+// whose joints are the given ones, not the pose itself.
+constexpr double kPinnedSingularValue = 1e-2;
+
+// Issue 25: FK returns every pose IK accepts on home's side of the singularities, seeded at home
+// and at the previous pose of a path that jumps across the workspace, poses near singularities
+// included. A pose IK accepts across a singularity from home (det J of the other sign: a hexapod
+// or hexaglide at the corners of its box) is another assembly branch: FK never returns it.
+TEST_P(EveryExampleMachine, ForwardReturnsEveryPoseInverseAcceptsFromHomeAndAlongAPath) {
+  const Machine machine = test::load_example(GetParam());
+  std::mt19937_64 rng(31);
+  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 3000, rng, 25.0, 0.0);
+  const double home_sign = determinant_sign(machine, machine.home());
+  Pose previous = machine.home();
+  int failures = 0;
+  int other_branch = 0;
+  double worst_mm = 0.0;
+  for (const Pose& pose : poses) {
+    JointVector joints;
+    ASSERT_TRUE(machine.inverse(pose, joints).ok());
+    const bool pinned = smallest_singular_value(machine, pose) >= kPinnedSingularValue;
+    const bool home_side = home_sign == 0.0 || determinant_sign(machine, pose) == home_sign;
+    other_branch += home_side ? 0 : 1;
+    for (const Pose& seed : {machine.home(), previous}) {
+      Pose solved = seed;
+      const Status status = machine.forward(joints, solved);
+      if (!home_side) {
+        const double error = position_error(machine, solved, pose) + angle_error(solved, pose);
+        EXPECT_TRUE(!status.ok() || error > 1e-3) << "the other branch's pose " << text(pose);
+        continue;
+      }
+      if (!status.ok()) {
+        if (failures++ == 0) {
+          ADD_FAILURE() << machine.describe(status) << " at " << text(pose) << " from "
+                        << text(seed);
+        }
+        continue;
+      }
+      const double error =
+          position_error(machine, solved, pose) +
+          (machine.kinematics().dof().any_rotation() ? angle_error(solved, pose) : 0.0);
+      if (pinned) {
+        EXPECT_LE(error, 1e-9) << text(pose) << " from " << text(seed);
+        worst_mm = std::max(worst_mm, error);
+      } else {
+        JointVector back;
+        ASSERT_TRUE(machine.inverse(solved, back).ok()) << text(pose);
+        EXPECT_LE((back - joints).cwiseAbs().maxCoeff(), 1e-10)
+            << text(pose) << " from " << text(seed);
+      }
+      previous = solved;
+    }
+  }
+  EXPECT_EQ(failures, 0);
+  RecordProperty("worst_mm", std::to_string(worst_mm));
+  RecordProperty("other_branch", other_branch);
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, EveryExampleMachine,
