@@ -188,6 +188,44 @@ TEST(TriaglideForward, ChoosesTheCandidateInTheSeedsAssemblyMode) {
   EXPECT_LE((from_mirror.position_mm - mirror.position_mm).norm(), 1e-9);
 }
 
+// The Python batch's case along a track (forward_path, what pkmkins and verify use): a helix
+// from the triaglide pose through the struts' plane, with one row of joints no strut
+// reaches in the middle. Only that row fails; the next is solved from the last good pose.
+TEST(TriaglideForward, AFailedRowOfAPathFailsAlone) {
+  const Machine machine = test::load_example("triaglide.toml");
+  const Eigen::Vector3d start(-69.5847887844257, 39.47456913822882, 174.17930640982385);
+  std::vector<Pose> path;
+  for (int i = 0; i < 4000; ++i) {
+    const double turn = 4.0 * M_PI * i / 3999.0;
+    Pose pose = Pose::from_vector(Vector6d::Zero());
+    pose.position_mm =
+        start + Eigen::Vector3d(20.0 * std::cos(turn + M_PI / 2),
+                                20.0 * std::sin(turn + M_PI / 2) - 20.0, 5.0 * turn / (2.0 * M_PI));
+    path.push_back(pose);
+  }
+  std::vector<JointVector> joints(path.size());
+  std::vector<Status> statuses(path.size());
+  machine.kinematics().inverse_batch(path, joints, statuses);
+  for (const Status& status : statuses) ASSERT_TRUE(status.ok());
+  const std::size_t bad = path.size() / 2;
+  joints[bad] << -400.0, 800.0, -400.0;  // within the rails' limits, too far apart to meet
+  std::vector<Pose> solved(path.size());
+  machine.kinematics().forward_path(joints, machine.home(), solved, statuses);
+  int failed = 0;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    if (i == bad) {
+      EXPECT_EQ(statuses[i].code, StatusCode::unreachable);
+      continue;
+    }
+    failed += statuses[i].ok() ? 0 : 1;
+    // The first rows are within 0.05 mm of the struts' plane: the joints pin them to 1e-8 mm.
+    if (statuses[i].ok()) {
+      EXPECT_LE(position_error(machine, solved[i], path[i]), 1e-8) << i;
+    }
+  }
+  EXPECT_EQ(failed, 0);
+}
+
 // The sign of det(d joints / d pose) over the controlled coordinates: which side of the
 // singularities a pose is on.
 double determinant_sign(const Machine& machine, const Pose& pose) {
