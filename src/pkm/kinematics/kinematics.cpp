@@ -446,7 +446,7 @@ Status newton_from_seed(const Kinematics& model, const JointVector& joints, Pose
 // the path, 1), its most stretches tried (a pose near a fold of the path, where the pose moves
 // as the square root of the joints, takes a few dozen), and Newton corrections per stretch.
 constexpr double kShortestStretch = 1e-12;
-constexpr int kMostStretches = 1000;
+constexpr int kMostStretches = 200;
 constexpr int kCorrections = 8;
 
 // Newton steps from `x` (the solution at the previous joints along the path) to `target`, each
@@ -525,8 +525,8 @@ Status traced_from_seed(const Kinematics& model, const JointVector& joints, Pose
 // poses whose straight joint path from the seed folds back at one (a hexaglide's corners).
 Status walked_from_seed(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
                         const ForwardOptions& options) {
-  constexpr int kMostSteps = 200;
-  constexpr int kMostHalvings = 40;
+  constexpr int kMostSteps = 100;
+  constexpr int kMostHalvings = 30;
   const ControlledAxes axes(model.dof());
   const int joint_count = model.joint_count();
   JointVector at_x(joint_count);
@@ -574,6 +574,27 @@ Status walked_from_seed(const Kinematics& model, const JointVector& joints, Pose
   return status;
 }
 
+// Whether the straight pose segment from `seed` to `end` stays where IK answers with det J of
+// the seed's sign, at 64 points along it.
+bool on_seeds_side(const Kinematics& model, const Pose& seed, const Pose& end) {
+  constexpr int kPoints = 64;
+  const ControlledAxes axes(model.dof());
+  JointVector at(model.joint_count());
+  JointJacobian jacobian(model.joint_count(), kPoseSize);
+  if (!model.inverse_and_jacobian(seed, at, jacobian).ok()) return false;
+  const double det_sign = determinant_sign(jacobian, axes);
+  const Vector6d from = seed.as_vector();
+  const Vector6d span = end.as_vector() - from;
+  for (int k = 1; k <= kPoints; ++k) {
+    const Pose point = Pose::from_vector(from + (static_cast<double>(k) / kPoints) * span);
+    if (!model.inverse_and_jacobian(point, at, jacobian).ok() ||
+        determinant_sign(jacobian, axes) != det_sign) {
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 Status solve_forward_newton(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
@@ -599,6 +620,15 @@ Status solve_forward_newton(const Kinematics& model, const JointVector& joints, 
     traced.iterations += iterations;
   }
   traced.iterations += status.iterations;
+  if (traced.ok()) return traced;
+  // Neither reaches the joints from the seed. Newton's pose, where it found one, is still the
+  // seed's if the straight segment between them keeps to the seed's side of the singularities;
+  // else it is another branch's. Without one the joints are most often beyond every branch.
+  if (status.ok() && on_seeds_side(model, pose_inout, direct)) {
+    pose_inout = direct;
+    return status;
+  }
+  traced.code = status.ok() ? StatusCode::branch_changed : status.code;
   return traced;
 }
 
