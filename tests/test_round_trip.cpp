@@ -2,8 +2,11 @@
 // and FK along paths.
 #include <gtest/gtest.h>
 
+#include <Eigen/SVD>
 #include <cmath>
 #include <random>
+#include <sstream>
+#include <string>
 
 #include "test_support.hpp"
 
@@ -157,6 +160,165 @@ TEST_P(EveryExampleMachine, ForwardAlongAPathAlwaysSucceeds) {
     ASSERT_TRUE(statuses[i].ok()) << "sample " << i;
     EXPECT_LE(position_error(machine, solved[i], path[i]), 1e-9);
   }
+}
+
+// The issue's reproducer: both of the spheres' intersections lie 0.09 mm apart across the
+// struts' plane, and home lies on the other side of the spheres' centres from the one in home's
+// assembly mode. FK chose by that side and refused the pose IK accepts.
+TEST(TriaglideForward, ChoosesTheCandidateInTheSeedsAssemblyMode) {
+  const Machine machine = test::load_example("triaglide.toml");
+  JointVector joints(3);
+  joints << -55.255987, 78.861922, 144.881560;
+  Pose solved = machine.home();
+  const Status status = machine.forward(joints, solved);
+  ASSERT_TRUE(status.ok()) << machine.describe(status);
+  EXPECT_NEAR(solved.position_mm.x(), -69.584789, 1e-6);
+  EXPECT_NEAR(solved.position_mm.y(), 39.474569, 1e-6);
+  EXPECT_NEAR(solved.position_mm.z(), 174.179306, 1e-6);
+  JointVector back;
+  ASSERT_TRUE(machine.inverse(solved, back).ok());
+  EXPECT_LE((back - joints).cwiseAbs().maxCoeff(), 1e-9);
+  // The mirror image (the other intersection) gives the same joints in the other assembly mode:
+  // IK refuses it, and FK seeded there at the model's level returns it, not home's.
+  Pose mirror = Pose::from_vector(Vector6d::Zero());
+  mirror.position_mm = {-69.49546134602504, 39.44374538926106, 174.14889118928411};
+  EXPECT_EQ(machine.inverse(mirror, back).code, StatusCode::other_assembly);
+  Pose from_mirror = mirror;
+  ASSERT_TRUE(machine.kinematics().forward(joints, from_mirror).ok());
+  EXPECT_LE((from_mirror.position_mm - mirror.position_mm).norm(), 1e-9);
+}
+
+// The Python batch's case along a track (forward_path, what pkmkins and verify use): a helix
+// from the issue's triaglide pose through the struts' plane, with one row of joints no strut
+// reaches in the middle. Only that row fails; the next is solved from the last good pose.
+TEST(TriaglideForward, AFailedRowOfAPathFailsAlone) {
+  const Machine machine = test::load_example("triaglide.toml");
+  const Eigen::Vector3d start(-69.5847887844257, 39.47456913822882, 174.17930640982385);
+  std::vector<Pose> path;
+  for (int i = 0; i < 4000; ++i) {
+    const double turn = 4.0 * M_PI * i / 3999.0;
+    Pose pose = Pose::from_vector(Vector6d::Zero());
+    pose.position_mm =
+        start + Eigen::Vector3d(20.0 * std::cos(turn + M_PI / 2),
+                                20.0 * std::sin(turn + M_PI / 2) - 20.0, 5.0 * turn / (2.0 * M_PI));
+    path.push_back(pose);
+  }
+  std::vector<JointVector> joints(path.size());
+  std::vector<Status> statuses(path.size());
+  machine.kinematics().inverse_batch(path, joints, statuses);
+  for (const Status& status : statuses) ASSERT_TRUE(status.ok());
+  const std::size_t bad = path.size() / 2;
+  joints[bad] << -400.0, 800.0, -400.0;  // within the rails' limits, too far apart to meet
+  std::vector<Pose> solved(path.size());
+  machine.kinematics().forward_path(joints, machine.home(), solved, statuses);
+  int failed = 0;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    if (i == bad) {
+      EXPECT_EQ(statuses[i].code, StatusCode::unreachable);
+      continue;
+    }
+    failed += statuses[i].ok() ? 0 : 1;
+    // The first rows are within 0.05 mm of the struts' plane: the joints pin them to 1e-8 mm.
+    if (statuses[i].ok()) {
+      EXPECT_LE(position_error(machine, solved[i], path[i]), 1e-8) << i;
+    }
+  }
+  EXPECT_EQ(failed, 0);
+}
+
+// The sign of det(d joints / d pose) over the controlled coordinates: which side of the
+// singularities a pose is on.
+double determinant_sign(const Machine& machine, const Pose& pose) {
+  JointJacobian jacobian;
+  if (!machine.kinematics().jacobian(pose, jacobian).ok()) return 0.0;
+  const Dof dof = machine.kinematics().dof();
+  Eigen::MatrixXd reduced(jacobian.rows(), dof.count());
+  for (int axis = 0, k = 0; axis < kPoseSize; ++axis) {
+    if (dof.controls(axis)) reduced.col(k++) = jacobian.col(axis);
+  }
+  return reduced.rows() == reduced.cols() ? std::copysign(1.0, reduced.determinant()) : 0.0;
+}
+
+std::string text(const Pose& pose) {
+  std::ostringstream out;
+  out << pose.as_vector().transpose();
+  return out.str();
+}
+
+// The smallest singular value of d joints / d pose over the controlled coordinates (mm per mm,
+// rad per rad): how much the joints move per unit of the least visible pose motion.
+double smallest_singular_value(const Machine& machine, const Pose& pose) {
+  JointJacobian jacobian;
+  if (!machine.kinematics().jacobian(pose, jacobian).ok()) return 0.0;
+  const Dof dof = machine.kinematics().dof();
+  Eigen::MatrixXd reduced(jacobian.rows(), dof.count());
+  for (int axis = 0, k = 0; axis < kPoseSize; ++axis) {
+    if (dof.controls(axis)) reduced.col(k++) = jacobian.col(axis);
+  }
+  // A rotary joint's rad on a 100 mm lever (test::dexterity's scale; a delta's arm is 100-300).
+  for (int joint = 0; joint < machine.kinematics().joint_count(); ++joint) {
+    if (machine.kinematics().joint_kind(joint) == JointKind::rotary) reduced.row(joint) *= 100.0;
+  }
+  return reduced.jacobiSvd().singularValues().minCoeff();
+}
+
+// FK solves the joints to 1e-11 (ForwardOptions): that pins the pose down to 1e-9 mm where the
+// joints move at least 1e-2 mm per mm the pose moves. Nearer a singularity FK must give a pose
+// whose joints are the given ones, not the pose itself.
+constexpr double kPinnedSingularValue = 1e-2;
+
+// Issue 25: FK returns every pose IK accepts on home's side of the singularities, seeded at home
+// and at the previous pose of a path that jumps across the workspace, poses near singularities
+// included. A pose IK accepts across a singularity from home (det J of the other sign: a hexapod
+// or hexaglide at the corners of its box) is another assembly branch: FK never returns it.
+TEST_P(EveryExampleMachine, ForwardReturnsEveryPoseInverseAcceptsFromHomeAndAlongAPath) {
+  const Machine machine = test::load_example(GetParam());
+  std::mt19937_64 rng(31);
+  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 3000, rng, 25.0, 0.0);
+  const double home_sign = determinant_sign(machine, machine.home());
+  Pose previous = machine.home();
+  int failures = 0;
+  int other_branch = 0;
+  double worst_mm = 0.0;
+  for (const Pose& pose : poses) {
+    JointVector joints;
+    ASSERT_TRUE(machine.inverse(pose, joints).ok());
+    const bool pinned = smallest_singular_value(machine, pose) >= kPinnedSingularValue;
+    const bool home_side = home_sign == 0.0 || determinant_sign(machine, pose) == home_sign;
+    other_branch += home_side ? 0 : 1;
+    for (const Pose& seed : {machine.home(), previous}) {
+      Pose solved = seed;
+      const Status status = machine.forward(joints, solved);
+      if (!home_side) {
+        const double error = position_error(machine, solved, pose) + angle_error(solved, pose);
+        EXPECT_TRUE(!status.ok() || error > 1e-3) << "the other branch's pose " << text(pose);
+        continue;
+      }
+      if (!status.ok()) {
+        if (failures++ == 0) {
+          ADD_FAILURE() << machine.describe(status) << " at " << text(pose) << " from "
+                        << text(seed);
+        }
+        continue;
+      }
+      const double error =
+          position_error(machine, solved, pose) +
+          (machine.kinematics().dof().any_rotation() ? angle_error(solved, pose) : 0.0);
+      if (pinned) {
+        EXPECT_LE(error, 1e-9) << text(pose) << " from " << text(seed);
+        worst_mm = std::max(worst_mm, error);
+      } else {
+        JointVector back;
+        ASSERT_TRUE(machine.inverse(solved, back).ok()) << text(pose);
+        EXPECT_LE((back - joints).cwiseAbs().maxCoeff(), 1e-10)
+            << text(pose) << " from " << text(seed);
+      }
+      previous = solved;
+    }
+  }
+  EXPECT_EQ(failures, 0);
+  RecordProperty("worst_mm", formatted_number("%.3g", worst_mm));
+  RecordProperty("other_branch", other_branch);
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, EveryExampleMachine,

@@ -81,6 +81,38 @@ def test_forward_with_seed_and_single_row(machines):
     np.testing.assert_allclose(back, pose, atol=1e-9)
 
 
+def test_forward_along_a_helix_past_the_struts_plane_fails_only_the_bad_row(machines):
+    # A helix of radius 20 mm whose start is the pose of issue 25's reproducer, where the
+    # triaglide's two sphere intersections are 0.09 mm apart across the struts' plane. FK used to
+    # choose between them by the seed's side of the spheres' centres: rows near that plane went to
+    # the mirror image and failed (110 in a row here, each seeded with the last good pose). One
+    # row of joints no strut reaches in the middle fails alone; the row after it is solved.
+    m = pkmkit.Machine.load(str(machines / "triaglide.toml"))
+    start = np.array([-69.5847887844257, 39.47456913822882, 174.17930640982385])
+    turn = np.linspace(0.0, 4.0 * np.pi, 10_000)
+    centre = start - np.array([0.0, 20.0, 0.0])
+    poses = np.stack([centre[0] + 20.0 * np.cos(turn + np.pi / 2),
+                      centre[1] + 20.0 * np.sin(turn + np.pi / 2),
+                      start[2] + 5.0 * turn / (2.0 * np.pi)], axis=1)
+    joints, status = m.inverse(poses)
+    assert np.all(status == "ok")
+    bad = len(poses) // 2
+    joints[bad] = [-400.0, 800.0, -400.0]  # within the rails' limits, too far apart to meet
+    back, status = m.forward(joints)
+    assert status[bad] == "unreachable"
+    rest = np.arange(len(poses)) != bad
+    assert np.all(status[rest] == "ok"), np.flatnonzero(status != "ok")[:10]
+    # Within 1e-9 mm, but where the pose is so near the struts' plane that the joints, rounded
+    # to doubles (1e-13 mm or so), pin it down less well: 1e-12 mm over the smallest singular
+    # value of d joints / d pose (6.5e-5 at the first row: 1.5e-8 mm, a wrong branch is 0.09 mm
+    # off).
+    error = np.max(np.abs(back - poses), axis=1)
+    for row in np.flatnonzero(rest & (error > 1e-9)):
+        smallest = np.linalg.svd(m.jacobian(poses[row]), compute_uv=False)[-1]
+        assert error[row] <= 1e-12 / smallest, (row, error[row], smallest)
+    assert np.count_nonzero(error > 1e-9) < 10
+
+
 def test_refused_poses_give_their_status_and_finite_joints(machines, pkm_binary):
     m = pkmkit.Machine.load(str(machines / "hektor.toml"))
     # The second pose needs 500 mm of belt (max 180); the third is not a number.

@@ -359,11 +359,13 @@ int GlideKinematics::assembly_mode(const Pose& pose) const {
   if (dof_.any_rotation()) return 0;
   JointVector joints;
   if (!inverse_without_leg_limits(pose, joints).ok()) return 0;
-  const Pose part = controlled_part(pose);
+  return mode_of_tip(controlled_part(pose).position_mm, joints);
+}
+
+int GlideKinematics::mode_of_tip(const Eigen::Vector3d& tip_mm, const JointVector& joints) const {
   std::array<Eigen::Vector3d, 3> strut;
   for (int i = 0; i < rail_count(); ++i) {
-    strut[i] = part.position_mm + rails_[i].attach_mm - rails_[i].origin_mm -
-               joints[i] * rails_[i].direction;
+    strut[i] = tip_mm + rails_[i].attach_mm - rails_[i].origin_mm - joints[i] * rails_[i].direction;
   }
   double orientation = 0.0;
   if (rail_count() == 3) {
@@ -444,32 +446,39 @@ Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pos
     }
   }
   // Both intersections satisfy the strut lengths; only those whose carriages sit on the
-  // configured branch reproduce the joint readings. Of those, the one on the seed's side of the
-  // centres (the seed's assembly mode) wins, however far the seed is; nearest only breaks a tie.
+  // configured branch reproduce the joint readings. Where both do, the one in the seed's assembly
+  // mode (the side of the struts' plane the platform hangs on, which the joints move with) wins,
+  // however far the seed is; nearest only breaks a tie. A seed the rails cannot reach has no
+  // mode: then the candidate on the seed's side of the spheres' centres.
   const double scale = 1.0 + joints.cwiseAbs().maxCoeff();
   const Eigen::Vector3d seed = controlled_part(pose_inout).position_mm;
-  const double seed_side =
-      (seed - 0.5 * (candidates[0] + candidates[1])).dot(candidates[0] - candidates[1]);
-  double best_score = std::numeric_limits<double>::infinity();
-  Pose best = pose_inout;
+  std::array<Pose, 2> trials{pose_inout, pose_inout};
+  std::array<bool, 2> valid{};
   for (int k = 0; k < 2; ++k) {
-    const Eigen::Vector3d& candidate = candidates[k];
-    Pose trial = pose_inout;
     for (int axis = 0; axis < 3; ++axis) {
-      if (dof_.controls(axis)) trial.position_mm[axis] = candidate[axis];
+      if (dof_.controls(axis)) trials[k].position_mm[axis] = candidates[k][axis];
     }
     JointVector check;
-    if (!inverse_without_leg_limits(trial, check).ok()) continue;
-    if ((check - joints).cwiseAbs().maxCoeff() > 1e-6 * scale) continue;
-    const bool same_side = (k == 0) == (seed_side >= 0.0);
-    const double score = (same_side ? 0.0 : 1e300) + (candidate - seed).norm();
-    if (score < best_score) {
-      best_score = score;
-      best = trial;
-    }
+    valid[k] = inverse_without_leg_limits(trials[k], check).ok() &&
+               (check - joints).cwiseAbs().maxCoeff() <= 1e-6 * scale;
   }
-  const double best_distance = best_score;
-  if (!std::isfinite(best_distance)) return Status::failure(StatusCode::unreachable);
+  if (!valid[0] && !valid[1]) return Status::failure(StatusCode::unreachable);
+  int chosen = valid[0] ? 0 : 1;
+  if (valid[0] && valid[1]) {
+    // The seed's mode costs an IK: only asked where there is a choice.
+    int seed_mode = assembly_mode(pose_inout);
+    if (seed_mode == 0) {
+      const double seed_side =
+          (seed - 0.5 * (candidates[0] + candidates[1])).dot(candidates[0] - candidates[1]);
+      seed_mode = mode_of_tip(seed_side >= 0.0 ? candidates[0] : candidates[1], joints);
+    }
+    const auto score = [&](int k) {
+      return (mode_of_tip(candidates[k], joints) == seed_mode ? 0.0 : 1e300) +
+             (candidates[k] - seed).norm();
+    };
+    chosen = score(1) < score(0) ? 1 : 0;
+  }
+  Pose best = trials[chosen];
   // The closed form loses a few digits to cancellation; Newton from it restores full precision.
   const Status polished = solve_forward_newton(WithoutLegLimits<GlideKinematics>(*this), joints,
                                                best, forward_options_);

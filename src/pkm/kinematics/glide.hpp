@@ -84,6 +84,9 @@ class GlideKinematics final : public Kinematics {
   // Closed-form FK of a translating platform: intersection of the spheres (3 rails) or circles
   // (2 rails) around each carriage, the candidate matching every rail's branch nearest the seed.
   Status forward_translating(const JointVector& joints, Pose& pose_inout) const;
+  // assembly_mode() of a translating platform whose tool tip is at `tip_mm` (controlled
+  // coordinates; the others 0) on carriages at `joints`.
+  int mode_of_tip(const Eigen::Vector3d& tip_mm, const JointVector& joints) const;
   static void validate(std::vector<GlideRail>& rails, Dof dof);
   std::string leg_limits_why(const Pose& pose, const Status& status) const;
   LegLimits leg_limits_;

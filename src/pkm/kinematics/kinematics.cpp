@@ -320,11 +320,14 @@ bool Kinematics::factorise(const Vector6d& x, ForwardTrack& track) const {
   return true;
 }
 
-Status solve_forward_newton(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
-                            const ForwardOptions& options) {
-  if (!all_finite(joints) || !all_finite(pose_inout)) {
-    return Status::failure(StatusCode::invalid_input);
-  }
+namespace {
+
+// Damped Newton from the seed `pose_inout`. `contracted`: every step was an undamped Newton
+// step that at least halved the residual (Deuflhard's test of the region where the linear model
+// holds): a solution reached so leaves no doubt that it is the seed's own.
+Status newton_from_seed(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
+                        const ForwardOptions& options, bool& contracted) {
+  contracted = true;
   const ControlledAxes axes(model.dof());
   const int joint_count = model.joint_count();
   const bool square = axes.count == joint_count;
@@ -390,6 +393,7 @@ Status solve_forward_newton(const Kinematics& model, const JointVector& joints, 
                   : model.inverse_and_jacobian(trial_pose, at_trial, jacobian_at_trial))
               .ok();
       const double trial_cost = reached ? (at_trial - joints).squaredNorm() : INFINITY;
+      if (!newton || !(trial_cost <= 0.25 * cost)) contracted = false;
       if (trial_cost < cost) {
         const bool fast = trial_cost <= 0.01 * cost;  // residual cut at least tenfold
         x = trial;
@@ -436,6 +440,196 @@ Status solve_forward_newton(const Kinematics& model, const JointVector& joints, 
   }
   pose_inout = Pose::from_vector(x);
   return counted(Status::success());
+}
+
+// Continuation along the straight joint path from the seed's joints: its shortest stretch (of
+// the path, 1), its most stretches tried (a pose near a fold of the path, where the pose moves
+// as the square root of the joints, takes a few dozen), and Newton corrections per stretch.
+constexpr double kShortestStretch = 1e-12;
+constexpr int kMostStretches = 200;
+constexpr int kCorrections = 8;
+
+// Newton steps from `x` (the solution at the previous joints along the path) to `target`, each
+// with a fresh Jacobian whose determinant keeps `det_sign`, each at least halving the residual:
+// the steps stay on the branch they start on, or fail (the caller halves the stretch).
+bool corrected(const Kinematics& model, const JointVector& target, double tolerance,
+               double det_sign, const ControlledAxes& axes, Vector6d& x, int& iterations) {
+  const int joint_count = model.joint_count();
+  JointVector at_x(joint_count);
+  JointJacobian jacobian(joint_count, kPoseSize);
+  double error = INFINITY;
+  for (int step = 0; step <= kCorrections; ++step) {
+    if (!model.inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian).ok()) return false;
+    const JointVector residual = at_x - target;
+    const double trial_error = max_abs(residual);
+    if (!(trial_error <= 0.5 * error) && trial_error > tolerance) return false;
+    error = trial_error;
+    if (error <= tolerance) return true;
+    if (step == kCorrections) return false;
+    Factorization factorization;
+    factorization.compute(jacobian, axes);
+    if (factorization.det_sign != det_sign) return false;
+    const ReducedVector delta = factorization.solve(residual);
+    if (!delta.allFinite()) return false;
+    for (int k = 0; k < axes.count; ++k) x[axes.index[k]] += delta[k];
+    ++iterations;
+  }
+  return false;
+}
+
+// FK by continuation: the joints move in a straight line from the seed's own to `joints`, and
+// the pose follows in steps short enough for Newton to stay on the seed's branch (halved where
+// it would not, doubled where it does). Fails where the line meets a singularity of the seed's
+// branch, or the seed has no joints.
+Status traced_from_seed(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
+                        const ForwardOptions& options) {
+  const ControlledAxes axes(model.dof());
+  const int joint_count = model.joint_count();
+  JointVector start(joint_count);
+  JointJacobian jacobian(joint_count, kPoseSize);
+  if (!model.inverse_and_jacobian(pose_inout, start, jacobian).ok()) {
+    return Status::failure(StatusCode::not_converged);
+  }
+  const double det_sign = determinant_sign(jacobian, axes);
+  // A stretch's end is solved to this joint residual (mm or rad): near enough for the next.
+  const double loose = std::max(options.tolerance_mm, 1e-9);
+  Vector6d x = pose_inout.as_vector();
+  double done = 0.0;
+  double stretch = 0.25;
+  int iterations = 0;
+  for (int tried = 0; done < 1.0; ++tried) {
+    const double next = std::min(1.0, done + stretch);
+    const JointVector target = start + next * (joints - start);
+    Vector6d trial = x;
+    if (corrected(model, next == 1.0 ? joints : target, next == 1.0 ? options.tolerance_mm : loose,
+                  det_sign, axes, trial, iterations)) {
+      x = trial;
+      done = next;
+      stretch = std::min(1.0, 2.0 * stretch);
+    } else if (stretch < kShortestStretch || tried == kMostStretches) {
+      Status failed = Status::failure(StatusCode::branch_changed);
+      failed.iterations = iterations;
+      return failed;
+    } else {
+      stretch *= 0.5;
+    }
+  }
+  pose_inout = Pose::from_vector(x);
+  Status status = Status::success();
+  status.iterations = iterations;
+  return status;
+}
+
+// Newton steps from the seed, each shortened (halved) until it cuts the residual without det J
+// changing sign: a walk in pose space that keeps to the seed's side of the singularities, for the
+// poses whose straight joint path from the seed folds back at one (a hexaglide's corners).
+Status walked_from_seed(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
+                        const ForwardOptions& options) {
+  constexpr int kMostSteps = 100;
+  constexpr int kMostHalvings = 30;
+  const ControlledAxes axes(model.dof());
+  const int joint_count = model.joint_count();
+  JointVector at_x(joint_count);
+  JointJacobian jacobian(joint_count, kPoseSize);
+  Vector6d x = pose_inout.as_vector();
+  if (!model.inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian).ok()) {
+    return Status::failure(StatusCode::not_converged);
+  }
+  const double det_sign = determinant_sign(jacobian, axes);
+  double error = max_abs(at_x - joints);
+  Status status = Status::failure(StatusCode::branch_changed);
+  for (int step = 0; step < kMostSteps && error > options.tolerance_mm; ++step) {
+    Factorization factorization;
+    factorization.compute(jacobian, axes);
+    const ReducedVector delta = factorization.solve(at_x - joints);
+    if (!delta.allFinite()) return status;
+    double length = 1.0;
+    bool moved = false;
+    for (int halving = 0; halving < kMostHalvings && !moved; ++halving, length *= 0.5) {
+      Vector6d trial = x;
+      for (int k = 0; k < axes.count; ++k) trial[axes.index[k]] += length * delta[k];
+      JointVector at_trial(joint_count);
+      JointJacobian jacobian_at_trial(joint_count, kPoseSize);
+      if (!model.inverse_and_jacobian(Pose::from_vector(trial), at_trial, jacobian_at_trial).ok()) {
+        continue;
+      }
+      const double trial_error = max_abs(at_trial - joints);
+      if (!(trial_error < error) || determinant_sign(jacobian_at_trial, axes) != det_sign) {
+        continue;
+      }
+      x = trial;
+      at_x = at_trial;
+      jacobian = jacobian_at_trial;
+      error = trial_error;
+      moved = true;
+    }
+    status.iterations = step + 1;
+    if (!moved) return status;
+  }
+  if (error > options.tolerance_mm) return status;
+  pose_inout = Pose::from_vector(x);
+  const int iterations = status.iterations;
+  status = Status::success();
+  status.iterations = iterations;
+  return status;
+}
+
+// Whether the straight pose segment from `seed` to `end` stays where IK answers with det J of
+// the seed's sign, at 64 points along it.
+bool on_seeds_side(const Kinematics& model, const Pose& seed, const Pose& end) {
+  constexpr int kPoints = 64;
+  const ControlledAxes axes(model.dof());
+  JointVector at(model.joint_count());
+  JointJacobian jacobian(model.joint_count(), kPoseSize);
+  if (!model.inverse_and_jacobian(seed, at, jacobian).ok()) return false;
+  const double det_sign = determinant_sign(jacobian, axes);
+  const Vector6d from = seed.as_vector();
+  const Vector6d span = end.as_vector() - from;
+  for (int k = 1; k <= kPoints; ++k) {
+    const Pose point = Pose::from_vector(from + (static_cast<double>(k) / kPoints) * span);
+    if (!model.inverse_and_jacobian(point, at, jacobian).ok() ||
+        determinant_sign(jacobian, axes) != det_sign) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+Status solve_forward_newton(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
+                            const ForwardOptions& options) {
+  if (!all_finite(joints) || !all_finite(pose_inout)) {
+    return Status::failure(StatusCode::invalid_input);
+  }
+  Pose direct = pose_inout;
+  bool contracted = false;
+  const Status status = newton_from_seed(model, joints, direct, options, contracted);
+  const bool square = ControlledAxes(model.dof()).count == model.joint_count();
+  if ((status.ok() && contracted) || !square) {
+    if (status.ok()) pose_inout = direct;
+    return status;
+  }
+  // From a far seed Newton may land on another solution of the same joints (a hexapod has up to
+  // 40) without det J changing sign, or refuse one it could reach: the seed's own solution is
+  // the one continuation reaches.
+  Status traced = traced_from_seed(model, joints, pose_inout, options);
+  if (traced.code == StatusCode::branch_changed) {
+    const int iterations = traced.iterations;
+    traced = walked_from_seed(model, joints, pose_inout, options);
+    traced.iterations += iterations;
+  }
+  traced.iterations += status.iterations;
+  if (traced.ok()) return traced;
+  // Neither reaches the joints from the seed. Newton's pose, where it found one, is still the
+  // seed's if the straight segment between them keeps to the seed's side of the singularities;
+  // else it is another branch's. Without one the joints are most often beyond every branch.
+  if (status.ok() && on_seeds_side(model, pose_inout, direct)) {
+    pose_inout = direct;
+    return status;
+  }
+  traced.code = status.ok() ? StatusCode::branch_changed : status.code;
+  return traced;
 }
 
 Status numerical_jacobian(const Kinematics& model, const Pose& pose,

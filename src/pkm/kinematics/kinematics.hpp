@@ -206,7 +206,10 @@ bool all_finite(const JointVector& joints);
 // Damped Newton (Levenberg-Marquardt) forward kinematics over the model's controlled
 // coordinates, with the model's own inverse and jacobian. Refuses a solution on the other side of
 // a singularity from the seed (sign of det J changed), which is how an iteration shows it jumped to
-// another assembly branch.
+// another assembly branch. A square model's Newton that does not contract from the seed (a far
+// seed: it could land on another solution of the same joints) is replaced by continuation along
+// the straight joint path from the seed's joints, then a walk keeping det J's sign: the answer is
+// the seed's branch's (docs/kinematics.md, "Forward kinematics").
 Status solve_forward_newton(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
                             const ForwardOptions& options);
 
