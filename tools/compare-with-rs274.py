@@ -8,7 +8,7 @@ Made for LinuxCNC's own interpreter tests (tests/interp/ in LinuxCNC's source, w
 so not in this repository): each program runs in a copy of its directory (rs274 writes its
 parameter file there), with the tool table `test.tbl` and the INI file `test.ini` beside it when
 there are (as the tests' test.sh scripts run them), else with the conformance test's tool table;
-the INI's SUBROUTINE_PATH becomes pkm's --subroutine-path. The motion is compared as
+the INI's SUBROUTINE_PATH and ORIENT_OFFSET become pkm's --subroutine-path and --orient-offset. The motion is compared as
 tests/test_gcode_conformance.cpp compares it: moves, dwells, taps, the spindle synchronisation
 and the override locks (and the spindle inside those), numbers within one unit of the fourth
 decimal. A program rs274 refuses (or runs for more than 20 s) is not counted.
@@ -80,14 +80,22 @@ def first_difference(reference, ours):
     return ""
 
 
-def subroutine_path(ini, directory):
+def rs274ngc_settings(ini, directory):
+    """pkm's options for what the INI's [RS274NGC] sets: SUBROUTINE_PATH, ORIENT_OFFSET."""
     parser = configparser.ConfigParser(strict=False, interpolation=None)
     try:
         parser.read(ini)
-        value = parser.get("RS274NGC", "SUBROUTINE_PATH", fallback="")
+        paths = parser.get("RS274NGC", "SUBROUTINE_PATH", fallback="")
+        offset = parser.get("RS274NGC", "ORIENT_OFFSET", fallback="")
     except configparser.Error:
         return []
-    return [str(directory / part) for part in value.split(":") if part.strip()]
+    options = []
+    paths = [str(directory / part.strip()) for part in paths.split(":") if part.strip()]
+    if paths:
+        options += ["--subroutine-path", ":".join(paths)]
+    if offset.strip():
+        options += ["--orient-offset", offset.strip()]
+    return options
 
 
 def run(program, pkm):
@@ -102,9 +110,7 @@ def run(program, pkm):
                        "--tool-table-units", "inch"]
         if ini.exists():
             rs274 += ["-i", str(ini)]
-            paths = subroutine_path(ini, work)
-            if paths:
-                pkm_command += ["--subroutine-path", ":".join(paths)]
+            pkm_command += rs274ngc_settings(ini, work)
         rs274 += ["-g", program.name]
         pkm_command.append(program.name)
         try:

@@ -126,8 +126,8 @@ void Interpreter::State::set_feed_mode(const Block& block, int code) {
   }
 }
 
-// M19: LinuxCNC orients the spindle only when R or P is given (to R, 0 without it; its INI's
-// ORIENT_OFFSET, which pkm has not, would be added) and with Q waits up to Q seconds for it.
+// M19: LinuxCNC orients the spindle only when R or P is given (to R, 0 without it, plus the INI's
+// ORIENT_OFFSET) and with Q waits up to Q seconds for it.
 void Interpreter::State::orient_spindle(const Block& block) {
   const auto& p = block.word('p');
   if (p && p->value != 0.0 && p->value != 1.0 && p->value != 2.0) {
@@ -141,7 +141,7 @@ void Interpreter::State::orient_spindle(const Block& block) {
   }
   if (block.has('r') || p) {
     Canon c = make(CanonKind::orient_spindle, block);
-    c.value = block.has('r') ? block.value('r') : 0.0;
+    c.value = (block.has('r') ? block.value('r') : 0.0) + options.orient_offset_deg;
     c.integer = p ? static_cast<int>(p->value) : 0;
     emit(c);
   }
