@@ -55,6 +55,10 @@ const char* kind_name(gcode::CanonKind kind) {
       return "spindle_counterclockwise";
     case K::spindle_stop:
       return "spindle_stop";
+    case K::orient_spindle:
+      return "orient_spindle";
+    case K::wait_orient_spindle:
+      return "wait_orient_spindle";
     case K::mist_on:
       return "mist_on";
     case K::mist_off:

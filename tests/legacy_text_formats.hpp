@@ -94,6 +94,10 @@ inline std::string canon_text(const gcode::Canon& c) {
       return "START_SPINDLE_COUNTERCLOCKWISE(0)";
     case CanonKind::spindle_stop:
       return "STOP_SPINDLE_TURNING(0)";
+    case CanonKind::orient_spindle:
+      return format("ORIENT_SPINDLE(0, %.4f, %d)", c.value, c.integer);
+    case CanonKind::wait_orient_spindle:
+      return format("SPINDLE.0.WAIT_ORIENT_COMPLETE(%.4f)", c.value);
     case CanonKind::mist_on:
       return "MIST_ON()";
     case CanonKind::mist_off:

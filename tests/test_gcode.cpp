@@ -436,6 +436,22 @@ const ErrorCase kErrors[] = {
     {"xz_arc_in_a_turned_system", "G21 G10 L2 P1 R30\nG54 G0 X0 Y0 Z0\nG18 G2 X10 Z0 I5 F100\n", 3,
      5, "XZ or YZ plane (G18, G19) in a coordinate system turned by G10 L2 R30"},
     {"rotation_in_g10_l20", "G21 G10 L20 P1 X0 R30\n", 1, 19, "R is not allowed in G10 L20"},
+    // LinuxCNC taps off the axis in G18 and G19 (LinuxCNC's tests/interp/g84): refused.
+    {"tap_in_xz_plane", "G20 S100 M3 G18\nG0 X0 Y2 Z0\nG84 X1 Z1 Y-1 R1 F10\n", 3, 1,
+     "G84 in the XZ plane (G18) is not supported"},
+    {"left_hand_tap_in_yz_plane", "G20 S100 M4 G19\nG0 X2 Y0 Z0\nG74 Y1 Z1 X-1 R1 F10\n", 3, 1,
+     "G74 in the YZ plane (G19) is not supported"},
+    // G96's D (its spindle speed limit) is no cutter compensation's D: G96 itself is refused.
+    {"css_with_its_speed_limit", "G18 G95\nG96 M3 S250 D700\n", 2, 1,
+     "G96 (constant surface speed) is not supported"},
+    {"return_value_is_read_only", "#<_value> = 3\n", 1, 1, "#<_value> is read-only"},
+    {"return_value_of_a_definition", "o1 sub\no1 endsub [7]\nG0 X#<_value>\n", 3, 5,
+     "#<_value> is not known here"},
+    {"orientation_direction", "M19 R10 P3\n", 1, 9, "the direction must be 0"},
+    {"orientation_wait_not_positive", "M19 Q0\n", 1, 5, "Q word with M19 requires a value > 0"},
+    {"exists_of_a_fraction", "G0 X[EXISTS[#1.5]]\n", 1, 13, "in EXISTS is not a whole number"},
+    {"exists_of_no_parameter", "G0 X[EXISTS[1]]\n", 1, 13, "EXISTS needs a parameter"},
+    {"parameter_above_linuxcncs", "#5602 = 1\n", 1, 1, "out of range (1 to 5601)"},
 };
 
 INSTANTIATE_TEST_SUITE_P(Table, GcodeErrors, ::testing::ValuesIn(kErrors),

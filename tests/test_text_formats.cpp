@@ -217,7 +217,7 @@ TEST(CanonText, EveryKindAsBefore) {
   canon.integer = 64;
   canon.text = "G04 P3";
   canon.n_label = "1234567";
-  for (int kind = 0; kind <= static_cast<int>(gcode::CanonKind::event); ++kind) {
+  for (int kind = 0; kind <= static_cast<int>(gcode::CanonKind::wait_orient_spindle); ++kind) {
     canon.kind = static_cast<gcode::CanonKind>(kind);
     for (const gcode::Plane plane : {gcode::Plane::xy, gcode::Plane::xz, gcode::Plane::yz}) {
       canon.plane = plane;
@@ -232,6 +232,10 @@ TEST(CanonText, EveryKindAsBefore) {
   EXPECT_EQ(
       gcode::canon_text(canon),
       "STRAIGHT_FEED(-0.0000, 0.0000, -123456.7891, 0.0001, 99999.9999, -10000000000000.0000)");
+  canon.kind = gcode::CanonKind::orient_spindle;
+  canon.value = 87.5;
+  canon.integer = 2;
+  EXPECT_EQ(gcode::canon_text(canon), "ORIENT_SPINDLE(0, 87.5000, 2)");  // as rs274 prints it
 }
 
 // The rows of a CSV file after its header.

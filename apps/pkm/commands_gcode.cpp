@@ -19,6 +19,7 @@ struct GcodeOptions {
   bool canon = false;
   bool block_delete = false;
   std::vector<std::filesystem::path> subroutine_path;
+  double orient_offset_deg = 0.0;
 };
 
 void print_warnings(const std::string& program, const std::vector<gcode::Warning>& warnings) {
@@ -115,6 +116,7 @@ void run_gcode(const GcodeOptions& options) {
   gcode::InterpreterOptions interpreter_options;
   interpreter_options.block_delete = options.block_delete;
   interpreter_options.subroutine_path = options.subroutine_path;
+  interpreter_options.orient_offset_deg = options.orient_offset_deg;
   try {
     if (!options.tool_table.empty()) {
       interpreter_options.tool_table = gcode::read_tool_table(
@@ -159,6 +161,10 @@ void register_gcode_commands(CLI::App& app) {
       ->check(CLI::IsMember({"mm", "inch"}));
   command->add_flag("--block-delete", options->block_delete, "Skip lines starting with '/'");
   add_subroutine_path_option(*command, options->subroutine_path);
+  command
+      ->add_option("--orient-offset", options->orient_offset_deg,
+                   "Degrees added to M19's R, as LinuxCNC's [RS274NGC] ORIENT_OFFSET (default 0)")
+      ->check(CLI::Range(-360.0, 360.0));
   command->add_option("program", options->program, "The G-code file")->required();
   command->callback([options] { run_gcode(*options); });
 }

@@ -100,6 +100,12 @@ set_tests_properties(cli.plan_estimate_without_output PROPERTIES PASS_REGULAR_EX
 add_test(NAME cli.gcode_summary COMMAND ${PKM} gcode ${SQUARE})
 set_tests_properties(cli.gcode_summary PROPERTIES PASS_REGULAR_EXPRESSION
   "5 moves, written in mm \\(G21\\).*\n  box +x 0\\.000 \\.\\. 15\\.000, y 0\\.000 \\.\\. 20\\.000, z 0\\.000 \\.\\. 0\\.000 mm\n.*  path +rapid 0\\.000 mm, feed 65\\.616 mm, arc 0\\.000 mm")
+# M19's orientation with LinuxCNC's ORIENT_OFFSET: the same ORIENT_SPINDLE as rs274 with the INI
+# setting it (R45 + 42 = 87 deg).
+add_test(NAME cli.gcode_orient_offset_as_rs274
+         COMMAND sh -c "cd \"$2\" && printf '[RS274NGC]\\nORIENT_OFFSET = 42\\n' > orient.ini && rs274 -i orient.ini -g \"$1\" | grep -o 'ORIENT_SPINDLE.*' > orient-rs274.txt && \"$0\" gcode --canon --orient-offset 42 \"$1\" | grep -o 'ORIENT_SPINDLE.*' > orient-pkm.txt && diff orient-rs274.txt orient-pkm.txt && grep -q 'ORIENT_SPINDLE(0, 87.0000, 0)' orient-pkm.txt"
+                 ${PKM} ${PROJECT_SOURCE_DIR}/tests/gcode/spindle-orientation.ngc ${CLI_OUT})
+set_tests_properties(cli.gcode_orient_offset_as_rs274 PROPERTIES RESOURCE_LOCK rs274)
 foreach(command plan post verify)
   add_test(NAME cli.${command}_help_names_the_origin COMMAND ${PKM} ${command} --help)
   set_tests_properties(cli.${command}_help_names_the_origin PROPERTIES PASS_REGULAR_EXPRESSION

@@ -441,6 +441,12 @@ class Reader {
       ++pos_;
       const std::string name = read_name(column);
       const std::optional<double> value = parameters_.named(name);
+      if (!value && Parameters::read_only(name)) {
+        fail(column, "#<" + name +
+                         "> is not known here: it would be the [value] of the endsub of the "
+                         "subroutine defined last, which LinuxCNC reads in passing and pkm does "
+                         "not; read it after a call returns");
+      }
       if (!value) fail(column, "named parameter #<" + name + "> not defined");
       return *value;
     }
@@ -476,13 +482,27 @@ class Reader {
     if (name.empty()) fail(column, "unknown word or function where a value is expected");
     if (peek() != '[') fail(static_cast<int>(pos_) + 1, "left bracket missing after " + name);
     ++pos_;
-    if (name == "exists") {
-      if (!accept('#') || !accept('<')) fail(column, "EXISTS needs a named parameter");
-      const std::string parameter = read_name(column);
-      if (!accept(']')) fail(static_cast<int>(pos_) + 1, "right bracket missing after EXISTS");
-      return parameters_.exists(parameter) ? 1.0 : 0.0;
-    }
+    if (name == "exists") return read_exists(column);
     return finite(evaluate_function(name, read_expression(), column), column);
+  }
+
+  // EXISTS[#<name>] is 1 when the name is defined; EXISTS[#n] (n any value: 5, #1, [expr]) is 1
+  // when n is a parameter number (1 to 5601), as LinuxCNC reads it; either is 0 otherwise.
+  double read_exists(int column) {
+    const int at = static_cast<int>(pos_) + 1;
+    if (!accept('#')) fail(at, "EXISTS needs a parameter: #<name> or #number");
+    double found = 0.0;
+    if (accept('<')) {
+      found = parameters_.exists(read_name(column)) ? 1.0 : 0.0;
+    } else {
+      const double number = read_real();
+      const double rounded = std::round(number);
+      if (!(std::abs(number - rounded) <= 1e-4))
+        fail(at, "parameter number " + written_number(number) + " in EXISTS is not a whole number");
+      found = rounded >= 1.0 && rounded < static_cast<double>(Parameters::kCount) ? 1.0 : 0.0;
+    }
+    if (!accept(']')) fail(static_cast<int>(pos_) + 1, "right bracket missing after EXISTS");
+    return found;
   }
 
   double evaluate_function(const std::string& name, double argument, int column) {
@@ -640,9 +660,9 @@ class Reader {
     if (peek() == '<') {
       ++pos_;
       o.label = "<" + read_name(column) + ">";
-    } else if (peek() == '[') {
-      ++pos_;
-      const double number = read_expression();
+    } else if (peek() == '[' || peek() == '#') {
+      // A computed number: o[expr], or a parameter's value (o#1, o#<name>), as LinuxCNC reads it.
+      const double number = read_real();
       // Compared as a double: a number beyond long must not reach the conversion.
       if (!(std::abs(number) < kMaxONumber)) {
         fail(column, "O-word number " + written_number(number) + " out of range (below " +
@@ -662,15 +682,21 @@ class Reader {
     if (o.keyword.empty()) {
       // A bare number is a Fanuc-style program number: the main program's, or the start of a
       // subprogram that M98 calls and M99 ends.
+      // O<name> alone names the program, as a number does (LinuxCNC's named programs).
       const char rest = peek();
-      if (o.label.front() == '<' || (rest != 0 && rest != '(' && rest != ';')) {
+      if (rest != 0 && rest != '(' && rest != ';') {
         fail(static_cast<int>(pos_) + 1, "unknown O-word keyword");
       }
       o.keyword = kProgramNumberKeyword;
       return o;
     }
     if (o.keyword == "call") {
-      while (peek() == '[') {
+      // Comments may stand between the arguments (LinuxCNC's flowsnake.ngc has one).
+      for (char next = peek(); next == '[' || next == '('; next = peek()) {
+        if (next == '(') {
+          read_comment();
+          continue;
+        }
         ++pos_;
         o.arguments.push_back(read_expression());
       }
@@ -703,7 +729,7 @@ Block read_block(const std::string& line, const Parameters& parameters) {
   return block;
 }
 
-std::string o_word_keyword(std::string_view line, std::string* label) {
+std::string o_word_keyword(std::string_view line, std::string* label, bool* with_value) {
   // Letters and digits with spaces, tabs and comments removed, lower case.
   std::string compact;
   for (std::size_t i = 0; i < line.size(); ++i) {
@@ -752,10 +778,11 @@ std::string o_word_keyword(std::string_view line, std::string* label) {
       const std::size_t after = pos + keyword.size();
       if (after < compact.size() && compact[after] != '[') return {};
       if (label != nullptr) *label = name;
+      if (with_value != nullptr) *with_value = after < compact.size();
       return std::string(keyword);
     }
   }
-  if (pos == compact.size() && !name.empty() && name.front() != '<') {
+  if (pos == compact.size() && !name.empty()) {
     if (label != nullptr) *label = name;
     return std::string(kProgramNumberKeyword);
   }

@@ -102,7 +102,9 @@ Block read_block(const std::string& line, const Parameters& parameters);
 void read_block(std::string_view line, const Parameters& parameters, Block& block);
 
 // The keyword of an O-word line (and its label), without evaluating anything: what control flow
-// needs of the lines it skips. Empty when the line is no O-word line.
-std::string o_word_keyword(std::string_view line, std::string* label = nullptr);
+// needs of the lines it skips. Empty when the line is no O-word line. `with_value`: whether a
+// [value] follows the keyword.
+std::string o_word_keyword(std::string_view line, std::string* label = nullptr,
+                           bool* with_value = nullptr);
 
 }  // namespace pkm::gcode

@@ -36,6 +36,16 @@ CycleLevels cycle_axes(Plane plane) {
 
 void Interpreter::State::cycle(const Block& block, int code, const Position& end) {
   const CycleLevels levels = cycle_levels(block, code);
+  // LinuxCNC (2.9 and its master's own tests) feeds a G84/G74 tap in the XZ and YZ planes to a
+  // point whose coordinates it has permuted twice: the tap would leave its hole sideways. pkm
+  // neither runs it so nor runs it differently from LinuxCNC.
+  if ((code == 840 || code == 740) && plane != Plane::xy) {
+    fail(levels.column, code_name('G', code) + " in the " +
+                            (plane == Plane::xz ? "XZ plane (G18)" : "YZ plane (G19)") +
+                            " is not supported: LinuxCNC feeds this tap off its axis (its "
+                            "coordinates mixed up); tap in G17, or give the moves and the spindle "
+                            "reversal (M4/M3) as G1 moves");
+  }
   const long repeats = block.has('l') ? std::lround(block.value('l')) : 1;
   const int first = levels.first, second = levels.second;
   // Below R when the series began: every block of the series climbs to R first (even from R).

@@ -65,6 +65,10 @@ enum class CanonKind {
   rigid_tap,       // RIGID_TAP (G33.1): from where the tool is to `end` (X Y Z) and back again
   feed_override,   // `integer` 1 ENABLE_FEED_OVERRIDE, 0 DISABLE_ (tapping and threading cycles)
   speed_override,  // `integer` 1 ENABLE_SPEED_OVERRIDE, 0 DISABLE_ (tapping cycles)
+  // M19: turn the stopped spindle to `value` deg (R), `integer` 0 the shorter way, 1 clockwise,
+  // 2 counterclockwise (P); then, with Q, wait up to `value` s for it to get there.
+  orient_spindle,
+  wait_orient_spindle,
 };
 
 struct Canon {

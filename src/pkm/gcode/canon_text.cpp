@@ -147,6 +147,12 @@ void append_canon_text(const Canon& c, text::TextBuffer& out) {
     case CanonKind::spindle_stop:
       w << "STOP_SPINDLE_TURNING(0)";
       return;
+    case CanonKind::orient_spindle:
+      w << "ORIENT_SPINDLE(0, " << c.value << ", " << c.integer << ')';
+      return;
+    case CanonKind::wait_orient_spindle:
+      w << "SPINDLE.0.WAIT_ORIENT_COMPLETE(" << c.value << ')';
+      return;
     case CanonKind::mist_on:
       w << "MIST_ON()";
       return;

@@ -31,6 +31,11 @@ void Interpreter::State::execute_block(const Block& block) {
   const Code* const non_modal = g_by_group[0];
   const Code* const motion_code = g_by_group[1];
   bool has_axis = (block.letters & (kAxisSlots | kPolarSlots)) != 0;
+  // Before the block's S and M3 run, and before its D word (G96's speed limit) is taken for a
+  // cutter compensation's.
+  if (const Code* const css = g_by_group[14]; css && css->tenths == 960) {
+    fail(css->column, "G96 (constant surface speed) is not supported");
+  }
 
   set_feed_speed_and_tool(block, g_by_group[5]);
   if (m_by_group.any()) execute_m_codes(block);  // most blocks have no M code
@@ -121,6 +126,32 @@ void Interpreter::State::set_feed_mode(const Block& block, int code) {
   }
 }
 
+// M19: LinuxCNC orients the spindle only when R or P is given (to R, 0 without it, plus the INI's
+// ORIENT_OFFSET) and with Q waits up to Q seconds for it.
+void Interpreter::State::orient_spindle(const Block& block) {
+  const auto& p = block.word('p');
+  if (p && p->value != 0.0 && p->value != 1.0 && p->value != 2.0) {
+    fail(p->column, "M19 P" + written_number(p->value) +
+                        ": the direction must be 0 (the shorter way), 1 (clockwise) or 2 "
+                        "(counterclockwise)");
+  }
+  const auto& q = block.word('q');
+  if (q && !(q->value > 0.0)) {
+    fail(q->column, "Q word with M19 requires a value > 0 (the seconds to wait for the spindle)");
+  }
+  if (block.has('r') || p) {
+    Canon c = make(CanonKind::orient_spindle, block);
+    c.value = (block.has('r') ? block.value('r') : 0.0) + options.orient_offset_deg;
+    c.integer = p ? static_cast<int>(p->value) : 0;
+    emit(c);
+  }
+  if (q) {
+    Canon c = make(CanonKind::wait_orient_spindle, block);
+    c.value = q->value;
+    emit(c);
+  }
+}
+
 void Interpreter::State::execute_m_codes(const Block& block) {
   if (m_by_group[6]) change_tool(block, *m_by_group[6]);
   if (m_by_group[7]) {
@@ -128,6 +159,7 @@ void Interpreter::State::execute_m_codes(const Block& block) {
     if (code == 30) emit(CanonKind::spindle_clockwise, block);
     if (code == 40) emit(CanonKind::spindle_counterclockwise, block);
     if (code == 50) emit(CanonKind::spindle_stop, block);
+    if (code == 190) orient_spindle(block);
     spindle_direction = code == 30 ? 1 : code == 40 ? -1 : 0;  // M19 orients it: stopped
   }
   for (const int group : {8, 11}) {
@@ -178,9 +210,6 @@ void Interpreter::State::set_modes(const Block& block, bool& has_axis) {
   if (const auto code = g_by_group[3]) absolute = code->tenths == 900;
   if (const auto code = g_by_group[4]) arc_absolute = code->tenths == 901;
   if (const auto code = g_by_group[10]) retract_to_old = code->tenths == 980;
-  if (const auto code = g_by_group[14]) {
-    if (code->tenths == 960) fail(code->column, "G96 (constant surface speed) is not supported");
-  }
   // Group 15, lathe radius (G8) and diameter (G7) mode: after G7 LinuxCNC reads X words (and
   // G76's I J K) as diameters, which pkm does not: refused rather than cut twice as far out.
   if (const auto code = g_by_group[15]; code && code->tenths == 70) {

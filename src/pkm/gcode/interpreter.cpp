@@ -146,6 +146,9 @@ void Interpreter::State::apply_assignments(const Block& block) {
   for (const Assignment& a : block.assignments) {
     if (a.name.empty()) {
       parameters.set_numbered(a.number, a.value);
+    } else if (Parameters::read_only(a.name)) {
+      fail(a.column,
+           "#<" + a.name + "> is read-only: a subroutine's endsub or return [value] sets it");
     } else {
       parameters.set_named(a.name, a.value);
     }

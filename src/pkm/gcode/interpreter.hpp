@@ -37,6 +37,8 @@ struct InterpreterOptions {
   // Directories where `o<name> call` looks for name.ngc (and M98 P100 for 100.ngc) when the
   // program does not define it, after the program's own directory, in this order.
   std::vector<std::filesystem::path> subroutine_path;
+  // LinuxCNC's [RS274NGC] ORIENT_OFFSET, deg: added to M19's R (the spindle's orientation).
+  double orient_offset_deg = 0.0;
 };
 
 // The deepest subroutine calls nest: LinuxCNC's 10 levels, the main program one of them.

@@ -447,6 +447,7 @@ struct Interpreter::State {
   // G84 (right hand) and G74 (left hand): in with the spindle, out with it reversed.
   void tap(const Block& block, int code, const CycleLevels& levels, double at_1, double at_2);
   void emit_overrides(const Block& block, bool enabled);
+  void orient_spindle(const Block& block);
 
   // ---- tools and cutter compensation (tools.cpp) -----------------------------------------
   void select_tool(const Block& block);
@@ -493,7 +494,7 @@ struct Interpreter::State {
   void o_endrepeat(const OWord& o);
   void o_break_or_continue(const OWord& o);
   void skip_to(const std::string& label, std::initializer_list<std::string_view> keywords,
-               std::string* found_keyword, int column);
+               std::string* found_keyword, int column, bool* with_value = nullptr);
   // Where subroutine `label` starts: known already, defined further on in this file, or in a
   // file of its name on the subroutine path. `fanuc`: called by M98 (an O-number program).
   Mark find_subroutine(const std::string& label, bool fanuc, int column);

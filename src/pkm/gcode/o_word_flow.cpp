@@ -25,7 +25,16 @@ void Interpreter::State::execute_o_word(const Block& block) {
   const std::string& keyword = o.keyword;
   if (keyword == "sub") {
     subroutines.emplace(o.label, Definition{current, false});
-    skip_to(o.label, {"endsub"}, nullptr, o.column);
+    bool with_value = false;
+    skip_to(o.label, {"endsub"}, nullptr, o.column, &with_value);
+    // LinuxCNC reads the definition's endsub in passing, and its [value] into #<_value>
+    // (evaluated with what is defined then, an undefined name as 0): pkm does not evaluate it,
+    // so #<_value> cannot be read until a call returns.
+    if (with_value) {
+      parameters.forget_returned();
+    } else {
+      parameters.set_returned(std::nullopt);
+    }
   } else if (keyword == kProgramNumberKeyword) {
     // A Fanuc program number read in passing (the main program's O1, or a subprogram run into
     // without M98): nothing to do, as in LinuxCNC; M98 finds it.
@@ -75,7 +84,7 @@ void Interpreter::State::return_from_subroutine(const OWord& o) {
     fail(o.column, "o" + o.label + " " + o.keyword + " in O" + calls.back().label +
                        ", an M98 program: M99 ends it");
   }
-  if (o.value) parameters.set_named("_value", *o.value);
+  parameters.set_returned(o.value);
   leave_call();
 }
 
@@ -119,6 +128,7 @@ void Interpreter::State::call_fanuc_program(const Block& block, const Code& m98)
 }
 
 void Interpreter::State::return_from_fanuc_program(const Block& block, const Code& m99) {
+  parameters.set_returned(std::nullopt);  // M99 returns no value, as LinuxCNC reads it
   if (calls.empty()) {
     // M99 in the main program ends it, as M2 does (LinuxCNC's default: no endless loop).
     release_compensation(m99.column);
@@ -254,12 +264,12 @@ void Interpreter::State::o_break_or_continue(const OWord& o) {
 
 void Interpreter::State::skip_to(const std::string& label,
                                  std::initializer_list<std::string_view> keywords,
-                                 std::string* found_keyword, int column) {
+                                 std::string* found_keyword, int column, bool* with_value) {
   const int start_line = current.line;
   std::string_view line;
   while (read_line(line)) {
     std::string found_label;
-    const std::string keyword = o_word_keyword(line, &found_label);
+    const std::string keyword = o_word_keyword(line, &found_label, with_value);
     if (keyword.empty() || found_label != label) continue;
     for (const std::string_view wanted : keywords) {
       if (keyword == wanted) {

@@ -2,7 +2,19 @@
 
 namespace pkm::gcode {
 
-Parameters::Parameters() : numbered_(kCount, 0.0), scopes_(1) {}
+Parameters::Parameters() : numbered_(kCount, 0.0), scopes_(1) {
+  set_returned(std::nullopt);
+}
+
+void Parameters::forget_returned() {
+  globals_.erase("_value");
+  globals_.erase("_value_returned");
+}
+
+void Parameters::set_returned(std::optional<double> value) {
+  globals_["_value"] = value.value_or(0.0);
+  globals_["_value_returned"] = value ? 1.0 : 0.0;
+}
 
 double Parameters::numbered(int number) const {
   if (number <= kLocalNumbered && local_owner_ != 0) {

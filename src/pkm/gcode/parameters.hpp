@@ -1,4 +1,4 @@
-// Numbered and named parameters as LinuxCNC keeps them: numbered 1..5602 (1..30 local to a
+// Numbered and named parameters as LinuxCNC keeps them: numbered 1..5601 (1..30 local to a
 // subroutine call), named ones local to their subroutine unless they start with '_'.
 #pragma once
 
@@ -12,7 +12,7 @@ namespace pkm::gcode {
 
 class Parameters {
  public:
-  static constexpr int kCount = 5603;
+  static constexpr int kCount = 5602;  // LinuxCNC's RS274NGC_MAX_PARAMETERS: #5602 is refused
   static constexpr int kLocalNumbered = 30;
 
   Parameters();
@@ -23,7 +23,16 @@ class Parameters {
   // nullopt when the name is not defined (reading it is an error in LinuxCNC).
   std::optional<double> named(const std::string& lower_name) const;
   void set_named(const std::string& lower_name, double value);
-  bool exists(const std::string& lower_name) const { return named(lower_name).has_value(); }
+  bool exists(const std::string& lower_name) const {
+    return read_only(lower_name) || named(lower_name).has_value();
+  }
+  // #<_value> and #<_value_returned>, read-only: what the last endsub, return or M99 returned
+  // (0 and 0 when it returned nothing, and before any has).
+  void set_returned(std::optional<double> value);
+  void forget_returned();  // not known (reading them is an error) until set_returned
+  static bool read_only(const std::string& lower_name) {
+    return lower_name == "_value" || lower_name == "_value_returned";
+  }
 
   // A subroutine call: #1..#30 and local names get a fresh scope, with arguments in #1..
   void push_scope(const std::vector<double>& arguments);

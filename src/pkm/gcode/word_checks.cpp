@@ -78,7 +78,7 @@ namespace {
 struct WordUsers {
   int n = -1, m = -1;
   bool g64 = false, user_m = false;
-  int m5 = -1, m6 = -1, m9 = -1;  // codes of M groups 5, 6 and 9, or -1
+  int m5 = -1, m6 = -1, m7 = -1, m9 = -1;  // codes of M groups 5, 6, 7 and 9, or -1
   bool arc() const { return m == 20 || m == 30; }
   bool cycle() const { return m >= 730 && m != 800; }
   bool threading() const { return m == 760; }  // G76
@@ -106,21 +106,23 @@ const char* unused_word_message(char letter, const WordUsers& u) {
       return "L word with no G10, cutter compensation, canned cycle or M66 to use it";
     case 'p':
       if (u.arc() || u.n == 40 || u.n == 100 || u.g64 || u.m == 820 || u.m == 860 || u.m == 880 ||
-          u.m == 890 || u.m == 840 || u.m == 740 || u.threading() || u.user_m ||
+          u.m == 890 || u.m == 840 || u.m == 740 || u.threading() || u.user_m || u.m7 == 190 ||
           (u.m9 >= 500 && u.m9 <= 530) || (u.m5 >= 620 && u.m5 <= 660)) {
         return nullptr;
       }
-      return "P word with no G2, G3, G4, G10, G64, G74, G76, G82, G84, G86, G88, G89, M50-M53, "
-             "M62-M66 or user M code to use it";
+      return "P word with no G2, G3, G4, G10, G64, G74, G76, G82, G84, G86, G88, G89, M19, "
+             "M50-M53, M62-M66 or user M code to use it";
     case 'q':
       if (u.n == 100 || u.g64 || u.m == 730 || u.m == 830 || u.threading() || u.user_m ||
-          u.m6 == 610 || (u.m5 >= 660 && u.m5 <= 680)) {
+          u.m6 == 610 || (u.m5 >= 660 && u.m5 <= 680) || u.m7 == 190) {
         return nullptr;
       }
-      return "Q word with no G10, G64, G73, G76, G83, M61, M66, M67, M68 or user M code to use it";
+      return "Q word with no G10, G64, G73, G76, G83, M19, M61, M66, M67, M68 or user M code to "
+             "use "
+             "it";
     case 'r':
-      if (u.arc() || u.cycle() || u.n == 100 || u.threading()) return nullptr;
-      return "R word with no G code that uses it";
+      if (u.arc() || u.cycle() || u.n == 100 || u.threading() || u.m7 == 190) return nullptr;
+      return "R word with no G code or M19 to use it";
     default:
       return nullptr;
   }
@@ -144,6 +146,7 @@ void Interpreter::State::refuse_unused_words(const Block& block) const {
   users.user_m = m_by_group[10] != nullptr;
   users.m5 = m_by_group[5] ? m_by_group[5]->tenths : -1;
   users.m6 = m_by_group[6] ? m_by_group[6]->tenths : -1;
+  users.m7 = m_by_group[7] ? m_by_group[7]->tenths : -1;
   users.m9 = m_by_group[9] ? m_by_group[9]->tenths : -1;
   for (const char letter : std::string_view("ehijklpqr")) {
     const auto& word = block.word(letter);
