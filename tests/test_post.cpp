@@ -389,6 +389,86 @@ TEST(Post, ZOnlyMovesOfAPlotterWriteNothingAndM5Once) {
   EXPECT_EQ(lines.back(), "M2");
 }
 
+// The job's pauses, tool changes, I/O and user M-codes, each at its place in the joint
+// program (issue 26: M0/M1/M60, T/M6, M100-M199 and M62-M68 vanished without a word).
+const char* kJobWithMachineCommands =
+    "G21 G90 F600\nG1 X40 Y-50\nM0\nT2 M6\nG1 X30\nM62 P1\nM66 P0 L3 Q2.5\nM67 E0 "
+    "Q50\nM101 P2 Q3\nM1\nM60\nM49\nG1 X20\nM2\n";
+
+// The lines of `lines` that are not moves.
+std::vector<std::string> commands_among(const std::vector<std::string>& lines) {
+  std::vector<std::string> commands;
+  for (const std::string& line : lines) {
+    if (line.rfind("G1 ", 0) == 0 || line.rfind("G0 ", 0) == 0 || line.rfind("G93 ", 0) == 0 ||
+        line.rfind("G21", 0) == 0 || line.rfind("M5", 0) == 0 || line.rfind("M2", 0) == 0) {
+      continue;
+    }
+    commands.push_back(line);
+  }
+  return commands;
+}
+
+TEST(Post, EveryPauseToolChangeIoAndUserCodeIsCarriedInItsPlace) {
+  const Machine hektor = test::load_example("hektor.toml");
+  const auto lines = posted_lines(hektor, kJobWithMachineCommands);
+  EXPECT_EQ(commands_among(lines),
+            (std::vector<std::string>{"M0", "T2", "M6", "M62 P1", "M66 P0 L3 Q2.5", "M67 E0 Q50",
+                                      "M101 P2 Q3", "M1", "M60", "M49"}));
+  // M0 comes after the first move's block and before the second's.
+  const auto at = [&](const std::string& text) {
+    return std::find(lines.begin(), lines.end(), text) - lines.begin();
+  };
+  const auto first_move = std::find_if(lines.begin(), lines.end(), [](const std::string& line) {
+    return line.find(" A") != std::string::npos;
+  });
+  EXPECT_LT(first_move - lines.begin(), at("M0"));
+  EXPECT_LT(at("M6"),
+            std::find_if(lines.begin() + at("M6"), lines.end(), [](const std::string& line) {
+              return line.find(" A") != std::string::npos;
+            }) - lines.begin());
+}
+
+TEST(Post, ADialectWithoutACommandRefusesTheJobAtItsLine) {
+  const Machine hektor = test::load_example("hektor.toml");
+  // Its joints are X and Y, which grbl takes; the job's origin is where the pen reaches.
+  const Machine wall_plotter = test::load_example("wall-plotter.toml");
+  struct Case {
+    std::string job;
+    Dialect dialect;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {"G21 F600\nT2 M6\nM2\n", Dialect::grbl, ":2: grbl has no tool change (M6)"},
+      {"G21 F600\nG1 X40 Y-50\nM62 P1\nM2\n", Dialect::grbl,
+       ":3: grbl has no digital or analog I/O code (M62 P1), and leaving it out would run the "
+       "job differently: use --dialect linuxcnc or grblhal"},
+      {"G21 F600\nM101 P2\nM2\n", Dialect::grblhal, ":2: grblhal has no user M-code (M101 P2)"},
+      {"G21 F600\nM60\nM2\n", Dialect::mach3, ":2: mach3 has no M60 (M60)"},
+  };
+  for (const Case& c : cases) {
+    PostOptions options;
+    options.dialect = c.dialect;
+    options.origin = (Vector6d() << 700.0, -700.0, 0.0, 0.0, 0.0, 0.0).finished();
+    try {
+      posted_lines(wall_plotter, c.job, options);
+      FAIL() << "posted " << c.job;
+    } catch (const PostError& error) {
+      EXPECT_NE(std::string(error.what()).find(c.message), std::string::npos) << error.what();
+    }
+  }
+  // What changes no motion is left out with a warning; grbl's M1 is written, with a warning.
+  PostReport report;
+  PostOptions mach3;
+  mach3.dialect = Dialect::mach3;
+  const auto lines = posted_lines(hektor, "G21 F600\nM49\nM1\nM2\n", mach3, &report);
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), "M49"), 0);
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), "M1"), 1);
+  ASSERT_FALSE(report.warnings.empty());
+  EXPECT_EQ(report.warnings.back().line, 2);
+  EXPECT_NE(report.warnings.back().message.find("M49 (an override switch) left out"),
+            std::string::npos);
+}
+
 TEST(Post, TellsItsProgressLineByLineInOrder) {
   // The hook of the progress bar: each line that makes a command (a comment is one), once, in
   // order, to M2's line; the empty line makes none.

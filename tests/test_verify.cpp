@@ -278,6 +278,43 @@ TEST(Verify, FollowsTheIssuesSquareAClosedContour) {
   fs::remove(joints);
 }
 
+TEST(Verify, HoldsTheJointProgramToTheJobsPausesToolChangesAndIo) {
+  // post carries them in their place (issue 26: they vanished and verify passed the program);
+  // a joint program without one, or with one elsewhere, fails.
+  const Machine plotter = test::load_example("wall-plotter.toml");
+  const fs::path job = write_file(
+      "commands.ngc",
+      "G0 X0 Y0\nG1 F400 X5 Y20\nM0\nT2 M6\nG1 X15\nM62 P1\nM101 P2 Q3\nG1 X15 Y0\nM2\n");
+  std::vector<std::string> lines = posted(plotter, job, kSheet, 0.01);
+  const fs::path joints = write_lines("commands-joints.ngc", lines);
+  const VerifyReport report = verify(plotter, joints, job, kSheet, 0.011);
+  EXPECT_TRUE(report.passed()) << report.commands_mismatch;
+  EXPECT_EQ(report.commands_mismatch, "");
+  // M62 P1 left out.
+  std::vector<std::string> dropped = lines;
+  dropped.erase(std::find(dropped.begin(), dropped.end(), "M62 P1"));
+  const fs::path without = write_lines("commands-dropped.ngc", dropped);
+  const VerifyReport missing = verify(plotter, without, job, kSheet, 0.011);
+  EXPECT_FALSE(missing.passed());
+  EXPECT_EQ(missing.commands_mismatch.rfind("job line 6: M62 P1 is not in the joint program", 0),
+            0u)
+      << missing.commands_mismatch;
+  // M101 moved one block later: in order, but not in its place.
+  std::vector<std::string> moved = lines;
+  const auto user_code = std::find(moved.begin(), moved.end(), "M101 P2 Q3");
+  ASSERT_NE(user_code, moved.end());
+  const auto next_block = std::find_if(user_code + 1, moved.end(), [](const std::string& line) {
+    return line.rfind("G1", 0) == 0 || line.rfind("G93", 0) == 0;
+  });
+  ASSERT_NE(next_block, moved.end());
+  std::rotate(user_code, user_code + 1, next_block + 1);
+  const fs::path late = write_lines("commands-late.ngc", moved);
+  const VerifyReport misplaced = verify(plotter, late, job, kSheet, 0.011);
+  EXPECT_NE(misplaced.commands_mismatch.find("job line 7: M101 P2 Q3 comes at "), std::string::npos)
+      << misplaced.commands_mismatch;
+  for (const fs::path& path : {job, joints, without, late}) fs::remove(path);
+}
+
 TEST(Verify, FollowsClosedContoursOfARealDrawing) {
   // Two closed contours of an Inkscape plotter drawing, with their pen-up and pen-down Z moves.
   const std::string cut = real_lines("plotter/inkscape/mandala_cnc_0001.gcode", 351, 404);

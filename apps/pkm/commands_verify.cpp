@@ -124,6 +124,10 @@ void fail_unless_passed(const Machine& machine, const VerifyCommandOptions& opti
                        " of " + options.joints + " (line " +
                        std::to_string(report.max_deviation_job_line) + " of " + options.job + ")");
   }
+  if (!report.commands_mismatch.empty()) {
+    throw CommandError(options.joints + " against " + options.job + ": " +
+                       report.commands_mismatch);
+  }
   const long others = report.position.count + report.velocity.count + report.pen.count;
   if (others > 0 || report.pen_downs != report.job_pen_downs) {
     throw CommandError(std::to_string(report.position.count + report.velocity.count) +

@@ -54,7 +54,7 @@ enum class CanonKind {
   g92_offset,          // `end`
   xy_rotation,    // `value` deg: the XY plane of the active coordinate system turned (G10 L2 R)
   path_control,   // `integer` 61 exact path, 611 exact stop, 64 continuous with `value` P
-  program_stop,   // M0
+  program_stop,   // M0, and M60 (`integer` 60: the pallet shuttle first)
   optional_stop,  // M1
   program_end,    // M2, M30, or the end of the file
   event,          // a code with no meaning off a real machine, passed on: `text`

@@ -3,6 +3,7 @@
 // dwell, modes (plane, units, cutter compensation, tool length, coordinate system, path control,
 // distance and retract modes), the non-modal codes (G10, G28/G30, G92), motion, stop and end.
 #include <cctype>
+#include <cstdio>
 
 #include "pkm/gcode/interpreter_state.hpp"
 
@@ -172,12 +173,22 @@ void Interpreter::State::execute_m_codes(const Block& block) {
       emit(CanonKind::flood_off, block);
     }
   }
-  // Overrides, digital and analog I/O and user codes: a real machine's business, passed on.
+  // Overrides, digital and analog I/O and user codes: a real machine's business, passed on,
+  // I/O and user codes with their words (M62 P1, M66 P0 L3 Q2, M101 P2 Q3) so that a joint
+  // program can carry them whole.
   for (const int group : {9, 5, 10}) {
     if (!m_by_group[group]) continue;
     const int code = m_by_group[group]->tenths;
     Canon event = make(CanonKind::event, block);
     event.text = code_name('M', code);
+    if (group != 9) {
+      for (const char letter : {'p', 'e', 'l', 'q'}) {
+        if (!block.has(letter)) continue;
+        char word[40];
+        std::snprintf(word, sizeof word, " %c%.10g", letter - 'a' + 'A', block.value(letter));
+        event.text += word;
+      }
+    }
     if (group == 10) warn(code_name('M', code) + " (user M-code) passed on as an event");
     emit(event);
   }
@@ -262,7 +273,11 @@ void Interpreter::State::stop_or_end(const Block& block) {
   release_compensation(m_by_group[4]->column);
   if (code == 0) emit(CanonKind::program_stop, block);
   if (code == 10) emit(CanonKind::optional_stop, block);
-  if (code == 600) emit(CanonKind::program_stop, block);
+  if (code == 600) {
+    Canon stop = make(CanonKind::program_stop, block);
+    stop.integer = 60;  // M60's pallet shuttle, then the stop
+    emit(stop);
+  }
   if (code == 20 || code == 300) end_program(block);
 }
 

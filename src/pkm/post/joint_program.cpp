@@ -9,6 +9,7 @@
 #include "pkm/motion/segment_builder.hpp"
 #include "pkm/post/covering.hpp"
 #include "pkm/post/deviation_bound.hpp"
+#include "pkm/post/passed_commands.hpp"
 #include "pkm/post/span_bound.hpp"
 
 namespace pkm::post {
@@ -77,6 +78,7 @@ class Poster : private CoveringHost {
   void on_canon(const gcode::Canon& canon) {
     if (!spans_across(canon)) covering_.finish();
     if (on_machine_command(canon)) return;
+    if (const auto passed = passed_command(canon, options_.dialect)) return pass_on(canon, *passed);
     const motion::Moves moves = builder_.take(canon);
     if (canon.kind == gcode::CanonKind::rigid_tap) return rigid_tap(moves);
     for (const Segment& segment : moves) {
@@ -170,6 +172,12 @@ class Poster : private CoveringHost {
     }
     write(code, canon.line);
     return true;
+  }
+
+  void pass_on(const gcode::Canon& canon, const PassedCommand& passed) {
+    if (!passed.refusal.empty()) throw PostError(file_, canon.line, passed.refusal);
+    if (!passed.warning.empty()) report_.warnings.push_back({canon.line, passed.warning});
+    if (!passed.line.empty()) write(passed.line, canon.line);
   }
 
   void end_program(int source_line) {

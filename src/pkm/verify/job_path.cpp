@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
+
+#include "pkm/gcode/machine_commands.hpp"
 
 namespace pkm::verify {
 
@@ -124,8 +127,16 @@ void JobPath::forget_before(long index) {
   }
 }
 
+bool compared_command(const std::string& text) {
+  const int number = gcode::machine_command_m_number(text);
+  return !text.empty() && !(number >= 48 && number <= 53);
+}
+
 void JobPath::take(const gcode::Canon& canon) {
   if (canon.kind == gcode::CanonKind::program_end) end_line_ = canon.line;
+  if (std::string text = gcode::machine_command_text(canon); compared_command(text)) {
+    commands_.push_back({std::move(text), canon.line, end_mm_});
+  }
   for (const motion::Segment& segment : builder_.take(canon)) {
     if (segment.kind == motion::SegmentKind::dwell || segment.length() <= 0.0) continue;
     if (tool_.z == ToolZ::pen) pen_.follow(segment);

@@ -6,6 +6,7 @@
 
 #include <deque>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "pkm/gcode/interpreter.hpp"
@@ -41,6 +42,18 @@ struct Nearest {
 };
 Nearest nearest_on(const JobPiece& piece, const Eigen::Vector3d& point, double u0, double u1);
 
+// A pause, tool change, I/O or user M-code of a program (gcode/machine_commands.hpp): its text,
+// its line, and the job's arc length (mm) where it comes.
+struct PlacedCommand {
+  std::string text;
+  int line = 0;
+  double along_mm = 0.0;
+};
+
+// Whether verify holds a joint program to carry the command (not the override switches M48-M53,
+// which change no position and which post leaves out where the controller has none).
+bool compared_command(const std::string& text);
+
 class JobPath {
  public:
   // The job read as post reads it: from the machine's home, with its origin at `origin` (mm, rad).
@@ -65,6 +78,8 @@ class JobPath {
     return tool_.z == ToolZ::pen ? pen_.warning() : std::nullopt;
   }
   const std::string& file() const { return file_; }
+  // The job's machine commands read so far, each with where the job is when it comes.
+  const std::vector<PlacedCommand>& commands() const { return commands_; }
   const std::vector<gcode::Warning>& warnings() const { return interpreter_.warnings(); }
 
  private:
@@ -82,6 +97,7 @@ class JobPath {
   long first_index_ = 0;  // index of window_.front()
   double end_mm_ = 0.0;   // arc length at the end of the last move read
   int end_line_ = 0;
+  std::vector<PlacedCommand> commands_;
   bool ended_ = false;
 };
 

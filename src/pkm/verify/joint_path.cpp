@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <string_view>
 
+#include "pkm/gcode/machine_commands.hpp"
 #include "pkm/verify/block_deviation.hpp"
 #include "pkm/verify/job_cursor.hpp"
 
@@ -17,6 +19,40 @@ namespace {
 
 constexpr std::string_view kLetters = "XYZABCUVW";
 constexpr int kHeaderLines = 10;  // where tolerance_in_header looks
+
+std::string fixed_mm(double value) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.3f mm", value);
+  return text;
+}
+
+// The first of the job's machine commands the joint program does not carry in order and in
+// place (within `slack_mm` of the job's arc length where the job gives it), or "".
+std::string commands_mismatch(const std::vector<PlacedCommand>& job,
+                              const std::vector<PlacedCommand>& joints, double slack_mm) {
+  const std::size_t common = std::min(job.size(), joints.size());
+  for (std::size_t i = 0; i < common; ++i) {
+    if (job[i].text != joints[i].text) {
+      return "job line " + std::to_string(job[i].line) + ": " + job[i].text +
+             " is not in the joint program, whose line " + std::to_string(joints[i].line) +
+             " has " + joints[i].text + " in its place";
+    }
+    if (std::abs(job[i].along_mm - joints[i].along_mm) > slack_mm) {
+      return "job line " + std::to_string(job[i].line) + ": " + job[i].text + " comes at " +
+             fixed_mm(job[i].along_mm) + " along the job, the joint program's (line " +
+             std::to_string(joints[i].line) + ") at " + fixed_mm(joints[i].along_mm);
+    }
+  }
+  if (job.size() > common) {
+    return "job line " + std::to_string(job[common].line) + ": " + job[common].text +
+           " is not in the joint program";
+  }
+  if (joints.size() > common) {
+    return "joint program line " + std::to_string(joints[common].line) + ": " +
+           joints[common].text + " is not in the job";
+  }
+  return "";
+}
 
 // How far along the job a block may end: twice the block's own length (a path that wiggles within
 // the tolerance is longer than the tool's), plus a few tolerances for blocks of no length.
@@ -79,6 +115,10 @@ class Verifier {
       pen_down_ = down;
       return;
     }
+    if (std::string text = gcode::machine_command_text(canon); compared_command(text)) {
+      joint_commands_.push_back({std::move(text), canon.line, cursor_.along_mm()});
+      return;
+    }
     if (canon.kind == CanonKind::arc || canon.kind == CanonKind::probe ||
         canon.kind == CanonKind::rigid_tap) {
       fail(canon.line,
@@ -90,6 +130,8 @@ class Verifier {
   VerifyReport finish() {
     close_pen_stretch();
     const JobCursor::Rest rest = cursor_.rest();
+    report_.commands_mismatch =
+        commands_mismatch(path_.commands(), joint_commands_, options_.tolerance_mm + 1e-6);
     report_.pen_downs = pen_downs_;
     report_.job_pen_downs = path_.pen_downs();
     report_.first_job_pen_down_line = path_.first_pen_down_line();
@@ -271,6 +313,7 @@ class Verifier {
   bool pen_stretch_open_ = false;
   Violation pen_stretch_;
   int last_line_ = 0;
+  std::vector<PlacedCommand> joint_commands_;
   double sum_of_squares_ = 0.0;
   long grid_points_ = 0;
   VerifyReport report_;

@@ -79,10 +79,15 @@ struct VerifyReport {
   double traced_mm = 0.0;
   int coverage_stopped_job_line = 0;    // the first job line left untraced (when not covered)
   int coverage_stopped_joint_line = 0;  // the joint program's last block (0: none)
+  // The job's pauses, tool changes, I/O and user M-codes (gcode/machine_commands.hpp) found in
+  // the joint program in the same order at the same place; otherwise the first that is not,
+  // "job line 6: M62 P1 is not in the joint program" (override switches, which change no
+  // position, are not compared).
+  std::string commands_mismatch;
 
   bool passed() const {
     return covered && deviation.count == 0 && position.count == 0 && velocity.count == 0 &&
-           pen.count == 0 && pen_downs == job_pen_downs;
+           pen.count == 0 && pen_downs == job_pen_downs && commands_mismatch.empty();
   }
 };
 

@@ -235,6 +235,7 @@ nlohmann::json verify_report_json(const Machine& machine, const std::string& joi
             {"velocity", to_json(machine, report.velocity, "/s")},
             {"pen", to_json(machine, report.pen, "mm")}}},
           {"pen_downs", {{"joint_program", report.pen_downs}, {"job", report.job_pen_downs}}},
+          {"commands_mismatch", report.commands_mismatch},
           {"passed", report.passed()}};
 }
 
