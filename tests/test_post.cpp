@@ -393,7 +393,7 @@ TEST(Post, ZOnlyMovesOfAPlotterWriteNothingAndM5Once) {
 // program (issue 26: M0/M1/M60, T/M6, M100-M199 and M62-M68 vanished without a word).
 const char* kJobWithMachineCommands =
     "G21 G90 F600\nG1 X40 Y-50\nM0\nT2 M6\nG1 X30\nM62 P1\nM66 P0 L3 Q2.5\nM67 E0 "
-    "Q50\nM101 P2 Q3\nM1\nM60\nM49\nG1 X20\nM2\n";
+    "Q50\nM101 P2 Q3\nM1\nM60\nM49\nM19 R90 P2 Q1.5\nG1 X20\nM2\n";
 
 // The lines of `lines` that are not moves.
 std::vector<std::string> commands_among(const std::vector<std::string>& lines) {
@@ -413,7 +413,7 @@ TEST(Post, EveryPauseToolChangeIoAndUserCodeIsCarriedInItsPlace) {
   const auto lines = posted_lines(hektor, kJobWithMachineCommands);
   EXPECT_EQ(commands_among(lines),
             (std::vector<std::string>{"M0", "T2", "M6", "M62 P1", "M66 P0 L3 Q2.5", "M67 E0 Q50",
-                                      "M101 P2 Q3", "M1", "M60", "M49"}));
+                                      "M101 P2 Q3", "M1", "M60", "M49", "M19 R90 P2", "M19 Q1.5"}));
   // M0 comes after the first move's block and before the second's.
   const auto at = [&](const std::string& text) {
     return std::find(lines.begin(), lines.end(), text) - lines.begin();
@@ -444,6 +444,8 @@ TEST(Post, ADialectWithoutACommandRefusesTheJobAtItsLine) {
        "job differently: use --dialect linuxcnc or grblhal"},
       {"G21 F600\nM101 P2\nM2\n", Dialect::grblhal, ":2: grblhal has no user M-code (M101 P2)"},
       {"G21 F600\nM60\nM2\n", Dialect::mach3, ":2: mach3 has no M60 (M60)"},
+      {"G21 F600\nM19 R90 Q2\nM2\n", Dialect::grblhal,
+       ":2: grblhal has no spindle orientation (M19 R90 P0)"},
   };
   for (const Case& c : cases) {
     PostOptions options;

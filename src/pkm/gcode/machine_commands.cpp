@@ -1,6 +1,7 @@
 #include "pkm/gcode/machine_commands.hpp"
 
 #include <charconv>
+#include <cstdio>
 
 namespace pkm::gcode {
 
@@ -22,6 +23,16 @@ std::string machine_command_text(const Canon& canon) {
       return "T" + std::to_string(canon.integer);
     case CanonKind::change_tool:
       return "M6";
+    case CanonKind::orient_spindle: {  // `value` holds the INI's offset too: 0 unless asked
+      char text[64];
+      std::snprintf(text, sizeof text, "M19 R%.10g P%d", canon.value, canon.integer);
+      return text;
+    }
+    case CanonKind::wait_orient_spindle: {  // M19 with Q alone waits, orienting nothing
+      char text[48];
+      std::snprintf(text, sizeof text, "M19 Q%.10g", canon.value);
+      return text;
+    }
     case CanonKind::event: {
       // The interpreter's events of these codes are their text with their words; other events
       // (M280 and the like, a pen's command lines) are not the machine's commands here.

@@ -14,18 +14,19 @@ struct Support {
   bool io;              // M62-M68
   bool user_m_codes;    // M100-M199, as programs or macros on the controller
   bool overrides;       // M48-M53
+  bool orientation;     // M19
 };
 
 Support support_of(Dialect dialect) {
   switch (dialect) {
     case Dialect::linuxcnc:
-      return {true, true, true, true, true};
+      return {true, true, true, true, true, true};
     case Dialect::mach3:
-      return {false, true, false, true, false};
+      return {false, true, false, true, false, false};
     case Dialect::grbl:
-      return {false, false, false, false, false};
+      return {false, false, false, false, false, false};
     case Dialect::grblhal:
-      return {false, true, true, false, false};
+      return {false, true, true, false, false, false};
   }
   return {};
 }
@@ -75,6 +76,9 @@ std::optional<PassedCommand> passed_command(const gcode::Canon& canon, Dialect d
   if (text.empty()) return std::nullopt;
   if (text == "M60") return carried_if(&Support::pallet_shuttle, dialect, text, "M60");
   if (text == "M6") return carried_if(&Support::tool_change, dialect, text, "tool change");
+  if (text.rfind("M19 ", 0) == 0) {
+    return carried_if(&Support::orientation, dialect, text, "spindle orientation");
+  }
   if (text == "M1" && dialect == Dialect::grbl) {
     return PassedCommand{text, "",
                          "grbl 1.1 ignores M1 (optional stops are not supported): the machine "
