@@ -438,7 +438,6 @@ TEST(Post, ADialectWithoutACommandRefusesTheJobAtItsLine) {
     std::string message;
   };
   const std::vector<Case> cases = {
-      {"G21 F600\nT2 M6\nM2\n", Dialect::grbl, ":2: grbl has no tool change (M6)"},
       {"G21 F600\nG1 X40 Y-50\nM62 P1\nM2\n", Dialect::grbl,
        ":3: grbl has no digital or analog I/O code (M62 P1), and leaving it out would run the "
        "job differently: use --dialect linuxcnc or grblhal"},
@@ -469,6 +468,18 @@ TEST(Post, ADialectWithoutACommandRefusesTheJobAtItsLine) {
   EXPECT_EQ(report.warnings.back().line, 2);
   EXPECT_NE(report.warnings.back().message.find("M49 (an override switch) left out"),
             std::string::npos);
+  // grbl has no M6: the tool is changed by hand at a pause (a Fusion 360 job's "T1 M6").
+  PostOptions grbl;
+  grbl.dialect = Dialect::grbl;
+  grbl.origin = (Vector6d() << 700.0, -700.0, 0.0, 0.0, 0.0, 0.0).finished();
+  PostReport grbl_report;
+  const auto grbl_lines =
+      posted_lines(wall_plotter, "G21 F600\nT2 M6\nG1 X40 Y-50\nM2\n", grbl, &grbl_report);
+  EXPECT_EQ(std::count(grbl_lines.begin(), grbl_lines.end(), "T2"), 1);
+  EXPECT_EQ(
+      std::count(grbl_lines.begin(), grbl_lines.end(), "M0 (M6: change the tool, then resume)"), 1);
+  ASSERT_FALSE(grbl_report.warnings.empty());
+  EXPECT_NE(grbl_report.warnings.back().message.find("M6 written as M0"), std::string::npos);
 }
 
 TEST(Post, TellsItsProgressLineByLineInOrder) {

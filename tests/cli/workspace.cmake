@@ -35,9 +35,10 @@ pkm_cli_refuses(workspace_html_over_the_machine "the output is the input file .*
 pkm_cli_refuses(workspace_html_empty_name "--html"
                 workspace -m ${MACHINES}/hektor.toml --html "")
 # LinuxCNC's hexapod sample (legs 20..40 in): its largest box lies above the base, around home's
-# z 508 mm, not in the mirror image below (issue 25: it was z -637..-381 mm).
+# z 20 in, not in the mirror image below (issue 25: it was z -637..-381 mm). An inch machine: the
+# resolution and the output are in inches (0.625 in, 15.9 mm).
 add_test(NAME cli.workspace_hexapod_sample_above_its_base
          COMMAND ${PKM} workspace -m ${CLI_DATA}/linuxcnc-hexapod-sample-legs-20-40.toml
-                 --resolution 16)
+                 --resolution 0.625)
 set_tests_properties(cli.workspace_hexapod_sample_above_its_base PROPERTIES
-  PASS_REGULAR_EXPRESSION "extent: x [-0-9.]+\\.\\.[0-9.]+ y [-0-9.]+\\.\\.[0-9.]+ z -?[0-9]?[0-9]\\.[0-9]\\.\\.[0-9.]+ mm\nlargest box inside: x [-0-9.]+\\.\\.[0-9.]+ y [-0-9.]+\\.\\.[0-9.]+ z [0-9.]+\\.\\.[0-9.]+ mm")
+  PASS_REGULAR_EXPRESSION "extent: x [-0-9.]+\\.\\.[0-9.]+ y [-0-9.]+\\.\\.[0-9.]+ z -?0\\.[0-9]+\\.\\.[0-9.]+ in\nlargest box inside: x [-0-9.]+\\.\\.[0-9.]+ y [-0-9.]+\\.\\.[0-9.]+ z 1[0-9]\\.[0-9]+\\.\\.2[0-9]\\.[0-9]+ in")

@@ -11,8 +11,8 @@
 
 namespace pkm::gcode {
 
-// "M0", "M1", "M60", "T2", "M6", "M19 R90 P0", "M19 Q1.5", "M49", "M62 P1", "M66 P0 L3 Q2.5", "M101 P2 Q3"; "" for a
-// command of another kind.
+// "M0", "M1", "M60", "T2", "M6", "M19 R90 P0", "M19 Q1.5", "M49", "M62 P1", "M66 P0 L3 Q2.5",
+// "M101 P2 Q3"; "" for a command of another kind.
 std::string machine_command_text(const Canon& canon);
 
 // The number of such a command's M code (62 for "M62 P1"), -1 for T and for other text.

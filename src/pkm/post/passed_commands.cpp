@@ -75,6 +75,12 @@ std::optional<PassedCommand> passed_command(const gcode::Canon& canon, Dialect d
   const std::string text = gcode::machine_command_text(canon);
   if (text.empty()) return std::nullopt;
   if (text == "M60") return carried_if(&Support::pallet_shuttle, dialect, text, "M60");
+  if (text == "M6" && dialect == Dialect::grbl) {
+    // grbl 1.1 refuses M6; its owners change tools by hand at a pause, which M0 gives.
+    return PassedCommand{"M0 (M6: change the tool, then resume)", "",
+                         "grbl 1.1 has no tool change: M6 written as M0, a pause to change the "
+                         "tool by hand"};
+  }
   if (text == "M6") return carried_if(&Support::tool_change, dialect, text, "tool change");
   if (text.rfind("M19 ", 0) == 0) {
     return carried_if(&Support::orientation, dialect, text, "spindle orientation");

@@ -32,7 +32,10 @@ std::string commands_mismatch(const std::vector<PlacedCommand>& job,
                               const std::vector<PlacedCommand>& joints, double slack_mm) {
   const std::size_t common = std::min(job.size(), joints.size());
   for (std::size_t i = 0; i < common; ++i) {
-    if (job[i].text != joints[i].text) {
+    // A tool change carried out as a pause (post's M6 for grbl) is the job's M6.
+    const bool same =
+        job[i].text == joints[i].text || (job[i].text == "M6" && joints[i].text == "M0");
+    if (!same) {
       return "job line " + std::to_string(job[i].line) + ": " + job[i].text +
              " is not in the joint program, whose line " + std::to_string(joints[i].line) +
              " has " + joints[i].text + " in its place";
