@@ -186,28 +186,35 @@ class PlanChunks final : public motion::SampleSink {
   }
 
   // The next chunk, or StopIteration after the last (the report is then set); the planner's
-  // error where it failed.
+  // error where it failed. Several Python threads may share the iterator: each takes the GIL
+  // back only once it has let go of the mutex, so that none holds the mutex while waiting for
+  // the GIL another holds while waiting for the mutex (issue 26: four threads deadlocked).
   py::array next() {
-    std::unique_lock lock(mutex_);
+    std::optional<std::vector<double>> values;
+    std::exception_ptr error;
     {
       const py::gil_scoped_release released;
+      std::unique_lock lock(mutex_);
       changed_.wait(lock, [this] { return ready_ || finished_; });
-    }
-    if (ready_) {
-      std::vector<double> values = std::move(*ready_);
-      ready_.reset();
+      if (ready_) {
+        values = std::move(ready_);
+        ready_.reset();
+      } else {
+        error = std::exchange(error_, nullptr);
+      }
       lock.unlock();
       changed_.notify_all();
-      return sample_array(dtype_, std::move(values), columns_);
     }
-    if (error_) {
+    if (values) return sample_array(dtype_, std::move(*values), columns_);
+    if (error) {
       try {
-        std::rethrow_exception(std::exchange(error_, nullptr));
-      } catch (const motion::PlanError& error) {
-        raise_with_reach_hint("PlanError", error.what(), error.line(), machine_, arguments_.program,
-                              arguments_.interpreter, arguments_.plan.origin);
+        std::rethrow_exception(error);
+      } catch (const motion::PlanError& plan_error) {
+        raise_with_reach_hint("PlanError", plan_error.what(), plan_error.line(), machine_,
+                              arguments_.program, arguments_.interpreter, arguments_.plan.origin);
       }
     }
+    // finished_report_ was set before finished_, under the mutex taken above, and stays.
     if (report_.is_none() && finished_report_) {
       report_ = json_to_python(view::plan_report_json(
           machine_, *finished_report_, arguments_.program, arguments_.plan.period_s, false));

@@ -73,6 +73,30 @@ def test_plan_chunks_concatenate_to_the_whole(machines, jobs):
     assert list(chunks) == []  # exhausted
 
 
+def test_plan_chunks_shared_by_four_threads(machines, jobs):
+    # Four threads taking chunks from one iterator deadlocked 6 of 6 runs (issue 26: the GIL
+    # against the iterator's mutex). Every chunk is taken once, by one thread or another.
+    import threading
+    m = pkmkit.Machine.load(str(machines / "hexapod-bit.toml"))
+    whole, _ = pkmkit.plan(m, str(jobs / "sphere.ngc"), period=0.004)
+    chunks = pkmkit.plan_chunks(m, str(jobs / "sphere.ngc"), period=0.004, chunk=20)
+    taken = []
+
+    def take():
+        for part in chunks:
+            taken.append(part)
+
+    threads = [threading.Thread(target=take, daemon=True) for _ in range(4)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join(timeout=30)
+    assert not any(thread.is_alive() for thread in threads), "deadlocked"
+    assert sum(len(part) for part in taken) == len(whole)
+    ordered = np.sort(np.concatenate(taken), order="t")
+    assert ordered.tobytes() == whole.tobytes()
+
+
 def test_plan_chunks_left_early_stop_the_planner(machines, jobs):
     # One chunk of the sphere, then the iterator goes: its planner's thread must end (the test
     # would hang otherwise), and another plan runs as before.
