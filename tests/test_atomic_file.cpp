@@ -92,6 +92,31 @@ TEST_F(AtomicFileTest, FilesWrittenTogetherAreNeverANewOneBesideAnOldOne) {
   EXPECT_EQ(names(), (std::vector<std::string>{"pattern.json", "pattern.ngc"}));
 }
 
+TEST_F(AtomicFileTest, ASignalRemovesAStagingTreeWithItsFilesButNotACommittedOne) {
+  // export linuxcnc's staging directory was left behind after SIGINT/SIGTERM/SIGHUP (issue 26):
+  // the handler's remove_open_temporaries now removes its files, then its directories.
+  {
+    TemporaryTree tree(directory_ / ".config.tmp-1");
+    fs::create_directories(tree.root() / "macros" / "deep");
+    tree.add_directory(tree.root() / "macros");
+    tree.add_directory(tree.root() / "macros" / "deep");
+    for (const fs::path& file :
+         {tree.root() / "machine.ini", tree.root() / "macros" / "deep" / "m"}) {
+      std::ofstream(file) << "x";
+      tree.add_file(file);
+    }
+    remove_open_temporaries();  // what the signal handler calls
+    EXPECT_EQ(names(), std::vector<std::string>{});
+  }
+  TemporaryTree tree(directory_ / ".config.tmp-2");
+  std::ofstream(tree.root() / "machine.ini") << "x";
+  tree.add_file(tree.root() / "machine.ini");
+  tree.commit_to(directory_ / "config");
+  remove_open_temporaries();
+  EXPECT_TRUE(fs::exists(directory_ / "config" / "machine.ini"));
+  EXPECT_EQ(names(), std::vector<std::string>{"config"});
+}
+
 TEST_F(AtomicFileTest, SignalCleanupRemovesOpenTemporariesOnly) {
   write_file_atomically(directory_ / "done.json", "{}\n");
   {

@@ -25,19 +25,20 @@ namespace {
 // lock-free state per entry. A writer claims an entry (free -> claimed), copies its path in, then
 // arms it (claimed -> armed); the handler unlinks armed entries only. More writers open at once
 // than entries go unlisted; the next run then finds their temporaries stale.
-enum SlotState : int { kFree = 0, kClaimed = 1, kArmed = 2 };
-constexpr int kSlots = 32;
+// An entry is a file (unlinked) or a directory (removed once empty, after the files).
+enum SlotState : int { kFree = 0, kClaimed = 1, kArmed = 2, kArmedDirectory = 3 };
+constexpr int kSlots = 128;
 constexpr std::size_t kPathBytes = 4096;
 std::array<std::atomic<int>, kSlots> slot_states{};
 char slot_paths[kSlots][kPathBytes];
 
-int list_temporary(const std::string& path) {
+int list_temporary(const std::string& path, SlotState armed = kArmed) {
   if (path.size() >= kPathBytes) return -1;
   for (int slot = 0; slot < kSlots; ++slot) {
     int expected = kFree;
     if (!slot_states[slot].compare_exchange_strong(expected, kClaimed)) continue;
     std::memcpy(slot_paths[slot], path.c_str(), path.size() + 1);
-    slot_states[slot].store(kArmed);
+    slot_states[slot].store(armed);
     return slot;
   }
   return -1;
@@ -127,6 +128,58 @@ void remove_open_temporaries() noexcept {
   for (int slot = 0; slot < kSlots; ++slot) {
     if (slot_states[slot].load() == kArmed) ::unlink(slot_paths[slot]);
   }
+  // Directories inside others empty first: a pass per level, until none goes.
+  for (bool removed = true; removed;) {
+    removed = false;
+    for (int slot = 0; slot < kSlots; ++slot) {
+      if (slot_states[slot].load() != kArmedDirectory) continue;
+      if (::rmdir(slot_paths[slot]) == 0) {
+        slot_states[slot].store(kFree);
+        removed = true;
+      }
+    }
+  }
+}
+
+TemporaryTree::TemporaryTree(std::filesystem::path root) : root_(std::move(root)) {
+  std::error_code error;
+  std::filesystem::remove_all(root_, error);
+  if (!std::filesystem::create_directory(root_, error)) {
+    throw std::runtime_error("cannot create the directory " + root_.string() + ": " +
+                             error.message());
+  }
+  slots_.push_back(list_temporary(root_.string(), kArmedDirectory));
+}
+
+TemporaryTree::~TemporaryTree() {
+  release_slots();
+  if (committed_) return;
+  std::error_code ignored;
+  std::filesystem::remove_all(root_, ignored);
+}
+
+void TemporaryTree::add_file(const std::filesystem::path& path) {
+  slots_.push_back(list_temporary(path.string(), kArmed));
+}
+
+void TemporaryTree::add_directory(const std::filesystem::path& path) {
+  slots_.push_back(list_temporary(path.string(), kArmedDirectory));
+}
+
+void TemporaryTree::commit_to(const std::filesystem::path& target) {
+  std::error_code error;
+  std::filesystem::rename(root_, target, error);  // over an empty directory too
+  if (error) {
+    throw std::runtime_error("cannot rename the finished " + root_.string() + " to " +
+                             target.string() + ": " + error.message());
+  }
+  committed_ = true;
+  release_slots();
+}
+
+void TemporaryTree::release_slots() {
+  for (const int slot : slots_) unlist_temporary(slot);
+  slots_.clear();
 }
 
 void on_stale_temporary(std::function<void(const StaleTemporary&)> report) {

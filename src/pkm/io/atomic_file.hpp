@@ -57,8 +57,33 @@ struct FileContent {
 };
 void write_files_together(std::span<const FileContent> files);
 
-// Removes the temporary file of every AtomicFileWriter still open. Async-signal-safe (it only
-// calls unlink), for the SIGINT/SIGTERM handler of a program: the library installs none itself.
+// A directory built under a temporary name and renamed into place whole (a LinuxCNC
+// configuration). Its files and subdirectories, each added once made, are listed with the
+// writers' temporaries, so that a signal's remove_open_temporaries() removes them and the
+// directory; destroyed uncommitted, it removes the whole tree.
+class TemporaryTree {
+ public:
+  explicit TemporaryTree(std::filesystem::path root);  // made anew, empty
+  ~TemporaryTree();
+  TemporaryTree(const TemporaryTree&) = delete;
+  TemporaryTree& operator=(const TemporaryTree&) = delete;
+
+  const std::filesystem::path& root() const { return root_; }
+  void add_file(const std::filesystem::path& path);
+  void add_directory(const std::filesystem::path& path);
+  // Renames the tree to `target` (a missing or empty directory); throws on failure.
+  void commit_to(const std::filesystem::path& target);
+
+ private:
+  void release_slots();
+  std::filesystem::path root_;
+  std::vector<int> slots_;
+  bool committed_ = false;
+};
+
+// Removes the temporary file of every AtomicFileWriter still open and every TemporaryTree not
+// committed. Async-signal-safe (it only calls unlink and rmdir), for the SIGINT/SIGTERM handler
+// of a program: the library installs none itself.
 void remove_open_temporaries() noexcept;
 
 // A temporary beside an output, left by a run that was killed before it could remove it: the

@@ -394,12 +394,24 @@ void write_config_directory(const std::filesystem::path& directory, const Linuxc
 
 namespace {
 
-void write_config_file(const std::filesystem::path& directory, const ConfigFile& file) {
+// Writes `file` under `directory`, making the directories its name has; each made is added to
+// `tree` when there is one (a staging directory), so that a signal removes it with its files.
+void write_config_file(const std::filesystem::path& directory, const ConfigFile& file,
+                       TemporaryTree* tree) {
   const std::filesystem::path path = directory / file.name;
+  std::vector<std::filesystem::path> made;
+  for (std::filesystem::path parent = path.parent_path();
+       parent != directory && !std::filesystem::exists(parent); parent = parent.parent_path()) {
+    made.push_back(parent);
+  }
   std::error_code error;
   std::filesystem::create_directories(path.parent_path(), error);
   if (error) fail("create the directory", path.parent_path(), error);
+  if (tree) {
+    for (auto it = made.rbegin(); it != made.rend(); ++it) tree->add_directory(*it);
+  }
   write_file_atomically(path, file.text);
+  if (tree) tree->add_file(path);
 }
 
 }  // namespace
@@ -418,26 +430,18 @@ void write_config_directory(const std::filesystem::path& directory,
                                " exists and is not empty: give another directory, or --force "
                                "to replace the configuration's files in it");
     }
-    for (const ConfigFile& file : files) write_config_file(directory, file);
+    for (const ConfigFile& file : files) write_config_file(directory, file, nullptr);
     return;
   }
   const fs::path target = directory.has_filename() ? directory : directory.parent_path();
-  const fs::path staging = target.parent_path() / ("." + target.filename().string() + ".tmp-" +
-                                                   std::to_string(::getpid()));
   if (!target.parent_path().empty() && !fs::exists(target.parent_path())) {
     fs::create_directories(target.parent_path(), error);  // as mkdir -p
     if (error) fail("create the directory", target.parent_path(), error);
   }
-  fs::remove_all(staging, error);
-  if (!fs::create_directory(staging, error)) fail("create the directory", staging, error);
-  try {
-    for (const ConfigFile& file : files) write_config_file(staging, file);
-    fs::rename(staging, target, error);  // over an empty directory too
-    if (error) fail("rename the finished configuration to", target, error);
-  } catch (...) {
-    fs::remove_all(staging, error);
-    throw;
-  }
+  TemporaryTree staging(target.parent_path() /
+                        ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid())));
+  for (const ConfigFile& file : files) write_config_file(staging.root(), file, &staging);
+  staging.commit_to(target);
 }
 
 }  // namespace pkm::linuxcnc
