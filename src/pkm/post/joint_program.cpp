@@ -127,14 +127,14 @@ class Poster : private CoveringHost {
     const double needed = estimated_blocks(segment, options_.tolerance_mm);
     if (static_cast<double>(report_.blocks) + needed <= static_cast<double>(options_.max_blocks))
       return;
-    char text[400];
-    const double turns = std::abs(segment.sweep_rad) / (2.0 * std::numbers::pi);
     const bool arc = segment.kind != SegmentKind::line;
+    const std::string turns =
+        arc ? format(", %.10g turns", std::abs(segment.sweep_rad) / (2.0 * std::numbers::pi)) : "";
+    char text[400];
     std::snprintf(text, sizeof text,
                   "this %s (%.10g mm of path%s) needs about %.0f blocks to keep within %g mm; with "
                   "the %ld written before it, the joint program would pass the bound of %ld blocks",
-                  arc ? "arc" : "move", segment.length(),
-                  arc ? (", " + format("%.10g turns", turns)).c_str() : "", needed,
+                  arc ? "arc" : "move", segment.length(), turns.c_str(), needed,
                   options_.tolerance_mm, report_.blocks, options_.max_blocks);
     throw BlockBoundError(file_, segment.line, text);
   }
