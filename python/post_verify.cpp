@@ -42,11 +42,13 @@ std::optional<gcode::ToolTable> tool_table_argument(const std::optional<std::str
 py::object post(const Machine& machine, const std::string& program, const std::string& output,
                 double tolerance_mm, const std::string& dialect, const std::vector<double>& origin,
                 const std::optional<std::string>& tool_table, const std::string& tool_table_units,
-                bool span_moves) {
+                bool span_moves, long max_blocks) {
   check_tolerance(tolerance_mm);
+  if (max_blocks < 0) throw py::value_error("max_blocks must be >= 0 (0: no bound)");
   post::PostOptions options;
   options.tolerance_mm = tolerance_mm;
   options.span_moves = span_moves;
+  options.max_blocks = max_blocks;
   try {
     options.dialect = post::dialect_named(dialect);
     post::check_axis_letters(machine, options.dialect);
@@ -79,6 +81,13 @@ py::object post(const Machine& machine, const std::string& program, const std::s
       throw std::invalid_argument(reason);
     }
     file.commit();
+  } catch (const post::BlockBoundError& error) {
+    const py::object type = py::module_::import("pkmkit").attr("PostError");
+    PyErr_SetObject(type.ptr(), type(std::string(error.what()) +
+                                     ". Check the job's arcs (their P, the turns) and the "
+                                     "tolerance, or raise max_blocks")
+                                    .ptr());
+    throw py::error_already_set();
   } catch (const post::PostError& error) {
     raise_with_reach_hint("PostError", error.what(), -1, own, program, interpreter, options.origin);
   }
@@ -116,15 +125,18 @@ py::object verify(const Machine& machine, const std::string& joint_program,
 }  // namespace
 
 void bind_post_verify(py::module_& module) {
-  module.def("post", &post, py::arg("machine"), py::arg("program"), py::arg("output"),
-             py::kw_only(), py::arg("tolerance") = 0.01, py::arg("dialect") = "linuxcnc",
-             py::arg("origin") = std::vector<double>{}, py::arg("tool_table") = py::none(),
-             py::arg("tool_table_units") = "mm", py::arg("span_moves") = true,
-             "Writes the joint-space program of a G-code job to `output` as pkm post does (the "
-             "tool tip within `tolerance` mm of the programmed path; dialect linuxcnc, mach3, "
-             "grbl or grblhal; origin x y [z [a b c]] in mm and deg; span_moves=False covers "
-             "every move on its own, as --no-span-moves) and returns the report of "
-             "pkm post --report as a dict. A move the machine cannot make raises PostError.");
+  module.def(
+      "post", &post, py::arg("machine"), py::arg("program"), py::arg("output"), py::kw_only(),
+      py::arg("tolerance") = 0.01, py::arg("dialect") = "linuxcnc",
+      py::arg("origin") = std::vector<double>{}, py::arg("tool_table") = py::none(),
+      py::arg("tool_table_units") = "mm", py::arg("span_moves") = true,
+      py::arg("max_blocks") = post::kDefaultMaxBlocks,
+      "Writes the joint-space program of a G-code job to `output` as pkm post does (the "
+      "tool tip within `tolerance` mm of the programmed path; dialect linuxcnc, mach3, "
+      "grbl or grblhal; origin x y [z [a b c]] in mm and deg; span_moves=False covers "
+      "every move on its own, as --no-span-moves; max_blocks as pkm post's --max-blocks, 0 for no "
+      "bound) and returns the report of "
+      "pkm post --report as a dict. A move the machine cannot make raises PostError.");
   module.def("verify", &verify, py::arg("machine"), py::arg("joint_program"), py::kw_only(),
              py::arg("against"), py::arg("tolerance") = py::none(),
              py::arg("origin") = std::vector<double>{}, py::arg("tool_table") = py::none(),

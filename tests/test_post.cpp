@@ -482,6 +482,62 @@ TEST(Post, ADialectWithoutACommandRefusesTheJobAtItsLine) {
   EXPECT_NE(grbl_report.warnings.back().message.find("M6 written as M0"), std::string::npos);
 }
 
+TEST(Post, BlocksOfAMoveEstimatedByTheSagittaOfTheirChords) {
+  // A full circle of radius 10 mm within 0.01 mm: 10 (1 - cos(pi / n)) <= 0.01 for n >= 71.
+  motion::Segment circle;
+  circle.kind = motion::SegmentKind::arc;
+  circle.start << 40.0, -50.0, 0.0, 0.0, 0.0, 0.0;
+  circle.end = circle.start;
+  circle.centre = Eigen::Vector3d(50.0, -50.0, 0.0);
+  circle.sweep_rad = -2.0 * M_PI;
+  EXPECT_EQ(estimated_blocks(circle, 0.01), 71.0);
+  circle.sweep_rad = -2.0 * M_PI * 1e6;  // P1000000: 70,242,... blocks
+  EXPECT_NEAR(estimated_blocks(circle, 0.01), 2.0 * M_PI * 1e6 / (2.0 * std::acos(0.999)), 1.0);
+  // A tolerance as large as the radius: half a turn per chord.
+  EXPECT_EQ(estimated_blocks(circle, 10.0), 2e6);
+  motion::Segment line;
+  line.end << 100.0, 0.0, 0.0, 0.0, 0.0, 0.0;
+  EXPECT_EQ(estimated_blocks(line, 0.01), 1.0);
+}
+
+TEST(Post, AJobPastTheBlockBoundIsRefusedAtItsLine) {
+  // Issue 26: an arc of a million turns kept post writing. Its estimate (70 million blocks)
+  // refuses it before a block of it is covered: nothing but the program's opening is written.
+  const Machine hektor = test::load_example("hektor.toml");
+  PostOptions options;
+  options.max_blocks = kDefaultMaxBlocks;
+  options.origin = (Vector6d() << 10.0, 0.0, 0.0, 0.0, 0.0, 0.0).finished();
+  std::vector<std::string> lines;
+  const auto job = temp_file("helix.ngc");
+  std::ofstream(job) << "G21 G90 F600\nG1 X40 Y-50\nG2 X40 Y-50 I10 J0 P1000000\nM2\n";
+  try {
+    post_program(hektor, job, {}, options, [&](const std::string& line) { lines.push_back(line); });
+    FAIL() << "posted a million turns";
+  } catch (const BlockBoundError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find(":3: this arc (62831853.07 mm of path, 1000000 "
+                        "turns) needs about 70242"),
+              std::string::npos)
+        << error.what();
+  }
+  EXPECT_EQ(lines, std::vector<std::string>{"G21 G90 G94"});
+  std::filesystem::remove(job);
+  // Ten turns take 75 blocks a turn where the estimate says 71: a bound between the two
+  // passes the estimate and refuses the job at the block past it, having written exactly that
+  // many; the bound of the job's own count posts it.
+  const std::string ten_turns = "G21 G90 F600\nG1 X40 Y-50\nG2 X40 Y-50 I10 J0 P10\nM2\n";
+  options.max_blocks = 0;
+  PostReport unbounded;
+  posted_lines(hektor, ten_turns, options, &unbounded);
+  ASSERT_GT(unbounded.blocks, 720 + 1);
+  options.max_blocks = 720;
+  EXPECT_THROW(posted_lines(hektor, ten_turns, options), BlockBoundError);
+  options.max_blocks = unbounded.blocks;
+  PostReport bounded;
+  posted_lines(hektor, ten_turns, options, &bounded);
+  EXPECT_EQ(bounded.blocks, unbounded.blocks);
+}
+
 TEST(Post, TellsItsProgressLineByLineInOrder) {
   // The hook of the progress bar: each line that makes a command (a comment is one), once, in
   // order, to M2's line; the empty line makes none.

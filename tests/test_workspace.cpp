@@ -514,6 +514,53 @@ TEST(Workspace, StreamedJsonIsTheBuiltDocumentAndThinnedListsKeepEveryKth) {
   EXPECT_TRUE(to_json(ws, 0)["cells"]["inside"].empty());
 }
 
+TEST(Workspace, CellEstimateAgreesWithTheRun) {
+  // Hektor (planar: the count doubles with each halving) and the paper's hexapod (3D: four
+  // times), each estimated from coarser runs: the cells judged (the bound) within 3 % of the
+  // run's, the cells listed (the memory) within 15 % (the hexapod's 11 % low: inside cells merge
+  // more at the coarse run).
+  struct Case {
+    const char* machine;
+    double resolution_mm;
+  };
+  for (const Case c : {Case{"hektor.toml", 0.125}, Case{"hexapod-bit.toml", 16.0}}) {
+    const Machine machine = test::load_example(c.machine);
+    const WorkspaceOptions options = at_resolution(machine, c.resolution_mm);
+    const CellEstimate estimate = estimate_cells(machine, options);
+    EXPECT_GT(estimate.from_resolution_mm, c.resolution_mm) << c.machine;
+    const Workspace ws = compute_workspace(machine, options);
+    const auto listed = static_cast<double>(ws.inside.size() + ws.boundary.size());
+    EXPECT_NEAR(estimate.judged / static_cast<double>(ws.cells_judged), 1.0, 0.03) << c.machine;
+    EXPECT_NEAR(estimate.listed / listed, 1.0, 0.15) << c.machine;
+    EXPECT_EQ(estimate.bytes, 2.0 * estimate.listed * sizeof(CellIndex));
+  }
+}
+
+TEST(Workspace, ResolutionTooFineIsRefusedBeforeItsWorkNamingOneThatFits) {
+  // Issue 26: a resolution too fine grew to gigabytes before the cell bound refused it. Hektor
+  // at 1/32 mm would judge some 128,000 cells; under a bound of 20,000 it is refused from the
+  // estimate, and the resolution it names runs within the bound.
+  const Machine hektor = test::load_example("hektor.toml");
+  WorkspaceOptions options = at_resolution(hektor, 0.03125);
+  options.max_cells = 20'000;
+  double fitting_mm = 0.0;
+  try {
+    compute_workspace(hektor, options);
+    FAIL() << "ran past the bound";
+  } catch (const CellBoundError& error) {
+    EXPECT_NEAR(error.estimate.judged, 128'534.0, 0.03 * 128'534.0);
+    EXPECT_NE(std::string(error.what()).find("more than the bound of 20000 cells"),
+              std::string::npos)
+        << error.what();
+    fitting_mm = error.fitting_resolution_mm;
+  }
+  ASSERT_GT(fitting_mm, 0.03125);
+  options.resolution_mm = fitting_mm;
+  const Workspace ws = compute_workspace(hektor, options);
+  EXPECT_LE(ws.cells_judged, options.max_cells);
+  EXPECT_GT(ws.cells_judged, options.max_cells / 2);  // not far coarser than needed
+}
+
 TEST(Workspace, RefusesAResolutionThatIsNotALength) {
   const Machine machine = biglide();
   EXPECT_THROW(compute_workspace(machine, at_resolution(machine, 0.0)), std::invalid_argument);

@@ -173,4 +173,13 @@ void check_outputs(std::initializer_list<OutputTarget> outputs) {
   }
 }
 
+std::string size_text(double bytes) {
+  static constexpr const char* kUnits[] = {"B", "kB", "MB", "GB", "TB", "PB"};
+  int unit = 0;
+  while (bytes >= 1000.0 && unit < 5) bytes /= 1000.0, ++unit;
+  char text[48];
+  std::snprintf(text, sizeof text, "%.4g %s", bytes, kUnits[unit]);
+  return text;
+}
+
 }  // namespace pkm::app

@@ -89,6 +89,9 @@ struct CertifiedCheckArguments {
 };
 void run_certified_check(const Machine& machine, const CertifiedCheckArguments& arguments);
 
+// "12.3 MB": a size in the unit that keeps it short.
+std::string size_text(double bytes);
+
 // An output's file name from the command line: "" (--html "") is refused when parsing.
 CLI::Validator file_name();
 

@@ -98,16 +98,6 @@ double csv_bytes(const Machine& machine, double samples) {
   return samples * (14.0 * static_cast<double>(sample_columns(machine).size() - 2) + 16.0);
 }
 
-// "12.3 MB": a size in the unit that keeps it short.
-std::string size_text(double bytes) {
-  static constexpr const char* kUnits[] = {"B", "kB", "MB", "GB", "TB", "PB"};
-  int unit = 0;
-  while (bytes >= 1000.0 && unit < 5) bytes /= 1000.0, ++unit;
-  char text[48];
-  std::snprintf(text, sizeof text, "%.4g %s", bytes, kUnits[unit]);
-  return text;
-}
-
 void print_estimate_head(const Machine& machine, const motion::PlanReport& report,
                          const std::string& name) {
   // Seconds to the millisecond; an absurd job's (1e152 s) in powers of ten.

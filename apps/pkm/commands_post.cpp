@@ -30,6 +30,7 @@ struct PostCommandOptions {
   std::vector<std::filesystem::path> subroutine_path;
   double tolerance = 0.0;      // the machine file's units; 0: kDefaultTolerance_mm
   bool no_span_moves = false;  // --no-span-moves: every move covered on its own
+  long max_blocks = post::kDefaultMaxBlocks;
   std::vector<double> origin;
   std::string report;  // --report: the summary as JSON
   std::string html;    // --html: the page of the joint program
@@ -80,6 +81,7 @@ void run_post(const PostCommandOptions& options) {
                                   : kDefaultTolerance_mm;
   post_options.dialect = post::dialect_named(options.dialect);
   post_options.span_moves = !options.no_span_moves;
+  post_options.max_blocks = options.max_blocks;
   try {
     post::check_axis_letters(machine, post_options.dialect);
   } catch (const std::invalid_argument& error) {
@@ -101,6 +103,10 @@ void run_post(const PostCommandOptions& options) {
                                 [&](const std::string& line) { file.write(line + "\n"); });
   } catch (const gcode::GcodeError& error) {
     throw CommandError(error.what());
+  } catch (const post::BlockBoundError& error) {
+    throw CommandError(std::string(error.what()) +
+                       ". Check the job's arcs (their P, the turns) and --tolerance, or raise "
+                       "--max-blocks");
   } catch (const post::PostError& error) {
     throw CommandError(error.what() + motion::job_reach_hint(machine, options.program,
                                                              interpreter_options,
@@ -183,6 +189,10 @@ void register_post_commands(CLI::App& app) {
   command->add_flag("--no-span-moves", options->no_span_moves,
                     "Cover every programmed move with blocks of its own (by default one block "
                     "may span consecutive feed moves where it keeps within the tolerance)");
+  command
+      ->add_option("--max-blocks", options->max_blocks,
+                   "Refuse a job that needs more motion blocks than this (default 10000000)")
+      ->check(number_in(1, 1e15));
   command->add_option("--dialect", options->dialect, "linuxcnc (default), mach3, grbl or grblhal")
       ->check(CLI::IsMember({"linuxcnc", "mach3", "grbl", "grblhal"}));
   add_tool_table_options(*command, options->tool_table);

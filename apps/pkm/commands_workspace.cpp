@@ -21,6 +21,7 @@ struct WorkspaceCommandOptions {
   bool json = false;
   std::string html;  // the workspace's page (--html), empty for none
   int threads = 2;
+  double max_cells = 2e8;  // workspace::WorkspaceOptions::max_cells
 };
 
 double parse_degrees(const std::string& text, const std::string& whole) {
@@ -146,6 +147,29 @@ void print_summary(const Machine& machine, const workspace::Workspace& ws) {
   for (const std::string& note : ws.notes) std::printf("note: %s\n", note.c_str());
 }
 
+// The refusal of a resolution too fine, in the machine file's units, naming the options.
+std::string cell_bound_text(const Machine& machine, const workspace::WorkspaceOptions& settings,
+                            const workspace::CellBoundError& error) {
+  const workspace::CellEstimate& estimate = error.estimate;
+  const double per_unit = machine.mm_per_unit();
+  const std::string unit = machine.length_unit();
+  char text[600];
+  std::snprintf(text, sizeof text,
+                "--resolution %g %s: the workspace would judge about %.3g cells and list %.3g "
+                "(about %s of memory), more than --max-cells %lld (estimated from a run at "
+                "%g %s, the count growing %d times with each halving of the resolution)",
+                settings.resolution_mm / per_unit, unit.c_str(), estimate.judged, estimate.listed,
+                size_text(estimate.bytes).c_str(), static_cast<long long>(settings.max_cells),
+                estimate.from_resolution_mm / per_unit, unit.c_str(), estimate.growth);
+  std::string message = text;
+  if (error.fitting_resolution_mm > 0.0) {
+    std::snprintf(text, sizeof text, ": --resolution %.2g %s or coarser fits",
+                  error.fitting_resolution_mm / per_unit, unit.c_str());
+    message += text;
+  }
+  return message + ", or raise --max-cells";
+}
+
 void run_workspace(const WorkspaceCommandOptions& options) {
   check_outputs({{"--html", options.html}});
   refuse_overwriting_input(options.html, {{"the machine file", options.machine}});
@@ -169,9 +193,12 @@ void run_workspace(const WorkspaceCommandOptions& options) {
         per_unit * std::max(0.01, std::exp2(std::round(std::log2(longest / 200.0))));
   }
   settings.threads = options.threads;
+  settings.max_cells = static_cast<std::int64_t>(options.max_cells);
   workspace::Workspace ws;
   try {
     ws = workspace::compute_workspace(machine, settings);
+  } catch (const workspace::CellBoundError& error) {
+    throw CommandError(cell_bound_text(machine, settings, error));
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
@@ -209,6 +236,11 @@ void register_workspace_commands(CLI::App& app) {
                    "Side of the finest cells, in the machine file's units (the guaranteed "
                    "resolution; default about 1/200 of the reach through home)")
       ->check(number_in(1e-3, 1e5));
+  command
+      ->add_option("--max-cells", options->max_cells,
+                   "Refuse a run estimated to judge more cells than this (default 2e8: about 3.5 "
+                   "GB)")
+      ->check(number_in(1, 1e12));
   command->add_option("--threads", options->threads, "Worker threads (default 2)")
       ->check(CLI::Range(1, 64));
   command->add_flag("--json", options->json, "Write the workspace as JSON to standard output");

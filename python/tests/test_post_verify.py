@@ -64,6 +64,14 @@ def test_post_and_verify_errors(machines, test_data, pkm_binary, tmp_path):
     m = pkmkit.Machine.load(str(machines / "hektor.toml"))
     with pytest.raises(ValueError, match="unknown dialect"):
         pkmkit.post(m, str(test_data / "hektor-job.ngc"), str(tmp_path / "o.ngc"), dialect="fanuc")
+    # An arc of a million turns: refused from its estimate before any block, as pkm post.
+    with pytest.raises(pkmkit.PostError, match=r"helix-million-turns.ngc:3: .* would pass the "
+                       r"bound of 10000000 blocks\. .*raise max_blocks$"):
+        pkmkit.post(m, str(test_data / "helix-million-turns.ngc"), str(tmp_path / "o.ngc"),
+                    origin=[10, 0])
+    assert not (tmp_path / "o.ngc").exists()
+    with pytest.raises(ValueError, match="max_blocks must be >= 0"):
+        pkmkit.post(m, str(test_data / "hektor-job.ngc"), str(tmp_path / "o.ngc"), max_blocks=-1)
     bare = tmp_path / "bare.ngc"
     bare.write_text("G1 X52 Y77 F600\nM2\n")
     with pytest.raises(ValueError, match="no tolerance to verify against"):

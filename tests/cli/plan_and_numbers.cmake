@@ -119,3 +119,14 @@ add_test(NAME cli.refused_option_status_and_prefix
                  ${PKM} ${PLOTTER} ${SQUARE})
 pkm_cli_refuses(refused_option_prefix "^pkm: error: --origin: 'nan' is not a finite number"
                 plan -m ${PLOTTER} ${SQUARE} --origin nan 0)
+# post's bound on blocks (--max-blocks, the counterpart of plan's --max-samples): a million-turn
+# arc is refused at its line from its estimate (70 million blocks at 0.01 mm) before any block is
+# covered, nothing written; a hundred turns (7,475 blocks) pass the estimate under a bound of
+# 7,100 (about 7,025) and are refused at the block that passes it.
+pkm_cli_refuses(post_past_the_block_bound
+  "helix-million-turns.ngc:3: this arc \\(62831853.07 mm of path, 1000000 turns\\) needs about 70242[0-9]{3} blocks to keep within 0.01 mm. with the 0 written before it, the joint program would pass the bound of 10000000 blocks. .* or raise --max-blocks"
+  NO_FILE ${CLI_OUT}/helix.ngc
+  post -m ${MACHINES}/hektor.toml ${CLI_DATA}/helix-million-turns.ngc --origin 10 0
+  -o ${CLI_OUT}/helix.ngc)
+pkm_cli_refuses(post_max_blocks_zero "--max-blocks: 0 is outside \\[1, 1e\\+15\\]"
+                post ${SPHERE} -o ${CLI_OUT}/never.ngc --max-blocks 0)

@@ -42,3 +42,12 @@ add_test(NAME cli.workspace_hexapod_sample_above_its_base
                  --resolution 0.625)
 set_tests_properties(cli.workspace_hexapod_sample_above_its_base PROPERTIES
   PASS_REGULAR_EXPRESSION "extent: x [-0-9.]+\\.\\.[0-9.]+ y [-0-9.]+\\.\\.[0-9.]+ z -?0\\.[0-9]+\\.\\.[0-9.]+ in\nlargest box inside: x [-0-9.]+\\.\\.[0-9.]+ y [-0-9.]+\\.\\.[0-9.]+ z 1[0-9]\\.[0-9]+\\.\\.2[0-9]\\.[0-9]+ in")
+# Issue 26: the paper's hexapod at 0.5 mm grew to gigabytes before its cell bound refused it. The
+# estimate (from a run at 64 mm, 4 times the cells with each halving) refuses it at once, before
+# the page is written, naming the memory and a resolution that fits.
+pkm_cli_refuses(workspace_resolution_too_fine
+  "--resolution 0.5 mm: the workspace would judge about 3.0[0-9]e\\+08 cells and list 1.[0-9]+e\\+08 \\(about [0-9.]+ GB of memory\\), more than --max-cells 200000000 \\(estimated from a run at 64 mm, .*\\): --resolution 0.6[0-9] mm or coarser fits, or raise --max-cells"
+  NO_FILE ${CLI_OUT}/workspace-too-fine.html
+  workspace -m ${MACHINES}/hexapod-bit.toml --resolution 0.5 --html ${CLI_OUT}/workspace-too-fine.html)
+pkm_cli_refuses(workspace_max_cells_zero "--max-cells: 0 is outside"
+                workspace -m ${MACHINES}/hektor.toml --max-cells 0)

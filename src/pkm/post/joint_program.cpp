@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <optional>
 
 #include "pkm/motion/pen_path.hpp"
@@ -88,6 +89,7 @@ class Poster : private CoveringHost {
       }
       if (segment.length() <= 0.0) continue;
       ++report_.moves;
+      refuse_past_block_bound(segment);
       move(segment, canon.kind != gcode::CanonKind::probe);  // a probe stops where it touches
     }
   }
@@ -116,6 +118,25 @@ class Poster : private CoveringHost {
     ++report_.moves;
     move(moves[1], false);
     if (!pen()) write(spindle_clockwise_ ? "M3" : "M4", line);
+  }
+
+  // Before a move is covered: the blocks written and the move's estimate past the bound refuse the
+  // job here, so an arc of a million turns costs no work (and writes nothing) before it does.
+  void refuse_past_block_bound(const Segment& segment) const {
+    if (options_.max_blocks <= 0) return;
+    const double needed = estimated_blocks(segment, options_.tolerance_mm);
+    if (static_cast<double>(report_.blocks) + needed <= static_cast<double>(options_.max_blocks))
+      return;
+    const bool arc = segment.kind != SegmentKind::line;
+    const std::string turns =
+        arc ? format(", %.10g turns", std::abs(segment.sweep_rad) / (2.0 * std::numbers::pi)) : "";
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "this %s (%.10g mm of path%s) needs about %.0f blocks to keep within %g mm; with "
+                  "the %ld written before it, the joint program would pass the bound of %ld blocks",
+                  arc ? "arc" : "move", segment.length(), turns.c_str(), needed,
+                  options_.tolerance_mm, report_.blocks, options_.max_blocks);
+    throw BlockBoundError(file_, segment.line, text);
   }
 
   static std::string format(const char* pattern, double value) {
@@ -344,6 +365,11 @@ class Poster : private CoveringHost {
       }
       line += inverse_time_feed(duration);
     }
+    if (options_.max_blocks > 0 && report_.blocks >= options_.max_blocks) {
+      throw BlockBoundError(file_, segment.line,
+                            "the joint program would pass the bound of " +
+                                std::to_string(options_.max_blocks) + " blocks here");
+    }
     write(line, segment.line);
     ++report_.blocks;
     joints_ = q1;
@@ -376,6 +402,24 @@ constexpr Dialect kDialects[] = {Dialect::linuxcnc, Dialect::mach3, Dialect::grb
                                  Dialect::grblhal};
 
 }  // namespace
+
+double estimated_blocks(const Segment& segment, double tolerance_mm) {
+  double radius_mm = 0.0;
+  if (segment.kind == SegmentKind::arc) {
+    radius_mm =
+        std::hypot(segment.start[segment.first_axis] - segment.centre[segment.first_axis],
+                   segment.start[segment.second_axis] - segment.centre[segment.second_axis]);
+  } else if (segment.kind == SegmentKind::blend) {
+    radius_mm = segment.radius_mm;
+  } else {
+    return 1.0;
+  }
+  // A chord over the angle t lies at most r (1 - cos(t / 2)) from its arc.
+  const double chord_angle = tolerance_mm >= radius_mm
+                                 ? std::numbers::pi
+                                 : 2.0 * std::acos(1.0 - tolerance_mm / radius_mm);
+  return std::max(1.0, std::ceil(std::abs(segment.sweep_rad) / chord_angle));
+}
 
 std::string joint_word(const JointSpec& joint, double value, const DialectRules& rules) {
   char word[48];

@@ -16,6 +16,7 @@
 
 #include "pkm/gcode/interpreter.hpp"
 #include "pkm/machine/machine.hpp"
+#include "pkm/motion/segment.hpp"
 
 namespace pkm::post {
 
@@ -47,6 +48,11 @@ std::string comment_line(const std::string& before, std::string text, const std:
 // machine's joints use axis letters the dialect does not accept or more joints than it has axes.
 void check_axis_letters(const Machine& machine, Dialect dialect);
 
+// The most blocks pkm post and pkmkit.post write unless told otherwise: 55 times the largest real
+// job's (CAMotics' la_peinture raster, 181,694 blocks; docs/real-jobs.md), some 400 MB of
+// LinuxCNC program. A job past it is most likely an arc of a million turns or a wrong tolerance.
+constexpr long kDefaultMaxBlocks = 10'000'000;
+
 struct PostOptions {
   double tolerance_mm = 0.01;
   Dialect dialect = Dialect::linuxcnc;
@@ -56,6 +62,8 @@ struct PostOptions {
   // Let one block span consecutive feed moves where it keeps within the tolerance of all of them
   // (docs/post.md, "Spanning moves"); false: every move covered on its own.
   bool span_moves = true;
+  // Refuse (BlockBoundError) a job that needs more motion blocks than this; 0: no bound.
+  long max_blocks = 0;
 };
 
 struct PostReport {
@@ -77,6 +85,19 @@ class PostError : public std::runtime_error {
   PostError(const std::string& file, int line, const std::string& message)
       : std::runtime_error(file + ":" + std::to_string(line) + ": " + message) {}
 };
+
+// A job past PostOptions::max_blocks, refused at the move that would pass it: before that move's
+// blocks where its estimate (estimated_blocks) already does, else at the block that does.
+class BlockBoundError : public PostError {
+ public:
+  using PostError::PostError;
+};
+
+// The fewest blocks whose chords keep within `tolerance_mm` of the move in the tool tip's space:
+// an arc's or a blend's sweep over the angle whose chord's sagitta is the tolerance, 1 for a
+// line. Post's estimate of a move's blocks before it covers the move (a double: an arc of 1e15
+// turns has no long).
+double estimated_blocks(const motion::Segment& segment, double tolerance_mm);
 
 // Writes the body of the joint program (every line through `write_line`, without a header).
 PostReport post_program(const Machine& machine, const std::filesystem::path& program,

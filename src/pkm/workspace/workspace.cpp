@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -594,55 +595,162 @@ std::optional<AxisBox> extent_of(const Workspace& ws, const Eigen::Vector3d& fix
 
 }  // namespace
 
+namespace {
+
+// The grid and top cells of a run at `step_mm` over the search box.
+struct Layout {
+  Grid grid;
+  TopCells top;
+  std::array<int, 3> dims{};
+  int dimensions = 0;
+  bool empty = false;  // the search box is empty
+};
+
+Layout layout(const Machine& machine, const SearchBox& search, const OrientationBox& range,
+              double step_mm) {
+  const Kinematics& model = machine.kinematics();
+  Layout result;
+  Grid& grid = result.grid;
+  grid.range = range;
+  for (int axis = 0; axis < 3; ++axis) {
+    grid.spans[static_cast<std::size_t>(axis)] = model.dof().controls(axis);
+    result.dimensions += model.dof().controls(axis) ? 1 : 0;
+  }
+  grid.fixed = machine.home().position_mm;
+  grid.step_mm = step_mm;
+  grid.angle_scale_mm = post::pose_angle_scale_mm(model);
+  const Eigen::Vector3d size = (search.box.max_mm - search.box.min_mm).cwiseMax(0.0);
+  result.top = top_cells(size, grid.spans, grid.step_mm, result.dims);
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!grid.spans[static_cast<std::size_t>(axis)]) {
+      grid.origin_mm[axis] = grid.fixed[axis];
+      continue;
+    }
+    result.empty = result.empty || !(search.box.max_mm[axis] >= search.box.min_mm[axis]);
+    // Cells start at the box's low side: a side the machine's limits set exactly (a pass-through
+    // joint's min, the envelope's) falls between cells rather than through them.
+    grid.origin_mm[axis] = search.box.min_mm[axis];
+  }
+  return result;
+}
+
+// The power of two by which the estimate's run is coarser than the resolution (0: the run is
+// small enough to be its own estimate).
+int estimate_halvings(const Layout& fine) {
+  int longest = 1;
+  for (const int cells : fine.dims) longest = std::max(longest, cells);
+  int halvings = 0;
+  while ((longest >> halvings) > kEstimateSteps) ++halvings;
+  return halvings;
+}
+
+CellEstimate estimate_at(const Machine& machine, const WorkspaceOptions& options,
+                         const SearchBox& search, const OrientationBox& range, int halvings) {
+  Layout coarse = layout(machine, search, range, std::ldexp(options.resolution_mm, halvings));
+  std::atomic<std::int64_t> judged{0};
+  coarse.grid.judged = &judged;
+  coarse.grid.max_cells = std::numeric_limits<std::int64_t>::max();
+  Workspace run;
+  if (!coarse.empty) {
+    refine_all(machine, coarse.grid, coarse.top, range, options.threads, coarse.dimensions, run);
+  }
+  CellEstimate estimate;
+  estimate.from_resolution_mm = coarse.grid.step_mm;
+  estimate.growth = 1 << std::max(0, coarse.dimensions - 1);
+  const double scale = std::pow(estimate.growth, halvings);
+  estimate.run_judged = run.cells_judged;
+  estimate.judged = static_cast<double>(run.cells_judged) * scale;
+  estimate.listed = static_cast<double>(run.inside.size() + run.boundary.size()) * scale;
+  estimate.bytes = 2.0 * estimate.listed * sizeof(CellIndex);
+  return estimate;
+}
+
+// Runs from the coarsest (at most kEstimateSteps cells along the longest side) one halving finer
+// at a time, until a run judges kEstimateRunCells (its boundary resolved well enough to scale)
+// or the next run would be the resolution's own: a coarse run of a machine that fills little of
+// its search box counts too few cells (Hektor at 8 mm, 0.6 times what scaling needs).
+CellEstimate estimate_by_runs(const Machine& machine, const WorkspaceOptions& options,
+                              const SearchBox& search, const OrientationBox& range, int halvings) {
+  CellEstimate estimate = estimate_at(machine, options, search, range, halvings);
+  while (halvings > 1 && estimate.run_judged < kEstimateRunCells) {
+    estimate = estimate_at(machine, options, search, range, --halvings);
+  }
+  return estimate;
+}
+
+// The estimate first, as plan's: a resolution too fine for the machine is refused before its
+// cells fill the memory, naming the finest that fits.
+void refuse_past_cell_bound(const Machine& machine, const WorkspaceOptions& options,
+                            const SearchBox& search, const OrientationBox& range,
+                            const Layout& fine) {
+  const int halvings = estimate_halvings(fine);
+  if (halvings == 0 || fine.empty) return;
+  const CellEstimate estimate = estimate_by_runs(machine, options, search, range, halvings);
+  const auto bound = static_cast<double>(options.max_cells);
+  if (estimate.judged <= bound) return;
+  double fitting_mm = 0.0;
+  if (estimate.growth > 1) {
+    // The count goes as resolution^-(d - 1); 5 % to spare for the estimate's error (2 % on the
+    // example machines).
+    const double exponent = std::log2(static_cast<double>(estimate.growth));
+    const double exact =
+        options.resolution_mm * std::pow(1.05 * estimate.judged / bound, 1.0 / exponent);
+    const double digit = std::pow(10.0, std::floor(std::log10(exact)) - 1.0);
+    fitting_mm = std::ceil(exact / digit) * digit;
+  }
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "at %g mm resolution the workspace would judge about %.3g cells and list %.3g "
+                "(about %.3g GB), more than the bound of %lld cells (estimated from a run at "
+                "%g mm, the count growing %d times with each halving)",
+                options.resolution_mm, estimate.judged, estimate.listed, estimate.bytes / 1e9,
+                static_cast<long long>(options.max_cells), estimate.from_resolution_mm,
+                estimate.growth);
+  std::string message = text;
+  if (fitting_mm > 0.0) {
+    std::snprintf(text, sizeof text, ": a resolution of %g mm or coarser fits", fitting_mm);
+    message += text;
+  }
+  throw CellBoundError(message, estimate, fitting_mm);
+}
+
+}  // namespace
+
+CellEstimate estimate_cells(const Machine& machine, const WorkspaceOptions& options) {
+  const OrientationBox range = orientation_range(machine, options);
+  const SearchBox search = search_box(machine, options);
+  const Layout fine = layout(machine, search, range, options.resolution_mm);
+  return estimate_by_runs(machine, options, search, range, estimate_halvings(fine));
+}
+
 Workspace compute_workspace(const Machine& machine, const WorkspaceOptions& options) {
   if (!(options.resolution_mm > 0.0) || !std::isfinite(options.resolution_mm)) {
     throw std::invalid_argument("the resolution must be a positive length (mm)");
   }
-  const Kinematics& model = machine.kinematics();
   Workspace ws;
   ws.machine = machine.name();
   ws.resolution_mm = options.resolution_mm;
   const OrientationBox range = orientation_range(machine, options);
   ws.orientation_min_rad = range.centre - range.half;
   ws.orientation_max_rad = range.centre + range.half;
-  Grid grid;
-  grid.range = range;
-  int dimensions = 0;
-  for (int axis = 0; axis < 3; ++axis) {
-    ws.position_axes[static_cast<std::size_t>(axis)] = model.dof().controls(axis);
-    dimensions += model.dof().controls(axis) ? 1 : 0;
-  }
-  ws.planar = dimensions == 2 && !model.dof().controls(2);
-  grid.spans = ws.position_axes;
-  grid.fixed = machine.home().position_mm;
-  grid.step_mm = options.resolution_mm;
-  grid.angle_scale_mm = post::pose_angle_scale_mm(model);
-  grid.max_cells = options.max_cells;
-
-  std::atomic<std::int64_t> judged{0};
-  grid.judged = &judged;
-
   const SearchBox search = search_box(machine, options);
   if (!search.proven) {
     ws.notes.push_back(
         "the search box comes from the extent through home, widened by half: cells beyond it "
         "were not searched");
   }
-  const Eigen::Vector3d size = (search.box.max_mm - search.box.min_mm).cwiseMax(0.0);
-  const TopCells top = top_cells(size, grid.spans, grid.step_mm, ws.dims);
-  bool empty = false;
-  for (int axis = 0; axis < 3; ++axis) {
-    if (!grid.spans[static_cast<std::size_t>(axis)]) {
-      grid.origin_mm[axis] = grid.fixed[axis];
-      continue;
-    }
-    empty = empty || !(search.box.max_mm[axis] >= search.box.min_mm[axis]);
-    // Cells start at the box's low side: a side the machine's limits set exactly (a pass-through
-    // joint's min, the envelope's) falls between cells rather than through them.
-    grid.origin_mm[axis] = search.box.min_mm[axis];
-  }
+  Layout fine = layout(machine, search, range, options.resolution_mm);
+  refuse_past_cell_bound(machine, options, search, range, fine);
+  Grid& grid = fine.grid;
+  const int dimensions = fine.dimensions;
+  std::atomic<std::int64_t> judged{0};
+  grid.judged = &judged;
+  grid.max_cells = options.max_cells;
+  ws.position_axes = grid.spans;
+  ws.planar = dimensions == 2 && !machine.kinematics().dof().controls(2);
+  ws.dims = fine.dims;
   ws.origin_mm = grid.origin_mm;
-  if (!empty) refine_all(machine, grid, top, range, options.threads, dimensions, ws);
+  if (!fine.empty) refine_all(machine, grid, fine.top, range, options.threads, dimensions, ws);
   for (const auto& constraint : machine_constraints(machine)) {
     if (!constraint->proven()) {
       ws.guaranteed = false;

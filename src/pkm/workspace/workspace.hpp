@@ -23,8 +23,10 @@ struct WorkspaceOptions {
   Eigen::Vector3d orientation_min_rad = Eigen::Vector3d::Zero();
   Eigen::Vector3d orientation_max_rad = Eigen::Vector3d::Zero();
   int threads = 2;
-  // Refuses to run past this many cells judged (a resolution far too fine for the machine).
-  std::int64_t max_cells = 400'000'000;
+  // Refuses a run estimated (estimate_cells) or found to judge more cells than this: a resolution
+  // too fine for the machine. The default holds the paper's hexapod at 1 mm over +-10 deg
+  // (1.3e8 cells, 2.1 GB; docs/workspace.md).
+  std::int64_t max_cells = 200'000'000;
   int map_points = 120;  // along the longer side of each map
 };
 
@@ -89,8 +91,34 @@ struct Workspace {
   std::vector<PlaneMap> maps;
 };
 
+// What a run will cost, before it runs: from runs at power-of-two multiples of the resolution,
+// from the coarsest with at most kEstimateSteps cells along the search box's longest side to the
+// first that judges kEstimateRunCells, the last one's counts times 2^(d - 1) per halving (the
+// cells the octree judges and lists lie along the boundary, a surface of d - 1 dimensions).
+struct CellEstimate {
+  double judged = 0.0;              // position cells judged
+  double listed = 0.0;              // inside and boundary cells kept
+  double bytes = 0.0;               // the lists' peak memory (each part's and the merged ones)
+  double from_resolution_mm = 0.0;  // of the run it scales (the resolution itself: exact)
+  int growth = 1;                   // the factor per halving, 2^(d - 1)
+  std::int64_t run_judged = 0;      // by that run
+};
+constexpr int kEstimateSteps = 64;
+constexpr std::int64_t kEstimateRunCells = 10'000;
+CellEstimate estimate_cells(const Machine& machine, const WorkspaceOptions& options);
+
+// A run whose estimate passes options.max_cells, refused before its cells are allocated.
+class CellBoundError : public std::invalid_argument {
+ public:
+  CellBoundError(const std::string& message, const CellEstimate& estimated, double fitting_mm)
+      : std::invalid_argument(message), estimate(estimated), fitting_resolution_mm(fitting_mm) {}
+  CellEstimate estimate;
+  double fitting_resolution_mm;  // the finest that fits, rounded up; 0 where none does
+};
+
 // Throws std::invalid_argument for a resolution that is not positive, an empty orientation
-// range, or one whose cell count passes options.max_cells.
+// range, or one whose cell count passes options.max_cells (CellBoundError where the estimate
+// does, before any work at the resolution).
 Workspace compute_workspace(const Machine& machine, const WorkspaceOptions& options);
 
 // The box of position coordinates (mm) that holds every pose the machine can reach: from its
