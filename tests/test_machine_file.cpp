@@ -488,7 +488,7 @@ const BadFileCase kCases[] = {
        "home = [0.0, 0.0, 1000.0, 0.0, 0.0, 0.0] # <-"}},
      "cartesian.home",
      "the machine is singular at home: the relative smallest singular value of its jacobian is "
-     "0, below 1e-06; the tool's motion c 1.000 (mm, rad) moves no joint"},
+     "0, below 1e-06; the tool's motion c 1.000 (mm, deg) moves no joint"},
     {"delta_with_its_towers_in_one_place",
      "linear-delta.toml",
      // The three carriages on one rail: the tool swings about it.
@@ -499,14 +499,14 @@ const BadFileCase kCases[] = {
       {"home = [0.0, 0.0, 100.0]", "home = [0.0, 0.0, 100.0] # <-"}},
      "cartesian.home",
      "singular at home: the relative smallest singular value of its jacobian is 0, below 1e-06; "
-     "the tool's motion x 1.000 (mm, rad) moves no joint"},
+     "the tool's motion x 1.000 (mm, deg) moves no joint"},
     {"formula_with_both_cables_from_one_anchor",
      "mach3-formula.toml",
      {{"b = \"sqrt(((d - x)^2) + (y^2))\"", "b = \"sqrt((x^2) + (y^2))\""},
       {"home = [50.0, -50.0]", "home = [50.0, -50.0] # <-"}},
      "cartesian.home",
      "singular at home: the relative smallest singular value of its jacobian is 0, below 1e-06; "
-     "the tool's motion x 0.707 y 0.707 (mm, rad) moves no joint"},
+     "the tool's motion x 0.707 y 0.707 (mm, deg) moves no joint"},
 };
 
 INSTANTIATE_TEST_SUITE_P(Cases, BadMachineFile, ::testing::ValuesIn(kCases),

@@ -35,6 +35,6 @@ add_test(NAME cli.refuses.import_linuxcnc_to_a_full_disk
 # makes.
 foreach(command check plan)
   pkm_cli_refuses(${command}_singular_machine
-    "parallel-hexapod\\.toml:[0-9]+:cartesian\\.home: the machine is singular at home: the relative smallest singular value of its jacobian is 0, below 1e-06. the tool's motion c 1\\.000 \\(mm, rad\\) moves no joint"
+    "parallel-hexapod\\.toml:[0-9]+:cartesian\\.home: the machine is singular at home: the relative smallest singular value of its jacobian is 0, below 1e-06. the tool's motion c 1\\.000 \\(mm, deg\\) moves no joint"
     ${command} -m ${CLI_DATA}/parallel-hexapod.toml ${CLI_DATA}/hektor-job.ngc)
 endforeach()

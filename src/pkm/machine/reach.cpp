@@ -384,11 +384,16 @@ std::string singular_at_home(const Machine& machine) {
   } else {
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(columns, Eigen::ComputeFullV);
     motion = svd.matrixV().col(svd.matrixV().cols() - 1).cwiseQuotient(norms);
-    motion /= motion.norm();
-    Eigen::Index largest = 0;
-    motion.cwiseAbs().maxCoeff(&largest);
-    if (motion[largest] < 0.0) motion = -motion;
   }
+  // In the file's units (mm or inch, deg), of unit length, its largest part positive.
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    const auto at = static_cast<Eigen::Index>(k);
+    motion[at] = machine.axis_to_file(axes[k], motion[at]);
+  }
+  motion /= motion.norm();
+  Eigen::Index largest = 0;
+  motion.cwiseAbs().maxCoeff(&largest);
+  if (motion[largest] < 0.0) motion = -motion;
   std::string direction;
   for (std::size_t k = 0; k < axes.size(); ++k) {
     const double value = motion[static_cast<Eigen::Index>(k)];
@@ -399,8 +404,8 @@ std::string singular_at_home(const Machine& machine) {
   return "the machine is singular at home: the relative smallest singular value of its jacobian "
          "is " +
          formatted_number("%.3g", conditioning) + ", below " +
-         formatted_number("%.0e", kSingularAtHome) + "; the tool's motion " + direction +
-         " (mm, rad) moves no joint, so no motor can drive or hold it there";
+         formatted_number("%.0e", kSingularAtHome) + "; the tool's motion " + direction + " (" +
+         machine.length_unit() + ", deg) moves no joint, so no motor can drive or hold it there";
 }
 
 }  // namespace pkm
