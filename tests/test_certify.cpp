@@ -109,20 +109,7 @@ TEST(CertifyMove, AnArcBulgingPastTheEnvelopeIsViolatedWhereItCrosses) {
 // The vertical-legs hexapod of test_leg_limits.cpp with max_joint_angle = 30: leg 5's platform
 // end reaches 30 deg at a tilt of a = 25.4958 deg (computed there by hand).
 Machine tilting_hexapod(const std::string& keys) {
-  std::string points, joints;
-  for (int k = 0; k < 6; ++k) {
-    const double phi = degrees_to_radians(30.0 + 60.0 * k);
-    points += (k ? ", [" : "[") + std::to_string(300.0 * std::cos(phi)) + ", " +
-              std::to_string(300.0 * std::sin(phi)) + ", 0]";
-    joints += "[[joints]]\nname = \"leg" + std::to_string(k + 1) +
-              "\"\nmin = 100\nmax = 2000\nmax_velocity = 100\nmax_acceleration = 1000\n";
-  }
-  return parse_machine("name = \"vertical legs\"\n[kinematics]\ntype = \"hexapod\"\nbase = [" +
-                           points + "]\nplatform = [" + points + "]\ntool_length = 0\n" + keys +
-                           "\n" + joints +
-                           "[cartesian]\nmax_feed = 6000\nmax_acceleration = 1000\n"
-                           "home = [0, 0, 500, 0, 0, 0]\n",
-                       "tilt.toml");
+  return test::parallel_leg_hexapod(test::hexagon_points(), keys);
 }
 
 TEST(CertifyMove, ATiltPastTheJointAngleIsViolatedAtTheHandComputedAngle) {
@@ -140,19 +127,8 @@ TEST(CertifyMove, ATiltPastTheJointAngleIsViolatedAtTheHandComputedAngle) {
 
 TEST(CertifyMove, LegsBroughtTogetherAreViolatedWhereTheyTouch) {
   // test_leg_limits.cpp's pair: legs 1 and 2, 60 mm apart, touch 40 mm legs at x = 559.017.
-  const std::string points =
-      "[-30, 200, 0], [30, 200, 0], [300, -150, 0], [-300, -150, 0], [150, -500, 0], "
-      "[-150, -520, 0]";
-  std::string joints;
-  for (int k = 1; k <= 6; ++k) {
-    joints += "[[joints]]\nname = \"leg" + std::to_string(k) +
-              "\"\nmin = 100\nmax = 2000\nmax_velocity = 100\nmax_acceleration = 1000\n";
-  }
-  const Machine machine = parse_machine(
-      "name = \"pair\"\n[kinematics]\ntype = \"hexapod\"\nbase = [" + points + "]\nplatform = [" +
-          points + "]\ntool_length = 0\nleg_diameter = 40\n" + joints +
-          "[cartesian]\nmax_feed = 6000\nmax_acceleration = 1000\nhome = [0, 0, 500, 0, 0, 0]\n",
-      "pair.toml");
+  const Machine machine =
+      test::parallel_leg_hexapod(test::close_pair_points(), "leg_diameter = 40");
   const MoveProver prover(machine);
   const MoveProof proof = prover.prove(line(pose(0, 0, 500), pose(600, 0, 500)));
   ASSERT_EQ(proof.verdict, Verdict::violated);

@@ -2,10 +2,12 @@
 // hand-computed thresholds, the upside-down platform, the neighbour rule, the file's keys.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
@@ -18,28 +20,8 @@
 namespace pkm {
 namespace {
 
-std::string joints_text(int count, double min, double max) {
-  std::string text;
-  for (int i = 1; i <= count; ++i) {
-    text += "[[joints]]\nname = \"leg" + std::to_string(i) + "\"\nmin = " + std::to_string(min) +
-            "\nmax = " + std::to_string(max) + "\nmax_velocity = 100\nmax_acceleration = 1000\n";
-  }
-  return text;
-}
-
-// Six vertical legs of 500 mm at home: base and platform joints on the same circle of radius
-// 300 mm, at 30, 90, ..., 330 deg; the tool tip at the platform's centre.
-std::string vertical_hexapod(const std::string& extra_keys) {
-  std::string points;
-  for (int k = 0; k < 6; ++k) {
-    const double phi = degrees_to_radians(30.0 + 60.0 * k);
-    points += (k ? ", [" : "[") + std::to_string(300.0 * std::cos(phi)) + ", " +
-              std::to_string(300.0 * std::sin(phi)) + ", 0]";
-  }
-  return "name = \"vertical legs\"\n[kinematics]\ntype = \"hexapod\"\nbase = [" + points +
-         "]\nplatform = [" + points + "]\ntool_length = 0\n" + extra_keys + "\n" +
-         joints_text(6, 100, 2000) +
-         "[cartesian]\nmax_feed = 6000\nmax_acceleration = 1000\nhome = [0, 0, 500, 0, 0, 0]\n";
+Machine vertical_hexapod(const std::string& extra_keys) {
+  return test::parallel_leg_hexapod(test::hexagon_points(), extra_keys);
 }
 
 // The leg at 270 deg (leg 5) under a tilt A about x: its base joint (0, -r, 0), its platform
@@ -62,7 +44,7 @@ double tilt_where_leg5_reaches(double limit_deg) {
 }
 
 TEST(LegLimits, TiltedHexapodPassesThirtyDegreesWhereComputedByHand) {
-  const Machine machine = parse_machine(vertical_hexapod("max_joint_angle = 30"), "tilt.toml");
+  const Machine machine = vertical_hexapod("max_joint_angle = 30");
   const double tilt = tilt_where_leg5_reaches(30.0);
   EXPECT_NEAR(tilt, 25.4958, 1e-4);
   JointVector joints;
@@ -93,8 +75,7 @@ TEST(LegLimits, TiltedHexapodPassesThirtyDegreesWhereComputedByHand) {
 TEST(LegLimits, TranslationTurnsEveryLegAlike) {
   // Moving x by d leans every vertical leg by atan(d / 500) at both ends: 30 deg at
   // d = 500 tan 30 = 288.675 mm; with max_joint_angle = [40, 30] only the platform ends count.
-  const Machine machine =
-      parse_machine(vertical_hexapod("max_joint_angle = [40, 30]"), "shift.toml");
+  const Machine machine = vertical_hexapod("max_joint_angle = [40, 30]");
   const double d = 500.0 * std::tan(std::numbers::pi / 6.0);
   JointVector joints;
   EXPECT_TRUE(machine.inverse(Pose::from_mm_deg(d - 1e-6, 0, 500, 0, 0, 0), joints).ok());
@@ -104,7 +85,7 @@ TEST(LegLimits, TranslationTurnsEveryLegAlike) {
 }
 
 TEST(LegLimits, UpsideDownPlatformIsRefusedByTheModel) {
-  const Machine machine = parse_machine(vertical_hexapod("max_joint_angle = 45"), "flip.toml");
+  const Machine machine = vertical_hexapod("max_joint_angle = 45");
   JointVector joints;
   // B = 180 deg, the platform turned over about y; its legs reach (IK alone gives lengths).
   const Pose flipped = Pose::from_mm_deg(0, 0, 500, 0, 180, 0);
@@ -130,7 +111,7 @@ TEST(LegLimits, UpsideDownPlatformIsRefusedByTheModel) {
 // The leg-limit-free view forward kinematics iterates on: its inverse is the model's without the
 // angle check, and a clone of it keeps working after the model it was made from is gone.
 TEST(LegLimits, ALegLimitFreeCloneOutlivesItsModel) {
-  const Machine machine = parse_machine(vertical_hexapod("max_joint_angle = 45"), "flip.toml");
+  const Machine machine = vertical_hexapod("max_joint_angle = 45");
   const Pose flipped = Pose::from_mm_deg(0, 0, 500, 0, 180, 0);
   std::unique_ptr<Kinematics> clone;
   {
@@ -149,18 +130,9 @@ TEST(LegLimits, ALegLimitFreeCloneOutlivesItsModel) {
 // Legs 1 and 2 stand 60 mm apart along x, 500 mm tall; moving the platform by d along x leans
 // both alike, so their axes stay parallel at 60 h / sqrt(d^2 + h^2) mm: 40 mm at
 // d = h sqrt(1.5^2 - 1) = 559.017 mm. The other legs lie at least 300 mm apart across x.
-std::string close_pair_hexapod() {
-  const std::string points =
-      "[-30, 200, 0], [30, 200, 0], [300, -150, 0], [-300, -150, 0], [150, -500, 0], "
-      "[-150, -520, 0]";
-  return "name = \"close pair\"\n[kinematics]\ntype = \"hexapod\"\nbase = [" + points +
-         "]\nplatform = [" + points + "]\ntool_length = 0\nleg_diameter = 40\n" +
-         joints_text(6, 100, 2000) +
-         "[cartesian]\nmax_feed = 6000\nmax_acceleration = 1000\nhome = [0, 0, 500, 0, 0, 0]\n";
-}
-
 TEST(LegLimits, TwoLegsBroughtWithinTheDiameterInterfere) {
-  const Machine machine = parse_machine(close_pair_hexapod(), "pair.toml");
+  const Machine machine =
+      test::parallel_leg_hexapod(test::close_pair_points(), "leg_diameter = 40");
   const double d = 500.0 * std::sqrt(1.25);
   JointVector joints;
   EXPECT_TRUE(machine.inverse(Pose::from_mm_deg(d - 1e-6, 0, 500, 0, 0, 0), joints).ok());
@@ -187,7 +159,7 @@ TEST(LegLimits, LegsSharingAJointAreNotCheckedAgainstEachOther) {
       "attach = [0, 0, 0]\nbranch = -1\n"
       "[[kinematics.rails]]\norigin = [0, 0, 0]\ndirection = [1, 0, 0]\nstrut = 500\n"
       "attach = [0, 0, 0]\nbranch = 1\n" +
-      joints_text(2, -1000, 1000) +
+      test::joints_text(2, -1000, 1000) +
       "[cartesian]\nmax_feed = 6000\nmax_acceleration = 1000\nhome = [0, -400]\n";
   const Machine machine = parse_machine(text, "biglide.toml");
   std::vector<MechanismLimit> limits;
@@ -244,7 +216,9 @@ TEST(LegLimits, WithoutTheKeysNothingChanges) {
 TEST(LegLimits, FileKeysAreChecked) {
   const auto refused = [](const std::string& keys) {
     try {
-      parse_machine(vertical_hexapod(keys), "keys.toml");
+      // Refused before the legs' singularity is (the model reads its keys first).
+      parse_machine(test::hexapod_text(test::hexagon_points(), test::hexagon_points(), keys),
+                    "keys.toml");
     } catch (const MachineFileError& error) {
       return std::string(error.what());
     }
@@ -276,7 +250,8 @@ namespace {
 
 TEST(LegLimits, CalibrationWritesTheKeysBack) {
   // A fitted geometry replaces [kinematics]: the limits the file set must survive it.
-  const std::string text = vertical_hexapod(
+  const std::string text = test::hexapod_text(
+      test::hexagon_points(), test::platform_off_base(test::hexagon_points()),
       "max_joint_angle = [40, 30]\nleg_diameter = 20\nbase_joint_axis = [0, 0, 2]");
   const Machine machine = parse_machine(text, "limits.toml");
   const std::string rewritten =

@@ -5,6 +5,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <fstream>
 #include <stdexcept>
 
@@ -91,6 +92,72 @@ std::vector<Pose> sample_reachable_poses(const Machine& machine, int count, std:
     throw std::runtime_error("could not sample enough reachable poses for " + machine.name());
   }
   return poses;
+}
+
+std::string joints_text(int count, double min, double max) {
+  std::string text;
+  for (int i = 1; i <= count; ++i) {
+    text += "[[joints]]\nname = \"leg" + std::to_string(i) + "\"\nmin = " + std::to_string(min) +
+            "\nmax = " + std::to_string(max) + "\nmax_velocity = 100\nmax_acceleration = 1000\n";
+  }
+  return text;
+}
+
+namespace {
+std::string points_text(const std::vector<std::array<double, 2>>& points) {
+  std::string text;
+  for (const auto& [x, y] : points) {
+    text += (text.empty() ? "[" : ", [") + std::to_string(x) + ", " + std::to_string(y) + ", 0]";
+  }
+  return text;
+}
+}  // namespace
+
+std::string hexapod_text(const std::vector<std::array<double, 2>>& base,
+                         const std::vector<std::array<double, 2>>& platform,
+                         const std::string& extra_keys) {
+  return "name = \"parallel legs\"\n[kinematics]\ntype = \"hexapod\"\nbase = [" +
+         points_text(base) + "]\nplatform = [" + points_text(platform) + "]\ntool_length = 0\n" +
+         extra_keys + "\n" + joints_text(6, 100, 2000) +
+         "[cartesian]\nmax_feed = 6000\nmax_acceleration = 1000\nhome = [0, 0, 500, 0, 0, 0]\n";
+}
+
+std::vector<std::array<double, 2>> platform_off_base(std::vector<std::array<double, 2>> points) {
+  for (std::size_t leg = 0; leg < points.size(); ++leg) {
+    const double towards = degrees_to_radians(100.0 * static_cast<double>(leg));
+    points[leg][0] += 10.0 * std::cos(towards);
+    points[leg][1] += 10.0 * std::sin(towards);
+  }
+  return points;
+}
+
+Machine parallel_leg_hexapod(const std::vector<std::array<double, 2>>& points,
+                             const std::string& extra_keys) {
+  Machine machine =
+      parse_machine(hexapod_text(points, platform_off_base(points), extra_keys), "parallel.toml");
+  std::vector<double> values;
+  for (const Parameter& parameter : machine.kinematics().parameters()) {
+    values.push_back(parameter.value);
+  }
+  constexpr int kPerLeg = 7;  // base x y z, platform x y z, offset
+  for (int leg = 0; leg < 6; ++leg) {
+    for (int k = 0; k < 3; ++k) values[kPerLeg * leg + 3 + k] = values[kPerLeg * leg + k];
+  }
+  machine.kinematics().set_parameters(values);
+  machine.kinematics().set_home(machine.home());  // the joints' neutral axes, from the new legs
+  return machine;
+}
+
+std::vector<std::array<double, 2>> hexagon_points() {
+  std::vector<std::array<double, 2>> points;
+  for (int k = 0; k < 6; ++k) {
+    const double phi = degrees_to_radians(30.0 + 60.0 * k);
+    points.push_back({300.0 * std::cos(phi), 300.0 * std::sin(phi)});
+  }
+  return points;
+}
+std::vector<std::array<double, 2>> close_pair_points() {
+  return {{-30, 200}, {30, 200}, {300, -150}, {-300, -150}, {150, -500}, {-150, -520}};
 }
 
 }  // namespace pkm::test

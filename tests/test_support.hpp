@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <random>
 #include <string>
@@ -26,6 +27,28 @@ double dexterity(const Kinematics& kinematics, const Pose& pose);
 // dexterity is at least min_dexterity: poses a machine can work at, not its singular fringe.
 std::vector<Pose> sample_reachable_poses(const Machine& machine, int count, std::mt19937_64& rng,
                                          double max_angle_deg = 25.0, double min_dexterity = 0.0);
+
+// [[joints]] tables leg1..legN, linear from `min` to `max` mm.
+std::string joints_text(int count, double min, double max);
+// A hexapod's machine file: joints at `base` and `platform` [x, y, 0], `extra_keys` in
+// [kinematics], home 500 mm above the base.
+std::string hexapod_text(const std::vector<std::array<double, 2>>& base,
+                         const std::vector<std::array<double, 2>>& platform,
+                         const std::string& extra_keys);
+// Platform joints 10 mm off the base joints `points`, each in another direction (leg k towards
+// 100 k deg): legs nearly parallel at home, yet a hexapod that can move.
+std::vector<std::array<double, 2>> platform_off_base(std::vector<std::array<double, 2>> points);
+// The hexapod with its platform joints straight above its base joints `points`, its legs
+// parallel at home. Parallel legs make a hexapod singular everywhere and such a file is refused
+// (docs/bad-input.md); but leg limits are the model's, per pose, and parallel legs make them
+// computable by hand. So the file gives platform_off_base, which loads, and the model then
+// takes the platform straight above the base.
+Machine parallel_leg_hexapod(const std::vector<std::array<double, 2>>& points,
+                             const std::string& extra_keys);
+// Six joints on a circle of radius 300 mm, at 30, 90, ..., 330 deg.
+std::vector<std::array<double, 2>> hexagon_points();
+// Legs 1 and 2 60 mm apart along x, the others at least 300 mm apart across x.
+std::vector<std::array<double, 2>> close_pair_points();
 
 // A G-code program in a temporary file of its own, removed with the object.
 class TempProgram {

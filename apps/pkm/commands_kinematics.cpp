@@ -414,12 +414,6 @@ void print_check(const Machine& machine, const CheckSummary& summary) {
                 clipped ? "  (clipped by the envelope)" : "");
   }
   if (summary.tensions) print_tension_region(machine, *summary.tensions);
-  if (summary.conditioning < kSingularAtHome) {
-    std::printf(
-        "  warning: the machine is singular at home (relative smallest singular value of its "
-        "jacobian %.3g): some motion of the tool moves no joint, or the joints fight\n",
-        summary.conditioning);
-  }
   std::printf("  ok: machine file is valid\n");
 }
 

@@ -30,3 +30,11 @@ add_test(NAME cli.refuses.import_linuxcnc_to_a_full_disk
                  "writing the standard output failed \\(No space left on device\\)"
                  /bin/sh -c "exec \"$0\" import linuxcnc \"$1\" > /dev/full" $<TARGET_FILE:pkm>
                  ${PKM_LINUXCNC_SAMPLES}/sim/axis/ldelta.ini)
+# A machine that cannot move (legs parallel at home: base and platform joints on one circle) is
+# refused at load by every command, at its home, with its conditioning and the motion no joint
+# makes.
+foreach(command check plan)
+  pkm_cli_refuses(${command}_singular_machine
+    "parallel-hexapod\\.toml:[0-9]+:cartesian\\.home: the machine is singular at home: the relative smallest singular value of its jacobian is 0, below 1e-06. the tool's motion c 1\\.000 \\(mm, deg\\) moves no joint"
+    ${command} -m ${CLI_DATA}/parallel-hexapod.toml ${CLI_DATA}/hektor-job.ngc)
+endforeach()

@@ -39,7 +39,10 @@ void validate_cable_plotter_geometry(const CablePlotterGeometry& g) {
                                             "the left anchor first (anchor distance must be a "
                                             "positive length)",
                                             -span)
-                                   : "anchor distance must be a positive length");
+                                   : format("both anchors are at x %g mm: the cables pull along "
+                                            "one line and cannot hold the pen anywhere (anchor "
+                                            "distance must be a positive length)",
+                                            g.anchors_mm[0].x()));
   }
   if (!std::isfinite(g.cable_offsets_mm[0]) || !std::isfinite(g.cable_offsets_mm[1])) {
     throw GeometryFault("cable_offsets", "cable offsets must be finite");

@@ -513,6 +513,11 @@ Machine parse_machine(std::string_view toml_text, const std::string& source_name
   if (!home_status.ok()) {
     cartesian_section.fail("home", "is not a usable pose: " + machine.explain(home, home_status));
   }
+  // A machine singular at home cannot leave it under control; one whose geometry is degenerate
+  // (parallel legs, rails or cables in one line) is singular everywhere.
+  if (const std::string singular = singular_at_home(machine); !singular.empty()) {
+    cartesian_section.fail("home", singular);
+  }
   // The procedure's checks need the whole machine: joints known after their switch stay within
   // their limits.
   if (homing_section) homing_moves(machine, &*homing_section);

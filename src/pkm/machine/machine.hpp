@@ -210,7 +210,10 @@ std::string outside_reach_hint(const Machine& machine, const PoseBox& job, const
 // unit length (so mm and rad columns compare): 0 at a singular machine (a hexapod with parallel
 // legs), near 1 at a well-conditioned one.
 double relative_conditioning_at_home(const Machine& machine);
-// Below this `pkm check` warns that the machine is singular (or nearly) at home.
+// Below this the machine is singular (or nearly) at home, and its file is refused.
 inline constexpr double kSingularAtHome = 1e-6;
+// Why the machine is singular at home, with the numbers (its conditioning there and the motion of
+// the tool that moves no joint); empty when it is not.
+std::string singular_at_home(const Machine& machine);
 
 }  // namespace pkm

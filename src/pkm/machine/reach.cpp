@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/machine/machine.hpp"
@@ -323,22 +325,87 @@ std::string outside_reach_hint(const Machine& machine, const PoseBox& job, const
   return text + "; --origin" + suggestion + " would centre it";
 }
 
-double relative_conditioning_at_home(const Machine& machine) {
-  const Kinematics& kinematics = machine.kinematics();
+namespace {
+
+// The machine's jacobian at home with each controlled coordinate's column scaled to unit length,
+// and those lengths; false when it has none there.
+bool scaled_jacobian_at_home(const Machine& machine, Eigen::MatrixXd& columns,
+                             Eigen::VectorXd& norms) {
   JointJacobian jacobian;
-  if (!kinematics.jacobian(machine.home(), jacobian).ok()) return 0.0;
-  const Dof dof = kinematics.dof();
-  Eigen::MatrixXd columns(jacobian.rows(), dof.count());
+  if (!machine.kinematics().jacobian(machine.home(), jacobian).ok()) return false;
+  const Dof dof = machine.kinematics().dof();
+  columns.resize(jacobian.rows(), dof.count());
+  norms.resize(dof.count());
   for (int axis = 0, k = 0; axis < kPoseSize; ++axis) {
     if (!dof.controls(axis)) continue;
-    const double norm = jacobian.col(axis).norm();
-    if (!(norm > 0.0) || !std::isfinite(norm)) return 0.0;  // an axis no joint moves
-    columns.col(k++) = jacobian.col(axis) / norm;
+    norms[k] = jacobian.col(axis).norm();
+    columns.col(k) = jacobian.col(axis) / norms[k];
+    ++k;
   }
+  return true;
+}
+
+}  // namespace
+
+double relative_conditioning_at_home(const Machine& machine) {
+  Eigen::MatrixXd columns;
+  Eigen::VectorXd norms;
+  if (!scaled_jacobian_at_home(machine, columns, norms)) return 0.0;
+  // An axis no joint moves, or one the jacobian cannot say.
+  if (!(norms.minCoeff() > 0.0) || !norms.allFinite()) return 0.0;
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(columns);
   const Eigen::VectorXd values = svd.singularValues();
   if (values.size() == 0 || !(values[0] > 0.0)) return 0.0;
   return values[values.size() - 1] / values[0];
+}
+
+std::string singular_at_home(const Machine& machine) {
+  const double conditioning = relative_conditioning_at_home(machine);
+  if (!(conditioning < kSingularAtHome)) return "";
+  Eigen::MatrixXd columns;
+  Eigen::VectorXd norms;
+  if (!scaled_jacobian_at_home(machine, columns, norms)) {
+    return "the machine has no jacobian at home: it cannot be moved from there under control";
+  }
+  const Dof dof = machine.kinematics().dof();
+  std::vector<int> axes;
+  for (int axis = 0; axis < kPoseSize; ++axis) {
+    if (dof.controls(axis)) axes.push_back(axis);
+  }
+  // The motion of the tool that moves the joints least: the right singular vector of the smallest
+  // singular value, back in mm and rad.
+  Eigen::VectorXd motion = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(axes.size()));
+  if (!(norms.minCoeff() > 0.0) || !norms.allFinite()) {
+    Eigen::Index still = 0;
+    for (Eigen::Index k = 0; k < norms.size(); ++k) {
+      if (!(norms[k] > 0.0)) still = k;
+    }
+    motion[still] = 1.0;
+  } else {
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(columns, Eigen::ComputeFullV);
+    motion = svd.matrixV().col(svd.matrixV().cols() - 1).cwiseQuotient(norms);
+  }
+  // In the file's units (mm or inch, deg), of unit length, its largest part positive.
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    const auto at = static_cast<Eigen::Index>(k);
+    motion[at] = machine.axis_to_file(axes[k], motion[at]);
+  }
+  motion /= motion.norm();
+  Eigen::Index largest = 0;
+  motion.cwiseAbs().maxCoeff(&largest);
+  if (motion[largest] < 0.0) motion = -motion;
+  std::string direction;
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    const double value = motion[static_cast<Eigen::Index>(k)];
+    if (std::abs(value) < 5e-4) continue;
+    direction += (direction.empty() ? "" : " ") + std::string(kAxisNames[axes[k]]) + " " +
+                 formatted_number("%.3f", value);
+  }
+  return "the machine is singular at home: the relative smallest singular value of its jacobian "
+         "is " +
+         formatted_number("%.3g", conditioning) + ", below " +
+         formatted_number("%.0e", kSingularAtHome) + "; the tool's motion " + direction + " (" +
+         machine.length_unit() + ", deg) moves no joint, so no motor can drive or hold it there";
 }
 
 }  // namespace pkm
