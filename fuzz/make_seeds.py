@@ -1,8 +1,11 @@
 #!/usr/bin/env python3
 """Gathers the fuzz targets' seed corpora into OUT/<target>/: small files of the project's own
-tests and examples, and the head of every program of the real G-code corpus (when present), each
-cut to its first lines so that one seed stays small. Usage: make_seeds.py SOURCE_DIR CORPUS OUT"""
+tests and examples, the head of every program of the real G-code corpus (when present), each
+cut to its first lines so that one seed stays small, and LinuxCNC's sample configurations (when
+installed), each INI followed by the files beside it that it names (fuzz/linuxcnc_ini.cpp's
+`#FILE name` parts). Usage: make_seeds.py SOURCE_DIR CORPUS OUT [LINUXCNC_SAMPLES]"""
 import hashlib
+import re
 import pathlib
 import shutil
 import sys
@@ -34,8 +37,22 @@ def head(path: pathlib.Path) -> bytes:
         return b"".join(line for _, line in zip(range(MAX_LINES), f))
 
 
+def linuxcnc_config(ini: pathlib.Path) -> bytes:
+    """The INI, then each file beside it that it names (#INCLUDE, HALFILE, ...), as the target's
+    `#FILE name` parts, while the whole stays under MAX_BYTES; '/' in names is the target's '_'."""
+    text = ini.read_bytes()
+    seed = text
+    names = re.findall(rb"[A-Za-z0-9_.-]+\.(?:hal|inc|tcl|tbl)\b", text)
+    for name in dict.fromkeys(names):
+        beside = ini.parent / name.decode()
+        if beside.is_file() and len(seed) + beside.stat().st_size < MAX_BYTES:
+            seed += b"\n#FILE " + name + b"\n" + beside.read_bytes()
+    return seed
+
+
 def main() -> None:
     source, corpus, out = (pathlib.Path(a) for a in sys.argv[1:4])
+    samples = pathlib.Path(sys.argv[4]) if len(sys.argv) > 4 else None
     shutil.rmtree(out, ignore_errors=True)
     gcode = [*source.glob("tests/gcode/*.ngc"), *source.glob("tests/data/*.ngc"),
              *source.glob("examples/jobs/*.ngc")]
@@ -55,6 +72,14 @@ def main() -> None:
     for path in source.glob("tests/data/*.csv"):
         write(out / "calibration_csv", path.read_bytes())
     write(out / "calibration_csv", b"mark_a,mark_b,distance_mm\n1,2,100.5\n2,3,99\n")
+    for path in source.glob("tests/data/*pattern*.json"):
+        write(out / "calibration_pattern", path.read_bytes())
+    write(out / "calibration_pattern", b'{"marks": [{"id": 1, "x": 1e6, "y": -0.0005}]}')
+    inis = [*source.glob("tests/data/linuxcnc/*/*.ini")]
+    if samples is not None and samples.is_dir():
+        inis += sorted(samples.rglob("*.ini"))
+    for path in inis:
+        write(out / "linuxcnc_ini", linuxcnc_config(path))
 
 
 if __name__ == "__main__":

@@ -173,6 +173,28 @@ TEST(Motion, ArcsUnitsAndOffsets) {
   EXPECT_NEAR(moves[7].end[0], 0.0, 1e-12);
 }
 
+// A probe is a feed move at its F (the planner's speed; it used to come with none, and plan
+// refused the job as "a feed move with no feed rate"); an option refuses it at its column.
+TEST(Motion, ProbeCarriesItsFeedOrIsRefusedAtItsColumn) {
+  const std::string program = "G21 G90\nG1 X40 Y-50 F200\nG91 G38.2 X10 Y-10 F100\nM2\n";
+  const Result result = interpret(program);
+  ASSERT_EQ(result.error, "");
+  const auto probe = std::find_if(result.canon.begin(), result.canon.end(),
+                                  [](const Canon& c) { return c.kind == CanonKind::probe; });
+  ASSERT_NE(probe, result.canon.end());
+  EXPECT_EQ(probe->value, 100.0);
+  EXPECT_EQ(probe->feed_mode, FeedMode::units_per_minute);
+  EXPECT_EQ(probe->end[0], 50.0);
+  EXPECT_EQ(probe->end[1], -60.0);
+
+  InterpreterOptions refusing;
+  refusing.probe_refusal = "no probing here";
+  const Result refused = interpret(program, refusing);
+  EXPECT_EQ(refused.error, "no probing here");
+  EXPECT_EQ(refused.line, 3);
+  EXPECT_EQ(refused.column, 5);  // the G38.2
+}
+
 // The last command of `kind` a run handed on.
 const Canon& last_of(const Result& result, CanonKind kind) {
   const auto found = std::find_if(result.canon.rbegin(), result.canon.rend(),

@@ -39,6 +39,9 @@ struct InterpreterOptions {
   std::vector<std::filesystem::path> subroutine_path;
   // LinuxCNC's [RS274NGC] ORIENT_OFFSET, deg: added to M19's R (the spindle's orientation).
   double orient_offset_deg = 0.0;
+  // When not empty, every probing move (G38.2-G38.5) is refused at its column with this reason:
+  // `pkm post`'s joint program cannot stop on contact (docs/post.md, "Probing").
+  std::string probe_refusal;
 };
 
 // The deepest subroutine calls nest: LinuxCNC's 10 levels, the main program one of them.

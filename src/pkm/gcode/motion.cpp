@@ -188,12 +188,15 @@ void Interpreter::State::probe(const Block& block, int column, const Position& e
     fail(column, "cannot probe in feed per revolution mode (G95): give G94 first");
   }
   require_feed(block, column);
+  if (!options.probe_refusal.empty()) fail(column, options.probe_refusal);
   double length = 0.0;
   for (int axis = 0; axis < 3; ++axis) length += (end[axis] - pos[axis]) * (end[axis] - pos[axis]);
   length = std::sqrt(length);
   if (length == 0.0) fail(column, "probe start and end points must differ");
   Canon probe = make(CanonKind::probe, block);
   probe.end = end;
+  probe.value = feed;  // the F it probes at: the planner's speed, as for G1
+  probe.feed_mode = feed_mode;
   emit(probe);
   const double back_off = units == LengthUnits::inch ? 0.01 : 0.254;
   for (int axis = 0; axis < kAxes; ++axis) parameters.set_numbered(5061 + axis, end[axis]);

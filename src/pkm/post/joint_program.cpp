@@ -17,6 +17,14 @@ namespace pkm::post {
 
 namespace {
 
+// A joint program moves the joints to computed targets: it cannot stop on contact along the job's
+// straight line, and what a job does after a probe depends on where it touched (docs/post.md).
+constexpr const char* kProbeRefusal =
+    "a probing move (G38.2-G38.5) cannot go into a joint program: the controller would drive the "
+    "joints to the probe's end without stopping on contact along the job's line, and the rest of "
+    "the job depends on where it touched; run the job on a controller that has the machine's "
+    "kinematics (pkm export linuxcnc), or take the probing out of the job";
+
 using motion::Segment;
 using motion::SegmentKind;
 
@@ -90,7 +98,7 @@ class Poster : private CoveringHost {
       if (segment.length() <= 0.0) continue;
       ++report_.moves;
       refuse_past_block_bound(segment);
-      move(segment, canon.kind != gcode::CanonKind::probe);  // a probe stops where it touches
+      move(segment, true);
     }
   }
 
@@ -529,9 +537,10 @@ PostReport post_program(const Machine& machine, const std::filesystem::path& pro
   check_axis_letters(machine, options.dialect);
   Poster poster(machine, options, write_line, program.string());
   // The program starts where the machine is: axes it never names stay at home.
-  gcode::Interpreter interpreter(
-      program,
-      motion::starting_at(interpreter_options, machine.home().as_vector(), options.origin));
+  gcode::InterpreterOptions job_options =
+      motion::starting_at(interpreter_options, machine.home().as_vector(), options.origin);
+  job_options.probe_refusal = kProbeRefusal;
+  gcode::Interpreter interpreter(program, job_options);
   gcode::LineProgress progress(options.on_line);
   interpreter.run([&](const gcode::Canon& canon) {
     progress.see(canon.line);

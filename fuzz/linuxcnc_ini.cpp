@@ -1,0 +1,85 @@
+// libFuzzer target: bytes as a LinuxCNC configuration, imported as `pkm import linuxcnc` imports
+// one. The input is the INI, optionally followed by more files, each after a line
+// `#FILE name` (a HAL file, an #INCLUDE, a Tcl file): all are written into this process's own
+// directory, which is also the hallib. Every '/' becomes '_' before writing, so an #INCLUDE, a
+// HALFILE or LIB: can name only these files (or the directory itself, which is no regular
+// file): the target reads nothing it did not write. Oracles: no sanitizer report, no exception
+// but ConfigError naming one of the input's files, and an imported machine's text has no non-finite
+// number.
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "fuzz_support.hpp"
+#include "pkm/linuxcnc/config_import.hpp"
+#include "pkm/linuxcnc/ini_file.hpp"
+
+namespace {
+
+constexpr std::string_view kFileMarker = "\n#FILE ";
+
+bool plain_file_name(std::string_view name) {
+  return !name.empty() && name != "." && name != ".." && name.size() <= 64 &&
+         std::all_of(name.begin(), name.end(), [](char c) {
+           return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-';
+         });
+}
+
+// (name, text) of every file of the input; the first is the INI.
+std::vector<std::pair<std::string, std::string>> split_files(std::string text) {
+  std::replace(text.begin(), text.end(), '/', '_');
+  std::vector<std::pair<std::string, std::string>> files;
+  std::string name = "fuzz.ini";
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t marker = text.find(kFileMarker, start);
+    files.emplace_back(name, text.substr(start, marker == std::string::npos ? std::string::npos
+                                                                            : marker + 1 - start));
+    if (marker == std::string::npos) break;
+    const std::size_t name_start = marker + kFileMarker.size();
+    const std::size_t line_end = std::min(text.find('\n', name_start), text.size());
+    name = text.substr(name_start, line_end - name_start);
+    start = std::min(line_end + 1, text.size());
+  }
+  files.erase(std::remove_if(files.begin() + 1, files.end(),
+                             [](const auto& file) {
+                               return !plain_file_name(file.first) || file.first == "fuzz.ini";
+                             }),
+              files.end());
+  return files;
+}
+
+// This input's configuration directory, emptied of the previous input's files.
+std::filesystem::path fresh_directory() {
+  const std::filesystem::path directory = pkm::fuzz::input_directory() / "config";
+  std::filesystem::remove_all(directory);
+  std::filesystem::create_directories(directory);
+  return directory;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::filesystem::path directory = fresh_directory();
+  for (const auto& [name, text] :
+       split_files(std::string(reinterpret_cast<const char*>(data), size))) {
+    std::ofstream(directory / name, std::ios::binary) << text;
+  }
+  try {
+    const pkm::linuxcnc::ImportedConfig config =
+        pkm::linuxcnc::read_linuxcnc_config(directory / "fuzz.ini", {directory});
+    pkm::fuzz::require_no_non_finite_text(pkm::linuxcnc::machine_file_text(config, "fuzz.toml"));
+  } catch (const pkm::linuxcnc::ConfigError& error) {
+    // A located error (in one of the input's files) is an expected end.
+    if (std::string_view(error.what()).rfind(directory.string(), 0) != 0) {
+      pkm::fuzz::oracle_failed(std::string("an error not in the input's files: ") + error.what());
+    }
+  }
+  return 0;
+}
