@@ -85,24 +85,24 @@ TEST(Estimate, CountsTheSamplesAndTheDurationOfThePlanExactly) {
   }
 }
 
-// Hektor with its left cable slowed to 20 mm/s (from 60).
-Machine hektor_with_a_slow_left_cable() {
+// The estimate of one F6000 move on Hektor with its left cable slowed to 20 mm/s (from 60).
+PlanReport slow_left_cable_estimate() {
   std::ifstream in(test::example_machine_path("hektor.toml"));
   std::string text((std::istreambuf_iterator<char>(in)), {});
   const std::string key = "max_velocity = 60.0";
   text.replace(text.find(key), key.size(), "max_velocity = 20.0");
-  return parse_machine(text, "slow-left-hektor.toml");
+  const Machine hektor = parse_machine(text, "slow-left-hektor.toml");
+  Discard none;
+  PlanOptions options;
+  options.estimate_only = true;
+  return plan_text(hektor, "G21 G90\nG1 F6000 X80 Y-50\nM2\n", none, options);
 }
 
 TEST(Estimate, TheFeedLimitReportsTheProgrammedFeed) {
   // F6000 (100 mm/s) on Hektor, whose max_feed is F2400 (40 mm/s) and whose left cable is slowed
   // here to 20 mm/s: "programmed" is what the program asked for, not what the machine's
   // max_feed left of it.
-  const Machine hektor = hektor_with_a_slow_left_cable();
-  Discard none;
-  PlanOptions options;
-  options.estimate_only = true;
-  const PlanReport report = plan_text(hektor, "G21 G90\nG1 F6000 X80 Y-50\nM2\n", none, options);
+  const PlanReport report = slow_left_cable_estimate();
   ASSERT_EQ(report.feed_limits.size(), 1u);
   EXPECT_EQ(report.feed_limits[0].line, 2);
   EXPECT_EQ(report.feed_limits[0].joint, 0);
@@ -113,11 +113,7 @@ TEST(Estimate, TheFeedLimitReportsTheProgrammedFeed) {
 TEST(Estimate, AFeedLimitSaysWhichJointLimitBoundAndItsNumbers) {
   // The same move: the left cable's velocity bound it. At the programmed feed (capped at max_feed,
   // 40 mm/s) the joint would need 40/allowed times what it may use (99 % of its 20 mm/s).
-  const Machine hektor = hektor_with_a_slow_left_cable();
-  Discard none;
-  PlanOptions options;
-  options.estimate_only = true;
-  const PlanReport report = plan_text(hektor, "G21 G90\nG1 F6000 X80 Y-50\nM2\n", none, options);
+  const PlanReport report = slow_left_cable_estimate();
   ASSERT_EQ(report.feed_limits.size(), 1u);
   const FeedLimit& limit = report.feed_limits[0];
   EXPECT_EQ(limit.bound, JointBound::velocity);

@@ -235,14 +235,21 @@ TEST(TriaglideForward, AFailedRowOfAPathFailsAlone) {
 
 // The sign of det(d joints / d pose) over the controlled coordinates: which side of the
 // singularities a pose is on.
-double determinant_sign(const Machine& machine, const Pose& pose) {
+// d joints / d pose over the controlled coordinates only; empty where there is no Jacobian.
+Eigen::MatrixXd controlled_jacobian(const Machine& machine, const Pose& pose) {
   JointJacobian jacobian;
-  if (!machine.kinematics().jacobian(pose, jacobian).ok()) return 0.0;
+  if (!machine.kinematics().jacobian(pose, jacobian).ok()) return {};
   const Dof dof = machine.kinematics().dof();
   Eigen::MatrixXd reduced(jacobian.rows(), dof.count());
   for (int axis = 0, k = 0; axis < kPoseSize; ++axis) {
     if (dof.controls(axis)) reduced.col(k++) = jacobian.col(axis);
   }
+  return reduced;
+}
+
+double determinant_sign(const Machine& machine, const Pose& pose) {
+  const Eigen::MatrixXd reduced = controlled_jacobian(machine, pose);
+  if (reduced.size() == 0) return 0.0;
   return reduced.rows() == reduced.cols() ? std::copysign(1.0, reduced.determinant()) : 0.0;
 }
 
@@ -255,13 +262,8 @@ std::string text(const Pose& pose) {
 // The smallest singular value of d joints / d pose over the controlled coordinates (mm per mm,
 // rad per rad): how much the joints move per unit of the least visible pose motion.
 double smallest_singular_value(const Machine& machine, const Pose& pose) {
-  JointJacobian jacobian;
-  if (!machine.kinematics().jacobian(pose, jacobian).ok()) return 0.0;
-  const Dof dof = machine.kinematics().dof();
-  Eigen::MatrixXd reduced(jacobian.rows(), dof.count());
-  for (int axis = 0, k = 0; axis < kPoseSize; ++axis) {
-    if (dof.controls(axis)) reduced.col(k++) = jacobian.col(axis);
-  }
+  Eigen::MatrixXd reduced = controlled_jacobian(machine, pose);
+  if (reduced.size() == 0) return 0.0;
   // A rotary joint's rad on a 100 mm lever (test::dexterity's scale; a delta's arm is 100-300).
   for (int joint = 0; joint < machine.kinematics().joint_count(); ++joint) {
     if (machine.kinematics().joint_kind(joint) == JointKind::rotary) reduced.row(joint) *= 100.0;
