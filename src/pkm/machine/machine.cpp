@@ -45,6 +45,7 @@ Machine::Machine(const Machine& other)
       home_(other.home_),
       tool_(other.tool_),
       homing_(other.homing_),
+      controller_(other.controller_),
       home_assembly_mode_(other.home_assembly_mode_),
       checks_envelope_(other.checks_envelope_) {}
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "pkm/kinematics/kinematics.hpp"
+#include "pkm/machine/controller.hpp"
 #include "pkm/machine/homing.hpp"
 #include "pkm/machine/machine_file_error.hpp"
 
@@ -32,6 +33,9 @@ struct JointSpec {
   double max_acceleration = 0.0;
   char axis_letter = 'X';                 // letter of this joint in joint-space G-code
   std::optional<HomeSwitch> home_switch;  // where its switch trips, if it has one
+  // Motor steps per mm (linear) or per deg (rotary) on a controller without kinematics (grbl's
+  // $100..$102); none where the machine file does not say.
+  std::optional<double> steps_per_unit;
 
   // Joint values cross the interfaces (files, joint-space G-code, command line) in mm or deg.
   double to_interface(double internal_value) const {
@@ -105,6 +109,11 @@ class Machine {
   // The [homing] table, if the file has one (homing.hpp).
   const std::optional<HomingTable>& homing() const { return homing_; }
   void set_homing(std::optional<HomingTable> homing) { homing_ = std::move(homing); }
+  // The [controller] table, if the file has one (controller.hpp).
+  const std::optional<ControllerSettings>& controller() const { return controller_; }
+  void set_controller(std::optional<ControllerSettings> controller) {
+    controller_ = std::move(controller);
+  }
 
   // The work envelope, IK (finite joints only), the assembly mode of home, then the joint limits.
   Status inverse(const Pose& pose, JointVector& joints) const;
@@ -171,6 +180,7 @@ class Machine {
   Pose home_;
   ToolChannel tool_;
   std::optional<HomingTable> homing_;
+  std::optional<ControllerSettings> controller_;
   int home_assembly_mode_ = 0;
   bool checks_envelope_ = false;  // cartesian_.has_envelope(), asked once, not per sample
 };

@@ -12,6 +12,7 @@ Machine with_kinematics_parameters(const Machine& machine, std::span<const doubl
               machine.joints(), machine.cartesian(), machine.home());
   out.set_tool(machine.tool());
   out.set_homing(machine.homing());
+  out.set_controller(machine.controller());
   return out;
 }
 
