@@ -43,7 +43,7 @@
   // ---- summary, marks, warnings ----
   function fillSummary() {
     var kinds = {plan: 'plan', post: 'joint program (pkm post)', verify: 'verification',
-                 workspace: 'workspace'};
+                 view: 'joint program (pkm view)', workspace: 'workspace'};
     document.getElementById('subtitle').textContent =
         (kinds[data.kind] || data.kind) + ' on ' + data.machine;
     var body = document.querySelector('#summary tbody');

@@ -110,6 +110,7 @@ void register_gcode_commands(CLI::App& app);
 void register_plan_commands(CLI::App& app);
 void register_post_commands(CLI::App& app);
 void register_verify_commands(CLI::App& app);
+void register_view_commands(CLI::App& app);
 // Adds `linuxcnc` to the `export` command (register_post_commands first).
 void register_linuxcnc_commands(CLI::App& app);
 void register_linuxcnc_import_commands(CLI::App& app);

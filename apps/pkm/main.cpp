@@ -93,6 +93,7 @@ int main(int argc, char** argv) {
   pkm::app::register_plan_commands(app);
   pkm::app::register_post_commands(app);
   pkm::app::register_verify_commands(app);
+  pkm::app::register_view_commands(app);
   pkm::app::register_calibrate_commands(app);
   pkm::app::register_linuxcnc_commands(app);
   pkm::app::register_linuxcnc_import_commands(app);

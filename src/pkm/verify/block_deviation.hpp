@@ -20,6 +20,7 @@ struct BlockDeviation {
 
 class BlockMeasure {
  public:
+  static constexpr int kGrid = 16;  // intervals of the uniform grid
   explicit BlockMeasure(const Machine& machine);
 
   // Forward kinematics on a uniform grid along the block from q0 to q1 (FK seeded with `seed`, the
@@ -28,6 +29,8 @@ class BlockMeasure {
   double grid_length_mm() const;  // the tool path's length as the grid sees it
   const Eigen::Vector3d& end_point() const { return samples_[kGrid].point; }
   const Pose& end_pose() const { return samples_[kGrid].pose; }
+  // The grid's poses, k = 0..kGrid, after sample_grid (before measure refines between them).
+  const Pose& grid_pose(int k) const { return samples_[static_cast<std::size_t>(k)].pose; }
 
   // The largest distance of the block from `stretch`, refined where the samples leave room for a
   // larger one; where refinement stops short (a budget per block, or a block already a hundred
@@ -35,7 +38,6 @@ class BlockMeasure {
   bool measure(const std::vector<PieceRange>& stretch, double tolerance_mm, BlockDeviation& result);
 
  private:
-  static constexpr int kGrid = 16;  // intervals of the uniform grid
   struct Sample {
     double lambda = 0.0;
     Pose pose;

@@ -12,12 +12,12 @@
 #include "pkm/gcode/machine_commands.hpp"
 #include "pkm/verify/block_deviation.hpp"
 #include "pkm/verify/job_cursor.hpp"
+#include "pkm/verify/joint_words.hpp"
 
 namespace pkm::verify {
 
 namespace {
 
-constexpr std::string_view kLetters = "XYZABCUVW";
 constexpr int kHeaderLines = 10;  // where tolerance_in_header looks
 
 std::string fixed_mm(double value) {
@@ -84,11 +84,9 @@ class Verifier {
         options_(options),
         path_(machine, job, options.job_options, options.origin),
         cursor_(path_),
-        measure_(machine) {
+        measure_(machine),
+        words_(machine) {
     if (!path_.piece(0)) throw VerifyError(job.string() + ": the job has no moves to compare with");
-    for (const JointSpec& joint : machine.joints()) {
-      letter_index_.push_back(static_cast<int>(kLetters.find(joint.axis_letter)));
-    }
     if (!machine.inverse(machine.home(), previous_).ok()) throw VerifyError("home is not usable");
     pose_ = machine.home();
     report_.tolerance_mm = options.tolerance_mm;
@@ -97,15 +95,7 @@ class Verifier {
   // The joint program starts where the machine is: at home. The job's loop bounds hold for it
   // too: a joint program's repeat count can ask for as much work as the job's.
   gcode::InterpreterOptions joint_program_options() const {
-    gcode::InterpreterOptions options;
-    options.max_loop_iterations = options_.job_options.max_loop_iterations;
-    options.max_program_iterations = options_.job_options.max_program_iterations;
-    for (std::size_t i = 0; i < letter_index_.size(); ++i) {
-      options.start_position[letter_index_[i]] =
-          machine_.joints()[i].to_interface(previous_[int(i)]);
-    }
-    if (tool_.z == ToolZ::pen) options.event_lines = {tool_.down_command, tool_.up_command};
-    return options;
+    return words_.program_options(previous_, options_.job_options);
   }
 
   void on_canon(const gcode::Canon& canon) {
@@ -155,17 +145,6 @@ class Verifier {
     throw VerifyError(file_ + ":" + std::to_string(line) + ": " + message);
   }
 
-  JointVector read_joints(const gcode::Canon& canon) const {
-    const double scale = canon.units == gcode::LengthUnits::inch ? 25.4 : 1.0;
-    JointVector q(static_cast<int>(letter_index_.size()));
-    for (std::size_t i = 0; i < letter_index_.size(); ++i) {
-      const JointSpec& joint = machine_.joints()[i];
-      const double value = canon.end[static_cast<std::size_t>(letter_index_[i])];
-      q[int(i)] = joint.kind == JointKind::rotary ? degrees_to_radians(value) : value * scale;
-    }
-    return q;
-  }
-
   void check_positions(int line, const JointVector& q) {
     for (int i = 0; i < q.size(); ++i) {
       const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
@@ -182,11 +161,12 @@ class Verifier {
   // not). Joint values as written: mm for linear joints, deg for rotary ones.
   double units_per_minute_duration_s(const gcode::Canon& canon, const JointVector& q) const {
     double squares[3] = {0.0, 0.0, 0.0};  // X Y Z, A B C, U V W
-    for (std::size_t i = 0; i < letter_index_.size(); ++i) {
-      if (letter_index_[i] < 0) continue;
+    for (std::size_t i = 0; i < machine_.joints().size(); ++i) {
+      const int index = words_.position_index(i);
+      if (index < 0) continue;
       const JointSpec& joint = machine_.joints()[i];
       const double step = joint.to_interface(q[int(i)]) - joint.to_interface(previous_[int(i)]);
-      squares[letter_index_[i] / 3] += step * step;
+      squares[index / 3] += step * step;
     }
     const double scale = canon.units == gcode::LengthUnits::inch ? 25.4 : 1.0;
     const double per_minute = units_per_minute(canon);
@@ -224,7 +204,7 @@ class Verifier {
   }
 
   void on_block(const gcode::Canon& canon) {
-    const JointVector q = read_joints(canon);
+    const JointVector q = words_.read(canon);
     check_positions(canon.line, q);
     check_speeds(canon, q);
     if (!measure_.sample_grid(previous_, q, pose_)) {
@@ -304,10 +284,10 @@ class Verifier {
   const ToolChannel& tool_;
   std::string file_;
   const VerifyOptions& options_;
-  std::vector<int> letter_index_;
   JobPath path_;
   JobCursor cursor_;
   BlockMeasure measure_;
+  JointWords words_;
   std::vector<PieceRange> stretch_;
   JointVector previous_;
   Pose pose_;

@@ -194,32 +194,6 @@ std::string verdict(const json& report) {
   return "Failed. " + why;
 }
 
-// The joint that comes nearest an end of its travel (as a fraction of the travel): the charts
-// open on it, as plan's open on the joint nearest its speed or acceleration limit.
-int joint_nearest_its_travel(const BlockRecorder& recorder) {
-  const std::vector<JointSpec>& joints = recorder.machine().joints();
-  int nearest = 0;
-  double least = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < joints.size(); ++i) {
-    const double travel = joints[i].max - joints[i].min;
-    if (!(travel > 0.0) || !std::isfinite(travel)) continue;
-    const int channel = static_cast<int>(i);
-    for (double low : recorder.buckets().min(channel)) {
-      if (std::isfinite(low) && (low - joints[i].min) / travel < least) {
-        least = (low - joints[i].min) / travel;
-        nearest = channel;
-      }
-    }
-    for (double high : recorder.buckets().max(channel)) {
-      if (std::isfinite(high) && (joints[i].max - high) / travel < least) {
-        least = (joints[i].max - high) / travel;
-        nearest = channel;
-      }
-    }
-  }
-  return nearest;
-}
-
 double largest_deviation(const BlockRecorder& recorder) {
   const std::size_t channel = recorder.machine().joints().size();
   double largest = 0.0;
@@ -238,7 +212,7 @@ std::string blocks_page(const std::string& kind, const json& report, const Block
   json data = base_data(kind, machine, report, title);
   data["summary"] = kind == "verify" ? verify_summary(report, machine)
                                      : post_summary(report, recorder, largest_deviation(recorder));
-  data["worst_joint_index"] = joint_nearest_its_travel(recorder);
+  data["worst_joint_index"] = joint_nearest_its_travel(machine, recorder.buckets());
   data["drawing"] = drawing_json(machine, recorder.moments().moments());
   data["path"] = path_json(recorder.path().points());
   data["block_ends"] = true;

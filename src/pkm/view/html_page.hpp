@@ -25,6 +25,10 @@ std::string blocks_page(const std::string& kind, const nlohmann::json& report,
                         const BlockRecorder& recorder, double tolerance_mm,
                         const std::vector<PathPoint>& outline, const std::string& title);
 
+// The page of `pkm view`: `report` is view_report_json of the trace `recorder` saw.
+std::string view_page(const nlohmann::json& report, const TraceRecorder& recorder,
+                      const std::string& title);
+
 // The report of `pkm post` as JSON: the numbers its summary line prints.
 nlohmann::json post_report_json(const Machine& machine, const std::string& program,
                                 const std::string& output, const post::PostReport& report,

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iterator>
+#include <limits>
 #include <string_view>
 
 #include "pkm/view/machine_drawing.hpp"
@@ -180,6 +181,30 @@ json base_data(const std::string& kind, const Machine& machine, const json& repo
           {"planar", drawn_planar(machine)},
           {"joints", joints_json(machine)},
           {"report", report}};
+}
+
+int joint_nearest_its_travel(const Machine& machine, const MinMaxBuckets& buckets) {
+  const std::vector<JointSpec>& joints = machine.joints();
+  int nearest = 0;
+  double least = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const double travel = joints[i].max - joints[i].min;
+    if (!(travel > 0.0) || !std::isfinite(travel)) continue;
+    const int channel = static_cast<int>(i);
+    for (double low : buckets.min(channel)) {
+      if (std::isfinite(low) && (low - joints[i].min) / travel < least) {
+        least = (low - joints[i].min) / travel;
+        nearest = channel;
+      }
+    }
+    for (double high : buckets.max(channel)) {
+      if (std::isfinite(high) && (joints[i].max - high) / travel < least) {
+        least = (joints[i].max - high) / travel;
+        nearest = channel;
+      }
+    }
+  }
+  return nearest;
 }
 
 }  // namespace pkm::view

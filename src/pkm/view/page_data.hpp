@@ -43,6 +43,11 @@ nlohmann::json row(const std::string& key, const std::string& label, const nlohm
                    const std::string& unit);
 double number_or(const nlohmann::json& value, double fallback);
 
+// The joint that comes nearest an end of its travel (as a fraction of the travel), its position
+// being channel i of `buckets`: the charts of post, verify and view open on it, as plan's open on
+// the joint nearest its speed or acceleration limit.
+int joint_nearest_its_travel(const Machine& machine, const MinMaxBuckets& buckets);
+
 // kind, title, machine name, planar, joints and the report verbatim.
 nlohmann::json base_data(const std::string& kind, const Machine& machine,
                          const nlohmann::json& report, const std::string& title);

@@ -135,6 +135,41 @@ void BlockRecorder::finish() {
   moments_.finish();
 }
 
+TraceRecorder::TraceRecorder(const Machine& machine)
+    : machine_(machine),
+      buckets_(static_cast<int>(machine.joints().size()), kChartBuckets),
+      path_(initial_spacing_mm(machine), kMaxPathPoints),
+      moments_(kDrawnMoments),
+      values_(machine.joints().size()) {}
+
+// The largest distance of a joint from the middle of its travel, as a share of half the travel.
+double TraceRecorder::travel_used_percent(const JointVector& joints) const {
+  double used = 0.0;
+  for (std::size_t i = 0; i < machine_.joints().size(); ++i) {
+    const JointSpec& joint = machine_.joints()[i];
+    const double half = 0.5 * (joint.max - joint.min);
+    if (!(half > 0.0) || !std::isfinite(half)) continue;
+    const double q = joints[static_cast<int>(i)];
+    used = std::max(used, 100.0 * std::abs(q - 0.5 * (joint.max + joint.min)) / half);
+  }
+  return used;
+}
+
+void TraceRecorder::add(const verify::TracePoint& point) {
+  const Eigen::Vector3d& position = point.pose.position_mm;
+  path_.add(point.along_mm, position, travel_used_percent(point.joints), point.line, point.drawn);
+  moments_.add(point.along_mm, point.pose, point.joints);
+  if (!point.block_end) return;
+  for (std::size_t i = 0; i < values_.size(); ++i) values_[i] = point.joints[static_cast<int>(i)];
+  buckets_.add(point.along_mm, values_);
+  line_starts_.try_emplace(point.line, LineStart{point.along_mm, position});
+}
+
+void TraceRecorder::finish() {
+  path_.finish();
+  moments_.finish();
+}
+
 std::vector<PathPoint> job_outline(const Machine& machine, const std::filesystem::path& job,
                                    const gcode::InterpreterOptions& options,
                                    const Vector6d& origin) {

@@ -10,6 +10,7 @@
 #include "pkm/motion/joint_rates.hpp"
 #include "pkm/motion/planner.hpp"
 #include "pkm/verify/joint_path.hpp"
+#include "pkm/verify/joint_trace.hpp"
 #include "pkm/view/decimation.hpp"
 
 namespace pkm::view {
@@ -103,6 +104,32 @@ class BlockRecorder {
   Eigen::Vector3d last_position_;
   double length_mm_ = 0.0;
   long blocks_ = 0;
+};
+
+// Records what pkm view traces of a joint program alone: the path with its pen (drawn or not),
+// coloured by how much of a joint's travel the tool uses there (100 % at an end of it, more
+// beyond), and each joint's position at the block ends. The abscissa is the tool path's length
+// from home (mm). Channels: joint i's position (i).
+class TraceRecorder {
+ public:
+  explicit TraceRecorder(const Machine& machine);
+  void add(const verify::TracePoint& point);
+  void finish();
+
+  const Machine& machine() const { return machine_; }
+  const MinMaxBuckets& buckets() const { return buckets_; }
+  const PathThinner& path() const { return path_; }  // colour: % of a joint's half travel
+  const MomentSampler& moments() const { return moments_; }
+  const std::map<int, LineStart>& line_starts() const { return line_starts_; }
+
+ private:
+  double travel_used_percent(const JointVector& joints) const;
+  const Machine& machine_;
+  MinMaxBuckets buckets_;
+  PathThinner path_;
+  MomentSampler moments_;
+  std::map<int, LineStart> line_starts_;
+  std::vector<double> values_;
 };
 
 // The job a joint program must trace, as verify reads it (JobPath: from home, at `origin`, mm and

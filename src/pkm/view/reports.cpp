@@ -1,6 +1,7 @@
 #include "pkm/view/reports.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace pkm::view {
 
@@ -237,6 +238,51 @@ nlohmann::json verify_report_json(const Machine& machine, const std::string& joi
           {"pen_downs", {{"joint_program", report.pen_downs}, {"job", report.job_pen_downs}}},
           {"commands_mismatch", report.commands_mismatch},
           {"passed", report.passed()}};
+}
+
+namespace {
+
+// A joint's range used from home on against its travel, in its interface unit (mm or deg), with
+// the margin left at each end (negative: beyond it).
+nlohmann::json joint_range_json(const JointSpec& joint, const verify::JointRange& range) {
+  return {{"name", joint.name},
+          {"unit", joint.kind == JointKind::rotary ? "deg" : "mm"},
+          {"min", joint.to_interface(joint.min)},
+          {"max", joint.to_interface(joint.max)},
+          {"low", joint.to_interface(range.low)},
+          {"low_line", range.low_line},
+          {"high", joint.to_interface(range.high)},
+          {"high_line", range.high_line},
+          {"margin_low", joint.to_interface(range.low) - joint.to_interface(joint.min)},
+          {"margin_high", joint.to_interface(joint.max) - joint.to_interface(range.high)}};
+}
+
+nlohmann::json extent_json(double low, double high) {
+  if (!std::isfinite(low) || !std::isfinite(high)) return nullptr;
+  return nlohmann::json::array({low, high});
+}
+
+}  // namespace
+
+nlohmann::json view_report_json(const Machine& machine, const std::string& joint_program,
+                                const verify::TraceReport& report) {
+  nlohmann::json joints = nlohmann::json::array();
+  for (std::size_t i = 0; i < report.joints.size(); ++i) {
+    joints.push_back(joint_range_json(machine.joints()[i], report.joints[i]));
+  }
+  return {{"machine", machine.name()},
+          {"joint_program", joint_program},
+          {"blocks", report.blocks},
+          {"pen_channel", report.has_pen},
+          {"pen_downs", report.pen_downs},
+          {"drawn_mm", report.drawn_mm},
+          {"travel_mm", report.travel_mm},
+          {"rapid_mm", report.rapid_mm},
+          {"drawn_extent_mm",
+           {{"x", extent_json(report.drawn_min.x(), report.drawn_max.x())},
+            {"y", extent_json(report.drawn_min.y(), report.drawn_max.y())}}},
+          {"joints", joints},
+          {"violations", {{"position", to_json(machine, report.position, "")}}}};
 }
 
 }  // namespace pkm::view

@@ -9,6 +9,7 @@
 #include "pkm/machine/machine.hpp"
 #include "pkm/motion/planner.hpp"
 #include "pkm/verify/joint_path.hpp"
+#include "pkm/verify/joint_trace.hpp"
 
 namespace pkm::view {
 
@@ -31,6 +32,11 @@ std::string feed_limit_text(const Machine& machine, const motion::FeedLimit& lim
 // The report of a verification of the joint program `joint_program` against the job `job`.
 nlohmann::json verify_report_json(const Machine& machine, const std::string& joint_program,
                                   const std::string& job, const verify::VerifyReport& report);
+
+// The report of `pkm view` of the joint program `joint_program` (docs/html-views.md, "A joint
+// program alone"): lengths in mm, each joint's range against its travel in its interface unit.
+nlohmann::json view_report_json(const Machine& machine, const std::string& joint_program,
+                                const verify::TraceReport& report);
 
 // The unit of a finding's value and limit: a joint's own (mm or deg, per s for speeds) followed by
 // `unit`, or `unit` alone where no joint is concerned (deviations and pen stretches, mm).
