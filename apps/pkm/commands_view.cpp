@@ -148,8 +148,10 @@ void run_view(const ViewCommandOptions& options) {
     std::printf("wrote the page %s: open it in a browser\n", options.html.c_str());
   }
   if (report.position.count > 0) {
-    throw CommandError(options.joints + ": " + std::to_string(report.position.count) +
-                       " block ends beyond a joint's travel, the first at line " +
+    const long count = report.position.count;
+    throw CommandError(options.joints + ": " + std::to_string(count) +
+                       (count == 1 ? " block end lies" : " block ends lie") +
+                       " beyond a joint's travel, the first at line " +
                        std::to_string(report.position.first.front().line) +
                        " (above): the machine cannot run it");
   }
