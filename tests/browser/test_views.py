@@ -73,6 +73,17 @@ def pages(pkm, source, out, workspace_page):
     plan("plotter", "pen-plotter.toml", os.path.join(out, "plotter-square.ngc"))
     post_and_verify("sphere-hexapod", "hexapod-bit.toml", os.path.join(jobs, "sphere.ngc"), "0.01")
     post_and_verify("hektor", "hektor.toml", os.path.join(data, "hektor-job.ngc"), "0.05")
+    # pkm view of joint programs alone: the pen plotter's square (pen up and down), Hektor's job.
+    for name, machine, program in (
+            ("plotter", "pen-plotter.toml", os.path.join(out, "plotter-square.ngc")),
+            ("hektor", "hektor.toml", None)):
+        joints = os.path.join(out, name + "-joints.ngc")
+        if program:
+            run(pkm, "post", "-m", os.path.join(machines, machine), program, "-o", joints)
+        html, report = os.path.join(out, name + "-view.html"), os.path.join(out, name + "-view.json")
+        run(pkm, "view", "-m", os.path.join(machines, machine), joints, "--report", report,
+            "--html", html)
+        made.append((name + "-view", "view", html, report))
     # The same joint program held against the job moved 30 mm: a failing verification.
     html, report = os.path.join(out, "hektor-failing.html"), os.path.join(out, "hektor-failing.json")
     result = subprocess.run([pkm, "verify", "-m", os.path.join(machines, "hektor.toml"),
@@ -131,6 +142,14 @@ def expected_numbers(kind, report):
                    "cylinder_radius": report["largest_cylinder_mm"]["radius"]}
         for status, cells in report["limited_by"].items():
             numbers["limited_by." + status] = cells
+        return numbers
+    if kind == "view":
+        numbers = {key: report[key] for key in ("blocks", "drawn_mm", "travel_mm", "rapid_mm")}
+        if report["pen_channel"]:
+            numbers["pen_downs"] = report["pen_downs"]
+        for joint in report["joints"]:
+            numbers["margin_" + joint["name"]] = min(joint["margin_low"], joint["margin_high"])
+        numbers["position_violations"] = report["violations"]["position"]["count"]
         return numbers
     if kind == "post":
         numbers = {key: report[key] for key in

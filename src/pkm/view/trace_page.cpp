@@ -40,20 +40,20 @@ json trace_summary(const json& report, const Machine& machine) {
   const bool pen = report["pen_channel"].get<bool>();
   json rows = json::array({row("blocks", "blocks", report["blocks"], "")});
   if (pen) rows.push_back(row("pen_downs", "pen downs", report["pen_downs"], ""));
-  rows.push_back(row("drawn_mm", pen ? "drawn (pen down)" : "drawn (G1 blocks)",
-                     rounded(report["drawn_mm"].get<double>()), "mm"));
-  rows.push_back(row("travel_mm", pen ? "travel with the pen up" : "travel (G0 blocks)",
-                     rounded(report["travel_mm"].get<double>()), "mm"));
   rows.push_back(
-      row("rapid_mm", "of it rapid (G0)", rounded(report["rapid_mm"].get<double>()), "mm"));
+      row("drawn_mm", pen ? "drawn (pen down)" : "drawn (G1 blocks)", report["drawn_mm"], "mm"));
+  rows.push_back(row("travel_mm", pen ? "travel with the pen up" : "travel (G0 blocks)",
+                     report["travel_mm"], "mm"));
+  rows.push_back(row("rapid_mm", "of it rapid (G0)", report["rapid_mm"], "mm"));
   rows.push_back(extent_row(report, "x"));
   rows.push_back(extent_row(report, "y"));
   for (const json& joint : report["joints"]) {
-    const double margin =
-        std::min(joint["margin_low"].get<double>(), joint["margin_high"].get<double>());
+    const json& margin = joint["margin_low"].get<double>() < joint["margin_high"].get<double>()
+                             ? joint["margin_low"]
+                             : joint["margin_high"];
     rows.push_back(row("margin_" + joint["name"].get<std::string>(),
                        "joint " + joint["name"].get<std::string>() + ": least margin to its travel",
-                       rounded(margin), joint["unit"].get<std::string>()));
+                       margin, joint["unit"].get<std::string>()));
   }
   rows.push_back(row("position_violations", "block ends beyond a joint's travel",
                      report["violations"]["position"]["count"], ""));
