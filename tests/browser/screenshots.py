@@ -18,8 +18,27 @@ SHOTS = [("demo", "plan-hexapod", 0.42, False), ("demo", "plan-hexapod-path", 0.
          ("hektor-post", "post-hektor", 0.5, False),
          ("sphere-hexapod-verify", "verify-hexapod", 0.6, True),
          ("plotter", "plan-plotter", 0.5, True), ("hektor-failing", "verify-failing", 0.5, False),
+         ("plotter-view", "view-plotter", 0.5, True),
          ("workspace-hektor", "workspace-hektor", 0.0, False),
          ("workspace-triaglide", "workspace-triaglide", 0.0, False)]
+
+
+def shoot(browser, html, path, fraction, zoom):
+    """The page with its slider at `fraction` of the job (zoomed to the path), cropped to the page."""
+    browser.load(html)
+    browser.script("var s = document.getElementById('slider');"
+                   "s.value = String(Math.round(arguments[0] * 10000));"
+                   "s.dispatchEvent(new Event('input'));", fraction)
+    if zoom:
+        browser.script("document.getElementById('fit').click();")
+    browser.script("return new Promise(function (r) { requestAnimationFrame(function () {"
+                   " requestAnimationFrame(function () { r(); }); }); });")
+    bottom = browser.script(
+        "return Math.ceil(document.querySelector('footer').getBoundingClientRect().bottom)")
+    shot = Image.open(io.BytesIO(browser.driver.get_screenshot_as_png())).convert("RGB")
+    shot = shot.crop((0, 0, shot.width, min(shot.height, bottom)))
+    shot.save(path, optimize=True)
+    print(path, shot.size)
 
 
 def main():
@@ -33,20 +52,7 @@ def main():
     browser = Browser(width=1400, height=1100)
     try:
         for page, image, fraction, zoom in SHOTS:
-            browser.load(made[page])
-            browser.script("var s = document.getElementById('slider');"
-                           "s.value = String(Math.round(arguments[0] * 10000));"
-                           "s.dispatchEvent(new Event('input'));", fraction)
-            if zoom:
-                browser.script("document.getElementById('fit').click();")
-            browser.script("return new Promise(function (r) { requestAnimationFrame(function () {"
-                           " requestAnimationFrame(function () { r(); }); }); });")
-            bottom = browser.script(
-                "return Math.ceil(document.querySelector('footer').getBoundingClientRect().bottom)")
-            shot = Image.open(io.BytesIO(browser.driver.get_screenshot_as_png())).convert("RGB")
-            shot = shot.crop((0, 0, shot.width, min(shot.height, bottom)))
-            shot.save(os.path.join(images, image + ".png"), optimize=True)
-            print(image, shot.size)
+            shoot(browser, made[page], os.path.join(images, image + ".png"), fraction, zoom)
     finally:
         browser.close()
 
