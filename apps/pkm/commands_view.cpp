@@ -83,7 +83,9 @@ void print_report(const Machine& machine, const ViewCommandOptions& options,
                   const verify::TraceReport& report) {
   std::printf("%s on %s: %ld blocks", options.joints.c_str(), machine.name().c_str(),
               report.blocks);
-  if (report.has_pen) std::printf(", pen down %ld times", report.pen_downs);
+  if (report.has_pen) {
+    std::printf(", pen down %ld %s", report.pen_downs, report.pen_downs == 1 ? "time" : "times");
+  }
   std::printf(
       "\n  drawn %s (%s), travel %s (%s), of it rapid (G0) %s\n",
       length_text(machine, report.drawn_mm).c_str(), report.has_pen ? "pen down" : "G1 blocks",

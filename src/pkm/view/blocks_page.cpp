@@ -69,12 +69,6 @@ json post_summary(const json& report, const BlockRecorder& recorder, double meas
        row("drawn_blocks", "blocks drawn", recorder.blocks(), ""), units_row(recorder.machine())});
 }
 
-std::string printed(const char* format, auto... values) {
-  char text[320];
-  std::snprintf(text, sizeof text, format, values...);
-  return text;
-}
-
 // Where a finding lies, in words: "joint-program line 436, job line 12".
 std::string lines_text(int line, int job_line) {
   return job_line > 0 ? printed("joint-program line %d, job line %d", line, job_line)

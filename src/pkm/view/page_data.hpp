@@ -3,6 +3,7 @@
 // and the page itself from web/'s template.
 #pragma once
 
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -10,6 +11,13 @@
 #include "pkm/view/recorders.hpp"
 
 namespace pkm::view {
+
+// printf into a string of at most 319 characters: a page's sentences.
+inline std::string printed(const char* format, auto... values) {
+  char text[320];
+  std::snprintf(text, sizeof text, format, values...);
+  return text;
+}
 
 // Six significant digits (null for NaN or infinity).
 nlohmann::json rounded(double value);

@@ -12,12 +12,6 @@ namespace {
 
 using nlohmann::json;
 
-std::string printed(const char* format, auto... values) {
-  char text[320];
-  std::snprintf(text, sizeof text, format, values...);
-  return text;
-}
-
 json trace_quantities(const Machine& machine, const MinMaxBuckets& buckets) {
   json position = json::array();
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
