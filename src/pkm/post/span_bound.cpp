@@ -99,8 +99,11 @@ double chord_offset_mm(const Span& span, const std::vector<int>& axes, double an
       const PieceMotion piece =
           piece_motion(segment, span.from(k), span.to(k), axes, angle_scale_mm);
       sagitta = std::max(sagitta, piece.acceleration / 8.0);
-      if (smallest_advance(segment, span.from(k), span.to(k), chord / std::sqrt(squared)) < 0.0)
-        return INFINITY;
+      // It goes back along the chord by at most its smallest advance per unit of fraction (when
+      // negative) times its fractions.
+      const double advance =
+          smallest_advance(segment, span.from(k), span.to(k), chord / std::sqrt(squared));
+      if (-advance * (span.to(k) - span.from(k)) > kNoTurnBackMm) return INFINITY;
     }
     if (k + 1 == span.count) break;  // the span's end is the chord's end
     const Eigen::Vector3d vertex = controlled_position(segment.at(span.to(k)), axes) - start;
