@@ -441,6 +441,39 @@ TEST(PostThenVerify, AZigzagWithinTheToleranceIsFollowedBeyondTwiceTheBlocksLeng
   EXPECT_LT(report.blocks, 20);  // it was spanned
 }
 
+TEST(PostThenVerify, AProgramEndingFartherThanTheToleranceFromTheJobsEndIsNotCovered) {
+  // Posted for a job whose last move ends 0.009 mm short of the real job's end and 0.005 mm to
+  // its side, held against the real job at 0.01 mm: every block keeps within the tolerance of
+  // it, and less than the tolerance of it is left beyond the last block, but the job's end is
+  // 0.0103 mm from the tool's. Verify called that covered (0.009 mm left, under 0.01 mm).
+  const Machine hektor = test::load_example("hektor.toml");
+  const std::string start = "G21 G90 G17\nG0 X30 Y-45\nG1 X35 Y-45 F600\n";
+  const test::TempProgram job(start + "G1 X40 Y-45\nM2\n");
+  const test::TempProgram short_job(start + "G1 X39.991 Y-44.995\nM2\n");
+  PostOptions options;
+  options.tolerance_mm = 0.001;
+  std::string program;
+  post_program(hektor, short_job.path(), {}, options,
+               [&](const std::string& line) { program += line + "\n"; });
+  const test::TempProgram joints(program);
+  verify::VerifyOptions verify_options;
+  verify_options.tolerance_mm = 0.01;
+  const verify::VerifyReport report =
+      verify::verify_joint_program(hektor, joints.path(), job.path(), verify_options);
+  EXPECT_EQ(report.deviation.count, 0);
+  EXPECT_LT(report.job_length_mm - report.traced_mm, 0.01);
+  EXPECT_FALSE(report.covered);
+  EXPECT_FALSE(report.passed());
+  // 0.005 mm short and 0.005 mm to the side: 0.0071 mm from the job's end, covered.
+  const test::TempProgram nearer(start + "G1 X39.995 Y-44.995\nM2\n");
+  program.clear();
+  post_program(hektor, nearer.path(), {}, options,
+               [&](const std::string& line) { program += line + "\n"; });
+  const test::TempProgram near_joints(program);
+  EXPECT_TRUE(verify::verify_joint_program(hektor, near_joints.path(), job.path(), verify_options)
+                  .passed());
+}
+
 // A job of one of four kinds about `centre` (mm, XY; Z fixed where `z` is finite): back and forth
 // along X or Y by a fraction of the tolerance to ten tolerances, forward and part of the way
 // back, a jittered line, a random walk.
