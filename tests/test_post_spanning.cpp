@@ -422,6 +422,20 @@ TEST(PostThenVerify, AJobEndingInABackAndForthIsTracedToItsEnd) {
   EXPECT_NEAR(each.traced_mm, each.job_length_mm, 1e-9);
 }
 
+TEST(PostThenVerify, AMachineCommandAfterABackAndForthIsInPlace) {
+  // M0 after a 1 um back and forth at 0.01 mm, each move on its own: the blocks' ends stay
+  // within the tolerance of the back and forth's first pass, and the joint program's M0 came
+  // "at 11.700 mm along the job" against the job's 11.711 mm. It is in place anywhere from the
+  // block's end to the place reached.
+  const Machine glide = test::load_example("triaglide-fanned.toml");
+  std::string job = "G21 G90 G17\nG0 X4.146 Y-5.120 Z200\nG1 X3.670 Y-0.031 F1200\n";
+  for (int k = 0; k < 6; ++k) job += "G1 Y-0.030\nG1 Y-0.031\n";
+  const verify::VerifyReport report =
+      post_and_verify(glide, job + "M0\nG1 X5 Y1\nM2\n", 0.01, false);
+  EXPECT_EQ(report.commands_mismatch, "");
+  EXPECT_TRUE(report.passed());
+}
+
 TEST(PostThenVerify, AZigzagWithinTheToleranceIsFollowedBeyondTwiceTheBlocksLength) {
   // 300 moves forward 1 um each across a line, 0.004 mm either side of it, at 0.01 mm: one
   // block spans the 0.3 mm of them and 2.4 mm of path. Verify looked for the block's end within
