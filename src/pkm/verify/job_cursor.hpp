@@ -1,7 +1,9 @@
 // Where verify is along the job: a place that only moves forward. Each joint block's end is found
 // by walking the job forward from the place the previous block ended, never by a search of the
 // whole job, so a path that comes back over itself (closed contours, pen-up travel back along a
-// drawn line, stacked passes) cannot pull the cursor to the wrong pass.
+// drawn line, stacked passes) cannot pull the cursor to the wrong pass. Beside the cursor it keeps
+// the place reached: how far the job is traced, which runs on beyond the block's end where the job
+// stays within the tolerance of it (a job that turns back on itself there).
 #pragma once
 
 #include <vector>
