@@ -24,6 +24,10 @@ Prints per drawing: moves, today's blocks, blocks with spanning (lines only; lin
 the ratios. The issue asks to build
 spanning only if it saves 1.5x or more.
 
+Its test is the sampled distance both ways, not the order of the path, so its spans may turn
+back on themselves; post's never do (docs/post.md, "No span across a turn back"), which keeps the
+estimate an upper bound.
+
 It was built (docs/post.md, "Spanning moves"), on by default; step 1 asks `pkm post` for one
 covering per move (--no-span-moves). bench/bench_post measures the built covering both ways.
 """

@@ -42,7 +42,9 @@ struct Span {
 // straight chord from the span's start to its end and the programmed path, each point of the
 // path against the chord's point at a matching fraction (a reparametrisation that never goes
 // back): the largest distance of a vertex (the ends of the pieces) from the chord at its
-// projection's fraction, kept from decreasing, plus the largest sagitta bound of an arc piece.
+// projection's fraction, plus the largest sagitta bound of an arc piece. Infinity where the path
+// turns back along the chord (a vertex behind the one before or beyond the chord's end, a curved
+// piece heading back anywhere, a chord of no length): no span is taken across a turn back.
 double chord_offset_mm(const Span& span, const std::vector<int>& axes, double angle_scale_mm);
 
 // An upper bound (mm) on the distance between the tool tip of the joint-linear block with

@@ -52,6 +52,13 @@ double BlockMeasure::grid_length_mm() const {
   return length;
 }
 
+Eigen::AlignedBox3d BlockMeasure::grid_box(double margin_mm) const {
+  Eigen::AlignedBox3d box;
+  for (int k = 0; k <= kGrid; ++k) box.extend(samples_[k].point);
+  const Eigen::Vector3d margin = Eigen::Vector3d::Constant(margin_mm);
+  return {box.min() - margin, box.max() + margin};
+}
+
 void BlockMeasure::measure_sample(std::size_t index) {
   Sample& sample = samples_[index];
   const std::size_t ranges = stretch_->size();

@@ -5,6 +5,8 @@
 
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "pkm/machine/machine.hpp"
 #include "pkm/verify/job_cursor.hpp"
 
@@ -27,6 +29,8 @@ class BlockMeasure {
   // pose at q0). False where forward kinematics fails.
   bool sample_grid(const JointVector& q0, const JointVector& q1, const Pose& seed);
   double grid_length_mm() const;  // the tool path's length as the grid sees it
+  // The box of the grid's points (controlled coordinates), each side moved out by `margin_mm`.
+  Eigen::AlignedBox3d grid_box(double margin_mm) const;
   const Eigen::Vector3d& end_point() const { return samples_[kGrid].point; }
   const Pose& end_pose() const { return samples_[kGrid].pose; }
   // The grid's poses, k = 0..kGrid, after sample_grid (before measure refines between them).

@@ -48,6 +48,9 @@ struct PlacedCommand {
   std::string text;
   int line = 0;
   double along_mm = 0.0;
+  // In a joint program: how far the job is traced there (at or beyond along_mm, where the job
+  // turns back on itself within the tolerance of the block's end: JobCursor::dwell_end).
+  double reached_mm = 0.0;
 };
 
 // Whether verify holds a joint program to carry the command (not the override switches M48-M53,
