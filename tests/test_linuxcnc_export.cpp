@@ -528,6 +528,30 @@ TEST(LinuxcncExport, ForceThroughALinkReplacesTheDirectoryItNames) {
   std::filesystem::remove_all(parent);
 }
 
+// Swapping the directory a shell stands in would leave the shell in the removed one.
+TEST(LinuxcncExport, ForceRefusesTheCurrentDirectory) {
+  const LinuxcncConfig config = changed_small_config();
+  const std::filesystem::path dir = scratch("force-here");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "sub");
+  std::ofstream(dir / "small.ini") << "old";
+  const std::filesystem::path before = std::filesystem::current_path();
+  std::filesystem::current_path(dir / "sub");
+  std::string message;
+  try {
+    write_config_directory("..", config, true);
+  } catch (const std::runtime_error& error) {
+    message = error.what();
+  }
+  std::filesystem::current_path(before);
+  EXPECT_NE(message.find(".. is the current directory (or holds it): --force replaces it as a "
+                         "whole"),
+            std::string::npos)
+      << message;
+  EXPECT_EQ(tree_of(dir).at("small.ini"), "old");
+  std::filesystem::remove_all(dir);
+}
+
 TEST(LinuxcncExport, IniRecordsTheMachineFilesSha256) {
   const LinuxcncConfig config = make_linuxcnc_config(parse_machine(kSmallMatrix, "small.toml"),
                                                      options_for("small.toml", kSmallMatrix, true));

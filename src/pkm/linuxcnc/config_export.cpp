@@ -449,6 +449,10 @@ void carry_file(const std::filesystem::directory_entry& entry, const std::filesy
   if (error) fail("carry over", entry.path(), error);
 }
 
+// A configuration directory holds a few dozen files; more, and `-o` names something else (a home
+// directory) that --force should not rebuild.
+constexpr std::size_t kMaxCarriedFiles = 10000;
+
 // Carries what the old configuration directory `from` holds and the new one `to` does not (the
 // user's files and directories, and the state files kept) into `to`, listing each in `tree`.
 // `relative`: `from` within the old directory ("" at its top).
@@ -478,10 +482,18 @@ void carry_over(const std::filesystem::path& old_root, const std::filesystem::pa
     if (fs::exists(there)) continue;  // replaced by the new configuration's
     if (!entry.is_regular_file(error) && !entry.is_symlink(error))
       refuse_replacing(old_root, name, "is not a regular file, a link or a directory");
+    const auto& state = kept.state;
+    const bool own = std::find(state.begin(), state.end(), name) == state.end();
+    if (own && kept.others.size() == kMaxCarriedFiles) {
+      throw std::runtime_error(
+          "cannot replace the configuration in " + old_root.string() + ": it holds more than " +
+          std::to_string(kMaxCarriedFiles) +
+          " files the export does not write (is it a LinuxCNC configuration?); give another "
+          "directory");
+    }
     carry_file(entry, target);
     tree.add_file(target);
-    const auto& state = kept.state;
-    if (std::find(state.begin(), state.end(), name) == state.end()) kept.others.push_back(name);
+    if (own) kept.others.push_back(name);
   }
 }
 
@@ -493,6 +505,15 @@ KeptFiles replace_config_directory(const std::filesystem::path& directory,
   // Through a link to a configuration directory, the directory it names is replaced.
   const fs::path old_root = fs::canonical(directory, error);
   if (error) fail("resolve", directory, error);
+  const fs::path here = fs::current_path(error);
+  if (!error && std::mismatch(old_root.begin(), old_root.end(), here.begin(), here.end()).first ==
+                    old_root.end()) {
+    throw std::runtime_error(directory.string() +
+                             " is the current directory (or holds it): --force replaces it as a "
+                             "whole, which would leave this shell in the removed one; run it from "
+                             "outside, e.g. from " +
+                             old_root.parent_path().string());
+  }
   TemporaryTree staging(staging_path(old_root));
   fs::permissions(staging.root(), fs::status(old_root).permissions(), error);
   KeptFiles kept;
