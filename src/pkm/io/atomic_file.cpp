@@ -182,14 +182,16 @@ void TemporaryTree::commit_to(const std::filesystem::path& target) {
 
 namespace {
 
-// Blocks every signal that can be blocked while alive (the program's SIGINT/SIGTERM handler would
-// otherwise remove a tree that has just become the output); pending ones arrive on destruction.
+// Holds back the signals that end a program while alive (its SIGINT/SIGTERM handler would
+// otherwise remove a tree that has just become the output, or a signal end it with the output
+// renamed aside); pending ones arrive on destruction.
 class HeldSignals {
  public:
   HeldSignals() {
-    sigset_t all;
-    sigfillset(&all);
-    ::pthread_sigmask(SIG_BLOCK, &all, &previous_);
+    sigset_t ending;
+    sigemptyset(&ending);
+    for (const int number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&ending, number);
+    ::pthread_sigmask(SIG_BLOCK, &ending, &previous_);
   }
   ~HeldSignals() { ::pthread_sigmask(SIG_SETMASK, &previous_, nullptr); }
   HeldSignals(const HeldSignals&) = delete;
