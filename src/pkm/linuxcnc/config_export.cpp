@@ -421,10 +421,6 @@ void write_config_file(const std::filesystem::path& directory, const ConfigFile&
   if (tree) tree->add_file(path);
 }
 
-}  // namespace
-
-namespace {
-
 std::filesystem::path staging_path(const std::filesystem::path& target) {
   return target.parent_path() /
          ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
