@@ -2,6 +2,7 @@
 // oracle that every number handed out is finite.
 #pragma once
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -27,19 +28,32 @@ inline const std::filesystem::path& input_directory() {
   return directory;
 }
 
-// A file of this process holding `bytes`, rewritten for each input.
-inline std::filesystem::path input_file(const std::uint8_t* data, std::size_t size,
-                                        const char* extension) {
-  static const std::filesystem::path path = input_directory() / (std::string("input") + extension);
-  std::ofstream(path, std::ios::binary | std::ios::trunc)
-      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  return path;
-}
-
 // The oracle's failure: libFuzzer keeps the input that reached it.
 [[noreturn]] inline void oracle_failed(const std::string& what) {
   std::fprintf(stderr, "oracle failed: %s\n", what.c_str());
   std::abort();
+}
+
+// `path` holding `bytes`: written over what it held, then cut to their length, never truncated
+// to 0 first. ext4 flushes a file truncated to 0 and written again as it is closed (its
+// auto_da_alloc), and a new file costs a new inode, searched for past those just deleted: a few
+// milliseconds an input, many times what most readers under test take.
+inline void rewrite_file(const std::filesystem::path& path, std::string_view bytes) {
+  const int descriptor = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+  const bool written =
+      descriptor >= 0 &&
+      ::pwrite(descriptor, bytes.data(), bytes.size(), 0) == static_cast<ssize_t>(bytes.size()) &&
+      ::ftruncate(descriptor, static_cast<off_t>(bytes.size())) == 0;
+  if (descriptor >= 0) ::close(descriptor);
+  if (!written) oracle_failed("cannot write the input to " + path.string());
+}
+
+// A file of this process holding `bytes`, rewritten for each input.
+inline std::filesystem::path input_file(const std::uint8_t* data, std::size_t size,
+                                        const char* extension) {
+  static const std::filesystem::path path = input_directory() / (std::string("input") + extension);
+  rewrite_file(path, std::string_view(reinterpret_cast<const char*>(data), size));
+  return path;
 }
 
 inline void require_finite(double value, std::string_view what) {

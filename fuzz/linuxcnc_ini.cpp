@@ -1,16 +1,16 @@
 // libFuzzer target: bytes as a LinuxCNC configuration, imported as `pkm import linuxcnc` imports
 // one. The input is the INI, optionally followed by more files, each after a line
 // `#FILE name` (a HAL file, an #INCLUDE, a Tcl file): all are written into this process's own
-// directory, which is also the hallib. Every '/' becomes '_' before writing, so an #INCLUDE, a
-// HALFILE or LIB: can name only these files (or the directory itself, which is no regular
-// file): the target reads nothing it did not write. Oracles: no sanitizer report, no exception
-// but ConfigError naming one of the input's files, and an imported machine's text has no non-finite
-// number.
+// directory, which is also the hallib, and which holds only the current input's files. Every '/'
+// becomes '_' before writing, so an #INCLUDE, a HALFILE or LIB: can name only these files (or the
+// directory itself, which is no regular file): the target reads nothing it did not write. Oracles:
+// no sanitizer report, no exception but ConfigError naming one of the input's files, and an
+// imported machine's text has no non-finite number.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
+#include <set>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -55,22 +55,51 @@ std::vector<std::pair<std::string, std::string>> split_files(std::string text) {
   return files;
 }
 
-// This input's configuration directory, emptied of the previous input's files.
-std::filesystem::path fresh_directory() {
-  const std::filesystem::path directory = pkm::fuzz::input_directory() / "config";
-  std::filesystem::remove_all(directory);
-  std::filesystem::create_directories(directory);
+// Writes the input's files into this process's configuration directory, which then holds them
+// and nothing else. The directory is made once; a file of the previous input is rewritten in
+// place, one this input lacks is moved to a spare directory beside it (where no input's name
+// reaches: '/' is never in one), and a name new to this input takes a spare file. Removing the
+// directory and making it and its files anew for every input held the target to 178 inputs a
+// second, optimised: ext4 searches for every new inode past the ones just deleted.
+std::filesystem::path write_input_files(
+    const std::vector<std::pair<std::string, std::string>>& files) {
+  static const std::filesystem::path directory = pkm::fuzz::input_directory() / "config";
+  static const std::filesystem::path spares = pkm::fuzz::input_directory() / "spares";
+  static std::set<std::string> previous;
+  static std::vector<std::filesystem::path> spare_files;
+  static long spares_made = 0;
+  static const bool made = [] {
+    for (const auto& made_directory : {directory, spares}) {
+      std::filesystem::remove_all(made_directory);
+      std::filesystem::create_directories(made_directory);
+    }
+    return true;
+  }();
+  (void)made;
+  std::set<std::string> written;
+  for (const auto& [name, text] : files) {
+    const std::filesystem::path path = directory / name;
+    if (previous.count(name) == 0 && written.count(name) == 0 && !spare_files.empty()) {
+      std::filesystem::rename(spare_files.back(), path);
+      spare_files.pop_back();
+    }
+    pkm::fuzz::rewrite_file(path, text);
+    written.insert(name);
+  }
+  for (const std::string& name : previous) {
+    if (written.count(name) != 0) continue;
+    spare_files.push_back(spares / std::to_string(spares_made++));
+    std::filesystem::rename(directory / name, spare_files.back());
+  }
+  previous = std::move(written);
   return directory;
 }
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::filesystem::path directory = fresh_directory();
-  for (const auto& [name, text] :
-       split_files(std::string(reinterpret_cast<const char*>(data), size))) {
-    std::ofstream(directory / name, std::ios::binary) << text;
-  }
+  const std::filesystem::path directory =
+      write_input_files(split_files(std::string(reinterpret_cast<const char*>(data), size)));
   try {
     const pkm::linuxcnc::ImportedConfig config =
         pkm::linuxcnc::read_linuxcnc_config(directory / "fuzz.ini", {directory});

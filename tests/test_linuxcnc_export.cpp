@@ -13,6 +13,8 @@
 #include <stdexcept>
 
 #include "pkm/linuxcnc/config_export.hpp"
+#include "pkm/linuxcnc/kins_adapter.hpp"
+#include "pkm/linuxcnc/machine_fingerprint.hpp"
 #include "pkm/post/deviation_bound.hpp"
 #include "test_support.hpp"
 
@@ -410,6 +412,189 @@ TEST(LinuxcncExport, UnwritablePlaceLeavesNothing) {
   EXPECT_THROW(write_config_directory(parent / "config", broken, false), std::runtime_error);
   EXPECT_TRUE(std::filesystem::is_empty(parent));
   std::filesystem::remove_all(parent);
+}
+
+// Every file under `directory` (names relative to it, '/'-separated) and its bytes.
+std::map<std::string, std::string> tree_of(const std::filesystem::path& directory) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(directory)) {
+    if (entry.is_directory()) continue;
+    std::ifstream in(entry.path(), std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    files[std::filesystem::relative(entry.path(), directory).generic_string()] = text.str();
+  }
+  return files;
+}
+
+// Names in `parent` other than `keep`: what an export left beside its directory.
+std::vector<std::string> beside(const std::filesystem::path& parent, const std::string& keep) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(parent)) {
+    if (entry.path().filename() != keep) names.push_back(entry.path().filename().string());
+  }
+  return names;
+}
+
+// The small matrix with its X joint's speed changed: another configuration of the same name.
+LinuxcncConfig changed_small_config() {
+  std::string text = kSmallMatrix;
+  text.replace(text.find("max_velocity = 100.0"), 20, "max_velocity = 80.0");
+  return make_linuxcnc_config(parse_machine(text, "small.toml"),
+                              options_for("small.toml", text, true));
+}
+
+TEST(LinuxcncExport, ForceReplacesTheConfigurationWholeAndKeepsTheUsersFiles) {
+  const LinuxcncConfig old_config = make_linuxcnc_config(
+      parse_machine(kSmallMatrix, "small.toml"), options_for("small.toml", kSmallMatrix, true));
+  const LinuxcncConfig new_config = changed_small_config();
+  ASSERT_NE(file_named(old_config, "small.ini").text, file_named(new_config, "small.ini").text);
+  const std::filesystem::path parent = scratch("force");
+  const std::filesystem::path dir = parent / "config";
+  std::filesystem::remove_all(parent);
+  std::filesystem::create_directories(parent);
+  write_config_directory(dir, old_config, false);
+  // What LinuxCNC and the user put there since: offsets, a tool, their own HAL file and macros.
+  std::ofstream(dir / "small.var") << "5220\t1.000000\n5221\t12.5\n";
+  std::ofstream(dir / "small.tbl") << "T1 P1 D3 Z-12.7 ;3 mm end mill\n";
+  std::ofstream(dir / "custom.hal") << "net spindle-on motion.spindle-on\n";
+  std::filesystem::create_directories(dir / "macros");
+  std::ofstream(dir / "macros" / "o100.ngc") << "o100 sub\no100 endsub\n";
+  std::map<std::string, std::string> expected;
+  for (const ConfigFile& file : new_config.files) expected[file.name] = file.text;
+  expected["small.var"] = "5220\t1.000000\n5221\t12.5\n";
+  expected["small.tbl"] = "T1 P1 D3 Z-12.7 ;3 mm end mill\n";
+  expected["custom.hal"] = "net spindle-on motion.spindle-on\n";
+  expected["macros/o100.ngc"] = "o100 sub\no100 endsub\n";
+
+  const KeptFiles kept = write_config_directory(dir, new_config, true);
+  EXPECT_EQ(tree_of(dir), expected);
+  EXPECT_EQ(kept.state, (std::vector<std::string>{"small.tbl", "small.var"}));
+  std::vector<std::string> others = kept.others;
+  std::sort(others.begin(), others.end());
+  EXPECT_EQ(others, (std::vector<std::string>{"custom.hal", "macros/o100.ngc"}));
+  EXPECT_EQ(beside(parent, "config"), std::vector<std::string>{});  // no staging, no old copy
+  std::filesystem::remove_all(parent);
+}
+
+TEST(LinuxcncExport, FailedForceLeavesTheOldConfigurationByteForByte) {
+  const LinuxcncConfig old_config = make_linuxcnc_config(
+      parse_machine(kSmallMatrix, "small.toml"), options_for("small.toml", kSmallMatrix, true));
+  const std::filesystem::path parent = scratch("force-fails");
+  const std::filesystem::path dir = parent / "config";
+  std::filesystem::remove_all(parent);
+  std::filesystem::create_directories(parent);
+  write_config_directory(dir, old_config, false);
+  std::ofstream(dir / "custom.hal") << "net spindle-on motion.spindle-on\n";
+  const std::map<std::string, std::string> before = tree_of(dir);
+
+  // A failure after every new file is written (a file where a later one needs a directory):
+  // the files were once replaced one at a time, so the INI here was already the new one.
+  LinuxcncConfig broken = changed_small_config();
+  broken.files.push_back({"small.hal/x.hal", "x"});
+  EXPECT_THROW(write_config_directory(dir, broken, true), std::runtime_error);
+  EXPECT_EQ(tree_of(dir), before);
+  EXPECT_EQ(beside(parent, "config"), std::vector<std::string>{});
+
+  // The user's directory where the configuration writes a file: refused, naming it.
+  std::filesystem::create_directories(dir / "sim.hal.d");
+  LinuxcncConfig clash = changed_small_config();
+  clash.files.push_back({"sim.hal.d", "a file now"});
+  try {
+    write_config_directory(dir, clash, true);
+    FAIL() << "replaced";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("its sim.hal.d is a directory where the configuration writes a file"),
+              std::string::npos)
+        << error.what();
+  }
+  EXPECT_EQ(tree_of(dir), before);
+  EXPECT_TRUE(std::filesystem::is_directory(dir / "sim.hal.d"));
+  EXPECT_EQ(beside(parent, "config"), std::vector<std::string>{});
+  std::filesystem::remove_all(parent);
+}
+
+TEST(LinuxcncExport, ForceThroughALinkReplacesTheDirectoryItNames) {
+  const LinuxcncConfig config = changed_small_config();
+  const std::filesystem::path parent = scratch("force-link");
+  std::filesystem::remove_all(parent);
+  std::filesystem::create_directories(parent / "real");
+  std::ofstream(parent / "real" / "small.ini") << "old";
+  std::filesystem::create_directory_symlink("real", parent / "link");
+  write_config_directory(parent / "link", config, true);
+  EXPECT_TRUE(std::filesystem::is_symlink(parent / "link"));
+  EXPECT_EQ(tree_of(parent / "real").at("small.ini"), file_named(config, "small.ini").text);
+  std::filesystem::remove_all(parent);
+}
+
+// Swapping the directory a shell stands in would leave the shell in the removed one.
+TEST(LinuxcncExport, ForceRefusesTheCurrentDirectory) {
+  const LinuxcncConfig config = changed_small_config();
+  const std::filesystem::path dir = scratch("force-here");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "sub");
+  std::ofstream(dir / "small.ini") << "old";
+  const std::filesystem::path before = std::filesystem::current_path();
+  std::filesystem::current_path(dir / "sub");
+  std::string message;
+  try {
+    write_config_directory("..", config, true);
+  } catch (const std::runtime_error& error) {
+    message = error.what();
+  }
+  std::filesystem::current_path(before);
+  EXPECT_NE(message.find(".. is the current directory (or holds it): --force replaces it as a "
+                         "whole"),
+            std::string::npos)
+      << message;
+  EXPECT_EQ(tree_of(dir).at("small.ini"), "old");
+  std::filesystem::remove_all(dir);
+}
+
+TEST(LinuxcncExport, IniRecordsTheMachineFilesSha256) {
+  const LinuxcncConfig config = make_linuxcnc_config(parse_machine(kSmallMatrix, "small.toml"),
+                                                     options_for("small.toml", kSmallMatrix, true));
+  const std::string kins = section(file_named(config, "small.ini").text, "[KINS]");
+  EXPECT_TRUE(has_line(kins, "PKM_MACHINE_SHA256 = " + sha256_hex(kSmallMatrix))) << kins;
+}
+
+// The fingerprint's round trip: pkmkins (KinsAdapter, as the module loads) accepts the exported
+// machine file beside its INI, and refuses it, at the INI's line, once it has changed.
+TEST(LinuxcncExport, PkmkinsRefusesAMachineFileChangedSinceTheExport) {
+  const LinuxcncConfig config = make_linuxcnc_config(parse_machine(kSmallMatrix, "small.toml"),
+                                                     options_for("small.toml", kSmallMatrix, true));
+  const std::filesystem::path dir = scratch("fingerprint");
+  std::filesystem::remove_all(dir);
+  write_config_directory(dir, config, false);
+  const IniFile ini = IniFile::read(dir / "small.ini");
+  EXPECT_EQ(ini_mismatch(load_kins(dir / "small.toml", std::nullopt), ini), "");
+
+  // A joint limit changed in the copy beside the INI (the INI's limits still say 300 mm).
+  std::string text = kSmallMatrix;
+  text.replace(text.find("max = 300.0"), 11, "max = 250.0");
+  std::ofstream(dir / "small.toml") << text;
+  const KinsAdapter kins = load_kins(dir / "small.toml", std::nullopt);
+  const IniEntry& recorded = *ini.find("KINS", "PKM_MACHINE_SHA256");
+  const std::string file = (dir / "small.toml").string();
+  EXPECT_EQ(ini_mismatch(kins, ini),
+            (dir / "small.ini").string() + ":" + std::to_string(recorded.where.line) +
+                ": machine file " + file +
+                " changed since `pkm export linuxcnc` wrote this configuration (its SHA-256 is "
+                "now " +
+                sha256_hex(text) + "; [KINS] PKM_MACHINE_SHA256 = " + sha256_hex(kSmallMatrix) +
+                " is the file the INI's joint and axis limits were made from): export again, `pkm "
+                "export linuxcnc -m " +
+                file + " -o " + dir.string() + " --sim --force`, or put the exported file back");
+  // A comment is a change too: the check is of the bytes, as `sha256sum` sees them.
+  std::ofstream(dir / "small.toml") << kSmallMatrix << "# checked\n";
+  EXPECT_NE(ini_mismatch(load_kins(dir / "small.toml", std::nullopt), ini), "");
+  std::filesystem::remove_all(dir);
+}
+
+TEST(LinuxcncExport, Sha256IsTheStandardOne) {
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
 }
 
 }  // namespace

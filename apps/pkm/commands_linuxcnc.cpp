@@ -31,6 +31,25 @@ std::string read_text(const std::string& path) {
   }
 }
 
+// What --force kept of the configuration it replaced, said so that nothing kept surprises.
+void print_kept(const linuxcnc::KeptFiles& kept) {
+  const auto joined = [](const std::vector<std::string>& names) {
+    std::string text;
+    for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
+    return text;
+  };
+  if (!kept.state.empty()) {
+    std::printf(
+        "kept from the configuration replaced (LinuxCNC's tool table and parameters, your "
+        "wiring; delete them to have the export's): %s\n",
+        joined(kept.state).c_str());
+  }
+  if (!kept.others.empty()) {
+    std::printf("carried over from the configuration replaced (not written by pkm): %s\n",
+                joined(kept.others).c_str());
+  }
+}
+
 void export_linuxcnc(const ExportLinuxcncOptions& options) {
   const Machine machine = load_machine(options.machine);
   linuxcnc::ExportOptions export_options;
@@ -43,8 +62,9 @@ void export_linuxcnc(const ExportLinuxcncOptions& options) {
   } catch (const std::runtime_error& error) {
     throw CommandError(options.machine + ": " + error.what());
   }
+  linuxcnc::KeptFiles kept;
   try {
-    linuxcnc::write_config_directory(options.directory, config, options.force);
+    kept = linuxcnc::write_config_directory(options.directory, config, options.force);
   } catch (const std::runtime_error& error) {
     throw CommandError(error.what());
   }
@@ -62,6 +82,7 @@ void export_linuxcnc(const ExportLinuxcncOptions& options) {
         100.0 * config.shrink, linuxcnc::kMaxSlopeGrowth);
   }
   for (const std::string& line : config.cost) std::printf("  %s\n", line.c_str());
+  print_kept(kept);
 }
 
 struct MigrateOptionsCli {
@@ -88,9 +109,10 @@ void migrate_linuxcnc(const MigrateOptionsCli& options) {
   migrate_options.machine_joints = static_cast<int>(machine.joints().size());
   migrate_options.machine_units = machine.units() == LengthUnit::inch ? "inch" : "mm";
   linuxcnc::Migration migration;
+  linuxcnc::KeptFiles kept;
   try {
     migration = linuxcnc::migrate_linuxcnc_config(options.config, migrate_options);
-    linuxcnc::write_config_directory(options.directory, migration.files, options.force);
+    kept = linuxcnc::write_config_directory(options.directory, migration.files, options.force);
   } catch (const std::runtime_error& error) {
     throw CommandError(error.what());
   }
@@ -98,6 +120,7 @@ void migrate_linuxcnc(const MigrateOptionsCli& options) {
               options.directory.c_str(), migration.ini_name.c_str(), migration.module.c_str(),
               migrate_options.machine_file_name.c_str(), migration.files.size());
   for (const std::string& edit : migration.edits) std::printf("  %s\n", edit.c_str());
+  print_kept(kept);
   for (const std::string& warning : migration.warnings)
     std::fprintf(stderr, "warning: %s\n", warning.c_str());
 }
@@ -121,8 +144,10 @@ void register_migrate_command(CLI::App& app) {
       ->add_option("--hallib", options->hallib,
                    "LinuxCNC's HAL library, where HALFILE = LIB:name is found")
       ->capture_default_str();
-  command->add_flag("--force", options->force,
-                    "Write into a directory that is not empty (replacing the files it writes)");
+  command->add_flag(
+      "--force", options->force,
+      "Replace the configuration in a directory that is not empty (in one step; files it does "
+      "not write are kept)");
   command->callback([options] { migrate_linuxcnc(*options); });
 }
 
@@ -139,8 +164,10 @@ void register_linuxcnc_commands(CLI::App& app) {
       ->required();
   command->add_flag("--sim", options->sim,
                     "Loop each joint's command to its feedback: runs with no hardware");
-  command->add_flag("--force", options->force,
-                    "Write into a directory that is not empty (replacing the files it writes)");
+  command->add_flag(
+      "--force", options->force,
+      "Replace the configuration in a directory that is not empty (in one step; files it does "
+      "not write are kept)");
   command->callback([options] { export_linuxcnc(*options); });
 }
 

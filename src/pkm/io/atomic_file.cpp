@@ -1,5 +1,7 @@
 #include "pkm/io/atomic_file.hpp"
 
+#include <fcntl.h>
+#include <pthread.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -8,6 +10,7 @@
 #include <atomic>
 #include <cerrno>
 #include <charconv>
+#include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <fstream>
@@ -175,6 +178,71 @@ void TemporaryTree::commit_to(const std::filesystem::path& target) {
   }
   committed_ = true;
   release_slots();
+}
+
+namespace {
+
+// Holds back the signals that end a program while alive (its SIGINT/SIGTERM handler would
+// otherwise remove a tree that has just become the output, or a signal end it with the output
+// renamed aside); pending ones arrive on destruction.
+class HeldSignals {
+ public:
+  HeldSignals() {
+    sigset_t ending;
+    sigemptyset(&ending);
+    for (const int number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&ending, number);
+    ::pthread_sigmask(SIG_BLOCK, &ending, &previous_);
+  }
+  ~HeldSignals() { ::pthread_sigmask(SIG_SETMASK, &previous_, nullptr); }
+  HeldSignals(const HeldSignals&) = delete;
+  HeldSignals& operator=(const HeldSignals&) = delete;
+
+ private:
+  sigset_t previous_{};
+};
+
+// File systems that cannot swap two names (or kernels before 3.15) say so with these.
+bool cannot_exchange(int error) {
+  return error == EINVAL || error == ENOSYS || error == ENOTSUP || error == EOPNOTSUPP;
+}
+
+}  // namespace
+
+void TemporaryTree::replace(const std::filesystem::path& target) {
+  const HeldSignals held;
+  if (::renameat2(AT_FDCWD, root_.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) == 0) {
+    // root_ now names the old directory.
+    std::error_code ignored;
+    std::filesystem::remove_all(root_, ignored);
+  } else if (const int error = errno; cannot_exchange(error)) {
+    replace_by_renames(target);
+  } else {
+    throw std::runtime_error("cannot put the finished " + root_.string() + " in the place of " +
+                             target.string() + ": " + std::strerror(error));
+  }
+  committed_ = true;
+  release_slots();
+}
+
+void TemporaryTree::replace_by_renames(const std::filesystem::path& target) {
+  std::filesystem::path aside = root_;
+  aside += ".old";
+  std::error_code error;
+  std::filesystem::remove_all(aside, error);
+  std::filesystem::rename(target, aside, error);
+  if (error) {
+    throw std::runtime_error("cannot move " + target.string() + " aside to " + aside.string() +
+                             " to replace it: " + error.message());
+  }
+  std::filesystem::rename(root_, target, error);
+  if (error) {
+    std::error_code back;
+    std::filesystem::rename(aside, target, back);
+    throw std::runtime_error("cannot rename the finished " + root_.string() + " to " +
+                             target.string() + ": " + error.message() +
+                             (back ? "; the old one is left at " + aside.string() : ""));
+  }
+  std::filesystem::remove_all(aside, error);
 }
 
 void TemporaryTree::release_slots() {

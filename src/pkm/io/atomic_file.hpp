@@ -73,9 +73,17 @@ class TemporaryTree {
   void add_directory(const std::filesystem::path& path);
   // Renames the tree to `target` (a missing or empty directory); throws on failure.
   void commit_to(const std::filesystem::path& target);
+  // Puts the tree in the place of `target`, an existing directory, and removes the old one: the
+  // two are swapped in one step (renameat2's RENAME_EXCHANGE), so that `target` is at every
+  // instant the whole old directory or the whole new one. Where the file system cannot swap, the
+  // old directory is renamed aside and the tree renamed in (the old one put back if that fails),
+  // and `target` is missing in between. Signals are held back until the old directory is gone.
+  // Throws, leaving `target` as it was, when neither can be done.
+  void replace(const std::filesystem::path& target);
 
  private:
   void release_slots();
+  void replace_by_renames(const std::filesystem::path& target);
   std::filesystem::path root_;
   std::vector<int> slots_;
   bool committed_ = false;

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <system_error>
 
 #include "pkm/io/atomic_file.hpp"
+#include "pkm/linuxcnc/machine_fingerprint.hpp"
 
 namespace pkm::linuxcnc {
 
@@ -270,7 +272,11 @@ std::string ini_text(const Machine& machine, const LinuxcncConfig& config,
   s += "[HAL]\nHALFILE = " + stem +
        ".hal\nHALFILE = " + std::string(options.sim ? "sim.hal" : "hardware.hal") + "\n\n";
   s += "[KINS]\nKINEMATICS = pkmkins machine=" + options.machine_file_name +
-       "\nPKM_MACHINE = " + options.machine_file_name +
+       "\nPKM_MACHINE = " + options.machine_file_name + "\n# The SHA-256 of " +
+       options.machine_file_name +
+       " as exported: the limits here are made from it, so pkmkins\n# refuses the file once it "
+       "differs (export again)\n" +
+       std::string(kMachineFingerprintKey) + " = " + sha256_hex(options.machine_text) +
        "\nJOINTS = " + std::to_string(machine.joints().size()) + "\n\n";
   s += traj_section(machine, config) + axis_sections(machine, config) +
        joint_sections(machine, home_joints, options.sim);
@@ -365,11 +371,12 @@ LinuxcncConfig make_linuxcnc_config(const Machine& machine, const ExportOptions&
   config.cost = cost_lines(machine, config);
   config.files.push_back({config.ini_name, ini_text(machine, config, options, home_joints)});
   config.files.push_back({stem + ".hal", main_hal(machine, stem + ".hal")});
-  config.files.push_back(options.sim ? ConfigFile{"sim.hal", sim_hal(machine)}
-                                     : ConfigFile{"hardware.hal", hardware_hal(machine)});
+  // hardware.hal is where the user wires the machine: kept when there is one.
+  config.files.push_back(options.sim ? ConfigFile{"sim.hal", sim_hal(machine), false}
+                                     : ConfigFile{"hardware.hal", hardware_hal(machine), true});
   config.files.push_back({options.machine_file_name, options.machine_text});
-  config.files.push_back({stem + ".tbl", "T1 P1 D0 Z0 ;no tool length\n"});
-  config.files.push_back({stem + ".var", "5220\t1.000000\n"});
+  config.files.push_back({stem + ".tbl", "T1 P1 D0 Z0 ;no tool length\n", true});
+  config.files.push_back({stem + ".var", "5220\t1.000000\n", true});
   return config;
 }
 
@@ -387,9 +394,9 @@ bool is_empty_directory(const std::filesystem::path& directory) {
 
 }  // namespace
 
-void write_config_directory(const std::filesystem::path& directory, const LinuxcncConfig& config,
-                            bool force) {
-  write_config_directory(directory, config.files, force);
+KeptFiles write_config_directory(const std::filesystem::path& directory,
+                                 const LinuxcncConfig& config, bool force) {
+  return write_config_directory(directory, config.files, force);
 }
 
 namespace {
@@ -414,10 +421,114 @@ void write_config_file(const std::filesystem::path& directory, const ConfigFile&
   if (tree) tree->add_file(path);
 }
 
+std::filesystem::path staging_path(const std::filesystem::path& target) {
+  return target.parent_path() /
+         ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
+}
+
+[[noreturn]] void refuse_replacing(const std::filesystem::path& directory, const std::string& name,
+                                   const std::string& why) {
+  throw std::runtime_error("cannot replace the configuration in " + directory.string() + ": its " +
+                           name + " " + why + "; move it away and export again");
+}
+
+// A file of the old configuration in the new one as it is: a hard link (the same file), else a
+// copy.
+void carry_file(const std::filesystem::directory_entry& entry, const std::filesystem::path& to) {
+  std::error_code error;
+  if (entry.is_symlink(error)) {
+    std::filesystem::copy_symlink(entry.path(), to, error);
+  } else {
+    std::filesystem::create_hard_link(entry.path(), to, error);
+    if (error) std::filesystem::copy_file(entry.path(), to, error);
+  }
+  if (error) fail("carry over", entry.path(), error);
+}
+
+// A configuration directory holds a few dozen files; more, and `-o` names something else (a home
+// directory) that --force should not rebuild.
+constexpr std::size_t kMaxCarriedFiles = 10000;
+
+// Carries what the old configuration directory `from` holds and the new one `to` does not (the
+// user's files and directories, and the state files kept) into `to`, listing each in `tree`.
+// `relative`: `from` within the old directory ("" at its top).
+void carry_over(const std::filesystem::path& old_root, const std::filesystem::path& from,
+                const std::filesystem::path& to, const std::filesystem::path& relative,
+                TemporaryTree& tree, KeptFiles& kept) {
+  namespace fs = std::filesystem;
+  for (const fs::directory_entry& entry : fs::directory_iterator(from)) {
+    const fs::path target = to / entry.path().filename();
+    const std::string name = (relative / entry.path().filename()).generic_string();
+    std::error_code error;
+    const fs::file_status there = fs::symlink_status(target, error);
+    const bool is_directory = entry.is_directory(error) && !entry.is_symlink(error);
+    if (is_directory) {
+      if (fs::exists(there) && !fs::is_directory(there))
+        refuse_replacing(old_root, name, "is a directory where the configuration writes a file");
+      if (!fs::exists(there)) {
+        if (!fs::create_directory(target, entry.path(), error) && error)
+          fail("create the directory", target, error);
+        tree.add_directory(target);
+      }
+      carry_over(old_root, entry.path(), target, relative / entry.path().filename(), tree, kept);
+      continue;
+    }
+    if (fs::is_directory(there))
+      refuse_replacing(old_root, name, "is a file where the configuration writes a directory");
+    if (fs::exists(there)) continue;  // replaced by the new configuration's
+    if (!entry.is_regular_file(error) && !entry.is_symlink(error))
+      refuse_replacing(old_root, name, "is not a regular file, a link or a directory");
+    const auto& state = kept.state;
+    const bool own = std::find(state.begin(), state.end(), name) == state.end();
+    if (own && kept.others.size() == kMaxCarriedFiles) {
+      throw std::runtime_error(
+          "cannot replace the configuration in " + old_root.string() + ": it holds more than " +
+          std::to_string(kMaxCarriedFiles) +
+          " files the export does not write (is it a LinuxCNC configuration?); give another "
+          "directory");
+    }
+    carry_file(entry, target);
+    tree.add_file(target);
+    if (own) kept.others.push_back(name);
+  }
+}
+
+// `force` over an existing, non-empty directory: the new one built beside it, then swapped in.
+KeptFiles replace_config_directory(const std::filesystem::path& directory,
+                                   const std::vector<ConfigFile>& files) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  // Through a link to a configuration directory, the directory it names is replaced.
+  const fs::path old_root = fs::canonical(directory, error);
+  if (error) fail("resolve", directory, error);
+  const fs::path here = fs::current_path(error);
+  if (!error && std::mismatch(old_root.begin(), old_root.end(), here.begin(), here.end()).first ==
+                    old_root.end()) {
+    throw std::runtime_error(directory.string() +
+                             " is the current directory (or holds it): --force replaces it as a "
+                             "whole, which would leave this shell in the removed one; run it from "
+                             "outside, e.g. from " +
+                             old_root.parent_path().string());
+  }
+  TemporaryTree staging(staging_path(old_root));
+  fs::permissions(staging.root(), fs::status(old_root).permissions(), error);
+  KeptFiles kept;
+  for (const ConfigFile& file : files) {
+    if (file.keep_existing && fs::is_regular_file(old_root / file.name, error)) {
+      kept.state.push_back(file.name);
+      continue;
+    }
+    write_config_file(staging.root(), file, &staging);
+  }
+  carry_over(old_root, old_root, staging.root(), "", staging, kept);
+  staging.replace(old_root);
+  return kept;
+}
+
 }  // namespace
 
-void write_config_directory(const std::filesystem::path& directory,
-                            const std::vector<ConfigFile>& files, bool force) {
+KeptFiles write_config_directory(const std::filesystem::path& directory,
+                                 const std::vector<ConfigFile>& files, bool force) {
   namespace fs = std::filesystem;
   std::error_code error;
   const bool exists = fs::exists(directory, error);
@@ -428,20 +539,19 @@ void write_config_directory(const std::filesystem::path& directory,
     if (!force) {
       throw std::runtime_error(directory.string() +
                                " exists and is not empty: give another directory, or --force "
-                               "to replace the configuration's files in it");
+                               "to replace the configuration in it");
     }
-    for (const ConfigFile& file : files) write_config_file(directory, file, nullptr);
-    return;
+    return replace_config_directory(directory, files);
   }
   const fs::path target = directory.has_filename() ? directory : directory.parent_path();
   if (!target.parent_path().empty() && !fs::exists(target.parent_path())) {
     fs::create_directories(target.parent_path(), error);  // as mkdir -p
     if (error) fail("create the directory", target.parent_path(), error);
   }
-  TemporaryTree staging(target.parent_path() /
-                        ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid())));
+  TemporaryTree staging(staging_path(target));
   for (const ConfigFile& file : files) write_config_file(staging.root(), file, &staging);
   staging.commit_to(target);
+  return {};
 }
 
 }  // namespace pkm::linuxcnc

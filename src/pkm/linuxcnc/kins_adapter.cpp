@@ -4,6 +4,9 @@
 #include <cstdarg>
 #include <cstdio>
 
+#include "pkm/linuxcnc/machine_fingerprint.hpp"
+#include "pkm/text/text_file.hpp"
+
 namespace pkm::linuxcnc {
 
 namespace {
@@ -39,8 +42,10 @@ std::optional<LengthUnit> parse_world_unit(std::string_view text) {
   return std::nullopt;
 }
 
-KinsAdapter::KinsAdapter(Machine machine, std::optional<LengthUnit> world_unit)
+KinsAdapter::KinsAdapter(Machine machine, std::optional<LengthUnit> world_unit,
+                         MachineFileSource source)
     : machine_(std::move(machine)),
+      source_(std::move(source)),
       world_unit_(world_unit.value_or(machine_.units())),
       mm_per_world_unit_(world_unit_ == LengthUnit::inch ? 25.4 : 1.0),
       joint_count_(static_cast<int>(machine_.joints().size())),
@@ -185,13 +190,24 @@ const char* KinsAdapter::failure_message(char* buffer, std::size_t size) const {
 
 KinsAdapter load_kins(const std::filesystem::path& machine_file,
                       std::optional<LengthUnit> world_unit) {
-  return KinsAdapter(load_machine(machine_file), world_unit);
+  std::string text;
+  try {
+    text = text::read_text_file(machine_file, text::kMaxConfigFileBytes);
+  } catch (const text::FileReadError& error) {
+    throw MachineFileError(machine_file.string(), error.what());
+  }
+  Machine machine = parse_machine(text, machine_file.string());
+  return KinsAdapter(std::move(machine), world_unit, {machine_file.string(), sha256_hex(text)});
 }
 
 std::string ini_mismatch(const KinsAdapter& kins, const IniFile& ini) {
   const auto located = [](const IniEntry& entry) {
     return entry.where.file + ":" + std::to_string(entry.where.line) + ": ";
   };
+  if (!kins.source().sha256.empty()) {
+    std::string changed = machine_file_changed(kins.source().path, kins.source().sha256, ini);
+    if (!changed.empty()) return changed;
+  }
   const char* unit = kins.world_unit() == LengthUnit::inch ? "inch" : "mm";
   if (const IniEntry* joints = ini.find("KINS", "JOINTS");
       joints != nullptr && joints->value != std::to_string(kins.joint_count())) {

@@ -49,15 +49,23 @@ struct KinsCounters {
   int ik_status = 0;         // last inverse: its StatusCode (0 ok)
 };
 
+// The machine file a KinsAdapter was loaded from, for checking it against the INI.
+struct MachineFileSource {
+  std::string path;
+  std::string sha256;  // of its bytes (machine_fingerprint.hpp)
+};
+
 class KinsAdapter {
  public:
-  // world_unit: LinuxCNC's length unit; the machine file's own when not given.
-  KinsAdapter(Machine machine, std::optional<LengthUnit> world_unit);
+  // world_unit: LinuxCNC's length unit; the machine file's own when not given. `source`: where
+  // the machine came from (empty when it was not read from a file).
+  KinsAdapter(Machine machine, std::optional<LengthUnit> world_unit, MachineFileSource source = {});
 
   const Machine& machine() const { return machine_; }
   int joint_count() const { return joint_count_; }
   LengthUnit world_unit() const { return world_unit_; }
   const KinsCounters& counters() const { return counters_; }
+  const MachineFileSource& source() const { return source_; }
 
   // Pose <-> world: mm and rad inside, the world unit and degrees at LinuxCNC's side.
   Pose to_pose(const WorldPose& world) const;
@@ -92,6 +100,7 @@ class KinsAdapter {
 
  private:
   Machine machine_;
+  MachineFileSource source_;
   LengthUnit world_unit_;
   double mm_per_world_unit_;
   int joint_count_;
@@ -110,10 +119,11 @@ class KinsAdapter {
 KinsAdapter load_kins(const std::filesystem::path& machine_file,
                       std::optional<LengthUnit> world_unit);
 
-// What in LinuxCNC's INI file contradicts the module as loaded: [KINS] JOINTS other than the
-// machine file's number of joints, [TRAJ] LINEAR_UNITS other than the world unit (the first of a
-// repeated key, as LinuxCNC reads it). "file:line: " and a sentence naming both and the fix, or ""
-// when they agree (or the INI does not say).
+// What in LinuxCNC's INI file contradicts the module as loaded: a machine file changed since
+// `pkm export linuxcnc` wrote the INI ([KINS] PKM_MACHINE_SHA256, machine_fingerprint.hpp),
+// [KINS] JOINTS other than the machine file's number of joints, [TRAJ] LINEAR_UNITS other than
+// the world unit (the first of a repeated key, as LinuxCNC reads it). "file:line: " and a sentence
+// naming both and the fix, or "" when they agree (or the INI does not say).
 std::string ini_mismatch(const KinsAdapter& kins, const IniFile& ini);
 
 // Where the module finds its machine file: `name` as given when absolute, else relative to the
