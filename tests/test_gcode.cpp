@@ -388,6 +388,50 @@ TEST(CutterCompensation, DiameterFromTheToolTableAndWarningForNone) {
   EXPECT_NEAR(motion(spindle)[1].end[1], -2.0, 1e-12);
 }
 
+TEST(ModalState, M73AndM72PutUnitsDistancePlaneAndFeedBack) {
+  // The subroutine works in inches, incrementally, in G18 at F20; its M73 puts the caller's
+  // millimetres, absolute distances, G17 and F600 back at endsub. M70 and M72 do the same by
+  // hand in the main program.
+  const Result result = interpret(
+      "o<pocket> sub\nM73\nG20 G91 G18 F20\nG1 X1 Z-1\no<pocket> endsub\n"
+      "G21 G90 G17 G0 X0 Y0 Z0\nF600\no<pocket> call\nG1 X10 Y10\n"
+      "M70\nG91 F50\nG1 X1\nM72\nG1 X20\nM2\n");
+  ASSERT_EQ(result.error, "");
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 5u);
+  EXPECT_EQ(moves[1].units, LengthUnits::inch);  // inside: 1 inch along X and down Z
+  EXPECT_NEAR(moves[1].end[0], 1.0, 1e-12);
+  EXPECT_NEAR(moves[1].end[2], -1.0, 1e-12);
+  // Back: X10 Y10 is absolute, in mm, in G17, at F600 (not 10 inches further along at F20).
+  EXPECT_EQ(moves[2].units, LengthUnits::mm);
+  EXPECT_EQ(moves[2].plane, Plane::xy);
+  EXPECT_NEAR(moves[2].end[0], 10.0, 1e-12);
+  EXPECT_NEAR(moves[2].end[1], 10.0, 1e-12);
+  EXPECT_NEAR(moves[2].end[2], -25.4, 1e-12);
+  EXPECT_DOUBLE_EQ(moves[2].value, 600.0);
+  EXPECT_NEAR(moves[3].end[0], 11.0, 1e-12);  // G91 X1 at F50
+  EXPECT_DOUBLE_EQ(moves[3].value, 50.0);
+  EXPECT_NEAR(moves[4].end[0], 20.0, 1e-12);  // after M72: absolute again, F600
+  EXPECT_DOUBLE_EQ(moves[4].value, 600.0);
+  EXPECT_TRUE(result.warnings.empty());
+}
+
+TEST(ModalState, RestoredFeedIsLinuxCncsOneDecimalWithAWarning) {
+  // LinuxCNC's restore writes F with one decimal and S with none: F12.345 comes back as
+  // F12.3, S300.4 as S300. pkm does the same and says so.
+  const Result result = interpret("G21 F12.345 S300.4\nM70\nF100 S500\nM72\nG1 X1\nM2\n");
+  ASSERT_EQ(result.error, "");
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 1u);
+  EXPECT_DOUBLE_EQ(moves[0].value, 12.3);
+  ASSERT_EQ(result.warnings.size(), 2u);
+  EXPECT_EQ(result.warnings[0].line, 4);
+  EXPECT_NE(result.warnings[0].message.find("restores F12.345 as F12.3"), std::string::npos)
+      << result.warnings[0].message;
+  EXPECT_NE(result.warnings[1].message.find("restores S300.4 as S300"), std::string::npos)
+      << result.warnings[1].message;
+}
+
 struct ErrorCase {
   std::string name;
   std::string program;
@@ -417,6 +461,11 @@ const ErrorCase kErrors[] = {
     {"two_codes_one_group", "G21\nG0 G1 X1 F100\n", 2, 4,
      "two G codes of one modal group: G0 and G1"},
     {"two_m_codes_one_group", "M3 M4\n", 1, 4, "two M codes of one modal group: M3 and M4"},
+    {"m72_after_m71", "G21\nM70\nM71\nM72\n", 4, 1, "M72 with no modes saved here"},
+    {"m72_of_another_frame", "o<s> sub\nM72\no<s> endsub\nM70\no<s> call\n", 2, 1,
+     "M72 with no modes saved here"},
+    {"m72_restores_what_compensation_refuses", "G21 G17\nM70\nG18 G41.1 D1\nM72\n", 4, 1,
+     "M72 cannot restore the saved modes"},
     {"multiple_words", "G0 X1 X2\n", 1, 7, "multiple X words"},
     {"arc_end_not_on_circle", "G21 G0 X0 Y0\nG2 X10 Y0 I5.5 J0 F100\n", 2, 1,
      "radius to end of arc differs from radius to start"},

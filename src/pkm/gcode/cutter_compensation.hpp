@@ -40,6 +40,7 @@ class CutterCompensation {
   void reset(const Sink& out);
 
   bool on() const { return side_ != CompensationSide::off; }
+  CompensationSide side() const { return side_; }
   // On with a radius above zero: moves are offset (a zero radius leaves them as programmed).
   bool offsetting() const { return on() && radius_ > 0.0; }
 

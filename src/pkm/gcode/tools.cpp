@@ -67,6 +67,7 @@ void Interpreter::State::set_tool_length_offset(const Block& block, const Code& 
     pos[axis] += axis_from_mm(axis, tool_offset_mm[axis] - offset[axis]);
   }
   tool_offset_mm = offset;
+  tool_length_g43 = code.tenths == 430;
   Canon c = make(CanonKind::tool_length_offset, block);
   for (int axis = 0; axis < kAxes; ++axis) c.end[axis] = axis_from_mm(axis, offset[axis]);
   emit(c);
