@@ -388,6 +388,43 @@ TEST(CutterCompensation, DiameterFromTheToolTableAndWarningForNone) {
   EXPECT_NEAR(motion(spindle)[1].end[1], -2.0, 1e-12);
 }
 
+TEST(CutterCompensation, LatheToolGoesOutAtItsTipNotItsNoseCentre) {
+  // Tool 2: nose radius 1 mm, orientation 2 (Q2). Turning along -Z with the tool right of the
+  // path puts the nose's centre at X6 (one radius off X5); the tip of an orientation 2 tool lies
+  // one radius below that centre in X and in Z, so the move ends at X5 Z-11 (as rs274 gives
+  // it), not at the centre's X6 Z-10.
+  InterpreterOptions options;
+  options.tool_table = parse_tool_table("T2 P2 D2.0 Q2\n", "test.tbl");
+  const Result result =
+      interpret("G18 G21 G0 X5 Z1\nG42 D2\nG1 Z-10 F100\nG40\nG0 X8\nM2\n", options);
+  ASSERT_EQ(result.error, "");
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 3u);
+  EXPECT_NEAR(moves[1].end[0], 5.0, 1e-12);
+  EXPECT_NEAR(moves[1].end[2], -11.0, 1e-12);
+  // After G40 the programmed point again.
+  EXPECT_NEAR(moves[2].end[0], 8.0, 1e-12);
+  EXPECT_NEAR(moves[2].end[2], -10.0, 1e-12);
+  // G10 L1 Q sets the orientation as the table's Q does: Q7 puts the tip below in Z only.
+  const Result g10 =
+      interpret("G18 G21 G10 L1 P2 R1 Q7\nG0 X5 Z1\nG42 D2\nG1 Z-10 F100\nG40\nM2\n", options);
+  ASSERT_EQ(g10.error, "");
+  EXPECT_NEAR(motion(g10)[1].end[0], 6.0, 1e-12);
+  EXPECT_NEAR(motion(g10)[1].end[2], -11.0, 1e-12);
+  const Result bad = interpret("G21\nG10 L1 P2 R1 Q10\n", options);
+  EXPECT_NE(bad.error.find("a lathe tool's orientation is a whole number from 0 to 9"),
+            std::string::npos)
+      << bad.error;
+  EXPECT_EQ(bad.line, 2);
+  EXPECT_EQ(bad.column, 14);
+  // In G17 a lathe tool is refused, as rs274 refuses it ("G42 with lathe tool, but plane is
+  // not G18").
+  const Result g17 = interpret("G17 G21\nG42 D2\n", options);
+  EXPECT_NE(g17.error.find("a lathe tool (orientation 2), needs the XZ plane"), std::string::npos)
+      << g17.error;
+  EXPECT_EQ(g17.column, 5);
+}
+
 TEST(ModalState, M73AndM72PutUnitsDistancePlaneAndFeedBack) {
   // The subroutine works in inches, incrementally, in G18 at F20; its M73 puts the caller's
   // millimetres, absolute distances, G17 and F600 back at endsub. M70 and M72 do the same by
@@ -461,6 +498,10 @@ const ErrorCase kErrors[] = {
     {"two_codes_one_group", "G21\nG0 G1 X1 F100\n", 2, 4,
      "two G codes of one modal group: G0 and G1"},
     {"two_m_codes_one_group", "M3 M4\n", 1, 4, "two M codes of one modal group: M3 and M4"},
+    {"lathe_orientation_outside_g18", "G17\nG41.1 D1 L2\n", 2, 10, "needs the XZ plane (G18)"},
+    {"lathe_entry_arc_not_continued",
+     "G18 G21 G0 X10 Z10\nG41.1 D1 L2 F100\nG3 X5 Z5 R5\nG1 X0 Z0\nG40\n", 4, 1,
+     "starts with the arc on line 3"},
     {"m72_after_m71", "G21\nM70\nM71\nM72\n", 4, 1, "M72 with no modes saved here"},
     {"m72_of_another_frame", "o<s> sub\nM72\no<s> endsub\nM70\no<s> call\n", 2, 1,
      "M72 with no modes saved here"},

@@ -482,7 +482,12 @@ struct Interpreter::State {
   void set_tool_length_offset(const Block& block, const Code& code, bool& has_axis);
   void set_compensation(const Block& block, const Code& code);
   void start_compensation(const Block& block, const Code& code);
-  double compensation_radius(const Block& block, const Code& code);
+  // The radius (program units) and lathe orientation G41/G42 or G41.1/G42.1 compensate for.
+  struct CompensationTool {
+    double radius = 0.0;
+    int orientation = 0;
+  };
+  CompensationTool compensation_tool(const Block& block, const Code& code);
   // Held commands go out (program stops and ends): the last offset move ends where the tool is.
   void release_compensation(int column) {
     compensating(column, [&] { compensation.flush(); });
