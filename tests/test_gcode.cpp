@@ -388,6 +388,87 @@ TEST(CutterCompensation, DiameterFromTheToolTableAndWarningForNone) {
   EXPECT_NEAR(motion(spindle)[1].end[1], -2.0, 1e-12);
 }
 
+TEST(CutterCompensation, LatheToolGoesOutAtItsTipNotItsNoseCentre) {
+  // Tool 2: nose radius 1 mm, orientation 2 (Q2). Turning along -Z with the tool right of the
+  // path puts the nose's centre at X6 (one radius off X5); the tip of an orientation 2 tool lies
+  // one radius below that centre in X and in Z, so the move ends at X5 Z-11 (as rs274 gives
+  // it), not at the centre's X6 Z-10.
+  InterpreterOptions options;
+  options.tool_table = parse_tool_table("T2 P2 D2.0 Q2\n", "test.tbl");
+  const Result result =
+      interpret("G18 G21 G0 X5 Z1\nG42 D2\nG1 Z-10 F100\nG40\nG0 X8\nM2\n", options);
+  ASSERT_EQ(result.error, "");
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 3u);
+  EXPECT_NEAR(moves[1].end[0], 5.0, 1e-12);
+  EXPECT_NEAR(moves[1].end[2], -11.0, 1e-12);
+  // After G40 the programmed point again.
+  EXPECT_NEAR(moves[2].end[0], 8.0, 1e-12);
+  EXPECT_NEAR(moves[2].end[2], -10.0, 1e-12);
+  // G10 L1 Q sets the orientation as the table's Q does: Q7 puts the tip below in Z only.
+  const Result g10 =
+      interpret("G18 G21 G10 L1 P2 R1 Q7\nG0 X5 Z1\nG42 D2\nG1 Z-10 F100\nG40\nM2\n", options);
+  ASSERT_EQ(g10.error, "");
+  EXPECT_NEAR(motion(g10)[1].end[0], 6.0, 1e-12);
+  EXPECT_NEAR(motion(g10)[1].end[2], -11.0, 1e-12);
+  const Result bad = interpret("G21\nG10 L1 P2 R1 Q10\n", options);
+  EXPECT_NE(bad.error.find("a lathe tool's orientation is a whole number from 0 to 9"),
+            std::string::npos)
+      << bad.error;
+  EXPECT_EQ(bad.line, 2);
+  EXPECT_EQ(bad.column, 14);
+  // In G17 a lathe tool is refused, as rs274 refuses it ("G42 with lathe tool, but plane is
+  // not G18").
+  const Result g17 = interpret("G17 G21\nG42 D2\n", options);
+  EXPECT_NE(g17.error.find("a lathe tool (orientation 2), needs the XZ plane"), std::string::npos)
+      << g17.error;
+  EXPECT_EQ(g17.column, 5);
+}
+
+TEST(ModalState, M73AndM72PutUnitsDistancePlaneAndFeedBack) {
+  // The subroutine works in inches, incrementally, in G18 at F20; its M73 puts the caller's
+  // millimetres, absolute distances, G17 and F600 back at endsub. M70 and M72 do the same by
+  // hand in the main program.
+  const Result result = interpret(
+      "o<pocket> sub\nM73\nG20 G91 G18 F20\nG1 X1 Z-1\no<pocket> endsub\n"
+      "G21 G90 G17 G0 X0 Y0 Z0\nF600\no<pocket> call\nG1 X10 Y10\n"
+      "M70\nG91 F50\nG1 X1\nM72\nG1 X20\nM2\n");
+  ASSERT_EQ(result.error, "");
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 5u);
+  EXPECT_EQ(moves[1].units, LengthUnits::inch);  // inside: 1 inch along X and down Z
+  EXPECT_NEAR(moves[1].end[0], 1.0, 1e-12);
+  EXPECT_NEAR(moves[1].end[2], -1.0, 1e-12);
+  // Back: X10 Y10 is absolute, in mm, in G17, at F600 (not 10 inches further along at F20).
+  EXPECT_EQ(moves[2].units, LengthUnits::mm);
+  EXPECT_EQ(moves[2].plane, Plane::xy);
+  EXPECT_NEAR(moves[2].end[0], 10.0, 1e-12);
+  EXPECT_NEAR(moves[2].end[1], 10.0, 1e-12);
+  EXPECT_NEAR(moves[2].end[2], -25.4, 1e-12);
+  EXPECT_DOUBLE_EQ(moves[2].value, 600.0);
+  EXPECT_NEAR(moves[3].end[0], 11.0, 1e-12);  // G91 X1 at F50
+  EXPECT_DOUBLE_EQ(moves[3].value, 50.0);
+  EXPECT_NEAR(moves[4].end[0], 20.0, 1e-12);  // after M72: absolute again, F600
+  EXPECT_DOUBLE_EQ(moves[4].value, 600.0);
+  EXPECT_TRUE(result.warnings.empty());
+}
+
+TEST(ModalState, RestoredFeedIsLinuxCncsOneDecimalWithAWarning) {
+  // LinuxCNC's restore writes F with one decimal and S with none: F12.345 comes back as
+  // F12.3, S300.4 as S300. pkm does the same and says so.
+  const Result result = interpret("G21 F12.345 S300.4\nM70\nF100 S500\nM72\nG1 X1\nM2\n");
+  ASSERT_EQ(result.error, "");
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 1u);
+  EXPECT_DOUBLE_EQ(moves[0].value, 12.3);
+  ASSERT_EQ(result.warnings.size(), 2u);
+  EXPECT_EQ(result.warnings[0].line, 4);
+  EXPECT_NE(result.warnings[0].message.find("restores F12.345 as F12.3"), std::string::npos)
+      << result.warnings[0].message;
+  EXPECT_NE(result.warnings[1].message.find("restores S300.4 as S300"), std::string::npos)
+      << result.warnings[1].message;
+}
+
 struct ErrorCase {
   std::string name;
   std::string program;
@@ -417,6 +498,15 @@ const ErrorCase kErrors[] = {
     {"two_codes_one_group", "G21\nG0 G1 X1 F100\n", 2, 4,
      "two G codes of one modal group: G0 and G1"},
     {"two_m_codes_one_group", "M3 M4\n", 1, 4, "two M codes of one modal group: M3 and M4"},
+    {"lathe_orientation_outside_g18", "G17\nG41.1 D1 L2\n", 2, 10, "needs the XZ plane (G18)"},
+    {"lathe_entry_arc_not_continued",
+     "G18 G21 G0 X10 Z10\nG41.1 D1 L2 F100\nG3 X5 Z5 R5\nG1 X0 Z0\nG40\n", 4, 1,
+     "starts with the arc on line 3"},
+    {"m72_after_m71", "G21\nM70\nM71\nM72\n", 4, 1, "M72 with no modes saved here"},
+    {"m72_of_another_frame", "o<s> sub\nM72\no<s> endsub\nM70\no<s> call\n", 2, 1,
+     "M72 with no modes saved here"},
+    {"m72_restores_what_compensation_refuses", "G21 G17\nM70\nG18 G41.1 D1\nM72\n", 4, 1,
+     "M72 cannot restore the saved modes"},
     {"multiple_words", "G0 X1 X2\n", 1, 7, "multiple X words"},
     {"arc_end_not_on_circle", "G21 G0 X0 Y0\nG2 X10 Y0 I5.5 J0 F100\n", 2, 1,
      "radius to end of arc differs from radius to start"},

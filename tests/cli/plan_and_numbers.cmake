@@ -88,6 +88,9 @@ pkm_cli_refuses(calibrate_fit_row_of_1e308
   -o ${CLI_OUT}/fit-1e308.toml)
 pkm_cli_refuses(gcode_tool_table_nan "tool-table-nan.tbl:3:7: tool table: Znan must be a finite number"
                 gcode --tool-table ${CLI_DATA}/tool-table-nan.tbl ${SQUARE})
+pkm_cli_refuses(gcode_tool_table_bad_orientation
+                "tool-table-bad-orientation.tbl:3:18: tool table: Q \\(a lathe tool's orientation\\) must be a whole number from 0 to 9"
+                gcode --tool-table ${CLI_DATA}/tool-table-bad-orientation.tbl ${SQUARE})
 pkm_cli_refuses(plan_tool_table_nan "tool-table-nan.tbl:3:7: tool table: Znan must be a finite number"
                 plan -m ${PLOTTER} ${SQUARE} --origin 600 -800 --tool-table ${CLI_DATA}/tool-table-nan.tbl)
 

@@ -320,6 +320,13 @@ void Interpreter::State::set_tool_entry(const Block& block, long l, long p, int 
     set_tool_offset_from_current(block, l, entry);
   }
   if (block.has('r')) entry.diameter = 2.0 * to_mm(block.value('r'));
+  if (const auto& q = block.word('q')) {
+    if (!(q->value >= 0.0 && q->value <= 9.0) || q->value != std::floor(q->value)) {
+      fail(q->column, "G10 L" + std::to_string(l) + " Q" + written_number(q->value) +
+                          ": a lathe tool's orientation is a whole number from 0 to 9");
+    }
+    entry.orientation = static_cast<int>(q->value);
+  }
   require_finite_tool(entry, column);
 }
 

@@ -116,7 +116,35 @@ const CutterCompensation::Held* CutterCompensation::previous_move() const {
   return &held_.front();
 }
 
-void CutterCompensation::turn_on(CompensationSide side, double radius, Plane plane) {
+Position CutterCompensation::from_tip(Position position) const {
+  if (plane_ != Plane::xz || !lathe_tool()) return position;
+  // LinuxCNC's table: orientations 1, 2 and 6 put the tip below the centre in X, 3, 4 and 8
+  // above it; 2, 3 and 7 below it in Z, 1, 4 and 5 above it.
+  const int o = orientation_;
+  if (o == 1 || o == 2 || o == 6) position[0] -= radius_;
+  if (o == 3 || o == 4 || o == 8) position[0] += radius_;
+  if (o == 2 || o == 3 || o == 7) position[2] -= radius_;
+  if (o == 1 || o == 4 || o == 5) position[2] += radius_;
+  return position;
+}
+
+void CutterCompensation::send(const Canon& canon) const {
+  if (!is_move(canon.kind) || !lathe_tool() || plane_ != Plane::xz) return (*out_)(canon);
+  Canon moved = canon;
+  moved.end = from_tip(canon.end);
+  if (canon.kind == CanonKind::arc) {
+    // The centre is (Z, X), the plane's order.
+    Position centre{};
+    centre[2] = canon.center[0];
+    centre[0] = canon.center[1];
+    centre = from_tip(centre);
+    moved.center = {centre[2], centre[0]};
+  }
+  (*out_)(moved);
+}
+
+void CutterCompensation::turn_on(CompensationSide side, double radius, Plane plane,
+                                 int orientation) {
   if (radius < 0.0) {
     // A negative diameter in the tool table (a worn tool below nominal) cuts on the other side.
     radius = -radius;
@@ -125,6 +153,7 @@ void CutterCompensation::turn_on(CompensationSide side, double radius, Plane pla
   side_ = side;
   radius_ = radius;
   plane_ = plane;
+  orientation_ = orientation;
   entering_ = true;
 }
 
@@ -142,7 +171,7 @@ void CutterCompensation::flush() {
 }
 
 void CutterCompensation::release() {
-  for (const Held& held : held_) (*out_)(held.canon);
+  for (const Held& held : held_) send(held.canon);
   held_.clear();
   start_known_ = false;
 }
@@ -153,6 +182,15 @@ void CutterCompensation::end_held_at(PlanePoint end) {
   // and up again) waits behind the move before it. All of them end at the corner.
   for (Held& held : held_) {
     Canon& move = held.canon;
+    if (held.lathe_lead_in) {
+      // LinuxCNC moves this feed's end too, to the arc's end: the arc then starts where it
+      // ends, a full circle. Refused rather than cut so, or cut otherwise than LinuxCNC does.
+      throw CompensationError(
+          "the lathe tool's cutter compensation starts with the arc on line " +
+          std::to_string(move.line) +
+          ", and this move does not continue it tangentially: LinuxCNC would cut that arc as a "
+          "full circle. Enter with a straight move (G1) before the arc");
+    }
     if (move.kind == CanonKind::arc) {
       const PlanePoint centre = centre_of(move);
       if (std::abs(distance(centre, in_plane(move.end)) - distance(centre, end)) > kOffCircle) {
@@ -196,7 +234,7 @@ void CutterCompensation::round_corner(const Canon& move, const Position& start, 
     around.center = {corner.first, corner.second};
     around.turns = side_ == CompensationSide::left ? -1 : 1;
   }
-  (*out_)(around);
+  send(around);
   set_start(to);
 }
 
@@ -242,6 +280,17 @@ void CutterCompensation::enter_arc(Canon move, const Position& start) {
   if (std::abs(distance(new_centre, end) - distance(new_centre, from)) >
       arc_radius_tolerance(move.units)) {
     throw CompensationError("cutter compensation cannot make this entry arc (an internal error)");
+  }
+  if (lathe_tool()) {
+    // LinuxCNC first feeds to the start, so that the tip's move is an arc: from the centre's
+    // position to the tip's (the other axes already at the arc's end). A next move that is not
+    // tangent would move this feed's end as well (refused in end_held_at).
+    Canon to_start = move;
+    to_start.kind = CanonKind::feed;
+    set_in_plane(to_start.end, from);
+    to_start.end[normal_axis(plane_)] = start[normal_axis(plane_)];
+    hold(to_start, {}, 0.0, true);
+    set_start(from);
   }
   set_in_plane(move.end, end);
   move.center = {new_centre.first, new_centre.second};

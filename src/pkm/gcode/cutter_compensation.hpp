@@ -8,6 +8,10 @@
 // about the programmed corner. The geometry, the 0.05 rad that tells a corner from a
 // straight-through join, and the paths refused as gouging are LinuxCNC's, so `pkm gcode --canon`
 // matches `rs274 -g` move for move (tests/test_gcode_conformance.cpp; docs/gcode.md).
+//
+// A lathe tool (orientation 1-8 in the XZ plane) is controlled by its tip, which lies off the
+// centre of its nose radius: every compensated move goes out with X and Z moved by the radius
+// as the orientation says, as LinuxCNC does (docs/gcode.md, "Lathe tool orientation").
 #pragma once
 
 #include <functional>
@@ -40,18 +44,20 @@ class CutterCompensation {
   void reset(const Sink& out);
 
   bool on() const { return side_ != CompensationSide::off; }
+  CompensationSide side() const { return side_; }
   // On with a radius above zero: moves are offset (a zero radius leaves them as programmed).
   bool offsetting() const { return on() && radius_ > 0.0; }
 
   // G41/G42: `radius` in program units; a negative one swaps the side, as LinuxCNC does.
-  // `plane` must be XY or XZ (the caller checks and reports it).
-  void turn_on(CompensationSide side, double radius, Plane plane);
+  // `plane` must be XY or XZ (the caller checks and reports it); `orientation` is a lathe
+  // tool's (1-8, XZ only), 0 or 9 for a round tool.
+  void turn_on(CompensationSide side, double radius, Plane plane, int orientation = 0);
   // G40. True when offset moves ended here: the next move must then be straight.
   bool turn_off();
   // Where the tool is: `programmed` with the plane's coordinates those of the last offset move.
   Position tool_position(Position programmed) const {
     set_in_plane(programmed, tool_);
-    return programmed;
+    return from_tip(programmed);
   }
   // M0, M1, M60 and the program's end: the held commands go out, the last move ending where the
   // tool is. Compensation stays on (M2 and M30 then call turn_off()).
@@ -64,7 +70,7 @@ class CutterCompensation {
     if (held_.empty()) {
       (*out_)(canon);
     } else {
-      held_.push_back({canon, {}, 0.0});
+      held_.push_back({canon, {}, 0.0, false});
     }
   }
 
@@ -80,8 +86,9 @@ class CutterCompensation {
  private:
   struct Held {
     Canon canon;
-    PlanePoint direction;  // lines: the programmed direction (gouge check when the end moves)
-    double sweep = 0.0;    // arcs: the swept angle as queued, rad (0: not checked)
+    PlanePoint direction;        // lines: the programmed direction (gouge check when the end moves)
+    double sweep = 0.0;          // arcs: the swept angle as queued, rad (0: not checked)
+    bool lathe_lead_in = false;  // the feed to the start of a lathe tool's entry arc
   };
 
   PlanePoint in_plane(const Position& position) const;
@@ -89,8 +96,12 @@ class CutterCompensation {
   bool tool_inside(int turns) const;  // the tool runs inside an arc turning this way
   const Held* previous_move() const;
 
-  void hold(const Canon& move, PlanePoint direction, double sweep) {
-    held_.push_back({move, direction, sweep});
+  bool lathe_tool() const { return orientation_ != 0 && orientation_ != 9; }
+  // `position` with X and Z moved from the nose radius's centre to the lathe tool's tip.
+  Position from_tip(Position position) const;
+  void send(const Canon& canon) const;  // a move moved for a lathe tool, then out
+  void hold(const Canon& move, PlanePoint direction, double sweep, bool lathe_lead_in = false) {
+    held_.push_back({move, direction, sweep, lathe_lead_in});
   }
   void release();                    // the held commands go out as they are
   void end_held_at(PlanePoint end);  // the held moves end at `end`, then go out
@@ -109,6 +120,7 @@ class CutterCompensation {
   CompensationSide side_ = CompensationSide::off;
   double radius_ = 0.0;  // program units
   Plane plane_ = Plane::xy;
+  int orientation_ = 0;
   bool entering_ = true;  // the next offset move is the first after G41/G42
   PlanePoint tool_;       // where the tool is: the end of the last offset move
   PlanePoint start_;      // where the first held move starts, when known

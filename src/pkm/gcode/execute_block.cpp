@@ -155,13 +155,15 @@ void Interpreter::State::orient_spindle(const Block& block) {
 
 void Interpreter::State::execute_m_codes(const Block& block) {
   if (m_by_group[6]) change_tool(block, *m_by_group[6]);
-  if (m_by_group[7]) {
-    const int code = m_by_group[7]->tenths;
-    if (code == 30) emit(CanonKind::spindle_clockwise, block);
-    if (code == 40) emit(CanonKind::spindle_counterclockwise, block);
-    if (code == 50) emit(CanonKind::spindle_stop, block);
-    if (code == 190) orient_spindle(block);
-    spindle_direction = code == 30 ? 1 : code == 40 ? -1 : 0;  // M19 orients it: stopped
+  if (const Code* const code = m_by_group[7]; code && code->tenths >= 700) {
+    save_or_restore_modes(*code);  // M70-M73, where LinuxCNC runs them
+  } else if (code) {
+    if (code->tenths == 30) emit(CanonKind::spindle_clockwise, block);
+    if (code->tenths == 40) emit(CanonKind::spindle_counterclockwise, block);
+    if (code->tenths == 50) emit(CanonKind::spindle_stop, block);
+    if (code->tenths == 190) orient_spindle(block);
+    // M19 orients it: stopped.
+    spindle_direction = code->tenths == 30 ? 1 : code->tenths == 40 ? -1 : 0;
   }
   for (const int group : {8, 11}) {
     if (!m_by_group[group]) continue;
@@ -172,7 +174,10 @@ void Interpreter::State::execute_m_codes(const Block& block) {
       emit(CanonKind::mist_off, block);
       emit(CanonKind::flood_off, block);
     }
+    mist = code == 70 || (mist && code == 80);
+    flood = code == 80 || (flood && code == 70);
   }
+  if (m_by_group[9]) set_override_state(block, m_by_group[9]->tenths);
   // Overrides, digital and analog I/O and user codes: a real machine's business, passed on,
   // I/O and user codes with their words (M62 P1, M66 P0 L3 Q2, M101 P2 Q3) so that a joint
   // program can carry them whole.
@@ -192,6 +197,16 @@ void Interpreter::State::execute_m_codes(const Block& block) {
     if (group == 10) warn(code_name('M', code) + " (user M-code) passed on as an event");
     emit(event);
   }
+}
+
+void Interpreter::State::set_override_state(const Block& block, int code) {
+  // M50-M53 enable without a P word or with any P but P0, as LinuxCNC reads them.
+  const bool enable = !block.has('p') || block.value('p') != 0.0;
+  if (code == 480 || code == 490) feed_override_on = speed_override_on = code == 480;
+  if (code == 500) feed_override_on = enable;
+  if (code == 510) speed_override_on = enable;
+  if (code == 520) adaptive_feed_on = enable;
+  if (code == 530) feed_hold_on = enable;
 }
 
 void Interpreter::State::dwell_if_asked(const Block& block, const Code* non_modal) {
@@ -247,10 +262,11 @@ void Interpreter::State::set_path_control(const Block& block, const Code& code) 
   refuse_with_compensation(code, "change the path control mode");
   path_mode = code.tenths == 640 ? 64 : code.tenths == 610 ? 61 : 611;
   path_tolerance = code.tenths == 640 && block.has('p') ? block.value('p') : 0.0;
+  naive_tolerance = code.tenths == 640 && block.has('q') ? block.value('q') : 0.0;
   Canon c = make(CanonKind::path_control, block);
   c.integer = path_mode;
   c.value = path_tolerance;
-  c.value2 = block.has('q') ? block.value('q') : 0.0;
+  c.value2 = naive_tolerance;
   emit(c);
 }
 
@@ -300,6 +316,10 @@ void Interpreter::State::end_program(const Block& block) {
   set_feed_mode(block, 940);  // G94 and no feed rate, as rs274 ends
   emit(CanonKind::spindle_stop, block);
   spindle_direction = 0;
+  if (mist) emit(CanonKind::mist_off, block);
+  if (flood) emit(CanonKind::flood_off, block);
+  mist = flood = false;
+  feed_override_on = speed_override_on = true;
   emit(CanonKind::program_end, block);
   saw_end = true;
   ended = true;

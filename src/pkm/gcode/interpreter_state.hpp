@@ -9,6 +9,7 @@
 //   threading.cpp           G76
 //   tools.cpp               tool selection and change, tool length, cutter compensation
 //   o_word_flow.cpp         subroutines, conditionals and loops
+//   modal_context.cpp       M70-M73: the modal state saved and restored
 // Members used on the path of every line are defined here, inline.
 #pragma once
 
@@ -122,6 +123,12 @@ struct Interpreter::State {
   int selected_tool = 0;
   int path_mode = 64;
   double path_tolerance = 0.0;
+  double naive_tolerance = 0.0;  // G64's Q
+  bool tool_length_g43 = false;  // the last tool length code was G43 (its offset may be zero)
+  bool mist = false, flood = false;
+  // M48-M53: LinuxCNC starts with the overrides and feed hold enabled, adaptive feed disabled.
+  bool feed_override_on = true, speed_override_on = true, adaptive_feed_on = false,
+       feed_hold_on = true;
   // G41/G42: moves go through it, and every other command too (it holds them behind a move
   // whose end the next move settles). `pos` stays the programmed point.
   CutterCompensation compensation;
@@ -143,6 +150,23 @@ struct Interpreter::State {
   double cycle_old_cc = 0.0;
   bool cycle_series = false;
   bool motion_changed = false;  // this block changes the motion mode
+
+  // M70/M73's saved modal state, as LinuxCNC's save_settings keeps it (modal_context.cpp): G
+  // codes in LinuxCNC's slots (its active_g_codes, times ten, -1 for none), M codes in its
+  // slots (active_m_codes), and F, S and G64's P and Q.
+  struct ModalContext {
+    std::array<int, 17> g{};
+    std::array<int, 9> m{};
+    double feed = 0.0, speed = 0.0, path_tolerance = 0.0, naive_tolerance = 0.0;
+  };
+  // A call's (or the main program's) saved state: M70 and M73 make it valid, M71 invalidates
+  // it, M73 also restores it when the call returns.
+  struct SavedContext {
+    ModalContext modes;
+    bool valid = false;
+    bool restore_on_return = false;
+  };
+  SavedContext main_context;  // the main program's, LinuxCNC's call level 0
 
   // Control flow.
   struct Frame {
@@ -167,6 +191,7 @@ struct Interpreter::State {
     Mark start;           // the definition's line
     long repeats = 0;     // M98 L: runs still to make after this one
     long iterations = 0;  // runs made (bounded by max_loop_iterations)
+    SavedContext context;
   };
   std::vector<Call> calls;
   // Subroutines by label: `o<name> sub` lines, or Fanuc O-number lines (`fanuc`), which only
@@ -301,6 +326,8 @@ struct Interpreter::State {
   void set_feed_speed_and_tool(const Block& block, const Code* feed_mode_code);
   void set_feed_mode(const Block& block, int code);  // G93, G94, G95
   void execute_m_codes(const Block& block);
+  // M48-M53 (still passed on as events): which overrides are on, for M70's saved state.
+  void set_override_state(const Block& block, int code);
   void dwell_if_asked(const Block& block, const Code* non_modal);
   // Plane, units, cutter compensation, tool length, coordinate system, path control, distance
   // and retract modes. Clears `has_axis` where the axis words were an offset (G43.1).
@@ -455,7 +482,12 @@ struct Interpreter::State {
   void set_tool_length_offset(const Block& block, const Code& code, bool& has_axis);
   void set_compensation(const Block& block, const Code& code);
   void start_compensation(const Block& block, const Code& code);
-  double compensation_radius(const Block& block, const Code& code);
+  // The radius (program units) and lathe orientation G41/G42 or G41.1/G42.1 compensate for.
+  struct CompensationTool {
+    double radius = 0.0;
+    int orientation = 0;
+  };
+  CompensationTool compensation_tool(const Block& block, const Code& code);
   // Held commands go out (program stops and ends): the last offset move ends where the tool is.
   void release_compensation(int column) {
     compensating(column, [&] { compensation.flush(); });
@@ -472,6 +504,18 @@ struct Interpreter::State {
     if (!finite) fail(column, "calculation resulted in infinity or NaN (a tool offset too large)");
   }
 
+  // ---- M70-M73 (modal_context.cpp) ------------------------------------------------------
+  SavedContext& context_here() { return calls.empty() ? main_context : calls.back().context; }
+  ModalContext active_modes() const;
+  void save_or_restore_modes(const Code& code);  // M70, M71, M72, M73
+  // Makes `saved` the modal state again, as LinuxCNC does: by executing the G and M codes that
+  // differ (units first), and always F, S and G64's P and Q. `what` names the restoring code
+  // for errors and warnings, at `column`.
+  void restore_modes(const ModalContext& saved, int column, const std::string& what);
+  void execute_restoring(const std::string& line, int column, const std::string& what);
+  // A call's M73 state restored as the call returns (endsub, return, M99).
+  void restore_on_return(const SavedContext& leaving, int column);
+
   // ---- O-word flow (o_word_flow.cpp) -----------------------------------------------------
   void execute_o_word(const Block& block);
   double o_value(const OWord& o) const;
@@ -481,8 +525,8 @@ struct Interpreter::State {
   }
   void call_subroutine(const OWord& o);
   void return_from_subroutine(const OWord& o);
-  // Leaves the innermost call for the line after it.
-  void leave_call();
+  // Leaves the innermost call for the line after it; `column` is the returning code's.
+  void leave_call(int column);
   // M98 P L (Fanuc-style subprogram call) and M99 (its return, or the main program's end).
   void call_fanuc_program(const Block& block, const Code& m98);
   void return_from_fanuc_program(const Block& block, const Code& m99);

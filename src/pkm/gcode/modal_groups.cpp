@@ -46,7 +46,7 @@ constexpr GroupTable<2000> kMGroups = [] {
   table.assign(4, {0, 10, 20, 300, 600, 980, 990});  // M98/M99: Fanuc-style subprograms
   table.assign(5, {620, 630, 640, 650, 660, 670, 680});
   table.assign(6, {60, 610});
-  table.assign(7, {30, 40, 50, 190});
+  table.assign(7, {30, 40, 50, 190, 700, 710, 720, 730});  // M70-M73 as LinuxCNC groups them
   table.assign(8, {70, 80, 90});
   table.assign(9, {480, 490, 500, 510, 520, 530});
   for (int user = 1000; user <= 1990; ++user) table.group_of[static_cast<std::size_t>(user)] = 10;

@@ -73,7 +73,7 @@ void Interpreter::State::call_subroutine(const OWord& o) {
   const Mark sub = find_subroutine(o.label, false, o.column);
   require_call_depth("o" + o.label + " call", o.column);
   count_program_iteration(o.column);
-  calls.push_back({o.label, next, flow.size(), false, sub, 0, 0});
+  calls.push_back({o.label, next, flow.size(), false, sub, 0, 0, {}});
   parameters.push_scope(o.arguments);
   jump(after(sub));
 }
@@ -85,15 +85,16 @@ void Interpreter::State::return_from_subroutine(const OWord& o) {
                        ", an M98 program: M99 ends it");
   }
   parameters.set_returned(o.value);
-  leave_call();
+  leave_call(o.column);
 }
 
-void Interpreter::State::leave_call() {
+void Interpreter::State::leave_call(int column) {
   const Call call = calls.back();
   calls.pop_back();
   flow.resize(std::min(flow.size(), call.flow_depth));
   parameters.pop_scope();
   jump(call.return_to);
+  restore_on_return(call.context, column);
 }
 
 void Interpreter::State::call_fanuc_program(const Block& block, const Code& m98) {
@@ -122,7 +123,7 @@ void Interpreter::State::call_fanuc_program(const Block& block, const Code& m98)
   const Mark program = find_subroutine(label, true, p->column);
   require_call_depth("M98 P" + label, m98.column);
   count_program_iteration(m98.column);
-  calls.push_back({label, next, flow.size(), true, program, runs - 1, 1});
+  calls.push_back({label, next, flow.size(), true, program, runs - 1, 1, {}});
   parameters.push_scope_sharing_numbered();
   jump(after(program));
 }
@@ -141,10 +142,14 @@ void Interpreter::State::return_from_fanuc_program(const Block& block, const Cod
                          " call: endsub or return ends it");
   }
   if (call.repeats == 0) {
-    leave_call();
+    leave_call(m99.column);
     return;
   }
-  // M98 L: the program runs again, with fresh local names.
+  // M98 L: the program runs again, with fresh local names and no saved modes (LinuxCNC returns
+  // and calls again: M73's modes are restored in between).
+  const SavedContext leaving = call.context;
+  call.context = {};
+  restore_on_return(leaving, m99.column);
   --call.repeats;
   if (++call.iterations > options.max_loop_iterations) {
     fail(m99.column, "O" + call.label + " ran more than " +

@@ -71,7 +71,14 @@ ToolTable parse_tool_table(const std::string& text, const std::string& source_na
       } else if (kAxisLetters.find(c) != std::string_view::npos) {
         const std::size_t axis = kAxisLetters.find(c);
         entry.offset[axis] = (axis < 3 || axis >= 6) ? value * to_mm : value;
-      } else if (c != 'I' && c != 'J' && c != 'Q') {  // lathe angles and orientation: unused
+      } else if (c == 'Q') {
+        if (value < 0.0 || value > 9.0 || value != std::floor(value)) {
+          throw GcodeError(source_name, number, column,
+                           "tool table: Q (a lathe tool's orientation) must be a whole number "
+                           "from 0 to 9");
+        }
+        entry.orientation = static_cast<int>(value);
+      } else if (c != 'I' && c != 'J') {  // lathe tools' front and back angles: unused
         throw GcodeError(source_name, number, column,
                          std::string("tool table: unknown word '") + line[pos] + "'");
       }

@@ -14,6 +14,9 @@ struct ToolEntry {
   int pocket = 0;
   Position offset{};  // X Y Z A B C U V W offsets, mm (deg for A B C)
   double diameter = 0.0;
+  // Q: a lathe tool's orientation, 1-8 (which of its sides and corners the tip's radius centre
+  // lies off; cutter compensation moves the tool by it, as LinuxCNC does), 0 or 9 for none.
+  int orientation = 0;
   std::string comment;
 };
 

@@ -67,6 +67,7 @@ void Interpreter::State::set_tool_length_offset(const Block& block, const Code& 
     pos[axis] += axis_from_mm(axis, tool_offset_mm[axis] - offset[axis]);
   }
   tool_offset_mm = offset;
+  tool_length_g43 = code.tenths == 430;
   Canon c = make(CanonKind::tool_length_offset, block);
   for (int axis = 0; axis < kAxes; ++axis) c.end[axis] = axis_from_mm(axis, offset[axis]);
   emit(c);
@@ -84,27 +85,31 @@ void Interpreter::State::start_compensation(const Block& block, const Code& code
     fail(code.column, "cutter radius compensation works in the XY (G17) or XZ (G18) plane only");
   }
   if (compensation.on()) fail(code.column, "cutter radius compensation is already on (G40 first)");
-  const double radius = compensation_radius(block, code);
+  const CompensationTool tool = compensation_tool(block, code);
   compensation.turn_on(
       code.tenths == 410 || code.tenths == 411 ? CompensationSide::left : CompensationSide::right,
-      radius, plane);
+      tool.radius, plane, tool.orientation);
 }
 
-double Interpreter::State::compensation_radius(const Block& block, const Code& code) {
+Interpreter::State::CompensationTool Interpreter::State::compensation_tool(const Block& block,
+                                                                           const Code& code) {
   const std::string name = code_name('G', code.tenths);
   const auto& d = block.word('d');
   if (code.tenths == 411 || code.tenths == 421) {
-    // G41.1/G42.1: the D word is the tool's diameter.
+    // G41.1/G42.1: the D word is the tool's diameter, the L word a lathe tool's orientation.
     if (!d) fail(code.column, name + " needs a D word: the tool diameter");
+    int orientation = 0;
     if (const auto& l = block.word('l')) {
       if (plane != Plane::xz) {
         fail(l->column, name + " with an L word (lathe tool orientation) needs the XZ plane (G18)");
       }
-      if (l->value != 0.0 && l->value != 9.0) {
-        fail(l->column, "lathe tool orientations are not supported: L0 or L9 (a round tool) only");
+      if (!(l->value >= 0.0 && l->value <= 9.0) || l->value != std::floor(l->value)) {
+        fail(l->column, name + " L" + written_number(l->value) +
+                            ": a lathe tool's orientation is a whole number from 0 to 9");
       }
+      orientation = static_cast<int>(l->value);
     }
-    return d->value / 2.0;
+    return {d->value / 2.0, orientation};
   }
   // G41/G42: the D word names a tool in the table; without one, the tool in the spindle.
   int tool = tool_in_spindle;
@@ -118,7 +123,7 @@ double Interpreter::State::compensation_radius(const Block& block, const Code& c
     if (number < 0.0) fail(d->column, "negative D word (tool number)");
     tool = static_cast<int>(number);
   }
-  double radius = 0.0;  // program units
+  CompensationTool found;  // radius in program units
   if (tool != 0) {
     if (!options.tool_table) {
       fail(column, name + " needs a tool table (--tool-table) for the diameter of tool " +
@@ -128,13 +133,17 @@ double Interpreter::State::compensation_radius(const Block& block, const Code& c
     if (entry == options.tool_table->end()) {
       fail(column, "tool " + std::to_string(tool) + " for " + name + " is not in the tool table");
     }
-    radius = from_mm(entry->second.diameter) / 2.0;
+    found = {from_mm(entry->second.diameter) / 2.0, entry->second.orientation};
   }
-  if (radius == 0.0) {
+  if (found.orientation != 0 && found.orientation != 9 && plane != Plane::xz) {
+    fail(column, name + " with tool " + std::to_string(tool) + ", a lathe tool (orientation " +
+                     std::to_string(found.orientation) + "), needs the XZ plane (G18)");
+  }
+  if (found.radius == 0.0) {
     warn(name + " with tool " + std::to_string(tool) +
          " of zero diameter: the moves are not offset");
   }
-  return radius;
+  return found;
 }
 
 }  // namespace pkm::gcode
