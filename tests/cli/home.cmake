@@ -43,7 +43,7 @@ set_tests_properties(cli.home_mach3_probes_with_g31 PROPERTIES PASS_REGULAR_EXPR
 
 set(HOME_NEVER ${HOME_OUT}/never.ngc)
 pkm_cli_refuses(home_grbl_letters_a_b
-                "hektor\\.toml: dialect grbl has no axis A \\(joint 'left'\\): use --dialect linuxcnc, or change the joints' axis letters"
+                "hektor\\.toml: dialect grbl has no axis A \\(joint 'left'\\): use --dialect linuxcnc or grblhal, or change the joints' axis letters"
                 NO_FILE ${HOME_NEVER}
                 home -m ${MACHINES}/hektor.toml -o ${HOME_NEVER} --dialect grbl)
 pkm_cli_refuses(home_mach3_rotary_probe
