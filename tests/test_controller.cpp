@@ -235,6 +235,7 @@ TEST(ExportGrbl, WallPlotterByHand) {
   const post::ControllerSettingsFile file =
       post::controller_settings(machine, ControllerKind::grbl);
   EXPECT_EQ(file.text(),
+            "$1=255 (keep the motors enabled at rest: the tool hangs on them)\n"
             "$13=0 (report positions in mm: joint programs are in mm)\n"
             "$11=0.010 (junction deviation, mm)\n"
             "$100=80.000 (X = joint left: steps/mm)\n"
@@ -265,6 +266,7 @@ TEST(ExportGrbl, InchFileInMillimetresInAxisOrder) {
   const Machine machine = plotter(text + "junction_deviation = 0.0005\n");
   const std::string settings = post::controller_settings(machine, ControllerKind::grbl).text();
   EXPECT_EQ(settings,
+            "$1=255 (keep the motors enabled at rest: the tool hangs on them)\n"
             "$13=0 (report positions in mm: joint programs are in mm)\n"
             "$11=0.0127 (junction deviation, mm)\n"
             "$101=3.149606 (Y = joint right: steps/mm)\n"
@@ -343,7 +345,7 @@ TEST(ExportGrbl, LinesAreSafeForGrbl) {
     for (const char c : line) EXPECT_TRUE(c >= 0x20 && c <= 0x7E) << line;
     EXPECT_EQ(line.find('(', line.find('(') + 1), std::string::npos) << line;  // one comment
   }
-  EXPECT_EQ(count, 10);
+  EXPECT_EQ(count, 11);
   EXPECT_NE(text.find("$100=80.000 (X = joint l__ft_ [main] cord with a very long name th...: "
                       "steps/mm)\n"),
             std::string::npos)

@@ -4,10 +4,10 @@
 set(GRBL_OUT ${CLI_OUT}/grbl)
 file(MAKE_DIRECTORY ${GRBL_OUT})
 add_test(NAME cli.export_grbl_wall_plotter
-         COMMAND sh -c "\"$0\" export grbl -m \"$1\" -o \"$2\" && grep -c -e '^\\$100=80\\.000 (X = joint left: steps/mm)$' -e '^\\$111=9000\\.000 (Y = joint right: max rate, mm/min)$' -e '^\\$120=1000\\.000 ' -e '^\\$131=1950\\.000 ' -e '^\\$11=0\\.010 ' -e '^\\$13=0 ' \"$2\" && wc -l < \"$2\""
+         COMMAND sh -c "\"$0\" export grbl -m \"$1\" -o \"$2\" && grep -c -e '^\\$100=80\\.000 (X = joint left: steps/mm)$' -e '^\\$111=9000\\.000 (Y = joint right: max rate, mm/min)$' -e '^\\$120=1000\\.000 ' -e '^\\$131=1950\\.000 ' -e '^\\$11=0\\.010 ' -e '^\\$13=0 ' -e '^\\$1=255 ' \"$2\" && wc -l < \"$2\""
                  ${PKM} ${MACHINES}/wall-plotter.toml ${GRBL_OUT}/wall-plotter.settings)
 set_tests_properties(cli.export_grbl_wall_plotter PROPERTIES PASS_REGULAR_EXPRESSION
-  "wall-plotter\\.settings: 10 grbl settings for Wall plotter 1500: send it line by line, waiting for each ok\n6\n10\n$")
+  "wall-plotter\\.settings: 11 grbl settings for Wall plotter 1500: send it line by line, waiting for each ok\n7\n11\n$")
 add_test(NAME cli.export_grbl_to_standard_output
          COMMAND ${PKM} export grbl -m ${MACHINES}/triaglide.toml)
 set_tests_properties(cli.export_grbl_to_standard_output PROPERTIES PASS_REGULAR_EXPRESSION

@@ -130,6 +130,9 @@ ControllerSettingsFile controller_settings(const Machine& machine, ControllerKin
   check_controller(machine, kind);
   const std::vector<AxisJoint> order = axis_order(machine);
   ControllerSettingsFile file;
+  // grbl cuts the motors' current 25 ms after a move ($1=25): a parallel machine's tool hangs on
+  // its joints, and a cord or arm let go slips, losing the zero. 255 keeps them enabled.
+  file.settings.push_back({1, "255", "keep the motors enabled at rest: the tool hangs on them"});
   file.settings.push_back({13, "0", "report positions in mm: joint programs are in mm"});
   file.settings.push_back(
       {11, setting_value(machine.controller()->junction_deviation), "junction deviation, mm"});

@@ -1,9 +1,10 @@
 // `pkm export grbl|grblhal`: the `$` settings that make a grbl-class controller drive a machine's
 // joints as pkmkit's joint programs expect (docs/grbl.md): steps per unit, max rate, acceleration
 // and max travel per axis ($100.., $110.., $120.., $130..), junction deviation ($11), positions
-// reported in mm ($13=0). Each line is one setting with its comment after it, as both firmwares
-// accept it: grbl 1.1h strips comments and spaces before it reads a `$` line (protocol.c), grblHAL
-// reads the number after `=` and stops at the comment (settings_store_setting).
+// reported in mm ($13=0), the motors kept enabled at rest ($1=255). Each line is one setting with
+// its comment after it, as both firmwares accept it: grbl 1.1h strips comments and spaces before it
+// reads a `$` line (protocol.c), grblHAL reads the number after `=` and stops at the comment
+// (settings_store_setting).
 #pragma once
 
 #include <string>
