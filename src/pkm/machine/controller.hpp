@@ -18,9 +18,13 @@ enum class ControllerKind { grbl, grblhal };
 
 struct ControllerSettings {
   ControllerKind kind = ControllerKind::grbl;
-  int axes = 3;                      // axes the firmware is built with (grbl 1.1: 3; grblHAL 3..8)
-  int planner_blocks = 16;           // blocks grbl plans ahead (grblHAL: 35)
-  int rx_buffer_bytes = 128;         // the serial receive buffer the sender counts characters into
+  int axes = 3;  // axes the firmware is built with (grbl 1.1: 3; grblHAL 3..8)
+  // The planner's buffer in blocks: grbl 1.1 BLOCK_BUFFER_SIZE 16, a ring that holds 15 (its $I
+  // reports 15); grblHAL 35 here, its $398 (100 by default since December 2023), all usable.
+  int planner_blocks = 16;
+  // The serial receive buffer the sender counts characters into: grbl 128 (RX_BUFFER_SIZE, all
+  // usable), grblHAL 1024.
+  int rx_buffer_bytes = 128;
   int baud = 115200;                 // serial line speed, bit/s (10 bits per character: 8N1)
   double junction_deviation = 0.01;  // mm (machine file's length unit in the file, mm inside)
 };
