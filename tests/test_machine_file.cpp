@@ -571,7 +571,10 @@ TEST(MachineFile, PenThatDrawsAboveItsHeight) {
 }
 
 TEST(MachineFile, ToolChannelOfAPenPlotter) {
-  const std::string text = read_example("wall-plotter.toml") +
+  // A servo pen (M280) is for a controller that has the command: not the wall plotter's grbl.
+  std::string plotter = read_example("wall-plotter.toml");
+  plotter.replace(plotter.find("[controller]\nkind = \"grbl\"\n"), 27, "");
+  const std::string text = plotter +
                            "\n[tool]\nz = \"pen\"\ndown_below = 0.5\ndown = \"M280 P0 S30\"\n"
                            "up = \"M280 P0 S90\"\ndelay = 0.15\n";
   const Machine machine = parse_machine(text, "pen.toml");
@@ -612,7 +615,7 @@ std::string plotter_with_pen_axis() {
   text.replace(text.find("axis = \"Y\"\n"), 11, "");
   text.replace(text.find("[cartesian]"), 11,
                "[[joints]]\nname = \"pen\"\nmin = -5.0\nmax = 20.0\nmax_velocity = 50.0\n"
-               "max_acceleration = 500.0\n\n[cartesian]");
+               "max_acceleration = 500.0\nsteps_per_unit = 80.0\n\n[cartesian]");
   text.replace(text.find("home = [750.0, -700.0]"), 22, "home = [750.0, -700.0, 5.0]");
   return text;
 }

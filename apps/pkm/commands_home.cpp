@@ -91,8 +91,8 @@ void register_home_commands(CLI::App& app) {
       "joint readings measured by hand (--measured)");
   command->add_option("-m,--machine", options->machine, "Machine file")->required();
   command->add_option("-o,--output", options->output, "The program to write")->required();
-  command->add_option("--dialect", options->dialect, "linuxcnc (default), mach3 or grbl")
-      ->check(CLI::IsMember({"linuxcnc", "mach3", "grbl"}));
+  command->add_option("--dialect", options->dialect, "linuxcnc (default), mach3, grbl or grblhal")
+      ->check(CLI::IsMember({"linuxcnc", "mach3", "grbl", "grblhal"}));
   command
       ->add_option("--measured", options->measured,
                    "Joint readings measured by hand at rest, one per joint of the mechanism "

@@ -10,6 +10,7 @@
 #include "pkm/io/atomic_file.hpp"
 #include "pkm/io/input_files.hpp"
 #include "pkm/motion/job_reach.hpp"
+#include "pkm/post/grbl_settings.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/post/mach3_export.hpp"
 #include "pkm/post/program_header.hpp"
@@ -148,6 +149,48 @@ void run_post(const PostCommandOptions& options) {
   }
 }
 
+// pkm export grbl|grblhal: the controller's $ settings, on standard output or in -o FILE.
+void run_export_settings(const std::string& machine_file, const std::string& output,
+                         ControllerKind kind) {
+  refuse_overwriting_input(output, {{"the machine file", machine_file}});
+  const Machine machine = load_machine(machine_file);
+  post::ControllerSettingsFile settings;
+  try {
+    settings = post::controller_settings(machine, kind);
+  } catch (const std::invalid_argument& error) {
+    throw CommandError(error.what());
+  }
+  for (const std::string& warning : settings.warnings) {
+    std::fprintf(stderr, "pkm: warning: %s\n", warning.c_str());
+  }
+  if (output.empty()) {
+    std::fputs(settings.text().c_str(), stdout);
+    return;
+  }
+  write_file_atomically(output, settings.text());
+  std::printf("%s: %zu %s settings for %s: send it line by line, waiting for each ok\n",
+              output.c_str(), settings.settings.size(), controller_kind_name(kind),
+              machine.name().c_str());
+}
+
+void register_export_settings(CLI::App& export_command, ControllerKind kind) {
+  struct Options {
+    std::string machine;
+    std::string output;
+  };
+  auto options = std::make_shared<Options>();
+  const std::string name = controller_kind_name(kind);
+  CLI::App* command = export_command.add_subcommand(
+      name, "The " + name + " $ settings of the joints (steps, rates, accelerations, travel)");
+  command->add_option("-m,--machine", options->machine, "Machine file with a [controller] table")
+      ->required();
+  command
+      ->add_option("-o,--output", options->output, "The settings file (default: standard output)")
+      ->check(file_name());
+  command->callback(
+      [options, kind] { run_export_settings(options->machine, options->output, kind); });
+}
+
 }  // namespace
 
 void register_post_commands(CLI::App& app) {
@@ -172,6 +215,9 @@ void register_post_commands(CLI::App& app) {
       std::printf("f(%c) = %s\n", letter, expression.c_str());
     }
   });
+
+  register_export_settings(*export_command, ControllerKind::grbl);
+  register_export_settings(*export_command, ControllerKind::grblhal);
 
   auto options = std::make_shared<PostCommandOptions>();
   CLI::App* command = app.add_subcommand(

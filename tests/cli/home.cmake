@@ -43,7 +43,7 @@ set_tests_properties(cli.home_mach3_probes_with_g31 PROPERTIES PASS_REGULAR_EXPR
 
 set(HOME_NEVER ${HOME_OUT}/never.ngc)
 pkm_cli_refuses(home_grbl_letters_a_b
-                "hektor\\.toml: dialect grbl has no axis A \\(joint 'left'\\): use --dialect linuxcnc, or change the joints' axis letters"
+                "hektor\\.toml: dialect grbl has no axis A \\(joint 'left'\\): use --dialect linuxcnc or grblhal, or change the joints' axis letters"
                 NO_FILE ${HOME_NEVER}
                 home -m ${MACHINES}/hektor.toml -o ${HOME_NEVER} --dialect grbl)
 pkm_cli_refuses(home_mach3_rotary_probe
@@ -65,9 +65,11 @@ pkm_cli_refuses(home_measured_past_max
 pkm_cli_refuses(home_measured_nan "--measured: 'nan' is not a finite number"
                 NO_FILE ${HOME_NEVER}
                 home -m ${MACHINES}/wall-plotter.toml -o ${HOME_NEVER} --measured nan 700)
-pkm_cli_refuses(home_dialect_grblhal "--dialect: grblhal not in"
-                NO_FILE ${HOME_NEVER}
-                home -m ${MACHINES}/wall-plotter.toml -o ${HOME_NEVER} --dialect grblhal)
+# grblHAL zeroes as grbl does, with its 4 decimals: both cords at home, sqrt(750^2 + 700^2).
+add_test(NAME cli.home_wall_plotter_grblhal_measured
+         COMMAND sh -c "\"$0\" home -m \"$1\" -o \"$2\" --dialect grblhal --measured 1025.91423 1025.91423 >/dev/null && grep -c '^G10 L20 P1 X1025\\.9142 Y1025\\.9142$' \"$2\""
+                 ${PKM} ${MACHINES}/wall-plotter.toml ${HOME_OUT}/wall-plotter-grblhal-set.ngc)
+set_tests_properties(cli.home_wall_plotter_grblhal_measured PROPERTIES PASS_REGULAR_EXPRESSION "^1\n$")
 pkm_cli_refuses(home_bad_homing_table
                 "bad-homing\\.toml:[0-9]+:homing\\.slack: paying out joint 'left' by 2000\\.000 mm before joint 'right' homes takes it past its max"
                 NO_FILE ${HOME_NEVER}

@@ -194,6 +194,17 @@ JointSpec read_joint(const ModelConfig& table, JointKind kind, double mm_per_uni
   joint.max_acceleration =
       ranged(table, "max_acceleration", kMinRate, kMaxAcceleration, unit + "/s^2") * scale;
   joint.home_switch = read_home_switch(table, joint, scale);
+  if (table.has("steps_per_unit")) {
+    // Steps per file unit (per inch in an inch file, per deg for a rotary joint): to per mm.
+    constexpr double kMaxStepsPerUnit = 1e6;
+    const double steps = table.number("steps_per_unit");
+    if (!(steps > 0.0 && steps <= kMaxStepsPerUnit)) {
+      table.fail("steps_per_unit", "must be greater than 0 and at most " +
+                                       formatted_number("%g", kMaxStepsPerUnit) + " steps/" + unit +
+                                       ", not " + formatted_number("%g", steps));
+    }
+    joint.steps_per_unit = rotary ? steps : steps / mm_per_unit;
+  }
   return joint;
 }
 
@@ -382,6 +393,20 @@ std::string pen_command_problem(const std::string& command, const std::vector<Jo
   return "";
 }
 
+// Why grbl 1.1 cannot run a pen command, or empty: an M code it lacks (gcode.c takes M0 M1 M2 M30,
+// which end or pause the program, M3 M4 M5, M8 M9; M7 only in builds with ENABLE_M7).
+std::string grbl_pen_command_problem(const std::string& command) {
+  for (const auto& [letter, value] : gcode_words(command)) {
+    if (letter != 'M') continue;
+    if (value != "3" && value != "4" && value != "5" && value != "8" && value != "9") {
+      return "holds M" + value +
+             ", which grbl 1.1 does not take for a pen (M3 M4 M5 switch its spindle output, M8 "
+             "M9 its coolant output): e.g. down = \"M3 S1000\", up = \"M5\"";
+    }
+  }
+  return "";
+}
+
 // The height of the pen: `down_below` (the default, 0) or `down_above`, not both.
 void read_pen_height(const TomlSection& tool, ToolChannel& channel) {
   if (tool.has("down_below") && tool.has("down_above")) {
@@ -398,7 +423,8 @@ void read_pen_height(const TomlSection& tool, ToolChannel& channel) {
 
 // The optional [tool] table: the pen channel of machines that do not move in Z.
 ToolChannel read_tool(const TomlSection& tool, const Kinematics& kinematics,
-                      const std::vector<JointSpec>& joints) {
+                      const std::vector<JointSpec>& joints,
+                      const std::optional<ControllerSettings>& controller) {
   ToolChannel channel;
   const std::string z = tool.string("z");
   if (z == "pen") {
@@ -423,7 +449,10 @@ ToolChannel read_tool(const TomlSection& tool, const Kinematics& kinematics,
     if (command.find_first_of("\n\r") != std::string::npos) {
       tool.fail(key, "must be one line of G-code");
     }
-    const std::string problem = pen_command_problem(command, joints);
+    std::string problem = pen_command_problem(command, joints);
+    if (problem.empty() && controller && controller->kind == ControllerKind::grbl) {
+      problem = grbl_pen_command_problem(command);
+    }
     if (!problem.empty()) tool.fail(key, "\"" + command + "\" " + problem);
   }
   return channel;
@@ -494,8 +523,12 @@ Machine parse_machine(std::string_view toml_text, const std::string& source_name
   const Pose home = read_home(cartesian_section, *kinematics);
   const CartesianLimits cartesian = read_cartesian(cartesian_section, home);
 
+  std::optional<ControllerSettings> controller;
+  if (root.has("controller")) {
+    controller = read_controller_table(root.section("controller"), joints, joint_tables);
+  }
   ToolChannel tool;
-  if (root.has("tool")) tool = read_tool(root.section("tool"), *kinematics, joints);
+  if (root.has("tool")) tool = read_tool(root.section("tool"), *kinematics, joints, controller);
   std::optional<TomlSection> homing_section;
   std::optional<HomingTable> homing;
   if (root.has("homing")) {
@@ -509,6 +542,7 @@ Machine parse_machine(std::string_view toml_text, const std::string& source_name
                   std::move(kinematics), std::move(joints), cartesian, home);
   machine.set_tool(std::move(tool));
   machine.set_homing(std::move(homing));
+  machine.set_controller(controller);
   JointVector home_joints;
   const Status home_status = machine.inverse(home, home_joints);
   if (!home_status.ok()) {

@@ -5,6 +5,8 @@
 #include <iterator>
 #include <stdexcept>
 
+#include "pkm/post/grbl_settings.hpp"
+
 namespace pkm::post {
 
 namespace {
@@ -39,7 +41,9 @@ class ProgramText {
     text_ += text + "\n";
   }
   void comment(const std::string& before, const std::string& text, const std::string& after) {
-    text_ += comment_line(before, text, after, rules_.max_line);
+    // grbl acts on ? ! ~ and bytes above 0x7F even inside a comment (grbl_settings.hpp).
+    const bool grbl = dialect_ == Dialect::grbl || dialect_ == Dialect::grblhal;
+    text_ += comment_line(before, grbl ? grbl_comment_text(text) : text, after, rules_.max_line);
   }
   // The words of `targets` (joint, value in mm or rad), in joint order as given.
   std::string words(const std::vector<std::pair<int, double>>& targets) const {
@@ -82,16 +86,12 @@ class ProgramText {
   std::string text_;
 };
 
-constexpr Dialect kHomeDialects[] = {Dialect::linuxcnc, Dialect::mach3, Dialect::grbl};
+constexpr Dialect kHomeDialects[] = {Dialect::linuxcnc, Dialect::mach3, Dialect::grbl,
+                                     Dialect::grblhal};
 
 // Why the dialect cannot write the program ("" when it can): an axis letter it does not have, or
 // (`probes`) a homed joint on a rotary letter, which Mach3's G31 does not move.
 std::string refusal(const Machine& machine, Dialect dialect, bool probes) {
-  if (std::find(std::begin(kHomeDialects), std::end(kHomeDialects), dialect) ==
-      std::end(kHomeDialects)) {
-    return "pkm home writes the dialects linuxcnc, mach3 and grbl, not " +
-           std::string(dialect_name(dialect));
-  }
   const std::string_view axes = rules_of(dialect).axes;
   for (const JointSpec& joint : machine.joints()) {
     if (axes.find(joint.axis_letter) == std::string_view::npos) {

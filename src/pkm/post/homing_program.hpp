@@ -3,7 +3,7 @@
 // probe towards the switch, set the joint to the switch's reading, back off; then go home), and
 // the block that sets joint readings measured by hand at rest. Each dialect probes and sets
 // positions with the words it takes (docs/homing.md):
-//   linuxcnc, grbl: G38.2 (fails when the switch does not trip), G10 L20 P1 (G54);
+//   linuxcnc, grbl, grblhal: G38.2 (fails when the switch does not trip), G10 L20 P1 (G54);
 //   mach3:          G31 (its straight probe; it has no G38.2), G92 (it has no G10 L20).
 #pragma once
 
@@ -16,9 +16,9 @@
 namespace pkm::post {
 
 // The homing program, header comments to M2. Throws std::invalid_argument (naming the machine
-// file) when the machine has no [homing] table, when the dialect is not one of linuxcnc, mach3 or
-// grbl, or cannot write the machine's axis letters, or cannot probe with a homed joint's letter
-// (Mach3's G31 moves no rotary axis, A B C).
+// file) when the machine has no [homing] table, when the dialect is not one of linuxcnc, mach3,
+// grbl or grblhal, or cannot write the machine's axis letters, or cannot probe with a homed joint's
+// letter (Mach3's G31 moves no rotary axis, A B C).
 std::string homing_program(const Machine& machine, Dialect dialect);
 
 // Joint readings measured by hand, checked: every joint (pass-through joints at their home
