@@ -35,6 +35,7 @@ struct StreamCommandOptions {
   bool joint_program = false;
   std::string record_steps;
   double step_interval_s = 0.01;
+  double sim_clock = 0.5;
   std::string grbl_sim;
   double tolerance = 0.0;
   std::vector<double> origin;
@@ -86,6 +87,7 @@ stream::Port open_port(const Machine& machine, const StreamCommandOptions& optio
     if (!options.record_steps.empty())
       simulator.step_file = step_file_partial(options.record_steps);
     simulator.step_interval_s = options.step_interval_s;
+    simulator.clock_factor = options.sim_clock;
     return stream::Port::start_simulator(simulator);
   }
   const int baud = options.baud > 0       ? options.baud
@@ -200,9 +202,11 @@ void run_stream(const StreamCommandOptions& options) {
     progress.clear();
     std::fprintf(stderr, "grbl: %s\n", message.c_str());
   };
+  long before_program = 0;  // lines sent before the program's first: settings, zeroing
   try {
     sender.await_banner();
     if (options.dry_run) send_settings(machine, sender);
+    before_program = sender.lines_sent();
     if (options.joint_program) {
       stream_joint_program(options.job, sender);
     } else {
@@ -225,8 +229,9 @@ void run_stream(const StreamCommandOptions& options) {
   std::string where;
   if (sender.last_status())
     where = ", at " + position_text(machine, *sender.last_status(), last_pose);
+  // The program's lines: not the settings before it nor the G4 P0 that waits for its end.
   std::printf("%s: %ld lines sent, every one answered ok%s\n", options.job.c_str(),
-              sender.lines_sent(), where.c_str());
+              sender.lines_sent() - before_program - 1, where.c_str());
 }
 
 }  // namespace
@@ -262,6 +267,11 @@ void register_stream_commands(CLI::App& app) {
       ->add_option("--step-interval", options->step_interval_s,
                    "With --record-steps: simulated seconds between two rows (default 0.01)")
       ->check(number_in(1e-4, 10.0));
+  command
+      ->add_option("--sim-clock", options->sim_clock,
+                   "With --dry-run: grbl-sim's simulated seconds per second (default 0.5: it "
+                   "cannot keep up with real time on a busy computer)")
+      ->check(number_in(0.01, 1.0));
   command->add_option("--grbl-sim", options->grbl_sim,
                       "grbl_sim.exe for --dry-run (default: $PKM_GRBL_SIM, else the build's)");
   command

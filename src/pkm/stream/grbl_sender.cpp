@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <utility>
 
@@ -38,6 +39,13 @@ std::string printable(std::string_view bytes) {
       text += kHex[byte & 0xf];
     }
   }
+  return text;
+}
+
+// "0.3 s", "4.0 s".
+std::string seconds_text(double seconds) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f s", seconds);
   return text;
 }
 
@@ -78,7 +86,7 @@ void GrblSender::write_all(std::string_view bytes) {
     }
     if (seconds_since(start) > timeouts_.silence_s) {
       throw StreamError(port_ + ": the port takes no bytes for " +
-                        std::to_string(static_cast<int>(timeouts_.silence_s)) + " s");
+                        seconds_text(timeouts_.silence_s));
     }
     pollfd wait{fd_, POLLOUT, 0};
     ::poll(&wait, 1, 50);
@@ -141,6 +149,11 @@ void GrblSender::handle(const std::string& line) {
     }
     case ReplyKind::status:
       if (auto status = parse_status(reply.text, work_offset_)) {
+        if (status->state != "Idle" || in_flight_.empty()) {
+          idle_since_.reset();
+        } else if (!idle_since_) {
+          idle_since_ = Clock::now();
+        }
         last_status_ = *status;
         if (on_status) on_status(*status);
       }
@@ -176,9 +189,8 @@ std::string GrblSender::await_banner() {
   }
   if (!banner_seen_) {
     throw StreamError(port_ + ": no grbl banner (\"Grbl 1.1h ['$' for help]\") within " +
-                      std::to_string(static_cast<int>(2 * timeouts_.banner_s)) +
-                      " s, a soft reset included: " + what_came() +
-                      ". Is this the controller's port, at its baud rate?");
+                      seconds_text(2 * timeouts_.banner_s) + ", a soft reset included: " +
+                      what_came() + ". Is this the controller's port, at its baud rate?");
   }
   collecting_ = false;
   last_byte_ = Clock::now();
@@ -196,11 +208,25 @@ void GrblSender::check_silence() const {
     std::string waiting = in_flight_.empty()
                               ? std::string(" (no line waiting)")
                               : " waiting for the answer to " + describe_line(in_flight_.front());
-    throw StreamError(
-        port_ + ": the controller said nothing for " +
-        std::to_string(static_cast<int>(timeouts_.silence_s)) + " s, asked for its status every " +
-        std::to_string(static_cast<int>(timeouts_.status_interval_s * 1000)) + " ms," + waiting);
+    throw StreamError(port_ + ": the controller said nothing for " +
+                      seconds_text(timeouts_.silence_s) + ", asked for its status every " +
+                      std::to_string(static_cast<int>(timeouts_.status_interval_s * 1000)) +
+                      " ms," + waiting);
   }
+}
+
+void GrblSender::check_idle_stall() {
+  if (!idle_since_ || seconds_since(*idle_since_) < timeouts_.idle_stall_s) return;
+  for (const SentLine& line : in_flight_) {
+    const bool dwell =
+        line.text.find("G4") != std::string::npos || line.text.find("g4") != std::string::npos;
+    // A dwell of the program: grbl is idle while it waits (not drain's G4 P0, which is over
+    // once the motion is).
+    if (dwell && line.program_line >= 0) return;
+  }
+  throw StreamError(port_ + ": grbl is idle, yet " + std::to_string(in_flight_.size()) +
+                    " lines sent have no answer after " + seconds_text(timeouts_.idle_stall_s) +
+                    " (bytes lost on the line?), the oldest " + describe_line(in_flight_.front()));
 }
 
 void GrblSender::send(std::string_view line, long program_line, int job_line) {
@@ -216,6 +242,7 @@ void GrblSender::send(std::string_view line, long program_line, int job_line) {
     check_interrupted();
     request_status_now_and_then();
     check_silence();
+    check_idle_stall();
   }
   write_all(sent.text + "\n");
   in_flight_bytes_ += sent.bytes;
@@ -232,6 +259,7 @@ void GrblSender::drain() {
     check_interrupted();
     request_status_now_and_then();
     check_silence();
+    check_idle_stall();
   }
   // The position where it stopped, for the caller.
   write_all("?");

@@ -28,6 +28,9 @@ struct StreamTimeouts {
   // gone.
   double silence_s = 5.0;
   double status_interval_s = 0.2;  // how often '?' is sent while waiting
+  // grbl reporting Idle this long while lines wait for their answer (and none of them is a
+  // dwell, G4): it lost part of a line and waits for a newline that will not come.
+  double idle_stall_s = 5.0;
 };
 
 // A line of the program as sent: where it came from, for the messages.
@@ -100,6 +103,7 @@ class GrblSender {
   void check_interrupted() const;
   void request_status_now_and_then();
   void check_silence() const;
+  void check_idle_stall();
   std::string what_came() const;
 
   int fd_;
@@ -118,6 +122,7 @@ class GrblSender {
   long lines_sent_ = 0;
   long lines_acknowledged_ = 0;
   Clock::time_point last_byte_, last_status_request_;
+  std::optional<Clock::time_point> idle_since_;  // status Idle with lines waiting, since
 };
 
 // "line 12 (job line 5): G1 X1.00000 Y2.00000" for messages.

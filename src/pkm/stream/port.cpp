@@ -148,7 +148,11 @@ Port Port::start_simulator(const SimulatorOptions& options) {
   port.scratch_ = scratch;
   // The arguments are made before the fork: the child only changes directory and calls exec.
   std::vector<std::string> arguments = {std::filesystem::absolute(options.executable).string(),
-                                        "-n", "-b", "/dev/null"};
+                                        "-n",
+                                        "-b",
+                                        "/dev/null",
+                                        "-t",
+                                        std::to_string(options.clock_factor)};
   if (!options.step_file.empty()) {
     arguments.insert(arguments.end(), {"-s", std::filesystem::absolute(options.step_file).string(),
                                        "-r", std::to_string(options.step_interval_s)});

@@ -31,6 +31,10 @@ class Port {
     std::filesystem::path executable;  // grbl_sim.exe (build-sim, cmake/GrblSim.cmake)
     std::filesystem::path step_file;   // -s: step positions (empty: none)
     double step_interval_s = 0.01;     // -r: how often they are written, simulated seconds
+    // -t: simulated seconds per second. grbl-sim simulates each tick of a 16 MHz AVR; where the
+    // computer cannot keep up, it falls further and further behind (it catches up in ever longer
+    // stretches, during which it neither quits nor flushes), so it is run slower than real time.
+    double clock_factor = 0.5;
   };
   // Starts grbl-sim on a pty set raw (one byte at a time, no echo), as a UART would deliver, in
   // a directory of its own.
