@@ -1,6 +1,7 @@
 // pkm stream: a job sent to a grbl-class controller (or grbl-sim) line by line with grbl's
 // character counting, posted on the fly or read as a joint program, stopped cleanly at a refusal
 // or Ctrl-C.
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -189,7 +190,16 @@ void run_stream(const StreamCommandOptions& options) {
   InterruptFlag interrupt_flag;
   stream::Port port = open_port(machine, options);
   const int rx_buffer = machine.controller() ? machine.controller()->rx_buffer_bytes : 128;
-  stream::GrblSender sender(port.fd(), options.dry_run ? "grbl-sim" : options.port, rx_buffer);
+  stream::StreamTimeouts timeouts;
+  if (options.dry_run) {
+    // grbl-sim says its banner after a simulated second, 1 / --sim-clock s of ours; its answers
+    // come as much slower.
+    timeouts.banner_s = 2.0 + 1.5 / options.sim_clock;
+    timeouts.silence_s = std::max(timeouts.silence_s, 2.0 / options.sim_clock);
+    timeouts.idle_stall_s = std::max(timeouts.idle_stall_s, 2.0 / options.sim_clock);
+  }
+  stream::GrblSender sender(port.fd(), options.dry_run ? "grbl-sim" : options.port, rx_buffer,
+                            timeouts);
   sender.set_interrupt_flag(&interrupted);
   StreamProgress progress("stream " + std::filesystem::path(options.job).filename().string());
   Pose last_pose = machine.home();

@@ -179,13 +179,21 @@ std::string GrblSender::what_came() const {
 }
 
 std::string GrblSender::await_banner() {
+  bool reset_sent = false;
   for (int attempt = 0; attempt < 2 && !banner_seen_; ++attempt) {
-    if (attempt == 1) write_all("\x18");  // a grbl already running says its banner on a reset
+    if (attempt == 1) {
+      write_all("\x18");  // a grbl already running says its banner on a reset
+      reset_sent = true;
+    }
     const auto start = Clock::now();
     while (!banner_seen_ && seconds_since(start) < timeouts_.banner_s) {
       check_interrupted();
       pump(0.05);
     }
+  }
+  // The banner seen may be a late one of the start, the reset's still to come: take it too.
+  for (const auto start = Clock::now(); banner_seen_ && reset_sent && seconds_since(start) < 1.0;) {
+    pump(0.05);
   }
   if (!banner_seen_) {
     throw StreamError(port_ + ": no grbl banner (\"Grbl 1.1h ['$' for help]\") within " +
