@@ -247,5 +247,35 @@ TEST(GrblSender, SilenceIsAnErrorNamingTheLineWaiting) {
   }
 }
 
+// grbl answering its status, Idle, but never the lines: it lost a newline. An error, not a hang.
+TEST(GrblSender, IdleWithLinesUnansweredIsAnError) {
+  SocketPair pair;
+  std::thread grbl([fd = pair.grbl] {
+    const std::string banner = "Grbl 1.1h ['$' for help]\r\n";
+    if (::send(fd, banner.data(), banner.size(), MSG_NOSIGNAL) < 0) return;
+    char byte = 0;
+    while (::recv(fd, &byte, 1, 0) == 1) {
+      const std::string idle = "<Idle|MPos:0.000,0.000,0.000|FS:0,0>\r\n";
+      if (byte == '?' && ::send(fd, idle.data(), idle.size(), MSG_NOSIGNAL) < 0) return;
+    }
+  });
+  StreamTimeouts timeouts;
+  timeouts.idle_stall_s = 0.5;
+  GrblSender sender(pair.sender, "fake", 128, timeouts);
+  sender.await_banner();
+  try {
+    for (int line = 1; line <= 20; ++line) sender.send("G1 X1.00000 Y2.00000 F600", line, 0);
+    FAIL() << "no error";
+  } catch (const StreamError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("grbl is idle, yet 4 lines sent have no answer after 0.5 s (bytes lost on "
+                        "the line?), the oldest line 1: G1 X1.00000 Y2.00000 F600"),
+              std::string::npos)
+        << error.what();
+  }
+  ::shutdown(pair.sender, SHUT_RDWR);
+  grbl.join();
+}
+
 }  // namespace
 }  // namespace pkm::stream
