@@ -43,12 +43,12 @@ struct StreamCommandOptions {
 };
 
 volatile std::sig_atomic_t interrupted = 0;
-extern "C" void on_interrupt(int) {
-  interrupted = 1;
+extern "C" void on_interrupt(int signal_number) {
+  interrupted = signal_number;
 }
 
-// Ctrl-C raises the flag the sender looks at between lines; without SA_RESTART, so that a wait
-// in poll() ends at once. The previous handler comes back at the end.
+// Ctrl-C (and a kill's SIGTERM) raises the flag the sender looks at between lines; without
+// SA_RESTART, so that a wait in poll() ends at once. The previous handlers come back at the end.
 class InterruptFlag {
  public:
   InterruptFlag() {
@@ -57,13 +57,18 @@ class InterruptFlag {
     action.sa_handler = on_interrupt;
     sigemptyset(&action.sa_mask);
     sigaction(SIGINT, &action, &previous_);
+    sigaction(SIGTERM, &action, &previous_term_);
   }
-  ~InterruptFlag() { sigaction(SIGINT, &previous_, nullptr); }
+  ~InterruptFlag() {
+    sigaction(SIGINT, &previous_, nullptr);
+    sigaction(SIGTERM, &previous_term_, nullptr);
+  }
   InterruptFlag(const InterruptFlag&) = delete;
   InterruptFlag& operator=(const InterruptFlag&) = delete;
 
  private:
   struct sigaction previous_ {};
+  struct sigaction previous_term_ {};
 };
 
 std::filesystem::path grbl_sim_executable(const StreamCommandOptions& options) {
@@ -228,9 +233,10 @@ void run_stream(const StreamCommandOptions& options) {
     throw CommandError(std::string(refusal.what()) + "; " + sender.hold_and_reset());
   } catch (const stream::StreamInterrupted&) {
     progress.clear();
-    throw CommandError("stopped by Ctrl-C after " + std::to_string(sender.lines_sent()) +
-                       " lines sent whole, " + std::to_string(sender.lines_acknowledged()) +
-                       " done: " + sender.hold_and_reset());
+    throw CommandError(
+        std::string(interrupted == SIGTERM ? "stopped by SIGTERM" : "stopped by Ctrl-C") +
+        " after " + std::to_string(sender.lines_sent()) + " lines sent whole, " +
+        std::to_string(sender.lines_acknowledged()) + " done: " + sender.hold_and_reset());
   } catch (const stream::StreamError& error) {
     progress.clear();
     throw CommandError(error.what());
