@@ -116,5 +116,6 @@ void register_linuxcnc_commands(CLI::App& app);
 void register_linuxcnc_import_commands(CLI::App& app);
 void register_home_commands(CLI::App& app);
 void register_workspace_commands(CLI::App& app);
+void register_stream_commands(CLI::App& app);
 
 }  // namespace pkm::app

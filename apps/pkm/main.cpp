@@ -99,6 +99,7 @@ int main(int argc, char** argv) {
   pkm::app::register_linuxcnc_import_commands(app);
   pkm::app::register_home_commands(app);
   pkm::app::register_workspace_commands(app);
+  pkm::app::register_stream_commands(app);
   errno = 0;
   try {
     app.parse(argc, argv);

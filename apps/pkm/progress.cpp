@@ -116,4 +116,37 @@ void ProgressBar::clear() {
   active_ = false;
 }
 
+StreamProgress::StreamProgress(std::string what) : what_(std::move(what)) {
+  active_ = ::isatty(STDERR_FILENO) != 0;
+  start_ = last_ = std::chrono::steady_clock::now();
+}
+
+StreamProgress::~StreamProgress() {
+  clear();
+}
+
+void StreamProgress::update(long sent, long answered, const std::string& state_and_position) {
+  if (!active_) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - start_ < first_draw() || now - last_ < kRedraw) return;
+  last_ = now;
+  char numbers[96];
+  std::snprintf(numbers, sizeof numbers, ": %ld lines sent, %ld done  %.1f s  ", sent, answered,
+                std::chrono::duration<double>(now - start_).count());
+  std::string text = "pkm " + what_ + numbers + state_and_position;
+  text = text.substr(0, static_cast<std::size_t>(std::max(terminal_columns() - 1, 20)));
+  const int width = static_cast<int>(text.size());
+  std::fprintf(stderr, "\r%s%*s", text.c_str(), std::max(0, drawn_width_ - width), "");
+  drawn_width_ = std::max(width, drawn_width_);
+  std::fflush(stderr);
+}
+
+void StreamProgress::clear() {
+  if (drawn_width_ > 0) {
+    std::fprintf(stderr, "\r%*s\r", drawn_width_, "");
+    std::fflush(stderr);
+  }
+  drawn_width_ = 0;
+}
+
 }  // namespace pkm::app

@@ -33,4 +33,25 @@ class ProgressBar {
   std::chrono::steady_clock::time_point start_, last_;
 };
 
+// The line `pkm stream` keeps on stderr while it sends: lines sent and answered, grbl's state,
+// the tool's position, the time. On a terminal only, like the bar.
+class StreamProgress {
+ public:
+  explicit StreamProgress(std::string what);
+  ~StreamProgress();
+  StreamProgress(const StreamProgress&) = delete;
+  StreamProgress& operator=(const StreamProgress&) = delete;
+
+  bool active() const { return active_; }
+  // `state_and_position` is what follows the counts ("Run  x 12.300 y -4.500 mm").
+  void update(long sent, long answered, const std::string& state_and_position);
+  void clear();
+
+ private:
+  std::string what_;
+  bool active_ = false;
+  int drawn_width_ = 0;
+  std::chrono::steady_clock::time_point start_, last_;
+};
+
 }  // namespace pkm::app
