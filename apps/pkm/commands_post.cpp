@@ -10,6 +10,7 @@
 #include "pkm/io/atomic_file.hpp"
 #include "pkm/io/input_files.hpp"
 #include "pkm/motion/job_reach.hpp"
+#include "pkm/motion/planner.hpp"
 #include "pkm/post/grbl_settings.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/post/mach3_export.hpp"
@@ -63,6 +64,40 @@ void write_post_html(const Machine& machine, const PostCommandOptions& options,
   view::write_page(options.html,
                    view::blocks_page("post", report, recorder, post_options.tolerance_mm, outline,
                                      "pkm post: " + job + " on " + machine.name()));
+}
+
+std::string format_number(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+// The controller's time beside plan's: what the joints and the job allow when the machine has
+// the kinematics, against what grbl's planner makes of the joint program.
+void print_controller_time(const Machine& machine, const PostCommandOptions& options,
+                           const post::PostOptions& post_options,
+                           const controller::GrblPrediction& prediction) {
+  motion::PlanOptions plan_options;
+  plan_options.origin = post_options.origin;
+  gcode::InterpreterOptions interpreter_options;
+  interpreter_options.tool_table = read_tool_table(machine, options.tool_table);
+  interpreter_options.subroutine_path = options.subroutine_path;
+  plan_options.estimate_only = true;
+  struct : motion::SampleSink {
+    void write(const motion::Sample&) override {}
+  } discard;
+  std::string plan_time;
+  try {
+    const double plan_s =
+        motion::plan_program(machine, options.program, interpreter_options, plan_options, discard)
+            .duration_s;
+    plan_time = format_number("pkm plan: %.3f s", plan_s);
+  } catch (const std::exception& error) {
+    plan_time = std::string("pkm plan refuses the job: ") + error.what();
+  }
+  std::printf("%s predicts %.3f s for the program (%s)\n",
+              controller_kind_name(machine.controller()->kind), prediction.time_s,
+              plan_time.c_str());
 }
 
 void run_post(const PostCommandOptions& options) {
@@ -143,6 +178,7 @@ void run_post(const PostCommandOptions& options) {
               report.bounded ? "deviation bounded by" : "largest sampled deviation",
               report.max_deviation_mm / per_unit, machine.length_unit(), report.max_deviation_line,
               post_options.tolerance_mm / per_unit, machine.length_unit());
+  if (report.controller) print_controller_time(machine, options, post_options, *report.controller);
   if (!options.report.empty()) std::printf("wrote the report %s\n", options.report.c_str());
   if (!options.html.empty()) {
     std::printf("wrote the page %s: open it in a browser\n", options.html.c_str());

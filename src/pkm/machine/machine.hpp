@@ -114,6 +114,10 @@ class Machine {
   void set_controller(std::optional<ControllerSettings> controller) {
     controller_ = std::move(controller);
   }
+  // A joint's steps per mm or deg (JointSpec::steps_per_unit), as the machine file's joint sets it.
+  void set_steps_per_unit(std::size_t joint, std::optional<double> steps) {
+    joints_.at(joint).steps_per_unit = steps;
+  }
 
   // The work envelope, IK (finite joints only), the assembly mode of home, then the joint limits.
   Status inverse(const Pose& pose, JointVector& joints) const;

@@ -535,7 +535,15 @@ PostReport post_program(const Machine& machine, const std::filesystem::path& pro
     throw std::invalid_argument("the origin must be finite (mm, deg)");
   }
   check_axis_letters(machine, options.dialect);
-  Poster poster(machine, options, write_line, program.string());
+  // The controller model reads every line as the sender will stream it.
+  std::optional<controller::GrblTimeModel> model;
+  const bool grbl_class = options.dialect == Dialect::grbl || options.dialect == Dialect::grblhal;
+  if (grbl_class && machine.controller()) model.emplace(controller::grbl_setup_of(machine));
+  const std::function<void(const std::string&)> write_and_model = [&](const std::string& line) {
+    if (model) model->add_line(line);
+    write_line(line);
+  };
+  Poster poster(machine, options, write_and_model, program.string());
   // The program starts where the machine is: axes it never names stay at home.
   gcode::InterpreterOptions job_options =
       motion::starting_at(interpreter_options, machine.home().as_vector(), options.origin);
@@ -551,7 +559,33 @@ PostReport post_program(const Machine& machine, const std::filesystem::path& pro
   report.warnings.insert(report.warnings.begin(), interpreter.warnings().begin(),
                          interpreter.warnings().end());
   report.files_read = interpreter.files_read();
+  if (model) {
+    report.controller = model->finish();
+    if (auto warning = controller_warning(*machine.controller(), *report.controller)) {
+      report.warnings.push_back({0, *warning});
+    }
+  }
   return report;
+}
+
+std::optional<std::string> controller_warning(const ControllerSettings& settings,
+                                              const controller::GrblPrediction& prediction) {
+  const double run_s = prediction.time_s - prediction.motion_start_s;
+  if (prediction.blocks == 0 || run_s <= 1.02 * prediction.unlimited_time_s) return std::nullopt;
+  const double mean_length = prediction.path_length / static_cast<double>(prediction.blocks);
+  const double cap =
+      std::sqrt(2.0 * prediction.mean_acceleration * (settings.planner_blocks - 1) * mean_length);
+  char text[600];
+  std::snprintf(text, sizeof text,
+                "%s's %d-block look-ahead and its %d-baud line slow this program: it takes "
+                "%.1f s on the controller instead of %.1f s at its joints' rate and acceleration "
+                "limits alone; its %ld blocks average %.4g units, and a run of such blocks goes "
+                "no faster than sqrt(2 a %d L) = %.4g units/min; a larger --tolerance gives "
+                "longer blocks",
+                controller_kind_name(settings.kind), settings.planner_blocks, settings.baud, run_s,
+                prediction.unlimited_time_s, prediction.blocks, mean_length,
+                settings.planner_blocks - 1, cap * 60.0);
+  return std::string(text);
 }
 
 }  // namespace pkm::post

@@ -9,11 +9,13 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "pkm/controller/grbl_planner.hpp"
 #include "pkm/gcode/interpreter.hpp"
 #include "pkm/machine/machine.hpp"
 #include "pkm/motion/segment.hpp"
@@ -78,7 +80,16 @@ struct PostReport {
   std::vector<gcode::Warning> warnings;
   // The job and the subroutine files it called: what the joint program must not be written over.
   std::vector<std::filesystem::path> files_read;
+  // With a [controller] table and the dialect grbl or grblhal: how long the controller takes to
+  // run the program (controller/grbl_planner.hpp), and the warning where its look-ahead or its
+  // serial line slow it (docs/grbl.md, "How post chooses blocks").
+  std::optional<controller::GrblPrediction> controller;
 };
+
+// The warning, with numbers, where the controller's look-ahead or serial line make the program
+// take over 2 % longer than its rate and acceleration limits alone; nothing otherwise.
+std::optional<std::string> controller_warning(const ControllerSettings& settings,
+                                              const controller::GrblPrediction& prediction);
 
 class PostError : public std::runtime_error {
  public:
