@@ -262,6 +262,50 @@ TEST(Offsets, G43KeepsTheMachineWhereItIs) {
   EXPECT_NEAR(moves[2].end[2], 10.0, 1e-12);
 }
 
+TEST(Offsets, ToolLengthCodesByHand) {
+  // Tool 1 is 10 mm long, tool 2 3 mm. At program Z20, G43 H0 takes the tool in the spindle
+  // (tool 1, as rs274 does): Z20 - 10 = 10. G43.1 X2 replaces X's offset only: X1 - 2 = -1, Z's
+  // 10 stays. G43.2 H2 adds tool 2's 3: Z10 + 10 - 13 = 7. G49 gives back X2 and Z13: (1, 20).
+  InterpreterOptions options;
+  options.tool_table = parse_tool_table("T1 P1 Z10 D6\nT2 P2 Z3 D6\n", "t.tbl", LengthUnits::mm);
+  const Result result = interpret(
+      "G21 G90\nG0 X0 Y0 Z20\nT1 M6\nG43 H0\nG0 X1\nG43.1 X2\nG0 Y1\nG43.2 H2\nG0 Y2\nG49\n"
+      "G0 Y3\nM2\n",
+      options);
+  ASSERT_EQ(result.error, "");
+  std::vector<std::array<double, 3>> offsets;
+  for (const Canon& c : result.canon) {
+    if (c.kind == CanonKind::tool_length_offset) offsets.push_back({c.end[0], c.end[1], c.end[2]});
+  }
+  EXPECT_EQ(offsets,
+            (std::vector<std::array<double, 3>>{{0, 0, 10}, {2, 0, 10}, {2, 0, 13}, {0, 0, 0}}));
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 5u);
+  const std::array<std::array<double, 3>, 4> expected{
+      {{1, 0, 10}, {-1, 1, 10}, {-1, 2, 7}, {1, 3, 20}}};
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_NEAR(moves[i + 1].end[axis], expected[i][axis], 1e-12) << "move " << i + 2;
+    }
+  }
+}
+
+TEST(Offsets, ToolLengthOffsetFollowsAUnitChange) {
+  // G20: the machine at Z1 inch (25.4 mm), G43 with a 12.7 mm tool: program Z0.5 inch, 12.7 mm
+  // after G21. G49 takes the 12.7 mm back, so Z stays at machine 25.4 mm, as LinuxCNC's machine
+  // (its task canon converts the offset to the new units) does. The stand-alone rs274 keeps the
+  // number 0.5 and goes to 13.2 (tests/gcode/tool-length-unit-change.ngc).
+  InterpreterOptions options;
+  options.tool_table = parse_tool_table("T1 P1 Z12.7 D6\n", "t.tbl", LengthUnits::mm);
+  const Result result =
+      interpret("G20 G90\nG0 Z1\nT1 M6\nG43 H1\nG21\nG0 X1\nG49\nG0 X2\nM2\n", options);
+  ASSERT_EQ(result.error, "");
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 3u);
+  EXPECT_NEAR(moves[1].end[2], 12.7, 1e-12);
+  EXPECT_NEAR(moves[2].end[2], 25.4, 1e-12);
+}
+
 TEST(Offsets, RotationByHand) {
   // G54 at (10, 5) turned by 90 deg: program (1, 0) is machine (10, 6), program (0, 0) machine
   // (10, 5). G53 X0 leaves machine Y where it is (6): program (1, 10). G28.1 there stores

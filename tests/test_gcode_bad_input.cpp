@@ -148,6 +148,8 @@ const BadCase kBadInputs[] = {
     {"q_without_user", "G1 X1 F100 Q1\nM2\n", 1, 12, "Q word with no G10, G64, G73"},
     {"r_without_user", "G28 R1\nM2\n", 1, 5, "R word with no G code or M19 to use it"},
     {"h_without_g43", "G0 X1 H5\nM2\n", 1, 7, "H word with no G43"},
+    {"g43_2_without_h", "G43.2 Z1\nM2\n", 1, 1, "G43.2 needs an H word"},
+    {"g43_2_with_axis_words", "G43.2 H1 Z1\nM2\n", 1, 1, "and no axis words"},
     {"l_without_user", "G1 X1 F1 L1\nM2\n", 1, 10, "L word with no G10"},
     {"p_without_user", "M3 S100 P5\nM2\n", 1, 9, "P word with no G2, G3, G4"},
     {"p_with_g81", "G21 G0 Z5\nG81 X0 Y0 Z-1 R1 F100 P1\nM2\n", 2, 23, "P word with no"},

@@ -480,6 +480,8 @@ struct Interpreter::State {
   void select_tool(const Block& block);
   void change_tool(const Block& block, const Code& code);
   void set_tool_length_offset(const Block& block, const Code& code, bool& has_axis);
+  // The offsets (mm, deg) of the tool G43's or G43.2's H names, or of the tool in the spindle.
+  Position table_tool_offset(const Block& block, const Code& code) const;
   void set_compensation(const Block& block, const Code& code);
   void start_compensation(const Block& block, const Code& code);
   // The radius (program units) and lathe orientation G41/G42 or G41.1/G42.1 compensate for.

@@ -151,8 +151,10 @@ void Interpreter::State::refuse_unused_words(const Block& block) const {
   for (const char letter : std::string_view("ehijklpqr")) {
     const auto& word = block.word(letter);
     if (!word) continue;
-    if (letter == 'h' && !(g_by_group[8] && g_by_group[8]->tenths == 430) && !users.threading()) {
-      fail(word->column, "H word with no G43 or G76 to use it");
+    const bool tool_length_h =
+        g_by_group[8] && (g_by_group[8]->tenths == 430 || g_by_group[8]->tenths == 432);
+    if (letter == 'h' && !tool_length_h && !users.threading()) {
+      fail(word->column, "H word with no G43, G43.2 or G76 to use it");
     }
     if (letter == 'l' && g_by_group[7]) continue;  // cutter compensation's tool orientation
     if (const char* message = unused_word_message(letter, users)) fail(word->column, message);
