@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <tuple>
 
 #include "pkm/gcode/block.hpp"
 #include "pkm/gcode/gcode_error.hpp"
@@ -327,16 +328,34 @@ TEST(Offsets, RotationByHand) {
   EXPECT_NEAR(moves[3].end[1], 6.0, 1e-12);
 }
 
-TEST(Events, CodesWithNoMeaningHereArePassedOnWithAWarning) {
-  const Result result = interpret("G21\nM280 P0 S90\nM101\nG0 X1\n");  // and no program end
+TEST(Events, UserCodesArePassedOnWithAWarning) {
+  const Result result = interpret("G21\nM101 P2\nG0 X1\n");  // and no program end
   ASSERT_EQ(result.error, "");
-  int events = 0;
-  for (const Canon& c : result.canon) events += c.kind == CanonKind::event ? 1 : 0;
-  EXPECT_EQ(events, 2);
-  ASSERT_EQ(result.warnings.size(), 3u);
-  EXPECT_NE(result.warnings[0].message.find("M280"), std::string::npos);
-  EXPECT_NE(result.warnings[2].message.find("no M2"), std::string::npos);
+  std::vector<std::string> events;
+  for (const Canon& c : result.canon) {
+    if (c.kind == CanonKind::event) events.push_back(c.text);
+  }
+  EXPECT_EQ(events, (std::vector<std::string>{"M101 P2"}));
+  ASSERT_EQ(result.warnings.size(), 2u);
+  EXPECT_NE(result.warnings[0].message.find("M101 (user M-code)"), std::string::npos);
+  EXPECT_NE(result.warnings[1].message.find("no M2"), std::string::npos);
   EXPECT_EQ(result.canon.back().kind, CanonKind::program_end);
+}
+
+TEST(Events, UnknownCodesAreRefusedAtTheirColumn) {
+  // rs274 refuses them too ("M-code greater than 199", "Unknown m code used"); on a LinuxCNC
+  // machine they mean what a remap makes them (remap-reentry's M405 moves), so nothing of their
+  // line runs: no move to X1.
+  for (const auto& [program, column, message] :
+       {std::tuple{"G21\nG0 X1 M405\nM2\n", 7, "M405 is above M199"},
+        std::tuple{"G21\nG0 X1 M280 P0 S90\nM2\n", 7, "M280 is above M199"},
+        std::tuple{"G21\nG0 X1 M10\nM2\n", 7, "M10 is not a LinuxCNC M-code"}}) {
+    const Result result = interpret(program);
+    EXPECT_EQ(result.line, 2) << program;
+    EXPECT_EQ(result.column, column) << program;
+    EXPECT_NE(result.error.find(message), std::string::npos) << result.error;
+    EXPECT_TRUE(motion(result).empty()) << program;
+  }
 }
 
 TEST(CutterCompensation, CornersByHand) {

@@ -348,6 +348,8 @@ struct Interpreter::State {
                              const std::string& what) const;
   // Words no code of the block uses are refused, as rs274 refuses them.
   void refuse_unused_words(const Block& block) const;
+  // An M-code neither LinuxCNC's nor a user one (M100-M199): refused at its column.
+  [[noreturn]] void refuse_unknown_m_code(const Code& code) const;
   void require_feed(const Block& block, int column) const {
     if (feed_mode == FeedMode::inverse_time ? !block.has('f') : !(feed > 0.0)) missing_feed(column);
     if (feed_mode == FeedMode::units_per_revolution && !(speed > 0.0)) missing_feed(column);
