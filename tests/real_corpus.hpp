@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace pkm::test {
@@ -22,6 +25,24 @@ inline bool have_real_corpus() {
 inline std::string missing_real_corpus_reason() {
   return "the real G-code corpus is not at " + real_corpus().string() +
          " (a plain clone has no ../shared; see README, \"Tests\")";
+}
+
+// A real job as pkmkit reads it: a Rotrics DexArm header's firmware modes (M2000 line mode,
+// M888 P0 write-and-draw), which pkmkit refuses at their column as LinuxCNC does, are blanked in
+// a copy of this process, so every other line keeps its number. Other files are used as they are.
+inline std::filesystem::path readable_real_job(const std::string& relative) {
+  const std::filesystem::path original = real_corpus() / relative;
+  if (relative.find("dexarm") == std::string::npos) return original;
+  const std::filesystem::path copy =
+      std::filesystem::temp_directory_path() /
+      ("pkm-real-" + std::to_string(::getpid()) + "-" + original.filename().string());
+  std::ifstream in(original, std::ios::binary);
+  std::ofstream out(copy, std::ios::binary);
+  for (std::string line; std::getline(in, line);) {
+    const bool firmware_mode = line.rfind("M2000", 0) == 0 || line.rfind("M888", 0) == 0;
+    out << (firmware_mode ? "" : line) << "\n";
+  }
+  return copy;
 }
 
 }  // namespace pkm::test

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <tuple>
 
 #include "pkm/gcode/block.hpp"
 #include "pkm/gcode/gcode_error.hpp"
@@ -262,6 +263,50 @@ TEST(Offsets, G43KeepsTheMachineWhereItIs) {
   EXPECT_NEAR(moves[2].end[2], 10.0, 1e-12);
 }
 
+TEST(Offsets, ToolLengthCodesByHand) {
+  // Tool 1 is 10 mm long, tool 2 3 mm. At program Z20, G43 H0 takes the tool in the spindle
+  // (tool 1, as rs274 does): Z20 - 10 = 10. G43.1 X2 replaces X's offset only: X1 - 2 = -1, Z's
+  // 10 stays. G43.2 H2 adds tool 2's 3: Z10 + 10 - 13 = 7. G49 gives back X2 and Z13: (1, 20).
+  InterpreterOptions options;
+  options.tool_table = parse_tool_table("T1 P1 Z10 D6\nT2 P2 Z3 D6\n", "t.tbl", LengthUnits::mm);
+  const Result result = interpret(
+      "G21 G90\nG0 X0 Y0 Z20\nT1 M6\nG43 H0\nG0 X1\nG43.1 X2\nG0 Y1\nG43.2 H2\nG0 Y2\nG49\n"
+      "G0 Y3\nM2\n",
+      options);
+  ASSERT_EQ(result.error, "");
+  std::vector<std::array<double, 3>> offsets;
+  for (const Canon& c : result.canon) {
+    if (c.kind == CanonKind::tool_length_offset) offsets.push_back({c.end[0], c.end[1], c.end[2]});
+  }
+  EXPECT_EQ(offsets,
+            (std::vector<std::array<double, 3>>{{0, 0, 10}, {2, 0, 10}, {2, 0, 13}, {0, 0, 0}}));
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 5u);
+  const std::array<std::array<double, 3>, 4> expected{
+      {{1, 0, 10}, {-1, 1, 10}, {-1, 2, 7}, {1, 3, 20}}};
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_NEAR(moves[i + 1].end[axis], expected[i][axis], 1e-12) << "move " << i + 2;
+    }
+  }
+}
+
+TEST(Offsets, ToolLengthOffsetFollowsAUnitChange) {
+  // G20: the machine at Z1 inch (25.4 mm), G43 with a 12.7 mm tool: program Z0.5 inch, 12.7 mm
+  // after G21. G49 takes the 12.7 mm back, so Z stays at machine 25.4 mm, as LinuxCNC's machine
+  // (its task canon converts the offset to the new units) does. The stand-alone rs274 keeps the
+  // number 0.5 and goes to 13.2 (tests/gcode/tool-length-unit-change.ngc).
+  InterpreterOptions options;
+  options.tool_table = parse_tool_table("T1 P1 Z12.7 D6\n", "t.tbl", LengthUnits::mm);
+  const Result result =
+      interpret("G20 G90\nG0 Z1\nT1 M6\nG43 H1\nG21\nG0 X1\nG49\nG0 X2\nM2\n", options);
+  ASSERT_EQ(result.error, "");
+  const auto moves = motion(result);
+  ASSERT_EQ(moves.size(), 3u);
+  EXPECT_NEAR(moves[1].end[2], 12.7, 1e-12);
+  EXPECT_NEAR(moves[2].end[2], 25.4, 1e-12);
+}
+
 TEST(Offsets, RotationByHand) {
   // G54 at (10, 5) turned by 90 deg: program (1, 0) is machine (10, 6), program (0, 0) machine
   // (10, 5). G53 X0 leaves machine Y where it is (6): program (1, 10). G28.1 there stores
@@ -283,16 +328,34 @@ TEST(Offsets, RotationByHand) {
   EXPECT_NEAR(moves[3].end[1], 6.0, 1e-12);
 }
 
-TEST(Events, CodesWithNoMeaningHereArePassedOnWithAWarning) {
-  const Result result = interpret("G21\nM280 P0 S90\nM101\nG0 X1\n");  // and no program end
+TEST(Events, UserCodesArePassedOnWithAWarning) {
+  const Result result = interpret("G21\nM101 P2\nG0 X1\n");  // and no program end
   ASSERT_EQ(result.error, "");
-  int events = 0;
-  for (const Canon& c : result.canon) events += c.kind == CanonKind::event ? 1 : 0;
-  EXPECT_EQ(events, 2);
-  ASSERT_EQ(result.warnings.size(), 3u);
-  EXPECT_NE(result.warnings[0].message.find("M280"), std::string::npos);
-  EXPECT_NE(result.warnings[2].message.find("no M2"), std::string::npos);
+  std::vector<std::string> events;
+  for (const Canon& c : result.canon) {
+    if (c.kind == CanonKind::event) events.push_back(c.text);
+  }
+  EXPECT_EQ(events, (std::vector<std::string>{"M101 P2"}));
+  ASSERT_EQ(result.warnings.size(), 2u);
+  EXPECT_NE(result.warnings[0].message.find("M101 (user M-code)"), std::string::npos);
+  EXPECT_NE(result.warnings[1].message.find("no M2"), std::string::npos);
   EXPECT_EQ(result.canon.back().kind, CanonKind::program_end);
+}
+
+TEST(Events, UnknownCodesAreRefusedAtTheirColumn) {
+  // rs274 refuses them too ("M-code greater than 199", "Unknown m code used"); on a LinuxCNC
+  // machine they mean what a remap makes them (remap-reentry's M405 moves), so nothing of their
+  // line runs: no move to X1.
+  for (const auto& [program, column, message] :
+       {std::tuple{"G21\nG0 X1 M405\nM2\n", 7, "M405 is above M199"},
+        std::tuple{"G21\nG0 X1 M280 P0 S90\nM2\n", 7, "M280 is above M199"},
+        std::tuple{"G21\nG0 X1 M10\nM2\n", 7, "M10 is not a LinuxCNC M-code"}}) {
+    const Result result = interpret(program);
+    EXPECT_EQ(result.line, 2) << program;
+    EXPECT_EQ(result.column, column) << program;
+    EXPECT_NE(result.error.find(message), std::string::npos) << result.error;
+    EXPECT_TRUE(motion(result).empty()) << program;
+  }
 }
 
 TEST(CutterCompensation, CornersByHand) {

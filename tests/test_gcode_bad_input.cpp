@@ -148,6 +148,10 @@ const BadCase kBadInputs[] = {
     {"q_without_user", "G1 X1 F100 Q1\nM2\n", 1, 12, "Q word with no G10, G64, G73"},
     {"r_without_user", "G28 R1\nM2\n", 1, 5, "R word with no G code or M19 to use it"},
     {"h_without_g43", "G0 X1 H5\nM2\n", 1, 7, "H word with no G43"},
+    {"m_code_above_199", "G21 M280 P0 S30\nM2\n", 1, 5, "M280 is above M199"},
+    {"m_code_unknown", "M10\nM2\n", 1, 1, "M10 is not a LinuxCNC M-code"},
+    {"g43_2_without_h", "G43.2 Z1\nM2\n", 1, 1, "G43.2 needs an H word"},
+    {"g43_2_with_axis_words", "G43.2 H1 Z1\nM2\n", 1, 1, "and no axis words"},
     {"l_without_user", "G1 X1 F1 L1\nM2\n", 1, 10, "L word with no G10"},
     {"p_without_user", "M3 S100 P5\nM2\n", 1, 9, "P word with no G2, G3, G4"},
     {"p_with_g81", "G21 G0 Z5\nG81 X0 Y0 Z-1 R1 F100 P1\nM2\n", 2, 23, "P word with no"},
@@ -181,7 +185,6 @@ TEST(BadInput, WhatCodesUseAndTheBoundsEdgesStillRun) {
       "G21 G0 Z5\nG81 X0 Y0 Z-1 R1 F100\nX1 L2\nG80\nM2\n",
       "G10 L2 P1 X1 R5\nM2\n",
       "G18\nG41.1 D1 L9\nG40\nM2\n",
-      "M280 P0 S30\nM2\n",        // a code with no meaning here is passed on with its words
       "N4294967296 G0 X1\nM2\n",  // line numbers are kept as written
       "o1 repeat [100000]\no1 endrepeat\nM2\n",
       "G21 G18 S1000000 M3\nG76 P1 Z-5 I-1 J0.2 K1 H2 L3 E1\nM2\n",  // the bounds' edges

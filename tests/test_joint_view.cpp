@@ -158,7 +158,7 @@ TEST(JointView, RefusesWordsTheMachineOrTheDialectDoesNotHaveAtTheirColumn) {
 TEST(JointView, DrawsAsLongAsTheRealJobItWasPostedFrom) {
   PKM_SKIP_WITHOUT_REAL_CORPUS();
   const Machine plotter = wall_plotter_with_pen();
-  const fs::path job = test::real_corpus() / "plotter/dexarm-inkscape/vitruvianMan.gcode";
+  const fs::path job = test::readable_real_job("plotter/dexarm-inkscape/vitruvianMan.gcode");
   const Vector6d origin = (Vector6d() << 750.0, -1000.0, 0.0, 0.0, 0.0, 0.0).finished();
   constexpr double kTolerance = 0.01;
   post::PostOptions post_options;

@@ -348,7 +348,7 @@ TEST(PenChannel, AnArcThatDipsBelowThePenHeightDrawsOnlyBelowIt) {
 TEST(PenChannel, ARealDrawingLiftsThePenWhereverItsZRises) {
   // An Inkscape drawing for a DexArm (pen Z 5 up, -1 down; 142 strokes) on the wall plotter.
   PKM_SKIP_WITHOUT_REAL_CORPUS();
-  const fs::path job = test::real_corpus() / "plotter" / "dexarm-inkscape" / "vitruvianMan.gcode";
+  const fs::path job = test::readable_real_job("plotter/dexarm-inkscape/vitruvianMan.gcode");
   const Machine pen = pen_plotter();
   Machine no_pen = test::load_example("wall-plotter.toml");
   PlanOptions options;

@@ -139,7 +139,7 @@ TEST_P(RealJobTable, PostedProgramIsVerifiedAndAgreesWithAnIndependentCheck) {
   PKM_SKIP_WITHOUT_REAL_CORPUS();
   const RealJob& row = *GetParam().row;
   const Machine machine = load_example(row.machine);
-  const fs::path job = kCorpus / row.job;
+  const fs::path job = readable_real_job(row.job);
   const fs::path joints = scratch(case_name(GetParam()) + ".ngc");
   post::PostOptions options;
   options.tolerance_mm = kToleranceMm;
@@ -354,7 +354,7 @@ void displace_block_end(const Machine& machine, const fs::path& program, int lin
 // line), so that the moved end is 0.05 mm from the path.
 void expect_block_off_caught_at_its_line(const RealJob& row) {
   const Machine machine = load_example(row.machine);
-  const fs::path job = kCorpus / row.job;
+  const fs::path job = readable_real_job(row.job);
   const fs::path joints = scratch("real-job-off-by-0.05.ngc");
   post::PostOptions options;
   options.tolerance_mm = kToleranceMm;

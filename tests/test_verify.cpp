@@ -834,9 +834,14 @@ TEST(Verify, PenLinesReachTheReaderAsEvents) {
   gcode::InterpreterOptions options;
   options.event_lines = {"M280 P0 S30"};
   EXPECT_EQ(read(options), (std::vector<std::string>{"2:M280 P0 S30:0.000000", "0 warnings"}));
-  // Without the option the line is what rs274 makes of it: an M code it does not know, and S30.
-  EXPECT_EQ(read({}),
-            (std::vector<std::string>{"2:M280 passed on:0.000000", "2::30.000000", "1 warnings"}));
+  // Without the option the line is what rs274 makes of it: an M code it does not know, refused.
+  try {
+    read({});
+    ADD_FAILURE() << "M280 without the option was not refused";
+  } catch (const gcode::GcodeError& error) {
+    EXPECT_EQ(error.line(), 2);
+    EXPECT_EQ(error.column(), 3);
+  }
   fs::remove(program);
 }
 

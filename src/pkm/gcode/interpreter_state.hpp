@@ -348,6 +348,8 @@ struct Interpreter::State {
                              const std::string& what) const;
   // Words no code of the block uses are refused, as rs274 refuses them.
   void refuse_unused_words(const Block& block) const;
+  // An M-code neither LinuxCNC's nor a user one (M100-M199): refused at its column.
+  [[noreturn]] void refuse_unknown_m_code(const Code& code) const;
   void require_feed(const Block& block, int column) const {
     if (feed_mode == FeedMode::inverse_time ? !block.has('f') : !(feed > 0.0)) missing_feed(column);
     if (feed_mode == FeedMode::units_per_revolution && !(speed > 0.0)) missing_feed(column);
@@ -480,6 +482,8 @@ struct Interpreter::State {
   void select_tool(const Block& block);
   void change_tool(const Block& block, const Code& code);
   void set_tool_length_offset(const Block& block, const Code& code, bool& has_axis);
+  // The offsets (mm, deg) of the tool G43's or G43.2's H names, or of the tool in the spindle.
+  Position table_tool_offset(const Block& block, const Code& code) const;
   void set_compensation(const Block& block, const Code& code);
   void start_compensation(const Block& block, const Code& code);
   // The radius (program units) and lathe orientation G41/G42 or G41.1/G42.1 compensate for.

@@ -35,7 +35,7 @@ std::string machine_command_text(const Canon& canon) {
     }
     case CanonKind::event: {
       // The interpreter's events of these codes are their text with their words; other events
-      // (M280 and the like, a pen's command lines) are not the machine's commands here.
+      // (a pen's command lines, InterpreterOptions::event_lines) are not the machine's commands.
       const int number = machine_command_m_number(canon.text);
       const bool known = (number >= 48 && number <= 53) || (number >= 62 && number <= 68) ||
                          (number >= 100 && number <= 199);

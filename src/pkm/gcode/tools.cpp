@@ -39,25 +39,27 @@ void Interpreter::State::change_tool(const Block& block, const Code& code) {
 void Interpreter::State::set_tool_length_offset(const Block& block, const Code& code,
                                                 bool& has_axis) {
   refuse_with_compensation(code, "change the tool length offset");
-  Position offset{};
+  Position offset{};  // G49
   if (code.tenths == 430) {
-    require_word_in_range(block, 'h', -kMaxToolNumber, kMaxToolNumber, "tool numbers go from");
-    const int tool =
-        block.has('h') ? static_cast<int>(std::lround(block.value('h'))) : tool_in_spindle;
-    if (tool != 0) {
-      if (options.tool_table && !options.tool_table->count(tool)) {
-        fail(code.column, "tool " + std::to_string(tool) + " for G43 not in the tool table");
-      }
-      if (options.tool_table) offset = options.tool_table->at(tool).offset;
-    }
+    offset = table_tool_offset(block, code);
   } else if (code.tenths == 431) {
+    // G43.1 replaces the offsets of the axes it names; the others keep theirs (rs274: G43 H1,
+    // then G43.1 X0.1, keeps tool 1's Z offset).
+    offset = tool_offset_mm;
     for (int axis = 0; axis < kAxes; ++axis) {
       if (block.has(kAxisLetters[axis]))
         offset[axis] = axis_to_mm(axis, block.value(kAxisLetters[axis]));
     }
     has_axis = false;  // the axis words were the offset
   } else if (code.tenths == 432) {
-    fail(code.column, "G43.2 is not supported");
+    // G43.2 H adds a tool's offsets to those in effect (LinuxCNC 2.9's rs274 knows only the H
+    // form; a later LinuxCNC adds axis words instead, which pkm refuses rather than guess).
+    if ((block.letters & kAxisSlots) != 0 || !block.has('h')) {
+      fail(code.column, "G43.2 needs an H word (a tool whose offsets to add) and no axis words");
+    }
+    const Position added = table_tool_offset(block, code);
+    offset = tool_offset_mm;
+    for (int axis = 0; axis < kAxes; ++axis) offset[axis] += added[axis];
   }
   // The machine stays where it is: the program position takes up the change of length, so
   // an axis the next move does not name keeps its machine coordinate (as rs274 shows: G43 H1
@@ -71,6 +73,21 @@ void Interpreter::State::set_tool_length_offset(const Block& block, const Code& 
   Canon c = make(CanonKind::tool_length_offset, block);
   for (int axis = 0; axis < kAxes; ++axis) c.end[axis] = axis_from_mm(axis, offset[axis]);
   emit(c);
+}
+
+Position Interpreter::State::table_tool_offset(const Block& block, const Code& code) const {
+  require_word_in_range(block, 'h', -kMaxToolNumber, kMaxToolNumber, "tool numbers go from");
+  // H0, like no H, is the tool in the spindle (LinuxCNC's tool table index 0): rs274 gives
+  // T1 M6 G43 H0 tool 1's offset.
+  const long h = block.has('h') ? std::lround(block.value('h')) : 0;
+  const int tool = h != 0 ? static_cast<int>(h) : tool_in_spindle;
+  if (tool == 0 || !options.tool_table) return {};
+  const auto entry = options.tool_table->find(tool);
+  if (entry == options.tool_table->end()) {
+    fail(code.column, "tool " + std::to_string(tool) + " for " + code_name('G', code.tenths) +
+                          " not in the tool table");
+  }
+  return entry->second.offset;
 }
 
 void Interpreter::State::set_compensation(const Block& block, const Code& code) {
