@@ -242,7 +242,13 @@ void run_stream(const StreamCommandOptions& options) {
         std::to_string(sender.lines_acknowledged()) + " done: " + sender.hold_and_reset());
   } catch (const stream::StreamError& error) {
     progress.clear();
-    throw CommandError(error.what());
+    std::string message = error.what();
+    if (options.dry_run && message.find("stepping has stopped") != std::string::npos) {
+      message +=
+          " (grbl-sim's simulated clock stalls so at times on a busy computer: run it "
+          "again, or with a lower --sim-clock)";
+    }
+    throw CommandError(message);
   }
   progress.clear();
   std::string where;
