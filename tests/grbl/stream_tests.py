@@ -3,7 +3,7 @@
 
 usage: stream_tests.py CASE PKM GRBL_SIM SOURCE_DIR WORK_DIR
 
-Cases: ends_where_the_job_ends, refused_line, garbage_port, interrupt. Each runs in a few
+Cases: ends_where_the_job_ends, refused_line, garbage_port, interrupt, time_left_on_a_terminal. Each runs in a few
 seconds of wall time (grbl-sim simulates 16 MHz of AVR: about real time on an idle machine).
 """
 import math
@@ -76,9 +76,13 @@ def ends_where_the_job_ends():
                      "--record-steps", steps_file])
     if result.returncode != 0:
         fail("stream failed: " + result.stderr)
-    # grbl reports its position to 0.001 mm of cord: FK of that is 0.001 mm or so off the pose.
-    if not re.search(r"every one answered ok, at Idle  x 753\.00[0-2] y -697\.00[0-2] mm",
-                     result.stdout):
+    # grbl reports its position to 0.001 mm of cord, and the cords stand at whole steps (0.0125 mm
+    # at 80 steps/mm): FK of that is within post's 0.01 mm and a step's worth of the job's end.
+    summary = re.search(r"every one answered ok, at Idle  x (7[0-9.]+) y (-[0-9.]+) mm",
+                        result.stdout)
+    one_step = max(1.0 / k for k in STEPS_PER_MM) / math.sin(math.radians(86.0))
+    if not summary or max(abs(float(summary.group(1)) - 753.0),
+                          abs(float(summary.group(2)) + 697.0)) > 0.01 + one_step:
         fail("summary: " + result.stdout)
     if os.path.exists(steps_file + ".partial"):
         fail("the step record was left under its temporary name")
@@ -86,9 +90,8 @@ def ends_where_the_job_ends():
     joints = [h + s / k for h, s, k in zip(home, last_steps(steps_file), STEPS_PER_MM)]
     pose = pose_at(joints)
     # One step of either cord moves the pen by at most (1 / steps per mm) / sin(angle between the
-    # cords): at home the cords meet at 86 deg (0.0041 mm at 250 steps/mm); post's tolerance
-    # 0.01 mm on top.
-    one_step = max(1.0 / k for k in STEPS_PER_MM) / math.sin(math.radians(86.0))
+    # cords): at home the cords meet at 86 deg (0.0125 mm at 80 steps/mm); post's tolerance
+    # 0.01 mm on top (one_step, above).
     error = max(abs(pose[0] - 753.0), abs(pose[1] + 697.0))
     if error > 0.01 + one_step:
         fail("grbl stopped at x %.4f y %.4f mm, the job ends at x 753 y -697 (%.4f mm off)" %
@@ -177,5 +180,27 @@ def interrupt():
     print("ok: stopped at x %.3f y %.3f mm; %s" % (pose[0], pose[1], err.strip().splitlines()[-1]))
 
 
+def time_left_on_a_terminal():
+    # On a terminal the progress line counts down from the controller's predicted time (post's
+    # grbl model): the square's 16.2 mm at 30 mm/s with its corners, some 0.7 simulated s, over
+    # grbl-sim's clock of 0.25: about 3 s of ours when the program starts.
+    command = " ".join("'%s'" % a for a in [PKM, "stream", "-m", MACHINE, "--dry-run", "--grbl-sim",
+                                            GRBL_SIM, "--sim-clock", SIM_CLOCK,
+                                            os.path.join(DATA, "grbl-small-square.ngc"),
+                                            "--origin", "750", "-700"])
+    environment = dict(os.environ, PKM_PROGRESS_AFTER_MS="0", COLUMNS="200")
+    result = subprocess.run(["script", "-qec", command, "/dev/null"], capture_output=True,
+                            text=True, timeout=60, env=environment)
+    if result.returncode != 0:
+        fail("stream under script failed: " + result.stdout)
+    left = [int(n) for n in re.findall(r"done  about ([0-9]+) s left", result.stdout)]
+    if not left:
+        fail("no time left on the progress line: " + result.stdout.replace("\r", "\n"))
+    if not 2 <= left[0] <= 4:
+        fail("the first time left is %d s, not about 3 s" % left[0])
+    print("ok: the progress line counts down from %d s" % left[0])
+
+
 {"ends_where_the_job_ends": ends_where_the_job_ends, "refused_line": refused_line,
- "garbage_port": garbage_port, "interrupt": interrupt}[CASE]()
+ "garbage_port": garbage_port, "interrupt": interrupt,
+ "time_left_on_a_terminal": time_left_on_a_terminal}[CASE]()
