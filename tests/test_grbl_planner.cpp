@@ -142,15 +142,16 @@ TEST(GrblPlanner, ImpossibleSettingsAndALineTooLongAreRefused) {
   EXPECT_THROW(model.add_line("G1 X F100"), std::invalid_argument);
 }
 
-// The wall plotter with a grbl board: 80 steps/mm on both cords; without the [controller] table
-// the example has.
+// The wall plotter with a grbl board: 80 steps/mm on both cords; without a controller, the same
+// machine with its [controller] table taken away.
 Machine plotter_on_grbl(bool with_controller, int planner_blocks = 16) {
   Machine plotter = test::load_example("wall-plotter.toml");
   plotter.set_steps_per_unit(0, 80.0);
   plotter.set_steps_per_unit(1, 80.0);
   ControllerSettings settings;
   settings.planner_blocks = planner_blocks;
-  plotter.set_controller(with_controller ? std::optional(settings) : std::nullopt);
+  plotter.set_controller(with_controller ? std::optional<ControllerSettings>(settings)
+                                         : std::nullopt);
   return plotter;
 }
 

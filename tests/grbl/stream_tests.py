@@ -76,22 +76,25 @@ def ends_where_the_job_ends():
                      "--record-steps", steps_file])
     if result.returncode != 0:
         fail("stream failed: " + result.stderr)
-    # grbl reports its position to 0.001 mm of cord, and the cords stand at whole steps (0.0125 mm
-    # at 80 steps/mm): FK of that is within post's 0.01 mm and a step's worth of the job's end.
-    summary = re.search(r"every one answered ok, at Idle  x (7[0-9.]+) y (-[0-9.]+) mm",
-                        result.stdout)
+    # One step of either cord moves the pen by at most (1 / steps per mm) / sin(angle between the
+    # cords): at home the cords meet at 86 deg (0.0125 mm a step at 80 steps/mm: 0.0125 mm of pen);
+    # post's tolerance 0.01 mm on top.
     one_step = max(1.0 / k for k in STEPS_PER_MM) / math.sin(math.radians(86.0))
-    if not summary or max(abs(float(summary.group(1)) - 753.0),
-                          abs(float(summary.group(2)) + 697.0)) > 0.01 + one_step:
+    # The summary's position is FK of grbl's own report (its step counts, to 0.001 mm of cord).
+    reported = re.search(r"every one answered ok, at Idle  x (-?[0-9.]+) y (-?[0-9.]+) mm",
+                         result.stdout)
+    if not reported:
         fail("summary: " + result.stdout)
+    reported_error = max(abs(float(reported.group(1)) - 753.0),
+                         abs(float(reported.group(2)) + 697.0))
+    if reported_error > 0.01 + one_step:
+        fail("summary: grbl reports %.4f mm from the job's end: %s" % (reported_error,
+                                                                         result.stdout))
     if os.path.exists(steps_file + ".partial"):
         fail("the step record was left under its temporary name")
     home = joints_at(HOME)
     joints = [h + s / k for h, s, k in zip(home, last_steps(steps_file), STEPS_PER_MM)]
     pose = pose_at(joints)
-    # One step of either cord moves the pen by at most (1 / steps per mm) / sin(angle between the
-    # cords): at home the cords meet at 86 deg (0.0125 mm at 80 steps/mm); post's tolerance
-    # 0.01 mm on top (one_step, above).
     error = max(abs(pose[0] - 753.0), abs(pose[1] + 697.0))
     if error > 0.01 + one_step:
         fail("grbl stopped at x %.4f y %.4f mm, the job ends at x 753 y -697 (%.4f mm off)" %
