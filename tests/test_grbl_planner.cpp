@@ -13,6 +13,7 @@
 
 #include "pkm/controller/grbl_planner.hpp"
 #include "pkm/post/joint_program.hpp"
+#include "pkm/post/program_header.hpp"
 #include "test_support.hpp"
 
 namespace pkm {
@@ -208,6 +209,53 @@ TEST(GrblPlanner, PostWarnsWhereTheLookAheadSlowsTheProgram) {
   }
   EXPECT_TRUE(warned);
   EXPECT_GT(fine.controller->time_s, coarse.controller->time_s + 1.0);
+}
+
+// The warning is the job's line where the stretch the look-ahead slows most starts: the circle of
+// line 5 (between two dwells, each a stop), not the rapid of line 2 nor line 0.
+TEST(GrblPlanner, LookAheadWarningAtTheSlowStretchsLine) {
+  const std::string job =
+      "G21 G90\nG0 X50 Y0\nG4 P0.1\nG1 F6000\nG2 X50 Y0 I-50 J0\nG4 P0.1\nG0 X0 Y0\nM2\n";
+  const post::PostReport fine = post_text(plotter_on_grbl(true, 4), job, 0.002);
+  ASSERT_TRUE(fine.controller);
+  EXPECT_EQ(fine.controller->slowest_stretch_tag, 5);
+  EXPECT_GT(fine.controller->slowest_stretch_lost_s, 0.5);
+  int warned_at = -1;
+  for (const gcode::Warning& w : fine.warnings) {
+    if (w.message.find("4-block look-ahead") != std::string::npos) {
+      warned_at = w.line;
+      EXPECT_NE(w.message.find("the stretch slowed most"), std::string::npos) << w.message;
+    }
+  }
+  EXPECT_EQ(warned_at, 5);
+}
+
+// grbl acts on ? ! ~ and on bytes above 0x7F even inside comments (a feed hold, feed overrides):
+// the header of a grbl program carries none of them, whatever the machine and the job are named;
+// LinuxCNC's keeps the name as it is.
+TEST(GrblPlanner, HeaderCommentsAreSafeForGrbl) {
+  std::ifstream in(test::example_machine_path("wall-plotter.toml"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string toml = text.str();
+  const std::string name = "name = \"Wall plotter 1500\"";
+  toml.replace(toml.find(name), name.size(), "name = \"Big plotter! Ni\xC3\xB1o ~1?\"");
+  const Machine machine = parse_machine(toml, "named.toml");
+  for (const post::Dialect dialect : {post::Dialect::grbl, post::Dialect::grblhal}) {
+    const std::string header =
+        post::joint_program_header(machine, "dr\xC3\xA1wing!.ngc", dialect, 0.01, nullptr);
+    EXPECT_EQ(header.find_first_of("?!~"), std::string::npos) << header;
+    for (const char c : header) {
+      EXPECT_TRUE(c == '\n' || (c >= 0x20 && c <= 0x7E)) << header;
+    }
+    EXPECT_NE(header.find("(joint-space program by pkmkit for Big plotter_ Ni__o _1_)\n"),
+              std::string::npos)
+        << header;
+    EXPECT_NE(header.find("(from dr__wing_.ngc, dialect "), std::string::npos) << header;
+  }
+  const std::string linuxcnc =
+      post::joint_program_header(machine, "job.ngc", post::Dialect::linuxcnc, 0.01, nullptr);
+  EXPECT_NE(linuxcnc.find("for Big plotter! Ni\xC3\xB1o ~1?)"), std::string::npos) << linuxcnc;
 }
 
 }  // namespace

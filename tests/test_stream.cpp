@@ -100,6 +100,7 @@ struct FakeGrbl {
   int refuse_line = 0;
   bool banner = true;
   std::size_t most_buffered = 0;
+  std::size_t most_buffered_with_eeprom_line = 0;  // while a $ setting or G10 was waiting
   int lines = 0;
 
   void run() {
@@ -122,6 +123,10 @@ struct FakeGrbl {
       }
       if (count == 0) return;
       most_buffered = std::max(most_buffered, pending.size());
+      if (pending.find_first_of("$") != std::string::npos ||
+          pending.find("G10") != std::string::npos) {
+        most_buffered_with_eeprom_line = std::max(most_buffered_with_eeprom_line, pending.size());
+      }
       const std::size_t end = pending.find('\n');
       if (end == std::string::npos) continue;
       std::this_thread::sleep_for(delay);
@@ -174,6 +179,38 @@ TEST(GrblSender, CharacterCountingKeepsGrblsBufferFull) {
   // each): 4 lines, 117..120 bytes.
   EXPECT_LE(grbl.most_buffered, 128u);
   EXPECT_GE(grbl.most_buffered, 116u);
+}
+
+// A line that writes grbl's EEPROM ($ settings, G10) goes alone: grbl holds nothing else while
+// it has it, and nothing follows it before its ok.
+TEST(GrblSender, EepromLinesGoAlone) {
+  SocketPair pair;
+  FakeGrbl grbl{pair.grbl};
+  std::thread thread([&grbl] { grbl.run(); });
+  GrblSender sender(pair.sender, "fake", 128);
+  sender.await_banner();
+  const std::string setting = "$100=80.000 (X = joint left: steps/mm)";  // 39 bytes and \n
+  const std::string zero = "G10 L20 P1 X1100.000 Y950.000";              // 29 bytes and \n
+  long line = 0;
+  for (const std::string& special : {setting, zero}) {
+    for (int i = 0; i < 10; ++i) sender.send("G1 X" + std::to_string(i) + ".5 Y2 F600", ++line, 0);
+    sender.send(special, ++line, 0);
+  }
+  for (int i = 0; i < 10; ++i) sender.send("G1 X" + std::to_string(i) + ".5 Y2 F600", ++line, 0);
+  sender.drain();
+  ::shutdown(pair.sender, SHUT_RDWR);
+  thread.join();
+  EXPECT_EQ(grbl.lines, 33);
+  EXPECT_GE(grbl.most_buffered, 100u);  // the others are streamed
+  EXPECT_EQ(grbl.most_buffered_with_eeprom_line, setting.size() + 1);
+  EXPECT_TRUE(stream::writes_eeprom("$100=80.000 (X = joint left: steps/mm)"));
+  EXPECT_TRUE(stream::writes_eeprom("g10 l20 p1 x1"));
+  EXPECT_TRUE(stream::writes_eeprom("G28.1"));
+  EXPECT_TRUE(stream::writes_eeprom("$N0=G20"));
+  EXPECT_FALSE(stream::writes_eeprom("$J=G91 X10 F100"));
+  EXPECT_FALSE(stream::writes_eeprom("G1 X10 (G10 in a comment)"));
+  EXPECT_FALSE(stream::writes_eeprom("G1 X10.5 F100"));
+  EXPECT_FALSE(stream::writes_eeprom("$$"));
 }
 
 TEST(GrblSender, RefusalNamesTheLineAndItsJobLine) {
@@ -268,6 +305,40 @@ TEST(GrblSender, IdleWithLinesUnansweredIsAnError) {
               std::string::npos)
         << error.what();
   }
+  ::shutdown(pair.sender, SHUT_RDWR);
+  grbl.join();
+}
+
+// grbl answering its status, Run, at one position, and never the lines: its stepping has stopped
+// (grbl-sim's clock stalls so at times on a busy computer). An error, not a hang.
+TEST(GrblSender, RunWithoutMotionIsAnError) {
+  SocketPair pair;
+  std::thread grbl([fd = pair.grbl] {
+    const std::string banner = "Grbl 1.1h ['$' for help]\r\n";
+    if (::send(fd, banner.data(), banner.size(), MSG_NOSIGNAL) < 0) return;
+    char byte = 0;
+    while (::recv(fd, &byte, 1, 0) == 1) {
+      const std::string run = "<Run|MPos:39.525,48.350,0.000|FS:11693,0>\r\n";
+      if (byte == '?' && ::send(fd, run.data(), run.size(), MSG_NOSIGNAL) < 0) return;
+    }
+  });
+  StreamTimeouts timeouts;
+  timeouts.idle_stall_s = 0.5;
+  GrblSender sender(pair.sender, "fake", 128, timeouts);
+  sender.await_banner();
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    for (int line = 1; line <= 20; ++line) sender.send("G1 X1.00000 Y2.00000 F600", line, 0);
+    FAIL() << "no error";
+  } catch (const StreamError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("grbl reports Run, yet its position has stood at 39.525, 48.350, 0.000 "
+                        "for 0.5 s with 4 lines unanswered: its stepping has stopped; the oldest "
+                        "line waiting is line 1: G1 X1.00000 Y2.00000 F600"),
+              std::string::npos)
+        << error.what();
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 3.0);
   ::shutdown(pair.sender, SHUT_RDWR);
   grbl.join();
 }

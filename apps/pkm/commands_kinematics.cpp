@@ -46,11 +46,12 @@ nlohmann::json pose_json(const Machine& machine, const Pose& pose) {
   return json;
 }
 
-void print_pose(const Machine& machine, const Pose& pose) {
+// One line per controlled axis, "x = 750.000000 mm", each after `indent`.
+void print_pose(const Machine& machine, const Pose& pose, const char* indent = "") {
   const Vector6d values = pose.as_vector();
   for (int axis = 0; axis < kPoseSize; ++axis) {
     if (!machine.kinematics().dof().controls(axis)) continue;
-    std::printf("%s = %.6f %s\n", std::string(kAxisNames[axis]).c_str(),
+    std::printf("%s%s = %.6f %s\n", indent, std::string(kAxisNames[axis]).c_str(),
                 machine.axis_to_file(axis, values[axis]) + 0.0, machine.axis_file_unit(axis));
   }
 }
@@ -402,7 +403,7 @@ void print_check(const Machine& machine, const CheckSummary& summary) {
               machine.cartesian().max_feed_mm_per_min / per_unit, machine.length_unit(),
               machine.cartesian().max_acceleration_mm_per_s2 / per_unit, machine.length_unit());
   std::printf("  home:\n");
-  print_pose(machine, machine.home());
+  print_pose(machine, machine.home(), "    ");
   std::printf("  reachable extent along lines through home (IK, joint limits%s):\n",
               machine.cartesian().has_envelope() ? ", work envelope" : "");
   for (const AxisExtent& e : summary.extents) {

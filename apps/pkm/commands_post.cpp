@@ -165,8 +165,14 @@ void run_post(const PostCommandOptions& options) {
                                               post_options.tolerance_mm, &report));
   file.commit();
   for (const gcode::Warning& warning : report.warnings) {
-    std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", options.program.c_str(), warning.line,
-                 warning.message.c_str());
+    // Line 0: about the whole program, not one of its lines.
+    if (warning.line > 0) {
+      std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", options.program.c_str(), warning.line,
+                   warning.message.c_str());
+    } else {
+      std::fprintf(stderr, "pkm: warning: %s: %s\n", options.program.c_str(),
+                   warning.message.c_str());
+    }
   }
   const nlohmann::json json = view::post_report_json(machine, options.program, options.output,
                                                      report, post_options.tolerance_mm);

@@ -8,9 +8,11 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "app.hpp"
+#include "pkm/controller/grbl_planner.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/post/grbl_settings.hpp"
 #include "pkm/post/joint_program.hpp"
@@ -149,10 +151,8 @@ void stream_joint_program(const std::string& path, stream::GrblSender& sender) {
   if (file.bad()) throw CommandError(path + ": read error after line " + std::to_string(number));
 }
 
-// The Cartesian job posted block by block into the sender: nothing held but the lines grbl has
-// not answered yet.
-void stream_posted_job(const Machine& machine, const StreamCommandOptions& options,
-                       stream::GrblSender& sender) {
+// How the Cartesian job is posted as it is sent: post's, in the controller's dialect.
+post::PostOptions stream_post_options(const Machine& machine, const StreamCommandOptions& options) {
   post::PostOptions post_options;
   post_options.dialect =
       machine.controller() && machine.controller()->kind == ControllerKind::grblhal
@@ -163,6 +163,43 @@ void stream_posted_job(const Machine& machine, const StreamCommandOptions& optio
                                   : kDefaultTolerance_mm;
   post_options.origin = pose_vector_over(machine, post_options.origin, options.origin);
   post_options.max_blocks = post::kDefaultMaxBlocks;
+  return post_options;
+}
+
+// How long the controller takes to run the program, in simulated (or real) seconds: post's model
+// of grbl's planner (docs/grbl.md, "The planner model") over the joint program, or over the
+// Cartesian job posted once beforehand. For the time left on the progress line only: nothing
+// without a [controller] table, nor where the program cannot be read (the stream itself then
+// stops at that line, saying why).
+std::optional<double> predicted_program_s(const Machine& machine,
+                                          const StreamCommandOptions& options) {
+  if (!machine.controller()) return std::nullopt;
+  try {
+    if (!options.joint_program) {
+      const post::PostReport report =
+          post::post_program(machine, options.job, gcode::InterpreterOptions{},
+                             stream_post_options(machine, options), [](const std::string&) {});
+      if (report.controller) return report.controller->time_s;
+      return std::nullopt;
+    }
+    controller::GrblTimeModel model(controller::grbl_setup_of(machine));
+    std::ifstream file(options.job);
+    for (std::string line; std::getline(file, line);) {
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (line.find_first_not_of(" \t") != std::string::npos) model.add_line(line);
+    }
+    if (file.bad()) return std::nullopt;
+    return model.finish().time_s;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+// The Cartesian job posted block by block into the sender: nothing held but the lines grbl has
+// not answered yet.
+void stream_posted_job(const Machine& machine, const StreamCommandOptions& options,
+                       stream::GrblSender& sender) {
+  post::PostOptions post_options = stream_post_options(machine, options);
   int job_line = 0;
   post_options.on_line = [&job_line](int line) { job_line = line; };
   long program_line = 0;
@@ -225,6 +262,12 @@ void run_stream(const StreamCommandOptions& options) {
     sender.await_banner();
     if (options.dry_run) send_settings(machine, sender);
     before_program = sender.lines_sent();
+    if (progress.active()) {
+      // grbl-sim's clock runs --sim-clock simulated seconds per second of ours.
+      if (const auto predicted_s = predicted_program_s(machine, options)) {
+        progress.start_program(*predicted_s / (options.dry_run ? options.sim_clock : 1.0));
+      }
+    }
     if (options.joint_program) {
       stream_joint_program(options.job, sender);
     } else {
@@ -242,7 +285,13 @@ void run_stream(const StreamCommandOptions& options) {
         std::to_string(sender.lines_acknowledged()) + " done: " + sender.hold_and_reset());
   } catch (const stream::StreamError& error) {
     progress.clear();
-    throw CommandError(error.what());
+    std::string message = error.what();
+    if (options.dry_run && message.find("stepping has stopped") != std::string::npos) {
+      message +=
+          " (grbl-sim's simulated clock stalls so at times on a busy computer: run it "
+          "again, or with a lower --sim-clock)";
+    }
+    throw CommandError(message);
   }
   progress.clear();
   std::string where;

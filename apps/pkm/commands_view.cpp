@@ -62,17 +62,21 @@ void print_extent(const Machine& machine, const verify::TraceReport& report) {
               length_text(machine, report.drawn_max.y()).c_str());
 }
 
+// "line 12", or where a joint's extreme is the value it starts from (home, line 0): "at the start".
+std::string where_text(int line) {
+  return line > 0 ? "line " + std::to_string(line) : "at the start";
+}
+
 void print_joints(const Machine& machine, const verify::TraceReport& report) {
   for (std::size_t i = 0; i < report.joints.size(); ++i) {
     const JointSpec& joint = machine.joints()[i];
     const verify::JointRange& range = report.joints[i];
     const int index = static_cast<int>(i);
     std::printf(
-        "  joint %s: %s (line %d) .. %s (line %d) of its travel %s .. %s: margin %s below, %s "
-        "above\n",
-        joint.name.c_str(), machine.joint_value_text(index, range.low).c_str(), range.low_line,
-        machine.joint_value_text(index, range.high).c_str(), range.high_line,
-        machine.joint_value_text(index, joint.min).c_str(),
+        "  joint %s: %s (%s) .. %s (%s) of its travel %s .. %s: margin %s below, %s above\n",
+        joint.name.c_str(), machine.joint_value_text(index, range.low).c_str(),
+        where_text(range.low_line).c_str(), machine.joint_value_text(index, range.high).c_str(),
+        where_text(range.high_line).c_str(), machine.joint_value_text(index, joint.min).c_str(),
         machine.joint_value_text(index, joint.max).c_str(),
         machine.joint_value_text(index, range.low - joint.min).c_str(),
         machine.joint_value_text(index, joint.max - range.high).c_str());

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -125,14 +126,33 @@ StreamProgress::~StreamProgress() {
   clear();
 }
 
+void StreamProgress::start_program(double predicted_s) {
+  program_start_ = std::chrono::steady_clock::now();
+  predicted_s_ = predicted_s;
+}
+
 void StreamProgress::update(long sent, long answered, const std::string& state_and_position) {
   if (!active_) return;
   const auto now = std::chrono::steady_clock::now();
   if (now - start_ < first_draw() || now - last_ < kRedraw) return;
   last_ = now;
-  char numbers[96];
-  std::snprintf(numbers, sizeof numbers, ": %ld lines sent, %ld done  %.1f s  ", sent, answered,
-                std::chrono::duration<double>(now - start_).count());
+  char numbers[128];
+  const double elapsed_s = std::chrono::duration<double>(now - start_).count();
+  if (program_start_) {
+    const double left_s =
+        predicted_s_ - std::chrono::duration<double>(now - *program_start_).count();
+    if (left_s >= 0.0) {
+      std::snprintf(numbers, sizeof numbers, ": %ld lines sent, %ld done  about %.0f s left  ",
+                    sent, answered, std::ceil(left_s));
+    } else {
+      std::snprintf(numbers, sizeof numbers,
+                    ": %ld lines sent, %ld done  %.1f s (predicted %.0f)  ", sent, answered,
+                    elapsed_s, std::ceil(predicted_s_));
+    }
+  } else {
+    std::snprintf(numbers, sizeof numbers, ": %ld lines sent, %ld done  %.1f s  ", sent, answered,
+                  elapsed_s);
+  }
   std::string text = "pkm " + what_ + numbers + state_and_position;
   text = text.substr(0, static_cast<std::size_t>(std::max(terminal_columns() - 1, 20)));
   const int width = static_cast<int>(text.size());

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <functional>
+#include <optional>
 #include <string>
 
 namespace pkm::app {
@@ -33,8 +34,9 @@ class ProgressBar {
   std::chrono::steady_clock::time_point start_, last_;
 };
 
-// The line `pkm stream` keeps on stderr while it sends: lines sent and answered, grbl's state,
-// the tool's position, the time. On a terminal only, like the bar.
+// The line `pkm stream` keeps on stderr while it sends: lines sent and answered, the time left
+// (from the controller's predicted time, when known; else the time elapsed), grbl's state, the
+// tool's position. On a terminal only, like the bar.
 class StreamProgress {
  public:
   explicit StreamProgress(std::string what);
@@ -43,6 +45,9 @@ class StreamProgress {
   StreamProgress& operator=(const StreamProgress&) = delete;
 
   bool active() const { return active_; }
+  // The program starts now and is predicted to take `predicted_s` (s of this computer's clock):
+  // the line shows the time left from here on.
+  void start_program(double predicted_s);
   // `state_and_position` is what follows the counts ("Run  x 12.300 y -4.500 mm").
   void update(long sent, long answered, const std::string& state_and_position);
   void clear();
@@ -52,6 +57,8 @@ class StreamProgress {
   bool active_ = false;
   int drawn_width_ = 0;
   std::chrono::steady_clock::time_point start_, last_;
+  std::optional<std::chrono::steady_clock::time_point> program_start_;
+  double predicted_s_ = 0.0;
 };
 
 }  // namespace pkm::app

@@ -7,7 +7,7 @@ add_test(NAME cli.view_summary
          COMMAND ${PKM} view -m ${MACHINES}/wall-plotter.toml ${CLI_DATA}/view-stroke.ngc
                  --report ${VIEW_OUT}/stroke.json --html ${VIEW_OUT}/stroke.html)
 set_tests_properties(cli.view_summary PROPERTIES PASS_REGULAR_EXPRESSION
-  "2 blocks.  drawn 250.420 mm \\(G1 blocks\\), travel 300.000 mm \\(G0 blocks\\), of it rapid \\(G0\\) 300.000 mm.  drawing's extent: x 750.000 mm .. 900.000 mm, y -1000.000 mm .. -800.000 mm.  joint left: 1025.914 mm \\(line 0\\) .. 1250.000 mm \\(line 1\\) of its travel 150.000 mm .. 2100.000 mm: margin 875.914 mm below, 850.000 mm above.*wrote the page")
+  "2 blocks.  drawn 250.420 mm \\(G1 blocks\\), travel 300.000 mm \\(G0 blocks\\), of it rapid \\(G0\\) 300.000 mm.  drawing's extent: x 750.000 mm .. 900.000 mm, y -1000.000 mm .. -800.000 mm.  joint left: 1025.914 mm \\(at the start\\) .. 1250.000 mm \\(line 1\\) of its travel 150.000 mm .. 2100.000 mm: margin 875.914 mm below, 850.000 mm above.*wrote the page")
 # A block past a joint's travel: a warning at its line, the page still written, and a failure.
 add_test(NAME cli.view_past_travel_warns_writes_its_page_and_fails
          COMMAND sh -c "\"$0\" view -m \"$1\" \"$2\" --html \"$3\" 2>&1; status=$?; test -s \"$3\" && exit $status"

@@ -3,7 +3,7 @@
 
 usage: stream_tests.py CASE PKM GRBL_SIM SOURCE_DIR WORK_DIR
 
-Cases: ends_where_the_job_ends, refused_line, garbage_port, interrupt. Each runs in a few
+Cases: ends_where_the_job_ends, refused_line, garbage_port, interrupt, time_left_on_a_terminal. Each runs in a few
 seconds of wall time (grbl-sim simulates 16 MHz of AVR: about real time on an idle machine).
 """
 import math
@@ -183,5 +183,27 @@ def interrupt():
     print("ok: stopped at x %.3f y %.3f mm; %s" % (pose[0], pose[1], err.strip().splitlines()[-1]))
 
 
+def time_left_on_a_terminal():
+    # On a terminal the progress line counts down from the controller's predicted time (post's
+    # grbl model): the square's 16.2 mm at 30 mm/s with its corners, some 0.7 simulated s, over
+    # grbl-sim's clock of 0.25: about 3 s of ours when the program starts.
+    command = " ".join("'%s'" % a for a in [PKM, "stream", "-m", MACHINE, "--dry-run", "--grbl-sim",
+                                            GRBL_SIM, "--sim-clock", SIM_CLOCK,
+                                            os.path.join(DATA, "grbl-small-square.ngc"),
+                                            "--origin", "750", "-700"])
+    environment = dict(os.environ, PKM_PROGRESS_AFTER_MS="0", COLUMNS="200")
+    result = subprocess.run(["script", "-qec", command, "/dev/null"], capture_output=True,
+                            text=True, timeout=60, env=environment)
+    if result.returncode != 0:
+        fail("stream under script failed: " + result.stdout)
+    left = [int(n) for n in re.findall(r"done  about ([0-9]+) s left", result.stdout)]
+    if not left:
+        fail("no time left on the progress line: " + result.stdout.replace("\r", "\n"))
+    if not 2 <= left[0] <= 4:
+        fail("the first time left is %d s, not about 3 s" % left[0])
+    print("ok: the progress line counts down from %d s" % left[0])
+
+
 {"ends_where_the_job_ends": ends_where_the_job_ends, "refused_line": refused_line,
- "garbage_port": garbage_port, "interrupt": interrupt}[CASE]()
+ "garbage_port": garbage_port, "interrupt": interrupt,
+ "time_left_on_a_terminal": time_left_on_a_terminal}[CASE]()

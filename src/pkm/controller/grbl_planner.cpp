@@ -247,8 +247,9 @@ void GrblTimeModel::read_words(std::string_view line, bool& motion, bool& sync, 
   }
 }
 
-void GrblTimeModel::add_line(std::string_view line) {
+void GrblTimeModel::add_line(std::string_view line, int tag) {
   ++prediction_.lines;
+  line_tag_ = tag;
   bool motion = false, sync = false;
   double dwell_s = 0.0;
   read_words(line, motion, sync, dwell_s);
@@ -322,6 +323,10 @@ void GrblTimeModel::plan_move() {
     started_ = true;
     prediction_.motion_start_s = now_s_;
   }
+  if (unlimited_.empty()) {
+    stretch_tag_ = line_tag_;
+    stretch_start_s_ = now_s_;
+  }
   ++prediction_.blocks;
   prediction_.path_length += length;
   acceleration_length_ += block.acceleration * length;
@@ -380,9 +385,18 @@ void GrblTimeModel::wait_for_stop() {
   advance(kNever, 1);
 }
 
+// At a stop (the machine at rest, now_s_ its time): the stretch since the last stop with every
+// block known, against what the look-ahead and the line made of it.
 void GrblTimeModel::flush_unlimited() {
-  prediction_.unlimited_time_s += planned_time_s(std::move(unlimited_));
+  if (unlimited_.empty()) return;
+  const double unlimited_s = planned_time_s(std::move(unlimited_));
   unlimited_.clear();
+  prediction_.unlimited_time_s += unlimited_s;
+  const double lost_s = now_s_ - stretch_start_s_ - unlimited_s;
+  if (lost_s > prediction_.slowest_stretch_lost_s) {
+    prediction_.slowest_stretch_lost_s = lost_s;
+    prediction_.slowest_stretch_tag = stretch_tag_;
+  }
 }
 
 GrblPrediction GrblTimeModel::finish() {

@@ -49,6 +49,11 @@ struct GrblPrediction {
   double unlimited_time_s = 0.0;
   double path_length = 0.0;        // of the planned blocks, units (mm, deg)
   double mean_acceleration = 0.0;  // over the blocks, weighted by length: units/s^2
+  // The stretch between two stops (a pen or spindle command, a dwell, the end) that the
+  // look-ahead and the line slow most: the tag of the line of its first block (post: the job's
+  // line) and the seconds it takes beyond its unlimited time.
+  int slowest_stretch_tag = 0;
+  double slowest_stretch_lost_s = 0.0;
 };
 
 // Fed the lines of a joint program in order; O(planner_blocks) work per line, memory bounded by
@@ -56,8 +61,10 @@ struct GrblPrediction {
 class GrblTimeModel {
  public:
   explicit GrblTimeModel(GrblSetup setup);
-  // Throws std::invalid_argument for a word it cannot read (the line is quoted).
-  void add_line(std::string_view line);
+  // Throws std::invalid_argument for a word it cannot read (the line is quoted). `tag` is the
+  // caller's number for the line (post: the job line it was written for), returned as
+  // slowest_stretch_tag.
+  void add_line(std::string_view line, int tag = 0);
   GrblPrediction finish();
 
   // A planner block, exposed for the tests: length (units), acceleration (units/s^2), nominal
@@ -104,6 +111,9 @@ class GrblTimeModel {
   double now_s_ = 0.0, speed_ = 0.0;
   std::vector<Block> unlimited_;
   GrblPrediction prediction_;
+  // The stretch being planned since the last stop: its first block's tag and start.
+  int line_tag_ = 0, stretch_tag_ = 0;
+  double stretch_start_s_ = 0.0;
   double acceleration_length_ = 0.0;
   bool started_ = false;
 };

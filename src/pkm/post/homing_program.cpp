@@ -5,8 +5,6 @@
 #include <iterator>
 #include <stdexcept>
 
-#include "pkm/post/grbl_settings.hpp"
-
 namespace pkm::post {
 
 namespace {
@@ -41,9 +39,7 @@ class ProgramText {
     text_ += text + "\n";
   }
   void comment(const std::string& before, const std::string& text, const std::string& after) {
-    // grbl acts on ? ! ~ and bytes above 0x7F even inside a comment (grbl_settings.hpp).
-    const bool grbl = dialect_ == Dialect::grbl || dialect_ == Dialect::grblhal;
-    text_ += comment_line(before, grbl ? grbl_comment_text(text) : text, after, rules_.max_line);
+    text_ += comment_line(dialect_, before, text, after);
   }
   // The words of `targets` (joint, value in mm or rad), in joint order as given.
   std::string words(const std::vector<std::pair<int, double>>& targets) const {

@@ -10,6 +10,7 @@
 #include "pkm/motion/segment_builder.hpp"
 #include "pkm/post/covering.hpp"
 #include "pkm/post/deviation_bound.hpp"
+#include "pkm/post/grbl_settings.hpp"
 #include "pkm/post/passed_commands.hpp"
 #include "pkm/post/span_bound.hpp"
 
@@ -63,8 +64,9 @@ std::string inverse_time_feed(double duration_s) {
 
 class Poster : private CoveringHost {
  public:
+  // `write_line` gets each line with the job line it was written for.
   Poster(const Machine& machine, const PostOptions& options,
-         const std::function<void(const std::string&)>& write_line, std::string file)
+         const std::function<void(const std::string&, int)>& write_line, std::string file)
       : machine_(machine),
         options_(options),
         rules_(rules_of(options.dialect)),
@@ -161,7 +163,7 @@ class Poster : private CoveringHost {
                           std::to_string(rules_.max_line) + " dialect " +
                           std::string(dialect_name(options_.dialect)) + " accepts: " + line);
     }
-    write_line_(line);
+    write_line_(line, source_line);
   }
 
   // Spindle, coolant and the program end; true when the command was one of them. On a machine
@@ -390,7 +392,7 @@ class Poster : private CoveringHost {
   const Machine& machine_;
   const PostOptions& options_;
   DialectRules rules_;
-  const std::function<void(const std::string&)>& write_line_;
+  const std::function<void(const std::string&, int)>& write_line_;
   std::string file_;
   motion::SegmentBuilder builder_;
   DeviationBound bound_;
@@ -436,7 +438,8 @@ std::string joint_word(const JointSpec& joint, double value, const DialectRules&
   return word;
 }
 
-std::string comment_safe(std::string text) {
+std::string comment_safe(Dialect dialect, std::string text) {
+  if (dialect == Dialect::grbl || dialect == Dialect::grblhal) return grbl_comment_text(text);
   for (char& c : text) {
     if (c == '(') c = '[';
     if (c == ')') c = ']';
@@ -445,9 +448,10 @@ std::string comment_safe(std::string text) {
   return text;
 }
 
-std::string comment_line(const std::string& before, std::string text, const std::string& after,
-                         std::size_t width) {
-  text = comment_safe(text);
+std::string comment_line(Dialect dialect, const std::string& before, std::string text,
+                         const std::string& after) {
+  text = comment_safe(dialect, text);
+  const std::size_t width = rules_of(dialect).max_line;
   const std::size_t room = before.size() + after.size() + 2;
   if (width > 0 && room + text.size() > width) {
     text = width > room + 3 ? "..." + text.substr(text.size() - (width - room - 3)) : "";
@@ -539,8 +543,9 @@ PostReport post_program(const Machine& machine, const std::filesystem::path& pro
   std::optional<controller::GrblTimeModel> model;
   const bool grbl_class = options.dialect == Dialect::grbl || options.dialect == Dialect::grblhal;
   if (grbl_class && machine.controller()) model.emplace(controller::grbl_setup_of(machine));
-  const std::function<void(const std::string&)> write_and_model = [&](const std::string& line) {
-    if (model) model->add_line(line);
+  const std::function<void(const std::string&, int)> write_and_model = [&](const std::string& line,
+                                                                           int job_line) {
+    if (model) model->add_line(line, job_line);
     write_line(line);
   };
   Poster poster(machine, options, write_and_model, program.string());
@@ -562,30 +567,30 @@ PostReport post_program(const Machine& machine, const std::filesystem::path& pro
   if (model) {
     report.controller = model->finish();
     if (auto warning = controller_warning(*machine.controller(), *report.controller)) {
-      report.warnings.push_back({0, *warning});
+      report.warnings.push_back(*warning);
     }
   }
   return report;
 }
 
-std::optional<std::string> controller_warning(const ControllerSettings& settings,
-                                              const controller::GrblPrediction& prediction) {
+std::optional<gcode::Warning> controller_warning(const ControllerSettings& settings,
+                                                 const controller::GrblPrediction& prediction) {
   const double run_s = prediction.time_s - prediction.motion_start_s;
   if (prediction.blocks == 0 || run_s <= 1.02 * prediction.unlimited_time_s) return std::nullopt;
   const double mean_length = prediction.path_length / static_cast<double>(prediction.blocks);
   const double cap =
       std::sqrt(2.0 * prediction.mean_acceleration * (settings.planner_blocks - 1) * mean_length);
-  char text[600];
+  char text[700];
   std::snprintf(text, sizeof text,
                 "%s's %d-block look-ahead and its %d-baud line slow this program: it takes "
                 "%.1f s on the controller instead of %.1f s at its joints' rate and acceleration "
                 "limits alone; its %ld blocks average %.4g units, and a run of such blocks goes "
-                "no faster than sqrt(2 a %d L) = %.4g units/min; a larger --tolerance gives "
-                "longer blocks",
+                "no faster than sqrt(2 a %d L) = %.4g units/min; the stretch slowed most (%.1f s "
+                "lost) starts at this line; a larger --tolerance gives longer blocks",
                 controller_kind_name(settings.kind), settings.planner_blocks, settings.baud, run_s,
                 prediction.unlimited_time_s, prediction.blocks, mean_length,
-                settings.planner_blocks - 1, cap * 60.0);
-  return std::string(text);
+                settings.planner_blocks - 1, cap * 60.0, prediction.slowest_stretch_lost_s);
+  return gcode::Warning{prediction.slowest_stretch_tag, text};
 }
 
 }  // namespace pkm::post

@@ -39,12 +39,14 @@ Dialect dialect_named(std::string_view name);
 // the dialect's decimals.
 std::string joint_word(const JointSpec& joint, double value, const DialectRules& rules);
 
-// Text for inside a G-code comment: parentheses would end or nest it, a line break end it.
-std::string comment_safe(std::string text);
-// A comment line "(before text after)\n" of at most `width` characters (0: any): `text` cut at
-// its start, where a path or a name says least, marked by "...".
-std::string comment_line(const std::string& before, std::string text, const std::string& after,
-                         std::size_t width);
+// Text for inside a G-code comment of `dialect`: parentheses would end or nest it, a line break
+// end it; for grbl and grblHAL also ? ! ~ and bytes above 0x7F, which they act on even inside a
+// comment (grbl_comment_text).
+std::string comment_safe(Dialect dialect, std::string text);
+// A comment line "(before text after)\n" within the dialect's longest line: `text` made safe and
+// cut at its start, where a path or a name says least, marked by "...".
+std::string comment_line(Dialect dialect, const std::string& before, std::string text,
+                         const std::string& after);
 
 // Throws std::invalid_argument, naming the letters and the dialects that take them, when the
 // machine's joints use axis letters the dialect does not accept or more joints than it has axes.
@@ -87,9 +89,10 @@ struct PostReport {
 };
 
 // The warning, with numbers, where the controller's look-ahead or serial line make the program
-// take over 2 % longer than its rate and acceleration limits alone; nothing otherwise.
-std::optional<std::string> controller_warning(const ControllerSettings& settings,
-                                              const controller::GrblPrediction& prediction);
+// take over 2 % longer than its rate and acceleration limits alone, at the job line where the
+// stretch they slow most starts; nothing otherwise.
+std::optional<gcode::Warning> controller_warning(const ControllerSettings& settings,
+                                                 const controller::GrblPrediction& prediction);
 
 class PostError : public std::runtime_error {
  public:

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -50,6 +51,34 @@ std::string seconds_text(double seconds) {
 }
 
 }  // namespace
+
+bool writes_eeprom(std::string_view line) {
+  std::string words;  // the line as grbl reads it: no spaces, no comments, upper case
+  bool in_comment = false;
+  for (const char c : line) {
+    if (c == ';' && !in_comment) break;
+    if (c == '(' || c == ')') {
+      in_comment = c == '(';
+    } else if (!in_comment && c != ' ' && c != '\t') {
+      words += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    }
+  }
+  if (!words.empty() && words[0] == '$') {  // $J= jogs; every other $..= is stored
+    return words.find('=') != std::string::npos && words.rfind("$J=", 0) != 0;
+  }
+  for (std::size_t g = words.find('G'); g != std::string::npos; g = words.find('G', g + 1)) {
+    std::size_t end = g + 1;
+    while (end < words.size() &&
+           (std::isdigit(static_cast<unsigned char>(words[end])) || words[end] == '.')) {
+      ++end;
+    }
+    const std::string number = words.substr(g + 1, end - g - 1);
+    const std::size_t first = std::min(number.find_first_not_of('0'), number.size());
+    const std::string code = number.substr(first);
+    if (code == "10" || code == "28.1" || code == "30.1") return true;
+  }
+  return false;
+}
 
 std::string describe_line(const SentLine& line) {
   if (line.program_line == 0) return "the line sent before the program: " + line.text;
@@ -154,6 +183,12 @@ void GrblSender::handle(const std::string& line) {
         } else if (!idle_since_) {
           idle_since_ = Clock::now();
         }
+        if (status->state != "Run" || !status->has_position || in_flight_.empty()) {
+          still_since_.reset();
+        } else if (!still_since_ || status->work_position != still_at_) {
+          still_since_ = Clock::now();
+          still_at_ = status->work_position;
+        }
         last_status_ = *status;
         if (on_status) on_status(*status);
       }
@@ -224,6 +259,16 @@ void GrblSender::check_silence() const {
 }
 
 void GrblSender::check_idle_stall() {
+  if (still_since_ && seconds_since(*still_since_) >= timeouts_.idle_stall_s) {
+    char where[96];
+    std::snprintf(where, sizeof where, "%.3f, %.3f, %.3f", still_at_[0], still_at_[1],
+                  still_at_[2]);
+    throw StreamError(port_ + ": grbl reports Run, yet its position has stood at " + where +
+                      " for " + seconds_text(timeouts_.idle_stall_s) + " with " +
+                      std::to_string(in_flight_.size()) +
+                      " lines unanswered: its stepping has stopped; the oldest line waiting is " +
+                      describe_line(in_flight_.front()));
+  }
   if (!idle_since_ || seconds_since(*idle_since_) < timeouts_.idle_stall_s) return;
   for (const SentLine& line : in_flight_) {
     const bool dwell =
@@ -245,18 +290,26 @@ void GrblSender::send(std::string_view line, long program_line, int job_line) {
                       std::to_string(rx_buffer_bytes_));
   }
   check_interrupted();
-  while (in_flight_bytes_ + sent.bytes > rx_buffer_bytes_) {
+  // A line that writes the EEPROM goes alone: an AVR grbl does not serve its serial port while
+  // it writes, and would lose the bytes of the lines after it.
+  const bool alone = writes_eeprom(line);
+  wait_for_room(alone ? rx_buffer_bytes_ : sent.bytes);
+  write_all(sent.text + "\n");
+  in_flight_bytes_ += sent.bytes;
+  in_flight_.push_back(std::move(sent));
+  ++lines_sent_;
+  pump(0.0);
+  if (alone) wait_for_room(rx_buffer_bytes_);
+}
+
+void GrblSender::wait_for_room(std::size_t bytes) {
+  while (!in_flight_.empty() && in_flight_bytes_ + bytes > rx_buffer_bytes_) {
     pump(timeouts_.status_interval_s / 2);
     check_interrupted();
     request_status_now_and_then();
     check_silence();
     check_idle_stall();
   }
-  write_all(sent.text + "\n");
-  in_flight_bytes_ += sent.bytes;
-  in_flight_.push_back(std::move(sent));
-  ++lines_sent_;
-  pump(0.0);
 }
 
 void GrblSender::drain() {

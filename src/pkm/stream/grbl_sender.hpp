@@ -29,7 +29,8 @@ struct StreamTimeouts {
   double silence_s = 5.0;
   double status_interval_s = 0.2;  // how often '?' is sent while waiting
   // grbl reporting Idle this long while lines wait for their answer (and none of them is a
-  // dwell, G4): it lost part of a line and waits for a newline that will not come.
+  // dwell, G4): it lost part of a line and waits for a newline that will not come. And grbl
+  // reporting Run this long at one position while lines wait: its stepping has stopped.
   double idle_stall_s = 5.0;
 };
 
@@ -79,8 +80,9 @@ class GrblSender {
   // Waits for grbl's banner (then a soft reset and as long again); returns it. Throws
   // StreamError naming what came instead.
   std::string await_banner();
-  // Sends one line once grbl's buffer has room for it. Throws GrblRefusal at an error or alarm
-  // answered meanwhile, StreamInterrupted, StreamError.
+  // Sends one line once grbl's buffer has room for it; a line that writes grbl's EEPROM
+  // (writes_eeprom) alone, once every line before it is answered, and waits for its answer.
+  // Throws GrblRefusal at an error or alarm answered meanwhile, StreamInterrupted, StreamError.
   void send(std::string_view line, long program_line, int job_line);
   // Waits for every line's answer and for grbl to be idle.
   void drain();
@@ -98,6 +100,8 @@ class GrblSender {
   using Clock = std::chrono::steady_clock;
   // Reads what is there within `wait_s` and handles each complete line; throws at a refusal.
   void pump(double wait_s);
+  // Until `bytes` more fit beside the lines not yet answered (or none is left unanswered).
+  void wait_for_room(std::size_t bytes);
   void handle(const std::string& line);
   void write_all(std::string_view bytes);
   void check_interrupted() const;
@@ -123,7 +127,15 @@ class GrblSender {
   long lines_acknowledged_ = 0;
   Clock::time_point last_byte_, last_status_request_;
   std::optional<Clock::time_point> idle_since_;  // status Idle with lines waiting, since
+  // Status Run with lines waiting and the position standing at still_at_, since: grbl's
+  // stepping has stopped (grbl-sim's clock does so at times on a busy computer).
+  std::optional<Clock::time_point> still_since_;
+  std::array<double, 3> still_at_{};
 };
+
+// Whether grbl writes its EEPROM for `line`: a $ setting ($100=80, $N0=..., $RST=*; not a $J=
+// jog), G10, G28.1, G30.1. grbl's documentation asks senders to send such lines one at a time.
+bool writes_eeprom(std::string_view line);
 
 // "line 12 (job line 5): G1 X1.00000 Y2.00000" for messages.
 std::string describe_line(const SentLine& line);
