@@ -111,6 +111,12 @@ class Proof:
         self.run(["post", "-m", sim_machine, job, "--dialect", "grbl", "-o", program, "--report",
                   report] + origin)
         posted = json.load(open(report))
+        # The same post for the board's own line (the machine file's baud): what a real grbl takes.
+        board_report = os.path.join(self.work, name + ".board.json")
+        self.run(["post", "-m", os.path.join(self.source, "examples/machines", machine), job,
+                  "--dialect", "grbl", "-o", os.path.join(self.work, name + ".board.joints.ngc"),
+                  "--report", board_report] + origin)
+        board = json.load(open(board_report))["controller"]
         bare_program = os.path.join(self.work, name + ".bare.joints.ngc")
         self.run(["post", "-m", bare_machine, job, "--dialect", "grbl", "-o", bare_program] + origin)
         verified = os.path.join(self.work, name + ".verify.json")
@@ -132,6 +138,7 @@ class Proof:
             "predicted_s": posted["controller"]["predicted_time_s"] -
                            posted["controller"]["motion_start_s"],
             "plan_s": plan_s,
+            "board_predicted_s": board["predicted_time_s"] - board["motion_start_s"],
             "verify_mm": json.load(open(verified)).get("max_deviation_mm"),
             "tolerance_mm": posted["tolerance_mm"],
             "same_blocks_without_controller": same_blocks, "wall_s": wall_s,
@@ -261,7 +268,8 @@ def fk(proof, machine, joints):
 
 def check(row, strict):
     print(("%(job)s on %(machine)s: %(blocks)d blocks, grbl-sim %(grbl_s).3f s, predicted "
-           "%(predicted_s).3f s, pkm plan %(plan_s).3f s, step trace %(trace_steps).2f steps "
+           "%(predicted_s).3f s (%(board_predicted_s).3f s on the board's 115200-baud line), pkm "
+           "plan %(plan_s).3f s, step trace %(trace_steps).2f steps "
            "(%(trace_mm).4f mm through FK) from blocks pkm verify bounds at %(verify_mm).4f mm "
            "(tolerance %(tolerance_mm).4f mm), the same blocks without [controller]: "
            "%(same_blocks_without_controller)s, wall %(wall_s).0f s") % row)
