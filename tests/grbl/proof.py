@@ -40,17 +40,18 @@ JOBS = {
                               9, 18, ("0", "0"), True),
     "triaglide_cam": ("triaglide.toml", "cam/camotics/tiny_cat_outline.ngc", 1, 60,
                       ("-69", "-70", "190"), True),
-    # The table (docs/grbl.md): the first 400 lines of each drawing, some 40 s of machine time
-    # each (a whole drawing takes grbl-sim half an hour and more at a quarter of real time).
-    "wall_plotter_vitruvian_400": ("wall-plotter.toml",
-                                   "plotter/dexarm-inkscape/vitruvianMan.gcode", 9, 400,
-                                   ("750", "-1100"), False),
-    "makelangelo_vitruvian_400": ("makelangelo.toml", "plotter/dexarm-inkscape/vitruvianMan.gcode",
-                                  9, 400, ("0", "0"), False),
-    "wall_plotter_mandala_400": ("wall-plotter.toml", "plotter/inkscape/mandala_cnc_0001.gcode",
-                                 1, 400, ("750", "-1100"), False),
-    "triaglide_cam_400": ("triaglide.toml", "cam/camotics/tiny_cat_outline.ngc", 1, 400,
-                          ("-69", "-70", "190"), False),
+    # The table (docs/grbl.md): longer excerpts, 6-15 s of machine time each (a whole drawing
+    # takes grbl-sim an hour and more at a quarter of real time).
+    "wall_plotter_vitruvian_long": ("wall-plotter.toml",
+                                    "plotter/dexarm-inkscape/vitruvianMan.gcode", 9, 30,
+                                    ("750", "-1100"), False),
+    "makelangelo_vitruvian_long": ("makelangelo.toml",
+                                   "plotter/dexarm-inkscape/vitruvianMan.gcode", 9, 30, ("0", "0"),
+                                   False),
+    "wall_plotter_mandala_long": ("wall-plotter.toml", "plotter/inkscape/mandala_cnc_0001.gcode",
+                                  1, 60, ("750", "-1100"), False),
+    "triaglide_cam_long": ("triaglide.toml", "cam/camotics/tiny_cat_outline.ngc", 1, 90,
+                           ("-69", "-70", "190"), False),
 }
 
 
