@@ -12,10 +12,10 @@ the joint program into grbl-sim (`pkm stream --dry-run --joint-program --record-
   `pkm verify` proves those blocks within the tolerance of the job. Through FK, every row is then
   within the tolerance plus one step's worth of the job's path; the worst row's Cartesian
   distance from its block is measured with `pkm fk` and printed.
-* grbl's simulated time (first to last step change) against the post's predicted_time_s (less
-  its motion_start_s): never more than 5 % below it; with PKM_GRBL_TIMING=strict (a quiet
-  machine) also at most 5 % above it and within 10 % of `pkm plan`'s time for the Cartesian job.
-  grbl-sim on a busy host runs slower than grbl would (docs/grbl.md), never faster.
+* grbl's simulated time (first to last step change) within 5 % of the post's predicted_time_s
+  (less its motion_start_s), and for the CAM job within 10 % of `pkm plan`'s time. grbl-sim is
+  built with its timer interrupts freed from its shared interrupt flag (cmake/build-grbl-sim.sh):
+  without that it ran runs of blocks 10-35 % slow on a busy computer, and froze.
 
 grbl-sim reads its serial input at 66 AVR clock ticks a byte (simulator.c: 2 * UBRR0 + 1, doubled
 by U2X0), 242424 bytes/s, where a real 115200-baud line carries 11520: the post's prediction is
@@ -267,7 +267,7 @@ def fk(proof, machine, joints):
     return [float(v) for v in re.findall(r"= (-?[0-9.]+) mm", out)]
 
 
-def check(row, strict):
+def check(row):
     print(("%(job)s on %(machine)s: %(blocks)d blocks, grbl-sim %(grbl_s).3f s, predicted "
            "%(predicted_s).3f s (%(board_predicted_s).3f s on the board's 115200-baud line), pkm "
            "plan %(plan_s).3f s, step trace %(trace_steps).2f steps "
@@ -277,19 +277,14 @@ def check(row, strict):
     if row["verify_mm"] > row["tolerance_mm"] * (1 + 1e-6):
         fail("pkm verify: %.4f mm, over the tolerance" % row["verify_mm"])
     ratio = row["grbl_s"] / row["predicted_s"]
-    # grbl-sim on a busy host runs blocks slower than grbl does, never faster (docs/grbl.md,
-    # "Proven on grbl 1.1h": +10 % alone on a loaded machine, +35 % beside a second grbl-sim).
-    # So the prediction is held to 5 % from below always, and from above only with
-    # PKM_GRBL_TIMING=strict, on a quiet machine; otherwise the excess is printed.
-    if ratio < 0.95 or (strict and ratio > 1.05):
-        fail("grbl-sim took %.3f s, the prediction is %.3f s (%+.1f %%, allowed %s)" %
-             (row["grbl_s"], row["predicted_s"], 100 * (ratio - 1),
-              "5 %" if strict else "-5 % and more"))
-    if ratio > 1.05:
-        print("note: grbl-sim %+.1f %% over the prediction, load average %s (not checked without "
-              "PKM_GRBL_TIMING=strict)" % (100 * (ratio - 1), os.getloadavg()[0]))
+    if abs(ratio - 1.0) > 0.05:
+        fail("grbl-sim took %.3f s, the prediction is %.3f s (%+.1f %%)" %
+             (row["grbl_s"], row["predicted_s"], 100 * (ratio - 1)))
+    # pkm plan's time is the Cartesian job's: the CAM job's feeds are grbl's. The drawings' pen-up
+    # travel is a joint-space rapid on grbl, at the joints' rates, faster than plan's Cartesian
+    # rapid (docs/grbl.md): printed, not held.
     plan_ratio = row["grbl_s"] / row["plan_s"]
-    if strict and abs(plan_ratio - 1.0) > 0.10:
+    if row["job"].startswith("triaglide_cam") and abs(plan_ratio - 1.0) > 0.10:
         fail("grbl-sim took %.3f s, pkm plan %.3f s (%+.1f %%)" %
              (row["grbl_s"], row["plan_s"], 100 * (plan_ratio - 1)))
 
@@ -306,15 +301,14 @@ def main():
     if not os.path.isdir(proof.corpus):
         print("SKIP: no real corpus at " + proof.corpus)
         sys.exit(77)
-    strict = os.environ.get("PKM_GRBL_TIMING") == "strict"
     if case != "table":
-        check(proof.job(case), strict)
+        check(proof.job(case))
         return
     # The table of docs/grbl.md: every long job, each row printed as it comes; failures after.
     failed = []
     for name in [n for n in JOBS if not JOBS[n][5]]:
         try:
-            check(proof.job(name), strict)
+            check(proof.job(name))
         except SystemExit:
             failed.append(name)
     if failed:
