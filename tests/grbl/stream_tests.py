@@ -76,9 +76,13 @@ def ends_where_the_job_ends():
                      "--record-steps", steps_file])
     if result.returncode != 0:
         fail("stream failed: " + result.stderr)
-    # grbl reports its position to 0.001 mm of cord: FK of that is 0.001 mm or so off the pose.
-    if not re.search(r"every one answered ok, at Idle  x 753\.00[0-2] y -697\.00[0-2] mm",
-                     result.stdout):
+    # grbl reports its position in whole steps of each cord (0.0125 mm at 80 steps/mm), to
+    # 0.001 mm: FK of that is within post's tolerance and a step's worth of the pose.
+    reported = re.search(r"every one answered ok, at Idle  x (-?[0-9.]+) y (-?[0-9.]+) mm",
+                         result.stdout)
+    one_step = max(1.0 / k for k in STEPS_PER_MM) / math.sin(math.radians(86.0))
+    if not reported or max(abs(float(reported.group(1)) - 753.0),
+                           abs(float(reported.group(2)) + 697.0)) > 0.01 + one_step:
         fail("summary: " + result.stdout)
     if os.path.exists(steps_file + ".partial"):
         fail("the step record was left under its temporary name")
