@@ -162,12 +162,14 @@ class Proof:
         for row in step_rows(steps_file):
             row = row[:len(home)]
             best = None
-            # Rows come in the program's order: look from the current block on.
+            # Rows come in the program's order: the first block from the current one on that
+            # the row is within a step of (a later block crossing the path is not taken).
             for index in range(segment, min(segment + 400, len(rounded) - 1)):
                 distance, point = chebyshev_to_segment(row, rounded[index], rounded[index + 1])
                 if best is None or distance < best[0] - 1e-9:
                     best = (distance, index, point)
-                if distance <= 1.0 and index > segment + 1 and best[0] <= 1.0:
+                if distance <= 1.0 + 1e-9:
+                    best = (distance, index, point)
                     break
             if best is None:
                 fail("no block for step row %s" % row)
@@ -291,7 +293,7 @@ def check(row):
 
 def main():
     arguments = sys.argv[1:]
-    sim_clock = 0.25
+    sim_clock = 0.5  # pkm stream's default; grbl-sim as built keeps its timing at it (docs/grbl.md)
     if "--sim-clock" in arguments:
         at = arguments.index("--sim-clock")
         sim_clock = float(arguments[at + 1])
