@@ -1,7 +1,8 @@
 # grbl-sim: grbl 1.1h compiled for Linux with a simulated clock (../shared/controllers/grbl-1.1h,
 # its README), the controller `pkm stream --dry-run` and the grbl tests run programs through. It
 # is built from the sources beside the clone into the build directory, once (build-sim: gcc and
-# make, a few seconds to a minute; its step file then line-buffered, build-grbl-sim.sh), by the
+# make, a few seconds to a minute; its step file then line-buffered and its timer interrupts
+# freed from its racy interrupt flag, build-grbl-sim.sh), by the
 # target grbl_sim; nothing of grbl is in the repository.
 # Sets PKM_GRBL_SIM_EXE (empty when the sources are missing, said as a missing part of the
 # suite).
