@@ -11,7 +11,12 @@ get_filename_component(PKM_GRBL_SOURCES_DEFAULT
 set(PKM_GRBL_SOURCES ${PKM_GRBL_SOURCES_DEFAULT} CACHE PATH
     "grbl 1.1h and grbl-sim with their build-sim script (../shared/controllers/grbl-1.1h)")
 set(PKM_GRBL_SIM_EXE "")
-if(EXISTS ${PKM_GRBL_SOURCES}/build-sim)
+# build-sim runs grbl-sim's Makefile; make comes with cmake only as a recommended package.
+find_program(PKM_MAKE make)
+if(NOT PKM_MAKE)
+  pkm_suite_part_missing("the tests that stream through grbl 1.1h (grbl-sim)"
+                         "make builds grbl-sim: apt-get install make")
+elseif(EXISTS ${PKM_GRBL_SOURCES}/build-sim)
   set(grbl_sim_dir ${CMAKE_BINARY_DIR}/grbl-sim)
   set(PKM_GRBL_SIM_EXE ${grbl_sim_dir}/grbl/grbl-sim/grbl_sim.exe)
   file(GLOB_RECURSE grbl_sources CONFIGURE_DEPENDS ${PKM_GRBL_SOURCES}/*.c ${PKM_GRBL_SOURCES}/*.h)
