@@ -279,18 +279,23 @@ TEST(GrblSender, SilenceIsAnErrorNamingTheLineWaiting) {
   }
 }
 
-// grbl answering its status, Idle, but never the lines: it lost a newline. An error, not a hang.
-TEST(GrblSender, IdleWithLinesUnansweredIsAnError) {
-  SocketPair pair;
-  std::thread grbl([fd = pair.grbl] {
+// A grbl that sends its banner and then answers only status requests, each with `report`:
+// one whose lines never come back.
+std::thread status_only_grbl(int fd, std::string report) {
+  return std::thread([fd, report = std::move(report) + "\r\n"] {
     const std::string banner = "Grbl 1.1h ['$' for help]\r\n";
     if (::send(fd, banner.data(), banner.size(), MSG_NOSIGNAL) < 0) return;
     char byte = 0;
     while (::recv(fd, &byte, 1, 0) == 1) {
-      const std::string idle = "<Idle|MPos:0.000,0.000,0.000|FS:0,0>\r\n";
-      if (byte == '?' && ::send(fd, idle.data(), idle.size(), MSG_NOSIGNAL) < 0) return;
+      if (byte == '?' && ::send(fd, report.data(), report.size(), MSG_NOSIGNAL) < 0) return;
     }
   });
+}
+
+// grbl answering its status, Idle, but never the lines: it lost a newline. An error, not a hang.
+TEST(GrblSender, IdleWithLinesUnansweredIsAnError) {
+  SocketPair pair;
+  std::thread grbl = status_only_grbl(pair.grbl, "<Idle|MPos:0.000,0.000,0.000|FS:0,0>");
   StreamTimeouts timeouts;
   timeouts.idle_stall_s = 0.5;
   GrblSender sender(pair.sender, "fake", 128, timeouts);
@@ -313,15 +318,7 @@ TEST(GrblSender, IdleWithLinesUnansweredIsAnError) {
 // (grbl-sim's clock stalls so at times on a busy computer). An error, not a hang.
 TEST(GrblSender, RunWithoutMotionIsAnError) {
   SocketPair pair;
-  std::thread grbl([fd = pair.grbl] {
-    const std::string banner = "Grbl 1.1h ['$' for help]\r\n";
-    if (::send(fd, banner.data(), banner.size(), MSG_NOSIGNAL) < 0) return;
-    char byte = 0;
-    while (::recv(fd, &byte, 1, 0) == 1) {
-      const std::string run = "<Run|MPos:39.525,48.350,0.000|FS:11693,0>\r\n";
-      if (byte == '?' && ::send(fd, run.data(), run.size(), MSG_NOSIGNAL) < 0) return;
-    }
-  });
+  std::thread grbl = status_only_grbl(pair.grbl, "<Run|MPos:39.525,48.350,0.000|FS:11693,0>");
   StreamTimeouts timeouts;
   timeouts.idle_stall_s = 0.5;
   GrblSender sender(pair.sender, "fake", 128, timeouts);
