@@ -322,11 +322,15 @@ void GrblSender::drain() {
     check_silence();
     check_idle_stall();
   }
-  // The position where it stopped, for the caller.
-  write_all("?");
-  const auto start = Clock::now();
+  // The position where it stopped, for the caller. Asked again while no report comes whole: a
+  // report garbled on the line (noise, a lost byte) is not the position.
   last_status_.reset();
-  while (!last_status_ && seconds_since(start) < timeouts_.silence_s) pump(0.05);
+  const auto start = Clock::now();
+  while (!last_status_ && seconds_since(start) < timeouts_.silence_s) {
+    write_all("?");
+    const auto asked = Clock::now();
+    while (!last_status_ && seconds_since(asked) < timeouts_.status_interval_s) pump(0.05);
+  }
 }
 
 std::string GrblSender::hold_and_reset() {
