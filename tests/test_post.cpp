@@ -677,8 +677,9 @@ type = "glide"
             "'V' as V, 'W' as W: use --dialect linuxcnc or grblhal, or change the joints' axis "
             "letters in the machine file");
   EXPECT_EQ(message(uvw, Dialect::linuxcnc), "");
-  EXPECT_THROW(posted_lines(hektor, "G1 X40 Y-50 F600\nM2\n", {0.01, Dialect::grbl, {}, {}, true}),
-               std::invalid_argument);
+  EXPECT_THROW(
+      posted_lines(hektor, "G1 X40 Y-50 F600\nM2\n", {0.01, Dialect::grbl, {}, {}, true, 0, {}}),
+      std::invalid_argument);
 }
 
 TEST(Post, GrblLinesWithin80Characters) {
@@ -1148,6 +1149,77 @@ TEST(ExportMach3, FormulasReproduceTheMachinesInverseKinematics) {
   EXPECT_EQ(hektor[0], (std::pair<char, std::string>{'a', "sqrt((x^2) + (y^2))"}));
   EXPECT_EQ(hektor[1], (std::pair<char, std::string>{'b', "sqrt(((100 - x)^2) + (y^2))"}));
   EXPECT_THROW(mach3_formulas(test::load_example("hexapod-bit.toml")), std::invalid_argument);
+}
+
+// The seconds the G93 blocks of a joint program take (60 / F each), and how many G0 blocks it has.
+struct ProgramTimes {
+  double inverse_time_s = 0.0;
+  int rapid_blocks = 0;
+};
+ProgramTimes program_times(const std::vector<std::string>& lines) {
+  ProgramTimes times;
+  for (const std::string& line : lines) {
+    if (line.rfind("G0 ", 0) == 0) ++times.rapid_blocks;
+    const std::size_t f = line.find(" F");
+    if (line.find("G1") != std::string::npos && f != std::string::npos) {
+      times.inverse_time_s += 60.0 / std::stod(line.substr(f + 2));
+    }
+  }
+  return times;
+}
+
+// grbl's G0 runs each joint at its own top rate, faster than the tool may go: for grbl, post
+// times a rapid at [cartesian] max_feed (100 mm/s on the wall plotter, whose cords never change
+// faster than the tool moves: 30 mm take 0.3 s); LinuxCNC keeps G0, as does --rapids g0.
+TEST(Post, GrblRapidsTakeTheirTimeAtMaxFeed) {
+  const Machine wall_plotter = test::load_example("wall-plotter.toml");
+  const std::string job = "G21 G90\nG0 X780 Y-700\nM2\n";
+  PostOptions grbl;
+  grbl.dialect = Dialect::grbl;
+  const ProgramTimes timed = program_times(posted_lines(wall_plotter, job, grbl));
+  EXPECT_EQ(timed.rapid_blocks, 0);
+  EXPECT_NEAR(timed.inverse_time_s, 0.3, 0.3e-3);  // F rounded down to 3 decimals per block
+  EXPECT_GE(timed.inverse_time_s, 0.3 - 1e-12);
+  PostOptions as_g0 = grbl;
+  as_g0.rapids = RapidsStyle::g0;
+  const ProgramTimes kept = program_times(posted_lines(wall_plotter, job, as_g0));
+  EXPECT_GE(kept.rapid_blocks, 1);
+  EXPECT_EQ(kept.inverse_time_s, 0.0);
+  EXPECT_GE(program_times(posted_lines(wall_plotter, job, {})).rapid_blocks, 1);  // linuxcnc
+  EXPECT_EQ(rapids_style_of(Dialect::grblhal), RapidsStyle::timed);
+  EXPECT_EQ(rapids_style_of(Dialect::mach3), RapidsStyle::g0);
+  EXPECT_THROW(rapids_style_named("fast"), std::invalid_argument);
+}
+
+// With the spindle (a laser) on, a rapid stays G0 (grbl's laser mode switches the laser off in
+// G0 only) and is warned of at its line, with the tool's speed: the triaglide's rails run at
+// 250 mm/s where the tool may go 100.
+TEST(Post, GrblRapidWithTheSpindleOnStaysG0AndIsWarnedOf) {
+  const Machine triaglide = test::load_example("triaglide.toml");
+  PostOptions grbl;
+  grbl.dialect = Dialect::grbl;
+  PostReport report;
+  const auto lines =
+      posted_lines(triaglide, "G21 G90\nM3 S1000\nG0 X2 Y0 Z200\nM5\nG0 X0\nM2\n", grbl, &report);
+  const auto g0 = std::find_if(lines.begin(), lines.end(),
+                               [](const std::string& l) { return l.rfind("G0 ", 0) == 0; });
+  ASSERT_NE(g0, lines.end());
+  EXPECT_EQ(program_times(lines).rapid_blocks, 1);  // the rapid after M5 is timed
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_EQ(report.warnings[0].line, 3);
+  // The tool's average speed in that block: 2 mm over the time its fastest rail takes at 250.
+  JointVector home, end;
+  ASSERT_TRUE(triaglide.inverse(triaglide.home(), home).ok());
+  ASSERT_TRUE(
+      triaglide.inverse(Pose::from_vector((Vector6d() << 2, 0, 200, 0, 0, 0).finished()), end)
+          .ok());
+  const double speed = 2.0 / ((end - home).cwiseAbs().maxCoeff() / 250.0);
+  char expected[64];
+  std::snprintf(expected, sizeof expected, "averages up to %.1f mm/s", speed);
+  EXPECT_GT(speed, 100.0);
+  EXPECT_NE(report.warnings[0].message.find(expected), std::string::npos)
+      << report.warnings[0].message;
+  EXPECT_NE(report.warnings[0].message.find("above max_feed 100.0 mm/s"), std::string::npos);
 }
 
 }  // namespace

@@ -32,6 +32,7 @@ struct PostCommandOptions {
   std::vector<std::filesystem::path> subroutine_path;
   double tolerance = 0.0;      // the machine file's units; 0: kDefaultTolerance_mm
   bool no_span_moves = false;  // --no-span-moves: every move covered on its own
+  std::string rapids;          // --rapids g0|timed; empty: the dialect's default
   long max_blocks = post::kDefaultMaxBlocks;
   std::vector<double> origin;
   std::string report;  // --report: the summary as JSON
@@ -118,6 +119,7 @@ void run_post(const PostCommandOptions& options) {
   post_options.dialect = post::dialect_named(options.dialect);
   post_options.span_moves = !options.no_span_moves;
   post_options.max_blocks = options.max_blocks;
+  if (!options.rapids.empty()) post_options.rapids = post::rapids_style_named(options.rapids);
   try {
     post::check_axis_letters(machine, post_options.dialect);
   } catch (const std::invalid_argument& error) {
@@ -277,6 +279,13 @@ void register_post_commands(CLI::App& app) {
   command->add_flag("--no-span-moves", options->no_span_moves,
                     "Cover every programmed move with blocks of its own (by default one block "
                     "may span consecutive feed moves where it keeps within the tolerance)");
+  command
+      ->add_option("--rapids", options->rapids,
+                   "How G0 is written: timed (an inverse-time G1 at the machine's max_feed, the "
+                   "tool within its limits; the default for grbl and grblhal) or g0 (the "
+                   "controller's rapid, each joint at its own top rate; the default for linuxcnc "
+                   "and mach3)")
+      ->check(CLI::IsMember({"g0", "timed"}));
   command
       ->add_option("--max-blocks", options->max_blocks,
                    "Refuse a job that needs more motion blocks than this (default 10000000)")

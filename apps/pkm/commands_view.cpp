@@ -90,11 +90,15 @@ void print_report(const Machine& machine, const ViewCommandOptions& options,
   if (report.has_pen) {
     std::printf(", pen down %ld %s", report.pen_downs, report.pen_downs == 1 ? "time" : "times");
   }
-  std::printf(
-      "\n  drawn %s (%s), travel %s (%s), of it rapid (G0) %s\n",
-      length_text(machine, report.drawn_mm).c_str(), report.has_pen ? "pen down" : "G1 blocks",
-      length_text(machine, report.travel_mm).c_str(), report.has_pen ? "pen up" : "G0 blocks",
-      length_text(machine, report.rapid_mm).c_str());
+  std::printf("\n  drawn %s (%s), travel %s (%s)", length_text(machine, report.drawn_mm).c_str(),
+              report.has_pen ? "pen down" : "G1 blocks",
+              length_text(machine, report.travel_mm).c_str(),
+              report.has_pen ? "pen up" : "G0 blocks");
+  // A grbl program's travel is timed G1 blocks (post --rapids timed): no G0 to speak of.
+  if (report.rapid_mm > 0.0 || !report.has_pen) {
+    std::printf(", of it rapid (G0) %s", length_text(machine, report.rapid_mm).c_str());
+  }
+  std::printf("\n");
   print_extent(machine, report);
   print_joints(machine, report);
 }

@@ -75,7 +75,9 @@ class Poster : private CoveringHost {
         builder_(machine.home().as_vector(), options.origin, false),
         bound_(machine, options.tolerance_mm),
         covering_(*this, options.tolerance_mm),
-        pen_path_(machine) {
+        pen_path_(machine),
+        timed_rapids_(options.rapids.value_or(rapids_style_of(options.dialect)) ==
+                      RapidsStyle::timed) {
     JointVector home;
     const Status status = machine_.inverse(machine_.home(), home);
     if (!status.ok())
@@ -353,27 +355,62 @@ class Poster : private CoveringHost {
                         std::to_string(rules_.decimals) + " decimals)");
   }
 
+  // The shortest time a block to q1 takes with every joint within its max_velocity (s).
+  double joint_limited_s(const JointVector& q1) const {
+    double duration = 0.0;
+    for (int i = 0; i < q1.size(); ++i) {
+      duration =
+          std::max(duration, std::abs(q1[i] - joints_[i]) /
+                                 machine_.joints()[static_cast<std::size_t>(i)].max_velocity);
+    }
+    return duration;
+  }
+
+  // A spindle or laser on, as opposed to a pen the spindle output lifts.
+  bool cutting() const { return !pen() && spindle_on_ == true; }
+
+  // A timed rapid kept as G0 for the spindle: warned of once per job line where its blocks, at
+  // the joints' top rates, take the tool above max_feed on average.
+  void warn_of_fast_rapid(const Span& span, const JointVector& q1, int line) {
+    const double joints_s = joint_limited_s(q1);
+    const double max_feed = machine_.cartesian().max_feed_mm_per_min / 60.0;
+    if (line == fast_rapid_warned_line_ || !(joints_s > 0.0)) return;
+    const double tool_mm_per_s = span.length_mm() / joints_s;
+    if (tool_mm_per_s <= max_feed * (1.0 + 1e-9)) return;
+    fast_rapid_warned_line_ = line;
+    char numbers[160];
+    std::snprintf(numbers, sizeof numbers,
+                  "the tool averages up to %.1f mm/s over a block, above max_feed %.1f mm/s",
+                  tool_mm_per_s, max_feed);
+    report_.warnings.push_back(
+        {line, std::string("a rapid with the spindle on is written as G0 (grbl's laser mode "
+                           "switches the laser off in G0 only), where each joint runs at its own "
+                           "top rate: ") +
+                   numbers +
+                   "; stop the spindle (M5) before the rapid, or give --rapids g0 to accept it"});
+  }
+
   void write_block(const Span& span, const JointVector& q1, double deviation_mm) override {
     const Segment& segment = span.first().segment;
-    std::string line = segment.rapid ? "G0" : "G1";
-    if (!segment.rapid && !inverse_time_) {
+    const bool timed_rapid = segment.rapid && timed_rapids_ && !cutting();
+    if (segment.rapid && timed_rapids_ && !timed_rapid) {
+      warn_of_fast_rapid(span, q1, segment.line);
+    }
+    const bool as_g0 = segment.rapid && !timed_rapid;
+    std::string line = as_g0 ? "G0" : "G1";
+    if (!as_g0 && !inverse_time_) {
       line = "G93 " + line;
       inverse_time_ = true;
     }
     for (int i = 0; i < q1.size(); ++i) {
       line += joint_word(machine_.joints()[static_cast<std::size_t>(i)], q1[i], rules_);
     }
-    if (!segment.rapid) {
+    if (!as_g0) {
       // Inverse time: the block takes the programmed path's time at the programmed feed (the
-      // sum over the moves it spans), or longer where a joint would otherwise exceed its
-      // velocity.
-      double duration = span.programmed_s();
-      for (int i = 0; i < q1.size(); ++i) {
-        duration =
-            std::max(duration, std::abs(q1[i] - joints_[i]) /
-                                   machine_.joints()[static_cast<std::size_t>(i)].max_velocity);
-      }
-      line += inverse_time_feed(duration);
+      // sum over the moves it spans; a rapid's at max_feed), or longer where a joint would
+      // otherwise exceed its velocity.
+      const double rapid_mm_per_s = machine_.cartesian().max_feed_mm_per_min / 60.0;
+      line += inverse_time_feed(std::max(span.programmed_s(rapid_mm_per_s), joint_limited_s(q1)));
     }
     if (options_.max_blocks > 0 && report_.blocks >= options_.max_blocks) {
       throw BlockBoundError(file_, segment.line,
@@ -401,6 +438,8 @@ class Poster : private CoveringHost {
   double run_feed_mm_per_s_ = 0.0;  // of the moves the open block may span
   JointVector joints_;              // as last written
   bool inverse_time_ = false;
+  const bool timed_rapids_;  // RapidsStyle::timed
+  int fast_rapid_warned_line_ = -1;
   bool ended_ = false;
   bool pen_down_ = false;
   std::optional<bool> spindle_on_;  // unknown until the program says
@@ -485,6 +524,17 @@ std::string_view dialect_name(Dialect dialect) {
       return "grblhal";
   }
   return "";
+}
+
+RapidsStyle rapids_style_of(Dialect dialect) {
+  return dialect == Dialect::grbl || dialect == Dialect::grblhal ? RapidsStyle::timed
+                                                                 : RapidsStyle::g0;
+}
+
+RapidsStyle rapids_style_named(std::string_view name) {
+  if (name == "g0") return RapidsStyle::g0;
+  if (name == "timed") return RapidsStyle::timed;
+  throw std::invalid_argument("unknown rapids style '" + std::string(name) + "' (g0 or timed)");
 }
 
 Dialect dialect_named(std::string_view name) {

@@ -31,6 +31,18 @@ struct DialectRules {
   std::string_view axes;     // the axis letters it accepts
 };
 DialectRules rules_of(Dialect dialect);
+
+// How post writes a rapid. `g0`: as the controller's G0, which runs every joint at its own top
+// rate (the tool may pass [cartesian] max_feed: each joint's limit is all a joint-space controller
+// knows). `timed`: as an inverse-time G1 lasting the rapid's time at max_feed (longer where a
+// joint's max_velocity needs it), the speed pkm plan gives it; a rapid with a spindle or laser on
+// stays G0 (grbl's laser mode switches the laser off in G0 only) and is warned of.
+enum class RapidsStyle { g0, timed };
+// timed for grbl and grblHAL (a plotter's pen-up travel would otherwise outrun its tool limits,
+// 3-32 % faster than planned on the example drawings), g0 for LinuxCNC and Mach3 (as before).
+RapidsStyle rapids_style_of(Dialect dialect);
+// The style of a name (g0, timed); throws std::invalid_argument.
+RapidsStyle rapids_style_named(std::string_view name);
 std::string_view dialect_name(Dialect dialect);
 // The dialect of a name (linuxcnc, mach3, grbl, grblhal); throws std::invalid_argument.
 Dialect dialect_named(std::string_view name);
@@ -68,6 +80,9 @@ struct PostOptions {
   bool span_moves = true;
   // Refuse (BlockBoundError) a job that needs more motion blocks than this; 0: no bound.
   long max_blocks = 0;
+  // How rapids (G0) are written (docs/post.md, "Rapids"); unset: the dialect's default,
+  // rapids_style_of.
+  std::optional<RapidsStyle> rapids;
 };
 
 struct PostReport {

@@ -6,11 +6,18 @@
 
 namespace pkm::post {
 
-double Span::programmed_s() const {
+double Span::length_mm() const {
+  double length = 0.0;
+  for (std::size_t k = 0; k < count; ++k) length += pieces[k].segment.length() * (to(k) - from(k));
+  return length;
+}
+
+double Span::programmed_s(double rapid_mm_per_s) const {
   double seconds = 0.0;
   for (std::size_t k = 0; k < count; ++k) {
     const motion::Segment& segment = pieces[k].segment;
-    seconds += segment.length() * (to(k) - from(k)) / segment.feed_mm_per_s;
+    const double mm_per_s = segment.rapid ? rapid_mm_per_s : segment.feed_mm_per_s;
+    seconds += segment.length() * (to(k) - from(k)) / mm_per_s;
   }
   return seconds;
 }

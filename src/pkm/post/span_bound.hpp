@@ -34,8 +34,10 @@ struct Span {
   double to(std::size_t k) const { return k + 1 == count ? end : pieces[k].to; }
   Vector6d start_pose() const { return first().segment.at(start); }
   Vector6d end_pose() const { return last().segment.at(end); }
-  // Seconds the programmed path takes at its programmed feeds (feed moves only).
-  double programmed_s() const;
+  // Seconds the programmed path takes at its programmed feeds, its rapids at `rapid_mm_per_s`.
+  double programmed_s(double rapid_mm_per_s) const;
+  // The programmed path's length (mm).
+  double length_mm() const;
 };
 
 // An upper bound (mm) on the distance, in the position coordinates among `axes`, between the
