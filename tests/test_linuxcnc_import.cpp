@@ -291,6 +291,21 @@ TEST(LinuxcncImport, TrivkinsAxisIsTheIdentity) {
   EXPECT_DOUBLE_EQ(imported.cartesian().envelope_max[2], 0.12 * 25.4);
 }
 
+// A stepconf configuration's [JOINT_n] SCALE (80 steps/mm on LinuxCNC's 3-axis tutorial mill) is
+// the joint's steps_per_unit, what `pkm export grbl` writes as $100..$102; axis.ini, a servo-less
+// sim without SCALE, has none.
+TEST(LinuxcncImport, StepperScaleIsStepsPerUnit) {
+  PKM_SKIP_WITHOUT_LINUXCNC_SAMPLES();
+  const Machine imported =
+      import_machine(kSamples / "sim/axis/vismach/3axis-tutorial/3axis-tutorial.ini");
+  ASSERT_EQ(imported.joints().size(), 3u);
+  for (const JointSpec& joint : imported.joints()) {
+    ASSERT_TRUE(joint.steps_per_unit);
+    EXPECT_DOUBLE_EQ(*joint.steps_per_unit, 80.0);
+  }
+  EXPECT_FALSE(import_machine(kSamples / "sim/axis/axis.ini").joints()[0].steps_per_unit);
+}
+
 TEST(LinuxcncImport, TrivkinsCoordinatesPassRotaryAxesThrough) {
   PKM_SKIP_WITHOUT_LINUXCNC_SAMPLES();
   const Machine imported = import_machine(kSamples / "sim/gmoccapy/gmoccapy_XYZAC.ini");

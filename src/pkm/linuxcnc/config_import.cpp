@@ -354,6 +354,23 @@ double position_limit(std::optional<double> value, double sign, const std::strin
   return largest;
 }
 
+// A stepper joint's steps per unit, for `pkm export grbl` and `pkm stream`: the magnitude of
+// STEP_SCALE or SCALE; its sign is the motor's direction, which is the wiring's (grbl's $3).
+std::optional<double> steps_per_unit(const IniFile& ini, const std::string& section,
+                                     std::vector<std::string>& notes) {
+  for (const char* key : {"STEP_SCALE", "SCALE"}) {
+    const std::optional<double> scale = ini.number(section, key);
+    if (!scale || *scale == 0.0 || !std::isfinite(*scale)) continue;
+    if (*scale < 0.0) {
+      notes.push_back("[" + section + "] " + key + " " + toml_number(*scale) + ": steps_per_unit " +
+                      toml_number(-*scale) +
+                      "; the minus sign (the motor's direction) is not carried: on grbl it is $3");
+    }
+    return std::abs(*scale);
+  }
+  return std::nullopt;
+}
+
 ImportedJoint read_joint(const IniFile& ini, int index, const std::string& name, bool angular,
                          bool model_joint, std::vector<std::string>& notes) {
   const std::string section = "JOINT_" + std::to_string(index);
@@ -374,6 +391,7 @@ ImportedJoint read_joint(const IniFile& ini, int index, const std::string& name,
   joint.max_velocity = number_or_default(ini, section, "MAX_VELOCITY", 1.0, notes);
   joint.max_acceleration = number_or_default(ini, section, "MAX_ACCELERATION", 1.0, notes);
   joint.home = ini.number(section, "HOME").value_or(0.0);
+  joint.steps_per_unit = steps_per_unit(ini, section, notes);
   const IniEntry* type = ini.find(section, "TYPE");
   const bool config_angular = type != nullptr && lower(type->value) == "angular";
   if (type != nullptr && !config_angular && lower(type->value) != "linear") {
@@ -617,6 +635,8 @@ std::string joints_text(const ImportedConfig& config) {
     text += "min = " + toml_number(joint.min) + "\nmax = " + toml_number(joint.max) + "\n";
     text += "max_velocity = " + toml_number(joint.max_velocity) + "\n";
     text += "max_acceleration = " + toml_number(joint.max_acceleration) + "\n";
+    if (joint.steps_per_unit)
+      text += "steps_per_unit = " + toml_number(*joint.steps_per_unit) + "\n";
   }
   return text;
 }

@@ -24,6 +24,10 @@ struct ImportedJoint {
   bool angular = false;  // deg, else the config's length unit
   double min = 0.0, max = 0.0, max_velocity = 0.0, max_acceleration = 0.0;
   double home = 0.0;  // [JOINT_n] HOME
+  // Steps per unit of a stepper joint: |STEP_SCALE|, else |SCALE| (stepconf's and pncconf's key
+  // for stepgen's position-scale); none where the config gives neither (a servo's INPUT_SCALE
+  // counts encoder lines, not steps).
+  std::optional<double> steps_per_unit;
 };
 
 // Everything the machine file will say, in the configuration's own units (LINEAR_UNITS, deg).
