@@ -13,10 +13,10 @@
 #include <thread>
 #include <vector>
 
+#include "pkm/post/homing_program.hpp"
 #include "pkm/stream/grbl_position.hpp"
 #include "pkm/stream/grbl_replies.hpp"
 #include "pkm/stream/grbl_sender.hpp"
-#include "pkm/stream/grbl_zero.hpp"
 #include "test_support.hpp"
 
 namespace pkm::stream {
@@ -79,7 +79,8 @@ TEST(GrblZero, WallPlotter) {
   const Machine machine = test::load_example("wall-plotter.toml");
   JointVector joints(2);
   joints << 1025.9142, 1204.15946;
-  EXPECT_EQ(grbl_zero_line(machine, joints), "G10 L20 P1 X1025.914 Y1204.159");
+  EXPECT_EQ(post::set_position_line(machine, post::Dialect::grbl, joints),
+            "G10 L20 P1 X1025.914 Y1204.159");
 }
 
 TEST(GrblPosition, ThroughForwardKinematics) {

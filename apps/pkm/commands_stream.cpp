@@ -15,10 +15,10 @@
 #include "pkm/controller/grbl_planner.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/post/grbl_settings.hpp"
+#include "pkm/post/homing_program.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/stream/grbl_position.hpp"
 #include "pkm/stream/grbl_sender.hpp"
-#include "pkm/stream/grbl_zero.hpp"
 #include "pkm/stream/port.hpp"
 #include "progress.hpp"
 
@@ -130,7 +130,7 @@ void send_settings(const Machine& machine, stream::GrblSender& sender) {
         machine.source() + ": the home pose has no joint values: " +
         machine.explain(machine.home(), machine.inverse(machine.home(), home_joints)));
   }
-  sender.send(stream::grbl_zero_line(machine, home_joints), 0, 0);
+  sender.send(post::set_position_line(machine, post::Dialect::grbl, home_joints), 0, 0);
   for (const std::string& warning : settings.warnings) {
     std::fprintf(stderr, "pkm: warning: %s\n", warning.c_str());
   }

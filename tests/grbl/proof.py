@@ -156,7 +156,7 @@ class Proof:
         home, per_unit = machine_joints(self, machine)
         targets = program_targets(program, home)
         # grbl rounds each target to steps from the position pkm stream zeroed it at: home's
-        # joints as the G10 L20 line writes them, to 0.001 mm (grbl_zero_line); its step 0 is
+        # joints as the G10 L20 line writes them, to 0.001 mm (post::set_position_line); its step 0 is
         # the exact home, where grbl-sim starts.
         zeroed = [round(h, 3) for h in home]
         rounded = [[math.floor((t - z) * k + 0.5) for t, z, k in zip(target, zeroed, per_unit)]

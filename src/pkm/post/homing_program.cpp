@@ -9,6 +9,11 @@ namespace pkm::post {
 
 namespace {
 
+// The dialect's word for setting the position readings: G10 L20 P1 (G54), Mach3's G92.
+std::string set_position_command(Dialect dialect) {
+  return dialect == Dialect::mach3 ? "G92" : "G10 L20 P1";
+}
+
 bool rotary_letter(char letter) {
   return letter == 'A' || letter == 'B' || letter == 'C';
 }
@@ -54,7 +59,7 @@ class ProgramText {
   // plus (current position #5420.. - trip point #5061..), both in G54.
   void set_position(const std::vector<std::pair<int, double>>& targets, bool after_probe) {
     if (!after_probe || dialect_ != Dialect::linuxcnc) {
-      line((dialect_ == Dialect::mach3 ? "G92" : "G10 L20 P1") + words(targets));
+      line(set_position_command(dialect_) + words(targets));
       return;
     }
     std::string text = "G10 L20 P1";
@@ -235,6 +240,15 @@ MeasuredJoints measured_joints(const Machine& machine, const std::vector<double>
         " put the machine where it cannot be: " + machine.explain(measured.pose, reachable));
   }
   return measured;
+}
+
+std::string set_position_line(const Machine& machine, Dialect dialect, const JointVector& joints) {
+  std::string line = set_position_command(dialect);
+  const DialectRules rules = rules_of(dialect);
+  for (std::size_t i = 0; i < machine.joints().size(); ++i) {
+    line += joint_word(machine.joints()[i], joints[static_cast<Eigen::Index>(i)], rules);
+  }
+  return line;
 }
 
 std::string set_position_program(const Machine& machine, Dialect dialect,

@@ -39,6 +39,12 @@ std::vector<int> measured_joint_indices(const Machine& machine);
 MeasuredJoints measured_joints(const Machine& machine, const std::vector<double>& values);
 
 // The set-position block for readings measured at rest: header comments, the block, M2.
+// The line that makes the controller read `joints` (mm or rad inside; one value per joint) where
+// the machine stands, without moving it: "G10 L20 P1 X1000.000 Y1204.159" (G54's offsets; Mach3:
+// G92). How a set-position block zeroes a machine measured by hand, and how `pkm stream --dry-run`
+// puts grbl-sim, which starts at step 0, at the machine's home.
+std::string set_position_line(const Machine& machine, Dialect dialect, const JointVector& joints);
+
 std::string set_position_program(const Machine& machine, Dialect dialect,
                                  const MeasuredJoints& measured);
 
