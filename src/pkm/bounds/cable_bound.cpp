@@ -1,12 +1,12 @@
 // Interval bounds on a hanging effector's balance over a box of pen positions (cable_bound.hpp;
 // the argument is in docs/cable-bounds.md).
-#include "pkm/post/cable_bound.hpp"
+#include "pkm/bounds/cable_bound.hpp"
 
 #include <algorithm>
 #include <limits>
 #include <numbers>
 
-namespace pkm::post {
+namespace pkm::bounds {
 
 namespace {
 
@@ -415,4 +415,4 @@ CableBoxBound cable_box_bound(const CablePlotterGeometry& g, const Eigen::Vector
   return out;
 }
 
-}  // namespace pkm::post
+}  // namespace pkm::bounds
