@@ -250,7 +250,7 @@ Range joint_range(const CablePlotterGeometry& g, int cable, const CableRange& c,
 // With t_i = f_i(gamma0, gamma1) (tensions()) and each gamma turning at n / s per mm of its
 // cable's end (n the unit normal of the cable, s its span), the effector's tilt phi adds
 // d(gamma_i)/d(phi) d(phi)/dp, d(phi)/dp = -M_p / M_phi by the implicit function theorem on the
-// moment M (moment_range), M_phi kept away from zero. Rows: cables; columns: x, y.
+// moment M (scaled_moment_range), M_phi kept away from zero. Rows: cables; columns: x, y.
 struct TensionGradient {
   bool known = false;
   std::array<std::array<Range, 2>, 2> d;  // d[cable][axis], N/mm
