@@ -1,7 +1,5 @@
 #include "pkm/certify/move_proof.hpp"
 
-#include "pkm/certify/proof_wording.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +8,7 @@
 #include "pkm/bounds/cable_bound.hpp"
 #include "pkm/bounds/inverse_hessian.hpp"
 #include "pkm/bounds/mechanism_rate.hpp"
+#include "pkm/certify/proof_wording.hpp"
 #include "pkm/kinematics/cable_plotter.hpp"
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
