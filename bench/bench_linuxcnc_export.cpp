@@ -12,10 +12,10 @@ namespace {
 void bound_and_limits(benchmark::State& state, const std::string& file) {
   const pkm::Machine machine =
       pkm::load_machine(std::string(PKM_SOURCE_DIR) + "/examples/machines/" + file);
-  const pkm::linuxcnc::EnvelopeBox requested = pkm::linuxcnc::work_envelope(machine);
+  const pkm::bounds::EnvelopeBox requested = pkm::bounds::work_envelope(machine);
   long cells = 0;
   for (auto _ : state) {
-    const pkm::linuxcnc::FittedEnvelope fitted = pkm::linuxcnc::fit_envelope(machine, requested);
+    const pkm::bounds::FittedEnvelope fitted = pkm::bounds::fit_envelope(machine, requested);
     const pkm::linuxcnc::AxisRateLimits limits =
         pkm::linuxcnc::axis_rate_limits(machine, fitted.bound, machine.kinematics().dof());
     benchmark::DoNotOptimize(limits.velocity);

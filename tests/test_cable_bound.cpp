@@ -1,5 +1,5 @@
 // Proven bounds on a hanging effector's balance over a box of pen positions
-// (post/cable_bound.hpp): hand-computed tensions of a symmetric gondola, the pull region's edge
+// (bounds/cable_bound.hpp): hand-computed tensions of a symmetric gondola, the pull region's edge
 // under a pulley at x = r, and a soundness property on Makelangelo-size geometry with straight
 // cables: every tension, tilt and joint the statics solve at thousands of random points of
 // random boxes lies within the box's bounds.
@@ -8,11 +8,11 @@
 #include <cmath>
 #include <random>
 
+#include "pkm/bounds/cable_bound.hpp"
 #include "pkm/kinematics/cable_plotter.hpp"
-#include "pkm/post/cable_bound.hpp"
 #include "test_support.hpp"
 
-namespace pkm::post {
+namespace pkm::bounds {
 namespace {
 
 constexpr double kG = kStandardGravity_mm_per_s2 * 1e-3;  // N per kg
@@ -231,4 +231,4 @@ TEST(CableBound, SaggingCablesAreNotBounded) {
 }
 
 }  // namespace
-}  // namespace pkm::post
+}  // namespace pkm::bounds

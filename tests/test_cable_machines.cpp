@@ -5,9 +5,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "pkm/bounds/inverse_hessian.hpp"
 #include "pkm/kinematics/cable_plotter.hpp"
 #include "pkm/kinematics/elastic_catenary.hpp"
-#include "pkm/post/deviation_bound.hpp"
 #include "test_support.hpp"
 
 namespace pkm {
@@ -94,9 +94,9 @@ TEST(SpoolBuildup, HasNoDeviationBound) {
   CablePlotterGeometry g = level_anchors(1000.0);
   g.pulley_radius_mm = 10.0;
   const Vector6d centre = Pose::from_mm_deg(300.0, -900.0, 0.0).as_vector();
-  EXPECT_TRUE(post::inverse_hessian_bounds(CablePlotterKinematics(g), centre, 1.0, 100.0, {}));
+  EXPECT_TRUE(bounds::inverse_hessian_bounds(CablePlotterKinematics(g), centre, 1.0, 100.0, {}));
   g.spool_buildup_mm_per_m = 0.5;
-  EXPECT_FALSE(post::inverse_hessian_bounds(CablePlotterKinematics(g), centre, 1.0, 100.0, {}));
+  EXPECT_FALSE(bounds::inverse_hessian_bounds(CablePlotterKinematics(g), centre, 1.0, 100.0, {}));
 }
 
 TEST(CableTension, ASymmetricVByHand) {

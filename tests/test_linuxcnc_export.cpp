@@ -12,10 +12,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "pkm/bounds/inverse_hessian.hpp"
 #include "pkm/linuxcnc/config_export.hpp"
 #include "pkm/linuxcnc/kins_adapter.hpp"
 #include "pkm/linuxcnc/machine_fingerprint.hpp"
-#include "pkm/post/deviation_bound.hpp"
 #include "test_support.hpp"
 
 namespace pkm::linuxcnc {
@@ -229,8 +229,8 @@ TEST(LinuxcncExport, EveryExampleMachineExports) {
     // Proven wherever post's deviation argument has a Hessian bound for the model (not formula
     // machines, nor a model added since without one: those are sampled, and say so).
     const bool hessian_bound =
-        post::inverse_hessian_bounds(machine.kinematics(), machine.home().as_vector(), 0.0,
-                                     post::pose_angle_scale_mm(machine.kinematics()), {})
+        bounds::inverse_hessian_bounds(machine.kinematics(), machine.home().as_vector(), 0.0,
+                                       bounds::pose_angle_scale_mm(machine.kinematics()), {})
             .has_value();
     EXPECT_EQ(config.bound.proven, hessian_bound);
     if (machine.kinematics().type() == "formula") {
@@ -288,7 +288,7 @@ class ExportedLimits : public ::testing::TestWithParam<std::string> {};
 TEST_P(ExportedLimits, KeepEveryJointWithinItsLimitsAcrossTheEnvelope) {
   const Machine machine = test::load_example(GetParam());
   const LinuxcncConfig& config = example_config(GetParam());
-  const EnvelopeBox& box = config.envelope;
+  const bounds::EnvelopeBox& box = config.envelope;
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   Worst worst;

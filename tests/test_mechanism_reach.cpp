@@ -1,4 +1,4 @@
-// How far the leg limits' values move over a ball of poses (post::mechanism_reach): every pose
+// How far the leg limits' values move over a ball of poses (bounds::mechanism_reach): every pose
 // sampled in the ball keeps each joint angle and each clearance within the reach of its value at
 // the centre, and the clearance's bound from where the legs are closest is tighter than the rate
 // alone (what lets the workspace and the certified check decide legs near each other).
@@ -8,11 +8,11 @@
 #include <random>
 #include <sstream>
 
-#include "pkm/post/deviation_bound.hpp"
-#include "pkm/post/mechanism_rate.hpp"
+#include "pkm/bounds/inverse_hessian.hpp"
+#include "pkm/bounds/mechanism_rate.hpp"
 #include "test_support.hpp"
 
-namespace pkm::post {
+namespace pkm::bounds {
 namespace {
 
 Machine with_leg_limits(const std::string& example, const std::string& keys) {
@@ -98,4 +98,4 @@ TEST(MechanismReach, GlideValuesStayWithinTheirReachOverTheBall) {
 }
 
 }  // namespace
-}  // namespace pkm::post
+}  // namespace pkm::bounds

@@ -273,8 +273,8 @@ TEST(Post, PassThroughJointOfACablePlotterIsBounded) {
   // calibration-benchmark-test.nc, line 11, was refused at random: "no block, however short").
   const Machine maslow = test::load_example("maslow.toml");
   ASSERT_EQ(maslow.joints().size(), 3u);
-  const auto bounds =
-      inverse_hessian_bounds(maslow.kinematics(), maslow.home().as_vector(), 1.0, 1.0, {});
+  const auto bounds = pkm::bounds::inverse_hessian_bounds(maslow.kinematics(),
+                                                          maslow.home().as_vector(), 1.0, 1.0, {});
   ASSERT_TRUE(bounds.has_value());
   EXPECT_EQ(bounds->norm.size(), 3u);  // one per joint, the pass-through's zero
   EXPECT_EQ(bounds->norm[2], 0.0);

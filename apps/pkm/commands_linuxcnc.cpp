@@ -79,7 +79,7 @@ void export_linuxcnc(const ExportLinuxcncOptions& options) {
     std::printf(
         "axis limits: the work envelope shrunk about home to %.1f %% (beyond, a joint "
         "moves more than %.0f times as fast per unit of tool motion as at home)\n",
-        100.0 * config.shrink, linuxcnc::kMaxSlopeGrowth);
+        100.0 * config.shrink, bounds::kMaxSlopeGrowth);
   }
   for (const std::string& line : config.cost) std::printf("  %s\n", line.c_str());
   print_kept(kept);

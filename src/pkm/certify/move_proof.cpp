@@ -4,13 +4,15 @@
 #include <cmath>
 #include <cstdio>
 
+#include "pkm/bounds/assembly_mode.hpp"
+#include "pkm/bounds/cable_bound.hpp"
+#include "pkm/bounds/inverse_hessian.hpp"
+#include "pkm/bounds/mechanism_rate.hpp"
+#include "pkm/certify/proof_wording.hpp"
 #include "pkm/kinematics/cable_plotter.hpp"
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/rotary_delta.hpp"
-#include "pkm/post/cable_bound.hpp"
-#include "pkm/post/deviation_bound.hpp"
-#include "pkm/post/mechanism_rate.hpp"
 
 namespace pkm::certify {
 
@@ -29,19 +31,18 @@ std::string_view verdict_name(Verdict verdict) {
 namespace {
 
 // The assembly mode as a number that keeps its sign within a mode (a translating glide: det of
-// its strut vectors), times home's mode, and a bound on its rate per scaled unit over the ball.
-// Nothing for models whose mode has no such bound here (a hexapod's is unproven_hexapod_mode's).
-struct ModeValue {
-  double value = 0.0, rate = 0.0;
-};
+// its strut vectors, bounds/assembly_mode.hpp), times home's mode, and a bound on its rate per
+// scaled unit over the ball. Nothing for models whose mode has no such bound here (a hexapod's is
+// unproven_hexapod_mode's).
 
 // A rotary delta's mode is the sign of det(forearms), -1 times it on the usual side
 // (rotary_delta.hpp). Each forearm f = tip - shifted elbow keeps its length S; its elbow moves by
 // the arm's length T times the arm's turn, so f moves by at most 1 + T times the arm's rate per mm
 // (the rate over the ball: `motion.inner_speed`, filled in for rotary deltas below).
-std::optional<ModeValue> rotary_delta_mode(const RotaryDeltaKinematics& delta, int home_mode,
-                                           const Vector6d& centre, const JointVector& joints,
-                                           const post::LegMotion& motion) {
+std::optional<bounds::ModeBound> rotary_delta_mode(const RotaryDeltaKinematics& delta,
+                                                   int home_mode, const Vector6d& centre,
+                                                   const JointVector& joints,
+                                                   const bounds::LegMotion& motion) {
   std::array<Eigen::Vector3d, 3> forearm;
   for (int arm = 0; arm < 3; ++arm) {
     forearm[static_cast<std::size_t>(arm)] =
@@ -52,7 +53,7 @@ std::optional<ModeValue> rotary_delta_mode(const RotaryDeltaKinematics& delta, i
   for (std::size_t arm = 0; arm < 3; ++arm) {
     rate += (1.0 + t * motion.inner_speed[arm]) * s * s;
   }
-  return ModeValue{-home_mode * forearm[0].dot(forearm[1].cross(forearm[2])), rate};
+  return bounds::ModeBound{-home_mode * forearm[0].dot(forearm[1].cross(forearm[2])), rate};
 }
 
 bool has_assembly_bound(const Kinematics& model, int home_mode) {
@@ -64,40 +65,22 @@ bool has_assembly_bound(const Kinematics& model, int home_mode) {
   return glide != nullptr && !glide->dof().any_rotation();
 }
 
-std::optional<ModeValue> assembly_value(const Kinematics& model, int home_mode,
-                                        const Vector6d& centre, const JointVector& joints,
-                                        const post::LegMotion& motion) {
-  if (home_mode == 0) return ModeValue{1.0, 0.0};
+std::optional<bounds::ModeBound> assembly_value(const Kinematics& model, int home_mode,
+                                                const Vector6d& centre, const JointVector& joints,
+                                                const bounds::LegMotion& motion) {
+  if (home_mode == 0) return bounds::ModeBound{1.0, 0.0};
   if (const auto* delta = dynamic_cast<const RotaryDeltaKinematics*>(&model)) {
     return rotary_delta_mode(*delta, home_mode, centre, joints, motion);
   }
   const auto* glide = dynamic_cast<const GlideKinematics*>(&model);
   if (glide == nullptr || glide->dof().any_rotation()) return std::nullopt;
-  const int n = static_cast<int>(glide->rails().size());
-  std::array<Eigen::Vector3d, 3> strut;
-  Eigen::Vector3d tip = Eigen::Vector3d::Zero();
-  for (int axis = 0; axis < 3; ++axis) {
-    if (glide->dof().controls(axis)) tip[axis] = centre[axis];
-  }
-  for (int i = 0; i < n; ++i) {
-    const GlideRail& rail = glide->rails()[static_cast<std::size_t>(i)];
-    strut[i] = tip + rail.attach_mm - rail.origin_mm - joints[i] * rail.direction;
-  }
-  // Each strut keeps its length L and moves its vector by at most (1 + carriage speed) per mm.
-  const auto speed = [&](int i) { return 1.0 + motion.inner_speed[static_cast<std::size_t>(i)]; };
-  const auto length = [&](int i) { return glide->rails()[static_cast<std::size_t>(i)].strut_mm; };
-  if (n == 3) {
-    return ModeValue{home_mode * strut[0].dot(strut[1].cross(strut[2])),
-                     speed(0) * length(1) * length(2) + length(0) * speed(1) * length(2) +
-                         length(0) * length(1) * speed(2)};
-  }
-  int plane[2] = {0, 1};
-  for (int axis = 0, k = 0; axis < 3; ++axis) {
-    if (glide->dof().controls(axis)) plane[k++] = axis;
-  }
-  const double cross =
-      strut[0][plane[0]] * strut[1][plane[1]] - strut[0][plane[1]] * strut[1][plane[0]];
-  return ModeValue{home_mode * cross, speed(0) * length(1) + length(0) * speed(1)};
+  // Each strut keeps its length and moves its vector by at most (1 + carriage speed) per mm.
+  std::array<double, 3> strut_speed{};
+  const std::size_t rails = glide->rails().size();
+  for (std::size_t i = 0; i < rails; ++i) strut_speed[i] = 1.0 + motion.inner_speed[i];
+  return bounds::glide_mode_bound(*glide, home_mode, centre, joints,
+                                  std::span(strut_speed.data(), rails),
+                                  bounds::ModeScale::absolute);
 }
 
 // What a piece spans: its middle pose, its chord (zero in the coordinates the model does not
@@ -119,16 +102,17 @@ struct Unproven {
 };
 
 // The first joint angle or leg clearance whose reach over the ball of `radius` about the piece's
-// middle (post::mechanism_reach) may pass its limit.
+// middle (bounds::mechanism_reach) may pass its limit.
 std::optional<Unproven> unproven_leg_limit(const Kinematics& model, const Vector6d& centre,
-                                           const JointVector& joints, const post::LegMotion& motion,
-                                           double radius) {
+                                           const JointVector& joints,
+                                           const bounds::LegMotion& motion, double radius) {
   if (!model.has_mechanism_limits()) return std::nullopt;
   std::vector<MechanismLimit> values;
   model.mechanism_limits(Pose::from_vector(centre), values);
-  const std::optional<LegEnds> ends = post::legs_at(model, Pose::from_vector(centre), joints);
+  const std::optional<LegEnds> ends = bounds::legs_at(model, Pose::from_vector(centre), joints);
   for (const MechanismLimit& value : values) {
-    const post::Reach reach = post::mechanism_reach(value, motion, radius, ends ? &*ends : nullptr);
+    const bounds::Reach reach =
+        bounds::mechanism_reach(value, motion, radius, ends ? &*ends : nullptr);
     const bool angle = value.code == StatusCode::joint_angle;
     const double falls = angle ? reach.up : reach.down;  // how far the margin can fall
     if (!(value.margin() - falls >= 0.0)) {
@@ -143,7 +127,7 @@ std::optional<Unproven> unproven_leg_limit(const Kinematics& model, const Vector
 // along the chord, the second-order bend) is not proven within [min, max].
 std::optional<Unproven> unproven_joint(const Machine& machine, const PieceSpan& span,
                                        const JointVector& joints, const JointJacobian& jacobian,
-                                       const post::HessianBounds& hessians) {
+                                       const bounds::HessianBounds& hessians) {
   for (int i = 0; i < joints.size(); ++i) {
     const auto k = static_cast<std::size_t>(i);
     const double slope = 0.5 * std::abs(jacobian.row(i).dot(span.chord));
@@ -241,7 +225,7 @@ PullMargin pull_margin(const CablePlotterKinematics& plotter, const Vector6d& ho
 }
 
 // A cable plotter as built (pulleys, a weighed or tilting effector, stretch), whose balance
-// post::cable_box_bound bounds; nullptr for the ideal plotter and other models.
+// bounds::cable_box_bound bounds; nullptr for the ideal plotter and other models.
 const CablePlotterKinematics* as_built_plotter(const Kinematics& model) {
   const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model);
   return plotter != nullptr && !plotter->geometry().ideal() ? plotter : nullptr;
@@ -259,13 +243,13 @@ std::optional<Unproven> unproven_cable(const Machine& machine,
   for (int axis = 0; axis < 2; ++axis) half[axis] = spread(span, axis);
   // A line's piece is the segment itself: its tensions by the mean-value form along it.
   const Eigen::Vector2d half_chord = 0.5 * span.chord.head<2>();
-  const post::CableBoxBound bound = post::cable_box_bound(plotter.geometry(), span.centre.head<2>(),
-                                                          half, span.line ? &half_chord : nullptr);
+  const bounds::CableBoxBound bound = bounds::cable_box_bound(
+      plotter.geometry(), span.centre.head<2>(), half, span.line ? &half_chord : nullptr);
   if (!bound.known) return Unproven{Quantity::pull, 3, -INFINITY, 0.0};
   const Kinematics& model = machine.kinematics();
   for (int joint = 0; joints_too && joint < model.joint_count(); ++joint) {
     const JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
-    post::Range range;
+    bounds::Range range;
     if (const int axis = model.passthrough_axis(joint); axis >= 0) {
       range = {span.centre[axis] - spread(span, axis), span.centre[axis] + spread(span, axis)};
     } else {
@@ -275,13 +259,13 @@ std::optional<Unproven> unproven_cable(const Machine& machine,
     if (!(range.hi <= spec.max)) return Unproven{Quantity::joint, joint, range.hi, spec.max};
   }
   for (int cable = 0; cable < 2; ++cable) {
-    const post::Range& t = bound.tension_N[static_cast<std::size_t>(cable)];
+    const bounds::Range& t = bound.tension_N[static_cast<std::size_t>(cable)];
     if (!(t.lo > 0.0)) return Unproven{Quantity::pull, cable, t.lo, 0.0};
   }
   if (!(bound.apart.lo > 0.0)) return Unproven{Quantity::pull, 2, bound.apart.lo, 0.0};
   const CablePlotterGeometry& g = plotter.geometry();
   for (int cable = 0; cable < 2 && g.tension_limited; ++cable) {
-    const post::Range& t = bound.tension_N[static_cast<std::size_t>(cable)];
+    const bounds::Range& t = bound.tension_N[static_cast<std::size_t>(cable)];
     if (!(t.lo >= g.tension_min_N))
       return Unproven{Quantity::tension, cable, t.lo, g.tension_min_N};
     if (!(t.hi <= g.tension_max_N))
@@ -306,13 +290,13 @@ MoveProver::MoveProver(const Machine& machine, ProofOptions options)
   for (int axis = 0; axis < kPoseSize; ++axis) {
     if (model.dof().controls(axis)) axes_.push_back(axis);
   }
-  angle_scale_mm_ = post::pose_angle_scale_mm(model);
+  angle_scale_mm_ = bounds::pose_angle_scale_mm(model);
   const Vector6d home = machine.home().as_vector();
   cables_ = as_built_plotter(model);
   if (cables_ != nullptr) {
-    // Pulleys, a weighed or tilting effector, stretch: the balance's bounds (post/cable_bound).
-    unavailable_ = post::cable_bound_unavailable(cables_->geometry());
-  } else if (!post::inverse_hessian_bounds(model, home, 0.0, angle_scale_mm_, {})) {
+    // Pulleys, a weighed or tilting effector, stretch: the balance's bounds (bounds/cable_bound).
+    unavailable_ = bounds::cable_bound_unavailable(cables_->geometry());
+  } else if (!bounds::inverse_hessian_bounds(model, home, 0.0, angle_scale_mm_, {})) {
     unavailable_ = "no bound on the derivatives of this kinematics model (" +
                    std::string(model.type()) + ") here";
   } else if (!has_assembly_bound(model, model.assembly_mode(machine.home()))) {
@@ -335,7 +319,7 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
   }
   JointJacobian jacobian;
   model.inverse_and_jacobian(Pose::from_vector(centre), joints, jacobian);
-  const post::PieceMotion piece = post::piece_motion(segment, u0, u1, axes_, angle_scale_mm_);
+  const bounds::PieceMotion piece = bounds::piece_motion(segment, u0, u1, axes_, angle_scale_mm_);
   const bool line = segment.kind == motion::SegmentKind::line;
   const double radius = 0.5 * piece.length;
   const double sagitta = line ? 0.0 : piece.acceleration / 8.0;  // off the chord, position only
@@ -344,7 +328,7 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
     if (!model.dof().controls(axis)) chord[axis] = 0.0;
   }
   const auto hessians =
-      post::inverse_hessian_bounds(model, centre, radius, angle_scale_mm_, piece.chord);
+      bounds::inverse_hessian_bounds(model, centre, radius, angle_scale_mm_, piece.chord);
   if (!hessians && cables_ == nullptr) {
     outcome.kind = Outcome::open;
     outcome.open_at = piece_finding(u0, u1, centre, Quantity::none, -1, -1, 0.0, 0.0);
@@ -372,8 +356,8 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
     }
     return outcome;
   }
-  const post::LegMotion motion =
-      post::leg_motion(model, joints, jacobian, *hessians, radius, angle_scale_mm_);
+  const bounds::LegMotion motion =
+      bounds::leg_motion(model, joints, jacobian, *hessians, radius, angle_scale_mm_);
   if (const auto leg = unproven_leg_limit(model, centre, joints, motion, radius)) {
     return open(leg->quantity, leg->index, leg->other, leg->reach, leg->limit);
   }
@@ -396,6 +380,14 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
                 0.0);
   }
   return outcome;
+}
+
+ProofWording MoveProver::wording() const {
+  return ProofWording(machine_, cables_);
+}
+
+std::string MoveProver::quantity_name(Quantity quantity, int index, int other) const {
+  return wording().quantity_name(quantity, index, other);
 }
 
 Finding MoveProver::earlier_violation(Finding found, const std::optional<Finding>& later) const {
@@ -464,7 +456,7 @@ MoveProof MoveProver::prove(const motion::Segment& segment) const {
     if (span.depth >= options_.max_depth) {
       if (!undecided) {
         undecided = outcome.open_at;
-        undecided->text = undecided_text(*undecided);
+        undecided->text = wording().undecided_text(*undecided);
       }
       continue;
     }
@@ -475,9 +467,11 @@ MoveProof MoveProver::prove(const motion::Segment& segment) const {
     proof.verdict = Verdict::violated;
     farthest_past(segment, *violation);
     if (violation->worst_u != violation->u0) {
-      violation->text +=
-          "; the farthest past it: " + excess_text(*violation, violation->worst_value) + " at " +
-          formatted_number("%.6f", 100.0 * violation->worst_u) + " % of the move";
+      violation->text += "; the farthest past it: " +
+                         wording().excess_text(*violation, violation->worst_value,
+                                               excess(*violation, violation->worst_value)) +
+                         " at " + formatted_number("%.6f", 100.0 * violation->worst_u) +
+                         " % of the move";
     }
     proof.finding = violation;
   } else if (undecided) {
@@ -485,96 +479,6 @@ MoveProof MoveProver::prove(const motion::Segment& segment) const {
     proof.finding = undecided;
   }
   return proof;
-}
-
-namespace {
-std::string as_built_pull_name(int index) {
-  switch (index) {
-    case 0:
-      return "the left cable's pull (its tension's sign)";
-    case 1:
-      return "the right cable's pull (its tension's sign)";
-    case 2:
-      return "the angle between the cables";
-    default:
-      return "the effector's balance (a cable's end near its pulley, or its tilt not enclosed)";
-  }
-}
-}  // namespace
-
-std::string MoveProver::quantity_name(Quantity quantity, int index, int other) const {
-  const auto joint = [&](int i) {
-    return i >= 0 && i < static_cast<int>(machine_.joints().size())
-               ? "'" + machine_.joints()[static_cast<std::size_t>(i)].name + "'"
-               : std::to_string(i + 1);
-  };
-  switch (quantity) {
-    case Quantity::joint:
-      return "joint " + joint(index);
-    case Quantity::envelope:
-      return std::string(kAxisNames[index]) + " (the work envelope)";
-    case Quantity::joint_angle:
-      return std::string("the ") + (other == kInnerEnd ? "inner" : "platform") +
-             " joint angle of " + joint(index);
-    case Quantity::clearance:
-      return "the clearance between " + joint(index) + " and " + joint(other);
-    case Quantity::assembly_mode:
-      if (index >= 0) {
-        return "the assembly mode (the side of the base plane the platform joint of " +
-               joint(index) + " is on)";
-      }
-      return "the assembly mode (the sign of cos a cos b, or of the struts' determinant)";
-    case Quantity::pull:
-      if (cables_ != nullptr) return as_built_pull_name(index);
-      return index < 2 ? "the pen's side of anchor " + std::to_string(index + 1) + "'s vertical"
-                       : std::string("the angle between the cables");
-    case Quantity::tension:
-      return "the " + std::string(index == 0 ? "left" : "right") + " cable's tension";
-    case Quantity::none:
-      break;
-  }
-  return "the pose";
-}
-
-std::string MoveProver::value_text(Quantity quantity, int index, double value) const {
-  const bool units_are_inches = machine_.units() == LengthUnit::inch;
-  switch (quantity) {
-    case Quantity::joint:
-      return formatted_number(units_are_inches ? "%.4f " : "%.3f ",
-                              machine_.joint_to_file(index, value)) +
-             machine_.joint_file_unit(index);
-    case Quantity::envelope:
-      return formatted_number(units_are_inches && index < 3 ? "%.4f " : "%.3f ",
-                              machine_.axis_to_file(index, value)) +
-             machine_.axis_file_unit(index);
-    case Quantity::joint_angle:
-      return formatted_number("%.3f deg", radians_to_degrees(value));
-    case Quantity::clearance:
-      return formatted_number(units_are_inches ? "%.4f " : "%.3f ",
-                              value / machine_.mm_per_unit()) +
-             machine_.length_unit();
-    case Quantity::tension:
-      return formatted_number("%.3f N", value);
-    case Quantity::assembly_mode:
-    case Quantity::pull:
-    case Quantity::none:
-      break;
-  }
-  return formatted_number("%.7g", value);
-}
-
-std::string MoveProver::undecided_text(const Finding& finding) const {
-  const std::string where = formatted_number("%.6f", 100.0 * finding.u0) + " % and " +
-                            formatted_number("%.6f", 100.0 * finding.u1) + " % of the move (pose " +
-                            machine_.format_pose(Pose::from_vector(finding.pose)) + ")";
-  if (finding.quantity == Quantity::assembly_mode || finding.quantity == Quantity::pull) {
-    return "cannot prove " + quantity_name(finding.quantity, finding.index, -1) +
-           " keeps its sign between " + where;
-  }
-  return "cannot prove " + quantity_name(finding.quantity, finding.index, finding.other) +
-         " within its limit between " + where + ": its bound reaches " +
-         value_text(finding.quantity, finding.index, finding.value) + " against the limit " +
-         value_text(finding.quantity, finding.index, finding.limit);
 }
 
 std::optional<double> MoveProver::quantity_at(const Finding& finding, const Pose& pose) const {
@@ -634,37 +538,6 @@ void MoveProver::farthest_past(const motion::Segment& segment, Finding& finding)
   }
 }
 
-std::string MoveProver::excess_text(const Finding& finding, double value) const {
-  double file_units = excess(finding, value);  // past the limit: file units below
-  std::string unit = "deg";
-  switch (finding.quantity) {
-    case Quantity::joint:
-      file_units = std::abs(machine_.joint_to_file(finding.index, value) -
-                            machine_.joint_to_file(finding.index, finding.limit));
-      unit = machine_.joint_file_unit(finding.index);
-      break;
-    case Quantity::envelope:
-      file_units = std::abs(machine_.axis_to_file(finding.index, value) -
-                            machine_.axis_to_file(finding.index, finding.limit));
-      unit = machine_.axis_file_unit(finding.index);
-      break;
-    case Quantity::joint_angle:
-      file_units = radians_to_degrees(file_units);
-      break;
-    case Quantity::clearance:
-    case Quantity::assembly_mode:
-      file_units /= machine_.mm_per_unit();
-      unit = machine_.length_unit();
-      break;
-    case Quantity::tension:
-      unit = "N";
-      break;
-    default:
-      unit.clear();
-  }
-  return formatted_number("%.3g ", file_units) + unit;
-}
-
 double MoveProver::excess(const Finding& finding, double value) const {
   switch (finding.quantity) {
     case Quantity::joint: {
@@ -707,10 +580,10 @@ Finding MoveProver::refusal_at(const motion::Segment& segment, double u,
     finding.value = value;
     finding.limit = below ? spec.min : spec.max;
     finding.text = at + "pose " + machine_.format_pose(pose) + ": joint '" + spec.name +
-                   "' = " + value_text(Quantity::joint, status.joint, value) + " passes its " +
-                   (below ? "min " : "max ") +
-                   value_text(Quantity::joint, status.joint, finding.limit) + " (by " +
-                   excess_text(finding, value) + ")";
+                   "' = " + wording().value_text(Quantity::joint, status.joint, value) +
+                   " passes its " + (below ? "min " : "max ") +
+                   wording().value_text(Quantity::joint, status.joint, finding.limit) + " (by " +
+                   wording().excess_text(finding, value, excess(finding, value)) + ")";
     finding.worst_u = u;
     finding.worst_value = finding.value;
     return finding;

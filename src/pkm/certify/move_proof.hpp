@@ -15,6 +15,8 @@
 
 namespace pkm::certify {
 
+class ProofWording;
+
 enum class Verdict {
   proven,     // every pose of the move keeps every limit
   violated,   // a pose of the move that the machine refuses was found
@@ -79,15 +81,13 @@ class MoveProver {
   // What a cable plotter's refusal at `pose` for `cable` is: a cable that would push, or one
   // past a tension limit (its value and the limit).
   void cable_refusal(const Pose& pose, int cable, Finding& finding) const;
-  std::string undecided_text(const Finding& finding) const;
-  std::string value_text(Quantity quantity, int index, double value) const;
-  // How far beyond its limit a violated finding's value is (> 0), in its own unit, and as text
-  // in the machine file's units.
+  // The words of this machine's findings (proof_wording.hpp).
+  ProofWording wording() const;
+  // How far beyond its limit a violated finding's value is (> 0), in its own unit.
   double excess(const Finding& finding, double value) const;
   // `found`, a violation earlier on the move than `later` (if any): where both concern the same
   // quantity, it keeps the farther excess of the two as the farthest past the limit.
   Finding earlier_violation(Finding found, const std::optional<Finding>& later) const;
-  std::string excess_text(const Finding& finding, double value) const;
   // The finding's quantity at a pose (joint values without the machine's limits), if defined.
   std::optional<double> quantity_at(const Finding& finding, const Pose& pose) const;
   // Moves worst_u and worst_value to the farthest past the limit of 1001 samples from u0 on.

@@ -78,7 +78,7 @@ std::string fixed(double value, int decimals) {
 
 // The speed pkm plan allows a move along `axis` at the worst cell centre the bound met: the
 // joints' rates there are the largest sampled.
-double plan_speed_at_worst(const Machine& machine, const JointRateBound& bound, int axis) {
+double plan_speed_at_worst(const Machine& machine, const bounds::JointRateBound& bound, int axis) {
   double speed = machine.cartesian().max_feed_mm_per_min / 60.0;
   for (int i = 0; i < bound.sampled_slope.rows(); ++i) {
     const double rate = bound.sampled_slope(i, axis);
@@ -124,7 +124,7 @@ std::vector<std::string> cost_lines(const Machine& machine, const LinuxcncConfig
 }
 
 void bound_comments(Header& h, const LinuxcncConfig& config) {
-  const JointRateBound& b = config.bound;
+  const bounds::JointRateBound& b = config.bound;
   h.line("Speeds and accelerations. LinuxCNC's planner holds each [AXIS_x] limit per axis but");
   h.line("not the joints' limits (LinuxCNC issue #97), so the [AXIS_x] and [TRAJ] limits below");
   h.line("are chosen so that no joint passes its MAX_VELOCITY or MAX_ACCELERATION anywhere in the");
@@ -140,7 +140,7 @@ void bound_comments(Header& h, const LinuxcncConfig& config) {
   if (config.shrink < 1.0) {
     h.line("The axis limits are the work envelope shrunk about home to " +
            number(100.0 * config.shrink) + " %: beyond, a joint moves more than " +
-           number(kMaxSlopeGrowth) + " times as fast per unit of");
+           number(bounds::kMaxSlopeGrowth) + " times as fast per unit of");
     h.line("tool motion as at home (the edge of reach), or the bound is not finite.");
   }
   h.line("What it costs (exported vs the machine file's [cartesian] limits, and vs the feed");
@@ -359,9 +359,10 @@ LinuxcncConfig make_linuxcnc_config(const Machine& machine, const ExportOptions&
     throw std::runtime_error("the machine's home is not a pose it can take: " +
                              machine.explain(machine.home(), status));
   }
-  config.requested = work_envelope(machine);
+  config.requested = bounds::work_envelope(machine);
   const auto start = std::chrono::steady_clock::now();
-  FittedEnvelope fitted = fit_envelope(machine, config.requested, options.bound_options);
+  bounds::FittedEnvelope fitted =
+      bounds::fit_envelope(machine, config.requested, options.bound_options);
   config.envelope = fitted.box;
   config.shrink = fitted.shrink;
   config.bound = std::move(fitted.bound);

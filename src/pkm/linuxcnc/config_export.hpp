@@ -19,7 +19,7 @@ struct ExportOptions {
   bool sim = false;               // sim.hal (loopback) instead of hardware.hal
   std::string machine_file_name;  // the machine file's name in the directory: "delta.toml"
   std::string machine_text;       // its text, copied as it is
-  JointRateOptions bound_options;
+  bounds::JointRateOptions bound_options;
 };
 
 struct ConfigFile {
@@ -34,10 +34,11 @@ struct ConfigFile {
 struct LinuxcncConfig {
   std::string ini_name;
   std::vector<ConfigFile> files;
-  EnvelopeBox requested;  // the file's envelope, or the reach box
-  EnvelopeBox envelope;   // the axis limits written: requested, shrunk about home by `shrink`
+  bounds::EnvelopeBox requested;  // the file's envelope, or the reach box
+  bounds::EnvelopeBox
+      envelope;  // the axis limits written: requested, shrunk about home by `shrink`
   double shrink = 1.0;
-  JointRateBound bound;
+  bounds::JointRateBound bound;
   AxisRateLimits limits;
   Dof moved;                      // the coordinates LinuxCNC moves ([TRAJ] COORDINATES)
   double bound_seconds = 0;       // wall time of the joint-rate bound

@@ -103,8 +103,8 @@ double chord_offset_mm(const Span& span, const std::vector<int>& axes, double an
     const motion::Segment& segment = span.pieces[k].segment;
     if (!(squared > 0.0)) return INFINITY;  // back at its start: it turned back
     if (segment.kind != motion::SegmentKind::line) {
-      const PieceMotion piece =
-          piece_motion(segment, span.from(k), span.to(k), axes, angle_scale_mm);
+      const bounds::PieceMotion piece =
+          bounds::piece_motion(segment, span.from(k), span.to(k), axes, angle_scale_mm);
       sagitta = std::max(sagitta, piece.acceleration / 8.0);
       // It goes back along the chord by at most its smallest advance per unit of fraction (when
       // negative) times its fractions.

@@ -5,12 +5,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "pkm/post/deviation_bound.hpp"
+#include "pkm/bounds/inverse_hessian.hpp"
 
 namespace pkm::workspace {
 
 double characteristic_length_mm(const Kinematics& model) {
-  return 0.5 * post::pose_angle_scale_mm(model);
+  return 0.5 * bounds::pose_angle_scale_mm(model);
 }
 
 double dexterity(const JointJacobian& jacobian, Dof dof, double length_mm) {

@@ -4,13 +4,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pkm/bounds/assembly_mode.hpp"
+#include "pkm/bounds/cable_bound.hpp"
+#include "pkm/bounds/inverse_hessian.hpp"
+#include "pkm/bounds/mechanism_rate.hpp"
 #include "pkm/kinematics/cable_plotter.hpp"
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/matrix.hpp"
-#include "pkm/post/cable_bound.hpp"
-#include "pkm/post/deviation_bound.hpp"
-#include "pkm/post/mechanism_rate.hpp"
 #include "pkm/workspace/orientation_search.hpp"
 
 namespace pkm::workspace {
@@ -66,12 +67,12 @@ class EnvelopeConstraint final : public PoseConstraint {
 
 // Each joint within [min, max]: q(x) lies within q(c) + J(c)(x - c) +- H r^2 / 2 over the cell,
 // H the bound on the Hessian's norm over the ball of radius r (the cell's scaled half-diagonal)
-// that post::inverse_hessian_bounds gives, the linear part bounded exactly over the box.
+// that bounds::inverse_hessian_bounds gives, the linear part bounded exactly over the box.
 // Infinite H (the ball reaches a singularity or leaves the model's reach) bounds nothing.
 class JointLimitConstraint final : public PoseConstraint {
  public:
   explicit JointLimitConstraint(const Machine& machine)
-      : machine_(machine), scale_(post::pose_angle_scale_mm(machine.kinematics())) {}
+      : machine_(machine), scale_(bounds::pose_angle_scale_mm(machine.kinematics())) {}
   int count() const override { return 2 * machine_.kinematics().joint_count(); }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     std::fill(margins.begin(), margins.end(), Margin{});
@@ -86,8 +87,8 @@ class JointLimitConstraint final : public PoseConstraint {
       return;
     }
     const double r = scaled_radius(cell, scale_);
-    const std::optional<post::HessianBounds> curvature =
-        post::inverse_hessian_bounds(model, cell.centre, r, scale_, post::Chord{});
+    const std::optional<bounds::HessianBounds> curvature =
+        bounds::inverse_hessian_bounds(model, cell.centre, r, scale_, bounds::Chord{});
     if (!curvature) return;
     for (int joint = 0; joint < model.joint_count(); ++joint) {
       if (model.passthrough_axis(joint) >= 0) continue;
@@ -118,7 +119,7 @@ class JointLimitConstraint final : public PoseConstraint {
 class GlideReachConstraint final : public PoseConstraint {
  public:
   explicit GlideReachConstraint(const GlideKinematics& model)
-      : model_(model), scale_(post::pose_angle_scale_mm(model)) {}
+      : model_(model), scale_(bounds::pose_angle_scale_mm(model)) {}
   int count() const override { return static_cast<int>(model_.rails().size()); }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     const bool rotating = model_.rail_dof().any_rotation();
@@ -152,7 +153,8 @@ class GlideReachConstraint final : public PoseConstraint {
 // A translating glide stays in home's assembly mode: g = mode * det[struts] / (L1 L2 L3) (the
 // 2-D cross product for two rails). Each strut vector s_i = w - o_i - q_i d_i keeps its length
 // L_i and moves at most L_i / f_i per mm of the tip, f_i = sqrt(L_i^2 - |u_i|^2) its part along
-// the rail, so the normalised determinant moves at most sum 1 / f_i,min per mm.
+// the rail, so the normalised determinant moves at most sum 1 / f_i,min per mm
+// (bounds::glide_mode_bound, per strut length; the certified check bounds the same determinant).
 class GlideAssemblyConstraint final : public PoseConstraint {
  public:
   GlideAssemblyConstraint(const GlideKinematics& model, int home_mode)
@@ -160,39 +162,25 @@ class GlideAssemblyConstraint final : public PoseConstraint {
   int count() const override { return 1; }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     margins[0] = Margin{};
-    const int rails = static_cast<int>(model_.rails().size());
-    const Pose centre = Pose::from_vector(cell.centre);
     Eigen::Vector3d tip = Eigen::Vector3d::Zero();
     for (int axis = 0; axis < 3; ++axis) {
       if (model_.rail_dof().controls(axis)) tip[axis] = cell.centre[axis];
     }
-    if (!model_.inverse(centre, joints_).ok()) return;
+    if (!model_.inverse(Pose::from_vector(cell.centre), joints_).ok()) return;
     const double rho = position_radius(cell);
-    std::array<Eigen::Vector3d, 3> strut;
-    double lengths = 1.0, rate = 0.0;
-    for (int i = 0; i < rails; ++i) {
-      const GlideRail& rail = model_.rails()[static_cast<std::size_t>(i)];
-      strut[static_cast<std::size_t>(i)] =
-          tip + rail.attach_mm - rail.origin_mm - joints_[i] * rail.direction;
+    std::array<double, 3> strut_speed{};  // per mm of the tip, per mm of the strut's length
+    const std::size_t rails = model_.rails().size();
+    for (std::size_t i = 0; i < rails; ++i) {
+      const GlideRail& rail = model_.rails()[i];
       const Eigen::Vector3d relative = tip + rail.attach_mm - rail.origin_mm;
       const double widest = (relative - rail.direction.dot(relative) * rail.direction).norm() + rho;
       if (!(widest < rail.strut_mm)) return;
-      rate += 1.0 / std::sqrt(rail.strut_mm * rail.strut_mm - widest * widest);
-      lengths *= rail.strut_mm;
+      strut_speed[i] = 1.0 / std::sqrt(rail.strut_mm * rail.strut_mm - widest * widest);
     }
-    double determinant = 0.0;
-    if (rails == 3) {
-      determinant = strut[0].dot(strut[1].cross(strut[2]));
-    } else {
-      int plane[2] = {0, 1};
-      for (int axis = 0, n = 0; axis < 3 && n < 2; ++axis) {
-        if (model_.rail_dof().controls(axis)) plane[n++] = axis;
-      }
-      determinant =
-          strut[0][plane[0]] * strut[1][plane[1]] - strut[0][plane[1]] * strut[1][plane[0]];
-    }
-    const double g = home_mode_ * determinant / lengths;
-    margins[0] = {g - rate * rho, g + rate * rho};
+    const bounds::ModeBound mode = bounds::glide_mode_bound(
+        model_, home_mode_, cell.centre, joints_, std::span(strut_speed.data(), rails),
+        bounds::ModeScale::per_length);
+    margins[0] = {mode.value - mode.rate * rho, mode.value + mode.rate * rho};
   }
   Status failure(int) const override { return Status::failure(StatusCode::other_assembly); }
 
@@ -263,7 +251,7 @@ class CablePullConstraint final : public PoseConstraint {
 };
 
 // A cable plotter as built (pulleys, a weighed or tilting effector, stretching cables): its
-// balance bounded over the cell by post::cable_box_bound. Values: each cable's tension (its
+// balance bounded over the cell by bounds::cable_box_bound. Values: each cable's tension (its
 // sign: the cable pulls; under a unit load where the effector has no mass), the sine of the
 // angle between the cables, then where tension_limits are given each tension less the min and
 // the max less it, then, where `joints` (no Hessian bound: the effector tilts or the cables
@@ -277,8 +265,8 @@ class CableBalanceConstraint final : public PoseConstraint {
   bool covers_orientation() const override { return true; }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     std::fill(margins.begin(), margins.end(), Margin{1.0, 1.0});
-    const post::CableBoxBound b =
-        post::cable_box_bound(geometry_, cell.centre.head<2>(), cell.half.head<2>());
+    const bounds::CableBoxBound b =
+        bounds::cable_box_bound(geometry_, cell.centre.head<2>(), cell.half.head<2>());
     if (!b.known) {
       std::fill(margins.begin(), margins.begin() + 3, Margin{});
       margins[11] = margins[12] = Margin{};
@@ -287,7 +275,7 @@ class CableBalanceConstraint final : public PoseConstraint {
       if (joints_) std::fill(margins.begin() + 7, margins.end(), Margin{});
       return;
     }
-    const auto from = [](const post::Range& r, double offset, double sign) {
+    const auto from = [](const bounds::Range& r, double offset, double sign) {
       return sign > 0.0 ? Margin{r.lo - offset, r.hi - offset}
                         : Margin{offset - r.hi, offset - r.lo};
     };
@@ -517,7 +505,7 @@ class PassThroughConstraint final : public PoseConstraint {
 
 // Each joint end's angle and each leg pair's clearance (Kinematics::mechanism_limits, the
 // values Machine::inverse refuses by): the margin at the cell's centre, moved at most
-// post::mechanism_rate times the cell's scaled half-diagonal, the rate bound the certified job
+// bounds::mechanism_rate times the cell's scaled half-diagonal, the rate bound the certified job
 // check proves moves with. Unknown where the centre has no legs (a glide out of reach) or the
 // ball has no derivative bound.
 class MechanismLimitConstraint final : public PoseConstraint {
@@ -525,7 +513,7 @@ class MechanismLimitConstraint final : public PoseConstraint {
   // `with_angles` false: the joint angles are another constraint's (a hexapod's); the leg
   // clearances only.
   MechanismLimitConstraint(const Machine& machine, bool with_angles)
-      : machine_(machine), scale_(post::pose_angle_scale_mm(machine.kinematics())) {
+      : machine_(machine), scale_(bounds::pose_angle_scale_mm(machine.kinematics())) {
     machine.kinematics().mechanism_limits(machine.home(), values_);
     for (std::size_t k = 0; k < values_.size(); ++k) {
       if (!with_angles && values_[k].code == StatusCode::joint_angle) continue;
@@ -544,15 +532,16 @@ class MechanismLimitConstraint final : public PoseConstraint {
     model.mechanism_limits(centre, values_);
     if (values_.size() != total_) return;
     const double r = scaled_radius(cell, scale_);
-    const std::optional<post::HessianBounds> curvature =
-        post::inverse_hessian_bounds(model, cell.centre, r, scale_, post::Chord{});
+    const std::optional<bounds::HessianBounds> curvature =
+        bounds::inverse_hessian_bounds(model, cell.centre, r, scale_, bounds::Chord{});
     if (!curvature) return;
-    const post::LegMotion motion =
-        post::leg_motion(model, joints_, jacobian_, *curvature, r, scale_);
-    const std::optional<LegEnds> ends = post::legs_at(model, centre, joints_);
+    const bounds::LegMotion motion =
+        bounds::leg_motion(model, joints_, jacobian_, *curvature, r, scale_);
+    const std::optional<LegEnds> ends = bounds::legs_at(model, centre, joints_);
     for (std::size_t k = 0; k < used_.size(); ++k) {
       const MechanismLimit& value = values_[used_[k]];
-      const post::Reach reach = post::mechanism_reach(value, motion, r, ends ? &*ends : nullptr);
+      const bounds::Reach reach =
+          bounds::mechanism_reach(value, motion, r, ends ? &*ends : nullptr);
       // The margin falls as an angle rises or a clearance falls.
       const bool angle = value.code == StatusCode::joint_angle;
       const double falls = angle ? reach.up : reach.down, rises = angle ? reach.down : reach.up;
@@ -579,8 +568,8 @@ class MechanismLimitConstraint final : public PoseConstraint {
 
 bool has_hessian_bounds(const Machine& machine) {
   const Kinematics& model = machine.kinematics();
-  return post::inverse_hessian_bounds(model, machine.home().as_vector(), 0.0,
-                                      post::pose_angle_scale_mm(model), post::Chord{})
+  return bounds::inverse_hessian_bounds(model, machine.home().as_vector(), 0.0,
+                                        bounds::pose_angle_scale_mm(model), bounds::Chord{})
       .has_value();
 }
 
@@ -595,7 +584,7 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
   constraints.push_back(std::make_unique<PassThroughConstraint>(machine));
   if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model);
       plotter != nullptr && !plotter->geometry().ideal() &&
-      post::cable_bound_unavailable(plotter->geometry()).empty()) {
+      bounds::cable_bound_unavailable(plotter->geometry()).empty()) {
     // As built: the joints by their Hessian bound where the cables are rigid (second order),
     // else with the balance.
     const bool rigid = has_hessian_bounds(machine);

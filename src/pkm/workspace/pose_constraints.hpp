@@ -51,9 +51,9 @@ class PoseConstraint {
 
 // Every constraint Machine::inverse applies, for this machine: the work envelope (exact), the
 // joint limits (the joints at the centre, the Jacobian's linear part and a second-derivative
-// bound from post::inverse_hessian_bounds), the model's reach and assembly mode where this file
+// bound from bounds::inverse_hessian_bounds), the model's reach and assembly mode where this file
 // has a bound for them, the joint angles and leg clearances of max_joint_angle and leg_diameter
-// (their value at the cell's centre +- post::mechanism_rate times the cell's scaled radius), and
+// (their value at the cell's centre +- bounds::mechanism_rate times the cell's scaled radius), and
 // for what is not covered (models without derivative bounds, cable machines that tilt, sag or
 // weigh) a sampled check of Machine::inverse at the cell's centre
 // and corners (proven() false). The machine must outlive the constraints.

@@ -11,11 +11,11 @@
 #include <stdexcept>
 #include <thread>
 
+#include "pkm/bounds/inverse_hessian.hpp"
 #include "pkm/kinematics/cable_plotter.hpp"
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/kinematics/matrix.hpp"
-#include "pkm/post/deviation_bound.hpp"
 #include "pkm/workspace/inscribed.hpp"
 #include "pkm/workspace/plane_maps.hpp"
 #include "pkm/workspace/pose_constraints.hpp"
@@ -618,7 +618,7 @@ Layout layout(const Machine& machine, const SearchBox& search, const Orientation
   }
   grid.fixed = machine.home().position_mm;
   grid.step_mm = step_mm;
-  grid.angle_scale_mm = post::pose_angle_scale_mm(model);
+  grid.angle_scale_mm = bounds::pose_angle_scale_mm(model);
   const Eigen::Vector3d size = (search.box.max_mm - search.box.min_mm).cwiseMax(0.0);
   result.top = top_cells(size, grid.spans, grid.step_mm, result.dims);
   for (int axis = 0; axis < 3; ++axis) {

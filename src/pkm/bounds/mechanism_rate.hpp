@@ -7,11 +7,11 @@
 #include <optional>
 #include <vector>
 
+#include "pkm/bounds/inverse_hessian.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/leg_limits.hpp"
-#include "pkm/post/deviation_bound.hpp"
 
-namespace pkm::post {
+namespace pkm::bounds {
 
 // How each leg's ends move per unit of the scaled pose norm over a ball, and how short the leg
 // can get there: what the joint-angle and clearance bounds take. Empty for models without legs.
@@ -51,4 +51,4 @@ struct Reach {
 Reach mechanism_reach(const MechanismLimit& limit, const LegMotion& motion, double radius,
                       const LegEnds* ends);
 
-}  // namespace pkm::post
+}  // namespace pkm::bounds

@@ -1,12 +1,12 @@
 // Interval bounds on a hanging effector's balance over a box of pen positions (cable_bound.hpp;
 // the argument is in docs/cable-bounds.md).
-#include "pkm/post/cable_bound.hpp"
+#include "pkm/bounds/cable_bound.hpp"
 
 #include <algorithm>
 #include <limits>
 #include <numbers>
 
-namespace pkm::post {
+namespace pkm::bounds {
 
 namespace {
 
@@ -250,7 +250,7 @@ Range joint_range(const CablePlotterGeometry& g, int cable, const CableRange& c,
 // With t_i = f_i(gamma0, gamma1) (tensions()) and each gamma turning at n / s per mm of its
 // cable's end (n the unit normal of the cable, s its span), the effector's tilt phi adds
 // d(gamma_i)/d(phi) d(phi)/dp, d(phi)/dp = -M_p / M_phi by the implicit function theorem on the
-// moment M (moment_range), M_phi kept away from zero. Rows: cables; columns: x, y.
+// moment M (scaled_moment_range), M_phi kept away from zero. Rows: cables; columns: x, y.
 struct TensionGradient {
   bool known = false;
   std::array<std::array<Range, 2>, 2> d;  // d[cable][axis], N/mm
@@ -415,4 +415,4 @@ CableBoxBound cable_box_bound(const CablePlotterGeometry& g, const Eigen::Vector
   return out;
 }
 
-}  // namespace pkm::post
+}  // namespace pkm::bounds

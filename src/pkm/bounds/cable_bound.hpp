@@ -14,7 +14,7 @@
 
 #include "pkm/kinematics/cable_statics.hpp"
 
-namespace pkm::post {
+namespace pkm::bounds {
 
 // A closed interval; infinite ends where nothing is known.
 struct Range {
@@ -61,4 +61,4 @@ CableBoxBound cable_box_bound(const CablePlotterGeometry& geometry,
                               const Eigen::Vector2d& centre_mm, const Eigen::Vector2d& half_mm,
                               const Eigen::Vector2d* half_chord_mm = nullptr);
 
-}  // namespace pkm::post
+}  // namespace pkm::bounds

@@ -1,5 +1,5 @@
 // How fast the leg limits' values can change over a ball of poses (mechanism_rate.hpp).
-#include "pkm/post/mechanism_rate.hpp"
+#include "pkm/bounds/mechanism_rate.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,7 +10,7 @@
 #include "pkm/kinematics/leg_limits.hpp"
 #include "pkm/kinematics/rotary_delta.hpp"
 
-namespace pkm::post {
+namespace pkm::bounds {
 
 LegMotion leg_motion(const Kinematics& model, const JointVector& joints,
                      const JointJacobian& jacobian, const HessianBounds& hessians, double radius,
@@ -204,4 +204,4 @@ Reach mechanism_reach(const MechanismLimit& limit, const LegMotion& motion, doub
           std::min(spread, clearance.most - limit.value)};
 }
 
-}  // namespace pkm::post
+}  // namespace pkm::bounds
