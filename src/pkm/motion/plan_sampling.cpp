@@ -19,14 +19,6 @@ void not_a_number(const Machine& machine, const std::string& file, const Vector6
                       std::to_string(pose[2]) + " mm");
 }
 
-void widen_ranges(std::vector<JointStatistics>& ranges, const JointVector& joints) {
-  for (int i = 0; i < joints.size(); ++i) {
-    JointStatistics& stats = ranges[static_cast<std::size_t>(i)];
-    stats.min = std::min(stats.min, joints[i]);
-    stats.max = std::max(stats.max, joints[i]);
-  }
-}
-
 void Sampler::emit(double t, int line, const Vector6d& pose) {
   if (options_.estimate_only) {  // the start and the end: counted, not made
     report_.samples = std::min(kSampleCountCap, report_.samples + 1);

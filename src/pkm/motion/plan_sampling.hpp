@@ -3,6 +3,7 @@
 // counted into the report (only counted when estimating). Nothing here allocates per sample.
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -28,7 +29,13 @@ inline void require_numbers(const Machine& machine, const std::string& file, con
 }
 
 // Widens the report's joint ranges to hold `joints`.
-void widen_ranges(std::vector<JointStatistics>& ranges, const JointVector& joints);
+inline void widen_ranges(std::vector<JointStatistics>& ranges, const JointVector& joints) {
+  for (int i = 0; i < joints.size(); ++i) {
+    JointStatistics& stats = ranges[static_cast<std::size_t>(i)];
+    stats.min = std::min(stats.min, joints[i]);
+    stats.max = std::max(stats.max, joints[i]);
+  }
+}
 
 class Sampler {
  public:
