@@ -33,11 +33,7 @@ std::string axes_text(const std::vector<int>& axes) {
 }  // namespace
 
 std::vector<int> controlled_axes(const Machine& machine) {
-  std::vector<int> axes;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    if (machine.kinematics().dof().controls(axis)) axes.push_back(axis);
-  }
-  return axes;
+  return machine.kinematics().dof().axes();
 }
 
 Pose pose_from_row(const Machine& machine, const std::vector<int>& axes, const double* row) {

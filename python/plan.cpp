@@ -39,11 +39,13 @@ PlanArguments plan_arguments(const Machine& machine, const std::string& program,
                              const std::vector<double>& origin, const std::optional<Array>& start,
                              const std::string& attitude, double jerk_mm_per_s3,
                              const std::optional<std::string>& tool_table, long max_samples) {
-  // pkm plan's bounds on the period (kMinPeriod, kMaxPeriod in apps/pkm/app.hpp).
-  if (!(period_s >= 1e-6 && period_s <= 1.0)) {
+  // The planner's bounds (motion/planner.hpp), as pkm plan's; the messages quote them.
+  static_assert(motion::kMinPeriodS == 1e-6 && motion::kMaxPeriodS == 1.0 &&
+                motion::kMaxJerkPerS3 == 1e12);
+  if (!(period_s >= motion::kMinPeriodS && period_s <= motion::kMaxPeriodS)) {
     throw py::value_error("period must lie within [1e-06, 1] s");
   }
-  if (!(jerk_mm_per_s3 >= 0.0 && jerk_mm_per_s3 <= 1e12)) {
+  if (!(jerk_mm_per_s3 >= 0.0 && jerk_mm_per_s3 <= motion::kMaxJerkPerS3)) {
     throw py::value_error("jerk must lie within [0, 1e12] mm/s^3 (0: no jerk limit)");
   }
   if (attitude != "linear" && attitude != "great-circle") {

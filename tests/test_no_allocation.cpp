@@ -2,6 +2,7 @@
 // replaced global operator new. A separate executable, so the counter sees only this test.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -14,6 +15,7 @@
 #include "pkm/io/sample_files.hpp"
 #include "pkm/kinematics/lanes.hpp"
 #include "pkm/linuxcnc/kins_adapter.hpp"
+#include "pkm/motion/planner.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -188,6 +190,42 @@ TEST(NoAllocationOfText, CanonLinesAllocateNothing) {
   }
   EXPECT_EQ(allocations.load() - before, 0);
   EXPECT_GT(bytes, 20L * 100 * 40);  // 40 characters or more a line
+}
+
+// Notes the samples after which something allocated before the next one came (in a fixed
+// array: the sink itself allocates nothing).
+class AllocationsBetweenSamples final : public motion::SampleSink {
+ public:
+  void write(const motion::Sample& sample) override {
+    const long now = allocations.load();
+    if (seen_ > 0 && now != last_ && count_ < times_.size()) times_[count_++] = last_time_;
+    last_ = now;
+    last_time_ = sample.time_s;
+    ++seen_;
+  }
+  // The times (s) of the samples after which an allocation came.
+  std::vector<double> times() const { return {times_.begin(), times_.begin() + count_}; }
+  long samples() const { return seen_; }
+
+ private:
+  std::array<double, 64> times_{};
+  std::size_t count_ = 0;
+  long seen_ = 0, last_ = 0;
+  double last_time_ = 0.0;
+};
+
+// `pkm plan`'s samples along a move (the profile, the pose, the inverse kinematics, the report's
+// ranges and peaks) allocate nothing: only where the plan starts and ends does anything allocate.
+TEST(NoAllocationOfPlan, SamplesAlongAMoveAllocateNothing) {
+  const Machine machine = test::load_example("hexapod-bit.toml");
+  const test::TempProgram program("G21 G91\nG1 X20 F120\nM2\n");
+  AllocationsBetweenSamples sink;
+  const motion::PlanReport report = motion::plan_program(machine, program.path(), {}, {}, sink);
+  EXPECT_NEAR(report.duration_s, 10.0, 0.5);  // 20 mm at 2 mm/s, with its ramps
+  EXPECT_EQ(sink.samples(), report.samples);
+  for (const double t : sink.times()) {
+    EXPECT_TRUE(t < 0.01 || t > report.duration_s - 0.01) << "an allocation after t = " << t;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, NoAllocation, ::testing::ValuesIn(test::example_machine_files()),

@@ -68,8 +68,6 @@ inline constexpr double kMaxCoordinate = 1e6;
 inline constexpr double kMinTolerance = 1e-4, kMaxTolerance = 1000.0;
 // post's tolerance when none is given, mm (whatever the machine file's units).
 inline constexpr double kDefaultTolerance_mm = 0.01;
-// The interpolation period, s: a servo loop runs between a few microseconds and a second.
-inline constexpr double kMinPeriod = 1e-6, kMaxPeriod = 1.0;
 
 // x y [z [a b c]] options such as --origin and --start (the machine file's units, deg): 2 to 6
 // numbers, each checked.

@@ -14,6 +14,7 @@
 #include "pkm/io/atomic_file.hpp"
 #include "pkm/io/sample_files.hpp"
 #include "pkm/motion/job_reach.hpp"
+#include "pkm/motion/planner.hpp"
 #include "pkm/view/html_page.hpp"
 #include "pkm/view/reports.hpp"
 #include "progress.hpp"
@@ -376,7 +377,7 @@ void register_plan_commands(CLI::App& app) {
       ->add_option("--html", demo->html, "Write the plan's page: one HTML file that opens offline")
       ->check(file_name());
   demo_command->add_option("--period", demo->period_s, "Interpolation period, s (default 0.001)")
-      ->check(number_in(kMinPeriod, kMaxPeriod));
+      ->check(number_in(motion::kMinPeriodS, motion::kMaxPeriodS));
   demo_command->callback([demo] { run_demo(*demo); });
 
   auto options = std::make_shared<PlanCommandOptions>();
@@ -400,7 +401,7 @@ void register_plan_commands(CLI::App& app) {
                    "Refuse a job that needs more samples than this (default 50000000)")
       ->check(number_in(1, 1e15));
   command->add_option("--period", options->period_s, "Interpolation period, s (default 0.001)")
-      ->check(number_in(kMinPeriod, kMaxPeriod));
+      ->check(number_in(motion::kMinPeriodS, motion::kMaxPeriodS));
   command->add_option("--report", options->report, "Write the plan report as JSON")
       ->check(file_name());
   command
@@ -424,7 +425,7 @@ void register_plan_commands(CLI::App& app) {
       ->add_option("--jerk", options->jerk,
                    "Tool-tip jerk limit, the machine file's length unit per s^3: S-curve speed "
                    "changes (default: none)")
-      ->check(number_in(0.0, 1e12));
+      ->check(number_in(0.0, motion::kMaxJerkPerS3));
   command->callback([options] { run_plan(*options); });
 }
 

@@ -5,8 +5,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <numbers>
 #include <stdexcept>
+
+#include "pkm/gcode/expression.hpp"
 
 namespace pkm::gcode {
 
@@ -71,7 +72,6 @@ inline const char* scan_plain_number(const char* p, double& value) {
   return p;
 }
 
-constexpr double kEqualTolerance = 1e-4;  // LinuxCNC's EQ/NE compare within this
 // O-word numbers computed by an expression (o[...]) stay below this.
 constexpr double kMaxONumber = 1e9;
 
@@ -79,60 +79,6 @@ constexpr double kMaxONumber = 1e9;
 constexpr std::string_view kOKeywords[] = {"endsub", "endwhile", "endif",  "endrepeat", "elseif",
                                            "else",   "sub",      "call",   "return",    "do",
                                            "while",  "if",       "repeat", "break",     "continue"};
-
-double degrees(double radians) {
-  return radians * 180.0 / std::numbers::pi;
-}
-double radians(double degrees) {
-  return degrees * std::numbers::pi / 180.0;
-}
-
-enum class Operator {
-  none,
-  power,
-  times,
-  divide,
-  modulo,
-  plus,
-  minus,
-  eq,
-  ne,
-  gt,
-  ge,
-  lt,
-  le,
-  and_,
-  or_,
-  xor_
-};
-
-int precedence(Operator op) {
-  switch (op) {
-    case Operator::power:
-      return 6;
-    case Operator::times:
-    case Operator::divide:
-    case Operator::modulo:
-      return 5;
-    case Operator::plus:
-    case Operator::minus:
-      return 4;
-    case Operator::eq:
-    case Operator::ne:
-    case Operator::gt:
-    case Operator::ge:
-    case Operator::lt:
-    case Operator::le:
-      return 3;
-    case Operator::and_:
-    case Operator::or_:
-    case Operator::xor_:
-      return 2;
-    case Operator::none:
-      return 0;
-  }
-  return 0;
-}
 
 // Reads one line. The line is a std::string, so a NUL follows its last character: scanning
 // loops stop on it without a separate bounds check.
@@ -469,11 +415,8 @@ class Reader {
   }
 
   double read_function(int column) {
-    static constexpr std::string_view kNames[] = {"abs", "acos", "asin", "atan",  "cos",
-                                                  "exp", "fix",  "fup",  "ln",    "round",
-                                                  "sin", "sqrt", "tan",  "exists"};
     std::string name;
-    for (const std::string_view candidate : kNames) {
+    for (const std::string_view candidate : kFunctionNames) {
       if (accept_word(candidate)) {
         name = candidate;  // no name is a prefix of another, so the first match is the one
         break;
@@ -483,7 +426,7 @@ class Reader {
     if (peek() != '[') fail(static_cast<int>(pos_) + 1, "left bracket missing after " + name);
     ++pos_;
     if (name == "exists") return read_exists(column);
-    return finite(evaluate_function(name, read_expression(), column), column);
+    return evaluate_function(name, read_expression(), column);
   }
 
   // EXISTS[#<name>] is 1 when the name is defined; EXISTS[#n] (n any value: 5, #1, [expr]) is 1
@@ -505,36 +448,14 @@ class Reader {
     return found;
   }
 
+  // NAME[argument] read up to its closing bracket; ATAN reads its second argument here.
   double evaluate_function(const std::string& name, double argument, int column) {
-    if (name == "atan") {
-      if (!accept('/')) fail(static_cast<int>(pos_) + 1, "slash missing after first ATAN argument");
-      if (!accept('['))
-        fail(static_cast<int>(pos_) + 1, "left bracket missing after slash with ATAN");
-      const double second = read_expression();
-      return degrees(std::atan2(argument, second));
-    }
-    if (name == "abs") return std::abs(argument);
-    if (name == "acos") {
-      if (argument < -1.0 || argument > 1.0) fail(column, "argument to ACOS out of range");
-      return degrees(std::acos(argument));
-    }
-    if (name == "asin") {
-      if (argument < -1.0 || argument > 1.0) fail(column, "argument to ASIN out of range");
-      return degrees(std::asin(argument));
-    }
-    if (name == "cos") return std::cos(radians(argument));
-    if (name == "sin") return std::sin(radians(argument));
-    if (name == "tan") return std::tan(radians(argument));
-    if (name == "exp") return std::exp(argument);
-    if (name == "fix") return std::floor(argument);
-    if (name == "fup") return std::ceil(argument);
-    if (name == "round") return static_cast<double>(std::lround(argument));
-    if (name == "ln") {
-      if (argument <= 0.0) fail(column, "zero or negative argument to LN");
-      return std::log(argument);
-    }
-    if (argument < 0.0) fail(column, "negative argument to SQRT");
-    return std::sqrt(argument);
+    if (name != "atan") return apply_function(name, argument, column);
+    if (!accept('/')) fail(static_cast<int>(pos_) + 1, "slash missing after first ATAN argument");
+    if (!accept('['))
+      fail(static_cast<int>(pos_) + 1, "left bracket missing after slash with ATAN");
+    const double second = read_expression();
+    return finite(atan_degrees(argument, second), column);
   }
 
   Operator read_operator() {
@@ -559,69 +480,17 @@ class Reader {
       default:
         break;
     }
-    static constexpr std::pair<std::string_view, Operator> kWords[] = {
-        {"mod", Operator::modulo}, {"eq", Operator::eq},    {"ne", Operator::ne},
-        {"gt", Operator::gt},      {"ge", Operator::ge},    {"lt", Operator::lt},
-        {"le", Operator::le},      {"and", Operator::and_}, {"or", Operator::or_},
-        {"xor", Operator::xor_}};
-    for (const auto& [word, op] : kWords) {
+    for (const auto& [word, op] : kOperatorWords) {
       if (accept_word(word)) return op;
     }
     return Operator::none;
-  }
-
-  double apply(Operator op, double left, double right, int column) {
-    switch (op) {
-      case Operator::power:
-        if (left < 0.0 && std::floor(right) != right) {
-          fail(column, "attempt to raise a negative number to a non-integer power");
-        }
-        return std::pow(left, right);
-      case Operator::times:
-        return left * right;
-      case Operator::divide:
-        if (right == 0.0) fail(column, "attempt to divide by zero");
-        return left / right;
-      case Operator::modulo: {
-        if (right == 0.0) fail(column, "attempt to divide by zero");
-        double result = std::fmod(left, right);
-        if (result < 0.0) result += std::abs(right);
-        return result;
-      }
-      case Operator::plus:
-        return left + right;
-      case Operator::minus:
-        return left - right;
-      case Operator::eq:
-        return std::abs(left - right) < kEqualTolerance ? 1.0 : 0.0;
-      case Operator::ne:
-        return std::abs(left - right) >= kEqualTolerance ? 1.0 : 0.0;
-      case Operator::gt:
-        return left > right ? 1.0 : 0.0;
-      case Operator::ge:
-        return left >= right ? 1.0 : 0.0;
-      case Operator::lt:
-        return left < right ? 1.0 : 0.0;
-      case Operator::le:
-        return left <= right ? 1.0 : 0.0;
-      case Operator::and_:
-        return (left != 0.0 && right != 0.0) ? 1.0 : 0.0;
-      case Operator::or_:
-        return (left != 0.0 || right != 0.0) ? 1.0 : 0.0;
-      case Operator::xor_:
-        return ((left != 0.0) != (right != 0.0)) ? 1.0 : 0.0;
-      case Operator::none:
-        break;
-    }
-    return 0.0;
   }
 
   // After '[': operands and binary operators up to the matching ']', evaluated with LinuxCNC's
   // precedence, left to right within a level.
   double read_expression() {
     const int column = static_cast<int>(pos_);
-    std::vector<double> values{read_real()};
-    std::vector<std::pair<Operator, int>> operators;
+    ExpressionStack expression(read_real());
     while (true) {
       if (peek() == ']') {
         ++pos_;
@@ -631,26 +500,10 @@ class Reader {
       const int op_column = static_cast<int>(pos_) + 1;
       const Operator op = read_operator();
       if (op == Operator::none) fail(op_column, "unknown operation in expression");
-      while (!operators.empty() && precedence(operators.back().first) >= precedence(op)) {
-        const double right = values.back();
-        values.pop_back();
-        values.back() =
-            finite(apply(operators.back().first, values.back(), right, operators.back().second),
-                   operators.back().second);
-        operators.pop_back();
-      }
-      operators.emplace_back(op, op_column);
-      values.push_back(read_real());
+      expression.push_operator(op, op_column);
+      expression.push_value(read_real());
     }
-    while (!operators.empty()) {
-      const double right = values.back();
-      values.pop_back();
-      values.back() =
-          finite(apply(operators.back().first, values.back(), right, operators.back().second),
-                 operators.back().second);
-      operators.pop_back();
-    }
-    return values.back();
+    return expression.result();
   }
 
   OWord read_o_word(int column) {

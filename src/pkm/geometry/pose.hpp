@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <string_view>
+#include <vector>
 
 namespace pkm {
 
@@ -34,6 +35,15 @@ class Dof {
     return n;
   }
   constexpr bool any_rotation() const { return (bits_ & 0b111000u) != 0; }
+  // The controlled coordinates' indices, in pose order (the columns of a Jacobian restricted to
+  // what the model controls).
+  std::vector<int> axes() const {
+    std::vector<int> indices;
+    for (int i = 0; i < kPoseSize; ++i) {
+      if (controls(i)) indices.push_back(i);
+    }
+    return indices;
+  }
   constexpr bool operator==(const Dof&) const = default;
 
  private:

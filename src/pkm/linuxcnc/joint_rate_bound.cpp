@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include "pkm/motion/feed_rule.hpp"
+
 namespace pkm::linuxcnc {
 
 namespace {
@@ -146,30 +148,24 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const bounds::JointRateB
 }
 
 double plan_speed_along(const Machine& machine, const Pose& pose, int axis) {
-  double speed = machine.cartesian().max_feed_mm_per_min / 60.0;
   JointJacobian jacobian;
   JointVector behind, here, ahead;
   const Kinematics& model = machine.kinematics();
   if (!model.jacobian(pose, jacobian).ok() || !model.inverse(pose, here).ok()) return 0.0;
-  // The joints' curvature along the move, by central differences over 0.5 mm (the planner's
-  // own step).
-  constexpr double kStepMm = 0.5;
+  // The joints' rates along the move, and their curvature by central differences over the
+  // planner's own step.
+  constexpr double kStepMm = motion::kJointSampleStepMm;
   Vector6d step = Vector6d::Zero();
   step[axis] = kStepMm;
   const bool curved = model.inverse(Pose::from_vector(pose.as_vector() - step), behind).ok() &&
                       model.inverse(Pose::from_vector(pose.as_vector() + step), ahead).ok();
-  for (int i = 0; i < jacobian.rows(); ++i) {
-    const JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
-    const double rate = std::abs(jacobian(i, axis));
-    if (rate > 0.0) speed = std::min(speed, 0.99 * joint.max_velocity / rate);
-    const double curvature =
-        curved ? std::abs(ahead[i] - 2.0 * here[i] + behind[i]) / (kStepMm * kStepMm) : 0.0;
-    if (curvature > 0.0) {
-      speed = std::min(
-          speed, std::sqrt(0.5 * kPlanAccelerationShare * joint.max_acceleration / curvature));
-    }
-  }
-  return speed;
+  const JointVector slope = jacobian.col(axis).cwiseAbs();
+  const JointVector curvature =
+      curved ? JointVector((ahead - 2.0 * here + behind).cwiseAbs() / (kStepMm * kStepMm))
+             : JointVector(JointVector::Zero(jacobian.rows()));
+  return motion::joint_feed_limit(machine.joints(), slope, curvature,
+                                  machine.cartesian().max_feed_mm_per_min / 60.0)
+      .speed_mm_per_s;
 }
 
 }  // namespace pkm::linuxcnc

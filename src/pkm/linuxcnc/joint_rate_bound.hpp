@@ -43,10 +43,7 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const bounds::JointRateB
                                 Dof moved);
 
 // The speed (mm/s) `pkm plan` allows a straight move along the linear axis `axis` at `pose`:
-// the machine's max_feed, lowered where a joint's rate along the move would pass 99 % of its
-// max_velocity, or its curvature times the speed squared half of the acceleration share the
-// planner gives moves (the planner's rules, motion/planner.cpp).
-inline constexpr double kPlanAccelerationShare = 0.8;
+// the machine's max_feed, lowered by the planner's feed rule (motion/feed_rule.hpp).
 double plan_speed_along(const Machine& machine, const Pose& pose, int axis);
 
 }  // namespace pkm::linuxcnc

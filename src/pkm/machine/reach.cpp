@@ -367,11 +367,7 @@ std::string singular_at_home(const Machine& machine) {
   if (!scaled_jacobian_at_home(machine, columns, norms)) {
     return "the machine has no jacobian at home: it cannot be moved from there under control";
   }
-  const Dof dof = machine.kinematics().dof();
-  std::vector<int> axes;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    if (dof.controls(axis)) axes.push_back(axis);
-  }
+  const std::vector<int> axes = machine.kinematics().dof().axes();
   // The motion of the tool that moves the joints least: the right singular vector of the smallest
   // singular value, back in mm and rad.
   Eigen::VectorXd motion = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(axes.size()));

@@ -61,6 +61,12 @@ struct PlanOptions {
   long max_samples = 0;
 };
 
+// The bounds every interface (pkm plan, the Python module) puts on PlanOptions: a servo loop runs
+// between a few microseconds and a second (period_s); a jerk limit (per s^3, in the interface's
+// length unit) up to kMaxJerkPerS3.
+inline constexpr double kMinPeriodS = 1e-6, kMaxPeriodS = 1.0;
+inline constexpr double kMaxJerkPerS3 = 1e12;
+
 // Where an estimate stops counting samples (a job of 30,000 years at 1 ms).
 inline constexpr long kSampleCountCap = 1'000'000'000'000'000'000;
 

@@ -1,0 +1,238 @@
+#include "pkm/motion/feed_limits.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pkm/motion/feed_rule.hpp"
+#include "pkm/motion/plan_sampling.hpp"
+
+namespace pkm::motion {
+
+namespace {
+
+int sample_points(double length_mm) {
+  return std::clamp(static_cast<int>(std::ceil(length_mm / kJointSampleStepMm)), 8, 512);
+}
+
+double arc_radius(const Segment& s) {
+  return std::hypot(s.start[s.first_axis] - s.centre[s.first_axis],
+                    s.start[s.second_axis] - s.centre[s.second_axis]);
+}
+
+// The fractions of a piece of `length` mm over which a junction's rates are measured: its last
+// (at_end) or first thousandth of a mm, so that a blend's end is its next line's start, not its
+// own formula's end to the last bit. Returns their distance (mm).
+double junction_ends(double length, bool at_end, double& from, double& to) {
+  const double ds = std::min(1e-3, 0.01 * length);
+  from = at_end ? 1.0 - ds / length : 0.0;
+  to = at_end ? 1.0 : ds / length;
+  return ds;
+}
+
+}  // namespace
+
+JointFeedLimit joint_feed_limit(const std::vector<JointSpec>& joints, const JointVector& slope,
+                                const JointVector& curvature, double speed) {
+  JointFeedLimit limit;
+  limit.speed_mm_per_s = speed;
+  for (int i = 0; i < slope.size(); ++i) {
+    const JointSpec& joint = joints[static_cast<std::size_t>(i)];
+    const double max_velocity = kJointVelocityMargin * joint.max_velocity;
+    const double max_acceleration = kMoveAccelerationShare * joint.max_acceleration;
+    double& allowed = limit.speed_mm_per_s;
+    if (slope[i] > 0.0 && max_velocity / slope[i] < allowed) {
+      allowed = max_velocity / slope[i];
+      limit.joint = i;
+      limit.bound = JointBound::velocity;
+    }
+    if (curvature[i] > 0.0 && std::sqrt(0.5 * max_acceleration / curvature[i]) < allowed) {
+      allowed = std::sqrt(0.5 * max_acceleration / curvature[i]);
+      limit.joint = i;
+      limit.bound = JointBound::acceleration;
+    }
+  }
+  return limit;
+}
+
+Piece FeedLimits::piece(const Segment& segment, double length) {
+  Piece piece;
+  piece.segment = segment;
+  piece.length = length;
+  piece.max_speed = segment.rapid ? max_feed() : std::min(segment.feed_mm_per_s, max_feed());
+  if (!(piece.max_speed > 0.0)) {
+    throw PlanError(file_, segment.line, "a feed move with no feed rate");
+  }
+  piece.acceleration = machine_.cartesian().max_acceleration_mm_per_s2;
+  if (segment.kind == SegmentKind::arc) limit_by_curvature(piece, arc_radius(segment));
+  limit_by_machine(piece);
+  return piece;
+}
+
+void FeedLimits::limit_by_machine(Piece& piece) {
+  limit_by_joints(piece);
+  limit_by_tensions(piece);
+}
+
+void FeedLimits::limit_by_curvature(Piece& piece, double radius) {
+  if (radius <= 0.0) return;
+  piece.curve_radius_mm = radius;
+  piece.curve_acceleration_mm_per_s2 = 0.5 * piece.acceleration;
+  piece.curve_speed_mm_per_s = std::sqrt(0.5 * piece.acceleration * radius);
+  piece.max_speed = std::min(piece.max_speed, piece.curve_speed_mm_per_s);
+  piece.acceleration *= std::sqrt(0.75);
+}
+
+void FeedLimits::joint_derivatives(const Piece& piece, JointVector& slope, JointVector& curvature) {
+  const Segment& segment = piece.segment;
+  const int points = sample_points(piece.length);
+  const double step = piece.length / points;
+  const int joint_count = static_cast<int>(machine_.joints().size());
+  slope = JointVector::Zero(joint_count);
+  curvature = JointVector::Zero(joint_count);
+  JointVector previous, current, next;
+  const auto joints_at = [&](int k, JointVector& q) {
+    const Pose pose = Pose::from_vector(segment.at(static_cast<double>(k) / points));
+    const Status status = machine_.inverse(pose, q);
+    if (!status.ok()) leaves_reach(segment);
+    require_numbers(machine_, file_, pose.as_vector(), q, segment.line, "along the move");
+    if (options_.estimate_only) widen_ranges(report_.joints, q);
+  };
+  joints_at(0, previous);
+  joints_at(1, current);
+  for (int k = 1; k <= points; ++k) {
+    if (k < points) joints_at(k + 1, next);
+    for (int i = 0; i < joint_count; ++i) {
+      slope[i] = std::max(slope[i], std::abs(current[i] - previous[i]) / step);
+      if (k < points) {
+        curvature[i] = std::max(curvature[i],
+                                std::abs(next[i] - 2.0 * current[i] + previous[i]) / (step * step));
+      }
+    }
+    previous = current;
+    current = next;
+  }
+}
+
+// With q(s) a joint along the path, its acceleration is q' s'' + q'' s'^2: bounding |q'| by S
+// and |q''| by C over the move, speed^2 C <= amax / 2 (the feed rule) and accel S <= amax -
+// speed^2 C keep it within amax everywhere.
+void FeedLimits::limit_by_joints(Piece& piece) {
+  JointVector slope, curvature;
+  joint_derivatives(piece, slope, curvature);
+  const double programmed = piece.max_speed;
+  piece.joint_slope = slope;
+  const JointFeedLimit rule = joint_feed_limit(machine_.joints(), slope, curvature, programmed);
+  const double speed = rule.speed_mm_per_s;
+  piece.max_speed = speed;
+  for (int i = 0; i < slope.size(); ++i) {
+    const double max_acceleration =
+        kMoveAccelerationShare * machine_.joints()[static_cast<std::size_t>(i)].max_acceleration;
+    if (slope[i] > 0.0) {
+      const double left = max_acceleration - curvature[i] * speed * speed;
+      piece.acceleration = std::min(piece.acceleration, left / slope[i]);
+    }
+  }
+  if (rule.joint < 0 || !(speed < programmed * (1.0 - 1e-9))) return;
+  FeedLimit limit = feed_limit(piece, rule.joint, speed, LimitCause::joint);
+  const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(rule.joint)];
+  const double feed = std::min(programmed_feed(piece.segment), max_feed());
+  limit.bound = rule.bound;
+  if (rule.bound == JointBound::velocity) {
+    limit.needed_at_programmed = slope[rule.joint] * feed;
+    limit.usable = kJointVelocityMargin * joint.max_velocity;
+  } else {
+    limit.needed_at_programmed = curvature[rule.joint] * feed * feed;
+    limit.usable = 0.5 * kMoveAccelerationShare * joint.max_acceleration;
+  }
+  report_.feed_limits.push_back(limit);
+}
+
+FeedLimit FeedLimits::feed_limit(const Piece& piece, int joint, double speed,
+                                 LimitCause cause) const {
+  FeedLimit limit;
+  limit.line = piece.segment.line;
+  limit.joint = joint;
+  limit.programmed_mm_per_s = programmed_feed(piece.segment);
+  limit.allowed_mm_per_s = speed;
+  limit.cause = cause;
+  if (piece.curve_radius_mm > 0.0) {
+    limit.curve = piece.segment.kind == SegmentKind::blend ? CurveKind::blend : CurveKind::arc;
+    limit.previous_line = piece.previous_line;
+    limit.radius_mm = piece.curve_radius_mm;
+    limit.turn_rad = piece.segment.kind == SegmentKind::blend ? piece.segment.sweep_rad : 0.0;
+    limit.curve_allowed_mm_per_s = piece.curve_speed_mm_per_s;
+    limit.curve_acceleration_mm_per_s2 = piece.curve_acceleration_mm_per_s2;
+  }
+  return limit;
+}
+
+// A hanging effector's cables: the feed on curves and the acceleration along the move that keep
+// their tensions within their limits (tension_limit.hpp), sampled as the joints are.
+void FeedLimits::limit_by_tensions(Piece& piece) {
+  if (!tension_) return;
+  const Segment& segment = piece.segment;
+  // Tensions change with the position alone on a line: its ends do for a short one.
+  const int points = segment.kind == SegmentKind::line
+                         ? std::clamp(static_cast<int>(std::ceil(piece.length / 0.5)), 2, 512)
+                         : sample_points(piece.length);
+  const TensionBound bound =
+      tension_->along(segment, piece.length, points, piece.max_speed, piece.acceleration);
+  if (bound.speed_limited) {
+    FeedLimit limit =
+        feed_limit(piece, bound.excess.cable, bound.speed_mm_per_s, LimitCause::tension);
+    limit.slack = bound.excess.slack;
+    report_.feed_limits.push_back(limit);
+    piece.max_speed = bound.speed_mm_per_s;
+  }
+  if (bound.acceleration_limited) {
+    if (!(bound.acceleration_mm_per_s2 > 0.0)) {
+      throw PlanError(file_, segment.line,
+                      "no acceleration along the move keeps the cables within their tension "
+                      "limits: " +
+                          describe_excess(tension_->kinematics(), bound.excess));
+    }
+    report_.tension_limits.push_back({segment.line, bound.excess.cable, bound.excess.slack,
+                                      piece.acceleration, bound.acceleration_mm_per_s2});
+    piece.acceleration = bound.acceleration_mm_per_s2;
+  }
+}
+
+void FeedLimits::limit_junction(Piece& before, const Segment& after, double after_length) {
+  const auto rate = [&](const Segment& segment, double length, bool at_end) {
+    double from = 0.0, to = 0.0;
+    const double ds = junction_ends(length, at_end, from, to);
+    JointVector q0, q1;
+    const Status a = machine_.inverse(Pose::from_vector(segment.at(from)), q0);
+    const Status b = machine_.inverse(Pose::from_vector(segment.at(to)), q1);
+    if (!a.ok() || !b.ok()) leaves_reach(segment);
+    return JointVector((q1 - q0) / ds);
+  };
+  const JointVector out = rate(before.segment, before.length, true);
+  const JointVector in = rate(after, after_length, false);
+  for (int i = 0; i < out.size(); ++i) {
+    const double jump = std::abs(in[i] - out[i]);
+    if (jump <= 0.0) continue;
+    const double allowed = (1.0 - kMoveAccelerationShare) *
+                           machine_.joints()[static_cast<std::size_t>(i)].max_acceleration *
+                           options_.period_s / jump;
+    before.max_exit_speed = std::min(before.max_exit_speed, allowed);
+  }
+  if (tension_) {
+    double out_from = 0.0, out_to = 0.0, in_from = 0.0, in_to = 0.0;
+    junction_ends(before.length, true, out_from, out_to);
+    junction_ends(after_length, false, in_from, in_to);
+    before.max_exit_speed = tension_->junction_speed(
+        before.segment.end, direction(before.segment, out_from, out_to),
+        direction(after, in_from, in_to), std::min(before.length, after_length), options_.period_s,
+        std::min(before.max_exit_speed, before.max_speed));
+  }
+}
+
+void FeedLimits::leaves_reach(const Segment& segment) const {
+  const auto pose_at = [&](double u) { return segment.at(u); };
+  std::string message = "the move leaves the machine's reach " + machine_.explain_path(pose_at);
+  if (tension_) message += tension_->beyond_limits_at_rest(pose_at);
+  throw PlanError(file_, segment.line, message);
+}
+
+}  // namespace pkm::motion

@@ -1,0 +1,42 @@
+// A move as the planner holds it for look-ahead (internal to motion/): its segment, the limits
+// on its speed and acceleration, and the speeds look-ahead gives its ends.
+#pragma once
+
+#include "pkm/kinematics/kinematics.hpp"
+#include "pkm/motion/planner_profiles.hpp"
+#include "pkm/motion/segment.hpp"
+
+namespace pkm::motion {
+
+struct Piece {
+  Segment segment;
+  double length = 0.0;
+  double max_speed = 0.0;
+  double acceleration = 0.0;
+  bool stop_after = false;
+  double max_exit_speed = 1e300;  // where the joints' rates jump at the junction to the next
+  double entry_speed = 0.0, exit_speed = 0.0;
+  JointVector joint_slope;  // largest |dq/ds| of each joint along the piece (per mm)
+  // On an arc or a corner blend: its radius, and the speed and acceleration v^2/r may take
+  // (limit_by_curvature); the line before a blend's corner.
+  double curve_radius_mm = 0.0;
+  double curve_speed_mm_per_s = 0.0;
+  double curve_acceleration_mm_per_s2 = 0.0;
+  int previous_line = 0;
+};
+
+// Direction of travel from fraction a to b of a segment's position path (in XY where the
+// machine does not move Z).
+inline Eigen::Vector3d direction(const Segment& segment, double a, double b) {
+  Eigen::Vector3d d = segment.at(b).head<3>() - segment.at(a).head<3>();
+  if (segment.z_free) d.z() = 0.0;
+  const double n = d.norm();
+  return n > 0.0 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::Zero();
+}
+
+// How the piece changes speed: its acceleration, and the job's jerk limit (mm/s^3, 0: none).
+inline Ramp ramp_for(const Piece& piece, double jerk_mm_per_s3) {
+  return Ramp{piece.acceleration, jerk_mm_per_s3};
+}
+
+}  // namespace pkm::motion
