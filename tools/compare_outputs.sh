@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs two pkm binaries over the same commands (`pkm gcode --canon` on real jobs of
 # /work/shared/gcode/real or GCODE_CORPUS, `pkm plan` CSV, NPY, estimates and JSON reports on the
-# example machines and jobs) and compares every output byte for byte: stdout, stderr, exit status
+# example machines and jobs; for every example machine `check --json`, `workspace --json`, `export
+# linuxcnc --sim`, and each example job's certified check and post) and compares every output byte for byte: stdout, stderr, exit status
 # and the files written. For refactors that must not change behaviour (docs/decisions.md).
 #
 #   tools/compare_outputs.sh BEFORE_PKM AFTER_PKM [WORK_DIR]
@@ -67,6 +68,20 @@ for machine in triaglide hexapod-bit hexaglide linear-delta linuxcnc-rdelta; do
   add "export-linuxcnc-$machine" export linuxcnc -m "$machines/$machine.toml" -o OUT/config
 done
 
+# Every example machine: its check, its workspace, its LinuxCNC export, and each example job's
+# certified check and post (program and report).
+for machine_file in "$machines"/*.toml; do
+  m=$(basename "$machine_file" .toml)
+  add "check-$m" check -m "$machine_file" --json
+  add "workspace-$m" workspace -m "$machine_file" --json --threads 1
+  add "export-sim-$m" export linuxcnc -m "$machine_file" -o OUT/config --sim
+  for job in "$jobs"/*.ngc; do
+    j=$(basename "$job" .ngc)
+    add "certify-$m-$j" check "$job" -m "$machine_file" --json
+    add "post-$m-$j" post "$job" -m "$machine_file" -o OUT/joints.ngc --report OUT/report.json
+  done
+done
+
 run_all() {  # binary, directory
   local binary=$1 root=$2
   for entry in "${cases[@]}"; do
@@ -83,7 +98,8 @@ run_all() {  # binary, directory
     sed -i "s#$dir#OUT#g" "$dir/stdout" "$dir/stderr"
     # The LinuxCNC export reports how long its bound took: the one output that is a measurement.
     find "$dir" -type f \( -name stdout -o -name '*.ini' \) -exec sed -i -E \
-      -e 's/(cells), [0-9.]+ s$/\1, TIME s/' -e 's/(volume); [0-9.]+ s\.$/\1; TIME s./' {} +
+      -e 's/(cells), [0-9.]+ s$/\1, TIME s/' -e 's/(volume); [0-9.]+ s\.$/\1; TIME s./' \
+      -e 's/^(# Cells: .*) [0-9.]+ s\.?$/\1 TIME s/' {} +
     echo "$name: exit $(cat "$dir/status")" >&2
   done
 }
