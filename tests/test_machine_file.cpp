@@ -8,7 +8,9 @@
 #include <sstream>
 
 #include "pkm/kinematics/glide.hpp"
+#include "pkm/kinematics/model_config_writer.hpp"
 #include "pkm/machine/machine_writer.hpp"
+#include "pkm/post/mach3_export.hpp"
 #include "test_support.hpp"
 
 namespace pkm {
@@ -876,6 +878,103 @@ TEST(MachineFile, TextBeyondTheParsersBoundsIsALocatedError) {
   EXPECT_EQ(error_of("s = \"" + std::string(100, '.') + "[[[[\"\nv = [1.5, 2.5]\n")
                 .second.find("(syntax)"),
             std::string::npos);
+}
+
+// A model the registry does not know, as a new kind starts: x and y scaled onto two joints. It
+// writes a key of every kind through the writer and answers none of the other questions.
+class ScaledAxes final : public Kinematics {
+ public:
+  std::string_view type() const override { return "scaled"; }
+  int joint_count() const override { return 2; }
+  Dof dof() const override { return Dof::planar_xy(); }
+  Status inverse(const Pose& pose, JointVector& joints) const override {
+    joints.resize(2);
+    joints << 2.5 * pose.position_mm.x(), pose.position_mm.y();
+    return Status::success();
+  }
+  Status forward(const JointVector& joints, Pose& pose) const override {
+    pose.position_mm.head<2>() << joints[0] / 2.5, joints[1];
+    return Status::success();
+  }
+  Status jacobian(const Pose& pose, JointJacobian& d) const override {
+    return numerical_jacobian(*this, pose, d);
+  }
+  std::vector<Parameter> parameters() const override { return {}; }
+  void set_parameters(std::span<const double>) override {}
+  std::unique_ptr<Kinematics> clone() const override { return std::make_unique<ScaledAxes>(); }
+  void write_config(ModelConfigWriter& out) const override {
+    out.number("scale", 2.5);
+    out.length("reach", 254.0);
+    const std::array<Eigen::Vector2d, 2> feet = {Eigen::Vector2d(254.0, 0.0),
+                                                 Eigen::Vector2d(0.0, 76.2)};
+    out.length_vector2_list("feet", feet);
+    const std::array<Eigen::Vector3d, 3> corners = {Eigen::Vector3d(254.0, 76.2, 63.5),
+                                                    Eigen::Vector3d::Zero(),
+                                                    Eigen::Vector3d(-254.0, 0.0, 0.0)};
+    out.length_vector3_list("corners", corners);
+    out.whole_number("teeth", 20);
+    out.boolean("mirrored", false);
+    out.axis_list("axes", dof());
+    out.string("label", "a \"quoted\" name");
+    out.number_table("constants", {{"k", 0.5}});
+    out.table_list_entry("wheels").length("radius", 63.5);
+    out.table_list_entry("wheels").length("radius", 76.2);
+  }
+};
+
+TEST(ModelConfigWriter, AModelsKeysAreWrittenAsTomlInTheFilesUnit) {
+  ScaledAxes model;
+  model.set_forward_options({1e-11, 80});
+  // Lengths in inch (254 mm = 10 in); keys in the order written, then each sub-table; two rows
+  // of points on one line, three a row per line.
+  EXPECT_EQ(kinematics_toml(model, LengthUnit::inch),
+            "[kinematics]\n"
+            "type = \"scaled\"\n"
+            "forward_max_iterations = 80\n"
+            "scale = 2.5\n"
+            "reach = 10.0\n"
+            "feet = [[10.0, 0.0], [0.0, 3.0]]\n"
+            "corners = [\n"
+            "  [10.0, 3.0, 2.5],\n"
+            "  [0.0, 0.0, 0.0],\n"
+            "  [-10.0, 0.0, 0.0],\n"
+            "]\n"
+            "teeth = 20\n"
+            "mirrored = false\n"
+            "axes = [\"x\", \"y\"]\n"
+            "label = \"a \\\"quoted\\\" name\"\n"
+            "\n"
+            "[kinematics.constants]\n"
+            "k = 0.5\n"
+            "\n"
+            "[[kinematics.wheels]]\n"
+            "radius = 2.5\n"
+            "\n"
+            "[[kinematics.wheels]]\n"
+            "radius = 3.0\n");
+}
+
+TEST(ModelConfigWriter, AModelWithoutAClosedFormulaIsRefusedByTheMach3Export) {
+  std::vector<JointSpec> joints(2);
+  joints[0].name = "u";
+  joints[1].name = "v";
+  for (JointSpec& joint : joints) {
+    joint.min = -1000.0;
+    joint.max = 1000.0;
+    joint.max_velocity = 100.0;
+    joint.max_acceleration = 1000.0;
+  }
+  const Machine machine("scaled", "test", LengthUnit::mm, std::make_unique<ScaledAxes>(), joints,
+                        {6000.0, 500.0}, Pose::from_mm_deg(0.0, 0.0, 0.0));
+  EXPECT_EQ(machine.kinematics().sketch(), nullptr);
+  EXPECT_EQ(machine.kinematics().hanging_cables(), nullptr);
+  EXPECT_EQ(machine.kinematics().leg_limit_settings(), nullptr);
+  try {
+    post::mach3_formulas(machine);
+    FAIL() << "a model without formulas was exported";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_STREQ(error.what(), "a scaled machine has no closed formula for Mach3's formula axes");
+  }
 }
 
 }  // namespace

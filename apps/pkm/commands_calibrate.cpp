@@ -99,6 +99,8 @@ void run_matrix(const MatrixOptions& options) {
   const MatrixKinematics* model = nullptr;
   if (!options.add_to.empty()) {
     machine = load_machine(options.add_to);
+    // The cast is the honest answer: the adjustments add to a matrix's nine coefficients, which
+    // no other model has.
     model = dynamic_cast<const MatrixKinematics*>(&machine->kinematics());
     if (model == nullptr) {
       throw CommandError(options.add_to + " is a " + std::string(machine->kinematics().type()) +

@@ -8,7 +8,7 @@
 #include "app.hpp"
 #include "pkm/certify/job_check.hpp"
 #include "pkm/gcode/gcode_error.hpp"
-#include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/hanging_cables.hpp"
 #include "pkm/motion/job_reach.hpp"
 #include "progress.hpp"
 
@@ -44,10 +44,9 @@ std::string covered(const Machine& machine) {
   if (machine.cartesian().has_envelope()) text += ", the work envelope";
   if (machine.kinematics().has_mechanism_limits()) text += ", joint angles and leg clearances";
   if (machine.kinematics().assembly_mode(machine.home()) != 0) text += ", the assembly mode";
-  if (machine.kinematics().type() == "cable_plotter") text += ", both cables pulling";
-  if (const auto* cables = dynamic_cast<const CablePlotterKinematics*>(&machine.kinematics());
-      cables != nullptr && cables->geometry().tension_limited) {
-    text += ", the cables' tension limits";
+  if (const HangingCables* cables = machine.kinematics().hanging_cables()) {
+    text += ", both cables pulling";
+    if (cables->tension_limited()) text += ", the cables' tension limits";
   }
   return text;
 }

@@ -8,9 +8,8 @@
 #include <optional>
 
 #include "app.hpp"
-#include "pkm/kinematics/cable_plotter.hpp"
-#include "pkm/kinematics/glide.hpp"
-#include "pkm/kinematics/hexapod.hpp"
+#include "pkm/kinematics/hanging_cables.hpp"
+#include "pkm/kinematics/leg_limits.hpp"
 #include "pkm/machine/tension_region.hpp"
 
 namespace pkm::app {
@@ -58,10 +57,10 @@ void print_pose(const Machine& machine, const Pose& pose, const char* indent = "
 
 // A hanging machine with a weight: how hard each cable pulls at rest, how far the effector tilts.
 std::optional<CableStatics> cable_statics_at(const Machine& machine, const Pose& pose) {
-  const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&machine.kinematics());
-  if (plotter == nullptr || !(plotter->geometry().effector_mass_kg > 0.0)) return std::nullopt;
+  const HangingCables* cables = machine.kinematics().hanging_cables();
+  if (cables == nullptr || !(cables->effector_mass_kg() > 0.0)) return std::nullopt;
   CableStatics statics;
-  if (!plotter->statics(pose, Eigen::Vector2d::Zero(), statics).ok()) return std::nullopt;
+  if (!cables->statics(pose, Eigen::Vector2d::Zero(), statics).ok()) return std::nullopt;
   return statics;
 }
 
@@ -73,8 +72,7 @@ void print_cable_statics(const Machine& machine, const Pose& pose) {
                 machine.joints()[static_cast<std::size_t>(cable)].name.c_str(),
                 statics->tension_N[cable], statics->lowest_N[cable], statics->highest_N[cable]);
   }
-  const auto& plotter = dynamic_cast<const CablePlotterKinematics&>(machine.kinematics());
-  if (plotter.geometry().tilts()) {
+  if (machine.kinematics().hanging_cables()->effector_tilts()) {
     std::printf("tilt = %.4f deg\n", radians_to_degrees(statics->tilt_rad));
   }
 }
@@ -204,7 +202,7 @@ nlohmann::json region_json(const Machine& machine, const GridRegion& region, int
 
 nlohmann::json tension_region_json(const Machine& machine, const std::optional<TensionRegion>& t) {
   if (!t) return nullptr;
-  const auto& cables = dynamic_cast<const CablePlotterKinematics&>(machine.kinematics());
+  const HangingCables& cables = *machine.kinematics().hanging_cables();
   const int points = t->columns * t->rows;
   const auto at = [&](const Eigen::Vector2d& p) {
     return nlohmann::json{machine.axis_to_file(0, p.x()), machine.axis_to_file(1, p.y())};
@@ -215,7 +213,7 @@ nlohmann::json tension_region_json(const Machine& machine, const std::optional<T
                          {"slack", region_json(machine, t->slack[c], t->reached.points)},
                          {"over_max", region_json(machine, t->over_max[c], t->reached.points)}});
   }
-  const bool limited = cables.geometry().tension_limited;
+  const bool limited = cables.tension_limited();
   return {{"limits_N",
            {cables.tension_min_N(),
             limited ? nlohmann::json(cables.tension_max_N()) : nlohmann::json(nullptr)}},
@@ -231,20 +229,9 @@ nlohmann::json tension_region_json(const Machine& machine, const std::optional<T
           {"cables", per_cable}};
 }
 
-// The joint-angle and interference limits of a hexapod or glide, if its file sets any.
-const LegLimitSettings* leg_limit_settings(const Machine& machine) {
-  const LegLimits* limits = nullptr;
-  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&machine.kinematics())) {
-    limits = &hexapod->leg_limits();
-  } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&machine.kinematics())) {
-    limits = &glide->leg_limits();
-  }
-  return limits != nullptr && limits->active() ? &limits->settings() : nullptr;
-}
-
 // {"max_joint_angle_deg": [inner, platform] (null where unchecked), "leg_diameter": d or null}.
 nlohmann::json leg_limits_json(const Machine& machine) {
-  const LegLimitSettings* settings = leg_limit_settings(machine);
+  const LegLimitSettings* settings = machine.kinematics().leg_limit_settings();
   if (settings == nullptr) return nullptr;
   nlohmann::json angles = nlohmann::json::array();
   for (const double angle : settings->max_joint_angle_rad) {
@@ -259,7 +246,7 @@ nlohmann::json leg_limits_json(const Machine& machine) {
 }
 
 void print_leg_limits(const Machine& machine) {
-  const LegLimitSettings* settings = leg_limit_settings(machine);
+  const LegLimitSettings* settings = machine.kinematics().leg_limit_settings();
   if (settings == nullptr) return;
   std::printf("  leg limits:");
   if (settings->checks_angles()) {
@@ -339,8 +326,8 @@ void print_check_joints(const Machine& machine, const CheckSummary& summary) {
 // A hanging effector's tensions at rest over the frame: where both cables hold it within their
 // limits, and where each goes slack or passes its maximum.
 void print_tension_region(const Machine& machine, const TensionRegion& t) {
-  const auto& cables = dynamic_cast<const CablePlotterKinematics&>(machine.kinematics());
-  const bool limited = cables.geometry().tension_limited;
+  const HangingCables& cables = *machine.kinematics().hanging_cables();
+  const bool limited = cables.tension_limited();
   const double reached = t.reached.points;
   const auto share = [&](const GridRegion& r) {
     return reached > 0 ? 100.0 * r.points / reached : 0.0;
@@ -355,7 +342,7 @@ void print_tension_region(const Machine& machine, const TensionRegion& t) {
   std::printf(
       "  tensions at rest (%g kg effector, %s), at the %d of %d grid points over %s the "
       "joints reach:\n",
-      cables.geometry().effector_mass_kg, limits, t.reached.points, t.columns * t.rows,
+      cables.effector_mass_kg(), limits, t.reached.points, t.columns * t.rows,
       region_box_text(machine, t.min_mm, t.max_mm).c_str());
   if (t.reached.points == 0) return;
   std::printf("    within the limits at %.1f %%", share(t.within));

@@ -1,9 +1,12 @@
 #include "pkm/kinematics/cable_plotter.hpp"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <stdexcept>
+
+#include "pkm/kinematics/closed_form_text.hpp"
 
 namespace pkm {
 
@@ -529,6 +532,109 @@ std::unique_ptr<Kinematics> make_cable_plotter_kinematics(const ModelConfig& con
       }
     }
     config.fail(key, fault.what());
+  }
+}
+
+void CablePlotterKinematics::write_config(ModelConfigWriter& out) const {
+  const CablePlotterGeometry& g = geometry_;
+  if (g.anchors_mm[0].isZero() && g.anchors_mm[1].y() == 0.0) {
+    out.length("anchor_distance", g.anchors_mm[1].x());
+  } else {
+    out.length_vector2_list("anchors", g.anchors_mm);
+  }
+  if (g.pulley_radius_mm != 0.0) out.length("pulley_radius", g.pulley_radius_mm);
+  out.length_list("cable_offsets", g.cable_offsets_mm);
+  if (!g.attach_mm[0].isZero() || !g.attach_mm[1].isZero()) {
+    out.length_vector2_list("effector_attach", g.attach_mm);
+  }
+  if (g.effector_mass_kg != 0.0) out.number("effector_mass", g.effector_mass_kg);
+  if (!g.center_of_mass_mm.isZero()) {
+    out.length_list("center_of_mass", std::span<const double>(g.center_of_mass_mm.data(), 2));
+  }
+  if (g.tension_limited) {
+    const double limits[2] = {g.tension_min_N, g.tension_max_N};
+    out.number_list("tension_limits", limits);
+  }
+  if (g.cable_density_kg_per_m != 0.0) out.number("cable_density", g.cable_density_kg_per_m);
+  if (g.spool_buildup_mm_per_m != 0.0) out.number("spool_buildup", g.spool_buildup_mm_per_m);
+  if (g.cable_stretch_mm_per_m_per_N != 0.0) {
+    out.number("cable_stiffness", 1000.0 / g.cable_stretch_mm_per_m_per_N);
+  }
+  passthrough_.write(out);
+}
+
+std::optional<std::vector<std::string>> CablePlotterKinematics::joint_formulas() const {
+  if (!geometry_.ideal()) {
+    throw std::invalid_argument(
+        "a cable plotter with pulleys, a tilting effector, tension limits or sagging or "
+        "stretching cables has no formula: its joints come from a balance of forces");
+  }
+  // sqrt(((x0 - x)^2) + ((y0 - y)^2)): the cable from each anchor.
+  const auto from = [](double anchor, const char* axis) {
+    return anchor == 0.0 ? std::string(axis) : "(" + plain_decimal(anchor) + " - " + axis + ")";
+  };
+  std::vector<std::string> formulas;
+  for (int side = 0; side < 2; ++side) {
+    const Eigen::Vector2d& anchor = geometry_.anchors_mm[side];
+    std::string text =
+        "sqrt((" + from(anchor.x(), "x") + "^2) + (" + from(anchor.y(), "y") + "^2))";
+    if (geometry_.cable_offsets_mm[side] != 0.0) {
+      text += " + " + plain_decimal(geometry_.cable_offsets_mm[side]);
+    }
+    formulas.push_back(text);
+  }
+  return formulas;
+}
+
+namespace {
+Eigen::Vector3d planar(const Eigen::Vector2d& point) {
+  return {point.x(), point.y(), 0.0};
+}
+}  // namespace
+
+void CablePlotterKinematics::fixed_parts(std::span<const JointTravel> /*travel*/,
+                                         std::vector<SketchLine>& out) const {
+  const CablePlotterGeometry& g = geometry_;
+  out.push_back({SketchPart::frame, planar(g.anchors_mm[0]), planar(g.anchors_mm[1])});
+  if (g.pulley_radius_mm > 0.0) {
+    for (const Eigen::Vector2d& anchor : g.anchors_mm) {
+      sketch_circle(out, SketchPart::frame, planar(anchor), g.pulley_radius_mm,
+                    Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY());
+    }
+  }
+}
+
+void CablePlotterKinematics::moving_parts(const Pose& pose, const JointVector& /*joints*/,
+                                          std::vector<SketchLine>& out) const {
+  const Eigen::Vector3d pen = pose.position_mm;
+  const Eigen::Vector3d pen_xy(pen.x(), pen.y(), 0.0);
+  CableStatics balance;
+  if (geometry_.effector_mass_kg <= 0.0 || !statics(pose, Eigen::Vector2d::Zero(), balance).ok()) {
+    balance.tilt_rad = 0.0;
+  }
+  const Eigen::Rotation2Dd tilt(balance.tilt_rad);
+  std::array<Eigen::Vector3d, 2> tied;
+  for (int cable = 0; cable < 2; ++cable) {
+    tied[cable] = pen_xy + planar(tilt * geometry_.attach_mm[cable]);
+    // The cable leaves its pulley where its line from the tie point touches the circle: drawn
+    // from the pulley's centre when the pulley is a point.
+    const Eigen::Vector3d anchor = planar(geometry_.anchors_mm[cable]);
+    const Eigen::Vector3d away = tied[cable] - anchor;
+    const double distance = away.norm();
+    const double radius = geometry_.pulley_radius_mm;
+    Eigen::Vector3d leave = anchor;
+    if (radius > 0.0 && distance > radius) {
+      const double angle = std::acos(radius / distance);
+      const double side = cable == 0 ? 1.0 : -1.0;  // left cable leaves on the pulley's right
+      const Eigen::Rotation2Dd turn(side * angle);
+      const Eigen::Vector2d towards = turn * Eigen::Vector2d(away.x(), away.y()).normalized();
+      leave = anchor + radius * Eigen::Vector3d(towards.x(), towards.y(), 0.0);
+    }
+    out.push_back({SketchPart::link, leave, tied[cable]});
+  }
+  if ((tied[0] - tied[1]).norm() > 0.0) out.push_back({SketchPart::platform, tied[0], tied[1]});
+  for (const Eigen::Vector3d& tie : tied) {
+    if ((tie - pen_xy).norm() > 0.0) out.push_back({SketchPart::platform, tie, pen_xy});
   }
 }
 

@@ -9,7 +9,9 @@
 #pragma once
 
 #include "pkm/kinematics/cable_statics.hpp"
+#include "pkm/kinematics/hanging_cables.hpp"
 #include "pkm/kinematics/kinematics.hpp"
+#include "pkm/kinematics/mechanism_sketch.hpp"
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/passthrough.hpp"
 
@@ -19,7 +21,9 @@ namespace pkm {
 // (the pen on the line through the anchors).
 inline constexpr double kMinCableAngleSine = 1e-9;
 
-class CablePlotterKinematics final : public Kinematics {
+class CablePlotterKinematics final : public Kinematics,
+                                     public HangingCables,
+                                     public MechanismSketch {
  public:
   explicit CablePlotterKinematics(const CablePlotterGeometry& geometry,
                                   PassThroughAxes passthrough = {});
@@ -43,13 +47,31 @@ class CablePlotterKinematics final : public Kinematics {
     return std::make_unique<CablePlotterKinematics>(*this);
   }
 
-  // Quasi-static balance at the pen position of `pose` while the effector accelerates
-  // (mm/s^2, x right, y up): tensions from m (g - a), the tilt for that effective gravity.
-  Status statics(const Pose& pose, const Eigen::Vector2d& acceleration_mm_per_s2,
-                 CableStatics& out) const;
+  // The anchors (anchor_distance where they are level from 0), pulley, offsets, effector and
+  // cable keys that differ from their defaults, then the pass-through axes.
+  void write_config(ModelConfigWriter& out) const override;
+  // The paper's model only: each cable the distance from its anchor plus its offset. Throws for
+  // pulleys, a tilting effector, tension limits, sag or stretch (a balance of forces, no formula).
+  std::optional<std::vector<std::string>> joint_formulas() const override;
+
+  // The cables as the tension checks ask them (hanging_cables.hpp).
+  const HangingCables* hanging_cables() const override { return this; }
+  double effector_mass_kg() const override { return geometry_.effector_mass_kg; }
+  bool effector_tilts() const override { return geometry_.tilts(); }
+  bool tension_limited() const override { return geometry_.tension_limited; }
   // The tensions' [min, max] in N: tension_limits, else [0, inf) ("both cables pull").
-  double tension_min_N() const { return geometry_.tension_min_N; }
-  double tension_max_N() const { return geometry_.tension_max_N; }
+  double tension_min_N() const override { return geometry_.tension_min_N; }
+  double tension_max_N() const override { return geometry_.tension_max_N; }
+  Status statics(const Pose& pose, const Eigen::Vector2d& acceleration_mm_per_s2,
+                 CableStatics& out) const override;
+
+  // The drawing: the line between the anchors and the pulleys; the cables (drawn straight: a
+  // sagging cable's curve is not drawn) and the effector tilted as its balance at rest tilts it.
+  const MechanismSketch* sketch() const override { return this; }
+  void fixed_parts(std::span<const JointTravel> travel,
+                   std::vector<SketchLine>& out) const override;
+  void moving_parts(const Pose& pose, const JointVector& joints,
+                    std::vector<SketchLine>& out) const override;
 
   // Inverse kinematics with or without the tension limits (forward kinematics iterates without:
   // the limits say where the machine may go, not where its joints put the pen).

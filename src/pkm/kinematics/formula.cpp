@@ -3,7 +3,10 @@
 #include <Eigen/LU>
 #include <cmath>
 #include <numbers>
+#include <regex>
 #include <stdexcept>
+
+#include "pkm/kinematics/closed_form_text.hpp"
 
 namespace pkm {
 
@@ -188,6 +191,24 @@ std::unique_ptr<Kinematics> make_formula_kinematics(const ModelConfig& config) {
   } catch (const std::invalid_argument& error) {
     config.fail("formulas", error.what());
   }
+}
+
+void FormulaKinematics::write_config(ModelConfigWriter& out) const {
+  out.axis_list("axes", dof_);
+  out.number_table("constants", definition_.constants);
+  out.string_table("formulas", definition_.formulas);
+}
+
+std::optional<std::vector<std::string>> FormulaKinematics::joint_formulas() const {
+  std::vector<std::string> formulas;
+  for (const auto& [joint, expression] : definition_.formulas) {
+    std::string e = expression;
+    for (const auto& [name, value] : definition_.constants) {
+      e = std::regex_replace(e, std::regex("\\b" + name + "\\b"), "(" + plain_decimal(value) + ")");
+    }
+    formulas.push_back(e);
+  }
+  return formulas;
 }
 
 }  // namespace pkm

@@ -11,6 +11,7 @@
 
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/model_config.hpp"
+#include "pkm/kinematics/model_config_writer.hpp"
 
 namespace pkm {
 
@@ -58,6 +59,10 @@ class FormulaKinematics final : public Kinematics {
   std::unique_ptr<Kinematics> clone() const override {
     return std::make_unique<FormulaKinematics>(*this);
   }
+  // axes, then the [kinematics.constants] and [kinematics.formulas] tables.
+  void write_config(ModelConfigWriter& out) const override;
+  // The file's formulas with each constant's value in its place.
+  std::optional<std::vector<std::string>> joint_formulas() const override;
 
   const FormulaDefinition& definition() const { return definition_; }
 

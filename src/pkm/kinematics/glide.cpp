@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "pkm/kinematics/closed_form_text.hpp"
 #include "pkm/kinematics/lanes.hpp"
 
 namespace pkm {
@@ -613,6 +614,77 @@ std::unique_ptr<Kinematics> make_glide_kinematics(const ModelConfig& config) {
   } catch (const std::invalid_argument& error) {
     config.fail("rails", error.what());
   }
+}
+
+void GlideKinematics::write_config(ModelConfigWriter& out) const {
+  const bool orientation = dof_.any_rotation();
+  out.boolean("orientation", orientation);
+  if (!orientation) out.axis_list("axes", dof_);
+  passthrough_.write(out);
+  write_leg_limit_settings(leg_limits_.settings(), "carriage_joint_axis", out);
+  for (const GlideRail& rail : rails_) {
+    ModelConfigWriter& entry = out.table_list_entry("rails");
+    entry.length_vector3("origin", rail.origin_mm);
+    entry.vector3("direction", rail.direction);
+    entry.length("strut", rail.strut_mm);
+    entry.length_vector3("attach", rail.attach_mm);
+    entry.whole_number("branch", rail.branch);
+  }
+}
+
+std::optional<std::vector<std::string>> GlideKinematics::joint_formulas() const {
+  if (dof_.any_rotation()) {
+    throw std::invalid_argument("a glide that turns its platform has no formula in x y z alone");
+  }
+  static constexpr const char* kAxes[] = {"x", "y", "z"};
+  std::vector<std::string> formulas;
+  for (const GlideRail& rail : rails_) {
+    // w = tip + attach - origin per axis (uncontrolled axes are 0); q = d.w + branch sqrt(...).
+    std::string w[3];
+    for (int k = 0; k < 3; ++k) {
+      const double offset = rail.attach_mm[k] - rail.origin_mm[k];
+      w[k] = dof_.controls(k) ? shifted_coordinate(kAxes[k], offset) : plain_decimal(offset);
+    }
+    std::string along;
+    for (int k = 0; k < 3; ++k) {
+      if (rail.direction[k] == 0.0) continue;
+      along += (along.empty() ? "" : " + ") + std::string("(") + plain_decimal(rail.direction[k]) +
+               "*" + w[k] + ")";
+    }
+    if (along.empty()) along = "0";
+    const std::string squares = "(" + w[0] + "^2) + (" + w[1] + "^2) + (" + w[2] + "^2)";
+    formulas.push_back("(" + along + ") " + (rail.branch > 0 ? "+" : "-") + " sqrt(((" + along +
+                       ")^2) - (" + squares + ") + " +
+                       plain_decimal(rail.strut_mm * rail.strut_mm) + ")");
+  }
+  return formulas;
+}
+
+void GlideKinematics::fixed_parts(std::span<const JointTravel> travel,
+                                  std::vector<SketchLine>& out) const {
+  for (std::size_t i = 0; i < rails_.size(); ++i) {
+    const GlideRail& rail = rails_[i];
+    out.push_back({SketchPart::frame, rail.origin_mm + travel[i].min * rail.direction,
+                   rail.origin_mm + travel[i].max * rail.direction});
+  }
+}
+
+void GlideKinematics::moving_parts(const Pose& pose, const JointVector& joints,
+                                   std::vector<SketchLine>& out) const {
+  const Eigen::Matrix3d rotation = rotation_from_abc(pose.orientation_rad);
+  std::vector<Eigen::Vector3d> ends;
+  for (std::size_t i = 0; i < rails_.size(); ++i) {
+    const GlideRail& rail = rails_[i];
+    const Eigen::Vector3d carriage = rail.origin_mm + joints[static_cast<int>(i)] * rail.direction;
+    ends.push_back(pose.position_mm + rotation * rail.attach_mm);
+    out.push_back({SketchPart::link, carriage, ends.back()});
+  }
+  if (ends.size() == 2) {
+    out.push_back({SketchPart::platform, ends[0], ends[1]});
+  } else {
+    sketch_loop(out, SketchPart::platform, ends);
+  }
+  for (const Eigen::Vector3d& end : ends) out.push_back({SketchPart::tool, end, pose.position_mm});
 }
 
 }  // namespace pkm

@@ -8,6 +8,7 @@
 
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/leg_limits.hpp"
+#include "pkm/kinematics/mechanism_sketch.hpp"
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/passthrough.hpp"
 
@@ -21,7 +22,7 @@ struct GlideRail {
   int branch = 1;  // +1: carriage ahead of the strut's foot along `direction`; -1: behind
 };
 
-class GlideKinematics final : public Kinematics {
+class GlideKinematics final : public Kinematics, public MechanismSketch {
  public:
   // `dof` is translation-only (2 or 3 axes, one per rail) or Dof::all() with six rails.
   // Pass-through axes, translating glides only, follow the rails as joints.
@@ -68,6 +69,22 @@ class GlideKinematics final : public Kinematics {
   // Four poses at a time where AVX2 runs (lanes.hpp); the single-pose calls otherwise.
   void inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
                      std::span<Status> statuses) const override;
+
+  // orientation, axes, passthrough, the leg limits, then one [[kinematics.rails]] per rail.
+  void write_config(ModelConfigWriter& out) const override;
+  // A translating glide's carriages in closed form: q = d.w +- sqrt((d.w)^2 - w.w + strut^2), w
+  // the tool tip plus the strut's attachment less the rail's origin. Throws for a hexaglide.
+  std::optional<std::vector<std::string>> joint_formulas() const override;
+  const LegLimitSettings* leg_limit_settings() const override {
+    return leg_limits_.active() ? &leg_limits_.settings() : nullptr;
+  }
+  // The drawing: the rails over their travel; the struts from their carriages to the platform,
+  // the platform and the tool.
+  const MechanismSketch* sketch() const override { return this; }
+  void fixed_parts(std::span<const JointTravel> travel,
+                   std::vector<SketchLine>& out) const override;
+  void moving_parts(const Pose& pose, const JointVector& joints,
+                    std::vector<SketchLine>& out) const override;
 
   const std::vector<GlideRail>& rails() const { return rails_; }
   const PassThroughAxes& passthrough() const { return passthrough_; }

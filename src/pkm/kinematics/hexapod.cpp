@@ -465,4 +465,31 @@ std::unique_ptr<Kinematics> make_hexapod_kinematics(const ModelConfig& config) {
   }
 }
 
+void HexapodKinematics::write_config(ModelConfigWriter& out) const {
+  out.length_vector3_list("base", geometry_.base_mm);
+  out.length_vector3_list("platform", geometry_.platform_mm);
+  out.length("tool_length", geometry_.tool_length_mm);
+  out.length_list("leg_offsets", geometry_.leg_offset_mm);
+  write_leg_limit_settings(leg_limits_.settings(), "base_joint_axis", out);
+}
+
+void HexapodKinematics::fixed_parts(std::span<const JointTravel> /*travel*/,
+                                    std::vector<SketchLine>& out) const {
+  sketch_loop(out, SketchPart::frame, {geometry_.base_mm.begin(), geometry_.base_mm.end()});
+}
+
+void HexapodKinematics::moving_parts(const Pose& pose, const JointVector& /*joints*/,
+                                     std::vector<SketchLine>& out) const {
+  const Eigen::Matrix3d rotation = rotation_from_abc(pose.orientation_rad);
+  const Eigen::Vector3d up(0.0, 0.0, geometry_.tool_length_mm);
+  const Eigen::Vector3d centre = pose.position_mm + rotation * up;
+  std::vector<Eigen::Vector3d> platform_joints;
+  for (std::size_t i = 0; i < 6; ++i) {
+    platform_joints.push_back(pose.position_mm + rotation * geometry_.platform_from_tip_mm(i));
+    out.push_back({SketchPart::link, geometry_.base_mm[i], platform_joints.back()});
+  }
+  sketch_loop(out, SketchPart::platform, platform_joints);
+  out.push_back({SketchPart::tool, centre, pose.position_mm});
+}
+
 }  // namespace pkm

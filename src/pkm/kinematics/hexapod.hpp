@@ -11,6 +11,7 @@
 
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/leg_limits.hpp"
+#include "pkm/kinematics/mechanism_sketch.hpp"
 #include "pkm/kinematics/model_config.hpp"
 
 namespace pkm {
@@ -35,7 +36,7 @@ struct HexapodGeometry {
                                       double side_ratio, double tool_length_mm);
 };
 
-class HexapodKinematics final : public Kinematics {
+class HexapodKinematics final : public Kinematics, public MechanismSketch {
  public:
   explicit HexapodKinematics(const HexapodGeometry& geometry,
                              const LegLimitSettings& leg_limits = {});
@@ -64,11 +65,9 @@ class HexapodKinematics final : public Kinematics {
   // of (platform joint - base joint) . n, n the normal of the plane through the base joints,
   // signed by that leg's side at home. Legs in the plane at home, or a base whose joints lie on
   // one line, take no part (+infinity without any leg, and before set_home).
-  struct BaseSide {
-    double margin_mm = INFINITY;
-    int leg = -1;  // the leg of the least margin
-  };
+  using BaseSide = BasePlaneMargin;
   BaseSide base_side(const Pose& pose) const;
+  BasePlaneMargin base_plane_margin(const Pose& pose) const override { return base_side(pose); }
   // Bounds on base_side's margin over every pose within centre +- half (mm, rad), and the leg of
   // the least low bound: (n . position) moves by at most sum |n_k| half_k over the box, and a
   // platform joint at distance q from the tool tip by at most q (|half a| + |half b| + |half c|)
@@ -94,6 +93,18 @@ class HexapodKinematics final : public Kinematics {
   // computed once while the attitude stays (the paper's fixed-attitude mode).
   void inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
                      std::span<Status> statuses) const override;
+
+  // base, platform, tool_length, leg_offsets, then the leg limits.
+  void write_config(ModelConfigWriter& out) const override;
+  const LegLimitSettings* leg_limit_settings() const override {
+    return leg_limits_.active() ? &leg_limits_.settings() : nullptr;
+  }
+  // The drawing: the base hexagon; the legs, the platform's hexagon and the tool.
+  const MechanismSketch* sketch() const override { return this; }
+  void fixed_parts(std::span<const JointTravel> travel,
+                   std::vector<SketchLine>& out) const override;
+  void moving_parts(const Pose& pose, const JointVector& joints,
+                    std::vector<SketchLine>& out) const override;
 
   const HexapodGeometry& geometry() const { return geometry_; }
   const LegLimits& leg_limits() const { return leg_limits_; }

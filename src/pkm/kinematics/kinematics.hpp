@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -14,6 +15,12 @@
 #include "pkm/geometry/pose.hpp"
 
 namespace pkm {
+
+// What a model may answer for itself beyond its equations, each interface in its own header.
+class ModelConfigWriter;  // model_config_writer.hpp
+class MechanismSketch;    // mechanism_sketch.hpp
+class HangingCables;      // hanging_cables.hpp
+struct LegLimitSettings;  // leg_limits.hpp
 
 // Nine joints cover every model here (a hexapod has six, a matrix mill three plus pass-through
 // rotary axes); the fixed upper bound keeps joint vectors on the stack in the per-sample path.
@@ -69,6 +76,14 @@ struct MechanismLimit {
   double limit = 0.0;  // rad (max_joint_angle) or mm (leg_diameter)
   // >= 0 while the limit holds, in the value's unit.
   double margin() const { return code == StatusCode::joint_angle ? limit - value : value - limit; }
+};
+
+// Where a pose stands against the plane through a hexapod's base joints, which its platform
+// joints cross only by passing the singularity where the legs lie flat in it: the least margin
+// over the legs (mm, on home's side of the plane; negative past it) and the leg it belongs to.
+struct BasePlaneMargin {
+  double margin_mm = INFINITY;
+  int leg = -1;  // -1: no leg takes part
 };
 
 enum class JointKind { linear, rotary };  // linear joints in mm; rotary in rad inside, deg outside
@@ -150,6 +165,30 @@ class Kinematics {
   // no legs, or the model has no such limits).
   virtual bool has_mechanism_limits() const { return false; }
   virtual void mechanism_limits(const Pose& /*pose*/, std::vector<MechanismLimit>& /*out*/) const {}
+
+  // What the model answers for itself beyond its equations (docs/kinematics.md, "What a model
+  // answers for itself"): the rest of pkm asks these, never which class a model is.
+  //
+  // Its own keys of a machine file's [kinematics], as its make_*_kinematics reads them (the
+  // registry writes `type` and the forward options around them). The default writes none.
+  virtual void write_config(ModelConfigWriter& /*out*/) const {}
+  // The mechanism's joints (not the pass-through ones) as closed formulas of the pose (x y z in mm;
+  // a formula machine's own, in its file's units): muParser's syntax, numbers as plain decimals,
+  // what Mach3's formula axes take. None where the model has no closed formula; throws
+  // std::invalid_argument saying why where this machine of a model that has one cannot (a glide
+  // that turns its platform).
+  virtual std::optional<std::vector<std::string>> joint_formulas() const { return std::nullopt; }
+  // The mechanism drawn to scale; none: a drawing shows the work envelope only.
+  virtual const MechanismSketch* sketch() const { return nullptr; }
+  // The effector's balance and the tension limits of a machine hanging from cables; none for a
+  // machine without cables.
+  virtual const HangingCables* hanging_cables() const { return nullptr; }
+  // The joint-angle and interference limits the machine file sets; none where it sets none, or
+  // the model has no legs.
+  virtual const LegLimitSettings* leg_limit_settings() const { return nullptr; }
+  // A hexapod's platform against its base plane at `pose` (its assembly mode's measure); the
+  // default, no leg, for every other model.
+  virtual BasePlaneMargin base_plane_margin(const Pose& /*pose*/) const { return {}; }
 
   virtual std::vector<Parameter> parameters() const = 0;
   // Values in the order and units of parameters(); throws std::invalid_argument when the new

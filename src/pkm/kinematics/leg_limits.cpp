@@ -60,6 +60,22 @@ LegLimitSettings read_leg_limit_settings(const ModelConfig& config, const char* 
   return settings;
 }
 
+void write_leg_limit_settings(const LegLimitSettings& settings, const char* inner_axis_key,
+                              ModelConfigWriter& out) {
+  const auto& angle = settings.max_joint_angle_rad;
+  if (settings.checks_angles()) {
+    if (angle[0] == angle[1]) {
+      out.number("max_joint_angle", radians_to_degrees(angle[0]));
+    } else {
+      const double degrees[2] = {radians_to_degrees(angle[0]), radians_to_degrees(angle[1])};
+      out.number_list("max_joint_angle", degrees);
+    }
+  }
+  if (settings.leg_diameter_mm > 0.0) out.length("leg_diameter", settings.leg_diameter_mm);
+  if (settings.inner_axis) out.vector3(inner_axis_key, *settings.inner_axis);
+  if (settings.platform_axis) out.vector3("platform_joint_axis", *settings.platform_axis);
+}
+
 LegLimits::LegLimits(const LegLimitSettings& settings, int legs)
     : settings_(settings), legs_(legs), active_(settings.any()) {
   for (int end = 0; end < 2; ++end) {

@@ -17,6 +17,7 @@
 
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/model_config.hpp"
+#include "pkm/kinematics/model_config_writer.hpp"
 
 namespace pkm {
 
@@ -44,6 +45,10 @@ struct LegLimitSettings {
 // Reads max_joint_angle, leg_diameter and the two axis keys (`inner_axis_key`: "base_joint_axis"
 // for a hexapod, "carriage_joint_axis" for a glide). Fails at the key for values out of range.
 LegLimitSettings read_leg_limit_settings(const ModelConfig& config, const char* inner_axis_key);
+// Writes them as read_leg_limit_settings reads them: the angles in deg (one number where both
+// ends share it), the diameter, and the axes only where the file named them.
+void write_leg_limit_settings(const LegLimitSettings& settings, const char* inner_axis_key,
+                              ModelConfigWriter& out);
 
 // The legs of one pose: the joint centres in the world frame and the platform's rotation.
 struct LegEnds {

@@ -6,11 +6,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "pkm/kinematics/closed_form_text.hpp"
+
 namespace pkm {
 
 namespace {
 constexpr std::array<const char*, 3> kRowNames = {"x", "y", "z"};
-}
+}  // namespace
 
 MatrixKinematics::MatrixKinematics(const Eigen::Matrix3d& coefficients,
                                    std::vector<int> passthrough_axes)
@@ -77,6 +79,20 @@ void MatrixKinematics::set_parameters(std::span<const double> values) {
   set_coefficients(coefficients);
 }
 
+std::optional<std::vector<std::string>> MatrixKinematics::joint_formulas() const {
+  std::vector<std::string> formulas;
+  for (int row = 0; row < 3; ++row) {
+    std::string e;
+    for (int col = 0; col < 3; ++col) {
+      if (coefficients_(row, col) == 0.0) continue;
+      e += (e.empty() ? "" : " + ") + std::string("(") + plain_decimal(coefficients_(row, col)) +
+           "*" + kRowNames[col] + ")";
+    }
+    formulas.push_back(e.empty() ? "0" : e);
+  }
+  return formulas;
+}
+
 std::unique_ptr<Kinematics> make_matrix_kinematics(const ModelConfig& config) {
   const Eigen::Matrix3d coefficients =
       config.has("matrix") ? config.matrix3("matrix") : Eigen::Matrix3d::Identity();
@@ -86,6 +102,11 @@ std::unique_ptr<Kinematics> make_matrix_kinematics(const ModelConfig& config) {
   } catch (const std::invalid_argument& error) {
     config.fail("matrix", error.what());
   }
+}
+
+void MatrixKinematics::write_config(ModelConfigWriter& out) const {
+  out.matrix3("matrix", coefficients_);
+  passthrough_.write(out);
 }
 
 }  // namespace pkm

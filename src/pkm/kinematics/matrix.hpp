@@ -32,6 +32,10 @@ class MatrixKinematics final : public Kinematics {
   std::unique_ptr<Kinematics> clone() const override {
     return std::make_unique<MatrixKinematics>(*this);
   }
+  // matrix, passthrough.
+  void write_config(ModelConfigWriter& out) const override;
+  // Each joint the sum of its row's coefficients times x y z.
+  std::optional<std::vector<std::string>> joint_formulas() const override;
 
   const Eigen::Matrix3d& coefficients() const { return coefficients_; }
   const std::vector<int>& passthrough_axes() const { return passthrough_.axes(); }

@@ -70,13 +70,11 @@ void PassThroughAxes::jacobian(JointJacobian& d_joints_d_pose, int first) const 
   }
 }
 
-std::string PassThroughAxes::toml_line() const {
-  if (axes_.empty()) return "";
-  std::string list = "passthrough = [";
-  for (int k = 0; k < count(); ++k) {
-    list += (k ? ", \"" : "\"") + std::string(kAxisNames[axes_[k]]) + "\"";
-  }
-  return list + "]";
+void PassThroughAxes::write(ModelConfigWriter& out) const {
+  if (axes_.empty()) return;
+  std::vector<std::string> names;
+  for (const int axis : axes_) names.emplace_back(kAxisNames[axis]);
+  out.string_list("passthrough", names);
 }
 
 }  // namespace pkm

@@ -8,6 +8,7 @@
 
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/model_config.hpp"
+#include "pkm/kinematics/model_config_writer.hpp"
 
 namespace pkm {
 
@@ -29,8 +30,8 @@ class PassThroughAxes {
   void inverse(const Pose& pose, JointVector& joints, int first) const;
   void forward(const JointVector& joints, int first, Pose& pose) const;
   void jacobian(JointJacobian& d_joints_d_pose, int first) const;
-  // `passthrough = ["z"]` as a machine file writes it; empty when there are none.
-  std::string toml_line() const;
+  // The `passthrough` key read() reads; nothing when there are none.
+  void write(ModelConfigWriter& out) const;
 
  private:
   std::vector<int> axes_;

@@ -62,4 +62,17 @@ std::unique_ptr<Kinematics> make_kinematics(const ModelConfig& config) {
   config.fail("type", "unknown kinematics type '" + type + "' (known: " + known + ")");
 }
 
+void write_kinematics_config(const Kinematics& model, ModelConfigWriter& out) {
+  out.string("type", model.type());
+  const ForwardOptions defaults;
+  const ForwardOptions& options = model.forward_options();
+  if (options.tolerance_mm != defaults.tolerance_mm) {
+    out.length("forward_tolerance", options.tolerance_mm);
+  }
+  if (options.max_iterations != defaults.max_iterations) {
+    out.whole_number("forward_max_iterations", options.max_iterations);
+  }
+  model.write_config(out);
+}
+
 }  // namespace pkm

@@ -316,4 +316,34 @@ std::unique_ptr<Kinematics> make_rotary_delta_kinematics(const ModelConfig& conf
   }
 }
 
+void RotaryDeltaKinematics::write_config(ModelConfigWriter& out) const {
+  out.length("base_radius", geometry_.base_radius_mm);
+  out.length("arm_length", geometry_.arm_length_mm);
+  out.length("forearm_length", geometry_.forearm_length_mm);
+  out.length("platform_radius", geometry_.platform_radius_mm);
+  passthrough_.write(out);
+}
+
+void RotaryDeltaKinematics::fixed_parts(std::span<const JointTravel> /*travel*/,
+                                        std::vector<SketchLine>& out) const {
+  sketch_circle(out, SketchPart::frame, Eigen::Vector3d::Zero(), geometry_.base_radius_mm,
+                Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY());
+}
+
+void RotaryDeltaKinematics::moving_parts(const Pose& pose, const JointVector& joints,
+                                         std::vector<SketchLine>& out) const {
+  for (int arm = 0; arm < kArms; ++arm) {
+    const Eigen::Vector3d outward = arm_direction(arm);
+    const Eigen::Vector3d pivot = geometry_.base_radius_mm * outward;
+    const Eigen::Vector3d elbow =
+        pivot + geometry_.arm_length_mm * (std::cos(joints[arm]) * outward -
+                                           std::sin(joints[arm]) * Eigen::Vector3d::UnitZ());
+    out.push_back({SketchPart::link, pivot, elbow});
+    out.push_back(
+        {SketchPart::link, elbow, pose.position_mm + geometry_.platform_radius_mm * outward});
+  }
+  sketch_circle(out, SketchPart::platform, pose.position_mm, geometry_.platform_radius_mm,
+                Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY());
+}
+
 }  // namespace pkm

@@ -14,6 +14,7 @@
 #include <array>
 
 #include "pkm/kinematics/kinematics.hpp"
+#include "pkm/kinematics/mechanism_sketch.hpp"
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/passthrough.hpp"
 
@@ -26,7 +27,7 @@ struct RotaryDeltaGeometry {
   double platform_radius_mm = 0.0;  // tool point to each forearm's platform joint (footradius)
 };
 
-class RotaryDeltaKinematics final : public Kinematics {
+class RotaryDeltaKinematics final : public Kinematics, public MechanismSketch {
  public:
   static constexpr int kArms = 3;
 
@@ -65,6 +66,16 @@ class RotaryDeltaKinematics final : public Kinematics {
   std::unique_ptr<Kinematics> clone() const override {
     return std::make_unique<RotaryDeltaKinematics>(*this);
   }
+  // base_radius, arm_length, forearm_length, platform_radius, passthrough.
+  void write_config(ModelConfigWriter& out) const override;
+  // The drawing: the circle of the pivots; each arm from its pivot to its elbow (joint 0:
+  // horizontal and outward, positive: elbow down), the forearm on to its platform joint, the
+  // platform as the circle of its joints.
+  const MechanismSketch* sketch() const override { return this; }
+  void fixed_parts(std::span<const JointTravel> travel,
+                   std::vector<SketchLine>& out) const override;
+  void moving_parts(const Pose& pose, const JointVector& joints,
+                    std::vector<SketchLine>& out) const override;
 
   const RotaryDeltaGeometry& geometry() const { return geometry_; }
   const PassThroughAxes& passthrough() const { return passthrough_; }

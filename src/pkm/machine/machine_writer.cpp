@@ -6,15 +6,13 @@
 #include <charconv>
 #include <cstdio>
 #include <limits>
+#include <memory>
+#include <span>
 #include <sstream>
 #include <vector>
 
-#include "pkm/kinematics/cable_plotter.hpp"
-#include "pkm/kinematics/formula.hpp"
-#include "pkm/kinematics/glide.hpp"
-#include "pkm/kinematics/hexapod.hpp"
-#include "pkm/kinematics/matrix.hpp"
-#include "pkm/kinematics/rotary_delta.hpp"
+#include "pkm/kinematics/model_config_writer.hpp"
+#include "pkm/kinematics/registry.hpp"
 #include "pkm/machine/machine_file_error.hpp"
 #include "pkm/machine/toml_config.hpp"
 
@@ -48,165 +46,111 @@ std::string toml_string(const std::string& text) {
 
 namespace {
 
-class Writer {
- public:
-  explicit Writer(LengthUnit units) : per_mm_(units == LengthUnit::inch ? 1.0 / 25.4 : 1.0) {}
-
-  void line(const std::string& text) { out_ << text << "\n"; }
-  void length(const std::string& key, double mm) { line(key + " = " + toml_number(mm * per_mm_)); }
-  void value(const std::string& key, double value) { line(key + " = " + toml_number(value)); }
-  void lengths(const std::string& key, const double* mm, int count) {
-    std::string text = key + " = [";
-    for (int i = 0; i < count; ++i) text += (i ? ", " : "") + toml_number(mm[i] * per_mm_);
-    line(text + "]");
-  }
-  void vector3(const std::string& key, const Eigen::Vector3d& v, bool is_length) {
-    const double scale = is_length ? per_mm_ : 1.0;
-    line(key + " = [" + toml_number(v.x() * scale) + ", " + toml_number(v.y() * scale) + ", " +
-         toml_number(v.z() * scale) + "]");
-  }
-  void points(const std::string& key, const std::array<Eigen::Vector3d, 6>& points) {
-    line(key + " = [");
-    for (const Eigen::Vector3d& p : points) {
-      line("  [" + toml_number(p.x() * per_mm_) + ", " + toml_number(p.y() * per_mm_) + ", " +
-           toml_number(p.z() * per_mm_) + "],");
-    }
-    line("]");
-  }
-  double per_mm() const { return per_mm_; }
-  std::string text() const { return out_.str(); }
-
- private:
-  double per_mm_;
-  std::ostringstream out_;
-};
-
-void write_cable_plotter(Writer& w, const CablePlotterGeometry& g) {
-  const auto pair = [&](const std::string& key, const std::array<Eigen::Vector2d, 2>& points) {
-    const double per_mm = w.per_mm();
-    w.line(key + " = [[" + toml_number(points[0].x() * per_mm) + ", " +
-           toml_number(points[0].y() * per_mm) + "], [" + toml_number(points[1].x() * per_mm) +
-           ", " + toml_number(points[1].y() * per_mm) + "]]");
-  };
-  if (g.anchors_mm[0].isZero() && g.anchors_mm[1].y() == 0.0) {
-    w.length("anchor_distance", g.anchors_mm[1].x());
-  } else {
-    pair("anchors", g.anchors_mm);
-  }
-  if (g.pulley_radius_mm != 0.0) w.length("pulley_radius", g.pulley_radius_mm);
-  w.lengths("cable_offsets", g.cable_offsets_mm.data(), 2);
-  if (!g.attach_mm[0].isZero() || !g.attach_mm[1].isZero()) pair("effector_attach", g.attach_mm);
-  if (g.effector_mass_kg != 0.0) w.value("effector_mass", g.effector_mass_kg);
-  if (!g.center_of_mass_mm.isZero()) {
-    const double com[2] = {g.center_of_mass_mm.x(), g.center_of_mass_mm.y()};
-    w.lengths("center_of_mass", com, 2);
-  }
-  if (g.tension_limited) {
-    w.line("tension_limits = [" + toml_number(g.tension_min_N) + ", " +
-           toml_number(g.tension_max_N) + "]");
-  }
-  if (g.cable_density_kg_per_m != 0.0) w.value("cable_density", g.cable_density_kg_per_m);
-  if (g.spool_buildup_mm_per_m != 0.0) w.value("spool_buildup", g.spool_buildup_mm_per_m);
-  if (g.cable_stretch_mm_per_m_per_N != 0.0) {
-    w.value("cable_stiffness", 1000.0 / g.cable_stretch_mm_per_m_per_N);
-  }
-}
-
-// The optional joint-angle and interference keys (leg_limits.hpp), as the file gave them: angles
-// in deg, the diameter in the file's unit; the axes only where the file named them.
-void write_leg_limits(Writer& w, const LegLimitSettings& limits, const char* inner_axis_key) {
-  const auto& angle = limits.max_joint_angle_rad;
-  if (limits.checks_angles()) {
-    if (angle[0] == angle[1]) {
-      w.value("max_joint_angle", radians_to_degrees(angle[0]));
-    } else {
-      w.line("max_joint_angle = [" + toml_number(radians_to_degrees(angle[0])) + ", " +
-             toml_number(radians_to_degrees(angle[1])) + "]");
-    }
-  }
-  if (limits.leg_diameter_mm > 0.0) w.length("leg_diameter", limits.leg_diameter_mm);
-  if (limits.inner_axis) w.vector3(inner_axis_key, *limits.inner_axis, false);
-  if (limits.platform_axis) w.vector3("platform_joint_axis", *limits.platform_axis, false);
-}
-
-std::string axis_list(Dof dof) {
+// Rows of numbers: "[a, b, c]".
+std::string toml_row(std::span<const double> values, double scale) {
   std::string text = "[";
-  for (int axis = 0, n = 0; axis < kPoseSize; ++axis) {
-    if (dof.controls(axis))
-      text += std::string(n++ ? ", " : "") + "\"" + std::string(kAxisNames[axis]) + "\"";
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    text += (i ? ", " : "") + toml_number(values[i] * scale);
   }
   return text + "]";
 }
 
+// One TOML table as a model writes it: its keys in the order written, then its sub-tables (each
+// after a blank line, under its own header), lengths converted from mm to the file's unit. An
+// array of more than two rows (a matrix, a hexapod's six joints) puts each row on its own line.
+class TomlTableWriter final : public ModelConfigWriter {
+ public:
+  TomlTableWriter(std::string header, std::string path, double per_mm)
+      : header_(std::move(header)), path_(std::move(path)), per_mm_(per_mm) {}
+
+  void number(std::string_view key, double value) override { put(key, toml_number(value)); }
+  void whole_number(std::string_view key, long long value) override {
+    put(key, std::to_string(value));
+  }
+  void number_list(std::string_view key, std::span<const double> values) override {
+    put(key, toml_row(values, 1.0));
+  }
+  void length(std::string_view key, double mm) override { put(key, toml_number(mm * per_mm_)); }
+  void length_list(std::string_view key, std::span<const double> mm) override {
+    put(key, toml_row(mm, per_mm_));
+  }
+  void length_points(std::string_view key,
+                     const std::vector<std::vector<double>>& points_mm) override {
+    rows(key, points_mm, per_mm_);
+  }
+  void matrix3(std::string_view key, const Eigen::Matrix3d& matrix) override {
+    std::vector<std::vector<double>> values;
+    for (int row = 0; row < 3; ++row)
+      values.push_back({matrix(row, 0), matrix(row, 1), matrix(row, 2)});
+    rows(key, values, 1.0);
+  }
+  void boolean(std::string_view key, bool value) override { put(key, value ? "true" : "false"); }
+  void string(std::string_view key, std::string_view value) override {
+    put(key, toml_string(std::string(value)));
+  }
+  void string_list(std::string_view key, std::span<const std::string> values) override {
+    std::string text = "[";
+    for (std::size_t i = 0; i < values.size(); ++i)
+      text += (i ? ", " : "") + toml_string(values[i]);
+    put(key, text + "]");
+  }
+  void number_table(std::string_view key,
+                    const std::vector<std::pair<std::string, double>>& entries) override {
+    TomlTableWriter& table = sub_table("[", key, "]");
+    for (const auto& [name, value] : entries) table.number(name, value);
+  }
+  void string_table(std::string_view key,
+                    const std::vector<std::pair<std::string, std::string>>& entries) override {
+    TomlTableWriter& table = sub_table("[", key, "]");
+    for (const auto& [name, value] : entries) table.string(name, value);
+  }
+  ModelConfigWriter& table_list_entry(std::string_view key) override {
+    return sub_table("[[", key, "]]");
+  }
+
+  std::string text() const {
+    std::string text = header_ + "\n" + keys_;
+    for (const auto& table : tables_) text += "\n" + table->text();
+    return text;
+  }
+
+ private:
+  void put(std::string_view key, const std::string& value) {
+    keys_ += std::string(key) + " = " + value + "\n";
+  }
+  void rows(std::string_view key, const std::vector<std::vector<double>>& values, double scale) {
+    if (values.size() <= 2) {
+      std::string text = "[";
+      for (std::size_t i = 0; i < values.size(); ++i) {
+        text += (i ? ", " : "") + toml_row(values[i], scale);
+      }
+      put(key, text + "]");
+      return;
+    }
+    std::string text = "[\n";
+    for (const std::vector<double>& row : values) text += "  " + toml_row(row, scale) + ",\n";
+    put(key, text + "]");
+  }
+  TomlTableWriter& sub_table(const char* open, std::string_view key, const char* close) {
+    const std::string path = path_ + "." + std::string(key);
+    tables_.push_back(std::make_unique<TomlTableWriter>(open + path + close, path, per_mm_));
+    return *tables_.back();
+  }
+
+  std::string header_;
+  std::string path_;
+  double per_mm_;
+  std::string keys_;
+  std::vector<std::unique_ptr<TomlTableWriter>> tables_;
+};
+
 }  // namespace
 
 std::string kinematics_toml(const Kinematics& kinematics, LengthUnit units) {
-  Writer w(units);
-  w.line("[kinematics]");
-  w.line("type = \"" + std::string(kinematics.type()) + "\"");
-  const ForwardOptions defaults;
-  if (kinematics.forward_options().tolerance_mm != defaults.tolerance_mm) {
-    w.length("forward_tolerance", kinematics.forward_options().tolerance_mm);
-  }
-  if (kinematics.forward_options().max_iterations != defaults.max_iterations) {
-    w.line("forward_max_iterations = " +
-           std::to_string(kinematics.forward_options().max_iterations));
-  }
-  if (const auto* matrix = dynamic_cast<const MatrixKinematics*>(&kinematics)) {
-    const Eigen::Matrix3d& c = matrix->coefficients();
-    w.line("matrix = [");
-    for (int row = 0; row < 3; ++row) {
-      w.line("  [" + toml_number(c(row, 0)) + ", " + toml_number(c(row, 1)) + ", " +
-             toml_number(c(row, 2)) + "],");
-    }
-    w.line("]");
-    const PassThroughAxes passthrough(matrix->passthrough_axes(), Dof::translation());
-    if (passthrough.count() > 0) w.line(passthrough.toml_line());
-  } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&kinematics)) {
-    write_cable_plotter(w, plotter->geometry());
-    if (plotter->passthrough().count() > 0) w.line(plotter->passthrough().toml_line());
-  } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&kinematics)) {
-    const bool orientation = glide->rail_dof().any_rotation();
-    w.line(std::string("orientation = ") + (orientation ? "true" : "false"));
-    if (!orientation) w.line("axes = " + axis_list(glide->rail_dof()));
-    if (glide->passthrough().count() > 0) w.line(glide->passthrough().toml_line());
-    write_leg_limits(w, glide->leg_limits().settings(), "carriage_joint_axis");
-    for (const GlideRail& rail : glide->rails()) {
-      w.line("");
-      w.line("[[kinematics.rails]]");
-      w.vector3("origin", rail.origin_mm, true);
-      w.vector3("direction", rail.direction, false);
-      w.length("strut", rail.strut_mm);
-      w.vector3("attach", rail.attach_mm, true);
-      w.line("branch = " + std::to_string(rail.branch));
-    }
-  } else if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&kinematics)) {
-    const HexapodGeometry& g = hexapod->geometry();
-    w.points("base", g.base_mm);
-    w.points("platform", g.platform_mm);
-    w.length("tool_length", g.tool_length_mm);
-    w.lengths("leg_offsets", g.leg_offset_mm.data(), 6);
-    write_leg_limits(w, hexapod->leg_limits().settings(), "base_joint_axis");
-  } else if (const auto* delta = dynamic_cast<const RotaryDeltaKinematics*>(&kinematics)) {
-    const RotaryDeltaGeometry& g = delta->geometry();
-    w.length("base_radius", g.base_radius_mm);
-    w.length("arm_length", g.arm_length_mm);
-    w.length("forearm_length", g.forearm_length_mm);
-    w.length("platform_radius", g.platform_radius_mm);
-    if (delta->passthrough().count() > 0) w.line(delta->passthrough().toml_line());
-  } else if (const auto* formula = dynamic_cast<const FormulaKinematics*>(&kinematics)) {
-    const FormulaDefinition& d = formula->definition();
-    w.line("axes = " + axis_list(formula->dof()));
-    w.line("");
-    w.line("[kinematics.constants]");
-    for (const auto& [name, value] : d.constants) w.value(name, value);
-    w.line("");
-    w.line("[kinematics.formulas]");
-    for (const auto& [joint, expression] : d.formulas) {
-      w.line(joint + " = " + toml_string(expression));
-    }
-  }
-  return w.text();
+  TomlTableWriter section("[kinematics]", "kinematics",
+                          units == LengthUnit::inch ? 1.0 / 25.4 : 1.0);
+  write_kinematics_config(kinematics, section);
+  return section.text();
 }
 
 std::string replace_kinematics_section(const std::string& original_text,

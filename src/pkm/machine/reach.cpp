@@ -8,7 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "pkm/kinematics/hexapod.hpp"
 #include "pkm/machine/machine.hpp"
 
 namespace pkm {
@@ -110,9 +109,7 @@ std::string Machine::explain_other_assembly(const Pose& pose) const {
   const std::string across =
       "another assembly mode than home's, across a singularity (a platform below its "
       "carriages, a hexapod platform tilted past 90 deg)";
-  const auto* hexapod = dynamic_cast<const HexapodKinematics*>(kinematics_.get());
-  if (hexapod == nullptr) return across;
-  const HexapodKinematics::BaseSide side = hexapod->base_side(pose);
+  const BasePlaneMargin side = kinematics_->base_plane_margin(pose);
   if (!(side.margin_mm <= 0.0)) return across;
   return "another assembly mode than home's: the platform joint of '" +
          joints_[static_cast<std::size_t>(side.leg)].name + "' is " +

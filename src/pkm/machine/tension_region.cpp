@@ -95,6 +95,8 @@ void classify(const Machine& machine, const CablePlotterKinematics& cables,
 }  // namespace
 
 std::optional<TensionRegion> tension_region(const Machine& machine, int columns, int rows) {
+  // The cast is the honest answer: the map is the cable plotter's own (its anchors bound it, and
+  // its balance is solved again without the tension limits).
   const auto* cables = dynamic_cast<const CablePlotterKinematics*>(&machine.kinematics());
   if (cables == nullptr || !(cables->geometry().effector_mass_kg > 0.0)) return std::nullopt;
   const CablePlotterKinematics unlimited = without_limits(*cables);

@@ -29,8 +29,8 @@ std::string newtons(double value) {
 }  // namespace
 
 std::optional<TensionLimit> TensionLimit::of(const Kinematics& kinematics, double share) {
-  const auto* cables = dynamic_cast<const CablePlotterKinematics*>(&kinematics);
-  if (cables == nullptr || !(cables->geometry().effector_mass_kg > 0.0)) return std::nullopt;
+  const HangingCables* cables = kinematics.hanging_cables();
+  if (cables == nullptr || !(cables->effector_mass_kg() > 0.0)) return std::nullopt;
   return TensionLimit(*cables, share);
 }
 
@@ -209,12 +209,12 @@ std::string TensionLimit::beyond_limits_at_rest(
   return text.empty() ? text : text + " along the move";
 }
 
-std::string describe_excess(const CablePlotterKinematics& kinematics, const TensionExcess& excess) {
+std::string describe_excess(const HangingCables& kinematics, const TensionExcess& excess) {
   if (!excess.outside) return "the tensions are within their limits";
   if (excess.cable < 0) return "the effector has no balance there (the cables in line)";
   const std::string cable = std::string("the ") + cable_name(excess.cable) + " cable";
   if (excess.slack) {
-    if (!(excess.tension_N > 0.0) && !kinematics.geometry().tension_limited) {
+    if (!(excess.tension_N > 0.0) && !kinematics.tension_limited()) {
       return cable + " would go slack (it would have to push)";
     }
     return cable + " would go slack: " + newtons(excess.tension_N) +

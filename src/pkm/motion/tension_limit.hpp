@@ -10,7 +10,7 @@
 #include <optional>
 #include <string>
 
-#include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/hanging_cables.hpp"
 #include "pkm/motion/segment.hpp"
 
 namespace pkm::motion {
@@ -41,7 +41,7 @@ struct TensionBound {
 
 class TensionLimit {
  public:
-  // The limit of a machine whose kinematics is a cable_plotter with effector_mass > 0 (its
+  // The limit of a machine hanging from cables (a cable_plotter) whose effector has a mass (its
   // tensions are "both cables pull", [0, inf), without tension_limits); none for any other.
   static std::optional<TensionLimit> of(const Kinematics& kinematics,
                                         double share = kTensionMoveShare);
@@ -77,11 +77,11 @@ class TensionLimit {
   // reaches 412.3 N", empty when they stay within.
   std::string beyond_limits_at_rest(const std::function<Vector6d(double)>& pose_at) const;
 
-  const CablePlotterKinematics& kinematics() const { return *kinematics_; }
+  const HangingCables& kinematics() const { return *kinematics_; }
   double share() const { return share_; }
 
  private:
-  TensionLimit(const CablePlotterKinematics& kinematics, double share)
+  TensionLimit(const HangingCables& kinematics, double share)
       : kinematics_(&kinematics), share_(share) {}
   // The largest c in [0, cap] with the tensions within at `base` + c `direction`, scaled by
   // `scale` (1 / share of the headroom), to 1e-10 N of a limit; `excess` names what passes
@@ -90,11 +90,11 @@ class TensionLimit {
                   const Eigen::Vector2d& direction, double cap, double scale,
                   TensionExcess& excess) const;
 
-  const CablePlotterKinematics* kinematics_;
+  const HangingCables* kinematics_;
   double share_;
 };
 
 // "the left cable would go slack (4.1 N, below tension_limits' minimum 5 N)" for a user.
-std::string describe_excess(const CablePlotterKinematics& kinematics, const TensionExcess& excess);
+std::string describe_excess(const HangingCables& kinematics, const TensionExcess& excess);
 
 }  // namespace pkm::motion

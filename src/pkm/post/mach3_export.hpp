@@ -1,6 +1,7 @@
 // The Mach3 "formula axis correction" equations of a machine whose inverse kinematics is a closed
 // formula, numbers filled in, as the Mach3 source document typed them by hand:
-// f(a) = sqrt((x^2) + (y^2)).
+// f(a) = sqrt((x^2) + (y^2)). Each model gives its own (Kinematics::joint_formulas); here they
+// are named by their joints' axis letters, the pass-through joints after them.
 #pragma once
 
 #include <string>

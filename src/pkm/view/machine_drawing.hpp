@@ -1,23 +1,20 @@
 // The machine drawn to scale as line segments in machine coordinates (mm): what stays put (base,
 // rails, pulleys, the work envelope) once, and what moves (legs, struts, cables, platform, tool)
-// at a pose. Hexapods: base and platform hexagons and the six legs; glides: rails over their
-// travel, carriages and struts; cable plotters: pulleys, cables and the effector; other models:
-// the tool and the envelope only (docs/html-views.md).
+// at a pose. The mechanism is the model's own sketch (Kinematics::sketch(): hexapods, glides,
+// cable plotters, rotary deltas); models without one show the envelope only (docs/html-views.md).
 #pragma once
 
 #include <vector>
 
+#include "pkm/kinematics/mechanism_sketch.hpp"
 #include "pkm/machine/machine.hpp"
 
 namespace pkm::view {
 
-// How a segment is drawn: the page gives each kind its colour and width.
-enum class Part { frame = 0, link = 1, platform = 2, tool = 3, envelope = 4 };
-
-struct Segment {
-  Part part = Part::frame;
-  Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
-};
+// A line of the drawing and what it is part of (the page gives each kind its colour and width):
+// the model's own (mechanism_sketch.hpp) and the envelope's.
+using Part = SketchPart;
+using Segment = SketchLine;
 
 // True when the machine is best seen from the front as a plane (x right, y up): cable plotters
 // and machines that control neither z nor an angle.
