@@ -1,4 +1,4 @@
-// The one interface every kinematic model answers (DESIGN.md, "Kinematics interface").
+// The one interface every kinematic model answers (docs/architecture.md, "The kinematics interface").
 #pragma once
 
 #include <Eigen/Core>
