@@ -1,4 +1,5 @@
-// The one interface every kinematic model answers (docs/architecture.md, "The kinematics interface").
+// The one interface every kinematic model answers (docs/architecture.md, "The kinematics
+// interface").
 #pragma once
 
 #include <Eigen/Core>
