@@ -397,15 +397,7 @@ class OverflowingKinematics final : public Kinematics {
 };
 
 TEST(NanGuard, AJointThatIsNotANumberStopsThePlanAtItsLine) {
-  std::vector<JointSpec> joints(2);
-  joints[0].name = "u";
-  joints[1].name = "v";
-  for (JointSpec& joint : joints) {
-    joint.min = -1000.0;
-    joint.max = 1000.0;
-    joint.max_velocity = 100.0;
-    joint.max_acceleration = 1000.0;
-  }
+  const std::vector<JointSpec> joints = test::test_model_joints_uv();
   const Machine machine("overflowing", "test", LengthUnit::mm,
                         std::make_unique<OverflowingKinematics>(), joints, {6000.0, 500.0},
                         Pose::from_mm_deg(0.0, 0.0, 0.0));

@@ -94,6 +94,19 @@ std::vector<Pose> sample_reachable_poses(const Machine& machine, int count, std:
   return poses;
 }
 
+std::vector<JointSpec> test_model_joints_uv() {
+  std::vector<JointSpec> joints(2);
+  joints[0].name = "u";
+  joints[1].name = "v";
+  for (JointSpec& joint : joints) {
+    joint.min = -1000.0;
+    joint.max = 1000.0;
+    joint.max_velocity = 100.0;
+    joint.max_acceleration = 1000.0;
+  }
+  return joints;
+}
+
 std::string joints_text(int count, double min, double max) {
   std::string text;
   for (int i = 1; i <= count; ++i) {

@@ -30,6 +30,8 @@ std::vector<Pose> sample_reachable_poses(const Machine& machine, int count, std:
 
 // [[joints]] tables leg1..legN, linear from `min` to `max` mm.
 std::string joints_text(int count, double min, double max);
+// Joints u and v of a test model in code: travel -1000..1000 mm, 100 mm/s, 1000 mm/s^2.
+std::vector<JointSpec> test_model_joints_uv();
 // A hexapod's machine file: joints at `base` and `platform` [x, y, 0], `extra_keys` in
 // [kinematics], home 500 mm above the base.
 std::string hexapod_text(const std::vector<std::array<double, 2>>& base,
