@@ -10,9 +10,6 @@ namespace pkm {
 
 namespace {
 
-// The values of a row in column order and interface units (sample_rows.hpp).
-using RowBuilder = SampleRows;
-
 // Rows gather in memory and reach the file in blocks of about this many bytes: a write per
 // row (and a printf per value) cost several times the formatting (issue 16).
 constexpr std::size_t kBlockBytes = std::size_t{1} << 16;
@@ -67,7 +64,7 @@ class CsvFile final : public SampleFile {
   }
 
   AtomicFileWriter file_;
-  RowBuilder rows_;
+  SampleRows rows_;  // a row's values in column order and interface units
   text::TextBuffer pending_;
 };
 
@@ -144,7 +141,7 @@ class NpyFile final : public SampleFile {
   }
 
   AtomicFileWriter file_;
-  RowBuilder rows_;
+  SampleRows rows_;              // a row's values in column order and interface units
   std::size_t block_rows_;       // rows in about kBlockBytes
   std::vector<double> pending_;  // block_rows_ rows, and room for a row too long
   std::size_t pending_rows_ = 0;
