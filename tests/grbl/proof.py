@@ -55,6 +55,10 @@ JOBS = {
 }
 
 
+class TraceOff(Exception):
+    """A recorded step row more than one step from the program's blocks."""
+
+
 def fail(message):
     print("FAIL: " + message)
     sys.exit(1)
@@ -127,11 +131,24 @@ class Proof:
         self.run(["plan", "-m", sim_machine, job, "--estimate", "--report", plan_report] + origin)
         plan_s = plan_time(json.load(open(plan_report)))
         steps = os.path.join(self.work, name + ".steps")
-        started = time.monotonic()
-        self.run(["stream", "-m", sim_machine, program, "--joint-program", "--dry-run",
-                  "--grbl-sim", self.grbl_sim, "--sim-clock", str(self.sim_clock),
-                  "--record-steps", steps])
-        wall_s = time.monotonic() - started
+        # grbl-sim runs grbl's stepper interrupt and its main loop (which prepares the step
+        # segments the interrupt reads) on two threads, without grbl's atomic sections: once in a
+        # few dozen runs its steps leave the blocks by a step or two (a whole suite on a quiet
+        # machine: 1.6 steps, the rows parallel to the block). One such run is run again, said
+        # so; a second fails (docs/grbl.md, "What grbl-sim is and is not").
+        for attempt in (1, 2):
+            started = time.monotonic()
+            self.run(["stream", "-m", sim_machine, program, "--joint-program", "--dry-run",
+                      "--grbl-sim", self.grbl_sim, "--sim-clock", str(self.sim_clock),
+                      "--record-steps", steps])
+            wall_s = time.monotonic() - started
+            try:
+                trace = self.step_trace(sim_machine, program, steps)
+                break
+            except TraceOff as off:
+                if attempt == 2:
+                    fail(str(off) + " (in both runs)")
+                print("grbl-sim's steps left the blocks: %s; run again" % off)
         same_blocks = program_blocks(program) == program_blocks(bare_program)
         row = {
             "job": name, "machine": machine, "blocks": posted["controller"]["blocks"],
@@ -147,7 +164,7 @@ class Proof:
             "g0_rapids_line": next((w["line"] for w in posted.get("warnings", [])
                                     if "rapid with the spindle on" in w["message"]), None),
         }
-        row.update(self.step_trace(sim_machine, program, steps))
+        row.update(trace)
         return row
 
     def step_trace(self, machine, program, steps_file):
@@ -177,8 +194,8 @@ class Proof:
             if best is None:
                 fail("no block for step row %s" % row)
             if best[0] > 1.0 + 1e-9:
-                fail("step row %s is %.3f steps from the program's blocks %d..%d" %
-                     (row, best[0], best[1], best[1] + 1))
+                raise TraceOff("step row %s is %.3f steps from the program's blocks %d..%d" %
+                               (row, best[0], best[1], best[1] + 1))
             segment = best[1]
             if best[0] >= worst:
                 worst, worst_row, worst_point = best[0], row, best[2]
