@@ -366,6 +366,9 @@ class Poster : private CoveringHost {
     return duration;
   }
 
+  // The speed post gives a rapid written as timed blocks (pkm plan's rapid speed).
+  double max_feed_mm_per_s() const { return machine_.cartesian().max_feed_mm_per_min / 60.0; }
+
   // A spindle or laser on, as opposed to a pen the spindle output lifts.
   bool cutting() const { return !pen() && spindle_on_ == true; }
 
@@ -373,7 +376,7 @@ class Poster : private CoveringHost {
   // the joints' top rates, take the tool above max_feed on average.
   void warn_of_fast_rapid(const Span& span, const JointVector& q1, int line) {
     const double joints_s = joint_limited_s(q1);
-    const double max_feed = machine_.cartesian().max_feed_mm_per_min / 60.0;
+    const double max_feed = max_feed_mm_per_s();
     if (line == fast_rapid_warned_line_ || !(joints_s > 0.0)) return;
     const double tool_mm_per_s = span.length_mm() / joints_s;
     if (tool_mm_per_s <= max_feed * (1.0 + 1e-9)) return;
@@ -392,11 +395,9 @@ class Poster : private CoveringHost {
 
   void write_block(const Span& span, const JointVector& q1, double deviation_mm) override {
     const Segment& segment = span.first().segment;
-    const bool timed_rapid = segment.rapid && timed_rapids_ && !cutting();
-    if (segment.rapid && timed_rapids_ && !timed_rapid) {
-      warn_of_fast_rapid(span, q1, segment.line);
-    }
-    const bool as_g0 = segment.rapid && !timed_rapid;
+    const bool kept_for_spindle = segment.rapid && timed_rapids_ && cutting();
+    if (kept_for_spindle) warn_of_fast_rapid(span, q1, segment.line);
+    const bool as_g0 = segment.rapid && (!timed_rapids_ || kept_for_spindle);
     std::string line = as_g0 ? "G0" : "G1";
     if (!as_g0 && !inverse_time_) {
       line = "G93 " + line;
@@ -409,8 +410,8 @@ class Poster : private CoveringHost {
       // Inverse time: the block takes the programmed path's time at the programmed feed (the
       // sum over the moves it spans; a rapid's at max_feed), or longer where a joint would
       // otherwise exceed its velocity.
-      const double rapid_mm_per_s = machine_.cartesian().max_feed_mm_per_min / 60.0;
-      line += inverse_time_feed(std::max(span.programmed_s(rapid_mm_per_s), joint_limited_s(q1)));
+      line +=
+          inverse_time_feed(std::max(span.programmed_s(max_feed_mm_per_s()), joint_limited_s(q1)));
     }
     if (options_.max_blocks > 0 && report_.blocks >= options_.max_blocks) {
       throw BlockBoundError(file_, segment.line,
