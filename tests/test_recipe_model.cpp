@@ -17,11 +17,13 @@
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/model_config_writer.hpp"
 #include "pkm/kinematics/registry.hpp"
+#include "pkm/linuxcnc/config_export.hpp"
 #include "pkm/machine/machine_file_error.hpp"
 #include "pkm/machine/machine_writer.hpp"
 #include "pkm/motion/job_reach.hpp"
 #include "pkm/motion/planner.hpp"
 #include "pkm/post/joint_program.hpp"
+#include "pkm/post/program_header.hpp"
 #include "pkm/verify/joint_path.hpp"
 #include "test_support.hpp"
 
@@ -310,11 +312,19 @@ TEST_F(SlidePair, PostCoversTheJobWithASampledDeviationAndVerifyAgrees) {
       << moves[moves.size() - 2];
   EXPECT_NE(moves.back().find("X25.00000 Y45.00000"), std::string::npos) << moves.back();
 
+  // The program's header says the deviation was sampled, and verify reads its tolerance there.
+  const std::string header =
+      post::joint_program_header(machine, "job.ngc", post::Dialect::linuxcnc, 0.01, &report);
+  EXPECT_NE(header.find("(tolerance    0.010000 mm; sampled deviation "), std::string::npos)
+      << header;
+  EXPECT_NE(header.find("mm,         20 blocks)"), std::string::npos) << header;
   const std::filesystem::path program = temp_file("slide-pair.ngc");
   {
     std::ofstream out(program);
+    out << header;
     for (const std::string& line : lines) out << line << "\n";
   }
+  EXPECT_EQ(verify::tolerance_in_header(program), 0.01);
   verify::VerifyOptions verify_options;
   verify_options.tolerance_mm = 0.01;
   const verify::VerifyReport verified =
@@ -328,6 +338,36 @@ TEST_F(SlidePair, PostCoversTheJobWithASampledDeviationAndVerifyAgrees) {
   // fraction, which post samples): within the tolerance, and at most post's.
   EXPECT_LE(verified.max_deviation_mm, report.max_deviation_mm + 1e-9);
   EXPECT_GT(verified.max_deviation_mm, 0.0099);
+}
+
+// The LinuxCNC export's axis limits from the joint-rate bound, sampled for a kind without
+// derivative bounds: with joints of 60 mm/s and 3000 mm/s^2, x and y each get 30 mm/s and
+// 1500 mm/s^2 of joint budget over the gain of 2, below max_feed (50 mm/s) but not below
+// max_acceleration (500 mm/s^2), which LinuxCNC gets divided by its planner's overshoot.
+TEST_F(SlidePair, TheLinuxcncExportSplitsTheJointsRatesOverTheGain) {
+  std::string text = kSlidePairFile;
+  for (std::size_t at; (at = text.find("max_velocity = 1000.0")) != std::string::npos;) {
+    text.replace(at, 21, "max_velocity = 60.0");
+  }
+  for (std::size_t at; (at = text.find("max_acceleration = 100000.0")) != std::string::npos;) {
+    text.replace(at, 27, "max_acceleration = 3000.0");
+  }
+  const Machine machine = parse_machine(text, "slide-pair.toml");
+  linuxcnc::ExportOptions options;
+  options.sim = true;
+  options.machine_file_name = "slide-pair.toml";
+  options.machine_text = text;
+  const linuxcnc::LinuxcncConfig config = linuxcnc::make_linuxcnc_config(machine, options);
+  EXPECT_FALSE(config.bound.proven);
+  EXPECT_NEAR(config.limits.velocity[0], 30.0, 1e-9);
+  EXPECT_NEAR(config.limits.velocity[1], 30.0, 1e-9);
+  EXPECT_NEAR(config.limits.acceleration[0], 500.0 / linuxcnc::kPlannerAccelerationOvershoot, 1e-9);
+  EXPECT_NEAR(config.limits.acceleration[1], 500.0 / linuxcnc::kPlannerAccelerationOvershoot, 1e-9);
+  // Z, which no joint follows, LinuxCNC moves at the machine's limits: the tool's speed cap is
+  // max_feed.
+  EXPECT_TRUE(config.moved.controls(2));
+  EXPECT_NEAR(config.limits.velocity[2], 50.0, 1e-9);
+  EXPECT_NEAR(config.limits.linear_velocity, 50.0, 1e-9);
 }
 
 TEST_F(SlidePair, ItsMachineFileIsWrittenBackAsItWasRead) {
