@@ -1,9 +1,10 @@
 // docs/architecture.md's recipe "Adding a machine kind" followed with a model that lives in this
 // file only: a slide pair (two linear joints, u = gain x + offset, v = gain y + offset), its
 // reader, and its registration (KinematicsKind). Then what the recipe promises, from the interface
-// and nothing else: the machine file loads and its bad keys are located, the reach, a plan
-// against its hand-computed trapezoid, a post with the sampled deviation (the model has no
-// derivative bounds), the verification of that joint program, and the machine file written back.
+// and nothing else: the machine file loads and its bad keys are located, the reach, the certified
+// check's refusal (no derivative bounds), a plan against its hand-computed trapezoid, a post with
+// the sampled deviation, the verification of that joint program, the LinuxCNC export's rates, and
+// the machine file written back.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -144,6 +145,15 @@ TEST_F(SlidePair, ItsMachineFileLoadsAsTheKindTheRegistrationNames) {
   ASSERT_TRUE(machine.inverse(machine.home(), home).ok());
   EXPECT_DOUBLE_EQ(home[0], 2.0 * 10.0 + 5.0);
   EXPECT_DOUBLE_EQ(home[1], 2.0 * 20.0 + 5.0);
+  // IK and FK undo each other (FK seeded away from the pose).
+  for (const Pose& pose :
+       {Pose::from_mm_deg(-50.0, 60.0, 0.0), Pose::from_mm_deg(37.5, -3.25, 0.0)}) {
+    JointVector joints;
+    ASSERT_TRUE(machine.inverse(pose, joints).ok());
+    Pose found = machine.home();
+    ASSERT_TRUE(machine.forward(joints, found).ok());
+    EXPECT_NEAR((found.position_mm - pose.position_mm).norm(), 0.0, 1e-12);
+  }
   const std::vector<std::string> types = kinematics_types();
   EXPECT_EQ(types.back(), "slide_pair");  // after the built-in ones
   EXPECT_EQ(types.front(), "matrix");
@@ -163,6 +173,17 @@ TEST_F(SlidePair, ADuplicateNameIsRefusedAndTheFirstStaysRegistered) {
     EXPECT_STREQ(error.what(), "kinematics type 'matrix' is built in");
   }
   EXPECT_THROW(KinematicsKind("", make_slide_pair_kinematics), std::invalid_argument);
+  // A reader whose model names another type: the file it writes back would not read.
+  const KinematicsKind alias("slide_pair_alias", make_slide_pair_kinematics);
+  std::string text = kSlidePairFile;
+  text.replace(text.find("\"slide_pair\""), 12, "\"slide_pair_alias\"");
+  try {
+    parse_machine(text, "alias.toml");
+    FAIL() << "a model of another type loaded";
+  } catch (const std::logic_error& error) {
+    EXPECT_STREQ(error.what(),
+                 "the reader of kinematics type 'slide_pair_alias' made no model of that type");
+  }
   EXPECT_EQ(parse_machine(kSlidePairFile, "slide-pair.toml").kinematics().type(), "slide_pair");
 }
 
