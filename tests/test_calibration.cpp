@@ -281,19 +281,39 @@ TEST(Identifiability, PrecisionAndHoldsByHand) {
   EXPECT_TRUE(poorly_determined(jacobian, parameters, 0.1).empty());
 }
 
+// Each model says what its parameters stand for; the kinds and deviations are docs/calibration.md's
+// table, the texts those of the fit's messages.
 TEST(Identifiability, PlausibleDeviationsByKind) {
-  const auto deviation = [](std::string_view model, const std::string& name, double value) {
-    return parameter_plausibility(model, {name, value, "mm"}, 1500.0).deviation;
+  const auto judged = [](const std::string& file, const std::string& name, double value) {
+    std::vector<Parameter> parameters = test::load_example(file).kinematics().parameters();
+    const auto found = std::find_if(parameters.begin(), parameters.end(),
+                                    [&](const Parameter& p) { return p.name == name; });
+    if (found == parameters.end()) throw std::runtime_error(file + " has no " + name);
+    found->value = value;
+    return parameter_plausibility(*found, 1500.0);
   };
-  EXPECT_DOUBLE_EQ(deviation("cable_plotter", "pulley_radius", 6.366), 0.2 * 6.366);
-  EXPECT_DOUBLE_EQ(deviation("cable_plotter", "anchor_right_x", 1500.0), 2.0 + 0.02 * 1500.0);
-  EXPECT_DOUBLE_EQ(deviation("cable_plotter", "effector_mass", 0.3), 0.15);
-  EXPECT_EQ(deviation("cable_plotter", "effector_mass", 0.0), 0.0);  // no mass: not judged
-  EXPECT_DOUBLE_EQ(deviation("glide", "rail2.direction.x", -0.5), 0.02);
-  EXPECT_DOUBLE_EQ(deviation("hexapod", "leg3.offset", 0.0), 32.0);
-  EXPECT_DOUBLE_EQ(deviation("matrix", "C_xy", 0.0), 0.01);
-  EXPECT_EQ(deviation("formula", "d", 3.0), 0.0);  // a formula's constant: not judged
-  EXPECT_EQ(parameter_plausibility("formula", {"d", 3.0, ""}, 1500.0).kind, "");
+  const auto deviation = [&](const std::string& file, const std::string& name, double value) {
+    return judged(file, name, value).deviation;
+  };
+  EXPECT_DOUBLE_EQ(deviation("hektor-pulleys.toml", "pulley_radius", 6.366), 0.2 * 6.366);
+  EXPECT_EQ(judged("hektor-pulleys.toml", "pulley_radius", 6.366).rule,
+            "20 % of its nominal value");
+  EXPECT_DOUBLE_EQ(deviation("hektor.toml", "anchor_right_x", 1500.0), 2.0 + 0.02 * 1500.0);
+  EXPECT_EQ(judged("hektor.toml", "anchor_right_x", 1500.0).rule,
+            "2 mm + 2 % of the machine's size of 1500 mm");
+  EXPECT_EQ(judged("hektor.toml", "cable_offset_left", 0.0).kind, "a cable's zero");
+  EXPECT_DOUBLE_EQ(deviation("hektor.toml", "effector_mass", 0.3), 0.15);
+  EXPECT_EQ(deviation("hektor.toml", "effector_mass", 0.0), 0.0);  // no mass: not judged
+  EXPECT_DOUBLE_EQ(deviation("triaglide.toml", "rail2.direction.x", -0.5), 0.02);
+  EXPECT_EQ(judged("triaglide.toml", "rail2.direction.x", -0.5).rule, "0.02");
+  EXPECT_EQ(judged("triaglide.toml", "rail1.strut", 300.0).kind, "a strut's length");
+  EXPECT_DOUBLE_EQ(deviation("hexapod-bit.toml", "leg3.offset", 0.0), 32.0);
+  EXPECT_EQ(judged("hexapod-bit.toml", "tool_length", 0.0).kind, "the tool's length");
+  EXPECT_EQ(judged("linuxcnc-rdelta.toml", "forearm_length", 0.0).kind, "a link's length");
+  EXPECT_DOUBLE_EQ(deviation("matrix-mill.toml", "C_xy", 0.0), 0.01);
+  EXPECT_EQ(judged("matrix-mill.toml", "C_xy", 0.0).kind, "a matrix coefficient");
+  EXPECT_EQ(judged("mach3-formula.toml", "d", 3.0).deviation, 0.0);  // a constant: not judged
+  EXPECT_EQ(judged("mach3-formula.toml", "d", 3.0).kind, "");
   // The machine's size: the larger of what was measured and the file's largest length.
   const std::vector<Parameter> frame = {{"leg1.base.x", -320.0, "mm"}, {"C_xx", 1e4, ""}};
   EXPECT_EQ(machine_size_mm(frame, 100.0), 320.0);

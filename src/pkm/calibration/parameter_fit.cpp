@@ -320,7 +320,7 @@ std::vector<ScreenedParameter> screened_parameters(const Kinematics& kinematics,
   std::vector<ScreenedParameter> result;
   for (const int index : free) {
     const Parameter& p = parameters[static_cast<std::size_t>(index)];
-    const Plausibility plausibility = parameter_plausibility(kinematics.type(), p, size_mm);
+    const Plausibility plausibility = parameter_plausibility(p, size_mm);
     result.push_back({p.name, p.unit, plausibility.kind, p.value,
                       values[static_cast<std::size_t>(index)], plausibility.deviation,
                       plausibility.rule});
@@ -432,8 +432,7 @@ FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& resid
   for (const int index : requested) {
     const int column = free_column(index);
     if (column < 0) report.held.push_back(parameters[index].name);
-    const Plausibility plausibility =
-        parameter_plausibility(kinematics.type(), parameters[index], size_mm);
+    const Plausibility plausibility = parameter_plausibility(parameters[index], size_mm);
     report.parameters.push_back(
         {parameters[index].name, parameters[index].unit, nominal[index], fitted[index],
          column < 0 ? 0.0 : precision.deviation[static_cast<std::size_t>(column)], column >= 0,

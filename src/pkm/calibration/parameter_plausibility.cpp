@@ -1,19 +1,13 @@
 #include "pkm/calibration/parameter_plausibility.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 
 namespace pkm {
 
 namespace {
-
-bool starts_with(std::string_view text, std::string_view prefix) {
-  return text.substr(0, prefix.size()) == prefix;
-}
-
-bool contains(std::string_view text, std::string_view part) {
-  return text.find(part) != std::string_view::npos;
-}
 
 // Frame points, link lengths and joint zeros are built and measured to about the same share of
 // the machine's size: a tape over the frame, a leg cut to length, a cable marked at its zero.
@@ -28,30 +22,10 @@ Plausibility value_relative(std::string kind, const Parameter& parameter, double
           std::to_string(static_cast<int>(std::lround(100.0 * share))) + " % of its nominal value"};
 }
 
-Plausibility cable_plotter(const Parameter& p, double size_mm) {
-  const std::string_view name = p.name;
-  // The belt's or cable's effective radius on a catalogue pulley moves with its thickness and
-  // how it sits in the teeth: a 20-tooth GT2's pitch radius is 6.37 mm, over the belt 7 mm.
-  if (name == "pulley_radius") return value_relative("a pulley's radius", p, 0.2);
-  if (starts_with(name, "cable_offset")) return size_relative("a cable's zero", size_mm);
-  if (starts_with(name, "anchor")) return size_relative("an anchor's position", size_mm);
-  if (starts_with(name, "attach") || starts_with(name, "center_of_mass"))
-    return size_relative("a point on the effector", size_mm);
-  return value_relative("a physical property", p, 0.5);  // mass, density, stretch, build-up
-}
-
-Plausibility glide(const Parameter& p, double size_mm) {
-  if (contains(p.name, ".direction.")) return {"a rail direction's component", 0.02, "0.02"};
-  if (contains(p.name, ".strut")) return size_relative("a strut's length", size_mm);
-  if (contains(p.name, ".attach.")) return size_relative("a point on the platform", size_mm);
-  return size_relative("a rail's origin", size_mm);
-}
-
-Plausibility hexapod(const Parameter& p, double size_mm) {
-  if (contains(p.name, ".offset")) return size_relative("a leg's zero", size_mm);
-  if (contains(p.name, ".platform.")) return size_relative("a platform joint", size_mm);
-  if (p.name == "tool_length") return size_relative("the tool's length", size_mm);
-  return size_relative("a base joint", size_mm);
+Plausibility absolute(std::string kind, double deviation) {
+  std::array<char, 32> text{};
+  std::snprintf(text.data(), text.size(), "%g", deviation);
+  return {std::move(kind), deviation, text.data()};
 }
 
 }  // namespace
@@ -64,20 +38,22 @@ double machine_size_mm(const std::vector<Parameter>& parameters, double extent_m
   return size;
 }
 
-Plausibility parameter_plausibility(std::string_view model_type, const Parameter& parameter,
-                                    double size_mm) {
+Plausibility parameter_plausibility(const Parameter& parameter, double size_mm) {
+  const BuiltAs& built = parameter.built_as;
+  std::string kind(built.what);
   Plausibility result;
-  if (model_type == "cable_plotter") {
-    result = cable_plotter(parameter, size_mm);
-  } else if (model_type == "glide") {
-    result = glide(parameter, size_mm);
-  } else if (model_type == "hexapod") {
-    result = hexapod(parameter, size_mm);
-  } else if (model_type == "rotary_delta") {
-    result = size_relative("a link's length", size_mm);
-  } else if (model_type == "matrix") {
-    // matrixkins corrections are of the order of 1e-3 (a squareness of a millimetre per metre).
-    result = {"a matrix coefficient", 0.01, "0.01"};
+  switch (built.tolerance) {
+    case BuiltTolerance::none:
+      break;
+    case BuiltTolerance::machine_size:
+      result = size_relative(std::move(kind), size_mm);
+      break;
+    case BuiltTolerance::own_value:
+      result = value_relative(std::move(kind), parameter, built.amount);
+      break;
+    case BuiltTolerance::absolute:
+      result = absolute(std::move(kind), built.amount);
+      break;
   }
   // A share of a nominal 0 (a cable without mass) judges nothing: such a parameter is held as
   // having no effect anyway.

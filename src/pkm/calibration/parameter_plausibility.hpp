@@ -1,11 +1,10 @@
-// What kind of hardware each named model parameter stands for, and how far a built machine can
-// plausibly be from its machine file there: the yardstick a fit holds a poorly determined
-// parameter with (its standard deviation beyond that deviation) and refuses a nonsense one with
-// (fitted beyond three times it). The table is docs/calibration.md's.
+// How far a built machine can plausibly be from its machine file at a parameter, by what the
+// model says the parameter stands for in the hardware (Parameter::built_as): the yardstick a fit
+// holds a poorly determined parameter with (its standard deviation beyond that deviation) and
+// refuses a nonsense one with (fitted beyond three times it). The table is docs/calibration.md's.
 #pragma once
 
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "pkm/kinematics/kinematics.hpp"
@@ -33,8 +32,8 @@ inline constexpr double kImplausibleDeviations = 3.0;
 // 600 mm frame).
 double machine_size_mm(const std::vector<Parameter>& parameters, double extent_mm);
 
-// `model_type` as Kinematics::type(); `size_mm` as machine_size_mm gives.
-Plausibility parameter_plausibility(std::string_view model_type, const Parameter& parameter,
-                                    double size_mm);
+// By what the model says the parameter stands for (Parameter::built_as); `size_mm` as
+// machine_size_mm gives.
+Plausibility parameter_plausibility(const Parameter& parameter, double size_mm);
 
 }  // namespace pkm

@@ -425,23 +425,30 @@ std::string CablePlotterKinematics::why_ideal_refused(const Eigen::Vector2d& pen
 
 std::vector<Parameter> CablePlotterKinematics::parameters() const {
   const CablePlotterGeometry& g = geometry_;
-  return {{"anchor_left_x", g.anchors_mm[0].x(), "mm"},
-          {"anchor_left_y", g.anchors_mm[0].y(), "mm"},
-          {"anchor_right_x", g.anchors_mm[1].x(), "mm"},
-          {"anchor_right_y", g.anchors_mm[1].y(), "mm"},
-          {"pulley_radius", g.pulley_radius_mm, "mm"},
-          {"cable_offset_left", g.cable_offsets_mm[0], "mm"},
-          {"cable_offset_right", g.cable_offsets_mm[1], "mm"},
-          {"attach_left_x", g.attach_mm[0].x(), "mm"},
-          {"attach_left_y", g.attach_mm[0].y(), "mm"},
-          {"attach_right_x", g.attach_mm[1].x(), "mm"},
-          {"attach_right_y", g.attach_mm[1].y(), "mm"},
-          {"center_of_mass_x", g.center_of_mass_mm.x(), "mm"},
-          {"center_of_mass_y", g.center_of_mass_mm.y(), "mm"},
-          {"effector_mass", g.effector_mass_kg, "kg"},
-          {"cable_density", g.cable_density_kg_per_m, "kg/m"},
-          {"cable_stretch", g.cable_stretch_mm_per_m_per_N, "mm/m/N"},
-          {"spool_buildup", g.spool_buildup_mm_per_m, "mm/m"}};
+  const BuiltAs anchor{"an anchor's position", BuiltTolerance::machine_size};
+  // The belt's or cable's effective radius on a catalogue pulley moves with its thickness and
+  // how it sits in the teeth: a 20-tooth GT2's pitch radius is 6.37 mm, over the belt 7 mm.
+  const BuiltAs pulley{"a pulley's radius", BuiltTolerance::own_value, 0.2};
+  const BuiltAs zero{"a cable's zero", BuiltTolerance::machine_size};
+  const BuiltAs effector{"a point on the effector", BuiltTolerance::machine_size};
+  const BuiltAs property{"a physical property", BuiltTolerance::own_value, 0.5};
+  return {{"anchor_left_x", g.anchors_mm[0].x(), "mm", anchor},
+          {"anchor_left_y", g.anchors_mm[0].y(), "mm", anchor},
+          {"anchor_right_x", g.anchors_mm[1].x(), "mm", anchor},
+          {"anchor_right_y", g.anchors_mm[1].y(), "mm", anchor},
+          {"pulley_radius", g.pulley_radius_mm, "mm", pulley},
+          {"cable_offset_left", g.cable_offsets_mm[0], "mm", zero},
+          {"cable_offset_right", g.cable_offsets_mm[1], "mm", zero},
+          {"attach_left_x", g.attach_mm[0].x(), "mm", effector},
+          {"attach_left_y", g.attach_mm[0].y(), "mm", effector},
+          {"attach_right_x", g.attach_mm[1].x(), "mm", effector},
+          {"attach_right_y", g.attach_mm[1].y(), "mm", effector},
+          {"center_of_mass_x", g.center_of_mass_mm.x(), "mm", effector},
+          {"center_of_mass_y", g.center_of_mass_mm.y(), "mm", effector},
+          {"effector_mass", g.effector_mass_kg, "kg", property},
+          {"cable_density", g.cable_density_kg_per_m, "kg/m", property},
+          {"cable_stretch", g.cable_stretch_mm_per_m_per_N, "mm/m/N", property},
+          {"spool_buildup", g.spool_buildup_mm_per_m, "mm/m", property}};
 }
 
 void CablePlotterKinematics::set_parameters(std::span<const double> values) {

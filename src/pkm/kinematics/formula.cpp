@@ -125,6 +125,7 @@ int FormulaKinematics::assembly_mode(const Pose& pose) const {
 
 std::vector<Parameter> FormulaKinematics::parameters() const {
   std::vector<Parameter> result;
+  // A constant means what the formulas make of it: BuiltTolerance::none, judged by rank only.
   for (const auto& [name, value] : definition_.constants) result.push_back({name, value, ""});
   return result;
 }

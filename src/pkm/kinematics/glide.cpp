@@ -517,12 +517,24 @@ std::vector<Parameter> GlideKinematics::parameters() const {
     const GlideRail& rail = rails_[i];
     const std::string prefix = "rail" + std::to_string(i + 1) + ".";
     for (int k = 0; k < 3; ++k)
-      result.push_back({prefix + "origin." + kComponent[k], rail.origin_mm[k], "mm"});
+      result.push_back({prefix + "origin." + kComponent[k],
+                        rail.origin_mm[k],
+                        "mm",
+                        {"a rail's origin", BuiltTolerance::machine_size}});
     for (int k = 0; k < 3; ++k)
-      result.push_back({prefix + "direction." + kComponent[k], rail.direction[k], ""});
-    result.push_back({prefix + "strut", rail.strut_mm, "mm"});
+      result.push_back({prefix + "direction." + kComponent[k],
+                        rail.direction[k],
+                        "",
+                        {"a rail direction's component", BuiltTolerance::absolute, 0.02}});
+    result.push_back({prefix + "strut",
+                      rail.strut_mm,
+                      "mm",
+                      {"a strut's length", BuiltTolerance::machine_size}});
     for (int k = 0; k < 3; ++k)
-      result.push_back({prefix + "attach." + kComponent[k], rail.attach_mm[k], "mm"});
+      result.push_back({prefix + "attach." + kComponent[k],
+                        rail.attach_mm[k],
+                        "mm",
+                        {"a point on the platform", BuiltTolerance::machine_size}});
   }
   return result;
 }

@@ -387,14 +387,26 @@ std::vector<Parameter> HexapodKinematics::parameters() const {
   for (int i = 0; i < 6; ++i) {
     const std::string prefix = "leg" + std::to_string(i + 1) + ".";
     for (int k = 0; k < 3; ++k) {
-      result.push_back({prefix + "base." + kComponent[k], geometry_.base_mm[i][k], "mm"});
+      result.push_back({prefix + "base." + kComponent[k],
+                        geometry_.base_mm[i][k],
+                        "mm",
+                        {"a base joint", BuiltTolerance::machine_size}});
     }
     for (int k = 0; k < 3; ++k) {
-      result.push_back({prefix + "platform." + kComponent[k], geometry_.platform_mm[i][k], "mm"});
+      result.push_back({prefix + "platform." + kComponent[k],
+                        geometry_.platform_mm[i][k],
+                        "mm",
+                        {"a platform joint", BuiltTolerance::machine_size}});
     }
-    result.push_back({prefix + "offset", geometry_.leg_offset_mm[i], "mm"});
+    result.push_back({prefix + "offset",
+                      geometry_.leg_offset_mm[i],
+                      "mm",
+                      {"a leg's zero", BuiltTolerance::machine_size}});
   }
-  result.push_back({"tool_length", geometry_.tool_length_mm, "mm"});
+  result.push_back({"tool_length",
+                    geometry_.tool_length_mm,
+                    "mm",
+                    {"the tool's length", BuiltTolerance::machine_size}});
   return result;
 }
 

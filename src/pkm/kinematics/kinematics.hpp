@@ -11,6 +11,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "pkm/geometry/pose.hpp"
@@ -89,11 +90,31 @@ struct BasePlaneMargin {
 
 enum class JointKind { linear, rotary };  // linear joints in mm; rotary in rad inside, deg outside
 
+// How far a built machine can plausibly be from its machine file at a parameter depends on what
+// the parameter stands for in the hardware (docs/calibration.md's table): the model says so beside
+// each parameter, so that calibration judges a fit without asking which model it fits.
+enum class BuiltTolerance {
+  none,          // not judged, by rank only (a formula's constants)
+  machine_size,  // built and measured to 2 mm + 2 % of the machine's size: points, lengths, zeros
+  own_value,     // a share of its own nominal value: a catalogue part, a weighed property
+  absolute,  // a fixed deviation in the parameter's unit: a direction's component, a coefficient
+};
+struct BuiltAs {
+  std::string_view what;  // for messages, a literal: "a pulley's radius"
+  BuiltTolerance tolerance = BuiltTolerance::none;
+  double amount = 0.0;  // own_value: the share (0.2 for 20 %); absolute: the deviation
+};
+
 // A named geometric parameter, the unit of calibration.
 struct Parameter {
+  Parameter() = default;
+  Parameter(std::string name_, double value_, std::string unit_, BuiltAs built_as_ = {})
+      : name(std::move(name_)), value(value_), unit(std::move(unit_)), built_as(built_as_) {}
+
   std::string name;
   double value = 0.0;
   std::string unit;  // "mm", "rad" or "" for dimensionless
+  BuiltAs built_as;
 };
 
 // Settings of the iterative forward solvers.

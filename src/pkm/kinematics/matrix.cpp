@@ -65,8 +65,11 @@ std::vector<Parameter> MatrixKinematics::parameters() const {
   std::vector<Parameter> result;
   for (int row = 0; row < 3; ++row) {
     for (int col = 0; col < 3; ++col) {
-      result.push_back(
-          {std::string("C_") + kRowNames[row] + kRowNames[col], coefficients_(row, col), ""});
+      // matrixkins corrections are of the order of 1e-3 (a squareness of a millimetre per metre).
+      result.push_back({std::string("C_") + kRowNames[row] + kRowNames[col],
+                        coefficients_(row, col),
+                        "",
+                        {"a matrix coefficient", BuiltTolerance::absolute, 0.01}});
     }
   }
   return result;

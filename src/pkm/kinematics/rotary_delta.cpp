@@ -277,10 +277,11 @@ std::string RotaryDeltaKinematics::why_refused(const Pose& pose, const Status& s
 }
 
 std::vector<Parameter> RotaryDeltaKinematics::parameters() const {
-  return {{"base_radius", geometry_.base_radius_mm, "mm"},
-          {"arm_length", geometry_.arm_length_mm, "mm"},
-          {"forearm_length", geometry_.forearm_length_mm, "mm"},
-          {"platform_radius", geometry_.platform_radius_mm, "mm"}};
+  const BuiltAs link{"a link's length", BuiltTolerance::machine_size};
+  return {{"base_radius", geometry_.base_radius_mm, "mm", link},
+          {"arm_length", geometry_.arm_length_mm, "mm", link},
+          {"forearm_length", geometry_.forearm_length_mm, "mm", link},
+          {"platform_radius", geometry_.platform_radius_mm, "mm", link}};
 }
 
 void RotaryDeltaKinematics::set_parameters(std::span<const double> values) {
