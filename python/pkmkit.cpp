@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "common.hpp"
+#include "bind_common.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/machine/machine_parameters.hpp"
 #include "pkm/motion/job_reach.hpp"

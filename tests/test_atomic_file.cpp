@@ -16,7 +16,7 @@
 #include <tuple>
 #include <vector>
 
-#include "pkm/io/atomic_file.hpp"
+#include "pkm/files/atomic_file.hpp"
 
 namespace pkm {
 namespace {

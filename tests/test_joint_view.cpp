@@ -10,11 +10,11 @@
 #include <fstream>
 #include <sstream>
 
+#include "pkm/io/json_reports.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/verify/job_path.hpp"
 #include "pkm/verify/joint_trace.hpp"
 #include "pkm/view/html_page.hpp"
-#include "pkm/view/reports.hpp"
 #include "real_corpus.hpp"
 #include "test_support.hpp"
 
@@ -116,7 +116,7 @@ TEST(JointView, FindsABlockPastAJointsTravelAtItsLine) {
   EXPECT_NE(report.position.first[0].detail.find("passes its max"), std::string::npos);
   EXPECT_DOUBLE_EQ(report.joints[0].high, 2200.0);
   EXPECT_EQ(report.joints[0].high_line, 3);
-  const nlohmann::json json = view::view_report_json(plotter, program.string(), report);
+  const nlohmann::json json = view_report_json(plotter, program.string(), report);
   EXPECT_DOUBLE_EQ(json["joints"][0]["margin_high"].get<double>(), -100.0);
   fs::remove(program);
 }

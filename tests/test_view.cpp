@@ -9,6 +9,7 @@
 #include <limits>
 #include <random>
 
+#include "pkm/io/json_reports.hpp"
 #include "pkm/kinematics/cable_plotter.hpp"
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
@@ -18,7 +19,6 @@
 #include "pkm/view/html_page.hpp"
 #include "pkm/view/machine_drawing.hpp"
 #include "pkm/view/recorders.hpp"
-#include "pkm/view/reports.hpp"
 #include "test_support.hpp"
 
 namespace pkm {
@@ -205,7 +205,7 @@ TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
   limit.bound = motion::JointBound::velocity;
   limit.needed_at_programmed = 39.6 * 25.4;
   limit.usable = 0.99 * 20.0 * 25.4;
-  EXPECT_EQ(view::feed_limit_text(hexapod, limit),
+  EXPECT_EQ(feed_limit_text(hexapod, limit),
             "F10.0 lowered to F5.0: joint leg2's velocity would be 39.6 in/s at F10.0, over the "
             "19.8 in/s it may use (99 % of max_velocity 20.0)");
   // The same on an arc of 0.5 in: the curve, and what v^2/r within half of max_acceleration
@@ -217,7 +217,7 @@ TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
   limit.radius_mm = 0.5 * 25.4;
   limit.curve_acceleration_mm_per_s2 = 100.0 * 25.4;
   limit.curve_allowed_mm_per_s = std::sqrt(100.0 * 0.5) * 25.4;
-  EXPECT_EQ(view::feed_limit_text(hexapod, limit),
+  EXPECT_EQ(feed_limit_text(hexapod, limit),
             "F10.0 lowered to F5.0 on the arc (radius 0.5000 in): joint leg2's acceleration would "
             "be 250.0 in/s^2 at F10.0, over the 80.0 in/s^2 it may use on a bend (half of 80 % "
             "of max_acceleration 200.0); the tool's own v^2/r allows F424.3 (within 100.0 "
@@ -236,7 +236,7 @@ TEST(FeedLimitText, ThePlanReportCarriesTheBoundTheCurveAndTheReason) {
   const motion::PlanReport report = motion::plan_program(
       plotter, std::string(PKM_SOURCE_DIR) + "/tests/data/vitruvian-first-square.ngc", {}, options,
       none);
-  const nlohmann::json json = view::plan_report_json(plotter, report, "square.ngc", 0.001, true);
+  const nlohmann::json json = plan_report_json(plotter, report, "square.ngc", 0.001, true);
   const nlohmann::json& limit = json["feed_limited_by_joints"].at(0);
   EXPECT_EQ(limit["line"], 8);
   EXPECT_EQ(limit["bound"]["limit"], "acceleration");
@@ -246,7 +246,7 @@ TEST(FeedLimitText, ThePlanReportCarriesTheBoundTheCurveAndTheReason) {
   EXPECT_EQ(limit["curve"]["kind"], "blend");
   EXPECT_EQ(limit["curve"]["after_line"], 7);
   EXPECT_NEAR(limit["curve"]["radius_mm"].get<double>(), 0.034142, 3e-4);
-  EXPECT_EQ(limit["reason"], view::feed_limit_text(plotter, report.feed_limits.at(0)));
+  EXPECT_EQ(limit["reason"], feed_limit_text(plotter, report.feed_limits.at(0)));
 }
 
 TEST(JobOutline, FollowsTheJobFromHomeToItsEnd) {
@@ -373,7 +373,7 @@ TEST(PlanPage, PlotterSpeedIsOverThePaperAndThePenIsShown) {
   ASSERT_EQ(data["marks"].size(), 1u);
   EXPECT_NEAR(data["marks"][0]["t"].get<double>(), recorder.line_starts().at(4).t, 1e-5);
   EXPECT_EQ(data["marks"][0]["label"], "line 3: F1200 slowed to F600 by joint left");
-  // With the report's reason (view::feed_limit_text) the mark says the cause, not just a joint.
+  // With the report's reason (feed_limit_text) the mark says the cause, not just a joint.
   nlohmann::json reasoned = json;
   reasoned["feed_limited_by_joints"][0]["reason"] =
       "F1200.0 lowered to F600.0: joint left's velocity would be 300.0 mm/s at F1200.0, over the "

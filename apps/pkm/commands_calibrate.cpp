@@ -17,7 +17,7 @@
 #include "pkm/calibration/fit_report.hpp"
 #include "pkm/calibration/geometry_fit.hpp"
 #include "pkm/calibration/matrix_calibration.hpp"
-#include "pkm/io/atomic_file.hpp"
+#include "pkm/files/atomic_file.hpp"
 #include "pkm/kinematics/matrix.hpp"
 #include "pkm/machine/machine_writer.hpp"
 #include "pkm/text/text_file.hpp"
@@ -339,14 +339,10 @@ void run_pattern(const PatternCommandOptions& options) {
   std::printf("wrote %s and %s\n", options.output.c_str(), json_path.c_str());
 }
 
-}  // namespace
-
-void register_calibrate_commands(CLI::App& app) {
-  CLI::App* calibrate = app.add_subcommand("calibrate", "Calibrate a machine from measurements");
-  calibrate->require_subcommand(1);
-
+// `pkm calibrate matrix`: matrixkins coefficients from the shop measurements.
+void register_matrix_command(CLI::App& calibrate) {
   auto matrix = std::make_shared<MatrixOptions>();
-  CLI::App* matrix_command = calibrate->add_subcommand(
+  CLI::App* matrix_command = calibrate.add_subcommand(
       "matrix", "matrixkins coefficients from the documented shop measurements");
   matrix_command
       ->add_option("--diagonals", matrix->diagonals,
@@ -378,9 +374,12 @@ void register_calibrate_commands(CLI::App& app) {
                              "Write the updated machine file (needs --add-to)");
   matrix_command->add_flag("--json", matrix->json, "Print {\"matrix\": [[..],[..],[..]]}");
   matrix_command->callback([matrix] { run_matrix(*matrix); });
+}
 
+// `pkm calibrate fit`: the geometry fitted to measured poses or drawn distances.
+void register_fit_command(CLI::App& calibrate) {
   auto fit = std::make_shared<FitCommandOptions>();
-  CLI::App* fit_command = calibrate->add_subcommand(
+  CLI::App* fit_command = calibrate.add_subcommand(
       "fit", "Least-squares fit of the machine's geometry to measured poses");
   fit_command->add_option("-m,--machine", fit->machine, "Machine file (default: embedded hexapod)");
   fit_command->add_option("data", fit->data, "CSV: j_<joint> columns and measured x y z [a b c]");
@@ -394,9 +393,12 @@ void register_calibrate_commands(CLI::App& app) {
                           "Comma-separated parameter names to fit, '*' wildcards (default: all)");
   fit_command->add_flag("--json", fit->json, "Print the report as JSON");
   fit_command->callback([fit] { run_fit(*fit); });
+}
 
+// `pkm calibrate pattern`: the drawing of numbered crosses and its pattern.json.
+void register_pattern_command(CLI::App& calibrate) {
   auto pattern = std::make_shared<PatternCommandOptions>();
-  CLI::App* pattern_command = calibrate->add_subcommand(
+  CLI::App* pattern_command = calibrate.add_subcommand(
       "pattern", "G-code drawing numbered crosses to measure with a tape (and pattern.json)");
   pattern_command->add_option("-m,--machine", pattern->machine,
                               "Machine file (default: embedded hexapod)");
@@ -425,6 +427,17 @@ void register_calibrate_commands(CLI::App& app) {
       ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
   pattern_command->add_flag("--json", pattern->json, "Print the report as JSON");
   pattern_command->callback([pattern] { run_pattern(*pattern); });
+}
+
+}  // namespace
+
+void register_calibrate_commands(CLI::App& app) {
+  CLI::App* calibrate = app.add_subcommand("calibrate", "Calibrate a machine from measurements");
+  calibrate->require_subcommand(1);
+
+  register_matrix_command(*calibrate);
+  register_fit_command(*calibrate);
+  register_pattern_command(*calibrate);
 }
 
 }  // namespace pkm::app

@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "app.hpp"
-#include "pkm/io/atomic_file.hpp"
+#include "pkm/files/atomic_file.hpp"
 #include "pkm/post/homing_program.hpp"
 
 namespace pkm::app {

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "app.hpp"
-#include "pkm/io/atomic_file.hpp"
+#include "pkm/files/atomic_file.hpp"
 #include "pkm/linuxcnc/config_import.hpp"
 
 namespace pkm::app {

@@ -10,13 +10,13 @@
 
 #include "app.hpp"
 #include "embedded_machine.hpp"
+#include "pkm/files/atomic_file.hpp"
 #include "pkm/gcode/gcode_error.hpp"
-#include "pkm/io/atomic_file.hpp"
+#include "pkm/io/json_reports.hpp"
 #include "pkm/io/sample_files.hpp"
 #include "pkm/motion/job_reach.hpp"
 #include "pkm/motion/planner.hpp"
 #include "pkm/view/html_page.hpp"
-#include "pkm/view/reports.hpp"
 #include "progress.hpp"
 
 namespace pkm::app {
@@ -180,7 +180,7 @@ void print_feed_limits(const Machine& machine, const motion::PlanReport& report,
                        std::size_t count) {
   for (std::size_t i = 0; i < report.feed_limits.size() && i < count; ++i) {
     const motion::FeedLimit& limit = report.feed_limits[i];
-    std::printf("    line %d: %s\n", limit.line, view::feed_limit_text(machine, limit).c_str());
+    std::printf("    line %d: %s\n", limit.line, feed_limit_text(machine, limit).c_str());
   }
   if (report.feed_limits.size() > count) {
     std::printf("    and %zu more (--report lists them all)\n", report.feed_limits.size() - count);
@@ -292,8 +292,7 @@ void run_plan(const PlanCommandOptions& options) {
       if (!options.report.empty()) {
         write_file_atomically(
             options.report,
-            view::plan_report_json(machine, estimate, options.program, options.period_s, true)
-                    .dump(2) +
+            plan_report_json(machine, estimate, options.program, options.period_s, true).dump(2) +
                 "\n");
       }
       print_warnings(options, estimate);
@@ -325,7 +324,7 @@ void run_plan(const PlanCommandOptions& options) {
   progress.clear();
   output->commit();
   const nlohmann::json json =
-      view::plan_report_json(machine, report, options.program, options.period_s, false);
+      plan_report_json(machine, report, options.program, options.period_s, false);
   if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) {
     recorder.finish();

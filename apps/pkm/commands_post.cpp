@@ -6,9 +6,10 @@
 #include <nlohmann/json.hpp>
 
 #include "app.hpp"
+#include "pkm/files/atomic_file.hpp"
 #include "pkm/gcode/gcode_error.hpp"
-#include "pkm/io/atomic_file.hpp"
 #include "pkm/io/input_files.hpp"
+#include "pkm/io/json_reports.hpp"
 #include "pkm/motion/job_reach.hpp"
 #include "pkm/motion/planner.hpp"
 #include "pkm/post/grbl_settings.hpp"
@@ -176,8 +177,8 @@ void run_post(const PostCommandOptions& options) {
                    warning.message.c_str());
     }
   }
-  const nlohmann::json json = view::post_report_json(machine, options.program, options.output,
-                                                     report, post_options.tolerance_mm);
+  const nlohmann::json json =
+      post_report_json(machine, options.program, options.output, report, post_options.tolerance_mm);
   if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) write_post_html(machine, options, post_options, json);
   const double per_unit = machine.mm_per_unit();

@@ -6,11 +6,11 @@
 #include <nlohmann/json.hpp>
 
 #include "app.hpp"
+#include "pkm/files/atomic_file.hpp"
 #include "pkm/gcode/gcode_error.hpp"
-#include "pkm/io/atomic_file.hpp"
+#include "pkm/io/json_reports.hpp"
 #include "pkm/verify/joint_path.hpp"
 #include "pkm/view/html_page.hpp"
-#include "pkm/view/reports.hpp"
 #include "progress.hpp"
 
 namespace pkm::app {
@@ -188,8 +188,7 @@ void run_verify(const VerifyCommandOptions& options) {
     throw CommandError(error.what());
   }
   progress.clear();
-  const nlohmann::json json =
-      view::verify_report_json(machine, options.joints, options.job, report);
+  const nlohmann::json json = verify_report_json(machine, options.joints, options.job, report);
   if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) write_verify_html(machine, options, verify_options, json, recorder);
   print_report(machine, options, report);

@@ -7,12 +7,12 @@
 #include <nlohmann/json.hpp>
 
 #include "app.hpp"
+#include "pkm/files/atomic_file.hpp"
 #include "pkm/gcode/gcode_error.hpp"
-#include "pkm/io/atomic_file.hpp"
+#include "pkm/io/json_reports.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/verify/joint_trace.hpp"
 #include "pkm/view/html_page.hpp"
-#include "pkm/view/reports.hpp"
 #include "progress.hpp"
 
 namespace pkm::app {
@@ -143,7 +143,7 @@ void run_view(const ViewCommandOptions& options) {
     throw CommandError(error.what());
   }
   progress.clear();
-  const nlohmann::json json = view::view_report_json(machine, options.joints, report);
+  const nlohmann::json json = view_report_json(machine, options.joints, report);
   if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) {
     recorder.finish();

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "app.hpp"
-#include "pkm/io/atomic_file.hpp"
+#include "pkm/files/atomic_file.hpp"
 #include "pkm/linuxcnc/ini_file.hpp"
 #include "version.hpp"
 

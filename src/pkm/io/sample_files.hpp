@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "pkm/io/atomic_file.hpp"
+#include "pkm/files/atomic_file.hpp"
 #include "pkm/io/sample_rows.hpp"
 #include "pkm/machine/machine.hpp"
 #include "pkm/motion/planner.hpp"

@@ -381,6 +381,77 @@ int GlideKinematics::mode_of_tip(const Eigen::Vector3d& tip_mm, const JointVecto
   return orientation >= 0.0 ? 1 : -1;
 }
 
+namespace {
+
+// The two intersections of three spheres (carriage i's at `centre[i]`, radius strut i).
+Status intersect_spheres(const std::array<Eigen::Vector3d, 3>& centre,
+                         const std::array<double, 3>& radius,
+                         std::array<Eigen::Vector3d, 2>& candidates) {
+  const Eigen::Vector3d span_12 = centre[1] - centre[0];
+  const double d = span_12.norm();
+  if (d == 0.0) return Status::failure(StatusCode::singular);
+  const Eigen::Vector3d ex = span_12 / d;
+  const Eigen::Vector3d span_13 = centre[2] - centre[0];
+  const double i = ex.dot(span_13);
+  Eigen::Vector3d ey = span_13 - i * ex;
+  const double j = ey.norm();
+  if (j <= 1e-9 * d) return Status::failure(StatusCode::singular);
+  ey /= j;
+  const Eigen::Vector3d ez = ex.cross(ey);
+  const double x = (radius[0] * radius[0] - radius[1] * radius[1] + d * d) / (2.0 * d);
+  const double y =
+      (radius[0] * radius[0] - radius[2] * radius[2] + i * i + j * j) / (2.0 * j) - i * x / j;
+  const double z_squared = radius[0] * radius[0] - x * x - y * y;
+  if (z_squared < 0.0) return Status::failure(StatusCode::unreachable);
+  const double z = std::sqrt(z_squared);
+  candidates = {centre[0] + x * ex + y * ey + z * ez, centre[0] + x * ex + y * ey - z * ez};
+  return Status::success();
+}
+
+// Two rails: the spheres of the first two carriages cut the plane of the two controlled axes
+// (`dof`) in circles; their two intersections, the third coordinate 0.
+Status intersect_circles(const std::array<Eigen::Vector3d, 3>& centre,
+                         const std::array<double, 3>& radius, Dof dof,
+                         std::array<Eigen::Vector3d, 2>& candidates) {
+  std::array<int, 2> plane{};
+  int off_plane = 0;
+  for (int axis = 0, n = 0; axis < 3; ++axis) {
+    if (dof.controls(axis)) {
+      plane[n++] = axis;
+    } else {
+      off_plane = axis;
+    }
+  }
+  std::array<Eigen::Vector2d, 2> centre_2d;
+  std::array<double, 2> radius_2d{};
+  for (int k = 0; k < 2; ++k) {
+    centre_2d[k] = {centre[k][plane[0]], centre[k][plane[1]]};
+    const double in_plane_squared =
+        radius[k] * radius[k] - centre[k][off_plane] * centre[k][off_plane];
+    if (in_plane_squared < 0.0) return Status::failure(StatusCode::unreachable, k);
+    radius_2d[k] = std::sqrt(in_plane_squared);
+  }
+  const Eigen::Vector2d span = centre_2d[1] - centre_2d[0];
+  const double d = span.norm();
+  if (d == 0.0) return Status::failure(StatusCode::singular);
+  const double along =
+      (radius_2d[0] * radius_2d[0] - radius_2d[1] * radius_2d[1] + d * d) / (2.0 * d);
+  const double across_squared = radius_2d[0] * radius_2d[0] - along * along;
+  if (across_squared < 0.0) return Status::failure(StatusCode::unreachable);
+  const Eigen::Vector2d ex = span / d;
+  const Eigen::Vector2d ey(-ex.y(), ex.x());
+  const double across = std::sqrt(across_squared);
+  for (int k = 0; k < 2; ++k) {
+    const Eigen::Vector2d point = centre_2d[0] + along * ex + (k == 0 ? across : -across) * ey;
+    candidates[k] = Eigen::Vector3d::Zero();
+    candidates[k][plane[0]] = point.x();
+    candidates[k][plane[1]] = point.y();
+  }
+  return Status::success();
+}
+
+}  // namespace
+
 Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pose_inout) const {
   // Sphere i: the tip lies at distance strut_i from carriage_i - attach_i.
   std::array<Eigen::Vector3d, 3> centre;
@@ -390,70 +461,32 @@ Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pos
     radius[i] = rails_[i].strut_mm;
   }
   std::array<Eigen::Vector3d, 2> candidates;
-  if (rail_count() == 3) {
-    const Eigen::Vector3d span_12 = centre[1] - centre[0];
-    const double d = span_12.norm();
-    if (d == 0.0) return Status::failure(StatusCode::singular);
-    const Eigen::Vector3d ex = span_12 / d;
-    const Eigen::Vector3d span_13 = centre[2] - centre[0];
-    const double i = ex.dot(span_13);
-    Eigen::Vector3d ey = span_13 - i * ex;
-    const double j = ey.norm();
-    if (j <= 1e-9 * d) return Status::failure(StatusCode::singular);
-    ey /= j;
-    const Eigen::Vector3d ez = ex.cross(ey);
-    const double x = (radius[0] * radius[0] - radius[1] * radius[1] + d * d) / (2.0 * d);
-    const double y =
-        (radius[0] * radius[0] - radius[2] * radius[2] + i * i + j * j) / (2.0 * j) - i * x / j;
-    const double z_squared = radius[0] * radius[0] - x * x - y * y;
-    if (z_squared < 0.0) return Status::failure(StatusCode::unreachable);
-    const double z = std::sqrt(z_squared);
-    candidates = {centre[0] + x * ex + y * ey + z * ez, centre[0] + x * ex + y * ey - z * ez};
-  } else {
-    // Two rails: circles in the plane of the two controlled axes; the third coordinate is 0.
-    std::array<int, 2> plane{};
-    int off_plane = 0;
-    for (int axis = 0, n = 0; axis < 3; ++axis) {
-      if (dof_.controls(axis)) {
-        plane[n++] = axis;
-      } else {
-        off_plane = axis;
-      }
-    }
-    std::array<Eigen::Vector2d, 2> centre_2d;
-    std::array<double, 2> radius_2d{};
-    for (int k = 0; k < 2; ++k) {
-      centre_2d[k] = {centre[k][plane[0]], centre[k][plane[1]]};
-      const double in_plane_squared =
-          radius[k] * radius[k] - centre[k][off_plane] * centre[k][off_plane];
-      if (in_plane_squared < 0.0) return Status::failure(StatusCode::unreachable, k);
-      radius_2d[k] = std::sqrt(in_plane_squared);
-    }
-    const Eigen::Vector2d span = centre_2d[1] - centre_2d[0];
-    const double d = span.norm();
-    if (d == 0.0) return Status::failure(StatusCode::singular);
-    const double along =
-        (radius_2d[0] * radius_2d[0] - radius_2d[1] * radius_2d[1] + d * d) / (2.0 * d);
-    const double across_squared = radius_2d[0] * radius_2d[0] - along * along;
-    if (across_squared < 0.0) return Status::failure(StatusCode::unreachable);
-    const Eigen::Vector2d ex = span / d;
-    const Eigen::Vector2d ey(-ex.y(), ex.x());
-    const double across = std::sqrt(across_squared);
-    for (int k = 0; k < 2; ++k) {
-      const Eigen::Vector2d point = centre_2d[0] + along * ex + (k == 0 ? across : -across) * ey;
-      candidates[k] = Eigen::Vector3d::Zero();
-      candidates[k][plane[0]] = point.x();
-      candidates[k][plane[1]] = point.y();
-    }
-  }
+  const Status intersected = rail_count() == 3
+                                 ? intersect_spheres(centre, radius, candidates)
+                                 : intersect_circles(centre, radius, dof_, candidates);
+  if (!intersected.ok()) return intersected;
+  Pose best;
+  const Status picked = pick_candidate(joints, candidates, pose_inout, best);
+  if (!picked.ok()) return picked;
+  // The closed form loses a few digits to cancellation; Newton from it restores full precision.
+  const Status polished = solve_forward_newton(WithoutLegLimits<GlideKinematics>(*this), joints,
+                                               best, forward_options_);
+  if (!polished.ok()) return polished;
+  pose_inout = best;
+  return Status::success();
+}
+
+Status GlideKinematics::pick_candidate(const JointVector& joints,
+                                       const std::array<Eigen::Vector3d, 2>& candidates,
+                                       const Pose& seed_pose, Pose& picked) const {
   // Both intersections satisfy the strut lengths; only those whose carriages sit on the
   // configured branch reproduce the joint readings. Where both do, the one in the seed's assembly
   // mode (the side of the struts' plane the platform hangs on, which the joints move with) wins,
   // however far the seed is; nearest only breaks a tie. A seed the rails cannot reach has no
   // mode: then the candidate on the seed's side of the spheres' centres.
   const double scale = 1.0 + joints.cwiseAbs().maxCoeff();
-  const Eigen::Vector3d seed = controlled_part(pose_inout).position_mm;
-  std::array<Pose, 2> trials{pose_inout, pose_inout};
+  const Eigen::Vector3d seed = controlled_part(seed_pose).position_mm;
+  std::array<Pose, 2> trials{seed_pose, seed_pose};
   std::array<bool, 2> valid{};
   for (int k = 0; k < 2; ++k) {
     for (int axis = 0; axis < 3; ++axis) {
@@ -467,7 +500,7 @@ Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pos
   int chosen = valid[0] ? 0 : 1;
   if (valid[0] && valid[1]) {
     // The seed's mode costs an IK: only asked where there is a choice.
-    int seed_mode = assembly_mode(pose_inout);
+    int seed_mode = assembly_mode(seed_pose);
     if (seed_mode == 0) {
       const double seed_side =
           (seed - 0.5 * (candidates[0] + candidates[1])).dot(candidates[0] - candidates[1]);
@@ -479,12 +512,7 @@ Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pos
     };
     chosen = score(1) < score(0) ? 1 : 0;
   }
-  Pose best = trials[chosen];
-  // The closed form loses a few digits to cancellation; Newton from it restores full precision.
-  const Status polished = solve_forward_newton(WithoutLegLimits<GlideKinematics>(*this), joints,
-                                               best, forward_options_);
-  if (!polished.ok()) return polished;
-  pose_inout = best;
+  picked = trials[chosen];
   return Status::success();
 }
 

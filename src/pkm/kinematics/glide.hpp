@@ -101,6 +101,10 @@ class GlideKinematics final : public Kinematics, public MechanismSketch {
   // Closed-form FK of a translating platform: intersection of the spheres (3 rails) or circles
   // (2 rails) around each carriage, the candidate matching every rail's branch nearest the seed.
   Status forward_translating(const JointVector& joints, Pose& pose_inout) const;
+  // forward_translating's choice between the two intersections `candidates` (tool tips): the
+  // seed's pose with the one that reproduces `joints`, in the seed's assembly mode where both do.
+  Status pick_candidate(const JointVector& joints, const std::array<Eigen::Vector3d, 2>& candidates,
+                        const Pose& seed_pose, Pose& picked) const;
   // assembly_mode() of a translating platform whose tool tip is at `tip_mm` (controlled
   // coordinates; the others 0) on carriages at `joints`.
   int mode_of_tip(const Eigen::Vector3d& tip_mm, const JointVector& joints) const;

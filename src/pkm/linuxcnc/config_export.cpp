@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "pkm/io/atomic_file.hpp"
+#include "pkm/files/atomic_file.hpp"
 #include "pkm/linuxcnc/machine_fingerprint.hpp"
 
 namespace pkm::linuxcnc {

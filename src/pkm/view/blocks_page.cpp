@@ -229,31 +229,4 @@ std::string blocks_page(const std::string& kind, const json& report, const Block
   return page_with(data, title);
 }
 
-json post_report_json(const Machine& machine, const std::string& program, const std::string& output,
-                      const post::PostReport& report, double tolerance_mm) {
-  json warnings = json::array();
-  for (const gcode::Warning& warning : report.warnings) {
-    warnings.push_back({{"line", warning.line}, {"message", warning.message}});
-  }
-  json result = {{"machine", machine.name()},
-                 {"program", program},
-                 {"output", output},
-                 {"blocks", report.blocks},
-                 {"moves", report.moves},
-                 {"max_deviation_mm", report.max_deviation_mm},
-                 {"bounded", report.bounded},
-                 {"max_deviation_line", report.max_deviation_line},
-                 {"tolerance_mm", tolerance_mm},
-                 {"warnings", warnings}};
-  if (report.controller && machine.controller()) {
-    const controller::GrblPrediction& prediction = *report.controller;
-    result["controller"] = {{"kind", controller_kind_name(machine.controller()->kind)},
-                            {"predicted_time_s", prediction.time_s},
-                            {"motion_start_s", prediction.motion_start_s},
-                            {"unlimited_look_ahead_s", prediction.unlimited_time_s},
-                            {"blocks", prediction.blocks}};
-  }
-  return result;
-}
-
 }  // namespace pkm::view

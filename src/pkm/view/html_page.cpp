@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "pkm/io/atomic_file.hpp"
+#include "pkm/files/atomic_file.hpp"
 #include "pkm/view/machine_drawing.hpp"
 #include "pkm/view/page_data.hpp"
 
@@ -100,7 +100,8 @@ json plan_marks(const json& report, const std::map<int, LineStart>& starts) {
   for (const json& limit : report["feed_limited_by_joints"]) {
     const int line = limit["line"].get<int>();
     const LineStart& start = nearest_line_start(starts, line);
-    // The report's sentence (view::feed_limit_text): the limit, its numbers, the corner or arc.
+    // The report's sentence (io/json_reports.hpp, feed_limit_text): the limit, its numbers, the
+    // corner or arc.
     if (limit.contains("reason") && limit["reason"].is_string()) {
       marks.push_back(mark_json(
           start, "line " + std::to_string(line) + ": " + limit["reason"].get<std::string>()));

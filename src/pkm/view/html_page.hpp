@@ -8,7 +8,6 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "pkm/post/joint_program.hpp"
 #include "pkm/view/recorders.hpp"
 
 namespace pkm::view {
@@ -29,11 +28,6 @@ std::string blocks_page(const std::string& kind, const nlohmann::json& report,
 std::string view_page(const nlohmann::json& report, const TraceRecorder& recorder,
                       const std::string& title);
 
-// The report of `pkm post` as JSON: the numbers its summary line prints.
-nlohmann::json post_report_json(const Machine& machine, const std::string& program,
-                                const std::string& output, const post::PostReport& report,
-                                double tolerance_mm);
-
 // Workspace cells the page draws at most, per kind: past it, every k-th (the page says how many
 // it stands for). A document thinned to this many beforehand draws the same.
 inline constexpr std::size_t kWorkspaceCellsDrawn = 40000;
@@ -46,7 +40,7 @@ std::string workspace_page(const nlohmann::json& workspace, const Machine* machi
 void write_workspace_html(const std::filesystem::path& path, const nlohmann::json& workspace,
                           const Machine* machine = nullptr);
 
-// Any page, written whole or not at all (io/atomic_file.hpp).
+// Any page, written whole or not at all (files/atomic_file.hpp).
 void write_page(const std::filesystem::path& path, const std::string& html);
 
 }  // namespace pkm::view

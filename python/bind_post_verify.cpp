@@ -8,15 +8,15 @@
 #include <string>
 #include <vector>
 
-#include "common.hpp"
+#include "bind_common.hpp"
+#include "pkm/files/atomic_file.hpp"
 #include "pkm/gcode/tool_table.hpp"
-#include "pkm/io/atomic_file.hpp"
 #include "pkm/io/input_files.hpp"
+#include "pkm/io/json_reports.hpp"
 #include "pkm/post/joint_program.hpp"
 #include "pkm/post/program_header.hpp"
 #include "pkm/verify/joint_path.hpp"
 #include "pkm/view/html_page.hpp"
-#include "pkm/view/reports.hpp"
 
 namespace pkm::python {
 
@@ -91,7 +91,7 @@ py::object post(const Machine& machine, const std::string& program, const std::s
   } catch (const post::PostError& error) {
     raise_with_reach_hint("PostError", error.what(), -1, own, program, interpreter, options.origin);
   }
-  return json_to_python(view::post_report_json(own, program, output, report, tolerance_mm));
+  return json_to_python(post_report_json(own, program, output, report, tolerance_mm));
 }
 
 py::object verify(const Machine& machine, const std::string& joint_program,
@@ -119,7 +119,7 @@ py::object verify(const Machine& machine, const std::string& joint_program,
     const py::gil_scoped_release released;
     report = verify::verify_joint_program(own, joint_program, against, options);
   }
-  return json_to_python(view::verify_report_json(own, joint_program, against, report));
+  return json_to_python(verify_report_json(own, joint_program, against, report));
 }
 
 }  // namespace

@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "common.hpp"
+#include "bind_common.hpp"
 #include "pkm/gcode/canon.hpp"
 #include "pkm/gcode/interpreter.hpp"
 #include "pkm/gcode/tool_table.hpp"

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "common.hpp"
+#include "bind_common.hpp"
 #include "pkm/calibration/fit_report.hpp"
 #include "pkm/calibration/geometry_fit.hpp"
 #include "pkm/calibration/measurements.hpp"

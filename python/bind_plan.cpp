@@ -14,11 +14,11 @@
 #include <thread>
 #include <vector>
 
-#include "common.hpp"
+#include "bind_common.hpp"
 #include "pkm/gcode/tool_table.hpp"
+#include "pkm/io/json_reports.hpp"
 #include "pkm/io/sample_rows.hpp"
 #include "pkm/motion/planner.hpp"
-#include "pkm/view/reports.hpp"
 
 namespace pkm::python {
 
@@ -117,8 +117,7 @@ py::tuple plan(const Machine& machine, const std::string& program, double period
     raise_with_reach_hint("PlanError", error.what(), error.line(), own, arguments.program,
                           arguments.interpreter, arguments.plan.origin);
   }
-  const nlohmann::json json =
-      view::plan_report_json(own, report, arguments.program, period_s, false);
+  const nlohmann::json json = plan_report_json(own, report, arguments.program, period_s, false);
   return py::make_tuple(
       sample_array(sample_dtype(own), std::move(rows.values()), sample_columns(own).size()),
       json_to_python(json));
@@ -144,7 +143,7 @@ py::object estimate(const Machine& machine, const std::string& program, double p
     report =
         motion::plan_program(own, arguments.program, arguments.interpreter, arguments.plan, none);
   }
-  return json_to_python(view::plan_report_json(own, report, arguments.program, period_s, true));
+  return json_to_python(plan_report_json(own, report, arguments.program, period_s, true));
 }
 
 // Thrown into the planner's thread when the iterator goes away before the plan has ended.
@@ -218,8 +217,8 @@ class PlanChunks final : public motion::SampleSink {
     }
     // finished_report_ was set before finished_, under the mutex taken above, and stays.
     if (report_.is_none() && finished_report_) {
-      report_ = json_to_python(view::plan_report_json(
-          machine_, *finished_report_, arguments_.program, arguments_.plan.period_s, false));
+      report_ = json_to_python(plan_report_json(machine_, *finished_report_, arguments_.program,
+                                                arguments_.plan.period_s, false));
     }
     throw py::stop_iteration();
   }

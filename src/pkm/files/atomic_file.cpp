@@ -1,4 +1,4 @@
-#include "pkm/io/atomic_file.hpp"
+#include "pkm/files/atomic_file.hpp"
 
 #include <fcntl.h>
 #include <pthread.h>

@@ -1,6 +1,7 @@
-// The JSON reports of `pkm plan` and `pkm verify` (--report): the numbers their summaries print,
-// made here so the command line and the Python module (pkmkit.plan, pkmkit.verify) give the same
-// document. Values in the machine's interface units (mm, deg).
+// The JSON reports of `pkm plan`, `pkm post`, `pkm verify` and `pkm view` (--report): the numbers
+// their summaries print, made here so the command line, the Python module (pkmkit.plan,
+// pkmkit.post, pkmkit.verify) and the HTML pages (which embed them) give the same document.
+// Values in the machine's interface units (mm, deg).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -8,10 +9,11 @@
 
 #include "pkm/machine/machine.hpp"
 #include "pkm/motion/planner.hpp"
+#include "pkm/post/joint_program.hpp"
 #include "pkm/verify/joint_path.hpp"
 #include "pkm/verify/joint_trace.hpp"
 
-namespace pkm::view {
+namespace pkm {
 
 // The report of a plan of `program` at `period_s`; `estimate`: the planner made no samples (the
 // peak accelerations are then null: an estimate has none).
@@ -29,6 +31,11 @@ nlohmann::json plan_report_json(const Machine& machine, const motion::PlanReport
 // speed". Feeds in the machine's length unit per minute.
 std::string feed_limit_text(const Machine& machine, const motion::FeedLimit& limit);
 
+// The report of `pkm post` of `program` into `output`: the numbers its summary line prints.
+nlohmann::json post_report_json(const Machine& machine, const std::string& program,
+                                const std::string& output, const post::PostReport& report,
+                                double tolerance_mm);
+
 // The report of a verification of the joint program `joint_program` against the job `job`.
 nlohmann::json verify_report_json(const Machine& machine, const std::string& joint_program,
                                   const std::string& job, const verify::VerifyReport& report);
@@ -43,4 +50,4 @@ nlohmann::json view_report_json(const Machine& machine, const std::string& joint
 std::string violation_unit(const Machine& machine, const verify::Violation& v,
                            const std::string& unit);
 
-}  // namespace pkm::view
+}  // namespace pkm
