@@ -1,35 +1,29 @@
-// A translating glide's assembly mode over a ball of poses: home's mode times the determinant of
-// its strut vectors (the 2-D cross product with two rails), which keeps its sign within a mode,
-// and how fast it can change given how fast each strut moves. One bound for what the certified
-// job check (a ball around a piece of a move) and the workspace (a cell) both prove with.
+// The assembly mode over a ball of poses, whatever the model (kinematics/assembly_mode_bounds.hpp
+// gives each model's own bound: a translating glide's det of its strut vectors, a rotary delta's
+// det of its forearms; a hexapod's is over a box instead). One caller for what the certified job
+// check (a ball around a piece of a move) proves with; the workspace asks the model over a cell.
 #pragma once
 
+#include <optional>
 #include <span>
 
-#include "pkm/kinematics/glide.hpp"
+#include "pkm/kinematics/assembly_mode_bounds.hpp"
+#include "pkm/kinematics/kinematics.hpp"
 
 namespace pkm::bounds {
 
-// The mode value at the ball's centre (positive in home's mode) and an upper bound on how fast it
-// changes per unit of the ball's radius: value - rate * radius > 0 proves the mode over the ball.
-struct ModeBound {
-  double value = 0.0;
-  double rate = 0.0;
-};
+using pkm::ModeBound;
 
-// `absolute`: the determinant itself (mm^3, mm^2 with two rails), each strut's speed in mm per
-// unit of the ball's radius (the certified check's, from the carriages' rates). `per_length`: the
-// determinant over the product of the struts' lengths, each strut's speed per mm of its own
-// length (the workspace's). The same sign either way; both kept so that each caller's arithmetic,
-// and with it every proof's outcome, stays as it was.
-enum class ModeScale { absolute, per_length };
+// Whether the model's assembly mode, home's being `home_mode` (0: a single mode, nothing to
+// keep), has a bound here (over a ball or over a box).
+bool has_assembly_bound(const Kinematics& model, int home_mode);
 
-// Over a ball about the pose `centre` (mm, rad; the coordinates the rails move) whose carriages
-// read `joints`, each strut vector (tip + attach - origin - reading * direction, of fixed length)
-// moving at most `strut_speed[i]` per unit of radius: |d det| <= sum over the struts of its speed
-// times the other struts' lengths. A translating glide only (two or three rails).
-ModeBound glide_mode_bound(const GlideKinematics& glide, int home_mode, const Vector6d& centre,
-                           const JointVector& joints, std::span<const double> strut_speed,
-                           ModeScale scale);
+// Over a ball about the pose `centre` whose joints read `joints`, each joint moving at most
+// `joint_speed[i]` per unit of the ball's radius: the mode value at the centre (positive in home's
+// mode) and its rate; value - rate * radius > 0 proves the mode over the ball. {1, 0} where home
+// has no mode to keep; none where the model has no such bound.
+std::optional<ModeBound> assembly_mode_over_ball(const Kinematics& model, int home_mode,
+                                                 const Vector6d& centre, const JointVector& joints,
+                                                 std::span<const double> joint_speed);
 
 }  // namespace pkm::bounds

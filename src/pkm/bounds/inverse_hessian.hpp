@@ -8,21 +8,16 @@
 #include <optional>
 #include <vector>
 
+#include "pkm/kinematics/derivative_bounds.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/motion/segment.hpp"
 
 namespace pkm::bounds {
 
-// A straight move in pose space: its position change (mm, zero in the coordinates the model
-// does not control) and the norm of its angle change (scaled, see below).
-struct Chord {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  double angle = 0.0;
-};
-
-// The operator norm, over the scaled pose ball, of the map from pose to a platform point b (mm
-// from the tool tip): the identity on the position and at most |b| / scale per scaled angle.
-double platform_point_gain(double b_norm_mm, double angle_scale_mm);
+// The model's answers (kinematics/derivative_bounds.hpp), by their names here.
+using pkm::Chord;
+using pkm::HessianBounds;
+using pkm::platform_point_gain;
 
 // Upper bounds on the programmed piece [u0, u1] of a move per unit of the piece's own fraction
 // (angles are linear in u, so only the position curves): its length and the acceleration of its
@@ -38,21 +33,16 @@ PieceMotion piece_motion(const motion::Segment& segment, double u0, double u1,
 
 // Per joint, over every pose within `radius_mm` of `centre` (mm, rad) in the model's controlled
 // coordinates with rotations scaled by `angle_scale_mm` (mm per rad, so that one norm serves
-// lengths and angles): `norm`, an upper bound on the operator norm of the Hessian of the joint's
-// inverse kinematics, and `along`, on |H[v, v]| for v = `chord`. Infinity where the ball reaches
-// a singularity of the model. `third`, where the model gives one, bounds |D3 IK_i[v, v, v]| on
-// the ball (empty otherwise).
-struct HessianBounds {
-  std::vector<double> norm, along, third;
-};
+// lengths and angles): HessianBounds for v = `chord`, the model's own joints by its
+// DerivativeBounds, its pass-through joints zero.
 // Nothing for models with no such bound here (formula machines).
 std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, const Vector6d& centre,
                                                     double radius_mm, double angle_scale_mm,
                                                     const Chord& chord);
 
 // The scale (mm per rad) that makes angles comparable with lengths in the bounds above: twice
-// the distance of the model's farthest platform point from the tool tip (hexapods, glides), else
-// 100 mm.
+// the distance of the model's farthest platform point from the tool tip (hexapods, glides:
+// DerivativeBounds::farthest_platform_point_mm), else 100 mm.
 double pose_angle_scale_mm(const Kinematics& model);
 
 }  // namespace pkm::bounds

@@ -5,51 +5,17 @@
 #include <array>
 #include <cmath>
 
-#include "pkm/kinematics/glide.hpp"
-#include "pkm/kinematics/hexapod.hpp"
+#include "pkm/kinematics/derivative_bounds.hpp"
 #include "pkm/kinematics/leg_limits.hpp"
-#include "pkm/kinematics/rotary_delta.hpp"
 
 namespace pkm::bounds {
 
 LegMotion leg_motion(const Kinematics& model, const JointVector& joints,
                      const JointJacobian& jacobian, const HessianBounds& hessians, double radius,
                      double scale) {
-  LegMotion motion;
-  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
-    const HexapodGeometry& g = hexapod->geometry();
-    for (std::size_t i = 0; i < 6; ++i) {
-      const double b = g.platform_from_tip_mm(i).norm();
-      const double gain = platform_point_gain(b, scale);
-      motion.inner_speed.push_back(0.0);
-      motion.platform_speed.push_back(gain);
-      motion.platform_arm_mm.push_back(b);
-      motion.shortest_mm.push_back(joints[static_cast<int>(i)] - g.leg_offset_mm[i] -
-                                   gain * radius);
-    }
-    motion.platform_turn = std::sqrt(3.0) / scale;
-  } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
-    const bool rotating = glide->dof().any_rotation();
-    for (std::size_t i = 0; i < glide->rails().size(); ++i) {
-      const GlideRail& rail = glide->rails()[i];
-      // The carriage moves as its reading: the gradient at the centre plus its drift.
-      Eigen::VectorXd gradient = jacobian.row(static_cast<int>(i)).transpose();
-      gradient.tail<3>() /= scale;
-      motion.inner_speed.push_back(gradient.norm() + hessians.norm[i] * radius);
-      motion.platform_speed.push_back(rotating ? platform_point_gain(rail.attach_mm.norm(), scale)
-                                               : 1.0);
-      motion.platform_arm_mm.push_back(rail.attach_mm.norm());
-      motion.shortest_mm.push_back(rail.strut_mm);
-    }
-    motion.platform_turn = rotating ? std::sqrt(3.0) / scale : 0.0;
-  } else if (dynamic_cast<const RotaryDeltaKinematics*>(&model) != nullptr) {
-    // No legs to check; each arm's turn per mm over the ball, for the assembly mode's bound.
-    for (int arm = 0; arm < RotaryDeltaKinematics::kArms; ++arm) {
-      motion.inner_speed.push_back(jacobian.block<1, 3>(arm, 0).norm() +
-                                   hessians.norm[static_cast<std::size_t>(arm)] * radius);
-    }
-  }
-  return motion;
+  const DerivativeBounds* own = model.derivative_bounds();
+  if (own == nullptr) return {};
+  return own->leg_motion(joints, jacobian, hessians, radius, scale);
 }
 
 // How fast (per scaled unit) a joint-angle or clearance value can change over the ball.
@@ -68,11 +34,9 @@ double mechanism_rate(const MechanismLimit& limit, const LegMotion& motion) {
 
 std::optional<LegEnds> legs_at(const Kinematics& model, const Pose& pose,
                                const JointVector& joints) {
-  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model))
-    return hexapod->leg_ends(pose);
-  if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model))
-    return glide->leg_ends(pose, joints);
-  return std::nullopt;
+  const DerivativeBounds* own = model.derivative_bounds();
+  if (own == nullptr) return std::nullopt;
+  return own->legs_at(pose, joints);
 }
 
 namespace {

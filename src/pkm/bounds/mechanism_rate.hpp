@@ -13,17 +13,12 @@
 
 namespace pkm::bounds {
 
-// How each leg's ends move per unit of the scaled pose norm over a ball, and how short the leg
-// can get there: what the joint-angle and clearance bounds take. Empty for models without legs.
-struct LegMotion {
-  std::vector<double> inner_speed, platform_speed, shortest_mm;
-  // Each leg's platform joint's distance from the pose's point (mm): how far a turn moves it.
-  std::vector<double> platform_arm_mm;
-  double platform_turn = 0.0;  // rad per scaled unit: how fast a platform-fixed axis turns
-};
+// How each leg's ends move over a ball (kinematics/derivative_bounds.hpp), by its name here.
+using pkm::LegMotion;
 
 // Over the ball of `radius` (scaled, angles weighing `scale` mm per rad) about the pose whose
 // joints and Jacobian are given, `hessians` the bounds inverse_hessian_bounds gives on that ball.
+// The model's own answer (DerivativeBounds::leg_motion); empty for models without legs.
 // Rotary deltas: only inner_speed (each arm's turn per mm), for their assembly-mode bound.
 LegMotion leg_motion(const Kinematics& model, const JointVector& joints,
                      const JointJacobian& jacobian, const HessianBounds& hessians, double radius,
@@ -32,7 +27,8 @@ LegMotion leg_motion(const Kinematics& model, const JointVector& joints,
 // How fast (per scaled unit) a joint-angle or clearance value can change over the ball.
 double mechanism_rate(const MechanismLimit& limit, const LegMotion& motion);
 
-// The legs at the ball's centre (hexapods and glides; nothing for other models).
+// The legs at the ball's centre (DerivativeBounds::legs_at: hexapods and glides; nothing for
+// other models).
 std::optional<LegEnds> legs_at(const Kinematics& model, const Pose& pose,
                                const JointVector& joints);
 

@@ -15,14 +15,6 @@ namespace {
 // Beyond this distance from home (mm) a reach is taken as not finite: reach_box stops at 1e6.
 constexpr double kNoFiniteReachMm = 1e5;
 
-std::vector<int> controlled_axes(Dof dof) {
-  std::vector<int> axes;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    if (dof.controls(axis)) axes.push_back(axis);
-  }
-  return axes;
-}
-
 // A cell of the box: its corners (mm, rad) and how often it was halved.
 struct Cell {
   Vector6d min, max;
@@ -45,7 +37,7 @@ class CellBounder {
   CellBounder(const Machine& machine, double angle_scale_mm)
       : machine_(machine),
         model_(machine.kinematics()),
-        axes_(controlled_axes(model_.dof())),
+        axes_(model_.dof().axes()),
         scale_(angle_scale_mm),
         joints_(model_.joint_count()) {}
 
@@ -163,7 +155,7 @@ bool needs_refining(const Leaf& leaf, const Eigen::MatrixXd& sampled,
 JointRateBound sample_joint_rates(const Machine& machine, const EnvelopeBox& box,
                                   double angle_scale_mm) {
   const Kinematics& model = machine.kinematics();
-  const std::vector<int> axes = controlled_axes(model.dof());
+  const std::vector<int> axes = model.dof().axes();
   const int n = model.joint_count();
   const int per_axis = std::max(3, static_cast<int>(std::pow(20000.0, 1.0 / axes.size())));
   JointRateBound bound;
@@ -217,7 +209,7 @@ EnvelopeBox work_envelope(const Machine& machine) {
   box.axes = machine.kinematics().dof();
   const CartesianLimits& cartesian = machine.cartesian();
   const bool needs_reach = [&] {
-    for (const int axis : controlled_axes(box.axes)) {
+    for (const int axis : box.axes.axes()) {
       if (!std::isfinite(cartesian.envelope_min[axis]) ||
           !std::isfinite(cartesian.envelope_max[axis]))
         return true;
@@ -226,7 +218,7 @@ EnvelopeBox work_envelope(const Machine& machine) {
   }();
   const PoseBox reach = needs_reach ? reach_box(machine) : PoseBox{};
   const Vector6d home = machine.home().as_vector();
-  for (const int axis : controlled_axes(box.axes)) {
+  for (const int axis : box.axes.axes()) {
     const bool low_given = std::isfinite(cartesian.envelope_min[axis]);
     const bool high_given = std::isfinite(cartesian.envelope_max[axis]);
     box.min[axis] = low_given ? cartesian.envelope_min[axis] : reach.min[axis];

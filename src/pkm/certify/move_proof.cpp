@@ -9,10 +9,8 @@
 #include "pkm/bounds/inverse_hessian.hpp"
 #include "pkm/bounds/mechanism_rate.hpp"
 #include "pkm/certify/proof_wording.hpp"
-#include "pkm/kinematics/cable_plotter.hpp"
-#include "pkm/kinematics/glide.hpp"
-#include "pkm/kinematics/hexapod.hpp"
-#include "pkm/kinematics/rotary_delta.hpp"
+#include "pkm/kinematics/assembly_mode_bounds.hpp"
+#include "pkm/kinematics/hanging_cables.hpp"
 
 namespace pkm::certify {
 
@@ -29,59 +27,6 @@ std::string_view verdict_name(Verdict verdict) {
 }
 
 namespace {
-
-// The assembly mode as a number that keeps its sign within a mode (a translating glide: det of
-// its strut vectors, bounds/assembly_mode.hpp), times home's mode, and a bound on its rate per
-// scaled unit over the ball. Nothing for models whose mode has no such bound here (a hexapod's is
-// unproven_hexapod_mode's).
-
-// A rotary delta's mode is the sign of det(forearms), -1 times it on the usual side
-// (rotary_delta.hpp). Each forearm f = tip - shifted elbow keeps its length S; its elbow moves by
-// the arm's length T times the arm's turn, so f moves by at most 1 + T times the arm's rate per mm
-// (the rate over the ball: `motion.inner_speed`, filled in for rotary deltas below).
-std::optional<bounds::ModeBound> rotary_delta_mode(const RotaryDeltaKinematics& delta,
-                                                   int home_mode, const Vector6d& centre,
-                                                   const JointVector& joints,
-                                                   const bounds::LegMotion& motion) {
-  std::array<Eigen::Vector3d, 3> forearm;
-  for (int arm = 0; arm < 3; ++arm) {
-    forearm[static_cast<std::size_t>(arm)] =
-        Eigen::Vector3d(centre.head<3>()) - delta.shifted_elbow(arm, joints[arm]);
-  }
-  const double t = delta.geometry().arm_length_mm, s = delta.geometry().forearm_length_mm;
-  double rate = 0.0;
-  for (std::size_t arm = 0; arm < 3; ++arm) {
-    rate += (1.0 + t * motion.inner_speed[arm]) * s * s;
-  }
-  return bounds::ModeBound{-home_mode * forearm[0].dot(forearm[1].cross(forearm[2])), rate};
-}
-
-bool has_assembly_bound(const Kinematics& model, int home_mode) {
-  if (home_mode == 0 || dynamic_cast<const HexapodKinematics*>(&model) != nullptr ||
-      dynamic_cast<const RotaryDeltaKinematics*>(&model) != nullptr) {
-    return true;
-  }
-  const auto* glide = dynamic_cast<const GlideKinematics*>(&model);
-  return glide != nullptr && !glide->dof().any_rotation();
-}
-
-std::optional<bounds::ModeBound> assembly_value(const Kinematics& model, int home_mode,
-                                                const Vector6d& centre, const JointVector& joints,
-                                                const bounds::LegMotion& motion) {
-  if (home_mode == 0) return bounds::ModeBound{1.0, 0.0};
-  if (const auto* delta = dynamic_cast<const RotaryDeltaKinematics*>(&model)) {
-    return rotary_delta_mode(*delta, home_mode, centre, joints, motion);
-  }
-  const auto* glide = dynamic_cast<const GlideKinematics*>(&model);
-  if (glide == nullptr || glide->dof().any_rotation()) return std::nullopt;
-  // Each strut keeps its length and moves its vector by at most (1 + carriage speed) per mm.
-  std::array<double, 3> strut_speed{};
-  const std::size_t rails = glide->rails().size();
-  for (std::size_t i = 0; i < rails; ++i) strut_speed[i] = 1.0 + motion.inner_speed[i];
-  return bounds::glide_mode_bound(*glide, home_mode, centre, joints,
-                                  std::span(strut_speed.data(), rails),
-                                  bounds::ModeScale::absolute);
-}
 
 // What a piece spans: its middle pose, its chord (zero in the coordinates the model does not
 // control), its half-length in the scaled norm and, for an arc, how far it bows off the chord.
@@ -148,19 +93,16 @@ double spread(const PieceSpan& span, int axis) {
   return 0.5 * std::abs(span.chord[axis]) + (axis < 3 ? 2.0 * span.sagitta : 0.0);
 }
 
-// A hexapod's assembly mode over the box the piece lies in (HexapodKinematics's bounds, the ones
-// workspace takes over a cell): the platform tilted less than 90 deg (index -1), and each
-// platform joint on home's side of the base plane (index: the leg, reach in mm).
-std::optional<Unproven> unproven_hexapod_mode(const HexapodKinematics& hexapod, int home_mode,
-                                              const PieceSpan& span) {
+// The assembly mode over the box the piece lies in, for models whose mode is bounded over a box
+// (a hexapod's: the platform tilted less than 90 deg, index -1, and each platform joint on home's
+// side of the base plane, index: the leg, reach in mm; the bounds workspace takes over a cell).
+std::optional<Unproven> unproven_mode_over_box(const AssemblyModeBounds& modes, int home_mode,
+                                               const PieceSpan& span) {
   Vector6d half;
   for (int axis = 0; axis < kPoseSize; ++axis) half[axis] = spread(span, axis);
-  const double tilt = HexapodKinematics::tilt_low(span.centre, half);
-  // A home upside down has no bound here.
-  if (home_mode < 0 || !(tilt > 0.0)) return Unproven{Quantity::assembly_mode, -1, tilt, 0.0};
-  const HexapodKinematics::BaseSideBound side = hexapod.base_side_bound(span.centre, half);
-  if (!(side.low > 0.0)) return Unproven{Quantity::assembly_mode, side.leg, side.low, 0.0};
-  return std::nullopt;
+  const std::optional<ModeShortfall> shortfall = modes.mode_over_box(home_mode, span.centre, half);
+  if (!shortfall) return std::nullopt;
+  return Unproven{Quantity::assembly_mode, shortfall->leg, shortfall->low, 0.0};
 }
 
 // The first controlled coordinate whose range over the piece is not proven within the envelope.
@@ -202,9 +144,8 @@ struct PullMargin {
   int index = -1;  // 0, 1: anchor's vertical; 2: the angle between the cables
 };
 
-PullMargin pull_margin(const CablePlotterKinematics& plotter, const Vector6d& home,
-                       const Vector6d& centre, double x_spread, double radius) {
-  const CablePlotterGeometry& g = plotter.geometry();
+PullMargin pull_margin(const CablePlotterGeometry& g, const Vector6d& home, const Vector6d& centre,
+                       double x_spread, double radius) {
   PullMargin worst;
   std::array<Eigen::Vector2d, 2> unit;
   double rate = 0.0;
@@ -226,9 +167,9 @@ PullMargin pull_margin(const CablePlotterKinematics& plotter, const Vector6d& ho
 
 // A cable plotter as built (pulleys, a weighed or tilting effector, stretch), whose balance
 // bounds::cable_box_bound bounds; nullptr for the ideal plotter and other models.
-const CablePlotterKinematics* as_built_plotter(const Kinematics& model) {
-  const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model);
-  return plotter != nullptr && !plotter->geometry().ideal() ? plotter : nullptr;
+const HangingCables* as_built_plotter(const Kinematics& model) {
+  const HangingCables* cables = model.hanging_cables();
+  return cables != nullptr && !cables->cable_geometry().ideal() ? cables : nullptr;
 }
 
 // The first of a cable plotter's quantities not proven over the box the piece lies in (its
@@ -236,15 +177,14 @@ const CablePlotterKinematics* as_built_plotter(const Kinematics& model) {
 // bound: the effector tilts or the cables stretch) each joint, the pass-through joints exactly;
 // then both cables pulling (index 0, 1: that cable's tension; 2: the angle between them; 3:
 // the balance unbounded) and the tension limits.
-std::optional<Unproven> unproven_cable(const Machine& machine,
-                                       const CablePlotterKinematics& plotter, const PieceSpan& span,
-                                       bool joints_too) {
+std::optional<Unproven> unproven_cable(const Machine& machine, const HangingCables& cables,
+                                       const PieceSpan& span, bool joints_too) {
   Eigen::Vector2d half;
   for (int axis = 0; axis < 2; ++axis) half[axis] = spread(span, axis);
   // A line's piece is the segment itself: its tensions by the mean-value form along it.
   const Eigen::Vector2d half_chord = 0.5 * span.chord.head<2>();
   const bounds::CableBoxBound bound = bounds::cable_box_bound(
-      plotter.geometry(), span.centre.head<2>(), half, span.line ? &half_chord : nullptr);
+      cables.cable_geometry(), span.centre.head<2>(), half, span.line ? &half_chord : nullptr);
   if (!bound.known) return Unproven{Quantity::pull, 3, -INFINITY, 0.0};
   const Kinematics& model = machine.kinematics();
   for (int joint = 0; joints_too && joint < model.joint_count(); ++joint) {
@@ -263,7 +203,7 @@ std::optional<Unproven> unproven_cable(const Machine& machine,
     if (!(t.lo > 0.0)) return Unproven{Quantity::pull, cable, t.lo, 0.0};
   }
   if (!(bound.apart.lo > 0.0)) return Unproven{Quantity::pull, 2, bound.apart.lo, 0.0};
-  const CablePlotterGeometry& g = plotter.geometry();
+  const CablePlotterGeometry& g = cables.cable_geometry();
   for (int cable = 0; cable < 2 && g.tension_limited; ++cable) {
     const bounds::Range& t = bound.tension_N[static_cast<std::size_t>(cable)];
     if (!(t.lo >= g.tension_min_N))
@@ -287,19 +227,17 @@ struct MoveProver::Outcome {
 MoveProver::MoveProver(const Machine& machine, ProofOptions options)
     : machine_(machine), options_(options) {
   const Kinematics& model = machine.kinematics();
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    if (model.dof().controls(axis)) axes_.push_back(axis);
-  }
+  axes_ = model.dof().axes();
   angle_scale_mm_ = bounds::pose_angle_scale_mm(model);
   const Vector6d home = machine.home().as_vector();
   cables_ = as_built_plotter(model);
   if (cables_ != nullptr) {
     // Pulleys, a weighed or tilting effector, stretch: the balance's bounds (bounds/cable_bound).
-    unavailable_ = bounds::cable_bound_unavailable(cables_->geometry());
+    unavailable_ = bounds::cable_bound_unavailable(cables_->cable_geometry());
   } else if (!bounds::inverse_hessian_bounds(model, home, 0.0, angle_scale_mm_, {})) {
     unavailable_ = "no bound on the derivatives of this kinematics model (" +
                    std::string(model.type()) + ") here";
-  } else if (!has_assembly_bound(model, model.assembly_mode(machine.home()))) {
+  } else if (!bounds::has_assembly_bound(model, model.assembly_mode(machine.home()))) {
     unavailable_ = "no bound on the assembly mode of this kinematics model (" +
                    std::string(model.type()) + ") here";
   }
@@ -361,20 +299,23 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
   if (const auto leg = unproven_leg_limit(model, centre, joints, motion, radius)) {
     return open(leg->quantity, leg->index, leg->other, leg->reach, leg->limit);
   }
-  if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
+  if (const HangingCables* hanging = model.hanging_cables()) {
+    // An ideal plotter (one as built is bounded above): both cables pull.
     const double x_spread = spread(span, 0);
-    const PullMargin pull =
-        pull_margin(*plotter, machine_.home().as_vector(), centre, x_spread, radius);
+    const PullMargin pull = pull_margin(hanging->cable_geometry(), machine_.home().as_vector(),
+                                        centre, x_spread, radius);
     if (!(pull.margin > 0.0)) return open(Quantity::pull, pull.index, -1, pull.margin, 0.0);
   }
   const int home_mode = model.assembly_mode(machine_.home());
-  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
-    if (const auto mode = unproven_hexapod_mode(*hexapod, home_mode, span)) {
+  if (const AssemblyModeBounds* modes = model.assembly_mode_bounds();
+      modes != nullptr && modes->has_mode_over_box()) {
+    if (const auto mode = unproven_mode_over_box(*modes, home_mode, span)) {
       return open(mode->quantity, mode->index, -1, mode->reach, mode->limit);
     }
     return outcome;
   }
-  const auto mode = assembly_value(model, home_mode, centre, joints, motion);
+  const auto mode =
+      bounds::assembly_mode_over_ball(model, home_mode, centre, joints, motion.inner_speed);
   if (!mode || !(mode->value - mode->rate * radius > 0.0)) {
     return open(Quantity::assembly_mode, -1, -1, mode ? mode->value - mode->rate * radius : 0.0,
                 0.0);
@@ -494,10 +435,10 @@ std::optional<double> MoveProver::quantity_at(const Finding& finding, const Pose
     case Quantity::envelope:
       return pose.as_vector()[finding.index];
     case Quantity::assembly_mode: {
-      // A hexapod's platform past its base plane: how far (mm), as refusal_at measured it.
-      const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&machine_.kinematics());
-      if (hexapod == nullptr || finding.index < 0) return std::nullopt;
-      return hexapod->base_side(pose).margin_mm;
+      // A hexapod's platform past its base plane: how far (mm), as refusal_at measured it (a
+      // finding with a leg comes from base_plane_margin; the other modes have none).
+      if (finding.index < 0) return std::nullopt;
+      return machine_.kinematics().base_plane_margin(pose).margin_mm;
     }
     case Quantity::tension: {
       CableStatics statics;
@@ -613,12 +554,11 @@ Finding MoveProver::refusal_at(const motion::Segment& segment, double u,
     }
   } else if (status.code == StatusCode::other_assembly) {
     finding.quantity = Quantity::assembly_mode;
-    if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&machine_.kinematics())) {
-      const HexapodKinematics::BaseSide side = hexapod->base_side(pose);
-      if (side.margin_mm <= 0.0) {
-        finding.index = side.leg;
-        finding.value = side.margin_mm;
-      }
+    // Past the base plane (a hexapod's platform): which leg, how far.
+    const BasePlaneMargin side = machine_.kinematics().base_plane_margin(pose);
+    if (side.margin_mm <= 0.0) {
+      finding.index = side.leg;
+      finding.value = side.margin_mm;
     }
   } else if (cables_ != nullptr && status.joint >= 0 && status.joint < 2 &&
              (status.code == StatusCode::tension || status.code == StatusCode::unreachable)) {

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/hanging_cables.hpp"
 #include "pkm/machine/machine.hpp"
 #include "pkm/motion/segment.hpp"
 
@@ -94,7 +94,7 @@ class MoveProver {
   void farthest_past(const motion::Segment& segment, Finding& finding) const;
 
   const Machine& machine_;
-  const CablePlotterKinematics* cables_ = nullptr;  // a cable plotter as built, else nullptr
+  const HangingCables* cables_ = nullptr;  // a cable plotter as built, else nullptr
   ProofOptions options_;
   std::vector<int> axes_;  // the pose coordinates the model controls
   double angle_scale_mm_ = 100.0;

@@ -14,7 +14,7 @@ class ProofWording {
  public:
   // `cables`: the machine's cable plotter as built (pulleys, a weighed or tilting effector,
   // stretch), whose pull findings name the balance's margins; nullptr otherwise.
-  ProofWording(const Machine& machine, const CablePlotterKinematics* cables)
+  ProofWording(const Machine& machine, const HangingCables* cables)
       : machine_(machine), cables_(cables) {}
 
   // "joint 'leg1'", "x (the work envelope)", "the platform joint angle of 'leg5'", ...
@@ -29,7 +29,7 @@ class ProofWording {
 
  private:
   const Machine& machine_;
-  const CablePlotterKinematics* cables_;
+  const HangingCables* cables_;
 };
 
 }  // namespace pkm::certify

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "pkm/kinematics/cable_statics.hpp"
+#include "pkm/kinematics/derivative_bounds.hpp"
 #include "pkm/kinematics/hanging_cables.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/mechanism_sketch.hpp"
@@ -17,13 +18,10 @@
 
 namespace pkm {
 
-// Cables closer than this (sine of the angle between them) to parallel are at a singularity
-// (the pen on the line through the anchors).
-inline constexpr double kMinCableAngleSine = 1e-9;
-
 class CablePlotterKinematics final : public Kinematics,
                                      public HangingCables,
-                                     public MechanismSketch {
+                                     public MechanismSketch,
+                                     public DerivativeBounds {
  public:
   explicit CablePlotterKinematics(const CablePlotterGeometry& geometry,
                                   PassThroughAxes passthrough = {});
@@ -56,6 +54,13 @@ class CablePlotterKinematics final : public Kinematics,
 
   // The cables as the tension checks ask them (hanging_cables.hpp).
   const HangingCables* hanging_cables() const override { return this; }
+  // The proofs' capabilities (cable_plotter_bounds.cpp): the rigid cables' Hessian bounds; the
+  // geometry the balance's bounds over a box take (bounds/cable_bound).
+  const DerivativeBounds* derivative_bounds() const override { return this; }
+  std::optional<HessianBounds> own_hessian_bounds(const Vector6d& centre, double radius_mm,
+                                                  double angle_scale_mm,
+                                                  const Chord& chord) const override;
+  const CablePlotterGeometry& cable_geometry() const override { return geometry_; }
   double effector_mass_kg() const override { return geometry_.effector_mass_kg; }
   bool effector_tilts() const override { return geometry_.tilts(); }
   bool tension_limited() const override { return geometry_.tension_limited; }

@@ -29,6 +29,10 @@ inline Eigen::Vector2d planar_rotated(const Eigen::Vector2d& v, double angle_rad
   return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
 }
 
+// Cables closer than this (sine of the angle between them) to parallel are at a singularity
+// (the pen on the line through the anchors).
+inline constexpr double kMinCableAngleSine = 1e-9;
+
 struct CablePlotterGeometry {
   // Pulley centres: left (0) and right (1). The left cable leaves its pulley on the right,
   // the right one on the left, both running over the top.

@@ -6,6 +6,8 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "pkm/kinematics/assembly_mode_bounds.hpp"
+#include "pkm/kinematics/derivative_bounds.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/leg_limits.hpp"
 #include "pkm/kinematics/mechanism_sketch.hpp"
@@ -22,7 +24,10 @@ struct GlideRail {
   int branch = 1;  // +1: carriage ahead of the strut's foot along `direction`; -1: behind
 };
 
-class GlideKinematics final : public Kinematics, public MechanismSketch {
+class GlideKinematics final : public Kinematics,
+                              public MechanismSketch,
+                              public DerivativeBounds,
+                              public AssemblyModeBounds {
  public:
   // `dof` is translation-only (2 or 3 axes, one per rail) or Dof::all() with six rails.
   // Pass-through axes, translating glides only, follow the rails as joints.
@@ -85,6 +90,31 @@ class GlideKinematics final : public Kinematics, public MechanismSketch {
                    std::vector<SketchLine>& out) const override;
   void moving_parts(const Pose& pose, const JointVector& joints,
                     std::vector<SketchLine>& out) const override;
+
+  // The proofs' capabilities (glide_bounds.cpp): the carriages' Hessian bounds, the struts as
+  // legs, each strut's reach over a cell; a translating glide's assembly mode over a ball or a
+  // cell.
+  const DerivativeBounds* derivative_bounds() const override { return this; }
+  std::optional<HessianBounds> own_hessian_bounds(const Vector6d& centre, double radius_mm,
+                                                  double angle_scale_mm,
+                                                  const Chord& chord) const override;
+  std::optional<double> farthest_platform_point_mm() const override;
+  LegMotion leg_motion(const JointVector& joints, const JointJacobian& jacobian,
+                       const HessianBounds& hessians, double radius, double scale) const override;
+  std::optional<LegEnds> legs_at(const Pose& pose, const JointVector& joints) const override;
+  int reach_count() const override { return rail_count(); }
+  void reach_over_cell(const Vector6d& centre, double scaled_radius, double position_radius_mm,
+                       double angle_scale_mm,
+                       std::span<std::array<double, 2>> margins) const override;
+  const AssemblyModeBounds* assembly_mode_bounds() const override {
+    return dof_.any_rotation() ? nullptr : this;
+  }
+  std::optional<ModeBound> mode_over_ball(int home_mode, const Vector6d& centre,
+                                          const JointVector& joints,
+                                          std::span<const double> joint_speed) const override;
+  bool has_mode_over_cell() const override { return true; }
+  std::optional<ModeBound> mode_over_cell(int home_mode, const Vector6d& centre,
+                                          double radius_mm) const override;
 
   const std::vector<GlideRail>& rails() const { return rails_; }
   const PassThroughAxes& passthrough() const { return passthrough_; }

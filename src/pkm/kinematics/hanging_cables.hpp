@@ -28,6 +28,9 @@ class HangingCables {
   // (mm/s^2, x right, y up): tensions from m (g - a), the tilt for that effective gravity.
   virtual Status statics(const Pose& pose, const Eigen::Vector2d& acceleration_mm_per_s2,
                          CableStatics& out) const = 0;
+  // The whole geometry (anchors, pulleys, effector, stretch), for the bounds of the balance over
+  // a box of poses (bounds/cable_bound) and the ideal plotter's pull region.
+  virtual const CablePlotterGeometry& cable_geometry() const = 0;
 };
 
 }  // namespace pkm

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <optional>
 
+#include "pkm/kinematics/assembly_mode_bounds.hpp"
+#include "pkm/kinematics/derivative_bounds.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/leg_limits.hpp"
 #include "pkm/kinematics/mechanism_sketch.hpp"
@@ -36,7 +38,10 @@ struct HexapodGeometry {
                                       double side_ratio, double tool_length_mm);
 };
 
-class HexapodKinematics final : public Kinematics, public MechanismSketch {
+class HexapodKinematics final : public Kinematics,
+                                public MechanismSketch,
+                                public DerivativeBounds,
+                                public AssemblyModeBounds {
  public:
   explicit HexapodKinematics(const HexapodGeometry& geometry,
                              const LegLimitSettings& leg_limits = {});
@@ -105,6 +110,21 @@ class HexapodKinematics final : public Kinematics, public MechanismSketch {
                    std::vector<SketchLine>& out) const override;
   void moving_parts(const Pose& pose, const JointVector& joints,
                     std::vector<SketchLine>& out) const override;
+
+  // The proofs' capabilities (hexapod_bounds.cpp): the legs' Hessian and third-derivative
+  // bounds, the legs; the assembly mode over a box (tilt_low, base_side_bound).
+  const DerivativeBounds* derivative_bounds() const override { return this; }
+  std::optional<HessianBounds> own_hessian_bounds(const Vector6d& centre, double radius_mm,
+                                                  double angle_scale_mm,
+                                                  const Chord& chord) const override;
+  std::optional<double> farthest_platform_point_mm() const override;
+  LegMotion leg_motion(const JointVector& joints, const JointJacobian& jacobian,
+                       const HessianBounds& hessians, double radius, double scale) const override;
+  std::optional<LegEnds> legs_at(const Pose& pose, const JointVector& joints) const override;
+  const AssemblyModeBounds* assembly_mode_bounds() const override { return this; }
+  bool has_mode_over_box() const override { return true; }
+  std::optional<ModeShortfall> mode_over_box(int home_mode, const Vector6d& centre,
+                                             const Vector6d& half) const override;
 
   const HexapodGeometry& geometry() const { return geometry_; }
   const LegLimits& leg_limits() const { return leg_limits_; }

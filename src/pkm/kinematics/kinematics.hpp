@@ -23,6 +23,9 @@ class ModelConfigWriter;  // model_config_writer.hpp
 class MechanismSketch;    // mechanism_sketch.hpp
 class HangingCables;      // hanging_cables.hpp
 struct LegLimitSettings;  // leg_limits.hpp
+// The proofs' capabilities (issue 28, the proofs' part).
+class DerivativeBounds;    // derivative_bounds.hpp
+class AssemblyModeBounds;  // assembly_mode_bounds.hpp
 
 // Nine joints cover every model here (a hexapod has six, a matrix mill three plus pass-through
 // rotary axes); the fixed upper bound keeps joint vectors on the stack in the per-sample path.
@@ -211,6 +214,11 @@ class Kinematics {
   // A hexapod's platform against its base plane at `pose` (its assembly mode's measure); the
   // default, no leg, for every other model.
   virtual BasePlaneMargin base_plane_margin(const Pose& /*pose*/) const { return {}; }
+  // The proofs' capabilities: bounds on the inverse kinematics' derivatives over a ball (and the
+  // legs' motion, the reach over a cell), and on the assembly mode over a ball or a box; none: the
+  // proofs have no bound for this model (a formula machine's).
+  virtual const DerivativeBounds* derivative_bounds() const { return nullptr; }
+  virtual const AssemblyModeBounds* assembly_mode_bounds() const { return nullptr; }
 
   virtual std::vector<Parameter> parameters() const = 0;
   // Values in the order and units of parameters(); throws std::invalid_argument when the new

@@ -4,13 +4,14 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "pkm/kinematics/derivative_bounds.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/passthrough.hpp"
 
 namespace pkm {
 
-class MatrixKinematics final : public Kinematics {
+class MatrixKinematics final : public Kinematics, public DerivativeBounds {
  public:
   // `passthrough_axes` are pose indices (3..5) appended as joints after x y z, in order.
   MatrixKinematics(const Eigen::Matrix3d& coefficients, std::vector<int> passthrough_axes);
@@ -36,6 +37,13 @@ class MatrixKinematics final : public Kinematics {
   void write_config(ModelConfigWriter& out) const override;
   // Each joint the sum of its row's coefficients times x y z.
   std::optional<std::vector<std::string>> joint_formulas() const override;
+  // The proofs' capability (matrix_bounds.cpp): linear, every second derivative zero, no limit
+  // but the joints'.
+  const DerivativeBounds* derivative_bounds() const override { return this; }
+  std::optional<HessianBounds> own_hessian_bounds(const Vector6d& centre, double radius_mm,
+                                                  double angle_scale_mm,
+                                                  const Chord& chord) const override;
+  bool refuses_only_joint_limits() const override { return true; }
 
   const Eigen::Matrix3d& coefficients() const { return coefficients_; }
   const std::vector<int>& passthrough_axes() const { return passthrough_.axes(); }

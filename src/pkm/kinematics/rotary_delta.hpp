@@ -13,6 +13,8 @@
 #include <Eigen/Core>
 #include <array>
 
+#include "pkm/kinematics/assembly_mode_bounds.hpp"
+#include "pkm/kinematics/derivative_bounds.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/mechanism_sketch.hpp"
 #include "pkm/kinematics/model_config.hpp"
@@ -27,7 +29,10 @@ struct RotaryDeltaGeometry {
   double platform_radius_mm = 0.0;  // tool point to each forearm's platform joint (footradius)
 };
 
-class RotaryDeltaKinematics final : public Kinematics, public MechanismSketch {
+class RotaryDeltaKinematics final : public Kinematics,
+                                    public MechanismSketch,
+                                    public DerivativeBounds,
+                                    public AssemblyModeBounds {
  public:
   static constexpr int kArms = 3;
 
@@ -76,6 +81,19 @@ class RotaryDeltaKinematics final : public Kinematics, public MechanismSketch {
                    std::vector<SketchLine>& out) const override;
   void moving_parts(const Pose& pose, const JointVector& joints,
                     std::vector<SketchLine>& out) const override;
+
+  // The proofs' capabilities (rotary_delta_bounds.cpp): the arms' Hessian bounds and turns per
+  // mm; the assembly mode (det of the forearms) over a ball.
+  const DerivativeBounds* derivative_bounds() const override { return this; }
+  std::optional<HessianBounds> own_hessian_bounds(const Vector6d& centre, double radius_mm,
+                                                  double angle_scale_mm,
+                                                  const Chord& chord) const override;
+  LegMotion leg_motion(const JointVector& joints, const JointJacobian& jacobian,
+                       const HessianBounds& hessians, double radius, double scale) const override;
+  const AssemblyModeBounds* assembly_mode_bounds() const override { return this; }
+  std::optional<ModeBound> mode_over_ball(int home_mode, const Vector6d& centre,
+                                          const JointVector& joints,
+                                          std::span<const double> joint_speed) const override;
 
   const RotaryDeltaGeometry& geometry() const { return geometry_; }
   const PassThroughAxes& passthrough() const { return passthrough_; }

@@ -8,10 +8,10 @@
 #include "pkm/bounds/cable_bound.hpp"
 #include "pkm/bounds/inverse_hessian.hpp"
 #include "pkm/bounds/mechanism_rate.hpp"
-#include "pkm/kinematics/cable_plotter.hpp"
-#include "pkm/kinematics/glide.hpp"
+#include "pkm/kinematics/assembly_mode_bounds.hpp"
+#include "pkm/kinematics/derivative_bounds.hpp"
+#include "pkm/kinematics/hanging_cables.hpp"
 #include "pkm/kinematics/hexapod.hpp"
-#include "pkm/kinematics/matrix.hpp"
 #include "pkm/workspace/orientation_search.hpp"
 
 namespace pkm::workspace {
@@ -113,81 +113,50 @@ class JointLimitConstraint final : public PoseConstraint {
   mutable JointJacobian jacobian_;
 };
 
-// A glide's strut reaches its rail: g = L - |u|, u the part of the platform point w - o across
-// the rail. |u| is 1-Lipschitz in w, and w moves at most `platform_point_gain` times the
-// scaled pose change (the identity for a translating platform).
-class GlideReachConstraint final : public PoseConstraint {
+// The mechanism reaches (a glide's struts their rails): the model's own bounds over the cell
+// (DerivativeBounds::reach_over_cell), in the scaled norm of its derivative bounds.
+class ReachConstraint final : public PoseConstraint {
  public:
-  explicit GlideReachConstraint(const GlideKinematics& model)
-      : model_(model), scale_(bounds::pose_angle_scale_mm(model)) {}
-  int count() const override { return static_cast<int>(model_.rails().size()); }
+  ReachConstraint(const Kinematics& model, const DerivativeBounds& reach)
+      : reach_(reach), scale_(bounds::pose_angle_scale_mm(model)) {}
+  int count() const override { return reach_.reach_count(); }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
-    const bool rotating = model_.rail_dof().any_rotation();
-    const Eigen::Matrix3d rotation = rotating
-                                         ? rotation_from_abc(Eigen::Vector3d(cell.centre.tail<3>()))
-                                         : Eigen::Matrix3d::Identity();
-    Eigen::Vector3d tip = Eigen::Vector3d::Zero();
-    for (int axis = 0; axis < 3; ++axis) {
-      if (model_.rail_dof().controls(axis)) tip[axis] = cell.centre[axis];
-    }
-    const double r = scaled_radius(cell, scale_);
-    for (std::size_t i = 0; i < model_.rails().size(); ++i) {
-      const GlideRail& rail = model_.rails()[i];
-      const Eigen::Vector3d relative = tip + rotation * rail.attach_mm - rail.origin_mm;
-      const double across = (relative - rail.direction.dot(relative) * rail.direction).norm();
-      const double gain =
-          rotating ? std::sqrt(1.0 + 3.0 * std::pow(rail.attach_mm.norm() / scale_, 2)) : 1.0;
-      const double change = rotating ? gain * r : position_radius(cell);
-      margins[i] = {rail.strut_mm - across - change, rail.strut_mm - across + change};
-    }
+    std::array<std::array<double, 2>, kMaxJoints> values;
+    const auto n = static_cast<std::size_t>(reach_.reach_count());
+    reach_.reach_over_cell(cell.centre, scaled_radius(cell, scale_), position_radius(cell), scale_,
+                           std::span(values.data(), n));
+    for (std::size_t i = 0; i < n; ++i) margins[i] = {values[i][0], values[i][1]};
   }
   Status failure(int index) const override {
     return Status::failure(StatusCode::unreachable, index);
   }
 
  private:
-  const GlideKinematics& model_;
+  const DerivativeBounds& reach_;
   double scale_;
 };
 
-// A translating glide stays in home's assembly mode: g = mode * det[struts] / (L1 L2 L3) (the
-// 2-D cross product for two rails). Each strut vector s_i = w - o_i - q_i d_i keeps its length
-// L_i and moves at most L_i / f_i per mm of the tip, f_i = sqrt(L_i^2 - |u_i|^2) its part along
-// the rail, so the normalised determinant moves at most sum 1 / f_i,min per mm
-// (bounds::glide_mode_bound, per strut length; the certified check bounds the same determinant).
-class GlideAssemblyConstraint final : public PoseConstraint {
+// The machine stays in home's assembly mode over a cell, by the model's own bound
+// (AssemblyModeBounds::mode_over_cell: a translating glide's det[struts] / (L1 L2 L3); the
+// certified check bounds the same determinant over a ball) moved at most its rate times the
+// cell's position radius.
+class AssemblyOverCellConstraint final : public PoseConstraint {
  public:
-  GlideAssemblyConstraint(const GlideKinematics& model, int home_mode)
-      : model_(model), home_mode_(home_mode) {}
+  AssemblyOverCellConstraint(const AssemblyModeBounds& modes, int home_mode)
+      : modes_(modes), home_mode_(home_mode) {}
   int count() const override { return 1; }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     margins[0] = Margin{};
-    Eigen::Vector3d tip = Eigen::Vector3d::Zero();
-    for (int axis = 0; axis < 3; ++axis) {
-      if (model_.rail_dof().controls(axis)) tip[axis] = cell.centre[axis];
-    }
-    if (!model_.inverse(Pose::from_vector(cell.centre), joints_).ok()) return;
     const double rho = position_radius(cell);
-    std::array<double, 3> strut_speed{};  // per mm of the tip, per mm of the strut's length
-    const std::size_t rails = model_.rails().size();
-    for (std::size_t i = 0; i < rails; ++i) {
-      const GlideRail& rail = model_.rails()[i];
-      const Eigen::Vector3d relative = tip + rail.attach_mm - rail.origin_mm;
-      const double widest = (relative - rail.direction.dot(relative) * rail.direction).norm() + rho;
-      if (!(widest < rail.strut_mm)) return;
-      strut_speed[i] = 1.0 / std::sqrt(rail.strut_mm * rail.strut_mm - widest * widest);
-    }
-    const bounds::ModeBound mode = bounds::glide_mode_bound(
-        model_, home_mode_, cell.centre, joints_, std::span(strut_speed.data(), rails),
-        bounds::ModeScale::per_length);
-    margins[0] = {mode.value - mode.rate * rho, mode.value + mode.rate * rho};
+    const std::optional<ModeBound> mode = modes_.mode_over_cell(home_mode_, cell.centre, rho);
+    if (!mode) return;
+    margins[0] = {mode->value - mode->rate * rho, mode->value + mode->rate * rho};
   }
   Status failure(int) const override { return Status::failure(StatusCode::other_assembly); }
 
  private:
-  const GlideKinematics& model_;
+  const AssemblyModeBounds& modes_;
   int home_mode_;
-  mutable JointVector joints_;
 };
 
 // A hexapod stays in home's assembly mode (platform normal up): cos a cos b > 0, bounded over
@@ -259,8 +228,8 @@ class CablePullConstraint final : public PoseConstraint {
 // cable, which decides the cells where the cables come into line.
 class CableBalanceConstraint final : public PoseConstraint {
  public:
-  CableBalanceConstraint(const Machine& machine, const CablePlotterKinematics& plotter, bool joints)
-      : machine_(machine), geometry_(plotter.geometry()), joints_(joints) {}
+  CableBalanceConstraint(const Machine& machine, const CablePlotterGeometry& geometry, bool joints)
+      : machine_(machine), geometry_(geometry), joints_(joints) {}
   int count() const override { return 13; }
   bool covers_orientation() const override { return true; }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
@@ -573,6 +542,51 @@ bool has_hessian_bounds(const Machine& machine) {
       .has_value();
 }
 
+// The hexapod's constraints: its legs and joint angles over every orientation of the cell
+// (this module's OrientationSearch), its assembly mode (tilt, base side), its leg clearances.
+void add_hexapod_constraints(const Machine& machine, const HexapodKinematics& hexapod,
+                             std::vector<std::unique_ptr<PoseConstraint>>& constraints) {
+  constraints.push_back(std::make_unique<HexapodLegConstraint>(machine, hexapod));
+  constraints.push_back(std::make_unique<HexapodAssemblyConstraint>());
+  constraints.push_back(std::make_unique<HexapodBaseSideConstraint>(hexapod));
+  if (hexapod.leg_limits().settings().checks_angles()) {
+    constraints.push_back(std::make_unique<HexapodJointAngleConstraint>(hexapod));
+  }
+  if (hexapod.leg_limits().settings().leg_diameter_mm > 0.0) {
+    constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine, false));
+  }
+}
+
+// What a model whose derivatives are bounded adds beyond its joints: its reach and assembly mode
+// over a cell where it bounds them (a glide), an ideal plotter's pull region, else (a rotary
+// delta) samples, unless the joint limits are all it refuses by (a matrix).
+void add_reach_constraints(const Machine& machine,
+                           std::vector<std::unique_ptr<PoseConstraint>>& constraints) {
+  const Kinematics& model = machine.kinematics();
+  const DerivativeBounds& derivatives = *model.derivative_bounds();
+  const AssemblyModeBounds* modes = model.assembly_mode_bounds();
+  const HangingCables* cables = model.hanging_cables();
+  const int home_mode = model.assembly_mode(machine.home());
+  if (derivatives.reach_count() > 0) {
+    constraints.push_back(std::make_unique<ReachConstraint>(model, derivatives));
+    if (home_mode != 0 && modes != nullptr && modes->has_mode_over_cell()) {
+      constraints.push_back(std::make_unique<AssemblyOverCellConstraint>(*modes, home_mode));
+    }
+    if (model.has_mechanism_limits()) {
+      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine, true));
+    }
+  } else if (cables != nullptr) {
+    if (cables->cable_geometry().ideal()) {
+      constraints.push_back(std::make_unique<CablePullConstraint>(cables->cable_geometry()));
+    } else {
+      constraints.push_back(std::make_unique<SampledConstraint>(machine));
+    }
+  } else if (!derivatives.refuses_only_joint_limits()) {
+    // A rotary delta: its joints are bounded, its reach and assembly mode are sampled.
+    constraints.push_back(std::make_unique<SampledConstraint>(machine));
+  }
+}
+
 }  // namespace
 
 std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& machine) {
@@ -582,52 +596,30 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
   }
   const Kinematics& model = machine.kinematics();
   constraints.push_back(std::make_unique<PassThroughConstraint>(machine));
-  if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model);
-      plotter != nullptr && !plotter->geometry().ideal() &&
-      bounds::cable_bound_unavailable(plotter->geometry()).empty()) {
+  if (const HangingCables* cables = model.hanging_cables();
+      cables != nullptr && !cables->cable_geometry().ideal() &&
+      bounds::cable_bound_unavailable(cables->cable_geometry()).empty()) {
     // As built: the joints by their Hessian bound where the cables are rigid (second order),
     // else with the balance.
     const bool rigid = has_hessian_bounds(machine);
     if (rigid) constraints.push_back(std::make_unique<JointLimitConstraint>(machine));
-    constraints.push_back(std::make_unique<CableBalanceConstraint>(machine, *plotter, !rigid));
+    constraints.push_back(
+        std::make_unique<CableBalanceConstraint>(machine, cables->cable_geometry(), !rigid));
     return constraints;
   }
   if (!has_hessian_bounds(machine)) {
     constraints.push_back(std::make_unique<SampledConstraint>(machine));
     return constraints;
   }
-  const int home_mode = model.assembly_mode(machine.home());
+  // The one cast on a model class here: a hexapod's leg and joint-angle constraints search the
+  // cell's orientation box with OrientationSearch (this module's branch and bound, which
+  // kinematics/ cannot depend on) over the hexapod's own geometry and leg limits.
   if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
-    constraints.push_back(std::make_unique<HexapodLegConstraint>(machine, *hexapod));
-    constraints.push_back(std::make_unique<HexapodAssemblyConstraint>());
-    constraints.push_back(std::make_unique<HexapodBaseSideConstraint>(*hexapod));
-    if (hexapod->leg_limits().settings().checks_angles()) {
-      constraints.push_back(std::make_unique<HexapodJointAngleConstraint>(*hexapod));
-    }
-    if (hexapod->leg_limits().settings().leg_diameter_mm > 0.0) {
-      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine, false));
-    }
+    add_hexapod_constraints(machine, *hexapod, constraints);
     return constraints;
   }
   constraints.push_back(std::make_unique<JointLimitConstraint>(machine));
-  if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
-    constraints.push_back(std::make_unique<GlideReachConstraint>(*glide));
-    if (home_mode != 0) {
-      constraints.push_back(std::make_unique<GlideAssemblyConstraint>(*glide, home_mode));
-    }
-    if (model.has_mechanism_limits()) {
-      constraints.push_back(std::make_unique<MechanismLimitConstraint>(machine, true));
-    }
-  } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
-    if (plotter->geometry().ideal()) {
-      constraints.push_back(std::make_unique<CablePullConstraint>(plotter->geometry()));
-    } else {
-      constraints.push_back(std::make_unique<SampledConstraint>(machine));
-    }
-  } else if (dynamic_cast<const MatrixKinematics*>(&model) == nullptr) {
-    // A rotary delta: its joints are bounded, its reach and assembly mode are sampled.
-    constraints.push_back(std::make_unique<SampledConstraint>(machine));
-  }
+  add_reach_constraints(machine, constraints);
   return constraints;
 }
 
