@@ -399,17 +399,15 @@ Eigen::VectorXd weighted_row_sums(const Eigen::MatrixXd& slope, double angle_sca
   return sums;
 }
 
-EnvelopeBox shrunk(const EnvelopeBox& envelope, const Vector6d& home, double factor) {
-  EnvelopeBox shrunk_envelope = envelope;
-  const PoseBox& box = envelope.box;
-  PoseBox& result = shrunk_envelope.box;
+PoseBox shrunk(const PoseBox& box, const Vector6d& home, double factor) {
+  PoseBox result = box;
   for (int axis = 0; axis < kPoseSize; ++axis) {
     if (!box.axes.controls(axis)) continue;
     const double centre = std::clamp(home[axis], box.min[axis], box.max[axis]);
     result.min[axis] = centre - factor * (centre - box.min[axis]);
     result.max[axis] = centre + factor * (box.max[axis] - centre);
   }
-  return shrunk_envelope;
+  return result;
 }
 
 }  // namespace
@@ -438,9 +436,8 @@ FittedEnvelope fit_envelope(const Machine& machine, const EnvelopeBox& requested
   double good = 0.0, bad = 1.0;
   for (int step = 0; step < kShrinkSteps; ++step) {
     const double middle = 0.5 * (good + bad);
-    (acceptable(bound_joint_rates(machine, shrunk(requested, home, middle).box, search)) ? good
-                                                                                         : bad) =
-        middle;
+    const PoseBox smaller = shrunk(requested.box, home, middle);
+    (acceptable(bound_joint_rates(machine, smaller, search)) ? good : bad) = middle;
   }
   if (good == 0.0) {
     throw std::runtime_error(
@@ -449,7 +446,7 @@ FittedEnvelope fit_envelope(const Machine& machine, const EnvelopeBox& requested
         " times its rate at home: the machine is at or next to a singularity there");
   }
   fitted.shrink = good;
-  fitted.box = shrunk(requested, home, good);
+  fitted.box.box = shrunk(requested.box, home, good);
   fitted.bound = bound_joint_rates(machine, fitted.box.box, options);
   return fitted;
 }
