@@ -24,10 +24,6 @@ namespace pkm::python {
 
 namespace {
 
-// The most samples plan() keeps unless told otherwise: pkm plan's default bound (14 hours at
-// 1 ms, some 5 GB for a hexapod); a job past it is most likely a wrong period or machine file.
-constexpr long kDefaultMaxSamples = 50'000'000;
-
 // The planner's inputs besides the machine, from the keyword arguments (as pkm plan's options).
 struct PlanArguments {
   std::string program;
@@ -41,7 +37,7 @@ PlanArguments plan_arguments(const Machine& machine, const std::string& program,
                              const std::optional<std::string>& tool_table, long max_samples) {
   // The planner's bounds (motion/planner.hpp), as pkm plan's; the messages quote them.
   static_assert(motion::kMinPeriodS == 1e-6 && motion::kMaxPeriodS == 1.0 &&
-                motion::kMaxJerkPerS3 == 1e12);
+                motion::kMaxJerkPerS3 == 1e12 && motion::kMaxSamplesBound == 1'000'000'000'000'000);
   if (!(period_s >= motion::kMinPeriodS && period_s <= motion::kMaxPeriodS)) {
     throw py::value_error("period must lie within [1e-06, 1] s");
   }
@@ -51,7 +47,9 @@ PlanArguments plan_arguments(const Machine& machine, const std::string& program,
   if (attitude != "linear" && attitude != "great-circle") {
     throw py::value_error("attitude must be 'linear' or 'great-circle'");
   }
-  if (max_samples < 0) throw py::value_error("max_samples must be >= 0 (0: no bound)");
+  if (!(max_samples >= 0 && max_samples <= motion::kMaxSamplesBound)) {
+    throw py::value_error("max_samples must lie within [0, 1e15] (0: no bound)");
+  }
   PlanArguments arguments;
   arguments.program = program;
   arguments.plan.period_s = period_s;
@@ -312,7 +310,8 @@ void bind_plan(py::module_& module) {
   module.def("plan", &plan, py::arg("machine"), py::arg("program"), py::kw_only(),
              py::arg("period") = 0.001, py::arg("origin") = std::vector<double>{},
              py::arg("start") = py::none(), py::arg("attitude") = "linear", py::arg("jerk") = 0.0,
-             py::arg("tool_table") = py::none(), py::arg("max_samples") = kDefaultMaxSamples,
+             py::arg("tool_table") = py::none(),
+             py::arg("max_samples") = motion::kDefaultMaxSamples,
              "Plans a G-code job as pkm plan does: (samples, report). samples is a structured "
              "array, one float64 field per column of pkm plan's NPY (t, line, x y z [a b c] in "
              "mm and deg, j_<joint> in mm or deg, [pen]); report the dict of pkm plan --report. "

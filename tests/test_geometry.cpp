@@ -33,7 +33,10 @@ TEST(Rotation, DerivativesMatchFiniteDifferences) {
   std::uniform_real_distribution<double> angle(-3.0, 3.0);
   for (int trial = 0; trial < 100; ++trial) {
     const Eigen::Vector3d abc(angle(rng), angle(rng), angle(rng));
-    const auto derivatives = rotation_derivatives_abc(abc);
+    Eigen::Matrix3d rotation;
+    std::array<Eigen::Matrix3d, 3> derivatives;
+    rotation_and_derivatives_abc(abc, rotation, derivatives);
+    EXPECT_EQ(rotation, rotation_from_abc(abc));  // the same sines and cosines, the same bits
     for (int k = 0; k < 3; ++k) {
       const double step = 1e-6;
       Eigen::Vector3d plus = abc, minus = abc;

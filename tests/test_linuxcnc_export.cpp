@@ -222,8 +222,8 @@ TEST(LinuxcncExport, EveryExampleMachineExports) {
       if (!config.moved.controls(axis)) continue;
       EXPECT_GT(config.limits.velocity[axis], 0.0) << axis;
       EXPECT_GT(config.limits.acceleration[axis], 0.0) << axis;
-      EXPECT_LE(config.envelope.min[axis], machine.home().as_vector()[axis]);
-      EXPECT_GE(config.envelope.max[axis], machine.home().as_vector()[axis]);
+      EXPECT_LE(config.envelope.box.min[axis], machine.home().as_vector()[axis]);
+      EXPECT_GE(config.envelope.box.max[axis], machine.home().as_vector()[axis]);
     }
     EXPECT_GT(config.shrink, 0.0);
     // Proven wherever post's deviation argument has a Hessian bound for the model (not formula
@@ -288,14 +288,11 @@ class ExportedLimits : public ::testing::TestWithParam<std::string> {};
 TEST_P(ExportedLimits, KeepEveryJointWithinItsLimitsAcrossTheEnvelope) {
   const Machine machine = test::load_example(GetParam());
   const LinuxcncConfig& config = example_config(GetParam());
-  const bounds::EnvelopeBox& box = config.envelope;
+  const PoseBox& box = config.envelope.box;
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   Worst worst;
-  std::vector<int> axes;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    if (machine.kinematics().dof().controls(axis)) axes.push_back(axis);
-  }
+  const std::vector<int> axes = machine.kinematics().dof().axes();
   // The corners of the envelope (where the rates peak on most machines), then random poses.
   for (long corner = 0; corner < (1L << axes.size()); ++corner) {
     Vector6d pose = machine.home().as_vector();
@@ -326,6 +323,40 @@ INSTANTIATE_TEST_SUITE_P(Examples, ExportedLimits,
                                            "hexaglide.toml", "matrix-mill.toml",
                                            "linuxcnc-xyzac-trt.toml", "linuxcnc-rdelta.toml"),
                          [](const auto& param_info) { return test::test_name(param_info.param); });
+
+// The envelope's sides from the file where it gives them, the reach box where it does not; the
+// INI says which.
+TEST(LinuxcncExport, EnvelopeFromTheFileOrTheReach) {
+  const Machine given = parse_machine(kSmallMatrix, "small.toml");
+  const bounds::EnvelopeBox from_file = bounds::work_envelope(given);
+  EXPECT_EQ(from_file.from_file, Dof::translation());
+  EXPECT_EQ(from_file.box.axes, Dof::translation());
+  EXPECT_EQ(from_file.box.min.head<3>(), Eigen::Vector3d(0.0, 0.0, -100.0));
+  EXPECT_EQ(from_file.box.max.head<3>(), Eigen::Vector3d(200.0, 100.0, 0.0));
+  const std::string ini =
+      file_named(make_linuxcnc_config(given, options_for("small.toml", kSmallMatrix, true)),
+                 "small.ini")
+          .text;
+  EXPECT_TRUE(has_line(section(ini, "[AXIS_Y]"), "# limits: [cartesian] min/max"));
+
+  std::string text = kSmallMatrix;
+  text.replace(text.find("min = [0.0, 0.0, -100.0]\n"), 25, "");
+  text.replace(text.find("max = [200.0, 100.0, 0.0]\n"), 26, "");
+  const Machine reached = parse_machine(text, "reach.toml");
+  const bounds::EnvelopeBox from_reach = bounds::work_envelope(reached);
+  EXPECT_EQ(from_reach.from_file, Dof());
+  const PoseBox reach = reach_box(reached);
+  EXPECT_EQ(from_reach.box.min, reach.min);
+  EXPECT_EQ(from_reach.box.max, reach.max);
+  // jz runs -200..10 with z = jz: the reach along z from home (-10) is the joint's range.
+  EXPECT_NEAR(from_reach.box.min[2], -200.0, 1e-3);
+  EXPECT_NEAR(from_reach.box.max[2], 10.0, 1e-3);
+  const std::string reach_ini =
+      file_named(make_linuxcnc_config(reached, options_for("reach.toml", text, true)), "reach.ini")
+          .text;
+  EXPECT_TRUE(has_line(section(reach_ini, "[AXIS_Z]"),
+                       "# limits: the reachable extent along lines through home"));
+}
 
 TEST(LinuxcncExport, RefusesAMachineWithNoFiniteReach) {
   std::string text = kSmallMatrix;

@@ -10,7 +10,6 @@
 #include <fstream>
 #include <numbers>
 
-#include "pkm/geometry/distance.hpp"
 #include "pkm/io/sample_files.hpp"
 #include "pkm/motion/planner.hpp"
 #include "pkm/motion/segment_builder.hpp"
@@ -357,11 +356,7 @@ TEST(LookAhead, CornersStayWithinTheTolerance) {
   double slowest_at_corner = 1e9;
   for (std::size_t k = 1; k < out.samples.size(); ++k) {
     const Eigen::Vector3d p = out.samples[k].pose.head<3>();
-    double nearest = 1e9;
-    for (std::size_t i = 1; i < corners.size(); ++i) {
-      nearest = std::min(nearest, distance_to_segment(p, corners[i - 1], corners[i]));
-    }
-    worst = std::max(worst, nearest);
+    worst = std::max(worst, test::distance_to_polyline(p, corners));
     if ((p - corners[1]).norm() < 0.5) {
       const double speed = (p - out.samples[k - 1].pose.head<3>()).norm() /
                            (out.samples[k].time_s - out.samples[k - 1].time_s);
@@ -383,8 +378,8 @@ TEST(LookAhead, ExactStopModeStopsAtEveryCorner) {
   // Two rest-to-rest moves: 30 mm and 20 mm at 50 mm/s and 1000 mm/s^2.
   EXPECT_NEAR(report.duration_s, (0.1 + (30 - 2.5) / 50.0) + (0.1 + (20 - 2.5) / 50.0), 1e-9);
   for (const Sample& s : out.samples) {
-    EXPECT_LE(distance_to_segment(s.pose.head<3>(), {0, 0, 1000}, {30, 0, 1000}) *
-                  distance_to_segment(s.pose.head<3>(), {30, 0, 1000}, {30, 20, 1000}),
+    EXPECT_LE(test::distance_to_segment(s.pose.head<3>(), {0, 0, 1000}, {30, 0, 1000}) *
+                  test::distance_to_segment(s.pose.head<3>(), {30, 0, 1000}, {30, 20, 1000}),
               1e-12);
   }
 }

@@ -430,12 +430,26 @@ TEST(JobSummary, AHandMadeJobByKindOfMotion) {
   EXPECT_EQ(summary.dwell_s, 1.5);
   EXPECT_DOUBLE_EQ(summary.min_feed_mm_per_min, 254.0);  // F10 in inches
   EXPECT_DOUBLE_EQ(summary.max_feed_mm_per_min, 600.0);
-  EXPECT_NEAR(summary.box.max.y(), 14.0, 1e-9);  // the arc's top, not only its ends
-  EXPECT_NEAR(summary.box.min.x(), 0.0, 1e-12);
-  EXPECT_NEAR(summary.box.max.x(), 25.4, 1e-9);
-  EXPECT_EQ(summary.box.max.z(), 5.0);
-  EXPECT_NEAR(summary.feed_box.min.x(), 3.0, 1e-12);  // the rapid's end is not cut
-  EXPECT_NEAR(summary.feed_box.min.y(), 4.0, 1e-12);
+  EXPECT_NEAR(summary.box.max().y(), 14.0, 1e-9);  // the arc's top, not only its ends
+  EXPECT_NEAR(summary.box.min().x(), 0.0, 1e-12);
+  EXPECT_NEAR(summary.box.max().x(), 25.4, 1e-9);
+  EXPECT_EQ(summary.box.max().z(), 5.0);
+  EXPECT_NEAR(summary.feed_box.min().x(), 3.0, 1e-12);  // the rapid's end is not cut
+  EXPECT_NEAR(summary.feed_box.min().y(), 4.0, 1e-12);
+}
+
+TEST(JobSummary, BoxesOfAJobWithoutMovesOrFeedsAreEmpty) {
+  const TempProgram nothing("G21\nM2\n");
+  const JobSummary none = summarize_job(nothing.path(), {});
+  EXPECT_TRUE(none.box.isEmpty());
+  EXPECT_TRUE(none.feed_box.isEmpty());
+  // One rapid: a box of one point (not empty), nothing cut.
+  const TempProgram rapid("G21 G0 X1 Y-2 Z3\nM2\n");
+  const JobSummary one = summarize_job(rapid.path(), {});
+  EXPECT_FALSE(one.box.isEmpty());
+  EXPECT_EQ(one.box.min(), Eigen::Vector3d(1.0, -2.0, 3.0));
+  EXPECT_EQ(one.box.max(), Eigen::Vector3d(1.0, -2.0, 3.0));
+  EXPECT_TRUE(one.feed_box.isEmpty());
 }
 
 // The NPY header's dict, as NumPy reads it.

@@ -10,7 +10,6 @@
 #include <random>
 #include <sstream>
 
-#include "pkm/geometry/distance.hpp"
 #include "pkm/kinematics/cable_plotter.hpp"
 #include "pkm/kinematics/formula.hpp"
 #include "pkm/motion/segment_builder.hpp"
@@ -52,7 +51,7 @@ double distance_to_move(Eigen::Vector3d p, const motion::Segment& move, Dof dof)
     if (!dof.controls(axis)) start[axis] = end[axis] = p[axis];
   }
   if (move.kind == motion::SegmentKind::line) {
-    return distance_to_segment(p, start.head<3>(), end.head<3>());
+    return test::distance_to_segment(p, start.head<3>(), end.head<3>());
   }
   EXPECT_EQ(move.kind, motion::SegmentKind::arc);
   EXPECT_EQ(start[move.normal_axis], end[move.normal_axis]);

@@ -72,17 +72,6 @@ Eigen::Vector3d controlled(const Machine& machine, const Eigen::Vector3d& positi
   return result;
 }
 
-double distance_to_polyline(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& line) {
-  double nearest = INFINITY;
-  for (std::size_t i = 1; i < line.size(); ++i) {
-    const Eigen::Vector3d a = line[i - 1], ab = line[i] - a;
-    const double t =
-        ab.squaredNorm() > 0.0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
-    nearest = std::min(nearest, (a + t * ab - p).norm());
-  }
-  return nearest;
-}
-
 // Joints rounded to 3 decimals of the interface units (grbl's), so that rounding counts too.
 JointVector rounded(const Machine& machine, const JointVector& q) {
   JointVector result = q;
@@ -116,9 +105,9 @@ DenseResult dense_both_ways(const Machine& machine, const Span& span, const Bloc
   }
   DenseResult result;
   for (const Eigen::Vector3d& p : traced)
-    result.there = std::max(result.there, distance_to_polyline(p, programmed));
+    result.there = std::max(result.there, test::distance_to_polyline(p, programmed));
   for (const Eigen::Vector3d& p : programmed)
-    result.back = std::max(result.back, distance_to_polyline(p, traced));
+    result.back = std::max(result.back, test::distance_to_polyline(p, traced));
   return result;
 }
 

@@ -1,6 +1,9 @@
 #pragma once
 
+#include <Eigen/Core>
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <random>
 #include <string>
@@ -9,6 +12,25 @@
 #include "pkm/machine/machine.hpp"
 
 namespace pkm::test {
+
+// Distance from p to the line segment from a to b (mm): how far a sample lies from a move.
+inline double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                  const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double squared = ab.squaredNorm();
+  const double u = squared > 0.0 ? std::clamp((p - a).dot(ab) / squared, 0.0, 1.0) : 0.0;
+  return (a + u * ab - p).norm();
+}
+
+// Distance from p to the polyline through `points` (mm); infinity for fewer than two points.
+inline double distance_to_polyline(const Eigen::Vector3d& p,
+                                   const std::vector<Eigen::Vector3d>& points) {
+  double nearest = INFINITY;
+  for (std::size_t k = 1; k < points.size(); ++k) {
+    nearest = std::min(nearest, distance_to_segment(p, points[k - 1], points[k]));
+  }
+  return nearest;
+}
 
 std::filesystem::path example_machine_path(const std::string& file_name);
 Machine load_example(const std::string& file_name);

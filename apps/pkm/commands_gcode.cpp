@@ -29,13 +29,13 @@ void print_warnings(const std::string& program, const std::vector<gcode::Warning
   }
 }
 
-void print_box(const char* label, const motion::Box& box) {
-  if (box.empty) {
+void print_box(const char* label, const Eigen::AlignedBox3d& box) {
+  if (box.isEmpty()) {
     std::printf("  %-12s none\n", label);
     return;
   }
-  std::printf("  %-12s x %.3f .. %.3f, y %.3f .. %.3f, z %.3f .. %.3f mm\n", label, box.min.x(),
-              box.max.x(), box.min.y(), box.max.y(), box.min.z(), box.max.z());
+  std::printf("  %-12s x %.3f .. %.3f, y %.3f .. %.3f, z %.3f .. %.3f mm\n", label, box.min().x(),
+              box.max().x(), box.min().y(), box.max().y(), box.min().z(), box.max().z());
 }
 
 void print_summary(const std::string& program, const motion::JobSummary& job) {

@@ -23,10 +23,6 @@ namespace pkm::app {
 
 namespace {
 
-// The most samples plan writes unless told otherwise (--max-samples): 14 hours at 1 ms, some
-// 5 GB of NPY for a hexapod. A job past it is most likely a wrong period or machine file.
-constexpr long kDefaultMaxSamples = 50'000'000;
-
 struct PlanCommandOptions {
   std::string machine;
   std::string program;
@@ -41,7 +37,7 @@ struct PlanCommandOptions {
   double jerk = 0.0;
   bool estimate = false;
   bool sample_without_output = false;  // pkm demo: make the samples even without -o
-  long max_samples = kDefaultMaxSamples;
+  long max_samples = motion::kDefaultMaxSamples;
   std::string display_name;  // how to name the job in the summary (default: its path)
   std::string html;          // the page of the plan (--html), empty for none
 };
@@ -398,7 +394,7 @@ void register_plan_commands(CLI::App& app) {
   command
       ->add_option("--max-samples", options->max_samples,
                    "Refuse a job that needs more samples than this (default 50000000)")
-      ->check(number_in(1, 1e15));
+      ->check(number_in(1, static_cast<double>(motion::kMaxSamplesBound)));
   command->add_option("--period", options->period_s, "Interpolation period, s (default 0.001)")
       ->check(number_in(motion::kMinPeriodS, motion::kMaxPeriodS));
   command->add_option("--report", options->report, "Write the plan report as JSON")

@@ -138,6 +138,11 @@ def test_plan_bound_and_arguments(machines, test_data):
     job = str(test_data / "hektor-job.ngc")
     with pytest.raises(pkmkit.PlanError, match="would pass 100 samples"):
         pkmkit.plan(m, job, max_samples=100)
+    # pkm plan's range and default (--max-samples 1 to 1e15, default 50000000); 0: no bound.
+    for outside in (-1, 10**15 + 1):
+        with pytest.raises(ValueError, match=r"max_samples must lie within \[0, 1e15\]"):
+            pkmkit.plan(m, job, max_samples=outside)
+    assert "max_samples: int = 50000000" in pkmkit.plan.__doc__
     with pytest.raises(ValueError, match="period"):
         pkmkit.plan(m, job, period=0.0)
     with pytest.raises(ValueError, match="attitude"):

@@ -103,6 +103,12 @@ set_tests_properties(cli.plan_estimate_without_output PROPERTIES PASS_REGULAR_EX
 add_test(NAME cli.gcode_summary COMMAND ${PKM} gcode ${SQUARE})
 set_tests_properties(cli.gcode_summary PROPERTIES PASS_REGULAR_EXPRESSION
   "5 moves, written in mm \\(G21\\).*\n  box +x 0\\.000 \\.\\. 15\\.000, y 0\\.000 \\.\\. 20\\.000, z 0\\.000 \\.\\. 0\\.000 mm\n.*  path +rapid 0\\.000 mm, feed 65\\.616 mm, arc 0\\.000 mm")
+# A job's boxes as printed where it has no move, and where it has no feed move.
+add_test(NAME cli.gcode_summary_empty_boxes
+         COMMAND sh -c "printf 'M2\\n' > \"$1\" && printf 'G0 X1 Y-2 Z3\\nM2\\n' > \"$2\" && \"$0\" gcode \"$1\" && \"$0\" gcode \"$2\""
+                 ${PKM} ${CLI_OUT}/no-moves.ngc ${CLI_OUT}/one-rapid.ngc)
+set_tests_properties(cli.gcode_summary_empty_boxes PROPERTIES PASS_REGULAR_EXPRESSION
+  "no-moves\\.ngc: 0 moves, written in no units \\(no moves\\).*\n  box +none\n  feed box +none\n.*one-rapid\\.ngc: 1 moves.*\n  box +x 1\\.000 \\.\\. 1\\.000, y -2\\.000 \\.\\. -2\\.000, z 3\\.000 \\.\\. 3\\.000 mm\n  feed box +none\n")
 # M19's orientation with LinuxCNC's ORIENT_OFFSET: the same ORIENT_SPINDLE as rs274 with the INI
 # setting it (R45 + 42 = 87 deg).
 add_test(NAME cli.gcode_orient_offset_as_rs274

@@ -82,6 +82,8 @@ Range widened(Range a) {
   return {a.lo - kRounding * std::abs(a.lo), a.hi + kRounding * std::abs(a.hi)};
 }
 
+// A box of points in the plane as the range of each coordinate: the interval arithmetic here
+// adds, turns and multiplies boxes coordinate by coordinate (Eigen::AlignedBox2d has none of it).
 struct Box2 {
   Range x, y;
 };

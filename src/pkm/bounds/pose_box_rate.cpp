@@ -152,7 +152,7 @@ bool needs_refining(const Leaf& leaf, const Eigen::MatrixXd& sampled,
 
 // Formula machines have no Hessian bound: the largest Jacobian entries and Hessian norms met on a
 // grid of the box (the Hessian by differences of the Jacobian), reported as sampled.
-JointRateBound sample_joint_rates(const Machine& machine, const EnvelopeBox& box,
+JointRateBound sample_joint_rates(const Machine& machine, const PoseBox& box,
                                   double angle_scale_mm) {
   const Kinematics& model = machine.kinematics();
   const std::vector<int> axes = model.dof().axes();
@@ -205,7 +205,8 @@ JointRateBound sample_joint_rates(const Machine& machine, const EnvelopeBox& box
 }  // namespace
 
 EnvelopeBox work_envelope(const Machine& machine) {
-  EnvelopeBox box;
+  EnvelopeBox envelope;
+  PoseBox& box = envelope.box;
   box.axes = machine.kinematics().dof();
   const CartesianLimits& cartesian = machine.cartesian();
   const bool needs_reach = [&] {
@@ -223,7 +224,7 @@ EnvelopeBox work_envelope(const Machine& machine) {
     const bool high_given = std::isfinite(cartesian.envelope_max[axis]);
     box.min[axis] = low_given ? cartesian.envelope_min[axis] : reach.min[axis];
     box.max[axis] = high_given ? cartesian.envelope_max[axis] : reach.max[axis];
-    box.from_file[axis] = low_given && high_given ? 1.0 : 0.0;
+    if (low_given && high_given) envelope.from_file = envelope.from_file.with(axis);
     const std::string name(kAxisNames[axis]);
     if (axis < 3 && (std::abs(box.min[axis] - home[axis]) > kNoFiniteReachMm ||
                      std::abs(box.max[axis] - home[axis]) > kNoFiniteReachMm)) {
@@ -237,7 +238,7 @@ EnvelopeBox work_envelope(const Machine& machine) {
                                ": give [cartesian] min and max for " + name);
     }
   }
-  return box;
+  return envelope;
 }
 
 namespace {
@@ -337,7 +338,7 @@ class CellTree {
 
 }  // namespace
 
-JointRateBound bound_joint_rates(const Machine& machine, const EnvelopeBox& box,
+JointRateBound bound_joint_rates(const Machine& machine, const PoseBox& box,
                                  const JointRateOptions& options) {
   const Kinematics& model = machine.kinematics();
   const double angle_scale_mm = pose_angle_scale_mm(model);
@@ -390,8 +391,8 @@ Eigen::VectorXd weighted_row_sums(const Eigen::MatrixXd& slope, double angle_sca
   return sums;
 }
 
-EnvelopeBox shrunk(const EnvelopeBox& box, const Vector6d& home, double factor) {
-  EnvelopeBox result = box;
+PoseBox shrunk(const PoseBox& box, const Vector6d& home, double factor) {
+  PoseBox result = box;
   for (int axis = 0; axis < kPoseSize; ++axis) {
     if (!box.axes.controls(axis)) continue;
     const double centre = std::clamp(home[axis], box.min[axis], box.max[axis]);
@@ -420,15 +421,15 @@ FittedEnvelope fit_envelope(const Machine& machine, const EnvelopeBox& requested
     }
     return true;
   };
-  FittedEnvelope fitted{requested, 1.0, bound_joint_rates(machine, requested, options)};
+  FittedEnvelope fitted{requested, 1.0, bound_joint_rates(machine, requested.box, options)};
   if (acceptable(fitted.bound) || !fitted.bound.proven) return fitted;
   JointRateOptions search = options;
   search.max_cells = options.max_cells / 4;
   double good = 0.0, bad = 1.0;
   for (int step = 0; step < kShrinkSteps; ++step) {
     const double middle = 0.5 * (good + bad);
-    (acceptable(bound_joint_rates(machine, shrunk(requested, home, middle), search)) ? good : bad) =
-        middle;
+    const PoseBox smaller = shrunk(requested.box, home, middle);
+    (acceptable(bound_joint_rates(machine, smaller, search)) ? good : bad) = middle;
   }
   if (good == 0.0) {
     throw std::runtime_error(
@@ -437,8 +438,8 @@ FittedEnvelope fit_envelope(const Machine& machine, const EnvelopeBox& requested
         " times its rate at home: the machine is at or next to a singularity there");
   }
   fitted.shrink = good;
-  fitted.box = shrunk(requested, home, good);
-  fitted.bound = bound_joint_rates(machine, fitted.box, options);
+  fitted.box.box = shrunk(requested.box, home, good);
+  fitted.bound = bound_joint_rates(machine, fitted.box.box, options);
   return fitted;
 }
 

@@ -14,12 +14,10 @@
 
 namespace pkm::bounds {
 
-// The poses the bound covers: a box over the machine's controlled coordinates (mm, rad).
+// The poses the bound covers, and where each side came from.
 struct EnvelopeBox {
-  Dof axes;
-  Vector6d min = Vector6d::Zero();
-  Vector6d max = Vector6d::Zero();
-  Vector6d from_file = Vector6d::Zero();  // 1 where the [cartesian] min/max gave the side
+  PoseBox box;    // over the machine's controlled coordinates (mm, rad)
+  Dof from_file;  // the axes whose [cartesian] min and max both gave the sides
 };
 
 // The machine file's work envelope where it gives one, the reachable extent along lines through
@@ -58,7 +56,7 @@ struct JointRateBound {
 };
 
 // The slope and curvature bounds hold over the box except the `uncovered` cells.
-JointRateBound bound_joint_rates(const Machine& machine, const EnvelopeBox& box,
+JointRateBound bound_joint_rates(const Machine& machine, const PoseBox& box,
                                  const JointRateOptions& options = {});
 
 // The box limits built on the bound hold over (the LinuxCNC export's axis limits): the requested

@@ -68,10 +68,6 @@ Eigen::Matrix3d rotation_from_abc(const Eigen::Vector3d& abc_rad) {
   return rotation_from(sincos_abc(abc_rad));
 }
 
-std::array<Eigen::Matrix3d, 3> rotation_derivatives_abc(const Eigen::Vector3d& abc_rad) {
-  return derivatives_from(sincos_abc(abc_rad));
-}
-
 void rotation_and_derivatives_abc(const Eigen::Vector3d& abc_rad, Eigen::Matrix3d& rotation,
                                   std::array<Eigen::Matrix3d, 3>& derivatives) {
   const SinCos t = sincos_abc(abc_rad);

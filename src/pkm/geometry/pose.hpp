@@ -74,10 +74,8 @@ constexpr double radians_to_degrees(double radians) {
 // R = Rz(c) * Ry(b) * Rx(a) for angles in radians.
 Eigen::Matrix3d rotation_from_abc(const Eigen::Vector3d& abc_rad);
 
-// Partial derivatives of rotation_from_abc with respect to a, b and c.
-std::array<Eigen::Matrix3d, 3> rotation_derivatives_abc(const Eigen::Vector3d& abc_rad);
-
-// The rotation and its three partial derivatives from one evaluation of the sines and cosines.
+// The rotation (rotation_from_abc) and its partial derivatives with respect to a, b and c, from
+// one evaluation of the sines and cosines.
 void rotation_and_derivatives_abc(const Eigen::Vector3d& abc_rad, Eigen::Matrix3d& rotation,
                                   std::array<Eigen::Matrix3d, 3>& derivatives);
 

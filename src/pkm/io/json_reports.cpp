@@ -80,7 +80,7 @@ std::string joint_bound_text(const Machine& machine, const motion::FeedLimit& li
     return formatted_number("%.1f", machine.joint_to_file(limit.joint, internal)) + " " + unit;
   };
   const double programmed =
-      std::min(limit.programmed_mm_per_s, machine.cartesian().max_feed_mm_per_min / 60.0);
+      std::min(limit.programmed_mm_per_s, machine.cartesian().max_feed_mm_per_s());
   std::string text = "joint " + joint.name + "'s " + (velocity ? "velocity" : "acceleration") +
                      " would be " + value(limit.needed_at_programmed) + " at " +
                      feed_text(machine, programmed) + ", over the " + value(limit.usable) +

@@ -47,7 +47,7 @@ class CsvFile final : public SampleFile {
     file_.write(header + "\n");
   }
   void write(const motion::Sample& sample) override {
-    double row[32];
+    double row[SampleRows::kMaxColumns];
     const std::size_t n = rows_.fill(sample, row);
     append_csv_row(row, n, rows_.pen(), pending_);
     if (pending_.size() >= kBlockBytes) write_pending();

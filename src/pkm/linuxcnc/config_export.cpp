@@ -79,7 +79,7 @@ std::string fixed(double value, int decimals) {
 // The speed pkm plan allows a move along `axis` at the worst cell centre the bound met: the
 // joints' rates there are the largest sampled.
 double plan_speed_at_worst(const Machine& machine, const bounds::JointRateBound& bound, int axis) {
-  double speed = machine.cartesian().max_feed_mm_per_min / 60.0;
+  double speed = machine.cartesian().max_feed_mm_per_s();
   for (int i = 0; i < bound.sampled_slope.rows(); ++i) {
     const double rate = bound.sampled_slope(i, axis);
     const double max_velocity = 0.99 * machine.joints()[static_cast<std::size_t>(i)].max_velocity;
@@ -92,10 +92,9 @@ std::vector<std::string> cost_lines(const Machine& machine, const LinuxcncConfig
   std::vector<std::string> lines;
   const double unit = machine.mm_per_unit();
   const std::string u = machine.length_unit();
-  const double max_feed = machine.cartesian().max_feed_mm_per_min / 60.0;
+  const double max_feed = machine.cartesian().max_feed_mm_per_s();
   const double max_acceleration = machine.cartesian().max_acceleration_mm_per_s2;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    if (!config.moved.controls(axis)) continue;
+  for (const int axis : config.moved.axes()) {
     const std::string name(1, axis_letter(axis));
     const int limiting = config.limits.velocity_limiting[static_cast<std::size_t>(axis)];
     const std::string by = limiting >= 0 ? "set by " + joint_name(machine, limiting)
@@ -151,9 +150,8 @@ void bound_comments(Header& h, const LinuxcncConfig& config) {
 std::string traj_section(const Machine& machine, const LinuxcncConfig& config) {
   const double unit = machine.mm_per_unit();
   std::string letters;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    if (config.moved.controls(axis))
-      letters += std::string(letters.empty() ? "" : " ") + axis_letter(axis);
+  for (const int axis : config.moved.axes()) {
+    letters += std::string(letters.empty() ? "" : " ") + axis_letter(axis);
   }
   const double v = config.limits.linear_velocity / unit;
   const double a = config.limits.linear_acceleration / unit;
@@ -170,8 +168,8 @@ std::string traj_section(const Machine& machine, const LinuxcncConfig& config) {
        "\nMAX_LINEAR_ACCELERATION = " + number_down(a) + "\n";
   double angular = 0.0;
   bool any_angle = false;
-  for (int axis = 3; axis < kPoseSize; ++axis) {
-    if (!config.moved.controls(axis)) continue;
+  for (const int axis : config.moved.axes()) {
+    if (axis < 3) continue;
     const double w = rate_in_file(machine, axis, config.limits.velocity[axis]);
     angular = any_angle ? std::min(angular, w) : w;
     any_angle = true;
@@ -189,12 +187,11 @@ constexpr double kFreeZRangeMm = 100.0;
 
 std::string axis_sections(const Machine& machine, const LinuxcncConfig& config) {
   std::string s;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    if (!config.moved.controls(axis)) continue;
+  for (const int axis : config.moved.axes()) {
     const bool controlled = machine.kinematics().dof().controls(axis);
-    const double low = controlled ? axis_in_file(machine, axis, config.envelope.min[axis])
+    const double low = controlled ? axis_in_file(machine, axis, config.envelope.box.min[axis])
                                   : -kFreeZRangeMm / machine.mm_per_unit();
-    const double high = controlled ? axis_in_file(machine, axis, config.envelope.max[axis])
+    const double high = controlled ? axis_in_file(machine, axis, config.envelope.box.max[axis])
                                    : kFreeZRangeMm / machine.mm_per_unit();
     s += "[AXIS_" + std::string(1, axis_letter(axis)) + "]\n";
     if (!controlled) {
@@ -202,13 +199,13 @@ std::string axis_sections(const Machine& machine, const LinuxcncConfig& config) 
                ? "# Z moves no joint: it is the pen's channel (pen-up in the HAL files)\n"
                : "# Z moves no joint: the machine ignores it\n";
     } else {
-      const std::string from = config.envelope.from_file[axis] != 0.0
+      const std::string from = config.envelope.from_file.controls(axis)
                                    ? "[cartesian] min/max"
                                    : "the reachable extent along lines through home";
       s += config.shrink < 1.0
                ? "# limits: " + from + " (" +
-                     number(axis_in_file(machine, axis, config.requested.min[axis])) + " .. " +
-                     number(axis_in_file(machine, axis, config.requested.max[axis])) +
+                     number(axis_in_file(machine, axis, config.requested.box.min[axis])) + " .. " +
+                     number(axis_in_file(machine, axis, config.requested.box.max[axis])) +
                      "), shrunk about home to " + number(100.0 * config.shrink) +
                      " % (see the header)\n"
                : "# limits: " + from + "\n";

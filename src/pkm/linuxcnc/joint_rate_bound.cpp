@@ -70,8 +70,7 @@ Filling fill(const bounds::JointRateBound& bound, const std::vector<double>& bud
 Vector6d alone(const bounds::JointRateBound& bound, const std::vector<double>& budget,
                const Vector6d& cap, Dof moved) {
   Vector6d result = Vector6d::Zero();
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    if (!moved.controls(axis)) continue;
+  for (const int axis : moved.axes()) {
     double most = cap[axis];
     for (Eigen::Index r = 0; r < bound.cell_slope.rows(); ++r) {
       const double slope = bound.cell_slope(r, axis);
@@ -87,14 +86,14 @@ Vector6d alone(const bounds::JointRateBound& bound, const std::vector<double>& b
 
 AxisRateLimits axis_rate_limits(const Machine& machine, const bounds::JointRateBound& bound,
                                 Dof moved) {
-  const Dof controlled = machine.kinematics().dof();
+  const std::vector<int> controlled = machine.kinematics().dof().axes();
   const std::size_t rows = bound.cell_joint.size();
   const auto joint_of = [&](std::size_t r) {
     return machine.joints()[static_cast<std::size_t>(bound.cell_joint[r])];
   };
   Vector6d velocity_cap, acceleration_cap;
   for (int axis = 0; axis < kPoseSize; ++axis) {
-    velocity_cap[axis] = axis < 3 ? machine.cartesian().max_feed_mm_per_min / 60.0 : kInfinity;
+    velocity_cap[axis] = axis < 3 ? machine.cartesian().max_feed_mm_per_s() : kInfinity;
     acceleration_cap[axis] = axis < 3 ? machine.cartesian().max_acceleration_mm_per_s2 : kInfinity;
   }
   std::vector<double> budget(rows);
@@ -104,9 +103,8 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const bounds::JointRateB
   // |v|^2 in the scaled coordinates the Hessian bound speaks, over the controlled axes.
   const auto scaled_square = [&](const Vector6d& v) {
     double sum = 0.0;
-    for (int axis = 0; axis < kPoseSize; ++axis) {
-      if (controlled.controls(axis))
-        sum += std::pow(v[axis] * (axis < 3 ? 1.0 : bound.angle_scale_mm), 2);
+    for (const int axis : controlled) {
+      sum += std::pow(v[axis] * (axis < 3 ? 1.0 : bound.angle_scale_mm), 2);
     }
     return sum;
   };
@@ -121,11 +119,9 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const bounds::JointRateB
     }
   }
   if (curving >= 0) {
-    for (int axis = 0; axis < kPoseSize; ++axis) {
-      if (controlled.controls(axis)) {
-        velocity.value[axis] *= factor;
-        velocity.limiting[static_cast<std::size_t>(axis)] = curving;
-      }
+    for (const int axis : controlled) {
+      velocity.value[axis] *= factor;
+      velocity.limiting[static_cast<std::size_t>(axis)] = curving;
     }
   }
   for (std::size_t r = 0; r < rows; ++r) {
@@ -141,7 +137,7 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const bounds::JointRateB
   limits.velocity_limiting = velocity.limiting;
   limits.acceleration_limiting = acceleration.limiting;
   limits.linear_velocity =
-      std::min(machine.cartesian().max_feed_mm_per_min / 60.0, limits.velocity.head<3>().norm());
+      std::min(machine.cartesian().max_feed_mm_per_s(), limits.velocity.head<3>().norm());
   limits.linear_acceleration = std::min(machine.cartesian().max_acceleration_mm_per_s2,
                                         limits.acceleration.head<3>().norm());
   return limits;
@@ -164,7 +160,7 @@ double plan_speed_along(const Machine& machine, const Pose& pose, int axis) {
       curved ? JointVector((ahead - 2.0 * here + behind).cwiseAbs() / (kStepMm * kStepMm))
              : JointVector(JointVector::Zero(jacobian.rows()));
   return motion::joint_feed_limit(machine.joints(), slope, curvature,
-                                  machine.cartesian().max_feed_mm_per_min / 60.0)
+                                  machine.cartesian().max_feed_mm_per_s())
       .speed_mm_per_s;
 }
 

@@ -75,6 +75,7 @@ struct ToolChannel {
 
 struct CartesianLimits {
   double max_feed_mm_per_min = 0.0;
+  double max_feed_mm_per_s() const { return max_feed_mm_per_min / 60.0; }
   double max_acceleration_mm_per_s2 = 0.0;
   // The work envelope ([cartesian] min and max, LinuxCNC's axis limits): mm and rad, infinite
   // where the file gives none. Only the coordinates the machine controls are checked.

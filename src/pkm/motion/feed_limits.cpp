@@ -58,7 +58,8 @@ Piece FeedLimits::piece(const Segment& segment, double length) {
   Piece piece;
   piece.segment = segment;
   piece.length = length;
-  piece.max_speed = segment.rapid ? max_feed() : std::min(segment.feed_mm_per_s, max_feed());
+  const double max_feed = machine_.cartesian().max_feed_mm_per_s();
+  piece.max_speed = segment.rapid ? max_feed : std::min(segment.feed_mm_per_s, max_feed);
   if (!(piece.max_speed > 0.0)) {
     throw PlanError(file_, segment.line, "a feed move with no feed rate");
   }
@@ -135,7 +136,8 @@ void FeedLimits::limit_by_joints(Piece& piece) {
   if (rule.joint < 0 || !(speed < programmed * (1.0 - 1e-9))) return;
   FeedLimit limit = feed_limit(piece, rule.joint, speed, LimitCause::joint);
   const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(rule.joint)];
-  const double feed = std::min(programmed_feed(piece.segment), max_feed());
+  const double feed =
+      std::min(programmed_feed(piece.segment), machine_.cartesian().max_feed_mm_per_s());
   limit.bound = rule.bound;
   if (rule.bound == JointBound::velocity) {
     limit.needed_at_programmed = slope[rule.joint] * feed;

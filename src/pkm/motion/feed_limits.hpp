@@ -54,9 +54,8 @@ class FeedLimits {
   // curve it is, if any.
   FeedLimit feed_limit(const Piece& piece, int joint, double speed, LimitCause cause) const;
   double programmed_feed(const Segment& segment) const {
-    return segment.rapid ? max_feed() : segment.feed_mm_per_s;
+    return segment.rapid ? machine_.cartesian().max_feed_mm_per_s() : segment.feed_mm_per_s;
   }
-  double max_feed() const { return machine_.cartesian().max_feed_mm_per_min / 60.0; }
 
   const Machine& machine_;
   const PlanOptions& options_;

@@ -8,12 +8,6 @@
 
 namespace pkm::motion {
 
-void Box::add(const Eigen::Vector3d& point) {
-  min = empty ? point : Eigen::Vector3d(min.cwiseMin(point));
-  max = empty ? point : Eigen::Vector3d(max.cwiseMax(point));
-  empty = false;
-}
-
 namespace {
 
 // The points of a move that bound it: its end and, on an arc, every point where it passes a
@@ -67,8 +61,8 @@ class Summariser {
       (segment.kind == SegmentKind::arc ? summary_.arc_mm : summary_.feed_mm) += length;
     }
     extreme_points(segment, [&](const Eigen::Vector3d& point) {
-      summary_.box.add(point);
-      if (!segment.rapid) summary_.feed_box.add(point);
+      summary_.box.extend(point);
+      if (!segment.rapid) summary_.feed_box.extend(point);
     });
     if (!segment.rapid) note_feed(canon);
   }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <set>
 #include <vector>
@@ -12,20 +13,12 @@
 
 namespace pkm::motion {
 
-// The extent of a set of points (mm); empty until the first is added.
-struct Box {
-  Eigen::Vector3d min = Eigen::Vector3d::Constant(0.0);
-  Eigen::Vector3d max = Eigen::Vector3d::Constant(0.0);
-  bool empty = true;
-
-  void add(const Eigen::Vector3d& point);
-};
-
 struct JobSummary {
   int moves = 0;                       // lines, arcs and probes
   std::set<gcode::LengthUnits> units;  // the units its moves were written in
-  Box box;                             // every point the moves reach (not the start at X0 Y0 Z0)
-  Box feed_box;                        // the points of feed moves and arcs: what is cut or drawn
+  // The extents (mm), empty (isEmpty()) where no point was added.
+  Eigen::AlignedBox3d box;       // every point the moves reach (not the start at X0 Y0 Z0)
+  Eigen::AlignedBox3d feed_box;  // the points of feed moves and arcs: what is cut or drawn
   double rapid_mm = 0.0, feed_mm = 0.0, arc_mm = 0.0;  // path length by kind of motion
   double angles_deg = 0.0;                             // travel of moves that turn A B C alone
   double min_feed_mm_per_min = 0.0, max_feed_mm_per_min = 0.0;  // programmed F of feed moves

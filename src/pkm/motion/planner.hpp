@@ -66,6 +66,11 @@ struct PlanOptions {
 // length unit) up to kMaxJerkPerS3.
 inline constexpr double kMinPeriodS = 1e-6, kMaxPeriodS = 1.0;
 inline constexpr double kMaxJerkPerS3 = 1e12;
+// max_samples: at most kMaxSamplesBound (0: no bound, in the Python module), and unless told
+// otherwise kDefaultMaxSamples: 14 hours at 1 ms, some 5 GB of NPY for a hexapod. A job past it is
+// most likely a wrong period or machine file.
+inline constexpr long kMaxSamplesBound = 1'000'000'000'000'000;
+inline constexpr long kDefaultMaxSamples = 50'000'000;
 
 // Where an estimate stops counting samples (a job of 30,000 years at 1 ms).
 inline constexpr long kSampleCountCap = 1'000'000'000'000'000'000;

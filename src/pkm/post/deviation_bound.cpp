@@ -14,11 +14,10 @@ using bounds::pose_angle_scale_mm;
 using motion::Segment;
 
 DeviationBound::DeviationBound(const Machine& machine, double tolerance_mm)
-    : machine_(machine), reach_mm_(std::min(3.0 * tolerance_mm, 1.5)) {
+    : machine_(machine),
+      reach_mm_(std::min(3.0 * tolerance_mm, 1.5)),
+      axes_(machine.kinematics().dof().axes()) {
   const Kinematics& model = machine.kinematics();
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    if (model.dof().controls(axis)) axes_.push_back(axis);
-  }
   angle_scale_mm_ = pose_angle_scale_mm(model);
   available_ = model.joint_count() == static_cast<int>(axes_.size()) &&
                inverse_hessian_bounds(model, machine.home().as_vector(), 0.0, angle_scale_mm_, {})

@@ -366,9 +366,6 @@ class Poster : private CoveringHost {
     return duration;
   }
 
-  // The speed post gives a rapid written as timed blocks (pkm plan's rapid speed).
-  double max_feed_mm_per_s() const { return machine_.cartesian().max_feed_mm_per_min / 60.0; }
-
   // A spindle or laser on, as opposed to a pen the spindle output lifts.
   bool cutting() const { return !pen() && spindle_on_ == true; }
 
@@ -376,7 +373,7 @@ class Poster : private CoveringHost {
   // the joints' top rates, take the tool above max_feed on average.
   void warn_of_fast_rapid(const Span& span, const JointVector& q1, int line) {
     const double joints_s = joint_limited_s(q1);
-    const double max_feed = max_feed_mm_per_s();
+    const double max_feed = machine_.cartesian().max_feed_mm_per_s();
     if (line == fast_rapid_warned_line_ || !(joints_s > 0.0)) return;
     const double tool_mm_per_s = span.length_mm() / joints_s;
     if (tool_mm_per_s <= max_feed * (1.0 + 1e-9)) return;
@@ -410,8 +407,8 @@ class Poster : private CoveringHost {
       // Inverse time: the block takes the programmed path's time at the programmed feed (the
       // sum over the moves it spans; a rapid's at max_feed), or longer where a joint would
       // otherwise exceed its velocity.
-      line +=
-          inverse_time_feed(std::max(span.programmed_s(max_feed_mm_per_s()), joint_limited_s(q1)));
+      line += inverse_time_feed(std::max(
+          span.programmed_s(machine_.cartesian().max_feed_mm_per_s()), joint_limited_s(q1)));
     }
     if (options_.max_blocks > 0 && report_.blocks >= options_.max_blocks) {
       throw BlockBoundError(file_, segment.line,
