@@ -86,6 +86,10 @@ class GlideKinematics final : public Kinematics, public MechanismSketch {
   void moving_parts(const Pose& pose, const JointVector& joints,
                     std::vector<SketchLine>& out) const override;
 
+  // Reach box (kinematics.hpp; glide_reach.cpp).
+  std::optional<Eigen::AlignedBox3d> tool_position_box(const JointVector& joint_min,
+                                                       const JointVector& joint_max) const override;
+
   const std::vector<GlideRail>& rails() const { return rails_; }
   const PassThroughAxes& passthrough() const { return passthrough_; }
   const LegLimits& leg_limits() const { return leg_limits_; }

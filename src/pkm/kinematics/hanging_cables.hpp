@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 
 #include "pkm/kinematics/cable_statics.hpp"
 #include "pkm/kinematics/kinematics.hpp"
@@ -28,6 +29,12 @@ class HangingCables {
   // (mm/s^2, x right, y up): tensions from m (g - a), the tilt for that effective gravity.
   virtual Status statics(const Pose& pose, const Eigen::Vector2d& acceleration_mm_per_s2,
                          CableStatics& out) const = 0;
+  // The tension map (machine/tension_region.cpp): the anchors (pulley centres, x y in mm), each
+  // cable's joint reading less its straight length from its anchor (mm), and the same cables
+  // without tension_limits ([0, inf): a pose where a cable would push is still refused).
+  virtual Eigen::Vector2d anchor_mm(int cable) const = 0;
+  virtual double cable_offset_mm(int cable) const = 0;
+  virtual std::unique_ptr<Kinematics> without_tension_limits() const = 0;
 };
 
 }  // namespace pkm

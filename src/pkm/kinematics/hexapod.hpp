@@ -106,6 +106,10 @@ class HexapodKinematics final : public Kinematics, public MechanismSketch {
   void moving_parts(const Pose& pose, const JointVector& joints,
                     std::vector<SketchLine>& out) const override;
 
+  // Reach box (kinematics.hpp; hexapod_reach.cpp).
+  std::optional<Eigen::AlignedBox3d> tool_position_box(const JointVector& joint_min,
+                                                       const JointVector& joint_max) const override;
+
   const HexapodGeometry& geometry() const { return geometry_; }
   const LegLimits& leg_limits() const { return leg_limits_; }
   // The legs' joint centres at a pose (what the leg limits judge).
