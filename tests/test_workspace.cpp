@@ -561,6 +561,30 @@ TEST(Workspace, ResolutionTooFineIsRefusedBeforeItsWorkNamingOneThatFits) {
   EXPECT_GT(ws.cells_judged, options.max_cells / 2);  // not far coarser than needed
 }
 
+// Each model's own box of tool positions, by hand: the biglide's carriages run 0..300 mm on x and
+// its struts are 100 mm; the plotter's cables reach 1200 mm from anchors at x 0 and 1000. A
+// formula machine has none.
+TEST(Workspace, EachModelAnswersItsReachBoxByHand) {
+  const auto reach = [](const Machine& machine) {
+    JointVector low(static_cast<Eigen::Index>(machine.joints().size()));
+    JointVector high(low.size());
+    for (Eigen::Index j = 0; j < low.size(); ++j) {
+      low[j] = machine.joints()[static_cast<std::size_t>(j)].min;
+      high[j] = machine.joints()[static_cast<std::size_t>(j)].max;
+    }
+    return machine.kinematics().tool_position_box(low, high);
+  };
+  const std::optional<Eigen::AlignedBox3d> glide = reach(biglide());
+  ASSERT_TRUE(glide.has_value());
+  EXPECT_EQ(glide->min(), Eigen::Vector3d(-100.0, -100.0, -100.0));
+  EXPECT_EQ(glide->max(), Eigen::Vector3d(400.0, 100.0, 100.0));
+  const std::optional<Eigen::AlignedBox3d> cables = reach(plotter());
+  ASSERT_TRUE(cables.has_value());
+  EXPECT_EQ(cables->min(), Eigen::Vector3d(-200.0, -1200.0, -1200.0));
+  EXPECT_EQ(cables->max(), Eigen::Vector3d(1200.0, 1200.0, 1200.0));
+  EXPECT_FALSE(reach(test::load_example("mach3-formula.toml")).has_value());
+}
+
 TEST(Workspace, AFormulaMachineOnTwoThreadsWritesOneThreadsDocument) {
   // The threads share one constant machine: the formula model's per-call scratch is per thread.
   const Machine machine = test::load_example("mach3-formula.toml");
