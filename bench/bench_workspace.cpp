@@ -39,7 +39,7 @@ void example_machine(benchmark::State& state, const std::string& file) {
   double longest = 0.0, shortest = 1e300;
   for (int axis = 0; axis < 3; ++axis) {
     if (!machine.kinematics().dof().controls(axis)) continue;
-    const double size = search.box.max_mm[axis] - search.box.min_mm[axis];
+    const double size = search.box.max()[axis] - search.box.min()[axis];
     longest = std::max(longest, size);
     shortest = std::min(shortest, size);
   }

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <random>
+#include <thread>
 
 #include "pkm/kinematics/cable_plotter.hpp"
 #include "pkm/kinematics/formula.hpp"
@@ -165,6 +166,40 @@ TEST(Formula, ComparisonsAreNotAssignmentsAndAFormulaGivesOneValueEveryTime) {
   EXPECT_DOUBLE_EQ(first[0], 50.0);
   EXPECT_DOUBLE_EQ(first[1], std::sqrt(70.0 * 70.0 + 40.0 * 40.0));
   EXPECT_EQ(first, again);
+}
+
+TEST(Formula, OneModelFromSeveralThreadsAtOnceGivesOneThreadsJoints) {
+  // The workspace's threads share one constant model (docs/kinematics.md): each call's pose must
+  // stay its own while another thread evaluates the same formulas at another pose.
+  const Machine machine = load_example("mach3-formula.toml");
+  const Kinematics& model = machine.kinematics();
+  std::vector<Pose> poses;
+  for (int i = 0; i < 400; ++i) {
+    poses.push_back(Pose::from_mm_deg(10.0 + 0.2 * i, -20.0 - 0.3 * (i % 97), 0.0));
+  }
+  std::vector<JointVector> alone(poses.size());
+  for (std::size_t k = 0; k < poses.size(); ++k)
+    ASSERT_TRUE(model.inverse(poses[k], alone[k]).ok());
+  constexpr int kThreads = 4;
+  constexpr int kRounds = 400;  // enough for the threads to overlap: 640k calls, 0.04 s
+  std::vector<int> mismatches(kThreads, 0);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      JointVector joints;
+      for (int round = 0; round < kRounds; ++round) {
+        for (std::size_t n = 0; n < poses.size(); ++n) {
+          const std::size_t k = (n * static_cast<std::size_t>(t + 1) + 37 * t) % poses.size();
+          const bool ok = model.inverse(poses[k], joints).ok();
+          if (!ok || joints != alone[k]) ++mismatches[static_cast<std::size_t>(t)];
+        }
+      }
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  for (int t = 0; t < kThreads; ++t) EXPECT_EQ(mismatches[static_cast<std::size_t>(t)], 0) << t;
+  EXPECT_DOUBLE_EQ(alone[0][0], std::hypot(10.0, 20.0));
+  EXPECT_DOUBLE_EQ(alone[0][1], std::hypot(90.0, 20.0));
 }
 
 TEST(Formula, AnAssignmentIsRefusedWithItsColumn) {

@@ -105,7 +105,7 @@ TEST(Workspace, BiglideAreaFromItsRailAndStruts) {
   EXPECT_LT(ws.boundary_measure, 0.12 * exact);
   EXPECT_NEAR(ws.estimate, exact, 0.002 * exact);
   ASSERT_TRUE(ws.extent);
-  EXPECT_NEAR(ws.extent->min_mm.y(), -100.0, 1.0);
+  EXPECT_NEAR(ws.extent->min().y(), -100.0, 1.0);
   // Both ends of the rail limit it, the struts' reach at y = -100 and the assembly mode at 0.
   EXPECT_GT(ws.limited_by.count("joint_limit"), 0u);
   EXPECT_GT(ws.limited_by.count("other_assembly"), 0u);
@@ -128,9 +128,9 @@ TEST(Workspace, CablePlotterBetweenTheAnchors) {
   EXPECT_GE(ws.inside_measure + ws.boundary_measure, exact);
   EXPECT_NEAR(ws.estimate, exact, 0.002 * exact);
   ASSERT_TRUE(ws.extent);
-  EXPECT_NEAR(ws.extent->min_mm.x(), 0.0, 2.0);
-  EXPECT_NEAR(ws.extent->max_mm.x(), 1000.0, 2.0);
-  EXPECT_NEAR(ws.extent->min_mm.y(), -std::sqrt(1200.0 * 1200.0 - 500.0 * 500.0), 2.0);
+  EXPECT_NEAR(ws.extent->min().x(), 0.0, 2.0);
+  EXPECT_NEAR(ws.extent->max().x(), 1000.0, 2.0);
+  EXPECT_NEAR(ws.extent->min().y(), -std::sqrt(1200.0 * 1200.0 - 500.0 * 500.0), 2.0);
   // The largest disk sits between the anchors, clear of both sides.
   ASSERT_TRUE(ws.largest_cylinder);
   EXPECT_GT(ws.largest_cylinder->radius_mm, 300.0);
@@ -239,8 +239,8 @@ TEST(Workspace, JointAngleLimitLiftsTheLowestPointAsComputedByHand) {
   ASSERT_TRUE(ws.extent);
   // The cell holding the lowest point cannot be proven outside; cells far enough below it must
   // be: 4 cells is what the rate bound (about 1/|leg| rad per mm) leaves undecided here.
-  EXPECT_LE(ws.extent->min_mm.z(), lowest);
-  EXPECT_GE(ws.extent->min_mm.z(), lowest - 4.0 * resolution);
+  EXPECT_LE(ws.extent->min().z(), lowest);
+  EXPECT_GE(ws.extent->min().z(), lowest - 4.0 * resolution);
   // No proven-inside cell reaches below the lowest point.
   for (const CellIndex& cell : ws.inside)
     EXPECT_GE(ws.origin_mm.z() + resolution * cell.at[2], lowest);
@@ -248,8 +248,8 @@ TEST(Workspace, JointAngleLimitLiftsTheLowestPointAsComputedByHand) {
   // 30 mm above the tip), not into the mirror image below it.
   const Machine free = hexapod_with("", 100.0);
   const Workspace unlimited = compute_workspace(free, at_resolution(free, resolution));
-  EXPECT_LT(unlimited.extent->min_mm.z(), lowest - 4.0 * resolution);
-  EXPECT_GE(unlimited.extent->min_mm.z(), -30.0 - resolution);
+  EXPECT_LT(unlimited.extent->min().z(), lowest - 4.0 * resolution);
+  EXPECT_GE(unlimited.extent->min().z(), -30.0 - resolution);
   EXPECT_LT(ws.inside_measure + ws.boundary_measure, unlimited.inside_measure);
 }
 
@@ -262,13 +262,13 @@ TEST(Workspace, TheMirrorImageBelowTheBaseIsNoPartOfTheWorkspace) {
   const Workspace ws_free = compute_workspace(free, at_resolution(free, 32.0));
   expect_inside_cells_reachable(free, ws_free);
   ASSERT_TRUE(ws_free.extent);
-  EXPECT_GT(ws_free.extent->min_mm.z(), -30.0 - 32.0);
+  EXPECT_GT(ws_free.extent->min().z(), -30.0 - 32.0);
   EXPECT_GT(ws_free.limited_by.count("other_assembly"), 0u);
   const Machine machine = hexapod_with("max_joint_angle = 45.0");
   const Workspace ws = compute_workspace(machine, at_resolution(machine, 32.0));
   expect_inside_cells_reachable(machine, ws);
   ASSERT_TRUE(ws.extent);
-  EXPECT_GT(ws.extent->min_mm.z(), -30.0 - 32.0);
+  EXPECT_GT(ws.extent->min().z(), -30.0 - 32.0);
   EXPECT_LE(ws.inside_measure, ws_free.inside_measure);
 }
 
@@ -283,11 +283,11 @@ TEST(Workspace, TheLinuxcncSampleHexapodsBoxIsAboveItsBaseNotInTheMirrorImage) {
   expect_inside_cells_reachable(machine, ws);
   ASSERT_TRUE(ws.extent && ws.largest_box);
   // Platform joints at the tip's height: nothing below z = 0 but the cells holding it.
-  EXPECT_GE(ws.extent->min_mm.z(), -resolution);
+  EXPECT_GE(ws.extent->min().z(), -resolution);
   for (const CellIndex& cell : ws.inside)
     EXPECT_GE(ws.origin_mm.z() + resolution * cell.at[2], 0.0);
-  EXPECT_GT(ws.largest_box->min_mm.z(), 0.0);
-  EXPECT_GT(ws.largest_box->max_mm.z(), 20.0 * 25.4 - 200.0);
+  EXPECT_GT(ws.largest_box->min().z(), 0.0);
+  EXPECT_GT(ws.largest_box->max().z(), 20.0 * 25.4 - 200.0);
   EXPECT_GT(ws.limited_by.count("other_assembly"), 0u);
   // The mirror image of home, refused with the leg and how far past the plane it is.
   JointVector joints;
@@ -389,8 +389,8 @@ TEST_P(WorkspaceOfEveryExample, VolumeAgreesWithMonteCarlo) {
   double longest = 0.0, shortest = INFINITY;
   for (int axis = 0; axis < 3; ++axis) {
     if (machine.kinematics().dof().controls(axis)) {
-      longest = std::max(longest, search.box.max_mm[axis] - search.box.min_mm[axis]);
-      shortest = std::min(shortest, search.box.max_mm[axis] - search.box.min_mm[axis]);
+      longest = std::max(longest, search.box.max()[axis] - search.box.min()[axis]);
+      shortest = std::min(shortest, search.box.max()[axis] - search.box.min()[axis]);
     }
   }
   // Models whose inverse solves a balance are slow (and sampled): coarser cells, fewer Monte
@@ -559,6 +559,43 @@ TEST(Workspace, ResolutionTooFineIsRefusedBeforeItsWorkNamingOneThatFits) {
   const Workspace ws = compute_workspace(hektor, options);
   EXPECT_LE(ws.cells_judged, options.max_cells);
   EXPECT_GT(ws.cells_judged, options.max_cells / 2);  // not far coarser than needed
+}
+
+// Each model's own box of tool positions, by hand: the biglide's carriages run 0..300 mm on x and
+// its struts are 100 mm; the plotter's cables reach 1200 mm from anchors at x 0 and 1000. A
+// formula machine has none.
+TEST(Workspace, EachModelAnswersItsReachBoxByHand) {
+  const auto reach = [](const Machine& machine) {
+    JointVector low(static_cast<Eigen::Index>(machine.joints().size()));
+    JointVector high(low.size());
+    for (Eigen::Index j = 0; j < low.size(); ++j) {
+      low[j] = machine.joints()[static_cast<std::size_t>(j)].min;
+      high[j] = machine.joints()[static_cast<std::size_t>(j)].max;
+    }
+    return machine.kinematics().tool_position_box(low, high);
+  };
+  const std::optional<Eigen::AlignedBox3d> glide = reach(biglide());
+  ASSERT_TRUE(glide.has_value());
+  EXPECT_EQ(glide->min(), Eigen::Vector3d(-100.0, -100.0, -100.0));
+  EXPECT_EQ(glide->max(), Eigen::Vector3d(400.0, 100.0, 100.0));
+  const std::optional<Eigen::AlignedBox3d> cables = reach(plotter());
+  ASSERT_TRUE(cables.has_value());
+  EXPECT_EQ(cables->min(), Eigen::Vector3d(-200.0, -1200.0, -1200.0));
+  EXPECT_EQ(cables->max(), Eigen::Vector3d(1200.0, 1200.0, 1200.0));
+  EXPECT_FALSE(reach(test::load_example("mach3-formula.toml")).has_value());
+}
+
+TEST(Workspace, AFormulaMachineOnTwoThreadsWritesOneThreadsDocument) {
+  // The threads share one constant machine: the formula model's per-call scratch is per thread.
+  const Machine machine = test::load_example("mach3-formula.toml");
+  WorkspaceOptions options = at_resolution(machine, 1.0);
+  options.threads = 1;
+  const std::string one = to_json(compute_workspace(machine, options)).dump();
+  options.threads = 2;
+  const std::string two = to_json(compute_workspace(machine, options)).dump();
+  EXPECT_EQ(one, two);
+  EXPECT_NE(one.find("\"inside\""), std::string::npos);
+  EXPECT_GT(one.size(), 1000u);
 }
 
 TEST(Workspace, RefusesAResolutionThatIsNotALength) {

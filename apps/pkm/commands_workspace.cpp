@@ -78,7 +78,7 @@ void read_orientation(const Machine& machine, const std::string& text,
 }
 
 // "x -200.0..200.0 y ... mm", in the machine file's units (one more decimal for inches).
-std::string box_text(const Machine& machine, const workspace::AxisBox& box,
+std::string box_text(const Machine& machine, const Eigen::AlignedBox3d& box,
                      const std::array<bool, 3>& axes) {
   std::string text;
   char part[96];
@@ -87,8 +87,8 @@ std::string box_text(const Machine& machine, const workspace::AxisBox& box,
     if (!axes[static_cast<std::size_t>(axis)]) continue;
     std::snprintf(part, sizeof part, "%s%s %.*f..%.*f", text.empty() ? "" : " ",
                   std::string(kAxisNames[axis]).c_str(), decimals,
-                  machine.axis_to_file(axis, box.min_mm[axis]) + 0.0, decimals,
-                  machine.axis_to_file(axis, box.max_mm[axis]) + 0.0);
+                  machine.axis_to_file(axis, box.min()[axis]) + 0.0, decimals,
+                  machine.axis_to_file(axis, box.max()[axis]) + 0.0);
     text += part;
   }
   return text + " " + machine.length_unit();

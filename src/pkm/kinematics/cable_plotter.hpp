@@ -69,6 +69,8 @@ class CablePlotterKinematics final : public Kinematics,
   double tension_max_N() const override { return geometry_.tension_max_N; }
   Status statics(const Pose& pose, const Eigen::Vector2d& acceleration_mm_per_s2,
                  CableStatics& out) const override;
+  // The tension map's question (hanging_cables.hpp; cable_plotter_reach.cpp).
+  std::unique_ptr<Kinematics> without_tension_limits() const override;
 
   // The drawing: the line between the anchors and the pulleys; the cables (drawn straight: a
   // sagging cable's curve is not drawn) and the effector tilted as its balance at rest tilts it.
@@ -81,6 +83,10 @@ class CablePlotterKinematics final : public Kinematics,
   // Inverse kinematics with or without the tension limits (forward kinematics iterates without:
   // the limits say where the machine may go, not where its joints put the pen).
   Status inverse_within(const Pose& pose, JointVector& joints, bool within_limits) const;
+
+  // Reach box (kinematics.hpp; cable_plotter_reach.cpp).
+  std::optional<Eigen::AlignedBox3d> tool_position_box(const JointVector& joint_min,
+                                                       const JointVector& joint_max) const override;
 
   const CablePlotterGeometry& geometry() const { return geometry_; }
   const PassThroughAxes& passthrough() const { return passthrough_; }

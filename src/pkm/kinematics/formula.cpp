@@ -17,7 +17,13 @@ FormulaKinematics::FormulaKinematics(FormulaDefinition definition)
                                 " formulas");
   }
   for (const int axis : definition_.axes) dof_ = dof_.with(axis);
-  build_parsers();
+  static std::atomic<std::uint64_t> next_serial{1};
+  serial_ = next_serial.fetch_add(1, std::memory_order_relaxed);
+  constant_values_ = std::make_unique<double[]>(definition_.constants.size());
+  for (std::size_t i = 0; i < definition_.constants.size(); ++i) {
+    constant_values_[i] = definition_.constants[i].second;
+  }
+  own_ = make_evaluator();
 }
 
 namespace {
@@ -52,25 +58,22 @@ void refuse_assignment(const std::string& joint, const std::string& expression) 
 
 }  // namespace
 
-void FormulaKinematics::build_parsers() {
-  // Constants live in a vector sized once, so the addresses bound into muparser stay valid.
-  constant_values_.clear();
-  for (const auto& constant : definition_.constants) constant_values_.push_back(constant.second);
-  parsers_.clear();
-  parsers_.reserve(definition_.formulas.size());
+std::unique_ptr<FormulaKinematics::Evaluator> FormulaKinematics::make_evaluator() const {
+  auto evaluator = std::make_unique<Evaluator>();
+  evaluator->parsers.reserve(definition_.formulas.size());
   for (const auto& [joint, expression] : definition_.formulas) {
     refuse_assignment(joint, expression);
-    mu::Parser& parser = parsers_.emplace_back();
+    mu::Parser& parser = evaluator->parsers.emplace_back();
     try {
       for (const int axis : definition_.axes) {
-        parser.DefineVar(std::string(kAxisNames[axis]), &pose_variables_[axis]);
+        parser.DefineVar(std::string(kAxisNames[axis]), &evaluator->pose_variables[axis]);
       }
       for (std::size_t i = 0; i < definition_.constants.size(); ++i) {
         parser.DefineVar(definition_.constants[i].first, &constant_values_[i]);
       }
       parser.DefineConst("PI", std::numbers::pi);
       parser.SetExpr(expression);
-      pose_variables_.fill(0.0);
+      evaluator->pose_variables.fill(0.0);
       parser.Eval();  // parses now, so a bad formula fails at load, not mid-job
       if (parser.GetNumResults() != 1) {
         throw FormulaError(joint, "gives " + std::to_string(parser.GetNumResults()) +
@@ -81,19 +84,37 @@ void FormulaKinematics::build_parsers() {
       throw FormulaError(joint, error.GetMsg());
     }
   }
+  return evaluator;
 }
 
-Status FormulaKinematics::inverse(const Pose& pose, JointVector& joints) const {
-  if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
+FormulaKinematics::Evaluator& FormulaKinematics::thread_evaluator() const {
+  struct Cached {
+    std::uint64_t serial = 0;
+    std::unique_ptr<Evaluator> evaluator;
+  };
+  // A few models a thread used last: the workspace's threads share one; calibration's fits
+  // make a model per step (a thread's oldest goes first).
+  constexpr std::size_t kCachedModels = 8;
+  thread_local std::vector<Cached> cache;
+  for (Cached& cached : cache) {
+    if (cached.serial == serial_) return *cached.evaluator;
+  }
+  if (cache.size() == kCachedModels) cache.erase(cache.begin());
+  cache.push_back({serial_, make_evaluator()});
+  return *cache.back().evaluator;
+}
+
+Status FormulaKinematics::evaluate(Evaluator& evaluator, const Pose& pose,
+                                   JointVector& joints) const {
   for (const int axis : definition_.axes) {
-    pose_variables_[axis] = axis < 3 ? pose.position_mm[axis] / definition_.mm_per_unit
-                                     : radians_to_degrees(pose.orientation_rad[axis - 3]);
+    evaluator.pose_variables[axis] = axis < 3 ? pose.position_mm[axis] / definition_.mm_per_unit
+                                              : radians_to_degrees(pose.orientation_rad[axis - 3]);
   }
   joints.resize(joint_count());
   for (int i = 0; i < joint_count(); ++i) {
     double value = 0.0;
     try {
-      value = parsers_[i].Eval();
+      value = evaluator.parsers[static_cast<std::size_t>(i)].Eval();
     } catch (const mu::Parser::exception_type&) {
       return Status::failure(StatusCode::unreachable, i);
     }
@@ -102,6 +123,16 @@ Status FormulaKinematics::inverse(const Pose& pose, JointVector& joints) const {
     joints[i] = value * definition_.mm_per_unit;
   }
   return Status::success();
+}
+
+Status FormulaKinematics::inverse(const Pose& pose, JointVector& joints) const {
+  if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
+  if (!own_busy_.test_and_set(std::memory_order_acquire)) {
+    const Status status = evaluate(*own_, pose, joints);
+    own_busy_.clear(std::memory_order_release);
+    return status;
+  }
+  return evaluate(thread_evaluator(), pose, joints);
 }
 
 Status FormulaKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
@@ -140,7 +171,7 @@ void FormulaKinematics::set_parameters(std::span<const double> values) {
   }
   for (std::size_t i = 0; i < values.size(); ++i) {
     definition_.constants[i].second = values[i];
-    constant_values_[i] = values[i];
+    constant_values_[i] = values[i];  // every evaluator reads them where they are
   }
 }
 

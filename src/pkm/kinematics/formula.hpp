@@ -5,6 +5,9 @@
 #include <muParser.h>
 
 #include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -36,7 +39,11 @@ class FormulaError : public std::runtime_error {
   std::string joint_;
 };
 
-// Not re-entrant: the parsers read the pose from member variables. Give each thread its clone().
+// Constant calls from several threads at once are safe: a muparser parser reads the pose from
+// variables bound into it and keeps its own stacks, so a call evaluates on the model's own
+// parsers when no other call is using them, else on its thread's own (made on that thread's
+// first such call, kept for the few models it used last). A single thread (pkmkins' servo
+// thread) always finds the model's own free: nothing is made or allocated per call.
 class FormulaKinematics final : public Kinematics {
  public:
   explicit FormulaKinematics(FormulaDefinition definition);
@@ -67,14 +74,26 @@ class FormulaKinematics final : public Kinematics {
   const FormulaDefinition& definition() const { return definition_; }
 
  private:
-  void build_parsers();
+  // One set of parsers, one per formula, and the pose they read: x y z (file units), a b c (deg).
+  struct Evaluator {
+    std::array<double, kPoseSize> pose_variables{};
+    std::vector<mu::Parser> parsers;
+  };
+  // Parses every formula (throws FormulaError naming the joint), binding this model's constants.
+  std::unique_ptr<Evaluator> make_evaluator() const;
+  Status evaluate(Evaluator& evaluator, const Pose& pose, JointVector& joints) const;
+  // This thread's evaluator for this model, made on first use.
+  Evaluator& thread_evaluator() const;
 
   FormulaDefinition definition_;
   Dof dof_;
-  std::vector<mu::Parser> parsers_;
-  // Variable storage bound into the parsers: x y z (file units), a b c (deg), then constants.
-  mutable std::array<double, kPoseSize> pose_variables_{};
-  std::vector<double> constant_values_;
+  // Names this model (not its address, which a later one may reuse) in the threads' evaluators.
+  std::uint64_t serial_ = 0;
+  // The constants' values, read by every evaluator; written only by set_parameters, which no
+  // call runs beside. Held by pointer so their addresses, bound into the parsers, never move.
+  std::unique_ptr<double[]> constant_values_;
+  std::unique_ptr<Evaluator> own_;
+  mutable std::atomic_flag own_busy_;  // set while a call evaluates on own_
 };
 
 std::unique_ptr<Kinematics> make_formula_kinematics(const ModelConfig& config);

@@ -115,6 +115,9 @@ class GlideKinematics final : public Kinematics,
   bool has_mode_over_cell() const override { return true; }
   std::optional<ModeBound> mode_over_cell(int home_mode, const Vector6d& centre,
                                           double radius_mm) const override;
+  // Reach box (kinematics.hpp; glide_reach.cpp).
+  std::optional<Eigen::AlignedBox3d> tool_position_box(const JointVector& joint_min,
+                                                       const JointVector& joint_max) const override;
 
   const std::vector<GlideRail>& rails() const { return rails_; }
   const PassThroughAxes& passthrough() const { return passthrough_; }

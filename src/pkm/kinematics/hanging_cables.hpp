@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 
 #include "pkm/kinematics/cable_statics.hpp"
 #include "pkm/kinematics/kinematics.hpp"
@@ -29,8 +30,12 @@ class HangingCables {
   virtual Status statics(const Pose& pose, const Eigen::Vector2d& acceleration_mm_per_s2,
                          CableStatics& out) const = 0;
   // The whole geometry (anchors, pulleys, effector, stretch), for the bounds of the balance over
-  // a box of poses (bounds/cable_bound) and the ideal plotter's pull region.
+  // a box of poses (bounds/cable_bound), the ideal plotter's pull region and the tension map's
+  // extent (machine/tension_region.cpp).
   virtual const CablePlotterGeometry& cable_geometry() const = 0;
+  // The same cables without tension_limits ([0, inf): a pose where a cable would push is still
+  // refused), whose balance the tension map solves again.
+  virtual std::unique_ptr<Kinematics> without_tension_limits() const = 0;
 };
 
 }  // namespace pkm

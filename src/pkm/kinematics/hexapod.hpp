@@ -125,6 +125,9 @@ class HexapodKinematics final : public Kinematics,
   bool has_mode_over_box() const override { return true; }
   std::optional<ModeShortfall> mode_over_box(int home_mode, const Vector6d& centre,
                                              const Vector6d& half) const override;
+  // Reach box (kinematics.hpp; hexapod_reach.cpp).
+  std::optional<Eigen::AlignedBox3d> tool_position_box(const JointVector& joint_min,
+                                                       const JointVector& joint_max) const override;
 
   const HexapodGeometry& geometry() const { return geometry_; }
   const LegLimits& leg_limits() const { return leg_limits_; }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <array>
 #include <cmath>
@@ -219,6 +220,14 @@ class Kinematics {
   // proofs have no bound for this model (a formula machine's).
   virtual const DerivativeBounds* derivative_bounds() const { return nullptr; }
   virtual const AssemblyModeBounds* assembly_mode_bounds() const { return nullptr; }
+  // Reach box (the workspace's search box): a box (mm) holding every tool position the mechanism
+  // can take with each joint j within [joint_min[j], joint_max[j]], from its geometry alone (leg,
+  // strut or cable lengths about their anchors; a matrix's inverse over the joints' corners).
+  // None where the model has no such box (the workspace then searches about home's extent).
+  virtual std::optional<Eigen::AlignedBox3d> tool_position_box(
+      const JointVector& /*joint_min*/, const JointVector& /*joint_max*/) const {
+    return std::nullopt;
+  }
 
   virtual std::vector<Parameter> parameters() const = 0;
   // Values in the order and units of parameters(); throws std::invalid_argument when the new

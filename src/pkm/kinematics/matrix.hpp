@@ -45,6 +45,10 @@ class MatrixKinematics final : public Kinematics, public DerivativeBounds {
                                                   const Chord& chord) const override;
   bool refuses_only_joint_limits() const override { return true; }
 
+  // Reach box (kinematics.hpp; matrix_reach.cpp).
+  std::optional<Eigen::AlignedBox3d> tool_position_box(const JointVector& joint_min,
+                                                       const JointVector& joint_max) const override;
+
   const Eigen::Matrix3d& coefficients() const { return coefficients_; }
   const std::vector<int>& passthrough_axes() const { return passthrough_.axes(); }
   // Largest ratio of singular values accepted: beyond it FK would amplify a joint error of 1 um

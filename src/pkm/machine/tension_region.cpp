@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <limits>
 
-#include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/hanging_cables.hpp"
 
 namespace pkm {
 
@@ -14,15 +14,6 @@ void GridRegion::add(const Eigen::Vector2d& at_mm) {
 }
 
 namespace {
-
-// The machine's cables without their tension limits: the joints of a pose the limits refuse.
-CablePlotterKinematics without_limits(const CablePlotterKinematics& cables) {
-  CablePlotterGeometry geometry = cables.geometry();
-  geometry.tension_limited = false;
-  geometry.tension_min_N = 0.0;
-  geometry.tension_max_N = std::numeric_limits<double>::infinity();
-  return CablePlotterKinematics(geometry, cables.passthrough());
-}
 
 void record_extremes(const CableStatics& statics, const Eigen::Vector2d& at,
                      TensionRegion& region) {
@@ -43,13 +34,12 @@ void record_extremes(const CableStatics& statics, const Eigen::Vector2d& at,
 
 // The joints at a pose where a cable would push (no balance to solve): the straight distances
 // from the pulley centres, enough to tell whether the joints' limits reach the point.
-JointVector straight_joints(const Machine& machine, const CablePlotterKinematics& cables,
-                            const Pose& pose) {
-  const CablePlotterGeometry& geometry = cables.geometry();
+JointVector straight_joints(const Machine& machine, const HangingCables& cables, const Pose& pose) {
   JointVector joints = JointVector::Zero(static_cast<Eigen::Index>(machine.joints().size()));
-  for (std::size_t c = 0; c < 2; ++c) {
-    joints[static_cast<Eigen::Index>(c)] =
-        (pose.position_mm.head<2>() - geometry.anchors_mm[c]).norm() + geometry.cable_offsets_mm[c];
+  for (int c = 0; c < 2; ++c) {
+    const auto cable = static_cast<std::size_t>(c);
+    joints[c] = (pose.position_mm.head<2>() - cables.cable_geometry().anchors_mm[cable]).norm() +
+                cables.cable_geometry().cable_offsets_mm[cable];
   }
   for (Eigen::Index j = 2; j < joints.size(); ++j) {
     const JointSpec& spec = machine.joints()[static_cast<std::size_t>(j)];
@@ -59,8 +49,8 @@ JointVector straight_joints(const Machine& machine, const CablePlotterKinematics
 }
 
 // One point into the region's tallies: only where the joints reach it, tensions aside.
-void classify(const Machine& machine, const CablePlotterKinematics& cables,
-              const CablePlotterKinematics& unlimited, const Pose& pose, TensionRegion& region) {
+void classify(const Machine& machine, const HangingCables& cables, const Kinematics& unlimited,
+              const Pose& pose, TensionRegion& region) {
   const Eigen::Vector2d at = pose.position_mm.head<2>();
   JointVector joints;
   const Status status = unlimited.inverse(pose, joints);
@@ -95,19 +85,16 @@ void classify(const Machine& machine, const CablePlotterKinematics& cables,
 }  // namespace
 
 std::optional<TensionRegion> tension_region(const Machine& machine, int columns, int rows) {
-  // The cast is the honest answer: the map is the cable plotter's own (its anchors bound it, and
-  // its balance is solved again without the tension limits).
-  const auto* cables = dynamic_cast<const CablePlotterKinematics*>(&machine.kinematics());
-  if (cables == nullptr || !(cables->geometry().effector_mass_kg > 0.0)) return std::nullopt;
-  const CablePlotterKinematics unlimited = without_limits(*cables);
-  const CablePlotterGeometry& geometry = cables->geometry();
+  const HangingCables* cables = machine.kinematics().hanging_cables();
+  if (cables == nullptr || !(cables->effector_mass_kg() > 0.0)) return std::nullopt;
+  const std::unique_ptr<Kinematics> unlimited = cables->without_tension_limits();
+  const Eigen::Vector2d left = cables->cable_geometry().anchors_mm[0];
+  const Eigen::Vector2d right = cables->cable_geometry().anchors_mm[1];
   TensionRegion region;
   region.columns = columns;
   region.rows = rows;
-  region.min_mm = Eigen::Vector2d(std::min(geometry.anchors_mm[0].x(), geometry.anchors_mm[1].x()),
-                                  reach_box(machine).min[1]);
-  region.max_mm = Eigen::Vector2d(std::max(geometry.anchors_mm[0].x(), geometry.anchors_mm[1].x()),
-                                  std::max(geometry.anchors_mm[0].y(), geometry.anchors_mm[1].y()));
+  region.min_mm = Eigen::Vector2d(std::min(left.x(), right.x()), reach_box(machine).min[1]);
+  region.max_mm = Eigen::Vector2d(std::max(left.x(), right.x()), std::max(left.y(), right.y()));
   const Eigen::Vector2d cell =
       (region.max_mm - region.min_mm).cwiseQuotient(Eigen::Vector2d(columns, rows));
   Pose pose = machine.home();
@@ -115,7 +102,7 @@ std::optional<TensionRegion> tension_region(const Machine& machine, int columns,
     for (int column = 0; column < columns; ++column) {
       pose.position_mm.head<2>() =
           region.min_mm + cell.cwiseProduct(Eigen::Vector2d(column + 0.5, row + 0.5));
-      classify(machine, *cables, unlimited, pose, region);
+      classify(machine, *cables, *unlimited, pose, region);
     }
   }
   return region;

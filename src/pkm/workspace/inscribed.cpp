@@ -202,10 +202,9 @@ InscribedShapes largest_inscribed(const Workspace& ws) {
       const Rectangle rectangle = largest_rectangle(mask, nx, ny);
       if (rectangle.area > 0 && rectangle.area * static_cast<double>(height) > best_box) {
         best_box = rectangle.area * static_cast<double>(height);
-        AxisBox box;
-        box.min_mm = {corner(0, rectangle.x0), corner(1, rectangle.y0), corner(2, z0)};
-        box.max_mm = {corner(0, rectangle.x1), corner(1, rectangle.y1), corner(2, z1 + 1)};
-        shapes.box = box;
+        shapes.box = Eigen::AlignedBox3d(
+            Eigen::Vector3d(corner(0, rectangle.x0), corner(1, rectangle.y0), corner(2, z0)),
+            Eigen::Vector3d(corner(0, rectangle.x1), corner(1, rectangle.y1), corner(2, z1 + 1)));
       }
       const Disk disk = largest_disk(mask, nx, ny);
       const double volume = disk.radius * disk.radius * height;

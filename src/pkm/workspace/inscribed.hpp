@@ -10,8 +10,8 @@
 namespace pkm::workspace {
 
 struct InscribedShapes {
-  std::optional<AxisBox> box;        // of the largest volume (area when planar)
-  std::optional<Cylinder> cylinder;  // of the largest volume (a disk when planar)
+  std::optional<Eigen::AlignedBox3d> box;  // of the largest volume (area when planar)
+  std::optional<Cylinder> cylinder;        // of the largest volume (a disk when planar)
 };
 
 InscribedShapes largest_inscribed(const Workspace& ws);

@@ -103,24 +103,24 @@ namespace {
 // at some orientation of the box, upper bound over it) when made, split along the widest angle
 // while the goal is still open, the more promising half first.
 template <int D>
-struct SearchBox {
+struct BranchBox {
   Eigen::Matrix<double, D, 1> centre, half;
   int node = -1;  // in a TiltTree, or -1 when evaluated by the caller
   double value = 0.0, upper = 0.0;
 };
 
 template <int D, class Evaluate, class ChildNode>
-Bracket branch_and_bound(SearchBox<D> root, const SearchGoal& goal, Evaluate&& evaluate,
+Bracket branch_and_bound(BranchBox<D> root, const SearchGoal& goal, Evaluate&& evaluate,
                          ChildNode&& child_node, long& boxes_total) {
   constexpr int kMaxBoxes = 4096;
   evaluate(root);
   double best = root.value, closed = -INFINITY;
   int boxes = 1;
-  std::array<SearchBox<D>, 64> stack;  // depth-first: at most one pending sibling per level
+  std::array<BranchBox<D>, 64> stack;  // depth-first: at most one pending sibling per level
   int size = 0;
   stack[static_cast<std::size_t>(size++)] = root;
   while (size > 0 && !(best > goal.above)) {
-    const SearchBox<D> box = stack[static_cast<std::size_t>(--size)];
+    const BranchBox<D> box = stack[static_cast<std::size_t>(--size)];
     const double settles = best > goal.below ? goal.above : goal.below;
     if ((std::isfinite(settles) && box.upper <= settles) || box.upper - best <= goal.tolerance ||
         box.half.maxCoeff() <= 0.0 || boxes >= kMaxBoxes ||
@@ -128,11 +128,11 @@ Bracket branch_and_bound(SearchBox<D> root, const SearchGoal& goal, Evaluate&& e
       closed = std::max(closed, box.upper);
       continue;
     }
-    std::array<SearchBox<D>, 2> halves;
+    std::array<BranchBox<D>, 2> halves;
     int axis = 0;
     box.half.maxCoeff(&axis);
     for (int which = 0; which < 2; ++which) {
-      SearchBox<D>& part = halves[static_cast<std::size_t>(which)];
+      BranchBox<D>& part = halves[static_cast<std::size_t>(which)];
       part = box;
       part.half[axis] *= 0.5;
       part.centre[axis] += which == 0 ? -part.half[axis] : part.half[axis];
@@ -163,7 +163,7 @@ Bracket OrientationSearch::largest(const Eigen::Vector3d& v, const Eigen::Vector
   const TiltTree::Arc& arc = tree.arc();
   const double curvature = 0.5 * v.norm() * p.norm();
   Eigen::Matrix3d own_tilt, own_da, own_db;
-  const auto evaluate = [&](SearchBox<2>& box) {
+  const auto evaluate = [&](BranchBox<2>& box) {
     if (box.node < 0) tilt_and_derivatives(box.centre, own_tilt, own_da, own_db);
     const TiltTree::Node* node = box.node >= 0 ? &tree[box.node] : nullptr;
     const Sinusoid s = sinusoid_of(v, (node ? node->tilt : own_tilt) * p);
@@ -182,7 +182,7 @@ Bracket OrientationSearch::largest(const Eigen::Vector3d& v, const Eigen::Vector
     const double width = box.half.sum();
     box.upper = first_order + curvature * width * width;
   };
-  SearchBox<2> root;
+  BranchBox<2> root;
   root.centre = tree[0].centre;
   root.half = tree[0].half;
   root.node = 0;
@@ -199,7 +199,7 @@ Bracket largest_joint_turn(const LegJointEnd& end, const Eigen::Vector3d& centre
   const double reach = end.p.norm();
   Eigen::Matrix3d rotation;
   std::array<Eigen::Matrix3d, 3> derivatives;
-  const auto evaluate = [&](SearchBox<3>& box) {
+  const auto evaluate = [&](BranchBox<3>& box) {
     rotation_and_derivatives_abc(box.centre, rotation, derivatives);
     const Eigen::Vector3d w = end.v + rotation * end.p;
     const double length = w.norm();
@@ -227,7 +227,7 @@ Bracket largest_joint_turn(const LegJointEnd& end, const Eigen::Vector3d& centre
         (end.turns_with_platform ? 1.0 + 2.0 * ratio : 0.0) + 2.0 * ratio + 6.0 * ratio * ratio;
     box.upper = first_order + 0.5 * curvature * width * width;
   };
-  SearchBox<3> root;
+  BranchBox<3> root;
   root.centre = centre_rad;
   root.half = half_rad;
   long boxes = 0;

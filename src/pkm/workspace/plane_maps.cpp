@@ -42,7 +42,7 @@ std::vector<PlaneMap> plane_maps(const Machine& machine, const Workspace& ws, in
   std::vector<PlaneMap> maps;
   if (!ws.extent || points < 2) return maps;
   const Kinematics& model = machine.kinematics();
-  const Eigen::Vector3d lo = ws.extent->min_mm, hi = ws.extent->max_mm;
+  const Eigen::Vector3d lo = ws.extent->min(), hi = ws.extent->max();
   const double longer = std::max(hi.x() - lo.x(), hi.y() - lo.y());
   if (!(longer > 0.0)) return maps;
   const double step = longer / (points - 1);

@@ -12,10 +12,6 @@
 #include <thread>
 
 #include "pkm/bounds/inverse_hessian.hpp"
-#include "pkm/kinematics/cable_plotter.hpp"
-#include "pkm/kinematics/glide.hpp"
-#include "pkm/kinematics/hexapod.hpp"
-#include "pkm/kinematics/matrix.hpp"
 #include "pkm/workspace/inscribed.hpp"
 #include "pkm/workspace/plane_maps.hpp"
 #include "pkm/workspace/pose_constraints.hpp"
@@ -31,89 +27,20 @@ WorkspaceOptions default_options(const Machine& machine) {
 
 namespace {
 
-AxisBox box_around(const Eigen::Vector3d& centre, double half_mm) {
-  return {centre.array() - half_mm, centre.array() + half_mm};
-}
-
-void intersect(AxisBox& box, const AxisBox& other) {
-  box.min_mm = box.min_mm.cwiseMax(other.min_mm);
-  box.max_mm = box.max_mm.cwiseMin(other.max_mm);
-}
-
-// Every leg reaches at most its max: the tip is within max - offset + |platform point + tool| of
-// each base joint.
-AxisBox hexapod_box(const HexapodKinematics& model, const Machine& machine) {
-  const HexapodGeometry& g = model.geometry();
-  AxisBox box = box_around(Eigen::Vector3d::Zero(), INFINITY);
-  for (std::size_t i = 0; i < 6; ++i) {
-    const double reach =
-        machine.joints()[i].max - g.leg_offset_mm[i] + g.platform_from_tip_mm(i).norm();
-    intersect(box, box_around(g.base_mm[i], std::max(reach, 0.0)));
-  }
-  return box;
-}
-
-// Each strut's platform end lies within its length of its carriage, the carriage on its rail
-// between the joint's limits; the tip is the platform end less the attachment (its length for
-// a rotating platform).
-AxisBox glide_box(const GlideKinematics& model, const Machine& machine) {
-  AxisBox box = box_around(Eigen::Vector3d::Zero(), INFINITY);
-  const bool rotating = model.rail_dof().any_rotation();
-  for (std::size_t i = 0; i < model.rails().size(); ++i) {
-    const GlideRail& rail = model.rails()[i];
-    const Eigen::Vector3d a = rail.origin_mm + machine.joints()[i].min * rail.direction;
-    const Eigen::Vector3d b = rail.origin_mm + machine.joints()[i].max * rail.direction;
-    const double spread = rail.strut_mm + (rotating ? rail.attach_mm.norm() : 0.0);
-    const Eigen::Vector3d shift = rotating ? Eigen::Vector3d::Zero() : rail.attach_mm;
-    intersect(box, {a.cwiseMin(b).array() - spread - shift.array(),
-                    a.cwiseMax(b).array() + spread - shift.array()});
-  }
-  return box;
-}
-
-// Each cable is at most its max (less its offset) plus what wraps a pulley and the gondola's
-// attachment, from its anchor.
-AxisBox cable_box(const CablePlotterKinematics& model, const Machine& machine) {
-  const CablePlotterGeometry& g = model.geometry();
-  AxisBox box = box_around(Eigen::Vector3d::Zero(), INFINITY);
-  for (std::size_t i = 0; i < 2; ++i) {
-    const double reach = machine.joints()[i].max - g.cable_offsets_mm[i] +
-                         2.0 * M_PI * g.pulley_radius_mm + g.attach_mm[i].norm() +
-                         g.center_of_mass_mm.norm();
-    intersect(box, box_around(Eigen::Vector3d(g.anchors_mm[i].x(), g.anchors_mm[i].y(), 0.0),
-                              std::max(reach, 0.0)));
-  }
-  return box;
-}
-
-// Joints = C x: the box of C^-1 over the corners of the joints' box.
-AxisBox matrix_box(const MatrixKinematics& model, const Machine& machine) {
-  JointJacobian jacobian;
-  (void)model.jacobian(machine.home(), jacobian);
-  const Eigen::Matrix3d inverse = jacobian.block<3, 3>(0, 0).inverse();
-  AxisBox box{Eigen::Vector3d::Constant(INFINITY), Eigen::Vector3d::Constant(-INFINITY)};
-  for (int corner = 0; corner < 8; ++corner) {
-    Eigen::Vector3d joints;
-    for (int k = 0; k < 3; ++k) {
-      const JointSpec& spec = machine.joints()[static_cast<std::size_t>(k)];
-      joints[k] = ((corner >> k) & 1) ? spec.max : spec.min;
-    }
-    const Eigen::Vector3d x = inverse * joints;
-    box.min_mm = box.min_mm.cwiseMin(x);
-    box.max_mm = box.max_mm.cwiseMax(x);
-  }
-  return box;
+// Every position: the box the search starts from before the machine's limits cut it.
+Eigen::AlignedBox3d everywhere() {
+  return {Eigen::Vector3d::Constant(-INFINITY), Eigen::Vector3d::Constant(INFINITY)};
 }
 
 // Pass-through joints copy their axis: its range is the joint's.
-void cut_by_passthrough(const Machine& machine, AxisBox& box) {
+void cut_by_passthrough(const Machine& machine, Eigen::AlignedBox3d& box) {
   const Kinematics& model = machine.kinematics();
   for (int joint = 0; joint < model.joint_count(); ++joint) {
     const int axis = model.passthrough_axis(joint);
     if (axis < 0 || axis >= 3) continue;
     const JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
-    box.min_mm[axis] = std::max(box.min_mm[axis], spec.min);
-    box.max_mm[axis] = std::min(box.max_mm[axis], spec.max);
+    box.min()[axis] = std::max(box.min()[axis], spec.min);
+    box.max()[axis] = std::min(box.max()[axis], spec.max);
   }
 }
 
@@ -121,31 +48,29 @@ void cut_by_passthrough(const Machine& machine, AxisBox& box) {
 
 SearchBox search_box(const Machine& machine, const WorkspaceOptions& /*options*/) {
   const Kinematics& model = machine.kinematics();
-  SearchBox result{box_around(Eigen::Vector3d::Zero(), INFINITY), true};
-  AxisBox& box = result.box;
-  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
-    box = hexapod_box(*hexapod, machine);
-  } else if (const auto* glide = dynamic_cast<const GlideKinematics*>(&model)) {
-    box = glide_box(*glide, machine);
-  } else if (const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&model)) {
-    box = cable_box(*plotter, machine);
-  } else if (const auto* matrix = dynamic_cast<const MatrixKinematics*>(&model)) {
-    box = matrix_box(*matrix, machine);
+  SearchBox result{everywhere(), true};
+  Eigen::AlignedBox3d& box = result.box;
+  const auto joints = static_cast<Eigen::Index>(machine.joints().size());
+  JointVector joint_min(joints), joint_max(joints);
+  for (Eigen::Index j = 0; j < joints; ++j) {
+    joint_min[j] = machine.joints()[static_cast<std::size_t>(j)].min;
+    joint_max[j] = machine.joints()[static_cast<std::size_t>(j)].max;
   }
+  if (const auto reach = model.tool_position_box(joint_min, joint_max)) box = *reach;
   cut_by_passthrough(machine, box);
   const CartesianLimits& limits = machine.cartesian();
   for (int axis = 0; axis < 3; ++axis) {
-    box.min_mm[axis] = std::max(box.min_mm[axis], limits.envelope_min[axis]);
-    box.max_mm[axis] = std::min(box.max_mm[axis], limits.envelope_max[axis]);
+    box.min()[axis] = std::max(box.min()[axis], limits.envelope_min[axis]);
+    box.max()[axis] = std::min(box.max()[axis], limits.envelope_max[axis]);
   }
   // What is still open: the extent along lines through home, widened by half on each side.
   const std::vector<AxisExtent> extent = reachable_extent(machine);
   for (const AxisExtent& line : extent) {
     if (line.axis >= 3) continue;
-    if (std::isfinite(box.min_mm[line.axis]) && std::isfinite(box.max_mm[line.axis])) continue;
+    if (std::isfinite(box.min()[line.axis]) && std::isfinite(box.max()[line.axis])) continue;
     const double widen = 0.5 * (line.max - line.min) + 1.0;
-    if (!std::isfinite(box.min_mm[line.axis])) box.min_mm[line.axis] = line.min - widen;
-    if (!std::isfinite(box.max_mm[line.axis])) box.max_mm[line.axis] = line.max + widen;
+    if (!std::isfinite(box.min()[line.axis])) box.min()[line.axis] = line.min - widen;
+    if (!std::isfinite(box.max()[line.axis])) box.max()[line.axis] = line.max + widen;
     result.proven = false;
   }
   return result;
@@ -163,15 +88,16 @@ struct OrientationBox {
 
 enum class Verdict { inside, outside, undecided };
 
-// One thread's machine, constraints and findings.
+// One top cell's constraints (with their scratch) and findings; the machine is shared by every
+// thread, constant (a model's per-call scratch is its own per thread: docs/kinematics.md).
 struct Worker {
-  explicit Worker(const Machine& original) : machine(original) {
+  explicit Worker(const Machine& shared) : machine(shared) {
     constraints = machine_constraints(machine);
     int total = 0;
     for (const auto& constraint : constraints) total += constraint->count();
     margins.resize(static_cast<std::size_t>(total));
   }
-  Machine machine;
+  const Machine& machine;
   std::vector<std::unique_ptr<PoseConstraint>> constraints;
   std::vector<Margin> margins;
   std::vector<CellIndex> inside, boundary;
@@ -542,9 +468,8 @@ double estimate_boundary(const Machine& machine, const Grid& grid,
   std::mutex failure_mutex;
   const auto work = [&](std::size_t part) {
     try {
-      const Machine own = machine;  // per-call scratch of the model stays in this thread
       for (std::size_t k = next++; k < sample.size(); k = next++) {
-        share[part] += reachable_share(own, position_cell(grid, *sample[k]), grid.range);
+        share[part] += reachable_share(machine, position_cell(grid, *sample[k]), grid.range);
       }
     } catch (...) {
       const std::lock_guard<std::mutex> lock(failure_mutex);
@@ -571,9 +496,10 @@ double measure(const std::vector<CellIndex>& cells, double step_mm, int dimensio
   return total;
 }
 
-std::optional<AxisBox> extent_of(const Workspace& ws, const Eigen::Vector3d& fixed) {
+std::optional<Eigen::AlignedBox3d> extent_of(const Workspace& ws, const Eigen::Vector3d& fixed) {
   if (ws.inside.empty() && ws.boundary.empty()) return std::nullopt;
-  AxisBox box{Eigen::Vector3d::Constant(INFINITY), Eigen::Vector3d::Constant(-INFINITY)};
+  Eigen::AlignedBox3d box{Eigen::Vector3d::Constant(INFINITY),
+                          Eigen::Vector3d::Constant(-INFINITY)};
   for (const auto* cells : {&ws.inside, &ws.boundary}) {
     for (const CellIndex& cell : *cells) {
       const int side = 1 << cell.level;
@@ -581,14 +507,14 @@ std::optional<AxisBox> extent_of(const Workspace& ws, const Eigen::Vector3d& fix
         const auto a = static_cast<std::size_t>(axis);
         if (!ws.position_axes[a]) continue;
         const double lo = ws.origin_mm[axis] + ws.resolution_mm * cell.at[a];
-        box.min_mm[axis] = std::min(box.min_mm[axis], lo);
-        box.max_mm[axis] = std::max(box.max_mm[axis], lo + ws.resolution_mm * side);
+        box.min()[axis] = std::min(box.min()[axis], lo);
+        box.max()[axis] = std::max(box.max()[axis], lo + ws.resolution_mm * side);
       }
     }
   }
   for (int axis = 0; axis < 3; ++axis) {
     if (!ws.position_axes[static_cast<std::size_t>(axis)])
-      box.min_mm[axis] = box.max_mm[axis] = fixed[axis];
+      box.min()[axis] = box.max()[axis] = fixed[axis];
   }
   return box;
 }
@@ -619,17 +545,17 @@ Layout layout(const Machine& machine, const SearchBox& search, const Orientation
   grid.fixed = machine.home().position_mm;
   grid.step_mm = step_mm;
   grid.angle_scale_mm = bounds::pose_angle_scale_mm(model);
-  const Eigen::Vector3d size = (search.box.max_mm - search.box.min_mm).cwiseMax(0.0);
+  const Eigen::Vector3d size = (search.box.max() - search.box.min()).cwiseMax(0.0);
   result.top = top_cells(size, grid.spans, grid.step_mm, result.dims);
   for (int axis = 0; axis < 3; ++axis) {
     if (!grid.spans[static_cast<std::size_t>(axis)]) {
       grid.origin_mm[axis] = grid.fixed[axis];
       continue;
     }
-    result.empty = result.empty || !(search.box.max_mm[axis] >= search.box.min_mm[axis]);
+    result.empty = result.empty || !(search.box.max()[axis] >= search.box.min()[axis]);
     // Cells start at the box's low side: a side the machine's limits set exactly (a pass-through
     // joint's min, the envelope's) falls between cells rather than through them.
-    grid.origin_mm[axis] = search.box.min_mm[axis];
+    grid.origin_mm[axis] = search.box.min()[axis];
   }
   return result;
 }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
 #include <map>
@@ -38,11 +39,6 @@ WorkspaceOptions default_options(const Machine& machine);
 struct CellIndex {
   std::array<std::int32_t, 3> at{};
   std::int32_t level = 0;
-};
-
-struct AxisBox {
-  Eigen::Vector3d min_mm = Eigen::Vector3d::Zero();
-  Eigen::Vector3d max_mm = Eigen::Vector3d::Zero();
 };
 
 struct Cylinder {
@@ -85,8 +81,9 @@ struct Workspace {
   // corners: an estimate, not a bound (the Monte-Carlo test holds it to 1 %).
   double estimate = 0.0;
   std::map<std::string, std::int64_t> limited_by;  // status name: outside and boundary cells
-  std::optional<AxisBox> extent;                   // of every cell not proven outside
-  std::optional<AxisBox> largest_box;              // inside proven-inside cells
+  // Boxes of positions (mm): the extent of every cell not proven outside, the largest box
+  // inside proven-inside cells.
+  std::optional<Eigen::AlignedBox3d> extent, largest_box;
   std::optional<Cylinder> largest_cylinder;
   std::vector<PlaneMap> maps;
 };
@@ -125,7 +122,7 @@ Workspace compute_workspace(const Machine& machine, const WorkspaceOptions& opti
 // geometry (joint limits, struts, cables), cut by the work envelope. `proven` false where it
 // comes from the extent through home only (models without such a box here).
 struct SearchBox {
-  AxisBox box;
+  Eigen::AlignedBox3d box;
   bool proven = true;
 };
 SearchBox search_box(const Machine& machine, const WorkspaceOptions& options);

@@ -16,9 +16,9 @@ nlohmann::json vector3(const Eigen::Vector3d& v) {
   return {v.x(), v.y(), v.z()};
 }
 
-nlohmann::json box_json(const std::optional<AxisBox>& box) {
+nlohmann::json box_json(const std::optional<Eigen::AlignedBox3d>& box) {
   if (!box) return nullptr;
-  return {{"min", vector3(box->min_mm)}, {"max", vector3(box->max_mm)}};
+  return {{"min", vector3(box->min())}, {"max", vector3(box->max())}};
 }
 
 // [[i, j, k, level], ...]: the cell covers [i, i + 2^level) finest steps on each axis spanned.
