@@ -102,17 +102,9 @@ void print_controller_time(const Machine& machine, const PostCommandOptions& opt
               plan_time.c_str());
 }
 
-void run_post(const PostCommandOptions& options) {
-  check_outputs({{"-o", options.output}, {"--report", options.report}, {"--html", options.html}});
-  refuse_overwriting_input(options.output, {{"the job", options.program},
-                                            {"the machine file", options.machine},
-                                            {"the tool table", options.tool_table.path}});
-  for (const std::string& written : {options.report, options.html}) {
-    refuse_overwriting_input(written, {{"the job", options.program},
-                                       {"the machine file", options.machine},
-                                       {"the tool table", options.tool_table.path}});
-  }
-  const Machine machine = load_machine_or_default(options.machine);
+// The post options the command line asks for, checked against the machine (its axis letters in
+// the dialect).
+post::PostOptions post_options_for(const Machine& machine, const PostCommandOptions& options) {
   post::PostOptions post_options;
   post_options.tolerance_mm = options.tolerance > 0.0
                                   ? mm_from_machine_units(machine, options.tolerance)
@@ -127,6 +119,61 @@ void run_post(const PostCommandOptions& options) {
     throw CommandError(machine.source() + ": " + error.what());
   }
   post_options.origin = pose_vector_over(machine, post_options.origin, options.origin);
+  return post_options;
+}
+
+// A subroutine file the job called is known only once the job is read: no output may replace
+// one (the outputs are still under their temporary names when this is asked).
+void refuse_overwriting_subroutines(const PostCommandOptions& options,
+                                    const post::PostReport& report) {
+  std::vector<NamedInput> subroutines;
+  for (std::size_t i = 1; i < report.files_read.size(); ++i) {
+    subroutines.push_back({"a subroutine file the job calls", report.files_read[i]});
+  }
+  for (const std::string& written : {options.output, options.report, options.html}) {
+    if (const std::string reason = overwrites_input(written, subroutines); !reason.empty()) {
+      throw CommandError(reason);
+    }
+  }
+}
+
+void print_warnings(const std::string& program, const std::vector<gcode::Warning>& warnings) {
+  for (const gcode::Warning& warning : warnings) {
+    // Line 0: about the whole program, not one of its lines.
+    if (warning.line > 0) {
+      std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", program.c_str(), warning.line,
+                   warning.message.c_str());
+    } else {
+      std::fprintf(stderr, "pkm: warning: %s: %s\n", program.c_str(), warning.message.c_str());
+    }
+  }
+}
+
+// The one-line summary, in the machine's length unit, then what else was written.
+void print_post_summary(const Machine& machine, const PostCommandOptions& options,
+                        const post::PostOptions& post_options, const post::PostReport& report) {
+  const double per_unit = machine.mm_per_unit();
+  std::printf("%s: %ld blocks for %ld moves, %s %.6f %s (line %d), tolerance %.6f %s\n",
+              options.output.c_str(), report.blocks, report.moves,
+              report.bounded ? "deviation bounded by" : "largest sampled deviation",
+              report.max_deviation_mm / per_unit, machine.length_unit(), report.max_deviation_line,
+              post_options.tolerance_mm / per_unit, machine.length_unit());
+  if (report.controller) print_controller_time(machine, options, post_options, *report.controller);
+  if (!options.report.empty()) std::printf("wrote the report %s\n", options.report.c_str());
+  if (!options.html.empty()) {
+    std::printf("wrote the page %s: open it in a browser\n", options.html.c_str());
+  }
+}
+
+void run_post(const PostCommandOptions& options) {
+  check_outputs({{"-o", options.output}, {"--report", options.report}, {"--html", options.html}});
+  for (const std::string& written : {options.output, options.report, options.html}) {
+    refuse_overwriting_input(written, {{"the job", options.program},
+                                       {"the machine file", options.machine},
+                                       {"the tool table", options.tool_table.path}});
+  }
+  const Machine machine = load_machine_or_default(options.machine);
+  post::PostOptions post_options = post_options_for(machine, options);
   gcode::InterpreterOptions interpreter_options;
   AtomicFileWriter file(options.output);
   file.write(post::joint_program_header(machine, options.program, post_options.dialect,
@@ -154,44 +201,16 @@ void run_post(const PostCommandOptions& options) {
     throw CommandError(error.what());
   }
   progress.clear();
-  // A subroutine file the job called is known only now: the joint program replaces none.
-  std::vector<NamedInput> subroutines;
-  for (std::size_t i = 1; i < report.files_read.size(); ++i) {
-    subroutines.push_back({"a subroutine file the job calls", report.files_read[i]});
-  }
-  for (const std::string& written : {options.output, options.report, options.html}) {
-    if (const std::string reason = overwrites_input(written, subroutines); !reason.empty()) {
-      throw CommandError(reason);
-    }
-  }
+  refuse_overwriting_subroutines(options, report);
   file.write_at(0, post::joint_program_header(machine, options.program, post_options.dialect,
                                               post_options.tolerance_mm, &report));
   file.commit();
-  for (const gcode::Warning& warning : report.warnings) {
-    // Line 0: about the whole program, not one of its lines.
-    if (warning.line > 0) {
-      std::fprintf(stderr, "pkm: warning: %s:%d: %s\n", options.program.c_str(), warning.line,
-                   warning.message.c_str());
-    } else {
-      std::fprintf(stderr, "pkm: warning: %s: %s\n", options.program.c_str(),
-                   warning.message.c_str());
-    }
-  }
+  print_warnings(options.program, report.warnings);
   const nlohmann::json json =
       post_report_json(machine, options.program, options.output, report, post_options.tolerance_mm);
   if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) write_post_html(machine, options, post_options, json);
-  const double per_unit = machine.mm_per_unit();
-  std::printf("%s: %ld blocks for %ld moves, %s %.6f %s (line %d), tolerance %.6f %s\n",
-              options.output.c_str(), report.blocks, report.moves,
-              report.bounded ? "deviation bounded by" : "largest sampled deviation",
-              report.max_deviation_mm / per_unit, machine.length_unit(), report.max_deviation_line,
-              post_options.tolerance_mm / per_unit, machine.length_unit());
-  if (report.controller) print_controller_time(machine, options, post_options, *report.controller);
-  if (!options.report.empty()) std::printf("wrote the report %s\n", options.report.c_str());
-  if (!options.html.empty()) {
-    std::printf("wrote the page %s: open it in a browser\n", options.html.c_str());
-  }
+  print_post_summary(machine, options, post_options, report);
 }
 
 // pkm export grbl|grblhal: the controller's $ settings, on standard output or in -o FILE.

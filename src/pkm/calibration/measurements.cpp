@@ -48,39 +48,41 @@ std::string read_text_file(const std::filesystem::path& path) {
   }
 }
 
-std::vector<Measurement> parse_measurements_csv(const std::string& text,
-                                                const std::string& source_name,
-                                                const Machine& machine) {
-  const auto fail = [&](int line, int column, const std::string& message) {
-    throw MeasurementFileError(source_name + ":" + std::to_string(line) + ":" +
-                               std::to_string(column) + ": " + message);
-  };
-  std::istringstream in(text);
-  std::string line;
-  int line_number = 0;
-  // Header: which column is which joint or pose coordinate.
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (line.find_first_not_of(" \t\r") != std::string::npos) break;
-  }
-  if (line_number == 0 || line.find_first_not_of(" \t\r") == std::string::npos) {
-    fail(1, 1, "empty file: expected a header row such as j_left,j_right,x,y");
-  }
-  const std::vector<CsvField> header = split_csv_line(line);
-  const int joint_count = static_cast<int>(machine.joints().size());
-  std::vector<int> joint_of_column(header.size(), -1);
-  std::vector<int> axis_of_column(header.size(), -1);
-  std::vector<bool> joint_seen(static_cast<std::size_t>(joint_count), false);
+namespace {
+
+[[noreturn]] void fail_at(const std::string& source_name, int line, int column,
+                          const std::string& message) {
+  throw MeasurementFileError(source_name + ":" + std::to_string(line) + ":" +
+                             std::to_string(column) + ": " + message);
+}
+
+// What the header row says each column holds: a joint, a pose coordinate, or neither (t, line).
+struct MeasurementColumns {
+  std::vector<int> joint_of_column;  // -1 where the column is no joint
+  std::vector<int> axis_of_column;   // -1 where the column is no pose coordinate
   std::array<bool, kPoseSize> axis_seen{};
+};
+
+// The header row, checked: every name known and once only, every joint there, and at least one
+// measured pose coordinate, each one the machine controls.
+MeasurementColumns read_header(const std::vector<CsvField>& header, int line_number,
+                               const std::string& source_name, const Machine& machine) {
+  const auto fail = [&](int column, const std::string& message) {
+    fail_at(source_name, line_number, column, message);
+  };
+  const int joint_count = static_cast<int>(machine.joints().size());
+  MeasurementColumns columns;
+  columns.joint_of_column.assign(header.size(), -1);
+  columns.axis_of_column.assign(header.size(), -1);
+  std::vector<bool> joint_seen(static_cast<std::size_t>(joint_count), false);
   for (std::size_t c = 0; c < header.size(); ++c) {
     const std::string& name = header[c].text;
     if (name == "t" || name == "line") continue;
     bool known = false;
     for (int j = 0; j < joint_count; ++j) {
       if (name == "j_" + machine.joints()[j].name) {
-        if (joint_seen[j])
-          fail(line_number, header[c].column, "column '" + name + "' appears twice");
-        joint_of_column[c] = j;
+        if (joint_seen[j]) fail(header[c].column, "column '" + name + "' appears twice");
+        columns.joint_of_column[c] = j;
         joint_seen[j] = true;
         known = true;
       }
@@ -89,26 +91,76 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
     if (!known && axis >= 0 && name.size() == 1 &&
         std::islower(static_cast<unsigned char>(name[0]))) {
       if (!machine.kinematics().dof().controls(axis)) {
-        fail(line_number, header[c].column,
-             "column '" + name + "': this machine does not control " + name);
+        fail(header[c].column, "column '" + name + "': this machine does not control " + name);
       }
-      if (axis_seen[axis])
-        fail(line_number, header[c].column, "column '" + name + "' appears twice");
-      axis_of_column[c] = axis;
-      axis_seen[axis] = true;
+      if (columns.axis_seen[axis]) fail(header[c].column, "column '" + name + "' appears twice");
+      columns.axis_of_column[c] = axis;
+      columns.axis_seen[axis] = true;
       known = true;
     }
     if (!known) {
-      fail(line_number, header[c].column,
+      fail(header[c].column,
            "unknown column '" + name + "' (expected j_<joint name>, x y z a b c, t or line)");
     }
   }
   for (int j = 0; j < joint_count; ++j) {
-    if (!joint_seen[j]) fail(line_number, 1, "no column 'j_" + machine.joints()[j].name + "'");
+    if (!joint_seen[j]) fail(1, "no column 'j_" + machine.joints()[j].name + "'");
   }
   bool any_axis = false;
-  for (const bool seen : axis_seen) any_axis = any_axis || seen;
-  if (!any_axis) fail(line_number, 1, "no measured pose column (x y z a b c)");
+  for (const bool seen : columns.axis_seen) any_axis = any_axis || seen;
+  if (!any_axis) fail(1, "no measured pose column (x y z a b c)");
+  return columns;
+}
+
+// One data row: its joints in the machine's units (from the interface's mm or deg) and its
+// measured pose coordinates in mm and radians.
+Measurement read_row(const std::vector<CsvField>& fields, const MeasurementColumns& columns,
+                     int line_number, const std::string& source_name, const Machine& machine) {
+  const auto fail = [&](int column, const std::string& message) {
+    fail_at(source_name, line_number, column, message);
+  };
+  Measurement measurement;
+  measurement.joints.resize(static_cast<int>(machine.joints().size()));
+  measurement.measured = columns.axis_seen;
+  measurement.line = line_number;
+  for (std::size_t c = 0; c < fields.size(); ++c) {
+    const int joint = columns.joint_of_column[c];
+    const int axis = columns.axis_of_column[c];
+    if (joint < 0 && axis < 0) continue;
+    double value = 0.0;
+    const std::string& field = fields[c].text;
+    if (!csv_number(field, value)) fail(fields[c].column, "'" + field + "' is not a number");
+    if (!std::isfinite(value)) fail(fields[c].column, "must be finite");
+    if (std::abs(value) > kLargestValue) {
+      fail(fields[c].column,
+           "'" + field + "' is beyond any machine (at most 1e6 mm or deg in size)");
+    }
+    if (joint >= 0) {
+      measurement.joints[joint] = machine.joints()[joint].from_interface(value);
+    } else {
+      measurement.pose[axis] = axis < 3 ? value : degrees_to_radians(value);
+    }
+  }
+  return measurement;
+}
+
+}  // namespace
+
+std::vector<Measurement> parse_measurements_csv(const std::string& text,
+                                                const std::string& source_name,
+                                                const Machine& machine) {
+  std::istringstream in(text);
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {  // blank lines before the header are skipped
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") != std::string::npos) break;
+  }
+  if (line_number == 0 || line.find_first_not_of(" \t\r") == std::string::npos) {
+    fail_at(source_name, 1, 1, "empty file: expected a header row such as j_left,j_right,x,y");
+  }
+  const std::vector<CsvField> header = split_csv_line(line);
+  const MeasurementColumns columns = read_header(header, line_number, source_name, machine);
 
   std::vector<Measurement> measurements;
   while (std::getline(in, line)) {
@@ -116,37 +168,14 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     const std::vector<CsvField> fields = split_csv_line(line);
     if (fields.size() != header.size()) {
-      fail(line_number, 1,
-           "has " + std::to_string(fields.size()) + " fields; the header has " +
-               std::to_string(header.size()));
+      fail_at(source_name, line_number, 1,
+              "has " + std::to_string(fields.size()) + " fields; the header has " +
+                  std::to_string(header.size()));
     }
-    Measurement measurement;
-    measurement.joints.resize(joint_count);
-    measurement.measured = axis_seen;
-    measurement.line = line_number;
-    for (std::size_t c = 0; c < fields.size(); ++c) {
-      if (joint_of_column[c] < 0 && axis_of_column[c] < 0) continue;
-      double value = 0.0;
-      const std::string& field = fields[c].text;
-      if (!csv_number(field, value)) {
-        fail(line_number, fields[c].column, "'" + field + "' is not a number");
-      }
-      if (!std::isfinite(value)) fail(line_number, fields[c].column, "must be finite");
-      if (std::abs(value) > kLargestValue) {
-        fail(line_number, fields[c].column,
-             "'" + field + "' is beyond any machine (at most 1e6 mm or deg in size)");
-      }
-      if (joint_of_column[c] >= 0) {
-        measurement.joints[joint_of_column[c]] =
-            machine.joints()[joint_of_column[c]].from_interface(value);
-      } else {
-        const int axis = axis_of_column[c];
-        measurement.pose[axis] = axis < 3 ? value : degrees_to_radians(value);
-      }
-    }
-    measurements.push_back(measurement);
+    measurements.push_back(read_row(fields, columns, line_number, source_name, machine));
   }
-  if (measurements.empty()) fail(line_number, 1, "no measurements after the header");
+  if (measurements.empty())
+    fail_at(source_name, line_number, 1, "no measurements after the header");
   return measurements;
 }
 

@@ -123,40 +123,16 @@ class Reader {
         pos_ = line_.size();
       } else if (c == 'n' && block.empty && block.n_label.empty()) {
         ++pos_;
-        block.n_label = read_digits(column);
-        // A fractional line number (N1.5) is LinuxCNC's too: the fraction is read and dropped,
-        // as rs274 labels the line N1.
-        if (peek() == '.') {
-          ++pos_;
-          while (is_digit(peek())) ++pos_;
-        }
-        // A line number counts as content only together with other words.
+        read_line_number(block, column);
       } else if (c == 'o') {
-        if (!block.empty) fail(column, "an O-word must come first on its line");
-        block.o_word = read_o_word(column);
-        block.empty = false;
-        block.plain = false;
-        // Only a comment may follow an O-word's arguments.
-        const char rest = peek();
-        if (rest != 0 && rest != '(' && rest != ';') {
-          fail(static_cast<int>(pos_) + 1, "unexpected text after the O-word");
-        }
+        read_o_word_line(block, column);
       } else if (c == '#') {
         block.assignments.push_back(read_assignment(column));
         block.empty = false;
         block.plain = false;
       } else if (c == 'g' || c == 'm') {
         ++pos_;
-        const double value = read_real();
-        const double tenths = value * 10.0;
-        if (!(value < kMaxCodeNumber)) fail_code_range(c, value, column);
-        if (std::abs(tenths - std::round(tenths)) > 1e-3 || value < 0.0) {
-          fail(column, std::string("bad ") + static_cast<char>(std::toupper(c)) + " code");
-        }
-        block.plain = false;
-        (c == 'g' ? block.g_codes : block.m_codes)
-            .push_back({static_cast<int>(std::lround(tenths)), column});
-        block.empty = false;
+        read_code(block, c, column);
       } else if (c == '@' || c == '^') {
         // Polar radius and angle use the slots of G and M, which are codes, not words.
         ++pos_;
@@ -170,6 +146,45 @@ class Reader {
   }
 
  private:
+  // The digits after N (the N already read).
+  void read_line_number(Block& block, int column) {
+    block.n_label = read_digits(column);
+    // A fractional line number (N1.5) is LinuxCNC's too: the fraction is read and dropped,
+    // as rs274 labels the line N1.
+    if (peek() == '.') {
+      ++pos_;
+      while (is_digit(peek())) ++pos_;
+    }
+    // A line number counts as content only together with other words.
+  }
+
+  // An O-word at `column` (at the O), which must be the first word on its line.
+  void read_o_word_line(Block& block, int column) {
+    if (!block.empty) fail(column, "an O-word must come first on its line");
+    block.o_word = read_o_word(column);
+    block.empty = false;
+    block.plain = false;
+    // Only a comment may follow an O-word's arguments.
+    const char rest = peek();
+    if (rest != 0 && rest != '(' && rest != ';') {
+      fail(static_cast<int>(pos_) + 1, "unexpected text after the O-word");
+    }
+  }
+
+  // The number of a G or M code (the letter `c` already read), kept in tenths (G38.2 is 382).
+  void read_code(Block& block, char c, int column) {
+    const double value = read_real();
+    const double tenths = value * 10.0;
+    if (!(value < kMaxCodeNumber)) fail_code_range(c, value, column);
+    if (std::abs(tenths - std::round(tenths)) > 1e-3 || value < 0.0) {
+      fail(column, std::string("bad ") + static_cast<char>(std::toupper(c)) + " code");
+    }
+    block.plain = false;
+    (c == 'g' ? block.g_codes : block.m_codes)
+        .push_back({static_cast<int>(std::lround(tenths)), column});
+    block.empty = false;
+  }
+
   static char display(char c) {
     return static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   }

@@ -87,10 +87,8 @@ const char* plane_name(Plane plane) {
   return "";
 }
 
-}  // namespace
-
-void append_canon_text(const Canon& c, text::TextBuffer& out) {
-  CanonWriter w(out, c.text.size());
+// Moves, dwells and spindle-synchronised motion.
+void write_motion(const Canon& c, CanonWriter& w) {
   switch (c.kind) {
     case CanonKind::traverse:
       w << "STRAIGHT_TRAVERSE(";
@@ -115,6 +113,25 @@ void append_canon_text(const Canon& c, text::TextBuffer& out) {
     case CanonKind::dwell:
       w << "DWELL(" << c.value << ')';
       return;
+    case CanonKind::rigid_tap:
+      w << "RIGID_TAP(";
+      w.list({c.end[0], c.end[1], c.end[2]}) << ')';
+      return;
+    case CanonKind::speed_feed_sync:  // the pitch as %f
+      w << "START_SPEED_FEED_SYNC(";
+      w.with_6_decimals(c.value) << ",0)";
+      return;
+    case CanonKind::speed_feed_sync_stop:
+      w << "STOP_SPEED_FEED_SYNCH()";
+      return;
+    default:  // the other kinds are written by the other write_* functions
+      return;
+  }
+}
+
+// Modal settings: feed, plane, units, path control, offsets and overrides.
+void write_setting(const Canon& c, CanonWriter& w) {
+  switch (c.kind) {
     case CanonKind::set_feed_rate:
       w << "SET_FEED_RATE(" << c.value << ')';
       return;
@@ -129,12 +146,46 @@ void append_canon_text(const Canon& c, text::TextBuffer& out) {
       w << (c.units == LengthUnits::inch ? "USE_LENGTH_UNITS(CANON_UNITS_INCHES)"
                                          : "USE_LENGTH_UNITS(CANON_UNITS_MM)");
       return;
-    case CanonKind::comment:
-      w << "COMMENT(\"" << c.text << "\")";
+    case CanonKind::path_control:
+      if (c.integer == 64) {  // the tolerance as %f
+        w << "SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, ";
+        w.with_6_decimals(c.value) << ')';
+        return;
+      }
+      w << (c.integer == 61 ? "SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)"
+                            : "SET_MOTION_CONTROL_MODE(CANON_EXACT_STOP)");
       return;
-    case CanonKind::message:
-      w << "MESSAGE(\"" << c.text << "\")";
+    case CanonKind::xy_rotation:
+      w << "SET_XY_ROTATION(" << c.value << ')';
       return;
+    case CanonKind::tool_length_offset:
+      w << "USE_TOOL_LENGTH_OFFSET(";
+      w.list({c.end[0], c.end[1], c.end[2]}, " ") << ", ";
+      w.list({c.end[3], c.end[4], c.end[5]}, " ") << ", ";
+      w.list({c.end[6], c.end[7], c.end[8]}, " ") << ')';
+      return;
+    case CanonKind::g5x_offset:
+      w << "SET_G5X_OFFSET(" << c.integer << ", ";
+      w.six(c.end) << ')';
+      return;
+    case CanonKind::g92_offset:
+      w << "SET_G92_OFFSET(";
+      w.six(c.end) << ')';
+      return;
+    case CanonKind::feed_override:
+      w << (c.integer ? "ENABLE_FEED_OVERRIDE()" : "DISABLE_FEED_OVERRIDE()");
+      return;
+    case CanonKind::speed_override:
+      w << (c.integer ? "ENABLE_SPEED_OVERRIDE(0)" : "DISABLE_SPEED_OVERRIDE(0)");
+      return;
+    default:  // the other kinds are written by the other write_* functions
+      return;
+  }
+}
+
+// The spindle, coolant and tool changer.
+void write_spindle_coolant_tool(const Canon& c, CanonWriter& w) {
+  switch (c.kind) {
     case CanonKind::spindle_speed:
       w << "SET_SPINDLE_SPEED(0, " << c.value << ')';
       return;
@@ -171,31 +222,19 @@ void append_canon_text(const Canon& c, text::TextBuffer& out) {
     case CanonKind::change_tool:
       w << "CHANGE_TOOL(" << c.integer << ')';
       return;
-    case CanonKind::tool_length_offset:
-      w << "USE_TOOL_LENGTH_OFFSET(";
-      w.list({c.end[0], c.end[1], c.end[2]}, " ") << ", ";
-      w.list({c.end[3], c.end[4], c.end[5]}, " ") << ", ";
-      w.list({c.end[6], c.end[7], c.end[8]}, " ") << ')';
+    default:  // the other kinds are written by the other write_* functions
       return;
-    case CanonKind::g5x_offset:
-      w << "SET_G5X_OFFSET(" << c.integer << ", ";
-      w.six(c.end) << ')';
+  }
+}
+
+// Comments, messages, stops and the events passed on.
+void write_program_flow(const Canon& c, CanonWriter& w) {
+  switch (c.kind) {
+    case CanonKind::comment:
+      w << "COMMENT(\"" << c.text << "\")";
       return;
-    case CanonKind::g92_offset:
-      w << "SET_G92_OFFSET(";
-      w.six(c.end) << ')';
-      return;
-    case CanonKind::xy_rotation:
-      w << "SET_XY_ROTATION(" << c.value << ')';
-      return;
-    case CanonKind::path_control:
-      if (c.integer == 64) {  // the tolerance as %f
-        w << "SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, ";
-        w.with_6_decimals(c.value) << ')';
-        return;
-      }
-      w << (c.integer == 61 ? "SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)"
-                            : "SET_MOTION_CONTROL_MODE(CANON_EXACT_STOP)");
+    case CanonKind::message:
+      w << "MESSAGE(\"" << c.text << "\")";
       return;
     case CanonKind::program_stop:
       w << "PROGRAM_STOP()";
@@ -209,22 +248,60 @@ void append_canon_text(const Canon& c, text::TextBuffer& out) {
     case CanonKind::event:
       w << "COMMENT(\"pkmkit: " << c.text << "\")";
       return;
-    case CanonKind::speed_feed_sync:  // the pitch as %f
-      w << "START_SPEED_FEED_SYNC(";
-      w.with_6_decimals(c.value) << ",0)";
+    default:  // the other kinds are written by the other write_* functions
       return;
-    case CanonKind::speed_feed_sync_stop:
-      w << "STOP_SPEED_FEED_SYNCH()";
-      return;
+  }
+}
+}  // namespace
+
+void append_canon_text(const Canon& c, text::TextBuffer& out) {
+  CanonWriter w(out, c.text.size());
+  // Every kind listed, so that a new kind without its text is a compile error (-Wswitch).
+  switch (c.kind) {
+    case CanonKind::traverse:
+    case CanonKind::feed:
+    case CanonKind::probe:
+    case CanonKind::arc:
+    case CanonKind::dwell:
     case CanonKind::rigid_tap:
-      w << "RIGID_TAP(";
-      w.list({c.end[0], c.end[1], c.end[2]}) << ')';
+    case CanonKind::speed_feed_sync:
+    case CanonKind::speed_feed_sync_stop:
+      write_motion(c, w);
       return;
+    case CanonKind::set_feed_rate:
+    case CanonKind::set_feed_mode:
+    case CanonKind::select_plane:
+    case CanonKind::use_length_units:
+    case CanonKind::path_control:
+    case CanonKind::xy_rotation:
+    case CanonKind::tool_length_offset:
+    case CanonKind::g5x_offset:
+    case CanonKind::g92_offset:
     case CanonKind::feed_override:
-      w << (c.integer ? "ENABLE_FEED_OVERRIDE()" : "DISABLE_FEED_OVERRIDE()");
-      return;
     case CanonKind::speed_override:
-      w << (c.integer ? "ENABLE_SPEED_OVERRIDE(0)" : "DISABLE_SPEED_OVERRIDE(0)");
+      write_setting(c, w);
+      return;
+    case CanonKind::spindle_speed:
+    case CanonKind::spindle_clockwise:
+    case CanonKind::spindle_counterclockwise:
+    case CanonKind::spindle_stop:
+    case CanonKind::orient_spindle:
+    case CanonKind::wait_orient_spindle:
+    case CanonKind::mist_on:
+    case CanonKind::mist_off:
+    case CanonKind::flood_on:
+    case CanonKind::flood_off:
+    case CanonKind::select_tool:
+    case CanonKind::change_tool:
+      write_spindle_coolant_tool(c, w);
+      return;
+    case CanonKind::comment:
+    case CanonKind::message:
+    case CanonKind::program_stop:
+    case CanonKind::optional_stop:
+    case CanonKind::program_end:
+    case CanonKind::event:
+      write_program_flow(c, w);
       return;
   }
 }

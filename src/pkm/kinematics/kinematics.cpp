@@ -322,6 +322,144 @@ bool Kinematics::factorise(const Vector6d& x, ForwardTrack& track) const {
 
 namespace {
 
+// The state of one damped-Newton solve (newton_from_seed): the iterate, what is known at it,
+// and the trial buffers, all fixed-capacity so that a solve allocates nothing.
+struct NewtonIterate {
+  NewtonIterate(const Vector6d& seed, int joint_count)
+      : x(seed),
+        at_x(joint_count),
+        jacobian_at_x(joint_count, kPoseSize),
+        at_trial(joint_count),
+        jacobian_at_trial(joint_count, kPoseSize) {}
+
+  Vector6d x;
+  JointVector at_x;
+  JointJacobian jacobian_at_x;
+  bool jacobian_current = true;  // jacobian_at_x belongs to x (not to an earlier iterate)
+  JointVector residual;
+  double cost = 0.0;
+  // Square systems take Newton steps through an LU of J, kept while it keeps paying: a step that
+  // cuts the residual tenfold or more does not need a new factorisation (the chord method). That
+  // halves the work along paths, where the seed is a servo step from the answer. A step that
+  // fails falls back to Marquardt-damped normal equations.
+  Factorization factorization;
+  double seed_det_sign = 0.0;
+  double last_det_sign = 0.0;
+  JointVector at_trial;
+  JointJacobian jacobian_at_trial;
+  double lambda = 0.0;  // Marquardt damping; 0 while Newton steps are taken
+};
+
+// Recomputes the joints and Jacobian at the iterate; false where x is outside the workspace.
+bool jacobian_at_iterate(const Kinematics& model, NewtonIterate& it) {
+  if (!model.inverse_and_jacobian(Pose::from_vector(it.x), it.at_x, it.jacobian_at_x).ok()) {
+    return false;
+  }
+  it.jacobian_current = true;
+  return true;
+}
+
+// The undamped Newton step, through the kept factorisation (computed here when there is none).
+ReducedVector newton_step(NewtonIterate& it, const ControlledAxes& axes) {
+  if (!it.factorization.valid) {
+    it.factorization.compute(it.jacobian_at_x, axes);
+    it.last_det_sign = it.factorization.det_sign;
+    if (it.seed_det_sign == 0.0) it.seed_det_sign = it.last_det_sign;
+  }
+  return it.factorization.solve(it.residual);
+}
+
+// The Marquardt step: normal equations with the diagonal scaled by 1 + lambda.
+ReducedVector damped_step(const NewtonIterate& it, const ControlledAxes& axes) {
+  const ReducedJacobian reduced = reduce(it.jacobian_at_x, axes);
+  ReducedSquare damped = reduced.transpose() * reduced;
+  damped.diagonal() += it.lambda * damped.diagonal();
+  return damped.ldlt().solve(-(reduced.transpose() * it.residual));
+}
+
+// Moves the iterate to a trial that lowered the cost, and decides what of the Jacobian and its
+// factorisation still holds there.
+void accept_trial(const Kinematics& model, const JointVector& joints, const Vector6d& trial,
+                  double trial_cost, bool newton, NewtonIterate& it) {
+  const bool fast = trial_cost <= 0.01 * it.cost;  // residual cut at least tenfold
+  it.x = trial;
+  it.residual = it.at_trial - joints;
+  it.cost = trial_cost;
+  if (!newton) {
+    it.jacobian_at_x = it.jacobian_at_trial;
+    it.jacobian_current = true;
+    it.factorization.valid = false;
+    it.lambda = it.lambda < 1e-9 ? 0.0 : it.lambda * 0.1;
+  } else if (!fast) {
+    it.jacobian_current = false;
+    it.factorization.valid = false;
+  } else {
+    it.jacobian_current = false;  // the factorisation stays, from an earlier iterate
+  }
+  // Where this fails, jacobian_current stays false and the next step starts from the old one.
+  if (!it.jacobian_current && !it.factorization.valid) jacobian_at_iterate(model, it);
+}
+
+enum class TrialOutcome { stepped, retry, stuck };
+
+// One trial step from the iterate: Newton while the system is square and undamped, Marquardt
+// otherwise. A trial that does not lower the cost refreshes a stale Jacobian or raises the damping
+// for the next trial. Clears `contracted` unless the step was Newton's and halved the residual.
+TrialOutcome try_step(const Kinematics& model, const JointVector& joints,
+                      const ControlledAxes& axes, bool square, NewtonIterate& it,
+                      bool& contracted) {
+  const bool newton = square && it.lambda == 0.0;
+  if (!newton && !it.jacobian_current) {
+    if (!jacobian_at_iterate(model, it)) return TrialOutcome::stuck;
+    it.factorization.valid = false;
+  }
+  const ReducedVector step = newton ? newton_step(it, axes) : damped_step(it, axes);
+  Vector6d trial = it.x;
+  for (int k = 0; k < axes.count; ++k) trial[axes.index[k]] += step[k];
+  const Pose trial_pose = Pose::from_vector(trial);
+  const bool reached =
+      step.allFinite() &&
+      (newton ? model.inverse(trial_pose, it.at_trial)
+              : model.inverse_and_jacobian(trial_pose, it.at_trial, it.jacobian_at_trial))
+          .ok();
+  const double trial_cost = reached ? (it.at_trial - joints).squaredNorm() : INFINITY;
+  if (!newton || !(trial_cost <= 0.25 * it.cost)) contracted = false;
+  if (trial_cost < it.cost) {
+    accept_trial(model, joints, trial, trial_cost, newton, it);
+    return TrialOutcome::stepped;
+  }
+  if (newton && !it.jacobian_current) {
+    // A stale factorisation may be all that failed: refresh it before damping.
+    if (!jacobian_at_iterate(model, it)) return TrialOutcome::stuck;
+    it.factorization.valid = false;
+  } else {
+    it.lambda = it.lambda == 0.0 ? 1e-6 : it.lambda * 10.0;
+  }
+  return TrialOutcome::retry;
+}
+
+// Up to 40 trials from the iterate; true once one of them lowered the cost.
+bool step_once(const Kinematics& model, const JointVector& joints, const ControlledAxes& axes,
+               bool square, NewtonIterate& it, bool& contracted) {
+  for (int attempt = 0; attempt < 40; ++attempt) {
+    const TrialOutcome outcome = try_step(model, joints, axes, square, it, contracted);
+    if (outcome == TrialOutcome::stepped) return true;
+    if (outcome == TrialOutcome::stuck) return false;
+  }
+  return false;
+}
+
+// The last factorisation is from at most a few converging steps before the solution; a change
+// of sign of det J between seed and there means the iteration crossed a singularity.
+bool crossed_singularity(const NewtonIterate& it, const ControlledAxes& axes) {
+  if (it.seed_det_sign == 0.0) return false;
+  const double final_sign =
+      it.factorization.valid
+          ? it.last_det_sign
+          : (it.jacobian_current ? determinant_sign(it.jacobian_at_x, axes) : it.last_det_sign);
+  return final_sign != it.seed_det_sign;
+}
+
 // Damped Newton from the seed `pose_inout`. `contracted`: every step was an undamped Newton
 // step that at least halved the residual (Deuflhard's test of the region where the linear model
 // holds): a solution reached so leaves no doubt that it is the seed's own.
@@ -331,26 +469,13 @@ Status newton_from_seed(const Kinematics& model, const JointVector& joints, Pose
   const ControlledAxes axes(model.dof());
   const int joint_count = model.joint_count();
   const bool square = axes.count == joint_count;
-  Vector6d x = pose_inout.as_vector();
-  JointVector at_x(joint_count);
-  JointJacobian jacobian_at_x(joint_count, kPoseSize);
-  if (!model.inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian_at_x).ok()) {
+  NewtonIterate it(pose_inout.as_vector(), joint_count);
+  if (!model.inverse_and_jacobian(Pose::from_vector(it.x), it.at_x, it.jacobian_at_x).ok()) {
     return Status::failure(StatusCode::not_converged);  // the seed itself is outside the workspace
   }
-  bool jacobian_current = true;  // jacobian_at_x belongs to x (not to an earlier iterate)
-  JointVector residual = at_x - joints;
-  double cost = residual.squaredNorm();
+  it.residual = it.at_x - joints;
+  it.cost = it.residual.squaredNorm();
 
-  // Square systems take Newton steps through an LU of J, kept while it keeps paying: a step that
-  // cuts the residual tenfold or more does not need a new factorisation (the chord method). That
-  // halves the work along paths, where the seed is a servo step from the answer. A step that
-  // fails falls back to Marquardt-damped normal equations.
-  Factorization factorization;
-  double seed_det_sign = 0.0;
-  double last_det_sign = 0.0;
-  JointVector at_trial(joint_count);
-  JointJacobian jacobian_at_trial(joint_count, kPoseSize);
-  double lambda = 0.0;
   bool converged = false;
   int iterations = 0;
   const auto counted = [&iterations](Status status) {
@@ -358,87 +483,19 @@ Status newton_from_seed(const Kinematics& model, const JointVector& joints, Pose
     return status;
   };
   for (; iterations < options.max_iterations; ++iterations) {
-    if (max_abs(residual) <= options.tolerance_mm) {
+    if (max_abs(it.residual) <= options.tolerance_mm) {
       converged = true;
       break;
     }
-    bool stepped = false;
-    for (int attempt = 0; attempt < 40 && !stepped; ++attempt) {
-      const bool newton = square && lambda == 0.0;
-      if (!newton && !jacobian_current) {
-        if (!model.inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian_at_x).ok()) break;
-        jacobian_current = true;
-        factorization.valid = false;
-      }
-      ReducedVector step;
-      if (newton) {
-        if (!factorization.valid) {
-          factorization.compute(jacobian_at_x, axes);
-          last_det_sign = factorization.det_sign;
-          if (seed_det_sign == 0.0) seed_det_sign = last_det_sign;
-        }
-        step = factorization.solve(residual);
-      } else {
-        const ReducedJacobian reduced = reduce(jacobian_at_x, axes);
-        ReducedSquare damped = reduced.transpose() * reduced;
-        damped.diagonal() += lambda * damped.diagonal();
-        step = damped.ldlt().solve(-(reduced.transpose() * residual));
-      }
-      Vector6d trial = x;
-      for (int k = 0; k < axes.count; ++k) trial[axes.index[k]] += step[k];
-      const Pose trial_pose = Pose::from_vector(trial);
-      const bool reached =
-          step.allFinite() &&
-          (newton ? model.inverse(trial_pose, at_trial)
-                  : model.inverse_and_jacobian(trial_pose, at_trial, jacobian_at_trial))
-              .ok();
-      const double trial_cost = reached ? (at_trial - joints).squaredNorm() : INFINITY;
-      if (!newton || !(trial_cost <= 0.25 * cost)) contracted = false;
-      if (trial_cost < cost) {
-        const bool fast = trial_cost <= 0.01 * cost;  // residual cut at least tenfold
-        x = trial;
-        residual = at_trial - joints;
-        cost = trial_cost;
-        stepped = true;
-        if (!newton) {
-          jacobian_at_x = jacobian_at_trial;
-          jacobian_current = true;
-          factorization.valid = false;
-          lambda = lambda < 1e-9 ? 0.0 : lambda * 0.1;
-        } else if (!fast) {
-          jacobian_current = false;
-          factorization.valid = false;
-        } else {
-          jacobian_current = false;  // the factorisation stays, from an earlier iterate
-        }
-        if (!jacobian_current && !factorization.valid) {
-          if (!model.inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian_at_x).ok()) break;
-          jacobian_current = true;
-        }
-      } else if (newton && !jacobian_current) {
-        // A stale factorisation may be all that failed: refresh it before damping.
-        if (!model.inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian_at_x).ok()) break;
-        jacobian_current = true;
-        factorization.valid = false;
-      } else {
-        lambda = lambda == 0.0 ? 1e-6 : lambda * 10.0;
-      }
-    }
-    if (!stepped) break;
+    if (!step_once(model, joints, axes, square, it, contracted)) break;
   }
-  if (!converged && max_abs(residual) > options.tolerance_mm) {
+  if (!converged && max_abs(it.residual) > options.tolerance_mm) {
     return counted(Status::failure(StatusCode::not_converged));
   }
-  // The last factorisation is from at most a few converging steps before the solution; a change
-  // of sign of det J between seed and there means the iteration crossed a singularity.
-  if (square && seed_det_sign != 0.0) {
-    const double final_sign =
-        factorization.valid
-            ? last_det_sign
-            : (jacobian_current ? determinant_sign(jacobian_at_x, axes) : last_det_sign);
-    if (final_sign != seed_det_sign) return counted(Status::failure(StatusCode::branch_changed));
+  if (square && crossed_singularity(it, axes)) {
+    return counted(Status::failure(StatusCode::branch_changed));
   }
-  pose_inout = Pose::from_vector(x);
+  pose_inout = Pose::from_vector(it.x);
   return counted(Status::success());
 }
 
