@@ -12,7 +12,7 @@
 
 #include "pkm/calibration/measurements.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -324,9 +324,9 @@ std::string pattern_json_text(const std::vector<PatternMark>& marks) {
   return text + "]}\n";
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration
 
-namespace pkm {
+namespace pkm::calibration {
 
 CalibrationPattern design_pattern(const Machine& machine, const PatternOptions& options) {
   if (options.marks < 3 || options.marks > 999) {
@@ -457,4 +457,4 @@ std::string pattern_gcode(const Machine& machine, const CalibrationPattern& patt
   return text + "M2\n";
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -13,7 +13,7 @@
 
 #include "pkm/machine/machine.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 struct PatternMark {
   int id = 0;                                             // the number drawn beside it, 1..
@@ -88,4 +88,4 @@ PenHeights default_pen_heights(const Machine& machine);
 std::string pattern_gcode(const Machine& machine, const CalibrationPattern& pattern,
                           const PenHeights& pen);
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -14,7 +14,7 @@
 
 #include "pkm/calibration/measurements.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -378,4 +378,4 @@ FitReport fit_distances(Kinematics& kinematics, const Pose& home,
   return report;
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

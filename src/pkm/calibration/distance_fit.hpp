@@ -14,7 +14,7 @@
 #include "pkm/calibration/calibration_pattern.hpp"
 #include "pkm/calibration/parameter_fit.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 struct MarkDistance {
   int a = 0;  // indices into the pattern's marks
@@ -60,4 +60,4 @@ FitReport fit_distances(Kinematics& kinematics, const Pose& home,
                         const std::vector<PatternMark>& marks,
                         const std::vector<MarkDistance>& distances, const FitOptions& options);
 
-}  // namespace pkm
+}  // namespace pkm::calibration

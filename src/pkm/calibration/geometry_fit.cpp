@@ -5,7 +5,7 @@
 #include <limits>
 #include <memory>
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -110,4 +110,4 @@ FitReport fit_geometry(Kinematics& kinematics, const Pose& seed,
   return report;
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

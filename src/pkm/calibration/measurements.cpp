@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -155,4 +155,4 @@ std::vector<Measurement> read_measurements_csv(const std::filesystem::path& path
   return parse_measurements_csv(read_text_file(path), path.string(), machine);
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -8,7 +8,7 @@
 
 #include "pkm/machine/machine.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 struct Measurement {
   JointVector joints;                      // mm (rad for rotary joints)
@@ -44,4 +44,4 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
                                                 const std::string& source_name,
                                                 const Machine& machine);
 
-}  // namespace pkm
+}  // namespace pkm::calibration

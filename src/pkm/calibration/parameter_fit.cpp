@@ -9,7 +9,7 @@
 
 #include "pkm/calibration/parameter_plausibility.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -442,4 +442,4 @@ FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& resid
   return report;
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -16,7 +16,7 @@
 #include "pkm/calibration/identifiability.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 struct FitOptions {
   // Parameter names to fit; '*' matches any run of characters ("leg*.offset"). Empty: all.
@@ -148,4 +148,4 @@ FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& resid
                          const std::vector<std::string>& held_rigid_motion,
                          const FitOptions& options);
 
-}  // namespace pkm
+}  // namespace pkm::calibration

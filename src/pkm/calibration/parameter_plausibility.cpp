@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -61,4 +61,4 @@ Plausibility parameter_plausibility(const Parameter& parameter, double size_mm) 
   return result;
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -9,7 +9,7 @@
 
 #include "pkm/kinematics/kinematics.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 struct Plausibility {
   // What the parameter is, for messages ("a pulley's radius"); empty when the kind is unknown
@@ -36,4 +36,4 @@ double machine_size_mm(const std::vector<Parameter>& parameters, double extent_m
 // machine_size_mm gives.
 Plausibility parameter_plausibility(const Parameter& parameter, double size_mm);
 
-}  // namespace pkm
+}  // namespace pkm::calibration
