@@ -18,7 +18,7 @@ void plan_sphere_to_npy(benchmark::State& state) {
       std::filesystem::temp_directory_path() / "pkm-bench-sphere.npy";
   long samples = 0;
   for (auto _ : state) {
-    auto file = pkm::SampleFile::open(output, machine);
+    auto file = pkm::io::SampleFile::open(output, machine);
     const pkm::motion::PlanReport report = pkm::motion::plan_program(
         machine, kSource / "examples" / "jobs" / "sphere.ngc", {}, {}, *file);
     file->commit();

@@ -159,7 +159,7 @@ void sample_file(benchmark::State& state, const char* extension) {
   const std::filesystem::path output = sample_output(state, extension);
   std::vector<pkm::motion::Sample> samples = circle_samples();
   for (auto _ : state) {
-    auto file = pkm::SampleFile::open(output, machine);
+    auto file = pkm::io::SampleFile::open(output, machine);
     for (int i = 0; i < kSamplesPerFile; ++i) {
       pkm::motion::Sample& s = samples[static_cast<std::size_t>(i) % samples.size()];
       s.time_s = 0.001 * i;
@@ -186,7 +186,7 @@ BENCHMARK_CAPTURE(sample_file, npy, ".npy")
 void sample_file_before(benchmark::State& state, const char* extension) {
   const pkm::Machine machine =
       pkm::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
-  const pkm::SampleRows rows(machine);
+  const pkm::io::SampleRows rows(machine);
   const bool csv = std::string(extension) == ".csv";
   const std::filesystem::path output = sample_output(state, extension);
   std::vector<pkm::motion::Sample> samples = circle_samples();
@@ -195,7 +195,7 @@ void sample_file_before(benchmark::State& state, const char* extension) {
     for (int i = 0; i < kSamplesPerFile; ++i) {
       pkm::motion::Sample& s = samples[static_cast<std::size_t>(i) % samples.size()];
       s.time_s = 0.001 * i;
-      double row[pkm::SampleRows::kMaxColumns];
+      double row[pkm::io::SampleRows::kMaxColumns];
       const std::size_t n = rows.fill(s, row);
       if (csv) {
         pkm::legacy::write_csv_row(file, row, n, rows.pen());

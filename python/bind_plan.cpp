@@ -66,7 +66,7 @@ PlanArguments plan_arguments(const Machine& machine, const std::string& program,
 // named as the NPY file's.
 py::dtype sample_dtype(const Machine& machine) {
   py::list fields;
-  for (const std::string& column : sample_columns(machine)) {
+  for (const std::string& column : io::sample_columns(machine)) {
     fields.append(py::make_tuple(column, "<f8"));
   }
   return py::module_::import("numpy").attr("dtype")(fields).cast<py::dtype>();
@@ -87,14 +87,14 @@ class RowCollector final : public motion::SampleSink {
  public:
   explicit RowCollector(const Machine& machine) : rows_(machine) {}
   void write(const motion::Sample& sample) override {
-    double row[SampleRows::kMaxColumns];
+    double row[io::SampleRows::kMaxColumns];
     const std::size_t n = rows_.fill(sample, row);
     values_.insert(values_.end(), row, row + n);
   }
   std::vector<double>& values() { return values_; }
 
  private:
-  SampleRows rows_;
+  io::SampleRows rows_;
   std::vector<double> values_;
 };
 
@@ -115,9 +115,9 @@ py::tuple plan(const Machine& machine, const std::string& program, double period
     raise_with_reach_hint("PlanError", error.what(), error.line(), own, arguments.program,
                           arguments.interpreter, arguments.plan.origin);
   }
-  const nlohmann::json json = plan_report_json(own, report, arguments.program, period_s, false);
+  const nlohmann::json json = io::plan_report_json(own, report, arguments.program, period_s, false);
   return py::make_tuple(
-      sample_array(sample_dtype(own), std::move(rows.values()), sample_columns(own).size()),
+      sample_array(sample_dtype(own), std::move(rows.values()), io::sample_columns(own).size()),
       json_to_python(json));
 }
 
@@ -141,7 +141,7 @@ py::object estimate(const Machine& machine, const std::string& program, double p
     report =
         motion::plan_program(own, arguments.program, arguments.interpreter, arguments.plan, none);
   }
-  return json_to_python(plan_report_json(own, report, arguments.program, period_s, true));
+  return json_to_python(io::plan_report_json(own, report, arguments.program, period_s, true));
 }
 
 // Thrown into the planner's thread when the iterator goes away before the plan has ended.
@@ -178,7 +178,7 @@ class PlanChunks final : public motion::SampleSink {
   PlanChunks& operator=(const PlanChunks&) = delete;
 
   void write(const motion::Sample& sample) override {
-    double row[SampleRows::kMaxColumns];
+    double row[io::SampleRows::kMaxColumns];
     const std::size_t n = rows_.fill(sample, row);
     filling_.insert(filling_.end(), row, row + n);
     if (filling_.size() >= chunk_values_) hand_over();
@@ -215,8 +215,8 @@ class PlanChunks final : public motion::SampleSink {
     }
     // finished_report_ was set before finished_, under the mutex taken above, and stays.
     if (report_.is_none() && finished_report_) {
-      report_ = json_to_python(plan_report_json(machine_, *finished_report_, arguments_.program,
-                                                arguments_.plan.period_s, false));
+      report_ = json_to_python(io::plan_report_json(machine_, *finished_report_, arguments_.program,
+                                                    arguments_.plan.period_s, false));
     }
     throw py::stop_iteration();
   }
@@ -265,7 +265,7 @@ class PlanChunks final : public motion::SampleSink {
 
   const Machine machine_;  // its own copy: the planner runs on another thread
   PlanArguments arguments_;
-  SampleRows rows_;
+  io::SampleRows rows_;
   std::size_t columns_;
   std::size_t chunk_values_;
   py::dtype dtype_;

@@ -58,17 +58,17 @@ py::object post(const Machine& machine, const std::string& program, const std::s
   options.origin = origin_argument(origin, "origin");
   gcode::InterpreterOptions interpreter;
   interpreter.tool_table = tool_table_argument(tool_table, tool_table_units);
-  std::vector<NamedInput> inputs{{"the job", program},
-                                 {"the machine file", machine.source()},
-                                 {"the tool table", tool_table.value_or("")}};
-  if (const std::string reason = overwrites_input(output, inputs); !reason.empty()) {
+  std::vector<io::NamedInput> inputs{{"the job", program},
+                                     {"the machine file", machine.source()},
+                                     {"the tool table", tool_table.value_or("")}};
+  if (const std::string reason = io::overwrites_input(output, inputs); !reason.empty()) {
     throw py::value_error(reason);
   }
   const Machine own = machine;  // the loop runs without the GIL (pkmkit.cpp)
   post::PostReport report;
   try {
     const py::gil_scoped_release released;
-    AtomicFileWriter file(output);
+    files::AtomicFileWriter file(output);
     file.write(post::joint_program_header(own, program, options.dialect, tolerance_mm, nullptr));
     report = post::post_program(own, program, interpreter, options,
                                 [&](const std::string& line) { file.write(line + "\n"); });
@@ -77,7 +77,7 @@ py::object post(const Machine& machine, const std::string& program, const std::s
     for (std::size_t i = 1; i < report.files_read.size(); ++i) {
       inputs.push_back({"a subroutine file the job calls", report.files_read[i]});
     }
-    if (const std::string reason = overwrites_input(output, inputs); !reason.empty()) {
+    if (const std::string reason = io::overwrites_input(output, inputs); !reason.empty()) {
       throw std::invalid_argument(reason);
     }
     file.commit();
@@ -91,7 +91,7 @@ py::object post(const Machine& machine, const std::string& program, const std::s
   } catch (const post::PostError& error) {
     raise_with_reach_hint("PostError", error.what(), -1, own, program, interpreter, options.origin);
   }
-  return json_to_python(post_report_json(own, program, output, report, tolerance_mm));
+  return json_to_python(io::post_report_json(own, program, output, report, tolerance_mm));
 }
 
 py::object verify(const Machine& machine, const std::string& joint_program,
@@ -119,7 +119,7 @@ py::object verify(const Machine& machine, const std::string& joint_program,
     const py::gil_scoped_release released;
     report = verify::verify_joint_program(own, joint_program, against, options);
   }
-  return json_to_python(verify_report_json(own, joint_program, against, report));
+  return json_to_python(io::verify_report_json(own, joint_program, against, report));
 }
 
 }  // namespace

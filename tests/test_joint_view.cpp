@@ -116,7 +116,7 @@ TEST(JointView, FindsABlockPastAJointsTravelAtItsLine) {
   EXPECT_NE(report.position.first[0].detail.find("passes its max"), std::string::npos);
   EXPECT_DOUBLE_EQ(report.joints[0].high, 2200.0);
   EXPECT_EQ(report.joints[0].high_line, 3);
-  const nlohmann::json json = view_report_json(plotter, program.string(), report);
+  const nlohmann::json json = io::view_report_json(plotter, program.string(), report);
   EXPECT_DOUBLE_EQ(json["joints"][0]["margin_high"].get<double>(), -100.0);
   fs::remove(program);
 }

@@ -419,7 +419,7 @@ TEST(SampleFiles, NpyHasItsShapeAndColumns) {
   const auto path =
       std::filesystem::temp_directory_path() / ("pkm-" + std::to_string(::getpid()) + ".npy");
   {
-    auto file = SampleFile::open(path, hektor);
+    auto file = io::SampleFile::open(path, hektor);
     Sample s;
     s.time_s = 0.5;
     s.line = 7;
@@ -449,7 +449,7 @@ TEST(SampleFiles, NpyHasItsShapeAndColumns) {
   EXPECT_EQ(row[1], 7.0);
   EXPECT_EQ(row[2], 34.0);
   EXPECT_NEAR(row[5], 52.498, 5e-4);  // columns t line x y z j_left j_right
-  EXPECT_EQ(sample_columns(hektor),
+  EXPECT_EQ(io::sample_columns(hektor),
             (std::vector<std::string>{"t", "line", "x", "y", "z", "j_left", "j_right"}));
 }
 
@@ -457,7 +457,7 @@ TEST(SampleFiles, AnUncommittedFileLeavesNothing) {
   const Machine hektor = test::load_example("hektor.toml");
   const auto path =
       std::filesystem::temp_directory_path() / ("pkm-" + std::to_string(::getpid()) + ".csv");
-  { auto file = SampleFile::open(path, hektor); }
+  { auto file = io::SampleFile::open(path, hektor); }
   EXPECT_FALSE(std::filesystem::exists(path));
   for (const auto& entry : std::filesystem::directory_iterator(path.parent_path())) {
     EXPECT_EQ(

@@ -141,7 +141,7 @@ TEST_P(NoAllocation, SampleFilesAllocateNothingPerSample) {
   for (const char* extension : {".csv", ".npy"}) {
     const std::filesystem::path path = std::filesystem::temp_directory_path() /
                                        ("pkm-alloc-" + std::to_string(::getpid()) + extension);
-    auto file = SampleFile::open(path, machine);
+    auto file = io::SampleFile::open(path, machine);
     file->write(samples.front());
     const long before = allocations.load();
     for (int i = 0; i < 5000; ++i) {

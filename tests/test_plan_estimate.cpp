@@ -223,7 +223,7 @@ TEST(ZFree, ATableThatIgnoresZHasNoPenAndSpendsNoTimeOnZ) {
   text.replace(text.find("z = \"pen\""), 9, "z = \"ignore\"");
   const Machine ignoring = parse_machine(text, "ignoring.toml");
   ASSERT_EQ(ignoring.tool().z, ToolZ::ignore);
-  EXPECT_EQ(sample_columns(ignoring),
+  EXPECT_EQ(io::sample_columns(ignoring),
             (std::vector<std::string>{"t", "line", "x", "y", "z", "j_left", "j_right"}));
   Collect out;
   const PlanReport report =
@@ -474,7 +474,7 @@ TEST(SampleFiles, CsvRowsKeepTheirFormat) {
   s.pose << 34, -40, 0, 0, 0, 0;
   ASSERT_TRUE(hektor.inverse(Pose::from_vector(s.pose), s.joints).ok());
   {
-    auto file = SampleFile::open(path, hektor);
+    auto file = io::SampleFile::open(path, hektor);
     file->write(s);
     file->commit();
   }
@@ -488,7 +488,7 @@ TEST(SampleFiles, CsvRowsKeepTheirFormat) {
 
 TEST(SampleFiles, APenMachineHasAPenColumnInBothFormats) {
   const Machine pen = pen_plotter();
-  EXPECT_EQ(sample_columns(pen),
+  EXPECT_EQ(io::sample_columns(pen),
             (std::vector<std::string>{"t", "line", "x", "y", "z", "j_left", "j_right", "pen"}));
   const fs::path base = fs::temp_directory_path() / ("pkm-pen-" + std::to_string(::getpid()));
   Sample s;
@@ -498,7 +498,7 @@ TEST(SampleFiles, APenMachineHasAPenColumnInBothFormats) {
   s.pen_down = true;
   ASSERT_TRUE(pen.inverse(Pose::from_vector(s.pose), s.joints).ok());
   for (const char* extension : {".csv", ".npy"}) {
-    auto file = SampleFile::open(base.string() + extension, pen);
+    auto file = io::SampleFile::open(base.string() + extension, pen);
     file->write(s);
     file->commit();
   }

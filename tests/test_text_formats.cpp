@@ -273,13 +273,13 @@ TEST(SampleFilesText, CsvRowsAsPrintfWroteThem) {
   for (const char* machine_file : {"hektor.toml", "pen-plotter.toml", "hexapod-bit.toml"}) {
     SCOPED_TRACE(machine_file);
     const Machine machine = test::load_example(machine_file);
-    const SampleRows rows(machine);
+    const io::SampleRows rows(machine);
     const fs::path path =
         fs::temp_directory_path() / ("pkm-text-rows-" + std::to_string(::getpid()) + ".csv");
     // More rows than one block of the file holds.
     const std::vector<motion::Sample> samples = edge_samples(machine, 3000);
     {
-      auto file = SampleFile::open(path, machine);
+      auto file = io::SampleFile::open(path, machine);
       for (const motion::Sample& s : samples) file->write(s);
       file->commit();
     }
@@ -287,7 +287,7 @@ TEST(SampleFilesText, CsvRowsAsPrintfWroteThem) {
     fs::remove(path);
     ASSERT_EQ(written.size(), samples.size());
     for (std::size_t i = 0; i < samples.size(); ++i) {
-      double row[SampleRows::kMaxColumns];
+      double row[io::SampleRows::kMaxColumns];
       const std::size_t n = rows.fill(samples[i], row);
       ASSERT_EQ(written[i], legacy::csv_row(row, n, rows.pen())) << "row " << i;
     }
@@ -296,12 +296,12 @@ TEST(SampleFilesText, CsvRowsAsPrintfWroteThem) {
 
 TEST(SampleFilesText, NpyRecordsAreTheRowsBytes) {
   const Machine machine = test::load_example("hexapod-bit.toml");
-  const SampleRows rows(machine);
+  const io::SampleRows rows(machine);
   const fs::path path =
       fs::temp_directory_path() / ("pkm-text-rows-" + std::to_string(::getpid()) + ".npy");
   const std::vector<motion::Sample> samples = edge_samples(machine, 5000);
   {
-    auto file = SampleFile::open(path, machine);
+    auto file = io::SampleFile::open(path, machine);
     for (const motion::Sample& s : samples) file->write(s);
     file->commit();
   }
@@ -314,7 +314,7 @@ TEST(SampleFilesText, NpyRecordsAreTheRowsBytes) {
   EXPECT_NE(bytes.substr(0, header).find("'shape': (                5000,), }"), std::string::npos);
   std::string expected;
   for (const motion::Sample& s : samples) {
-    double row[SampleRows::kMaxColumns];
+    double row[io::SampleRows::kMaxColumns];
     const std::size_t n = rows.fill(s, row);
     expected.append(reinterpret_cast<const char*>(row), n * sizeof(double));
   }

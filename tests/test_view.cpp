@@ -205,7 +205,7 @@ TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
   limit.bound = motion::JointBound::velocity;
   limit.needed_at_programmed = 39.6 * 25.4;
   limit.usable = 0.99 * 20.0 * 25.4;
-  EXPECT_EQ(feed_limit_text(hexapod, limit),
+  EXPECT_EQ(io::feed_limit_text(hexapod, limit),
             "F10.0 lowered to F5.0: joint leg2's velocity would be 39.6 in/s at F10.0, over the "
             "19.8 in/s it may use (99 % of max_velocity 20.0)");
   // The same on an arc of 0.5 in: the curve, and what v^2/r within half of max_acceleration
@@ -217,7 +217,7 @@ TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
   limit.radius_mm = 0.5 * 25.4;
   limit.curve_acceleration_mm_per_s2 = 100.0 * 25.4;
   limit.curve_allowed_mm_per_s = std::sqrt(100.0 * 0.5) * 25.4;
-  EXPECT_EQ(feed_limit_text(hexapod, limit),
+  EXPECT_EQ(io::feed_limit_text(hexapod, limit),
             "F10.0 lowered to F5.0 on the arc (radius 0.5000 in): joint leg2's acceleration would "
             "be 250.0 in/s^2 at F10.0, over the 80.0 in/s^2 it may use on a bend (half of 80 % "
             "of max_acceleration 200.0); the tool's own v^2/r allows F424.3 (within 100.0 "
@@ -236,7 +236,7 @@ TEST(FeedLimitText, ThePlanReportCarriesTheBoundTheCurveAndTheReason) {
   const motion::PlanReport report = motion::plan_program(
       plotter, std::string(PKM_SOURCE_DIR) + "/tests/data/vitruvian-first-square.ngc", {}, options,
       none);
-  const nlohmann::json json = plan_report_json(plotter, report, "square.ngc", 0.001, true);
+  const nlohmann::json json = io::plan_report_json(plotter, report, "square.ngc", 0.001, true);
   const nlohmann::json& limit = json["feed_limited_by_joints"].at(0);
   EXPECT_EQ(limit["line"], 8);
   EXPECT_EQ(limit["bound"]["limit"], "acceleration");
@@ -246,7 +246,7 @@ TEST(FeedLimitText, ThePlanReportCarriesTheBoundTheCurveAndTheReason) {
   EXPECT_EQ(limit["curve"]["kind"], "blend");
   EXPECT_EQ(limit["curve"]["after_line"], 7);
   EXPECT_NEAR(limit["curve"]["radius_mm"].get<double>(), 0.034142, 3e-4);
-  EXPECT_EQ(limit["reason"], feed_limit_text(plotter, report.feed_limits.at(0)));
+  EXPECT_EQ(limit["reason"], io::feed_limit_text(plotter, report.feed_limits.at(0)));
 }
 
 TEST(JobOutline, FollowsTheJobFromHomeToItsEnd) {

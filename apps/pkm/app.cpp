@@ -119,9 +119,9 @@ CLI::Option* add_pose_option(CLI::App& command, const std::string& name,
 
 void refuse_overwriting_input(const std::string& output,
                               std::initializer_list<std::pair<std::string, std::string>> inputs) {
-  std::vector<NamedInput> named;
+  std::vector<io::NamedInput> named;
   for (const auto& [what, path] : inputs) named.push_back({what, path});
-  const std::string reason = overwrites_input(output, named);
+  const std::string reason = io::overwrites_input(output, named);
   if (!reason.empty()) throw CommandError(reason);
 }
 

@@ -68,7 +68,7 @@ void write_machine(const std::string& original_path, const Machine& machine,
   const std::string text = replace_kinematics_section(machine_text(original_path), machine.source(),
                                                       kinematics, machine.units());
   parse_machine(text, output);  // refuses to write a file that would not load
-  write_file_atomically(output, text);
+  files::write_file_atomically(output, text);
 }
 
 std::optional<std::pair<double, double>> pair_of(const std::vector<double>& values) {
@@ -309,8 +309,8 @@ void run_pattern(const PatternCommandOptions& options) {
     throw CommandError(error.what());
   }
   const std::string marks_json = calibration::pattern_json_text(pattern.marks);
-  const FileContent pair[] = {{options.output, program}, {json_path, marks_json}};
-  write_files_together(pair);
+  const files::FileContent pair[] = {{options.output, program}, {json_path, marks_json}};
+  files::write_files_together(pair);
   const std::size_t pairs = pattern.marks.size() * (pattern.marks.size() - 1) / 2;
   if (options.json) {
     std::cout << nlohmann::json{{"marks", pattern.marks.size()},

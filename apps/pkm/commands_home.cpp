@@ -77,7 +77,7 @@ void run_home(const HomeOptions& options) {
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
-  write_file_atomically(options.output, program);
+  files::write_file_atomically(options.output, program);
   std::printf("%s: %s\n", options.output.c_str(), summary.c_str());
 }
 

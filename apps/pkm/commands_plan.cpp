@@ -43,7 +43,7 @@ struct PlanCommandOptions {
 };
 
 // Samples nobody keeps: `pkm demo` without -o, and the estimate (which makes none).
-struct DiscardSamples final : SampleFile {
+struct DiscardSamples final : io::SampleFile {
   void write(const motion::Sample&) override {}
   void commit() override {}
 };
@@ -89,10 +89,10 @@ motion::PlanReport run_planner(const Machine& machine, const PlanCommandOptions&
 // Bytes of a sample file: NPY exactly (header and 8 bytes a column), CSV roughly (a real number
 // takes some 14 characters).
 double npy_bytes(const Machine& machine, double samples) {
-  return 128.0 + samples * 8.0 * static_cast<double>(sample_columns(machine).size());
+  return 128.0 + samples * 8.0 * static_cast<double>(io::sample_columns(machine).size());
 }
 double csv_bytes(const Machine& machine, double samples) {
-  return samples * (14.0 * static_cast<double>(sample_columns(machine).size() - 2) + 16.0);
+  return samples * (14.0 * static_cast<double>(io::sample_columns(machine).size() - 2) + 16.0);
 }
 
 void print_estimate_head(const Machine& machine, const motion::PlanReport& report,
@@ -176,7 +176,7 @@ void print_feed_limits(const Machine& machine, const motion::PlanReport& report,
                        std::size_t count) {
   for (std::size_t i = 0; i < report.feed_limits.size() && i < count; ++i) {
     const motion::FeedLimit& limit = report.feed_limits[i];
-    std::printf("    line %d: %s\n", limit.line, feed_limit_text(machine, limit).c_str());
+    std::printf("    line %d: %s\n", limit.line, io::feed_limit_text(machine, limit).c_str());
   }
   if (report.feed_limits.size() > count) {
     std::printf("    and %zu more (--report lists them all)\n", report.feed_limits.size() - count);
@@ -286,9 +286,10 @@ void run_plan(const PlanCommandOptions& options) {
     const motion::PlanReport estimate = run_planner(machine, options, setup, none);
     if (estimate_only) {
       if (!options.report.empty()) {
-        write_file_atomically(
+        files::write_file_atomically(
             options.report,
-            plan_report_json(machine, estimate, options.program, options.period_s, true).dump(2) +
+            io::plan_report_json(machine, estimate, options.program, options.period_s, true)
+                    .dump(2) +
                 "\n");
       }
       print_warnings(options, estimate);
@@ -306,10 +307,10 @@ void run_plan(const PlanCommandOptions& options) {
                     .string(),
       options.program);
   setup.plan.on_line = progress.on_line();
-  std::unique_ptr<SampleFile> output;
+  std::unique_ptr<io::SampleFile> output;
   try {
     output = options.output.empty() ? std::make_unique<DiscardSamples>()
-                                    : SampleFile::open(options.output, machine);
+                                    : io::SampleFile::open(options.output, machine);
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
@@ -320,8 +321,8 @@ void run_plan(const PlanCommandOptions& options) {
   progress.clear();
   output->commit();
   const nlohmann::json json =
-      plan_report_json(machine, report, options.program, options.period_s, false);
-  if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
+      io::plan_report_json(machine, report, options.program, options.period_s, false);
+  if (!options.report.empty()) files::write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) {
     recorder.finish();
     const std::string job =
@@ -343,7 +344,7 @@ void run_plan(const PlanCommandOptions& options) {
 // is read from a temporary file that is never committed: it goes with the run, however the run
 // ends (a signal included), and one left by a killed run is removed by the next.
 void run_demo(PlanCommandOptions options) {
-  AtomicFileWriter job(std::filesystem::temp_directory_path() / "pkm-demo-sphere.ngc");
+  files::AtomicFileWriter job(std::filesystem::temp_directory_path() / "pkm-demo-sphere.ngc");
   job.write(kEmbeddedJob);
   if (std::fflush(job.stream()) != 0) {
     throw CommandError(job.temporary_path() + ": cannot write the demo's job");

@@ -128,7 +128,7 @@ void run_post(const PostCommandOptions& options) {
   }
   post_options.origin = pose_vector_over(machine, post_options.origin, options.origin);
   gcode::InterpreterOptions interpreter_options;
-  AtomicFileWriter file(options.output);
+  files::AtomicFileWriter file(options.output);
   file.write(post::joint_program_header(machine, options.program, post_options.dialect,
                                         post_options.tolerance_mm, nullptr));
   post::PostReport report;
@@ -155,12 +155,12 @@ void run_post(const PostCommandOptions& options) {
   }
   progress.clear();
   // A subroutine file the job called is known only now: the joint program replaces none.
-  std::vector<NamedInput> subroutines;
+  std::vector<io::NamedInput> subroutines;
   for (std::size_t i = 1; i < report.files_read.size(); ++i) {
     subroutines.push_back({"a subroutine file the job calls", report.files_read[i]});
   }
   for (const std::string& written : {options.output, options.report, options.html}) {
-    if (const std::string reason = overwrites_input(written, subroutines); !reason.empty()) {
+    if (const std::string reason = io::overwrites_input(written, subroutines); !reason.empty()) {
       throw CommandError(reason);
     }
   }
@@ -177,9 +177,9 @@ void run_post(const PostCommandOptions& options) {
                    warning.message.c_str());
     }
   }
-  const nlohmann::json json =
-      post_report_json(machine, options.program, options.output, report, post_options.tolerance_mm);
-  if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
+  const nlohmann::json json = io::post_report_json(machine, options.program, options.output, report,
+                                                   post_options.tolerance_mm);
+  if (!options.report.empty()) files::write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) write_post_html(machine, options, post_options, json);
   const double per_unit = machine.mm_per_unit();
   std::printf("%s: %ld blocks for %ld moves, %s %.6f %s (line %d), tolerance %.6f %s\n",
@@ -212,7 +212,7 @@ void run_export_settings(const std::string& machine_file, const std::string& out
     std::fputs(settings.text().c_str(), stdout);
     return;
   }
-  write_file_atomically(output, settings.text());
+  files::write_file_atomically(output, settings.text());
   std::printf("%s: %zu %s settings for %s: send it line by line, waiting for each ok\n",
               output.c_str(), settings.settings.size(), controller_kind_name(kind),
               machine.name().c_str());

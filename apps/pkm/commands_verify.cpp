@@ -188,8 +188,8 @@ void run_verify(const VerifyCommandOptions& options) {
     throw CommandError(error.what());
   }
   progress.clear();
-  const nlohmann::json json = verify_report_json(machine, options.joints, options.job, report);
-  if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
+  const nlohmann::json json = io::verify_report_json(machine, options.joints, options.job, report);
+  if (!options.report.empty()) files::write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) write_verify_html(machine, options, verify_options, json, recorder);
   print_report(machine, options, report);
   if (!options.report.empty()) std::printf("wrote the report %s\n", options.report.c_str());

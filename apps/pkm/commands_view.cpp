@@ -143,8 +143,8 @@ void run_view(const ViewCommandOptions& options) {
     throw CommandError(error.what());
   }
   progress.clear();
-  const nlohmann::json json = view_report_json(machine, options.joints, report);
-  if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
+  const nlohmann::json json = io::view_report_json(machine, options.joints, report);
+  if (!options.report.empty()) files::write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) {
     recorder.finish();
     const std::string name = std::filesystem::path(options.joints).filename().string();

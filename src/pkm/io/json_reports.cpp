@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace pkm {
+namespace pkm::io {
 
 namespace {
 
@@ -313,4 +313,4 @@ nlohmann::json post_report_json(const Machine& machine, const std::string& progr
   return result;
 }
 
-}  // namespace pkm
+}  // namespace pkm::io

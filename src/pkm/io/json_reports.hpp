@@ -13,7 +13,7 @@
 #include "pkm/verify/joint_path.hpp"
 #include "pkm/verify/joint_trace.hpp"
 
-namespace pkm {
+namespace pkm::io {
 
 // The report of a plan of `program` at `period_s`; `estimate`: the planner made no samples (the
 // peak accelerations are then null: an estimate has none).
@@ -50,4 +50,4 @@ nlohmann::json view_report_json(const Machine& machine, const std::string& joint
 std::string violation_unit(const Machine& machine, const verify::Violation& v,
                            const std::string& unit);
 
-}  // namespace pkm
+}  // namespace pkm::io

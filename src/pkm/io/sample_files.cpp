@@ -6,7 +6,7 @@
 
 #include "pkm/text/decimal_text.hpp"
 
-namespace pkm {
+namespace pkm::io {
 
 namespace {
 
@@ -63,7 +63,7 @@ class CsvFile final : public SampleFile {
     pending_.clear();
   }
 
-  AtomicFileWriter file_;
+  files::AtomicFileWriter file_;
   SampleRows rows_;  // a row's values in column order and interface units
   text::TextBuffer pending_;
 };
@@ -140,7 +140,7 @@ class NpyFile final : public SampleFile {
     pending_rows_ = 0;
   }
 
-  AtomicFileWriter file_;
+  files::AtomicFileWriter file_;
   SampleRows rows_;              // a row's values in column order and interface units
   std::size_t block_rows_;       // rows in about kBlockBytes
   std::vector<double> pending_;  // block_rows_ rows, and room for a row too long
@@ -159,4 +159,4 @@ std::unique_ptr<SampleFile> SampleFile::open(const std::filesystem::path& path,
   throw std::invalid_argument("output " + path.string() + ": give a .csv or .npy file name");
 }
 
-}  // namespace pkm
+}  // namespace pkm::io

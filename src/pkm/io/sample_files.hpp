@@ -14,7 +14,7 @@
 #include "pkm/machine/machine.hpp"
 #include "pkm/motion/planner.hpp"
 
-namespace pkm {
+namespace pkm::io {
 
 class SampleFile : public motion::SampleSink {
  public:
@@ -24,4 +24,4 @@ class SampleFile : public motion::SampleSink {
   virtual void commit() = 0;  // complete the file and move it into place
 };
 
-}  // namespace pkm
+}  // namespace pkm::io

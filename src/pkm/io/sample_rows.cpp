@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace pkm {
+namespace pkm::io {
 
 namespace {
 
@@ -51,4 +51,4 @@ std::size_t SampleRows::fill(const motion::Sample& s, double* row) const {
   return n;
 }
 
-}  // namespace pkm
+}  // namespace pkm::io

@@ -12,7 +12,7 @@
 #include "pkm/machine/machine.hpp"
 #include "pkm/motion/planner.hpp"
 
-namespace pkm {
+namespace pkm::io {
 
 std::vector<std::string> sample_columns(const Machine& machine);
 
@@ -35,4 +35,4 @@ class SampleRows {
   std::size_t columns_;
 };
 
-}  // namespace pkm
+}  // namespace pkm::io

@@ -402,7 +402,7 @@ namespace {
 // Writes `file` under `directory`, making the directories its name has; each made is added to
 // `tree` when there is one (a staging directory), so that a signal removes it with its files.
 void write_config_file(const std::filesystem::path& directory, const ConfigFile& file,
-                       TemporaryTree* tree) {
+                       files::TemporaryTree* tree) {
   const std::filesystem::path path = directory / file.name;
   std::vector<std::filesystem::path> made;
   for (std::filesystem::path parent = path.parent_path();
@@ -415,7 +415,7 @@ void write_config_file(const std::filesystem::path& directory, const ConfigFile&
   if (tree) {
     for (auto it = made.rbegin(); it != made.rend(); ++it) tree->add_directory(*it);
   }
-  write_file_atomically(path, file.text);
+  files::write_file_atomically(path, file.text);
   if (tree) tree->add_file(path);
 }
 
@@ -452,7 +452,7 @@ constexpr std::size_t kMaxCarriedFiles = 10000;
 // `relative`: `from` within the old directory ("" at its top).
 void carry_over(const std::filesystem::path& old_root, const std::filesystem::path& from,
                 const std::filesystem::path& to, const std::filesystem::path& relative,
-                TemporaryTree& tree, KeptFiles& kept) {
+                files::TemporaryTree& tree, KeptFiles& kept) {
   namespace fs = std::filesystem;
   for (const fs::directory_entry& entry : fs::directory_iterator(from)) {
     const fs::path target = to / entry.path().filename();
@@ -508,7 +508,7 @@ KeptFiles replace_config_directory(const std::filesystem::path& directory,
                              "outside, e.g. from " +
                              old_root.parent_path().string());
   }
-  TemporaryTree staging(staging_path(old_root));
+  files::TemporaryTree staging(staging_path(old_root));
   fs::permissions(staging.root(), fs::status(old_root).permissions(), error);
   KeptFiles kept;
   for (const ConfigFile& file : files) {
@@ -546,7 +546,7 @@ KeptFiles write_config_directory(const std::filesystem::path& directory,
     fs::create_directories(target.parent_path(), error);  // as mkdir -p
     if (error) fail("create the directory", target.parent_path(), error);
   }
-  TemporaryTree staging(staging_path(target));
+  files::TemporaryTree staging(staging_path(target));
   for (const ConfigFile& file : files) write_config_file(staging.root(), file, &staging);
   staging.commit_to(target);
   return {};

@@ -139,7 +139,7 @@ std::string plan_page(const json& report, const PlanRecorder& recorder, const st
 }
 
 void write_page(const std::filesystem::path& path, const std::string& html) {
-  write_file_atomically(path, html);
+  files::write_file_atomically(path, html);
 }
 
 }  // namespace pkm::view
