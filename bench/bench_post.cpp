@@ -35,8 +35,8 @@ void post_drawing_on_polargraph(benchmark::State& state) {
     state.SkipWithError("the real corpus (../shared/gcode/real) is absent");
     return;
   }
-  const pkm::Machine machine =
-      pkm::load_machine(kSource / "examples" / "machines" / "linuxcnc-polargraph-2366.toml");
+  const pkm::machine::Machine machine = pkm::machine::load_machine(
+      kSource / "examples" / "machines" / "linuxcnc-polargraph-2366.toml");
   pkm::post::PostOptions options;
   options.tolerance_mm = 0.01;
   options.origin << drawing.x, drawing.y, 0.0, 0.0, 0.0, 0.0;

@@ -154,8 +154,8 @@ constexpr int kSamplesPerFile = 100000;
 
 // pkm::SampleFile as `pkm plan -o` writes it. items = samples.
 void sample_file(benchmark::State& state, const char* extension) {
-  const pkm::Machine machine =
-      pkm::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
+  const pkm::machine::Machine machine =
+      pkm::machine::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
   const std::filesystem::path output = sample_output(state, extension);
   std::vector<pkm::motion::Sample> samples = circle_samples();
   for (auto _ : state) {
@@ -184,8 +184,8 @@ BENCHMARK_CAPTURE(sample_file, npy, ".npy")
 // The same rows written as before issue 16: fprintf per CSV value, an fwrite per NPY row, to a
 // plain stream (no header, no temporary and rename: a little less work than the file above).
 void sample_file_before(benchmark::State& state, const char* extension) {
-  const pkm::Machine machine =
-      pkm::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
+  const pkm::machine::Machine machine =
+      pkm::machine::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
   const pkm::io::SampleRows rows(machine);
   const bool csv = std::string(extension) == ".csv";
   const std::filesystem::path output = sample_output(state, extension);

@@ -15,8 +15,8 @@
 
 namespace {
 
-const pkm::Machine& machine() {
-  static const pkm::Machine loaded = pkm::load_machine(PKM_FUZZ_MACHINE);
+const pkm::machine::Machine& machine() {
+  static const pkm::machine::Machine loaded = pkm::machine::load_machine(PKM_FUZZ_MACHINE);
   return loaded;
 }
 
@@ -39,7 +39,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (const pkm::calibration::Measurement& m :
          pkm::calibration::parse_measurements_csv(text, "fuzz.csv", machine())) {
       for (int i = 0; i < m.joints.size(); ++i) pkm::fuzz::require_finite(m.joints[i], "a joint");
-      for (int i = 0; i < pkm::kPoseSize; ++i) {
+      for (int i = 0; i < pkm::geometry::kPoseSize; ++i) {
         if (m.measured[static_cast<std::size_t>(i)]) pkm::fuzz::require_finite(m.pose[i], "a pose");
       }
     }

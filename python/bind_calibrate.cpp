@@ -20,7 +20,7 @@ namespace {
 
 // Row i of the arrays as a measurement: joints (mm, deg) and the pose coordinates measured (NaN
 // where not), its line the row's index.
-std::vector<calibration::Measurement> measurements_from_arrays(const Machine& machine,
+std::vector<calibration::Measurement> measurements_from_arrays(const machine::Machine& machine,
                                                                const Array& joints,
                                                                const Array& poses) {
   const std::vector<int> axes = controlled_axes(machine);
@@ -37,7 +37,7 @@ std::vector<calibration::Measurement> measurements_from_arrays(const Machine& ma
   for (std::size_t row = 0; row < measurements.size(); ++row) {
     calibration::Measurement& m = measurements[row];
     m.line = static_cast<int>(row);
-    m.joints = JointVector(static_cast<int>(n));
+    m.joints = kinematics::JointVector(static_cast<int>(n));
     for (std::size_t j = 0; j < n; ++j) {
       const double value = joints.data()[row * n + j];
       if (!std::isfinite(value)) {
@@ -49,7 +49,7 @@ std::vector<calibration::Measurement> measurements_from_arrays(const Machine& ma
     for (std::size_t i = 0; i < axes.size(); ++i) {
       const double value = poses.data()[row * axes.size() + i];
       if (std::isnan(value)) continue;
-      m.pose[axes[i]] = axes[i] < 3 ? value : degrees_to_radians(value);
+      m.pose[axes[i]] = axes[i] < 3 ? value : geometry::degrees_to_radians(value);
       m.measured[static_cast<std::size_t>(axes[i])] = any = true;
     }
     if (!any) throw py::value_error("poses row " + std::to_string(row) + " measures nothing");
@@ -57,14 +57,14 @@ std::vector<calibration::Measurement> measurements_from_arrays(const Machine& ma
   return measurements;
 }
 
-py::tuple fit(const Machine& machine, const Array& joints, const Array& poses,
+py::tuple fit(const machine::Machine& machine, const Array& joints, const Array& poses,
               const std::vector<std::string>& parameters, double angle_weight_mm_per_rad) {
   const std::vector<calibration::Measurement> measurements =
       measurements_from_arrays(machine, joints, poses);
   calibration::FitOptions options;
   options.parameters = parameters;
   options.angle_weight_mm_per_rad = angle_weight_mm_per_rad;
-  Machine fitted = machine;
+  machine::Machine fitted = machine;
   calibration::FitReport report;
   {
     const py::gil_scoped_release released;
@@ -72,10 +72,10 @@ py::tuple fit(const Machine& machine, const Array& joints, const Array& poses,
   }
   // Made again from its parts with the fitted values, as Machine.with_parameters makes one.
   std::vector<double> values;
-  for (const Parameter& parameter : fitted.kinematics().parameters()) {
+  for (const kinematics::Parameter& parameter : fitted.kinematics().parameters()) {
     values.push_back(parameter.value);
   }
-  return py::make_tuple(with_kinematics_parameters(machine, values),
+  return py::make_tuple(machine::with_kinematics_parameters(machine, values),
                         json_to_python(calibration::fit_report_json(report, "")));
 }
 

@@ -31,10 +31,11 @@ struct PlanArguments {
   motion::PlanOptions plan;
 };
 
-PlanArguments plan_arguments(const Machine& machine, const std::string& program, double period_s,
-                             const std::vector<double>& origin, const std::optional<Array>& start,
-                             const std::string& attitude, double jerk_mm_per_s3,
-                             const std::optional<std::string>& tool_table, long max_samples) {
+PlanArguments plan_arguments(const machine::Machine& machine, const std::string& program,
+                             double period_s, const std::vector<double>& origin,
+                             const std::optional<Array>& start, const std::string& attitude,
+                             double jerk_mm_per_s3, const std::optional<std::string>& tool_table,
+                             long max_samples) {
   // The planner's bounds (motion/planner.hpp), as pkm plan's; the messages quote them.
   static_assert(motion::kMinPeriodS == 1e-6 && motion::kMaxPeriodS == 1.0 &&
                 motion::kMaxJerkPerS3 == 1e12 && motion::kMaxSamplesBound == 1'000'000'000'000'000);
@@ -64,7 +65,7 @@ PlanArguments plan_arguments(const Machine& machine, const std::string& program,
 
 // The structured dtype of the machine's sample rows: one little-endian float64 field per column,
 // named as the NPY file's.
-py::dtype sample_dtype(const Machine& machine) {
+py::dtype sample_dtype(const machine::Machine& machine) {
   py::list fields;
   for (const std::string& column : io::sample_columns(machine)) {
     fields.append(py::make_tuple(column, "<f8"));
@@ -85,7 +86,7 @@ py::array sample_array(const py::dtype& dtype, std::vector<double>&& values, std
 // Every sample's row, one after the other.
 class RowCollector final : public motion::SampleSink {
  public:
-  explicit RowCollector(const Machine& machine) : rows_(machine) {}
+  explicit RowCollector(const machine::Machine& machine) : rows_(machine) {}
   void write(const motion::Sample& sample) override {
     double row[io::SampleRows::kMaxColumns];
     const std::size_t n = rows_.fill(sample, row);
@@ -98,13 +99,14 @@ class RowCollector final : public motion::SampleSink {
   std::vector<double> values_;
 };
 
-py::tuple plan(const Machine& machine, const std::string& program, double period_s,
+py::tuple plan(const machine::Machine& machine, const std::string& program, double period_s,
                const std::vector<double>& origin, const std::optional<Array>& start,
                const std::string& attitude, double jerk_mm_per_s3,
                const std::optional<std::string>& tool_table, long max_samples) {
   const PlanArguments arguments = plan_arguments(machine, program, period_s, origin, start,
                                                  attitude, jerk_mm_per_s3, tool_table, max_samples);
-  const Machine own = machine;  // the loop runs without the GIL: a copy of its own (pkmkit.cpp)
+  const machine::Machine own =
+      machine;  // the loop runs without the GIL: a copy of its own (pkmkit.cpp)
   RowCollector rows(own);
   motion::PlanReport report;
   try {
@@ -126,14 +128,14 @@ struct DiscardSamples final : motion::SampleSink {
   void write(const motion::Sample&) override {}
 };
 
-py::object estimate(const Machine& machine, const std::string& program, double period_s,
+py::object estimate(const machine::Machine& machine, const std::string& program, double period_s,
                     const std::vector<double>& origin, const std::optional<Array>& start,
                     const std::string& attitude, double jerk_mm_per_s3,
                     const std::optional<std::string>& tool_table) {
   PlanArguments arguments = plan_arguments(machine, program, period_s, origin, start, attitude,
                                            jerk_mm_per_s3, tool_table, 0);
   arguments.plan.estimate_only = true;
-  const Machine own = machine;
+  const machine::Machine own = machine;
   DiscardSamples none;
   motion::PlanReport report;
   {
@@ -152,7 +154,7 @@ struct PlanAbandoned {};
 // two chunks are held here whatever the job's length.
 class PlanChunks final : public motion::SampleSink {
  public:
-  PlanChunks(const Machine& machine, PlanArguments arguments, std::size_t chunk_rows)
+  PlanChunks(const machine::Machine& machine, PlanArguments arguments, std::size_t chunk_rows)
       : machine_(machine),
         arguments_(std::move(arguments)),
         rows_(machine_),
@@ -263,7 +265,7 @@ class PlanChunks final : public motion::SampleSink {
     changed_.notify_all();
   }
 
-  const Machine machine_;  // its own copy: the planner runs on another thread
+  const machine::Machine machine_;  // its own copy: the planner runs on another thread
   PlanArguments arguments_;
   io::SampleRows rows_;
   std::size_t columns_;
@@ -283,7 +285,7 @@ class PlanChunks final : public motion::SampleSink {
   std::thread worker_;  // last: started once everything above is made
 };
 
-std::unique_ptr<PlanChunks> plan_chunks(const Machine& machine, const std::string& program,
+std::unique_ptr<PlanChunks> plan_chunks(const machine::Machine& machine, const std::string& program,
                                         long chunk, double period_s,
                                         const std::vector<double>& origin,
                                         const std::optional<Array>& start,

@@ -39,10 +39,10 @@ std::optional<gcode::ToolTable> tool_table_argument(const std::optional<std::str
       *path, units == "inch" ? gcode::LengthUnits::inch : gcode::LengthUnits::mm);
 }
 
-py::object post(const Machine& machine, const std::string& program, const std::string& output,
-                double tolerance_mm, const std::string& dialect, const std::vector<double>& origin,
-                const std::optional<std::string>& tool_table, const std::string& tool_table_units,
-                bool span_moves, long max_blocks) {
+py::object post(const machine::Machine& machine, const std::string& program,
+                const std::string& output, double tolerance_mm, const std::string& dialect,
+                const std::vector<double>& origin, const std::optional<std::string>& tool_table,
+                const std::string& tool_table_units, bool span_moves, long max_blocks) {
   check_tolerance(tolerance_mm);
   if (max_blocks < 0) throw py::value_error("max_blocks must be >= 0 (0: no bound)");
   post::PostOptions options;
@@ -64,7 +64,7 @@ py::object post(const Machine& machine, const std::string& program, const std::s
   if (const std::string reason = io::overwrites_input(output, inputs); !reason.empty()) {
     throw py::value_error(reason);
   }
-  const Machine own = machine;  // the loop runs without the GIL (pkmkit.cpp)
+  const machine::Machine own = machine;  // the loop runs without the GIL (pkmkit.cpp)
   post::PostReport report;
   try {
     const py::gil_scoped_release released;
@@ -94,7 +94,7 @@ py::object post(const Machine& machine, const std::string& program, const std::s
   return json_to_python(io::post_report_json(own, program, output, report, tolerance_mm));
 }
 
-py::object verify(const Machine& machine, const std::string& joint_program,
+py::object verify(const machine::Machine& machine, const std::string& joint_program,
                   const std::string& against, const std::optional<double>& tolerance_mm,
                   const std::vector<double>& origin, const std::optional<std::string>& tool_table,
                   const std::string& tool_table_units) {
@@ -113,7 +113,7 @@ py::object verify(const Machine& machine, const std::string& joint_program,
   }
   options.origin = origin_argument(origin, "origin");
   options.job_options.tool_table = tool_table_argument(tool_table, tool_table_units);
-  const Machine own = machine;
+  const machine::Machine own = machine;
   verify::VerifyReport report;
   {
     const py::gil_scoped_release released;

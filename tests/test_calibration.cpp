@@ -43,8 +43,9 @@ TEST(MatrixCalibration, EachFormulaByHand) {
 
 TEST(MatrixCalibration, RecalibrationAddsToTheOldValues) {
   // The mill's file has C_xy = 0.0003, C_xz = -0.0001: new adjustments add to them.
-  const Machine mill = test::load_example("matrix-mill.toml");
-  const auto& start = dynamic_cast<const MatrixKinematics&>(mill.kinematics()).coefficients();
+  const machine::Machine mill = test::load_example("matrix-mill.toml");
+  const auto& start =
+      dynamic_cast<const kinematics::MatrixKinematics&>(mill.kinematics()).coefficients();
   calibration::MatrixMeasurements m;
   m.diagonals = {{141.5, 141.2}};
   m.z_tilt_x = {{0.01, 100.0}};
@@ -124,12 +125,12 @@ TEST(MatrixCalibration, LinuxcncLines) {
 
 TEST(MachineWriter, EveryExampleRoundTripsThroughItsKinematicsSection) {
   for (const std::string& file : test::example_machine_files()) {
-    const Machine machine = test::load_example(file);
+    const machine::Machine machine = test::load_example(file);
     std::ifstream in(test::example_machine_path(file));
     const std::string original((std::istreambuf_iterator<char>(in)), {});
     const std::string rewritten =
-        replace_kinematics_section(original, file, machine.kinematics(), machine.units());
-    const Machine reread = parse_machine(rewritten, file);
+        machine::replace_kinematics_section(original, file, machine.kinematics(), machine.units());
+    const machine::Machine reread = machine::parse_machine(rewritten, file);
     const auto before = machine.kinematics().parameters();
     const auto after = reread.kinematics().parameters();
     ASSERT_EQ(before.size(), after.size()) << file;
@@ -143,25 +144,26 @@ TEST(MachineWriter, EveryExampleRoundTripsThroughItsKinematicsSection) {
 }
 
 // Measurements of a machine whose true geometry is the nominal one plus `delta`.
-std::vector<calibration::Measurement> synthetic_measurements(const Machine& nominal,
+std::vector<calibration::Measurement> synthetic_measurements(const machine::Machine& nominal,
                                                              const std::vector<double>& truth,
                                                              int count, double noise_mm,
                                                              std::mt19937_64& rng,
                                                              bool measure_angles = true) {
-  std::unique_ptr<Kinematics> true_model = nominal.kinematics().clone();
+  std::unique_ptr<kinematics::Kinematics> true_model = nominal.kinematics().clone();
   true_model->set_parameters(truth);
   std::normal_distribution<double> noise(0.0, 1.0);
   std::vector<calibration::Measurement> data;
-  for (const Pose& pose : test::sample_reachable_poses(nominal, 4 * count, rng, 10.0, 0.05)) {
+  for (const geometry::Pose& pose :
+       test::sample_reachable_poses(nominal, 4 * count, rng, 10.0, 0.05)) {
     if (static_cast<int>(data.size()) == count) break;
     calibration::Measurement m;
     if (!true_model->inverse(pose, m.joints).ok()) continue;
     // A pose the nominal machine cannot place (cables that do not meet, within the perturbation
     // of the anchor line) is not one a user measures.
-    Pose placed = nominal.home();
+    geometry::Pose placed = nominal.home();
     if (!nominal.kinematics().forward(m.joints, placed).ok()) continue;
     m.pose = pose.as_vector();
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       const bool controlled = nominal.kinematics().dof().controls(axis);
       m.measured[axis] = controlled && (axis < 3 || measure_angles);
       if (m.measured[axis]) m.pose[axis] += (axis < 3 ? noise_mm : noise_mm / 100.0) * noise(rng);
@@ -186,22 +188,23 @@ class RecoversKnownGeometry : public ::testing::TestWithParam<FitCase> {};
 
 TEST_P(RecoversKnownGeometry, WithinThreeSigmaAndDownToTheNoise) {
   const FitCase& c = GetParam();
-  Machine machine = test::load_example(c.file);
+  machine::Machine machine = test::load_example(c.file);
   std::mt19937_64 rng(42);
-  const std::vector<Parameter> parameters = machine.kinematics().parameters();
+  const std::vector<kinematics::Parameter> parameters = machine.kinematics().parameters();
   std::vector<double> truth;
   std::uniform_real_distribution<double> sign(-1.0, 1.0);
   calibration::FitOptions options;
   options.parameters = c.parameters;
   // Perturb exactly the parameters the case fits.
-  Machine probe = machine;
+  machine::Machine probe = machine;
   const calibration::FitReport selection =
       calibration::fit_geometry(probe.kinematics(), probe.home(),
                                 synthetic_measurements(
                                     machine,
                                     [&] {
                                       std::vector<double> v;
-                                      for (const Parameter& p : parameters) v.push_back(p.value);
+                                      for (const kinematics::Parameter& p : parameters)
+                                        v.push_back(p.value);
                                       return v;
                                     }(),
                                     50, 0.0, rng),
@@ -210,7 +213,7 @@ TEST_P(RecoversKnownGeometry, WithinThreeSigmaAndDownToTheNoise) {
   for (const calibration::ParameterEstimate& p : selection.parameters) {
     if (p.free) fitted_names.push_back(p.name);
   }
-  for (const Parameter& p : parameters) {
+  for (const kinematics::Parameter& p : parameters) {
     const bool fitted =
         std::find(fitted_names.begin(), fitted_names.end(), p.name) != fitted_names.end();
     truth.push_back(p.value + (fitted ? c.perturbation * sign(rng) : 0.0));
@@ -232,7 +235,7 @@ TEST_P(RecoversKnownGeometry, WithinThreeSigmaAndDownToTheNoise) {
   for (const calibration::ParameterEstimate& p : report.parameters) {
     const std::size_t index = static_cast<std::size_t>(
         std::find_if(parameters.begin(), parameters.end(),
-                     [&](const Parameter& q) { return q.name == p.name; }) -
+                     [&](const kinematics::Parameter& q) { return q.name == p.name; }) -
         parameters.begin());
     EXPECT_GT(p.standard_deviation, 0.0) << p.name;
     EXPECT_LE(std::abs(p.fitted - truth[index]), 3.0 * p.standard_deviation + 1e-12)
@@ -290,9 +293,10 @@ TEST(Identifiability, PrecisionAndHoldsByHand) {
 // table, the texts those of the fit's messages.
 TEST(Identifiability, PlausibleDeviationsByKind) {
   const auto judged = [](const std::string& file, const std::string& name, double value) {
-    std::vector<Parameter> parameters = test::load_example(file).kinematics().parameters();
+    std::vector<kinematics::Parameter> parameters =
+        test::load_example(file).kinematics().parameters();
     const auto found = std::find_if(parameters.begin(), parameters.end(),
-                                    [&](const Parameter& p) { return p.name == name; });
+                                    [&](const kinematics::Parameter& p) { return p.name == name; });
     if (found == parameters.end()) throw std::runtime_error(file + " has no " + name);
     found->value = value;
     return calibration::parameter_plausibility(*found, 1500.0);
@@ -320,7 +324,8 @@ TEST(Identifiability, PlausibleDeviationsByKind) {
   EXPECT_EQ(judged("mach3-formula.toml", "d", 3.0).deviation, 0.0);  // a constant: not judged
   EXPECT_EQ(judged("mach3-formula.toml", "d", 3.0).kind, "");
   // The machine's size: the larger of what was measured and the file's largest length.
-  const std::vector<Parameter> frame = {{"leg1.base.x", -320.0, "mm"}, {"C_xx", 1e4, ""}};
+  const std::vector<kinematics::Parameter> frame = {{"leg1.base.x", -320.0, "mm"},
+                                                    {"C_xx", 1e4, ""}};
   EXPECT_EQ(calibration::machine_size_mm(frame, 100.0), 320.0);
   EXPECT_EQ(calibration::machine_size_mm(frame, 700.0), 700.0);
 }
@@ -332,9 +337,10 @@ TEST(Identifiability, PlausibleDeviationsByKind) {
 // standard deviations of the truth (the machine file's geometry: the held parameters are true).
 TEST(GeometryFit, DefaultParametersOfEveryExampleArePinnedOrHeld) {
   for (const std::string& file : test::example_machine_files()) {
-    Machine machine = test::load_example(file);
+    machine::Machine machine = test::load_example(file);
     std::vector<double> truth;
-    for (const Parameter& p : machine.kinematics().parameters()) truth.push_back(p.value);
+    for (const kinematics::Parameter& p : machine.kinematics().parameters())
+      truth.push_back(p.value);
     std::mt19937_64 rng(11);
     // A cable machine solves its forward kinematics by Newton's method (sag, a tilting effector):
     // 20 poses keep the test within seconds, 40 for the others.
@@ -369,9 +375,9 @@ TEST(GeometryFit, DefaultParametersOfEveryExampleArePinnedOrHeld) {
 // its pulley radius trades with the cable offsets, and 0.5 mm cannot pin it within a fifth of
 // itself. Held at its nominal 6.366 mm with the numbers, the rest fitted.
 TEST(GeometryFit, APulleyTheCameraCannotPinIsHeldWithItsNumbers) {
-  Machine machine = test::load_example("hektor-pulleys.toml");
+  machine::Machine machine = test::load_example("hektor-pulleys.toml");
   std::vector<double> truth;
-  for (const Parameter& p : machine.kinematics().parameters())
+  for (const kinematics::Parameter& p : machine.kinematics().parameters())
     truth.push_back(p.value + (p.name == "cable_offset_left" ? 1.0 : 0.0));
   std::mt19937_64 rng(4);
   const auto data = synthetic_measurements(machine, truth, 40, 0.5, rng, false);
@@ -395,9 +401,9 @@ TEST(GeometryFit, ASledsMassMovesNothingAndIsHeld) {
   // A gondola without sag or stretch: its mass scales both tensions and moves no pen, so no
   // measured pose can tell it. Forward kinematics' differencing noise once fitted it to 1.83 kg
   // for a true 0.18 kg (a newcomer's wall plotter).
-  Machine machine = test::load_example("makelangelo.toml");
+  machine::Machine machine = test::load_example("makelangelo.toml");
   std::vector<double> values;
-  for (const Parameter& p : machine.kinematics().parameters()) {
+  for (const kinematics::Parameter& p : machine.kinematics().parameters()) {
     values.push_back(p.name == "cable_density" || p.name == "cable_stretch" ? 0.0 : p.value);
   }
   machine.kinematics().set_parameters(values);
@@ -421,11 +427,12 @@ TEST(GeometryFit, ASledsMassMovesNothingAndIsHeld) {
 
 TEST(GeometryFit, ReportsWhatTheDataCannotIdentify) {
   // Every measurement at z = 0: the z column of C never acts on the data.
-  Machine mill = test::load_example("matrix-mill.toml");
+  machine::Machine mill = test::load_example("matrix-mill.toml");
   std::vector<calibration::Measurement> data;
   for (int i = 0; i < 40; ++i) {
     calibration::Measurement m;
-    const Pose pose = Pose::from_mm_deg(20.0 + 13.0 * i, 10.0 + 9.0 * (i % 7), 0.0);
+    const geometry::Pose pose =
+        geometry::Pose::from_mm_deg(20.0 + 13.0 * i, 10.0 + 9.0 * (i % 7), 0.0);
     ASSERT_TRUE(mill.kinematics().inverse(pose, m.joints).ok());
     m.pose = pose.as_vector();
     m.measured = {true, true, true, false, false, false};
@@ -451,11 +458,11 @@ TEST(GeometryFit, ReportsWhatTheDataCannotIdentify) {
 TEST(GeometryFit, HexapodWithEveryParameterHoldsTheUnidentifiableOnes) {
   // Positions only: the platform's own frame (its orientation, the tool length against the
   // platform joints' height) is not in the data. The fit must hold those and still fit.
-  Machine hexapod = test::load_example("hexapod-bit.toml");
+  machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   std::mt19937_64 rng(8);
   std::vector<double> truth;
   std::normal_distribution<double> deviation(0.0, 0.3);
-  for (const Parameter& p : hexapod.kinematics().parameters())
+  for (const kinematics::Parameter& p : hexapod.kinematics().parameters())
     truth.push_back(p.value + deviation(rng));
   const auto data = synthetic_measurements(hexapod, truth, 200, 0.0, rng, false);
   const calibration::FitReport report =
@@ -470,10 +477,11 @@ TEST(GeometryFit, RotaryDeltaHoldsOneOfItsTwoRadii) {
   // A translating platform's tool point sees the pivots' radius and the platform joints' only as
   // their difference (each forearm runs from the elbow to the tool point moved out by the
   // platform radius): the two cannot be told apart, and the fit holds one at nominal.
-  Machine rdelta = test::load_example("linuxcnc-rdelta.toml");
+  machine::Machine rdelta = test::load_example("linuxcnc-rdelta.toml");
   std::mt19937_64 rng(9);
   std::vector<double> truth;
-  for (const Parameter& p : rdelta.kinematics().parameters()) truth.push_back(p.value + 0.4);
+  for (const kinematics::Parameter& p : rdelta.kinematics().parameters())
+    truth.push_back(p.value + 0.4);
   const auto data = synthetic_measurements(rdelta, truth, 100, 0.0, rng);
   const calibration::FitReport report =
       calibration::fit_geometry(rdelta.kinematics(), rdelta.home(), data, {});
@@ -484,16 +492,18 @@ TEST(GeometryFit, RotaryDeltaHoldsOneOfItsTwoRadii) {
   EXPECT_EQ(group, (std::vector<std::string>{"base_radius", "platform_radius"}));
   EXPECT_GT(report.rms_before_mm, 0.1);
   EXPECT_LT(report.rms_after_mm, 1e-6);
-  const auto& fitted = dynamic_cast<const RotaryDeltaKinematics&>(rdelta.kinematics()).geometry();
+  const auto& fitted =
+      dynamic_cast<const kinematics::RotaryDeltaKinematics&>(rdelta.kinematics()).geometry();
   EXPECT_NEAR(fitted.base_radius_mm - fitted.platform_radius_mm, truth[0] - truth[3], 1e-6);
   EXPECT_NEAR(fitted.forearm_length_mm, truth[2], 1e-6);
 }
 
 TEST(GeometryFit, UnknownParameterNameIsAnError) {
-  Machine hektor = test::load_example("hektor.toml");
+  machine::Machine hektor = test::load_example("hektor.toml");
   std::mt19937_64 rng(1);
   std::vector<double> nominal;
-  for (const Parameter& p : hektor.kinematics().parameters()) nominal.push_back(p.value);
+  for (const kinematics::Parameter& p : hektor.kinematics().parameters())
+    nominal.push_back(p.value);
   const auto data = synthetic_measurements(hektor, nominal, 10, 0.0, rng);
   calibration::FitOptions options;
   options.parameters = {"anchor_distanse"};
@@ -502,7 +512,7 @@ TEST(GeometryFit, UnknownParameterNameIsAnError) {
 }
 
 TEST(Measurements, CsvErrorsNameLineAndColumn) {
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   const auto error_of = [&](const std::string& text) {
     try {
       calibration::parse_measurements_csv(text, "data.csv", hektor);

@@ -116,12 +116,12 @@ TEST(DistancesCsv, ErrorsNameLineAndColumn) {
 
 TEST(DistanceFit, MarkOutsideTheModelsReachNamesItsPlaceInPatternJson) {
   // Mark 2 above the anchors: no machine file the wall plotter loads could have drawn it.
-  const Machine machine = test::load_example("wall-plotter.toml");
+  const machine::Machine machine = test::load_example("wall-plotter.toml");
   const std::vector<calibration::PatternMark> marks = calibration::parse_pattern_json(
       "{\"marks\": [\n {\"id\": 1, \"x\": 500, \"y\": -700},\n {\"id\": 2, \"x\": 500, "
       "\"y\": 100},\n {\"id\": 3, \"x\": 900, \"y\": -900}]}",
       "p.json");
-  std::unique_ptr<Kinematics> model = machine.kinematics().clone();
+  std::unique_ptr<kinematics::Kinematics> model = machine.kinematics().clone();
   EXPECT_EQ(error_of([&] {
               calibration::fit_distances(*model, machine.home(), marks,
                                          calibration::all_pairs(marks), calibration::FitOptions{});
@@ -173,7 +173,7 @@ TEST(PatternStrokes, TenDigitsLookDifferent) {
 
 // A wall plotter with a 0.5 kg gondola tied 30 mm either side of the pen and tension limits of
 // 2..30 N: the marks go only where both cables pull within the limits.
-Machine gondola_wall_plotter() {
+machine::Machine gondola_wall_plotter() {
   std::ifstream file(test::example_machine_path("wall-plotter.toml"));
   std::stringstream text;
   text << file.rdbuf();
@@ -184,11 +184,12 @@ Machine gondola_wall_plotter() {
                    "pulley_radius = 10.0\neffector_mass = 0.5\n"
                    "effector_attach = [[-30.0, 20.0], [30.0, 20.0]]\n"
                    "center_of_mass = [0.0, -10.0]\ntension_limits = [2.0, 30.0]\n");
-  return parse_machine(toml, "gondola-wall-plotter.toml");
+  return machine::parse_machine(toml, "gondola-wall-plotter.toml");
 }
 
 TEST(CalibrationPattern, EveryStrokeReachableWithinTensionLimitsAndMarksApart) {
-  for (const Machine& machine : {test::load_example("wall-plotter.toml"), gondola_wall_plotter()}) {
+  for (const machine::Machine& machine :
+       {test::load_example("wall-plotter.toml"), gondola_wall_plotter()}) {
     calibration::PatternOptions options;
     options.marks = 16;
     const calibration::CalibrationPattern pattern = calibration::design_pattern(machine, options);
@@ -199,10 +200,10 @@ TEST(CalibrationPattern, EveryStrokeReachableWithinTensionLimitsAndMarksApart) {
       for (const auto& stroke :
            calibration::mark_strokes(pattern.marks[a], pattern.cross_size_mm)) {
         for (const Eigen::Vector2d& point : stroke) {
-          Pose pose = machine.home();
+          geometry::Pose pose = machine.home();
           pose.position_mm.head<2>() = point;
-          JointVector joints;
-          const Status status = machine.inverse(pose, joints);
+          kinematics::JointVector joints;
+          const kinematics::Status status = machine.inverse(pose, joints);
           EXPECT_TRUE(status.ok()) << machine.explain(pose, status);
         }
       }
@@ -221,15 +222,15 @@ TEST(CalibrationPattern, EveryStrokeReachableWithinTensionLimitsAndMarksApart) {
   }
   // The tension limits keep the gondola's marks off the top and the sides, where a cable pulls
   // too hard or goes slack: the same point is refused with its own status.
-  const Machine gondola = gondola_wall_plotter();
-  Pose corner = gondola.home();
+  const machine::Machine gondola = gondola_wall_plotter();
+  geometry::Pose corner = gondola.home();
   corner.position_mm.head<2>() = Eigen::Vector2d(60.0, -235.0);
-  JointVector joints;
-  EXPECT_EQ(gondola.inverse(corner, joints).code, StatusCode::tension);
+  kinematics::JointVector joints;
+  EXPECT_EQ(gondola.inverse(corner, joints).code, kinematics::StatusCode::tension);
 }
 
 TEST(CalibrationPattern, GcodeDrawsEveryStrokeWithThePenDown) {
-  const Machine machine = test::load_example("pen-plotter.toml");  // [tool] down_below = 0
+  const machine::Machine machine = test::load_example("pen-plotter.toml");  // [tool] down_below = 0
   calibration::CalibrationPattern pattern;
   pattern.marks = {{7, {750.0, -700.0}, {}}};
   pattern.cross_size_mm = 10.0;
@@ -248,12 +249,13 @@ TEST(CalibrationPattern, GcodeDrawsEveryStrokeWithThePenDown) {
 
 // The nominal geometry with the named parameters moved by the given amounts (names the model does
 // not have are skipped: the same hidden machine serves every version of the model).
-std::unique_ptr<Kinematics> moved(const Kinematics& nominal,
-                                  const std::vector<std::pair<std::string, double>>& changes) {
-  std::unique_ptr<Kinematics> result = nominal.clone();
-  std::vector<Parameter> parameters = result->parameters();
+std::unique_ptr<kinematics::Kinematics> moved(
+    const kinematics::Kinematics& nominal,
+    const std::vector<std::pair<std::string, double>>& changes) {
+  std::unique_ptr<kinematics::Kinematics> result = nominal.clone();
+  std::vector<kinematics::Parameter> parameters = result->parameters();
   std::vector<double> values;
-  for (const Parameter& p : parameters) {
+  for (const kinematics::Parameter& p : parameters) {
     double value = p.value;
     for (const auto& [name, change] : changes) value += name == p.name ? change : 0.0;
     values.push_back(value);
@@ -263,11 +265,11 @@ std::unique_ptr<Kinematics> moved(const Kinematics& nominal,
 }
 
 // Where the real machine's pen is when its controller drives `commanded` with `model`.
-bool drawn(const Kinematics& truth, const Kinematics& model, const Pose& home,
-           const Eigen::Vector2d& commanded, Eigen::Vector2d& pen) {
-  Pose pose = home;
+bool drawn(const kinematics::Kinematics& truth, const kinematics::Kinematics& model,
+           const geometry::Pose& home, const Eigen::Vector2d& commanded, Eigen::Vector2d& pen) {
+  geometry::Pose pose = home;
   pose.position_mm.head<2>() = commanded;
-  JointVector joints;
+  kinematics::JointVector joints;
   if (!model.inverse(pose, joints).ok()) return false;
   if (!truth.forward(joints, pose).ok()) return false;
   pen = pose.position_mm.head<2>();
@@ -303,7 +305,7 @@ double aligned_max_error(const std::vector<Eigen::Vector2d>& points,
 
 // Unseen points: a 15 x 15 grid over the pattern's sheet, where the nominal machine reaches
 // well conditioned (where the pattern puts marks).
-std::vector<Eigen::Vector2d> unseen_points(const Machine& machine,
+std::vector<Eigen::Vector2d> unseen_points(const machine::Machine& machine,
                                            const calibration::CalibrationPattern& pattern) {
   std::vector<Eigen::Vector2d> points;
   constexpr int kGrid = 14;
@@ -312,9 +314,9 @@ std::vector<Eigen::Vector2d> unseen_points(const Machine& machine,
       const Eigen::Vector2d p(
           pattern.sheet_min_x_mm + (pattern.sheet_max_x_mm - pattern.sheet_min_x_mm) * i / kGrid,
           pattern.sheet_min_y_mm + (pattern.sheet_max_y_mm - pattern.sheet_min_y_mm) * j / kGrid);
-      Pose pose = machine.home();
+      geometry::Pose pose = machine.home();
       pose.position_mm.head<2>() = p;
-      JointVector joints;
+      kinematics::JointVector joints;
       if (machine.inverse(pose, joints).ok() &&
           calibration::planar_conditioning(machine.kinematics(), pose) >=
               calibration::kMinPatternConditioning)
@@ -326,7 +328,8 @@ std::vector<Eigen::Vector2d> unseen_points(const Machine& machine,
 
 // How far the real machine draws from the unseen points when driven by `model`, after the best
 // rigid alignment (mm).
-double prediction_error(const Kinematics& truth, const Kinematics& model, const Machine& machine,
+double prediction_error(const kinematics::Kinematics& truth, const kinematics::Kinematics& model,
+                        const machine::Machine& machine,
                         const std::vector<Eigen::Vector2d>& points) {
   std::vector<Eigen::Vector2d> targets, pens;
   for (const Eigen::Vector2d& p : points) {
@@ -341,8 +344,9 @@ double prediction_error(const Kinematics& truth, const Kinematics& model, const 
 
 // The distances a tape gives between the marks the real machine drew: `pairs` (indices), each
 // with Gaussian noise of `sigma_mm`.
-std::vector<calibration::MarkDistance> measured(const Kinematics& truth, const Kinematics& nominal,
-                                                const Pose& home,
+std::vector<calibration::MarkDistance> measured(const kinematics::Kinematics& truth,
+                                                const kinematics::Kinematics& nominal,
+                                                const geometry::Pose& home,
                                                 const std::vector<calibration::PatternMark>& marks,
                                                 const std::vector<std::pair<int, int>>& pairs,
                                                 double sigma_mm, std::mt19937_64& rng) {
@@ -408,16 +412,17 @@ struct CalibrationRun {
   calibration::FitReport report;
 };
 
-CalibrationRun calibrate_synthetic(const Machine& machine,
+CalibrationRun calibrate_synthetic(const machine::Machine& machine,
                                    const calibration::CalibrationPattern& pattern,
                                    const std::vector<std::pair<int, int>>& pairs,
                                    std::uint64_t seed,
                                    const calibration::FitOptions& options = {}) {
-  const std::unique_ptr<Kinematics> truth = moved(machine.kinematics(), kHiddenGeometry);
+  const std::unique_ptr<kinematics::Kinematics> truth =
+      moved(machine.kinematics(), kHiddenGeometry);
   std::mt19937_64 rng(seed);
   const std::vector<calibration::MarkDistance> distances =
       measured(*truth, machine.kinematics(), machine.home(), pattern.marks, pairs, 0.5, rng);
-  std::unique_ptr<Kinematics> fitted = machine.kinematics().clone();
+  std::unique_ptr<kinematics::Kinematics> fitted = machine.kinematics().clone();
   CalibrationRun run;
   run.report =
       calibration::fit_distances(*fitted, machine.home(), pattern.marks, distances, options);
@@ -428,18 +433,18 @@ CalibrationRun calibrate_synthetic(const Machine& machine,
 }
 
 // The wall plotter of the examples on pulleys of 10 mm radius.
-Machine pulley_wall_plotter() {
+machine::Machine pulley_wall_plotter() {
   std::ifstream file(test::example_machine_path("wall-plotter.toml"));
   std::stringstream text;
   text << file.rdbuf();
   std::string toml = text.str();
   const std::string key = "anchor_distance = 1500.0\n";
   toml.replace(toml.find(key), key.size(), key + "pulley_radius = 10.0\n");
-  return parse_machine(toml, "pulley-wall-plotter.toml");
+  return machine::parse_machine(toml, "pulley-wall-plotter.toml");
 }
 
 TEST(DistanceCalibration, HiddenCableMachinePredictsUnseenPointsWithinOneMillimetre) {
-  const Machine machine = pulley_wall_plotter();
+  const machine::Machine machine = pulley_wall_plotter();
   const calibration::CalibrationPattern pattern =
       calibration::design_pattern(machine, calibration::PatternOptions{});
   ASSERT_EQ(pattern.marks.size(), 12u);
@@ -483,7 +488,7 @@ TEST(DistanceCalibration, HiddenCableMachinePredictsUnseenPointsWithinOneMillime
 // the offsets come out as the hidden machine's.
 TEST(DistanceFit, Gt2PulleyTheTapeCannotPinIsHeldWithItsNumbers) {
   const std::string data = std::string(PKM_SOURCE_DIR) + "/tests/data/";
-  Machine machine = load_machine(data + "wall-plotter-gt2.toml");
+  machine::Machine machine = machine::load_machine(data + "wall-plotter-gt2.toml");
   const std::vector<calibration::PatternMark> marks =
       calibration::read_pattern_json(data + "wall-plotter-gt2-pattern.json");
   const std::vector<calibration::MarkDistance> distances =
@@ -529,7 +534,7 @@ TEST(DistanceFit, Gt2PulleyTheTapeCannotPinIsHeldWithItsNumbers) {
 // numbers, the rest is pinned within its plausible deviation and fits the tape's noise.
 TEST(DistanceFit, MakelangeloHoldsWhatTheTapeCannotPinAndFits) {
   const std::string data = std::string(PKM_SOURCE_DIR) + "/tests/data/";
-  Machine machine = test::load_example("makelangelo.toml");
+  machine::Machine machine = test::load_example("makelangelo.toml");
   const std::vector<calibration::PatternMark> marks =
       calibration::read_pattern_json(data + "makelangelo-pattern.json");
   const std::vector<calibration::MarkDistance> distances =
@@ -557,7 +562,7 @@ TEST(DistanceFit, MakelangeloHoldsWhatTheTapeCannotPinAndFits) {
 // frame is plausibly off its machine file. Refused with its numbers, nothing fitted.
 TEST(DistanceFit, AFirmlyPinnedNonsenseValueIsRefusedWithItsNumbers) {
   const std::string data = std::string(PKM_SOURCE_DIR) + "/tests/data/";
-  Machine machine = test::load_example("wall-plotter.toml");
+  machine::Machine machine = test::load_example("wall-plotter.toml");
   const std::vector<calibration::PatternMark> marks =
       calibration::read_pattern_json(data + "wall-plotter-pattern.json");
   std::vector<calibration::MarkDistance> distances =
@@ -579,8 +584,8 @@ TEST(DistanceFit, AFirmlyPinnedNonsenseValueIsRefusedWithItsNumbers) {
 // model with anchors anywhere): moving or turning both anchors together moves the whole drawing,
 // which distances cannot see. The fit holds three parameters for it and names them, and still
 // predicts where the hidden machine draws.
-Machine formula_plotter() {
-  return parse_machine(R"(name = "formula plotter"
+machine::Machine formula_plotter() {
+  return machine::parse_machine(R"(name = "formula plotter"
 [kinematics]
 type = "formula"
 axes = ["x", "y"]
@@ -611,11 +616,11 @@ max_feed = 6000.0
 max_acceleration = 800.0
 home = [750.0, -700.0]
 )",
-                       "formula-plotter.toml");
+                                "formula-plotter.toml");
 }
 
 TEST(DistanceCalibration, AnchorsMovingTogetherAreARigidMotionHeldAndNamed) {
-  const Machine machine = formula_plotter();
+  const machine::Machine machine = formula_plotter();
   calibration::PatternOptions options;
   options.sheet_mm = {{0.0, -1900.0, 1500.0, -150.0}};  // below the anchors: the formulas allow
                                                         // any side, a hanging plotter not
@@ -627,13 +632,13 @@ TEST(DistanceCalibration, AnchorsMovingTogetherAreARigidMotionHeldAndNamed) {
   EXPECT_EQ(identified.identified, (std::vector<std::string>{"ol", "or", "xr"}));
   EXPECT_TRUE(identified.indistinguishable.empty());
 
-  const std::unique_ptr<Kinematics> truth =
+  const std::unique_ptr<kinematics::Kinematics> truth =
       moved(machine.kinematics(),
             {{"xl", -4.0}, {"yl", 3.0}, {"xr", 7.0}, {"yr", -5.0}, {"ol", 6.0}, {"or", -4.0}});
   std::mt19937_64 rng(7);
   const auto distances = measured(*truth, machine.kinematics(), machine.home(), pattern.marks,
                                   every_pair(12), 0.5, rng);
-  std::unique_ptr<Kinematics> fitted = machine.kinematics().clone();
+  std::unique_ptr<kinematics::Kinematics> fitted = machine.kinematics().clone();
   const calibration::FitReport report = calibration::fit_distances(
       *fitted, machine.home(), pattern.marks, distances, calibration::FitOptions{});
   EXPECT_EQ(report.held_rigid_motion, (std::vector<std::string>{"xl", "yl", "yr"}));
@@ -647,7 +652,7 @@ TEST(DistanceCalibration, AnchorsMovingTogetherAreARigidMotionHeldAndNamed) {
 // 0.15 kg/m on sprockets) on its 8 x 4 ft sheet, with the same hidden anchors, sprocket radius
 // and offsets.
 TEST(DistanceCalibration, MaslowSledOnItsSheet) {
-  const Machine machine = test::load_example("maslow-frame.toml");
+  const machine::Machine machine = test::load_example("maslow-frame.toml");
   calibration::PatternOptions options;
   options.sheet_mm = {{270.0, -1682.2, 2708.4, -463.0}};
   const calibration::CalibrationPattern pattern = calibration::design_pattern(machine, options);
@@ -678,10 +683,11 @@ TEST(DistanceCalibration, MaslowSledOnItsSheet) {
 TEST(DistanceCalibration, DefaultPatternIdentifiesTheDefaultParameters) {
   calibration::PatternOptions maslow_sheet;
   maslow_sheet.sheet_mm = {{270.0, -1682.2, 2708.4, -463.0}};
-  const std::vector<std::pair<Machine, calibration::PatternOptions>> cases = {
+  const std::vector<std::pair<machine::Machine, calibration::PatternOptions>> cases = {
       {test::load_example("wall-plotter.toml"), {}},
       {pulley_wall_plotter(), {}},
-      {load_machine(std::string(PKM_SOURCE_DIR) + "/tests/data/wall-plotter-gt2.toml"), {}},
+      {machine::load_machine(std::string(PKM_SOURCE_DIR) + "/tests/data/wall-plotter-gt2.toml"),
+       {}},
       {gondola_wall_plotter(), {}},
       {test::load_example("makelangelo.toml"), {}},
       {test::load_example("maslow-frame.toml"), maslow_sheet}};
@@ -692,14 +698,16 @@ TEST(DistanceCalibration, DefaultPatternIdentifiesTheDefaultParameters) {
                                              calibration::all_pairs(pattern.marks), {});
     const auto marks = static_cast<int>(pattern.marks.size());
     const CalibrationRun run = calibrate_synthetic(machine, pattern, every_pair(marks), 3);
-    const std::unique_ptr<Kinematics> truth = moved(machine.kinematics(), kHiddenGeometry);
-    const std::vector<Parameter> hidden = truth->parameters();
+    const std::unique_ptr<kinematics::Kinematics> truth =
+        moved(machine.kinematics(), kHiddenGeometry);
+    const std::vector<kinematics::Parameter> hidden = truth->parameters();
     std::vector<std::string> fitted;
     for (const calibration::ParameterEstimate& p : run.report.parameters) {
       if (!p.free) continue;
       fitted.push_back(p.name);
-      const auto value = std::find_if(hidden.begin(), hidden.end(),
-                                      [&](const Parameter& q) { return q.name == p.name; });
+      const auto value =
+          std::find_if(hidden.begin(), hidden.end(),
+                       [&](const kinematics::Parameter& q) { return q.name == p.name; });
       EXPECT_LE(p.standard_deviation, p.plausible_deviation) << machine.name() << " " << p.name;
       EXPECT_LE(std::abs(p.fitted - value->value), 3.0 * p.standard_deviation)
           << machine.name() << " " << p.name << " fitted " << p.fitted << " true " << value->value;
@@ -731,7 +739,7 @@ TEST(DistanceCalibration, DefaultPatternIdentifiesTheDefaultParameters) {
 // points for 6, 9, 12 and 16 marks, every pair measured or each mark to its 3 nearest, over 20
 // tapes' noise.
 TEST(DistanceCalibration, AccuracyByMarksAndPairs) {
-  const Machine machine = pulley_wall_plotter();
+  const machine::Machine machine = pulley_wall_plotter();
   constexpr int kSeeds = 20;
   std::printf("marks pairs distances worst-of-20 mean-of-20 (mm, unseen points, aligned)\n");
   for (const int marks : {6, 9, 12, 16, 25}) {

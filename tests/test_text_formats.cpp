@@ -248,7 +248,7 @@ std::vector<std::string> csv_rows(const fs::path& path) {
 }
 
 // Samples whose values are every kind a CSV row must keep: negatives, -0, tiny, huge, ties.
-std::vector<motion::Sample> edge_samples(const Machine& machine, int count) {
+std::vector<motion::Sample> edge_samples(const machine::Machine& machine, int count) {
   // 0.0078125 and 0.0009765625 are exact ties at 6 and 9 decimals (even digit: down).
   const double edges[] = {-0.0,   1e-10,     -5e-10,           1.0000000005, 0.001953125,
                           -1e300, 0.0078125, 0.0009765625,     1e15,         -1060.531484,
@@ -272,7 +272,7 @@ std::vector<motion::Sample> edge_samples(const Machine& machine, int count) {
 TEST(SampleFilesText, CsvRowsAsPrintfWroteThem) {
   for (const char* machine_file : {"hektor.toml", "pen-plotter.toml", "hexapod-bit.toml"}) {
     SCOPED_TRACE(machine_file);
-    const Machine machine = test::load_example(machine_file);
+    const machine::Machine machine = test::load_example(machine_file);
     const io::SampleRows rows(machine);
     const fs::path path =
         fs::temp_directory_path() / ("pkm-text-rows-" + std::to_string(::getpid()) + ".csv");
@@ -295,7 +295,7 @@ TEST(SampleFilesText, CsvRowsAsPrintfWroteThem) {
 }
 
 TEST(SampleFilesText, NpyRecordsAreTheRowsBytes) {
-  const Machine machine = test::load_example("hexapod-bit.toml");
+  const machine::Machine machine = test::load_example("hexapod-bit.toml");
   const io::SampleRows rows(machine);
   const fs::path path =
       fs::temp_directory_path() / ("pkm-text-rows-" + std::to_string(::getpid()) + ".npy");

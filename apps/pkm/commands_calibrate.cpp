@@ -63,11 +63,11 @@ std::string machine_text(const std::string& path) {
 }
 
 // Writes the machine file with its kinematics replaced, after checking that it loads.
-void write_machine(const std::string& original_path, const Machine& machine,
-                   const Kinematics& kinematics, const std::string& output) {
-  const std::string text = replace_kinematics_section(machine_text(original_path), machine.source(),
-                                                      kinematics, machine.units());
-  parse_machine(text, output);  // refuses to write a file that would not load
+void write_machine(const std::string& original_path, const machine::Machine& machine,
+                   const kinematics::Kinematics& kinematics, const std::string& output) {
+  const std::string text = machine::replace_kinematics_section(
+      machine_text(original_path), machine.source(), kinematics, machine.units());
+  machine::parse_machine(text, output);  // refuses to write a file that would not load
   files::write_file_atomically(output, text);
 }
 
@@ -94,14 +94,14 @@ void run_matrix(const MatrixOptions& options) {
     throw CommandError("-o writes the updated machine file: name the machine with --add-to");
   }
   refuse_overwriting_input(options.output, {{"the machine file of --add-to", options.add_to}});
-  std::optional<Machine> machine;
+  std::optional<machine::Machine> machine;
   Eigen::Matrix3d start = Eigen::Matrix3d::Identity();
-  const MatrixKinematics* model = nullptr;
+  const kinematics::MatrixKinematics* model = nullptr;
   if (!options.add_to.empty()) {
-    machine = load_machine(options.add_to);
+    machine = machine::load_machine(options.add_to);
     // The cast is the honest answer: the adjustments add to a matrix's nine coefficients, which
     // no other model has.
-    model = dynamic_cast<const MatrixKinematics*>(&machine->kinematics());
+    model = dynamic_cast<const kinematics::MatrixKinematics*>(&machine->kinematics());
     if (model == nullptr) {
       throw CommandError(options.add_to + " is a " + std::string(machine->kinematics().type()) +
                          " machine; --add-to needs a matrix machine");
@@ -115,7 +115,7 @@ void run_matrix(const MatrixOptions& options) {
     throw CommandError(error.what());
   }
   if (!options.output.empty()) {
-    const MatrixKinematics updated(matrix, model->passthrough_axes());
+    const kinematics::MatrixKinematics updated(matrix, model->passthrough_axes());
     write_machine(options.add_to, *machine, updated, options.output);
   }
   if (options.json) {
@@ -152,7 +152,7 @@ std::string joined(const std::vector<std::string>& names) {
 
 // The fit of measured poses (DATA.csv) or of distances between drawn marks (--distances and
 // --pattern), whichever was given.
-calibration::FitReport fit_machine(const FitCommandOptions& options, Machine& machine) {
+calibration::FitReport fit_machine(const FitCommandOptions& options, machine::Machine& machine) {
   calibration::FitOptions fit_options;
   fit_options.parameters = split_names(options.params);
   try {
@@ -239,11 +239,11 @@ void run_fit(const FitCommandOptions& options) {
                                             {"the measurements", options.data},
                                             {"the distances", options.distances},
                                             {"the pattern", options.pattern}});
-  Machine machine = load_machine_or_default(options.machine);
+  machine::Machine machine = load_machine_or_default(options.machine);
   const calibration::FitReport report = fit_machine(options, machine);
   try {
     write_machine(options.machine, machine, machine.kinematics(), options.output);
-  } catch (const MachineFileError& error) {
+  } catch (const machine::MachineFileError& error) {
     // Show what the fit found: it is what the user must look at.
     if (!options.json) print_fit_text(report, "", distances);
     throw CommandError(
@@ -273,7 +273,7 @@ std::string pattern_json_path(const std::string& gcode_path) {
 }
 
 void run_pattern(const PatternCommandOptions& options) {
-  const Machine machine = load_machine_or_default(options.machine);
+  const machine::Machine machine = load_machine_or_default(options.machine);
   calibration::PatternOptions pattern_options;
   pattern_options.marks = options.marks;
   pattern_options.cross_size_mm = options.cross_size;

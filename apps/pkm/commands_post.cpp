@@ -42,7 +42,7 @@ struct PostCommandOptions {
 
 // The page of the written program: its blocks traced by verify's forward kinematics against the
 // job, each coloured by its measured deviation.
-void write_post_html(const Machine& machine, const PostCommandOptions& options,
+void write_post_html(const machine::Machine& machine, const PostCommandOptions& options,
                      const post::PostOptions& post_options, const nlohmann::json& report) {
   view::BlockRecorder recorder(machine);
   verify::VerifyOptions verify_options;
@@ -76,7 +76,7 @@ std::string format_number(const char* pattern, double value) {
 
 // The controller's time beside plan's: what the joints and the job allow when the machine has
 // the kinematics, against what grbl's planner makes of the joint program.
-void print_controller_time(const Machine& machine, const PostCommandOptions& options,
+void print_controller_time(const machine::Machine& machine, const PostCommandOptions& options,
                            const post::PostOptions& post_options,
                            const controller::GrblPrediction& prediction) {
   motion::PlanOptions plan_options;
@@ -98,7 +98,7 @@ void print_controller_time(const Machine& machine, const PostCommandOptions& opt
     plan_time = std::string("pkm plan refuses the job: ") + error.what();
   }
   std::printf("%s predicts %.3f s for the program (%s)\n",
-              controller_kind_name(machine.controller()->kind), prediction.time_s,
+              machine::controller_kind_name(machine.controller()->kind), prediction.time_s,
               plan_time.c_str());
 }
 
@@ -112,7 +112,7 @@ void run_post(const PostCommandOptions& options) {
                                        {"the machine file", options.machine},
                                        {"the tool table", options.tool_table.path}});
   }
-  const Machine machine = load_machine_or_default(options.machine);
+  const machine::Machine machine = load_machine_or_default(options.machine);
   post::PostOptions post_options;
   post_options.tolerance_mm = options.tolerance > 0.0
                                   ? mm_from_machine_units(machine, options.tolerance)
@@ -196,9 +196,9 @@ void run_post(const PostCommandOptions& options) {
 
 // pkm export grbl|grblhal: the controller's $ settings, on standard output or in -o FILE.
 void run_export_settings(const std::string& machine_file, const std::string& output,
-                         ControllerKind kind) {
+                         machine::ControllerKind kind) {
   refuse_overwriting_input(output, {{"the machine file", machine_file}});
-  const Machine machine = load_machine(machine_file);
+  const machine::Machine machine = machine::load_machine(machine_file);
   post::ControllerSettingsFile settings;
   try {
     settings = post::controller_settings(machine, kind);
@@ -214,17 +214,17 @@ void run_export_settings(const std::string& machine_file, const std::string& out
   }
   files::write_file_atomically(output, settings.text());
   std::printf("%s: %zu %s settings for %s: send it line by line, waiting for each ok\n",
-              output.c_str(), settings.settings.size(), controller_kind_name(kind),
+              output.c_str(), settings.settings.size(), machine::controller_kind_name(kind),
               machine.name().c_str());
 }
 
-void register_export_settings(CLI::App& export_command, ControllerKind kind) {
+void register_export_settings(CLI::App& export_command, machine::ControllerKind kind) {
   struct Options {
     std::string machine;
     std::string output;
   };
   auto options = std::make_shared<Options>();
-  const std::string name = controller_kind_name(kind);
+  const std::string name = machine::controller_kind_name(kind);
   CLI::App* command = export_command.add_subcommand(
       name, "The " + name + " $ settings of the joints (steps, rates, accelerations, travel)");
   command->add_option("-m,--machine", options->machine, "Machine file with a [controller] table")
@@ -247,7 +247,7 @@ void register_post_commands(CLI::App& app) {
       "mach3", "Mach3 formula-axis equations, for machines whose IK is a closed formula");
   mach3->add_option("-m,--machine", *export_machine, "Machine file (default: embedded hexapod)");
   mach3->callback([export_machine] {
-    const Machine machine = load_machine_or_default(*export_machine);
+    const machine::Machine machine = load_machine_or_default(*export_machine);
     std::vector<std::pair<char, std::string>> formulas;
     try {
       formulas = post::mach3_formulas(machine);
@@ -261,8 +261,8 @@ void register_post_commands(CLI::App& app) {
     }
   });
 
-  register_export_settings(*export_command, ControllerKind::grbl);
-  register_export_settings(*export_command, ControllerKind::grblhal);
+  register_export_settings(*export_command, machine::ControllerKind::grbl);
+  register_export_settings(*export_command, machine::ControllerKind::grblhal);
 
   auto options = std::make_shared<PostCommandOptions>();
   CLI::App* command = app.add_subcommand(

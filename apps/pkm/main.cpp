@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
     if (error.get_exit_code() == 0) return app.exit(error);
     std::fprintf(stderr, "pkm: error: %s\nRun with --help for more information.\n", error.what());
     return 2;
-  } catch (const pkm::MachineFileError& error) {
+  } catch (const pkm::machine::MachineFileError& error) {
     std::fprintf(stderr, "pkm: error: %s\n", error.what());
     return 1;
   } catch (const pkm::linuxcnc::ConfigError& error) {

@@ -50,7 +50,7 @@ std::string read_text_file(const std::filesystem::path& path) {
 
 std::vector<Measurement> parse_measurements_csv(const std::string& text,
                                                 const std::string& source_name,
-                                                const Machine& machine) {
+                                                const machine::Machine& machine) {
   const auto fail = [&](int line, int column, const std::string& message) {
     throw MeasurementFileError(source_name + ":" + std::to_string(line) + ":" +
                                std::to_string(column) + ": " + message);
@@ -71,7 +71,7 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
   std::vector<int> joint_of_column(header.size(), -1);
   std::vector<int> axis_of_column(header.size(), -1);
   std::vector<bool> joint_seen(static_cast<std::size_t>(joint_count), false);
-  std::array<bool, kPoseSize> axis_seen{};
+  std::array<bool, geometry::kPoseSize> axis_seen{};
   for (std::size_t c = 0; c < header.size(); ++c) {
     const std::string& name = header[c].text;
     if (name == "t" || name == "line") continue;
@@ -85,7 +85,7 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
         known = true;
       }
     }
-    const int axis = axis_index(name);
+    const int axis = geometry::axis_index(name);
     if (!known && axis >= 0 && name.size() == 1 &&
         std::islower(static_cast<unsigned char>(name[0]))) {
       if (!machine.kinematics().dof().controls(axis)) {
@@ -141,7 +141,7 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
             machine.joints()[joint_of_column[c]].from_interface(value);
       } else {
         const int axis = axis_of_column[c];
-        measurement.pose[axis] = axis < 3 ? value : degrees_to_radians(value);
+        measurement.pose[axis] = axis < 3 ? value : geometry::degrees_to_radians(value);
       }
     }
     measurements.push_back(measurement);
@@ -151,7 +151,7 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
 }
 
 std::vector<Measurement> read_measurements_csv(const std::filesystem::path& path,
-                                               const Machine& machine) {
+                                               const machine::Machine& machine) {
   return parse_measurements_csv(read_text_file(path), path.string(), machine);
 }
 

@@ -38,7 +38,7 @@ void append_csv_row(const double* row, std::size_t n, bool pen, text::TextBuffer
 
 class CsvFile final : public SampleFile {
  public:
-  CsvFile(const std::filesystem::path& path, const Machine& machine)
+  CsvFile(const std::filesystem::path& path, const machine::Machine& machine)
       : file_(path), rows_(machine), pending_(kBlockBytes + kMaxRowChars) {
     std::string header;
     for (const std::string& column : sample_columns(machine)) {
@@ -90,7 +90,7 @@ std::string python_string(const std::string& text) {
 // the header is written with room for it and rewritten on commit.
 class NpyFile final : public SampleFile {
  public:
-  NpyFile(const std::filesystem::path& path, const Machine& machine)
+  NpyFile(const std::filesystem::path& path, const machine::Machine& machine)
       : file_(path),
         rows_(machine),
         block_rows_(kBlockBytes / (sizeof(double) * rows_.columns())),
@@ -152,7 +152,7 @@ class NpyFile final : public SampleFile {
 }  // namespace
 
 std::unique_ptr<SampleFile> SampleFile::open(const std::filesystem::path& path,
-                                             const Machine& machine) {
+                                             const machine::Machine& machine) {
   const std::string extension = path.extension().string();
   if (extension == ".csv") return std::make_unique<CsvFile>(path, machine);
   if (extension == ".npy") return std::make_unique<NpyFile>(path, machine);
