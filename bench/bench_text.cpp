@@ -152,7 +152,7 @@ std::filesystem::path sample_output(const benchmark::State& state, const char* e
 
 constexpr int kSamplesPerFile = 100000;
 
-// pkm::SampleFile as `pkm plan -o` writes it. items = samples.
+// pkm::io::SampleFile as `pkm plan -o` writes it. items = samples.
 void sample_file(benchmark::State& state, const char* extension) {
   const pkm::machine::Machine machine =
       pkm::machine::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
