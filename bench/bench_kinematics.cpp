@@ -18,27 +18,27 @@ constexpr int kPoses = 1024;
 
 // "hexapod-bit+limits": the paper's hexapod with 30 deg joints and 40 mm legs (the cost of the
 // joint-angle and interference checks on every pose; without the keys they cost a flag test).
-Machine load(const std::string& file) {
+machine::Machine load(const std::string& file) {
   const std::filesystem::path examples = std::filesystem::path(PKM_SOURCE_DIR) / "examples";
-  if (file != "hexapod-bit+limits") return load_machine(examples / "machines" / file);
+  if (file != "hexapod-bit+limits") return machine::load_machine(examples / "machines" / file);
   std::ifstream in(examples / "machines" / "hexapod-bit.toml");
   std::stringstream text;
   text << in.rdbuf();
   std::string toml = text.str();
   const std::string key = "tool_length = 30.0";
   toml.replace(toml.find(key), key.size(), key + "\nmax_joint_angle = 30\nleg_diameter = 40");
-  return parse_machine(toml, "hexapod-bit+limits");
+  return machine::parse_machine(toml, "hexapod-bit+limits");
 }
 
 // A small helix about home, 0.1 mm apart (a 1 ms servo step at 6 m/min), with a slow tilt on
 // machines that control orientation: the poses FK meets along a tool path.
-std::vector<Pose> path_about_home(const Machine& machine) {
-  std::vector<Pose> poses;
-  const Dof dof = machine.kinematics().dof();
+std::vector<geometry::Pose> path_about_home(const machine::Machine& machine) {
+  std::vector<geometry::Pose> poses;
+  const geometry::Dof dof = machine.kinematics().dof();
   const double radius_mm = 10.0;
   for (int i = 0; i < kPoses; ++i) {
     const double phase = 0.1 * i / radius_mm;
-    Vector6d values = machine.home().as_vector();
+    geometry::Vector6d values = machine.home().as_vector();
     int used = 0;
     for (int axis = 0; axis < 3; ++axis) {
       if (!dof.controls(axis)) continue;
@@ -48,18 +48,18 @@ std::vector<Pose> path_about_home(const Machine& machine) {
       ++used;
     }
     if (dof.any_rotation()) {
-      values[3] += degrees_to_radians(3.0) * std::sin(phase);
-      values[4] += degrees_to_radians(3.0) * (1.0 - std::cos(phase));
+      values[3] += geometry::degrees_to_radians(3.0) * std::sin(phase);
+      values[4] += geometry::degrees_to_radians(3.0) * (1.0 - std::cos(phase));
     }
-    poses.push_back(Pose::from_vector(values));
+    poses.push_back(geometry::Pose::from_vector(values));
   }
   return poses;
 }
 
 void inverse_single(benchmark::State& state, const std::string& file) {
-  const Machine machine = load(file);
-  const std::vector<Pose> poses = path_about_home(machine);
-  JointVector joints;
+  const machine::Machine machine = load(file);
+  const std::vector<geometry::Pose> poses = path_about_home(machine);
+  kinematics::JointVector joints;
   std::size_t i = 0;
   for (auto _ : state) {
     benchmark::DoNotOptimize(machine.kinematics().inverse(poses[i], joints));
@@ -70,10 +70,10 @@ void inverse_single(benchmark::State& state, const std::string& file) {
 }
 
 void inverse_batch(benchmark::State& state, const std::string& file) {
-  const Machine machine = load(file);
-  const std::vector<Pose> poses = path_about_home(machine);
-  std::vector<JointVector> joints(poses.size());
-  std::vector<Status> statuses(poses.size());
+  const machine::Machine machine = load(file);
+  const std::vector<geometry::Pose> poses = path_about_home(machine);
+  std::vector<kinematics::JointVector> joints(poses.size());
+  std::vector<kinematics::Status> statuses(poses.size());
   for (auto _ : state) {
     machine.kinematics().inverse_batch(poses, joints, statuses);
     benchmark::DoNotOptimize(joints.data());
@@ -84,11 +84,11 @@ void inverse_batch(benchmark::State& state, const std::string& file) {
 // The paper's fixed-attitude mode: the tool axis stays put along the path, so the batch computes
 // the rotation once.
 void inverse_batch_fixed_attitude(benchmark::State& state, const std::string& file) {
-  const Machine machine = load(file);
-  std::vector<Pose> poses = path_about_home(machine);
-  for (Pose& pose : poses) pose.orientation_rad = machine.home().orientation_rad;
-  std::vector<JointVector> joints(poses.size());
-  std::vector<Status> statuses(poses.size());
+  const machine::Machine machine = load(file);
+  std::vector<geometry::Pose> poses = path_about_home(machine);
+  for (geometry::Pose& pose : poses) pose.orientation_rad = machine.home().orientation_rad;
+  std::vector<kinematics::JointVector> joints(poses.size());
+  std::vector<kinematics::Status> statuses(poses.size());
   for (auto _ : state) {
     machine.kinematics().inverse_batch(poses, joints, statuses);
     benchmark::DoNotOptimize(joints.data());
@@ -97,17 +97,17 @@ void inverse_batch_fixed_attitude(benchmark::State& state, const std::string& fi
 }
 
 void forward_along_path(benchmark::State& state, const std::string& file) {
-  const Machine machine = load(file);
-  const std::vector<Pose> poses = path_about_home(machine);
-  std::vector<JointVector> joints(poses.size());
-  std::vector<Status> statuses(poses.size());
+  const machine::Machine machine = load(file);
+  const std::vector<geometry::Pose> poses = path_about_home(machine);
+  std::vector<kinematics::JointVector> joints(poses.size());
+  std::vector<kinematics::Status> statuses(poses.size());
   machine.kinematics().inverse_batch(poses, joints, statuses);
-  std::vector<Pose> solved(poses.size());
+  std::vector<geometry::Pose> solved(poses.size());
   int64_t succeeded = 0;
   int64_t iterations = 0;
   for (auto _ : state) {
     machine.kinematics().forward_path(joints, poses.front(), solved, statuses);
-    for (const Status& status : statuses) {
+    for (const kinematics::Status& status : statuses) {
       succeeded += status.ok() ? 1 : 0;
       iterations += status.iterations;
     }
@@ -121,15 +121,15 @@ void forward_along_path(benchmark::State& state, const std::string& file) {
 }
 
 void forward_from_home(benchmark::State& state, const std::string& file) {
-  const Machine machine = load(file);
-  std::vector<Pose> poses = path_about_home(machine);
-  std::vector<JointVector> joints(poses.size());
-  std::vector<Status> statuses(poses.size());
+  const machine::Machine machine = load(file);
+  std::vector<geometry::Pose> poses = path_about_home(machine);
+  std::vector<kinematics::JointVector> joints(poses.size());
+  std::vector<kinematics::Status> statuses(poses.size());
   machine.kinematics().inverse_batch(poses, joints, statuses);
   std::size_t i = 0;
   int64_t succeeded = 0;
   for (auto _ : state) {
-    Pose pose = machine.home();
+    geometry::Pose pose = machine.home();
     succeeded += machine.kinematics().forward(joints[i], pose).ok() ? 1 : 0;
     benchmark::DoNotOptimize(pose);
     i = (i + 1) % poses.size();

@@ -186,13 +186,14 @@ Loaded& loaded(const Case& which) {
   static std::map<const Case*, std::unique_ptr<Loaded>> cache;
   std::unique_ptr<Loaded>& entry = cache[&which];
   if (!entry) {
-    entry = std::make_unique<Loaded>(Loaded{
-        load_module(which.module, which.geometry),
-        pkm::linuxcnc::KinsAdapter(pkm::load_machine(std::string(PKM_SOURCE_DIR) +
-                                                     "/examples/machines/" + which.machine_file),
-                                   std::nullopt),
-        {},
-        {}});
+    entry = std::make_unique<Loaded>(
+        Loaded{load_module(which.module, which.geometry),
+               pkm::linuxcnc::KinsAdapter(
+                   pkm::machine::load_machine(std::string(PKM_SOURCE_DIR) + "/examples/machines/" +
+                                              which.machine_file),
+                   std::nullopt),
+               {},
+               {}});
     for (int k = 0; k < 10000; ++k) {
       entry->path.push_back(which.pose_at(k * 0.001));
       std::vector<double> joints(9);
@@ -334,9 +335,9 @@ void alternate(benchmark::State& state, std::size_t samples, Pkm pkm, Reference 
 
 // A machine of pkm's own (examples/machines), its path in mm and rad, and its joints along it.
 struct PkmCase {
-  pkm::Machine machine;
-  std::vector<pkm::Pose> path;
-  std::vector<pkm::JointVector> joints;
+  pkm::machine::Machine machine;
+  std::vector<pkm::geometry::Pose> path;
+  std::vector<pkm::kinematics::JointVector> joints;
 };
 
 // The hexapod simulator's path in pkm's units, or a machine's own: 10 s of a helix at 25 mm/s
@@ -346,31 +347,33 @@ PkmCase& pkm_case(const std::string& file) {
   std::unique_ptr<PkmCase>& entry = cache[file];
   if (entry) return *entry;
   entry = std::make_unique<PkmCase>(PkmCase{
-      pkm::load_machine(std::string(PKM_SOURCE_DIR) + "/examples/machines/" + file), {}, {}});
+      pkm::machine::load_machine(std::string(PKM_SOURCE_DIR) + "/examples/machines/" + file),
+      {},
+      {}});
   if (file == kHexapod.machine_file) {
     const Loaded& hexapod = loaded(kHexapod);
     for (const WorldPose& world : hexapod.path)
       entry->path.push_back(hexapod.pkmkins.to_pose(world));
   } else {
-    const pkm::Dof dof = entry->machine.kinematics().dof();
+    const pkm::geometry::Dof dof = entry->machine.kinematics().dof();
     for (int k = 0; k < 10000; ++k) {
       const double angle = k * 0.001 / 2.0;  // 25 mm/s on a 50 mm radius
-      pkm::Vector6d values = entry->machine.home().as_vector();
+      pkm::geometry::Vector6d values = entry->machine.home().as_vector();
       values[0] += 50.0 * (std::cos(angle) - 1.0);
       values[1] += 50.0 * std::sin(angle);
       values[2] -= 1.0 * k * 0.001;
       if (dof.any_rotation()) {
-        values[3] += pkm::degrees_to_radians(3.0) * std::sin(angle);
-        values[4] += pkm::degrees_to_radians(2.0) * std::cos(angle);
-        values[5] += pkm::degrees_to_radians(4.0) * std::sin(2.0 * angle);
+        values[3] += pkm::geometry::degrees_to_radians(3.0) * std::sin(angle);
+        values[4] += pkm::geometry::degrees_to_radians(2.0) * std::cos(angle);
+        values[5] += pkm::geometry::degrees_to_radians(4.0) * std::sin(2.0 * angle);
       }
-      entry->path.push_back(pkm::Pose::from_vector(values));
+      entry->path.push_back(pkm::geometry::Pose::from_vector(values));
     }
   }
   entry->joints.resize(entry->path.size());
-  std::vector<pkm::Status> statuses(entry->path.size());
+  std::vector<pkm::kinematics::Status> statuses(entry->path.size());
   entry->machine.kinematics().inverse_batch(entry->path, entry->joints, statuses);
-  for (const pkm::Status& status : statuses) {
+  for (const pkm::kinematics::Status& status : statuses) {
     if (!status.ok()) throw std::runtime_error(file + ": the benchmark's path leaves the reach");
   }
   return *entry;
@@ -388,7 +391,7 @@ void ik_single_vs_genhexkins(benchmark::State& state, const char* file) {
   if (genhexkins_missing(state)) return;
   PkmCase& pkm_side = pkm_case(file);
   const Loaded& hexapod = loaded(kHexapod);
-  pkm::JointVector joints;
+  pkm::kinematics::JointVector joints;
   alternate(
       state, pkm_side.path.size(),
       [&](std::size_t first) {
@@ -405,13 +408,14 @@ void ik_batch_vs_genhexkins(benchmark::State& state, const char* file) {
   if (genhexkins_missing(state)) return;
   PkmCase& pkm_side = pkm_case(file);
   const Loaded& hexapod = loaded(kHexapod);
-  std::vector<pkm::JointVector> joints(kStretch);
-  std::vector<pkm::Status> statuses(kStretch);
+  std::vector<pkm::kinematics::JointVector> joints(kStretch);
+  std::vector<pkm::kinematics::Status> statuses(kStretch);
   alternate(
       state, pkm_side.path.size(),
       [&](std::size_t first) {
         pkm_side.machine.kinematics().inverse_batch(
-            std::span<const pkm::Pose>(pkm_side.path).subspan(first, kStretch), joints, statuses);
+            std::span<const pkm::geometry::Pose>(pkm_side.path).subspan(first, kStretch), joints,
+            statuses);
         benchmark::DoNotOptimize(joints.data());
       },
       [&](std::size_t first) { genhexkins_inverse_stretch(hexapod, first); }, "x_genhexkins");
@@ -427,10 +431,11 @@ void fk_path_vs_genhexkins(benchmark::State& state, const char* file) {
   alternate(
       state, pkm_side.path.size(),
       [&](std::size_t first) {
-        pkm::ForwardTrack track;
-        pkm::Pose pose = pkm_side.path[first];
+        pkm::kinematics::ForwardTrack track;
+        pkm::geometry::Pose pose = pkm_side.path[first];
         for (std::size_t k = first; k < first + kStretch; ++k) {
-          const pkm::Status status = pkm_side.machine.forward(pkm_side.joints[k], pose, track);
+          const pkm::kinematics::Status status =
+              pkm_side.machine.forward(pkm_side.joints[k], pose, track);
           steps += status.iterations;
           failures += status.ok() ? 0 : 1;
         }
@@ -475,9 +480,9 @@ void pkmkins_fk_vs_genhexkins(benchmark::State& state) {
 
 // The same with the vector paths off: what a CPU without AVX2 gets.
 void ik_batch_scalar_vs_genhexkins(benchmark::State& state, const char* file) {
-  const bool previous = pkm::lanes::set_avx2_enabled(false);
+  const bool previous = pkm::kinematics::lanes::set_avx2_enabled(false);
   ik_batch_vs_genhexkins(state, file);
-  pkm::lanes::set_avx2_enabled(previous);
+  pkm::kinematics::lanes::set_avx2_enabled(previous);
 }
 
 BENCHMARK_CAPTURE(ik_single_vs_genhexkins, hexapod, "linuxcnc-hexapod-sim.toml");

@@ -10,8 +10,8 @@
 namespace {
 
 void bound_and_limits(benchmark::State& state, const std::string& file) {
-  const pkm::Machine machine =
-      pkm::load_machine(std::string(PKM_SOURCE_DIR) + "/examples/machines/" + file);
+  const pkm::machine::Machine machine =
+      pkm::machine::load_machine(std::string(PKM_SOURCE_DIR) + "/examples/machines/" + file);
   const pkm::bounds::EnvelopeBox requested = pkm::bounds::work_envelope(machine);
   long cells = 0;
   for (auto _ : state) {

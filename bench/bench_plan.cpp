@@ -12,13 +12,13 @@ namespace {
 const std::filesystem::path kSource = PKM_SOURCE_DIR;
 
 void plan_sphere_to_npy(benchmark::State& state) {
-  const pkm::Machine machine =
-      pkm::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
+  const pkm::machine::Machine machine =
+      pkm::machine::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
   const std::filesystem::path output =
       std::filesystem::temp_directory_path() / "pkm-bench-sphere.npy";
   long samples = 0;
   for (auto _ : state) {
-    auto file = pkm::SampleFile::open(output, machine);
+    auto file = pkm::io::SampleFile::open(output, machine);
     const pkm::motion::PlanReport report = pkm::motion::plan_program(
         machine, kSource / "examples" / "jobs" / "sphere.ngc", {}, {}, *file);
     file->commit();
@@ -37,12 +37,13 @@ struct Discard final : pkm::motion::SampleSink {
 // One job on one machine, with samples (range(0) == 0) or as an estimate; items = samples the
 // plan makes or counts.
 void plan_job(benchmark::State& state, const char* machine_file, const std::filesystem::path& job,
-              const pkm::Vector6d& origin) {
+              const pkm::geometry::Vector6d& origin) {
   if (!std::filesystem::exists(job)) {
     state.SkipWithError("the job is not here (the real corpus is ../shared/gcode/real)");
     return;
   }
-  const pkm::Machine machine = pkm::load_machine(kSource / "examples" / "machines" / machine_file);
+  const pkm::machine::Machine machine =
+      pkm::machine::load_machine(kSource / "examples" / "machines" / machine_file);
   pkm::motion::PlanOptions options;
   options.origin = origin;
   options.estimate_only = state.range(0) != 0;
@@ -56,13 +57,13 @@ void plan_job(benchmark::State& state, const char* machine_file, const std::file
 
 void sphere(benchmark::State& state) {
   plan_job(state, "hexapod-bit.toml", kSource / "examples" / "jobs" / "sphere.ngc",
-           pkm::Vector6d::Zero());
+           pkm::geometry::Vector6d::Zero());
 }
 BENCHMARK(sphere)->ArgName("estimate")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // 11,000 short G1 moves (gcmc trochoidal milling) on the matrix mill, placed at its home.
 void trochoidal(benchmark::State& state) {
-  pkm::Vector6d origin;
+  pkm::geometry::Vector6d origin;
   origin << 300.0, 200.0, -100.0, 0.0, 0.0, 0.0;
   plan_job(state, "matrix-mill.toml",
            kSource.parent_path() / "shared" / "gcode" / "real" / "linuxcnc" / "trochoidal.ngc",

@@ -37,8 +37,8 @@ void post_drawing_on_polargraph(benchmark::State& state) {
   }
   // As the tests read it: vitruvianMan's DexArm header modes blanked (pkm refuses M2000).
   const fs::path job = pkm::test::readable_real_job(kPlotter, drawing.job);
-  const pkm::Machine machine =
-      pkm::load_machine(kSource / "examples" / "machines" / "linuxcnc-polargraph-2366.toml");
+  const pkm::machine::Machine machine = pkm::machine::load_machine(
+      kSource / "examples" / "machines" / "linuxcnc-polargraph-2366.toml");
   pkm::post::PostOptions options;
   options.tolerance_mm = 0.01;
   options.origin << drawing.x, drawing.y, 0.0, 0.0, 0.0, 0.0;

@@ -152,14 +152,14 @@ std::filesystem::path sample_output(const benchmark::State& state, const char* e
 
 constexpr int kSamplesPerFile = 100000;
 
-// pkm::SampleFile as `pkm plan -o` writes it. items = samples.
+// pkm::io::SampleFile as `pkm plan -o` writes it. items = samples.
 void sample_file(benchmark::State& state, const char* extension) {
-  const pkm::Machine machine =
-      pkm::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
+  const pkm::machine::Machine machine =
+      pkm::machine::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
   const std::filesystem::path output = sample_output(state, extension);
   std::vector<pkm::motion::Sample> samples = circle_samples();
   for (auto _ : state) {
-    auto file = pkm::SampleFile::open(output, machine);
+    auto file = pkm::io::SampleFile::open(output, machine);
     for (int i = 0; i < kSamplesPerFile; ++i) {
       pkm::motion::Sample& s = samples[static_cast<std::size_t>(i) % samples.size()];
       s.time_s = 0.001 * i;
@@ -184,9 +184,9 @@ BENCHMARK_CAPTURE(sample_file, npy, ".npy")
 // The same rows written as before issue 16: fprintf per CSV value, an fwrite per NPY row, to a
 // plain stream (no header, no temporary and rename: a little less work than the file above).
 void sample_file_before(benchmark::State& state, const char* extension) {
-  const pkm::Machine machine =
-      pkm::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
-  const pkm::SampleRows rows(machine);
+  const pkm::machine::Machine machine =
+      pkm::machine::load_machine(kSource / "examples" / "machines" / "hexapod-bit.toml");
+  const pkm::io::SampleRows rows(machine);
   const bool csv = std::string(extension) == ".csv";
   const std::filesystem::path output = sample_output(state, extension);
   std::vector<pkm::motion::Sample> samples = circle_samples();
@@ -195,7 +195,7 @@ void sample_file_before(benchmark::State& state, const char* extension) {
     for (int i = 0; i < kSamplesPerFile; ++i) {
       pkm::motion::Sample& s = samples[static_cast<std::size_t>(i) % samples.size()];
       s.time_s = 0.001 * i;
-      double row[pkm::SampleRows::kMaxColumns];
+      double row[pkm::io::SampleRows::kMaxColumns];
       const std::size_t n = rows.fill(s, row);
       if (csv) {
         pkm::legacy::write_csv_row(file, row, n, rows.pen());

@@ -21,8 +21,8 @@ void verify_mandala_on_wall_plotter(benchmark::State& state) {
     state.SkipWithError("the real corpus (../shared/gcode/real) is absent");
     return;
   }
-  const pkm::Machine machine =
-      pkm::load_machine(kSource / "examples" / "machines" / "wall-plotter.toml");
+  const pkm::machine::Machine machine =
+      pkm::machine::load_machine(kSource / "examples" / "machines" / "wall-plotter.toml");
   const fs::path joints = fs::temp_directory_path() / "pkm-bench-mandala-joints.ngc";
   pkm::post::PostOptions post_options;
   post_options.origin << 700.0, -800.0, 0.0, 0.0, 0.0, 0.0;  // the drawing on the sheet

@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 const fs::path kMachines = fs::path(PKM_SOURCE_DIR) / "examples" / "machines";
 
-void run(benchmark::State& state, const pkm::Machine& machine,
+void run(benchmark::State& state, const pkm::machine::Machine& machine,
          const pkm::workspace::WorkspaceOptions& options) {
   pkm::workspace::Workspace ws;
   for (auto _ : state) {
@@ -33,7 +33,7 @@ void run(benchmark::State& state, const pkm::Machine& machine,
 }
 
 void example_machine(benchmark::State& state, const std::string& file) {
-  const pkm::Machine machine = pkm::load_machine(kMachines / file);
+  const pkm::machine::Machine machine = pkm::machine::load_machine(kMachines / file);
   pkm::workspace::WorkspaceOptions options = pkm::workspace::default_options(machine);
   const pkm::workspace::SearchBox search = pkm::workspace::search_box(machine, options);
   double longest = 0.0, shortest = 1e300;
@@ -48,11 +48,11 @@ void example_machine(benchmark::State& state, const std::string& file) {
 }
 
 void hexapod_over_ten_degrees(benchmark::State& state) {
-  const pkm::Machine machine = pkm::load_machine(kMachines / "hexapod-bit.toml");
+  const pkm::machine::Machine machine = pkm::machine::load_machine(kMachines / "hexapod-bit.toml");
   pkm::workspace::WorkspaceOptions options = pkm::workspace::default_options(machine);
   options.resolution_mm = static_cast<double>(state.range(0));
-  options.orientation_min_rad = Eigen::Vector3d::Constant(pkm::degrees_to_radians(-10.0));
-  options.orientation_max_rad = Eigen::Vector3d::Constant(pkm::degrees_to_radians(10.0));
+  options.orientation_min_rad = Eigen::Vector3d::Constant(pkm::geometry::degrees_to_radians(-10.0));
+  options.orientation_max_rad = Eigen::Vector3d::Constant(pkm::geometry::degrees_to_radians(10.0));
   run(state, machine, options);
 }
 
@@ -69,10 +69,10 @@ void hexapod_with_leg_limits(benchmark::State& state) {
   text.replace(
       text.find(tool), tool.size(),
       tool + "max_joint_angle = 45.0\n" + (state.range(2) != 0 ? "leg_diameter = 40.0\n" : ""));
-  const pkm::Machine machine = pkm::parse_machine(text, "hexapod-limited.toml");
+  const pkm::machine::Machine machine = pkm::machine::parse_machine(text, "hexapod-limited.toml");
   pkm::workspace::WorkspaceOptions options = pkm::workspace::default_options(machine);
   options.resolution_mm = static_cast<double>(state.range(0));
-  const double spread = pkm::degrees_to_radians(static_cast<double>(state.range(1)));
+  const double spread = pkm::geometry::degrees_to_radians(static_cast<double>(state.range(1)));
   options.orientation_min_rad = Eigen::Vector3d::Constant(-spread);
   options.orientation_max_rad = Eigen::Vector3d::Constant(spread);
   run(state, machine, options);

@@ -15,15 +15,15 @@
 
 namespace {
 
-const pkm::Machine& machine() {
-  static const pkm::Machine loaded = pkm::load_machine(PKM_FUZZ_MACHINE);
+const pkm::machine::Machine& machine() {
+  static const pkm::machine::Machine loaded = pkm::machine::load_machine(PKM_FUZZ_MACHINE);
   return loaded;
 }
 
-std::vector<pkm::PatternMark> marks() {
-  std::vector<pkm::PatternMark> made;
+std::vector<pkm::calibration::PatternMark> marks() {
+  std::vector<pkm::calibration::PatternMark> made;
   for (int id = 1; id <= 6; ++id) {
-    pkm::PatternMark mark;
+    pkm::calibration::PatternMark mark;
     mark.id = id;
     mark.position_mm = {100.0 * id, 50.0 * (id % 3)};
     made.push_back(mark);
@@ -36,20 +36,22 @@ std::vector<pkm::PatternMark> marks() {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
-    for (const pkm::Measurement& m : pkm::parse_measurements_csv(text, "fuzz.csv", machine())) {
+    for (const pkm::calibration::Measurement& m :
+         pkm::calibration::parse_measurements_csv(text, "fuzz.csv", machine())) {
       for (int i = 0; i < m.joints.size(); ++i) pkm::fuzz::require_finite(m.joints[i], "a joint");
-      for (int i = 0; i < pkm::kPoseSize; ++i) {
+      for (int i = 0; i < pkm::geometry::kPoseSize; ++i) {
         if (m.measured[static_cast<std::size_t>(i)]) pkm::fuzz::require_finite(m.pose[i], "a pose");
       }
     }
-  } catch (const pkm::MeasurementFileError&) {
+  } catch (const pkm::calibration::MeasurementFileError&) {
   }
-  static const std::vector<pkm::PatternMark> pattern = marks();
+  static const std::vector<pkm::calibration::PatternMark> pattern = marks();
   try {
-    for (const pkm::MarkDistance& d : pkm::parse_distances_csv(text, "fuzz.csv", pattern)) {
+    for (const pkm::calibration::MarkDistance& d :
+         pkm::calibration::parse_distances_csv(text, "fuzz.csv", pattern)) {
       pkm::fuzz::require_finite(d.distance_mm, "a distance");
     }
-  } catch (const pkm::MeasurementFileError&) {
+  } catch (const pkm::calibration::MeasurementFileError&) {
   }
   return 0;
 }

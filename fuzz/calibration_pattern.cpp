@@ -15,9 +15,9 @@
 
 namespace {
 
-void require_sound(const std::vector<pkm::PatternMark>& marks) {
+void require_sound(const std::vector<pkm::calibration::PatternMark>& marks) {
   std::set<int> ids;
-  for (const pkm::PatternMark& mark : marks) {
+  for (const pkm::calibration::PatternMark& mark : marks) {
     if (mark.id <= 0 || !ids.insert(mark.id).second) {
       pkm::fuzz::oracle_failed("mark id " + std::to_string(mark.id) + " not positive or repeated");
     }
@@ -28,9 +28,9 @@ void require_sound(const std::vector<pkm::PatternMark>& marks) {
   }
 }
 
-void require_round_trip(const std::vector<pkm::PatternMark>& marks) {
-  const std::vector<pkm::PatternMark> again =
-      pkm::parse_pattern_json(pkm::pattern_json_text(marks), "again.json");
+void require_round_trip(const std::vector<pkm::calibration::PatternMark>& marks) {
+  const std::vector<pkm::calibration::PatternMark> again = pkm::calibration::parse_pattern_json(
+      pkm::calibration::pattern_json_text(marks), "again.json");
   if (again.size() != marks.size()) pkm::fuzz::oracle_failed("the marks written back differ");
   for (std::size_t i = 0; i < marks.size(); ++i) {
     if (again[i].id != marks[i].id ||
@@ -45,13 +45,14 @@ void require_round_trip(const std::vector<pkm::PatternMark>& marks) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
-    const std::vector<pkm::PatternMark> marks = pkm::parse_pattern_json(text, "fuzz.json");
+    const std::vector<pkm::calibration::PatternMark> marks =
+        pkm::calibration::parse_pattern_json(text, "fuzz.json");
     require_sound(marks);
-    for (const pkm::PatternMark& mark : marks) {
+    for (const pkm::calibration::PatternMark& mark : marks) {
       if (mark.location.rfind("fuzz.json:", 0) != 0) pkm::fuzz::oracle_failed("a mark unlocated");
     }
     require_round_trip(marks);
-  } catch (const pkm::PatternFileError& error) {
+  } catch (const pkm::calibration::PatternFileError& error) {
     if (std::string(error.what()).rfind("fuzz.json:", 0) != 0) {
       pkm::fuzz::oracle_failed(std::string("an error without its location: ") + error.what());
     }

@@ -12,8 +12,8 @@
 
 namespace {
 
-const pkm::Machine& machine() {
-  static const pkm::Machine loaded = pkm::load_machine(PKM_FUZZ_MACHINE);
+const pkm::machine::Machine& machine() {
+  static const pkm::machine::Machine loaded = pkm::machine::load_machine(PKM_FUZZ_MACHINE);
   return loaded;
 }
 

@@ -12,17 +12,17 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   try {
-    const pkm::Machine machine = pkm::parse_machine(text, "fuzz.toml");
-    for (const pkm::JointSpec& joint : machine.joints()) {
+    const pkm::machine::Machine machine = pkm::machine::parse_machine(text, "fuzz.toml");
+    for (const pkm::machine::JointSpec& joint : machine.joints()) {
       pkm::fuzz::require_finite(joint.min, "a joint's lower limit");
       pkm::fuzz::require_finite(joint.max, "a joint's upper limit");
     }
-    for (int i = 0; i < pkm::kPoseSize; ++i) {
+    for (int i = 0; i < pkm::geometry::kPoseSize; ++i) {
       pkm::fuzz::require_finite(machine.home().as_vector()[i], "the home pose");
     }
-    pkm::JointVector joints;
+    pkm::kinematics::JointVector joints;
     (void)machine.inverse(machine.home(), joints);
-  } catch (const pkm::MachineFileError&) {
+  } catch (const pkm::machine::MachineFileError&) {
     // A located error: an expected end.
   }
   return 0;

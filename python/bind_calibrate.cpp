@@ -20,8 +20,9 @@ namespace {
 
 // Row i of the arrays as a measurement: joints (mm, deg) and the pose coordinates measured (NaN
 // where not), its line the row's index.
-std::vector<Measurement> measurements_from_arrays(const Machine& machine, const Array& joints,
-                                                  const Array& poses) {
+std::vector<calibration::Measurement> measurements_from_arrays(const machine::Machine& machine,
+                                                               const Array& joints,
+                                                               const Array& poses) {
   const std::vector<int> axes = controlled_axes(machine);
   const std::size_t n = machine.joints().size();
   if (joints.ndim() != 2 || static_cast<std::size_t>(joints.shape(1)) != n) {
@@ -32,11 +33,11 @@ std::vector<Measurement> measurements_from_arrays(const Machine& machine, const 
     throw py::value_error("poses must be an (N, " + std::to_string(axes.size()) +
                           ") array, a row per row of joints (NaN where not measured)");
   }
-  std::vector<Measurement> measurements(static_cast<std::size_t>(joints.shape(0)));
+  std::vector<calibration::Measurement> measurements(static_cast<std::size_t>(joints.shape(0)));
   for (std::size_t row = 0; row < measurements.size(); ++row) {
-    Measurement& m = measurements[row];
+    calibration::Measurement& m = measurements[row];
     m.line = static_cast<int>(row);
-    m.joints = JointVector(static_cast<int>(n));
+    m.joints = kinematics::JointVector(static_cast<int>(n));
     for (std::size_t j = 0; j < n; ++j) {
       const double value = joints.data()[row * n + j];
       if (!std::isfinite(value)) {
@@ -48,7 +49,7 @@ std::vector<Measurement> measurements_from_arrays(const Machine& machine, const 
     for (std::size_t i = 0; i < axes.size(); ++i) {
       const double value = poses.data()[row * axes.size() + i];
       if (std::isnan(value)) continue;
-      m.pose[axes[i]] = axes[i] < 3 ? value : degrees_to_radians(value);
+      m.pose[axes[i]] = axes[i] < 3 ? value : geometry::degrees_to_radians(value);
       m.measured[static_cast<std::size_t>(axes[i])] = any = true;
     }
     if (!any) throw py::value_error("poses row " + std::to_string(row) + " measures nothing");
@@ -56,25 +57,26 @@ std::vector<Measurement> measurements_from_arrays(const Machine& machine, const 
   return measurements;
 }
 
-py::tuple fit(const Machine& machine, const Array& joints, const Array& poses,
+py::tuple fit(const machine::Machine& machine, const Array& joints, const Array& poses,
               const std::vector<std::string>& parameters, double angle_weight_mm_per_rad) {
-  const std::vector<Measurement> measurements = measurements_from_arrays(machine, joints, poses);
-  FitOptions options;
+  const std::vector<calibration::Measurement> measurements =
+      measurements_from_arrays(machine, joints, poses);
+  calibration::FitOptions options;
   options.parameters = parameters;
   options.angle_weight_mm_per_rad = angle_weight_mm_per_rad;
-  Machine fitted = machine;
-  FitReport report;
+  machine::Machine fitted = machine;
+  calibration::FitReport report;
   {
     const py::gil_scoped_release released;
-    report = fit_geometry(fitted.kinematics(), fitted.home(), measurements, options);
+    report = calibration::fit_geometry(fitted.kinematics(), fitted.home(), measurements, options);
   }
   // Made again from its parts with the fitted values, as Machine.with_parameters makes one.
   std::vector<double> values;
-  for (const Parameter& parameter : fitted.kinematics().parameters()) {
+  for (const kinematics::Parameter& parameter : fitted.kinematics().parameters()) {
     values.push_back(parameter.value);
   }
-  return py::make_tuple(with_kinematics_parameters(machine, values),
-                        json_to_python(fit_report_json(report, "")));
+  return py::make_tuple(machine::with_kinematics_parameters(machine, values),
+                        json_to_python(calibration::fit_report_json(report, "")));
 }
 
 }  // namespace
@@ -82,7 +84,7 @@ py::tuple fit(const Machine& machine, const Array& joints, const Array& poses,
 void bind_calibrate(py::module_& module) {
   py::module_ calibrate =
       module.def_submodule("calibrate", "Fitting a machine's geometry to measurements");
-  py::register_exception<FitError>(calibrate, "FitError", PyExc_ValueError);
+  py::register_exception<calibration::FitError>(calibrate, "FitError", PyExc_ValueError);
   calibrate.def(
       "fit", &fit, py::arg("machine"), py::arg("joints"), py::arg("poses"), py::kw_only(),
       py::arg("parameters") = std::vector<std::string>{}, py::arg("angle_weight") = 100.0,

@@ -21,17 +21,19 @@ using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 // The pose coordinates (0..5 = x y z a b c) the machine controls, in that order: the columns of
 // every pose array.
-std::vector<int> controlled_axes(const Machine& machine);
+std::vector<int> controlled_axes(const machine::Machine& machine);
 
 // One row of a pose array (mm, deg; the controlled coordinates) over home's other coordinates.
-Pose pose_from_row(const Machine& machine, const std::vector<int>& axes, const double* row);
+geometry::Pose pose_from_row(const machine::Machine& machine, const std::vector<int>& axes,
+                             const double* row);
 
 // A pose (k,) of the machine's coordinates from Python, or a ValueError naming `what`.
-Pose pose_argument(const Machine& machine, const Array& pose, const std::string& what);
+geometry::Pose pose_argument(const machine::Machine& machine, const Array& pose,
+                             const std::string& what);
 
 // x y [z [a b c]] (mm, deg; up to six values, the rest 0) from Python as mm and rad, as the
 // command line's --origin; a ValueError naming `what` for more than six.
-Vector6d origin_argument(const std::vector<double>& values, const std::string& what);
+geometry::Vector6d origin_argument(const std::vector<double>& values, const std::string& what);
 
 // A JSON document (a report) as Python's json module reads it: dicts, lists, numbers, None.
 py::object json_to_python(const nlohmann::json& document);
@@ -40,9 +42,9 @@ py::object json_to_python(const nlohmann::json& document);
 // a job out of the machine's reach appended, as pkm prints it (motion/job_reach.hpp); `line`, when
 // not negative, as its .line.
 [[noreturn]] void raise_with_reach_hint(const char* type_name, const std::string& message, int line,
-                                        const Machine& machine, const std::string& program,
+                                        const machine::Machine& machine, const std::string& program,
                                         const gcode::InterpreterOptions& interpreter,
-                                        const Vector6d& origin);
+                                        const geometry::Vector6d& origin);
 
 void bind_plan(py::module_& module);
 void bind_canon(py::module_& module);

@@ -31,10 +31,11 @@ struct PlanArguments {
   motion::PlanOptions plan;
 };
 
-PlanArguments plan_arguments(const Machine& machine, const std::string& program, double period_s,
-                             const std::vector<double>& origin, const std::optional<Array>& start,
-                             const std::string& attitude, double jerk_mm_per_s3,
-                             const std::optional<std::string>& tool_table, long max_samples) {
+PlanArguments plan_arguments(const machine::Machine& machine, const std::string& program,
+                             double period_s, const std::vector<double>& origin,
+                             const std::optional<Array>& start, const std::string& attitude,
+                             double jerk_mm_per_s3, const std::optional<std::string>& tool_table,
+                             long max_samples) {
   // The planner's bounds (motion/planner.hpp), as pkm plan's; the messages quote them.
   static_assert(motion::kMinPeriodS == 1e-6 && motion::kMaxPeriodS == 1.0 &&
                 motion::kMaxJerkPerS3 == 1e12 && motion::kMaxSamplesBound == 1'000'000'000'000'000);
@@ -64,9 +65,9 @@ PlanArguments plan_arguments(const Machine& machine, const std::string& program,
 
 // The structured dtype of the machine's sample rows: one little-endian float64 field per column,
 // named as the NPY file's.
-py::dtype sample_dtype(const Machine& machine) {
+py::dtype sample_dtype(const machine::Machine& machine) {
   py::list fields;
-  for (const std::string& column : sample_columns(machine)) {
+  for (const std::string& column : io::sample_columns(machine)) {
     fields.append(py::make_tuple(column, "<f8"));
   }
   return py::module_::import("numpy").attr("dtype")(fields).cast<py::dtype>();
@@ -85,26 +86,27 @@ py::array sample_array(const py::dtype& dtype, std::vector<double>&& values, std
 // Every sample's row, one after the other.
 class RowCollector final : public motion::SampleSink {
  public:
-  explicit RowCollector(const Machine& machine) : rows_(machine) {}
+  explicit RowCollector(const machine::Machine& machine) : rows_(machine) {}
   void write(const motion::Sample& sample) override {
-    double row[SampleRows::kMaxColumns];
+    double row[io::SampleRows::kMaxColumns];
     const std::size_t n = rows_.fill(sample, row);
     values_.insert(values_.end(), row, row + n);
   }
   std::vector<double>& values() { return values_; }
 
  private:
-  SampleRows rows_;
+  io::SampleRows rows_;
   std::vector<double> values_;
 };
 
-py::tuple plan(const Machine& machine, const std::string& program, double period_s,
+py::tuple plan(const machine::Machine& machine, const std::string& program, double period_s,
                const std::vector<double>& origin, const std::optional<Array>& start,
                const std::string& attitude, double jerk_mm_per_s3,
                const std::optional<std::string>& tool_table, long max_samples) {
   const PlanArguments arguments = plan_arguments(machine, program, period_s, origin, start,
                                                  attitude, jerk_mm_per_s3, tool_table, max_samples);
-  const Machine own = machine;  // the loop runs without the GIL: a copy of its own (pkmkit.cpp)
+  const machine::Machine own =
+      machine;  // the loop runs without the GIL: a copy of its own (pkmkit.cpp)
   RowCollector rows(own);
   motion::PlanReport report;
   try {
@@ -115,9 +117,9 @@ py::tuple plan(const Machine& machine, const std::string& program, double period
     raise_with_reach_hint("PlanError", error.what(), error.line(), own, arguments.program,
                           arguments.interpreter, arguments.plan.origin);
   }
-  const nlohmann::json json = plan_report_json(own, report, arguments.program, period_s, false);
+  const nlohmann::json json = io::plan_report_json(own, report, arguments.program, period_s, false);
   return py::make_tuple(
-      sample_array(sample_dtype(own), std::move(rows.values()), sample_columns(own).size()),
+      sample_array(sample_dtype(own), std::move(rows.values()), io::sample_columns(own).size()),
       json_to_python(json));
 }
 
@@ -126,14 +128,14 @@ struct DiscardSamples final : motion::SampleSink {
   void write(const motion::Sample&) override {}
 };
 
-py::object estimate(const Machine& machine, const std::string& program, double period_s,
+py::object estimate(const machine::Machine& machine, const std::string& program, double period_s,
                     const std::vector<double>& origin, const std::optional<Array>& start,
                     const std::string& attitude, double jerk_mm_per_s3,
                     const std::optional<std::string>& tool_table) {
   PlanArguments arguments = plan_arguments(machine, program, period_s, origin, start, attitude,
                                            jerk_mm_per_s3, tool_table, 0);
   arguments.plan.estimate_only = true;
-  const Machine own = machine;
+  const machine::Machine own = machine;
   DiscardSamples none;
   motion::PlanReport report;
   {
@@ -141,7 +143,7 @@ py::object estimate(const Machine& machine, const std::string& program, double p
     report =
         motion::plan_program(own, arguments.program, arguments.interpreter, arguments.plan, none);
   }
-  return json_to_python(plan_report_json(own, report, arguments.program, period_s, true));
+  return json_to_python(io::plan_report_json(own, report, arguments.program, period_s, true));
 }
 
 // Thrown into the planner's thread when the iterator goes away before the plan has ended.
@@ -152,7 +154,7 @@ struct PlanAbandoned {};
 // two chunks are held here whatever the job's length.
 class PlanChunks final : public motion::SampleSink {
  public:
-  PlanChunks(const Machine& machine, PlanArguments arguments, std::size_t chunk_rows)
+  PlanChunks(const machine::Machine& machine, PlanArguments arguments, std::size_t chunk_rows)
       : machine_(machine),
         arguments_(std::move(arguments)),
         rows_(machine_),
@@ -178,7 +180,7 @@ class PlanChunks final : public motion::SampleSink {
   PlanChunks& operator=(const PlanChunks&) = delete;
 
   void write(const motion::Sample& sample) override {
-    double row[SampleRows::kMaxColumns];
+    double row[io::SampleRows::kMaxColumns];
     const std::size_t n = rows_.fill(sample, row);
     filling_.insert(filling_.end(), row, row + n);
     if (filling_.size() >= chunk_values_) hand_over();
@@ -215,8 +217,8 @@ class PlanChunks final : public motion::SampleSink {
     }
     // finished_report_ was set before finished_, under the mutex taken above, and stays.
     if (report_.is_none() && finished_report_) {
-      report_ = json_to_python(plan_report_json(machine_, *finished_report_, arguments_.program,
-                                                arguments_.plan.period_s, false));
+      report_ = json_to_python(io::plan_report_json(machine_, *finished_report_, arguments_.program,
+                                                    arguments_.plan.period_s, false));
     }
     throw py::stop_iteration();
   }
@@ -263,9 +265,9 @@ class PlanChunks final : public motion::SampleSink {
     changed_.notify_all();
   }
 
-  const Machine machine_;  // its own copy: the planner runs on another thread
+  const machine::Machine machine_;  // its own copy: the planner runs on another thread
   PlanArguments arguments_;
-  SampleRows rows_;
+  io::SampleRows rows_;
   std::size_t columns_;
   std::size_t chunk_values_;
   py::dtype dtype_;
@@ -283,7 +285,7 @@ class PlanChunks final : public motion::SampleSink {
   std::thread worker_;  // last: started once everything above is made
 };
 
-std::unique_ptr<PlanChunks> plan_chunks(const Machine& machine, const std::string& program,
+std::unique_ptr<PlanChunks> plan_chunks(const machine::Machine& machine, const std::string& program,
                                         long chunk, double period_s,
                                         const std::vector<double>& origin,
                                         const std::optional<Array>& start,

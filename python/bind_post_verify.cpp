@@ -39,10 +39,10 @@ std::optional<gcode::ToolTable> tool_table_argument(const std::optional<std::str
       *path, units == "inch" ? gcode::LengthUnits::inch : gcode::LengthUnits::mm);
 }
 
-py::object post(const Machine& machine, const std::string& program, const std::string& output,
-                double tolerance_mm, const std::string& dialect, const std::vector<double>& origin,
-                const std::optional<std::string>& tool_table, const std::string& tool_table_units,
-                bool span_moves, long max_blocks) {
+py::object post(const machine::Machine& machine, const std::string& program,
+                const std::string& output, double tolerance_mm, const std::string& dialect,
+                const std::vector<double>& origin, const std::optional<std::string>& tool_table,
+                const std::string& tool_table_units, bool span_moves, long max_blocks) {
   check_tolerance(tolerance_mm);
   if (max_blocks < 0) throw py::value_error("max_blocks must be >= 0 (0: no bound)");
   post::PostOptions options;
@@ -58,17 +58,17 @@ py::object post(const Machine& machine, const std::string& program, const std::s
   options.origin = origin_argument(origin, "origin");
   gcode::InterpreterOptions interpreter;
   interpreter.tool_table = tool_table_argument(tool_table, tool_table_units);
-  std::vector<NamedInput> inputs{{"the job", program},
-                                 {"the machine file", machine.source()},
-                                 {"the tool table", tool_table.value_or("")}};
-  if (const std::string reason = overwrites_input(output, inputs); !reason.empty()) {
+  std::vector<io::NamedInput> inputs{{"the job", program},
+                                     {"the machine file", machine.source()},
+                                     {"the tool table", tool_table.value_or("")}};
+  if (const std::string reason = io::overwrites_input(output, inputs); !reason.empty()) {
     throw py::value_error(reason);
   }
-  const Machine own = machine;  // the loop runs without the GIL (pkmkit.cpp)
+  const machine::Machine own = machine;  // the loop runs without the GIL (pkmkit.cpp)
   post::PostReport report;
   try {
     const py::gil_scoped_release released;
-    AtomicFileWriter file(output);
+    files::AtomicFileWriter file(output);
     file.write(post::joint_program_header(own, program, options.dialect, tolerance_mm, nullptr));
     report = post::post_program(own, program, interpreter, options,
                                 [&](const std::string& line) { file.write(line + "\n"); });
@@ -77,7 +77,7 @@ py::object post(const Machine& machine, const std::string& program, const std::s
     for (std::size_t i = 1; i < report.files_read.size(); ++i) {
       inputs.push_back({"a subroutine file the job calls", report.files_read[i]});
     }
-    if (const std::string reason = overwrites_input(output, inputs); !reason.empty()) {
+    if (const std::string reason = io::overwrites_input(output, inputs); !reason.empty()) {
       throw std::invalid_argument(reason);
     }
     file.commit();
@@ -91,10 +91,10 @@ py::object post(const Machine& machine, const std::string& program, const std::s
   } catch (const post::PostError& error) {
     raise_with_reach_hint("PostError", error.what(), -1, own, program, interpreter, options.origin);
   }
-  return json_to_python(post_report_json(own, program, output, report, tolerance_mm));
+  return json_to_python(io::post_report_json(own, program, output, report, tolerance_mm));
 }
 
-py::object verify(const Machine& machine, const std::string& joint_program,
+py::object verify(const machine::Machine& machine, const std::string& joint_program,
                   const std::string& against, const std::optional<double>& tolerance_mm,
                   const std::vector<double>& origin, const std::optional<std::string>& tool_table,
                   const std::string& tool_table_units) {
@@ -113,13 +113,13 @@ py::object verify(const Machine& machine, const std::string& joint_program,
   }
   options.origin = origin_argument(origin, "origin");
   options.job_options.tool_table = tool_table_argument(tool_table, tool_table_units);
-  const Machine own = machine;
+  const machine::Machine own = machine;
   verify::VerifyReport report;
   {
     const py::gil_scoped_release released;
     report = verify::verify_joint_program(own, joint_program, against, options);
   }
-  return json_to_python(verify_report_json(own, joint_program, against, report));
+  return json_to_python(io::verify_report_json(own, joint_program, against, report));
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
-// The pkmkit Python module: a machine file's machine (pkm::Machine) with its inverse and forward
-// kinematics over NumPy arrays, in mm and degrees as every pkm interface (docs/python.md). A thin
-// layer: the kinematics, limits and units are the pkm libraries'; this file only converts arrays
-// and units, and runs the batch loops without the GIL.
+// The pkmkit Python module: a machine file's machine (pkm::machine::Machine) with its inverse and
+// forward kinematics over NumPy arrays, in mm and degrees as every pkm interface (docs/python.md).
+// A thin layer: the kinematics, limits and units are the pkm libraries'; this file only converts
+// arrays and units, and runs the batch loops without the GIL.
 #include <pybind11/stl.h>
 
 #include <algorithm>
@@ -26,25 +26,27 @@ namespace {
 // "x y z": the coordinates of a pose array, for messages.
 std::string axes_text(const std::vector<int>& axes) {
   std::string text;
-  for (int axis : axes) text += (text.empty() ? "" : " ") + std::string(kAxisNames[axis]);
+  for (int axis : axes) text += (text.empty() ? "" : " ") + std::string(geometry::kAxisNames[axis]);
   return text;
 }
 
 }  // namespace
 
-std::vector<int> controlled_axes(const Machine& machine) {
+std::vector<int> controlled_axes(const machine::Machine& machine) {
   return machine.kinematics().dof().axes();
 }
 
-Pose pose_from_row(const Machine& machine, const std::vector<int>& axes, const double* row) {
-  Vector6d values = machine.home().as_vector();
+geometry::Pose pose_from_row(const machine::Machine& machine, const std::vector<int>& axes,
+                             const double* row) {
+  geometry::Vector6d values = machine.home().as_vector();
   for (std::size_t i = 0; i < axes.size(); ++i) {
-    values[axes[i]] = axes[i] < 3 ? row[i] : degrees_to_radians(row[i]);
+    values[axes[i]] = axes[i] < 3 ? row[i] : geometry::degrees_to_radians(row[i]);
   }
-  return Pose::from_vector(values);
+  return geometry::Pose::from_vector(values);
 }
 
-Pose pose_argument(const Machine& machine, const Array& pose, const std::string& what) {
+geometry::Pose pose_argument(const machine::Machine& machine, const Array& pose,
+                             const std::string& what) {
   const std::vector<int> axes = controlled_axes(machine);
   if (pose.ndim() != 1 || static_cast<std::size_t>(pose.shape(0)) != axes.size()) {
     throw py::value_error(what + " must have " + std::to_string(axes.size()) + " values (" +
@@ -53,13 +55,13 @@ Pose pose_argument(const Machine& machine, const Array& pose, const std::string&
   return pose_from_row(machine, axes, pose.data());
 }
 
-Vector6d origin_argument(const std::vector<double>& values, const std::string& what) {
-  if (values.size() > kPoseSize) {
+geometry::Vector6d origin_argument(const std::vector<double>& values, const std::string& what) {
+  if (values.size() > geometry::kPoseSize) {
     throw py::value_error(what + " takes at most six values (x y z a b c, mm and deg)");
   }
-  Vector6d origin = Vector6d::Zero();
+  geometry::Vector6d origin = geometry::Vector6d::Zero();
   for (std::size_t i = 0; i < values.size(); ++i) {
-    origin[static_cast<int>(i)] = i < 3 ? values[i] : degrees_to_radians(values[i]);
+    origin[static_cast<int>(i)] = i < 3 ? values[i] : geometry::degrees_to_radians(values[i]);
   }
   return origin;
 }
@@ -69,8 +71,9 @@ py::object json_to_python(const nlohmann::json& document) {
 }
 
 void raise_with_reach_hint(const char* type_name, const std::string& message, int line,
-                           const Machine& machine, const std::string& program,
-                           const gcode::InterpreterOptions& interpreter, const Vector6d& origin) {
+                           const machine::Machine& machine, const std::string& program,
+                           const gcode::InterpreterOptions& interpreter,
+                           const geometry::Vector6d& origin) {
   std::string hint;
   {
     const py::gil_scoped_release released;  // the job is read again
@@ -89,16 +92,16 @@ namespace {
 // after it needs this bound moved as well as its case above).
 std::vector<std::string> status_identifiers() {
   std::vector<std::string> names;
-  for (int code = 0; code <= static_cast<int>(StatusCode::interference); ++code) {
-    names.emplace_back(status_identifier(static_cast<StatusCode>(code)));
+  for (int code = 0; code <= static_cast<int>(kinematics::StatusCode::interference); ++code) {
+    names.emplace_back(kinematics::status_identifier(static_cast<kinematics::StatusCode>(code)));
   }
   return names;
 }
 
-void pose_to_row(const Pose& pose, const std::vector<int>& axes, double* row) {
-  const Vector6d values = pose.as_vector();
+void pose_to_row(const geometry::Pose& pose, const std::vector<int>& axes, double* row) {
+  const geometry::Vector6d values = pose.as_vector();
   for (std::size_t i = 0; i < axes.size(); ++i) {
-    row[i] = axes[i] < 3 ? values[axes[i]] : radians_to_degrees(values[axes[i]]);
+    row[i] = axes[i] < 3 ? values[axes[i]] : geometry::radians_to_degrees(values[axes[i]]);
   }
 }
 
@@ -120,12 +123,12 @@ py::array status_array(const std::vector<std::int8_t>& codes) {
 }
 
 // IK over the rows: joints (mm, deg) where the pose is taken, zeros where it is not.
-void inverse_rows(const Machine& machine, const std::vector<int>& axes, const double* poses,
-                  std::size_t rows, double* joints_out, std::int8_t* codes) {
+void inverse_rows(const machine::Machine& machine, const std::vector<int>& axes,
+                  const double* poses, std::size_t rows, double* joints_out, std::int8_t* codes) {
   const std::size_t n = machine.joints().size();
-  JointVector joints;
+  kinematics::JointVector joints;
   for (std::size_t row = 0; row < rows; ++row) {
-    const Status status =
+    const kinematics::Status status =
         machine.inverse(pose_from_row(machine, axes, poses + row * axes.size()), joints);
     codes[row] = static_cast<std::int8_t>(status.code);
     double* out = joints_out + row * n;
@@ -137,16 +140,17 @@ void inverse_rows(const Machine& machine, const std::vector<int>& axes, const do
 
 // FK over the rows, each seeded with the previous row's pose (the seed's for the first, and
 // after a row that failed): poses (mm, deg) where the joints give one, zeros where not.
-void forward_rows(const Machine& machine, const std::vector<int>& axes, const double* joints_in,
-                  std::size_t rows, Pose seed, double* poses_out, std::int8_t* codes) {
+void forward_rows(const machine::Machine& machine, const std::vector<int>& axes,
+                  const double* joints_in, std::size_t rows, geometry::Pose seed, double* poses_out,
+                  std::int8_t* codes) {
   const std::size_t n = machine.joints().size();
-  JointVector joints(static_cast<int>(n));
+  kinematics::JointVector joints(static_cast<int>(n));
   for (std::size_t row = 0; row < rows; ++row) {
     for (std::size_t j = 0; j < n; ++j) {
       joints[static_cast<int>(j)] = machine.joints()[j].from_interface(joints_in[row * n + j]);
     }
-    Pose pose = seed;
-    const Status status = machine.forward(joints, pose);
+    geometry::Pose pose = seed;
+    const kinematics::Status status = machine.forward(joints, pose);
     codes[row] = static_cast<std::int8_t>(status.code);
     double* out = poses_out + row * axes.size();
     if (status.ok()) {
@@ -178,7 +182,7 @@ Array batch_input(const py::object& input, const char* what) {
   return array;
 }
 
-py::tuple inverse(const Machine& machine, const py::object& pose_input) {
+py::tuple inverse(const machine::Machine& machine, const py::object& pose_input) {
   const Array poses = batch_input(pose_input, "poses");
   const std::vector<int> axes = controlled_axes(machine);
   const std::size_t rows = checked_rows(poses, axes.size(), "poses (" + axes_text(axes) + ")");
@@ -190,25 +194,25 @@ py::tuple inverse(const Machine& machine, const py::object& pose_input) {
   {
     // A copy: a formula machine's evaluator keeps state per call, so two threads must not share
     // one; the copy is made with the GIL held, the loop runs without it.
-    const Machine own = machine;
+    const machine::Machine own = machine;
     const py::gil_scoped_release released;
     inverse_rows(own, axes, in, rows, out, codes.data());
   }
   return py::make_tuple(joints, status_array(codes));
 }
 
-py::tuple forward(const Machine& machine, const py::object& joint_input,
+py::tuple forward(const machine::Machine& machine, const py::object& joint_input,
                   const std::optional<Array>& seed) {
   const Array joints = batch_input(joint_input, "joints");
   const std::vector<int> axes = controlled_axes(machine);
   const std::size_t rows = checked_rows(joints, machine.joints().size(), "joints");
-  const Pose start = seed ? pose_argument(machine, *seed, "seed") : machine.home();
+  const geometry::Pose start = seed ? pose_argument(machine, *seed, "seed") : machine.home();
   Array poses({rows, axes.size()});
   std::vector<std::int8_t> codes(rows);
   const double* in = joints.data();
   double* out = poses.mutable_data();
   {
-    const Machine own = machine;  // as in inverse()
+    const machine::Machine own = machine;  // as in inverse()
     const py::gil_scoped_release released;
     forward_rows(own, axes, in, rows, start, out, codes.data());
   }
@@ -216,11 +220,11 @@ py::tuple forward(const Machine& machine, const py::object& joint_input,
 }
 
 // d joints / d pose at one pose, (n, k): joints in mm or deg per pose coordinate in mm or deg.
-Array jacobian(const Machine& machine, const Array& pose) {
+Array jacobian(const machine::Machine& machine, const Array& pose) {
   const std::vector<int> axes = controlled_axes(machine);
-  const Pose at = pose_argument(machine, pose, "pose");
-  JointJacobian d_joints_d_pose;
-  const Status status = machine.kinematics().jacobian(at, d_joints_d_pose);
+  const geometry::Pose at = pose_argument(machine, pose, "pose");
+  kinematics::JointJacobian d_joints_d_pose;
+  const kinematics::Status status = machine.kinematics().jacobian(at, d_joints_d_pose);
   if (!status.ok()) throw py::value_error("no jacobian at this pose: " + machine.describe(status));
   const std::size_t n = machine.joints().size();
   Array out({n, axes.size()});
@@ -228,7 +232,7 @@ Array jacobian(const Machine& machine, const Array& pose) {
   for (std::size_t j = 0; j < n; ++j) {
     for (std::size_t i = 0; i < axes.size(); ++i) {
       // to_interface scales a rotary joint's rad to deg; a column per deg is one per rad / 57.3.
-      const double per_axis_unit = axes[i] < 3 ? 1.0 : degrees_to_radians(1.0);
+      const double per_axis_unit = axes[i] < 3 ? 1.0 : geometry::degrees_to_radians(1.0);
       values(j, i) =
           machine.joints()[j].to_interface(d_joints_d_pose(static_cast<int>(j), axes[i])) *
           per_axis_unit;
@@ -237,22 +241,23 @@ Array jacobian(const Machine& machine, const Array& pose) {
   return out;
 }
 
-Array pose_array(const Machine& machine, const Vector6d& values) {
+Array pose_array(const machine::Machine& machine, const geometry::Vector6d& values) {
   const std::vector<int> axes = controlled_axes(machine);
   Array out(static_cast<py::ssize_t>(axes.size()));
-  pose_to_row(Pose::from_vector(values), axes, out.mutable_data());
+  pose_to_row(geometry::Pose::from_vector(values), axes, out.mutable_data());
   return out;
 }
 
 // name -> value in mm or deg (the file's rad shown as deg), and name -> that unit.
-py::dict parameters(const Machine& machine, bool units) {
+py::dict parameters(const machine::Machine& machine, bool units) {
   py::dict out;
-  for (const Parameter& parameter : machine.kinematics().parameters()) {
+  for (const kinematics::Parameter& parameter : machine.kinematics().parameters()) {
     const bool angle = parameter.unit == "rad";
     if (units) {
       out[py::str(parameter.name)] = angle ? std::string("deg") : parameter.unit;
     } else {
-      out[py::str(parameter.name)] = angle ? radians_to_degrees(parameter.value) : parameter.value;
+      out[py::str(parameter.name)] =
+          angle ? geometry::radians_to_degrees(parameter.value) : parameter.value;
     }
   }
   return out;
@@ -260,83 +265,94 @@ py::dict parameters(const Machine& machine, bool units) {
 
 // The machine with the named parameters changed (mm, or deg for angles, as parameters() shows
 // them), the others kept: a new machine, as calibration makes one.
-Machine with_parameters(const Machine& machine, const std::map<std::string, double>& changes) {
-  const std::vector<Parameter> parameters = machine.kinematics().parameters();
+machine::Machine with_parameters(const machine::Machine& machine,
+                                 const std::map<std::string, double>& changes) {
+  const std::vector<kinematics::Parameter> parameters = machine.kinematics().parameters();
   std::vector<double> values;
-  for (const Parameter& parameter : parameters) values.push_back(parameter.value);
+  for (const kinematics::Parameter& parameter : parameters) values.push_back(parameter.value);
   for (const auto& [name, value] : changes) {
     const auto found = std::find_if(parameters.begin(), parameters.end(),
-                                    [&](const Parameter& p) { return p.name == name; });
+                                    [&](const kinematics::Parameter& p) { return p.name == name; });
     if (found == parameters.end()) {
       std::string names;
-      for (const Parameter& p : parameters) names += (names.empty() ? "" : ", ") + p.name;
+      for (const kinematics::Parameter& p : parameters)
+        names += (names.empty() ? "" : ", ") + p.name;
       throw py::key_error("no parameter '" + name + "' in the " +
                           std::string(machine.kinematics().type()) +
                           " model; its parameters: " + names);
     }
     values[static_cast<std::size_t>(found - parameters.begin())] =
-        found->unit == "rad" ? degrees_to_radians(value) : value;
+        found->unit == "rad" ? geometry::degrees_to_radians(value) : value;
   }
   try {
-    return with_kinematics_parameters(machine, values);
+    return machine::with_kinematics_parameters(machine, values);
   } catch (const std::invalid_argument& error) {
     throw py::value_error(std::string("impossible geometry: ") + error.what());
   }
 }
 
 void bind_joint(py::module_& module) {
-  py::class_<JointSpec>(module, "Joint", "A joint of the machine file: limits in mm or deg.")
-      .def_readonly("name", &JointSpec::name)
-      .def_property_readonly("min", [](const JointSpec& j) { return j.to_interface(j.min); })
-      .def_property_readonly("max", [](const JointSpec& j) { return j.to_interface(j.max); })
-      .def_property_readonly("unit", &JointSpec::interface_unit)
+  py::class_<machine::JointSpec>(module, "Joint",
+                                 "A joint of the machine file: limits in mm or deg.")
+      .def_readonly("name", &machine::JointSpec::name)
+      .def_property_readonly("min",
+                             [](const machine::JointSpec& j) { return j.to_interface(j.min); })
+      .def_property_readonly("max",
+                             [](const machine::JointSpec& j) { return j.to_interface(j.max); })
+      .def_property_readonly("unit", &machine::JointSpec::interface_unit)
+      .def_property_readonly("kind",
+                             [](const machine::JointSpec& j) {
+                               return j.kind == kinematics::JointKind::rotary ? "rotary" : "linear";
+                             })
       .def_property_readonly(
-          "kind",
-          [](const JointSpec& j) { return j.kind == JointKind::rotary ? "rotary" : "linear"; })
-      .def_property_readonly("max_velocity",
-                             [](const JointSpec& j) { return j.to_interface(j.max_velocity); })
-      .def("__repr__", [](const JointSpec& j) {
+          "max_velocity",
+          [](const machine::JointSpec& j) { return j.to_interface(j.max_velocity); })
+      .def("__repr__", [](const machine::JointSpec& j) {
         return "<Joint " + j.name + " " + std::to_string(j.to_interface(j.min)) + ".." +
                std::to_string(j.to_interface(j.max)) + " " + j.interface_unit() + ">";
       });
 }
 
-void bind_machine_properties(py::class_<Machine>& machine) {
-  machine.def_property_readonly("name", &Machine::name)
-      .def_property_readonly("source", &Machine::source)
-      .def_property_readonly("kinematics",
-                             [](const Machine& m) { return std::string(m.kinematics().type()); })
-      .def_property_readonly("dof", [](const Machine& m) { return m.kinematics().dof().count(); })
+void bind_machine_properties(py::class_<machine::Machine>& machine) {
+  machine.def_property_readonly("name", &machine::Machine::name)
+      .def_property_readonly("source", &machine::Machine::source)
+      .def_property_readonly(
+          "kinematics",
+          [](const machine::Machine& m) { return std::string(m.kinematics().type()); })
+      .def_property_readonly("dof",
+                             [](const machine::Machine& m) { return m.kinematics().dof().count(); })
       .def_property_readonly("coordinates",
-                             [](const Machine& m) {
+                             [](const machine::Machine& m) {
                                std::vector<std::string> names;
                                for (int axis : controlled_axes(m)) {
-                                 names.emplace_back(kAxisNames[axis]);
+                                 names.emplace_back(geometry::kAxisNames[axis]);
                                }
                                return names;
                              })
-      .def_property_readonly("joints", &Machine::joints)
-      .def_property_readonly("joint_names", &Machine::joint_names)
-      .def_property_readonly("home",
-                             [](const Machine& m) { return pose_array(m, m.home().as_vector()); })
+      .def_property_readonly("joints", &machine::Machine::joints)
+      .def_property_readonly("joint_names", &machine::Machine::joint_names)
+      .def_property_readonly(
+          "home", [](const machine::Machine& m) { return pose_array(m, m.home().as_vector()); })
       .def_property_readonly("envelope",
-                             [](const Machine& m) {
+                             [](const machine::Machine& m) {
                                return py::make_tuple(pose_array(m, m.cartesian().envelope_min),
                                                      pose_array(m, m.cartesian().envelope_max));
                              })
-      .def_property_readonly("parameters", [](const Machine& m) { return parameters(m, false); })
+      .def_property_readonly("parameters",
+                             [](const machine::Machine& m) { return parameters(m, false); })
       .def_property_readonly("parameter_units",
-                             [](const Machine& m) { return parameters(m, true); })
-      .def("__repr__", [](const Machine& m) {
+                             [](const machine::Machine& m) { return parameters(m, true); })
+      .def("__repr__", [](const machine::Machine& m) {
         return "<pkmkit.Machine '" + m.name() + "' " + std::string(m.kinematics().type()) + ", " +
                std::to_string(m.joints().size()) + " joints>";
       });
 }
 
 void bind_machine(py::module_& module) {
-  py::class_<Machine> machine(module, "Machine", "A machine file's machine (mm and deg outside).");
+  py::class_<machine::Machine> machine(module, "Machine",
+                                       "A machine file's machine (mm and deg outside).");
   machine.def_static(
-      "load", [](const std::string& path) { return load_machine(path); }, py::arg("path"),
+      "load", [](const std::string& path) { return machine::load_machine(path); }, py::arg("path"),
       "Reads a machine file (TOML); a MachineFileError says file:line:key of a problem.");
   bind_machine_properties(machine);
   machine.def("with_parameters", &with_parameters, py::arg("changes"),
@@ -353,11 +369,12 @@ void bind_machine(py::module_& module) {
 
 // MachineFileError(ValueError) with .file, .line and .key besides the located message.
 void bind_machine_file_error(py::module_& module) {
-  static py::exception<MachineFileError> type(module, "MachineFileError", PyExc_ValueError);
+  static py::exception<machine::MachineFileError> type(module, "MachineFileError",
+                                                       PyExc_ValueError);
   py::register_exception_translator([](std::exception_ptr thrown) {
     try {
       if (thrown) std::rethrow_exception(thrown);
-    } catch (const MachineFileError& error) {
+    } catch (const machine::MachineFileError& error) {
       py::object instance = py::reinterpret_borrow<py::object>(type.ptr())(error.what());
       instance.attr("file") = error.file();
       instance.attr("line") = error.line();

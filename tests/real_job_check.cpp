@@ -63,7 +63,7 @@ PathMove arc_move(const gcode::Canon& canon, const Eigen::Vector3d& from, const 
 }
 
 // Coordinates the machine does not control are not positions (a plotter's Z is its pen).
-Eigen::Vector3d controlled(const Eigen::Vector3d& p, const Dof& dof) {
+Eigen::Vector3d controlled(const Eigen::Vector3d& p, const geometry::Dof& dof) {
   Eigen::Vector3d result = p;
   for (int axis = 0; axis < 3; ++axis) {
     if (!dof.controls(axis)) result[axis] = 0.0;
@@ -79,7 +79,7 @@ struct PathPlace {
 
 class PathWalker {
  public:
-  PathWalker(const std::vector<PathMove>& path, const Dof& dof) : path_(path), dof_(dof) {
+  PathWalker(const std::vector<PathMove>& path, const geometry::Dof& dof) : path_(path), dof_(dof) {
     // Each move's length in the controlled coordinates, from 64 chords: the search's step.
     for (std::size_t m = 0; m < path_.size(); ++m) {
       double length = 0.0;
@@ -213,7 +213,7 @@ class PathWalker {
   }
 
   const std::vector<PathMove>& path_;
-  Dof dof_;
+  geometry::Dof dof_;
   std::vector<double> lengths_;  // mm
 };
 
@@ -317,18 +317,19 @@ std::vector<PathMove> programmed_path(const std::filesystem::path& job,
   return path;
 }
 
-std::vector<JointBlock> joint_blocks(const Machine& machine, const std::filesystem::path& program) {
+std::vector<JointBlock> joint_blocks(const machine::Machine& machine,
+                                     const std::filesystem::path& program) {
   const std::string letters = "XYZABCUVW";
-  JointVector home;
+  kinematics::JointVector home;
   if (!machine.inverse(machine.home(), home).ok()) return {};
   gcode::InterpreterOptions options;
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
-    const JointSpec& joint = machine.joints()[i];
+    const machine::JointSpec& joint = machine.joints()[i];
     options.start_position[letters.find(joint.axis_letter)] =
         joint.to_interface(home[static_cast<int>(i)]);
   }
   // A pen command is not a block, even where it is G-code (a servo on Z: "G0 Z90").
-  if (machine.tool().z == ToolZ::pen) {
+  if (machine.tool().z == machine::ToolZ::pen) {
     options.event_lines = {machine.tool().down_command, machine.tool().up_command};
   }
   std::vector<JointBlock> blocks;
@@ -341,17 +342,18 @@ std::vector<JointBlock> joint_blocks(const Machine& machine, const std::filesyst
     for (std::size_t slot = 0; slot < letters.size(); ++slot) {
       const bool joint_axis =
           std::any_of(machine.joints().begin(), machine.joints().end(),
-                      [&](const JointSpec& j) { return j.axis_letter == letters[slot]; });
+                      [&](const machine::JointSpec& j) { return j.axis_letter == letters[slot]; });
       (joint_axis ? joints_move : others_move) |= canon.end[slot] != last[slot];
     }
     last = canon.end;
     // A move of axes that are no joint's only (a pen servo on Z: `G0 Z90`) is a tool command.
     if (others_move && !joints_move) return;
     for (std::size_t i = 0; i < machine.joints().size(); ++i) {
-      const JointSpec& joint = machine.joints()[i];
+      const machine::JointSpec& joint = machine.joints()[i];
       const std::size_t slot = letters.find(joint.axis_letter);
-      const double value =
-          joint.kind == JointKind::linear ? canon.end[slot] * to_mm(canon.units) : canon.end[slot];
+      const double value = joint.kind == kinematics::JointKind::linear
+                               ? canon.end[slot] * to_mm(canon.units)
+                               : canon.end[slot];
       block.joints[static_cast<int>(i)] = joint.from_interface(value);
     }
     blocks.push_back(block);
@@ -359,22 +361,23 @@ std::vector<JointBlock> joint_blocks(const Machine& machine, const std::filesyst
   return blocks;
 }
 
-IndependentReport check_independently(const Machine& machine, const std::vector<PathMove>& path,
+IndependentReport check_independently(const machine::Machine& machine,
+                                      const std::vector<PathMove>& path,
                                       const std::vector<JointBlock>& blocks, int points_per_block,
                                       double tolerance_mm) {
   IndependentReport report;
-  const Dof dof = machine.kinematics().dof();
+  const geometry::Dof dof = machine.kinematics().dof();
   const PathWalker walker(path, dof);
   PathPlace cursor;
-  Pose pose = machine.home();
-  JointVector q0;
+  geometry::Pose pose = machine.home();
+  kinematics::JointVector q0;
   if (path.empty() || !machine.inverse(pose, q0).ok()) return report;
   std::vector<Eigen::Vector3d> points(static_cast<std::size_t>(points_per_block) + 1);
   for (const JointBlock& block : blocks) {
     ++report.blocks;
     for (int k = 0; k <= points_per_block; ++k) {
       const double lambda = static_cast<double>(k) / points_per_block;
-      const JointVector q = q0 + lambda * (block.joints - q0);
+      const kinematics::JointVector q = q0 + lambda * (block.joints - q0);
       const bool solved = machine.kinematics().forward(q, pose).ok();
       points[static_cast<std::size_t>(k)] =
           solved ? controlled(pose.position_mm, dof) : Eigen::Vector3d::Constant(INFINITY);

@@ -34,11 +34,12 @@ std::vector<PathMove> programmed_path(const std::filesystem::path& job,
 // One motion block of a joint program: its line and the joints at its end (mm, rad).
 struct JointBlock {
   int line = 0;
-  JointVector joints;
+  kinematics::JointVector joints;
 };
 
 // The motion blocks of a joint-space program, joints in the machine's internal units.
-std::vector<JointBlock> joint_blocks(const Machine& machine, const std::filesystem::path& program);
+std::vector<JointBlock> joint_blocks(const machine::Machine& machine,
+                                     const std::filesystem::path& program);
 
 struct IndependentReport {
   long blocks = 0;
@@ -58,7 +59,8 @@ struct IndependentReport {
 // forward from the previous block's end; and each point of that stretch of path's distance to the
 // traced one (coverage: a move left out shows there). Only the coordinates the machine controls
 // count (a plotter's Z is its pen, not a position).
-IndependentReport check_independently(const Machine& machine, const std::vector<PathMove>& path,
+IndependentReport check_independently(const machine::Machine& machine,
+                                      const std::vector<PathMove>& path,
                                       const std::vector<JointBlock>& blocks, int points_per_block,
                                       double tolerance_mm);
 

@@ -12,24 +12,26 @@
 namespace pkm::bounds {
 namespace {
 
-GlideKinematics biglide_with_pen() {
-  std::vector<GlideRail> rails(2);
+kinematics::GlideKinematics biglide_with_pen() {
+  std::vector<kinematics::GlideRail> rails(2);
   rails[0] = {{0, 0, 0}, {1, 0, 0}, 200.0, {-20, 0, 0}, -1};
   rails[1] = {{0, 0, 0}, {1, 0, 0}, 200.0, {20, 0, 0}, 1};
-  return GlideKinematics(rails, Dof::planar_xy(), PassThroughAxes({2}, Dof::planar_xy()));
+  return kinematics::GlideKinematics(rails, geometry::Dof::planar_xy(),
+                                     kinematics::PassThroughAxes({2}, geometry::Dof::planar_xy()));
 }
 
 TEST(AssemblyModeBound, BiglideDeterminantAndRateByHand) {
-  const GlideKinematics biglide = biglide_with_pen();
-  JointVector joints;
-  const Pose pose = Pose::from_mm_deg(30, -120, 4);  // the pen 4 mm up: not a rail axis
+  const kinematics::GlideKinematics biglide = biglide_with_pen();
+  kinematics::JointVector joints;
+  const geometry::Pose pose =
+      geometry::Pose::from_mm_deg(30, -120, 4);  // the pen 4 mm up: not a rail axis
   ASSERT_TRUE(biglide.inverse(pose, joints).ok());
   ASSERT_TRUE(has_assembly_bound(biglide, 1));
   // Carriages at -150 and 210: struts (30 - 20 + 150, -120) and (30 + 20 - 210, -120), whose
   // cross product is 160 (-120) - (-120) (-160) = -38400 mm^2. Carriages moving 1 and 2 per unit
   // move their struts 2 and 3.
   const std::array<double, 3> carriage_speed{1.0, 2.0, 0.0};
-  const std::optional<ModeBound> absolute =
+  const std::optional<kinematics::ModeBound> absolute =
       assembly_mode_over_ball(biglide, 1, pose.as_vector(), joints, carriage_speed);
   ASSERT_TRUE(absolute.has_value());
   EXPECT_NEAR(absolute->value, -38400.0, 1e-9);
@@ -37,7 +39,8 @@ TEST(AssemblyModeBound, BiglideDeterminantAndRateByHand) {
   // Home on the other side, over a cell of positions within 40 mm: the value changes sign and is
   // over the struts' lengths; each strut, 120 mm across its rail at the centre and at most 160 mm
   // over the cell, moves at most 1 / sqrt(200^2 - 160^2) = 1 / 120 per mm.
-  const std::optional<ModeBound> relative = biglide.mode_over_cell(-1, pose.as_vector(), 40.0);
+  const std::optional<kinematics::ModeBound> relative =
+      biglide.mode_over_cell(-1, pose.as_vector(), 40.0);
   ASSERT_TRUE(relative.has_value());
   EXPECT_NEAR(relative->value, 38400.0 / (200.0 * 200.0), 1e-15);
   EXPECT_NEAR(relative->rate, 2.0 / 120.0, 1e-15);
@@ -46,18 +49,18 @@ TEST(AssemblyModeBound, BiglideDeterminantAndRateByHand) {
 }
 
 TEST(AssemblyModeBound, OneModeNeedsNoBoundAndATurningGlideHasNone) {
-  const GlideKinematics biglide = biglide_with_pen();
-  JointVector joints;
-  const Pose pose = Pose::from_mm_deg(30, -120, 4);
+  const kinematics::GlideKinematics biglide = biglide_with_pen();
+  kinematics::JointVector joints;
+  const geometry::Pose pose = geometry::Pose::from_mm_deg(30, -120, 4);
   ASSERT_TRUE(biglide.inverse(pose, joints).ok());
   const std::array<double, 3> speed{1.0, 2.0, 0.0};
-  const std::optional<ModeBound> single =
+  const std::optional<kinematics::ModeBound> single =
       assembly_mode_over_ball(biglide, 0, pose.as_vector(), joints, speed);
   ASSERT_TRUE(single.has_value());
   EXPECT_EQ(single->value, 1.0);
   EXPECT_EQ(single->rate, 0.0);
   // A hexaglide turns its platform: its mode has no bound over a ball here.
-  std::vector<GlideRail> rails(6);
+  std::vector<kinematics::GlideRail> rails(6);
   for (int i = 0; i < 6; ++i) {
     const double angle = i * 1.0471975511965976;
     rails[static_cast<std::size_t>(i)] = {{300.0 * std::cos(angle), 300.0 * std::sin(angle), 0},
@@ -66,7 +69,7 @@ TEST(AssemblyModeBound, OneModeNeedsNoBoundAndATurningGlideHasNone) {
                                           {60.0 * std::cos(angle), 60.0 * std::sin(angle), 0},
                                           1};
   }
-  const GlideKinematics hexaglide(rails, Dof::all());
+  const kinematics::GlideKinematics hexaglide(rails, geometry::Dof::all());
   EXPECT_EQ(hexaglide.assembly_mode_bounds(), nullptr);
   EXPECT_FALSE(has_assembly_bound(hexaglide, 1));
   EXPECT_TRUE(has_assembly_bound(hexaglide, 0));

@@ -34,7 +34,7 @@ class AtomicFileTest : public ::testing::Test {
     fs::create_directories(directory_);
   }
   void TearDown() override {
-    on_stale_temporary(nullptr);
+    files::on_stale_temporary(nullptr);
     fs::remove_all(directory_);
   }
   fs::path make_file(const std::string& name, std::size_t bytes) const {
@@ -61,7 +61,7 @@ long finished_pid() {
 }
 
 TEST_F(AtomicFileTest, TemporaryIsNamedAfterTheOutputAndThisProcess) {
-  AtomicFileWriter writer(directory_ / "job.csv");
+  files::AtomicFileWriter writer(directory_ / "job.csv");
   const std::string prefix = ".job.csv.tmp-" + std::to_string(::getpid()) + "-";
   const std::string name = fs::path(writer.temporary_path()).filename().string();
   EXPECT_EQ(name.substr(0, prefix.size()), prefix);
@@ -74,8 +74,8 @@ TEST_F(AtomicFileTest, FilesWrittenTogetherAreNeverANewOneBesideAnOldOne) {
   // between them paired a new drawing with old marks).
   const fs::path drawing = make_file("pattern.ngc", 3), marks = make_file("pattern.json", 4);
   const std::string new_drawing = "G1 X1\n", new_marks = "[]\n";
-  const FileContent pair[] = {{drawing, new_drawing}, {marks, new_marks}};
-  write_files_together(pair);
+  const files::FileContent pair[] = {{drawing, new_drawing}, {marks, new_marks}};
+  files::write_files_together(pair);
   const auto read = [](const fs::path& path) {
     std::ifstream in(path);
     return std::string(std::istreambuf_iterator<char>(in), {});
@@ -86,8 +86,8 @@ TEST_F(AtomicFileTest, FilesWrittenTogetherAreNeverANewOneBesideAnOldOne) {
   // The second cannot be written (a directory holds its name): neither is replaced.
   fs::remove(marks);
   fs::create_directory(marks);
-  const FileContent refused[] = {{drawing, std::string_view("G1 X2\n")}, {marks, new_marks}};
-  EXPECT_THROW(write_files_together(refused), std::runtime_error);
+  const files::FileContent refused[] = {{drawing, std::string_view("G1 X2\n")}, {marks, new_marks}};
+  EXPECT_THROW(files::write_files_together(refused), std::runtime_error);
   EXPECT_EQ(read(drawing), new_drawing);
   EXPECT_EQ(names(), (std::vector<std::string>{"pattern.json", "pattern.ngc"}));
 }
@@ -96,7 +96,7 @@ TEST_F(AtomicFileTest, ASignalRemovesAStagingTreeWithItsFilesButNotACommittedOne
   // export linuxcnc's staging directory was left behind after SIGINT/SIGTERM/SIGHUP (issue 26):
   // the handler's remove_open_temporaries now removes its files, then its directories.
   {
-    TemporaryTree tree(directory_ / ".config.tmp-1");
+    files::TemporaryTree tree(directory_ / ".config.tmp-1");
     fs::create_directories(tree.root() / "macros" / "deep");
     tree.add_directory(tree.root() / "macros");
     tree.add_directory(tree.root() / "macros" / "deep");
@@ -105,36 +105,36 @@ TEST_F(AtomicFileTest, ASignalRemovesAStagingTreeWithItsFilesButNotACommittedOne
       std::ofstream(file) << "x";
       tree.add_file(file);
     }
-    remove_open_temporaries();  // what the signal handler calls
+    files::remove_open_temporaries();  // what the signal handler calls
     EXPECT_EQ(names(), std::vector<std::string>{});
   }
-  TemporaryTree tree(directory_ / ".config.tmp-2");
+  files::TemporaryTree tree(directory_ / ".config.tmp-2");
   std::ofstream(tree.root() / "machine.ini") << "x";
   tree.add_file(tree.root() / "machine.ini");
   tree.commit_to(directory_ / "config");
-  remove_open_temporaries();
+  files::remove_open_temporaries();
   EXPECT_TRUE(fs::exists(directory_ / "config" / "machine.ini"));
   EXPECT_EQ(names(), std::vector<std::string>{"config"});
 }
 
 TEST_F(AtomicFileTest, SignalCleanupRemovesOpenTemporariesOnly) {
-  write_file_atomically(directory_ / "done.json", "{}\n");
+  files::write_file_atomically(directory_ / "done.json", "{}\n");
   {
-    AtomicFileWriter first(directory_ / "a.csv");
-    AtomicFileWriter second(directory_ / "b.csv");
+    files::AtomicFileWriter first(directory_ / "a.csv");
+    files::AtomicFileWriter second(directory_ / "b.csv");
     first.write("t,line\n");
     EXPECT_EQ(names().size(), 3u);
-    remove_open_temporaries();  // what the SIGTERM handler of pkm calls
+    files::remove_open_temporaries();  // what the SIGTERM handler of pkm calls
     EXPECT_EQ(names(), std::vector<std::string>{"done.json"});
   }  // the writers' own removal finds nothing left, and does not fail
   EXPECT_EQ(names(), std::vector<std::string>{"done.json"});
 }
 
 TEST_F(AtomicFileTest, CommittedOutputIsNoLongerATemporary) {
-  AtomicFileWriter writer(directory_ / "a.csv");
+  files::AtomicFileWriter writer(directory_ / "a.csv");
   writer.write("t,line\n");
   writer.commit();
-  remove_open_temporaries();
+  files::remove_open_temporaries();
   EXPECT_EQ(names(), std::vector<std::string>{"a.csv"});
   EXPECT_EQ(fs::file_size(directory_ / "a.csv"), 7u);
 }
@@ -157,10 +157,11 @@ TEST_F(AtomicFileTest, StaleTemporariesAreRemovedAndReported) {
   fs::last_write_time(make_file(old_style, 5), an_hour_ago);
   make_file(huge_pid, 10);
   make_file(other_output, 10);
-  std::vector<StaleTemporary> reported;
-  on_stale_temporary([&](const StaleTemporary& stale) { reported.push_back(stale); });
+  std::vector<files::StaleTemporary> reported;
+  files::on_stale_temporary([&](const files::StaleTemporary& stale) { reported.push_back(stale); });
 
-  std::vector<StaleTemporary> removed = remove_stale_temporaries(directory_ / "job.csv");
+  std::vector<files::StaleTemporary> removed =
+      files::remove_stale_temporaries(directory_ / "job.csv");
 
   std::sort(removed.begin(), removed.end(),
             [](const auto& a, const auto& b) { return a.path < b.path; });
@@ -188,15 +189,16 @@ TEST_F(AtomicFileTest, WritingAnOutputRemovesItsStaleTemporaries) {
   const std::string killed = ".job.csv.tmp-" + std::to_string(finished_pid()) + "-AbCdEf";
   make_file(killed, 100);
   std::vector<fs::path> reported;
-  on_stale_temporary([&](const StaleTemporary& stale) { reported.push_back(stale.path); });
-  write_file_atomically(directory_ / "job.csv", "t\n");
+  files::on_stale_temporary(
+      [&](const files::StaleTemporary& stale) { reported.push_back(stale.path); });
+  files::write_file_atomically(directory_ / "job.csv", "t\n");
   EXPECT_EQ(reported, std::vector<fs::path>{directory_ / killed});
   EXPECT_EQ(names(), std::vector<std::string>{"job.csv"});
 }
 
 // `--html /dev/null` once replaced the device with a regular file (the rename went over it).
 TEST_F(AtomicFileTest, ADeviceIsWrittenInPlaceAndStaysADevice) {
-  write_file_atomically("/dev/null", "a page nobody wants\n");
+  files::write_file_atomically("/dev/null", "a page nobody wants\n");
   struct stat status {};
   ASSERT_EQ(::stat("/dev/null", &status), 0);
   EXPECT_TRUE(S_ISCHR(status.st_mode));
@@ -210,7 +212,7 @@ TEST_F(AtomicFileTest, AFifoReceivesTheBytesAndStaysAFifo) {
     std::ifstream in(fifo);
     received.assign(std::istreambuf_iterator<char>(in), {});
   });
-  write_file_atomically(fifo, "t,x\n0,1\n");
+  files::write_file_atomically(fifo, "t,x\n0,1\n");
   reader.join();
   EXPECT_EQ(received, "t,x\n0,1\n");
   struct stat status {};
@@ -222,7 +224,7 @@ TEST_F(AtomicFileTest, AFifoReceivesTheBytesAndStaysAFifo) {
 TEST_F(AtomicFileTest, ADirectoryIsRefusedBeforeAnythingIsWritten) {
   fs::create_directory(directory_ / "pages");
   try {
-    AtomicFileWriter writer(directory_ / "pages");
+    files::AtomicFileWriter writer(directory_ / "pages");
     FAIL() << "a directory was accepted as an output";
   } catch (const std::runtime_error& error) {
     EXPECT_NE(std::string(error.what()).find("pages: it is a directory; name a file"),

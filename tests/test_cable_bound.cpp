@@ -15,10 +15,10 @@
 namespace pkm::bounds {
 namespace {
 
-constexpr double kG = kStandardGravity_mm_per_s2 * 1e-3;  // N per kg
+constexpr double kG = kinematics::kStandardGravity_mm_per_s2 * 1e-3;  // N per kg
 
-CablePlotterGeometry gondola(double mass_kg) {
-  CablePlotterGeometry g = CablePlotterGeometry::level(600.0);
+kinematics::CablePlotterGeometry gondola(double mass_kg) {
+  kinematics::CablePlotterGeometry g = kinematics::CablePlotterGeometry::level(600.0);
   g.anchors_mm = {Eigen::Vector2d(-300.0, 0.0), Eigen::Vector2d(300.0, 0.0)};
   g.effector_mass_kg = mass_kg;
   return g;
@@ -26,10 +26,10 @@ CablePlotterGeometry gondola(double mass_kg) {
 
 // Makelangelo-size (examples/machines/makelangelo.toml) with straight cables: no sag; its
 // stretch kept where `stretch`.
-CablePlotterGeometry straight_makelangelo(bool stretch) {
-  const Machine machine = test::load_example("makelangelo.toml");
-  CablePlotterGeometry g =
-      dynamic_cast<const CablePlotterKinematics&>(machine.kinematics()).geometry();
+kinematics::CablePlotterGeometry straight_makelangelo(bool stretch) {
+  const machine::Machine machine = test::load_example("makelangelo.toml");
+  kinematics::CablePlotterGeometry g =
+      dynamic_cast<const kinematics::CablePlotterKinematics&>(machine.kinematics()).geometry();
   g.cable_density_kg_per_m = 0.0;
   if (!stretch) g.cable_stretch_mm_per_m_per_N = 0.0;
   return g;
@@ -42,7 +42,7 @@ bool holds(const Range& range, double value) {
 TEST(CableBound, SymmetricGondolaBelowTheMiddleCarriesHalfItsWeightOverTheCosine) {
   // A point gondola 400 mm below the middle: each cable 500 mm long at cos = 400 / 500 = 0.8
   // from the vertical, T = W / (2 * 0.8) = 2 kg * g / 1.6 = 12.258 N.
-  const CablePlotterGeometry g = gondola(2.0);
+  const kinematics::CablePlotterGeometry g = gondola(2.0);
   const double expected = 2.0 * kG / 1.6;
   EXPECT_NEAR(expected, 12.2583125, 1e-6);
   const CableBoxBound at = cable_box_bound(g, {0.0, -400.0}, {0.0, 0.0});
@@ -67,7 +67,7 @@ TEST(CableBound, SymmetricTiltingGondolaStaysLevelAndCarriesHalfItsWeight) {
   // Tied 20 mm either side and 10 mm above the pen, the centre of mass 15 mm below it: straight
   // below the middle the ends are at (-+20, -390), each cable leans 280 / 390 off the vertical
   // from its end to its anchor (at +-300): cos = 390 / hypot(280, 390); T = W / (2 cos).
-  CablePlotterGeometry g = gondola(0.3);
+  kinematics::CablePlotterGeometry g = gondola(0.3);
   g.attach_mm = {Eigen::Vector2d(-20.0, 10.0), Eigen::Vector2d(20.0, 10.0)};
   g.center_of_mass_mm = {0.0, -15.0};
   const double cosine = 390.0 / std::hypot(280.0, 390.0);
@@ -86,9 +86,9 @@ TEST(CableBound, UnderAPulleyTheLeftCablePullsOnlyRightOfItsVerticalTangent) {
   // hektor-pulleys.toml: pulleys of r = 6.366 mm at x = 0 and 100. The left cable hangs
   // straight down from the pulley's rightmost point when the pen is at x = r: there the right
   // cable's tension (under a unit load) falls to 0; left of it the right cable would push.
-  const Machine machine = test::load_example("hektor-pulleys.toml");
-  const CablePlotterGeometry& g =
-      dynamic_cast<const CablePlotterKinematics&>(machine.kinematics()).geometry();
+  const machine::Machine machine = test::load_example("hektor-pulleys.toml");
+  const kinematics::CablePlotterGeometry& g =
+      dynamic_cast<const kinematics::CablePlotterKinematics&>(machine.kinematics()).geometry();
   const double r = g.pulley_radius_mm;
   const CableBoxBound clear = cable_box_bound(g, {r + 0.2, -50.0}, {0.1, 5.0});
   ASSERT_TRUE(clear.known);
@@ -103,17 +103,19 @@ TEST(CableBound, UnderAPulleyTheLeftCablePullsOnlyRightOfItsVerticalTangent) {
   EXPECT_LT(across.tension_N[1].lo, 0.0);
   EXPECT_GT(across.tension_N[1].hi, 0.0);
   // And the machine agrees on either side.
-  JointVector joints;
-  EXPECT_TRUE(machine.inverse(Pose::from_mm_deg(r + 1e-6, -50.0, 0.0, 0, 0, 0), joints).ok());
-  EXPECT_FALSE(machine.inverse(Pose::from_mm_deg(r - 1e-6, -50.0, 0.0, 0, 0, 0), joints).ok());
+  kinematics::JointVector joints;
+  EXPECT_TRUE(
+      machine.inverse(geometry::Pose::from_mm_deg(r + 1e-6, -50.0, 0.0, 0, 0, 0), joints).ok());
+  EXPECT_FALSE(
+      machine.inverse(geometry::Pose::from_mm_deg(r - 1e-6, -50.0, 0.0, 0, 0, 0), joints).ok());
 }
 
 // Random boxes over (and past) the board, random points inside each: wherever the statics find
 // a balance, its tilt, tensions and joints lie within the box's bounds. Counts what was
 // compared, so that the test cannot pass on nothing.
-void expect_sound(const CablePlotterGeometry& g, const Eigen::Vector2d& lo,
+void expect_sound(const kinematics::CablePlotterGeometry& g, const Eigen::Vector2d& lo,
                   const Eigen::Vector2d& hi, int boxes, int points_per_box) {
-  const CablePlotterKinematics model(g);
+  const kinematics::CablePlotterKinematics model(g);
   std::mt19937_64 rng(13);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   int compared = 0, known = 0, tight = 0;
@@ -130,9 +132,9 @@ void expect_sound(const CablePlotterGeometry& g, const Eigen::Vector2d& lo,
       Eigen::Vector2d at(centre.x() + half.x() * (2.0 * unit(rng) - 1.0),
                          centre.y() + half.y() * (2.0 * unit(rng) - 1.0));
       if (p % 3 == 0) at.x() = centre.x() + (unit(rng) < 0.5 ? -half.x() : half.x());
-      CableBalance balance;
-      const Eigen::Vector2d gravity(0.0, -kStandardGravity_mm_per_s2);
-      if (!solve_cable_balance(g, at, gravity, balance).ok()) continue;
+      kinematics::CableBalance balance;
+      const Eigen::Vector2d gravity(0.0, -kinematics::kStandardGravity_mm_per_s2);
+      if (!kinematics::solve_cable_balance(g, at, gravity, balance).ok()) continue;
       ++compared;
       ASSERT_TRUE(holds(bound.tilt_rad, balance.statics.tilt_rad))
           << "tilt " << balance.statics.tilt_rad << " at " << at.transpose();
@@ -159,7 +161,8 @@ void expect_sound(const CablePlotterGeometry& g, const Eigen::Vector2d& lo,
         if (bound.tension_N[k].hi < 0.0) {
           ASSERT_FALSE(balance.pulls[k]);
         }
-        const double joint = cable_joint(g, cable_past_top(g, balance, c), c);
+        const double joint =
+            kinematics::cable_joint(g, kinematics::cable_past_top(g, balance, c), c);
         ASSERT_TRUE(holds(bound.joint_mm[k], joint))
             << "joint " << joint << " not in [" << bound.joint_mm[k].lo << ", "
             << bound.joint_mm[k].hi << "]";
@@ -180,9 +183,12 @@ void expect_sound(const CablePlotterGeometry& g, const Eigen::Vector2d& lo,
     if (!bound.known) continue;
     for (int p = 0; p < points_per_box; ++p) {
       const double s = p == 0 ? -1.0 : (p == 1 ? 1.0 : 2.0 * unit(rng) - 1.0);
-      CableBalance balance;
+      kinematics::CableBalance balance;
       const Eigen::Vector2d at = centre + s * half_chord;
-      if (!solve_cable_balance(g, at, {0.0, -kStandardGravity_mm_per_s2}, balance).ok()) continue;
+      if (!kinematics::solve_cable_balance(g, at, {0.0, -kinematics::kStandardGravity_mm_per_s2},
+                                           balance)
+               .ok())
+        continue;
       ++on_segments;
       for (std::size_t k = 0; k < 2 && g.effector_mass_kg > 0.0; ++k) {
         ASSERT_TRUE(holds(bound.tension_N[k], balance.statics.tension_N[k]))
@@ -208,24 +214,24 @@ TEST(CableBound, MakelangeloStretchingCablesJointsLieWithinTheBounds) {
 TEST(CableBound, MaslowSledOnStraightChainsLiesWithinTheBounds) {
   // maslow-frame.toml without its chain's weight: a 9 kg sled tied 155 mm either side of the bit
   // and 139 mm above it, 10.275 mm sprockets 2978.4 mm apart, stretching chains.
-  const Machine machine = test::load_example("maslow-frame.toml");
-  CablePlotterGeometry g =
-      dynamic_cast<const CablePlotterKinematics&>(machine.kinematics()).geometry();
+  const machine::Machine machine = test::load_example("maslow-frame.toml");
+  kinematics::CablePlotterGeometry g =
+      dynamic_cast<const kinematics::CablePlotterKinematics&>(machine.kinematics()).geometry();
   g.cable_density_kg_per_m = 0.0;
   expect_sound(g, {-200.0, -2200.0}, {3200.0, 100.0}, 200, 12);
 }
 
 TEST(CableBound, PulleysWithoutMassPullWithinTheBounds) {
-  const Machine machine = test::load_example("hektor-pulleys.toml");
-  const CablePlotterGeometry& g =
-      dynamic_cast<const CablePlotterKinematics&>(machine.kinematics()).geometry();
+  const machine::Machine machine = test::load_example("hektor-pulleys.toml");
+  const kinematics::CablePlotterGeometry& g =
+      dynamic_cast<const kinematics::CablePlotterKinematics&>(machine.kinematics()).geometry();
   expect_sound(g, {-20.0, -180.0}, {120.0, 10.0}, 300, 12);
 }
 
 TEST(CableBound, SaggingCablesAreNotBounded) {
-  const Machine machine = test::load_example("makelangelo.toml");
-  const CablePlotterGeometry& g =
-      dynamic_cast<const CablePlotterKinematics&>(machine.kinematics()).geometry();
+  const machine::Machine machine = test::load_example("makelangelo.toml");
+  const kinematics::CablePlotterGeometry& g =
+      dynamic_cast<const kinematics::CablePlotterKinematics&>(machine.kinematics()).geometry();
   EXPECT_NE(cable_bound_unavailable(g).find("sag"), std::string::npos);
   EXPECT_FALSE(cable_box_bound(g, {0.0, 0.0}, {1.0, 1.0}).known);
 }

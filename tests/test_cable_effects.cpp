@@ -17,17 +17,18 @@ namespace {
 constexpr double kSheetLeft = 270.0, kSheetRight = 2708.4, kSheetTop = -463.0,
                  kSheetBottom = -1682.2;
 
-const CablePlotterKinematics& full_model(const Machine& machine) {
-  return dynamic_cast<const CablePlotterKinematics&>(machine.kinematics());
+const kinematics::CablePlotterKinematics& full_model(const machine::Machine& machine) {
+  return dynamic_cast<const kinematics::CablePlotterKinematics&>(machine.kinematics());
 }
 
 // Where the full machine puts the bit when the joints come from `reduced` at `target`.
-Eigen::Vector2d drawn(const CablePlotterKinematics& full, const CablePlotterKinematics& reduced,
+Eigen::Vector2d drawn(const kinematics::CablePlotterKinematics& full,
+                      const kinematics::CablePlotterKinematics& reduced,
                       const Eigen::Vector2d& target) {
-  JointVector joints;
-  const Pose pose = Pose::from_mm_deg(target.x(), target.y(), 0.0);
+  kinematics::JointVector joints;
+  const geometry::Pose pose = geometry::Pose::from_mm_deg(target.x(), target.y(), 0.0);
   EXPECT_TRUE(reduced.inverse_within(pose, joints, false).ok());
-  Pose found = pose;
+  geometry::Pose found = pose;
   EXPECT_TRUE(full.forward(joints, found).ok());
   return found.position_mm.head<2>();
 }
@@ -49,9 +50,10 @@ std::vector<Eigen::Vector2d> sheet_grid() {
   return grid;
 }
 
-EffectCost cost_of_ignoring(const CablePlotterKinematics& full, const CablePlotterGeometry& without,
+EffectCost cost_of_ignoring(const kinematics::CablePlotterKinematics& full,
+                            const kinematics::CablePlotterGeometry& without,
                             std::vector<double>* errors = nullptr) {
-  const CablePlotterKinematics reduced(without, full.passthrough());
+  const kinematics::CablePlotterKinematics reduced(without, full.passthrough());
   EffectCost cost;
   for (const Eigen::Vector2d& target : sheet_grid()) {
     const double error = (drawn(full, reduced, target) - target).norm();
@@ -68,11 +70,11 @@ EffectCost cost_of_ignoring(const CablePlotterKinematics& full, const CablePlott
 
 // The cable offsets a calibration would find for the reduced model (least squares over the
 // grid, Gauss-Newton): what is left is what no offset can absorb.
-CablePlotterGeometry with_best_offsets(const CablePlotterKinematics& full,
-                                       CablePlotterGeometry reduced) {
+kinematics::CablePlotterGeometry with_best_offsets(const kinematics::CablePlotterKinematics& full,
+                                                   kinematics::CablePlotterGeometry reduced) {
   const std::vector<Eigen::Vector2d> grid = sheet_grid();
-  const auto residuals = [&](const CablePlotterGeometry& geometry) {
-    const CablePlotterKinematics model(geometry, full.passthrough());
+  const auto residuals = [&](const kinematics::CablePlotterGeometry& geometry) {
+    const kinematics::CablePlotterKinematics model(geometry, full.passthrough());
     Eigen::VectorXd r(2 * grid.size());
     for (std::size_t k = 0; k < grid.size(); ++k) {
       r.segment<2>(2 * k) = drawn(full, model, grid[k]) - grid[k];
@@ -83,7 +85,7 @@ CablePlotterGeometry with_best_offsets(const CablePlotterKinematics& full,
     const Eigen::VectorXd r = residuals(reduced);
     Eigen::MatrixXd jacobian(r.size(), 2);
     for (int cable = 0; cable < 2; ++cable) {
-      CablePlotterGeometry shifted = reduced;
+      kinematics::CablePlotterGeometry shifted = reduced;
       shifted.cable_offsets_mm[cable] += 1e-3;
       jacobian.col(cable) = (residuals(shifted) - r) / 1e-3;
     }
@@ -95,31 +97,34 @@ CablePlotterGeometry with_best_offsets(const CablePlotterKinematics& full,
 }
 
 TEST(CableEffects, WhatIgnoringEachCostsOnAMaslowFrame) {
-  const Machine machine = test::load_example("maslow-frame.toml");
-  const CablePlotterKinematics& full = full_model(machine);
-  const CablePlotterGeometry& g = full.geometry();
-  const auto without = [&](const std::function<void(CablePlotterGeometry&)>& change) {
-    CablePlotterGeometry reduced = g;
+  const machine::Machine machine = test::load_example("maslow-frame.toml");
+  const kinematics::CablePlotterKinematics& full = full_model(machine);
+  const kinematics::CablePlotterGeometry& g = full.geometry();
+  const auto without = [&](const std::function<void(kinematics::CablePlotterGeometry&)>& change) {
+    kinematics::CablePlotterGeometry reduced = g;
     change(reduced);
     return reduced;
   };
   struct Effect {
     const char* name;
-    CablePlotterGeometry geometry;
+    kinematics::CablePlotterGeometry geometry;
     double at_least_mm, at_most_mm;  // the range the worst error must fall in, offsets refitted
   };
   const Effect effects[] = {
       {"sprocket wrap (pulley_radius 0)",
-       without([](CablePlotterGeometry& r) { r.pulley_radius_mm = 0.0; }), 0.1, 30.0},
-      {"sled tilt (chains tied at the bit)", without([](CablePlotterGeometry& r) {
+       without([](kinematics::CablePlotterGeometry& r) { r.pulley_radius_mm = 0.0; }), 0.1, 30.0},
+      {"sled tilt (chains tied at the bit)", without([](kinematics::CablePlotterGeometry& r) {
          r.attach_mm = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
        }),
        5.0, 400.0},
       {"chain sag (cable_density 0)",
-       without([](CablePlotterGeometry& r) { r.cable_density_kg_per_m = 0.0; }), 0.5, 30.0},
+       without([](kinematics::CablePlotterGeometry& r) { r.cable_density_kg_per_m = 0.0; }), 0.5,
+       30.0},
       {"chain stretch (unstretchable)",
-       without([](CablePlotterGeometry& r) { r.cable_stretch_mm_per_m_per_N = 0.0; }), 0.05, 10.0},
-      {"all (the ideal model)", CablePlotterGeometry::level(g.anchors_mm[1].x()), 5.0, 400.0},
+       without([](kinematics::CablePlotterGeometry& r) { r.cable_stretch_mm_per_m_per_N = 0.0; }),
+       0.05, 10.0},
+      {"all (the ideal model)", kinematics::CablePlotterGeometry::level(g.anchors_mm[1].x()), 5.0,
+       400.0},
   };
   std::printf("[ effects  ] %-36s %10s %10s %10s %10s\n", "ignoring", "worst", "per 500", "refit",
               "refit/500");

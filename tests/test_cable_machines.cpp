@@ -16,14 +16,15 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kG = 9.80665;  // m/s^2: a kilogram weighs 9.80665 N
 
-CablePlotterGeometry level_anchors(double distance_mm) {
-  return CablePlotterGeometry::level(distance_mm);
+kinematics::CablePlotterGeometry level_anchors(double distance_mm) {
+  return kinematics::CablePlotterGeometry::level(distance_mm);
 }
 
-JointVector inverse(const CablePlotterKinematics& model, double x, double y) {
-  JointVector joints;
-  const Status status = model.inverse(Pose::from_mm_deg(x, y, 0), joints);
-  EXPECT_TRUE(status.ok()) << describe(status) << " at " << x << ", " << y;
+kinematics::JointVector inverse(const kinematics::CablePlotterKinematics& model, double x,
+                                double y) {
+  kinematics::JointVector joints;
+  const kinematics::Status status = model.inverse(geometry::Pose::from_mm_deg(x, y, 0), joints);
+  EXPECT_TRUE(status.ok()) << kinematics::describe(status) << " at " << x << ", " << y;
   return joints;
 }
 
@@ -31,14 +32,15 @@ TEST(CableWrap, PenStraightBelowThePulleysSideWrapsAQuarterTurn) {
   // Pulley of radius 10 at (0, 0): a pen at (10, -500) hangs from the pulley's right-hand point,
   // a quarter turn from its top: 10 pi / 2 of arc, then 500 mm straight down. (There the right
   // cable carries nothing: the edge of what IK accepts, so the balance is asked directly.)
-  CablePlotterGeometry g = level_anchors(1000.0);
+  kinematics::CablePlotterGeometry g = level_anchors(1000.0);
   g.pulley_radius_mm = 10.0;
-  CableBalance balance;
-  ASSERT_TRUE(solve_cable_balance(g, {10.0, -500.0}, {0.0, -1.0}, balance).ok());
-  EXPECT_NEAR(cable_joint(g, cable_past_top(g, balance, 0), 0), 5.0 * kPi + 500.0, 1e-9);
+  kinematics::CableBalance balance;
+  ASSERT_TRUE(kinematics::solve_cable_balance(g, {10.0, -500.0}, {0.0, -1.0}, balance).ok());
+  EXPECT_NEAR(kinematics::cable_joint(g, kinematics::cable_past_top(g, balance, 0), 0),
+              5.0 * kPi + 500.0, 1e-9);
   // A pen further right: the right cable, from (1000, 0), leaves the left of its pulley.
-  const CablePlotterKinematics model(g);
-  const JointVector joints = inverse(model, 300.0, -500.0);
+  const kinematics::CablePlotterKinematics model(g);
+  const kinematics::JointVector joints = inverse(model, 300.0, -500.0);
   const double distance = std::hypot(700.0, 500.0);
   const double span = std::sqrt(distance * distance - 100.0);
   const double wrap = kPi / 2.0 - (std::atan2(700.0, 500.0) - std::asin(10.0 / distance));
@@ -48,10 +50,10 @@ TEST(CableWrap, PenStraightBelowThePulleysSideWrapsAQuarterTurn) {
 TEST(CableWrap, PenOnThePulleysHorizontalWrapsAsinROverD) {
   // A pen level with the pulleys' centres, 300 mm right of the left one: the cable leaves at
   // asin(r / D) past the top, then sqrt(D^2 - r^2) straight.
-  CablePlotterGeometry g = level_anchors(1000.0);
+  kinematics::CablePlotterGeometry g = level_anchors(1000.0);
   g.pulley_radius_mm = 10.0;
-  const CablePlotterKinematics model(g);
-  const JointVector joints = inverse(model, 300.0, 0.0);
+  const kinematics::CablePlotterKinematics model(g);
+  const kinematics::JointVector joints = inverse(model, 300.0, 0.0);
   EXPECT_NEAR(joints[0], 10.0 * std::asin(10.0 / 300.0) + std::sqrt(300.0 * 300.0 - 100.0), 1e-9);
   EXPECT_NEAR(joints[1], 10.0 * std::asin(10.0 / 700.0) + std::sqrt(700.0 * 700.0 - 100.0), 1e-9);
 }
@@ -61,11 +63,11 @@ TEST(SpoolBuildup, TheJointIsTheDrumsTurnAndTheRadiusFollowsTheCable) {
   // at (300, -900) the drum's radius r and the cable past its top l = r phi + s agree when
   // r = 10 - 0.0005 l (found here by iterating the closed forms of the wrap); the joint is the
   // drum's turn times 10 mm: -(10 / 0.0005) ln(1 - 0.0005 l / 10).
-  CablePlotterGeometry g = level_anchors(1000.0);
+  kinematics::CablePlotterGeometry g = level_anchors(1000.0);
   g.pulley_radius_mm = 10.0;
   g.spool_buildup_mm_per_m = 0.5;
-  const CablePlotterKinematics model(g);
-  const JointVector joints = inverse(model, 300.0, -900.0);
+  const kinematics::CablePlotterKinematics model(g);
+  const kinematics::JointVector joints = inverse(model, 300.0, -900.0);
   const auto past_top = [](double r, double dx, double dy) {  // pen dx right, dy below the drum
     const double distance = std::hypot(dx, dy);
     const double wrap = kPi / 2.0 - (std::atan2(dx, dy) - std::asin(r / distance));
@@ -83,7 +85,7 @@ TEST(SpoolBuildup, TheJointIsTheDrumsTurnAndTheRadiusFollowsTheCable) {
     EXPECT_GT(joints[cable], length + 1.0) << "a thinner drum turns further per mm";
   }
   // FK finds the pen again.
-  Pose pose;
+  geometry::Pose pose;
   ASSERT_TRUE(model.forward(joints, pose).ok());
   EXPECT_NEAR((pose.position_mm.head<2>() - Eigen::Vector2d(300.0, -900.0)).norm(), 0.0, 1e-9);
 }
@@ -91,68 +93,73 @@ TEST(SpoolBuildup, TheJointIsTheDrumsTurnAndTheRadiusFollowsTheCable) {
 TEST(SpoolBuildup, HasNoDeviationBound) {
   // Pulleys alone keep post's bound (the wrap adds no curvature beyond the span's); a drum whose
   // radius follows the cable and whose joint is its turn does not, so post samples it.
-  CablePlotterGeometry g = level_anchors(1000.0);
+  kinematics::CablePlotterGeometry g = level_anchors(1000.0);
   g.pulley_radius_mm = 10.0;
-  const Vector6d centre = Pose::from_mm_deg(300.0, -900.0, 0.0).as_vector();
-  EXPECT_TRUE(bounds::inverse_hessian_bounds(CablePlotterKinematics(g), centre, 1.0, 100.0, {}));
+  const geometry::Vector6d centre = geometry::Pose::from_mm_deg(300.0, -900.0, 0.0).as_vector();
+  EXPECT_TRUE(bounds::inverse_hessian_bounds(kinematics::CablePlotterKinematics(g), centre, 1.0,
+                                             100.0, {}));
   g.spool_buildup_mm_per_m = 0.5;
-  EXPECT_FALSE(bounds::inverse_hessian_bounds(CablePlotterKinematics(g), centre, 1.0, 100.0, {}));
+  EXPECT_FALSE(bounds::inverse_hessian_bounds(kinematics::CablePlotterKinematics(g), centre, 1.0,
+                                              100.0, {}));
 }
 
 TEST(CableTension, ASymmetricVByHand) {
   // 2 kg at (500, -375) below anchors 1000 apart: each cable at 3-4-5, sin = 0.6 upwards, so
   // 2 t 0.6 = 2 g: t = g / 0.6 = 16.3444 N.
-  CablePlotterGeometry g = level_anchors(1000.0);
+  kinematics::CablePlotterGeometry g = level_anchors(1000.0);
   g.effector_mass_kg = 2.0;
-  const CablePlotterKinematics model(g);
-  CableStatics statics;
-  ASSERT_TRUE(model.statics(Pose::from_mm_deg(500, -375, 0), {0.0, 0.0}, statics).ok());
+  const kinematics::CablePlotterKinematics model(g);
+  kinematics::CableStatics statics;
+  ASSERT_TRUE(model.statics(geometry::Pose::from_mm_deg(500, -375, 0), {0.0, 0.0}, statics).ok());
   EXPECT_NEAR(statics.tension_N[0], kG / 0.6, 1e-12);
   EXPECT_NEAR(statics.tension_N[1], kG / 0.6, 1e-12);
   // Accelerating up at 1 m/s^2 the cables carry m (g + a).
-  ASSERT_TRUE(model.statics(Pose::from_mm_deg(500, -375, 0), {0.0, 1000.0}, statics).ok());
+  ASSERT_TRUE(
+      model.statics(geometry::Pose::from_mm_deg(500, -375, 0), {0.0, 1000.0}, statics).ok());
   EXPECT_NEAR(statics.tension_N[0], (kG + 1.0) / 0.6, 1e-12);
   // Accelerating right at 1 m/s^2: the right cable pulls more. Horizontal: 0.8 (t1 - t0) = 2;
   // vertical: 0.6 (t0 + t1) = 2 g.
-  ASSERT_TRUE(model.statics(Pose::from_mm_deg(500, -375, 0), {1000.0, 0.0}, statics).ok());
+  ASSERT_TRUE(
+      model.statics(geometry::Pose::from_mm_deg(500, -375, 0), {1000.0, 0.0}, statics).ok());
   EXPECT_NEAR(statics.tension_N[1] - statics.tension_N[0], 2.0 / 0.8, 1e-12);
   EXPECT_NEAR(statics.tension_N[1] + statics.tension_N[0], 2.0 * kG / 0.6, 1e-12);
 }
 
 TEST(CableTension, LimitsRefuseWithTheirOwnStatusNamingTheCable) {
-  CablePlotterGeometry g = level_anchors(1000.0);
+  kinematics::CablePlotterGeometry g = level_anchors(1000.0);
   g.effector_mass_kg = 2.0;
   g.tension_limited = true;
   g.tension_min_N = 5.0;
   g.tension_max_N = 40.0;
-  const CablePlotterKinematics model(g);
-  JointVector joints;
-  EXPECT_TRUE(model.inverse(Pose::from_mm_deg(500, -375, 0), joints).ok());  // 16.3 N each
+  const kinematics::CablePlotterKinematics model(g);
+  kinematics::JointVector joints;
+  EXPECT_TRUE(
+      model.inverse(geometry::Pose::from_mm_deg(500, -375, 0), joints).ok());  // 16.3 N each
   // Near the anchor line the tensions pass 40 N; near the right side the left cable goes slack.
-  const Status high = model.inverse(Pose::from_mm_deg(500, -100, 0), joints);
-  EXPECT_EQ(high.code, StatusCode::tension);
-  const Status slack = model.inverse(Pose::from_mm_deg(990, -900, 0), joints);
-  EXPECT_EQ(slack.code, StatusCode::tension);
+  const kinematics::Status high = model.inverse(geometry::Pose::from_mm_deg(500, -100, 0), joints);
+  EXPECT_EQ(high.code, kinematics::StatusCode::tension);
+  const kinematics::Status slack = model.inverse(geometry::Pose::from_mm_deg(990, -900, 0), joints);
+  EXPECT_EQ(slack.code, kinematics::StatusCode::tension);
   EXPECT_EQ(slack.joint, 0);
-  EXPECT_NE(model.why_refused(Pose::from_mm_deg(990, -900, 0), slack)
+  EXPECT_NE(model.why_refused(geometry::Pose::from_mm_deg(990, -900, 0), slack)
                 .find("the left cable would go slack: 0.292 N, below tension_limits' min 5 N"),
             std::string::npos)
-      << model.why_refused(Pose::from_mm_deg(990, -900, 0), slack);
+      << model.why_refused(geometry::Pose::from_mm_deg(990, -900, 0), slack);
 }
 
 TEST(EffectorTilt, SymmetricAttachmentHangsLevel) {
   // Cables tied 50 mm either side of the pen, the weight 30 mm below it, the pen on the centre
   // line: level, each cable from (450, -600) to (0, 0): 750 mm, sin 0.8 upwards.
-  CablePlotterGeometry g = level_anchors(1000.0);
+  kinematics::CablePlotterGeometry g = level_anchors(1000.0);
   g.attach_mm = {Eigen::Vector2d(-50.0, 0.0), Eigen::Vector2d(50.0, 0.0)};
   g.center_of_mass_mm = {0.0, -30.0};
   g.effector_mass_kg = 1.0;
-  const CablePlotterKinematics model(g);
-  CableStatics statics;
-  ASSERT_TRUE(model.statics(Pose::from_mm_deg(500, -600, 0), {0.0, 0.0}, statics).ok());
+  const kinematics::CablePlotterKinematics model(g);
+  kinematics::CableStatics statics;
+  ASSERT_TRUE(model.statics(geometry::Pose::from_mm_deg(500, -600, 0), {0.0, 0.0}, statics).ok());
   EXPECT_NEAR(statics.tilt_rad, 0.0, 1e-12);
   EXPECT_NEAR(statics.tension_N[0], kG / 1.6, 1e-12);
-  const JointVector joints = inverse(model, 500.0, -600.0);
+  const kinematics::JointVector joints = inverse(model, 500.0, -600.0);
   EXPECT_NEAR(joints[0], 750.0, 1e-9);
   EXPECT_NEAR(joints[1], 750.0, 1e-9);
 }
@@ -161,15 +168,16 @@ TEST(EffectorTilt, CablesTiedAtOnePointOffTheSideHangTheWeightBelowTheKnot) {
   // Both cables tied at (30, 40) from the pen, the weight at the pen: the weight hangs straight
   // below the knot, so the effector turns by atan(30 / 40) and the knot is 50 mm above the pen,
   // wherever the pen is. The cables run to the knot.
-  CablePlotterGeometry g = level_anchors(1000.0);
+  kinematics::CablePlotterGeometry g = level_anchors(1000.0);
   g.attach_mm = {Eigen::Vector2d(30.0, 40.0), Eigen::Vector2d(30.0, 40.0)};
   g.effector_mass_kg = 1.0;
-  const CablePlotterKinematics model(g);
+  const kinematics::CablePlotterKinematics model(g);
   for (const Eigen::Vector2d& pen : {Eigen::Vector2d(500, -600), Eigen::Vector2d(200, -800)}) {
-    CableStatics statics;
-    ASSERT_TRUE(model.statics(Pose::from_mm_deg(pen.x(), pen.y(), 0), {0, 0}, statics).ok());
+    kinematics::CableStatics statics;
+    ASSERT_TRUE(
+        model.statics(geometry::Pose::from_mm_deg(pen.x(), pen.y(), 0), {0, 0}, statics).ok());
     EXPECT_NEAR(statics.tilt_rad, std::atan2(30.0, 40.0), 1e-12);
-    const JointVector joints = inverse(model, pen.x(), pen.y());
+    const kinematics::JointVector joints = inverse(model, pen.x(), pen.y());
     const Eigen::Vector2d knot = pen + Eigen::Vector2d(0.0, 50.0);
     EXPECT_NEAR(joints[0], knot.norm(), 1e-9);
     EXPECT_NEAR(joints[1], (knot - Eigen::Vector2d(1000.0, 0.0)).norm(), 1e-9);
@@ -179,20 +187,21 @@ TEST(EffectorTilt, CablesTiedAtOnePointOffTheSideHangTheWeightBelowTheKnot) {
 TEST(EffectorTilt, AsymmetricAttachmentBalancesForcesAndMoment) {
   // Tied at (-40, 20) and (70, 5), the weight at (5, -25), off the centre line: check the
   // solution against the balance, recomputed here from the tilt and the tensions alone.
-  CablePlotterGeometry g = level_anchors(1200.0);
+  kinematics::CablePlotterGeometry g = level_anchors(1200.0);
   g.attach_mm = {Eigen::Vector2d(-40.0, 20.0), Eigen::Vector2d(70.0, 5.0)};
   g.center_of_mass_mm = {5.0, -25.0};
   g.effector_mass_kg = 3.0;
-  const CablePlotterKinematics model(g);
+  const kinematics::CablePlotterKinematics model(g);
   const Eigen::Vector2d pen(380.0, -700.0);
-  CableStatics statics;
-  ASSERT_TRUE(model.statics(Pose::from_mm_deg(pen.x(), pen.y(), 0), {0, 0}, statics).ok());
+  kinematics::CableStatics statics;
+  ASSERT_TRUE(
+      model.statics(geometry::Pose::from_mm_deg(pen.x(), pen.y(), 0), {0, 0}, statics).ok());
   EXPECT_GT(std::abs(statics.tilt_rad), 0.01);
   const Eigen::Rotation2Dd turn(statics.tilt_rad);
   const Eigen::Vector2d weight(0.0, -3.0 * kG);
   Eigen::Vector2d force = weight;
   double moment = 0.0;
-  const JointVector joints = inverse(model, pen.x(), pen.y());
+  const kinematics::JointVector joints = inverse(model, pen.x(), pen.y());
   for (int cable = 0; cable < 2; ++cable) {
     const Eigen::Vector2d arm = turn * g.attach_mm[cable];
     const Eigen::Vector2d to_anchor = g.anchors_mm[cable] - (pen + arm);
@@ -211,11 +220,12 @@ TEST(Catenary, MatchesTheClosedFormOfAUniformInextensibleChain) {
   // y = a cosh(x / a): from the vertex to x the arc is a sinh(x / a), the rise a (cosh - 1).
   const double a = 1000.0, w = 0.0015;  // mm; N/mm
   const double h = w * a;
-  CatenarySpan span = catenary_span(h, 0.0, a * std::sinh(0.8), w, 0.0);
+  kinematics::CatenarySpan span = kinematics::catenary_span(h, 0.0, a * std::sinh(0.8), w, 0.0);
   EXPECT_NEAR(span.across_mm, 800.0, 1e-9);
   EXPECT_NEAR(span.rise_mm, a * (std::cosh(0.8) - 1.0), 1e-9);
   // From x = -300 (the chain dips first: the end is pulled down, V = H sinh(-0.3)) to x = 800.
-  span = catenary_span(h, h * std::sinh(-0.3), a * (std::sinh(0.8) - std::sinh(-0.3)), w, 0.0);
+  span = kinematics::catenary_span(h, h * std::sinh(-0.3), a * (std::sinh(0.8) - std::sinh(-0.3)),
+                                   w, 0.0);
   EXPECT_NEAR(span.across_mm, 1100.0, 1e-9);
   EXPECT_NEAR(span.rise_mm, a * (std::cosh(0.8) - std::cosh(0.3)), 1e-9);
 }
@@ -224,7 +234,7 @@ TEST(Catenary, ElasticSpanMatchesAnIntegrationOfTheCable) {
   // Irvine's elastic catenary against the cable's own equations integrated along it: each
   // unstretched element ds becomes (1 + T / EA) ds along the tension's direction.
   const double h = 80.0, v = -12.0, length = 2500.0, w = 0.15 * kG * 1e-3, compliance = 1e-4;
-  const CatenarySpan span = catenary_span(h, v, length, w, compliance);
+  const kinematics::CatenarySpan span = kinematics::catenary_span(h, v, length, w, compliance);
   const int steps = 20000;
   const double ds = length / steps;
   double x = 0.0, y = 0.0;
@@ -244,7 +254,8 @@ TEST(Catenary, ElasticSpanMatchesAnIntegrationOfTheCable) {
   EXPECT_NEAR(span.across_mm, x, 1e-8);
   EXPECT_NEAR(span.rise_mm, y, 1e-8);
   // Without weight: a straight cable stretched by its tension.
-  const CatenarySpan straight = catenary_span(30.0, 40.0, 1000.0, 0.0, 1e-4);
+  const kinematics::CatenarySpan straight =
+      kinematics::catenary_span(30.0, 40.0, 1000.0, 0.0, 1e-4);
   EXPECT_NEAR(std::hypot(straight.across_mm, straight.rise_mm), 1000.0 * (1.0 + 50.0 * 1e-4), 1e-9);
 }
 
@@ -256,14 +267,15 @@ TEST(Catenary, DerivativesMatchCentralDifferences) {
   };
   for (const Case& k : {Case{80.0, -12.0, 2500.0, 0.0015, 1e-4},
                         Case{40.0, 30.0, 900.0, 0.002, 0.0}, Case{30.0, 40.0, 1000.0, 0.0, 1e-5}}) {
-    const CatenarySpanDerivatives d = catenary_span_derivatives(k.h, k.v, k.length, k.w, k.c);
+    const kinematics::CatenarySpanDerivatives d =
+        kinematics::catenary_span_derivatives(k.h, k.v, k.length, k.w, k.c);
     const auto numeric = [&](int which, bool rise) {
       double x[3] = {k.h, k.v, k.length};
       const double step = 1e-5 * std::max(1.0, std::abs(x[which]));
       x[which] += step;
-      const CatenarySpan plus = catenary_span(x[0], x[1], x[2], k.w, k.c);
+      const kinematics::CatenarySpan plus = kinematics::catenary_span(x[0], x[1], x[2], k.w, k.c);
       x[which] -= 2.0 * step;
-      const CatenarySpan minus = catenary_span(x[0], x[1], x[2], k.w, k.c);
+      const kinematics::CatenarySpan minus = kinematics::catenary_span(x[0], x[1], x[2], k.w, k.c);
       return rise ? (plus.rise_mm - minus.rise_mm) / (2.0 * step)
                   : (plus.across_mm - minus.across_mm) / (2.0 * step);
     };
@@ -277,16 +289,16 @@ TEST(Catenary, DerivativesMatchCentralDifferences) {
 }
 
 TEST(Catenary, ALighterChainTendsToTheStraightCable) {
-  CablePlotterGeometry g = level_anchors(2000.0);
+  kinematics::CablePlotterGeometry g = level_anchors(2000.0);
   g.pulley_radius_mm = 10.0;
   g.effector_mass_kg = 5.0;
-  const CablePlotterKinematics straight(g);
-  const JointVector reference = inverse(straight, 700.0, -1200.0);
+  const kinematics::CablePlotterKinematics straight(g);
+  const kinematics::JointVector reference = inverse(straight, 700.0, -1200.0);
   double previous = INFINITY;
   for (const double density : {0.5, 0.05, 0.005, 0.0005}) {
     g.cable_density_kg_per_m = density;
-    const CablePlotterKinematics sagging(g);
-    const JointVector joints = inverse(sagging, 700.0, -1200.0);
+    const kinematics::CablePlotterKinematics sagging(g);
+    const kinematics::JointVector joints = inverse(sagging, 700.0, -1200.0);
     const double difference = std::abs(joints[0] - reference[0]);
     EXPECT_LT(difference, previous) << density;
     // A heavier chain hangs below the straight line: it takes more chain to reach.
@@ -299,16 +311,17 @@ TEST(Catenary, ALighterChainTendsToTheStraightCable) {
 class CableExampleRoundTrip : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(CableExampleRoundTrip, ForwardOfInverseWithinANanometre) {
-  const Machine machine = test::load_example(GetParam());
+  const machine::Machine machine = test::load_example(GetParam());
   std::mt19937_64 rng(12);
   int tested = 0;
   double worst = 0.0;
-  for (const Pose& pose : test::sample_reachable_poses(machine, 200, rng, 1.0, 0.0)) {
-    JointVector joints;
+  for (const geometry::Pose& pose : test::sample_reachable_poses(machine, 200, rng, 1.0, 0.0)) {
+    kinematics::JointVector joints;
     if (!machine.inverse(pose, joints).ok()) continue;
-    Pose found = machine.home();
-    const Status status = machine.kinematics().forward(joints, found);
-    ASSERT_TRUE(status.ok()) << describe(status) << " at " << pose.position_mm.transpose();
+    geometry::Pose found = machine.home();
+    const kinematics::Status status = machine.kinematics().forward(joints, found);
+    ASSERT_TRUE(status.ok()) << kinematics::describe(status) << " at "
+                             << pose.position_mm.transpose();
     worst = std::max(worst, (found.position_mm - pose.position_mm).norm());
     ++tested;
   }

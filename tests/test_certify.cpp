@@ -18,7 +18,7 @@
 namespace pkm::certify {
 namespace {
 
-motion::Segment line(const Vector6d& start, const Vector6d& end) {
+motion::Segment line(const geometry::Vector6d& start, const geometry::Vector6d& end) {
   motion::Segment segment;
   segment.start = start;
   segment.end = end;
@@ -26,8 +26,8 @@ motion::Segment line(const Vector6d& start, const Vector6d& end) {
   return segment;
 }
 
-Vector6d pose(double x, double y, double z, double a = 0, double b = 0, double c = 0) {
-  return Pose::from_mm_deg(x, y, z, a, b, c).as_vector();
+geometry::Vector6d pose(double x, double y, double z, double a = 0, double b = 0, double c = 0) {
+  return geometry::Pose::from_mm_deg(x, y, z, a, b, c).as_vector();
 }
 
 // Leg 1 of the paper's hexapod joins base joint a and platform joint b (tool tip at 30 mm):
@@ -37,7 +37,7 @@ Vector6d pose(double x, double y, double z, double a = 0, double b = 0, double c
 constexpr double kLegX = 200.3643704832, kLegY = 153.8868015505;
 
 TEST(CertifyMove, AVerticalLinePastALegsMinIsViolatedWhereComputedByHand) {
-  const Machine machine = test::load_example("hexapod-bit.toml");
+  const machine::Machine machine = test::load_example("hexapod-bit.toml");
   const MoveProver prover(machine);
   // z from 1000 down to 500: leg 1 reaches 600 mm at z = 570, u = 430 / 500 = 0.86.
   const MoveProof proof = prover.prove(line(pose(kLegX, kLegY, 1000), pose(kLegX, kLegY, 500)));
@@ -53,7 +53,7 @@ TEST(CertifyMove, AVerticalLinePastALegsMinIsViolatedWhereComputedByHand) {
 }
 
 TEST(CertifyMove, TheSameLineStoppingShortIsProven) {
-  const Machine machine = test::load_example("hexapod-bit.toml");
+  const machine::Machine machine = test::load_example("hexapod-bit.toml");
   const MoveProver prover(machine);
   const MoveProof proof = prover.prove(line(pose(kLegX, kLegY, 1000), pose(kLegX, kLegY, 571)));
   EXPECT_EQ(proof.verdict, Verdict::proven);
@@ -64,7 +64,7 @@ TEST(CertifyMove, TheSameLineStoppingShortIsProven) {
 TEST(CertifyMove, ALegsMinimumBetweenSamplesIsFound) {
   // Along x at y = kLegY, z = 570 - 1e-8, leg 1 is shortest above the point: 600 - 1e-8 mm, below
   // 600 only within 3.5 um of x = kLegX (sqrt(2 * 600 * 1e-8)); the ends are 600.09 mm.
-  const Machine machine = test::load_example("hexapod-bit.toml");
+  const machine::Machine machine = test::load_example("hexapod-bit.toml");
   const MoveProver prover(machine);
   const double z = 570.0 - 1e-8;
   const MoveProof proof =
@@ -84,7 +84,7 @@ TEST(CertifyMove, AnArcBulgingPastTheEnvelopeIsViolatedWhereItCrosses) {
   // The linear delta's envelope ends at x = 120. A ccw arc about (0, 0) from (110, -50) to
   // (110, 50) has radius 120.830 and bulges to x = 120.830 at its middle; it crosses x = 120 at
   // the angle -acos(120 / 120.830) = -6.7305 deg of its -24.444 .. 24.444 deg sweep.
-  const Machine machine = test::load_example("linear-delta.toml");
+  const machine::Machine machine = test::load_example("linear-delta.toml");
   const MoveProver prover(machine);
   motion::Segment arc = line(pose(110, -50, 100), pose(110, 50, 100));
   arc.kind = motion::SegmentKind::arc;
@@ -108,12 +108,12 @@ TEST(CertifyMove, AnArcBulgingPastTheEnvelopeIsViolatedWhereItCrosses) {
 
 // The vertical-legs hexapod of test_leg_limits.cpp with max_joint_angle = 30: leg 5's platform
 // end reaches 30 deg at a tilt of a = 25.4958 deg (computed there by hand).
-Machine tilting_hexapod(const std::string& keys) {
+machine::Machine tilting_hexapod(const std::string& keys) {
   return test::parallel_leg_hexapod(test::hexagon_points(), keys);
 }
 
 TEST(CertifyMove, ATiltPastTheJointAngleIsViolatedAtTheHandComputedAngle) {
-  const Machine machine = tilting_hexapod("max_joint_angle = 30");
+  const machine::Machine machine = tilting_hexapod("max_joint_angle = 30");
   const MoveProver prover(machine);
   const MoveProof proof = prover.prove(line(pose(0, 0, 500), pose(0, 0, 500, 28)));
   ASSERT_EQ(proof.verdict, Verdict::violated);
@@ -127,7 +127,7 @@ TEST(CertifyMove, ATiltPastTheJointAngleIsViolatedAtTheHandComputedAngle) {
 
 TEST(CertifyMove, LegsBroughtTogetherAreViolatedWhereTheyTouch) {
   // test_leg_limits.cpp's pair: legs 1 and 2, 60 mm apart, touch 40 mm legs at x = 559.017.
-  const Machine machine =
+  const machine::Machine machine =
       test::parallel_leg_hexapod(test::close_pair_points(), "leg_diameter = 40");
   const MoveProver prover(machine);
   const MoveProof proof = prover.prove(line(pose(0, 0, 500), pose(600, 0, 500)));
@@ -140,11 +140,11 @@ TEST(CertifyMove, LegsBroughtTogetherAreViolatedWhereTheyTouch) {
 }
 
 TEST(CertifyMove, AModelWithoutDerivativeBoundsIsUndecided) {
-  const Machine machine = test::load_example("mach3-formula.toml");
+  const machine::Machine machine = test::load_example("mach3-formula.toml");
   const MoveProver prover(machine);
   EXPECT_NE(prover.unavailable().find("no bound on the derivatives"), std::string::npos);
-  const Vector6d home = machine.home().as_vector();
-  Vector6d next = home;
+  const geometry::Vector6d home = machine.home().as_vector();
+  geometry::Vector6d next = home;
   next[0] += 1.0;
   const MoveProof proof = prover.prove(line(home, next));
   EXPECT_EQ(proof.verdict, Verdict::undecided);
@@ -203,16 +203,16 @@ TEST(CertifyJob, APenThatNeverGoesDownIsAWarning) {
 // LinuxCNC's hexapod sample as `pkm import linuxcnc` writes it, legs 20..40 in (tests/data):
 // home 20 in above the base plane z = 0; tool_length 0, so the platform joints are at the tip's
 // height. The same leg lengths hold the platform's mirror image below the base.
-Machine linuxcnc_sample_hexapod() {
-  return load_machine(std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "data" /
-                      "linuxcnc-hexapod-sample-legs-20-40.toml");
+machine::Machine linuxcnc_sample_hexapod() {
+  return machine::load_machine(std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "data" /
+                               "linuxcnc-hexapod-sample-legs-20-40.toml");
 }
 
 TEST(CertifyMove, AHexapodThroughItsBasePlaneIsViolatedWhereThePlatformMeetsIt) {
   // Level, down the axis from z = 1 in to z = -1 in: every platform joint meets the base plane at
   // z = 0 (u = 0.5), each leg lying flat there, 22.02 in long (within 20..40 in); below it the
   // legs hold the mirror image. The joints alone never leave their limits on this line.
-  const Machine machine = linuxcnc_sample_hexapod();
+  const machine::Machine machine = linuxcnc_sample_hexapod();
   const MoveProver prover(machine);
   const MoveProof proof = prover.prove(line(pose(0, 0, 25.4), pose(0, 0, -25.4)));
   ASSERT_EQ(proof.verdict, Verdict::violated);
@@ -229,7 +229,7 @@ TEST(CertifyMove, AHexapodThroughItsBasePlaneIsViolatedWhereThePlatformMeetsIt) 
   const MoveProof tilt = prover.prove(line(pose(0, 0, 2.54), pose(0, 0, 2.54, -1.0)));
   ASSERT_EQ(tilt.verdict, Verdict::violated);
   EXPECT_EQ(tilt.finding->quantity, Quantity::assembly_mode);
-  EXPECT_NEAR(radians_to_degrees(-tilt.finding->pose[3]), 0.4982, 1e-3);
+  EXPECT_NEAR(geometry::radians_to_degrees(-tilt.finding->pose[3]), 0.4982, 1e-3);
 }
 
 TEST(CertifyJob, ARealJobThroughTheHexapodsBasePlaneIsRefusedAtItsLine) {
@@ -257,39 +257,39 @@ namespace {
 // some reaching past it) on machines of each kind; every move proven must pass 4001 samples, and
 // every violation found must be a pose the machine refuses.
 // The property for one machine: returns the numbers of proven and violated moves.
-std::pair<int, int> check_soundness(const Machine& machine, int trials) {
+std::pair<int, int> check_soundness(const machine::Machine& machine, int trials) {
   const MoveProver prover(machine);
   std::mt19937_64 rng(13);
-  const PoseBox box = reach_box(machine);
+  const machine::PoseBox box = machine::reach_box(machine);
   std::uniform_real_distribution<double> share(-0.1, 1.1);
   const auto random_pose = [&] {
-    Vector6d p = machine.home().as_vector();
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+    geometry::Vector6d p = machine.home().as_vector();
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       if (!box.axes.controls(axis)) continue;
       const double span = box.max[axis] - box.min[axis];
-      const double limited = axis >= 3 ? std::min(span, degrees_to_radians(30.0)) : span;
+      const double limited = axis >= 3 ? std::min(span, geometry::degrees_to_radians(30.0)) : span;
       const double low = axis >= 3 ? p[axis] - 0.5 * limited : box.min[axis];
       p[axis] = low + share(rng) * limited;
     }
     return p;
   };
   int proven = 0, violated = 0;
-  JointVector joints;
+  kinematics::JointVector joints;
   for (int trial = 0; trial < trials; ++trial) {
     const motion::Segment segment = line(random_pose(), random_pose());
     const MoveProof proof = prover.prove(segment);
     if (proof.verdict == Verdict::proven) {
       ++proven;
       for (int k = 0; k <= 4000; ++k) {
-        const Pose at = Pose::from_vector(segment.at(k / 4000.0));
-        const Status status = machine.inverse(at, joints);
+        const geometry::Pose at = geometry::Pose::from_vector(segment.at(k / 4000.0));
+        const kinematics::Status status = machine.inverse(at, joints);
         EXPECT_TRUE(status.ok()) << "trial " << trial << " sample " << k << ": "
                                  << machine.explain(at, status);
         if (!status.ok()) break;
       }
     } else if (proof.verdict == Verdict::violated) {
       ++violated;
-      EXPECT_FALSE(machine.inverse(Pose::from_vector(proof.finding->pose), joints).ok());
+      EXPECT_FALSE(machine.inverse(geometry::Pose::from_vector(proof.finding->pose), joints).ok());
     }
   }
   return {proven, violated};
@@ -313,7 +313,7 @@ TEST(CertifyLegLimits, ProvenMovesKeepJointAnglesAndClearances) {
   std::string toml = text.str();
   toml.replace(toml.find("tool_length = 30.0"), 18,
                "tool_length = 30.0\nmax_joint_angle = 30\nleg_diameter = 120");
-  const Machine machine = parse_machine(toml, "hexapod-limited.toml");
+  const machine::Machine machine = machine::parse_machine(toml, "hexapod-limited.toml");
   const auto [proven, violated] = check_soundness(machine, 150);
   EXPECT_GT(proven, 0);
   EXPECT_GT(violated, 0);
@@ -331,7 +331,7 @@ TEST(CertifySoundness, TheLinuxcncSampleHexapodsMovesAcrossItsBasePlane) {
   // where the legs stay within 20..40 in): a proven move keeps every platform joint above the plane
   // at 4001 samples; a violated one is refused for the assembly mode at a pose the machine refuses;
   // both occur.
-  const Machine machine = linuxcnc_sample_hexapod();
+  const machine::Machine machine = linuxcnc_sample_hexapod();
   const MoveProver prover(machine);
   std::mt19937_64 rng(25);
   std::uniform_real_distribution<double> across(-1.0, 1.0), height(-1.0, 3.0), tilt(-3.0, 3.0);
@@ -339,23 +339,23 @@ TEST(CertifySoundness, TheLinuxcncSampleHexapodsMovesAcrossItsBasePlane) {
     return pose(25.4 * across(rng), 25.4 * across(rng), 25.4 * height(rng), tilt(rng), tilt(rng),
                 tilt(rng));
   };
-  const auto& hexapod = dynamic_cast<const HexapodKinematics&>(machine.kinematics());
+  const auto& hexapod = dynamic_cast<const kinematics::HexapodKinematics&>(machine.kinematics());
   int proven = 0, crossing = 0;
-  JointVector joints;
+  kinematics::JointVector joints;
   for (int trial = 0; trial < 200; ++trial) {
     const motion::Segment segment = line(random_pose(), random_pose());
     const MoveProof proof = prover.prove(segment);
     if (proof.verdict == Verdict::proven) {
       ++proven;
       for (int k = 0; k <= 4000; ++k) {
-        const Pose at = Pose::from_vector(segment.at(k / 4000.0));
+        const geometry::Pose at = geometry::Pose::from_vector(segment.at(k / 4000.0));
         ASSERT_GT(hexapod.base_side(at).margin_mm, 0.0) << "trial " << trial << " sample " << k;
       }
     } else if (proof.verdict == Verdict::violated &&
                proof.finding->quantity == Quantity::assembly_mode) {
       ++crossing;
-      EXPECT_EQ(machine.inverse(Pose::from_vector(proof.finding->pose), joints).code,
-                StatusCode::other_assembly);
+      EXPECT_EQ(machine.inverse(geometry::Pose::from_vector(proof.finding->pose), joints).code,
+                kinematics::StatusCode::other_assembly);
     }
   }
   EXPECT_GT(proven, 10);
@@ -372,7 +372,7 @@ TEST(CertifyCables, ABeltCrossingItsPulleysOuterTangentIsViolatedWhereComputedBy
   // hektor-pulleys.toml: the left belt hangs straight down from its pulley's rightmost point at
   // x = r = 6.366 mm; left of it the right belt would push. Along y = -50 from x = 10 to 3 that
   // is u = (10 - 6.366) / 7.
-  const Machine machine = test::load_example("hektor-pulleys.toml");
+  const machine::Machine machine = test::load_example("hektor-pulleys.toml");
   const MoveProver prover(machine);
   EXPECT_TRUE(prover.unavailable().empty()) << prover.unavailable();
   const MoveProof proof = prover.prove(line(pose(10, -50, 0), pose(3, -50, 0)));
@@ -384,8 +384,9 @@ TEST(CertifyCables, ABeltCrossingItsPulleysOuterTangentIsViolatedWhereComputedBy
   EXPECT_EQ(clear.verdict, Verdict::proven);
 }
 
-Machine straight_makelangelo() {
-  return load_machine(std::string(PKM_SOURCE_DIR) + "/tests/data/makelangelo-straight.toml");
+machine::Machine straight_makelangelo() {
+  return machine::load_machine(std::string(PKM_SOURCE_DIR) +
+                               "/tests/data/makelangelo-straight.toml");
 }
 
 // The line of tests/data/tension-between-samples.ngc: the left cable's tension least (0.5 N -
@@ -394,7 +395,7 @@ Machine straight_makelangelo() {
 const Eigen::Vector2d kDipStart(238.673597626, 10.064767823), kDipEnd(237.021219713, -9.666163407);
 
 TEST(CertifyCables, ATensionDipBelowTheMinBetweenSamplesIsViolatedWhereItStarts) {
-  const Machine machine = straight_makelangelo();
+  const machine::Machine machine = straight_makelangelo();
   const MoveProver prover(machine);
   EXPECT_TRUE(prover.unavailable().empty()) << prover.unavailable();
   const MoveProof proof =
@@ -415,7 +416,7 @@ TEST(CertifyCables, ATensionDipBelowTheMinBetweenSamplesIsViolatedWhereItStarts)
 }
 
 TEST(CertifyCables, SaggingCablesAreUndecidedSayingWhy) {
-  const Machine machine = test::load_example("makelangelo.toml");
+  const machine::Machine machine = test::load_example("makelangelo.toml");
   const MoveProver prover(machine);
   EXPECT_NE(prover.unavailable().find("cables that sag (cable_density > 0)"), std::string::npos);
   EXPECT_EQ(prover.prove(line(pose(0, 0, 0), pose(10, 0, 0))).verdict, Verdict::undecided);
@@ -424,23 +425,24 @@ TEST(CertifyCables, SaggingCablesAreUndecidedSayingWhy) {
 // Random lines over a weighed, tilting, straight-cable gondola: every proven move passes 401
 // samples of the machine's inverse; every violation found is a pose the machine refuses.
 TEST(CertifyCables, ProvenMovesOfAWeighedGondolaPassEverySample) {
-  const Machine machine = straight_makelangelo();
+  const machine::Machine machine = straight_makelangelo();
   const MoveProver prover(machine);
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> x(-350.0, 350.0), y(-700.0, 480.0);
   int proven = 0, violated = 0;
-  JointVector joints;
+  kinematics::JointVector joints;
   for (int n = 0; n < 60; ++n) {
     const motion::Segment segment = line(pose(x(rng), y(rng), 0), pose(x(rng), y(rng), 0));
     const MoveProof proof = prover.prove(segment);
     if (proof.verdict == Verdict::proven) {
       ++proven;
       for (int k = 0; k <= 400; ++k) {
-        ASSERT_TRUE(machine.inverse(Pose::from_vector(segment.at(k / 400.0)), joints).ok());
+        ASSERT_TRUE(
+            machine.inverse(geometry::Pose::from_vector(segment.at(k / 400.0)), joints).ok());
       }
     } else if (proof.verdict == Verdict::violated) {
       ++violated;
-      ASSERT_FALSE(machine.inverse(Pose::from_vector(proof.finding->pose), joints).ok());
+      ASSERT_FALSE(machine.inverse(geometry::Pose::from_vector(proof.finding->pose), joints).ok());
     }
   }
   EXPECT_GT(proven, 10);

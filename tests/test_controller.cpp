@@ -61,24 +61,24 @@ home = [50.0, -50.0]
 kind = "grbl"
 )";
 
-Machine plotter(const std::string& text = kPlotter) {
-  return parse_machine(text, "plotter.toml");
+machine::Machine plotter(const std::string& text = kPlotter) {
+  return machine::parse_machine(text, "plotter.toml");
 }
 
 // The error parse_machine gives for `text`, as file:line:key: message.
 std::string refusal(const std::string& text) {
   try {
-    parse_machine(text, "plotter.toml");
-  } catch (const MachineFileError& error) {
+    machine::parse_machine(text, "plotter.toml");
+  } catch (const machine::MachineFileError& error) {
     return error.what();
   }
   return "accepted";
 }
 
 TEST(ControllerTable, DefaultsOfEachKind) {
-  const Machine grbl = plotter();
+  const machine::Machine grbl = plotter();
   ASSERT_TRUE(grbl.controller());
-  EXPECT_EQ(grbl.controller()->kind, ControllerKind::grbl);
+  EXPECT_EQ(grbl.controller()->kind, machine::ControllerKind::grbl);
   EXPECT_EQ(grbl.controller()->axes, 3);
   EXPECT_EQ(grbl.controller()->planner_blocks, 16);
   EXPECT_EQ(grbl.controller()->rx_buffer_bytes, 128);
@@ -86,21 +86,22 @@ TEST(ControllerTable, DefaultsOfEachKind) {
   EXPECT_DOUBLE_EQ(grbl.controller()->junction_deviation, 0.01);
   EXPECT_DOUBLE_EQ(*grbl.joints()[0].steps_per_unit, 80.0);
 
-  const Machine hal = plotter(edited(kPlotter, "kind = \"grbl\"", "kind = \"grblhal\""));
-  EXPECT_EQ(hal.controller()->kind, ControllerKind::grblhal);
+  const machine::Machine hal = plotter(edited(kPlotter, "kind = \"grbl\"", "kind = \"grblhal\""));
+  EXPECT_EQ(hal.controller()->kind, machine::ControllerKind::grblhal);
   EXPECT_EQ(hal.controller()->axes, 3);
   EXPECT_EQ(hal.controller()->planner_blocks, 35);
   EXPECT_EQ(hal.controller()->rx_buffer_bytes, 1024);
 
-  const Machine none = plotter(kPlotter.substr(0, kPlotter.find("[controller]")));
+  const machine::Machine none = plotter(kPlotter.substr(0, kPlotter.find("[controller]")));
   EXPECT_FALSE(none.controller());
   EXPECT_DOUBLE_EQ(*none.joints()[1].steps_per_unit, 80.0);  // steps without a controller: kept
 }
 
 TEST(ControllerTable, EveryKeyRead) {
-  const Machine machine = plotter(kPlotter +
-                                  "axes = 3\nplanner_blocks = 15\nrx_buffer = 254\nbaud = 250000\n"
-                                  "junction_deviation = 0.02\n");
+  const machine::Machine machine =
+      plotter(kPlotter +
+              "axes = 3\nplanner_blocks = 15\nrx_buffer = 254\nbaud = 250000\n"
+              "junction_deviation = 0.02\n");
   EXPECT_EQ(machine.controller()->planner_blocks, 15);
   EXPECT_EQ(machine.controller()->rx_buffer_bytes, 254);
   EXPECT_EQ(machine.controller()->baud, 250000);
@@ -112,7 +113,7 @@ TEST(ControllerTable, InchFileIsConverted) {
   std::string text = edited(kPlotter, "[kinematics]", "units = \"inch\"\n[kinematics]");
   text = edited(edited(text, "steps_per_unit = 80.0", "steps_per_unit = 2032.0"),
                 "steps_per_unit = 80.0", "steps_per_unit = 2032.0");
-  const Machine machine = plotter(text + "junction_deviation = 0.0004\n");
+  const machine::Machine machine = plotter(text + "junction_deviation = 0.0004\n");
   EXPECT_DOUBLE_EQ(*machine.joints()[0].steps_per_unit, 80.0);
   EXPECT_DOUBLE_EQ(machine.controller()->junction_deviation, 0.0004 * 25.4);
 }
@@ -210,17 +211,17 @@ TEST(ControllerTable, MoreJointsThanAxes) {
 // were.
 TEST(ControllerTable, KeptThroughCalibrationsRewrite) {
   const std::string text = kPlotter + "planner_blocks = 15\nbaud = 250000\n";
-  Machine machine = plotter(text);
+  machine::Machine machine = plotter(text);
   std::vector<double> parameters;
-  for (const Parameter& parameter : machine.kinematics().parameters()) {
+  for (const kinematics::Parameter& parameter : machine.kinematics().parameters()) {
     parameters.push_back(parameter.value);
   }
   parameters[0] += 0.5;
   machine.kinematics().set_parameters(parameters);
-  const std::string rewritten =
-      replace_kinematics_section(text, "plotter.toml", machine.kinematics(), machine.units());
+  const std::string rewritten = machine::replace_kinematics_section(
+      text, "plotter.toml", machine.kinematics(), machine.units());
   EXPECT_NE(rewritten, text);
-  const Machine again = plotter(rewritten);
+  const machine::Machine again = plotter(rewritten);
   EXPECT_DOUBLE_EQ(again.kinematics().parameters()[0].value, parameters[0]);
   ASSERT_TRUE(again.controller());
   EXPECT_EQ(again.controller()->planner_blocks, 15);
@@ -231,9 +232,9 @@ TEST(ControllerTable, KeptThroughCalibrationsRewrite) {
 // The example wall plotter by hand: 80 steps/mm; 150 mm/s = 9000 mm/min; 1000 mm/s^2; cords
 // 150..2100 mm: 1950 mm of travel.
 TEST(ExportGrbl, WallPlotterByHand) {
-  const Machine machine = test::load_example("wall-plotter.toml");
+  const machine::Machine machine = test::load_example("wall-plotter.toml");
   const post::ControllerSettingsFile file =
-      post::controller_settings(machine, ControllerKind::grbl);
+      post::controller_settings(machine, machine::ControllerKind::grbl);
   EXPECT_EQ(file.text(),
             "$1=255 (keep the motors enabled at rest: the tool hangs on them)\n"
             "$13=0 (report positions in mm: joint programs are in mm)\n"
@@ -263,8 +264,9 @@ TEST(ExportGrbl, InchFileInMillimetresInAxisOrder) {
   text = edited(text, "anchor_distance = 100.0", "anchor_distance = 4.0");
   text = edited(text, "home = [50.0, -50.0]", "home = [1.0, -5.0]");
   text = edited(text, "max_feed = 2400.0", "max_feed = 100.0");
-  const Machine machine = plotter(text + "junction_deviation = 0.0005\n");
-  const std::string settings = post::controller_settings(machine, ControllerKind::grbl).text();
+  const machine::Machine machine = plotter(text + "junction_deviation = 0.0005\n");
+  const std::string settings =
+      post::controller_settings(machine, machine::ControllerKind::grbl).text();
   EXPECT_EQ(settings,
             "$1=255 (keep the motors enabled at rest: the tool hangs on them)\n"
             "$13=0 (report positions in mm: joint programs are in mm)\n"
@@ -284,7 +286,7 @@ TEST(ExportGrbl, GrblhalNumbersAxisA) {
   std::string text = edited(kPlotter, "axis = \"Y\"", "axis = \"A\"");
   text = edited(text, "kind = \"grbl\"", "kind = \"grblhal\"\naxes = 4");
   const std::string settings =
-      post::controller_settings(plotter(text), ControllerKind::grblhal).text();
+      post::controller_settings(plotter(text), machine::ControllerKind::grblhal).text();
   EXPECT_NE(settings.find("$103=80.000 (A = joint right: steps/mm)\n"), std::string::npos)
       << settings;
   EXPECT_NE(settings.find("$133=175.000 (A = joint right: max travel, mm: its max - min)\n"),
@@ -293,7 +295,7 @@ TEST(ExportGrbl, GrblhalNumbersAxisA) {
 }
 
 TEST(ExportGrbl, Refusals) {
-  const auto message = [](const Machine& machine, ControllerKind kind) {
+  const auto message = [](const machine::Machine& machine, machine::ControllerKind kind) {
     try {
       post::controller_settings(machine, kind);
     } catch (const std::invalid_argument& error) {
@@ -301,18 +303,18 @@ TEST(ExportGrbl, Refusals) {
     }
     return std::string("accepted");
   };
-  EXPECT_EQ(
-      message(plotter(kPlotter.substr(0, kPlotter.find("[controller]"))), ControllerKind::grbl),
-      "plotter.toml: has no [controller] table; pkm export grbl needs one (kind = \"grbl\") "
-      "and each joint's steps_per_unit (docs/machine-file.md)");
-  EXPECT_EQ(message(plotter(), ControllerKind::grblhal),
+  EXPECT_EQ(message(plotter(kPlotter.substr(0, kPlotter.find("[controller]"))),
+                    machine::ControllerKind::grbl),
+            "plotter.toml: has no [controller] table; pkm export grbl needs one (kind = \"grbl\") "
+            "and each joint's steps_per_unit (docs/machine-file.md)");
+  EXPECT_EQ(message(plotter(), machine::ControllerKind::grblhal),
             "plotter.toml: its [controller] kind is \"grbl\": use pkm export grbl, or change kind "
             "in the machine file");
   // 180 - 5 = 175 mm at 2e4 steps/mm: 3.5 million steps; at 1e6 steps/mm, 175 million; a
   // kilometre-long cord at 1e4 steps/mm passes 2^31.
   std::string long_cords = edited(kPlotter, "max = 180.0", "max = 300000.0");
   long_cords = edited(long_cords, "steps_per_unit = 80.0", "steps_per_unit = 10000.0");
-  EXPECT_EQ(message(plotter(long_cords), ControllerKind::grbl),
+  EXPECT_EQ(message(plotter(long_cords), machine::ControllerKind::grbl),
             "plotter.toml: joint 'left' spans 2999950000 steps (its range times steps_per_unit), "
             "beyond grbl's step counter (2147483647)");
 }
@@ -322,7 +324,7 @@ TEST(ExportGrbl, StepRateBeyondAnAvrIsAWarning) {
   std::string text = edited(kPlotter, "steps_per_unit = 80.0", "steps_per_unit = 400.0");
   text = edited(text, "max_velocity = 60.0", "max_velocity = 150.0");
   const post::ControllerSettingsFile file =
-      post::controller_settings(plotter(text), ControllerKind::grbl);
+      post::controller_settings(plotter(text), machine::ControllerKind::grbl);
   ASSERT_EQ(file.warnings.size(), 1u);
   EXPECT_EQ(file.warnings[0],
             "joint 'left' at its max_velocity 150.000 mm/s steps at 60000 Hz; grbl 1.1 on a 16 MHz "
@@ -335,8 +337,9 @@ TEST(ExportGrbl, LinesAreSafeForGrbl) {
   const std::string name =
       "l\xC3\x91"
       "ft? (main) cord with a very long name that goes on and on!";
-  const Machine machine = plotter(edited(kPlotter, "name = \"left\"", "name = \"" + name + "\""));
-  const std::string text = post::controller_settings(machine, ControllerKind::grbl).text();
+  const machine::Machine machine =
+      plotter(edited(kPlotter, "name = \"left\"", "name = \"" + name + "\""));
+  const std::string text = post::controller_settings(machine, machine::ControllerKind::grbl).text();
   std::istringstream lines(text);
   int count = 0;
   for (std::string line; std::getline(lines, line); ++count) {
@@ -357,7 +360,8 @@ TEST(ExportGrbl, LinesAreSafeForGrbl) {
 
 // grblHAL zeroes as grbl does: G10 L20 P1 with the readings, 4 decimals (its dialect's).
 TEST(HomeGrblhal, SetPositionBlock) {
-  const Machine machine = plotter(edited(kPlotter, "kind = \"grbl\"", "kind = \"grblhal\""));
+  const machine::Machine machine =
+      plotter(edited(kPlotter, "kind = \"grbl\"", "kind = \"grblhal\""));
   const post::MeasuredJoints measured = post::measured_joints(machine, {60.0, 80.0});
   EXPECT_EQ(post::set_position_program(machine, post::Dialect::grblhal, measured),
             "(set-position block by pkmkit for Small plotter, dialect grblhal)\n"
@@ -375,9 +379,10 @@ TEST(HomeGrblhal, HomingProgramProbesWithG38) {
   std::string text = edited(kPlotter, "axis = \"X\"", "axis = \"X\"\nhome_switch = 10.0");
   text = edited(text, "axis = \"Y\"", "axis = \"Y\"\nhome_switch = 10.0");
   text = edited(text, "kind = \"grbl\"", "kind = \"grblhal\"");
-  const Machine machine = plotter(text +
-                                  "\n[homing]\nsequence = [\"left\", \"right\"]\nslack = 10.0\n"
-                                  "probe_feed = 120.0\nbackoff = 5.0\n");
+  const machine::Machine machine =
+      plotter(text +
+              "\n[homing]\nsequence = [\"left\", \"right\"]\nslack = 10.0\n"
+              "probe_feed = 120.0\nbackoff = 5.0\n");
   const std::string program = post::homing_program(machine, post::Dialect::grblhal);
   // The left cord from at most 180 - 10 = 170 mm past its switch; the right one 10 mm more, paid
   // out while the left homed.

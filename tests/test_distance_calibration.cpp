@@ -22,7 +22,7 @@
 namespace pkm {
 namespace {
 
-std::vector<PatternMark> three_marks() {
+std::vector<calibration::PatternMark> three_marks() {
   return {{1, {100.0, -200.0}, {}}, {2, {400.0, -250.0}, {}}, {7, {250.0, -600.0}, {}}};
 }
 
@@ -36,13 +36,14 @@ std::string error_of(const std::function<void()>& action) {
 }
 
 TEST(PatternJson, RoundTripsTheMarks) {
-  const std::vector<PatternMark> marks = three_marks();
-  const std::string text = pattern_json_text(marks);
+  const std::vector<calibration::PatternMark> marks = three_marks();
+  const std::string text = calibration::pattern_json_text(marks);
   EXPECT_EQ(text,
             "{\"marks\": [\n  {\"id\": 1, \"x\": 100.000, \"y\": -200.000},\n"
             "  {\"id\": 2, \"x\": 400.000, \"y\": -250.000},\n"
             "  {\"id\": 7, \"x\": 250.000, \"y\": -600.000}\n]}\n");
-  const std::vector<PatternMark> read = parse_pattern_json(text, "p.json");
+  const std::vector<calibration::PatternMark> read =
+      calibration::parse_pattern_json(text, "p.json");
   ASSERT_EQ(read.size(), 3u);
   EXPECT_EQ(read[2].id, 7);
   EXPECT_EQ(read[2].position_mm, Eigen::Vector2d(250.0, -600.0));
@@ -51,7 +52,7 @@ TEST(PatternJson, RoundTripsTheMarks) {
 
 TEST(PatternJson, ErrorsNameLineAndColumn) {
   const auto error = [](const std::string& text) {
-    return error_of([&] { parse_pattern_json(text, "p.json"); });
+    return error_of([&] { calibration::parse_pattern_json(text, "p.json"); });
   };
   EXPECT_EQ(error("{\"marks\": [\n {\"id\": 1, \"x\": 1, \"y\": 2},\n {\"id\": 1, \"x\": 3, "
                   "\"y\": 4}]}"),
@@ -74,8 +75,8 @@ TEST(PatternJson, ErrorsNameLineAndColumn) {
 }
 
 TEST(DistancesCsv, ReadsPairsAnyColumnOrder) {
-  const std::vector<PatternMark> marks = three_marks();
-  const std::vector<MarkDistance> d = parse_distances_csv(
+  const std::vector<calibration::PatternMark> marks = three_marks();
+  const std::vector<calibration::MarkDistance> d = calibration::parse_distances_csv(
       "distance_mm, mark_a, mark_b\n\n 304.138 ,1,2\n412.3,7,2\n", "d.csv", marks);
   ASSERT_EQ(d.size(), 2u);
   EXPECT_EQ(d[0].a, 0);
@@ -87,10 +88,11 @@ TEST(DistancesCsv, ReadsPairsAnyColumnOrder) {
 }
 
 TEST(DistancesCsv, ErrorsNameLineAndColumn) {
-  const std::vector<PatternMark> marks = three_marks();
+  const std::vector<calibration::PatternMark> marks = three_marks();
   const auto error = [&](const std::string& rows) {
-    return error_of(
-        [&] { parse_distances_csv("mark_a,mark_b,distance_mm\n" + rows, "d.csv", marks); });
+    return error_of([&] {
+      calibration::parse_distances_csv("mark_a,mark_b,distance_mm\n" + rows, "d.csv", marks);
+    });
   };
   EXPECT_EQ(error("1,3,300\n"), "d.csv:2:3: mark 3 is not in the pattern (its marks: 1 .. 7)");
   EXPECT_EQ(error("1,2,-300\n"), "d.csv:2:5: the distance must be positive (mm), not -300");
@@ -105,22 +107,24 @@ TEST(DistancesCsv, ErrorsNameLineAndColumn) {
             "readings into one row)");
   EXPECT_EQ(error("1,2\n"), "d.csv:2:1: has 2 fields; the header has 3");
   EXPECT_EQ(error(""), "d.csv:1:1: no distances after the header");
-  EXPECT_EQ(error_of([&] { parse_distances_csv("mark_a,mark_b,length\n", "d.csv", marks); }),
-            "d.csv:1:15: unknown column 'length' (expected mark_a,mark_b,distance_mm)");
-  EXPECT_EQ(error_of([&] { parse_distances_csv("\n", "d.csv", marks); }),
+  EXPECT_EQ(
+      error_of([&] { calibration::parse_distances_csv("mark_a,mark_b,length\n", "d.csv", marks); }),
+      "d.csv:1:15: unknown column 'length' (expected mark_a,mark_b,distance_mm)");
+  EXPECT_EQ(error_of([&] { calibration::parse_distances_csv("\n", "d.csv", marks); }),
             "d.csv:1:1: empty file: expected the header mark_a,mark_b,distance_mm");
 }
 
 TEST(DistanceFit, MarkOutsideTheModelsReachNamesItsPlaceInPatternJson) {
   // Mark 2 above the anchors: no machine file the wall plotter loads could have drawn it.
-  const Machine machine = test::load_example("wall-plotter.toml");
-  const std::vector<PatternMark> marks = parse_pattern_json(
+  const machine::Machine machine = test::load_example("wall-plotter.toml");
+  const std::vector<calibration::PatternMark> marks = calibration::parse_pattern_json(
       "{\"marks\": [\n {\"id\": 1, \"x\": 500, \"y\": -700},\n {\"id\": 2, \"x\": 500, "
       "\"y\": 100},\n {\"id\": 3, \"x\": 900, \"y\": -900}]}",
       "p.json");
-  std::unique_ptr<Kinematics> model = machine.kinematics().clone();
+  std::unique_ptr<kinematics::Kinematics> model = machine.kinematics().clone();
   EXPECT_EQ(error_of([&] {
-              fit_distances(*model, machine.home(), marks, all_pairs(marks), FitOptions{});
+              calibration::fit_distances(*model, machine.home(), marks,
+                                         calibration::all_pairs(marks), calibration::FitOptions{});
             }),
             "p.json:3:2: mark 2 is outside the nominal model's reach (unreachable): the pattern "
             "was drawn with another machine file?");
@@ -129,7 +133,7 @@ TEST(DistanceFit, MarkOutsideTheModelsReachNamesItsPlaceInPatternJson) {
 TEST(PatternStrokes, CrossAndDigitsByHand) {
   // Mark 10 at (100, -200), crosses of +-10 mm: the cross, then a '1' and a '0' of 5 x 10 mm,
   // the first 4 mm right of and above the centre, the next 8 mm further.
-  const auto strokes = mark_strokes({10, {100.0, -200.0}, {}}, 10.0);
+  const auto strokes = calibration::mark_strokes({10, {100.0, -200.0}, {}}, 10.0);
   ASSERT_EQ(strokes.size(), 4u);
   EXPECT_EQ(strokes[0], (std::vector<Eigen::Vector2d>{{90, -200}, {110, -200}}));
   EXPECT_EQ(strokes[1], (std::vector<Eigen::Vector2d>{{100, -210}, {100, -190}}));
@@ -143,7 +147,8 @@ TEST(PatternStrokes, TenDigitsLookDifferent) {
   std::vector<std::vector<std::pair<int, int>>> pictures;
   for (int digit = 0; digit <= 9; ++digit) {
     std::vector<std::pair<int, int>> segments;
-    for (const auto& stroke : mark_strokes({digit == 0 ? 10 : digit, {0, 0}, {}}, 2.0)) {
+    for (const auto& stroke :
+         calibration::mark_strokes({digit == 0 ? 10 : digit, {0, 0}, {}}, 2.0)) {
       if (stroke.size() == 2 && (stroke[0].x() == 0.0 || stroke[0].y() == 0.0)) continue;  // +
       for (std::size_t k = 1; k < stroke.size(); ++k) {
         const auto key = [](const Eigen::Vector2d& p) {
@@ -168,7 +173,7 @@ TEST(PatternStrokes, TenDigitsLookDifferent) {
 
 // A wall plotter with a 0.5 kg gondola tied 30 mm either side of the pen and tension limits of
 // 2..30 N: the marks go only where both cables pull within the limits.
-Machine gondola_wall_plotter() {
+machine::Machine gondola_wall_plotter() {
   std::ifstream file(test::example_machine_path("wall-plotter.toml"));
   std::stringstream text;
   text << file.rdbuf();
@@ -179,24 +184,26 @@ Machine gondola_wall_plotter() {
                    "pulley_radius = 10.0\neffector_mass = 0.5\n"
                    "effector_attach = [[-30.0, 20.0], [30.0, 20.0]]\n"
                    "center_of_mass = [0.0, -10.0]\ntension_limits = [2.0, 30.0]\n");
-  return parse_machine(toml, "gondola-wall-plotter.toml");
+  return machine::parse_machine(toml, "gondola-wall-plotter.toml");
 }
 
 TEST(CalibrationPattern, EveryStrokeReachableWithinTensionLimitsAndMarksApart) {
-  for (const Machine& machine : {test::load_example("wall-plotter.toml"), gondola_wall_plotter()}) {
-    PatternOptions options;
+  for (const machine::Machine& machine :
+       {test::load_example("wall-plotter.toml"), gondola_wall_plotter()}) {
+    calibration::PatternOptions options;
     options.marks = 16;
-    const CalibrationPattern pattern = design_pattern(machine, options);
+    const calibration::CalibrationPattern pattern = calibration::design_pattern(machine, options);
     ASSERT_EQ(pattern.marks.size(), 16u);
     EXPECT_EQ(pattern.cross_size_mm, 10.0);  // 1/80 of ~1950 mm, clamped to 10
     for (std::size_t a = 0; a < pattern.marks.size(); ++a) {
       EXPECT_EQ(pattern.marks[a].id, static_cast<int>(a) + 1);
-      for (const auto& stroke : mark_strokes(pattern.marks[a], pattern.cross_size_mm)) {
+      for (const auto& stroke :
+           calibration::mark_strokes(pattern.marks[a], pattern.cross_size_mm)) {
         for (const Eigen::Vector2d& point : stroke) {
-          Pose pose = machine.home();
+          geometry::Pose pose = machine.home();
           pose.position_mm.head<2>() = point;
-          JointVector joints;
-          const Status status = machine.inverse(pose, joints);
+          kinematics::JointVector joints;
+          const kinematics::Status status = machine.inverse(pose, joints);
           EXPECT_TRUE(status.ok()) << machine.explain(pose, status);
         }
       }
@@ -210,23 +217,24 @@ TEST(CalibrationPattern, EveryStrokeReachableWithinTensionLimitsAndMarksApart) {
       const Eigen::Vector2d& after = pattern.marks[k].position_mm;
       EXPECT_TRUE(before.y() > after.y() || (before.y() == after.y() && before.x() < after.x()));
     }
-    EXPECT_NO_THROW(pattern_gcode(machine, pattern, default_pen_heights(machine)));
+    EXPECT_NO_THROW(
+        calibration::pattern_gcode(machine, pattern, calibration::default_pen_heights(machine)));
   }
   // The tension limits keep the gondola's marks off the top and the sides, where a cable pulls
   // too hard or goes slack: the same point is refused with its own status.
-  const Machine gondola = gondola_wall_plotter();
-  Pose corner = gondola.home();
+  const machine::Machine gondola = gondola_wall_plotter();
+  geometry::Pose corner = gondola.home();
   corner.position_mm.head<2>() = Eigen::Vector2d(60.0, -235.0);
-  JointVector joints;
-  EXPECT_EQ(gondola.inverse(corner, joints).code, StatusCode::tension);
+  kinematics::JointVector joints;
+  EXPECT_EQ(gondola.inverse(corner, joints).code, kinematics::StatusCode::tension);
 }
 
 TEST(CalibrationPattern, GcodeDrawsEveryStrokeWithThePenDown) {
-  const Machine machine = test::load_example("pen-plotter.toml");  // [tool] down_below = 0
-  CalibrationPattern pattern;
+  const machine::Machine machine = test::load_example("pen-plotter.toml");  // [tool] down_below = 0
+  calibration::CalibrationPattern pattern;
   pattern.marks = {{7, {750.0, -700.0}, {}}};
   pattern.cross_size_mm = 10.0;
-  EXPECT_EQ(pattern_gcode(machine, pattern, default_pen_heights(machine)),
+  EXPECT_EQ(calibration::pattern_gcode(machine, pattern, calibration::default_pen_heights(machine)),
             "(pkm calibrate pattern: 1 numbered crosses for tape-measure calibration of Wall "
             "plotter 1500, servo pen)\n(measure between the crosses' centres: "
             "docs/calibration.md)\nG21 G90\nG0 Z5.000\nF3000.000\n"
@@ -241,12 +249,13 @@ TEST(CalibrationPattern, GcodeDrawsEveryStrokeWithThePenDown) {
 
 // The nominal geometry with the named parameters moved by the given amounts (names the model does
 // not have are skipped: the same hidden machine serves every version of the model).
-std::unique_ptr<Kinematics> moved(const Kinematics& nominal,
-                                  const std::vector<std::pair<std::string, double>>& changes) {
-  std::unique_ptr<Kinematics> result = nominal.clone();
-  std::vector<Parameter> parameters = result->parameters();
+std::unique_ptr<kinematics::Kinematics> moved(
+    const kinematics::Kinematics& nominal,
+    const std::vector<std::pair<std::string, double>>& changes) {
+  std::unique_ptr<kinematics::Kinematics> result = nominal.clone();
+  std::vector<kinematics::Parameter> parameters = result->parameters();
   std::vector<double> values;
-  for (const Parameter& p : parameters) {
+  for (const kinematics::Parameter& p : parameters) {
     double value = p.value;
     for (const auto& [name, change] : changes) value += name == p.name ? change : 0.0;
     values.push_back(value);
@@ -256,11 +265,11 @@ std::unique_ptr<Kinematics> moved(const Kinematics& nominal,
 }
 
 // Where the real machine's pen is when its controller drives `commanded` with `model`.
-bool drawn(const Kinematics& truth, const Kinematics& model, const Pose& home,
-           const Eigen::Vector2d& commanded, Eigen::Vector2d& pen) {
-  Pose pose = home;
+bool drawn(const kinematics::Kinematics& truth, const kinematics::Kinematics& model,
+           const geometry::Pose& home, const Eigen::Vector2d& commanded, Eigen::Vector2d& pen) {
+  geometry::Pose pose = home;
   pose.position_mm.head<2>() = commanded;
-  JointVector joints;
+  kinematics::JointVector joints;
   if (!model.inverse(pose, joints).ok()) return false;
   if (!truth.forward(joints, pose).ok()) return false;
   pen = pose.position_mm.head<2>();
@@ -296,8 +305,8 @@ double aligned_max_error(const std::vector<Eigen::Vector2d>& points,
 
 // Unseen points: a 15 x 15 grid over the pattern's sheet, where the nominal machine reaches
 // well conditioned (where the pattern puts marks).
-std::vector<Eigen::Vector2d> unseen_points(const Machine& machine,
-                                           const CalibrationPattern& pattern) {
+std::vector<Eigen::Vector2d> unseen_points(const machine::Machine& machine,
+                                           const calibration::CalibrationPattern& pattern) {
   std::vector<Eigen::Vector2d> points;
   constexpr int kGrid = 14;
   for (int i = 0; i <= kGrid; ++i) {
@@ -305,11 +314,12 @@ std::vector<Eigen::Vector2d> unseen_points(const Machine& machine,
       const Eigen::Vector2d p(
           pattern.sheet_min_x_mm + (pattern.sheet_max_x_mm - pattern.sheet_min_x_mm) * i / kGrid,
           pattern.sheet_min_y_mm + (pattern.sheet_max_y_mm - pattern.sheet_min_y_mm) * j / kGrid);
-      Pose pose = machine.home();
+      geometry::Pose pose = machine.home();
       pose.position_mm.head<2>() = p;
-      JointVector joints;
+      kinematics::JointVector joints;
       if (machine.inverse(pose, joints).ok() &&
-          planar_conditioning(machine.kinematics(), pose) >= kMinPatternConditioning)
+          calibration::planar_conditioning(machine.kinematics(), pose) >=
+              calibration::kMinPatternConditioning)
         points.push_back(p);
     }
   }
@@ -318,7 +328,8 @@ std::vector<Eigen::Vector2d> unseen_points(const Machine& machine,
 
 // How far the real machine draws from the unseen points when driven by `model`, after the best
 // rigid alignment (mm).
-double prediction_error(const Kinematics& truth, const Kinematics& model, const Machine& machine,
+double prediction_error(const kinematics::Kinematics& truth, const kinematics::Kinematics& model,
+                        const machine::Machine& machine,
                         const std::vector<Eigen::Vector2d>& points) {
   std::vector<Eigen::Vector2d> targets, pens;
   for (const Eigen::Vector2d& p : points) {
@@ -333,18 +344,20 @@ double prediction_error(const Kinematics& truth, const Kinematics& model, const 
 
 // The distances a tape gives between the marks the real machine drew: `pairs` (indices), each
 // with Gaussian noise of `sigma_mm`.
-std::vector<MarkDistance> measured(const Kinematics& truth, const Kinematics& nominal,
-                                   const Pose& home, const std::vector<PatternMark>& marks,
-                                   const std::vector<std::pair<int, int>>& pairs, double sigma_mm,
-                                   std::mt19937_64& rng) {
+std::vector<calibration::MarkDistance> measured(const kinematics::Kinematics& truth,
+                                                const kinematics::Kinematics& nominal,
+                                                const geometry::Pose& home,
+                                                const std::vector<calibration::PatternMark>& marks,
+                                                const std::vector<std::pair<int, int>>& pairs,
+                                                double sigma_mm, std::mt19937_64& rng) {
   std::vector<Eigen::Vector2d> pens;
-  for (const PatternMark& mark : marks) {
+  for (const calibration::PatternMark& mark : marks) {
     Eigen::Vector2d pen = Eigen::Vector2d::Zero();
     EXPECT_TRUE(drawn(truth, nominal, home, mark.position_mm, pen));
     pens.push_back(pen);
   }
   std::normal_distribution<double> noise(0.0, sigma_mm);
-  std::vector<MarkDistance> distances;
+  std::vector<calibration::MarkDistance> distances;
   for (const auto& [a, b] : pairs) {
     const double d = (pens[static_cast<std::size_t>(a)] - pens[static_cast<std::size_t>(b)]).norm();
     distances.push_back({a, b, d + noise(rng), static_cast<int>(distances.size()) + 2});
@@ -362,8 +375,8 @@ std::vector<std::pair<int, int>> every_pair(int marks) {
 
 // Each mark with its `count` nearest marks and its `far` farthest (each pair once): the nearest
 // are quick to measure, the farthest need the long tape.
-std::vector<std::pair<int, int>> neighbour_pairs(const std::vector<PatternMark>& marks, int count,
-                                                 int far = 0) {
+std::vector<std::pair<int, int>> neighbour_pairs(const std::vector<calibration::PatternMark>& marks,
+                                                 int count, int far = 0) {
   std::vector<std::pair<int, int>> pairs;
   for (int a = 0; a < static_cast<int>(marks.size()); ++a) {
     std::vector<int> others;
@@ -396,19 +409,23 @@ const std::vector<std::pair<std::string, double>> kHiddenGeometry = {
 struct CalibrationRun {
   double before_mm = 0.0;  // the nominal model's prediction error
   double after_mm = 0.0;   // the fitted model's
-  FitReport report;
+  calibration::FitReport report;
 };
 
-CalibrationRun calibrate_synthetic(const Machine& machine, const CalibrationPattern& pattern,
+CalibrationRun calibrate_synthetic(const machine::Machine& machine,
+                                   const calibration::CalibrationPattern& pattern,
                                    const std::vector<std::pair<int, int>>& pairs,
-                                   std::uint64_t seed, const FitOptions& options = {}) {
-  const std::unique_ptr<Kinematics> truth = moved(machine.kinematics(), kHiddenGeometry);
+                                   std::uint64_t seed,
+                                   const calibration::FitOptions& options = {}) {
+  const std::unique_ptr<kinematics::Kinematics> truth =
+      moved(machine.kinematics(), kHiddenGeometry);
   std::mt19937_64 rng(seed);
-  const std::vector<MarkDistance> distances =
+  const std::vector<calibration::MarkDistance> distances =
       measured(*truth, machine.kinematics(), machine.home(), pattern.marks, pairs, 0.5, rng);
-  std::unique_ptr<Kinematics> fitted = machine.kinematics().clone();
+  std::unique_ptr<kinematics::Kinematics> fitted = machine.kinematics().clone();
   CalibrationRun run;
-  run.report = fit_distances(*fitted, machine.home(), pattern.marks, distances, options);
+  run.report =
+      calibration::fit_distances(*fitted, machine.home(), pattern.marks, distances, options);
   const std::vector<Eigen::Vector2d> points = unseen_points(machine, pattern);
   run.before_mm = prediction_error(*truth, machine.kinematics(), machine, points);
   run.after_mm = prediction_error(*truth, *fitted, machine, points);
@@ -416,19 +433,20 @@ CalibrationRun calibrate_synthetic(const Machine& machine, const CalibrationPatt
 }
 
 // The wall plotter of the examples on pulleys of 10 mm radius.
-Machine pulley_wall_plotter() {
+machine::Machine pulley_wall_plotter() {
   std::ifstream file(test::example_machine_path("wall-plotter.toml"));
   std::stringstream text;
   text << file.rdbuf();
   std::string toml = text.str();
   const std::string key = "anchor_distance = 1500.0\n";
   toml.replace(toml.find(key), key.size(), key + "pulley_radius = 10.0\n");
-  return parse_machine(toml, "pulley-wall-plotter.toml");
+  return machine::parse_machine(toml, "pulley-wall-plotter.toml");
 }
 
 TEST(DistanceCalibration, HiddenCableMachinePredictsUnseenPointsWithinOneMillimetre) {
-  const Machine machine = pulley_wall_plotter();
-  const CalibrationPattern pattern = design_pattern(machine, PatternOptions{});
+  const machine::Machine machine = pulley_wall_plotter();
+  const calibration::CalibrationPattern pattern =
+      calibration::design_pattern(machine, calibration::PatternOptions{});
   ASSERT_EQ(pattern.marks.size(), 12u);
   const CalibrationRun run = calibrate_synthetic(machine, pattern, every_pair(12), 12);
   EXPECT_EQ(run.report.measurements, 66);
@@ -452,7 +470,7 @@ TEST(DistanceCalibration, HiddenCableMachinePredictsUnseenPointsWithinOneMillime
   ASSERT_EQ(run.report.poorly_determined.size(), 1u);
   EXPECT_EQ(run.report.poorly_determined.front().name, "pulley_radius");
   EXPECT_GT(run.report.poorly_determined.front().standard_deviation, 2.0);
-  for (const ParameterEstimate& p : run.report.parameters) {
+  for (const calibration::ParameterEstimate& p : run.report.parameters) {
     std::printf("%-20s %12.4f %12.4f %10.4f %s\n", p.name.c_str(), p.nominal, p.fitted,
                 p.standard_deviation, p.free ? "" : "(held)");
     if (p.name == "pulley_radius") {
@@ -470,27 +488,28 @@ TEST(DistanceCalibration, HiddenCableMachinePredictsUnseenPointsWithinOneMillime
 // the offsets come out as the hidden machine's.
 TEST(DistanceFit, Gt2PulleyTheTapeCannotPinIsHeldWithItsNumbers) {
   const std::string data = std::string(PKM_SOURCE_DIR) + "/tests/data/";
-  Machine machine = load_machine(data + "wall-plotter-gt2.toml");
-  const std::vector<PatternMark> marks = read_pattern_json(data + "wall-plotter-gt2-pattern.json");
-  const std::vector<MarkDistance> distances =
-      read_distances_csv(data + "wall-plotter-gt2-distances.csv", marks);
-  const FitReport report =
-      fit_distances(machine.kinematics(), machine.home(), marks, distances, FitOptions{});
+  machine::Machine machine = machine::load_machine(data + "wall-plotter-gt2.toml");
+  const std::vector<calibration::PatternMark> marks =
+      calibration::read_pattern_json(data + "wall-plotter-gt2-pattern.json");
+  const std::vector<calibration::MarkDistance> distances =
+      calibration::read_distances_csv(data + "wall-plotter-gt2-distances.csv", marks);
+  const calibration::FitReport report = calibration::fit_distances(
+      machine.kinematics(), machine.home(), marks, distances, calibration::FitOptions{});
   ASSERT_EQ(report.poorly_determined.size(), 1u);
-  const PoorlyDetermined& pulley = report.poorly_determined.front();
+  const calibration::PoorlyDetermined& pulley = report.poorly_determined.front();
   EXPECT_EQ(pulley.name, "pulley_radius");
   EXPECT_LT(pulley.fitted, 0.01);             // where the unscreened fit put it
   EXPECT_GT(pulley.standard_deviation, 4.0);  // mm: the tape pins it to centimetres only
   EXPECT_LT(pulley.alone_deviation, 0.5);     // alone it would be pinned: it trades
   EXPECT_NEAR(pulley.plausible_deviation, 0.2 * 6.366, 1e-12);
   std::vector<std::string> trades;
-  for (const TradeOff& t : pulley.trades_with) {
+  for (const calibration::TradeOff& t : pulley.trades_with) {
     trades.push_back(t.name);
     EXPECT_GT(std::abs(t.correlation), 0.9) << t.name;
   }
   EXPECT_EQ(trades, (std::vector<std::string>{"anchor_right_x", "cable_offset_right",
                                               "cable_offset_left"}));
-  for (const ParameterEstimate& p : report.parameters) {
+  for (const calibration::ParameterEstimate& p : report.parameters) {
     if (p.name == "pulley_radius") {
       EXPECT_FALSE(p.free);
       EXPECT_EQ(p.fitted, 6.366);
@@ -515,20 +534,21 @@ TEST(DistanceFit, Gt2PulleyTheTapeCannotPinIsHeldWithItsNumbers) {
 // numbers, the rest is pinned within its plausible deviation and fits the tape's noise.
 TEST(DistanceFit, MakelangeloHoldsWhatTheTapeCannotPinAndFits) {
   const std::string data = std::string(PKM_SOURCE_DIR) + "/tests/data/";
-  Machine machine = test::load_example("makelangelo.toml");
-  const std::vector<PatternMark> marks = read_pattern_json(data + "makelangelo-pattern.json");
-  const std::vector<MarkDistance> distances =
-      read_distances_csv(data + "makelangelo-distances.csv", marks);
-  const FitReport report =
-      fit_distances(machine.kinematics(), machine.home(), marks, distances, FitOptions{});
+  machine::Machine machine = test::load_example("makelangelo.toml");
+  const std::vector<calibration::PatternMark> marks =
+      calibration::read_pattern_json(data + "makelangelo-pattern.json");
+  const std::vector<calibration::MarkDistance> distances =
+      calibration::read_distances_csv(data + "makelangelo-distances.csv", marks);
+  const calibration::FitReport report = calibration::fit_distances(
+      machine.kinematics(), machine.home(), marks, distances, calibration::FitOptions{});
   std::vector<std::string> poor;
-  for (const PoorlyDetermined& p : report.poorly_determined) {
+  for (const calibration::PoorlyDetermined& p : report.poorly_determined) {
     poor.push_back(p.name);
     EXPECT_GT(p.standard_deviation, p.plausible_deviation) << p.name;
-    std::printf("%s\n", poorly_determined_text(p).c_str());
+    std::printf("%s\n", calibration::poorly_determined_text(p).c_str());
   }
   EXPECT_NE(std::find(poor.begin(), poor.end(), "pulley_radius"), poor.end());
-  for (const ParameterEstimate& p : report.parameters) {
+  for (const calibration::ParameterEstimate& p : report.parameters) {
     if (p.free) {
       EXPECT_LE(p.standard_deviation, p.plausible_deviation) << p.name;
     }
@@ -542,13 +562,16 @@ TEST(DistanceFit, MakelangeloHoldsWhatTheTapeCannotPinAndFits) {
 // frame is plausibly off its machine file. Refused with its numbers, nothing fitted.
 TEST(DistanceFit, AFirmlyPinnedNonsenseValueIsRefusedWithItsNumbers) {
   const std::string data = std::string(PKM_SOURCE_DIR) + "/tests/data/";
-  Machine machine = test::load_example("wall-plotter.toml");
-  const std::vector<PatternMark> marks = read_pattern_json(data + "wall-plotter-pattern.json");
-  std::vector<MarkDistance> distances =
-      read_distances_csv(data + "wall-plotter-distances.csv", marks);
-  for (MarkDistance& d : distances) d.distance_mm *= 1.1;
-  const std::string error = error_of(
-      [&] { fit_distances(machine.kinematics(), machine.home(), marks, distances, FitOptions{}); });
+  machine::Machine machine = test::load_example("wall-plotter.toml");
+  const std::vector<calibration::PatternMark> marks =
+      calibration::read_pattern_json(data + "wall-plotter-pattern.json");
+  std::vector<calibration::MarkDistance> distances =
+      calibration::read_distances_csv(data + "wall-plotter-distances.csv", marks);
+  for (calibration::MarkDistance& d : distances) d.distance_mm *= 1.1;
+  const std::string error = error_of([&] {
+    calibration::fit_distances(machine.kinematics(), machine.home(), marks, distances,
+                               calibration::FitOptions{});
+  });
   std::printf("%s\n", error.c_str());
   EXPECT_NE(error.find("the fit is nonsense, nothing written: anchor_right_x = "),
             std::string::npos)
@@ -561,8 +584,8 @@ TEST(DistanceFit, AFirmlyPinnedNonsenseValueIsRefusedWithItsNumbers) {
 // model with anchors anywhere): moving or turning both anchors together moves the whole drawing,
 // which distances cannot see. The fit holds three parameters for it and names them, and still
 // predicts where the hidden machine draws.
-Machine formula_plotter() {
-  return parse_machine(R"(name = "formula plotter"
+machine::Machine formula_plotter() {
+  return machine::parse_machine(R"(name = "formula plotter"
 [kinematics]
 type = "formula"
 axes = ["x", "y"]
@@ -593,30 +616,31 @@ max_feed = 6000.0
 max_acceleration = 800.0
 home = [750.0, -700.0]
 )",
-                       "formula-plotter.toml");
+                                "formula-plotter.toml");
 }
 
 TEST(DistanceCalibration, AnchorsMovingTogetherAreARigidMotionHeldAndNamed) {
-  const Machine machine = formula_plotter();
-  PatternOptions options;
+  const machine::Machine machine = formula_plotter();
+  calibration::PatternOptions options;
   options.sheet_mm = {{0.0, -1900.0, 1500.0, -150.0}};  // below the anchors: the formulas allow
                                                         // any side, a hanging plotter not
-  const CalibrationPattern pattern = design_pattern(machine, options);
-  const DistanceIdentification identified = identify_from_distances(
-      machine.kinematics(), machine.home(), pattern.marks, all_pairs(pattern.marks), {});
+  const calibration::CalibrationPattern pattern = calibration::design_pattern(machine, options);
+  const calibration::DistanceIdentification identified =
+      calibration::identify_from_distances(machine.kinematics(), machine.home(), pattern.marks,
+                                           calibration::all_pairs(pattern.marks), {});
   EXPECT_EQ(identified.held_rigid_motion, (std::vector<std::string>{"xl", "yl", "yr"}));
   EXPECT_EQ(identified.identified, (std::vector<std::string>{"ol", "or", "xr"}));
   EXPECT_TRUE(identified.indistinguishable.empty());
 
-  const std::unique_ptr<Kinematics> truth =
+  const std::unique_ptr<kinematics::Kinematics> truth =
       moved(machine.kinematics(),
             {{"xl", -4.0}, {"yl", 3.0}, {"xr", 7.0}, {"yr", -5.0}, {"ol", 6.0}, {"or", -4.0}});
   std::mt19937_64 rng(7);
   const auto distances = measured(*truth, machine.kinematics(), machine.home(), pattern.marks,
                                   every_pair(12), 0.5, rng);
-  std::unique_ptr<Kinematics> fitted = machine.kinematics().clone();
-  const FitReport report =
-      fit_distances(*fitted, machine.home(), pattern.marks, distances, FitOptions{});
+  std::unique_ptr<kinematics::Kinematics> fitted = machine.kinematics().clone();
+  const calibration::FitReport report = calibration::fit_distances(
+      *fitted, machine.home(), pattern.marks, distances, calibration::FitOptions{});
   EXPECT_EQ(report.held_rigid_motion, (std::vector<std::string>{"xl", "yl", "yr"}));
   EXPECT_EQ(report.held, (std::vector<std::string>{"xl", "yl", "yr"}));
   const auto points = unseen_points(machine, pattern);
@@ -628,12 +652,12 @@ TEST(DistanceCalibration, AnchorsMovingTogetherAreARigidMotionHeldAndNamed) {
 // 0.15 kg/m on sprockets) on its 8 x 4 ft sheet, with the same hidden anchors, sprocket radius
 // and offsets.
 TEST(DistanceCalibration, MaslowSledOnItsSheet) {
-  const Machine machine = test::load_example("maslow-frame.toml");
-  PatternOptions options;
+  const machine::Machine machine = test::load_example("maslow-frame.toml");
+  calibration::PatternOptions options;
   options.sheet_mm = {{270.0, -1682.2, 2708.4, -463.0}};
-  const CalibrationPattern pattern = design_pattern(machine, options);
+  const calibration::CalibrationPattern pattern = calibration::design_pattern(machine, options);
   for (const char* params : {"", "anchor_*,pulley_radius,cable_offset_*"}) {
-    FitOptions fit;
+    calibration::FitOptions fit;
     if (*params) fit.parameters = {"anchor_*", "pulley_radius", "cable_offset_*"};
     for (std::uint64_t seed = 1; seed <= 3; ++seed) {
       const CalibrationRun run = calibrate_synthetic(machine, pattern, every_pair(12), seed, fit);
@@ -645,9 +669,9 @@ TEST(DistanceCalibration, MaslowSledOnItsSheet) {
       EXPECT_EQ(run.report.held_rigid_motion,
                 (std::vector<std::string>{"anchor_left_x", "anchor_left_y"}));
       // The tape cannot pin the sprocket radius within a fifth of itself: held, with its numbers.
-      EXPECT_TRUE(std::any_of(run.report.poorly_determined.begin(),
-                              run.report.poorly_determined.end(),
-                              [](const PoorlyDetermined& p) { return p.name == "pulley_radius"; }));
+      EXPECT_TRUE(std::any_of(
+          run.report.poorly_determined.begin(), run.report.poorly_determined.end(),
+          [](const calibration::PoorlyDetermined& p) { return p.name == "pulley_radius"; }));
     }
   }
 }
@@ -657,29 +681,33 @@ TEST(DistanceCalibration, MaslowSledOnItsSheet) {
 // the pattern's distances fits exactly those, each pinned within its plausible deviation and
 // within three standard deviations of the hidden machine's value.
 TEST(DistanceCalibration, DefaultPatternIdentifiesTheDefaultParameters) {
-  PatternOptions maslow_sheet;
+  calibration::PatternOptions maslow_sheet;
   maslow_sheet.sheet_mm = {{270.0, -1682.2, 2708.4, -463.0}};
-  const std::vector<std::pair<Machine, PatternOptions>> cases = {
+  const std::vector<std::pair<machine::Machine, calibration::PatternOptions>> cases = {
       {test::load_example("wall-plotter.toml"), {}},
       {pulley_wall_plotter(), {}},
-      {load_machine(std::string(PKM_SOURCE_DIR) + "/tests/data/wall-plotter-gt2.toml"), {}},
+      {machine::load_machine(std::string(PKM_SOURCE_DIR) + "/tests/data/wall-plotter-gt2.toml"),
+       {}},
       {gondola_wall_plotter(), {}},
       {test::load_example("makelangelo.toml"), {}},
       {test::load_example("maslow-frame.toml"), maslow_sheet}};
   for (const auto& [machine, options] : cases) {
-    const CalibrationPattern pattern = design_pattern(machine, options);
-    const DistanceIdentification identified = identify_from_distances(
-        machine.kinematics(), machine.home(), pattern.marks, all_pairs(pattern.marks), {});
+    const calibration::CalibrationPattern pattern = calibration::design_pattern(machine, options);
+    const calibration::DistanceIdentification identified =
+        calibration::identify_from_distances(machine.kinematics(), machine.home(), pattern.marks,
+                                             calibration::all_pairs(pattern.marks), {});
     const auto marks = static_cast<int>(pattern.marks.size());
     const CalibrationRun run = calibrate_synthetic(machine, pattern, every_pair(marks), 3);
-    const std::unique_ptr<Kinematics> truth = moved(machine.kinematics(), kHiddenGeometry);
-    const std::vector<Parameter> hidden = truth->parameters();
+    const std::unique_ptr<kinematics::Kinematics> truth =
+        moved(machine.kinematics(), kHiddenGeometry);
+    const std::vector<kinematics::Parameter> hidden = truth->parameters();
     std::vector<std::string> fitted;
-    for (const ParameterEstimate& p : run.report.parameters) {
+    for (const calibration::ParameterEstimate& p : run.report.parameters) {
       if (!p.free) continue;
       fitted.push_back(p.name);
-      const auto value = std::find_if(hidden.begin(), hidden.end(),
-                                      [&](const Parameter& q) { return q.name == p.name; });
+      const auto value =
+          std::find_if(hidden.begin(), hidden.end(),
+                       [&](const kinematics::Parameter& q) { return q.name == p.name; });
       EXPECT_LE(p.standard_deviation, p.plausible_deviation) << machine.name() << " " << p.name;
       EXPECT_LE(std::abs(p.fitted - value->value), 3.0 * p.standard_deviation)
           << machine.name() << " " << p.name << " fitted " << p.fitted << " true " << value->value;
@@ -695,13 +723,15 @@ TEST(DistanceCalibration, DefaultPatternIdentifiesTheDefaultParameters) {
       const bool free = std::find(fitted.begin(), fitted.end(), name) != fitted.end();
       const bool named =
           std::any_of(run.report.poorly_determined.begin(), run.report.poorly_determined.end(),
-                      [&](const PoorlyDetermined& p) { return p.name == name; });
+                      [&](const calibration::PoorlyDetermined& p) { return p.name == name; });
       EXPECT_TRUE(free || named) << machine.name() << " " << name;
     }
-    for (const PoorlyDetermined& p : run.report.poorly_determined)
-      std::printf("%s, fit: %s\n", machine.name().c_str(), poorly_determined_text(p).c_str());
-    for (const PoorlyDetermined& p : identified.poorly_determined)
-      std::printf("%s: %s\n", machine.name().c_str(), poorly_determined_text(p, 0.5).c_str());
+    for (const calibration::PoorlyDetermined& p : run.report.poorly_determined)
+      std::printf("%s, fit: %s\n", machine.name().c_str(),
+                  calibration::poorly_determined_text(p).c_str());
+    for (const calibration::PoorlyDetermined& p : identified.poorly_determined)
+      std::printf("%s: %s\n", machine.name().c_str(),
+                  calibration::poorly_determined_text(p, 0.5).c_str());
   }
 }
 
@@ -709,13 +739,13 @@ TEST(DistanceCalibration, DefaultPatternIdentifiesTheDefaultParameters) {
 // points for 6, 9, 12 and 16 marks, every pair measured or each mark to its 3 nearest, over 20
 // tapes' noise.
 TEST(DistanceCalibration, AccuracyByMarksAndPairs) {
-  const Machine machine = pulley_wall_plotter();
+  const machine::Machine machine = pulley_wall_plotter();
   constexpr int kSeeds = 20;
   std::printf("marks pairs distances worst-of-20 mean-of-20 (mm, unseen points, aligned)\n");
   for (const int marks : {6, 9, 12, 16, 25}) {
-    PatternOptions options;
+    calibration::PatternOptions options;
     options.marks = marks;
-    const CalibrationPattern pattern = design_pattern(machine, options);
+    const calibration::CalibrationPattern pattern = calibration::design_pattern(machine, options);
     double mean_of_all = 0.0;
     for (const int scheme : {0, 1, 2}) {
       const auto pairs = scheme == 0   ? every_pair(marks)

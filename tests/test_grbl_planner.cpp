@@ -144,18 +144,19 @@ TEST(GrblPlanner, ImpossibleSettingsAndALineTooLongAreRefused) {
 
 // The wall plotter with a grbl board: 80 steps/mm on both cords; without a controller, the same
 // machine with its [controller] table taken away.
-Machine plotter_on_grbl(bool with_controller, int planner_blocks = 16) {
-  Machine plotter = test::load_example("wall-plotter.toml");
+machine::Machine plotter_on_grbl(bool with_controller, int planner_blocks = 16) {
+  machine::Machine plotter = test::load_example("wall-plotter.toml");
   plotter.set_steps_per_unit(0, 80.0);
   plotter.set_steps_per_unit(1, 80.0);
-  ControllerSettings settings;
+  machine::ControllerSettings settings;
   settings.planner_blocks = planner_blocks;
-  plotter.set_controller(with_controller ? std::optional<ControllerSettings>(settings)
+  plotter.set_controller(with_controller ? std::optional<machine::ControllerSettings>(settings)
                                          : std::nullopt);
   return plotter;
 }
 
-post::PostReport post_text(const Machine& machine, const std::string& job, double tolerance_mm) {
+post::PostReport post_text(const machine::Machine& machine, const std::string& job,
+                           double tolerance_mm) {
   const std::filesystem::path path = std::filesystem::temp_directory_path() /
                                      ("grbl_planner_" + std::to_string(getpid()) + ".ngc");
   {
@@ -240,7 +241,7 @@ TEST(GrblPlanner, HeaderCommentsAreSafeForGrbl) {
   std::string toml = text.str();
   const std::string name = "name = \"Wall plotter 1500\"";
   toml.replace(toml.find(name), name.size(), "name = \"Big plotter! Ni\xC3\xB1o ~1?\"");
-  const Machine machine = parse_machine(toml, "named.toml");
+  const machine::Machine machine = machine::parse_machine(toml, "named.toml");
   for (const post::Dialect dialect : {post::Dialect::grbl, post::Dialect::grblhal}) {
     const std::string header =
         post::joint_program_header(machine, "dr\xC3\xA1wing!.ngc", dialect, 0.01, nullptr);

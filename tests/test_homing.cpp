@@ -57,8 +57,8 @@ std::string edited(std::string text, const std::string& find, const std::string&
   return text.replace(at, find.size(), replace);
 }
 
-Machine plotter(const std::string& text = kPlotter) {
-  return parse_machine(text, "plotter.toml");
+machine::Machine plotter(const std::string& text = kPlotter) {
+  return machine::parse_machine(text, "plotter.toml");
 }
 
 // By hand: left first. The right belt is paid out 10 mm; the left is probed towards its min over
@@ -120,8 +120,8 @@ TEST(HomingProgram, GrblWritesThreeDecimals) {
 TEST(HomingMoves, ProbeStopsPastTheSwitchByV2Over2A) {
   // 120 mm/min = 2 mm/s at 600 mm/s^2: 4 / 1200 mm.
   int probes = 0;
-  for (const HomingMove& move : homing_moves(plotter())) {
-    if (move.kind != HomingMoveKind::probe) continue;
+  for (const machine::HomingMove& move : machine::homing_moves(plotter())) {
+    if (move.kind != machine::HomingMoveKind::probe) continue;
     ++probes;
     EXPECT_NEAR(move.stop_distance, 4.0 / 1200.0, 1e-15);
   }
@@ -130,15 +130,16 @@ TEST(HomingMoves, ProbeStopsPastTheSwitchByV2Over2A) {
 
 TEST(HomingMoves, SwitchNearMaxIsReachedIncreasing) {
   // A switch at 175 (nearer max 180): probed upwards over 175 - 5 = 170, backed off downwards.
-  const Machine machine = plotter(edited(kPlotter, "home_switch = 10.0", "home_switch = 175.0"));
-  const std::vector<HomingMove> moves = homing_moves(machine);
+  const machine::Machine machine =
+      plotter(edited(kPlotter, "home_switch = 10.0", "home_switch = 175.0"));
+  const std::vector<machine::HomingMove> moves = machine::homing_moves(machine);
   ASSERT_GE(moves.size(), 4u);
-  EXPECT_EQ(moves[1].kind, HomingMoveKind::probe);
+  EXPECT_EQ(moves[1].kind, machine::HomingMoveKind::probe);
   EXPECT_DOUBLE_EQ(moves[1].targets[0].second, 170.0);
-  EXPECT_EQ(moves[3].kind, HomingMoveKind::back_off);
+  EXPECT_EQ(moves[3].kind, machine::HomingMoveKind::back_off);
   EXPECT_DOUBLE_EQ(moves[3].targets[0].second, -5.0);
   // home_toward overrides the nearer end.
-  const Machine turned =
+  const machine::Machine turned =
       plotter(edited(kPlotter, "home_switch = 10.0", "home_switch = 10.0\nhome_toward = \"max\""));
   EXPECT_TRUE(turned.joints()[0].home_switch->toward_max);
   EXPECT_FALSE(turned.joints()[1].home_switch->toward_max);
@@ -146,7 +147,7 @@ TEST(HomingMoves, SwitchNearMaxIsReachedIncreasing) {
 
 TEST(HomingMoves, InchFileConvertsToMm) {
   // The same numbers in inches: every distance and feed is 25.4 times larger in mm.
-  const Machine machine =
+  const machine::Machine machine =
       plotter(edited(kPlotter, "[kinematics]", "units = \"inch\"\n[kinematics]"));
   const std::string program = post::homing_program(machine, post::Dialect::linuxcnc);
   EXPECT_NE(program.find("G91 G1 Y254.00000 F91440\nG91 G38.2 X-4318.00000 F3048\n"
@@ -157,7 +158,7 @@ TEST(HomingMoves, InchFileConvertsToMm) {
 }
 
 TEST(HomingMoves, PassThroughJointIsNeitherPaidOutNorRequired) {
-  const Machine machine = plotter(
+  const machine::Machine machine = plotter(
       edited(edited(edited(kPlotter, "anchor_distance = 100.0",
                            "anchor_distance = 100.0\npassthrough = [\"z\"]"),
                     "[cartesian]",
@@ -172,7 +173,7 @@ TEST(HomingMoves, PassThroughJointIsNeitherPaidOutNorRequired) {
 }
 
 TEST(HomingMoves, PenGoesUpFirst) {
-  const Machine machine =
+  const machine::Machine machine =
       plotter(kPlotter + "\n[tool]\nz = \"pen\"\nup = \"M280 P0 S90\"\ndelay = 0.15\n");
   const std::string program = post::homing_program(machine, post::Dialect::linuxcnc);
   EXPECT_NE(program.find("G92.1\nM280 P0 S90\nG4 P0.150\n(home left)\n"), std::string::npos)
@@ -180,7 +181,7 @@ TEST(HomingMoves, PenGoesUpFirst) {
 }
 
 TEST(HomingProgram, MachineNameStaysInsideItsComment) {
-  const Machine machine =
+  const machine::Machine machine =
       plotter(edited(kPlotter, "name = \"Small plotter\"", "name = \"Small (2)\\nplotter\""));
   const std::string program = post::homing_program(machine, post::Dialect::linuxcnc);
   EXPECT_EQ(program.substr(0, program.find('\n')),
@@ -188,15 +189,15 @@ TEST(HomingProgram, MachineNameStaysInsideItsComment) {
 }
 
 TEST(HomingMoves, CopiedMachineKeepsItsHoming) {
-  const Machine original = plotter();
-  const Machine copy = original;  // NOLINT(performance-unnecessary-copy-initialization)
+  const machine::Machine original = plotter();
+  const machine::Machine copy = original;  // NOLINT(performance-unnecessary-copy-initialization)
   ASSERT_TRUE(copy.homing());
   EXPECT_EQ(copy.homing()->sequence, (std::vector<int>{0, 1}));
   EXPECT_EQ(post::homing_program(copy, post::Dialect::linuxcnc), kLinuxcncProgram);
 }
 
 TEST(HomingProgram, RefusesWhatADialectCannotWrite) {
-  const auto message = [](const Machine& machine, post::Dialect dialect) {
+  const auto message = [](const machine::Machine& machine, post::Dialect dialect) {
     try {
       post::homing_program(machine, dialect);
     } catch (const std::invalid_argument& error) {
@@ -204,7 +205,7 @@ TEST(HomingProgram, RefusesWhatADialectCannotWrite) {
     }
     return std::string("accepted");
   };
-  const Machine letters_ab = plotter(
+  const machine::Machine letters_ab = plotter(
       edited(edited(kPlotter, "axis = \"X\"", "axis = \"A\""), "axis = \"Y\"", "axis = \"B\""));
   EXPECT_EQ(message(letters_ab, post::Dialect::mach3),
             "plotter.toml: Mach3's probe (G31) moves no rotary axis, and joint 'left' is A: use "
@@ -214,7 +215,7 @@ TEST(HomingProgram, RefusesWhatADialectCannotWrite) {
             "plotter.toml: dialect grbl has no axis A (joint 'left'): use --dialect linuxcnc or "
             "grblhal, or change the joints' axis letters in the machine file");
   EXPECT_EQ(message(letters_ab, post::Dialect::grblhal), "accepted");  // its axes A B C U V W
-  const Machine no_homing = plotter(kPlotter.substr(0, kPlotter.find("[homing]")));
+  const machine::Machine no_homing = plotter(kPlotter.substr(0, kPlotter.find("[homing]")));
   EXPECT_EQ(message(no_homing, post::Dialect::linuxcnc),
             "plotter.toml: the machine file has no [homing] table (docs/homing.md)");
 }
@@ -222,7 +223,7 @@ TEST(HomingProgram, RefusesWhatADialectCannotWrite) {
 // Readings 60 and 80 mm on anchors 100 mm apart: the 3-4-5 triangle, x = (60² - 80² + 100²) /
 // 200 = 36, y = -sqrt(60² - 36²) = -48.
 TEST(MeasuredJoints, ThreeFourFiveTriangle) {
-  const Machine machine = plotter();
+  const machine::Machine machine = plotter();
   const post::MeasuredJoints measured = post::measured_joints(machine, {60.0, 80.0});
   EXPECT_NEAR(measured.pose.position_mm.x(), 36.0, 1e-12);
   EXPECT_NEAR(measured.pose.position_mm.y(), -48.0, 1e-12);
@@ -240,12 +241,12 @@ TEST(MeasuredJoints, ThreeFourFiveTriangle) {
 }
 
 TEST(MeasuredJoints, WorksWithoutSwitches) {
-  const Machine machine = plotter(kPlotter.substr(0, kPlotter.find("[homing]")));
+  const machine::Machine machine = plotter(kPlotter.substr(0, kPlotter.find("[homing]")));
   EXPECT_NEAR(post::measured_joints(machine, {80.0, 60.0}).pose.position_mm.x(), 64.0, 1e-12);
 }
 
 TEST(MeasuredJoints, RefusalsSayTheNumbers) {
-  const Machine machine = plotter();
+  const machine::Machine machine = plotter();
   const auto message = [&](const std::vector<double>& values) {
     try {
       post::measured_joints(machine, values);
@@ -289,7 +290,7 @@ TEST_P(BadHomingFile, NamesFileLineAndKey) {
   try {
     plotter(edited(kPlotter, c.find, c.replace));
     FAIL() << "accepted a bad file";
-  } catch (const MachineFileError& error) {
+  } catch (const machine::MachineFileError& error) {
     EXPECT_EQ(error.line(), c.line) << error.what();
     EXPECT_EQ(error.key(), c.key) << error.what();
     EXPECT_NE(std::string(error.what()).find(c.message), std::string::npos) << error.what();
@@ -341,7 +342,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, BadHomingFile, ::testing::ValuesIn(kBadHoming),
 
 TEST(HomingFile, ExamplesCarrySwitches) {
   for (const char* file : {"wall-plotter.toml", "hektor.toml"}) {
-    const Machine machine = test::load_example(file);
+    const machine::Machine machine = test::load_example(file);
     ASSERT_TRUE(machine.homing()) << file;
     EXPECT_EQ(machine.homing()->sequence, (std::vector<int>{0, 1})) << file;
   }

@@ -31,11 +31,11 @@ fs::path write_file(const std::string& name, const std::string& text) {
 }
 
 // The example wall plotter (anchors at x 0 and 1500 mm, y 0) with a pen: M3 S1000 puts it down.
-Machine wall_plotter_with_pen() {
+machine::Machine wall_plotter_with_pen() {
   std::ifstream in(test::example_machine_path("wall-plotter.toml"));
   std::stringstream text;
   text << in.rdbuf() << "\n[tool]\nz = \"pen\"\n";
-  return parse_machine(text.str(), "wall-plotter-pen.toml");
+  return machine::parse_machine(text.str(), "wall-plotter-pen.toml");
 }
 
 // The wall plotter's forward kinematics in closed form: the lower meeting point of the cords.
@@ -51,7 +51,7 @@ std::string exact(double value) {
 }
 
 TEST(JointView, TracesAHandMadeProgramAsItsClosedForm) {
-  const Machine plotter = wall_plotter_with_pen();
+  const machine::Machine plotter = wall_plotter_with_pen();
   // From home (750, -700) straight down to (750, -1000), both cords 1250 mm; the pen down; then
   // the cords to (900, -800)'s lengths, sqrt(1450000) and 1000 mm.
   const double left = std::sqrt(1450000.0);
@@ -104,7 +104,7 @@ TEST(JointView, TracesAHandMadeProgramAsItsClosedForm) {
 }
 
 TEST(JointView, FindsABlockPastAJointsTravelAtItsLine) {
-  const Machine plotter = wall_plotter_with_pen();
+  const machine::Machine plotter = wall_plotter_with_pen();
   const fs::path program =
       write_file("past.ngc", "G0 X1250 Y1250\nM3 S1000\nG1 X2200 Y1250 F1000\nG1 X1250\nM2\n");
   const TraceReport report = trace_joint_program(plotter, program, {});
@@ -116,12 +116,13 @@ TEST(JointView, FindsABlockPastAJointsTravelAtItsLine) {
   EXPECT_NE(report.position.first[0].detail.find("passes its max"), std::string::npos);
   EXPECT_DOUBLE_EQ(report.joints[0].high, 2200.0);
   EXPECT_EQ(report.joints[0].high_line, 3);
-  const nlohmann::json json = view_report_json(plotter, program.string(), report);
+  const nlohmann::json json = io::view_report_json(plotter, program.string(), report);
   EXPECT_DOUBLE_EQ(json["joints"][0]["margin_high"].get<double>(), -100.0);
   fs::remove(program);
 }
 
-std::string refusal(const Machine& machine, const std::string& text, const JointDialect& dialect) {
+std::string refusal(const machine::Machine& machine, const std::string& text,
+                    const JointDialect& dialect) {
   const fs::path program = write_file("bad.ngc", text);
   TraceOptions options;
   options.dialect = dialect;
@@ -136,7 +137,7 @@ std::string refusal(const Machine& machine, const std::string& text, const Joint
 }
 
 TEST(JointView, RefusesWordsTheMachineOrTheDialectDoesNotHaveAtTheirColumn) {
-  const Machine plotter = wall_plotter_with_pen();
+  const machine::Machine plotter = wall_plotter_with_pen();
   const JointDialect linuxcnc;
   const JointDialect grbl{"grbl", "XYZ", 80, false};
   // A Cartesian job passed for its joint program: a Z no joint has.
@@ -157,9 +158,10 @@ TEST(JointView, RefusesWordsTheMachineOrTheDialectDoesNotHaveAtTheirColumn) {
 
 TEST(JointView, DrawsAsLongAsTheRealJobItWasPostedFrom) {
   PKM_SKIP_WITHOUT_REAL_CORPUS();
-  const Machine plotter = wall_plotter_with_pen();
+  const machine::Machine plotter = wall_plotter_with_pen();
   const fs::path job = test::readable_real_job("plotter/dexarm-inkscape/vitruvianMan.gcode");
-  const Vector6d origin = (Vector6d() << 750.0, -1000.0, 0.0, 0.0, 0.0, 0.0).finished();
+  const geometry::Vector6d origin =
+      (geometry::Vector6d() << 750.0, -1000.0, 0.0, 0.0, 0.0, 0.0).finished();
   constexpr double kTolerance = 0.01;
   post::PostOptions post_options;
   post_options.tolerance_mm = kTolerance;

@@ -19,8 +19,8 @@ namespace {
 // The scalar paths for its lifetime.
 class ScalarPathOnly {
  public:
-  ScalarPathOnly() : previous_(lanes::set_avx2_enabled(false)) {}
-  ~ScalarPathOnly() { lanes::set_avx2_enabled(previous_); }
+  ScalarPathOnly() : previous_(kinematics::lanes::set_avx2_enabled(false)) {}
+  ~ScalarPathOnly() { kinematics::lanes::set_avx2_enabled(previous_); }
   ScalarPathOnly(const ScalarPathOnly&) = delete;
   ScalarPathOnly& operator=(const ScalarPathOnly&) = delete;
 
@@ -29,23 +29,23 @@ class ScalarPathOnly {
 };
 
 struct Solved {
-  std::vector<JointVector> batch, single;
-  std::vector<Status> batch_status, single_status;
+  std::vector<kinematics::JointVector> batch, single;
+  std::vector<kinematics::Status> batch_status, single_status;
 };
 
-Solved solve(const Kinematics& kinematics, const std::vector<Pose>& poses) {
+Solved solve(const kinematics::Kinematics& kinematics, const std::vector<geometry::Pose>& poses) {
   Solved solved;
   solved.batch.resize(poses.size());
   solved.batch_status.resize(poses.size());
   kinematics.inverse_batch(poses, solved.batch, solved.batch_status);
-  for (const Pose& pose : poses) {
+  for (const geometry::Pose& pose : poses) {
     solved.single.emplace_back();
     solved.single_status.push_back(kinematics.inverse(pose, solved.single.back()));
   }
   return solved;
 }
 
-double largest_difference(const JointVector& a, const JointVector& b) {
+double largest_difference(const kinematics::JointVector& a, const kinematics::JointVector& b) {
   return a.size() == b.size() ? (a - b).cwiseAbs().maxCoeff() : INFINITY;
 }
 
@@ -54,15 +54,15 @@ class KinematicsLanes : public ::testing::TestWithParam<std::string> {};
 TEST_P(KinematicsLanes, VectorAndScalarPathsAgree) {
   // Without AVX2 the "vector" calls take the scalar path too: the test still holds (and runs),
   // rather than skipping, which scripts/test would count as a part of the suite not run.
-  const Machine machine = test::load_example(GetParam());
+  const machine::Machine machine = test::load_example(GetParam());
   std::mt19937_64 rng(2027);
   // Across the workspace, tilted up to 30 deg; 1001 poses, so the last block of four is partial.
-  std::vector<Pose> poses = test::sample_reachable_poses(machine, 1001, rng, 30.0);
+  std::vector<geometry::Pose> poses = test::sample_reachable_poses(machine, 1001, rng, 30.0);
   const std::size_t reachable = poses.size();
   // Poses beyond the reach, so that the lanes' refusals are checked against the scalar ones (the
   // same code, the same rail or cable), and a NaN.
   for (std::size_t i = 0; i < 40; ++i) {
-    Pose far = poses[i];
+    geometry::Pose far = poses[i];
     far.position_mm *= 1.0 + 0.1 * static_cast<double>(i);
     poses.push_back(far);
   }
@@ -75,12 +75,12 @@ TEST_P(KinematicsLanes, VectorAndScalarPathsAgree) {
   }
   int agreeing = 0;
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    const StatusCode code = scalar.single_status[i].code;
+    const kinematics::StatusCode code = scalar.single_status[i].code;
     ASSERT_EQ(vector.batch_status[i].code, code) << "pose " << i;
     ASSERT_EQ(vector.single_status[i].code, code) << "pose " << i;
     ASSERT_EQ(scalar.batch_status[i].code, code) << "pose " << i;
     ASSERT_EQ(vector.batch_status[i].joint, scalar.single_status[i].joint) << "pose " << i;
-    if (code != StatusCode::ok) continue;
+    if (code != kinematics::StatusCode::ok) continue;
     // mm, or rad for a rotary joint; beyond the reach, where a leg can be metres long, a few ulp
     // of its length (the lanes' fused multiply-adds round differently: 1 ulp of 8 m is 1.8e-12).
     const double tolerance =
@@ -91,7 +91,7 @@ TEST_P(KinematicsLanes, VectorAndScalarPathsAgree) {
     ++agreeing;
   }
   EXPECT_GE(agreeing, 1000);
-  EXPECT_EQ(vector.batch_status[500].code, StatusCode::invalid_input);
+  EXPECT_EQ(vector.batch_status[500].code, kinematics::StatusCode::invalid_input);
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, KinematicsLanes,
@@ -116,7 +116,7 @@ class AlongARealJob : public ::testing::TestWithParam<RealPath> {};
 TEST_P(AlongARealJob, WarmForwardMeetsTheToleranceInAboutOneStep) {
   PKM_SKIP_WITHOUT_REAL_CORPUS();
   const RealPath& row = GetParam();
-  const Machine machine = test::load_example(row.machine);
+  const machine::Machine machine = test::load_example(row.machine);
   motion::PlanOptions options;
   options.origin.head<3>() = row.origin_mm;
   options.max_samples = 40000;
@@ -124,15 +124,15 @@ TEST_P(AlongARealJob, WarmForwardMeetsTheToleranceInAboutOneStep) {
   motion::plan_program(machine, test::real_corpus() / row.job, {}, options, collect);
   ASSERT_GE(collect.samples.size(), 5000u);
   const double tolerance_mm = machine.kinematics().forward_options().tolerance_mm;
-  ForwardTrack track;
-  Pose pose = Pose::from_vector(collect.samples.front().pose);
+  kinematics::ForwardTrack track;
+  geometry::Pose pose = geometry::Pose::from_vector(collect.samples.front().pose);
   long steps = 0;
   double worst_residual_mm = 0.0, worst_position_mm = 0.0;
   for (const motion::Sample& sample : collect.samples) {
-    const Status status = machine.forward(sample.joints, pose, track);
+    const kinematics::Status status = machine.forward(sample.joints, pose, track);
     ASSERT_TRUE(status.ok()) << machine.describe(status) << " at line " << sample.line;
     steps += status.iterations;
-    JointVector back;
+    kinematics::JointVector back;
     ASSERT_TRUE(machine.kinematics().inverse(pose, back).ok());
     worst_residual_mm = std::max(worst_residual_mm, largest_difference(back, sample.joints));
     worst_position_mm = std::max(worst_position_mm,

@@ -16,14 +16,15 @@ IniFile ini(std::string_view text) {
   return IniFile::parse(text, "x.ini");
 }
 
-KinsAdapter example(const std::string& file, std::optional<LengthUnit> unit = std::nullopt) {
+KinsAdapter example(const std::string& file,
+                    std::optional<machine::LengthUnit> unit = std::nullopt) {
   return KinsAdapter(test::load_example(file), unit);
 }
 
 TEST(KinsAdapter, WorldUnitsAreInchesForAnInchMachine) {
   const KinsAdapter kins = example("linuxcnc-hexapod-sim.toml");
-  EXPECT_EQ(kins.world_unit(), LengthUnit::inch);
-  const Pose pose = kins.to_pose({1.0, -2.0, 20.0, 90.0, 0.0, -45.0});
+  EXPECT_EQ(kins.world_unit(), machine::LengthUnit::inch);
+  const geometry::Pose pose = kins.to_pose({1.0, -2.0, 20.0, 90.0, 0.0, -45.0});
   EXPECT_DOUBLE_EQ(pose.position_mm.x(), 25.4);
   EXPECT_DOUBLE_EQ(pose.position_mm.y(), -50.8);
   EXPECT_DOUBLE_EQ(pose.position_mm.z(), 508.0);
@@ -38,9 +39,9 @@ TEST(KinsAdapter, WorldUnitsAreInchesForAnInchMachine) {
 }
 
 TEST(KinsAdapter, UnitsParameterOverridesTheMachineFile) {
-  const KinsAdapter kins = example("linuxcnc-hexapod-sim.toml", LengthUnit::mm);
+  const KinsAdapter kins = example("linuxcnc-hexapod-sim.toml", machine::LengthUnit::mm);
   WorldPose home;
-  double joints[kMaxJoints];
+  double joints[kinematics::kMaxJoints];
   kins.home(home, joints);
   EXPECT_NEAR(home.z, 508.0, 1e-12);                     // the file's home z 20 in, in mm
   EXPECT_NEAR(joints[0], 29.7466 * 25.4, 0.001 * 25.4);  // hexapod.ini's HOME of every leg
@@ -49,7 +50,7 @@ TEST(KinsAdapter, UnitsParameterOverridesTheMachineFile) {
 TEST(KinsAdapter, HomeOfTheHexapodSimIsTheSampleConfigsHome) {
   const KinsAdapter kins = example("linuxcnc-hexapod-sim.toml");
   WorldPose home;
-  double joints[kMaxJoints];
+  double joints[kinematics::kMaxJoints];
   kins.home(home, joints);
   EXPECT_DOUBLE_EQ(home.z, 20.0);
   // Leg 0 from base (-22.95, 13.25, 0) to platform joint (-1, 11.5, 0) + (0, 0, 20); leg 3 from
@@ -74,13 +75,14 @@ TEST(KinsAdapter, InverseOfTheLinearDeltaHome) {
 TEST(KinsAdapter, RefusedInverseNamesTheJointAndKeepsTheJoints) {
   KinsAdapter kins = example("linuxcnc-hexapod-sim.toml");
   double joints[6] = {1, 2, 3, 4, 5, 6};
-  const Status status = kins.inverse({0.0, 0.0, 40.0}, joints);  // legs past their 36 in
-  ASSERT_EQ(status.code, StatusCode::joint_limit);
+  const kinematics::Status status =
+      kins.inverse({0.0, 0.0, 40.0}, joints);  // legs past their 36 in
+  ASSERT_EQ(status.code, kinematics::StatusCode::joint_limit);
   EXPECT_EQ(joints[0], 1.0);
   EXPECT_EQ(joints[5], 6.0);
   EXPECT_EQ(kins.counters().ik_failures, 1u);
   EXPECT_EQ(kins.counters().ik_failed_joint, status.joint);
-  EXPECT_EQ(kins.counters().ik_status, static_cast<int>(StatusCode::joint_limit));
+  EXPECT_EQ(kins.counters().ik_status, static_cast<int>(kinematics::StatusCode::joint_limit));
   char message[512];
   const std::string text = kins.failure_message(message, sizeof message);
   const std::string joint = std::to_string(status.joint);
@@ -99,7 +101,7 @@ TEST(KinsAdapter, RefusedInverseNamesTheJointAndKeepsTheJoints) {
 TEST(KinsAdapter, RefusedInverseOutsideTheEnvelopeNamesTheAxis) {
   KinsAdapter kins = example("linuxcnc-ldelta.toml");
   double joints[3];
-  ASSERT_EQ(kins.inverse({0.0, 0.0, 50.0}, joints).code, StatusCode::outside_envelope);
+  ASSERT_EQ(kins.inverse({0.0, 0.0, 50.0}, joints).code, kinematics::StatusCode::outside_envelope);
   char message[512];
   EXPECT_STREQ(kins.failure_message(message, sizeof message),
                "pkmkins: inverse kinematics refused x 0.000 y 0.000 z 50.000 mm a 0.000 b 0.000 "
@@ -178,7 +180,7 @@ TEST(KinsAdapter, RefusedForwardLeavesThePoseAndCounts) {
   EXPECT_FALSE(kins.forward(joints, world).ok());
   EXPECT_EQ(world.x, 1.0);
   EXPECT_EQ(kins.counters().fk_failures, 1u);
-  EXPECT_EQ(kins.counters().fk_status, static_cast<int>(StatusCode::joint_limit));
+  EXPECT_EQ(kins.counters().fk_status, static_cast<int>(kinematics::StatusCode::joint_limit));
 }
 
 TEST(KinsAdapter, ForwardLeavesUncontrolledCoordinatesAsSeeded) {
@@ -194,7 +196,8 @@ TEST(KinsAdapter, ForwardLeavesUncontrolledCoordinatesAsSeeded) {
 TEST(KinsAdapter, RotaryJointsAreDegreesAtLinuxCncsSide) {
   const KinsAdapter kins = example("linuxcnc-xyzac-trt.toml");
   for (int n = 0; n < kins.joint_count(); ++n) {
-    if (kins.machine().joints()[static_cast<std::size_t>(n)].kind != JointKind::rotary) continue;
+    if (kins.machine().joints()[static_cast<std::size_t>(n)].kind != kinematics::JointKind::rotary)
+      continue;
     EXPECT_DOUBLE_EQ(kins.joint_to_world(n, M_PI / 2), 90.0);
     EXPECT_DOUBLE_EQ(kins.joint_from_world(n, 180.0), M_PI);
     return;
@@ -203,9 +206,9 @@ TEST(KinsAdapter, RotaryJointsAreDegreesAtLinuxCncsSide) {
 }
 
 TEST(KinsAdapter, WorldUnitNames) {
-  EXPECT_EQ(parse_world_unit("mm"), LengthUnit::mm);
-  EXPECT_EQ(parse_world_unit("inch"), LengthUnit::inch);
-  EXPECT_EQ(parse_world_unit("in"), LengthUnit::inch);
+  EXPECT_EQ(parse_world_unit("mm"), machine::LengthUnit::mm);
+  EXPECT_EQ(parse_world_unit("inch"), machine::LengthUnit::inch);
+  EXPECT_EQ(parse_world_unit("in"), machine::LengthUnit::inch);
   EXPECT_EQ(parse_world_unit("cm"), std::nullopt);
 }
 
@@ -243,7 +246,7 @@ TEST(KinsAdapter, BrokenMachineFileKeepsItsLocatedError) {
   try {
     load_kins(std::string(PKM_SOURCE_DIR) + "/tests/data/bad-strut.toml", std::nullopt);
     FAIL() << "loaded a broken machine file";
-  } catch (const MachineFileError& error) {
+  } catch (const machine::MachineFileError& error) {
     EXPECT_NE(std::string(error.what())
                   .find("bad-strut.toml:14:kinematics.rails[1].strut: must be a positive length"),
               std::string::npos)

@@ -84,7 +84,7 @@ bool has_line(const std::string& text, const std::string& line) {
 }
 
 TEST(LinuxcncExport, HandCheckedMatrixMachine) {
-  const Machine machine = parse_machine(kSmallMatrix, "small.toml");
+  const machine::Machine machine = machine::parse_machine(kSmallMatrix, "small.toml");
   const LinuxcncConfig config =
       make_linuxcnc_config(machine, options_for("small.toml", kSmallMatrix, true));
   // The split by hand: alone, X could have 100 mm/s (jx), Y 50 (jy), Z 20 (jz). All grow as the
@@ -145,7 +145,7 @@ TEST(LinuxcncExport, HandCheckedMatrixMachine) {
 }
 
 TEST(LinuxcncExport, HardwareConfigMarksWhatToWire) {
-  const Machine machine = parse_machine(kSmallMatrix, "small.toml");
+  const machine::Machine machine = machine::parse_machine(kSmallMatrix, "small.toml");
   const LinuxcncConfig config =
       make_linuxcnc_config(machine, options_for("small.toml", kSmallMatrix, false));
   const std::string hardware = file_named(config, "hardware.hal").text;
@@ -170,7 +170,7 @@ TEST(LinuxcncExport, APenThatDrawsAboveItsHeightIsUpBelowIt) {
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   text = text.substr(0, text.find("[tool]")) +
          "[tool]\nz = \"pen\"\ndown_above = 45.0\ndown = \"M3\"\nup = \"M5\"\n";
-  const Machine machine = parse_machine(text, "polargraph.toml");
+  const machine::Machine machine = machine::parse_machine(text, "polargraph.toml");
   const LinuxcncConfig config =
       make_linuxcnc_config(machine, options_for("polargraph.toml", text, true));
   const std::string hal = file_named(config, "polargraph.hal").text;
@@ -182,7 +182,8 @@ TEST(LinuxcncExport, APenThatDrawsAboveItsHeightIsUpBelowIt) {
 }
 
 TEST(LinuxcncExport, InchMachineSpeaksInches) {
-  const Machine machine = load_machine(PKM_SOURCE_DIR "/tests/data/hektor-inch.toml");
+  const machine::Machine machine =
+      machine::load_machine(PKM_SOURCE_DIR "/tests/data/hektor-inch.toml");
   const LinuxcncConfig config = make_linuxcnc_config(machine, options_for("h.toml", "", true));
   const std::string ini = file_named(config, "h.ini").text;
   EXPECT_TRUE(has_line(section(ini, "[TRAJ]"), "LINEAR_UNITS = inch"));
@@ -200,7 +201,7 @@ const LinuxcncConfig& example_config(const std::string& file) {
   static std::map<std::string, LinuxcncConfig> made;
   auto found = made.find(file);
   if (found == made.end()) {
-    const Machine machine = test::load_example(file);
+    const machine::Machine machine = test::load_example(file);
     found =
         made.emplace(file, make_linuxcnc_config(machine, options_for(file, "text", true))).first;
   }
@@ -210,7 +211,7 @@ const LinuxcncConfig& example_config(const std::string& file) {
 TEST(LinuxcncExport, EveryExampleMachineExports) {
   for (const std::string& file : test::example_machine_files()) {
     SCOPED_TRACE(file);
-    const Machine machine = test::load_example(file);
+    const machine::Machine machine = test::load_example(file);
     const LinuxcncConfig& config = example_config(file);
     const std::string stem = std::filesystem::path(file).stem().string();
     const std::string ini = file_named(config, stem + ".ini").text;
@@ -218,7 +219,7 @@ TEST(LinuxcncExport, EveryExampleMachineExports) {
         has_line(section(ini, "[KINS]"), "JOINTS = " + std::to_string(machine.joints().size())));
     EXPECT_EQ(ini.find("nan"), std::string::npos);
     EXPECT_EQ(ini.find("inf"), std::string::npos);
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       if (!config.moved.controls(axis)) continue;
       EXPECT_GT(config.limits.velocity[axis], 0.0) << axis;
       EXPECT_GT(config.limits.acceleration[axis], 0.0) << axis;
@@ -250,35 +251,35 @@ struct Worst {
   long poses = 0;
 };
 
-void check_pose(const Machine& machine, const LinuxcncConfig& config, const Vector6d& pose,
-                Worst& worst) {
-  const Kinematics& model = machine.kinematics();
-  JointVector q, ahead, behind;
-  JointJacobian jacobian;
-  if (!machine.inverse(Pose::from_vector(pose), q).ok()) return;
-  ASSERT_TRUE(model.jacobian(Pose::from_vector(pose), jacobian).ok());
+void check_pose(const machine::Machine& machine, const LinuxcncConfig& config,
+                const geometry::Vector6d& pose, Worst& worst) {
+  const kinematics::Kinematics& model = machine.kinematics();
+  kinematics::JointVector q, ahead, behind;
+  kinematics::JointJacobian jacobian;
+  if (!machine.inverse(geometry::Pose::from_vector(pose), q).ok()) return;
+  ASSERT_TRUE(model.jacobian(geometry::Pose::from_vector(pose), jacobian).ok());
   ++worst.poses;
   for (int i = 0; i < model.joint_count(); ++i) {
-    Vector6d v = Vector6d::Zero(), a = Vector6d::Zero();
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+    geometry::Vector6d v = geometry::Vector6d::Zero(), a = geometry::Vector6d::Zero();
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       const double sign = jacobian(i, axis) < 0.0 ? -1.0 : 1.0;
       v[axis] = sign * config.limits.velocity[axis];
       a[axis] = sign * config.limits.acceleration[axis] * kPlannerAccelerationOvershoot;
     }
-    const JointSpec& spec = machine.joints()[static_cast<std::size_t>(i)];
+    const machine::JointSpec& spec = machine.joints()[static_cast<std::size_t>(i)];
     const double rate = std::abs(jacobian.row(i).dot(v));
     EXPECT_LE(rate, spec.max_velocity * (1.0 + 1e-9))
-        << machine.format_pose(Pose::from_vector(pose));
+        << machine.format_pose(geometry::Pose::from_vector(pose));
     worst.velocity = std::max(worst.velocity, rate / spec.max_velocity);
     const double dt = 1e-3;
-    if (!model.inverse(Pose::from_vector(pose + dt * v), ahead).ok() ||
-        !model.inverse(Pose::from_vector(pose - dt * v), behind).ok()) {
+    if (!model.inverse(geometry::Pose::from_vector(pose + dt * v), ahead).ok() ||
+        !model.inverse(geometry::Pose::from_vector(pose - dt * v), behind).ok()) {
       continue;
     }
     const double curving = (ahead[i] - 2.0 * q[i] + behind[i]) / (dt * dt);
     const double acceleration = std::abs(jacobian.row(i).dot(a)) + std::abs(curving);
     EXPECT_LE(acceleration, spec.max_acceleration * (1.0 + 1e-6) + 1e-6)
-        << machine.format_pose(Pose::from_vector(pose)) << " joint " << i;
+        << machine.format_pose(geometry::Pose::from_vector(pose)) << " joint " << i;
     worst.acceleration = std::max(worst.acceleration, acceleration / spec.max_acceleration);
   }
 }
@@ -286,23 +287,23 @@ void check_pose(const Machine& machine, const LinuxcncConfig& config, const Vect
 class ExportedLimits : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ExportedLimits, KeepEveryJointWithinItsLimitsAcrossTheEnvelope) {
-  const Machine machine = test::load_example(GetParam());
+  const machine::Machine machine = test::load_example(GetParam());
   const LinuxcncConfig& config = example_config(GetParam());
-  const PoseBox& box = config.envelope.box;
+  const machine::PoseBox& box = config.envelope.box;
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   Worst worst;
   const std::vector<int> axes = machine.kinematics().dof().axes();
   // The corners of the envelope (where the rates peak on most machines), then random poses.
   for (long corner = 0; corner < (1L << axes.size()); ++corner) {
-    Vector6d pose = machine.home().as_vector();
+    geometry::Vector6d pose = machine.home().as_vector();
     for (std::size_t k = 0; k < axes.size(); ++k) {
       pose[axes[k]] = (corner >> k) & 1 ? box.max[axes[k]] : box.min[axes[k]];
     }
     check_pose(machine, config, pose, worst);
   }
   for (int sample = 0; sample < 4000; ++sample) {
-    Vector6d pose = machine.home().as_vector();
+    geometry::Vector6d pose = machine.home().as_vector();
     for (const int axis : axes)
       pose[axis] = box.min[axis] + unit(rng) * (box.max[axis] - box.min[axis]);
     check_pose(machine, config, pose, worst);
@@ -327,10 +328,10 @@ INSTANTIATE_TEST_SUITE_P(Examples, ExportedLimits,
 // The envelope's sides from the file where it gives them, the reach box where it does not; the
 // INI says which.
 TEST(LinuxcncExport, EnvelopeFromTheFileOrTheReach) {
-  const Machine given = parse_machine(kSmallMatrix, "small.toml");
+  const machine::Machine given = machine::parse_machine(kSmallMatrix, "small.toml");
   const bounds::EnvelopeBox from_file = bounds::work_envelope(given);
-  EXPECT_EQ(from_file.from_file, Dof::translation());
-  EXPECT_EQ(from_file.box.axes, Dof::translation());
+  EXPECT_EQ(from_file.from_file, geometry::Dof::translation());
+  EXPECT_EQ(from_file.box.axes, geometry::Dof::translation());
   EXPECT_EQ(from_file.box.min.head<3>(), Eigen::Vector3d(0.0, 0.0, -100.0));
   EXPECT_EQ(from_file.box.max.head<3>(), Eigen::Vector3d(200.0, 100.0, 0.0));
   const std::string ini =
@@ -342,10 +343,10 @@ TEST(LinuxcncExport, EnvelopeFromTheFileOrTheReach) {
   std::string text = kSmallMatrix;
   text.replace(text.find("min = [0.0, 0.0, -100.0]\n"), 25, "");
   text.replace(text.find("max = [200.0, 100.0, 0.0]\n"), 26, "");
-  const Machine reached = parse_machine(text, "reach.toml");
+  const machine::Machine reached = machine::parse_machine(text, "reach.toml");
   const bounds::EnvelopeBox from_reach = bounds::work_envelope(reached);
-  EXPECT_EQ(from_reach.from_file, Dof());
-  const PoseBox reach = reach_box(reached);
+  EXPECT_EQ(from_reach.from_file, geometry::Dof());
+  const machine::PoseBox reach = machine::reach_box(reached);
   EXPECT_EQ(from_reach.box.min, reach.min);
   EXPECT_EQ(from_reach.box.max, reach.max);
   // jz runs -200..10 with z = jz: the reach along z from home (-10) is the joint's range.
@@ -363,7 +364,7 @@ TEST(LinuxcncExport, RefusesAMachineWithNoFiniteReach) {
   text.replace(text.find("min = [0.0, 0.0, -100.0]\n"), 25, "");
   text.replace(text.find("max = [200.0, 100.0, 0.0]\n"), 26, "");
   text.replace(text.find("min = -10.0\nmax = 300.0"), 23, "min = -9e5\nmax = 9e5");
-  const Machine machine = parse_machine(text, "far.toml");
+  const machine::Machine machine = machine::parse_machine(text, "far.toml");
   try {
     make_linuxcnc_config(machine, options_for("far.toml", text, true));
     FAIL() << "exported";
@@ -380,7 +381,7 @@ std::filesystem::path scratch(const std::string& name) {
 }
 
 TEST(LinuxcncExport, WritesTheDirectoryWholeAndRefusesOneInUse) {
-  const Machine machine = parse_machine(kSmallMatrix, "small.toml");
+  const machine::Machine machine = machine::parse_machine(kSmallMatrix, "small.toml");
   const LinuxcncConfig config =
       make_linuxcnc_config(machine, options_for("small.toml", kSmallMatrix, true));
   const std::filesystem::path dir = scratch("write");
@@ -415,7 +416,7 @@ TEST(LinuxcncExport, WritesTheDirectoryWholeAndRefusesOneInUse) {
 }
 
 TEST(LinuxcncExport, UnwritablePlaceLeavesNothing) {
-  const Machine machine = parse_machine(kSmallMatrix, "small.toml");
+  const machine::Machine machine = machine::parse_machine(kSmallMatrix, "small.toml");
   const LinuxcncConfig config =
       make_linuxcnc_config(machine, options_for("small.toml", kSmallMatrix, true));
   const std::filesystem::path file = scratch("a-file");
@@ -471,13 +472,14 @@ std::vector<std::string> beside(const std::filesystem::path& parent, const std::
 LinuxcncConfig changed_small_config() {
   std::string text = kSmallMatrix;
   text.replace(text.find("max_velocity = 100.0"), 20, "max_velocity = 80.0");
-  return make_linuxcnc_config(parse_machine(text, "small.toml"),
+  return make_linuxcnc_config(machine::parse_machine(text, "small.toml"),
                               options_for("small.toml", text, true));
 }
 
 TEST(LinuxcncExport, ForceReplacesTheConfigurationWholeAndKeepsTheUsersFiles) {
-  const LinuxcncConfig old_config = make_linuxcnc_config(
-      parse_machine(kSmallMatrix, "small.toml"), options_for("small.toml", kSmallMatrix, true));
+  const LinuxcncConfig old_config =
+      make_linuxcnc_config(machine::parse_machine(kSmallMatrix, "small.toml"),
+                           options_for("small.toml", kSmallMatrix, true));
   const LinuxcncConfig new_config = changed_small_config();
   ASSERT_NE(file_named(old_config, "small.ini").text, file_named(new_config, "small.ini").text);
   const std::filesystem::path parent = scratch("force");
@@ -509,8 +511,9 @@ TEST(LinuxcncExport, ForceReplacesTheConfigurationWholeAndKeepsTheUsersFiles) {
 }
 
 TEST(LinuxcncExport, FailedForceLeavesTheOldConfigurationByteForByte) {
-  const LinuxcncConfig old_config = make_linuxcnc_config(
-      parse_machine(kSmallMatrix, "small.toml"), options_for("small.toml", kSmallMatrix, true));
+  const LinuxcncConfig old_config =
+      make_linuxcnc_config(machine::parse_machine(kSmallMatrix, "small.toml"),
+                           options_for("small.toml", kSmallMatrix, true));
   const std::filesystem::path parent = scratch("force-fails");
   const std::filesystem::path dir = parent / "config";
   std::filesystem::remove_all(parent);
@@ -584,8 +587,9 @@ TEST(LinuxcncExport, ForceRefusesTheCurrentDirectory) {
 }
 
 TEST(LinuxcncExport, IniRecordsTheMachineFilesSha256) {
-  const LinuxcncConfig config = make_linuxcnc_config(parse_machine(kSmallMatrix, "small.toml"),
-                                                     options_for("small.toml", kSmallMatrix, true));
+  const LinuxcncConfig config =
+      make_linuxcnc_config(machine::parse_machine(kSmallMatrix, "small.toml"),
+                           options_for("small.toml", kSmallMatrix, true));
   const std::string kins = section(file_named(config, "small.ini").text, "[KINS]");
   EXPECT_TRUE(has_line(kins, "PKM_MACHINE_SHA256 = " + sha256_hex(kSmallMatrix))) << kins;
 }
@@ -593,8 +597,9 @@ TEST(LinuxcncExport, IniRecordsTheMachineFilesSha256) {
 // The fingerprint's round trip: pkmkins (KinsAdapter, as the module loads) accepts the exported
 // machine file beside its INI, and refuses it, at the INI's line, once it has changed.
 TEST(LinuxcncExport, PkmkinsRefusesAMachineFileChangedSinceTheExport) {
-  const LinuxcncConfig config = make_linuxcnc_config(parse_machine(kSmallMatrix, "small.toml"),
-                                                     options_for("small.toml", kSmallMatrix, true));
+  const LinuxcncConfig config =
+      make_linuxcnc_config(machine::parse_machine(kSmallMatrix, "small.toml"),
+                           options_for("small.toml", kSmallMatrix, true));
   const std::filesystem::path dir = scratch("fingerprint");
   std::filesystem::remove_all(dir);
   write_config_directory(dir, config, false);

@@ -41,8 +41,9 @@ ImportedConfig read_config(const fs::path& ini) {
   return read_linuxcnc_config(ini, options);
 }
 
-Machine import_machine(const fs::path& ini) {
-  return parse_machine(machine_file_text(read_config(ini), "imported.toml"), "imported.toml");
+machine::Machine import_machine(const fs::path& ini) {
+  return machine::parse_machine(machine_file_text(read_config(ini), "imported.toml"),
+                                "imported.toml");
 }
 
 bool has_note(const ImportedConfig& config, const std::string& part) {
@@ -72,16 +73,18 @@ TEST(LinuxcncImport, HexapodSimGivesTheExampleGeometry) {
   EXPECT_TRUE(config.inch);
   // tool-offset is connected to motion.tooloffset.z: 0 without a tool, and said so.
   EXPECT_TRUE(has_note(config, "genhexkins.tool-offset follows motion.tooloffset.z"));
-  const Machine imported = import_machine(ini);
-  const Machine example = load_machine(kMachines / "linuxcnc-hexapod-sim.toml");
-  const auto& got = dynamic_cast<const HexapodKinematics&>(imported.kinematics()).geometry();
-  const auto& want = dynamic_cast<const HexapodKinematics&>(example.kinematics()).geometry();
+  const machine::Machine imported = import_machine(ini);
+  const machine::Machine example = machine::load_machine(kMachines / "linuxcnc-hexapod-sim.toml");
+  const auto& got =
+      dynamic_cast<const kinematics::HexapodKinematics&>(imported.kinematics()).geometry();
+  const auto& want =
+      dynamic_cast<const kinematics::HexapodKinematics&>(example.kinematics()).geometry();
   for (int leg = 0; leg < 6; ++leg) {
     EXPECT_EQ(got.base_mm[leg], want.base_mm[leg]) << "leg " << leg;
     EXPECT_EQ(got.platform_mm[leg], want.platform_mm[leg]) << "leg " << leg;
   }
   EXPECT_EQ(got.tool_length_mm, 0.0);
-  EXPECT_EQ(imported.units(), LengthUnit::inch);
+  EXPECT_EQ(imported.units(), machine::LengthUnit::inch);
   EXPECT_EQ(imported.home().position_mm, Eigen::Vector3d(0.0, 0.0, 20.0 * 25.4));
   // [JOINT_n]: -1000..1000 in, 20 in/s, 200 in/s^2; [TRAJ] 10 in/s and 20 in/s^2 cap the tool.
   EXPECT_DOUBLE_EQ(imported.joints()[3].min, -1000.0 * 25.4);
@@ -128,16 +131,18 @@ TEST(LinuxcncImport, RealLimitsAreNotPlaceholders) {
 // The hexapod of kinematics.hal at a tilted pose: the imported joints are genhexkins' struts.
 TEST(LinuxcncImport, HexapodSimJointsAreGenhexkinsStruts) {
   PKM_SKIP_WITHOUT_LINUXCNC_SAMPLES();
-  const Machine imported = import_machine(kSamples / "sim/axis/vismach/hexapod-sim/hexapod.ini");
+  const machine::Machine imported =
+      import_machine(kSamples / "sim/axis/vismach/hexapod-sim/hexapod.ini");
   const Eigen::Vector3d p(1.5, -2.0, 21.0);  // in
   const Eigen::Vector3d abc(4.0, -3.0, 10.0);
-  JointVector joints;
+  kinematics::JointVector joints;
   ASSERT_TRUE(imported
-                  .inverse(Pose::from_mm_deg(p.x() * 25.4, p.y() * 25.4, p.z() * 25.4, abc.x(),
-                                             abc.y(), abc.z()),
+                  .inverse(geometry::Pose::from_mm_deg(p.x() * 25.4, p.y() * 25.4, p.z() * 25.4,
+                                                       abc.x(), abc.y(), abc.z()),
                            joints)
                   .ok());
-  const auto& g = dynamic_cast<const HexapodKinematics&>(imported.kinematics()).geometry();
+  const auto& g =
+      dynamic_cast<const kinematics::HexapodKinematics&>(imported.kinematics()).geometry();
   for (int leg = 0; leg < 6; ++leg) {
     const double strut =
         genhexkins_strut(g.base_mm[leg] / 25.4, g.platform_mm[leg] / 25.4, 0.0, p, abc);
@@ -152,8 +157,9 @@ TEST(LinuxcncImport, GenhexkinsToolOffsetGivesGenhexkinsJoints) {
   const fs::path ini = kData / "genhex-tool-offset/hexapod.ini";
   const ImportedConfig config = read_config(ini);
   EXPECT_TRUE(has_note(config, "geometry.tcl is Tcl"));
-  const Machine imported = import_machine(ini);
-  const auto& g = dynamic_cast<const HexapodKinematics&>(imported.kinematics()).geometry();
+  const machine::Machine imported = import_machine(ini);
+  const auto& g =
+      dynamic_cast<const kinematics::HexapodKinematics&>(imported.kinematics()).geometry();
   EXPECT_EQ(g.tool_length_mm, 30.0);
   EXPECT_EQ(g.base_mm[0], Eigen::Vector3d(-410.0, 260.0, 30.0));
   EXPECT_EQ(g.base_mm[3], Eigen::Vector3d(-20.0, -485.0, 40.0));
@@ -167,9 +173,11 @@ TEST(LinuxcncImport, GenhexkinsToolOffsetGivesGenhexkinsJoints) {
        {std::pair{Eigen::Vector3d(0, 0, 500), Eigen::Vector3d(0, 0, 0)},
         std::pair{Eigen::Vector3d(30, -20, 520), Eigen::Vector3d(8, 0, 0)},
         std::pair{Eigen::Vector3d(-40, 10, 480), Eigen::Vector3d(-5, 7, 20)}}) {
-    JointVector joints;
+    kinematics::JointVector joints;
     ASSERT_TRUE(
-        imported.inverse(Pose::from_mm_deg(p.x(), p.y(), p.z(), abc.x(), abc.y(), abc.z()), joints)
+        imported
+            .inverse(geometry::Pose::from_mm_deg(p.x(), p.y(), p.z(), abc.x(), abc.y(), abc.z()),
+                     joints)
             .ok());
     for (int leg = 0; leg < 6; ++leg) {
       const double strut = genhexkins_strut(Eigen::Vector3d(base[leg]),
@@ -181,10 +189,10 @@ TEST(LinuxcncImport, GenhexkinsToolOffsetGivesGenhexkinsJoints) {
 
 TEST(LinuxcncImport, LdeltaGivesTheExampleRails) {
   PKM_SKIP_WITHOUT_LINUXCNC_SAMPLES();
-  const Machine imported = import_machine(kSamples / "sim/axis/ldelta.ini");
-  const Machine example = load_machine(kMachines / "linuxcnc-ldelta.toml");
-  const auto& got = dynamic_cast<const GlideKinematics&>(imported.kinematics()).rails();
-  const auto& want = dynamic_cast<const GlideKinematics&>(example.kinematics()).rails();
+  const machine::Machine imported = import_machine(kSamples / "sim/axis/ldelta.ini");
+  const machine::Machine example = machine::load_machine(kMachines / "linuxcnc-ldelta.toml");
+  const auto& got = dynamic_cast<const kinematics::GlideKinematics&>(imported.kinematics()).rails();
+  const auto& want = dynamic_cast<const kinematics::GlideKinematics&>(example.kinematics()).rails();
   ASSERT_EQ(got.size(), want.size());
   for (std::size_t i = 0; i < got.size(); ++i) {
     EXPECT_LT((got[i].origin_mm - want[i].origin_mm).norm(), 1e-9) << "rail " << i;
@@ -211,12 +219,12 @@ TEST(LinuxcncImport, LdeltaGivesTheExampleRails) {
 // (R sin 60, -R cos 60); joint = z + sqrt(L^2 - horizontal distance^2).
 TEST(LinuxcncImport, LdeltaJointsAreLineardeltakins) {
   PKM_SKIP_WITHOUT_LINUXCNC_SAMPLES();
-  const Machine imported = import_machine(kSamples / "sim/axis/ldelta.ini");
+  const machine::Machine imported = import_machine(kSamples / "sim/axis/ldelta.ini");
   const double r = 130.25, l = 269.0, s = std::sqrt(3.0) / 2.0;
   const double towers[3][2] = {{0.0, r}, {-s * r, -0.5 * r}, {s * r, -0.5 * r}};
   for (const Eigen::Vector3d& p : {Eigen::Vector3d(40, -30, 10), Eigen::Vector3d(-60, 20, 0)}) {
-    JointVector joints;
-    ASSERT_TRUE(imported.inverse(Pose::from_mm_deg(p.x(), p.y(), p.z()), joints).ok());
+    kinematics::JointVector joints;
+    ASSERT_TRUE(imported.inverse(geometry::Pose::from_mm_deg(p.x(), p.y(), p.z()), joints).ok());
     for (int j = 0; j < 3; ++j) {
       const double dx = towers[j][0] - p.x(), dy = towers[j][1] - p.y();
       EXPECT_NEAR(joints[j], p.z() + std::sqrt(l * l - dx * dx - dy * dy), 1e-9) << "joint " << j;
@@ -244,8 +252,8 @@ TEST(LinuxcncImport, RdeltaWritesTheRotaryDeltaKeys) {
   // [TRAJ] 10 in/s and [AXIS_X] 100 in/s^2 are the smallest.
   EXPECT_EQ(config.max_feed_per_min, 600.0);
   EXPECT_EQ(config.max_acceleration, 100.0);
-  const Machine imported = import_machine(kSamples / "sim/axis/rdelta.ini");
-  JointVector joints;
+  const machine::Machine imported = import_machine(kSamples / "sim/axis/rdelta.ini");
+  kinematics::JointVector joints;
   ASSERT_TRUE(imported.inverse(imported.home(), joints).ok());
   for (int j = 0; j < 3; ++j) EXPECT_NEAR(joints[j] * 180.0 / std::numbers::pi, 1.0, 1e-9);
   // rotarydeltakins (its source): arm i works on the point turned by -120 deg * i (arm 2: +120),
@@ -255,7 +263,9 @@ TEST(LinuxcncImport, RdeltaWritesTheRotaryDeltaKeys) {
        {Eigen::Vector3d(0.0, 0.0, -12.0), Eigen::Vector3d(2.0, -1.0, -14.0),
         Eigen::Vector3d(-3.0, 2.5, -11.0)}) {
     ASSERT_TRUE(
-        imported.inverse(Pose::from_mm_deg(p.x() * 25.4, p.y() * 25.4, p.z() * 25.4), joints).ok());
+        imported
+            .inverse(geometry::Pose::from_mm_deg(p.x() * 25.4, p.y() * 25.4, p.z() * 25.4), joints)
+            .ok());
     for (int arm = 0; arm < 3; ++arm) {
       const double turn = (arm == 1 ? -2.0 : arm == 2 ? 2.0 : 0.0) * std::numbers::pi / 3.0;
       const double x = p.x() * std::cos(turn) - p.y() * std::sin(turn);
@@ -268,10 +278,10 @@ TEST(LinuxcncImport, RdeltaWritesTheRotaryDeltaKeys) {
   // The example made by hand from the same configuration.
   const fs::path example_path = kMachines / "linuxcnc-rdelta.toml";
   if (fs::exists(example_path)) {
-    const Machine example = load_machine(example_path);
+    const machine::Machine example = machine::load_machine(example_path);
     EXPECT_LT((imported.home().position_mm - example.home().position_mm).norm(), 1e-9);
-    JointVector want;
-    const Pose pose = Pose::from_mm_deg(2.0 * 25.4, -1.0 * 25.4, -14.0 * 25.4);
+    kinematics::JointVector want;
+    const geometry::Pose pose = geometry::Pose::from_mm_deg(2.0 * 25.4, -1.0 * 25.4, -14.0 * 25.4);
     ASSERT_TRUE(example.inverse(pose, want).ok());
     ASSERT_TRUE(imported.inverse(pose, joints).ok());
     EXPECT_LT((joints - want).norm(), 1e-12);
@@ -280,11 +290,11 @@ TEST(LinuxcncImport, RdeltaWritesTheRotaryDeltaKeys) {
 
 TEST(LinuxcncImport, TrivkinsAxisIsTheIdentity) {
   PKM_SKIP_WITHOUT_LINUXCNC_SAMPLES();
-  const Machine imported = import_machine(kSamples / "sim/axis/axis.ini");
-  const auto& matrix = dynamic_cast<const MatrixKinematics&>(imported.kinematics());
+  const machine::Machine imported = import_machine(kSamples / "sim/axis/axis.ini");
+  const auto& matrix = dynamic_cast<const kinematics::MatrixKinematics&>(imported.kinematics());
   EXPECT_EQ(matrix.coefficients(), Eigen::Matrix3d::Identity());
   ASSERT_EQ(imported.joints().size(), 3u);
-  EXPECT_EQ(imported.units(), LengthUnit::inch);
+  EXPECT_EQ(imported.units(), machine::LengthUnit::inch);
   EXPECT_DOUBLE_EQ(imported.joints()[0].min, -10.0 * 25.4);
   EXPECT_DOUBLE_EQ(imported.joints()[0].max_velocity, 5.0 * 25.4);
   EXPECT_DOUBLE_EQ(imported.cartesian().max_feed_mm_per_min, 240.0 * 25.4);
@@ -296,10 +306,10 @@ TEST(LinuxcncImport, TrivkinsAxisIsTheIdentity) {
 // sim without SCALE, has none.
 TEST(LinuxcncImport, StepperScaleIsStepsPerUnit) {
   PKM_SKIP_WITHOUT_LINUXCNC_SAMPLES();
-  const Machine imported =
+  const machine::Machine imported =
       import_machine(kSamples / "sim/axis/vismach/3axis-tutorial/3axis-tutorial.ini");
   ASSERT_EQ(imported.joints().size(), 3u);
-  for (const JointSpec& joint : imported.joints()) {
+  for (const machine::JointSpec& joint : imported.joints()) {
     ASSERT_TRUE(joint.steps_per_unit);
     EXPECT_DOUBLE_EQ(*joint.steps_per_unit, 80.0);
   }
@@ -308,21 +318,21 @@ TEST(LinuxcncImport, StepperScaleIsStepsPerUnit) {
 
 TEST(LinuxcncImport, TrivkinsCoordinatesPassRotaryAxesThrough) {
   PKM_SKIP_WITHOUT_LINUXCNC_SAMPLES();
-  const Machine imported = import_machine(kSamples / "sim/gmoccapy/gmoccapy_XYZAC.ini");
+  const machine::Machine imported = import_machine(kSamples / "sim/gmoccapy/gmoccapy_XYZAC.ini");
   ASSERT_EQ(imported.joints().size(), 5u);
   EXPECT_EQ(imported.kinematics().passthrough_axis(3), 3);  // a
   EXPECT_EQ(imported.kinematics().passthrough_axis(4), 5);  // c
-  EXPECT_EQ(imported.joints()[4].kind, JointKind::rotary);
+  EXPECT_EQ(imported.joints()[4].kind, kinematics::JointKind::rotary);
 }
 
 // matrixkins' C_ parameters from setp lines (two through [CALIBRATION] substitutions), the joints
 // from an #INCLUDE, the core HAL file from LIB:: the example matrix mill's coefficients.
 TEST(LinuxcncImport, MatrixkinsGivesTheExampleMatrix) {
-  const Machine imported = import_machine(kData / "matrixkins/mill.ini");
-  const Machine example = load_machine(kMachines / "matrix-mill.toml");
-  const auto& got = dynamic_cast<const MatrixKinematics&>(imported.kinematics());
+  const machine::Machine imported = import_machine(kData / "matrixkins/mill.ini");
+  const machine::Machine example = machine::load_machine(kMachines / "matrix-mill.toml");
+  const auto& got = dynamic_cast<const kinematics::MatrixKinematics&>(imported.kinematics());
   EXPECT_EQ(got.coefficients(),
-            dynamic_cast<const MatrixKinematics&>(example.kinematics()).coefficients());
+            dynamic_cast<const kinematics::MatrixKinematics&>(example.kinematics()).coefficients());
   // Joints 3 and 4 are A and B: matrixkins passes joint n through as axis n.
   EXPECT_EQ(imported.kinematics().passthrough_axis(3), 3);
   EXPECT_EQ(imported.kinematics().passthrough_axis(4), 4);

@@ -63,9 +63,9 @@ TEST_P(BadMachineFile, NamesFileLineAndKey) {
   const int line = c.line > 0 ? c.line : marked_line(text);
   ASSERT_GT(line, 0) << "case has no # <- marker";
   try {
-    parse_machine(text, "case.toml");
+    machine::parse_machine(text, "case.toml");
     FAIL() << "accepted a bad file";
-  } catch (const MachineFileError& error) {
+  } catch (const machine::MachineFileError& error) {
     EXPECT_EQ(error.file(), "case.toml");
     EXPECT_EQ(error.line(), line) << error.what();
     EXPECT_EQ(error.key(), c.key) << error.what();
@@ -521,13 +521,13 @@ INSTANTIATE_TEST_SUITE_P(Cases, BadMachineFile, ::testing::ValuesIn(kCases),
                          [](const auto& test_info) { return test_info.param.name; });
 
 TEST(JointSpec, InterfaceUnitsAreMillimetresAndDegrees) {
-  JointSpec rotary;
-  rotary.kind = JointKind::rotary;
+  machine::JointSpec rotary;
+  rotary.kind = kinematics::JointKind::rotary;
   EXPECT_NEAR(rotary.to_interface(std::numbers::pi / 4.0), 45.0, 1e-12);
   EXPECT_NEAR(rotary.from_interface(-90.0), -std::numbers::pi / 2.0, 1e-15);
   EXPECT_STREQ(rotary.interface_unit(), "deg");
-  JointSpec linear;
-  linear.kind = JointKind::linear;
+  machine::JointSpec linear;
+  linear.kind = kinematics::JointKind::linear;
   EXPECT_EQ(linear.to_interface(12.5), 12.5);
   EXPECT_EQ(linear.from_interface(-3.25), -3.25);
   EXPECT_STREQ(linear.interface_unit(), "mm");
@@ -536,7 +536,7 @@ TEST(JointSpec, InterfaceUnitsAreMillimetresAndDegrees) {
 TEST(MachineFile, InchFilesAreConvertedToMillimetres) {
   std::string text = read_example("hektor.toml");
   text.replace(text.find("units = \"mm\""), 12, "units = \"inch\"");
-  const Machine inch = parse_machine(text, "inch.toml");
+  const machine::Machine inch = machine::parse_machine(text, "inch.toml");
   const auto parameters = inch.kinematics().parameters();
   EXPECT_EQ(parameters[2].name, "anchor_right_x");
   EXPECT_DOUBLE_EQ(parameters[2].value, 2540.0);
@@ -549,8 +549,9 @@ TEST(MachineFile, EveryExampleLoads) {
     EXPECT_NO_THROW(test::load_example(file)) << file;
   }
   EXPECT_EQ(test::example_machine_files().size(), 20u);
-  const Machine pen = test::load_example("pen-plotter.toml");  // the servo pen's [tool] table
-  EXPECT_EQ(pen.tool().z, ToolZ::pen);
+  const machine::Machine pen =
+      test::load_example("pen-plotter.toml");  // the servo pen's [tool] table
+  EXPECT_EQ(pen.tool().z, machine::ToolZ::pen);
   EXPECT_EQ(pen.tool().down_command, "M280 P0 S30");
   EXPECT_EQ(pen.tool().up_command, "M280 P0 S90");
   EXPECT_DOUBLE_EQ(pen.tool().delay_s, 0.15);
@@ -563,7 +564,7 @@ TEST(MachineFile, PenThatDrawsAboveItsHeight) {
       read_example("wall-plotter.toml") +
       "\n[tool]\nz = \"pen\"\ndown_above = 45.0\ndown = \"G0 Z90 (pen) G4 P0.2\"\n"
       "up = \"G0 Z0\"\n";
-  const Machine machine = parse_machine(text, "pen.toml");
+  const machine::Machine machine = machine::parse_machine(text, "pen.toml");
   EXPECT_TRUE(machine.tool().down_above);
   EXPECT_DOUBLE_EQ(machine.tool().pen_height_mm, 45.0);
   EXPECT_TRUE(machine.tool().pen_down(90.0));
@@ -579,8 +580,8 @@ TEST(MachineFile, ToolChannelOfAPenPlotter) {
   const std::string text = plotter +
                            "\n[tool]\nz = \"pen\"\ndown_below = 0.5\ndown = \"M280 P0 S30\"\n"
                            "up = \"M280 P0 S90\"\ndelay = 0.15\n";
-  const Machine machine = parse_machine(text, "pen.toml");
-  EXPECT_EQ(machine.tool().z, ToolZ::pen);
+  const machine::Machine machine = machine::parse_machine(text, "pen.toml");
+  EXPECT_EQ(machine.tool().z, machine::ToolZ::pen);
   EXPECT_DOUBLE_EQ(machine.tool().pen_height_mm, 0.5);
   EXPECT_FALSE(machine.tool().down_above);
   EXPECT_EQ(machine.tool().down_command, "M280 P0 S30");
@@ -588,16 +589,17 @@ TEST(MachineFile, ToolChannelOfAPenPlotter) {
   EXPECT_DOUBLE_EQ(machine.tool().delay_s, 0.15);
   EXPECT_TRUE(machine.tool().pen_down(0.49));
   EXPECT_FALSE(machine.tool().pen_down(0.5));
-  const Machine copy = machine;  // NOLINT(performance-unnecessary-copy-initialization)
-  EXPECT_EQ(copy.tool().z, ToolZ::pen);
-  EXPECT_EQ(load_machine(test::example_machine_path("wall-plotter.toml")).tool().z, ToolZ::none);
+  const machine::Machine copy = machine;  // NOLINT(performance-unnecessary-copy-initialization)
+  EXPECT_EQ(copy.tool().z, machine::ToolZ::pen);
+  EXPECT_EQ(machine::load_machine(test::example_machine_path("wall-plotter.toml")).tool().z,
+            machine::ToolZ::none);
 }
 
 TEST(MachineFile, FilesThatCannotBeOpenedSayWhy) {
   const auto message = [](const std::filesystem::path& path) {
     try {
-      load_machine(path);
-    } catch (const MachineFileError& error) {
+      machine::load_machine(path);
+    } catch (const machine::MachineFileError& error) {
       return std::string(error.what());
     }
     return std::string("accepted");
@@ -634,64 +636,69 @@ TEST(AxisLetters, PassThroughJointsTakeTheirOwnLetter) {
                    rotary + "\n[cartesian]");
   text.replace(text.find("home = [300.0, 200.0, -100.0]"), 29,
                "home = [300.0, 200.0, -100.0, 0.0, 0.0, 0.0]");
-  const Machine mill = parse_machine(text, "mill5.toml");
+  const machine::Machine mill = machine::parse_machine(text, "mill5.toml");
   std::string letters;
-  for (const JointSpec& joint : mill.joints()) letters += joint.axis_letter;
+  for (const machine::JointSpec& joint : mill.joints()) letters += joint.axis_letter;
   EXPECT_EQ(letters, "XYZAC");
 }
 
 TEST(AxisLetters, JointsWithoutALetterTakeTheLettersLeft) {
-  const Machine plotter = parse_machine(plotter_with_pen_axis(), "pen-axis.toml");
+  const machine::Machine plotter = machine::parse_machine(plotter_with_pen_axis(), "pen-axis.toml");
   std::string letters;
-  for (const JointSpec& joint : plotter.joints()) letters += joint.axis_letter;
+  for (const machine::JointSpec& joint : plotter.joints()) letters += joint.axis_letter;
   EXPECT_EQ(letters, "XYZ");
   // The left cable on Y: the right one takes the first letter left, X; the pen is Z.
   std::string text = plotter_with_pen_axis();
   text.replace(text.find("name = \"left\""), 13, "name = \"left\"\naxis = \"Y\"");
-  const Machine swapped = parse_machine(text, "swapped.toml");
+  const machine::Machine swapped = machine::parse_machine(text, "swapped.toml");
   letters.clear();
-  for (const JointSpec& joint : swapped.joints()) letters += joint.axis_letter;
+  for (const machine::JointSpec& joint : swapped.joints()) letters += joint.axis_letter;
   EXPECT_EQ(letters, "YXZ");
 }
 
 TEST(PassThroughZ, APenOnARealZAxisIsAJoint) {
-  const Machine plotter = parse_machine(plotter_with_pen_axis(), "pen-axis.toml");
+  const machine::Machine plotter = machine::parse_machine(plotter_with_pen_axis(), "pen-axis.toml");
   EXPECT_TRUE(plotter.kinematics().dof().controls(2));
-  JointVector joints;
-  ASSERT_TRUE(plotter.inverse(Pose::from_mm_deg(600, -800, -1.5), joints).ok());
+  kinematics::JointVector joints;
+  ASSERT_TRUE(plotter.inverse(geometry::Pose::from_mm_deg(600, -800, -1.5), joints).ok());
   EXPECT_DOUBLE_EQ(joints[0], 1000.0);  // 600-800-1000
   EXPECT_DOUBLE_EQ(joints[1], std::hypot(900.0, 800.0));
   EXPECT_DOUBLE_EQ(joints[2], -1.5);
-  EXPECT_EQ(plotter.inverse(Pose::from_mm_deg(600, -800, 25), joints).code,
-            StatusCode::joint_limit);  // the pen axis has limits of its own
+  EXPECT_EQ(plotter.inverse(geometry::Pose::from_mm_deg(600, -800, 25), joints).code,
+            kinematics::StatusCode::joint_limit);  // the pen axis has limits of its own
   // The machine file written back keeps the pass-through.
-  EXPECT_NE(kinematics_toml(plotter.kinematics(), LengthUnit::mm).find("passthrough = [\"z\"]"),
+  EXPECT_NE(machine::kinematics_toml(plotter.kinematics(), machine::LengthUnit::mm)
+                .find("passthrough = [\"z\"]"),
             std::string::npos);
   // Its Z is a joint: a [tool] channel for Z is refused.
-  EXPECT_THROW(parse_machine(plotter_with_pen_axis() + "\n[tool]\nz = \"pen\"\n", "both.toml"),
-               MachineFileError);
+  EXPECT_THROW(
+      machine::parse_machine(plotter_with_pen_axis() + "\n[tool]\nz = \"pen\"\n", "both.toml"),
+      machine::MachineFileError);
 }
 
 TEST(PassThroughZ, ABiglideCarriesAPenAxisToo) {
   std::string text = read_example("triaglide.toml");
-  const Machine triaglide = parse_machine(text, "t.toml");
+  const machine::Machine triaglide = machine::parse_machine(text, "t.toml");
   ASSERT_EQ(triaglide.kinematics().joint_count(), 3);
   // Two rails in x z with y passing through stand for the same arithmetic as the plotter's z.
-  std::vector<GlideRail> rails(2);
+  std::vector<kinematics::GlideRail> rails(2);
   rails[0] = {{0, 0, 0}, {1, 0, 0}, 200.0, {-20, 0, 0}, -1};
   rails[1] = {{0, 0, 0}, {1, 0, 0}, 200.0, {20, 0, 0}, 1};
-  const GlideKinematics biglide(rails, Dof::planar_xy(), PassThroughAxes({2}, Dof::planar_xy()));
+  const kinematics::GlideKinematics biglide(
+      rails, geometry::Dof::planar_xy(),
+      kinematics::PassThroughAxes({2}, geometry::Dof::planar_xy()));
   EXPECT_EQ(
-      kinematics_toml(biglide, LengthUnit::mm).find("passthrough = [\"z\"]") != std::string::npos,
+      machine::kinematics_toml(biglide, machine::LengthUnit::mm).find("passthrough = [\"z\"]") !=
+          std::string::npos,
       true);
 }
 
 TEST(JointLimits, NanFailsTheCheck) {
-  const Machine hektor = test::load_example("hektor.toml");
-  JointVector joints(2);
+  const machine::Machine hektor = test::load_example("hektor.toml");
+  kinematics::JointVector joints(2);
   joints << 50.0, std::nan("");
-  const Status status = hektor.check_joint_limits(joints);
-  EXPECT_EQ(status.code, StatusCode::joint_limit);
+  const kinematics::Status status = hektor.check_joint_limits(joints);
+  EXPECT_EQ(status.code, kinematics::StatusCode::joint_limit);
   EXPECT_EQ(status.joint, 1);
 }
 
@@ -703,25 +710,25 @@ std::string delta_with_envelope() {
 }
 
 TEST(Envelope, ADeltaJobBelowItsBedFails) {
-  const Machine delta = parse_machine(delta_with_envelope(), "delta.toml");
-  JointVector joints;
-  const Pose below = Pose::from_mm_deg(0, 0, -150);
-  const Status status = delta.inverse(below, joints);
-  EXPECT_EQ(status.code, StatusCode::outside_envelope);
+  const machine::Machine delta = machine::parse_machine(delta_with_envelope(), "delta.toml");
+  kinematics::JointVector joints;
+  const geometry::Pose below = geometry::Pose::from_mm_deg(0, 0, -150);
+  const kinematics::Status status = delta.inverse(below, joints);
+  EXPECT_EQ(status.code, kinematics::StatusCode::outside_envelope);
   EXPECT_EQ(status.axis, 2);
   // The extent `check` reports is clipped by the envelope.
-  for (const AxisExtent& extent : reachable_extent(delta)) {
+  for (const machine::AxisExtent& extent : machine::reachable_extent(delta)) {
     EXPECT_GE(extent.min, delta.cartesian().envelope_min[extent.axis]);
     EXPECT_LE(extent.max, delta.cartesian().envelope_max[extent.axis]);
   }
-  EXPECT_NEAR(reachable_extent(delta)[2].min, 0.0, 1e-5);
+  EXPECT_NEAR(machine::reachable_extent(delta)[2].min, 0.0, 1e-5);
 }
 
 // The explanation of a refused pose: pose, joint, value, limit, in the machine file's units.
 struct ExplainCase {
   std::string name;
   std::string machine;  // example file, or "inch:" + example, "envelope:delta"
-  Pose pose;
+  geometry::Pose pose;
   std::string expected;
 };
 
@@ -729,12 +736,12 @@ std::ostream& operator<<(std::ostream& out, const ExplainCase& c) {
   return out << c.name;
 }
 
-Machine machine_of(const std::string& name) {
-  if (name == "envelope:delta") return parse_machine(delta_with_envelope(), "delta.toml");
+machine::Machine machine_of(const std::string& name) {
+  if (name == "envelope:delta") return machine::parse_machine(delta_with_envelope(), "delta.toml");
   if (name.rfind("inch:", 0) == 0) {
     std::string text = read_example(name.substr(5));
     text.replace(text.find("units = \"mm\""), 12, "units = \"inch\"");
-    return parse_machine(text, "inch.toml");
+    return machine::parse_machine(text, "inch.toml");
   }
   return test::load_example(name);
 }
@@ -743,36 +750,37 @@ class Explained : public ::testing::TestWithParam<ExplainCase> {};
 
 TEST_P(Explained, NamesPoseJointValueAndLimit) {
   const ExplainCase& c = GetParam();
-  const Machine machine = machine_of(c.machine);
-  JointVector joints;
-  const Status status = machine.inverse(c.pose, joints);
+  const machine::Machine machine = machine_of(c.machine);
+  kinematics::JointVector joints;
+  const kinematics::Status status = machine.inverse(c.pose, joints);
   ASSERT_FALSE(status.ok());
   EXPECT_EQ(machine.explain(c.pose, status), c.expected);
 }
 
 const ExplainCase kExplainCases[] = {
-    {"plotter_off_the_sheet", "wall-plotter.toml", Pose::from_mm_deg(1400, -2000, 0),
+    {"plotter_off_the_sheet", "wall-plotter.toml", geometry::Pose::from_mm_deg(1400, -2000, 0),
      "pose x 1400.000 y -2000.000 mm: joint 'left' = 2441.311 mm passes its max 2100.000 mm"},
-    {"plotter_outside_its_anchors", "wall-plotter.toml", Pose::from_mm_deg(-500, -700, 0),
+    {"plotter_outside_its_anchors", "wall-plotter.toml", geometry::Pose::from_mm_deg(-500, -700, 0),
      "pose x -500.000 y -700.000 mm: unreachable: left of the left anchor (x <= 0) the right "
      "cable would have to push"},
-    {"hexapod_leg_too_long", "hexapod-bit.toml", Pose::from_mm_deg(0, 0, 1600),
+    {"hexapod_leg_too_long", "hexapod-bit.toml", geometry::Pose::from_mm_deg(0, 0, 1600),
      "pose x 0.000 y 0.000 z 1600.000 mm a 0.000 b 0.000 c 0.000 deg: joint 'leg1' = 1649.463 "
      "mm passes its max 1500.000 mm"},
-    {"hexapod_upside_down", "hexapod-bit.toml", Pose::from_mm_deg(0, 0, 1000, 0, 180, 0),
+    {"hexapod_upside_down", "hexapod-bit.toml", geometry::Pose::from_mm_deg(0, 0, 1000, 0, 180, 0),
      "pose x 0.000 y 0.000 z 1000.000 mm a 0.000 b 180.000 c 0.000 deg: another assembly mode "
      "than home's, across a singularity (a platform below its carriages, a hexapod platform "
      "tilted past 90 deg)"},
-    {"delta_below_its_bed", "envelope:delta", Pose::from_mm_deg(0, 0, -150),
+    {"delta_below_its_bed", "envelope:delta", geometry::Pose::from_mm_deg(0, 0, -150),
      "pose x 0.000 y 0.000 z -150.000 mm: z = -150.000 mm passes the work envelope's min 0.000 "
      "mm ([cartesian] min)"},
-    {"triaglide_strut_too_short", "triaglide.toml", Pose::from_mm_deg(0, 0, -900),
+    {"triaglide_strut_too_short", "triaglide.toml", geometry::Pose::from_mm_deg(0, 0, -900),
      "pose x 0.000 y 0.000 z -900.000 mm: unreachable: the strut of rail 1 is too short to "
      "reach it"},
-    {"triaglide_rail_too_short", "triaglide.toml", Pose::from_mm_deg(900, 0, 200),
+    {"triaglide_rail_too_short", "triaglide.toml", geometry::Pose::from_mm_deg(900, 0, 200),
      "pose x 900.000 y 0.000 z 200.000 mm: joint 'rail1' = 1108.327 mm passes its max 800.000 "
      "mm"},
-    {"inch_machine_speaks_inches", "inch:hektor.toml", Pose::from_mm_deg(10 * 25.4, -170 * 25.4, 0),
+    {"inch_machine_speaks_inches", "inch:hektor.toml",
+     geometry::Pose::from_mm_deg(10 * 25.4, -170 * 25.4, 0),
      "pose x 10.0000 y -170.0000 in: joint 'right' = 192.3538 in passes its max 180.0000 in"},
 };
 
@@ -782,11 +790,11 @@ INSTANTIATE_TEST_SUITE_P(Cases, Explained, ::testing::ValuesIn(kExplainCases),
 TEST(Explained, AMoveIsExplainedWhereItLeavesTheReach) {
   // From home straight out along x: leg 3 and 6 pass 1500 mm on the way; the first to cross
   // is named, where it crosses, whichever point of the move a caller found failing.
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
-  const Vector6d from = Pose::from_mm_deg(0, 0, 1000).as_vector();
-  const Vector6d to = Pose::from_mm_deg(900, 900, 1000).as_vector();
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
+  const geometry::Vector6d from = geometry::Pose::from_mm_deg(0, 0, 1000).as_vector();
+  const geometry::Vector6d to = geometry::Pose::from_mm_deg(900, 900, 1000).as_vector();
   const std::string text =
-      hexapod.explain_path([&](double u) -> Vector6d { return from + u * (to - from); });
+      hexapod.explain_path([&](double u) -> geometry::Vector6d { return from + u * (to - from); });
   EXPECT_EQ(text.rfind("at 67.0 % of it: pose x 603.0", 0), 0u) << text;
   EXPECT_NE(text.find(": joint 'leg6' passes its max 1500.000 mm there, up to 1827.233 mm along "
                       "the move"),
@@ -795,13 +803,13 @@ TEST(Explained, AMoveIsExplainedWhereItLeavesTheReach) {
 }
 
 TEST(Explained, OutsideReachHintSuggestsAnOrigin) {
-  const Machine plotter = test::load_example("wall-plotter.toml");
-  PoseBox job;
-  job.axes = Dof::planar_xy();
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
+  machine::PoseBox job;
+  job.axes = geometry::Dof::planar_xy();
   job.min << 0, 0, 0, 0, 0, 0;
   job.max << 15, 20, 0, 0, 0, 0;
-  const std::string hint = outside_reach_hint(plotter, job, Vector6d::Zero());
-  const PoseBox reach = reach_box(plotter);
+  const std::string hint = machine::outside_reach_hint(plotter, job, geometry::Vector6d::Zero());
+  const machine::PoseBox reach = machine::reach_box(plotter);
   char origin[64];
   std::snprintf(origin, sizeof origin, "--origin %.0f %.0f would centre it",
                 0.5 * (reach.min[0] + reach.max[0]) - 7.5,
@@ -810,29 +818,29 @@ TEST(Explained, OutsideReachHintSuggestsAnOrigin) {
       hint.rfind("the job spans x 0.000..15.000 y 0.000..20.000 mm; the machine reaches x ", 0), 0u)
       << hint;
   EXPECT_NE(hint.find(origin), std::string::npos) << hint;
-  Vector6d centred = Vector6d::Zero();
+  geometry::Vector6d centred = geometry::Vector6d::Zero();
   centred[0] = 0.5 * (reach.min[0] + reach.max[0]) - 7.5;
   centred[1] = 0.5 * (reach.min[1] + reach.max[1]) - 10;
-  EXPECT_EQ(outside_reach_hint(plotter, job, centred), "");
+  EXPECT_EQ(machine::outside_reach_hint(plotter, job, centred), "");
 }
 
 TEST(Explained, OutsideReachHintSpeaksTheMachineFilesUnits) {
   // LinuxCNC's inch hexapod: --origin is typed in inches, so the boxes and the --origin the hint
   // suggests are in inches too (it said mm, and an --origin of mm values, on an inch machine).
-  const Machine hexapod = test::load_example("linuxcnc-hexapod-sim.toml");
-  PoseBox job;
-  job.axes = Dof::all();
+  const machine::Machine hexapod = test::load_example("linuxcnc-hexapod-sim.toml");
+  machine::PoseBox job;
+  job.axes = geometry::Dof::all();
   job.min << 0, 0, 0, 0, 0, 0;
   job.max << 25.4, 50.8, 0, 0, 0, 0;  // 1 x 2 in at Z0
-  Vector6d origin = Vector6d::Zero();
+  geometry::Vector6d origin = geometry::Vector6d::Zero();
   origin[2] = 20.0;  // "--origin 0 0 20" read as mm: the job 0.787 in above the base
-  const std::string hint = outside_reach_hint(hexapod, job, origin);
+  const std::string hint = machine::outside_reach_hint(hexapod, job, origin);
   EXPECT_EQ(hint.rfind("the job spans x 0.000..1.000 y 0.000..2.000 z 0.787..0.787 in; the machine "
                        "reaches x -7.932..7.932 y ",
                        0),
             0u)
       << hint;
-  const PoseBox reach = reach_box(hexapod);
+  const machine::PoseBox reach = machine::reach_box(hexapod);
   char suggestion[96];
   std::snprintf(suggestion, sizeof suggestion, "--origin %.2f %.2f %.2f would centre it",
                 (0.5 * (reach.min[0] + reach.max[0]) - 12.7) / 25.4,
@@ -842,8 +850,8 @@ TEST(Explained, OutsideReachHintSpeaksTheMachineFilesUnits) {
 }
 
 TEST(Conditioning, AWellBuiltHexapodIsFarFromSingular) {
-  EXPECT_GT(relative_conditioning_at_home(test::load_example("hexapod-bit.toml")), 1e-2);
-  EXPECT_EQ(singular_at_home(test::load_example("hexapod-bit.toml")), "");
+  EXPECT_GT(machine::relative_conditioning_at_home(test::load_example("hexapod-bit.toml")), 1e-2);
+  EXPECT_EQ(machine::singular_at_home(test::load_example("hexapod-bit.toml")), "");
 }
 
 // Text that would make toml++ recurse without bound is refused, located, before it is parsed
@@ -851,8 +859,8 @@ TEST(Conditioning, AWellBuiltHexapodIsFarFromSingular) {
 TEST(MachineFile, TextBeyondTheParsersBoundsIsALocatedError) {
   const auto error_of = [](const std::string& text) {
     try {
-      (void)parse_machine(text, "bounds.toml");
-    } catch (const MachineFileError& error) {
+      (void)machine::parse_machine(text, "bounds.toml");
+    } catch (const machine::MachineFileError& error) {
       return std::pair{error.line(), std::string(error.what())};
     }
     return std::pair{0, std::string("no error")};
@@ -882,27 +890,32 @@ TEST(MachineFile, TextBeyondTheParsersBoundsIsALocatedError) {
 
 // A model the registry does not know, as a new kind starts: x and y scaled onto two joints. It
 // writes a key of every kind through the writer and answers none of the other questions.
-class ScaledAxes final : public Kinematics {
+class ScaledAxes final : public kinematics::Kinematics {
  public:
   std::string_view type() const override { return "scaled"; }
   int joint_count() const override { return 2; }
-  Dof dof() const override { return Dof::planar_xy(); }
-  Status inverse(const Pose& pose, JointVector& joints) const override {
+  geometry::Dof dof() const override { return geometry::Dof::planar_xy(); }
+  kinematics::Status inverse(const geometry::Pose& pose,
+                             kinematics::JointVector& joints) const override {
     joints.resize(2);
     joints << 2.5 * pose.position_mm.x(), pose.position_mm.y();
-    return Status::success();
+    return kinematics::Status::success();
   }
-  Status forward(const JointVector& joints, Pose& pose) const override {
+  kinematics::Status forward(const kinematics::JointVector& joints,
+                             geometry::Pose& pose) const override {
     pose.position_mm.head<2>() << joints[0] / 2.5, joints[1];
-    return Status::success();
+    return kinematics::Status::success();
   }
-  Status jacobian(const Pose& pose, JointJacobian& d) const override {
-    return numerical_jacobian(*this, pose, d);
+  kinematics::Status jacobian(const geometry::Pose& pose,
+                              kinematics::JointJacobian& d) const override {
+    return kinematics::numerical_jacobian(*this, pose, d);
   }
-  std::vector<Parameter> parameters() const override { return {}; }
+  std::vector<kinematics::Parameter> parameters() const override { return {}; }
   void set_parameters(std::span<const double>) override {}
-  std::unique_ptr<Kinematics> clone() const override { return std::make_unique<ScaledAxes>(); }
-  void write_config(ModelConfigWriter& out) const override {
+  std::unique_ptr<kinematics::Kinematics> clone() const override {
+    return std::make_unique<ScaledAxes>();
+  }
+  void write_config(kinematics::ModelConfigWriter& out) const override {
     out.number("scale", 2.5);
     out.length("reach", 254.0);
     const std::array<Eigen::Vector2d, 2> feet = {Eigen::Vector2d(254.0, 0.0),
@@ -927,7 +940,7 @@ TEST(ModelConfigWriter, AModelsKeysAreWrittenAsTomlInTheFilesUnit) {
   model.set_forward_options({1e-11, 80});
   // Lengths in inch (254 mm = 10 in); keys in the order written, then each sub-table; two rows
   // of points on one line, three a row per line.
-  EXPECT_EQ(kinematics_toml(model, LengthUnit::inch),
+  EXPECT_EQ(machine::kinematics_toml(model, machine::LengthUnit::inch),
             "[kinematics]\n"
             "type = \"scaled\"\n"
             "forward_max_iterations = 80\n"
@@ -955,9 +968,10 @@ TEST(ModelConfigWriter, AModelsKeysAreWrittenAsTomlInTheFilesUnit) {
 }
 
 TEST(ModelConfigWriter, AModelWithoutAClosedFormulaIsRefusedByTheMach3Export) {
-  const std::vector<JointSpec> joints = test::test_model_joints_uv();
-  const Machine machine("scaled", "test", LengthUnit::mm, std::make_unique<ScaledAxes>(), joints,
-                        {6000.0, 500.0}, Pose::from_mm_deg(0.0, 0.0, 0.0));
+  const std::vector<machine::JointSpec> joints = test::test_model_joints_uv();
+  const machine::Machine machine("scaled", "test", machine::LengthUnit::mm,
+                                 std::make_unique<ScaledAxes>(), joints, {6000.0, 500.0},
+                                 geometry::Pose::from_mm_deg(0.0, 0.0, 0.0));
   EXPECT_EQ(machine.kinematics().sketch(), nullptr);
   EXPECT_EQ(machine.kinematics().hanging_cables(), nullptr);
   EXPECT_EQ(machine.kinematics().leg_limit_settings(), nullptr);

@@ -32,7 +32,7 @@ std::filesystem::path write_program(const std::string& text) {
   return path;
 }
 
-PlanReport plan(const Machine& machine, const std::string& program, Collect& out,
+PlanReport plan(const machine::Machine& machine, const std::string& program, Collect& out,
                 const PlanOptions& options = {}) {
   const auto path = write_program(program);
   PlanReport report;
@@ -49,7 +49,7 @@ PlanReport plan(const Machine& machine, const std::string& program, Collect& out
 TEST(SegmentBuilder, ProgramStartsAtTheMachinePoseSeenFromItsOrigin) {
   gcode::InterpreterOptions options;
   options.block_delete = true;
-  Vector6d start_mm_rad, origin_mm_rad;
+  geometry::Vector6d start_mm_rad, origin_mm_rad;
   start_mm_rad << 10.0, 20.0, 30.0, std::numbers::pi / 2.0, 0.0, -std::numbers::pi / 4.0;
   origin_mm_rad << 1.0, -2.0, 3.0, 0.0, std::numbers::pi / 6.0, 0.0;
   const gcode::InterpreterOptions started = starting_at(options, start_mm_rad, origin_mm_rad);
@@ -67,7 +67,7 @@ TEST(SegmentBuilder, ATurnedCoordinateSystemTurnsLinesAndArcsAboutItsOrigin) {
   const auto path = write_program(
       "G21 G90\nG10 L2 P1 X10 Y5 R90\nG54\nG0 X1 Y0\nG92 X0 Y0\nG0 X0 Y0\n"
       "G3 X-1 Y1 I-1 J0 F100\nG53 G0 X0 Y0\nM2\n");
-  SegmentBuilder builder(Vector6d::Zero(), Vector6d::Zero(), false);
+  SegmentBuilder builder(geometry::Vector6d::Zero(), geometry::Vector6d::Zero(), false);
   std::vector<Segment> segments;
   gcode::Interpreter(path).run([&](const gcode::Canon& canon) {
     for (const Segment& segment : builder.take(canon)) segments.push_back(segment);
@@ -85,7 +85,7 @@ TEST(SegmentBuilder, ATurnedCoordinateSystemTurnsLinesAndArcsAboutItsOrigin) {
 TEST(Plan, LineSamplesLieOnTheLineAndTheDurationIsClosedForm) {
   // Hexapod: 1000 mm/s^2. G1 X50 at F3000 (50 mm/s) from home: ramps of 0.05 s over 1.25 mm
   // each, 47.5 mm cruising at 50 mm/s: 1.05 s.
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   Collect out;
   const PlanReport report = plan(hexapod, "G21 G90\nG1 F3000 X50 Y0 Z1000\nM2\n", out);
   EXPECT_NEAR(report.duration_s, 1.05, 1e-12);
@@ -114,7 +114,7 @@ TEST(Plan, LineSamplesLieOnTheLineAndTheDurationIsClosedForm) {
 TEST(Plan, JerkLimitedRampsAreSCurves) {
   // J = 100,000 mm/s^3 reaches 1000 mm/s^2 in 0.01 s; each ramp to 50 mm/s takes
   // 50/1000 + 1000/100000 = 0.06 s over 1.5 mm; 47 mm cruising at 50 mm/s: 1.06 s in all.
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   PlanOptions options;
   options.jerk_mm_per_s3 = 100000.0;
   Collect out;
@@ -138,7 +138,7 @@ TEST(Plan, JerkLimitedRampsAreSCurves) {
 TEST(Plan, ShortJerkLimitedRampsNeverReachFullAcceleration) {
   // J = 10,000 mm/s^3 and a change of 50 mm/s: a^2/J = 100 > 50, so the acceleration peaks at
   // sqrt(50 * 10000) = 707 mm/s^2 and each ramp takes 2 * 0.0707 s over 3.536 mm.
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   PlanOptions options;
   options.jerk_mm_per_s3 = 10000.0;
   Collect out;
@@ -148,7 +148,7 @@ TEST(Plan, ShortJerkLimitedRampsNeverReachFullAcceleration) {
 }
 
 TEST(Plan, ArcSamplesStayOnTheirRadius) {
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   Collect out;
   plan(hexapod, "G21 G90 G17\nG0 X40 Y0 Z1000\nG3 X-40 Y0 I-40 J0 Z1005 F1200\nM2\n", out);
   int on_arc = 0;
@@ -165,8 +165,8 @@ TEST(Plan, ArcSamplesStayOnTheirRadius) {
 
 TEST(Plan, EverySamplesJointsAreTheIkOfItsPose) {
   for (const std::string& file : test::example_machine_files()) {
-    const Machine machine = test::load_example(file);
-    const Vector6d home = machine.home().as_vector();
+    const machine::Machine machine = test::load_example(file);
+    const geometry::Vector6d home = machine.home().as_vector();
     // A small square around home in the first two controlled axes, then back.
     int axes[2] = {-1, -1};
     for (int axis = 0, n = 0; axis < 3 && n < 2; ++axis) {
@@ -183,12 +183,12 @@ TEST(Plan, EverySamplesJointsAreTheIkOfItsPose) {
     Collect out;
     const PlanReport report = plan(machine, program, out);
     for (const Sample& s : out.samples) {
-      JointVector joints;
-      ASSERT_TRUE(machine.inverse(Pose::from_vector(s.pose), joints).ok()) << file;
+      kinematics::JointVector joints;
+      ASSERT_TRUE(machine.inverse(geometry::Pose::from_vector(s.pose), joints).ok()) << file;
       EXPECT_LT((joints - s.joints).cwiseAbs().maxCoeff(), 1e-12) << file;
     }
     for (std::size_t i = 0; i < machine.joints().size(); ++i) {
-      const JointSpec& joint = machine.joints()[i];
+      const machine::JointSpec& joint = machine.joints()[i];
       EXPECT_GE(report.joints[i].min, joint.min) << file;
       EXPECT_LE(report.joints[i].max, joint.max) << file;
       EXPECT_LE(report.joints[i].peak_velocity, joint.max_velocity) << file << " " << joint.name;
@@ -204,7 +204,7 @@ TEST(Plan, JointVelocityLimitsLowerTheFeed) {
   std::ifstream in(test::example_machine_path("hektor.toml"));
   std::string text((std::istreambuf_iterator<char>(in)), {});
   text.replace(text.find("max_feed = 2400.0"), 17, "max_feed = 12000.0");
-  const Machine hektor = parse_machine(text, "fast-hektor.toml");
+  const machine::Machine hektor = machine::parse_machine(text, "fast-hektor.toml");
   Collect out;
   const PlanReport report = plan(hektor, "G21 G90\nG1 F6000 X80 Y-50\nM2\n", out);
   ASSERT_FALSE(report.feed_limits.empty());
@@ -213,7 +213,7 @@ TEST(Plan, JointVelocityLimitsLowerTheFeed) {
 }
 
 TEST(Plan, UnreachableMoveNamesItsLine) {
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   Collect out;
   try {
     plan(hektor, "G21 G90\nG1 F600 X50 Y-60\nG1 X50 Y10\nM2\n", out);
@@ -227,7 +227,7 @@ TEST(Plan, UnreachableMoveNamesItsLine) {
 
 TEST(Plan, OriginPlacesTheProgramOnTheMachine) {
   // A drawing made about (0, 0), placed 700 mm right of and 800 mm below the left anchor.
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   Collect out;
   PlanOptions options;
   options.origin << 700, -800, 0, 0, 0, 0;
@@ -243,7 +243,7 @@ TEST(Plan, OriginPlacesTheProgramOnTheMachine) {
 std::pair<double, bool> tool_axis_off_great_circle(const std::vector<Sample>& samples, int line) {
   std::vector<Eigen::Vector3d> axes;
   for (const Sample& s : samples) {
-    if (s.line == line) axes.push_back(rotation_from_abc(s.pose.tail<3>()).col(2));
+    if (s.line == line) axes.push_back(geometry::rotation_from_abc(s.pose.tail<3>()).col(2));
   }
   const Eigen::Vector3d normal = axes.front().cross(axes.back()).normalized();
   double off = 0.0, previous_angle = -1.0;
@@ -258,7 +258,7 @@ std::pair<double, bool> tool_axis_off_great_circle(const std::vector<Sample>& sa
 }
 
 TEST(Plan, GreatCircleAttitudeKeepsTheToolAxisOnItsGreatCircle) {
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   const std::string program = "G21 G90 F600\nG1 X0 Y0 Z1000 A0 B0 C0\nG1 X10 A30 B20 C10\nM2\n";
   Collect great, linear;
   PlanOptions options;
@@ -271,14 +271,14 @@ TEST(Plan, GreatCircleAttitudeKeepsTheToolAxisOnItsGreatCircle) {
   // LinuxCNC's linear A B C takes the axis off that circle: the test can tell the two apart.
   EXPECT_GT(tool_axis_off_great_circle(linear.samples, 3).first, 1e-3);
   // Both end exactly on the programmed attitude.
-  const Vector6d end = great.samples.back().pose;
-  EXPECT_NEAR(radians_to_degrees(end[3]), 30.0, 1e-9);
-  EXPECT_NEAR(radians_to_degrees(end[4]), 20.0, 1e-9);
-  EXPECT_NEAR(radians_to_degrees(end[5]), 10.0, 1e-9);
+  const geometry::Vector6d end = great.samples.back().pose;
+  EXPECT_NEAR(geometry::radians_to_degrees(end[3]), 30.0, 1e-9);
+  EXPECT_NEAR(geometry::radians_to_degrees(end[4]), 20.0, 1e-9);
+  EXPECT_NEAR(geometry::radians_to_degrees(end[5]), 10.0, 1e-9);
 }
 
 TEST(Plan, DwellHoldsThePose) {
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   Collect out;
   const PlanReport report = plan(hexapod, "G21\nG4 P0.25\nM2\n", out);
   EXPECT_NEAR(report.duration_s, 0.25, 1e-12);
@@ -309,7 +309,7 @@ std::pair<double, double> peak_speed_and_acceleration(const std::vector<Sample>&
 
 TEST(LookAhead, ShortCamSegmentsRunAtTheProgrammedFeed) {
   // A circle of radius 20 mm as 0.1 mm chords at F600 (10 mm/s): G64 must not stop at each one.
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   std::string program = "G21 G90 G64 P0.01\nG1 F600 X20 Y0 Z1000\n";
   const int chords = static_cast<int>(2 * M_PI * 20 / 0.1);
   for (int i = 1; i <= chords; ++i) {
@@ -341,7 +341,7 @@ TEST(LookAhead, ShortCamSegmentsRunAtTheProgrammedFeed) {
 }
 
 TEST(LookAhead, CornersStayWithinTheTolerance) {
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   const std::vector<Eigen::Vector3d> corners = {
       {0, 0, 1000}, {30, 0, 1000}, {30, 20, 1000}, {0, 20, 1005}, {0, 0, 1000}};
   std::string program = "G21 G90 G64 P0.05\nG1 F3000 X0 Y0 Z1000\n";
@@ -372,7 +372,7 @@ TEST(LookAhead, CornersStayWithinTheTolerance) {
 }
 
 TEST(LookAhead, ExactStopModeStopsAtEveryCorner) {
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   Collect out;
   const PlanReport report = plan(hexapod, "G21 G90 G61\nG1 F3000 X0 Y0 Z1000\nX30\nY20\nM2\n", out);
   // Two rest-to-rest moves: 30 mm and 20 mm at 50 mm/s and 1000 mm/s^2.
@@ -389,7 +389,7 @@ TEST(LookAhead, ExactStopModeStopsAtEveryCorner) {
 // generated by tools/make-paper-jobs.py.
 void expect_paper_job_within_limits(const std::string& machine_file, const std::string& job,
                                     double path_length_mm) {
-  const Machine hexapod = test::load_example(machine_file);
+  const machine::Machine hexapod = test::load_example(machine_file);
   struct Count final : SampleSink {
     long n = 0;
     void write(const Sample&) override { ++n; }
@@ -415,16 +415,16 @@ TEST(Paper, TheHyperboloidStaysWithinEveryLegLimit) {
 }
 
 TEST(SampleFiles, NpyHasItsShapeAndColumns) {
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   const auto path =
       std::filesystem::temp_directory_path() / ("pkm-" + std::to_string(::getpid()) + ".npy");
   {
-    auto file = SampleFile::open(path, hektor);
+    auto file = io::SampleFile::open(path, hektor);
     Sample s;
     s.time_s = 0.5;
     s.line = 7;
     s.pose << 34, -40, 0, 0, 0, 0;
-    ASSERT_TRUE(hektor.inverse(Pose::from_vector(s.pose), s.joints).ok());
+    ASSERT_TRUE(hektor.inverse(geometry::Pose::from_vector(s.pose), s.joints).ok());
     file->write(s);
     file->write(s);
     file->commit();
@@ -449,15 +449,15 @@ TEST(SampleFiles, NpyHasItsShapeAndColumns) {
   EXPECT_EQ(row[1], 7.0);
   EXPECT_EQ(row[2], 34.0);
   EXPECT_NEAR(row[5], 52.498, 5e-4);  // columns t line x y z j_left j_right
-  EXPECT_EQ(sample_columns(hektor),
+  EXPECT_EQ(io::sample_columns(hektor),
             (std::vector<std::string>{"t", "line", "x", "y", "z", "j_left", "j_right"}));
 }
 
 TEST(SampleFiles, AnUncommittedFileLeavesNothing) {
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   const auto path =
       std::filesystem::temp_directory_path() / ("pkm-" + std::to_string(::getpid()) + ".csv");
-  { auto file = SampleFile::open(path, hektor); }
+  { auto file = io::SampleFile::open(path, hektor); }
   EXPECT_FALSE(std::filesystem::exists(path));
   for (const auto& entry : std::filesystem::directory_iterator(path.parent_path())) {
     EXPECT_EQ(

@@ -49,17 +49,18 @@ TEST(AllocationCounter, SeesAnAllocation) {
 class NoAllocation : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(NoAllocation, InverseJacobianAndForwardAllocateNothing) {
-  const Machine machine = test::load_example(GetParam());
+  const machine::Machine machine = test::load_example(GetParam());
   std::mt19937_64 rng(1);
-  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 200, rng, 10.0, 0.05);
-  std::vector<JointVector> joints(poses.size());
-  std::vector<Status> statuses(poses.size());
-  JointJacobian jacobian;
-  const Kinematics& kinematics = machine.kinematics();
+  const std::vector<geometry::Pose> poses =
+      test::sample_reachable_poses(machine, 200, rng, 10.0, 0.05);
+  std::vector<kinematics::JointVector> joints(poses.size());
+  std::vector<kinematics::Status> statuses(poses.size());
+  kinematics::JointJacobian jacobian;
+  const kinematics::Kinematics& kinematics = machine.kinematics();
   const long before = allocations.load();
   kinematics.inverse_batch(poses, joints, statuses);
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    Pose pose = poses[i];
+    geometry::Pose pose = poses[i];
     pose.position_mm.x() += 0.01;  // a servo step away: the seed FK gets along a path
     kinematics.inverse(poses[i], joints[i]);
     kinematics.jacobian(poses[i], jacobian);
@@ -72,29 +73,29 @@ TEST_P(NoAllocation, InverseJacobianAndForwardAllocateNothing) {
 // Along a path: FK with a track (the seed extrapolated, the Jacobian's factorisation kept), and
 // the batch IK on both of its paths (AVX2 lanes where the CPU has them, scalar).
 TEST_P(NoAllocation, ForwardAlongAPathAndBothBatchPathsAllocateNothing) {
-  const Machine machine = test::load_example(GetParam());
-  std::vector<Pose> path;
+  const machine::Machine machine = test::load_example(GetParam());
+  std::vector<geometry::Pose> path;
   for (int i = 0; i < 400; ++i) {
-    Pose pose = machine.home();
+    geometry::Pose pose = machine.home();
     pose.position_mm.x() += 2.0 * std::sin(0.01 * i);  // 0.02 mm servo steps
     pose.position_mm.y() += 2.0 * (1.0 - std::cos(0.01 * i));
     path.push_back(pose);
   }
-  std::vector<JointVector> joints(path.size());
-  std::vector<Status> statuses(path.size());
+  std::vector<kinematics::JointVector> joints(path.size());
+  std::vector<kinematics::Status> statuses(path.size());
   machine.kinematics().inverse_batch(path, joints, statuses);
-  ForwardTrack track;
-  Pose pose = machine.home();
+  kinematics::ForwardTrack track;
+  geometry::Pose pose = machine.home();
   int solved = 0;
-  const bool vector_path = lanes::avx2_enabled();
+  const bool vector_path = kinematics::lanes::avx2_enabled();
   const long before = allocations.load();
   for (std::size_t i = 0; i < path.size(); ++i) {
     if (statuses[i].ok()) solved += machine.forward(joints[i], pose, track).ok() ? 1 : 0;
   }
   machine.kinematics().inverse_batch(path, joints, statuses);
-  lanes::set_avx2_enabled(false);
+  kinematics::lanes::set_avx2_enabled(false);
   machine.kinematics().inverse_batch(path, joints, statuses);
-  lanes::set_avx2_enabled(vector_path);
+  kinematics::lanes::set_avx2_enabled(vector_path);
   EXPECT_EQ(allocations.load() - before, 0);
   EXPECT_GT(solved, 0);
 }
@@ -104,11 +105,11 @@ TEST_P(NoAllocation, ForwardAlongAPathAndBothBatchPathsAllocateNothing) {
 TEST_P(NoAllocation, LinuxCncModuleAllocatesNothing) {
   linuxcnc::KinsAdapter kins(test::load_example(GetParam()), std::nullopt);
   std::mt19937_64 rng(2);
-  const std::vector<Pose> poses =
+  const std::vector<geometry::Pose> poses =
       test::sample_reachable_poses(kins.machine(), 200, rng, 10.0, 0.05);
   std::vector<linuxcnc::WorldPose> worlds(poses.size());
   for (std::size_t i = 0; i < poses.size(); ++i) kins.to_world(poses[i], worlds[i]);
-  double joints[kMaxJoints];
+  double joints[kinematics::kMaxJoints];
   char message[512];
   const long before = allocations.load();
   for (const linuxcnc::WorldPose& world : worlds) {
@@ -129,9 +130,10 @@ TEST_P(NoAllocation, LinuxCncModuleAllocatesNothing) {
 // `pkm plan`'s samples into its files: a CSV row or NPY record per sample, the blocks written as
 // they fill (more samples than a block holds, after one to warm up: the stream's own buffer).
 TEST_P(NoAllocation, SampleFilesAllocateNothingPerSample) {
-  const Machine machine = test::load_example(GetParam());
+  const machine::Machine machine = test::load_example(GetParam());
   std::mt19937_64 rng(3);
-  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 200, rng, 10.0, 0.05);
+  const std::vector<geometry::Pose> poses =
+      test::sample_reachable_poses(machine, 200, rng, 10.0, 0.05);
   std::vector<motion::Sample> samples(poses.size());
   for (std::size_t i = 0; i < poses.size(); ++i) {
     samples[i].line = static_cast<int>(i);
@@ -141,7 +143,7 @@ TEST_P(NoAllocation, SampleFilesAllocateNothingPerSample) {
   for (const char* extension : {".csv", ".npy"}) {
     const std::filesystem::path path = std::filesystem::temp_directory_path() /
                                        ("pkm-alloc-" + std::to_string(::getpid()) + extension);
-    auto file = SampleFile::open(path, machine);
+    auto file = io::SampleFile::open(path, machine);
     file->write(samples.front());
     const long before = allocations.load();
     for (int i = 0; i < 5000; ++i) {
@@ -217,7 +219,7 @@ class AllocationsBetweenSamples final : public motion::SampleSink {
 // `pkm plan`'s samples along a move (the profile, the pose, the inverse kinematics, the report's
 // ranges and peaks) allocate nothing: only where the plan starts and ends does anything allocate.
 TEST(NoAllocationOfPlan, SamplesAlongAMoveAllocateNothing) {
-  const Machine machine = test::load_example("hexapod-bit.toml");
+  const machine::Machine machine = test::load_example("hexapod-bit.toml");
   const test::TempProgram program("G21 G91\nG1 X20 F120\nM2\n");
   AllocationsBetweenSamples sink;
   const motion::PlanReport report = motion::plan_program(machine, program.path(), {}, {}, sink);

@@ -23,7 +23,7 @@ double largest_on_grid(const Eigen::Vector3d& centre, const Eigen::Vector3d& hal
         const Eigen::Vector3d step(i, j, k);
         const Eigen::Vector3d abc =
             centre - half + 2.0 * half.cwiseProduct(step / static_cast<double>(n - 1));
-        best = std::max(best, value(rotation_from_abc(abc)));
+        best = std::max(best, value(geometry::rotation_from_abc(abc)));
       }
   return best;
 }

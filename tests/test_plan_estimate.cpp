@@ -38,7 +38,7 @@ struct Discard final : SampleSink {
 
 using test::TempProgram;
 
-Machine pen_plotter() {
+machine::Machine pen_plotter() {
   return test::load_example("pen-plotter.toml");
 }
 
@@ -50,14 +50,14 @@ PlanOptions at_home() {
   return options;
 }
 
-PlanReport plan_text(const Machine& machine, const std::string& text, SampleSink& sink,
+PlanReport plan_text(const machine::Machine& machine, const std::string& text, SampleSink& sink,
                      const PlanOptions& options) {
   const TempProgram program(text);
   return plan_program(machine, program.path(), {}, options, sink);
 }
 
 TEST(Estimate, CountsTheSamplesAndTheDurationOfThePlanExactly) {
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   const fs::path sphere = kSource / "examples" / "jobs" / "sphere.ngc";
   struct Count final : SampleSink {
     long n = 0;
@@ -91,7 +91,7 @@ PlanReport slow_left_cable_estimate() {
   std::string text((std::istreambuf_iterator<char>(in)), {});
   const std::string key = "max_velocity = 60.0";
   text.replace(text.find(key), key.size(), "max_velocity = 20.0");
-  const Machine hektor = parse_machine(text, "slow-left-hektor.toml");
+  const machine::Machine hektor = machine::parse_machine(text, "slow-left-hektor.toml");
   Discard none;
   PlanOptions options;
   options.estimate_only = true;
@@ -129,7 +129,7 @@ TEST(Estimate, AG64CornerBlendNamesTheCornerAndTheAccelerationThatSlowedIt) {
   // v^2/r within half of max_acceleration 1200 mm/s^2 allows sqrt(600 r) = 4.526 mm/s (F271.6)
   // and the joints' bend as much: it said "F1500.0 lowered to F271.3 by joint right", which a
   // user read as a joint too slow (it runs at a fraction of its 150 mm/s).
-  const Machine plotter = test::load_example("makelangelo.toml");
+  const machine::Machine plotter = test::load_example("makelangelo.toml");
   Discard none;
   PlanOptions options;
   options.estimate_only = true;
@@ -158,7 +158,7 @@ TEST(Estimate, AG64CornerBlendNamesTheCornerAndTheAccelerationThatSlowedIt) {
 TEST(SampleBound, ATinyPeriodStopsThePlanBeforeItWritesWithoutEnd) {
   // A period of 1e-300 s: the 1.0125 s of this move would be 1e300 samples. The estimate counts
   // to its cap; the plan refuses at the move, having made only the start sample.
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   PlanOptions options = at_home();
   options.period_s = 1e-300;
   options.estimate_only = true;
@@ -182,7 +182,7 @@ TEST(SampleBound, ATinyPeriodStopsThePlanBeforeItWritesWithoutEnd) {
 }
 
 TEST(ZFree, ZOnlyMovesTakeNoTimeOnAMachineWithoutZ) {
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   Collect out;
   const PlanReport report =
       plan_text(plotter, "G21 G90\nG0 Z5\nG1 Z-1 F100\nG0 Z5\nM2\n", out, at_home());
@@ -192,7 +192,7 @@ TEST(ZFree, ZOnlyMovesTakeNoTimeOnAMachineWithoutZ) {
 }
 
 TEST(ZFree, ZIsNoPartOfTheLengthThatSetsTheFeed) {
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   Collect flat, ramp;
   const PlanReport a = plan_text(plotter, "G21 G90\nG1 X10 F600\nM2\n", flat, at_home());
   const PlanReport b = plan_text(plotter, "G21 G90\nG1 X10 Z-20 F600\nM2\n", ramp, at_home());
@@ -209,7 +209,7 @@ TEST(ZFree, ZIsNoPartOfTheLengthThatSetsTheFeed) {
 
 TEST(ZFree, AnArcInXZIsMeasuredAlongItsPathInXY) {
   // A half circle of radius 10 in the XZ plane, from X0 to X20: the plotter travels 20 mm in X.
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   Collect out;
   const PlanReport report =
       plan_text(plotter, "G21 G90 G18\nG2 X20 Z0 I10 K0 F600\nM2\n", out, at_home());
@@ -221,9 +221,9 @@ TEST(ZFree, ATableThatIgnoresZHasNoPenAndSpendsNoTimeOnZ) {
   std::ifstream in(test::example_machine_path("pen-plotter.toml"));
   std::string text((std::istreambuf_iterator<char>(in)), {});
   text.replace(text.find("z = \"pen\""), 9, "z = \"ignore\"");
-  const Machine ignoring = parse_machine(text, "ignoring.toml");
-  ASSERT_EQ(ignoring.tool().z, ToolZ::ignore);
-  EXPECT_EQ(sample_columns(ignoring),
+  const machine::Machine ignoring = machine::parse_machine(text, "ignoring.toml");
+  ASSERT_EQ(ignoring.tool().z, machine::ToolZ::ignore);
+  EXPECT_EQ(io::sample_columns(ignoring),
             (std::vector<std::string>{"t", "line", "x", "y", "z", "j_left", "j_right"}));
   Collect out;
   const PlanReport report =
@@ -241,7 +241,7 @@ std::pair<int, int> pen_changes(const std::vector<Sample>& samples) {
 }
 
 TEST(PenChannel, ThePenChangesAtRestForItsDelay) {
-  const Machine pen = pen_plotter();
+  const machine::Machine pen = pen_plotter();
   ASSERT_EQ(pen.tool().delay_s, 0.15);
   Collect out;
   const PlanReport report =
@@ -272,8 +272,8 @@ TEST(PenChannel, ThePenIsUpAtTheStartWhateverTheStartPosesZ) {
   // down_below = 10 puts home's Z 0 on the drawing side. The pen stays up over the travel to
   // X 10 and the feed to X 20 (the job has not moved in Z yet), and goes down where the job first
   // moves Z to the drawing side: the G1 Z2 at X 20, drawing the 10 mm to X 30 only.
-  Machine pen = pen_plotter();
-  ToolChannel tool = pen.tool();
+  machine::Machine pen = pen_plotter();
+  machine::ToolChannel tool = pen.tool();
   tool.pen_height_mm = 10.0;
   pen.set_tool(tool);
   Collect out;
@@ -308,7 +308,7 @@ TEST(PenChannel, WarnsWhenThePenNeverGoesDown) {
 
 TEST(PenChannel, AMoveThatCrossesThePenHeightIsSplitWhereItCrosses) {
   // From Z5 to Z-1 over 12 mm of X: Z passes 0 at 10 mm, where the pen goes down.
-  const Machine pen = pen_plotter();
+  const machine::Machine pen = pen_plotter();
   Collect out;
   const PlanReport report =
       plan_text(pen, "G21 G90\nG0 X0 Y0 Z5\nG1 X12 Z-1 F600\nM2\n", out, at_home());
@@ -329,7 +329,7 @@ TEST(PenChannel, AMoveThatCrossesThePenHeightIsSplitWhereItCrosses) {
 TEST(PenChannel, AnArcThatDipsBelowThePenHeightDrawsOnlyBelowIt) {
   // A half circle in XZ of radius 10 about X10 Z1, from X0 to X20 through Z-9: below Z0 between
   // X 10 - sqrt(99) and X 10 + sqrt(99), where the pen goes down and then up again.
-  const Machine pen = pen_plotter();
+  const machine::Machine pen = pen_plotter();
   Collect out;
   const PlanReport report =
       plan_text(pen, "G21 G90\nG0 X0 Y0 Z1\nG18 G2 X20 Z1 I10 K0 F600\nM2\n", out, at_home());
@@ -349,8 +349,8 @@ TEST(PenChannel, ARealDrawingLiftsThePenWhereverItsZRises) {
   // An Inkscape drawing for a DexArm (pen Z 5 up, -1 down; 142 strokes) on the wall plotter.
   PKM_SKIP_WITHOUT_REAL_CORPUS();
   const fs::path job = test::readable_real_job("plotter/dexarm-inkscape/vitruvianMan.gcode");
-  const Machine pen = pen_plotter();
-  Machine no_pen = test::load_example("wall-plotter.toml");
+  const machine::Machine pen = pen_plotter();
+  machine::Machine no_pen = test::load_example("wall-plotter.toml");
   PlanOptions options;
   options.origin << 700.0, -1100.0, 0.0, 0.0, 0.0, 0.0;
   Collect out;
@@ -370,37 +370,40 @@ TEST(PenChannel, ARealDrawingLiftsThePenWhereverItsZRises) {
 
 // A model whose inverse kinematics overflows to NaN beyond x = 100 and still says "ok", as a
 // glide's does far outside its rails: what the planner's guard is for.
-class OverflowingKinematics final : public Kinematics {
+class OverflowingKinematics final : public kinematics::Kinematics {
  public:
   std::string_view type() const override { return "overflowing"; }
   int joint_count() const override { return 2; }
-  Dof dof() const override { return Dof::planar_xy(); }
-  Status inverse(const Pose& pose, JointVector& joints) const override {
+  geometry::Dof dof() const override { return geometry::Dof::planar_xy(); }
+  kinematics::Status inverse(const geometry::Pose& pose,
+                             kinematics::JointVector& joints) const override {
     joints.resize(2);
     const double x = pose.position_mm.x();
     joints << x, x > 100.0 ? std::numeric_limits<double>::quiet_NaN() : pose.position_mm.y();
-    return Status::success();
+    return kinematics::Status::success();
   }
-  Status forward(const JointVector& joints, Pose& pose) const override {
+  kinematics::Status forward(const kinematics::JointVector& joints,
+                             geometry::Pose& pose) const override {
     pose.position_mm.x() = joints[0];
     pose.position_mm.y() = joints[1];
-    return Status::success();
+    return kinematics::Status::success();
   }
-  Status jacobian(const Pose& pose, JointJacobian& d) const override {
-    return numerical_jacobian(*this, pose, d);
+  kinematics::Status jacobian(const geometry::Pose& pose,
+                              kinematics::JointJacobian& d) const override {
+    return kinematics::numerical_jacobian(*this, pose, d);
   }
-  std::vector<Parameter> parameters() const override { return {}; }
+  std::vector<kinematics::Parameter> parameters() const override { return {}; }
   void set_parameters(std::span<const double>) override {}
-  std::unique_ptr<Kinematics> clone() const override {
+  std::unique_ptr<kinematics::Kinematics> clone() const override {
     return std::make_unique<OverflowingKinematics>();
   }
 };
 
 TEST(NanGuard, AJointThatIsNotANumberStopsThePlanAtItsLine) {
-  const std::vector<JointSpec> joints = test::test_model_joints_uv();
-  const Machine machine("overflowing", "test", LengthUnit::mm,
-                        std::make_unique<OverflowingKinematics>(), joints, {6000.0, 500.0},
-                        Pose::from_mm_deg(0.0, 0.0, 0.0));
+  const std::vector<machine::JointSpec> joints = test::test_model_joints_uv();
+  const machine::Machine machine("overflowing", "test", machine::LengthUnit::mm,
+                                 std::make_unique<OverflowingKinematics>(), joints, {6000.0, 500.0},
+                                 geometry::Pose::from_mm_deg(0.0, 0.0, 0.0));
   Collect out;
   try {
     plan_text(machine, "G21 G90\nG1 F600 X50\nG1 X150\nM2\n", out, {});
@@ -465,16 +468,16 @@ std::string npy_header(const fs::path& path, std::string& bytes) {
 TEST(SampleFiles, CsvRowsKeepTheirFormat) {
   // Hektor at (34, -40): cables sqrt(34^2 + 40^2) and sqrt(66^2 + 40^2). Times with 6 decimals,
   // the line a whole number, everything else with 9: what tools reading these files expect.
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   const fs::path path =
       fs::temp_directory_path() / ("pkm-row-" + std::to_string(::getpid()) + ".csv");
   Sample s;
   s.time_s = 0.5;
   s.line = 7;
   s.pose << 34, -40, 0, 0, 0, 0;
-  ASSERT_TRUE(hektor.inverse(Pose::from_vector(s.pose), s.joints).ok());
+  ASSERT_TRUE(hektor.inverse(geometry::Pose::from_vector(s.pose), s.joints).ok());
   {
-    auto file = SampleFile::open(path, hektor);
+    auto file = io::SampleFile::open(path, hektor);
     file->write(s);
     file->commit();
   }
@@ -487,8 +490,8 @@ TEST(SampleFiles, CsvRowsKeepTheirFormat) {
 }
 
 TEST(SampleFiles, APenMachineHasAPenColumnInBothFormats) {
-  const Machine pen = pen_plotter();
-  EXPECT_EQ(sample_columns(pen),
+  const machine::Machine pen = pen_plotter();
+  EXPECT_EQ(io::sample_columns(pen),
             (std::vector<std::string>{"t", "line", "x", "y", "z", "j_left", "j_right", "pen"}));
   const fs::path base = fs::temp_directory_path() / ("pkm-pen-" + std::to_string(::getpid()));
   Sample s;
@@ -496,9 +499,9 @@ TEST(SampleFiles, APenMachineHasAPenColumnInBothFormats) {
   s.line = 3;
   s.pose << 750, -700, -1, 0, 0, 0;
   s.pen_down = true;
-  ASSERT_TRUE(pen.inverse(Pose::from_vector(s.pose), s.joints).ok());
+  ASSERT_TRUE(pen.inverse(geometry::Pose::from_vector(s.pose), s.joints).ok());
   for (const char* extension : {".csv", ".npy"}) {
-    auto file = SampleFile::open(base.string() + extension, pen);
+    auto file = io::SampleFile::open(base.string() + extension, pen);
     file->write(s);
     file->commit();
   }

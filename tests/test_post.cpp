@@ -28,10 +28,10 @@ std::filesystem::path temp_file(const std::string& name) {
 }
 
 // The programmed moves of a job, in machine coordinates.
-std::vector<motion::Segment> programmed_moves(const Machine& machine,
-                                              const std::filesystem::path& job,
-                                              const Vector6d& origin = Vector6d::Zero()) {
-  const Vector6d home = machine.home().as_vector();
+std::vector<motion::Segment> programmed_moves(
+    const machine::Machine& machine, const std::filesystem::path& job,
+    const geometry::Vector6d& origin = geometry::Vector6d::Zero()) {
+  const geometry::Vector6d home = machine.home().as_vector();
   const gcode::InterpreterOptions options = motion::starting_at({}, home, origin);
   motion::SegmentBuilder builder(home, origin, false);
   std::vector<motion::Segment> moves;
@@ -45,8 +45,8 @@ std::vector<motion::Segment> programmed_moves(const Machine& machine,
 
 // Exact distance from p to a line or to a planar arc (no motion along its normal); the positions
 // the machine does not control are taken from p, so they never count.
-double distance_to_move(Eigen::Vector3d p, const motion::Segment& move, Dof dof) {
-  Vector6d start = move.start, end = move.end;
+double distance_to_move(Eigen::Vector3d p, const motion::Segment& move, geometry::Dof dof) {
+  geometry::Vector6d start = move.start, end = move.end;
   for (int axis = 0; axis < 3; ++axis) {
     if (!dof.controls(axis)) start[axis] = end[axis] = p[axis];
   }
@@ -79,7 +79,8 @@ double distance_to_move(Eigen::Vector3d p, const motion::Segment& move, Dof dof)
 
 // A lower bound on the distance from p to the move, from a sphere around it (controlled
 // coordinates only), to skip the moves that cannot be the nearest.
-double distance_to_move_at_least(const Eigen::Vector3d& p, const motion::Segment& move, Dof dof) {
+double distance_to_move_at_least(const Eigen::Vector3d& p, const motion::Segment& move,
+                                 geometry::Dof dof) {
   Eigen::Vector3d centre = 0.5 * (move.start.head<3>() + move.end.head<3>());
   double radius = 0.5 * (move.end.head<3>() - move.start.head<3>()).norm();
   if (move.kind == motion::SegmentKind::arc) {
@@ -97,7 +98,7 @@ double distance_to_move_at_least(const Eigen::Vector3d& p, const motion::Segment
 // The distance from p to the nearest move; `hint`, the nearest for the previous point, is tried
 // first.
 double distance_to_path(const Eigen::Vector3d& p, const std::vector<motion::Segment>& moves,
-                        Dof dof, std::size_t& hint) {
+                        geometry::Dof dof, std::size_t& hint) {
   double nearest = distance_to_move(p, moves[hint], dof);
   for (std::size_t i = 0; i < moves.size(); ++i) {
     if (i == hint || distance_to_move_at_least(p, moves[i], dof) >= nearest) continue;
@@ -111,26 +112,27 @@ double distance_to_path(const Eigen::Vector3d& p, const std::vector<motion::Segm
 }
 
 // The joint values of every block of a joint-space program, read back by the interpreter.
-std::vector<JointVector> joint_blocks(const Machine& machine, const std::filesystem::path& file) {
-  std::vector<JointVector> blocks;
-  JointVector home;
+std::vector<kinematics::JointVector> joint_blocks(const machine::Machine& machine,
+                                                  const std::filesystem::path& file) {
+  std::vector<kinematics::JointVector> blocks;
+  kinematics::JointVector home;
   EXPECT_TRUE(machine.inverse(machine.home(), home).ok());
   gcode::InterpreterOptions options;
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
-    const JointSpec& joint = machine.joints()[i];
+    const machine::JointSpec& joint = machine.joints()[i];
     const int index = static_cast<int>(std::string("XYZABCUVW").find(joint.axis_letter));
     options.start_position[index] = joint.to_interface(home[static_cast<int>(i)]);
   }
   // A pen command is not a block, even where it is G-code (a servo on Z: "G0 Z90").
-  if (machine.tool().z == ToolZ::pen) {
+  if (machine.tool().z == machine::ToolZ::pen) {
     options.event_lines = {machine.tool().down_command, machine.tool().up_command};
   }
   blocks.push_back(home);
   gcode::Interpreter(file, options).run([&](const gcode::Canon& canon) {
     if (canon.kind != gcode::CanonKind::traverse && canon.kind != gcode::CanonKind::feed) return;
-    JointVector q(static_cast<int>(machine.joints().size()));
+    kinematics::JointVector q(static_cast<int>(machine.joints().size()));
     for (std::size_t i = 0; i < machine.joints().size(); ++i) {
-      const JointSpec& joint = machine.joints()[i];
+      const machine::JointSpec& joint = machine.joints()[i];
       const double value = canon.end[std::string("XYZABCUVW").find(joint.axis_letter)];
       q[static_cast<int>(i)] = joint.from_interface(value);
     }
@@ -141,14 +143,15 @@ std::vector<JointVector> joint_blocks(const Machine& machine, const std::filesys
 
 // The worst distance from the programmed path of the tool tip along every joint-linear block, by
 // forward kinematics at `points` + 1 points per block.
-double dense_deviation(const Machine& machine, const std::vector<JointVector>& blocks,
+double dense_deviation(const machine::Machine& machine,
+                       const std::vector<kinematics::JointVector>& blocks,
                        const std::vector<motion::Segment>& moves, int points = 1000) {
   double worst = 0.0;
-  Pose pose = machine.home();
+  geometry::Pose pose = machine.home();
   std::size_t hint = 0;
   for (std::size_t b = 1; b < blocks.size(); ++b) {
     for (int k = 0; k <= points; ++k) {
-      const JointVector q =
+      const kinematics::JointVector q =
           blocks[b - 1] + (k / static_cast<double>(points)) * (blocks[b] - blocks[b - 1]);
       EXPECT_TRUE(machine.forward(q, pose).ok());
       worst = std::max(worst,
@@ -160,8 +163,8 @@ double dense_deviation(const Machine& machine, const std::vector<JointVector>& b
 
 // A small job about home in the machine's first two controlled axes, with an arc and a run of
 // short moves where those are x and y, and an attitude change on machines that control one.
-std::string job_about_home(const Machine& machine) {
-  const Vector6d home = machine.home().as_vector();
+std::string job_about_home(const machine::Machine& machine) {
+  const geometry::Vector6d home = machine.home().as_vector();
   const bool xy = machine.kinematics().dof().controls(0) && machine.kinematics().dof().controls(1);
   char text[512];
   std::string job = "G21 G90 F600\n";
@@ -183,7 +186,7 @@ std::string job_about_home(const Machine& machine) {
   return job + text;
 }
 
-PostReport post_to_file(const Machine& machine, const std::filesystem::path& job,
+PostReport post_to_file(const machine::Machine& machine, const std::filesystem::path& job,
                         const std::filesystem::path& output, const PostOptions& options) {
   std::ofstream out(output);
   return post_program(machine, job, {}, options,
@@ -196,7 +199,7 @@ TEST_P(PostEveryMachine, NothingAboveTheReportedBoundCheckedDensely) {
   // Forward kinematics at 1,001 points of every block, against the exact programmed lines and
   // arcs: nothing above the bound the post reports (formula machines have a sampled deviation,
   // held to the tolerance only).
-  const Machine machine = test::load_example(GetParam());
+  const machine::Machine machine = test::load_example(GetParam());
   const auto job = temp_file("job.ngc");
   std::ofstream(job) << job_about_home(machine);
   const auto moves = programmed_moves(machine, job);
@@ -206,7 +209,7 @@ TEST_P(PostEveryMachine, NothingAboveTheReportedBoundCheckedDensely) {
     options.tolerance_mm = tolerance;
     const PostReport report = post_to_file(machine, job, output, options);
     EXPECT_LE(report.max_deviation_mm, tolerance);
-    const std::vector<JointVector> blocks = joint_blocks(machine, output);
+    const std::vector<kinematics::JointVector> blocks = joint_blocks(machine, output);
     EXPECT_EQ(static_cast<long>(blocks.size()) - 1, report.blocks);
     const double dense = dense_deviation(machine, blocks, moves);
     std::cout << "[ bound    ] tolerance " << tolerance << ": " << report.blocks
@@ -217,7 +220,8 @@ TEST_P(PostEveryMachine, NothingAboveTheReportedBoundCheckedDensely) {
     } else {
       // Formula machines, and cable machines whose joints come from a balance of forces
       // (a tilting effector, sagging or stretching cables), have no second-derivative bound.
-      const auto* plotter = dynamic_cast<const CablePlotterKinematics*>(&machine.kinematics());
+      const auto* plotter =
+          dynamic_cast<const kinematics::CablePlotterKinematics*>(&machine.kinematics());
       EXPECT_TRUE(machine.kinematics().type() == "formula" ||
                   (plotter != nullptr && !plotter->geometry().rigid()))
           << machine.kinematics().type();
@@ -234,8 +238,8 @@ INSTANTIATE_TEST_SUITE_P(Examples, PostEveryMachine,
 
 // Posts `job_text` at 0.01 mm from `origin` and checks the program densely: nothing above the
 // bound it reports, one joint block per block it counts. Returns the report.
-PostReport post_within_its_bound(const Machine& machine, const std::string& job_text,
-                                 const Vector6d& origin) {
+PostReport post_within_its_bound(const machine::Machine& machine, const std::string& job_text,
+                                 const geometry::Vector6d& origin) {
   const auto job = temp_file("bounded-job.ngc");
   std::ofstream(job) << job_text;
   const auto output = temp_file("bounded-joints.ngc");
@@ -244,7 +248,7 @@ PostReport post_within_its_bound(const Machine& machine, const std::string& job_
   options.origin = origin;
   const PostReport report = post_to_file(machine, job, output, options);
   EXPECT_LE(report.max_deviation_mm, 0.01);
-  const std::vector<JointVector> blocks = joint_blocks(machine, output);
+  const std::vector<kinematics::JointVector> blocks = joint_blocks(machine, output);
   EXPECT_EQ(static_cast<long>(blocks.size()) - 1, report.blocks);
   EXPECT_LE(dense_deviation(machine, blocks, programmed_moves(machine, job, origin)),
             report.max_deviation_mm);
@@ -261,7 +265,8 @@ TEST(Post, DeltaStrutNearlySquareToItsRailIsPosted) {
   // square. The bound refused every block there (the drift of J^-1 over the reach, counted at
   // the strut's full curvature against the smallest singular value, stayed above 1 however short
   // the block); weighed by how little that strut moves the tool, short blocks pass.
-  const Vector6d origin = (Vector6d() << 0.0, 0.0, 50.0, 0.0, 0.0, 0.0).finished();
+  const geometry::Vector6d origin =
+      (geometry::Vector6d() << 0.0, 0.0, 50.0, 0.0, 0.0, 0.0).finished();
   post_within_its_bound(test::load_example("linear-delta.toml"),
                         "G20 G90\nG0 Z2.1\nG0 X0 Y3.915\nG1 F16 Z1.6875\nG1 X4.0\nM2\n", origin);
 }
@@ -270,14 +275,15 @@ TEST(Post, PassThroughJointOfACablePlotterIsBounded) {
   // The Maslow's router Z is a pass-through joint: a third joint beside the two chains. The bound
   // sized its second derivatives by the chains alone, read past them (the joint program of
   // calibration-benchmark-test.nc, line 11, was refused at random: "no block, however short").
-  const Machine maslow = test::load_example("maslow.toml");
+  const machine::Machine maslow = test::load_example("maslow.toml");
   ASSERT_EQ(maslow.joints().size(), 3u);
   const auto bounds = pkm::bounds::inverse_hessian_bounds(maslow.kinematics(),
                                                           maslow.home().as_vector(), 1.0, 1.0, {});
   ASSERT_TRUE(bounds.has_value());
   EXPECT_EQ(bounds->norm.size(), 3u);  // one per joint, the pass-through's zero
   EXPECT_EQ(bounds->norm[2], 0.0);
-  const Vector6d origin = (Vector6d() << 1489.2, -1072.6, 0.0, 0.0, 0.0, 0.0).finished();
+  const geometry::Vector6d origin =
+      (geometry::Vector6d() << 1489.2, -1072.6, 0.0, 0.0, 0.0, 0.0).finished();
   const PostReport report = post_within_its_bound(
       maslow, "G21\nG90\nG1 Z5 F500\nG0 X0 Y0\nG0 X-952.5 Y10\nG1 Z-2 F500\nG1 Y-10\nG1 Z5\nM2\n",
       origin);
@@ -289,7 +295,8 @@ TEST(Post, AnInfiniteCurvatureBoundSplitsTheBlock) {
   // curvature bound is infinite (its lever could halve there). The tool's error from that
   // infinite joint-error box came out NaN (inf - inf within J^-1 e), std::max dropped it, the
   // bound read 0 and the line went out as one block, 1.2 mm off its path.
-  const Vector6d origin = (Vector6d() << 0.0, 0.0, -300.0, 0.0, 0.0, 0.0).finished();
+  const geometry::Vector6d origin =
+      (geometry::Vector6d() << 0.0, 0.0, -300.0, 0.0, 0.0, 0.0).finished();
   const PostReport report = post_within_its_bound(test::load_example("linuxcnc-rdelta.toml"),
                                                   "G21 G90 F1200\nG1 X40 Y0 Z-20\nM2\n", origin);
   EXPECT_GT(report.blocks, 10);
@@ -301,14 +308,14 @@ TEST(Post, PaperSphereOnTheHexapodNearItsBound) {
   // whatever direction the leg points) held it to 0.00099 mm in 20,225 blocks; the joints at the
   // chord's middle and a third-derivative remainder give 3,024 blocks, and the largest deviation
   // found densely is most of the bound, never above it.
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   const auto sphere = std::filesystem::path(PKM_SOURCE_DIR) / "examples" / "jobs" / "sphere.ngc";
   const auto output = temp_file("sphere-joints.ngc");
   PostOptions options;
   options.tolerance_mm = 0.01;
   const PostReport report = post_to_file(hexapod, sphere, output, options);
   EXPECT_LE(report.blocks, 3100);
-  const std::vector<JointVector> blocks = joint_blocks(hexapod, output);
+  const std::vector<kinematics::JointVector> blocks = joint_blocks(hexapod, output);
   ASSERT_EQ(static_cast<long>(blocks.size()) - 1, report.blocks);
   const double dense = dense_deviation(hexapod, blocks, programmed_moves(hexapod, sphere), 100);
   std::cout << "[ bound    ] sphere: " << report.blocks << " blocks, largest found " << dense
@@ -322,17 +329,17 @@ TEST(Post, FullCircleIsTracedAllRound) {
   // G2 ending where it starts, radius 10 about (50, -50) on Hektor: the blocks' ends go once
   // clockwise round the circle. A chord of 2 pi / n keeps within 0.01 mm only for
   // 10 (1 - cos(pi / n)) <= 0.01, n >= 71: so at least 71 blocks.
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   const auto job = temp_file("circle.ngc");
   std::ofstream(job) << "G21 G90 F600\nG1 X40 Y-50\nG2 X40 Y-50 I10 J0\nM2\n";
   const auto output = temp_file("circle-joints.ngc");
   PostOptions options;
   options.tolerance_mm = 0.01;
   const PostReport report = post_to_file(hektor, job, output, options);
-  const std::vector<JointVector> blocks = joint_blocks(hektor, output);
+  const std::vector<kinematics::JointVector> blocks = joint_blocks(hektor, output);
   ASSERT_EQ(static_cast<long>(blocks.size()) - 1, report.blocks);
   // The first blocks trace the line to the circle's start (40, -50); the rest go round it.
-  Pose pose = hektor.home();
+  geometry::Pose pose = hektor.home();
   std::size_t first = 1;
   for (; first < blocks.size(); ++first) {
     ASSERT_TRUE(hektor.forward(blocks[first], pose).ok());
@@ -358,7 +365,7 @@ TEST(Post, FullCircleIsTracedAllRound) {
 }
 
 // The lines of a joint program posted from `job_text`.
-std::vector<std::string> posted_lines(const Machine& machine, const std::string& job_text,
+std::vector<std::string> posted_lines(const machine::Machine& machine, const std::string& job_text,
                                       PostOptions options = {}, PostReport* report_out = nullptr) {
   const auto job = temp_file("lines-job.ngc");
   std::ofstream(job) << job_text;
@@ -373,7 +380,7 @@ std::vector<std::string> posted_lines(const Machine& machine, const std::string&
 TEST(Post, ZOnlyMovesOfAPlotterWriteNothingAndM5Once) {
   // Hektor controls x y only: the Z moves are no blocks; the job's M5 and M2's own spindle stop
   // give one M5.
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   PostReport report;
   const auto lines = posted_lines(
       hektor, "G21 G90 F600\nM3 S1000\nG0 Z5\nG1 X40 Y-50\nG1 Z-1\nG0 Z5\nM5\nM2\n", {}, &report);
@@ -408,7 +415,7 @@ std::vector<std::string> commands_among(const std::vector<std::string>& lines) {
 }
 
 TEST(Post, EveryPauseToolChangeIoAndUserCodeIsCarriedInItsPlace) {
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   const auto lines = posted_lines(hektor, kJobWithMachineCommands);
   EXPECT_EQ(commands_among(lines),
             (std::vector<std::string>{"M0", "T2", "M6", "M62 P1", "M66 P0 L3 Q2.5", "M67 E0 Q50",
@@ -428,9 +435,9 @@ TEST(Post, EveryPauseToolChangeIoAndUserCodeIsCarriedInItsPlace) {
 }
 
 TEST(Post, ADialectWithoutACommandRefusesTheJobAtItsLine) {
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   // Its joints are X and Y, which grbl takes; the job's origin is where the pen reaches.
-  const Machine wall_plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine wall_plotter = test::load_example("wall-plotter.toml");
   struct Case {
     std::string job;
     Dialect dialect;
@@ -448,7 +455,7 @@ TEST(Post, ADialectWithoutACommandRefusesTheJobAtItsLine) {
   for (const Case& c : cases) {
     PostOptions options;
     options.dialect = c.dialect;
-    options.origin = (Vector6d() << 700.0, -700.0, 0.0, 0.0, 0.0, 0.0).finished();
+    options.origin = (geometry::Vector6d() << 700.0, -700.0, 0.0, 0.0, 0.0, 0.0).finished();
     try {
       posted_lines(wall_plotter, c.job, options);
       FAIL() << "posted " << c.job;
@@ -470,7 +477,7 @@ TEST(Post, ADialectWithoutACommandRefusesTheJobAtItsLine) {
   // grbl has no M6: the tool is changed by hand at a pause (a Fusion 360 job's "T1 M6").
   PostOptions grbl;
   grbl.dialect = Dialect::grbl;
-  grbl.origin = (Vector6d() << 700.0, -700.0, 0.0, 0.0, 0.0, 0.0).finished();
+  grbl.origin = (geometry::Vector6d() << 700.0, -700.0, 0.0, 0.0, 0.0, 0.0).finished();
   PostReport grbl_report;
   const auto grbl_lines =
       posted_lines(wall_plotter, "G21 F600\nT2 M6\nG1 X40 Y-50\nM2\n", grbl, &grbl_report);
@@ -502,10 +509,10 @@ TEST(Post, BlocksOfAMoveEstimatedByTheSagittaOfTheirChords) {
 TEST(Post, AJobPastTheBlockBoundIsRefusedAtItsLine) {
   // Issue 26: an arc of a million turns kept post writing. Its estimate (70 million blocks)
   // refuses it before a block of it is covered: nothing but the program's opening is written.
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   PostOptions options;
   options.max_blocks = kDefaultMaxBlocks;
-  options.origin = (Vector6d() << 10.0, 0.0, 0.0, 0.0, 0.0, 0.0).finished();
+  options.origin = (geometry::Vector6d() << 10.0, 0.0, 0.0, 0.0, 0.0, 0.0).finished();
   std::vector<std::string> lines;
   const auto job = temp_file("helix.ngc");
   std::ofstream(job) << "G21 G90 F600\nG1 X40 Y-50\nG2 X40 Y-50 I10 J0 P1000000\nM2\n";
@@ -540,7 +547,7 @@ TEST(Post, AJobPastTheBlockBoundIsRefusedAtItsLine) {
 TEST(Post, TellsItsProgressLineByLineInOrder) {
   // The hook of the progress bar: each line that makes a command (a comment is one), once, in
   // order, to M2's line; the empty line makes none.
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   PostOptions options;
   std::vector<int> lines;
   options.on_line = [&](int line) { lines.push_back(line); };
@@ -554,7 +561,7 @@ TEST(Post, InverseTimeFeedIsRoundedDown) {
   // The matrix mill is linear: G1 from home x 300 to x 306 at F700 is one block of 6 mm at
   // 700 mm/min, 1 / F = 6 / 700 min, F = 116.666..., written 116.666 (nearest would be 116.667,
   // a shorter block than programmed).
-  const Machine mill = test::load_example("matrix-mill.toml");
+  const machine::Machine mill = test::load_example("matrix-mill.toml");
   const auto lines = posted_lines(mill, "G21 G90\nG1 X306 F700\nM2\n");
   ASSERT_EQ(lines.size(), 4u);  // G21 G90 G94, the block, M2's spindle stop, M2
   EXPECT_EQ(lines[1].substr(0, 7), "G93 G1 ");
@@ -590,7 +597,7 @@ max_feed = 2400.0
 max_acceleration = 500.0
 home = [50.0, -50.0]
 )";
-  const Machine machine = parse_machine(text, "slow-hektor.toml");
+  const machine::Machine machine = machine::parse_machine(text, "slow-hektor.toml");
   const std::string job =
       "G21 G90 F2400\nG1 X10 Y-12\nG1 X90 Y-12\nG2 X50 Y-90 I-20 J-39\nG1 X10 Y-12\nM2\n";
   for (const Dialect dialect :
@@ -601,7 +608,7 @@ home = [50.0, -50.0]
     const auto output = temp_file("fast-joints.ngc");
     std::ofstream(job_file) << job;
     post_to_file(machine, job_file, output, options);
-    JointVector home;
+    kinematics::JointVector home;
     ASSERT_TRUE(machine.inverse(machine.home(), home).ok());
     gcode::InterpreterOptions start;
     start.start_position[0] = home[0];
@@ -631,7 +638,7 @@ home = [50.0, -50.0]
 // ---- Dialects: axis letters and line length ----
 
 TEST(Post, DialectsRefuseLettersTheyDoNotTake) {
-  const auto message = [](const Machine& machine, Dialect dialect) -> std::string {
+  const auto message = [](const machine::Machine& machine, Dialect dialect) -> std::string {
     try {
       check_axis_letters(machine, dialect);
     } catch (const std::invalid_argument& error) {
@@ -639,14 +646,14 @@ TEST(Post, DialectsRefuseLettersTheyDoNotTake) {
     }
     return "";
   };
-  const Machine hektor = test::load_example("hektor.toml");  // A and B
+  const machine::Machine hektor = test::load_example("hektor.toml");  // A and B
   EXPECT_EQ(message(hektor, Dialect::grbl),
             "dialect grbl accepts the axes X Y Z only; the machine writes joint 'left' as A, "
             "'right' as B: use --dialect linuxcnc or mach3 or grblhal, or change the joints' "
             "axis letters in the machine file");
   EXPECT_EQ(message(hektor, Dialect::mach3), "");
   EXPECT_EQ(message(hektor, Dialect::grblhal), "");
-  const Machine hexapod = test::load_example("hexapod-bit.toml");  // X Y Z A B C
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");  // X Y Z A B C
   EXPECT_NE(message(hexapod, Dialect::grbl).find("'leg4' as A, 'leg5' as B, 'leg6' as C"),
             std::string::npos);
   EXPECT_EQ(message(hexapod, Dialect::mach3), "");
@@ -670,7 +677,7 @@ type = "glide"
             letter + "\"\n";
   }
   text += "[cartesian]\nmax_feed = 6000.0\nmax_acceleration = 1000.0\nhome = [0.0, 0.0, 100.0]\n";
-  const Machine uvw = parse_machine(text, "uvw.toml");
+  const machine::Machine uvw = machine::parse_machine(text, "uvw.toml");
   EXPECT_EQ(message(uvw, Dialect::mach3),
             "dialect mach3 accepts the axes X Y Z A B C only; the machine writes joint 'U' as U, "
             "'V' as V, 'W' as W: use --dialect linuxcnc or grblhal, or change the joints' axis "
@@ -683,7 +690,7 @@ type = "glide"
 
 TEST(Post, GrblLinesWithin80Characters) {
   // The wall plotter at X Y in grbl's 3 decimals, across a drawing of arcs and lines.
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   PostOptions options;
   options.dialect = Dialect::grbl;
   const auto lines = posted_lines(
@@ -695,7 +702,7 @@ TEST(Post, GrblLinesWithin80Characters) {
 // ---- Bad inputs: a clear error, nothing written ----
 
 TEST(Post, BadOptionsAreRefusedWithTheirReason) {
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   const std::string job = "G21 G90 F600\nG1 X40 Y-50\nM2\n";
   struct Case {
     double tolerance_mm;
@@ -754,19 +761,19 @@ TEST(Post, ALargeToleranceStillPosts) {
 // A joint program read back: the joints after each block, and where the pen went down (true) or
 // up, as the index of the block it followed; and the dwells.
 struct ReadBack {
-  std::vector<JointVector> blocks;
+  std::vector<kinematics::JointVector> blocks;
   std::vector<std::pair<std::size_t, bool>> pen;
   std::vector<double> dwells_s;
 };
 
-ReadBack read_back(const Machine& machine, const std::filesystem::path& file) {
+ReadBack read_back(const machine::Machine& machine, const std::filesystem::path& file) {
   ReadBack result;
-  JointVector home;
+  kinematics::JointVector home;
   EXPECT_TRUE(machine.inverse(machine.home(), home).ok());
   gcode::InterpreterOptions options;
   const std::string letters = "XYZABCUVW";
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
-    const JointSpec& joint = machine.joints()[i];
+    const machine::JointSpec& joint = machine.joints()[i];
     options.start_position[letters.find(joint.axis_letter)] =
         joint.to_interface(home[static_cast<int>(i)]);
   }
@@ -782,9 +789,9 @@ ReadBack read_back(const Machine& machine, const std::filesystem::path& file) {
     } else if (canon.kind == CanonKind::dwell) {
       result.dwells_s.push_back(canon.value);
     } else if (canon.kind == CanonKind::traverse || canon.kind == CanonKind::feed) {
-      JointVector q(static_cast<int>(machine.joints().size()));
+      kinematics::JointVector q(static_cast<int>(machine.joints().size()));
       for (std::size_t i = 0; i < machine.joints().size(); ++i) {
-        const JointSpec& joint = machine.joints()[i];
+        const machine::JointSpec& joint = machine.joints()[i];
         q[static_cast<int>(i)] = joint.from_interface(canon.end[letters.find(joint.axis_letter)]);
       }
       result.blocks.push_back(q);
@@ -796,7 +803,7 @@ ReadBack read_back(const Machine& machine, const std::filesystem::path& file) {
 // Where the job's Z crosses the pen height, from its moves (lines: Z linear along them), in
 // order: the x y there, and whether the pen goes down.
 std::vector<std::pair<Eigen::Vector2d, bool>> job_pen_changes(
-    const std::vector<motion::Segment>& moves, const ToolChannel& tool, bool down) {
+    const std::vector<motion::Segment>& moves, const machine::ToolChannel& tool, bool down) {
   std::vector<std::pair<Eigen::Vector2d, bool>> changes;
   for (const motion::Segment& move : moves) {
     if (tool.pen_down(move.end[2]) == down) continue;
@@ -810,10 +817,10 @@ std::vector<std::pair<Eigen::Vector2d, bool>> job_pen_changes(
 }
 
 // The wall plotter with a pen: M3 S1000 down, M5 up, 0.15 s.
-Machine pen_plotter() {
-  Machine machine = test::load_example("wall-plotter.toml");
-  ToolChannel tool;
-  tool.z = ToolZ::pen;
+machine::Machine pen_plotter() {
+  machine::Machine machine = test::load_example("wall-plotter.toml");
+  machine::ToolChannel tool;
+  tool.z = machine::ToolZ::pen;
   tool.delay_s = 0.15;
   machine.set_tool(tool);
   return machine;
@@ -822,8 +829,9 @@ Machine pen_plotter() {
 // Posts the job on the pen plotter in every dialect and checks, read back, that the pen goes
 // down and up exactly where the job's Z crosses 0: after a block whose end is there (within the
 // tolerance), each followed by its G4, and the program starts with the pen up.
-void expect_pen_where_the_job_crosses(const std::filesystem::path& job, const Vector6d& origin,
-                                      const Machine& machine = pen_plotter()) {
+void expect_pen_where_the_job_crosses(const std::filesystem::path& job,
+                                      const geometry::Vector6d& origin,
+                                      const machine::Machine& machine = pen_plotter()) {
   const auto moves = programmed_moves(machine, job, origin);
   const auto expected = job_pen_changes(moves, machine.tool(), false);
   ASSERT_GE(expected.size(), 2u);
@@ -844,7 +852,7 @@ void expect_pen_where_the_job_crosses(const std::filesystem::path& job, const Ve
     ASSERT_EQ(back.pen.size(), expected.size() + 1) << dialect_name(dialect);
     EXPECT_EQ(back.pen[0], (std::pair<std::size_t, bool>{0, false}));  // up before moving
     EXPECT_EQ(back.dwells_s, std::vector<double>(back.pen.size(), 0.15));
-    Pose pose = machine.home();
+    geometry::Pose pose = machine.home();
     for (std::size_t k = 0; k < expected.size(); ++k) {
       const auto& [block, down] = back.pen[k + 1];
       EXPECT_EQ(down, expected[k].second) << k;
@@ -860,13 +868,14 @@ TEST(PostPen, PenChangesWhereARampCrossesThePenHeight) {
   // A ramp from Z 1 to Z -1 over 10 mm and back up: down at X 5, up at X 15 (hand-computed).
   const auto job = temp_file("ramp.ngc");
   std::ofstream(job) << "G21 G90\nG0 X0 Y0 Z1\nG1 X10 Z-1 F600\nG1 X20 Z1\nM2\n";
-  const Machine machine = pen_plotter();
-  const auto moves = programmed_moves(machine, job, Pose::from_mm_deg(750, -700, 0).as_vector());
+  const machine::Machine machine = pen_plotter();
+  const auto moves =
+      programmed_moves(machine, job, geometry::Pose::from_mm_deg(750, -700, 0).as_vector());
   const auto expected = job_pen_changes(moves, machine.tool(), false);
   ASSERT_EQ(expected.size(), 2u);
   EXPECT_LT((expected[0].first - Eigen::Vector2d(755, -700)).norm(), 1e-9);
   EXPECT_LT((expected[1].first - Eigen::Vector2d(765, -700)).norm(), 1e-9);
-  expect_pen_where_the_job_crosses(job, Pose::from_mm_deg(750, -700, 0).as_vector());
+  expect_pen_where_the_job_crosses(job, geometry::Pose::from_mm_deg(750, -700, 0).as_vector());
   std::filesystem::remove(job);
 }
 
@@ -882,16 +891,16 @@ TEST(PostPen, RealDrawingWithPenZ) {
   }
   const auto job = temp_file("vitruvian.ngc");
   std::ofstream(job) << cut << "G00 Z 5.0000\nM2\n";
-  expect_pen_where_the_job_crosses(job, Pose::from_mm_deg(750, -1100, 0).as_vector());
+  expect_pen_where_the_job_crosses(job, geometry::Pose::from_mm_deg(750, -1100, 0).as_vector());
   std::filesystem::remove(job);
 }
 
 TEST(PostPen, ServoCommandsOfThePenPlotterVerbatimAndNoZ) {
   // examples/machines/pen-plotter.toml: its M280 lines where the pen changes, each with G4 P0.150;
   // the job's own spindle words are left out (the pen owns the tool), no Z word anywhere.
-  const Machine machine = test::load_example("pen-plotter.toml");
+  const machine::Machine machine = test::load_example("pen-plotter.toml");
   PostOptions options;
-  options.origin = Pose::from_mm_deg(750, -700, 0).as_vector();
+  options.origin = geometry::Pose::from_mm_deg(750, -700, 0).as_vector();
   const auto lines = posted_lines(
       machine, "G21 G90 M3 S500\nG0 X0 Y0 Z5\nG1 Z-1 F600\nG1 X10\nG0 Z5\nM5\nM2\n", options);
   std::vector<std::string> commands;
@@ -917,21 +926,21 @@ constexpr const char* kLinuxTextStart =
 
 // Chojins' polargraph (examples/machines/linuxcnc-polargraph-2366.toml) with the [tool] height
 // its drawings need: `tool` replaces the example's [tool] table.
-Machine polargraph_2366(const std::string& tool) {
+machine::Machine polargraph_2366(const std::string& tool) {
   std::ifstream in(test::example_machine_path("linuxcnc-polargraph-2366.toml"));
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   text = text.substr(0, text.find("[tool]")) + tool;
-  return parse_machine(text, "polargraph-2366.toml");
+  return machine::parse_machine(text, "polargraph-2366.toml");
 }
 
 TEST(PostPen, LinuxCncPolargraphDrawingDrawsAboveItsHeight) {
   // down_above = 45: down at each G0 Z90, up at each G0 Z0, three strokes; no warning.
-  const Machine machine = polargraph_2366(
+  const machine::Machine machine = polargraph_2366(
       "[tool]\nz = \"pen\"\ndown_above = 45.0\ndown = \"G0 Z90\"\nup = \"G0 Z0\"\ndelay = 0.2\n");
   EXPECT_TRUE(machine.tool().down_above);
   const auto job = temp_file("linuxtext.ngc");
   std::ofstream(job) << kLinuxTextStart;
-  const Vector6d origin = Pose::from_mm_deg(1130, -1200, 0).as_vector();
+  const geometry::Vector6d origin = geometry::Pose::from_mm_deg(1130, -1200, 0).as_vector();
   const auto expected =
       job_pen_changes(programmed_moves(machine, job, origin), machine.tool(), false);
   ASSERT_EQ(expected.size(), 6u);  // three strokes
@@ -949,12 +958,12 @@ TEST(PostPen, PenIsUpAtTheStartWhateverHomesZ) {
   // down_below = 10 puts home's Z 0 on the drawing side: the pen stays up over the travel to the
   // first point and the job's own Z0 there, and goes down where the job first moves in Z down
   // (the G1 Z2 of line 5); line 4's lift was to Z 20.
-  Machine machine = pen_plotter();
-  ToolChannel tool = machine.tool();
+  machine::Machine machine = pen_plotter();
+  machine::ToolChannel tool = machine.tool();
   tool.pen_height_mm = 10.0;
   machine.set_tool(tool);
   PostOptions options;
-  options.origin = Pose::from_mm_deg(750, -700, 0).as_vector();
+  options.origin = geometry::Pose::from_mm_deg(750, -700, 0).as_vector();
   const auto lines = posted_lines(
       machine, "G21 G90\nG0 X10 Y10\nG1 X20 F600\nG0 Z20\nG1 Z2\nG1 X30\nG0 Z20\nM2\n", options);
   std::vector<std::string> pen;
@@ -972,9 +981,9 @@ TEST(PostPen, PenIsUpAtTheStartWhateverHomesZ) {
 TEST(PostPen, WarnsWhenThePenNeverGoesDown) {
   // The LinuxCNC polargraph's drawing (Z90 down) on examples/machines/pen-plotter.toml (down
   // below 0): nothing is drawn; the warning names the job's Z and the setting that draws it.
-  const Machine machine = test::load_example("pen-plotter.toml");
+  const machine::Machine machine = test::load_example("pen-plotter.toml");
   PostOptions options;
-  options.origin = Pose::from_mm_deg(750, -900, 0).as_vector();
+  options.origin = geometry::Pose::from_mm_deg(750, -900, 0).as_vector();
   PostReport report;
   const auto lines = posted_lines(machine, kLinuxTextStart, options, &report);
   EXPECT_EQ(std::count(lines.begin(), lines.end(), "M280 P0 S30"), 0);
@@ -988,10 +997,10 @@ TEST(PostPen, WarnsWhenThePenNeverGoesDown) {
 
 TEST(PostPen, WarnsWhenThePenNeverComesUp) {
   // The same drawing with down_below = 100: every Z draws, the travel too.
-  const Machine machine =
+  const machine::Machine machine =
       polargraph_2366("[tool]\nz = \"pen\"\ndown_below = 100.0\ndown = \"M3\"\nup = \"M5\"\n");
   PostOptions options;
-  options.origin = Pose::from_mm_deg(1130, -1200, 0).as_vector();
+  options.origin = geometry::Pose::from_mm_deg(1130, -1200, 0).as_vector();
   PostReport report;
   posted_lines(machine, kLinuxTextStart, options, &report);
   ASSERT_EQ(report.warnings.size(), 1u);
@@ -1007,10 +1016,10 @@ TEST(PostPen, OneStrokeDrawingIsNoWarning) {
   // A guilloche of the same polargraph (guilloche-2014-02-14_16-21-51.ngc's shape): one feed
   // move at home's Z to the start, a ramp to Z65 that draws, one long stroke, the lift to Z90
   // at the end. With down_above = 32.5 the pen goes down once and stays down: not a warning.
-  const Machine machine =
+  const machine::Machine machine =
       polargraph_2366("[tool]\nz = \"pen\"\ndown_above = 32.5\ndown = \"M3\"\nup = \"M5\"\n");
   PostOptions options;
-  options.origin = Pose::from_mm_deg(1180, -1200, 0).as_vector();
+  options.origin = geometry::Pose::from_mm_deg(1180, -1200, 0).as_vector();
   PostReport report;
   const auto lines = posted_lines(
       machine,
@@ -1023,10 +1032,11 @@ TEST(PostPen, OneStrokeDrawingIsNoWarning) {
 }
 
 // Joints rounded as the linuxcnc dialect writes them (5 decimals of mm or deg).
-JointVector rounded_as_written(const Machine& machine, const JointVector& q) {
-  JointVector result = q;
+kinematics::JointVector rounded_as_written(const machine::Machine& machine,
+                                           const kinematics::JointVector& q) {
+  kinematics::JointVector result = q;
   for (int i = 0; i < q.size(); ++i) {
-    const JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
+    const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
     result[i] = joint.from_interface(std::round(joint.to_interface(q[i]) * 1e5) / 1e5);
   }
   return result;
@@ -1034,8 +1044,8 @@ JointVector rounded_as_written(const Machine& machine, const JointVector& q) {
 
 // Blocks of the adaptive post, and of uniform splitting held to the same bound: per move, the
 // fewest equal pieces each of whose bound is within `tolerance`.
-std::pair<long, long> adaptive_and_uniform(const Machine& machine, const std::string& job_text,
-                                           double tolerance) {
+std::pair<long, long> adaptive_and_uniform(const machine::Machine& machine,
+                                           const std::string& job_text, double tolerance) {
   const auto job = temp_file("uniform-job.ngc");
   std::ofstream(job) << job_text;
   PostOptions options;
@@ -1045,14 +1055,14 @@ std::pair<long, long> adaptive_and_uniform(const Machine& machine, const std::st
   long uniform = 0;
   for (const motion::Segment& move : programmed_moves(machine, job)) {
     const auto joints_at = [&](double u) {
-      JointVector q;
-      EXPECT_TRUE(machine.inverse(Pose::from_vector(move.at(u)), q).ok());
+      kinematics::JointVector q;
+      EXPECT_TRUE(machine.inverse(geometry::Pose::from_vector(move.at(u)), q).ok());
       return q;
     };
     const auto fits = [&](int pieces) {
       for (int k = 0; k < pieces; ++k) {
         const double u0 = static_cast<double>(k) / pieces, u1 = static_cast<double>(k + 1) / pieces;
-        const JointVector q0 = joints_at(u0), q1 = joints_at(u1);
+        const kinematics::JointVector q0 = joints_at(u0), q1 = joints_at(u1);
         const BlockEnds ends{rounded_as_written(machine, q0), q0, rounded_as_written(machine, q1),
                              q1};
         if (!(bound(move, u0, u1, ends) <= tolerance)) return false;
@@ -1077,13 +1087,13 @@ std::pair<long, long> adaptive_and_uniform(const Machine& machine, const std::st
 TEST(Post, BlocksAgainstUniformSplittingOnEveryMachine) {
   // A square of 2 x 16 mm about home: reports the ratio per machine; adaptive is never worse.
   for (const std::string& file : test::example_machine_files()) {
-    const Machine machine = test::load_example(file);
+    const machine::Machine machine = test::load_example(file);
     if (!DeviationBound(machine, 0.01).available()) continue;  // formula machines: sampled
     int axes[2] = {0, 1};
     for (int axis = 0, n = 0; axis < 3 && n < 2; ++axis) {
       if (machine.kinematics().dof().controls(axis)) axes[n++] = axis;
     }
-    const Vector6d home = machine.home().as_vector();
+    const geometry::Vector6d home = machine.home().as_vector();
     const char letters[] = "XYZ";
     std::ostringstream job;
     job << "G21 G90 F600\n";
@@ -1126,19 +1136,19 @@ TEST(ExportMach3, FormulasReproduceTheMachinesInverseKinematics) {
         std::string("matrix-mill.toml"), std::string("triaglide.toml"),
         std::string("triaglide-fanned.toml"), std::string("linear-delta.toml"),
         std::string("mach3-formula.toml")}) {
-    const Machine machine = test::load_example(file);
+    const machine::Machine machine = test::load_example(file);
     const auto formulas = mach3_formulas(machine);
-    FormulaDefinition definition;
+    kinematics::FormulaDefinition definition;
     for (int axis = 0; axis < 3; ++axis) {
       if (machine.kinematics().dof().controls(axis)) definition.axes.push_back(axis);
     }
     for (std::size_t i = 0; i < formulas.size(); ++i) {
       definition.formulas.emplace_back(machine.joints()[i].name, formulas[i].second);
     }
-    const FormulaKinematics exported(definition);
+    const kinematics::FormulaKinematics exported(definition);
     std::mt19937_64 rng(4);
-    for (const Pose& pose : test::sample_reachable_poses(machine, 200, rng)) {
-      JointVector expected, actual;
+    for (const geometry::Pose& pose : test::sample_reachable_poses(machine, 200, rng)) {
+      kinematics::JointVector expected, actual;
       ASSERT_TRUE(machine.kinematics().inverse(pose, expected).ok());
       ASSERT_TRUE(exported.inverse(pose, actual).ok()) << file;
       EXPECT_LT((expected - actual).cwiseAbs().maxCoeff(), 1e-9) << file;
@@ -1171,7 +1181,7 @@ ProgramTimes program_times(const std::vector<std::string>& lines) {
 // times a rapid at [cartesian] max_feed (100 mm/s on the wall plotter, whose cords never change
 // faster than the tool moves: 30 mm take 0.3 s); LinuxCNC keeps G0, as does --rapids g0.
 TEST(Post, GrblRapidsTakeTheirTimeAtMaxFeed) {
-  const Machine wall_plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine wall_plotter = test::load_example("wall-plotter.toml");
   const std::string job = "G21 G90\nG0 X780 Y-700\nM2\n";
   PostOptions grbl;
   grbl.dialect = Dialect::grbl;
@@ -1194,7 +1204,7 @@ TEST(Post, GrblRapidsTakeTheirTimeAtMaxFeed) {
 // G0 only) and is warned of at its line, with the tool's speed: the triaglide's rails run at
 // 250 mm/s where the tool may go 100.
 TEST(Post, GrblRapidWithTheSpindleOnStaysG0AndIsWarnedOf) {
-  const Machine triaglide = test::load_example("triaglide.toml");
+  const machine::Machine triaglide = test::load_example("triaglide.toml");
   PostOptions grbl;
   grbl.dialect = Dialect::grbl;
   PostReport report;
@@ -1207,11 +1217,13 @@ TEST(Post, GrblRapidWithTheSpindleOnStaysG0AndIsWarnedOf) {
   ASSERT_EQ(report.warnings.size(), 1u);
   EXPECT_EQ(report.warnings[0].line, 3);
   // The tool's average speed in that block: 2 mm over the time its fastest rail takes at 250.
-  JointVector home, end;
+  kinematics::JointVector home, end;
   ASSERT_TRUE(triaglide.inverse(triaglide.home(), home).ok());
-  ASSERT_TRUE(
-      triaglide.inverse(Pose::from_vector((Vector6d() << 2, 0, 200, 0, 0, 0).finished()), end)
-          .ok());
+  ASSERT_TRUE(triaglide
+                  .inverse(geometry::Pose::from_vector(
+                               (geometry::Vector6d() << 2, 0, 200, 0, 0, 0).finished()),
+                           end)
+                  .ok());
   const double speed = 2.0 / ((end - home).cwiseAbs().maxCoeff() / 250.0);
   char expected[64];
   std::snprintf(expected, sizeof expected, "averages up to %.1f mm/s", speed);

@@ -23,11 +23,12 @@ namespace pkm::post {
 namespace {
 
 // The programmed moves of a job, in machine coordinates.
-std::vector<motion::Segment> moves_of(const Machine& machine, const std::filesystem::path& job) {
-  const Vector6d home = machine.home().as_vector();
-  motion::SegmentBuilder builder(home, Vector6d::Zero(), false);
+std::vector<motion::Segment> moves_of(const machine::Machine& machine,
+                                      const std::filesystem::path& job) {
+  const geometry::Vector6d home = machine.home().as_vector();
+  motion::SegmentBuilder builder(home, geometry::Vector6d::Zero(), false);
   std::vector<motion::Segment> moves;
-  gcode::Interpreter(job, motion::starting_at({}, home, Vector6d::Zero()))
+  gcode::Interpreter(job, motion::starting_at({}, home, geometry::Vector6d::Zero()))
       .run([&](const gcode::Canon& canon) {
         for (const motion::Segment& segment : builder.take(canon)) {
           if (segment.kind != motion::SegmentKind::dwell) moves.push_back(segment);
@@ -38,8 +39,8 @@ std::vector<motion::Segment> moves_of(const Machine& machine, const std::filesys
 
 // A half circle of radius 15 mm in 2-degree steps (0.52 mm moves) about the machine's home, each
 // vertex off the circle by up to 4 um, every tenth move an arc on the circle itself.
-std::string tiny_moves_about_home(const Machine& machine) {
-  const Vector6d home = machine.home().as_vector();
+std::string tiny_moves_about_home(const machine::Machine& machine) {
+  const geometry::Vector6d home = machine.home().as_vector();
   std::mt19937_64 rng(16);
   std::uniform_real_distribution<double> jitter(-0.004, 0.004);
   const double radius = 15.0;
@@ -64,7 +65,7 @@ std::string tiny_moves_about_home(const Machine& machine) {
 }
 
 // The controlled position of a pose (the others zero: a plotter's Z never counts).
-Eigen::Vector3d controlled(const Machine& machine, const Eigen::Vector3d& position) {
+Eigen::Vector3d controlled(const machine::Machine& machine, const Eigen::Vector3d& position) {
   Eigen::Vector3d result = Eigen::Vector3d::Zero();
   for (int axis = 0; axis < 3; ++axis) {
     if (machine.kinematics().dof().controls(axis)) result[axis] = position[axis];
@@ -73,10 +74,10 @@ Eigen::Vector3d controlled(const Machine& machine, const Eigen::Vector3d& positi
 }
 
 // Joints rounded to 3 decimals of the interface units (grbl's), so that rounding counts too.
-JointVector rounded(const Machine& machine, const JointVector& q) {
-  JointVector result = q;
+kinematics::JointVector rounded(const machine::Machine& machine, const kinematics::JointVector& q) {
+  kinematics::JointVector result = q;
   for (int i = 0; i < q.size(); ++i) {
-    const JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
+    const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
     result[i] = joint.from_interface(std::round(joint.to_interface(q[i]) * 1000.0) / 1000.0);
   }
   return result;
@@ -88,7 +89,8 @@ struct DenseResult {
 
 // Forward kinematics at 401 points of the joint-linear block against the span's path at 31
 // points per piece, both ways (each point's distance to the other as a polyline).
-DenseResult dense_both_ways(const Machine& machine, const Span& span, const BlockEnds& ends) {
+DenseResult dense_both_ways(const machine::Machine& machine, const Span& span,
+                            const BlockEnds& ends) {
   std::vector<Eigen::Vector3d> programmed, traced;
   for (std::size_t k = 0; k < span.count; ++k) {
     for (int i = 0; i <= 30; ++i) {
@@ -96,10 +98,10 @@ DenseResult dense_both_ways(const Machine& machine, const Span& span, const Bloc
       programmed.push_back(controlled(machine, span.pieces[k].segment.at(u).head<3>()));
     }
   }
-  Pose pose = Pose::from_vector(span.start_pose());
+  geometry::Pose pose = geometry::Pose::from_vector(span.start_pose());
   for (int i = 0; i <= 400; ++i) {
     const double lambda = i / 400.0;
-    const JointVector q = ends.written0 + lambda * (ends.written1 - ends.written0);
+    const kinematics::JointVector q = ends.written0 + lambda * (ends.written1 - ends.written0);
     EXPECT_TRUE(machine.forward(q, pose).ok());
     traced.push_back(controlled(machine, pose.position_mm));
   }
@@ -117,7 +119,7 @@ TEST_P(SpanBoundEveryModel, ProvenBoundHoldsAgainstDenseSamplingBothWays) {
   // Spans of 2 to 13 moves of a jittered polyline with arcs, whole or cut inside their first and
   // last moves: wherever the bound is finite, forward kinematics along the block finds nothing
   // farther from the path than it, nor any point of the path farther from the block.
-  const Machine machine = test::load_example(GetParam());
+  const machine::Machine machine = test::load_example(GetParam());
   const test::TempProgram job(tiny_moves_about_home(machine));
   const std::vector<motion::Segment> moves = moves_of(machine, job.path());
   ASSERT_EQ(moves.size(), 91u);
@@ -132,9 +134,9 @@ TEST_P(SpanBoundEveryModel, ProvenBoundHoldsAgainstDenseSamplingBothWays) {
       if (first + count > pieces.size()) continue;
       for (const auto& [start, end] : {std::pair{0.0, 1.0}, std::pair{0.3, 0.6}}) {
         const Span span{pieces.data() + first, count, start, end};
-        JointVector q0, q1;
-        ASSERT_TRUE(machine.inverse(Pose::from_vector(span.start_pose()), q0).ok());
-        ASSERT_TRUE(machine.inverse(Pose::from_vector(span.end_pose()), q1).ok());
+        kinematics::JointVector q0, q1;
+        ASSERT_TRUE(machine.inverse(geometry::Pose::from_vector(span.start_pose()), q0).ok());
+        ASSERT_TRUE(machine.inverse(geometry::Pose::from_vector(span.end_pose()), q1).ok());
         const BlockEnds ends{rounded(machine, q0), q0, rounded(machine, q1), q1};
         const double proven = span_deviation_bound(bound, span, ends);
         if (!(proven <= 0.5)) continue;  // none, or too loose to say anything
@@ -244,8 +246,8 @@ struct Posted {
   std::vector<std::string> lines;
 };
 
-Posted post_text(const Machine& machine, const std::string& job_text, bool span_moves = true,
-                 double tolerance_mm = 0.01) {
+Posted post_text(const machine::Machine& machine, const std::string& job_text,
+                 bool span_moves = true, double tolerance_mm = 0.01) {
   const test::TempProgram job(job_text);
   PostOptions options;
   options.tolerance_mm = tolerance_mm;
@@ -271,7 +273,7 @@ std::string collinear(int count, int first = 1) {
 const std::string kStart = "G21 G90 G0 X100 Y100 Z-10 F600\n";
 
 TEST(PostSpanning, CollinearTinyMovesBecomeOneBlockAtTheirFeed) {
-  const Machine machine = test::load_example("matrix-mill.toml");
+  const machine::Machine machine = test::load_example("matrix-mill.toml");
   const Posted spanned = post_text(machine, kStart + collinear(100) + "M2\n");
   EXPECT_EQ(spanned.report.moves, 101);
   EXPECT_EQ(spanned.report.blocks, 2);  // the rapid to the start, and the 100 moves of 0.1 mm
@@ -287,7 +289,7 @@ TEST(PostSpanning, CollinearTinyMovesBecomeOneBlockAtTheirFeed) {
 }
 
 TEST(PostSpanning, ACornerBeyondTheToleranceKeepsItsVertex) {
-  const Machine machine = test::load_example("matrix-mill.toml");
+  const machine::Machine machine = test::load_example("matrix-mill.toml");
   // A vertex 0.05 mm off the chord at 0.01 mm: two blocks; 0.005 mm off: one.
   EXPECT_EQ(post_text(machine, kStart + "G1 X110 Y100.05\nG1 X120 Y100\nM2\n").report.blocks, 3);
   EXPECT_EQ(post_text(machine, kStart + "G1 X110 Y100.005\nG1 X120 Y100\nM2\n").report.blocks, 2);
@@ -296,7 +298,7 @@ TEST(PostSpanning, ACornerBeyondTheToleranceKeepsItsVertex) {
 }
 
 TEST(PostSpanning, WhatTheJobMeansBetweenTwoMovesEndsTheRun) {
-  const Machine machine = test::load_example("matrix-mill.toml");
+  const machine::Machine machine = test::load_example("matrix-mill.toml");
   const std::string first = kStart + collinear(10);
   const std::string second = collinear(10, 11) + "M2\n";
   EXPECT_EQ(post_text(machine, first + "(a comment)\n" + second).report.blocks, 2);
@@ -319,7 +321,7 @@ TEST(PostSpanning, WhatTheJobMeansBetweenTwoMovesEndsTheRun) {
 TEST(PostSpanning, APenPlottersSpindleWordsDoNotEndARunButItsPenDoes) {
   // A laser's raster (S on every move, as CAMotics writes) on a pen plotter, which leaves S
   // out: the same blocks as without the S words. Lifting the pen between two moves ends the run.
-  const Machine machine = test::load_example("pen-plotter.toml");
+  const machine::Machine machine = test::load_example("pen-plotter.toml");
   std::string plain = "G21 G90 G0 X700 Y-700\nG1 Z-1 F600\n", with_s = plain, lifted = plain;
   char text[80];
   for (int k = 1; k <= 60; ++k) {
@@ -336,10 +338,11 @@ TEST(PostSpanning, APenPlottersSpindleWordsDoNotEndARunButItsPenDoes) {
   const auto up = std::find(down, pen.lines.end(), machine.tool().up_command);
   ASSERT_NE(up, pen.lines.end());
   // The block before the pen lifts ends at the 30th move's end, X707.5 (joints at its IK).
-  JointVector at_lift;
+  kinematics::JointVector at_lift;
   ASSERT_TRUE(
       machine
-          .inverse(Pose::from_vector((Vector6d() << 707.5, -700.0, 0.0, 0.0, 0.0, 0.0).finished()),
+          .inverse(geometry::Pose::from_vector(
+                       (geometry::Vector6d() << 707.5, -700.0, 0.0, 0.0, 0.0, 0.0).finished()),
                    at_lift)
           .ok());
   std::string expected;
@@ -354,7 +357,7 @@ TEST(PostSpanning, APenPlottersSpindleWordsDoNotEndARunButItsPenDoes) {
 
 // The job posted (spanning or not) and the joint program verified against it, both at
 // `tolerance_mm`.
-verify::VerifyReport post_and_verify(const Machine& machine, const std::string& job_text,
+verify::VerifyReport post_and_verify(const machine::Machine& machine, const std::string& job_text,
                                      double tolerance_mm, bool span_moves = true) {
   const test::TempProgram job(job_text);
   PostOptions options;
@@ -375,7 +378,7 @@ TEST(PostThenVerify, ABackAndForthOfMicrometresAtX35OnHektor) {
   // blocks' ends lay within the tolerance of several passes, and verify held one block against
   // the first: 0.0013220 mm at 0.001 (post had bounded it by 0.001000). No block spans a turn
   // back now, and verify follows the job through it.
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   const verify::VerifyReport report = post_and_verify(hektor,
                                                       "G21 G90 G17\nG0 X35 Y-47\n"
                                                       "G1 X35 Y-50 F600\n"
@@ -393,7 +396,7 @@ TEST(PostThenVerify, AJobEndingInABackAndForthIsTracedToItsEnd) {
   // The job ends going back and forth by 1 um at X35: the last block ends at the job's end,
   // which is also where the job first reached X35. Verify found its end there and traced
   // 19.722 of 19.730 mm; the tool standing at X35 is within the tolerance of all that follows.
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   std::string job = "G21 G90 G17\nG0 X33 Y-45\nG1 X35 Y-45 F600\n";
   for (int k = 0; k < 5; ++k) job += "G1 X35.001\nG1 X35\n";
   const verify::VerifyReport report = post_and_verify(hektor, job + "M2\n", 0.001);
@@ -403,7 +406,7 @@ TEST(PostThenVerify, AJobEndingInABackAndForthIsTracedToItsEnd) {
   // Each move on its own, on a glide at 0.01 mm: a 1 um back and forth at the end of a line.
   // Each block's end lay within a quarter of the tolerance of the cursor's own place, which
   // verify took for the end: the cursor stood still and traced 11.698 of 11.711 mm.
-  const Machine glide = test::load_example("triaglide-fanned.toml");
+  const machine::Machine glide = test::load_example("triaglide-fanned.toml");
   std::string back_and_forth = "G21 G90 G17\nG0 X4.146 Y-5.120 Z200\nG1 X3.670 Y-0.031 F1200\n";
   for (int k = 0; k < 6; ++k) back_and_forth += "G1 Y-0.030\nG1 Y-0.031\n";
   const verify::VerifyReport each = post_and_verify(glide, back_and_forth + "M2\n", 0.01, false);
@@ -416,7 +419,7 @@ TEST(PostThenVerify, AMachineCommandAfterABackAndForthIsInPlace) {
   // within the tolerance of the back and forth's first pass, and the joint program's M0 came
   // "at 11.700 mm along the job" against the job's 11.711 mm. It is in place anywhere from the
   // block's end to the place reached.
-  const Machine glide = test::load_example("triaglide-fanned.toml");
+  const machine::Machine glide = test::load_example("triaglide-fanned.toml");
   std::string job = "G21 G90 G17\nG0 X4.146 Y-5.120 Z200\nG1 X3.670 Y-0.031 F1200\n";
   for (int k = 0; k < 6; ++k) job += "G1 Y-0.030\nG1 Y-0.031\n";
   const verify::VerifyReport report =
@@ -430,7 +433,7 @@ TEST(PostThenVerify, AZigzagWithinTheToleranceIsFollowedBeyondTwiceTheBlocksLeng
   // block spans the 0.3 mm of them and 2.4 mm of path. Verify looked for the block's end within
   // twice the block's length along the job and held it against 0.29 mm; it now looks as far as
   // the job stays within the box of the block's path grown by the tolerance.
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   std::string job = "G21 G90 G17\nG0 X30 Y-45\nG1 X35 Y-45 F600\n";
   char text[80];
   for (int k = 1; k <= 300; ++k) {
@@ -449,7 +452,7 @@ TEST(PostThenVerify, AProgramEndingFartherThanTheToleranceFromTheJobsEndIsNotCov
   // its side, held against the real job at 0.01 mm: every block keeps within the tolerance of
   // it, and less than the tolerance of it is left beyond the last block, but the job's end is
   // 0.0103 mm from the tool's. Verify called that covered (0.009 mm left, under 0.01 mm).
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   const std::string start = "G21 G90 G17\nG0 X30 Y-45\nG1 X35 Y-45 F600\n";
   const test::TempProgram job(start + "G1 X40 Y-45\nM2\n");
   const test::TempProgram short_job(start + "G1 X39.991 Y-44.995\nM2\n");
@@ -554,7 +557,7 @@ TEST(PostThenVerify, JitteryAndDoublingBackJobsVerifyAsPosted) {
   std::mt19937_64 rng(26);
   int jobs = 0;
   for (const Place& place : places) {
-    const Machine machine = test::load_example(place.machine);
+    const machine::Machine machine = test::load_example(place.machine);
     for (const double tolerance : {0.001, 0.01, 0.1}) {
       for (int kind = 0; kind < 4; ++kind) {
         const std::string job =

@@ -97,8 +97,8 @@ void PrintTo(const Case& c, std::ostream* out) {
 }
 
 // Stock grbl reads X Y Z only: a machine with more joints is posted for LinuxCNC and Mach3.
-bool grbl_takes(const Machine& machine) {
-  for (const JointSpec& joint : machine.joints()) {
+bool grbl_takes(const machine::Machine& machine) {
+  for (const machine::JointSpec& joint : machine.joints()) {
     if (std::string("XYZ").find(joint.axis_letter) == std::string::npos) return false;
   }
   return true;
@@ -114,14 +114,14 @@ std::vector<Case> cases() {
   return all;
 }
 
-Vector6d origin_of(const RealJob& row) {
-  Vector6d origin = Vector6d::Zero();
+geometry::Vector6d origin_of(const RealJob& row) {
+  geometry::Vector6d origin = geometry::Vector6d::Zero();
   origin << row.origin[0], row.origin[1], row.origin[2], 0.0, 0.0, 0.0;
   return origin;
 }
 
 // Posts the job into `output` (the body pkm post writes after its header).
-post::PostReport post_to_file(const Machine& machine, const fs::path& job,
+post::PostReport post_to_file(const machine::Machine& machine, const fs::path& job,
                               const post::PostOptions& options, const fs::path& output) {
   std::ofstream file(output);
   post::PostReport report = post::post_program(
@@ -138,7 +138,7 @@ class RealJobTable : public ::testing::TestWithParam<Case> {};
 TEST_P(RealJobTable, PostedProgramIsVerifiedAndAgreesWithAnIndependentCheck) {
   PKM_SKIP_WITHOUT_REAL_CORPUS();
   const RealJob& row = *GetParam().row;
-  const Machine machine = load_example(row.machine);
+  const machine::Machine machine = load_example(row.machine);
   const fs::path job = readable_real_job(row.job);
   const fs::path joints = scratch(case_name(GetParam()) + ".ngc");
   post::PostOptions options;
@@ -200,7 +200,7 @@ INSTANTIATE_TEST_SUITE_P(Real, RealJobTable, ::testing::ValuesIn(cases()),
 // 100 points per block, 11,000 blocks) agreeing.
 TEST(RealJobTable, CamoticsRasterSpannedIsVerified) {
   PKM_SKIP_WITHOUT_REAL_CORPUS();
-  const Machine machine = load_example("linuxcnc-polargraph-2366.toml");
+  const machine::Machine machine = load_example("linuxcnc-polargraph-2366.toml");
   const fs::path job = kCorpus / "plotter/camotics/la_peinture.gc";
   const fs::path joints = scratch("la_peinture.ngc");
   post::PostOptions options;
@@ -243,7 +243,7 @@ TEST(RealJobTable, CamoticsRasterSpannedIsVerified) {
 // cut as one joint-linear block on an identity machine is its chord, which misses the arc by the
 // sagitta 10 (1 - cos 45 deg) = 2.928932 mm at its middle, both ways.
 TEST(RealJobTable, TheIndependentCheckMeasuresAChordAgainstItsArc) {
-  const Machine machine = load_example("linuxcnc-xyzac-trt.toml");
+  const machine::Machine machine = load_example("linuxcnc-xyzac-trt.toml");
   const fs::path job = scratch("quarter-circle.ngc");
   const fs::path joints = scratch("quarter-circle-chord.ngc");
   std::ofstream(job) << "G21 G90\nG0 X0 Y0 Z0\nG2 X10 Y-10 I0 J-10 F100\nM2\n";
@@ -263,7 +263,7 @@ TEST(RealJobTable, TheIndependentCheckMeasuresAChordAgainstItsArc) {
 // A joint program that cuts a corner short: the corner (10, 0) it never visits is 5 sqrt 2 mm from
 // its diagonal, whose middle is 5 mm from the programmed path.
 TEST(RealJobTable, TheIndependentCheckFindsACornerCutShort) {
-  const Machine machine = load_example("linuxcnc-xyzac-trt.toml");
+  const machine::Machine machine = load_example("linuxcnc-xyzac-trt.toml");
   const fs::path job = scratch("corner.ngc");
   const fs::path joints = scratch("corner-cut.ngc");
   std::ofstream(job) << "G21 G90\nG0 X0 Y0 Z0\nG1 X10 F100\nG1 Y10\nM2\n";
@@ -279,7 +279,7 @@ TEST(RealJobTable, TheIndependentCheckFindsACornerCutShort) {
 
 // A joint program cut short, or empty, does not reach the job's end.
 TEST(RealJobTable, TheIndependentCheckSeesATruncatedProgram) {
-  const Machine machine = load_example("linuxcnc-xyzac-trt.toml");
+  const machine::Machine machine = load_example("linuxcnc-xyzac-trt.toml");
   const fs::path job = scratch("square.ngc");
   const fs::path joints = scratch("square-cut-short.ngc");
   const fs::path empty = scratch("square-empty.ngc");
@@ -299,7 +299,7 @@ TEST(RealJobTable, TheIndependentCheckSeesATruncatedProgram) {
 
 // Pen commands that move an axis no joint uses (the 2366 polargraph's servo on Z) are not blocks.
 TEST(RealJobTable, PenServoMovesAreNotJointBlocks) {
-  const Machine machine = load_example("linuxcnc-polargraph-2366.toml");
+  const machine::Machine machine = load_example("linuxcnc-polargraph-2366.toml");
   const fs::path joints = scratch("pen-servo.ngc");
   std::ofstream(joints) << "G21 G90\nG0 X1300 Y1250\nG0 Z90\nG1 X1310 Y1240 F600\nG0 Z0\nM2\n";
   const std::vector<JointBlock> blocks = joint_blocks(machine, joints);
@@ -311,7 +311,7 @@ TEST(RealJobTable, PenServoMovesAreNotJointBlocks) {
 
 // Moves the end of the joint block at `line` by `offset_mm` across the path (in the XY plane):
 // the block's end joints are replaced by those of the displaced tool tip.
-void displace_block_end(const Machine& machine, const fs::path& program, int line,
+void displace_block_end(const machine::Machine& machine, const fs::path& program, int line,
                         double offset_mm) {
   std::ifstream in(program);
   std::vector<std::string> lines;
@@ -319,7 +319,7 @@ void displace_block_end(const Machine& machine, const fs::path& program, int lin
   const std::vector<JointBlock> blocks = joint_blocks(machine, program);
   std::size_t k = 0;
   while (blocks[k].line != line) ++k;
-  Pose before = machine.home(), after = machine.home();
+  geometry::Pose before = machine.home(), after = machine.home();
   ASSERT_TRUE(machine.forward(blocks[k - 1].joints, before).ok());
   ASSERT_TRUE(machine.forward(blocks[k].joints, after).ok());
   // Across the block's chord: in the XY plane where it can be (a plotter has no other).
@@ -327,13 +327,13 @@ void displace_block_end(const Machine& machine, const fs::path& program, int lin
   Eigen::Vector3d across = along.cross(Eigen::Vector3d::UnitZ());
   if (across.norm() < 0.1) across = along.cross(Eigen::Vector3d::UnitX());
   after.position_mm += offset_mm * across.normalized();
-  JointVector displaced;
+  kinematics::JointVector displaced;
   ASSERT_TRUE(machine.inverse(after, displaced).ok());
   std::istringstream words(lines[static_cast<std::size_t>(line - 1)]);
   std::string rewritten;
   for (std::string word; words >> word;) {
     for (std::size_t i = 0; i < machine.joints().size(); ++i) {
-      const JointSpec& joint = machine.joints()[i];
+      const machine::JointSpec& joint = machine.joints()[i];
       if (word[0] != joint.axis_letter) continue;
       char number[48];
       std::snprintf(number, sizeof number, "%c%.5f", joint.axis_letter,
@@ -353,7 +353,7 @@ void displace_block_end(const Machine& machine, const fs::path& program, int lin
 // of the program that ends inside a straight stretch (it and the next at least 0.5 mm long, in
 // line), so that the moved end is 0.05 mm from the path.
 void expect_block_off_caught_at_its_line(const RealJob& row) {
-  const Machine machine = load_example(row.machine);
+  const machine::Machine machine = load_example(row.machine);
   const fs::path job = readable_real_job(row.job);
   const fs::path joints = scratch("real-job-off-by-0.05.ngc");
   post::PostOptions options;
@@ -365,7 +365,7 @@ void expect_block_off_caught_at_its_line(const RealJob& row) {
   std::size_t k = blocks.size() / 2;
   for (;; ++k) {
     ASSERT_LT(k + 2, blocks.size());
-    Pose p0 = machine.home(), p1 = machine.home(), p2 = machine.home();
+    geometry::Pose p0 = machine.home(), p1 = machine.home(), p2 = machine.home();
     ASSERT_TRUE(machine.forward(blocks[k - 1].joints, p0).ok());
     ASSERT_TRUE(machine.forward(blocks[k].joints, p1).ok());
     ASSERT_TRUE(machine.forward(blocks[k + 1].joints, p2).ok());

@@ -33,34 +33,38 @@ namespace {
 
 // ---- the recipe's step 1: the class, its equations, its writer beside its reader -------------
 
-class SlidePairKinematics final : public Kinematics {
+class SlidePairKinematics final : public kinematics::Kinematics {
  public:
   SlidePairKinematics(double gain, double offset_mm) : gain_(gain), offset_mm_(offset_mm) {}
 
   std::string_view type() const override { return "slide_pair"; }
   int joint_count() const override { return 2; }
-  Dof dof() const override { return Dof::planar_xy(); }
+  geometry::Dof dof() const override { return geometry::Dof::planar_xy(); }
 
-  Status inverse(const Pose& pose, JointVector& joints) const override {
-    if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
+  kinematics::Status inverse(const geometry::Pose& pose,
+                             kinematics::JointVector& joints) const override {
+    if (!kinematics::all_finite(pose))
+      return kinematics::Status::failure(kinematics::StatusCode::invalid_input);
     joints.resize(2);
     joints << gain_ * pose.position_mm.x() + offset_mm_, gain_ * pose.position_mm.y() + offset_mm_;
-    return Status::success();
+    return kinematics::Status::success();
   }
-  Status forward(const JointVector& joints, Pose& pose_inout) const override {
-    if (joints.size() != 2 || !all_finite(joints))
-      return Status::failure(StatusCode::invalid_input);
+  kinematics::Status forward(const kinematics::JointVector& joints,
+                             geometry::Pose& pose_inout) const override {
+    if (joints.size() != 2 || !kinematics::all_finite(joints))
+      return kinematics::Status::failure(kinematics::StatusCode::invalid_input);
     pose_inout.position_mm.x() = (joints[0] - offset_mm_) / gain_;
     pose_inout.position_mm.y() = (joints[1] - offset_mm_) / gain_;
-    return Status::success();
+    return kinematics::Status::success();
   }
-  Status jacobian(const Pose& /*pose*/, JointJacobian& d_joints_d_pose) const override {
-    d_joints_d_pose.setZero(2, kPoseSize);
+  kinematics::Status jacobian(const geometry::Pose& /*pose*/,
+                              kinematics::JointJacobian& d_joints_d_pose) const override {
+    d_joints_d_pose.setZero(2, geometry::kPoseSize);
     d_joints_d_pose(0, 0) = d_joints_d_pose(1, 1) = gain_;
-    return Status::success();
+    return kinematics::Status::success();
   }
 
-  std::vector<Parameter> parameters() const override {
+  std::vector<kinematics::Parameter> parameters() const override {
     return {{"gain", gain_, ""}, {"offset", offset_mm_, "mm"}};
   }
   void set_parameters(std::span<const double> values) override {
@@ -70,11 +74,11 @@ class SlidePairKinematics final : public Kinematics {
     gain_ = values[0];
     offset_mm_ = values[1];
   }
-  std::unique_ptr<Kinematics> clone() const override {
+  std::unique_ptr<kinematics::Kinematics> clone() const override {
     return std::make_unique<SlidePairKinematics>(*this);
   }
 
-  void write_config(ModelConfigWriter& out) const override {
+  void write_config(kinematics::ModelConfigWriter& out) const override {
     out.number("gain", gain_);
     out.length("offset", offset_mm_);
   }
@@ -84,7 +88,8 @@ class SlidePairKinematics final : public Kinematics {
   double offset_mm_;  // the joints' reading at x = 0, y = 0
 };
 
-std::unique_ptr<Kinematics> make_slide_pair_kinematics(const ModelConfig& config) {
+std::unique_ptr<kinematics::Kinematics> make_slide_pair_kinematics(
+    const kinematics::ModelConfig& config) {
   const double gain = config.number("gain");
   if (!(gain > 0.0)) config.fail("gain", "must be a positive number (joint mm per mm)");
   return std::make_unique<SlidePairKinematics>(gain, config.length_or("offset", 0.0));
@@ -127,7 +132,7 @@ home = [10.0, 20.0]
 // kinds alone.
 class SlidePair : public ::testing::Test {
  protected:
-  KinematicsKind kind_{"slide_pair", make_slide_pair_kinematics};
+  kinematics::KinematicsKind kind_{"slide_pair", make_slide_pair_kinematics};
 };
 
 std::filesystem::path temp_file(const std::string& name) {
@@ -138,66 +143,67 @@ std::filesystem::path temp_file(const std::string& name) {
 // ---- the registration ------------------------------------------------------------------------
 
 TEST_F(SlidePair, ItsMachineFileLoadsAsTheKindTheRegistrationNames) {
-  const Machine machine = parse_machine(kSlidePairFile, "slide-pair.toml");
+  const machine::Machine machine = machine::parse_machine(kSlidePairFile, "slide-pair.toml");
   EXPECT_EQ(machine.kinematics().type(), "slide_pair");
   EXPECT_EQ(machine.kinematics().forward_options().max_iterations, 80);
-  JointVector home;
+  kinematics::JointVector home;
   ASSERT_TRUE(machine.inverse(machine.home(), home).ok());
   EXPECT_DOUBLE_EQ(home[0], 2.0 * 10.0 + 5.0);
   EXPECT_DOUBLE_EQ(home[1], 2.0 * 20.0 + 5.0);
   // IK and FK undo each other (FK seeded away from the pose).
-  for (const Pose& pose :
-       {Pose::from_mm_deg(-50.0, 60.0, 0.0), Pose::from_mm_deg(37.5, -3.25, 0.0)}) {
-    JointVector joints;
+  for (const geometry::Pose& pose : {geometry::Pose::from_mm_deg(-50.0, 60.0, 0.0),
+                                     geometry::Pose::from_mm_deg(37.5, -3.25, 0.0)}) {
+    kinematics::JointVector joints;
     ASSERT_TRUE(machine.inverse(pose, joints).ok());
-    Pose found = machine.home();
+    geometry::Pose found = machine.home();
     ASSERT_TRUE(machine.forward(joints, found).ok());
     EXPECT_NEAR((found.position_mm - pose.position_mm).norm(), 0.0, 1e-12);
   }
-  const std::vector<std::string> types = kinematics_types();
+  const std::vector<std::string> types = kinematics::kinematics_types();
   EXPECT_EQ(types.back(), "slide_pair");  // after the built-in ones
   EXPECT_EQ(types.front(), "matrix");
 }
 
 TEST_F(SlidePair, ADuplicateNameIsRefusedAndTheFirstStaysRegistered) {
   try {
-    const KinematicsKind again("slide_pair", make_slide_pair_kinematics);
+    const kinematics::KinematicsKind again("slide_pair", make_slide_pair_kinematics);
     FAIL() << "a second slide_pair was registered";
   } catch (const std::invalid_argument& error) {
     EXPECT_STREQ(error.what(), "kinematics type 'slide_pair' is already registered");
   }
   try {
-    const KinematicsKind matrix("matrix", make_slide_pair_kinematics);
+    const kinematics::KinematicsKind matrix("matrix", make_slide_pair_kinematics);
     FAIL() << "a built-in name was registered";
   } catch (const std::invalid_argument& error) {
     EXPECT_STREQ(error.what(), "kinematics type 'matrix' is built in");
   }
-  EXPECT_THROW(KinematicsKind("", make_slide_pair_kinematics), std::invalid_argument);
+  EXPECT_THROW(kinematics::KinematicsKind("", make_slide_pair_kinematics), std::invalid_argument);
   // A reader whose model names another type: the file it writes back would not read.
-  const KinematicsKind alias("slide_pair_alias", make_slide_pair_kinematics);
+  const kinematics::KinematicsKind alias("slide_pair_alias", make_slide_pair_kinematics);
   std::string text = kSlidePairFile;
   text.replace(text.find("\"slide_pair\""), 12, "\"slide_pair_alias\"");
   try {
-    parse_machine(text, "alias.toml");
+    machine::parse_machine(text, "alias.toml");
     FAIL() << "a model of another type loaded";
   } catch (const std::logic_error& error) {
     EXPECT_STREQ(error.what(),
                  "the reader of kinematics type 'slide_pair_alias' made no model of that type");
   }
-  EXPECT_EQ(parse_machine(kSlidePairFile, "slide-pair.toml").kinematics().type(), "slide_pair");
+  EXPECT_EQ(machine::parse_machine(kSlidePairFile, "slide-pair.toml").kinematics().type(),
+            "slide_pair");
 }
 
 TEST(KinematicsKind, AMachineFileOfAnUnregisteredKindIsRefusedAtItsType) {
   {
-    KinematicsKind kind("slide_pair", make_slide_pair_kinematics);
-    KinematicsKind moved(std::move(kind));  // the moved-from handle unregisters nothing
+    kinematics::KinematicsKind kind("slide_pair", make_slide_pair_kinematics);
+    kinematics::KinematicsKind moved(std::move(kind));  // the moved-from handle unregisters nothing
     EXPECT_EQ(moved.type(), "slide_pair");
-    EXPECT_NO_THROW(parse_machine(kSlidePairFile, "slide-pair.toml"));
+    EXPECT_NO_THROW(machine::parse_machine(kSlidePairFile, "slide-pair.toml"));
   }
   try {
-    parse_machine(kSlidePairFile, "slide-pair.toml");
+    machine::parse_machine(kSlidePairFile, "slide-pair.toml");
     FAIL() << "an unregistered kind loaded";
-  } catch (const MachineFileError& error) {
+  } catch (const machine::MachineFileError& error) {
     EXPECT_EQ(std::string(error.what()),
               "slide-pair.toml:5:kinematics.type: unknown kinematics type 'slide_pair' (known: "
               "matrix, cable_plotter, glide, hexapod, formula, rotary_delta)");
@@ -209,18 +215,18 @@ TEST_F(SlidePair, ItsBadKeysAreNamedWithFileLineAndKey) {
   std::string text = kSlidePairFile;
   text.replace(text.find("gain = 2.0"), 10, "gain = -2.0");
   try {
-    parse_machine(text, "slide-pair.toml");
+    machine::parse_machine(text, "slide-pair.toml");
     FAIL() << "a negative gain loaded";
-  } catch (const MachineFileError& error) {
+  } catch (const machine::MachineFileError& error) {
     EXPECT_EQ(std::string(error.what()),
               "slide-pair.toml:7:kinematics.gain: must be a positive number (joint mm per mm)");
   }
   text = kSlidePairFile;
   text.replace(text.find("offset = 5.0"), 12, "ofset = 5.0");
   try {
-    parse_machine(text, "slide-pair.toml");
+    machine::parse_machine(text, "slide-pair.toml");
     FAIL() << "a misspelt key loaded";
-  } catch (const MachineFileError& error) {
+  } catch (const machine::MachineFileError& error) {
     EXPECT_EQ(std::string(error.what()),
               "slide-pair.toml:8:kinematics.ofset: unknown key 'ofset' (did you mean 'offset'?)");
   }
@@ -229,9 +235,9 @@ TEST_F(SlidePair, ItsBadKeysAreNamedWithFileLineAndKey) {
 // ---- what the rest of pkm does with it, from the interface -----------------------------------
 
 TEST_F(SlidePair, ItsReachIsTheJointRangeOverTheGain) {
-  const Machine machine = parse_machine(kSlidePairFile, "slide-pair.toml");
+  const machine::Machine machine = machine::parse_machine(kSlidePairFile, "slide-pair.toml");
   // x = (u - 5) / 2 over u in [-95, 205]: -50..100; y over v in [-15, 125]: -10..60.
-  const std::vector<AxisExtent> extents = reachable_extent(machine);
+  const std::vector<machine::AxisExtent> extents = machine::reachable_extent(machine);
   ASSERT_EQ(extents.size(), 2u);
   EXPECT_EQ(extents[0].axis, 0);
   EXPECT_NEAR(extents[0].min, -50.0, 1e-6);
@@ -240,13 +246,14 @@ TEST_F(SlidePair, ItsReachIsTheJointRangeOverTheGain) {
   EXPECT_NEAR(extents[1].min, -10.0, 1e-6);
   EXPECT_NEAR(extents[1].max, 60.0, 1e-6);
   // d joints / d pose = 2 I: its columns scaled to unit length, perfectly conditioned.
-  EXPECT_DOUBLE_EQ(relative_conditioning_at_home(machine), 1.0);
+  EXPECT_DOUBLE_EQ(machine::relative_conditioning_at_home(machine), 1.0);
 
   // A job within the reach has no hint; one 20 mm past it names both boxes.
   const test::TempProgram inside("G1 F600 X90 Y-5\nG1 X-40 Y55\nM2\n");
-  EXPECT_EQ(motion::job_reach_hint(machine, inside.path(), {}, Vector6d::Zero()), "");
+  EXPECT_EQ(motion::job_reach_hint(machine, inside.path(), {}, geometry::Vector6d::Zero()), "");
   const test::TempProgram outside("G1 F600 X120 Y0\nM2\n");
-  const std::string hint = motion::job_reach_hint(machine, outside.path(), {}, Vector6d::Zero());
+  const std::string hint =
+      motion::job_reach_hint(machine, outside.path(), {}, geometry::Vector6d::Zero());
   EXPECT_NE(hint.find("hint"), std::string::npos) << hint;
   EXPECT_NE(hint.find("100.000"), std::string::npos) << hint;
 }
@@ -254,7 +261,7 @@ TEST_F(SlidePair, ItsReachIsTheJointRangeOverTheGain) {
 // The certified check needs the model's derivative bounds, which a kind outside bounds/ does not
 // have: it says so for every move instead of proving or failing them.
 TEST_F(SlidePair, TheCertifiedCheckSaysItHasNoBoundForTheKind) {
-  const Machine machine = parse_machine(kSlidePairFile, "slide-pair.toml");
+  const machine::Machine machine = machine::parse_machine(kSlidePairFile, "slide-pair.toml");
   const test::TempProgram job("G1 F600 X50 Y20\nM2\n");
   const certify::JobCheck check = certify::check_job(machine, job.path(), {});
   EXPECT_FALSE(check.certified());
@@ -268,7 +275,7 @@ struct Collect final : motion::SampleSink {
 };
 
 TEST_F(SlidePair, APlannedLineIsTheHandComputedTrapezoidWithTheModelsJoints) {
-  const Machine machine = parse_machine(kSlidePairFile, "slide-pair.toml");
+  const machine::Machine machine = machine::parse_machine(kSlidePairFile, "slide-pair.toml");
   // From home (10, 20) 40 mm along x at F3000 (50 mm/s), 500 mm/s^2: ramps of 0.1 s over 2.5 mm
   // each, 35 mm cruising at 50 mm/s (0.7 s): 0.9 s. The joints move twice as fast (100 mm/s,
   // 1000 mm/s^2), well within theirs.
@@ -300,7 +307,7 @@ TEST_F(SlidePair, APlannedLineIsTheHandComputedTrapezoidWithTheModelsJoints) {
 const char* const kPostJob = "G21 G90 G17\nG1 F600 X50 Y20\nG3 X40 Y30 I-10 J0\nG1 X10 Y20\nM2\n";
 
 TEST_F(SlidePair, PostCoversTheJobWithASampledDeviationAndVerifyAgrees) {
-  const Machine machine = parse_machine(kSlidePairFile, "slide-pair.toml");
+  const machine::Machine machine = machine::parse_machine(kSlidePairFile, "slide-pair.toml");
   const test::TempProgram job(kPostJob);
   post::PostOptions options;
   options.tolerance_mm = 0.01;
@@ -373,7 +380,7 @@ TEST_F(SlidePair, TheLinuxcncExportSplitsTheJointsRatesOverTheGain) {
   for (std::size_t at; (at = text.find("max_acceleration = 100000.0")) != std::string::npos;) {
     text.replace(at, 27, "max_acceleration = 3000.0");
   }
-  const Machine machine = parse_machine(text, "slide-pair.toml");
+  const machine::Machine machine = machine::parse_machine(text, "slide-pair.toml");
   linuxcnc::ExportOptions options;
   options.sim = true;
   options.machine_file_name = "slide-pair.toml";
@@ -392,28 +399,29 @@ TEST_F(SlidePair, TheLinuxcncExportSplitsTheJointsRatesOverTheGain) {
 }
 
 TEST_F(SlidePair, ItsMachineFileIsWrittenBackAsItWasRead) {
-  const Machine machine = parse_machine(kSlidePairFile, "slide-pair.toml");
-  const std::string section = kinematics_toml(machine.kinematics(), machine.units());
+  const machine::Machine machine = machine::parse_machine(kSlidePairFile, "slide-pair.toml");
+  const std::string section = machine::kinematics_toml(machine.kinematics(), machine.units());
   EXPECT_EQ(section,
             "[kinematics]\n"
             "type = \"slide_pair\"\n"
             "forward_max_iterations = 80\n"
             "gain = 2.0\n"
             "offset = 5.0\n");
-  const std::string rewritten = replace_kinematics_section(kSlidePairFile, "slide-pair.toml",
-                                                           machine.kinematics(), machine.units());
+  const std::string rewritten = machine::replace_kinematics_section(
+      kSlidePairFile, "slide-pair.toml", machine.kinematics(), machine.units());
   EXPECT_EQ(rewritten, kSlidePairFile);
-  const Machine reread = parse_machine(rewritten, "slide-pair.toml");
-  EXPECT_EQ(kinematics_toml(reread.kinematics(), reread.units()), section);
-  const std::vector<Parameter> read = machine.kinematics().parameters();
-  const std::vector<Parameter> read_back = reread.kinematics().parameters();
+  const machine::Machine reread = machine::parse_machine(rewritten, "slide-pair.toml");
+  EXPECT_EQ(machine::kinematics_toml(reread.kinematics(), reread.units()), section);
+  const std::vector<kinematics::Parameter> read = machine.kinematics().parameters();
+  const std::vector<kinematics::Parameter> read_back = reread.kinematics().parameters();
   ASSERT_EQ(read_back.size(), 2u);
   for (std::size_t i = 0; i < read.size(); ++i) {
     EXPECT_EQ(read_back[i].name, read[i].name);
     EXPECT_EQ(read_back[i].value, read[i].value);
   }
   // In inch: the offset's 5 mm in the file's unit, the gain as it is.
-  const std::string in_inch = kinematics_toml(machine.kinematics(), LengthUnit::inch);
+  const std::string in_inch =
+      machine::kinematics_toml(machine.kinematics(), machine::LengthUnit::inch);
   EXPECT_EQ(in_inch.substr(0, in_inch.find("offset = ") + 26),
             "[kinematics]\n"
             "type = \"slide_pair\"\n"

@@ -19,25 +19,26 @@ namespace {
 // Pivots 200 mm out, arms 100, forearms 400, platform joints 60 mm from the tool point: with the
 // arms horizontal each elbow is 200 + 100 - 60 = 240 mm out from its platform joint, a 3-4-5
 // triangle with the 400 mm forearm.
-RotaryDeltaKinematics hand_delta() {
-  return RotaryDeltaKinematics({200.0, 100.0, 400.0, 60.0});
+kinematics::RotaryDeltaKinematics hand_delta() {
+  return kinematics::RotaryDeltaKinematics({200.0, 100.0, 400.0, 60.0});
 }
 
-JointVector angles_deg(double a, double b, double c) {
-  JointVector joints(3);
-  joints << degrees_to_radians(a), degrees_to_radians(b), degrees_to_radians(c);
+kinematics::JointVector angles_deg(double a, double b, double c) {
+  kinematics::JointVector joints(3);
+  joints << geometry::degrees_to_radians(a), geometry::degrees_to_radians(b),
+      geometry::degrees_to_radians(c);
   return joints;
 }
 
 TEST(RotaryDelta, ArmsHorizontalHangTheToolStraightBelowTheCentre) {
   // Elbows at 300 mm from the centre, z 0; platform joints 60 mm from the tool: 240 mm across,
   // so the forearm drops sqrt(400^2 - 240^2) = 320 mm. Joint 0 (zero) is arm horizontal outward.
-  const RotaryDeltaKinematics delta = hand_delta();
-  JointVector joints;
-  ASSERT_TRUE(delta.inverse(Pose::from_mm_deg(0, 0, -320), joints).ok());
+  const kinematics::RotaryDeltaKinematics delta = hand_delta();
+  kinematics::JointVector joints;
+  ASSERT_TRUE(delta.inverse(geometry::Pose::from_mm_deg(0, 0, -320), joints).ok());
   ASSERT_EQ(joints.size(), 3);
   for (int arm = 0; arm < 3; ++arm) EXPECT_NEAR(joints[arm], 0.0, 1e-15) << "arm " << arm;
-  Pose pose = Pose::from_mm_deg(5, -5, -300);
+  geometry::Pose pose = geometry::Pose::from_mm_deg(5, -5, -300);
   ASSERT_TRUE(delta.forward(angles_deg(0, 0, 0), pose).ok());
   EXPECT_NEAR(pose.position_mm.x(), 0.0, 1e-12);
   EXPECT_NEAR(pose.position_mm.y(), 0.0, 1e-12);
@@ -47,12 +48,12 @@ TEST(RotaryDelta, ArmsHorizontalHangTheToolStraightBelowTheCentre) {
 TEST(RotaryDelta, PositiveAnglesPutTheElbowsDown) {
   // Arms straight down (90 deg): elbows 200 mm out at z -100, 140 mm across from the platform
   // joints: the tool at -100 - sqrt(400^2 - 140^2) = -474.7077 mm, lower than at 0 deg.
-  const RotaryDeltaKinematics delta = hand_delta();
+  const kinematics::RotaryDeltaKinematics delta = hand_delta();
   const double z = -100.0 - std::sqrt(400.0 * 400.0 - 140.0 * 140.0);
-  JointVector joints;
-  ASSERT_TRUE(delta.inverse(Pose::from_mm_deg(0, 0, z), joints).ok());
+  kinematics::JointVector joints;
+  ASSERT_TRUE(delta.inverse(geometry::Pose::from_mm_deg(0, 0, z), joints).ok());
   for (int arm = 0; arm < 3; ++arm) EXPECT_NEAR(joints[arm], M_PI / 2, 1e-12) << "arm " << arm;
-  Pose pose;
+  geometry::Pose pose;
   ASSERT_TRUE(delta.forward(angles_deg(90, 90, 90), pose).ok());
   EXPECT_NEAR(pose.position_mm.z(), z, 1e-12);
   EXPECT_NEAR(pose.position_mm.head<2>().norm(), 0.0, 1e-12);
@@ -62,44 +63,46 @@ TEST(RotaryDelta, JointZeroSwingsInTheYzPlaneAtNegativeY) {
   // Arm 0 horizontal: its elbow at (0, -300, 0). The tool at y = -80 puts arm 0's platform joint
   // at (0, -140): 160 mm across, so z = -sqrt(400^2 - 160^2) keeps that arm at 0 deg. Arms 1 and
   // 2 (at 30 and 150 deg) mirror each other across the YZ plane, so they read the same.
-  const RotaryDeltaKinematics delta = hand_delta();
-  JointVector joints;
-  const Pose pose = Pose::from_mm_deg(0, -80, -std::sqrt(400.0 * 400.0 - 160.0 * 160.0));
+  const kinematics::RotaryDeltaKinematics delta = hand_delta();
+  kinematics::JointVector joints;
+  const geometry::Pose pose =
+      geometry::Pose::from_mm_deg(0, -80, -std::sqrt(400.0 * 400.0 - 160.0 * 160.0));
   ASSERT_TRUE(delta.inverse(pose, joints).ok());
   EXPECT_NEAR(joints[0], 0.0, 1e-15);
   EXPECT_NEAR(joints[1], joints[2], 1e-12);
   EXPECT_GT(joints[1], 0.5);  // the two far arms reach down towards it
-  EXPECT_TRUE(RotaryDeltaKinematics::arm_direction(0).isApprox(Eigen::Vector3d(0, -1, 0)));
-  EXPECT_NEAR(std::atan2(RotaryDeltaKinematics::arm_direction(1).y(),
-                         RotaryDeltaKinematics::arm_direction(1).x()),
-              degrees_to_radians(30.0), 1e-15);
-  EXPECT_NEAR(std::atan2(RotaryDeltaKinematics::arm_direction(2).y(),
-                         RotaryDeltaKinematics::arm_direction(2).x()),
-              degrees_to_radians(150.0), 1e-15);
+  EXPECT_TRUE(
+      kinematics::RotaryDeltaKinematics::arm_direction(0).isApprox(Eigen::Vector3d(0, -1, 0)));
+  EXPECT_NEAR(std::atan2(kinematics::RotaryDeltaKinematics::arm_direction(1).y(),
+                         kinematics::RotaryDeltaKinematics::arm_direction(1).x()),
+              geometry::degrees_to_radians(30.0), 1e-15);
+  EXPECT_NEAR(std::atan2(kinematics::RotaryDeltaKinematics::arm_direction(2).y(),
+                         kinematics::RotaryDeltaKinematics::arm_direction(2).x()),
+              geometry::degrees_to_radians(150.0), 1e-15);
 }
 
 TEST(RotaryDelta, TurningThePoseBy120DegreesTurnsTheJoints) {
   // Arm i+1 is arm i turned by +120 deg about z: the pose turned so reads arm i's angle there.
-  const RotaryDeltaKinematics delta = hand_delta();
+  const kinematics::RotaryDeltaKinematics delta = hand_delta();
   const Eigen::Matrix3d turn =
       Eigen::AngleAxisd(2 * M_PI / 3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  Pose pose = Pose::from_mm_deg(37, -21, -350);
-  Pose turned = pose;
+  geometry::Pose pose = geometry::Pose::from_mm_deg(37, -21, -350);
+  geometry::Pose turned = pose;
   turned.position_mm = turn * pose.position_mm;
-  JointVector original, after;
+  kinematics::JointVector original, after;
   ASSERT_TRUE(delta.inverse(pose, original).ok());
   ASSERT_TRUE(delta.inverse(turned, after).ok());
   for (int arm = 0; arm < 3; ++arm) EXPECT_NEAR(after[(arm + 1) % 3], original[arm], 1e-12);
 }
 
 // Poses of the hand delta in its working mode, away from its singular fringe.
-std::vector<Pose> working_poses(const RotaryDeltaKinematics& delta, int count,
-                                std::mt19937_64& rng) {
+std::vector<geometry::Pose> working_poses(const kinematics::RotaryDeltaKinematics& delta, int count,
+                                          std::mt19937_64& rng) {
   std::uniform_real_distribution<double> across(-250.0, 250.0), down(-650.0, -150.0);
-  std::vector<Pose> poses;
-  JointVector joints;
+  std::vector<geometry::Pose> poses;
+  kinematics::JointVector joints;
   while (static_cast<int>(poses.size()) < count) {
-    const Pose pose = Pose::from_mm_deg(across(rng), across(rng), down(rng));
+    const geometry::Pose pose = geometry::Pose::from_mm_deg(across(rng), across(rng), down(rng));
     if (!delta.inverse(pose, joints).ok() || delta.assembly_mode(pose) != 1) continue;
     if (test::dexterity(delta, pose) < 0.02) continue;
     poses.push_back(pose);
@@ -109,38 +112,40 @@ std::vector<Pose> working_poses(const RotaryDeltaKinematics& delta, int count,
 
 TEST(RotaryDelta, InverseThenForwardOverTheWorkspace) {
   // FK's seed carries no information for this closed form: a seed 100 mm off gives the pose too.
-  const RotaryDeltaKinematics delta = hand_delta();
+  const kinematics::RotaryDeltaKinematics delta = hand_delta();
   std::mt19937_64 rng(11);
   double worst = 0.0;
-  for (const Pose& pose : working_poses(delta, 5000, rng)) {
-    JointVector joints;
+  for (const geometry::Pose& pose : working_poses(delta, 5000, rng)) {
+    kinematics::JointVector joints;
     ASSERT_TRUE(delta.inverse(pose, joints).ok());
-    Pose solved = Pose::from_mm_deg(100, -100, -200);
-    const Status status = delta.forward(joints, solved);
-    ASSERT_TRUE(status.ok()) << describe(status) << " at " << pose.as_vector().transpose();
+    geometry::Pose solved = geometry::Pose::from_mm_deg(100, -100, -200);
+    const kinematics::Status status = delta.forward(joints, solved);
+    ASSERT_TRUE(status.ok()) << kinematics::describe(status) << " at "
+                             << pose.as_vector().transpose();
     worst = std::max(worst, (solved.position_mm - pose.position_mm).norm());
   }
   EXPECT_LE(worst, 1e-9) << "mm";
 }
 
 TEST(RotaryDelta, JacobianMatchesFiniteDifferences) {
-  const RotaryDeltaKinematics delta = hand_delta();
+  const kinematics::RotaryDeltaKinematics delta = hand_delta();
   std::mt19937_64 rng(12);
-  for (const Pose& pose : working_poses(delta, 300, rng)) {
-    JointJacobian analytic;
+  for (const geometry::Pose& pose : working_poses(delta, 300, rng)) {
+    kinematics::JointJacobian analytic;
     ASSERT_TRUE(delta.jacobian(pose, analytic).ok());
     for (int axis = 0; axis < 3; ++axis) {
       // Richardson-extrapolated central differences: error O(h^4).
       const auto difference = [&](double h) {
-        Pose plus = pose, minus = pose;
+        geometry::Pose plus = pose, minus = pose;
         plus.position_mm[axis] += h;
         minus.position_mm[axis] -= h;
-        JointVector at_plus, at_minus;
+        kinematics::JointVector at_plus, at_minus;
         EXPECT_TRUE(delta.inverse(plus, at_plus).ok());
         EXPECT_TRUE(delta.inverse(minus, at_minus).ok());
-        return JointVector((at_plus - at_minus) / (2 * h));
+        return kinematics::JointVector((at_plus - at_minus) / (2 * h));
       };
-      const JointVector numeric = (4.0 * difference(5e-3) - difference(1e-2)) / 3.0;  // rad/mm
+      const kinematics::JointVector numeric =
+          (4.0 * difference(5e-3) - difference(1e-2)) / 3.0;  // rad/mm
       // Relative: near the fringe (an arm 0.3 rad/mm from singular) the differences' own
       // truncation error reaches a few millionths.
       const double scale = analytic.col(axis).cwiseAbs().maxCoeff();
@@ -155,62 +160,62 @@ TEST(RotaryDelta, AnUnreachablePoseNamesTheArm) {
   // 300 mm out towards -30 deg (away from arm 2, at 150 deg): arms 0 and 1 still reach, arm 2
   // cannot: its platform joint is 300 + 200 - 60 = 440 mm from its pivot across the centre and
   // 350 down, sqrt(440^2 + 350^2) = 562 mm, more than the 100 + 400 mm of arm and forearm.
-  const RotaryDeltaKinematics delta = hand_delta();
-  const Pose pose = Pose::from_mm_deg(300 * std::sqrt(3.0) / 2, -150, -350);
-  JointVector joints;
-  const Status status = delta.inverse(pose, joints);
-  EXPECT_EQ(status.code, StatusCode::unreachable);
+  const kinematics::RotaryDeltaKinematics delta = hand_delta();
+  const geometry::Pose pose = geometry::Pose::from_mm_deg(300 * std::sqrt(3.0) / 2, -150, -350);
+  kinematics::JointVector joints;
+  const kinematics::Status status = delta.inverse(pose, joints);
+  EXPECT_EQ(status.code, kinematics::StatusCode::unreachable);
   EXPECT_EQ(status.joint, 2);
   EXPECT_EQ(delta.why_refused(pose, status),
             "arm 3 cannot reach it: the platform joint is farther than the forearm's length from "
             "every point of the elbow's circle");
   // Straight up the forearms are too long to come so near: arm 0 is named, being the first.
-  const Pose above = Pose::from_mm_deg(0, 0, 0);
-  const Status too_near = delta.inverse(above, joints);
-  EXPECT_EQ(too_near.code, StatusCode::unreachable);
+  const geometry::Pose above = geometry::Pose::from_mm_deg(0, 0, 0);
+  const kinematics::Status too_near = delta.inverse(above, joints);
+  EXPECT_EQ(too_near.code, kinematics::StatusCode::unreachable);
   EXPECT_EQ(too_near.joint, 0);
   EXPECT_NE(delta.why_refused(above, too_near).find("is nearer than"), std::string::npos);
   // Far enough away the squares overflow: still a status, never a NaN.
-  EXPECT_EQ(delta.inverse(Pose::from_mm_deg(1e200, 0, -1e200), joints).code,
-            StatusCode::unreachable);
-  EXPECT_EQ(delta.inverse(Pose::from_mm_deg(std::nan(""), 0, -300), joints).code,
-            StatusCode::invalid_input);
+  EXPECT_EQ(delta.inverse(geometry::Pose::from_mm_deg(1e200, 0, -1e200), joints).code,
+            kinematics::StatusCode::unreachable);
+  EXPECT_EQ(delta.inverse(geometry::Pose::from_mm_deg(std::nan(""), 0, -300), joints).code,
+            kinematics::StatusCode::invalid_input);
 }
 
 TEST(RotaryDelta, AStretchedArmIsSingular) {
   // Arm 0 at 30 deg with its forearm continuing its line: elbow (0, -200 - 100 cos 30, -50),
   // platform joint 400 mm further along (cos 30, -sin 30) outward and down.
-  const RotaryDeltaKinematics delta = hand_delta();
+  const kinematics::RotaryDeltaKinematics delta = hand_delta();
   // 2e-11 mm short of fully stretched, so that rounding cannot put it out of reach.
   const double c30 = std::cos(M_PI / 6), along = 500 - 2e-11;
-  const Pose pose = Pose::from_mm_deg(0, -(200 + along * c30) + 60, -along / 2);
-  JointVector joints;
-  const Status status = delta.inverse(pose, joints);
-  EXPECT_EQ(status.code, StatusCode::singular);
+  const geometry::Pose pose = geometry::Pose::from_mm_deg(0, -(200 + along * c30) + 60, -along / 2);
+  kinematics::JointVector joints;
+  const kinematics::Status status = delta.inverse(pose, joints);
+  EXPECT_EQ(status.code, kinematics::StatusCode::singular);
   EXPECT_EQ(status.joint, 0);
   EXPECT_NE(delta.why_refused(pose, status).find("arm 1 and its forearm are in line"),
             std::string::npos);
-  JointJacobian jacobian;
-  EXPECT_EQ(delta.jacobian(pose, jacobian).code, StatusCode::singular);
+  kinematics::JointJacobian jacobian;
+  EXPECT_EQ(delta.jacobian(pose, jacobian).code, kinematics::StatusCode::singular);
 }
 
 TEST(RotaryDelta, ForwardRefusesAnInwardElbow) {
   // At (0, 0, -320) the arms are horizontal; arm 0's other elbow reaching the same platform joint
   // is its mirror in the pivot-to-joint line, at 2 atan2(320, -140) = 227.26 deg = -132.74 deg.
-  const RotaryDeltaKinematics delta = hand_delta();
+  const kinematics::RotaryDeltaKinematics delta = hand_delta();
   const double inward = 2 * std::atan2(320.0, -140.0) - 2 * M_PI;
-  JointVector joints(3);
+  kinematics::JointVector joints(3);
   joints << inward, 0.0, 0.0;
-  Pose pose;
-  const Status status = delta.forward(joints, pose);
-  EXPECT_EQ(status.code, StatusCode::other_assembly);
+  geometry::Pose pose;
+  const kinematics::Status status = delta.forward(joints, pose);
+  EXPECT_EQ(status.code, kinematics::StatusCode::other_assembly);
   EXPECT_EQ(status.joint, 0);
   // Joints a whole turn away are the same arms.
   joints << 2 * M_PI, -2 * M_PI, 4 * M_PI;
   ASSERT_TRUE(delta.forward(joints, pose).ok());
   EXPECT_NEAR(pose.position_mm.z(), -320.0, 1e-12);
   joints << 0.0, std::nan(""), 0.0;
-  EXPECT_EQ(delta.forward(joints, pose).code, StatusCode::invalid_input);
+  EXPECT_EQ(delta.forward(joints, pose).code, kinematics::StatusCode::invalid_input);
 }
 
 TEST(RotaryDelta, AssemblyModeIsTheSideForwardKinematicsReturns) {
@@ -218,35 +223,37 @@ TEST(RotaryDelta, AssemblyModeIsTheSideForwardKinematicsReturns) {
   // so the spheres also meet at z +320. There each arm's elbow is on the other side of its
   // pivot-to-joint line: inverse kinematics reads 360 - 2 atan2(320, -140) = 132.74 deg, the
   // forearms' determinant changes sign, and FK of those joints never returns there.
-  const RotaryDeltaKinematics delta = hand_delta();
-  EXPECT_EQ(delta.assembly_mode(Pose::from_mm_deg(0, 0, -320)), 1);
-  const Pose upper = Pose::from_mm_deg(0, 0, 320);
+  const kinematics::RotaryDeltaKinematics delta = hand_delta();
+  EXPECT_EQ(delta.assembly_mode(geometry::Pose::from_mm_deg(0, 0, -320)), 1);
+  const geometry::Pose upper = geometry::Pose::from_mm_deg(0, 0, 320);
   EXPECT_EQ(delta.assembly_mode(upper), -1);
-  JointVector joints;
+  kinematics::JointVector joints;
   ASSERT_TRUE(delta.inverse(upper, joints).ok());
   for (int arm = 0; arm < 3; ++arm) {
     EXPECT_NEAR(joints[arm], 2 * M_PI - 2 * std::atan2(320.0, -140.0), 1e-12);
   }
-  Pose pose = upper;
-  EXPECT_EQ(delta.forward(joints, pose).code, StatusCode::other_assembly);
+  geometry::Pose pose = upper;
+  EXPECT_EQ(delta.forward(joints, pose).code, kinematics::StatusCode::other_assembly);
 }
 
 TEST(RotaryDelta, PassThroughCFollowsTheArms) {
-  const RotaryDeltaKinematics delta({200.0, 100.0, 400.0, 60.0},
-                                    PassThroughAxes({5}, Dof::translation()));
+  const kinematics::RotaryDeltaKinematics delta(
+      {200.0, 100.0, 400.0, 60.0}, kinematics::PassThroughAxes({5}, geometry::Dof::translation()));
   EXPECT_EQ(delta.joint_count(), 4);
-  EXPECT_EQ(delta.joint_kind(0), JointKind::rotary);
-  EXPECT_EQ(delta.joint_kind(3), JointKind::rotary);
+  EXPECT_EQ(delta.joint_kind(0), kinematics::JointKind::rotary);
+  EXPECT_EQ(delta.joint_kind(3), kinematics::JointKind::rotary);
   EXPECT_EQ(delta.passthrough_axis(3), 5);
-  JointVector joints;
-  ASSERT_TRUE(delta.inverse(Pose::from_mm_deg(0, 0, -320, 0, 0, 45), joints).ok());
+  kinematics::JointVector joints;
+  ASSERT_TRUE(delta.inverse(geometry::Pose::from_mm_deg(0, 0, -320, 0, 0, 45), joints).ok());
   EXPECT_DOUBLE_EQ(joints[3], M_PI / 4);
-  Pose pose;
+  geometry::Pose pose;
   ASSERT_TRUE(delta.forward(joints, pose).ok());
   EXPECT_DOUBLE_EQ(pose.orientation_rad.z(), M_PI / 4);
   EXPECT_NEAR(pose.position_mm.z(), -320.0, 1e-12);
-  EXPECT_THROW(RotaryDeltaKinematics({200, 100, 400, 60}, PassThroughAxes({2}, Dof::planar_xy())),
-               std::invalid_argument);  // the arms move z themselves
+  EXPECT_THROW(
+      kinematics::RotaryDeltaKinematics(
+          {200, 100, 400, 60}, kinematics::PassThroughAxes({2}, geometry::Dof::planar_xy())),
+      std::invalid_argument);  // the arms move z themselves
 }
 
 TEST(RotaryDelta, RdeltaSampleGivesRotarydeltakinsNumbers) {
@@ -254,7 +261,7 @@ TEST(RotaryDelta, RdeltaSampleGivesRotarydeltakinsNumbers) {
   // evaluated in double precision from its source's formulas: joints (10, 20, 30) deg put the tool
   // at (1.0945539334, -1.7969670819, -14.0843750284) in, (45, -10, 60) deg at (8.0225060140,
   // 2.0891761176, -14.7604689012) in, and (0, 0, 0) at z = -sqrt(18^2 - 15^2) = -sqrt(99) in.
-  const Machine rdelta = test::load_example("linuxcnc-rdelta.toml");
+  const machine::Machine rdelta = test::load_example("linuxcnc-rdelta.toml");
   const struct {
     double joints_deg[3];
     double tool_in[3];
@@ -262,11 +269,12 @@ TEST(RotaryDelta, RdeltaSampleGivesRotarydeltakinsNumbers) {
                {{45, -10, 60}, {8.022506013970009, 2.089176117628809, -14.760468901224469}},
                {{0, 0, 0}, {0.0, 0.0, -std::sqrt(99.0)}}};
   for (const auto& c : cases) {
-    const JointVector joints = angles_deg(c.joints_deg[0], c.joints_deg[1], c.joints_deg[2]);
-    Pose pose = rdelta.home();
+    const kinematics::JointVector joints =
+        angles_deg(c.joints_deg[0], c.joints_deg[1], c.joints_deg[2]);
+    geometry::Pose pose = rdelta.home();
     ASSERT_TRUE(rdelta.kinematics().forward(joints, pose).ok());
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(pose.position_mm[k] / 25.4, c.tool_in[k], 1e-12);
-    JointVector back;
+    kinematics::JointVector back;
     ASSERT_TRUE(rdelta.kinematics().inverse(pose, back).ok());
     EXPECT_LT((back - joints).cwiseAbs().maxCoeff(), 1e-12);
   }
@@ -344,34 +352,35 @@ struct PublishedRotaryDelta {
 TEST(RotaryDelta, AgreesWithRotarydeltakinsPublishedEquations) {
   // The example from LinuxCNC's rdelta sample config over its workspace: the same joints for the
   // same pose, the same pose for the same joints.
-  const Machine rdelta = test::load_example("linuxcnc-rdelta.toml");
-  const auto& model = dynamic_cast<const RotaryDeltaKinematics&>(rdelta.kinematics());
-  const RotaryDeltaGeometry& g = model.geometry();
+  const machine::Machine rdelta = test::load_example("linuxcnc-rdelta.toml");
+  const auto& model = dynamic_cast<const kinematics::RotaryDeltaKinematics&>(rdelta.kinematics());
+  const kinematics::RotaryDeltaGeometry& g = model.geometry();
   EXPECT_DOUBLE_EQ(g.base_radius_mm, 254.0);  // 10 in
   EXPECT_DOUBLE_EQ(g.forearm_length_mm, 457.2);
   const PublishedRotaryDelta published{g.base_radius_mm, g.arm_length_mm, g.forearm_length_mm,
                                        g.platform_radius_mm};
   std::mt19937_64 rng(13);
   int compared = 0;
-  for (const Pose& pose : test::sample_reachable_poses(rdelta, 3000, rng)) {
-    JointVector joints;
+  for (const geometry::Pose& pose : test::sample_reachable_poses(rdelta, 3000, rng)) {
+    kinematics::JointVector joints;
     ASSERT_TRUE(rdelta.inverse(pose, joints).ok());
     const Eigen::Vector3d expected = published.joints(pose.position_mm);
     EXPECT_LT((joints.head<3>() - expected).cwiseAbs().maxCoeff(), 1e-12)
         << pose.as_vector().transpose();
-    Pose solved = rdelta.home();
+    geometry::Pose solved = rdelta.home();
     ASSERT_TRUE(rdelta.forward(joints, solved).ok());
     EXPECT_LT((published.point(joints.head<3>()) - solved.position_mm).norm(), 1e-9);
     ++compared;
   }
   EXPECT_EQ(compared, 3000);
   // And joints anywhere in the arms' limits (-45..90 deg), not only where IK led.
-  std::uniform_real_distribution<double> angle(degrees_to_radians(-45), degrees_to_radians(90));
+  std::uniform_real_distribution<double> angle(geometry::degrees_to_radians(-45),
+                                               geometry::degrees_to_radians(90));
   int solved_count = 0;
   for (int k = 0; k < 3000; ++k) {
-    JointVector joints(3);
+    kinematics::JointVector joints(3);
     joints << angle(rng), angle(rng), angle(rng);
-    Pose solved = rdelta.home();
+    geometry::Pose solved = rdelta.home();
     if (!model.forward(joints, solved).ok()) continue;
     EXPECT_LT((published.point(joints) - solved.position_mm).norm(), 1e-9);
     EXPECT_LT((published.joints(solved.position_mm) - joints).cwiseAbs().maxCoeff(), 1e-9);
@@ -390,8 +399,8 @@ std::string error_of_edited_example(const std::string& find, const std::string& 
   if (at == std::string::npos) return "test text not found: " + find;
   text.replace(at, find.size(), replace);
   try {
-    parse_machine(text, "rdelta.toml");
-  } catch (const MachineFileError& error) {
+    machine::parse_machine(text, "rdelta.toml");
+  } catch (const machine::MachineFileError& error) {
     return error.what();
   }
   return "";

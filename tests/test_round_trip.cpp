@@ -20,7 +20,8 @@ constexpr double kWorkingDexterity = 0.02;
 class EveryExampleMachine : public ::testing::TestWithParam<std::string> {};
 
 // Distance over the position coordinates the machine controls (the others stay as seeded).
-double position_error(const Machine& machine, const Pose& a, const Pose& b) {
+double position_error(const machine::Machine& machine, const geometry::Pose& a,
+                      const geometry::Pose& b) {
   double squared = 0.0;
   for (int axis = 0; axis < 3; ++axis) {
     if (!machine.kinematics().dof().controls(axis)) continue;
@@ -30,16 +31,16 @@ double position_error(const Machine& machine, const Pose& a, const Pose& b) {
   return std::sqrt(squared);
 }
 
-double angle_error(const Pose& a, const Pose& b) {
-  const Eigen::Matrix3d difference =
-      rotation_from_abc(a.orientation_rad).transpose() * rotation_from_abc(b.orientation_rad);
+double angle_error(const geometry::Pose& a, const geometry::Pose& b) {
+  const Eigen::Matrix3d difference = geometry::rotation_from_abc(a.orientation_rad).transpose() *
+                                     geometry::rotation_from_abc(b.orientation_rad);
   return Eigen::AngleAxisd(difference).angle();
 }
 
 TEST_P(EveryExampleMachine, InverseThenForwardReturnsThePose) {
-  const Machine machine = test::load_example(GetParam());
+  const machine::Machine machine = test::load_example(GetParam());
   std::mt19937_64 rng(2026);
-  const std::vector<Pose> poses =
+  const std::vector<geometry::Pose> poses =
       test::sample_reachable_poses(machine, 10000, rng, 25.0, kWorkingDexterity);
   // Seeds near the answer, off by up to 1 mm and 0.5 deg: ten times a 1 ms servo step at
   // 6 m/min, what FK along a path or after a short jog starts from.
@@ -47,18 +48,19 @@ TEST_P(EveryExampleMachine, InverseThenForwardReturnsThePose) {
   double worst_position = 0.0;
   double worst_angle = 0.0;
   int failures = 0;
-  for (const Pose& pose : poses) {
-    JointVector joints;
+  for (const geometry::Pose& pose : poses) {
+    kinematics::JointVector joints;
     ASSERT_TRUE(machine.inverse(pose, joints).ok());
-    Pose solved = pose;
+    geometry::Pose solved = pose;
     // Coordinates the model does not control stay as seeded (a pass-through machine's b).
-    const Dof dof = machine.kinematics().dof();
+    const geometry::Dof dof = machine.kinematics().dof();
     for (int k = 0; k < 3; ++k) {
       if (dof.controls(k)) solved.position_mm[k] += 1.0 * offset(rng);
-      if (dof.controls(3 + k)) solved.orientation_rad[k] += degrees_to_radians(0.5) * offset(rng);
+      if (dof.controls(3 + k))
+        solved.orientation_rad[k] += geometry::degrees_to_radians(0.5) * offset(rng);
     }
-    const Pose seed = solved;
-    const Status status = machine.forward(joints, solved);
+    const geometry::Pose seed = solved;
+    const kinematics::Status status = machine.forward(joints, solved);
     if (!status.ok()) {
       if (failures == 0) {
         ADD_FAILURE() << "first failure: " << machine.describe(status) << " pose "
@@ -87,17 +89,17 @@ TEST_P(EveryExampleMachine, InverseThenForwardReturnsThePose) {
 TEST(ClosedFormExampleMachines, ForwardFromHomeSeedMatches) {
   int closed_form = 0;
   for (const std::string& file : test::example_machine_files()) {
-    const Machine machine = test::load_example(file);
+    const machine::Machine machine = test::load_example(file);
     if (machine.kinematics().dof().any_rotation() || machine.kinematics().type() == "formula") {
       continue;
     }
     ++closed_form;
     std::mt19937_64 rng(99);
-    for (const Pose& pose :
+    for (const geometry::Pose& pose :
          test::sample_reachable_poses(machine, 2000, rng, 0.0, kWorkingDexterity)) {
-      JointVector joints;
+      kinematics::JointVector joints;
       ASSERT_TRUE(machine.inverse(pose, joints).ok()) << file;
-      Pose solved = machine.home();
+      geometry::Pose solved = machine.home();
       ASSERT_TRUE(machine.forward(joints, solved).ok()) << file;
       EXPECT_LE(position_error(machine, solved, pose), 1e-9) << machine.name();
     }
@@ -106,13 +108,13 @@ TEST(ClosedFormExampleMachines, ForwardFromHomeSeedMatches) {
 }
 
 TEST_P(EveryExampleMachine, JacobianMatchesFiniteDifferences) {
-  const Machine machine = test::load_example(GetParam());
+  const machine::Machine machine = test::load_example(GetParam());
   std::mt19937_64 rng(5);
-  for (const Pose& pose : test::sample_reachable_poses(machine, 500, rng)) {
-    JointJacobian analytic;
+  for (const geometry::Pose& pose : test::sample_reachable_poses(machine, 500, rng)) {
+    kinematics::JointJacobian analytic;
     ASSERT_TRUE(machine.kinematics().jacobian(pose, analytic).ok());
     ASSERT_EQ(analytic.rows(), machine.kinematics().joint_count());
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       if (!machine.kinematics().dof().controls(axis)) {
         EXPECT_EQ(analytic.col(axis).cwiseAbs().maxCoeff(), 0.0);
         continue;
@@ -120,18 +122,20 @@ TEST_P(EveryExampleMachine, JacobianMatchesFiniteDifferences) {
       // Richardson-extrapolated central difference, independent of numerical_jacobian().
       const double step = axis < 3 ? 1e-3 : 1e-5;
       const auto difference = [&](double h) {
-        Vector6d plus = pose.as_vector(), minus = pose.as_vector();
+        geometry::Vector6d plus = pose.as_vector(), minus = pose.as_vector();
         plus[axis] += h;
         minus[axis] -= h;
-        JointVector joints_plus, joints_minus;
-        EXPECT_TRUE(machine.kinematics().inverse(Pose::from_vector(plus), joints_plus).ok());
-        EXPECT_TRUE(machine.kinematics().inverse(Pose::from_vector(minus), joints_minus).ok());
-        return JointVector((joints_plus - joints_minus) / (2 * h));
+        kinematics::JointVector joints_plus, joints_minus;
+        EXPECT_TRUE(
+            machine.kinematics().inverse(geometry::Pose::from_vector(plus), joints_plus).ok());
+        EXPECT_TRUE(
+            machine.kinematics().inverse(geometry::Pose::from_vector(minus), joints_minus).ok());
+        return kinematics::JointVector((joints_plus - joints_minus) / (2 * h));
       };
-      const JointVector numeric = (4.0 * difference(step / 2) - difference(step)) / 3.0;
+      const kinematics::JointVector numeric = (4.0 * difference(step / 2) - difference(step)) / 3.0;
       const double scale = 1.0 + numeric.cwiseAbs().maxCoeff();
       EXPECT_LT((numeric - analytic.col(axis)).cwiseAbs().maxCoeff(), 1e-6 * scale)
-          << "axis " << kAxisNames[axis];
+          << "axis " << geometry::kAxisNames[axis];
     }
   }
 }
@@ -139,12 +143,12 @@ TEST_P(EveryExampleMachine, JacobianMatchesFiniteDifferences) {
 TEST_P(EveryExampleMachine, ForwardAlongAPathAlwaysSucceeds) {
   // A circle of radius 20 mm about home in the first two controlled axes (a tilt circle of 5 deg
   // on 6-DOF machines), sampled finely, solved by FK seeded with the previous sample.
-  const Machine machine = test::load_example(GetParam());
-  const Dof dof = machine.kinematics().dof();
-  std::vector<Pose> path;
+  const machine::Machine machine = test::load_example(GetParam());
+  const geometry::Dof dof = machine.kinematics().dof();
+  std::vector<geometry::Pose> path;
   for (int i = 0; i <= 5000; ++i) {
     const double phase = 2 * M_PI * i / 5000.0;
-    Vector6d values = machine.home().as_vector();
+    geometry::Vector6d values = machine.home().as_vector();
     int used = 0;
     for (int axis = 0; axis < 3 && used < 2; ++axis) {
       if (!dof.controls(axis)) continue;
@@ -152,16 +156,16 @@ TEST_P(EveryExampleMachine, ForwardAlongAPathAlwaysSucceeds) {
       ++used;
     }
     if (dof.any_rotation()) {
-      values[3] += degrees_to_radians(5.0) * std::sin(phase);
-      values[4] += degrees_to_radians(5.0) * (std::cos(phase) - 1.0);
+      values[3] += geometry::degrees_to_radians(5.0) * std::sin(phase);
+      values[4] += geometry::degrees_to_radians(5.0) * (std::cos(phase) - 1.0);
     }
-    path.push_back(Pose::from_vector(values));
+    path.push_back(geometry::Pose::from_vector(values));
   }
-  std::vector<JointVector> joints(path.size());
-  std::vector<Status> statuses(path.size());
+  std::vector<kinematics::JointVector> joints(path.size());
+  std::vector<kinematics::Status> statuses(path.size());
   machine.kinematics().inverse_batch(path, joints, statuses);
-  for (const Status& status : statuses) ASSERT_TRUE(status.ok());
-  std::vector<Pose> solved(path.size());
+  for (const kinematics::Status& status : statuses) ASSERT_TRUE(status.ok());
+  std::vector<geometry::Pose> solved(path.size());
   machine.kinematics().forward_path(joints, machine.home(), solved, statuses);
   for (std::size_t i = 0; i < path.size(); ++i) {
     ASSERT_TRUE(statuses[i].ok()) << "sample " << i;
@@ -173,24 +177,24 @@ TEST_P(EveryExampleMachine, ForwardAlongAPathAlwaysSucceeds) {
 // struts' plane, and home lies on the other side of the spheres' centres from the one in home's
 // assembly mode. FK chose by that side and refused the pose IK accepts.
 TEST(TriaglideForward, ChoosesTheCandidateInTheSeedsAssemblyMode) {
-  const Machine machine = test::load_example("triaglide.toml");
-  JointVector joints(3);
+  const machine::Machine machine = test::load_example("triaglide.toml");
+  kinematics::JointVector joints(3);
   joints << -55.255987, 78.861922, 144.881560;
-  Pose solved = machine.home();
-  const Status status = machine.forward(joints, solved);
+  geometry::Pose solved = machine.home();
+  const kinematics::Status status = machine.forward(joints, solved);
   ASSERT_TRUE(status.ok()) << machine.describe(status);
   EXPECT_NEAR(solved.position_mm.x(), -69.584789, 1e-6);
   EXPECT_NEAR(solved.position_mm.y(), 39.474569, 1e-6);
   EXPECT_NEAR(solved.position_mm.z(), 174.179306, 1e-6);
-  JointVector back;
+  kinematics::JointVector back;
   ASSERT_TRUE(machine.inverse(solved, back).ok());
   EXPECT_LE((back - joints).cwiseAbs().maxCoeff(), 1e-9);
   // The mirror image (the other intersection) gives the same joints in the other assembly mode:
   // IK refuses it, and FK seeded there at the model's level returns it, not home's.
-  Pose mirror = Pose::from_vector(Vector6d::Zero());
+  geometry::Pose mirror = geometry::Pose::from_vector(geometry::Vector6d::Zero());
   mirror.position_mm = {-69.49546134602504, 39.44374538926106, 174.14889118928411};
-  EXPECT_EQ(machine.inverse(mirror, back).code, StatusCode::other_assembly);
-  Pose from_mirror = mirror;
+  EXPECT_EQ(machine.inverse(mirror, back).code, kinematics::StatusCode::other_assembly);
+  geometry::Pose from_mirror = mirror;
   ASSERT_TRUE(machine.kinematics().forward(joints, from_mirror).ok());
   EXPECT_LE((from_mirror.position_mm - mirror.position_mm).norm(), 1e-9);
 }
@@ -199,29 +203,29 @@ TEST(TriaglideForward, ChoosesTheCandidateInTheSeedsAssemblyMode) {
 // from the triaglide pose through the struts' plane, with one row of joints no strut
 // reaches in the middle. Only that row fails; the next is solved from the last good pose.
 TEST(TriaglideForward, AFailedRowOfAPathFailsAlone) {
-  const Machine machine = test::load_example("triaglide.toml");
+  const machine::Machine machine = test::load_example("triaglide.toml");
   const Eigen::Vector3d start(-69.5847887844257, 39.47456913822882, 174.17930640982385);
-  std::vector<Pose> path;
+  std::vector<geometry::Pose> path;
   for (int i = 0; i < 4000; ++i) {
     const double turn = 4.0 * M_PI * i / 3999.0;
-    Pose pose = Pose::from_vector(Vector6d::Zero());
+    geometry::Pose pose = geometry::Pose::from_vector(geometry::Vector6d::Zero());
     pose.position_mm =
         start + Eigen::Vector3d(20.0 * std::cos(turn + M_PI / 2),
                                 20.0 * std::sin(turn + M_PI / 2) - 20.0, 5.0 * turn / (2.0 * M_PI));
     path.push_back(pose);
   }
-  std::vector<JointVector> joints(path.size());
-  std::vector<Status> statuses(path.size());
+  std::vector<kinematics::JointVector> joints(path.size());
+  std::vector<kinematics::Status> statuses(path.size());
   machine.kinematics().inverse_batch(path, joints, statuses);
-  for (const Status& status : statuses) ASSERT_TRUE(status.ok());
+  for (const kinematics::Status& status : statuses) ASSERT_TRUE(status.ok());
   const std::size_t bad = path.size() / 2;
   joints[bad] << -400.0, 800.0, -400.0;  // within the rails' limits, too far apart to meet
-  std::vector<Pose> solved(path.size());
+  std::vector<geometry::Pose> solved(path.size());
   machine.kinematics().forward_path(joints, machine.home(), solved, statuses);
   int failed = 0;
   for (std::size_t i = 0; i < path.size(); ++i) {
     if (i == bad) {
-      EXPECT_EQ(statuses[i].code, StatusCode::unreachable);
+      EXPECT_EQ(statuses[i].code, kinematics::StatusCode::unreachable);
       continue;
     }
     failed += statuses[i].ok() ? 0 : 1;
@@ -236,24 +240,24 @@ TEST(TriaglideForward, AFailedRowOfAPathFailsAlone) {
 // The sign of det(d joints / d pose) over the controlled coordinates: which side of the
 // singularities a pose is on.
 // d joints / d pose over the controlled coordinates only; empty where there is no Jacobian.
-Eigen::MatrixXd controlled_jacobian(const Machine& machine, const Pose& pose) {
-  JointJacobian jacobian;
+Eigen::MatrixXd controlled_jacobian(const machine::Machine& machine, const geometry::Pose& pose) {
+  kinematics::JointJacobian jacobian;
   if (!machine.kinematics().jacobian(pose, jacobian).ok()) return {};
-  const Dof dof = machine.kinematics().dof();
+  const geometry::Dof dof = machine.kinematics().dof();
   Eigen::MatrixXd reduced(jacobian.rows(), dof.count());
-  for (int axis = 0, k = 0; axis < kPoseSize; ++axis) {
+  for (int axis = 0, k = 0; axis < geometry::kPoseSize; ++axis) {
     if (dof.controls(axis)) reduced.col(k++) = jacobian.col(axis);
   }
   return reduced;
 }
 
-double determinant_sign(const Machine& machine, const Pose& pose) {
+double determinant_sign(const machine::Machine& machine, const geometry::Pose& pose) {
   const Eigen::MatrixXd reduced = controlled_jacobian(machine, pose);
   if (reduced.size() == 0) return 0.0;
   return reduced.rows() == reduced.cols() ? std::copysign(1.0, reduced.determinant()) : 0.0;
 }
 
-std::string text(const Pose& pose) {
+std::string text(const geometry::Pose& pose) {
   std::ostringstream out;
   out << pose.as_vector().transpose();
   return out.str();
@@ -261,12 +265,13 @@ std::string text(const Pose& pose) {
 
 // The smallest singular value of d joints / d pose over the controlled coordinates (mm per mm,
 // rad per rad): how much the joints move per unit of the least visible pose motion.
-double smallest_singular_value(const Machine& machine, const Pose& pose) {
+double smallest_singular_value(const machine::Machine& machine, const geometry::Pose& pose) {
   Eigen::MatrixXd reduced = controlled_jacobian(machine, pose);
   if (reduced.size() == 0) return 0.0;
   // A rotary joint's rad on a 100 mm lever (test::dexterity's scale; a delta's arm is 100-300).
   for (int joint = 0; joint < machine.kinematics().joint_count(); ++joint) {
-    if (machine.kinematics().joint_kind(joint) == JointKind::rotary) reduced.row(joint) *= 100.0;
+    if (machine.kinematics().joint_kind(joint) == kinematics::JointKind::rotary)
+      reduced.row(joint) *= 100.0;
   }
   return reduced.jacobiSvd().singularValues().minCoeff();
 }
@@ -281,23 +286,24 @@ constexpr double kPinnedSingularValue = 1e-2;
 // included. A pose IK accepts across a singularity from home (det J of the other sign: a hexapod
 // or hexaglide at the corners of its box) is another assembly branch: FK never returns it.
 TEST_P(EveryExampleMachine, ForwardReturnsEveryPoseInverseAcceptsFromHomeAndAlongAPath) {
-  const Machine machine = test::load_example(GetParam());
+  const machine::Machine machine = test::load_example(GetParam());
   std::mt19937_64 rng(31);
-  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 3000, rng, 25.0, 0.0);
+  const std::vector<geometry::Pose> poses =
+      test::sample_reachable_poses(machine, 3000, rng, 25.0, 0.0);
   const double home_sign = determinant_sign(machine, machine.home());
-  Pose previous = machine.home();
+  geometry::Pose previous = machine.home();
   int failures = 0;
   int other_branch = 0;
   double worst_mm = 0.0;
-  for (const Pose& pose : poses) {
-    JointVector joints;
+  for (const geometry::Pose& pose : poses) {
+    kinematics::JointVector joints;
     ASSERT_TRUE(machine.inverse(pose, joints).ok());
     const bool pinned = smallest_singular_value(machine, pose) >= kPinnedSingularValue;
     const bool home_side = home_sign == 0.0 || determinant_sign(machine, pose) == home_sign;
     other_branch += home_side ? 0 : 1;
-    for (const Pose& seed : {machine.home(), previous}) {
-      Pose solved = seed;
-      const Status status = machine.forward(joints, solved);
+    for (const geometry::Pose& seed : {machine.home(), previous}) {
+      geometry::Pose solved = seed;
+      const kinematics::Status status = machine.forward(joints, solved);
       if (!home_side) {
         const double error = position_error(machine, solved, pose) + angle_error(solved, pose);
         EXPECT_TRUE(!status.ok() || error > 1e-3) << "the other branch's pose " << text(pose);
@@ -317,7 +323,7 @@ TEST_P(EveryExampleMachine, ForwardReturnsEveryPoseInverseAcceptsFromHomeAndAlon
         EXPECT_LE(error, 1e-9) << text(pose) << " from " << text(seed);
         worst_mm = std::max(worst_mm, error);
       } else {
-        JointVector back;
+        kinematics::JointVector back;
         ASSERT_TRUE(machine.inverse(solved, back).ok()) << text(pose);
         EXPECT_LE((back - joints).cwiseAbs().maxCoeff(), 1e-10)
             << text(pose) << " from " << text(seed);
@@ -326,7 +332,7 @@ TEST_P(EveryExampleMachine, ForwardReturnsEveryPoseInverseAcceptsFromHomeAndAlon
     }
   }
   EXPECT_EQ(failures, 0);
-  RecordProperty("worst_mm", formatted_number("%.3g", worst_mm));
+  RecordProperty("worst_mm", kinematics::formatted_number("%.3g", worst_mm));
   RecordProperty("other_branch", other_branch);
 }
 

@@ -242,7 +242,7 @@ INSTANTIATE_TEST_SUITE_P(Table, SynchronisedErrors, ::testing::ValuesIn(kErrors)
 
 motion::PlanReport plan(const std::string& program) {
   // The hexapod's Cartesian limit is 1000 mm/s^2; its home is X0 Y0 Z1000.
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   struct Ignore final : motion::SampleSink {
     void write(const motion::Sample&) override {}
   } ignore;
@@ -295,7 +295,8 @@ TEST(SynchronisedTiming, SpindleStoppedOrAtS0IsRefusedAtTheMovesLine) {
 }
 
 std::vector<std::string> posted(const std::string& program) {
-  const Machine mill = test::load_example("matrix-mill.toml");  // linear, home X300 Y200 Z-100
+  const machine::Machine mill =
+      test::load_example("matrix-mill.toml");  // linear, home X300 Y200 Z-100
   const auto path = write_program(program);
   std::vector<std::string> lines;
   post::post_program(mill, path, {}, {}, [&](const std::string& line) { lines.push_back(line); });
@@ -334,7 +335,7 @@ TEST(SynchronisedTiming, VerifyReadsAJointProgramFedPerRevolution) {
   // The 5-axis machine (identity X Y Z, C passed through at 30 deg/s) checked against its own
   // job in G95: F1 mm/rev at S600 is 600 mm/min, X10 takes 1 s, so C turns at 90 deg/s. With the
   // spindle stopped the block cannot be timed: refused at its line.
-  const Machine trt = test::load_example("linuxcnc-xyzac-trt.toml");
+  const machine::Machine trt = test::load_example("linuxcnc-xyzac-trt.toml");
   const auto job = write_program("G21 G90 S600 M3 G95\nG1 F1 X10 C90\nM2\n");
   const verify::VerifyReport report = verify::verify_joint_program(trt, job, job, {});
   std::filesystem::remove(job);

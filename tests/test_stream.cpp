@@ -76,15 +76,15 @@ TEST(GrblReplies, Meanings) {
 }
 
 TEST(GrblZero, WallPlotter) {
-  const Machine machine = test::load_example("wall-plotter.toml");
-  JointVector joints(2);
+  const machine::Machine machine = test::load_example("wall-plotter.toml");
+  kinematics::JointVector joints(2);
   joints << 1025.9142, 1204.15946;
   EXPECT_EQ(post::set_position_line(machine, post::Dialect::grbl, joints),
             "G10 L20 P1 X1025.914 Y1204.159");
 }
 
 TEST(GrblPosition, ThroughForwardKinematics) {
-  const Machine machine = test::load_example("wall-plotter.toml");
+  const machine::Machine machine = test::load_example("wall-plotter.toml");
   // Cords of 1250 mm from anchors 1500 mm apart meet 750 mm across, sqrt(1250^2 - 750^2) = 1000
   // down.
   const auto pose = tool_pose(machine, {1250.0, 1250.0, 0.0}, machine.home());

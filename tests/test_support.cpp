@@ -27,8 +27,8 @@ std::filesystem::path example_machine_path(const std::string& file_name) {
   return std::filesystem::path(PKM_SOURCE_DIR) / "examples" / "machines" / file_name;
 }
 
-Machine load_example(const std::string& file_name) {
-  return load_machine(example_machine_path(file_name));
+machine::Machine load_example(const std::string& file_name) {
+  return machine::load_machine(example_machine_path(file_name));
 }
 
 std::vector<std::string> example_machine_files() {
@@ -41,17 +41,17 @@ std::vector<std::string> example_machine_files() {
   return files;
 }
 
-double dexterity(const Kinematics& kinematics, const Pose& pose) {
-  JointJacobian jacobian;
+double dexterity(const kinematics::Kinematics& kinematics, const geometry::Pose& pose) {
+  kinematics::JointJacobian jacobian;
   if (!kinematics.jacobian(pose, jacobian).ok()) return 0.0;
   Eigen::MatrixXd reduced(jacobian.rows(), kinematics.dof().count());
-  for (int axis = 0, k = 0; axis < kPoseSize; ++axis) {
+  for (int axis = 0, k = 0; axis < geometry::kPoseSize; ++axis) {
     if (!kinematics.dof().controls(axis)) continue;
     reduced.col(k++) = jacobian.col(axis) * (axis < 3 ? 1.0 : 1.0 / 100.0);
   }
   // Rotary joints (a matrix machine's pass-through axes) read rad: on the same 100 mm/rad scale.
   for (int joint = 0; joint < kinematics.joint_count(); ++joint) {
-    if (kinematics.joint_kind(joint) == JointKind::rotary) reduced.row(joint) *= 100.0;
+    if (kinematics.joint_kind(joint) == kinematics::JointKind::rotary) reduced.row(joint) *= 100.0;
   }
   const Eigen::VectorXd singular_values = reduced.jacobiSvd().singularValues();
   return singular_values.minCoeff() / singular_values.maxCoeff();
@@ -65,25 +65,26 @@ std::string test_name(const std::string& file_name) {
   return name;
 }
 
-std::vector<Pose> sample_reachable_poses(const Machine& machine, int count, std::mt19937_64& rng,
-                                         double max_angle_deg, double min_dexterity) {
-  const std::vector<AxisExtent> extents = reachable_extent(machine);
-  std::vector<Pose> poses;
-  JointVector joints;
+std::vector<geometry::Pose> sample_reachable_poses(const machine::Machine& machine, int count,
+                                                   std::mt19937_64& rng, double max_angle_deg,
+                                                   double min_dexterity) {
+  const std::vector<machine::AxisExtent> extents = machine::reachable_extent(machine);
+  std::vector<geometry::Pose> poses;
+  kinematics::JointVector joints;
   const long max_attempts = 1000L * count;
   for (long attempt = 0; attempt < max_attempts && static_cast<int>(poses.size()) < count;
        ++attempt) {
-    Vector6d values = machine.home().as_vector();
-    for (const AxisExtent& extent : extents) {
+    geometry::Vector6d values = machine.home().as_vector();
+    for (const machine::AxisExtent& extent : extents) {
       double low = extent.min;
       double high = extent.max;
       if (extent.axis >= 3) {
-        low = std::max(low, degrees_to_radians(-max_angle_deg));
-        high = std::min(high, degrees_to_radians(max_angle_deg));
+        low = std::max(low, geometry::degrees_to_radians(-max_angle_deg));
+        high = std::min(high, geometry::degrees_to_radians(max_angle_deg));
       }
       values[extent.axis] = std::uniform_real_distribution<double>(low, high)(rng);
     }
-    const Pose pose = Pose::from_vector(values);
+    const geometry::Pose pose = geometry::Pose::from_vector(values);
     if (!machine.inverse(pose, joints).ok()) continue;
     if (min_dexterity > 0.0 && dexterity(machine.kinematics(), pose) < min_dexterity) continue;
     poses.push_back(pose);
@@ -94,11 +95,11 @@ std::vector<Pose> sample_reachable_poses(const Machine& machine, int count, std:
   return poses;
 }
 
-std::vector<JointSpec> test_model_joints_uv() {
-  std::vector<JointSpec> joints(2);
+std::vector<machine::JointSpec> test_model_joints_uv() {
+  std::vector<machine::JointSpec> joints(2);
   joints[0].name = "u";
   joints[1].name = "v";
-  for (JointSpec& joint : joints) {
+  for (machine::JointSpec& joint : joints) {
     joint.min = -1000.0;
     joint.max = 1000.0;
     joint.max_velocity = 100.0;
@@ -137,19 +138,19 @@ std::string hexapod_text(const std::vector<std::array<double, 2>>& base,
 
 std::vector<std::array<double, 2>> platform_off_base(std::vector<std::array<double, 2>> points) {
   for (std::size_t leg = 0; leg < points.size(); ++leg) {
-    const double towards = degrees_to_radians(100.0 * static_cast<double>(leg));
+    const double towards = geometry::degrees_to_radians(100.0 * static_cast<double>(leg));
     points[leg][0] += 10.0 * std::cos(towards);
     points[leg][1] += 10.0 * std::sin(towards);
   }
   return points;
 }
 
-Machine parallel_leg_hexapod(const std::vector<std::array<double, 2>>& points,
-                             const std::string& extra_keys) {
-  Machine machine =
-      parse_machine(hexapod_text(points, platform_off_base(points), extra_keys), "parallel.toml");
+machine::Machine parallel_leg_hexapod(const std::vector<std::array<double, 2>>& points,
+                                      const std::string& extra_keys) {
+  machine::Machine machine = machine::parse_machine(
+      hexapod_text(points, platform_off_base(points), extra_keys), "parallel.toml");
   std::vector<double> values;
-  for (const Parameter& parameter : machine.kinematics().parameters()) {
+  for (const kinematics::Parameter& parameter : machine.kinematics().parameters()) {
     values.push_back(parameter.value);
   }
   constexpr int kPerLeg = 7;  // base x y z, platform x y z, offset
@@ -164,7 +165,7 @@ Machine parallel_leg_hexapod(const std::vector<std::array<double, 2>>& points,
 std::vector<std::array<double, 2>> hexagon_points() {
   std::vector<std::array<double, 2>> points;
   for (int k = 0; k < 6; ++k) {
-    const double phi = degrees_to_radians(30.0 + 60.0 * k);
+    const double phi = geometry::degrees_to_radians(30.0 + 60.0 * k);
     points.push_back({300.0 * std::cos(phi), 300.0 * std::sin(phi)});
   }
   return points;

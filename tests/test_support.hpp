@@ -33,7 +33,7 @@ inline double distance_to_polyline(const Eigen::Vector3d& p,
 }
 
 std::filesystem::path example_machine_path(const std::string& file_name);
-Machine load_example(const std::string& file_name);
+machine::Machine load_example(const std::string& file_name);
 // File names of every machine in examples/machines, sorted.
 std::vector<std::string> example_machine_files();
 // A file name as a GoogleTest parameter name: its stem, non-alphanumerics as '_'.
@@ -42,18 +42,20 @@ std::string test_name(const std::string& file_name);
 // Ratio of smallest to largest singular value of d joints / d pose over the controlled
 // coordinates, angles scaled by 100 mm/rad: 0 at a singularity, 1 where every direction of tool
 // motion moves the joints alike.
-double dexterity(const Kinematics& kinematics, const Pose& pose);
+double dexterity(const kinematics::Kinematics& kinematics, const geometry::Pose& pose);
 
 // Uniform random poses in the box spanned by the machine's reachable extent (angles clipped to
 // +-max_angle_deg), kept only where the machine's IK and joint limits accept them and the
 // dexterity is at least min_dexterity: poses a machine can work at, not its singular fringe.
-std::vector<Pose> sample_reachable_poses(const Machine& machine, int count, std::mt19937_64& rng,
-                                         double max_angle_deg = 25.0, double min_dexterity = 0.0);
+std::vector<geometry::Pose> sample_reachable_poses(const machine::Machine& machine, int count,
+                                                   std::mt19937_64& rng,
+                                                   double max_angle_deg = 25.0,
+                                                   double min_dexterity = 0.0);
 
 // [[joints]] tables leg1..legN, linear from `min` to `max` mm.
 std::string joints_text(int count, double min, double max);
 // Joints u and v of a test model in code: travel -1000..1000 mm, 100 mm/s, 1000 mm/s^2.
-std::vector<JointSpec> test_model_joints_uv();
+std::vector<machine::JointSpec> test_model_joints_uv();
 // A hexapod's machine file: joints at `base` and `platform` [x, y, 0], `extra_keys` in
 // [kinematics], home 500 mm above the base.
 std::string hexapod_text(const std::vector<std::array<double, 2>>& base,
@@ -67,8 +69,8 @@ std::vector<std::array<double, 2>> platform_off_base(std::vector<std::array<doub
 // (docs/bad-input.md); but leg limits are the model's, per pose, and parallel legs make them
 // computable by hand. So the file gives platform_off_base, which loads, and the model then
 // takes the platform straight above the base.
-Machine parallel_leg_hexapod(const std::vector<std::array<double, 2>>& points,
-                             const std::string& extra_keys);
+machine::Machine parallel_leg_hexapod(const std::vector<std::array<double, 2>>& points,
+                                      const std::string& extra_keys);
 // Six joints on a circle of radius 300 mm, at 30, 90, ..., 330 deg.
 std::vector<std::array<double, 2>> hexagon_points();
 // Legs 1 and 2 60 mm apart along x, the others at least 300 mm apart across x.

@@ -36,22 +36,22 @@ std::string read_text(const fs::path& path) {
 // The test frame (tests/data/maslow-tension.toml) as the ideal model sees it: chains tied at the
 // bit, no mass, no tension limits; the same joints and Cartesian limits. The planner bounds
 // nothing by tensions on it.
-Machine frame_without_tensions() {
+machine::Machine frame_without_tensions() {
   std::istringstream lines(read_text(kData / "maslow-tension.toml"));
   std::string text, line;
   while (std::getline(lines, line)) {
     if (line.starts_with("effector_") || line.starts_with("tension_limits")) continue;
     text += line + "\n";
   }
-  return parse_machine(text, "maslow-tension.toml without tensions");
+  return machine::parse_machine(text, "maslow-tension.toml without tensions");
 }
 
-Machine frame() {
-  return load_machine(kData / "maslow-tension.toml");
+machine::Machine frame() {
+  return machine::load_machine(kData / "maslow-tension.toml");
 }
 
-const CablePlotterKinematics& cables(const Machine& machine) {
-  return dynamic_cast<const CablePlotterKinematics&>(machine.kinematics());
+const kinematics::CablePlotterKinematics& cables(const machine::Machine& machine) {
+  return dynamic_cast<const kinematics::CablePlotterKinematics&>(machine.kinematics());
 }
 
 // Maslow jobs are written about the sheet's centre.
@@ -72,7 +72,7 @@ using test::TempProgram;
 // statics of the machine alone: the planner's own bound is not used.
 class TensionCheck final : public SampleSink {
  public:
-  TensionCheck(const CablePlotterKinematics& kinematics, double min_N, double max_N)
+  TensionCheck(const kinematics::CablePlotterKinematics& kinematics, double min_N, double max_N)
       : kinematics_(kinematics), min_N_(min_N), max_N_(max_N) {}
 
   void write(const Sample& sample) override {
@@ -95,8 +95,9 @@ class TensionCheck final : public SampleSink {
     const Eigen::Vector2d v0 = (at.pose.head<2>() - before.pose.head<2>()) / dt0;
     const Eigen::Vector2d v1 = (after.pose.head<2>() - at.pose.head<2>()) / dt1;
     const Eigen::Vector2d acceleration = 2.0 * (v1 - v0) / (dt0 + dt1);
-    CableStatics statics;
-    const Status status = kinematics_.statics(Pose::from_vector(at.pose), acceleration, statics);
+    kinematics::CableStatics statics;
+    const kinematics::Status status =
+        kinematics_.statics(geometry::Pose::from_vector(at.pose), acceleration, statics);
     ++checked;
     double margin = -1.0;
     if (status.ok()) {
@@ -119,7 +120,7 @@ class TensionCheck final : public SampleSink {
     }
   }
 
-  const CablePlotterKinematics& kinematics_;
+  const kinematics::CablePlotterKinematics& kinematics_;
   double min_N_, max_N_;
   Sample window_[3];
   long count_ = 0;
@@ -160,7 +161,7 @@ home = [500.0, -300.0]
 // a_y <= 2 sin theta 20 N / 1 kg - g; braking (or accelerating downwards) lowers it, most where
 // sin theta is greatest (h = 500): -a_y <= g - 2 sin theta 2 N / 1 kg. The moves use 0.8 of it.
 TEST(TensionLimit, AlongAVerticalLineOfASymmetricVByHand) {
-  const Machine vee = parse_machine(kVee, "vee.toml");
+  const machine::Machine vee = machine::parse_machine(kVee, "vee.toml");
   const std::optional<TensionLimit> limit = TensionLimit::of(vee.kinematics());
   ASSERT_TRUE(limit.has_value());
   Segment line;
@@ -190,10 +191,10 @@ TEST(TensionLimit, AlongAVerticalLineOfASymmetricVByHand) {
 // to (cos phi, sin phi): the velocity's change v 2 sin phi points up and raises both tensions
 // to m (g + c) / (2 sin theta) <= 20 N, c <= 18.4776 m/s^2, of which the junction has 0.2.
 TEST(TensionLimit, AJunctionOfASymmetricVByHand) {
-  const Machine vee = parse_machine(kVee, "vee.toml");
+  const machine::Machine vee = machine::parse_machine(kVee, "vee.toml");
   const std::optional<TensionLimit> limit = TensionLimit::of(vee.kinematics());
   ASSERT_TRUE(limit.has_value());
-  Vector6d at;
+  geometry::Vector6d at;
   at << 500.0, -500.0, 0.0, 0.0, 0.0, 0.0;
   const double phi = 0.01;
   const Eigen::Vector3d out(std::cos(phi), -std::sin(phi), 0.0),
@@ -210,14 +211,14 @@ TEST(TensionLimit, AJunctionOfASymmetricVByHand) {
   // Slow enough already: unchanged.
   EXPECT_EQ(limit->junction_speed(at, out, in, 1000.0, 1e-3, 100.0), 100.0);
   // Machines without a hanging mass have no tension limit.
-  EXPECT_FALSE(TensionLimit::of(load_machine(fs::path(PKM_SOURCE_DIR) / "examples" / "machines" /
-                                             "wall-plotter.toml")
+  EXPECT_FALSE(TensionLimit::of(machine::load_machine(fs::path(PKM_SOURCE_DIR) / "examples" /
+                                                      "machines" / "wall-plotter.toml")
                                     .kinematics())
                    .has_value());
 }
 
 TEST(TensionLimitedPlan, ReportsTheMoveAndTheCableThatLimitedIt) {
-  const Machine vee = parse_machine(kVee, "vee.toml");
+  const machine::Machine vee = machine::parse_machine(kVee, "vee.toml");
   // Home (500, -300) down to h = 500 and back up at 100 mm/s: 2 s each at the feed, plus the
   // ramps of each at the tension-limited 5582.58 mm/s^2 (v / A = 0.0179 s).
   const TempProgram job("G1 Y-500 F6000\nG1 Y-300\nM2\n");
@@ -262,8 +263,8 @@ TEST(TensionLimitedPlan, APoseOutsideTheLimitsAtRestNamesTheCableAndItsTension) 
 // joint's 2000 mm: h = sqrt(2000^2 - 500^2)) up to the anchors: there T = m g / (2 sin theta) on
 // both cables, above 20 N where h < 500 tan(asin(g / 40)) = 126.45 mm: the top row alone.
 TEST(TensionRegion, OnTheAxisOfASymmetricVByHand) {
-  const Machine vee = parse_machine(kVee, "vee.toml");
-  const std::optional<TensionRegion> region = tension_region(vee, 1, 20);
+  const machine::Machine vee = machine::parse_machine(kVee, "vee.toml");
+  const std::optional<machine::TensionRegion> region = machine::tension_region(vee, 1, 20);
   ASSERT_TRUE(region.has_value());
   const double bottom = std::sqrt(2000.0 * 2000.0 - 500.0 * 500.0);  // 1936.49 mm
   EXPECT_NEAR(region->min_mm.y(), -bottom, 1e-5);
@@ -283,8 +284,8 @@ TEST(TensionRegion, OnTheAxisOfASymmetricVByHand) {
   EXPECT_NEAR(region->lowest_N, 5.07, 0.01);
   EXPECT_NEAR((region->highest_at_mm - Eigen::Vector2d(500.0, -0.5 * cell)).norm(), 0.0, 1e-5);
   // Machines without a hanging mass have none.
-  EXPECT_FALSE(tension_region(load_machine(fs::path(PKM_SOURCE_DIR) / "examples" / "machines" /
-                                           "wall-plotter.toml"))
+  EXPECT_FALSE(machine::tension_region(machine::load_machine(fs::path(PKM_SOURCE_DIR) / "examples" /
+                                                             "machines" / "wall-plotter.toml"))
                    .has_value());
 }
 
@@ -326,8 +327,8 @@ struct Outcome {
 
 // Plans `job` on `machine` and checks its samples with the test frame's statics against its
 // limits, 5 and 300 N.
-Outcome plan_and_check(const Machine& machine, const fs::path& job) {
-  const Machine checked_on = frame();
+Outcome plan_and_check(const machine::Machine& machine, const fs::path& job) {
+  const machine::Machine checked_on = frame();
   TensionCheck check(cables(checked_on), 5.0, 300.0);
   Outcome outcome;
   outcome.report = plan_program(machine, job, {}, on_the_sheet(), check);

@@ -71,9 +71,9 @@ TEST_F(TextFileTest, RefusesWhatIsNotARegularFileAtOnce) {
 TEST_F(TextFileTest, AMachineFileThatIsAFifoOrADeviceIsRefusedWithItsName) {
   for (const fs::path& path : {fifo("machine.toml"), fs::path("/dev/zero")}) {
     try {
-      load_machine(path);
+      machine::load_machine(path);
       FAIL() << "loaded " << path;
-    } catch (const MachineFileError& error) {
+    } catch (const machine::MachineFileError& error) {
       EXPECT_EQ(std::string(error.what()).rfind(path.string() + ": cannot open (it is a ", 0), 0u)
           << error.what();
     }

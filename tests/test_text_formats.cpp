@@ -248,7 +248,7 @@ std::vector<std::string> csv_rows(const fs::path& path) {
 }
 
 // Samples whose values are every kind a CSV row must keep: negatives, -0, tiny, huge, ties.
-std::vector<motion::Sample> edge_samples(const Machine& machine, int count) {
+std::vector<motion::Sample> edge_samples(const machine::Machine& machine, int count) {
   // 0.0078125 and 0.0009765625 are exact ties at 6 and 9 decimals (even digit: down).
   const double edges[] = {-0.0,   1e-10,     -5e-10,           1.0000000005, 0.001953125,
                           -1e300, 0.0078125, 0.0009765625,     1e15,         -1060.531484,
@@ -272,14 +272,14 @@ std::vector<motion::Sample> edge_samples(const Machine& machine, int count) {
 TEST(SampleFilesText, CsvRowsAsPrintfWroteThem) {
   for (const char* machine_file : {"hektor.toml", "pen-plotter.toml", "hexapod-bit.toml"}) {
     SCOPED_TRACE(machine_file);
-    const Machine machine = test::load_example(machine_file);
-    const SampleRows rows(machine);
+    const machine::Machine machine = test::load_example(machine_file);
+    const io::SampleRows rows(machine);
     const fs::path path =
         fs::temp_directory_path() / ("pkm-text-rows-" + std::to_string(::getpid()) + ".csv");
     // More rows than one block of the file holds.
     const std::vector<motion::Sample> samples = edge_samples(machine, 3000);
     {
-      auto file = SampleFile::open(path, machine);
+      auto file = io::SampleFile::open(path, machine);
       for (const motion::Sample& s : samples) file->write(s);
       file->commit();
     }
@@ -287,7 +287,7 @@ TEST(SampleFilesText, CsvRowsAsPrintfWroteThem) {
     fs::remove(path);
     ASSERT_EQ(written.size(), samples.size());
     for (std::size_t i = 0; i < samples.size(); ++i) {
-      double row[SampleRows::kMaxColumns];
+      double row[io::SampleRows::kMaxColumns];
       const std::size_t n = rows.fill(samples[i], row);
       ASSERT_EQ(written[i], legacy::csv_row(row, n, rows.pen())) << "row " << i;
     }
@@ -295,13 +295,13 @@ TEST(SampleFilesText, CsvRowsAsPrintfWroteThem) {
 }
 
 TEST(SampleFilesText, NpyRecordsAreTheRowsBytes) {
-  const Machine machine = test::load_example("hexapod-bit.toml");
-  const SampleRows rows(machine);
+  const machine::Machine machine = test::load_example("hexapod-bit.toml");
+  const io::SampleRows rows(machine);
   const fs::path path =
       fs::temp_directory_path() / ("pkm-text-rows-" + std::to_string(::getpid()) + ".npy");
   const std::vector<motion::Sample> samples = edge_samples(machine, 5000);
   {
-    auto file = SampleFile::open(path, machine);
+    auto file = io::SampleFile::open(path, machine);
     for (const motion::Sample& s : samples) file->write(s);
     file->commit();
   }
@@ -314,7 +314,7 @@ TEST(SampleFilesText, NpyRecordsAreTheRowsBytes) {
   EXPECT_NE(bytes.substr(0, header).find("'shape': (                5000,), }"), std::string::npos);
   std::string expected;
   for (const motion::Sample& s : samples) {
-    double row[SampleRows::kMaxColumns];
+    double row[io::SampleRows::kMaxColumns];
     const std::size_t n = rows.fill(s, row);
     expected.append(reinterpret_cast<const char*>(row), n * sizeof(double));
   }

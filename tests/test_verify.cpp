@@ -26,7 +26,8 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kCorpus = fs::path(PKM_SOURCE_DIR).parent_path() / "shared" / "gcode" / "real";
-const Vector6d kSheet = (Vector6d() << 600.0, -800.0, 0.0, 0.0, 0.0, 0.0).finished();
+const geometry::Vector6d kSheet =
+    (geometry::Vector6d() << 600.0, -800.0, 0.0, 0.0, 0.0, 0.0).finished();
 // The issue's square: a closed contour (it ends where it starts) on the wall plotter.
 const char* const kSquare = "G0 X0 Y0\nG1 F400 X5 Y20\nG1 X15\nG1 X15 Y0\nG1 X0\nM2\n";
 
@@ -57,8 +58,8 @@ std::string real_lines(const std::string& file, int first, int last) {
 }
 
 // The body pkm post writes for `job` (line k of the vector is line k + 1 of the file).
-std::vector<std::string> posted(const Machine& machine, const fs::path& job, const Vector6d& origin,
-                                double tolerance_mm) {
+std::vector<std::string> posted(const machine::Machine& machine, const fs::path& job,
+                                const geometry::Vector6d& origin, double tolerance_mm) {
   post::PostOptions options;
   options.tolerance_mm = tolerance_mm;
   options.origin = origin;
@@ -68,8 +69,8 @@ std::vector<std::string> posted(const Machine& machine, const fs::path& job, con
   return lines;
 }
 
-VerifyReport verify(const Machine& machine, const fs::path& joints, const fs::path& job,
-                    const Vector6d& origin, double tolerance_mm) {
+VerifyReport verify(const machine::Machine& machine, const fs::path& joints, const fs::path& job,
+                    const geometry::Vector6d& origin, double tolerance_mm) {
   VerifyOptions options;
   options.tolerance_mm = tolerance_mm;
   options.origin = origin;
@@ -87,24 +88,25 @@ std::string wall_plotter_for_a_servo() {
 }
 
 // The wall plotter with a servo pen: Z below 0 puts it down.
-Machine pen_plotter() {
-  return parse_machine(wall_plotter_for_a_servo() +
-                           "\n[tool]\nz = \"pen\"\ndown_below = 0.0\ndown = \"M280 P0 S30\"\nup = "
-                           "\"M280 P0 S90\"\n",
-                       "wall-plotter-pen.toml");
+machine::Machine pen_plotter() {
+  return machine::parse_machine(
+      wall_plotter_for_a_servo() +
+          "\n[tool]\nz = \"pen\"\ndown_below = 0.0\ndown = \"M280 P0 S30\"\nup = "
+          "\"M280 P0 S90\"\n",
+      "wall-plotter-pen.toml");
 }
 
 // A G1 block to the joints of pose x y (mm, machine coordinates) at a joint feed of 3000 mm/min.
-std::string block_to(const Machine& machine, double x, double y) {
-  JointVector q;
-  EXPECT_TRUE(machine.inverse(Pose::from_mm_deg(x, y, 0.0), q).ok());
+std::string block_to(const machine::Machine& machine, double x, double y) {
+  kinematics::JointVector q;
+  EXPECT_TRUE(machine.inverse(geometry::Pose::from_mm_deg(x, y, 0.0), q).ok());
   char text[96];
   std::snprintf(text, sizeof text, "G1 X%.5f Y%.5f", q[0], q[1]);
   return text;
 }
 
 // Blocks along the straight line from (x0, y0) to (x1, y1), each `step` mm of it.
-void blocks_along(const Machine& machine, double x0, double y0, double x1, double y1,
+void blocks_along(const machine::Machine& machine, double x0, double y0, double x1, double y1,
                   std::vector<std::string>& lines, double step = 1.0) {
   const int pieces = std::max(1, static_cast<int>(std::ceil(std::hypot(x1 - x0, y1 - y0) / step)));
   for (int k = 1; k <= pieces; ++k) {
@@ -182,9 +184,9 @@ struct ProgrammedPath {
   }
 };
 
-ProgrammedPath programmed_path(const Machine& machine, const fs::path& job,
-                               const Vector6d& origin) {
-  const Vector6d home = machine.home().as_vector();
+ProgrammedPath programmed_path(const machine::Machine& machine, const fs::path& job,
+                               const geometry::Vector6d& origin) {
+  const geometry::Vector6d home = machine.home().as_vector();
   const Eigen::Vector3d mask = position_mask(machine);
   motion::SegmentBuilder builder(home, origin, false);
   ProgrammedPath path;
@@ -235,26 +237,26 @@ double distance_to_path(const Eigen::Vector3d& p, const ProgrammedPath& path) {
 
 // The largest distance from the whole job of the tool path of `joints`, FK at 1,001 points of
 // every block, read back by the interpreter (pen lines skipped).
-double independent_max_mm(const Machine& machine, const fs::path& joints, const fs::path& job,
-                          const Vector6d& origin) {
+double independent_max_mm(const machine::Machine& machine, const fs::path& joints,
+                          const fs::path& job, const geometry::Vector6d& origin) {
   const ProgrammedPath path = programmed_path(machine, job, origin);
   const Eigen::Vector3d mask = position_mask(machine);
-  JointVector previous;
+  kinematics::JointVector previous;
   EXPECT_TRUE(machine.inverse(machine.home(), previous).ok());
   gcode::InterpreterOptions options;
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
-    const JointSpec& joint = machine.joints()[i];
+    const machine::JointSpec& joint = machine.joints()[i];
     const auto index = std::string("XYZABCUVW").find(joint.axis_letter);
     options.start_position[index] = joint.to_interface(previous[static_cast<int>(i)]);
   }
   options.event_lines = {machine.tool().down_command, machine.tool().up_command};
-  Pose pose = machine.home();
+  geometry::Pose pose = machine.home();
   double worst = 0.0;
   gcode::Interpreter(joints, options).run([&](const gcode::Canon& canon) {
     if (canon.kind != gcode::CanonKind::traverse && canon.kind != gcode::CanonKind::feed) return;
-    JointVector q = previous;
+    kinematics::JointVector q = previous;
     for (std::size_t i = 0; i < machine.joints().size(); ++i) {
-      const JointSpec& joint = machine.joints()[i];
+      const machine::JointSpec& joint = machine.joints()[i];
       q[static_cast<int>(i)] =
           joint.from_interface(canon.end[std::string("XYZABCUVW").find(joint.axis_letter)]);
     }
@@ -271,7 +273,7 @@ double independent_max_mm(const Machine& machine, const fs::path& joints, const 
 // ---- revisits ------------------------------------------------------------------------------
 
 TEST(Verify, FollowsTheIssuesSquareAClosedContour) {
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   const fs::path job = write_file("square.ngc", kSquare);
   const fs::path joints = write_lines("square-joints.ngc", posted(plotter, job, kSheet, 0.01));
   const VerifyReport report = verify(plotter, joints, job, kSheet, 0.011);
@@ -290,7 +292,7 @@ TEST(Verify, FollowsTheIssuesSquareAClosedContour) {
 TEST(Verify, HoldsTheJointProgramToTheJobsPausesToolChangesAndIo) {
   // post carries them in their place (issue 26: they vanished and verify passed the program);
   // a joint program without one, or with one elsewhere, fails.
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   const fs::path job = write_file(
       "commands.ngc",
       "G0 X0 Y0\nG1 F400 X5 Y20\nM0\nT2 M6\nG1 X15\nM62 P1\nM101 P2 Q3\nG1 X15 Y0\nM2\n");
@@ -328,7 +330,7 @@ TEST(Verify, FollowsClosedContoursOfARealDrawing) {
   // Two closed contours of an Inkscape plotter drawing, with their pen-up and pen-down Z moves.
   const std::string cut = real_lines("plotter/inkscape/mandala_cnc_0001.gcode", 351, 404);
   if (cut.empty()) GTEST_SKIP() << "the real corpus (../shared/gcode/real) is absent";
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   const fs::path job = write_file("mandala-cut.ngc", "G21\n" + cut + "M2\n");
   const fs::path joints = write_lines("mandala-joints.ngc", posted(plotter, job, kSheet, 0.01));
   const VerifyReport report = verify(plotter, joints, job, kSheet, 0.0105);
@@ -345,7 +347,7 @@ TEST(Verify, FollowsClosedContoursOfARealDrawing) {
 
 TEST(Verify, FollowsALineRetracedWithThePenUp) {
   // Draw 40 mm along X, lift the pen, travel back along the same line, draw down from there.
-  const Machine plotter = pen_plotter();
+  const machine::Machine plotter = pen_plotter();
   const fs::path job = write_file(
       "retrace.ngc", "G0 X0 Y0\nG1 Z-1 F100\nG1 X40 F400\nG0 Z5\nG0 X0\nG1 Z-1\nG1 Y-30\nM2\n");
   std::vector<std::string> lines = {"G21 G90 G94 F3000"};
@@ -370,7 +372,7 @@ TEST(Verify, FollowsALineRetracedWithThePenUp) {
 
 TEST(Verify, HoldsOneBlockAgainstSeveralShortMoves) {
   // Twenty collinear moves of 0.5 mm (as CAM output splits a line) traced by two blocks of 5 mm.
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   std::string text = "G0 X0 Y0\nF400\n";
   for (int k = 1; k <= 20; ++k) text += "G1 X" + std::to_string(0.5 * k) + "\n";
   const fs::path job = write_file("short-moves.ngc", text + "M2\n");
@@ -396,17 +398,17 @@ TEST(Verify, HoldsOneBlockAgainstSeveralShortMoves) {
 
 TEST(Verify, FollowsStackedHelixPassesOverOneCircle) {
   // The same circle of 30 mm twice, 1 mm apart in Z, on a linear delta (which controls Z).
-  const Machine delta = test::load_example("linear-delta.toml");
+  const machine::Machine delta = test::load_example("linear-delta.toml");
   const fs::path job = write_file("helix.ngc",
                                   "G0 X30 Y0 Z100\nG2 X30 Y0 Z99 I-30 J0 F600\n"
                                   "G2 X30 Y0 Z98 I-30 J0\nG0 Z100\nG0 X0 Y0\nM2\n");
   const fs::path joints =
-      write_lines("helix-joints.ngc", posted(delta, job, Vector6d::Zero(), 0.01));
-  const VerifyReport report = verify(delta, joints, job, Vector6d::Zero(), 0.0105);
+      write_lines("helix-joints.ngc", posted(delta, job, geometry::Vector6d::Zero(), 0.01));
+  const VerifyReport report = verify(delta, joints, job, geometry::Vector6d::Zero(), 0.0105);
   EXPECT_TRUE(report.passed()) << report.max_deviation_mm;
   EXPECT_TRUE(report.covered);
   EXPECT_NEAR(report.job_length_mm, 30.0 + 2.0 * std::hypot(60.0 * M_PI, 1.0) + 2.0 + 30.0, 1e-6);
-  const double independent = independent_max_mm(delta, joints, job, Vector6d::Zero());
+  const double independent = independent_max_mm(delta, joints, job, geometry::Vector6d::Zero());
   EXPECT_GT(independent, 0.001);  // a deviation worth comparing: post's blocks bow this far
   EXPECT_NEAR(report.max_deviation_mm, independent, 0.01 * independent);
   fs::remove(job);
@@ -429,13 +431,13 @@ TEST(Verify, FollowsTheClosedTopCircleOfTheSphereDemo) {
   const std::string rapid = "G0" + circle.substr(2, step_end - 2) + "\nF1000\n";
   const fs::path job =
       write_file("top-circle.ngc", header + rapid + circle.substr(step_end + 1) + "M2\n");
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   const fs::path joints =
-      write_lines("top-joints.ngc", posted(hexapod, job, Vector6d::Zero(), 0.01));
-  const VerifyReport report = verify(hexapod, joints, job, Vector6d::Zero(), 0.01);
+      write_lines("top-joints.ngc", posted(hexapod, job, geometry::Vector6d::Zero(), 0.01));
+  const VerifyReport report = verify(hexapod, joints, job, geometry::Vector6d::Zero(), 0.01);
   EXPECT_TRUE(report.passed()) << report.max_deviation_mm;
   EXPECT_NEAR(report.job_length_mm, report.traced_mm, 1e-3);
-  const double independent = independent_max_mm(hexapod, joints, job, Vector6d::Zero());
+  const double independent = independent_max_mm(hexapod, joints, job, geometry::Vector6d::Zero());
   EXPECT_GT(independent, 1e-4);
   EXPECT_NEAR(report.max_deviation_mm, independent, 0.01 * independent);
   fs::remove(job);
@@ -443,11 +445,11 @@ TEST(Verify, FollowsTheClosedTopCircleOfTheSphereDemo) {
 }
 
 TEST(Verify, PassesTheWholeSphereDemo) {
-  const Machine hexapod = test::load_example("hexapod-bit.toml");
+  const machine::Machine hexapod = test::load_example("hexapod-bit.toml");
   const fs::path sphere = fs::path(PKM_SOURCE_DIR) / "examples" / "jobs" / "sphere.ngc";
   const fs::path joints =
-      write_lines("sphere-joints.ngc", posted(hexapod, sphere, Vector6d::Zero(), 0.01));
-  const VerifyReport report = verify(hexapod, joints, sphere, Vector6d::Zero(), 0.01);
+      write_lines("sphere-joints.ngc", posted(hexapod, sphere, geometry::Vector6d::Zero(), 0.01));
+  const VerifyReport report = verify(hexapod, joints, sphere, geometry::Vector6d::Zero(), 0.01);
   EXPECT_TRUE(report.passed()) << report.max_deviation_mm;
   EXPECT_NEAR(report.job_length_mm, 4077.779, 1e-3);  // as pkm demo plans it
   EXPECT_NEAR(report.traced_mm, report.job_length_mm, 1e-3);
@@ -457,7 +459,7 @@ TEST(Verify, PassesTheWholeSphereDemo) {
 TEST(Verify, PlacesTheJobWithItsToolTable) {
   // G43 lifts the path by tool 1's length (20 mm): verified with the table, 20 mm and more off
   // without it.
-  const Machine delta = test::load_example("linear-delta.toml");
+  const machine::Machine delta = test::load_example("linear-delta.toml");
   const fs::path table = write_file("tools.tbl", "T1 P1 Z20.0 D6.0 ;end mill\n");
   const fs::path job =
       write_file("tool-job.ngc", "T1 M6\nG43 H1\nG0 X0 Y0 Z80\nG1 X30 F600\nG1 Y30\nG0 Z100\nM2\n");
@@ -483,7 +485,7 @@ TEST(Verify, PlacesTheJobWithItsToolTable) {
 // ---- what verify must catch ------------------------------------------------------------------
 
 TEST(Verify, CatchesOneBlockOffByFiftyMicronsAtItsLine) {
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   const fs::path job = write_file("square-off.ngc", kSquare);
   std::vector<std::string> lines = posted(plotter, job, kSheet, 0.01);
   // The block ending inside the bottom edge (y = -800, x from 615 to 600, job line 5; post
@@ -496,9 +498,9 @@ TEST(Verify, CatchesOneBlockOffByFiftyMicronsAtItsLine) {
         std::sscanf(lines[k].c_str() + g1, "G1 X%lf Y%lf", &left, &right) != 2) {
       continue;
     }
-    JointVector q(2);
+    kinematics::JointVector q(2);
     q << left, right;
-    Pose pose = Pose::from_mm_deg(610, -780, 0);
+    geometry::Pose pose = geometry::Pose::from_mm_deg(610, -780, 0);
     ASSERT_TRUE(plotter.forward(q, pose).ok());
     const Eigen::Vector3d p = pose.position_mm;
     if (std::abs(p.y() + 800.0) > 1e-3 || p.x() < 601.0 || p.x() > 614.0) continue;
@@ -521,7 +523,7 @@ TEST(Verify, CatchesOneBlockOffByFiftyMicronsAtItsLine) {
 }
 
 TEST(Verify, ATruncatedProgramFailsWhereCoverageStops) {
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   const fs::path job = write_file("square-cut.ngc", kSquare);
   std::vector<std::string> lines = posted(plotter, job, kSheet, 0.01);
   // Keep the travel to the sheet and the two blocks of the first side (job line 2), to its
@@ -549,7 +551,7 @@ TEST(Verify, ATruncatedProgramFailsWhereCoverageStops) {
 }
 
 TEST(Verify, AnEmptyProgramFailsAtTheJobsFirstMove) {
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   const fs::path job = write_file("square-empty.ngc", kSquare);
   const fs::path joints = write_file("empty-joints.ngc", "G21 G90\nM2\n");
   const VerifyReport report = verify(plotter, joints, job, kSheet, 0.01);
@@ -565,7 +567,7 @@ TEST(Verify, AnEmptyProgramFailsAtTheJobsFirstMove) {
 // the estimates of the intervals it leaves unrefined (a bound, above every sample), without the
 // halvings that would otherwise chase the peak of a corrupted program's metres-long moves.
 TEST(Verify, HoldsABlockFarOffTheJobToABoundWithoutRefiningIt) {
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   JobPiece line;  // the job: a 600 mm line across the sheet
   const Eigen::Vector3d left = kSheet.head<3>() - Eigen::Vector3d(300.0, 0.0, 0.0);
   line.segment.start.head<3>() = left;
@@ -576,9 +578,9 @@ TEST(Verify, HoldsABlockFarOffTheJobToABoundWithoutRefiningIt) {
   const std::vector<PieceRange> stretch = {{&line, 0.0, 1.0}};
   // One joint-linear block from end to end: the cables' lengths change linearly, the pen bows off
   // the line in the middle, its peak between the grid's samples.
-  Pose start = Pose::from_mm_deg(left.x(), left.y(), 0.0);
-  Pose end = Pose::from_mm_deg(left.x() + 600.0, left.y(), 0.0);
-  JointVector q0, q1;
+  geometry::Pose start = geometry::Pose::from_mm_deg(left.x(), left.y(), 0.0);
+  geometry::Pose end = geometry::Pose::from_mm_deg(left.x() + 600.0, left.y(), 0.0);
+  kinematics::JointVector q0, q1;
   ASSERT_TRUE(plotter.inverse(start, q0).ok());
   ASSERT_TRUE(plotter.inverse(end, q1).ok());
   BlockDeviation coarse, refined;
@@ -597,7 +599,7 @@ TEST(Verify, HoldsABlockFarOffTheJobToABoundWithoutRefiningIt) {
 
 // A joint program's repeat counts ask for work as a job's do: the job's loop bounds hold for it.
 TEST(Verify, HoldsTheJointProgramToTheJobsLoopBounds) {
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   const fs::path job = write_file("square-bounds.ngc", kSquare);
   const fs::path joints =
       write_file("repeat-joints.ngc", "G21 G90\no1 repeat [50]\nG4 P0\no1 endrepeat\nM2\n");
@@ -621,7 +623,7 @@ TEST(Verify, HoldsTheJointProgramToTheJobsLoopBounds) {
 
 TEST(Verify, ReportsAProgramThatWandersOffAtBothLines) {
   // The same draw as the retrace test, but the program goes 5 mm off the line at X20.
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   const fs::path job = write_file("wander.ngc", "G0 X0 Y0\nG1 X40 F400\nM2\n");
   std::vector<std::string> lines = {"G21 G90 G94 F3000"};
   blocks_along(plotter, 750, -700, 600, -800, lines, 5.0);
@@ -644,19 +646,19 @@ TEST(Verify, ReportsAProgramThatWandersOffAtBothLines) {
 
 TEST(Verify, FlagsACoarseJointProgramAtItsLine) {
   // Each move of the job as one joint-linear block: the arc (job line 3) becomes block line 3.
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   const fs::path job = write_file(
       "coarse-job.ngc", "G21 G90 F600\nG1 X20 Y-60\nG2 X80 Y-60 I30 J0\nG1 X50 Y-20\nM2\n");
   std::vector<std::string> lines = {"G21 G90 G94 F600"};
   for (const auto& [x, y] :
        std::vector<std::pair<double, double>>{{20, -60}, {80, -60}, {50, -20}}) {
-    JointVector q;
-    ASSERT_TRUE(hektor.inverse(Pose::from_mm_deg(x, y, 0), q).ok());
+    kinematics::JointVector q;
+    ASSERT_TRUE(hektor.inverse(geometry::Pose::from_mm_deg(x, y, 0), q).ok());
     lines.push_back("G1 A" + std::to_string(q[0]) + " B" + std::to_string(q[1]));
   }
   lines.push_back("M2");
   const fs::path joints = write_lines("coarse-joints.ngc", lines);
-  const VerifyReport report = verify(hektor, joints, job, Vector6d::Zero(), 0.01);
+  const VerifyReport report = verify(hektor, joints, job, geometry::Vector6d::Zero(), 0.01);
   EXPECT_EQ(report.blocks, 3);
   EXPECT_GT(report.max_deviation_mm, 10.0);  // the chord of a 30 mm arc in joint space
   EXPECT_EQ(report.max_deviation_joint_line, 3);
@@ -672,10 +674,10 @@ TEST(Verify, ReadsG94FeedsAsLinuxCncDoesInDegreesForRotaryJoints) {
   // job. G94 F is the X Y Z length per minute when the block has one: X10 at F600 takes 1 s, so C
   // turns at 90 deg/s. A C-only block's F is deg/min: C90 at F6000 is 100 deg/s. Limits and
   // speeds in deg/s, as the machine file has them.
-  const Machine trt = test::load_example("linuxcnc-xyzac-trt.toml");
+  const machine::Machine trt = test::load_example("linuxcnc-xyzac-trt.toml");
   const fs::path job =
       write_file("rotary.ngc", "G21 G90 G94\nG1 F600 X10 C90\nG1 F6000 C180\nM2\n");
-  const VerifyReport report = verify(trt, job, job, Vector6d::Zero(), 0.01);
+  const VerifyReport report = verify(trt, job, job, geometry::Vector6d::Zero(), 0.01);
   ASSERT_EQ(report.velocity.count, 2);
   EXPECT_EQ(report.velocity.first[0].line, 2);
   EXPECT_EQ(report.velocity.first[0].joint, 4);
@@ -690,7 +692,7 @@ TEST(Verify, ReadsG94FeedsAsLinuxCncDoesInDegreesForRotaryJoints) {
 TEST(Verify, TellsItsProgressLineByLineInOrder) {
   // The hook of the progress bar: each line of the joint program that makes a command, once, in
   // order, to its last (M2).
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   const fs::path job = write_file("square-progress.ngc", kSquare);
   const std::vector<std::string> body = posted(plotter, job, kSheet, 0.01);
   const fs::path joints = write_lines("square-progress-joints.ngc", body);
@@ -712,7 +714,7 @@ TEST(Verify, TellsItsProgressLineByLineInOrder) {
 
 TEST(Verify, CatchesThePenDownWhereTheJobLiftsIt) {
   // Pen commands swapped: the draw is made with the pen up, the travel back with it down.
-  const Machine plotter = pen_plotter();
+  const machine::Machine plotter = pen_plotter();
   const fs::path job =
       write_file("pen.ngc", "G0 X0 Y0\nG1 Z-1 F100\nG1 X40 F400\nG0 Z5\nG0 X0\nM2\n");
   std::vector<std::string> lines = {"G21 G90 G94 F3000"};
@@ -742,7 +744,7 @@ TEST(Verify, CatchesThePenDownWhereTheJobLiftsIt) {
 
 TEST(Verify, CatchesAMissingDot) {
   // A dot: the pen goes down and up without moving. No stretch shows it; the count does.
-  const Machine plotter = pen_plotter();
+  const machine::Machine plotter = pen_plotter();
   const fs::path job = write_file(
       "dot.ngc", "G0 X0 Y0\nG1 Z-1 F100\nG0 Z5\nG0 X10\nG1 Z-1\nG1 X20 F400\nG0 Z5\nM2\n");
   std::vector<std::string> lines = {"G21 G90 G94 F3000"};
@@ -769,7 +771,7 @@ TEST(Verify, PassesPostsPenCommandsInEveryDialect) {
   // pen where the job's Z crosses 0, and verify holds every stretch against the job's pen.
   const std::string cut = real_lines("plotter/inkscape/mandala_cnc_0001.gcode", 351, 404);
   if (cut.empty()) GTEST_SKIP() << "the real corpus (../shared/gcode/real) is absent";
-  const Machine plotter = test::load_example("pen-plotter.toml");
+  const machine::Machine plotter = test::load_example("pen-plotter.toml");
   const fs::path job = write_file("pen-cut.ngc", "G21\n" + cut + "M2\n");
   for (const post::Dialect dialect : {post::Dialect::linuxcnc, post::Dialect::mach3,
                                       post::Dialect::grbl, post::Dialect::grblhal}) {
@@ -794,10 +796,11 @@ TEST(Verify, AgreesWithPostOnAPenLiftedFromHomesZ) {
   // up to Z 20 over 20 mm of X (crossing Z 10 half way), draws 20 mm at Z 2 and lifts. post
   // keeps the pen up over the travel and the whole ramp (the job lifting its pen first) and
   // lowers it once; verify expects just that: nothing on the ramp, one pen-down each.
-  const Machine plotter = parse_machine(wall_plotter_for_a_servo() +
-                                            "\n[tool]\nz = \"pen\"\ndown_below = 10.0\ndown = "
-                                            "\"M280 P0 S30\"\nup = \"M280 P0 S90\"\n",
-                                        "wall-plotter-pen-10.toml");
+  const machine::Machine plotter =
+      machine::parse_machine(wall_plotter_for_a_servo() +
+                                 "\n[tool]\nz = \"pen\"\ndown_below = 10.0\ndown = "
+                                 "\"M280 P0 S30\"\nup = \"M280 P0 S90\"\n",
+                             "wall-plotter-pen-10.toml");
   const fs::path job =
       write_file("lift.ngc", "G0 X0 Y0\nG1 X20 Z20 F600\nG1 Z2\nG1 X40\nG0 Z20\nG0 X0\nM2\n");
   post::PostOptions options;
@@ -864,7 +867,7 @@ TEST(Verify, ReadsTheToleranceFromPostsHeader) {
 }
 
 TEST(Verify, RefusesAToleranceThatIsNotAPositiveNumber) {
-  const Machine plotter = test::load_example("wall-plotter.toml");
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
   const fs::path job = write_file("square-nan.ngc", kSquare);
   for (const double tolerance : {std::nan(""), 0.0, -1.0, HUGE_VAL}) {
     EXPECT_THROW(verify(plotter, job, job, kSheet, tolerance), VerifyError) << tolerance;

@@ -91,7 +91,7 @@ TEST(PathThinner, DoublesItsSpacingPastTheCap) {
 
 TEST(MomentSampler, KeepsEvenlySpacedMomentsAndTheLast) {
   view::MomentSampler moments(10);
-  for (int i = 0; i < 1001; ++i) moments.add(i, Pose{}, JointVector::Zero(1));
+  for (int i = 0; i < 1001; ++i) moments.add(i, geometry::Pose{}, kinematics::JointVector::Zero(1));
   moments.finish();
   const auto& kept = moments.moments();
   ASSERT_GE(kept.size(), 10u);
@@ -108,13 +108,13 @@ double length_of(const view::Segment& segment) {
 
 // The drawn legs are as long as inverse kinematics makes them, at random reachable poses.
 TEST(MachineDrawing, HexapodLegsAreAsLongAsTheJointsSay) {
-  const Machine machine = test::load_example("hexapod-bit.toml");
-  const auto& hexapod = dynamic_cast<const HexapodKinematics&>(machine.kinematics());
+  const machine::Machine machine = test::load_example("hexapod-bit.toml");
+  const auto& hexapod = dynamic_cast<const kinematics::HexapodKinematics&>(machine.kinematics());
   std::mt19937_64 rng(7);
-  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 20, rng, 15.0);
+  const std::vector<geometry::Pose> poses = test::sample_reachable_poses(machine, 20, rng, 15.0);
   ASSERT_EQ(poses.size(), 20u);
-  for (const Pose& pose : poses) {
-    JointVector joints;
+  for (const geometry::Pose& pose : poses) {
+    kinematics::JointVector joints;
     ASSERT_TRUE(machine.inverse(pose, joints).ok());
     int leg = 0;
     for (const view::Segment& segment : view::moving_parts(machine, pose, joints)) {
@@ -128,18 +128,18 @@ TEST(MachineDrawing, HexapodLegsAreAsLongAsTheJointsSay) {
 }
 
 TEST(MachineDrawing, GlideStrutsKeepTheirLengthAndCarriagesSitOnTheRails) {
-  const Machine machine = test::load_example("triaglide.toml");
-  const auto& glide = dynamic_cast<const GlideKinematics&>(machine.kinematics());
+  const machine::Machine machine = test::load_example("triaglide.toml");
+  const auto& glide = dynamic_cast<const kinematics::GlideKinematics&>(machine.kinematics());
   std::mt19937_64 rng(11);
-  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 20, rng);
+  const std::vector<geometry::Pose> poses = test::sample_reachable_poses(machine, 20, rng);
   ASSERT_EQ(poses.size(), 20u);
-  for (const Pose& pose : poses) {
-    JointVector joints;
+  for (const geometry::Pose& pose : poses) {
+    kinematics::JointVector joints;
     ASSERT_TRUE(machine.inverse(pose, joints).ok());
     std::size_t rail = 0;
     for (const view::Segment& segment : view::moving_parts(machine, pose, joints)) {
       if (segment.part != view::Part::link) continue;
-      const GlideRail& r = glide.rails()[rail];
+      const kinematics::GlideRail& r = glide.rails()[rail];
       EXPECT_NEAR(length_of(segment), r.strut_mm, 1e-9);
       EXPECT_NEAR(
           (segment.from - (r.origin_mm + joints[static_cast<int>(rail)] * r.direction)).norm(), 0.0,
@@ -152,13 +152,13 @@ TEST(MachineDrawing, GlideStrutsKeepTheirLengthAndCarriagesSitOnTheRails) {
 
 // A rotary delta's arms and forearms keep their lengths: the elbows are where the joints put them.
 TEST(MachineDrawing, RotaryDeltaArmsAndForearmsKeepTheirLengths) {
-  const Machine machine = test::load_example("linuxcnc-rdelta.toml");
-  const auto& delta = dynamic_cast<const RotaryDeltaKinematics&>(machine.kinematics());
+  const machine::Machine machine = test::load_example("linuxcnc-rdelta.toml");
+  const auto& delta = dynamic_cast<const kinematics::RotaryDeltaKinematics&>(machine.kinematics());
   std::mt19937_64 rng(5);
-  const std::vector<Pose> poses = test::sample_reachable_poses(machine, 20, rng);
+  const std::vector<geometry::Pose> poses = test::sample_reachable_poses(machine, 20, rng);
   ASSERT_EQ(poses.size(), 20u);
-  for (const Pose& pose : poses) {
-    JointVector joints;
+  for (const geometry::Pose& pose : poses) {
+    kinematics::JointVector joints;
     ASSERT_TRUE(machine.inverse(pose, joints).ok());
     int link = 0;
     for (const view::Segment& segment : view::moving_parts(machine, pose, joints)) {
@@ -175,11 +175,12 @@ TEST(MachineDrawing, RotaryDeltaArmsAndForearmsKeepTheirLengths) {
 
 // Hektor's ideal cables run from the anchors to the pen: as long as the joints, less offsets.
 TEST(MachineDrawing, IdealCablesAreAsLongAsTheJoints) {
-  const Machine machine = test::load_example("hektor.toml");
-  const auto& cables = dynamic_cast<const CablePlotterKinematics&>(machine.kinematics());
+  const machine::Machine machine = test::load_example("hektor.toml");
+  const auto& cables =
+      dynamic_cast<const kinematics::CablePlotterKinematics&>(machine.kinematics());
   EXPECT_TRUE(view::drawn_planar(machine));
-  const Pose pose = Pose::from_mm_deg(40.0, -50.0, 0.0);
-  JointVector joints;
+  const geometry::Pose pose = geometry::Pose::from_mm_deg(40.0, -50.0, 0.0);
+  kinematics::JointVector joints;
   ASSERT_TRUE(machine.inverse(pose, joints).ok());
   int cable = 0;
   for (const view::Segment& segment : view::moving_parts(machine, pose, joints)) {
@@ -196,7 +197,7 @@ TEST(MachineDrawing, IdealCablesAreAsLongAsTheJoints) {
 TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
   // LinuxCNC's inch hexapod: F10 (in/min) lowered to F5 by leg2's velocity, which at F10 would
   // be 39.6 in/s against the 19.8 in/s (99 % of 20) a move may use: every number in inches.
-  const Machine hexapod = test::load_example("linuxcnc-hexapod-sim.toml");
+  const machine::Machine hexapod = test::load_example("linuxcnc-hexapod-sim.toml");
   motion::FeedLimit limit;
   limit.line = 3;
   limit.joint = 2;
@@ -205,7 +206,7 @@ TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
   limit.bound = motion::JointBound::velocity;
   limit.needed_at_programmed = 39.6 * 25.4;
   limit.usable = 0.99 * 20.0 * 25.4;
-  EXPECT_EQ(feed_limit_text(hexapod, limit),
+  EXPECT_EQ(io::feed_limit_text(hexapod, limit),
             "F10.0 lowered to F5.0: joint leg2's velocity would be 39.6 in/s at F10.0, over the "
             "19.8 in/s it may use (99 % of max_velocity 20.0)");
   // The same on an arc of 0.5 in: the curve, and what v^2/r within half of max_acceleration
@@ -217,7 +218,7 @@ TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
   limit.radius_mm = 0.5 * 25.4;
   limit.curve_acceleration_mm_per_s2 = 100.0 * 25.4;
   limit.curve_allowed_mm_per_s = std::sqrt(100.0 * 0.5) * 25.4;
-  EXPECT_EQ(feed_limit_text(hexapod, limit),
+  EXPECT_EQ(io::feed_limit_text(hexapod, limit),
             "F10.0 lowered to F5.0 on the arc (radius 0.5000 in): joint leg2's acceleration would "
             "be 250.0 in/s^2 at F10.0, over the 80.0 in/s^2 it may use on a bend (half of 80 % "
             "of max_acceleration 200.0); the tool's own v^2/r allows F424.3 (within 100.0 "
@@ -227,7 +228,7 @@ TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
 TEST(FeedLimitText, ThePlanReportCarriesTheBoundTheCurveAndTheReason) {
   // The first square of the real corpus' vitruvianMan on the Makelangelo: its corner after line 7
   // is a G64 blend whose speed the right joint's acceleration sets (tests/cli/units.cmake).
-  const Machine plotter = test::load_example("makelangelo.toml");
+  const machine::Machine plotter = test::load_example("makelangelo.toml");
   motion::PlanOptions options;
   options.estimate_only = true;
   struct : motion::SampleSink {
@@ -236,7 +237,7 @@ TEST(FeedLimitText, ThePlanReportCarriesTheBoundTheCurveAndTheReason) {
   const motion::PlanReport report = motion::plan_program(
       plotter, std::string(PKM_SOURCE_DIR) + "/tests/data/vitruvian-first-square.ngc", {}, options,
       none);
-  const nlohmann::json json = plan_report_json(plotter, report, "square.ngc", 0.001, true);
+  const nlohmann::json json = io::plan_report_json(plotter, report, "square.ngc", 0.001, true);
   const nlohmann::json& limit = json["feed_limited_by_joints"].at(0);
   EXPECT_EQ(limit["line"], 8);
   EXPECT_EQ(limit["bound"]["limit"], "acceleration");
@@ -246,12 +247,12 @@ TEST(FeedLimitText, ThePlanReportCarriesTheBoundTheCurveAndTheReason) {
   EXPECT_EQ(limit["curve"]["kind"], "blend");
   EXPECT_EQ(limit["curve"]["after_line"], 7);
   EXPECT_NEAR(limit["curve"]["radius_mm"].get<double>(), 0.034142, 3e-4);
-  EXPECT_EQ(limit["reason"], feed_limit_text(plotter, report.feed_limits.at(0)));
+  EXPECT_EQ(limit["reason"], io::feed_limit_text(plotter, report.feed_limits.at(0)));
 }
 
 TEST(JobOutline, FollowsTheJobFromHomeToItsEnd) {
-  const Machine machine = test::load_example("hektor.toml");
-  Vector6d origin = Vector6d::Zero();
+  const machine::Machine machine = test::load_example("hektor.toml");
+  geometry::Vector6d origin = geometry::Vector6d::Zero();
   origin.head<2>() << 40.0, -80.0;
   const std::vector<view::PathPoint> outline = view::job_outline(
       machine, PKM_SOURCE_DIR "/tests/data/square.ngc", gcode::InterpreterOptions{}, origin);
@@ -265,12 +266,13 @@ TEST(JobOutline, FollowsTheJobFromHomeToItsEnd) {
 
 // A Maslow's sled, off the centre line, is drawn tilted as its balance tilts it, and stays rigid.
 TEST(MachineDrawing, SledTiltsAsItsBalanceSays) {
-  const Machine machine = test::load_example("maslow-frame.toml");
-  const auto& cables = dynamic_cast<const CablePlotterKinematics&>(machine.kinematics());
-  const Pose pose = Pose::from_mm_deg(900.0, -700.0, 5.0);
-  JointVector joints;
+  const machine::Machine machine = test::load_example("maslow-frame.toml");
+  const auto& cables =
+      dynamic_cast<const kinematics::CablePlotterKinematics&>(machine.kinematics());
+  const geometry::Pose pose = geometry::Pose::from_mm_deg(900.0, -700.0, 5.0);
+  kinematics::JointVector joints;
   ASSERT_TRUE(machine.inverse(pose, joints).ok());
-  CableStatics statics;
+  kinematics::CableStatics statics;
   ASSERT_TRUE(cables.statics(pose, Eigen::Vector2d::Zero(), statics).ok());
   ASSERT_GT(std::abs(statics.tilt_rad), 1e-3);  // off the centre line the sled tilts
   const std::vector<view::Segment> parts = view::moving_parts(machine, pose, joints);
@@ -285,7 +287,7 @@ TEST(MachineDrawing, SledTiltsAsItsBalanceSays) {
 
 // A plan's page: one file with the report's numbers and no reference to anything outside it.
 TEST(PlanPage, IsSelfContainedAndCarriesTheReport) {
-  const Machine machine = test::load_example("hektor.toml");
+  const machine::Machine machine = test::load_example("hektor.toml");
   test::TempProgram job("G21 G90 F1200\nG1 X20 Y-60\nG1 X80 Y-60\nM2\n");
   view::PlanRecorder recorder(machine);
   const motion::PlanReport report =
@@ -338,7 +340,7 @@ const nlohmann::json* summary_row(const nlohmann::json& data, const std::string&
 // and a slowed move without a sample of its own (line 3, a comment) is still marked, at the
 // next line's first sample.
 TEST(PlanPage, PlotterSpeedIsOverThePaperAndThePenIsShown) {
-  const Machine machine = test::load_example("pen-plotter.toml");
+  const machine::Machine machine = test::load_example("pen-plotter.toml");
   test::TempProgram job(
       "G21 G90\nG0 Z5 X750 Y-700\n(nothing moves here)\nG0 X760\nG1 Z-1 F600\nG1 X800 F1200\n"
       "G0 Z5\nG0 X750\nM2\n");
@@ -386,7 +388,7 @@ TEST(PlanPage, PlotterSpeedIsOverThePaperAndThePenIsShown) {
 
 // A plotter job that never lowers its pen draws nothing: the page says so in words.
 TEST(PlanPage, SaysWhenThePenNeverGoesDown) {
-  const Machine machine = test::load_example("pen-plotter.toml");
+  const machine::Machine machine = test::load_example("pen-plotter.toml");
   test::TempProgram job("G21 G90\nG0 Z5\nG0 X760 Y-700\nG1 X800 F1200\nM2\n");
   view::PlanRecorder recorder(machine);
   const motion::PlanReport report =
@@ -410,7 +412,7 @@ TEST(PlanPage, SaysWhenThePenNeverGoesDown) {
 // A failing verification's page: the deviations listed worst first (not the first few), each
 // with its joint-program and job line; the reason in a sentence; one block still drawn from home.
 TEST(VerifyPage, ListsTheWorstFirstAndSaysWhy) {
-  const Machine machine = test::load_example("hektor.toml");
+  const machine::Machine machine = test::load_example("hektor.toml");
   view::BlockRecorder recorder(machine);
   const double deviations[] = {0.5, 3.0, 0.02, 2.0};
   for (int i = 0; i < 4; ++i) {

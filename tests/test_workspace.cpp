@@ -20,8 +20,8 @@ namespace {
 
 // Two carriages on one rail along x (readings 0..300 mm), struts of 100 mm to the platform point
 // hanging below the rail: carriage 1 at x - f, carriage 2 at x + f, f = sqrt(100^2 - y^2).
-Machine biglide() {
-  return parse_machine(R"(
+machine::Machine biglide() {
+  return machine::parse_machine(R"(
 name = "biglide"
 [kinematics]
 type = "glide"
@@ -54,12 +54,12 @@ max_feed = 6000.0
 max_acceleration = 1000.0
 home = [150.0, -50.0]
 )",
-                       "biglide.toml");
+                                "biglide.toml");
 }
 
 // Anchors 1000 mm apart, cables 10..1200 mm.
-Machine plotter() {
-  return parse_machine(R"(
+machine::Machine plotter() {
+  return machine::parse_machine(R"(
 name = "plotter"
 [kinematics]
 type = "cable_plotter"
@@ -81,10 +81,10 @@ max_feed = 6000.0
 max_acceleration = 1000.0
 home = [500.0, -500.0]
 )",
-                       "plotter.toml");
+                                "plotter.toml");
 }
 
-WorkspaceOptions at_resolution(const Machine& machine, double resolution_mm) {
+WorkspaceOptions at_resolution(const machine::Machine& machine, double resolution_mm) {
   WorkspaceOptions options = default_options(machine);
   options.resolution_mm = resolution_mm;
   return options;
@@ -94,7 +94,7 @@ TEST(Workspace, BiglideAreaFromItsRailAndStruts) {
   // For y in (-100, 0) the platform reaches x in [f, 300 - f]: the area is
   // 300 * 100 - 2 * (quarter disk of radius 100) = 30000 - 5000 pi = 14292.04 mm^2.
   const double exact = 30000.0 - 5000.0 * M_PI;
-  const Machine machine = biglide();
+  const machine::Machine machine = biglide();
   const Workspace ws = compute_workspace(machine, at_resolution(machine, 0.5));
   EXPECT_TRUE(ws.planar);
   EXPECT_TRUE(ws.guaranteed);
@@ -121,7 +121,7 @@ TEST(Workspace, CablePlotterBetweenTheAnchors) {
   };
   const double exact = 2.0 * (primitive(1000.0) - primitive(500.0)) - 0.5 * M_PI * 100.0;
   EXPECT_NEAR(exact, 917415.2, 0.5);
-  const Machine machine = plotter();
+  const machine::Machine machine = plotter();
   const Workspace ws = compute_workspace(machine, at_resolution(machine, 2.0));
   EXPECT_TRUE(ws.guaranteed);
   EXPECT_LE(ws.inside_measure, exact);
@@ -138,9 +138,9 @@ TEST(Workspace, CablePlotterBetweenTheAnchors) {
 }
 
 // A point drawn uniformly in a cell of the list.
-Vector6d point_in(const Workspace& ws, const CellIndex& cell, std::mt19937_64& rng) {
+geometry::Vector6d point_in(const Workspace& ws, const CellIndex& cell, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  Vector6d pose = Vector6d::Zero();
+  geometry::Vector6d pose = geometry::Vector6d::Zero();
   const double side = ws.resolution_mm * std::ldexp(1.0, cell.level);
   for (int axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<std::size_t>(axis);
@@ -157,19 +157,19 @@ Vector6d point_in(const Workspace& ws, const CellIndex& cell, std::mt19937_64& r
 
 TEST(Workspace, EveryPoseOfAProvenInsideCellIsReachable) {
   // The hexapod over +-5 deg: random points of proven-inside cells, random orientations.
-  const Machine machine = test::load_example("hexapod-bit.toml");
+  const machine::Machine machine = test::load_example("hexapod-bit.toml");
   WorkspaceOptions options = at_resolution(machine, 32.0);
-  options.orientation_min_rad = Eigen::Vector3d::Constant(degrees_to_radians(-5.0));
-  options.orientation_max_rad = Eigen::Vector3d::Constant(degrees_to_radians(5.0));
+  options.orientation_min_rad = Eigen::Vector3d::Constant(geometry::degrees_to_radians(-5.0));
+  options.orientation_max_rad = Eigen::Vector3d::Constant(geometry::degrees_to_radians(5.0));
   const Workspace ws = compute_workspace(machine, options);
   ASSERT_GT(ws.inside.size(), 100u);
   EXPECT_TRUE(ws.guaranteed);
   std::mt19937_64 rng(7);
-  JointVector joints;
+  kinematics::JointVector joints;
   int checked = 0;
   for (int n = 0; n < 20000; ++n) {
     const CellIndex& cell = ws.inside[rng() % ws.inside.size()];
-    const Pose pose = Pose::from_vector(point_in(ws, cell, rng));
+    const geometry::Pose pose = geometry::Pose::from_vector(point_in(ws, cell, rng));
     ASSERT_TRUE(machine.inverse(pose, joints).ok())
         << machine.explain(pose, machine.inverse(pose, joints));
     ++checked;
@@ -184,7 +184,7 @@ TEST(Workspace, EveryPoseOfAProvenInsideCellIsReachable) {
 }
 
 // The paper's hexapod with `keys` added to its [kinematics] and its legs' min set to `leg_min_mm`.
-Machine hexapod_with(const std::string& keys, double leg_min_mm = 600.0) {
+machine::Machine hexapod_with(const std::string& keys, double leg_min_mm = 600.0) {
   std::ifstream file(test::example_machine_path("hexapod-bit.toml"));
   std::stringstream text;
   text << file.rdbuf();
@@ -194,19 +194,20 @@ Machine hexapod_with(const std::string& keys, double leg_min_mm = 600.0) {
   const std::string min = "min = 600.0";
   for (std::size_t at = toml.find(min); at != std::string::npos; at = toml.find(min, at + 1))
     toml.replace(at, min.size(), "min = " + std::to_string(leg_min_mm));
-  return parse_machine(toml, "hexapod-limited.toml");
+  return machine::parse_machine(toml, "hexapod-limited.toml");
 }
 
 // 5000 random points of the proven-inside cells (random orientations of the range) must all be
 // accepted by the machine, and no cell proven inside was refused at its middle.
-void expect_inside_cells_reachable(const Machine& machine, const Workspace& ws) {
+void expect_inside_cells_reachable(const machine::Machine& machine, const Workspace& ws) {
   EXPECT_TRUE(ws.guaranteed);
   EXPECT_EQ(ws.unbounded_refusals, 0);
   ASSERT_FALSE(ws.inside.empty());
   std::mt19937_64 rng(13);
-  JointVector joints;
+  kinematics::JointVector joints;
   for (int n = 0; n < 5000; ++n) {
-    const Pose pose = Pose::from_vector(point_in(ws, ws.inside[rng() % ws.inside.size()], rng));
+    const geometry::Pose pose =
+        geometry::Pose::from_vector(point_in(ws, ws.inside[rng() % ws.inside.size()], rng));
     ASSERT_TRUE(machine.inverse(pose, joints).ok())
         << machine.explain(pose, machine.inverse(pose, joints));
   }
@@ -218,21 +219,23 @@ TEST(Workspace, JointAngleLimitLiftsTheLowestPointAsComputedByHand) {
   // same for every tip position on the z axis) the tip at (0, 0, z) needs
   // dz_i = z + tool + p_i.z - a_i.z >= |h_i| / tan 30. The workspace (convex in this cut: an
   // intersection of cones, symmetric under the hexapod's 120 deg turn) is lowest on the axis.
-  const Machine machine = hexapod_with(
+  const machine::Machine machine = hexapod_with(
       "max_joint_angle = 30.0\nbase_joint_axis = [0.0, 0.0, 1.0]\n"
       "platform_joint_axis = [0.0, 0.0, 1.0]",
       100.0);
-  const auto& geometry = dynamic_cast<const HexapodKinematics&>(machine.kinematics()).geometry();
+  const auto& geometry =
+      dynamic_cast<const kinematics::HexapodKinematics&>(machine.kinematics()).geometry();
   double lowest = -INFINITY;
   for (std::size_t i = 0; i < 6; ++i) {
     const Eigen::Vector3d offset = geometry.platform_mm[i] - geometry.base_mm[i];
     const double h = offset.head<2>().norm();
-    lowest = std::max(lowest, h / std::tan(degrees_to_radians(30.0)) - 30.0 - offset.z());
+    lowest = std::max(lowest, h / std::tan(geometry::degrees_to_radians(30.0)) - 30.0 - offset.z());
   }
-  JointVector joints;
-  ASSERT_TRUE(machine.inverse(Pose{{0.0, 0.0, lowest + 1e-6}, {0.0, 0.0, 0.0}}, joints).ok());
-  EXPECT_EQ(machine.inverse(Pose{{0.0, 0.0, lowest - 1.0}, {0.0, 0.0, 0.0}}, joints).code,
-            StatusCode::joint_angle);
+  kinematics::JointVector joints;
+  ASSERT_TRUE(
+      machine.inverse(geometry::Pose{{0.0, 0.0, lowest + 1e-6}, {0.0, 0.0, 0.0}}, joints).ok());
+  EXPECT_EQ(machine.inverse(geometry::Pose{{0.0, 0.0, lowest - 1.0}, {0.0, 0.0, 0.0}}, joints).code,
+            kinematics::StatusCode::joint_angle);
   const double resolution = 8.0;
   const Workspace ws = compute_workspace(machine, at_resolution(machine, resolution));
   expect_inside_cells_reachable(machine, ws);
@@ -246,7 +249,7 @@ TEST(Workspace, JointAngleLimitLiftsTheLowestPointAsComputedByHand) {
     EXPECT_GE(ws.origin_mm.z() + resolution * cell.at[2], lowest);
   // Without the angle limit the same legs reach lower, down to the base plane (platform joints
   // 30 mm above the tip), not into the mirror image below it.
-  const Machine free = hexapod_with("", 100.0);
+  const machine::Machine free = hexapod_with("", 100.0);
   const Workspace unlimited = compute_workspace(free, at_resolution(free, resolution));
   EXPECT_LT(unlimited.extent->min().z(), lowest - 4.0 * resolution);
   EXPECT_GE(unlimited.extent->min().z(), -30.0 - resolution);
@@ -258,13 +261,13 @@ TEST(Workspace, TheMirrorImageBelowTheBaseIsNoPartOfTheWorkspace) {
   // pointing down, platform level), 30 % of its volume before the assembly mode kept home's side
   // of the base plane. Platform joints lie 30 mm above the tip: no kept cell reaches below -30 mm
   // and a cell, with or without joints of 45 deg about the legs' directions at home.
-  const Machine free = test::load_example("hexapod-bit.toml");
+  const machine::Machine free = test::load_example("hexapod-bit.toml");
   const Workspace ws_free = compute_workspace(free, at_resolution(free, 32.0));
   expect_inside_cells_reachable(free, ws_free);
   ASSERT_TRUE(ws_free.extent);
   EXPECT_GT(ws_free.extent->min().z(), -30.0 - 32.0);
   EXPECT_GT(ws_free.limited_by.count("other_assembly"), 0u);
-  const Machine machine = hexapod_with("max_joint_angle = 45.0");
+  const machine::Machine machine = hexapod_with("max_joint_angle = 45.0");
   const Workspace ws = compute_workspace(machine, at_resolution(machine, 32.0));
   expect_inside_cells_reachable(machine, ws);
   ASSERT_TRUE(ws.extent);
@@ -276,8 +279,9 @@ TEST(Workspace, TheLinuxcncSampleHexapodsBoxIsAboveItsBaseNotInTheMirrorImage) {
   // LinuxCNC's hexapod sample as imported, legs 20..40 in (tests/data): the same leg lengths hold
   // the platform above the base plane z = 0 and its mirror image below; home (z = 20 in) reaches
   // only the first. The largest box was z -637..-381 mm, below the base.
-  const Machine machine = load_machine(std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "data" /
-                                       "linuxcnc-hexapod-sample-legs-20-40.toml");
+  const machine::Machine machine =
+      machine::load_machine(std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "data" /
+                            "linuxcnc-hexapod-sample-legs-20-40.toml");
   const double resolution = 8.0;
   const Workspace ws = compute_workspace(machine, at_resolution(machine, resolution));
   expect_inside_cells_reachable(machine, ws);
@@ -290,10 +294,10 @@ TEST(Workspace, TheLinuxcncSampleHexapodsBoxIsAboveItsBaseNotInTheMirrorImage) {
   EXPECT_GT(ws.largest_box->max().z(), 20.0 * 25.4 - 200.0);
   EXPECT_GT(ws.limited_by.count("other_assembly"), 0u);
   // The mirror image of home, refused with the leg and how far past the plane it is.
-  JointVector joints;
-  const Pose mirror{{0.0, 0.0, -20.0 * 25.4}, {0.0, 0.0, 0.0}};
-  const Status status = machine.inverse(mirror, joints);
-  EXPECT_EQ(status.code, StatusCode::other_assembly);
+  kinematics::JointVector joints;
+  const geometry::Pose mirror{{0.0, 0.0, -20.0 * 25.4}, {0.0, 0.0, 0.0}};
+  const kinematics::Status status = machine.inverse(mirror, joints);
+  EXPECT_EQ(status.code, kinematics::StatusCode::other_assembly);
   EXPECT_NE(machine.explain(mirror, status)
                 .find("the platform joint of 'leg0' is 20.0000 in past the base"),
             std::string::npos)
@@ -302,8 +306,8 @@ TEST(Workspace, TheLinuxcncSampleHexapodsBoxIsAboveItsBaseNotInTheMirrorImage) {
 
 TEST(Workspace, LegInterferenceShrinksTheWorkspace) {
   // The paper's 40 mm legs: poses where two legs pass within 40 mm leave the workspace.
-  const Machine free = test::load_example("hexapod-bit.toml");
-  const Machine machine = hexapod_with("leg_diameter = 40.0");
+  const machine::Machine free = test::load_example("hexapod-bit.toml");
+  const machine::Machine machine = hexapod_with("leg_diameter = 40.0");
   const Workspace unlimited = compute_workspace(free, at_resolution(free, 32.0));
   const Workspace ws = compute_workspace(machine, at_resolution(machine, 32.0));
   expect_inside_cells_reachable(machine, ws);
@@ -317,7 +321,7 @@ TEST(Workspace, LegInterferenceShrinksTheWorkspace) {
 TEST(Workspace, EveryPointOutsideTheCellsIsRefused) {
   // Points of the grid in neither an inside nor a boundary cell were proven outside: the machine
   // must refuse each (triaglide: joint limits, reach and the assembly mode all decide cells).
-  const Machine machine = test::load_example("triaglide.toml");
+  const machine::Machine machine = test::load_example("triaglide.toml");
   const Workspace ws = compute_workspace(machine, at_resolution(machine, 16.0));
   std::set<std::array<std::int32_t, 4>> kept;
   for (const auto* cells : {&ws.inside, &ws.boundary}) {
@@ -328,10 +332,10 @@ TEST(Workspace, EveryPointOutsideTheCellsIsRefused) {
   for (const CellIndex& cell : ws.inside) top = std::max(top, cell.level);
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  JointVector joints;
+  kinematics::JointVector joints;
   int outside = 0;
   for (int n = 0; n < 20000; ++n) {
-    Pose pose = machine.home();
+    geometry::Pose pose = machine.home();
     std::array<std::int32_t, 3> index{};
     for (int axis = 0; axis < 3; ++axis) {
       const auto a = static_cast<std::size_t>(axis);
@@ -356,7 +360,7 @@ struct MonteCarlo {
   double volume = 0.0, sigma = 0.0;
 };
 
-MonteCarlo monte_carlo(const Machine& machine, const Workspace& ws, int samples) {
+MonteCarlo monte_carlo(const machine::Machine& machine, const Workspace& ws, int samples) {
   std::mt19937_64 rng(2026);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   double box = 1.0;
@@ -364,10 +368,10 @@ MonteCarlo monte_carlo(const Machine& machine, const Workspace& ws, int samples)
     if (ws.position_axes[static_cast<std::size_t>(axis)])
       box *= ws.resolution_mm * ws.dims[static_cast<std::size_t>(axis)];
   }
-  JointVector joints;
+  kinematics::JointVector joints;
   int hits = 0;
   for (int n = 0; n < samples; ++n) {
-    Pose pose = machine.home();
+    geometry::Pose pose = machine.home();
     for (int axis = 0; axis < 3; ++axis) {
       const auto a = static_cast<std::size_t>(axis);
       if (ws.position_axes[a]) {
@@ -383,7 +387,7 @@ MonteCarlo monte_carlo(const Machine& machine, const Workspace& ws, int samples)
 class WorkspaceOfEveryExample : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(WorkspaceOfEveryExample, VolumeAgreesWithMonteCarlo) {
-  const Machine machine = test::load_example(GetParam());
+  const machine::Machine machine = test::load_example(GetParam());
   // Coarse enough to stay fast: about 160 finest cells across the search box.
   const SearchBox search = search_box(machine, default_options(machine));
   double longest = 0.0, shortest = INFINITY;
@@ -420,7 +424,8 @@ INSTANTIATE_TEST_SUITE_P(Examples, WorkspaceOfEveryExample,
 
 // A cell of pen positions judged by every constraint of the machine: 1 proven inside, -1
 // proven outside, 0 neither.
-int judge(const Machine& machine, const Eigen::Vector2d& centre, const Eigen::Vector2d& half) {
+int judge(const machine::Machine& machine, const Eigen::Vector2d& centre,
+          const Eigen::Vector2d& half) {
   PoseCell cell;
   cell.centre = machine.home().as_vector();
   cell.centre.head<2>() = centre;
@@ -442,7 +447,7 @@ TEST(Workspace, PulleysPullRegionEndsBelowEachPulleysOuterTangent) {
   // hektor-pulleys.toml: the left belt hangs straight down from its pulley's rightmost point
   // when the pen is at x = r = 6.366 mm (the right one at 100 - r): left of it the right belt
   // would push. Cells clear of it either side are proven; one across it is neither.
-  const Machine machine = test::load_example("hektor-pulleys.toml");
+  const machine::Machine machine = test::load_example("hektor-pulleys.toml");
   EXPECT_EQ(judge(machine, {6.366 + 0.25, -50.0}, {0.2, 0.5}), 1);
   EXPECT_EQ(judge(machine, {6.366 - 0.25, -50.0}, {0.2, 0.5}), -1);
   EXPECT_EQ(judge(machine, {6.366, -50.0}, {0.2, 0.5}), 0);
@@ -456,8 +461,8 @@ TEST(Workspace, WeighedStraightCablesAreGuaranteedAndAgreeWithMonteCarlo) {
   // The gondola of makelangelo.toml on straight cables: its tension limits [0.5, 30] N bound
   // the region; the balance's bounds prove cells (guaranteed), and the estimate agrees with
   // Monte Carlo within 1 %.
-  const Machine machine =
-      load_machine(std::string(PKM_SOURCE_DIR) + "/tests/data/makelangelo-straight.toml");
+  const machine::Machine machine =
+      machine::load_machine(std::string(PKM_SOURCE_DIR) + "/tests/data/makelangelo-straight.toml");
   EXPECT_EQ(judge(machine, {0.0, 0.0}, {4.0, 4.0}), 1);     // 1.72 N each, 584 mm of belt
   EXPECT_EQ(judge(machine, {0.0, 700.0}, {4.0, 4.0}), -1);  // above the anchors
   const Workspace ws = compute_workspace(machine, at_resolution(machine, 8.0));
@@ -474,7 +479,7 @@ TEST(Workspace, WeighedStraightCablesAreGuaranteedAndAgreeWithMonteCarlo) {
 }
 
 TEST(Workspace, JsonKeepsTheSchemaNames) {
-  const Machine machine = biglide();
+  const machine::Machine machine = biglide();
   const Workspace ws = compute_workspace(machine, at_resolution(machine, 4.0));
   const nlohmann::json doc = to_json(ws);
   EXPECT_EQ(doc["machine"], "biglide");
@@ -498,7 +503,7 @@ TEST(Workspace, JsonKeepsTheSchemaNames) {
 // The streamed document is the built one, byte for byte; a page's thinned lists keep every k-th
 // cell and at most the number asked for.
 TEST(Workspace, StreamedJsonIsTheBuiltDocumentAndThinnedListsKeepEveryKth) {
-  const Machine machine = biglide();
+  const machine::Machine machine = biglide();
   const Workspace ws = compute_workspace(machine, at_resolution(machine, 2.0));
   ASSERT_GT(ws.boundary.size(), 100u);
   std::ostringstream streamed;
@@ -524,7 +529,7 @@ TEST(Workspace, CellEstimateAgreesWithTheRun) {
     double resolution_mm;
   };
   for (const Case c : {Case{"hektor.toml", 0.125}, Case{"hexapod-bit.toml", 16.0}}) {
-    const Machine machine = test::load_example(c.machine);
+    const machine::Machine machine = test::load_example(c.machine);
     const WorkspaceOptions options = at_resolution(machine, c.resolution_mm);
     const CellEstimate estimate = estimate_cells(machine, options);
     EXPECT_GT(estimate.from_resolution_mm, c.resolution_mm) << c.machine;
@@ -540,7 +545,7 @@ TEST(Workspace, ResolutionTooFineIsRefusedBeforeItsWorkNamingOneThatFits) {
   // Issue 26: a resolution too fine grew to gigabytes before the cell bound refused it. Hektor
   // at 1/32 mm would judge some 128,000 cells; under a bound of 20,000 it is refused from the
   // estimate, and the resolution it names runs within the bound.
-  const Machine hektor = test::load_example("hektor.toml");
+  const machine::Machine hektor = test::load_example("hektor.toml");
   WorkspaceOptions options = at_resolution(hektor, 0.03125);
   options.max_cells = 20'000;
   double fitting_mm = 0.0;
@@ -565,9 +570,9 @@ TEST(Workspace, ResolutionTooFineIsRefusedBeforeItsWorkNamingOneThatFits) {
 // its struts are 100 mm; the plotter's cables reach 1200 mm from anchors at x 0 and 1000. A
 // formula machine has none.
 TEST(Workspace, EachModelAnswersItsReachBoxByHand) {
-  const auto reach = [](const Machine& machine) {
-    JointVector low(static_cast<Eigen::Index>(machine.joints().size()));
-    JointVector high(low.size());
+  const auto reach = [](const machine::Machine& machine) {
+    kinematics::JointVector low(static_cast<Eigen::Index>(machine.joints().size()));
+    kinematics::JointVector high(low.size());
     for (Eigen::Index j = 0; j < low.size(); ++j) {
       low[j] = machine.joints()[static_cast<std::size_t>(j)].min;
       high[j] = machine.joints()[static_cast<std::size_t>(j)].max;
@@ -587,7 +592,7 @@ TEST(Workspace, EachModelAnswersItsReachBoxByHand) {
 
 TEST(Workspace, AFormulaMachineOnTwoThreadsWritesOneThreadsDocument) {
   // The threads share one constant machine: the formula model's per-call scratch is per thread.
-  const Machine machine = test::load_example("mach3-formula.toml");
+  const machine::Machine machine = test::load_example("mach3-formula.toml");
   WorkspaceOptions options = at_resolution(machine, 1.0);
   options.threads = 1;
   const std::string one = to_json(compute_workspace(machine, options)).dump();
@@ -599,7 +604,7 @@ TEST(Workspace, AFormulaMachineOnTwoThreadsWritesOneThreadsDocument) {
 }
 
 TEST(Workspace, RefusesAResolutionThatIsNotALength) {
-  const Machine machine = biglide();
+  const machine::Machine machine = biglide();
   EXPECT_THROW(compute_workspace(machine, at_resolution(machine, 0.0)), std::invalid_argument);
   WorkspaceOptions options = at_resolution(machine, 1e-4);
   options.max_cells = 1000;

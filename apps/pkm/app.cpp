@@ -16,39 +16,41 @@
 
 namespace pkm::app {
 
-Machine load_machine_or_default(const std::string& path) {
-  if (path.empty()) return parse_machine(kEmbeddedMachineToml, std::string(kEmbeddedMachineName));
-  return load_machine(path);
+machine::Machine load_machine_or_default(const std::string& path) {
+  if (path.empty())
+    return machine::parse_machine(kEmbeddedMachineToml, std::string(kEmbeddedMachineName));
+  return machine::load_machine(path);
 }
 
-Pose pose_from_arguments(const Machine& machine, const std::vector<double>& values) {
-  const Dof dof = machine.kinematics().dof();
+geometry::Pose pose_from_arguments(const machine::Machine& machine,
+                                   const std::vector<double>& values) {
+  const geometry::Dof dof = machine.kinematics().dof();
   int needed = 0;  // every controlled position coordinate must be given; angles default to home
   for (int axis = 0; axis < 3; ++axis) {
     if (dof.controls(axis)) needed = axis + 1;
   }
-  if (static_cast<int>(values.size()) < needed || values.size() > kPoseSize) {
+  if (static_cast<int>(values.size()) < needed || values.size() > geometry::kPoseSize) {
     std::string names;
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       if (dof.controls(axis))
-        names += std::string(names.empty() ? "" : " ") + std::string(kAxisNames[axis]);
+        names += std::string(names.empty() ? "" : " ") + std::string(geometry::kAxisNames[axis]);
     }
     throw CommandError("this machine takes the pose as " + names + " (" + machine.length_unit() +
                        ", deg); got " + std::to_string(values.size()) + " numbers");
   }
-  return Pose::from_vector(pose_vector_over(machine, machine.home().as_vector(), values));
+  return geometry::Pose::from_vector(pose_vector_over(machine, machine.home().as_vector(), values));
 }
 
-Vector6d pose_vector_over(const Machine& machine, Vector6d base,
-                          const std::vector<double>& values) {
-  for (std::size_t i = 0; i < values.size() && i < kPoseSize; ++i) {
+geometry::Vector6d pose_vector_over(const machine::Machine& machine, geometry::Vector6d base,
+                                    const std::vector<double>& values) {
+  for (std::size_t i = 0; i < values.size() && i < geometry::kPoseSize; ++i) {
     const int axis = static_cast<int>(i);
     base[axis] = machine.axis_from_file(axis, values[i]);
   }
   return base;
 }
 
-double mm_from_machine_units(const Machine& machine, double value) {
+double mm_from_machine_units(const machine::Machine& machine, double value) {
   return value * machine.mm_per_unit();
 }
 
@@ -73,11 +75,11 @@ void add_subroutine_path_option(CLI::App& command,
       ->check(CLI::ExistingDirectory);
 }
 
-std::optional<gcode::ToolTable> read_tool_table(const Machine& machine,
+std::optional<gcode::ToolTable> read_tool_table(const machine::Machine& machine,
                                                 const ToolTableOptions& options) {
   if (options.path.empty()) return std::nullopt;
-  const bool inch =
-      options.units.empty() ? machine.units() == LengthUnit::inch : options.units == "inch";
+  const bool inch = options.units.empty() ? machine.units() == machine::LengthUnit::inch
+                                          : options.units == "inch";
   return gcode::read_tool_table(options.path,
                                 inch ? gcode::LengthUnits::inch : gcode::LengthUnits::mm);
 }
@@ -119,9 +121,9 @@ CLI::Option* add_pose_option(CLI::App& command, const std::string& name,
 
 void refuse_overwriting_input(const std::string& output,
                               std::initializer_list<std::pair<std::string, std::string>> inputs) {
-  std::vector<NamedInput> named;
+  std::vector<io::NamedInput> named;
   for (const auto& [what, path] : inputs) named.push_back({what, path});
-  const std::string reason = overwrites_input(output, named);
+  const std::string reason = io::overwrites_input(output, named);
   if (!reason.empty()) throw CommandError(reason);
 }
 

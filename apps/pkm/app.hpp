@@ -24,7 +24,7 @@ class CommandError : public std::runtime_error {
 };
 
 // The machine named by -m, or the embedded default (the paper's hexapod) when none is given.
-Machine load_machine_or_default(const std::string& path);
+machine::Machine load_machine_or_default(const std::string& path);
 
 // Every length typed on the command line (poses, --origin, --start, tolerances, resolutions,
 // jerk) is in the machine file's units (`units`: mm or inch), angles in degrees, as ik, fk and
@@ -32,14 +32,16 @@ Machine load_machine_or_default(const std::string& path);
 
 // x y z [a b c] in the machine file's units and deg from the command line; missing coordinates
 // take the home pose's.
-Pose pose_from_arguments(const Machine& machine, const std::vector<double>& values);
+geometry::Pose pose_from_arguments(const machine::Machine& machine,
+                                   const std::vector<double>& values);
 
 // `base` (mm, rad) with its leading coordinates replaced by `values` (x y z a b c, in the machine
 // file's units and deg), as --origin places a job.
-Vector6d pose_vector_over(const Machine& machine, Vector6d base, const std::vector<double>& values);
+geometry::Vector6d pose_vector_over(const machine::Machine& machine, geometry::Vector6d base,
+                                    const std::vector<double>& values);
 
 // A length (or a length per s, per s^2, per s^3) typed in the machine file's units, in mm.
-double mm_from_machine_units(const Machine& machine, double value);
+double mm_from_machine_units(const machine::Machine& machine, double value);
 
 // --tool-table FILE and --tool-table-units mm|inch, as plan, post and verify take them.
 struct ToolTableOptions {
@@ -52,7 +54,7 @@ void add_tool_table_options(CLI::App& command, ToolTableOptions& options);
 // when the program does not define it, after the program's own directory.
 void add_subroutine_path_option(CLI::App& command, std::vector<std::filesystem::path>& directories);
 // The table the options name, or none without a file. Throws gcode::GcodeError (file:line).
-std::optional<gcode::ToolTable> read_tool_table(const Machine& machine,
+std::optional<gcode::ToolTable> read_tool_table(const machine::Machine& machine,
                                                 const ToolTableOptions& options);
 
 // The one check of every number read from the command line: it must parse whole, be finite and
@@ -85,7 +87,7 @@ struct CertifiedCheckArguments {
   std::vector<double> origin;  // x y [z [a b c]], the machine file's units and deg
   bool json = false;
 };
-void run_certified_check(const Machine& machine, const CertifiedCheckArguments& arguments);
+void run_certified_check(const machine::Machine& machine, const CertifiedCheckArguments& arguments);
 
 // "12.3 MB": a size in the unit that keeps it short.
 std::string size_text(double bytes);

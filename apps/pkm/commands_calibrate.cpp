@@ -63,12 +63,12 @@ std::string machine_text(const std::string& path) {
 }
 
 // Writes the machine file with its kinematics replaced, after checking that it loads.
-void write_machine(const std::string& original_path, const Machine& machine,
-                   const Kinematics& kinematics, const std::string& output) {
-  const std::string text = replace_kinematics_section(machine_text(original_path), machine.source(),
-                                                      kinematics, machine.units());
-  parse_machine(text, output);  // refuses to write a file that would not load
-  write_file_atomically(output, text);
+void write_machine(const std::string& original_path, const machine::Machine& machine,
+                   const kinematics::Kinematics& kinematics, const std::string& output) {
+  const std::string text = machine::replace_kinematics_section(
+      machine_text(original_path), machine.source(), kinematics, machine.units());
+  machine::parse_machine(text, output);  // refuses to write a file that would not load
+  files::write_file_atomically(output, text);
 }
 
 std::optional<std::pair<double, double>> pair_of(const std::vector<double>& values) {
@@ -77,7 +77,7 @@ std::optional<std::pair<double, double>> pair_of(const std::vector<double>& valu
 }
 
 void run_matrix(const MatrixOptions& options) {
-  MatrixMeasurements measurements;
+  calibration::MatrixMeasurements measurements;
   measurements.diagonals = pair_of(options.diagonals);
   measurements.widths = pair_of(options.widths);
   measurements.x_to_spindle = pair_of(options.x_to_spindle);
@@ -94,14 +94,14 @@ void run_matrix(const MatrixOptions& options) {
     throw CommandError("-o writes the updated machine file: name the machine with --add-to");
   }
   refuse_overwriting_input(options.output, {{"the machine file of --add-to", options.add_to}});
-  std::optional<Machine> machine;
+  std::optional<machine::Machine> machine;
   Eigen::Matrix3d start = Eigen::Matrix3d::Identity();
-  const MatrixKinematics* model = nullptr;
+  const kinematics::MatrixKinematics* model = nullptr;
   if (!options.add_to.empty()) {
-    machine = load_machine(options.add_to);
+    machine = machine::load_machine(options.add_to);
     // The cast is the honest answer: the adjustments add to a matrix's nine coefficients, which
     // no other model has.
-    model = dynamic_cast<const MatrixKinematics*>(&machine->kinematics());
+    model = dynamic_cast<const kinematics::MatrixKinematics*>(&machine->kinematics());
     if (model == nullptr) {
       throw CommandError(options.add_to + " is a " + std::string(machine->kinematics().type()) +
                          " machine; --add-to needs a matrix machine");
@@ -110,12 +110,12 @@ void run_matrix(const MatrixOptions& options) {
   }
   Eigen::Matrix3d matrix;
   try {
-    matrix = calibrate_matrix(measurements, start);
+    matrix = calibration::calibrate_matrix(measurements, start);
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
   if (!options.output.empty()) {
-    const MatrixKinematics updated(matrix, model->passthrough_axes());
+    const kinematics::MatrixKinematics updated(matrix, model->passthrough_axes());
     write_machine(options.add_to, *machine, updated, options.output);
   }
   if (options.json) {
@@ -129,7 +129,7 @@ void run_matrix(const MatrixOptions& options) {
   for (int row = 0; row < 3; ++row) {
     std::printf("  [%.9f, %.9f, %.9f]\n", matrix(row, 0), matrix(row, 1), matrix(row, 2));
   }
-  std::printf("\nfor the LinuxCNC HAL file:\n%s", linuxcnc_setp_lines(matrix).c_str());
+  std::printf("\nfor the LinuxCNC HAL file:\n%s", calibration::linuxcnc_setp_lines(matrix).c_str());
   if (!options.output.empty()) std::printf("\nwrote %s\n", options.output.c_str());
 }
 
@@ -152,31 +152,37 @@ std::string joined(const std::vector<std::string>& names) {
 
 // The fit of measured poses (DATA.csv) or of distances between drawn marks (--distances and
 // --pattern), whichever was given.
-FitReport fit_machine(const FitCommandOptions& options, Machine& machine) {
-  FitOptions fit_options;
+calibration::FitReport fit_machine(const FitCommandOptions& options, machine::Machine& machine) {
+  calibration::FitOptions fit_options;
   fit_options.parameters = split_names(options.params);
   try {
     if (!options.data.empty()) {
-      const std::vector<Measurement> measurements = read_measurements_csv(options.data, machine);
-      return fit_geometry(machine.kinematics(), machine.home(), measurements, fit_options);
+      const std::vector<calibration::Measurement> measurements =
+          calibration::read_measurements_csv(options.data, machine);
+      return calibration::fit_geometry(machine.kinematics(), machine.home(), measurements,
+                                       fit_options);
     }
-    const std::vector<PatternMark> marks = read_pattern_json(options.pattern);
-    const std::vector<MarkDistance> distances = read_distances_csv(options.distances, marks);
-    return fit_distances(machine.kinematics(), machine.home(), marks, distances, fit_options);
-  } catch (const MeasurementFileError& error) {
+    const std::vector<calibration::PatternMark> marks =
+        calibration::read_pattern_json(options.pattern);
+    const std::vector<calibration::MarkDistance> distances =
+        calibration::read_distances_csv(options.distances, marks);
+    return calibration::fit_distances(machine.kinematics(), machine.home(), marks, distances,
+                                      fit_options);
+  } catch (const calibration::MeasurementFileError& error) {
     throw CommandError(error.what());
-  } catch (const PatternFileError& error) {
+  } catch (const calibration::PatternFileError& error) {
     throw CommandError(error.what());
-  } catch (const FitError& error) {
+  } catch (const calibration::FitError& error) {
     throw CommandError(error.what());
   }
 }
 
-void print_fit_json(const FitReport& report, const std::string& output) {
-  std::cout << fit_report_json(report, output).dump(2) << "\n";
+void print_fit_json(const calibration::FitReport& report, const std::string& output) {
+  std::cout << calibration::fit_report_json(report, output).dump(2) << "\n";
 }
 
-void print_fit_text(const FitReport& report, const std::string& output, bool distances) {
+void print_fit_text(const calibration::FitReport& report, const std::string& output,
+                    bool distances) {
   std::printf(
       "%d %s; residual (per %s, mm): RMS %.6f max %.6f before, "
       "RMS %.6f max %.6f after (largest at line %d)\n",
@@ -184,7 +190,7 @@ void print_fit_text(const FitReport& report, const std::string& output, bool dis
       distances ? "distance" : "measurement", report.rms_before_mm, report.max_before_mm,
       report.rms_after_mm, report.max_after_mm, report.max_after_line);
   std::printf("%-24s %16s %16s %12s\n", "parameter", "nominal", "fitted", "std dev");
-  for (const ParameterEstimate& p : report.parameters) {
+  for (const calibration::ParameterEstimate& p : report.parameters) {
     if (p.free) {
       std::printf("%-24s %16.6f %16.6f %12.6f %s\n", p.name.c_str(), p.nominal, p.fitted,
                   p.standard_deviation, p.unit.c_str());
@@ -202,8 +208,8 @@ void print_fit_text(const FitReport& report, const std::string& output, bool dis
   for (const auto& group : report.indistinguishable) {
     std::printf("the data cannot tell these apart: %s\n", joined(group).c_str());
   }
-  for (const PoorlyDetermined& p : report.poorly_determined)
-    std::printf("warning: %s\n", poorly_determined_text(p).c_str());
+  for (const calibration::PoorlyDetermined& p : report.poorly_determined)
+    std::printf("warning: %s\n", calibration::poorly_determined_text(p).c_str());
   if (!report.no_effect.empty()) {
     std::printf(
         "no effect on the data at the nominal geometry (or at the edge of their range): %s\n",
@@ -233,11 +239,11 @@ void run_fit(const FitCommandOptions& options) {
                                             {"the measurements", options.data},
                                             {"the distances", options.distances},
                                             {"the pattern", options.pattern}});
-  Machine machine = load_machine_or_default(options.machine);
-  const FitReport report = fit_machine(options, machine);
+  machine::Machine machine = load_machine_or_default(options.machine);
+  const calibration::FitReport report = fit_machine(options, machine);
   try {
     write_machine(options.machine, machine, machine.kinematics(), options.output);
-  } catch (const MachineFileError& error) {
+  } catch (const machine::MachineFileError& error) {
     // Show what the fit found: it is what the user must look at.
     if (!options.json) print_fit_text(report, "", distances);
     throw CommandError(
@@ -267,8 +273,8 @@ std::string pattern_json_path(const std::string& gcode_path) {
 }
 
 void run_pattern(const PatternCommandOptions& options) {
-  const Machine machine = load_machine_or_default(options.machine);
-  PatternOptions pattern_options;
+  const machine::Machine machine = load_machine_or_default(options.machine);
+  calibration::PatternOptions pattern_options;
   pattern_options.marks = options.marks;
   pattern_options.cross_size_mm = options.cross_size;
   if (!options.sheet.empty())
@@ -277,40 +283,41 @@ void run_pattern(const PatternCommandOptions& options) {
   const std::string json_path = pattern_json_path(options.output);
   refuse_overwriting_input(options.output, {{"the machine file", options.machine}});
   refuse_overwriting_input(json_path, {{"the machine file", options.machine}});
-  CalibrationPattern pattern;
+  calibration::CalibrationPattern pattern;
   std::string program;
-  DistanceIdentification identified;
+  calibration::DistanceIdentification identified;
   try {
-    pattern = design_pattern(machine, pattern_options);
-    PenHeights pen = default_pen_heights(machine);
+    pattern = calibration::design_pattern(machine, pattern_options);
+    calibration::PenHeights pen = calibration::default_pen_heights(machine);
     if (options.down_z) {
       const double up_side = machine.tool().down_above ? -5.0 : 5.0;
       pen = {*options.down_z, *options.down_z + up_side};
     }
     if (options.up_z) pen.up_mm = *options.up_z;
     try {
-      program = pattern_gcode(machine, pattern, pen);
+      program = calibration::pattern_gcode(machine, pattern, pen);
     } catch (const std::invalid_argument& error) {
       throw CommandError(std::string(error.what()) +
                          "; give the pen's heights with --down-z and --up-z (mm)");
     }
-    identified = identify_from_distances(machine.kinematics(), machine.home(), pattern.marks,
-                                         all_pairs(pattern.marks), FitOptions{});
+    identified = calibration::identify_from_distances(
+        machine.kinematics(), machine.home(), pattern.marks, calibration::all_pairs(pattern.marks),
+        calibration::FitOptions{});
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
-  } catch (const FitError& error) {
+  } catch (const calibration::FitError& error) {
     throw CommandError(error.what());
   }
-  const std::string marks_json = pattern_json_text(pattern.marks);
-  const FileContent pair[] = {{options.output, program}, {json_path, marks_json}};
-  write_files_together(pair);
+  const std::string marks_json = calibration::pattern_json_text(pattern.marks);
+  const files::FileContent pair[] = {{options.output, program}, {json_path, marks_json}};
+  files::write_files_together(pair);
   const std::size_t pairs = pattern.marks.size() * (pattern.marks.size() - 1) / 2;
   if (options.json) {
     std::cout << nlohmann::json{{"marks", pattern.marks.size()},
                                 {"cross_size_mm", pattern.cross_size_mm},
                                 {"identified", identified.identified},
                                 {"poorly_determined",
-                                 poorly_determined_json(identified.poorly_determined)},
+                                 calibration::poorly_determined_json(identified.poorly_determined)},
                                 {"held_rigid_motion", identified.held_rigid_motion},
                                 {"indistinguishable", identified.indistinguishable},
                                 {"no_effect", identified.no_effect},
@@ -331,8 +338,10 @@ void run_pattern(const PatternCommandOptions& options) {
                 joined(identified.held_rigid_motion).c_str());
   for (const auto& group : identified.indistinguishable)
     std::printf("cannot be told apart: %s\n", joined(group).c_str());
-  for (const PoorlyDetermined& p : identified.poorly_determined)
-    std::printf("%s\n", poorly_determined_text(p, FitOptions{}.design_noise_mm).c_str());
+  for (const calibration::PoorlyDetermined& p : identified.poorly_determined)
+    std::printf(
+        "%s\n",
+        calibration::poorly_determined_text(p, calibration::FitOptions{}.design_noise_mm).c_str());
   if (!identified.no_effect.empty())
     std::printf("no effect at the nominal geometry (or at the edge of their range): %s\n",
                 joined(identified.no_effect).c_str());

@@ -39,12 +39,12 @@ std::string_view quantity_name(certify::Quantity quantity) {
 }
 
 // What the proof covered on this machine, for the verdict's sentence.
-std::string covered(const Machine& machine) {
+std::string covered(const machine::Machine& machine) {
   std::string text = "joints within their limits";
   if (machine.cartesian().has_envelope()) text += ", the work envelope";
   if (machine.kinematics().has_mechanism_limits()) text += ", joint angles and leg clearances";
   if (machine.kinematics().assembly_mode(machine.home()) != 0) text += ", the assembly mode";
-  if (const HangingCables* cables = machine.kinematics().hanging_cables()) {
+  if (const kinematics::HangingCables* cables = machine.kinematics().hanging_cables()) {
     text += ", both cables pulling";
     if (cables->tension_limited()) text += ", the cables' tension limits";
   }
@@ -53,14 +53,15 @@ std::string covered(const Machine& machine) {
 
 // A value in the file's units: joints and envelope coordinates as the machine writes them,
 // angles in deg, clearances in the length unit.
-double value_in_file_units(const Machine& machine, const certify::Finding& finding, double value) {
+double value_in_file_units(const machine::Machine& machine, const certify::Finding& finding,
+                           double value) {
   switch (finding.quantity) {
     case certify::Quantity::joint:
       return machine.joint_to_file(finding.index, value);
     case certify::Quantity::envelope:
       return machine.axis_to_file(finding.index, value);
     case certify::Quantity::joint_angle:
-      return radians_to_degrees(value);
+      return geometry::radians_to_degrees(value);
     case certify::Quantity::clearance:
       return value / machine.mm_per_unit();
     default:
@@ -68,15 +69,15 @@ double value_in_file_units(const Machine& machine, const certify::Finding& findi
   }
 }
 
-nlohmann::json check_json(const Machine& machine, const certify::JobCheck& check) {
+nlohmann::json check_json(const machine::Machine& machine, const certify::JobCheck& check) {
   const certify::MoveProver names(machine);
   nlohmann::json failure = nullptr;
   if (check.first_failure) {
     const certify::Finding& f = check.first_failure->finding;
     nlohmann::json pose = nlohmann::json::object();
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       if (machine.kinematics().dof().controls(axis)) {
-        pose[std::string(kAxisNames[axis])] = machine.axis_to_file(axis, f.pose[axis]);
+        pose[std::string(geometry::kAxisNames[axis])] = machine.axis_to_file(axis, f.pose[axis]);
       }
     }
     failure = {{"move", check.first_failure->index + 1},
@@ -109,7 +110,8 @@ nlohmann::json check_json(const Machine& machine, const certify::JobCheck& check
 
 }  // namespace
 
-void run_certified_check(const Machine& machine, const CertifiedCheckArguments& arguments) {
+void run_certified_check(const machine::Machine& machine,
+                         const CertifiedCheckArguments& arguments) {
   certify::JobCheckOptions options;
   options.origin = pose_vector_over(machine, options.origin, arguments.origin);
   ProgressBar progress("check " + std::filesystem::path(arguments.job).filename().string(),

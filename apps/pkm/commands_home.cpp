@@ -20,8 +20,8 @@ struct HomeOptions {
 };
 
 // "left 160.000 mm, right 160.000 mm"
-std::string readings_text(const Machine& machine, const std::vector<int>& joints,
-                          const JointVector& values) {
+std::string readings_text(const machine::Machine& machine, const std::vector<int>& joints,
+                          const kinematics::JointVector& values) {
   std::string text;
   for (const int joint : joints) {
     char value[48];
@@ -36,12 +36,12 @@ std::string readings_text(const Machine& machine, const std::vector<int>& joints
 // What the homing program does, for the terminal: the joints in order, how far a probe may stop
 // past its switch where the controller sets the joint there (LinuxCNC sets it at the trip
 // point), where it ends.
-std::string homing_summary(const Machine& machine, post::Dialect dialect) {
+std::string homing_summary(const machine::Machine& machine, post::Dialect dialect) {
   std::string names;
   std::string overshoot;
-  for (const HomingMove& move : homing_moves(machine)) {
-    if (move.kind != HomingMoveKind::probe) continue;
-    const JointSpec& joint = machine.joints()[static_cast<std::size_t>(move.homed_joint)];
+  for (const machine::HomingMove& move : machine::homing_moves(machine)) {
+    if (move.kind != machine::HomingMoveKind::probe) continue;
+    const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(move.homed_joint)];
     char text[96];
     std::snprintf(text, sizeof text, "%s %.4f %s", joint.name.c_str(),
                   machine.joint_to_file(move.homed_joint, move.stop_distance),
@@ -59,7 +59,7 @@ std::string homing_summary(const Machine& machine, post::Dialect dialect) {
 
 void run_home(const HomeOptions& options) {
   refuse_overwriting_input(options.output, {{"the machine file", options.machine}});
-  const Machine machine = load_machine(options.machine);
+  const machine::Machine machine = machine::load_machine(options.machine);
   const post::Dialect dialect = post::dialect_named(options.dialect);
   std::string program;
   std::string summary;
@@ -77,7 +77,7 @@ void run_home(const HomeOptions& options) {
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
-  write_file_atomically(options.output, program);
+  files::write_file_atomically(options.output, program);
   std::printf("%s: %s\n", options.output.c_str(), summary.c_str());
 }
 

@@ -36,36 +36,38 @@ struct CheckOptions {
   std::vector<double> origin;
 };
 
-nlohmann::json pose_json(const Machine& machine, const Pose& pose) {
-  const Vector6d values = pose.as_vector();
+nlohmann::json pose_json(const machine::Machine& machine, const geometry::Pose& pose) {
+  const geometry::Vector6d values = pose.as_vector();
   nlohmann::json json = nlohmann::json::object();
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    json[std::string(kAxisNames[axis])] = machine.axis_to_file(axis, values[axis]);
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
+    json[std::string(geometry::kAxisNames[axis])] = machine.axis_to_file(axis, values[axis]);
   }
   return json;
 }
 
 // One line per controlled axis, "x = 750.000000 mm", each after `indent`.
-void print_pose(const Machine& machine, const Pose& pose, const char* indent = "") {
-  const Vector6d values = pose.as_vector();
-  for (int axis = 0; axis < kPoseSize; ++axis) {
+void print_pose(const machine::Machine& machine, const geometry::Pose& pose,
+                const char* indent = "") {
+  const geometry::Vector6d values = pose.as_vector();
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
     if (!machine.kinematics().dof().controls(axis)) continue;
-    std::printf("%s%s = %.6f %s\n", indent, std::string(kAxisNames[axis]).c_str(),
+    std::printf("%s%s = %.6f %s\n", indent, std::string(geometry::kAxisNames[axis]).c_str(),
                 machine.axis_to_file(axis, values[axis]) + 0.0, machine.axis_file_unit(axis));
   }
 }
 
 // A hanging machine with a weight: how hard each cable pulls at rest, how far the effector tilts.
-std::optional<CableStatics> cable_statics_at(const Machine& machine, const Pose& pose) {
-  const HangingCables* cables = machine.kinematics().hanging_cables();
+std::optional<kinematics::CableStatics> cable_statics_at(const machine::Machine& machine,
+                                                         const geometry::Pose& pose) {
+  const kinematics::HangingCables* cables = machine.kinematics().hanging_cables();
   if (cables == nullptr || !(cables->effector_mass_kg() > 0.0)) return std::nullopt;
-  CableStatics statics;
+  kinematics::CableStatics statics;
   if (!cables->statics(pose, Eigen::Vector2d::Zero(), statics).ok()) return std::nullopt;
   return statics;
 }
 
-void print_cable_statics(const Machine& machine, const Pose& pose) {
-  const std::optional<CableStatics> statics = cable_statics_at(machine, pose);
+void print_cable_statics(const machine::Machine& machine, const geometry::Pose& pose) {
+  const std::optional<kinematics::CableStatics> statics = cable_statics_at(machine, pose);
   if (!statics) return;
   for (int cable = 0; cable < 2; ++cable) {
     std::printf("tension %s = %.3f N (%.3f .. %.3f along it)\n",
@@ -73,25 +75,26 @@ void print_cable_statics(const Machine& machine, const Pose& pose) {
                 statics->tension_N[cable], statics->lowest_N[cable], statics->highest_N[cable]);
   }
   if (machine.kinematics().hanging_cables()->effector_tilts()) {
-    std::printf("tilt = %.4f deg\n", radians_to_degrees(statics->tilt_rad));
+    std::printf("tilt = %.4f deg\n", geometry::radians_to_degrees(statics->tilt_rad));
   }
 }
 
 // The same for --json: {"tension_N": [..], "lowest_N": [..], "highest_N": [..], "tilt_deg": t}.
-void add_cable_statics(const Machine& machine, const Pose& pose, nlohmann::json& out) {
-  const std::optional<CableStatics> statics = cable_statics_at(machine, pose);
+void add_cable_statics(const machine::Machine& machine, const geometry::Pose& pose,
+                       nlohmann::json& out) {
+  const std::optional<kinematics::CableStatics> statics = cable_statics_at(machine, pose);
   if (!statics) return;
   out["cables"] = {{"tension_N", statics->tension_N},
                    {"lowest_N", statics->lowest_N},
                    {"highest_N", statics->highest_N},
-                   {"tilt_deg", radians_to_degrees(statics->tilt_rad)}};
+                   {"tilt_deg", geometry::radians_to_degrees(statics->tilt_rad)}};
 }
 
 void run_ik(const IkOptions& options) {
-  const Machine machine = load_machine_or_default(options.machine);
-  const Pose pose = pose_from_arguments(machine, options.pose);
-  JointVector joints;
-  const Status status = machine.inverse(pose, joints);
+  const machine::Machine machine = load_machine_or_default(options.machine);
+  const geometry::Pose pose = pose_from_arguments(machine, options.pose);
+  kinematics::JointVector joints;
+  const kinematics::Status status = machine.inverse(pose, joints);
   if (!status.ok()) {
     throw CommandError("pose is not reachable on " + machine.name() + ": " +
                        machine.explain(pose, status));
@@ -113,7 +116,7 @@ void run_ik(const IkOptions& options) {
 }
 
 void run_fk(FkOptions options) {
-  const Machine machine = load_machine_or_default(options.machine);
+  const machine::Machine machine = load_machine_or_default(options.machine);
   const std::size_t joint_count = machine.joints().size();
   if (!options.seed.empty() && options.joints.size() < joint_count) {
     // `--seed x y z a b c j1 .. j6`: the option takes every number; the last ones are the joints.
@@ -127,11 +130,11 @@ void run_fk(FkOptions options) {
     throw CommandError(machine.name() + " has " + std::to_string(joint_count) + " joints; got " +
                        std::to_string(options.joints.size()) + " values");
   }
-  JointVector joints(static_cast<int>(joint_count));
+  kinematics::JointVector joints(static_cast<int>(joint_count));
   for (std::size_t i = 0; i < joint_count; ++i) {
     joints[static_cast<int>(i)] = machine.joint_from_file(static_cast<int>(i), options.joints[i]);
   }
-  Pose pose = machine.home();
+  geometry::Pose pose = machine.home();
   if (!options.seed.empty()) {
     try {
       pose = pose_from_arguments(machine, options.seed);
@@ -140,39 +143,40 @@ void run_fk(FkOptions options) {
                          std::to_string(joint_count) + " joint values");
     }
   }
-  const Status status = machine.forward(joints, pose);
+  const kinematics::Status status = machine.forward(joints, pose);
   if (!status.ok()) {
-    const bool limit = status.code == StatusCode::joint_limit && status.joint >= 0;
+    const bool limit = status.code == kinematics::StatusCode::joint_limit && status.joint >= 0;
     throw CommandError("no pose for these joints on " + machine.name() + ": " +
                        (limit ? machine.explain_joint(status.joint, joints[status.joint])
                               : machine.describe(status)));
   }
   // Where the joints put the pen is not always where the machine may go: say so.
-  JointVector again;
-  const Status allowed = machine.inverse(pose, again);
+  kinematics::JointVector again;
+  const kinematics::Status allowed = machine.inverse(pose, again);
   if (options.json) {
     nlohmann::json out{{"pose", pose_json(machine, pose)}, {"units", machine.length_unit()}};
     add_cable_statics(machine, pose, out);
-    if (allowed.code == StatusCode::tension) out["refused"] = machine.explain(pose, allowed);
+    if (allowed.code == kinematics::StatusCode::tension)
+      out["refused"] = machine.explain(pose, allowed);
     std::cout << out.dump() << "\n";
     return;
   }
   print_pose(machine, pose);
   print_cable_statics(machine, pose);
-  if (allowed.code == StatusCode::tension) {
+  if (allowed.code == kinematics::StatusCode::tension) {
     std::printf("note: IK refuses this pose: %s\n", machine.explain(pose, allowed).c_str());
   }
 }
 
 struct CheckSummary {
-  JointVector home_joints;
-  std::vector<AxisExtent> extents;
-  double conditioning = 0.0;              // relative_conditioning_at_home
-  std::optional<TensionRegion> tensions;  // a hanging effector's: tension_region
+  kinematics::JointVector home_joints;
+  std::vector<machine::AxisExtent> extents;
+  double conditioning = 0.0;                       // relative_conditioning_at_home
+  std::optional<machine::TensionRegion> tensions;  // a hanging effector's: tension_region
 };
 
 // "x 0.000..2978.400 y -1200.000..0.000 mm" in the machine file's units.
-std::string region_box_text(const Machine& machine, const Eigen::Vector2d& min_mm,
+std::string region_box_text(const machine::Machine& machine, const Eigen::Vector2d& min_mm,
                             const Eigen::Vector2d& max_mm) {
   char text[160];
   std::snprintf(
@@ -183,14 +187,15 @@ std::string region_box_text(const Machine& machine, const Eigen::Vector2d& min_m
 }
 
 // "x 1489.2 y -204.1 mm" in the machine file's units.
-std::string point_text(const Machine& machine, const Eigen::Vector2d& at_mm) {
+std::string point_text(const machine::Machine& machine, const Eigen::Vector2d& at_mm) {
   char text[96];
   std::snprintf(text, sizeof text, "x %.1f y %.1f %s", machine.axis_to_file(0, at_mm.x()) + 0.0,
                 machine.axis_to_file(1, at_mm.y()) + 0.0, machine.length_unit());
   return text;
 }
 
-nlohmann::json region_json(const Machine& machine, const GridRegion& region, int points) {
+nlohmann::json region_json(const machine::Machine& machine, const machine::GridRegion& region,
+                           int points) {
   if (region.points == 0 || points == 0) return {{"share", 0.0}};
   return {
       {"share", static_cast<double>(region.points) / points},
@@ -200,9 +205,10 @@ nlohmann::json region_json(const Machine& machine, const GridRegion& region, int
        {machine.axis_to_file(1, region.min_mm.y()), machine.axis_to_file(1, region.max_mm.y())}}};
 }
 
-nlohmann::json tension_region_json(const Machine& machine, const std::optional<TensionRegion>& t) {
+nlohmann::json tension_region_json(const machine::Machine& machine,
+                                   const std::optional<machine::TensionRegion>& t) {
   if (!t) return nullptr;
-  const HangingCables& cables = *machine.kinematics().hanging_cables();
+  const kinematics::HangingCables& cables = *machine.kinematics().hanging_cables();
   const int points = t->columns * t->rows;
   const auto at = [&](const Eigen::Vector2d& p) {
     return nlohmann::json{machine.axis_to_file(0, p.x()), machine.axis_to_file(1, p.y())};
@@ -230,13 +236,13 @@ nlohmann::json tension_region_json(const Machine& machine, const std::optional<T
 }
 
 // {"max_joint_angle_deg": [inner, platform] (null where unchecked), "leg_diameter": d or null}.
-nlohmann::json leg_limits_json(const Machine& machine) {
-  const LegLimitSettings* settings = machine.kinematics().leg_limit_settings();
+nlohmann::json leg_limits_json(const machine::Machine& machine) {
+  const kinematics::LegLimitSettings* settings = machine.kinematics().leg_limit_settings();
   if (settings == nullptr) return nullptr;
   nlohmann::json angles = nlohmann::json::array();
   for (const double angle : settings->max_joint_angle_rad) {
     // Rounded to 1e-10 deg: the file's 30 comes back as 30, not 29.999999999999996.
-    const double degrees = std::round(radians_to_degrees(angle) * 1e10) / 1e10;
+    const double degrees = std::round(geometry::radians_to_degrees(angle) * 1e10) / 1e10;
     angles.push_back(std::isfinite(angle) ? nlohmann::json(degrees) : nullptr);
   }
   return {{"max_joint_angle_deg", angles},
@@ -245,14 +251,14 @@ nlohmann::json leg_limits_json(const Machine& machine) {
                                : nlohmann::json(nullptr)}};
 }
 
-void print_leg_limits(const Machine& machine) {
-  const LegLimitSettings* settings = machine.kinematics().leg_limit_settings();
+void print_leg_limits(const machine::Machine& machine) {
+  const kinematics::LegLimitSettings* settings = machine.kinematics().leg_limit_settings();
   if (settings == nullptr) return;
   std::printf("  leg limits:");
   if (settings->checks_angles()) {
     std::printf(" max_joint_angle %g deg (inner), %g deg (platform);",
-                radians_to_degrees(settings->max_joint_angle_rad[0]),
-                radians_to_degrees(settings->max_joint_angle_rad[1]));
+                geometry::radians_to_degrees(settings->max_joint_angle_rad[0]),
+                geometry::radians_to_degrees(settings->max_joint_angle_rad[1]));
   }
   if (settings->leg_diameter_mm > 0.0) {
     std::printf(" leg_diameter %g %s", settings->leg_diameter_mm / machine.mm_per_unit(),
@@ -261,10 +267,10 @@ void print_leg_limits(const Machine& machine) {
   std::printf("\n");
 }
 
-nlohmann::json check_json(const Machine& machine, const CheckSummary& summary) {
+nlohmann::json check_json(const machine::Machine& machine, const CheckSummary& summary) {
   nlohmann::json joints = nlohmann::json::array();
   for (int i = 0; i < static_cast<int>(machine.joints().size()); ++i) {
-    const JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
+    const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
     joints.push_back({{"name", joint.name},
                       {"axis", std::string(1, joint.axis_letter)},
                       {"unit", machine.joint_file_unit(i)},
@@ -275,22 +281,22 @@ nlohmann::json check_json(const Machine& machine, const CheckSummary& summary) {
                       {"home", machine.joint_to_file(i, summary.home_joints[i])}});
   }
   nlohmann::json extent = nlohmann::json::object();
-  for (const AxisExtent& e : summary.extents) {
-    extent[std::string(kAxisNames[e.axis])] = {machine.axis_to_file(e.axis, e.min),
-                                               machine.axis_to_file(e.axis, e.max)};
+  for (const machine::AxisExtent& e : summary.extents) {
+    extent[std::string(geometry::kAxisNames[e.axis])] = {machine.axis_to_file(e.axis, e.min),
+                                                         machine.axis_to_file(e.axis, e.max)};
   }
   nlohmann::json envelope = nullptr;
   if (machine.cartesian().has_envelope()) {
     envelope = nlohmann::json::object();
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       if (!machine.kinematics().dof().controls(axis)) continue;
-      envelope[std::string(kAxisNames[axis])] = {
+      envelope[std::string(geometry::kAxisNames[axis])] = {
           machine.axis_to_file(axis, machine.cartesian().envelope_min[axis]),
           machine.axis_to_file(axis, machine.cartesian().envelope_max[axis])};
     }
   }
   nlohmann::json parameters = nlohmann::json::array();
-  for (const Parameter& p : machine.kinematics().parameters()) {
+  for (const kinematics::Parameter& p : machine.kinematics().parameters()) {
     parameters.push_back({{"name", p.name}, {"value", p.value}, {"unit", p.unit}});
   }
   return {{"name", machine.name()},
@@ -298,7 +304,7 @@ nlohmann::json check_json(const Machine& machine, const CheckSummary& summary) {
           {"type", std::string(machine.kinematics().type())},
           {"units", machine.length_unit()},
           {"valid", true},
-          {"singular_at_home", summary.conditioning < kSingularAtHome},
+          {"singular_at_home", summary.conditioning < machine::kSingularAtHome},
           {"conditioning_at_home", summary.conditioning},
           {"joints", joints},
           {"home", pose_json(machine, machine.home())},
@@ -309,10 +315,10 @@ nlohmann::json check_json(const Machine& machine, const CheckSummary& summary) {
           {"parameters", parameters}};
 }
 
-void print_check_joints(const Machine& machine, const CheckSummary& summary) {
+void print_check_joints(const machine::Machine& machine, const CheckSummary& summary) {
   std::printf("  joints (position at home, limits, max velocity and acceleration):\n");
   for (int i = 0; i < static_cast<int>(machine.joints().size()); ++i) {
-    const JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
+    const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
     const char* unit = machine.joint_file_unit(i);
     std::printf("    %-10s %c  %12.4f %s  range [%.4f, %.4f]  %.1f %s/s  %.1f %s/s^2\n",
                 joint.name.c_str(), joint.axis_letter,
@@ -325,11 +331,11 @@ void print_check_joints(const Machine& machine, const CheckSummary& summary) {
 
 // A hanging effector's tensions at rest over the frame: where both cables hold it within their
 // limits, and where each goes slack or passes its maximum.
-void print_tension_region(const Machine& machine, const TensionRegion& t) {
-  const HangingCables& cables = *machine.kinematics().hanging_cables();
+void print_tension_region(const machine::Machine& machine, const machine::TensionRegion& t) {
+  const kinematics::HangingCables& cables = *machine.kinematics().hanging_cables();
   const bool limited = cables.tension_limited();
   const double reached = t.reached.points;
-  const auto share = [&](const GridRegion& r) {
+  const auto share = [&](const machine::GridRegion& r) {
     return reached > 0 ? 100.0 * r.points / reached : 0.0;
   };
   char limits[96];
@@ -373,14 +379,15 @@ void print_tension_region(const Machine& machine, const TensionRegion& t) {
   }
 }
 
-void print_check(const Machine& machine, const CheckSummary& summary) {
-  const Kinematics& kinematics = machine.kinematics();
+void print_check(const machine::Machine& machine, const CheckSummary& summary) {
+  const kinematics::Kinematics& kinematics = machine.kinematics();
   std::printf("%s\n  file: %s\n  units: %s and deg\n  kinematics: %s, %d joints, controls",
               machine.name().c_str(), machine.source().c_str(),
-              machine.units() == LengthUnit::inch ? "inch" : "mm",
+              machine.units() == machine::LengthUnit::inch ? "inch" : "mm",
               std::string(kinematics.type()).c_str(), kinematics.joint_count());
-  for (int axis = 0; axis < kPoseSize; ++axis) {
-    if (kinematics.dof().controls(axis)) std::printf(" %s", std::string(kAxisNames[axis]).c_str());
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
+    if (kinematics.dof().controls(axis))
+      std::printf(" %s", std::string(geometry::kAxisNames[axis]).c_str());
   }
   std::printf("\n");
   print_check_joints(machine, summary);
@@ -393,20 +400,20 @@ void print_check(const Machine& machine, const CheckSummary& summary) {
   print_pose(machine, machine.home(), "    ");
   std::printf("  reachable extent along lines through home (IK, joint limits%s):\n",
               machine.cartesian().has_envelope() ? ", work envelope" : "");
-  for (const AxisExtent& e : summary.extents) {
+  for (const machine::AxisExtent& e : summary.extents) {
     const bool clipped = machine.cartesian().envelope_min[e.axis] == e.min ||
                          machine.cartesian().envelope_max[e.axis] == e.max;
-    std::printf("    %s  %12.4f .. %12.4f %s%s\n", std::string(kAxisNames[e.axis]).c_str(),
-                machine.axis_to_file(e.axis, e.min) + 0.0,
-                machine.axis_to_file(e.axis, e.max) + 0.0, machine.axis_file_unit(e.axis),
-                clipped ? "  (clipped by the envelope)" : "");
+    std::printf(
+        "    %s  %12.4f .. %12.4f %s%s\n", std::string(geometry::kAxisNames[e.axis]).c_str(),
+        machine.axis_to_file(e.axis, e.min) + 0.0, machine.axis_to_file(e.axis, e.max) + 0.0,
+        machine.axis_file_unit(e.axis), clipped ? "  (clipped by the envelope)" : "");
   }
   if (summary.tensions) print_tension_region(machine, *summary.tensions);
   std::printf("  ok: machine file is valid\n");
 }
 
 void run_check(const CheckOptions& options) {
-  const Machine machine = load_machine_or_default(options.machine);
+  const machine::Machine machine = load_machine_or_default(options.machine);
   if (!options.job.empty()) {
     run_certified_check(machine, {options.job, options.origin, options.json});
     return;
@@ -414,9 +421,9 @@ void run_check(const CheckOptions& options) {
   if (!options.origin.empty()) throw CommandError("--origin is only read with a JOB");
   CheckSummary summary;
   machine.inverse(machine.home(), summary.home_joints);  // checked when the file was loaded
-  summary.extents = reachable_extent(machine);
-  summary.conditioning = relative_conditioning_at_home(machine);
-  summary.tensions = tension_region(machine);
+  summary.extents = machine::reachable_extent(machine);
+  summary.conditioning = machine::relative_conditioning_at_home(machine);
+  summary.tensions = machine::tension_region(machine);
   if (options.json) {
     std::cout << check_json(machine, summary).dump(2) << "\n";
   } else {

@@ -51,7 +51,7 @@ void print_kept(const linuxcnc::KeptFiles& kept) {
 }
 
 void export_linuxcnc(const ExportLinuxcncOptions& options) {
-  const Machine machine = load_machine(options.machine);
+  const machine::Machine machine = machine::load_machine(options.machine);
   linuxcnc::ExportOptions export_options;
   export_options.sim = options.sim;
   export_options.machine_file_name = std::filesystem::path(options.machine).filename().string();
@@ -101,13 +101,13 @@ void migrate_linuxcnc(const MigrateOptionsCli& options) {
                        " is the configuration's own directory: give a new one (the "
                        "configuration is copied, never edited in place)");
   }
-  const Machine machine = load_machine(options.machine);
+  const machine::Machine machine = machine::load_machine(options.machine);
   linuxcnc::MigrateOptions migrate_options;
   migrate_options.hallib = options.hallib;
   migrate_options.machine_file_name = std::filesystem::path(options.machine).filename().string();
   migrate_options.machine_text = read_text(options.machine);
   migrate_options.machine_joints = static_cast<int>(machine.joints().size());
-  migrate_options.machine_units = machine.units() == LengthUnit::inch ? "inch" : "mm";
+  migrate_options.machine_units = machine.units() == machine::LengthUnit::inch ? "inch" : "mm";
   linuxcnc::Migration migration;
   linuxcnc::KeptFiles kept;
   try {

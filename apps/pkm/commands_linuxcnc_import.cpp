@@ -30,7 +30,7 @@ void run_import_linuxcnc(const ImportOptionsCli& options) {
   if (options.output.empty()) {
     std::fputs(text.c_str(), stdout);
   } else {
-    write_file_atomically(options.output, text);
+    files::write_file_atomically(options.output, text);
   }
 }
 

@@ -43,7 +43,7 @@ struct PlanCommandOptions {
 };
 
 // Samples nobody keeps: `pkm demo` without -o, and the estimate (which makes none).
-struct DiscardSamples final : SampleFile {
+struct DiscardSamples final : io::SampleFile {
   void write(const motion::Sample&) override {}
   void commit() override {}
 };
@@ -55,7 +55,7 @@ struct PlanSetup {
   motion::PlanOptions plan;
 };
 
-PlanSetup plan_setup(const Machine& machine, const PlanCommandOptions& options) {
+PlanSetup plan_setup(const machine::Machine& machine, const PlanCommandOptions& options) {
   PlanSetup setup;
   setup.plan.period_s = options.period_s;
   setup.interpreter.subroutine_path = options.subroutine_path;
@@ -72,7 +72,7 @@ PlanSetup plan_setup(const Machine& machine, const PlanCommandOptions& options) 
 }
 
 // One run of the planner over the job, its errors turned into the command's.
-motion::PlanReport run_planner(const Machine& machine, const PlanCommandOptions& options,
+motion::PlanReport run_planner(const machine::Machine& machine, const PlanCommandOptions& options,
                                const PlanSetup& setup, motion::SampleSink& sink) {
   try {
     return motion::plan_program(machine, options.program, setup.interpreter, setup.plan, sink);
@@ -88,14 +88,14 @@ motion::PlanReport run_planner(const Machine& machine, const PlanCommandOptions&
 
 // Bytes of a sample file: NPY exactly (header and 8 bytes a column), CSV roughly (a real number
 // takes some 14 characters).
-double npy_bytes(const Machine& machine, double samples) {
-  return 128.0 + samples * 8.0 * static_cast<double>(sample_columns(machine).size());
+double npy_bytes(const machine::Machine& machine, double samples) {
+  return 128.0 + samples * 8.0 * static_cast<double>(io::sample_columns(machine).size());
 }
-double csv_bytes(const Machine& machine, double samples) {
-  return samples * (14.0 * static_cast<double>(sample_columns(machine).size() - 2) + 16.0);
+double csv_bytes(const machine::Machine& machine, double samples) {
+  return samples * (14.0 * static_cast<double>(io::sample_columns(machine).size() - 2) + 16.0);
 }
 
-void print_estimate_head(const Machine& machine, const motion::PlanReport& report,
+void print_estimate_head(const machine::Machine& machine, const motion::PlanReport& report,
                          const std::string& name) {
   // Seconds to the millisecond; an absurd job's (1e152 s) in powers of ten.
   std::printf(report.duration_s < 1e9
@@ -112,13 +112,13 @@ void print_estimate_head(const Machine& machine, const motion::PlanReport& repor
 
 // "the left cable" (a cable is named as its joint); -1 where the effector would have no
 // balance at all (the tensions' bound was where one ends).
-std::string cable_text(const Machine& machine, int cable) {
+std::string cable_text(const machine::Machine& machine, int cable) {
   if (cable < 0) return "the cables' balance";
   return "the " + machine.joints()[static_cast<std::size_t>(cable)].name + " cable";
 }
 
 // "joint left", or "the left cable's tension".
-std::string limiting(const Machine& machine, int joint, motion::LimitCause cause) {
+std::string limiting(const machine::Machine& machine, int joint, motion::LimitCause cause) {
   if (cause == motion::LimitCause::tension) {
     return joint < 0 ? cable_text(machine, joint) : cable_text(machine, joint) + "'s tension";
   }
@@ -149,7 +149,7 @@ const char* kind_text(FeedLimitKind kind) {
 
 // "feed lowered by joint acceleration on 98 moves, 96 of them G64 corner blends (first at line
 // 44, joint right)": one line per kind of limit.
-void print_feed_limit_counts(const Machine& machine, const motion::PlanReport& report) {
+void print_feed_limit_counts(const machine::Machine& machine, const motion::PlanReport& report) {
   for (const FeedLimitKind kind :
        {FeedLimitKind::joint_velocity, FeedLimitKind::joint_acceleration, FeedLimitKind::tension}) {
     const auto of_kind = [&](const motion::FeedLimit& limit) { return kind_of(limit) == kind; };
@@ -172,11 +172,11 @@ void print_feed_limit_counts(const Machine& machine, const motion::PlanReport& r
 
 // The first `count` moves whose feed a joint (or a cable's tension) lowered, and whose
 // acceleration a cable's tension lowered: what to look at before running the job.
-void print_feed_limits(const Machine& machine, const motion::PlanReport& report,
+void print_feed_limits(const machine::Machine& machine, const motion::PlanReport& report,
                        std::size_t count) {
   for (std::size_t i = 0; i < report.feed_limits.size() && i < count; ++i) {
     const motion::FeedLimit& limit = report.feed_limits[i];
-    std::printf("    line %d: %s\n", limit.line, feed_limit_text(machine, limit).c_str());
+    std::printf("    line %d: %s\n", limit.line, io::feed_limit_text(machine, limit).c_str());
   }
   if (report.feed_limits.size() > count) {
     std::printf("    and %zu more (--report lists them all)\n", report.feed_limits.size() - count);
@@ -197,7 +197,7 @@ void print_feed_limits(const Machine& machine, const motion::PlanReport& report,
   }
 }
 
-void print_summary(const Machine& machine, const motion::PlanReport& report,
+void print_summary(const machine::Machine& machine, const motion::PlanReport& report,
                    const std::string& name, bool estimate) {
   if (estimate) {
     print_estimate_head(machine, report, name);
@@ -209,7 +209,7 @@ void print_summary(const Machine& machine, const motion::PlanReport& report,
   // Joints as check prints them: in the machine file's units.
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
     const int j = static_cast<int>(i);
-    const JointSpec& joint = machine.joints()[i];
+    const machine::JointSpec& joint = machine.joints()[i];
     const motion::JointStatistics& s = report.joints[i];
     const char* unit = machine.joint_file_unit(j);
     std::printf("  %-10s %10.3f .. %10.3f %s, peak %8.2f of %.1f %s/s", joint.name.c_str(),
@@ -222,7 +222,7 @@ void print_summary(const Machine& machine, const motion::PlanReport& report,
     }
     std::printf("\n");
   }
-  if (machine.tool().z == ToolZ::pen) {
+  if (machine.tool().z == machine::ToolZ::pen) {
     std::printf("  pen down or up %d times, %.3f s of pen delay\n", report.pen_changes,
                 report.pen_changes * machine.tool().delay_s);
   }
@@ -244,7 +244,7 @@ void print_warnings(const PlanCommandOptions& options, const motion::PlanReport&
 
 // The estimate refuses a job that would write more samples than the bound, before anything is
 // written: a wrong period or machine file would otherwise fill the disk.
-void refuse_beyond_bound(const Machine& machine, const PlanCommandOptions& options,
+void refuse_beyond_bound(const machine::Machine& machine, const PlanCommandOptions& options,
                          const motion::PlanReport& estimate) {
   if (estimate.samples <= options.max_samples) return;
   char text[512];
@@ -270,7 +270,7 @@ void run_plan(const PlanCommandOptions& options) {
                                        {"the machine file", options.machine},
                                        {"the tool table", options.tool_table.path}});
   }
-  const Machine machine = load_machine_or_default(options.machine);
+  const machine::Machine machine = load_machine_or_default(options.machine);
   PlanSetup setup = plan_setup(machine, options);
   const std::string name = !options.output.empty()         ? options.output
                            : !options.display_name.empty() ? options.display_name
@@ -286,9 +286,10 @@ void run_plan(const PlanCommandOptions& options) {
     const motion::PlanReport estimate = run_planner(machine, options, setup, none);
     if (estimate_only) {
       if (!options.report.empty()) {
-        write_file_atomically(
+        files::write_file_atomically(
             options.report,
-            plan_report_json(machine, estimate, options.program, options.period_s, true).dump(2) +
+            io::plan_report_json(machine, estimate, options.program, options.period_s, true)
+                    .dump(2) +
                 "\n");
       }
       print_warnings(options, estimate);
@@ -306,10 +307,10 @@ void run_plan(const PlanCommandOptions& options) {
                     .string(),
       options.program);
   setup.plan.on_line = progress.on_line();
-  std::unique_ptr<SampleFile> output;
+  std::unique_ptr<io::SampleFile> output;
   try {
     output = options.output.empty() ? std::make_unique<DiscardSamples>()
-                                    : SampleFile::open(options.output, machine);
+                                    : io::SampleFile::open(options.output, machine);
   } catch (const std::invalid_argument& error) {
     throw CommandError(error.what());
   }
@@ -320,8 +321,8 @@ void run_plan(const PlanCommandOptions& options) {
   progress.clear();
   output->commit();
   const nlohmann::json json =
-      plan_report_json(machine, report, options.program, options.period_s, false);
-  if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
+      io::plan_report_json(machine, report, options.program, options.period_s, false);
+  if (!options.report.empty()) files::write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) {
     recorder.finish();
     const std::string job =
@@ -343,7 +344,7 @@ void run_plan(const PlanCommandOptions& options) {
 // is read from a temporary file that is never committed: it goes with the run, however the run
 // ends (a signal included), and one left by a killed run is removed by the next.
 void run_demo(PlanCommandOptions options) {
-  AtomicFileWriter job(std::filesystem::temp_directory_path() / "pkm-demo-sphere.ngc");
+  files::AtomicFileWriter job(std::filesystem::temp_directory_path() / "pkm-demo-sphere.ngc");
   job.write(kEmbeddedJob);
   if (std::fflush(job.stream()) != 0) {
     throw CommandError(job.temporary_path() + ": cannot write the demo's job");

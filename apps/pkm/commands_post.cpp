@@ -42,7 +42,7 @@ struct PostCommandOptions {
 
 // The page of the written program: its blocks traced by verify's forward kinematics against the
 // job, each coloured by its measured deviation.
-void write_post_html(const Machine& machine, const PostCommandOptions& options,
+void write_post_html(const machine::Machine& machine, const PostCommandOptions& options,
                      const post::PostOptions& post_options, const nlohmann::json& report) {
   view::BlockRecorder recorder(machine);
   verify::VerifyOptions verify_options;
@@ -76,7 +76,7 @@ std::string format_number(const char* pattern, double value) {
 
 // The controller's time beside plan's: what the joints and the job allow when the machine has
 // the kinematics, against what grbl's planner makes of the joint program.
-void print_controller_time(const Machine& machine, const PostCommandOptions& options,
+void print_controller_time(const machine::Machine& machine, const PostCommandOptions& options,
                            const post::PostOptions& post_options,
                            const controller::GrblPrediction& prediction) {
   motion::PlanOptions plan_options;
@@ -98,13 +98,14 @@ void print_controller_time(const Machine& machine, const PostCommandOptions& opt
     plan_time = std::string("pkm plan refuses the job: ") + error.what();
   }
   std::printf("%s predicts %.3f s for the program (%s)\n",
-              controller_kind_name(machine.controller()->kind), prediction.time_s,
+              machine::controller_kind_name(machine.controller()->kind), prediction.time_s,
               plan_time.c_str());
 }
 
 // The post options the command line asks for, checked against the machine (its axis letters in
 // the dialect).
-post::PostOptions post_options_for(const Machine& machine, const PostCommandOptions& options) {
+post::PostOptions post_options_for(const machine::Machine& machine,
+                                   const PostCommandOptions& options) {
   post::PostOptions post_options;
   post_options.tolerance_mm = options.tolerance > 0.0
                                   ? mm_from_machine_units(machine, options.tolerance)
@@ -126,12 +127,12 @@ post::PostOptions post_options_for(const Machine& machine, const PostCommandOpti
 // one (the outputs are still under their temporary names when this is asked).
 void refuse_overwriting_subroutines(const PostCommandOptions& options,
                                     const post::PostReport& report) {
-  std::vector<NamedInput> subroutines;
+  std::vector<io::NamedInput> subroutines;
   for (std::size_t i = 1; i < report.files_read.size(); ++i) {
     subroutines.push_back({"a subroutine file the job calls", report.files_read[i]});
   }
   for (const std::string& written : {options.output, options.report, options.html}) {
-    if (const std::string reason = overwrites_input(written, subroutines); !reason.empty()) {
+    if (const std::string reason = io::overwrites_input(written, subroutines); !reason.empty()) {
       throw CommandError(reason);
     }
   }
@@ -150,7 +151,7 @@ void print_warnings(const std::string& program, const std::vector<gcode::Warning
 }
 
 // The one-line summary, in the machine's length unit, then what else was written.
-void print_post_summary(const Machine& machine, const PostCommandOptions& options,
+void print_post_summary(const machine::Machine& machine, const PostCommandOptions& options,
                         const post::PostOptions& post_options, const post::PostReport& report) {
   const double per_unit = machine.mm_per_unit();
   std::printf("%s: %ld blocks for %ld moves, %s %.6f %s (line %d), tolerance %.6f %s\n",
@@ -172,10 +173,10 @@ void run_post(const PostCommandOptions& options) {
                                        {"the machine file", options.machine},
                                        {"the tool table", options.tool_table.path}});
   }
-  const Machine machine = load_machine_or_default(options.machine);
+  const machine::Machine machine = load_machine_or_default(options.machine);
   post::PostOptions post_options = post_options_for(machine, options);
   gcode::InterpreterOptions interpreter_options;
-  AtomicFileWriter file(options.output);
+  files::AtomicFileWriter file(options.output);
   file.write(post::joint_program_header(machine, options.program, post_options.dialect,
                                         post_options.tolerance_mm, nullptr));
   post::PostReport report;
@@ -206,18 +207,18 @@ void run_post(const PostCommandOptions& options) {
                                               post_options.tolerance_mm, &report));
   file.commit();
   print_warnings(options.program, report.warnings);
-  const nlohmann::json json =
-      post_report_json(machine, options.program, options.output, report, post_options.tolerance_mm);
-  if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
+  const nlohmann::json json = io::post_report_json(machine, options.program, options.output, report,
+                                                   post_options.tolerance_mm);
+  if (!options.report.empty()) files::write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) write_post_html(machine, options, post_options, json);
   print_post_summary(machine, options, post_options, report);
 }
 
 // pkm export grbl|grblhal: the controller's $ settings, on standard output or in -o FILE.
 void run_export_settings(const std::string& machine_file, const std::string& output,
-                         ControllerKind kind) {
+                         machine::ControllerKind kind) {
   refuse_overwriting_input(output, {{"the machine file", machine_file}});
-  const Machine machine = load_machine(machine_file);
+  const machine::Machine machine = machine::load_machine(machine_file);
   post::ControllerSettingsFile settings;
   try {
     settings = post::controller_settings(machine, kind);
@@ -231,19 +232,19 @@ void run_export_settings(const std::string& machine_file, const std::string& out
     std::fputs(settings.text().c_str(), stdout);
     return;
   }
-  write_file_atomically(output, settings.text());
+  files::write_file_atomically(output, settings.text());
   std::printf("%s: %zu %s settings for %s: send it line by line, waiting for each ok\n",
-              output.c_str(), settings.settings.size(), controller_kind_name(kind),
+              output.c_str(), settings.settings.size(), machine::controller_kind_name(kind),
               machine.name().c_str());
 }
 
-void register_export_settings(CLI::App& export_command, ControllerKind kind) {
+void register_export_settings(CLI::App& export_command, machine::ControllerKind kind) {
   struct Options {
     std::string machine;
     std::string output;
   };
   auto options = std::make_shared<Options>();
-  const std::string name = controller_kind_name(kind);
+  const std::string name = machine::controller_kind_name(kind);
   CLI::App* command = export_command.add_subcommand(
       name, "The " + name + " $ settings of the joints (steps, rates, accelerations, travel)");
   command->add_option("-m,--machine", options->machine, "Machine file with a [controller] table")
@@ -266,7 +267,7 @@ void register_post_commands(CLI::App& app) {
       "mach3", "Mach3 formula-axis equations, for machines whose IK is a closed formula");
   mach3->add_option("-m,--machine", *export_machine, "Machine file (default: embedded hexapod)");
   mach3->callback([export_machine] {
-    const Machine machine = load_machine_or_default(*export_machine);
+    const machine::Machine machine = load_machine_or_default(*export_machine);
     std::vector<std::pair<char, std::string>> formulas;
     try {
       formulas = post::mach3_formulas(machine);
@@ -280,8 +281,8 @@ void register_post_commands(CLI::App& app) {
     }
   });
 
-  register_export_settings(*export_command, ControllerKind::grbl);
-  register_export_settings(*export_command, ControllerKind::grblhal);
+  register_export_settings(*export_command, machine::ControllerKind::grbl);
+  register_export_settings(*export_command, machine::ControllerKind::grblhal);
 
   auto options = std::make_shared<PostCommandOptions>();
   CLI::App* command = app.add_subcommand(

@@ -89,7 +89,7 @@ std::string step_file_partial(const std::string& path) {
   return path + ".partial";
 }
 
-stream::Port open_port(const Machine& machine, const StreamCommandOptions& options) {
+stream::Port open_port(const machine::Machine& machine, const StreamCommandOptions& options) {
   if (options.dry_run) {
     stream::Port::SimulatorOptions simulator;
     simulator.executable = grbl_sim_executable(options);
@@ -107,7 +107,7 @@ stream::Port open_port(const Machine& machine, const StreamCommandOptions& optio
 
 // Sends the machine's $ settings to grbl-sim, the lines `pkm export grbl` writes: a real
 // controller keeps its own (the user checks and sends them).
-void send_settings(const Machine& machine, stream::GrblSender& sender) {
+void send_settings(const machine::Machine& machine, stream::GrblSender& sender) {
   if (!machine.controller()) {
     throw CommandError(machine.source() +
                        ": --dry-run needs the machine's [controller] table and each joint's "
@@ -124,8 +124,8 @@ void send_settings(const Machine& machine, stream::GrblSender& sender) {
   }
   // grbl-sim starts at step 0: there it stands at the machine's home, as a user zeroes a plotter
   // (docs/grbl.md).
-  JointVector home_joints;
-  if (machine.inverse(machine.home(), home_joints).code != StatusCode::ok) {
+  kinematics::JointVector home_joints;
+  if (machine.inverse(machine.home(), home_joints).code != kinematics::StatusCode::ok) {
     throw CommandError(
         machine.source() + ": the home pose has no joint values: " +
         machine.explain(machine.home(), machine.inverse(machine.home(), home_joints)));
@@ -152,10 +152,11 @@ void stream_joint_program(const std::string& path, stream::GrblSender& sender) {
 }
 
 // How the Cartesian job is posted as it is sent: post's, in the controller's dialect.
-post::PostOptions stream_post_options(const Machine& machine, const StreamCommandOptions& options) {
+post::PostOptions stream_post_options(const machine::Machine& machine,
+                                      const StreamCommandOptions& options) {
   post::PostOptions post_options;
   post_options.dialect =
-      machine.controller() && machine.controller()->kind == ControllerKind::grblhal
+      machine.controller() && machine.controller()->kind == machine::ControllerKind::grblhal
           ? post::Dialect::grblhal
           : post::Dialect::grbl;
   post_options.tolerance_mm = options.tolerance > 0.0
@@ -171,7 +172,7 @@ post::PostOptions stream_post_options(const Machine& machine, const StreamComman
 // Cartesian job posted once beforehand. For the time left on the progress line only: nothing
 // without a [controller] table, nor where the program cannot be read (the stream itself then
 // stops at that line, saying why).
-std::optional<double> predicted_program_s(const Machine& machine,
+std::optional<double> predicted_program_s(const machine::Machine& machine,
                                           const StreamCommandOptions& options) {
   if (!machine.controller()) return std::nullopt;
   try {
@@ -197,7 +198,7 @@ std::optional<double> predicted_program_s(const Machine& machine,
 
 // The Cartesian job posted block by block into the sender: nothing held but the lines grbl has
 // not answered yet.
-void stream_posted_job(const Machine& machine, const StreamCommandOptions& options,
+void stream_posted_job(const machine::Machine& machine, const StreamCommandOptions& options,
                        stream::GrblSender& sender) {
   post::PostOptions post_options = stream_post_options(machine, options);
   int job_line = 0;
@@ -217,8 +218,8 @@ void stream_posted_job(const Machine& machine, const StreamCommandOptions& optio
   }
 }
 
-std::string position_text(const Machine& machine, const stream::StatusReport& status,
-                          Pose& last_pose) {
+std::string position_text(const machine::Machine& machine, const stream::StatusReport& status,
+                          geometry::Pose& last_pose) {
   if (!status.has_position) return status.state;
   if (auto pose = stream::tool_pose(machine, status.work_position, last_pose)) {
     last_pose = *pose;
@@ -231,7 +232,7 @@ void run_stream(const StreamCommandOptions& options) {
   if (!options.dry_run && options.port.empty()) {
     throw CommandError("give --port DEVICE, or --dry-run to stream into grbl-sim");
   }
-  const Machine machine = load_machine_or_default(options.machine);
+  const machine::Machine machine = load_machine_or_default(options.machine);
   InterruptFlag interrupt_flag;
   stream::Port port = open_port(machine, options);
   const int rx_buffer = machine.controller() ? machine.controller()->rx_buffer_bytes : 128;
@@ -247,7 +248,7 @@ void run_stream(const StreamCommandOptions& options) {
                             timeouts);
   sender.set_interrupt_flag(&interrupted);
   StreamProgress progress("stream " + std::filesystem::path(options.job).filename().string());
-  Pose last_pose = machine.home();
+  geometry::Pose last_pose = machine.home();
   std::string shown_state;
   sender.on_status = [&](const stream::StatusReport& status) {
     shown_state = position_text(machine, status, last_pose);

@@ -31,21 +31,21 @@ struct VerifyCommandOptions {
 
 // The tolerance given (in the machine file's units), or the one post wrote in the joint
 // program's header (mm, as the program): mm.
-double tolerance_mm_of(const Machine& machine, const VerifyCommandOptions& options) {
+double tolerance_mm_of(const machine::Machine& machine, const VerifyCommandOptions& options) {
   if (options.tolerance != 0.0) return mm_from_machine_units(machine, options.tolerance);
   const std::optional<double> header = verify::tolerance_in_header(options.joints);
   if (!header) {
     throw CommandError(options.joints + ": no tolerance to verify against: give --tolerance " +
-                       (machine.units() == LengthUnit::inch ? "IN" : "MM") +
+                       (machine.units() == machine::LengthUnit::inch ? "IN" : "MM") +
                        " (the joint program's header, where pkm post writes one, has none)");
   }
   return *header;
 }
 
 // A finding's value (mm, mm/s, deg or deg/s) in the machine file's units.
-double in_machine_units(const Machine& machine, const verify::Violation& v, double value) {
-  const bool rotary =
-      v.joint >= 0 && machine.joints()[static_cast<std::size_t>(v.joint)].kind == JointKind::rotary;
+double in_machine_units(const machine::Machine& machine, const verify::Violation& v, double value) {
+  const bool rotary = v.joint >= 0 && machine.joints()[static_cast<std::size_t>(v.joint)].kind ==
+                                          kinematics::JointKind::rotary;
   return rotary ? value : value / machine.mm_per_unit();
 }
 
@@ -56,13 +56,13 @@ std::string fixed(double value, int decimals = 7) {
   return text;
 }
 
-std::string joint_name(const Machine& machine, int joint) {
+std::string joint_name(const machine::Machine& machine, int joint) {
   return joint >= 0 ? machine.joints()[static_cast<std::size_t>(joint)].name : "";
 }
 
 // One line per kind of finding: how many, the worst, the lines of the first few. Values in the
 // units of the machine file: a joint's, or its length unit, followed by `per` ("" or "/s").
-void print_summary(const Machine& machine, const char* what, const std::string& per,
+void print_summary(const machine::Machine& machine, const char* what, const std::string& per,
                    const verify::ViolationSummary& summary) {
   if (summary.count == 0) return;
   const verify::Violation& w = summary.worst;
@@ -82,7 +82,7 @@ void print_summary(const Machine& machine, const char* what, const std::string& 
               summary.count, w.line, w.job_line, worst.c_str(), first.c_str());
 }
 
-void print_report(const Machine& machine, const VerifyCommandOptions& options,
+void print_report(const machine::Machine& machine, const VerifyCommandOptions& options,
                   const verify::VerifyReport& report) {
   const double per_unit = machine.mm_per_unit();
   const char* unit = machine.length_unit();
@@ -103,7 +103,7 @@ void print_report(const Machine& machine, const VerifyCommandOptions& options,
   }
 }
 
-void fail_unless_passed(const Machine& machine, const VerifyCommandOptions& options,
+void fail_unless_passed(const machine::Machine& machine, const VerifyCommandOptions& options,
                         const verify::VerifyReport& report) {
   const double per_unit = machine.mm_per_unit();
   const std::string unit = machine.length_unit();
@@ -139,7 +139,7 @@ void fail_unless_passed(const Machine& machine, const VerifyCommandOptions& opti
 
 // The verification's page: the blocks as verify traced them, over the job's outline. Written
 // before the verdict, so a failed verification has its page too.
-void write_verify_html(const Machine& machine, const VerifyCommandOptions& options,
+void write_verify_html(const machine::Machine& machine, const VerifyCommandOptions& options,
                        const verify::VerifyOptions& verify_options, const nlohmann::json& json,
                        view::BlockRecorder& recorder) {
   recorder.finish();
@@ -164,7 +164,7 @@ void run_verify(const VerifyCommandOptions& options) {
                                        {"the machine file", options.machine},
                                        {"the tool table", options.tool_table.path}});
   }
-  const Machine machine = load_machine_or_default(options.machine);
+  const machine::Machine machine = load_machine_or_default(options.machine);
   verify::VerifyOptions verify_options;
   verify_options.origin = pose_vector_over(machine, verify_options.origin, options.origin);
   verify::VerifyReport report;
@@ -188,8 +188,8 @@ void run_verify(const VerifyCommandOptions& options) {
     throw CommandError(error.what());
   }
   progress.clear();
-  const nlohmann::json json = verify_report_json(machine, options.joints, options.job, report);
-  if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
+  const nlohmann::json json = io::verify_report_json(machine, options.joints, options.job, report);
+  if (!options.report.empty()) files::write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) write_verify_html(machine, options, verify_options, json, recorder);
   print_report(machine, options, report);
   if (!options.report.empty()) std::printf("wrote the report %s\n", options.report.c_str());

@@ -29,10 +29,11 @@ struct ViewCommandOptions {
 
 // The dialect the program is read in: the one named, else the machine's controller's, else
 // LinuxCNC's (the widest).
-verify::JointDialect dialect_of(const Machine& machine, const std::string& name) {
+verify::JointDialect dialect_of(const machine::Machine& machine, const std::string& name) {
   std::string chosen = name;
   if (chosen.empty()) {
-    chosen = machine.controller() ? controller_kind_name(machine.controller()->kind) : "linuxcnc";
+    chosen = machine.controller() ? machine::controller_kind_name(machine.controller()->kind)
+                                  : "linuxcnc";
   }
   const post::Dialect dialect = post::dialect_named(chosen);
   const post::DialectRules rules = post::rules_of(dialect);
@@ -44,13 +45,13 @@ verify::JointDialect dialect_of(const Machine& machine, const std::string& name)
   return out;
 }
 
-std::string length_text(const Machine& machine, double mm) {
+std::string length_text(const machine::Machine& machine, double mm) {
   char text[64];
   std::snprintf(text, sizeof text, "%.3f %s", mm / machine.mm_per_unit(), machine.length_unit());
   return text;
 }
 
-void print_extent(const Machine& machine, const verify::TraceReport& report) {
+void print_extent(const machine::Machine& machine, const verify::TraceReport& report) {
   if (!std::isfinite(report.drawn_min.x())) {
     std::printf("  nothing drawn\n");
     return;
@@ -67,9 +68,9 @@ std::string where_text(int line) {
   return line > 0 ? "line " + std::to_string(line) : "at the start";
 }
 
-void print_joints(const Machine& machine, const verify::TraceReport& report) {
+void print_joints(const machine::Machine& machine, const verify::TraceReport& report) {
   for (std::size_t i = 0; i < report.joints.size(); ++i) {
-    const JointSpec& joint = machine.joints()[i];
+    const machine::JointSpec& joint = machine.joints()[i];
     const verify::JointRange& range = report.joints[i];
     const int index = static_cast<int>(i);
     std::printf(
@@ -83,7 +84,7 @@ void print_joints(const Machine& machine, const verify::TraceReport& report) {
   }
 }
 
-void print_report(const Machine& machine, const ViewCommandOptions& options,
+void print_report(const machine::Machine& machine, const ViewCommandOptions& options,
                   const verify::TraceReport& report) {
   std::printf("%s on %s: %ld blocks", options.joints.c_str(), machine.name().c_str(),
               report.blocks);
@@ -124,7 +125,7 @@ void run_view(const ViewCommandOptions& options) {
     refuse_overwriting_input(
         written, {{"the joint program", options.joints}, {"the machine file", options.machine}});
   }
-  const Machine machine = load_machine_or_default(options.machine);
+  const machine::Machine machine = load_machine_or_default(options.machine);
   verify::TraceOptions trace_options;
   trace_options.dialect = dialect_of(machine, options.dialect);
   ProgressBar progress("view " + std::filesystem::path(options.joints).filename().string(),
@@ -143,8 +144,8 @@ void run_view(const ViewCommandOptions& options) {
     throw CommandError(error.what());
   }
   progress.clear();
-  const nlohmann::json json = view_report_json(machine, options.joints, report);
-  if (!options.report.empty()) write_file_atomically(options.report, json.dump(2) + "\n");
+  const nlohmann::json json = io::view_report_json(machine, options.joints, report);
+  if (!options.report.empty()) files::write_file_atomically(options.report, json.dump(2) + "\n");
   if (!options.html.empty()) {
     recorder.finish();
     const std::string name = std::filesystem::path(options.joints).filename().string();

@@ -41,15 +41,15 @@ double parse_degrees(const std::string& text, const std::string& whole) {
 
 // "10" (+-10 deg about home on every angle the machine controls) or "a=-10:10,b=5,c=-2:2"
 // (absolute deg; an angle not named stays at home's).
-void read_orientation(const Machine& machine, const std::string& text,
+void read_orientation(const machine::Machine& machine, const std::string& text,
                       workspace::WorkspaceOptions& options) {
   if (text.empty()) return;
   if (text.find('=') == std::string::npos) {
     const double spread = std::abs(parse_degrees(text, text));
     for (int k = 0; k < 3; ++k) {
       if (!machine.kinematics().dof().controls(3 + k)) continue;
-      options.orientation_min_rad[k] -= degrees_to_radians(spread);
-      options.orientation_max_rad[k] += degrees_to_radians(spread);
+      options.orientation_min_rad[k] -= geometry::degrees_to_radians(spread);
+      options.orientation_max_rad[k] += geometry::degrees_to_radians(spread);
     }
     return;
   }
@@ -57,14 +57,15 @@ void read_orientation(const Machine& machine, const std::string& text,
   std::string part;
   while (std::getline(parts, part, ',')) {
     const std::size_t equals = part.find('=');
-    const int axis = equals == std::string::npos ? -1 : axis_index(part.substr(0, equals));
+    const int axis =
+        equals == std::string::npos ? -1 : geometry::axis_index(part.substr(0, equals));
     if (axis < 3) {
       throw CommandError("--orientation '" + text + "': '" + part +
                          "' is not a=MIN:MAX, b=... or c=... (deg)");
     }
     if (!machine.kinematics().dof().controls(axis)) {
       throw CommandError("--orientation '" + text + "': the machine does not control " +
-                         std::string(kAxisNames[axis]));
+                         std::string(geometry::kAxisNames[axis]));
     }
     const std::string range = part.substr(equals + 1);
     const std::size_t colon = range.find(':', 1);
@@ -72,21 +73,21 @@ void read_orientation(const Machine& machine, const std::string& text,
     const double hi =
         colon == std::string::npos ? lo : parse_degrees(range.substr(colon + 1), text);
     if (lo > hi) throw CommandError("--orientation '" + text + "': " + part + " has min > max");
-    options.orientation_min_rad[axis - 3] = degrees_to_radians(lo);
-    options.orientation_max_rad[axis - 3] = degrees_to_radians(hi);
+    options.orientation_min_rad[axis - 3] = geometry::degrees_to_radians(lo);
+    options.orientation_max_rad[axis - 3] = geometry::degrees_to_radians(hi);
   }
 }
 
 // "x -200.0..200.0 y ... mm", in the machine file's units (one more decimal for inches).
-std::string box_text(const Machine& machine, const Eigen::AlignedBox3d& box,
+std::string box_text(const machine::Machine& machine, const Eigen::AlignedBox3d& box,
                      const std::array<bool, 3>& axes) {
   std::string text;
   char part[96];
-  const int decimals = machine.units() == LengthUnit::inch ? 2 : 1;
+  const int decimals = machine.units() == machine::LengthUnit::inch ? 2 : 1;
   for (int axis = 0; axis < 3; ++axis) {
     if (!axes[static_cast<std::size_t>(axis)]) continue;
     std::snprintf(part, sizeof part, "%s%s %.*f..%.*f", text.empty() ? "" : " ",
-                  std::string(kAxisNames[axis]).c_str(), decimals,
+                  std::string(geometry::kAxisNames[axis]).c_str(), decimals,
                   machine.axis_to_file(axis, box.min()[axis]) + 0.0, decimals,
                   machine.axis_to_file(axis, box.max()[axis]) + 0.0);
     text += part;
@@ -95,7 +96,7 @@ std::string box_text(const Machine& machine, const Eigen::AlignedBox3d& box,
 }
 
 // The summary in the machine file's units (the JSON document keeps mm: its keys say so).
-void print_summary(const Machine& machine, const workspace::Workspace& ws) {
+void print_summary(const machine::Machine& machine, const workspace::Workspace& ws) {
   const double per_unit = machine.mm_per_unit();
   const std::string unit = machine.length_unit();
   std::printf("%s: workspace at %g %s resolution", ws.machine.c_str(), ws.resolution_mm / per_unit,
@@ -104,9 +105,9 @@ void print_summary(const Machine& machine, const workspace::Workspace& ws) {
   for (int k = 0; k < 3; ++k) {
     if (ws.orientation_max_rad[k] == ws.orientation_min_rad[k]) continue;
     char part[80];
-    std::snprintf(part, sizeof part, " %s %g..%g", std::string(kAxisNames[3 + k]).c_str(),
-                  radians_to_degrees(ws.orientation_min_rad[k]),
-                  radians_to_degrees(ws.orientation_max_rad[k]));
+    std::snprintf(part, sizeof part, " %s %g..%g", std::string(geometry::kAxisNames[3 + k]).c_str(),
+                  geometry::radians_to_degrees(ws.orientation_min_rad[k]),
+                  geometry::radians_to_degrees(ws.orientation_max_rad[k]));
     angles += part;
   }
   std::printf("%s\n", angles.empty() ? "" : (", every orientation of" + angles + " deg").c_str());
@@ -148,7 +149,8 @@ void print_summary(const Machine& machine, const workspace::Workspace& ws) {
 }
 
 // The refusal of a resolution too fine, in the machine file's units, naming the options.
-std::string cell_bound_text(const Machine& machine, const workspace::WorkspaceOptions& settings,
+std::string cell_bound_text(const machine::Machine& machine,
+                            const workspace::WorkspaceOptions& settings,
                             const workspace::CellBoundError& error) {
   const workspace::CellEstimate& estimate = error.estimate;
   const double per_unit = machine.mm_per_unit();
@@ -173,7 +175,7 @@ std::string cell_bound_text(const Machine& machine, const workspace::WorkspaceOp
 void run_workspace(const WorkspaceCommandOptions& options) {
   check_outputs({{"--html", options.html}});
   refuse_overwriting_input(options.html, {{"the machine file", options.machine}});
-  const Machine machine = load_machine_or_default(options.machine);
+  const machine::Machine machine = load_machine_or_default(options.machine);
   workspace::WorkspaceOptions settings = workspace::default_options(machine);
   read_orientation(machine, options.orientation, settings);
   settings.resolution_mm =
@@ -181,7 +183,7 @@ void run_workspace(const WorkspaceCommandOptions& options) {
   if (settings.resolution_mm == 0.0) {
     // A default that keeps about 200 steps across the reach through home: a power of two in
     // the machine file's units (1/8 in on an inch machine, not 3.175 mm's awkward 0.125).
-    const PoseBox reach = reach_box(machine);
+    const machine::PoseBox reach = machine::reach_box(machine);
     const double per_unit = machine.mm_per_unit();
     double longest = 1.0;
     for (int axis = 0; axis < 3; ++axis) {

@@ -18,7 +18,7 @@ namespace {
 // SIGINT, SIGTERM, SIGHUP: remove the temporaries of unfinished outputs, then die of the same
 // signal (SA_RESETHAND restored the default action), so the caller sees how the run ended.
 extern "C" void remove_temporaries_and_die(int signal_number) {
-  pkm::remove_open_temporaries();
+  pkm::files::remove_open_temporaries();
   std::raise(signal_number);
 }
 
@@ -35,7 +35,7 @@ void remove_temporaries_on_signals() {
   }
 }
 
-void warn_of_stale_temporary(const pkm::StaleTemporary& stale) {
+void warn_of_stale_temporary(const pkm::files::StaleTemporary& stale) {
   const std::string size = stale.size_bytes < 1000000
                                ? std::to_string(stale.size_bytes) + " bytes"
                                : std::to_string(stale.size_bytes / 1000000) + " MB";
@@ -84,7 +84,7 @@ std::string version_text() {
 
 int main(int argc, char** argv) {
   remove_temporaries_on_signals();
-  pkm::on_stale_temporary(warn_of_stale_temporary);
+  pkm::files::on_stale_temporary(warn_of_stale_temporary);
   CLI::App app{"pkmkit: drive parallel-kinematic machines from Cartesian G-code", "pkm"};
   app.set_version_flag("--version", version_text());
   app.require_subcommand(1);
@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
     if (error.get_exit_code() == 0) return app.exit(error);
     std::fprintf(stderr, "pkm: error: %s\nRun with --help for more information.\n", error.what());
     return 2;
-  } catch (const pkm::MachineFileError& error) {
+  } catch (const pkm::machine::MachineFileError& error) {
     std::fprintf(stderr, "pkm: error: %s\n", error.what());
     return 1;
   } catch (const pkm::linuxcnc::ConfigError& error) {

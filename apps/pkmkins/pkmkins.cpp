@@ -117,7 +117,7 @@ bool load_machine_file() {
                     "machine=FILE.toml` ([KINS] KINEMATICS = pkmkins machine=FILE.toml)\n");
     return false;
   }
-  std::optional<pkm::LengthUnit> world_unit;
+  std::optional<pkm::machine::LengthUnit> world_unit;
   if (units != nullptr && *units != '\0') {
     world_unit = pkm::linuxcnc::parse_world_unit(units);
     if (!world_unit) {
@@ -137,7 +137,7 @@ bool load_machine_file() {
     }
     rtapi_print_msg(RTAPI_MSG_INFO, "pkmkins: %s: '%s', %d joints, world unit %s\n", file.c_str(),
                     adapter->machine().name().c_str(), adapter->joint_count(),
-                    adapter->world_unit() == pkm::LengthUnit::inch ? "inch" : "mm");
+                    adapter->world_unit() == pkm::machine::LengthUnit::inch ? "inch" : "mm");
     return true;
   } catch (const std::exception& error) {
     rtapi_print_msg(RTAPI_MSG_ERR, "pkmkins: %s\n", error.what());
@@ -152,7 +152,7 @@ extern "C" {
 int kinematicsForward(const double* joints, EmcPose* pose, const KINEMATICS_FORWARD_FLAGS*,
                       KINEMATICS_INVERSE_FLAGS*) {
   WorldPose world = world_of(*pose);
-  const pkm::Status status = adapter->forward(joints, world);
+  const pkm::kinematics::Status status = adapter->forward(joints, world);
   publish();
   if (!status.ok()) return -1;
   store(world, *pose);
@@ -161,7 +161,7 @@ int kinematicsForward(const double* joints, EmcPose* pose, const KINEMATICS_FORW
 
 int kinematicsInverse(const EmcPose* pose, double* joints, const KINEMATICS_INVERSE_FLAGS*,
                       KINEMATICS_FORWARD_FLAGS*) {
-  const pkm::Status status = adapter->inverse(world_of(*pose), joints);
+  const pkm::kinematics::Status status = adapter->inverse(world_of(*pose), joints);
   publish();
   if (status.ok()) return 0;
   // LinuxCNC 2.9's motion stops on a non-zero return ("kinematicsInverse failed", the machine

@@ -16,8 +16,8 @@ int main(int argc, char** argv) {
   try {
     std::ifstream in(argv[1]);
     const nlohmann::json workspace = nlohmann::json::parse(in);
-    std::optional<pkm::Machine> machine;
-    if (argc > 3) machine = pkm::load_machine(argv[3]);
+    std::optional<pkm::machine::Machine> machine;
+    if (argc > 3) machine = pkm::machine::load_machine(argv[3]);
     pkm::view::write_workspace_html(argv[2], workspace, machine ? &*machine : nullptr);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "pkm_workspace_page: %s\n", error.what());

@@ -56,7 +56,7 @@ Table read_csv(const std::string& path) {
 
 struct Options {
   std::string machine;
-  std::optional<pkm::LengthUnit> units;
+  std::optional<pkm::machine::LengthUnit> units;
   std::string samples;
   std::string rest;
   double tolerance = 1e-6;
@@ -117,28 +117,29 @@ class Checker {
  public:
   explicit Checker(const Options& options)
       : options_(options),
-        machine_(pkm::load_machine(options.machine)),
+        machine_(pkm::machine::load_machine(options.machine)),
         units_(options.units.value_or(machine_.units())),
-        mm_per_unit_(units_ == pkm::LengthUnit::inch ? 25.4 : 1.0) {}
+        mm_per_unit_(units_ == pkm::machine::LengthUnit::inch ? 25.4 : 1.0) {}
 
   // A LinuxCNC pose (world unit, deg) from a row's columns named prefix + x..c.
-  pkm::Pose pose_of(const Table& table, const std::vector<std::string>& row,
-                    const std::string& prefix) const {
-    pkm::Vector6d values = pkm::Vector6d::Zero();
-    for (int axis = 0; axis < pkm::kPoseSize; ++axis) {
-      const int column = table.column(prefix + std::string(pkm::kAxisNames[axis]));
+  pkm::geometry::Pose pose_of(const Table& table, const std::vector<std::string>& row,
+                              const std::string& prefix) const {
+    pkm::geometry::Vector6d values = pkm::geometry::Vector6d::Zero();
+    for (int axis = 0; axis < pkm::geometry::kPoseSize; ++axis) {
+      const int column = table.column(prefix + std::string(pkm::geometry::kAxisNames[axis]));
       if (column < 0) continue;
       const double value = std::stod(row[static_cast<std::size_t>(column)]);
-      values[axis] = axis < 3 ? value * mm_per_unit_ : pkm::degrees_to_radians(value);
+      values[axis] = axis < 3 ? value * mm_per_unit_ : pkm::geometry::degrees_to_radians(value);
     }
-    return pkm::Pose::from_vector(values);
+    return pkm::geometry::Pose::from_vector(values);
   }
 
   // |LinuxCNC joint - pkm IK joint| over the joints (mm or deg), or infinity where pkm refuses.
-  double joint_error(const Table& table, const std::vector<std::string>& row, const pkm::Pose& pose,
-                     const std::string& suffix, std::string& refusal) const {
-    pkm::JointVector joints(static_cast<int>(machine_.joints().size()));
-    const pkm::Status status = machine_.inverse(pose, joints);
+  double joint_error(const Table& table, const std::vector<std::string>& row,
+                     const pkm::geometry::Pose& pose, const std::string& suffix,
+                     std::string& refusal) const {
+    pkm::kinematics::JointVector joints(static_cast<int>(machine_.joints().size()));
+    const pkm::kinematics::Status status = machine_.inverse(pose, joints);
     if (!status.ok()) {
       refusal = machine_.explain(pose, status);
       return INFINITY;
@@ -149,8 +150,9 @@ class Checker {
       if (column < 0) throw std::runtime_error("no column j" + std::to_string(n) + suffix);
       const double lcnc = std::stod(row[static_cast<std::size_t>(column)]);
       const bool rotary =
-          machine_.joints()[static_cast<std::size_t>(n)].kind == pkm::JointKind::rotary;
-      const double ours = rotary ? pkm::radians_to_degrees(joints[n]) : joints[n] / mm_per_unit_;
+          machine_.joints()[static_cast<std::size_t>(n)].kind == pkm::kinematics::JointKind::rotary;
+      const double ours =
+          rotary ? pkm::geometry::radians_to_degrees(joints[n]) : joints[n] / mm_per_unit_;
       worst = std::max(worst, std::abs(lcnc - ours) * (rotary ? 1.0 : mm_per_unit_));
     }
     return worst;
@@ -175,7 +177,7 @@ class Checker {
         continue;
       }
 
-      const pkm::Pose pose = pose_of(table, row, "");
+      const pkm::geometry::Pose pose = pose_of(table, row, "");
       // In free mode LinuxCNC 2.9's motion computes the pose of a cycle from the joints of the
       // cycle before (it copies them before its joint planners step): compare with those.
       const bool coordinated = flag(row, "coord") || flag(row, "teleop");
@@ -209,13 +211,14 @@ class Checker {
     const Table table = read_csv(options_.rest);
     Worst forward, inverse;
     for (const std::vector<std::string>& row : table.rows) {
-      const pkm::Pose commanded = pose_of(table, row, "cmd_");
-      const pkm::Pose actual = pose_of(table, row, "act_");
-      const pkm::Vector6d difference = actual.as_vector() - commanded.as_vector();
+      const pkm::geometry::Pose commanded = pose_of(table, row, "cmd_");
+      const pkm::geometry::Pose actual = pose_of(table, row, "act_");
+      const pkm::geometry::Vector6d difference = actual.as_vector() - commanded.as_vector();
       double error = 0.0;
-      for (int axis = 0; axis < pkm::kPoseSize; ++axis) {
-        error = std::max(error, std::abs(axis < 3 ? difference[axis]
-                                                  : pkm::radians_to_degrees(difference[axis])));
+      for (int axis = 0; axis < pkm::geometry::kPoseSize; ++axis) {
+        error = std::max(error,
+                         std::abs(axis < 3 ? difference[axis]
+                                           : pkm::geometry::radians_to_degrees(difference[axis])));
       }
       forward.add(error, options_.tolerance, row[0]);
       std::string refusal;
@@ -235,8 +238,8 @@ class Checker {
   }
 
   Options options_;
-  pkm::Machine machine_;
-  pkm::LengthUnit units_;
+  pkm::machine::Machine machine_;
+  pkm::machine::LengthUnit units_;
   double mm_per_unit_;
 };
 

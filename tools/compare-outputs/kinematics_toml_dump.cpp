@@ -15,17 +15,19 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     std::printf("==> %s\n", argv[i]);
     try {
-      const pkm::Machine machine = pkm::load_machine(argv[i]);
+      const pkm::machine::Machine machine = pkm::machine::load_machine(argv[i]);
       std::printf("--- mm\n%s",
-                  pkm::kinematics_toml(machine.kinematics(), pkm::LengthUnit::mm).c_str());
-      std::printf("--- inch\n%s",
-                  pkm::kinematics_toml(machine.kinematics(), pkm::LengthUnit::inch).c_str());
+                  pkm::machine::kinematics_toml(machine.kinematics(), pkm::machine::LengthUnit::mm)
+                      .c_str());
+      std::printf("--- inch\n%s", pkm::machine::kinematics_toml(machine.kinematics(),
+                                                                pkm::machine::LengthUnit::inch)
+                                      .c_str());
       std::ifstream in(argv[i]);
       std::stringstream text;
       text << in.rdbuf();
       std::printf("--- replaced\n%s",
-                  pkm::replace_kinematics_section(text.str(), argv[i], machine.kinematics(),
-                                                  machine.units())
+                  pkm::machine::replace_kinematics_section(text.str(), argv[i],
+                                                           machine.kinematics(), machine.units())
                       .c_str());
     } catch (const std::exception& error) {
       std::printf("error: %s\n", error.what());

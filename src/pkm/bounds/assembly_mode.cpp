@@ -3,15 +3,17 @@
 
 namespace pkm::bounds {
 
-bool has_assembly_bound(const Kinematics& model, int home_mode) {
+bool has_assembly_bound(const kinematics::Kinematics& model, int home_mode) {
   return home_mode == 0 || model.assembly_mode_bounds() != nullptr;
 }
 
-std::optional<ModeBound> assembly_mode_over_ball(const Kinematics& model, int home_mode,
-                                                 const Vector6d& centre, const JointVector& joints,
-                                                 std::span<const double> joint_speed) {
-  if (home_mode == 0) return ModeBound{1.0, 0.0};
-  const AssemblyModeBounds* modes = model.assembly_mode_bounds();
+std::optional<kinematics::ModeBound> assembly_mode_over_ball(const kinematics::Kinematics& model,
+                                                             int home_mode,
+                                                             const geometry::Vector6d& centre,
+                                                             const kinematics::JointVector& joints,
+                                                             std::span<const double> joint_speed) {
+  if (home_mode == 0) return kinematics::ModeBound{1.0, 0.0};
+  const kinematics::AssemblyModeBounds* modes = model.assembly_mode_bounds();
   if (modes == nullptr) return std::nullopt;
   return modes->mode_over_ball(home_mode, centre, joints, joint_speed);
 }

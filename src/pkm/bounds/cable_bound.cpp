@@ -118,7 +118,8 @@ double cable_direction(int cable, const Eigen::Vector2d& from_centre, double r) 
 // its tangent point), so along any segment clear of the pulley the direction is one-to-one and
 // monotone, and over a box clear of it the extremes lie at the corners. The corners' directions
 // are unwrapped around the box's edges (an edge sweeps less than a half turn).
-bool cable_range(const CablePlotterGeometry& g, int cable, const Box2& end, CableRange& out) {
+bool cable_range(const kinematics::CablePlotterGeometry& g, int cable, const Box2& end,
+                 CableRange& out) {
   const Eigen::Vector2d& anchor = g.anchors_mm[static_cast<std::size_t>(cable)];
   const Box2 from_centre{end.x + (-anchor.x()), end.y + (-anchor.y())};
   const Range d = norm_of(from_centre);
@@ -163,8 +164,10 @@ std::array<Range, 2> tensions(double w, Range g0, Range g1) {
   return {one(g1, g0), one(g0, g1)};
 }
 
-double load_N(const CablePlotterGeometry& g) {
-  return g.effector_mass_kg > 0.0 ? g.effector_mass_kg * kStandardGravity_mm_per_s2 * 1e-3 : 1.0;
+double load_N(const kinematics::CablePlotterGeometry& g) {
+  return g.effector_mass_kg > 0.0
+             ? g.effector_mass_kg * kinematics::kStandardGravity_mm_per_s2 * 1e-3
+             : 1.0;
 }
 
 // The effector's point b (mm from the pen, level frame) turned by every tilt of `tilt`.
@@ -176,7 +179,7 @@ Box2 turned(const Eigen::Vector2d& b, Range tilt) {
 }
 
 // Both cables over the pen box and tilt range; false where an end may reach its pulley.
-bool cables_at(const CablePlotterGeometry& g, const Box2& pen, Range tilt,
+bool cables_at(const kinematics::CablePlotterGeometry& g, const Box2& pen, Range tilt,
                std::array<CableRange, 2>& cables) {
   for (int cable = 0; cable < 2; ++cable) {
     const Box2 arm = turned(g.attach_mm[static_cast<std::size_t>(cable)], tilt);
@@ -192,7 +195,7 @@ bool cables_at(const CablePlotterGeometry& g, const Box2& pen, Range tilt,
 // bounded where the cables come into line (the tensions grow without bound there); it vanishes
 // where the moment does, and where the cables are in line, which only adds tilts to keep.
 // Unknown where a cable's end may touch its pulley.
-Range scaled_moment_range(const CablePlotterGeometry& g, const Box2& pen, Range tilt) {
+Range scaled_moment_range(const kinematics::CablePlotterGeometry& g, const Box2& pen, Range tilt) {
   std::array<CableRange, 2> cables;
   if (!cables_at(g, pen, tilt, cables)) return {};
   const double w = load_N(g);
@@ -211,7 +214,7 @@ Range scaled_moment_range(const CablePlotterGeometry& g, const Box2& pen, Range 
 // The first (from_low) or last tilt of the search range where the moment may vanish: a depth-
 // first search that drops every tilt range over which the moment provably keeps one sign.
 // NaN where none may.
-double tilt_end(const CablePlotterGeometry& g, const Box2& pen, bool from_low) {
+double tilt_end(const kinematics::CablePlotterGeometry& g, const Box2& pen, bool from_low) {
   struct Span {
     double lo, hi;
   };
@@ -236,7 +239,8 @@ double tilt_end(const CablePlotterGeometry& g, const Box2& pen, bool from_low) {
 
 // Each cable's joint: its arc on the pulley from the top point, r (pi/2 - gamma), and its span,
 // each stretched by 1 + c T (the arc by the tension where it is positive), plus its offset.
-Range joint_range(const CablePlotterGeometry& g, int cable, const CableRange& c, Range tension) {
+Range joint_range(const kinematics::CablePlotterGeometry& g, int cable, const CableRange& c,
+                  Range tension) {
   if (!(c.gamma.lo >= -0.5 * kPi && c.gamma.hi < 1.5 * kPi)) return {};
   const Range arc = g.radius_mm(cable) * (-c.gamma + 0.5 * kPi);
   const double compliance = g.compliance_per_N();
@@ -258,7 +262,7 @@ struct TensionGradient {
   std::array<std::array<Range, 2>, 2> d;  // d[cable][axis], N/mm
 };
 
-TensionGradient tension_gradient(const CablePlotterGeometry& g, Range tilt,
+TensionGradient tension_gradient(const kinematics::CablePlotterGeometry& g, Range tilt,
                                  const std::array<CableRange, 2>& cables) {
   TensionGradient out;
   const double w = load_N(g);
@@ -327,13 +331,13 @@ TensionGradient tension_gradient(const CablePlotterGeometry& g, Range tilt,
 // t(c) + sum_k dt/dp_k (p_k - c_k), over the segment c +- s `half_chord` (s in [-1, 1]) where
 // given (the directional derivative there is small where a tension turns along a move: the
 // bound is then of second order in the piece), else over the box. t(c) from the statics.
-void tighten_by_mean_value(const CablePlotterGeometry& g, const Eigen::Vector2d& centre,
+void tighten_by_mean_value(const kinematics::CablePlotterGeometry& g, const Eigen::Vector2d& centre,
                            const Box2& pen, const Eigen::Vector2d* half_chord,
                            const TensionGradient& gradient, CableBoxBound& out) {
   if (!gradient.known || !(g.effector_mass_kg > 0.0)) return;
-  CableBalance balance;
-  const Eigen::Vector2d gravity(0.0, -kStandardGravity_mm_per_s2);
-  if (!solve_cable_balance(g, centre, gravity, balance).ok()) return;
+  kinematics::CableBalance balance;
+  const Eigen::Vector2d gravity(0.0, -kinematics::kStandardGravity_mm_per_s2);
+  if (!kinematics::solve_cable_balance(g, centre, gravity, balance).ok()) return;
   for (std::size_t c = 0; c < 2; ++c) {
     const double at_centre = balance.statics.tension_N[c];
     if (!holds_value(out.tension_N[c], at_centre)) continue;  // the centre's balance is another
@@ -357,7 +361,7 @@ void tighten_by_mean_value(const CablePlotterGeometry& g, const Eigen::Vector2d&
 
 }  // namespace
 
-std::string cable_bound_unavailable(const CablePlotterGeometry& geometry) {
+std::string cable_bound_unavailable(const kinematics::CablePlotterGeometry& geometry) {
   if (geometry.cable_density_kg_per_m > 0.0) {
     return "no bound on the balance of cables that sag (cable_density > 0) here: the catenary's "
            "tensions and lengths are solved by Newton's method, and no bound on how far they lie "
@@ -369,8 +373,8 @@ std::string cable_bound_unavailable(const CablePlotterGeometry& geometry) {
   return {};
 }
 
-CableBoxBound cable_box_bound(const CablePlotterGeometry& g, const Eigen::Vector2d& centre_mm,
-                              const Eigen::Vector2d& half_mm,
+CableBoxBound cable_box_bound(const kinematics::CablePlotterGeometry& g,
+                              const Eigen::Vector2d& centre_mm, const Eigen::Vector2d& half_mm,
                               const Eigen::Vector2d* half_chord_mm) {
   CableBoxBound out;
   if (!cable_bound_unavailable(g).empty()) return out;

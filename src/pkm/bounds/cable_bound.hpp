@@ -27,7 +27,7 @@ struct Range {
 // Empty when cable_box_bound applies to this geometry; else why not, as a sentence fragment
 // ("cables that sag (cable_density > 0)..."). Ideal plotters are bounded too (their pull region
 // has a closed form elsewhere, but this one holds for them).
-std::string cable_bound_unavailable(const CablePlotterGeometry& geometry);
+std::string cable_bound_unavailable(const kinematics::CablePlotterGeometry& geometry);
 
 // The pull margins: the tensions' signs and the sine of the angle between the cables.
 enum CablePullMargin { kLeftPulls = 0, kRightPulls = 1, kCablesApart = 2 };
@@ -57,7 +57,7 @@ struct CableBoxBound {
 // finds one. With `half_chord_mm`, the positions are only those of the segment centre +- s
 // half_chord (s in [-1, 1], inside the box): a line piece, whose tensions the mean-value form
 // along it bounds to second order where they turn.
-CableBoxBound cable_box_bound(const CablePlotterGeometry& geometry,
+CableBoxBound cable_box_bound(const kinematics::CablePlotterGeometry& geometry,
                               const Eigen::Vector2d& centre_mm, const Eigen::Vector2d& half_mm,
                               const Eigen::Vector2d* half_chord_mm = nullptr);
 

@@ -16,7 +16,7 @@ using motion::SegmentKind;
 PieceMotion piece_motion(const Segment& segment, double u0, double u1, const std::vector<int>& axes,
                          double angle_scale_mm) {
   double position_speed = 0.0, position_acceleration = 0.0, angle_speed = 0.0;
-  const Vector6d change = segment.end - segment.start;
+  const geometry::Vector6d change = segment.end - segment.start;
   for (const int axis : axes) {
     if (axis >= 3) {
       angle_speed += std::pow(change[axis] * angle_scale_mm, 2);
@@ -26,7 +26,7 @@ PieceMotion piece_motion(const Segment& segment, double u0, double u1, const std
   }
   position_speed = std::sqrt(position_speed);
   if (segment.kind == SegmentKind::arc) {
-    const auto radius = [&](const Vector6d& p) {
+    const auto radius = [&](const geometry::Vector6d& p) {
       return std::hypot(p[segment.first_axis] - segment.centre[segment.first_axis],
                         p[segment.second_axis] - segment.centre[segment.second_axis]);
     };
@@ -41,8 +41,8 @@ PieceMotion piece_motion(const Segment& segment, double u0, double u1, const std
     position_acceleration = segment.radius_mm * sweep * sweep;
   }
   const double du = u1 - u0;
-  const Vector6d change_of_piece = segment.at(u1) - segment.at(u0);
-  Chord chord;
+  const geometry::Vector6d change_of_piece = segment.at(u1) - segment.at(u0);
+  kinematics::Chord chord;
   for (const int axis : axes) {
     if (axis < 3) chord.position[axis] = change_of_piece[axis];
   }
@@ -53,12 +53,14 @@ PieceMotion piece_motion(const Segment& segment, double u0, double u1, const std
 
 // The model's own joints first; its pass-through joints (a plotter's Z, a glide's pen) equal an
 // axis, so their second and third derivatives are zero.
-std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, const Vector6d& centre,
-                                                    double radius_mm, double angle_scale_mm,
-                                                    const Chord& chord) {
-  const DerivativeBounds* own = model.derivative_bounds();
+std::optional<kinematics::HessianBounds> inverse_hessian_bounds(const kinematics::Kinematics& model,
+                                                                const geometry::Vector6d& centre,
+                                                                double radius_mm,
+                                                                double angle_scale_mm,
+                                                                const kinematics::Chord& chord) {
+  const kinematics::DerivativeBounds* own = model.derivative_bounds();
   if (own == nullptr) return std::nullopt;
-  std::optional<HessianBounds> bounds =
+  std::optional<kinematics::HessianBounds> bounds =
       own->own_hessian_bounds(centre, radius_mm, angle_scale_mm, chord);
   if (!bounds) return bounds;
   const bool with_third = !bounds->third.empty();
@@ -72,8 +74,8 @@ std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, con
 
 // Rotations weigh as the arc they swing the farthest platform point through (twice, which
 // keeps the rotation's own curvature small against the legs').
-double pose_angle_scale_mm(const Kinematics& model) {
-  const DerivativeBounds* own = model.derivative_bounds();
+double pose_angle_scale_mm(const kinematics::Kinematics& model) {
+  const kinematics::DerivativeBounds* own = model.derivative_bounds();
   const std::optional<double> farthest =
       own != nullptr ? own->farthest_platform_point_mm() : std::nullopt;
   if (!farthest) return 100.0;

@@ -15,18 +15,18 @@
 namespace pkm::bounds {
 
 // The model's answers (kinematics/derivative_bounds.hpp), by their names here.
-using pkm::Chord;
-using pkm::HessianBounds;
-using pkm::platform_point_gain;
+using pkm::kinematics::Chord;
+using pkm::kinematics::HessianBounds;
+using pkm::kinematics::platform_point_gain;
 
 // Upper bounds on the programmed piece [u0, u1] of a move per unit of the piece's own fraction
 // (angles are linear in u, so only the position curves): its length and the acceleration of its
 // position, in the scaled pose norm below over the coordinates `axes`.
 struct PieceMotion {
-  Vector6d centre;      // the pose at the piece's middle fraction (mm, rad)
-  double length = 0.0;  // of the piece (scaled pose norm), at most
+  geometry::Vector6d centre;  // the pose at the piece's middle fraction (mm, rad)
+  double length = 0.0;        // of the piece (scaled pose norm), at most
   double acceleration = 0.0;
-  Chord chord;  // from the piece's start to its end
+  kinematics::Chord chord;  // from the piece's start to its end
 };
 PieceMotion piece_motion(const motion::Segment& segment, double u0, double u1,
                          const std::vector<int>& axes, double angle_scale_mm);
@@ -36,13 +36,15 @@ PieceMotion piece_motion(const motion::Segment& segment, double u0, double u1,
 // lengths and angles): HessianBounds for v = `chord`, the model's own joints by its
 // DerivativeBounds, its pass-through joints zero.
 // Nothing for models with no such bound here (formula machines).
-std::optional<HessianBounds> inverse_hessian_bounds(const Kinematics& model, const Vector6d& centre,
-                                                    double radius_mm, double angle_scale_mm,
-                                                    const Chord& chord);
+std::optional<kinematics::HessianBounds> inverse_hessian_bounds(const kinematics::Kinematics& model,
+                                                                const geometry::Vector6d& centre,
+                                                                double radius_mm,
+                                                                double angle_scale_mm,
+                                                                const kinematics::Chord& chord);
 
 // The scale (mm per rad) that makes angles comparable with lengths in the bounds above: twice
 // the distance of the model's farthest platform point from the tool tip (hexapods, glides:
 // DerivativeBounds::farthest_platform_point_mm), else 100 mm.
-double pose_angle_scale_mm(const Kinematics& model);
+double pose_angle_scale_mm(const kinematics::Kinematics& model);
 
 }  // namespace pkm::bounds

@@ -10,21 +10,24 @@
 
 namespace pkm::bounds {
 
-LegMotion leg_motion(const Kinematics& model, const JointVector& joints,
-                     const JointJacobian& jacobian, const HessianBounds& hessians, double radius,
-                     double scale) {
-  const DerivativeBounds* own = model.derivative_bounds();
+kinematics::LegMotion leg_motion(const kinematics::Kinematics& model,
+                                 const kinematics::JointVector& joints,
+                                 const kinematics::JointJacobian& jacobian,
+                                 const kinematics::HessianBounds& hessians, double radius,
+                                 double scale) {
+  const kinematics::DerivativeBounds* own = model.derivative_bounds();
   if (own == nullptr) return {};
   return own->leg_motion(joints, jacobian, hessians, radius, scale);
 }
 
 // How fast (per scaled unit) a joint-angle or clearance value can change over the ball.
-double mechanism_rate(const MechanismLimit& limit, const LegMotion& motion) {
+double mechanism_rate(const kinematics::MechanismLimit& limit,
+                      const kinematics::LegMotion& motion) {
   const auto k = static_cast<std::size_t>(limit.leg);
-  if (limit.code == StatusCode::joint_angle) {
+  if (limit.code == kinematics::StatusCode::joint_angle) {
     if (!(motion.shortest_mm[k] > 0.0)) return INFINITY;
     const double turn = (motion.inner_speed[k] + motion.platform_speed[k]) / motion.shortest_mm[k];
-    return turn + (limit.other == kPlatformEnd ? motion.platform_turn : 0.0);
+    return turn + (limit.other == kinematics::kPlatformEnd ? motion.platform_turn : 0.0);
   }
   // Each point of a leg is a mix of its ends: it moves no faster than the faster end.
   const auto j = static_cast<std::size_t>(limit.other);
@@ -32,9 +35,10 @@ double mechanism_rate(const MechanismLimit& limit, const LegMotion& motion) {
          std::max(motion.inner_speed[j], motion.platform_speed[j]);
 }
 
-std::optional<LegEnds> legs_at(const Kinematics& model, const Pose& pose,
-                               const JointVector& joints) {
-  const DerivativeBounds* own = model.derivative_bounds();
+std::optional<kinematics::LegEnds> legs_at(const kinematics::Kinematics& model,
+                                           const geometry::Pose& pose,
+                                           const kinematics::JointVector& joints) {
+  const kinematics::DerivativeBounds* own = model.derivative_bounds();
   if (own == nullptr) return std::nullopt;
   return own->legs_at(pose, joints);
 }
@@ -146,12 +150,13 @@ Clearance leg_clearance(const Eigen::Vector3d& inner_i, const Eigen::Vector3d& p
 
 }  // namespace
 
-Reach mechanism_reach(const MechanismLimit& limit, const LegMotion& motion, double radius,
-                      const LegEnds* ends) {
+Reach mechanism_reach(const kinematics::MechanismLimit& limit, const kinematics::LegMotion& motion,
+                      double radius, const kinematics::LegEnds* ends) {
   const double spread = mechanism_rate(limit, motion) * radius;
   // The rate alone is enough where it keeps the legs apart (most pairs, most of the time).
-  if (limit.code == StatusCode::joint_angle || ends == nullptr || !std::isfinite(spread) ||
-      motion.platform_arm_mm.empty() || limit.value - spread > limit.limit)
+  if (limit.code == kinematics::StatusCode::joint_angle || ends == nullptr ||
+      !std::isfinite(spread) || motion.platform_arm_mm.empty() ||
+      limit.value - spread > limit.limit)
     return {spread, spread};
   const int i = limit.leg, j = limit.other;
   const auto k = static_cast<std::size_t>(i), l = static_cast<std::size_t>(j);

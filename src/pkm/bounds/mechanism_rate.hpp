@@ -14,23 +14,26 @@
 namespace pkm::bounds {
 
 // How each leg's ends move over a ball (kinematics/derivative_bounds.hpp), by its name here.
-using pkm::LegMotion;
+using pkm::kinematics::LegMotion;
 
 // Over the ball of `radius` (scaled, angles weighing `scale` mm per rad) about the pose whose
 // joints and Jacobian are given, `hessians` the bounds inverse_hessian_bounds gives on that ball.
 // The model's own answer (DerivativeBounds::leg_motion); empty for models without legs.
 // Rotary deltas: only inner_speed (each arm's turn per mm), for their assembly-mode bound.
-LegMotion leg_motion(const Kinematics& model, const JointVector& joints,
-                     const JointJacobian& jacobian, const HessianBounds& hessians, double radius,
-                     double scale);
+kinematics::LegMotion leg_motion(const kinematics::Kinematics& model,
+                                 const kinematics::JointVector& joints,
+                                 const kinematics::JointJacobian& jacobian,
+                                 const kinematics::HessianBounds& hessians, double radius,
+                                 double scale);
 
 // How fast (per scaled unit) a joint-angle or clearance value can change over the ball.
-double mechanism_rate(const MechanismLimit& limit, const LegMotion& motion);
+double mechanism_rate(const kinematics::MechanismLimit& limit, const kinematics::LegMotion& motion);
 
 // The legs at the ball's centre (DerivativeBounds::legs_at: hexapods and glides; nothing for
 // other models).
-std::optional<LegEnds> legs_at(const Kinematics& model, const Pose& pose,
-                               const JointVector& joints);
+std::optional<kinematics::LegEnds> legs_at(const kinematics::Kinematics& model,
+                                           const geometry::Pose& pose,
+                                           const kinematics::JointVector& joints);
 
 // How far a value can fall below (down) and rise above (up) its value at the ball's centre:
 // rate * radius both ways for a joint angle, and for a clearance without `ends`. With them, a
@@ -44,7 +47,7 @@ std::optional<LegEnds> legs_at(const Kinematics& model, const Pose& pose,
 struct Reach {
   double down = 0.0, up = 0.0;
 };
-Reach mechanism_reach(const MechanismLimit& limit, const LegMotion& motion, double radius,
-                      const LegEnds* ends);
+Reach mechanism_reach(const kinematics::MechanismLimit& limit, const kinematics::LegMotion& motion,
+                      double radius, const kinematics::LegEnds* ends);
 
 }  // namespace pkm::bounds

@@ -17,7 +17,7 @@ constexpr double kNoFiniteReachMm = 1e5;
 
 // A cell of the box: its corners (mm, rad) and how often it was halved.
 struct Cell {
-  Vector6d min, max;
+  geometry::Vector6d min, max;
   int depth = 0;
 };
 
@@ -34,7 +34,7 @@ struct CellLook {
 
 class CellBounder {
  public:
-  CellBounder(const Machine& machine, double angle_scale_mm)
+  CellBounder(const machine::Machine& machine, double angle_scale_mm)
       : machine_(machine),
         model_(machine.kinematics()),
         axes_(model_.dof().axes()),
@@ -51,20 +51,20 @@ class CellBounder {
     return 0.5 * std::sqrt(sum);
   }
 
-  Vector6d centre(const Cell& cell) const {
-    Vector6d pose = machine_.home().as_vector();
+  geometry::Vector6d centre(const Cell& cell) const {
+    geometry::Vector6d pose = machine_.home().as_vector();
     for (const int axis : axes_) pose[axis] = 0.5 * (cell.min[axis] + cell.max[axis]);
     return pose;
   }
 
   CellLook look(const Cell& cell) const {
     CellLook look;
-    const Vector6d c = centre(cell);
+    const geometry::Vector6d c = centre(cell);
     const double r = radius(cell);
-    JointVector q;
-    JointJacobian jacobian;
-    const Pose pose = Pose::from_vector(c);
-    if (!model_.inverse_and_jacobian(pose, q, jacobian).ok() || !all_finite(q) ||
+    kinematics::JointVector q;
+    kinematics::JointJacobian jacobian;
+    const geometry::Pose pose = geometry::Pose::from_vector(c);
+    if (!model_.inverse_and_jacobian(pose, q, jacobian).ok() || !kinematics::all_finite(q) ||
         !jacobian.allFinite()) {
       return look;
     }
@@ -77,11 +77,11 @@ class CellBounder {
                      [](double h) { return std::isfinite(h); })) {
       return look;
     }
-    JointVector reached;
+    kinematics::JointVector reached;
     look.reached = machine_.inverse(pose, reached).ok();
     look.finite = true;
-    look.upper = Eigen::MatrixXd::Zero(joints_, kPoseSize);
-    look.at_centre = Eigen::MatrixXd::Zero(joints_, kPoseSize);
+    look.upper = Eigen::MatrixXd::Zero(joints_, geometry::kPoseSize);
+    look.at_centre = Eigen::MatrixXd::Zero(joints_, geometry::kPoseSize);
     for (int i = 0; i < joints_; ++i) {
       const double h = look.curvature[static_cast<std::size_t>(i)];
       double gradient = 0.0;  // |grad q_i| in the scaled coordinates
@@ -92,7 +92,7 @@ class CellBounder {
         gradient += std::pow(entry / scale(axis), 2);
       }
       // q_i over the cell lies within q_i(c) +- (|grad| r + h r^2 / 2).
-      const JointSpec& spec = machine_.joints()[static_cast<std::size_t>(i)];
+      const machine::JointSpec& spec = machine_.joints()[static_cast<std::size_t>(i)];
       const double spread = std::sqrt(gradient) * r + 0.5 * h * r * r;
       if (q[i] - spread > spec.max || q[i] + spread < spec.min) look.outside = true;
     }
@@ -123,8 +123,8 @@ class CellBounder {
   }
 
  private:
-  const Machine& machine_;
-  const Kinematics& model_;
+  const machine::Machine& machine_;
+  const kinematics::Kinematics& model_;
   std::vector<int> axes_;
   double scale_;
   int joints_;
@@ -152,39 +152,39 @@ bool needs_refining(const Leaf& leaf, const Eigen::MatrixXd& sampled,
 
 // Formula machines have no Hessian bound: the largest Jacobian entries and Hessian norms met on a
 // grid of the box (the Hessian by differences of the Jacobian), reported as sampled.
-JointRateBound sample_joint_rates(const Machine& machine, const PoseBox& box,
+JointRateBound sample_joint_rates(const machine::Machine& machine, const machine::PoseBox& box,
                                   double angle_scale_mm) {
-  const Kinematics& model = machine.kinematics();
+  const kinematics::Kinematics& model = machine.kinematics();
   const std::vector<int> axes = model.dof().axes();
   const int n = model.joint_count();
   const int per_axis = std::max(3, static_cast<int>(std::pow(20000.0, 1.0 / axes.size())));
   JointRateBound bound;
   bound.angle_scale_mm = angle_scale_mm;
-  bound.slope = Eigen::MatrixXd::Zero(n, kPoseSize);
+  bound.slope = Eigen::MatrixXd::Zero(n, geometry::kPoseSize);
   bound.curvature.assign(static_cast<std::size_t>(n), 0.0);
   long total = 1;
   for (std::size_t k = 0; k < axes.size(); ++k) total *= per_axis;
-  JointJacobian j0, j1;
+  kinematics::JointJacobian j0, j1;
   for (long index = 0; index < total; ++index) {
-    Vector6d pose = machine.home().as_vector();
+    geometry::Vector6d pose = machine.home().as_vector();
     long rest = index;
     for (const int axis : axes) {
       const double u = static_cast<double>(rest % per_axis) / (per_axis - 1);
       rest /= per_axis;
       pose[axis] = box.min[axis] + u * (box.max[axis] - box.min[axis]);
     }
-    JointVector q;
-    if (!machine.inverse(Pose::from_vector(pose), q).ok()) continue;
-    if (!model.jacobian(Pose::from_vector(pose), j0).ok()) continue;
+    kinematics::JointVector q;
+    if (!machine.inverse(geometry::Pose::from_vector(pose), q).ok()) continue;
+    if (!model.jacobian(geometry::Pose::from_vector(pose), j0).ok()) continue;
     ++bound.cells;
     bound.slope = bound.slope.cwiseMax(Eigen::MatrixXd(j0.cwiseAbs()));
     for (int i = 0; i < n; ++i) {
       double sum = 0.0;
       for (const int axis : axes) {
         const double step = (axis < 3 ? 1e-3 : 1e-3 / angle_scale_mm);
-        Vector6d moved = pose;
+        geometry::Vector6d moved = pose;
         moved[axis] += step;
-        if (!model.jacobian(Pose::from_vector(moved), j1).ok()) continue;
+        if (!model.jacobian(geometry::Pose::from_vector(moved), j1).ok()) continue;
         for (const int other : axes) {
           const double scale =
               (axis < 3 ? 1.0 : angle_scale_mm) * (other < 3 ? 1.0 : angle_scale_mm);
@@ -204,11 +204,11 @@ JointRateBound sample_joint_rates(const Machine& machine, const PoseBox& box,
 
 }  // namespace
 
-EnvelopeBox work_envelope(const Machine& machine) {
+EnvelopeBox work_envelope(const machine::Machine& machine) {
   EnvelopeBox envelope;
-  PoseBox& box = envelope.box;
+  machine::PoseBox& box = envelope.box;
   box.axes = machine.kinematics().dof();
-  const CartesianLimits& cartesian = machine.cartesian();
+  const machine::CartesianLimits& cartesian = machine.cartesian();
   const bool needs_reach = [&] {
     for (const int axis : box.axes.axes()) {
       if (!std::isfinite(cartesian.envelope_min[axis]) ||
@@ -217,15 +217,15 @@ EnvelopeBox work_envelope(const Machine& machine) {
     }
     return false;
   }();
-  const PoseBox reach = needs_reach ? reach_box(machine) : PoseBox{};
-  const Vector6d home = machine.home().as_vector();
+  const machine::PoseBox reach = needs_reach ? machine::reach_box(machine) : machine::PoseBox{};
+  const geometry::Vector6d home = machine.home().as_vector();
   for (const int axis : box.axes.axes()) {
     const bool low_given = std::isfinite(cartesian.envelope_min[axis]);
     const bool high_given = std::isfinite(cartesian.envelope_max[axis]);
     box.min[axis] = low_given ? cartesian.envelope_min[axis] : reach.min[axis];
     box.max[axis] = high_given ? cartesian.envelope_max[axis] : reach.max[axis];
     if (low_given && high_given) envelope.from_file = envelope.from_file.with(axis);
-    const std::string name(kAxisNames[axis]);
+    const std::string name(geometry::kAxisNames[axis]);
     if (axis < 3 && (std::abs(box.min[axis] - home[axis]) > kNoFiniteReachMm ||
                      std::abs(box.max[axis] - home[axis]) > kNoFiniteReachMm)) {
       throw std::runtime_error(
@@ -246,10 +246,11 @@ namespace {
 // The cells of a bound in the making: leaves with a finite bound, and the tally.
 class CellTree {
  public:
-  CellTree(const Machine& machine, const CellBounder& bounder, JointRateBound& bound, double whole)
+  CellTree(const machine::Machine& machine, const CellBounder& bounder, JointRateBound& bound,
+           double whole)
       : machine_(machine), bounder_(bounder), bound_(bound), whole_volume_(whole) {
     const int n = machine.kinematics().joint_count();
-    sampled_ = Eigen::MatrixXd::Zero(n, kPoseSize);
+    sampled_ = Eigen::MatrixXd::Zero(n, geometry::kPoseSize);
     sampled_curvature_.assign(static_cast<std::size_t>(n), 0.0);
   }
 
@@ -277,9 +278,9 @@ class CellTree {
   // its centre (then the box meets a singularity or the edge of reach where the machine goes).
   void leave_unbounded(const Cell& cell) {
     bound_.uncovered += bounder_.volume(cell) / whole_volume_;
-    JointVector q;
-    const Vector6d c = bounder_.centre(cell);
-    if (!bound_.reaches_unbounded && machine_.inverse(Pose::from_vector(c), q).ok()) {
+    kinematics::JointVector q;
+    const geometry::Vector6d c = bounder_.centre(cell);
+    if (!bound_.reaches_unbounded && machine_.inverse(geometry::Pose::from_vector(c), q).ok()) {
       bound_.reaches_unbounded = true;
       bound_.unbounded_pose = c;
     }
@@ -309,9 +310,9 @@ class CellTree {
 
   void finish() {
     const int n = static_cast<int>(sampled_.rows());
-    bound_.slope = Eigen::MatrixXd::Zero(n, kPoseSize);
+    bound_.slope = Eigen::MatrixXd::Zero(n, geometry::kPoseSize);
     bound_.curvature.assign(static_cast<std::size_t>(n), 0.0);
-    bound_.cell_slope.resize(static_cast<Eigen::Index>(leaves_.size()) * n, kPoseSize);
+    bound_.cell_slope.resize(static_cast<Eigen::Index>(leaves_.size()) * n, geometry::kPoseSize);
     Eigen::Index row = 0;
     for (const Leaf& leaf : leaves_) {
       bound_.slope = bound_.slope.cwiseMax(leaf.look.upper);
@@ -327,7 +328,7 @@ class CellTree {
   }
 
  private:
-  const Machine& machine_;
+  const machine::Machine& machine_;
   const CellBounder& bounder_;
   JointRateBound& bound_;
   double whole_volume_;
@@ -338,9 +339,9 @@ class CellTree {
 
 }  // namespace
 
-JointRateBound bound_joint_rates(const Machine& machine, const PoseBox& box,
+JointRateBound bound_joint_rates(const machine::Machine& machine, const machine::PoseBox& box,
                                  const JointRateOptions& options) {
-  const Kinematics& model = machine.kinematics();
+  const kinematics::Kinematics& model = machine.kinematics();
   const double angle_scale_mm = pose_angle_scale_mm(model);
   if (!inverse_hessian_bounds(model, machine.home().as_vector(), 0.0, angle_scale_mm, {})) {
     return sample_joint_rates(machine, box, angle_scale_mm);
@@ -384,16 +385,17 @@ namespace {
 Eigen::VectorXd weighted_row_sums(const Eigen::MatrixXd& slope, double angle_scale_mm) {
   Eigen::VectorXd sums = Eigen::VectorXd::Zero(slope.rows());
   for (int i = 0; i < slope.rows(); ++i) {
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       sums[i] += std::abs(slope(i, axis)) * (axis < 3 ? 1.0 : 1.0 / angle_scale_mm);
     }
   }
   return sums;
 }
 
-PoseBox shrunk(const PoseBox& box, const Vector6d& home, double factor) {
-  PoseBox result = box;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
+machine::PoseBox shrunk(const machine::PoseBox& box, const geometry::Vector6d& home,
+                        double factor) {
+  machine::PoseBox result = box;
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
     if (!box.axes.controls(axis)) continue;
     const double centre = std::clamp(home[axis], box.min[axis], box.max[axis]);
     result.min[axis] = centre - factor * (centre - box.min[axis]);
@@ -404,10 +406,10 @@ PoseBox shrunk(const PoseBox& box, const Vector6d& home, double factor) {
 
 }  // namespace
 
-FittedEnvelope fit_envelope(const Machine& machine, const EnvelopeBox& requested,
+FittedEnvelope fit_envelope(const machine::Machine& machine, const EnvelopeBox& requested,
                             const JointRateOptions& options) {
-  const Vector6d home = machine.home().as_vector();
-  JointJacobian at_home;
+  const geometry::Vector6d home = machine.home().as_vector();
+  kinematics::JointJacobian at_home;
   if (!machine.kinematics().jacobian(machine.home(), at_home).ok()) {
     throw std::runtime_error("the machine is singular at home: no joint-rate bound around it");
   }
@@ -428,7 +430,7 @@ FittedEnvelope fit_envelope(const Machine& machine, const EnvelopeBox& requested
   double good = 0.0, bad = 1.0;
   for (int step = 0; step < kShrinkSteps; ++step) {
     const double middle = 0.5 * (good + bad);
-    const PoseBox smaller = shrunk(requested.box, home, middle);
+    const machine::PoseBox smaller = shrunk(requested.box, home, middle);
     (acceptable(bound_joint_rates(machine, smaller, search)) ? good : bad) = middle;
   }
   if (good == 0.0) {

@@ -16,14 +16,14 @@ namespace pkm::bounds {
 
 // The poses the bound covers, and where each side came from.
 struct EnvelopeBox {
-  PoseBox box;    // over the machine's controlled coordinates (mm, rad)
-  Dof from_file;  // the axes whose [cartesian] min and max both gave the sides
+  machine::PoseBox box;     // over the machine's controlled coordinates (mm, rad)
+  geometry::Dof from_file;  // the axes whose [cartesian] min and max both gave the sides
 };
 
 // The machine file's work envelope where it gives one, the reachable extent along lines through
 // home (reach_box) where it does not. Throws std::runtime_error, naming the axis, when the reach
 // is not finite (a kilometre or more) or the box is empty.
-EnvelopeBox work_envelope(const Machine& machine);
+EnvelopeBox work_envelope(const machine::Machine& machine);
 
 struct JointRateOptions {
   double relative_slack = 0.05;  // refine a cell while its bound passes the best sample by this
@@ -51,12 +51,12 @@ struct JointRateBound {
   std::vector<int> cell_joint;
   std::vector<double> cell_curvature;
   bool reaches_unbounded = false;  // an unbounded cell's centre is a pose the machine takes
-  Vector6d unbounded_pose = Vector6d::Zero();  // that centre (mm, rad)
-  Eigen::MatrixXd sampled_slope;               // the largest |d q_i / d x_j| met at a cell centre
+  geometry::Vector6d unbounded_pose = geometry::Vector6d::Zero();  // that centre (mm, rad)
+  Eigen::MatrixXd sampled_slope;  // the largest |d q_i / d x_j| met at a cell centre
 };
 
 // The slope and curvature bounds hold over the box except the `uncovered` cells.
-JointRateBound bound_joint_rates(const Machine& machine, const PoseBox& box,
+JointRateBound bound_joint_rates(const machine::Machine& machine, const machine::PoseBox& box,
                                  const JointRateOptions& options = {});
 
 // The box limits built on the bound hold over (the LinuxCNC export's axis limits): the requested
@@ -73,7 +73,7 @@ struct FittedEnvelope {
   double shrink = 1.0;  // 1: the requested box as it is
   JointRateBound bound;
 };
-FittedEnvelope fit_envelope(const Machine& machine, const EnvelopeBox& requested,
+FittedEnvelope fit_envelope(const machine::Machine& machine, const EnvelopeBox& requested,
                             const JointRateOptions& options = {});
 
 }  // namespace pkm::bounds

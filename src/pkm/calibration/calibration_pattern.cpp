@@ -12,7 +12,7 @@
 
 #include "pkm/calibration/measurements.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -222,11 +222,11 @@ std::vector<Eigen::Vector2d> footprint(const Eigen::Vector2d& centre, double siz
   return points;
 }
 
-bool reaches(const Machine& machine, const Eigen::Vector2d& point) {
-  Pose pose = machine.home();
+bool reaches(const machine::Machine& machine, const Eigen::Vector2d& point) {
+  geometry::Pose pose = machine.home();
   pose.position_mm.x() = point.x();
   pose.position_mm.y() = point.y();
-  JointVector joints;
+  kinematics::JointVector joints;
   return machine.inverse(pose, joints).ok() &&
          planar_conditioning(machine.kinematics(), pose) >= kMinPatternConditioning;
 }
@@ -268,8 +268,8 @@ std::string number(double value) {
 
 }  // namespace
 
-double planar_conditioning(const Kinematics& kinematics, const Pose& pose) {
-  JointJacobian jacobian;
+double planar_conditioning(const kinematics::Kinematics& kinematics, const geometry::Pose& pose) {
+  kinematics::JointJacobian jacobian;
   if (!kinematics.jacobian(pose, jacobian).ok()) return 0.0;
   const Eigen::MatrixXd columns = jacobian.leftCols(2);
   if (!columns.allFinite()) return 0.0;
@@ -324,16 +324,16 @@ std::string pattern_json_text(const std::vector<PatternMark>& marks) {
   return text + "]}\n";
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration
 
-namespace pkm {
+namespace pkm::calibration {
 
-CalibrationPattern design_pattern(const Machine& machine, const PatternOptions& options) {
+CalibrationPattern design_pattern(const machine::Machine& machine, const PatternOptions& options) {
   if (options.marks < 3 || options.marks > 999) {
     throw std::invalid_argument("the pattern needs 3..999 marks, not " +
                                 std::to_string(options.marks));
   }
-  PoseBox box = reach_box(machine);
+  machine::PoseBox box = machine::reach_box(machine);
   if (!box.axes.controls(0) || !box.axes.controls(1)) {
     throw std::invalid_argument("a calibration pattern needs a machine that moves in x and y");
   }
@@ -411,26 +411,26 @@ std::vector<std::vector<Eigen::Vector2d>> mark_strokes(const PatternMark& mark,
   return strokes;
 }
 
-PenHeights default_pen_heights(const Machine& machine) {
+PenHeights default_pen_heights(const machine::Machine& machine) {
   if (machine.kinematics().dof().controls(2)) {
     const double home_z = machine.home().position_mm.z();
     return {0.0, home_z > 0.0 ? home_z : 5.0};
   }
-  const ToolChannel& tool = machine.tool();
-  if (tool.z != ToolZ::pen) return {-1.0, 5.0};
+  const machine::ToolChannel& tool = machine.tool();
+  if (tool.z != machine::ToolZ::pen) return {-1.0, 5.0};
   const double side = tool.down_above ? -1.0 : 1.0;  // towards the pen's up side
   return {tool.pen_height_mm - side, tool.pen_height_mm + 5.0 * side};
 }
 
-std::string pattern_gcode(const Machine& machine, const CalibrationPattern& pattern,
+std::string pattern_gcode(const machine::Machine& machine, const CalibrationPattern& pattern,
                           const PenHeights& pen) {
   const double down = pen.down_mm, up = pen.up_mm;
   const double feed = 0.5 * machine.cartesian().max_feed_mm_per_min;
   const auto check = [&](const Eigen::Vector2d& point, double z) {
-    Pose pose = machine.home();
+    geometry::Pose pose = machine.home();
     pose.position_mm = Eigen::Vector3d(point.x(), point.y(), z);
-    JointVector joints;
-    const Status status = machine.inverse(pose, joints);
+    kinematics::JointVector joints;
+    const kinematics::Status status = machine.inverse(pose, joints);
     if (!status.ok()) {
       throw std::invalid_argument("the pattern leaves the machine's reach at " +
                                   machine.explain(pose, status));
@@ -457,4 +457,4 @@ std::string pattern_gcode(const Machine& machine, const CalibrationPattern& patt
   return text + "M2\n";
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

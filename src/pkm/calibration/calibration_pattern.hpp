@@ -13,7 +13,7 @@
 
 #include "pkm/machine/machine.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 struct PatternMark {
   int id = 0;                                             // the number drawn beside it, 1..
@@ -55,7 +55,7 @@ struct CalibrationPattern {
 // motion moves the joints alike. Marks go where it is at least kMinPatternConditioning: there an
 // error in the geometry moves the pen by a few times the error at most (on a hanging plotter
 // under the middle: the cables 14 deg or more below the horizontal).
-double planar_conditioning(const Kinematics& kinematics, const Pose& pose);
+double planar_conditioning(const kinematics::Kinematics& kinematics, const geometry::Pose& pose);
 inline constexpr double kMinPatternConditioning = 0.25;
 
 // Chooses `options.marks` marks spread over the sheet: candidates on a grid over the sheet (by
@@ -63,7 +63,7 @@ inline constexpr double kMinPatternConditioning = 0.25;
 // machine reaches (Machine::inverse: IK, tension, joint limits, envelope) where it is well
 // conditioned (planar_conditioning), then farthest-point sampling from the corners inward. Throws
 // std::invalid_argument when fewer candidates exist than marks.
-CalibrationPattern design_pattern(const Machine& machine, const PatternOptions& options);
+CalibrationPattern design_pattern(const machine::Machine& machine, const PatternOptions& options);
 
 // The polylines (mm, machine x y) that draw a mark: its cross, then its number's digits to the
 // upper right of it, in a seven-segment stroke font as high as cross_size_mm.
@@ -79,13 +79,13 @@ struct PenHeights {
   double down_mm = -1.0;
   double up_mm = 5.0;
 };
-PenHeights default_pen_heights(const Machine& machine);
+PenHeights default_pen_heights(const machine::Machine& machine);
 
 // Ordinary Cartesian G-code (G21 G90, machine coordinates, program zero at the machine's origin)
 // drawing every mark: G0 to each stroke's start with the pen up, G1 along it with the pen down,
 // at half the machine's max_feed. Throws std::invalid_argument naming the first point (at its
 // pen height) the machine cannot reach.
-std::string pattern_gcode(const Machine& machine, const CalibrationPattern& pattern,
+std::string pattern_gcode(const machine::Machine& machine, const CalibrationPattern& pattern,
                           const PenHeights& pen);
 
-}  // namespace pkm
+}  // namespace pkm::calibration

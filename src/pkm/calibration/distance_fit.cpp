@@ -14,7 +14,7 @@
 
 #include "pkm/calibration/measurements.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -65,20 +65,21 @@ std::array<int, 3> header_columns(const std::vector<CsvField>& header,
 // FK gives for the joints the marks were drawn with, minus the measured distance.
 class DistanceResiduals final : public ParameterResiduals {
  public:
-  DistanceResiduals(const Kinematics& kinematics, const Pose& home,
+  DistanceResiduals(const kinematics::Kinematics& kinematics, const geometry::Pose& home,
                     const std::vector<PatternMark>& marks,
                     const std::vector<MarkDistance>& distances)
       : model_(kinematics.clone()), distances_(distances) {
     for (const PatternMark& mark : marks) {
-      Pose pose = home;
+      geometry::Pose pose = home;
       pose.position_mm.x() = mark.position_mm.x();
       pose.position_mm.y() = mark.position_mm.y();
-      JointVector joints;
-      const Status status = kinematics.inverse(pose, joints);
+      kinematics::JointVector joints;
+      const kinematics::Status status = kinematics.inverse(pose, joints);
       if (!status.ok()) {
         throw FitError((mark.location.empty() ? "" : mark.location + ": ") + "mark " +
                        std::to_string(mark.id) + " is outside the nominal model's reach (" +
-                       describe(status) + "): the pattern was drawn with another machine file?");
+                       kinematics::describe(status) +
+                       "): the pattern was drawn with another machine file?");
       }
       seeds_.push_back(pose);
       joints_.push_back(joints);
@@ -87,7 +88,7 @@ class DistanceResiduals final : public ParameterResiduals {
 
   int count() const override { return static_cast<int>(distances_.size()); }
   int mark_count() const { return static_cast<int>(seeds_.size()); }
-  const std::vector<Pose>& nominal_poses() const { return seeds_; }
+  const std::vector<geometry::Pose>& nominal_poses() const { return seeds_; }
 
   // The pen positions (x y z per mark, mm) the geometry gives for the drawn joints.
   bool positions(std::span<const double> parameters, double* out) const {
@@ -97,7 +98,7 @@ class DistanceResiduals final : public ParameterResiduals {
       return false;
     }
     for (std::size_t k = 0; k < seeds_.size(); ++k) {
-      Pose pose = seeds_[k];
+      geometry::Pose pose = seeds_[k];
       if (!model_->forward(joints_[k], pose).ok()) return false;
       for (int axis = 0; axis < 3; ++axis) out[3 * k + axis] = pose.position_mm[axis];
     }
@@ -133,27 +134,27 @@ class DistanceResiduals final : public ParameterResiduals {
 
   double extent_mm() const override {
     Eigen::AlignedBox3d box;
-    for (const Pose& pose : seeds_) box.extend(pose.position_mm);
+    for (const geometry::Pose& pose : seeds_) box.extend(pose.position_mm);
     return seeds_.empty() ? 0.0 : box.diagonal().norm();
   }
 
  private:
-  std::unique_ptr<Kinematics> model_;
+  std::unique_ptr<kinematics::Kinematics> model_;
   const std::vector<MarkDistance>& distances_;
-  std::vector<Pose> seeds_;
-  std::vector<JointVector> joints_;
+  std::vector<geometry::Pose> seeds_;
+  std::vector<kinematics::JointVector> joints_;
 };
 
 // The rigid motions of the marks over the coordinates the machine moves in (translations
 // along each, rotations in each pair about the marks' centroid), as orthonormal columns.
-Eigen::MatrixXd rigid_motions(const std::vector<Pose>& marks, Dof dof) {
+Eigen::MatrixXd rigid_motions(const std::vector<geometry::Pose>& marks, geometry::Dof dof) {
   const auto n = static_cast<Eigen::Index>(marks.size());
   std::vector<int> axes;
   for (int axis = 0; axis < 3; ++axis) {
     if (dof.controls(axis)) axes.push_back(axis);
   }
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const Pose& pose : marks) centroid += pose.position_mm / static_cast<double>(n);
+  for (const geometry::Pose& pose : marks) centroid += pose.position_mm / static_cast<double>(n);
   std::vector<Eigen::VectorXd> columns;
   for (const int axis : axes) {
     Eigen::VectorXd column = Eigen::VectorXd::Zero(3 * n);
@@ -184,11 +185,11 @@ Eigen::MatrixXd rigid_motions(const std::vector<Pose>& marks, Dof dof) {
 // hanging plotter the left anchor, where the drawing sits, and the right one's height, how it is
 // turned).
 std::vector<std::string> rigid_motion_parameters(const DistanceResiduals& residuals,
-                                                 const Kinematics& kinematics,
+                                                 const kinematics::Kinematics& kinematics,
                                                  const std::vector<int>& requested) {
-  const std::vector<Parameter> parameters = kinematics.parameters();
+  const std::vector<kinematics::Parameter> parameters = kinematics.parameters();
   std::vector<double> nominal;
-  for (const Parameter& p : parameters) nominal.push_back(p.value);
+  for (const kinematics::Parameter& p : parameters) nominal.push_back(p.value);
   Eigen::MatrixXd motion;
   const auto positions = [&](std::span<const double> p, double* out) {
     return residuals.positions(p, out);
@@ -330,13 +331,14 @@ std::vector<MarkDistance> all_pairs(const std::vector<PatternMark>& marks) {
   return pairs;
 }
 
-DistanceIdentification identify_from_distances(const Kinematics& kinematics, const Pose& home,
+DistanceIdentification identify_from_distances(const kinematics::Kinematics& kinematics,
+                                               const geometry::Pose& home,
                                                const std::vector<PatternMark>& marks,
                                                const std::vector<MarkDistance>& distances,
                                                const FitOptions& options) {
   const std::vector<int> requested = requested_parameters(kinematics, options.parameters);
   const DistanceResiduals residuals(kinematics, home, marks, distances);
-  const std::vector<Parameter> parameters = kinematics.parameters();
+  const std::vector<kinematics::Parameter> parameters = kinematics.parameters();
   DistanceIdentification result;
   result.held_rigid_motion = rigid_motion_parameters(residuals, kinematics, requested);
   const Identification identified = identify_at_nominal(
@@ -346,7 +348,7 @@ DistanceIdentification identify_from_distances(const Kinematics& kinematics, con
   // How well a tape of the design noise would pin each: those it pins less well than the machine
   // file does are held, as the fit would hold them.
   std::vector<double> nominal;
-  for (const Parameter& p : parameters) nominal.push_back(p.value);
+  for (const kinematics::Parameter& p : parameters) nominal.push_back(p.value);
   Eigen::MatrixXd jacobian;
   const auto function = [&](std::span<const double> p, double* out) {
     return residuals.evaluate(p, out);
@@ -366,7 +368,7 @@ DistanceIdentification identify_from_distances(const Kinematics& kinematics, con
   return result;
 }
 
-FitReport fit_distances(Kinematics& kinematics, const Pose& home,
+FitReport fit_distances(kinematics::Kinematics& kinematics, const geometry::Pose& home,
                         const std::vector<PatternMark>& marks,
                         const std::vector<MarkDistance>& distances, const FitOptions& options) {
   if (distances.empty()) throw FitError("no distances to fit");
@@ -378,4 +380,4 @@ FitReport fit_distances(Kinematics& kinematics, const Pose& home,
   return report;
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -14,7 +14,7 @@
 #include "pkm/calibration/calibration_pattern.hpp"
 #include "pkm/calibration/parameter_fit.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 struct MarkDistance {
   int a = 0;  // indices into the pattern's marks
@@ -48,7 +48,8 @@ struct DistanceIdentification {
   std::vector<std::vector<std::string>> indistinguishable;
   std::vector<std::string> no_effect;  // FitReport::no_effect
 };
-DistanceIdentification identify_from_distances(const Kinematics& kinematics, const Pose& home,
+DistanceIdentification identify_from_distances(const kinematics::Kinematics& kinematics,
+                                               const geometry::Pose& home,
                                                const std::vector<PatternMark>& marks,
                                                const std::vector<MarkDistance>& distances,
                                                const FitOptions& options);
@@ -56,8 +57,8 @@ DistanceIdentification identify_from_distances(const Kinematics& kinematics, con
 // Fits `kinematics` (its current geometry is the nominal the pattern was drawn with; updated to
 // the fit) to the distances. Marks are poses at `home` with x, y replaced. Throws FitError (a
 // mark outside the model's reach names its place in pattern.json).
-FitReport fit_distances(Kinematics& kinematics, const Pose& home,
+FitReport fit_distances(kinematics::Kinematics& kinematics, const geometry::Pose& home,
                         const std::vector<PatternMark>& marks,
                         const std::vector<MarkDistance>& distances, const FitOptions& options);
 
-}  // namespace pkm
+}  // namespace pkm::calibration

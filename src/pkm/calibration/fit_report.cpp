@@ -1,6 +1,6 @@
 #include "pkm/calibration/fit_report.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 nlohmann::json poorly_determined_json(const std::vector<PoorlyDetermined>& held) {
   nlohmann::json result = nlohmann::json::array();
@@ -67,4 +67,4 @@ nlohmann::json fit_report_json(const FitReport& report, const std::string& outpu
                         {"output", output}};
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

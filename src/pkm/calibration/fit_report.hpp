@@ -9,7 +9,7 @@
 
 #include "pkm/calibration/parameter_fit.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 // `output`: the machine file the fitted geometry was written to ("" for none).
 nlohmann::json fit_report_json(const FitReport& report, const std::string& output);
@@ -21,4 +21,4 @@ nlohmann::json poorly_determined_json(const std::vector<PoorlyDetermined>& held)
 // noise assumed.
 std::string poorly_determined_text(const PoorlyDetermined& held, double design_noise_mm = 0.0);
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -5,7 +5,7 @@
 #include <limits>
 #include <memory>
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -13,16 +13,16 @@ namespace {
 // measured coordinates, from FK of the measured joints.
 class PoseResiduals final : public ParameterResiduals {
  public:
-  PoseResiduals(const Kinematics& kinematics, const Pose& seed,
+  PoseResiduals(const kinematics::Kinematics& kinematics, const geometry::Pose& seed,
                 const std::vector<Measurement>& measurements, double angle_weight)
       : model_(kinematics.clone()), measurements_(measurements), angle_weight_(angle_weight) {
     for (const Measurement& m : measurements_) {
-      Vector6d values = seed.as_vector();
-      for (int axis = 0; axis < kPoseSize; ++axis) {
+      geometry::Vector6d values = seed.as_vector();
+      for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
         if (m.measured[axis]) values[axis] = m.pose[axis];
       }
-      seeds_.push_back(Pose::from_vector(values));
-      for (int axis = 0; axis < kPoseSize; ++axis) count_ += m.measured[axis] ? 1 : 0;
+      seeds_.push_back(geometry::Pose::from_vector(values));
+      for (int axis = 0; axis < geometry::kPoseSize; ++axis) count_ += m.measured[axis] ? 1 : 0;
     }
   }
 
@@ -37,10 +37,10 @@ class PoseResiduals final : public ParameterResiduals {
     int k = 0;
     for (std::size_t i = 0; i < measurements_.size(); ++i) {
       const Measurement& m = measurements_[i];
-      Pose pose = seeds_[i];
+      geometry::Pose pose = seeds_[i];
       if (!model_->forward(m.joints, pose).ok()) return false;
-      const Vector6d modelled = pose.as_vector();
-      for (int axis = 0; axis < kPoseSize; ++axis) {
+      const geometry::Vector6d modelled = pose.as_vector();
+      for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
         if (!m.measured[axis]) continue;
         const double difference = modelled[axis] - m.pose[axis];
         residuals[k++] = axis < 3 ? difference : difference * angle_weight_;
@@ -56,7 +56,7 @@ class PoseResiduals final : public ParameterResiduals {
     int k = 0;
     for (const Measurement& m : measurements_) {
       double squared = 0.0;
-      for (int axis = 0; axis < kPoseSize; ++axis) {
+      for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
         if (m.measured[axis]) squared += residuals[k] * residuals[k], ++k;
       }
       sum += squared;
@@ -91,16 +91,16 @@ class PoseResiduals final : public ParameterResiduals {
   }
 
  private:
-  std::unique_ptr<Kinematics> model_;
+  std::unique_ptr<kinematics::Kinematics> model_;
   const std::vector<Measurement>& measurements_;
-  std::vector<Pose> seeds_;
+  std::vector<geometry::Pose> seeds_;
   double angle_weight_;
   int count_ = 0;
 };
 
 }  // namespace
 
-FitReport fit_geometry(Kinematics& kinematics, const Pose& seed,
+FitReport fit_geometry(kinematics::Kinematics& kinematics, const geometry::Pose& seed,
                        const std::vector<Measurement>& measurements, const FitOptions& options) {
   if (measurements.empty()) throw FitError("no measurements to fit");
   const std::vector<int> requested = requested_parameters(kinematics, options.parameters);
@@ -110,4 +110,4 @@ FitReport fit_geometry(Kinematics& kinematics, const Pose& seed,
   return report;
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -7,11 +7,11 @@
 #include "pkm/calibration/measurements.hpp"
 #include "pkm/calibration/parameter_fit.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 // Fits `kinematics` (updated in place to the fitted geometry) to the measurements. `seed` is the
 // pose FK starts from where a controlled coordinate was not measured (home).
-FitReport fit_geometry(Kinematics& kinematics, const Pose& seed,
+FitReport fit_geometry(kinematics::Kinematics& kinematics, const geometry::Pose& seed,
                        const std::vector<Measurement>& measurements, const FitOptions& options);
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -105,4 +105,4 @@ std::string shown_number(double value) {
   return text;
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace pkm {
+namespace pkm::calibration {
 
 struct TradeOff {
   std::string name;
@@ -65,4 +65,4 @@ std::string describe_trades(const std::vector<TradeOff>& trades);
 // A number in a message: 4 significant digits, no trailing zeros.
 std::string shown_number(double value);
 
-}  // namespace pkm
+}  // namespace pkm::calibration

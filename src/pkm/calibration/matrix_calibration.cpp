@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -117,4 +117,4 @@ std::string linuxcnc_setp_lines(const Eigen::Matrix3d& matrix, const std::string
   return lines;
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

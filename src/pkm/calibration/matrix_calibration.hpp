@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-namespace pkm {
+namespace pkm::calibration {
 
 // Each measurement is optional; lengths in mm (any one unit, the formulas use ratios).
 struct MatrixMeasurements {
@@ -35,4 +35,4 @@ Eigen::Matrix3d calibrate_matrix(const MatrixMeasurements& measurements,
 std::string linuxcnc_setp_lines(const Eigen::Matrix3d& matrix,
                                 const std::string& component = "matrixkins");
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -60,13 +60,13 @@ namespace {
 struct MeasurementColumns {
   std::vector<int> joint_of_column;  // -1 where the column is no joint
   std::vector<int> axis_of_column;   // -1 where the column is no pose coordinate
-  std::array<bool, kPoseSize> axis_seen{};
+  std::array<bool, geometry::kPoseSize> axis_seen{};
 };
 
 // The header row, checked: every name known and once only, every joint there, and at least one
 // measured pose coordinate, each one the machine controls.
 MeasurementColumns read_header(const std::vector<CsvField>& header, int line_number,
-                               const std::string& source_name, const Machine& machine) {
+                               const std::string& source_name, const machine::Machine& machine) {
   const auto fail = [&](int column, const std::string& message) {
     fail_at(source_name, line_number, column, message);
   };
@@ -87,7 +87,7 @@ MeasurementColumns read_header(const std::vector<CsvField>& header, int line_num
         known = true;
       }
     }
-    const int axis = axis_index(name);
+    const int axis = geometry::axis_index(name);
     if (!known && axis >= 0 && name.size() == 1 &&
         std::islower(static_cast<unsigned char>(name[0]))) {
       if (!machine.kinematics().dof().controls(axis)) {
@@ -115,7 +115,8 @@ MeasurementColumns read_header(const std::vector<CsvField>& header, int line_num
 // One data row: its joints in the machine's units (from the interface's mm or deg) and its
 // measured pose coordinates in mm and radians.
 Measurement read_row(const std::vector<CsvField>& fields, const MeasurementColumns& columns,
-                     int line_number, const std::string& source_name, const Machine& machine) {
+                     int line_number, const std::string& source_name,
+                     const machine::Machine& machine) {
   const auto fail = [&](int column, const std::string& message) {
     fail_at(source_name, line_number, column, message);
   };
@@ -138,7 +139,7 @@ Measurement read_row(const std::vector<CsvField>& fields, const MeasurementColum
     if (joint >= 0) {
       measurement.joints[joint] = machine.joints()[joint].from_interface(value);
     } else {
-      measurement.pose[axis] = axis < 3 ? value : degrees_to_radians(value);
+      measurement.pose[axis] = axis < 3 ? value : geometry::degrees_to_radians(value);
     }
   }
   return measurement;
@@ -148,7 +149,7 @@ Measurement read_row(const std::vector<CsvField>& fields, const MeasurementColum
 
 std::vector<Measurement> parse_measurements_csv(const std::string& text,
                                                 const std::string& source_name,
-                                                const Machine& machine) {
+                                                const machine::Machine& machine) {
   std::istringstream in(text);
   std::string line;
   int line_number = 0;
@@ -180,8 +181,8 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
 }
 
 std::vector<Measurement> read_measurements_csv(const std::filesystem::path& path,
-                                               const Machine& machine) {
+                                               const machine::Machine& machine) {
   return parse_measurements_csv(read_text_file(path), path.string(), machine);
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -8,13 +8,14 @@
 
 #include "pkm/machine/machine.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 struct Measurement {
-  JointVector joints;                      // mm (rad for rotary joints)
-  Vector6d pose = Vector6d::Zero();        // x y z mm, a b c rad; only measured ones are used
-  std::array<bool, kPoseSize> measured{};  // which pose coordinates were measured
-  int line = 0;                            // source line, for reports
+  kinematics::JointVector joints;  // mm (rad for rotary joints)
+  geometry::Vector6d pose =
+      geometry::Vector6d::Zero();  // x y z mm, a b c rad; only measured ones are used
+  std::array<bool, geometry::kPoseSize> measured{};  // which pose coordinates were measured
+  int line = 0;                                      // source line, for reports
 };
 
 // An error in a measurement file, located as file:line:column.
@@ -39,9 +40,9 @@ std::string read_text_file(const std::filesystem::path& path);
 // the machine controls. Columns `t` and `line` (as in plan output) are ignored; any other column
 // is an error, as is a missing joint column, a non-number or NaN.
 std::vector<Measurement> read_measurements_csv(const std::filesystem::path& path,
-                                               const Machine& machine);
+                                               const machine::Machine& machine);
 std::vector<Measurement> parse_measurements_csv(const std::string& text,
                                                 const std::string& source_name,
-                                                const Machine& machine);
+                                                const machine::Machine& machine);
 
-}  // namespace pkm
+}  // namespace pkm::calibration

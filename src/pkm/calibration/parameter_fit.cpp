@@ -9,7 +9,7 @@
 
 #include "pkm/calibration/parameter_plausibility.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -170,15 +170,16 @@ void refuse_implausible(const std::vector<ScreenedParameter>& screened, const Pr
 
 }  // namespace
 
-std::vector<int> requested_parameters(const Kinematics& kinematics,
+std::vector<int> requested_parameters(const kinematics::Kinematics& kinematics,
                                       const std::vector<std::string>& patterns) {
-  const std::vector<Parameter> parameters = kinematics.parameters();
+  const std::vector<kinematics::Parameter> parameters = kinematics.parameters();
   for (const std::string& pattern : patterns) {
     bool used = false;
-    for (const Parameter& p : parameters) used = used || matches(pattern, p.name);
+    for (const kinematics::Parameter& p : parameters) used = used || matches(pattern, p.name);
     if (!used) {
       std::string names;
-      for (const Parameter& p : parameters) names += (names.empty() ? "" : ", ") + p.name;
+      for (const kinematics::Parameter& p : parameters)
+        names += (names.empty() ? "" : ", ") + p.name;
       throw FitError("'" + pattern + "' names no parameter of this " +
                      std::string(kinematics.type()) + " model (its parameters: " + names + ")");
     }
@@ -228,7 +229,7 @@ bool parameter_jacobian(const VectorFunction& function, int rows, const std::vec
 
 Identification identify_parameters(const Eigen::MatrixXd& jacobian,
                                    const std::vector<int>& candidates,
-                                   const std::vector<Parameter>& parameters,
+                                   const std::vector<kinematics::Parameter>& parameters,
                                    double rank_tolerance) {
   Identification result;
   result.candidates = candidates;
@@ -288,13 +289,13 @@ Identification identify_parameters(const Eigen::MatrixXd& jacobian,
   return result;
 }
 
-Identification identify_at_nominal(const Kinematics& kinematics,
+Identification identify_at_nominal(const kinematics::Kinematics& kinematics,
                                    const ParameterResiduals& residuals,
                                    const std::vector<int>& requested,
                                    const std::vector<std::string>& held, double rank_tolerance) {
-  const std::vector<Parameter> parameters = kinematics.parameters();
+  const std::vector<kinematics::Parameter> parameters = kinematics.parameters();
   std::vector<double> nominal;
-  for (const Parameter& p : parameters) nominal.push_back(p.value);
+  for (const kinematics::Parameter& p : parameters) nominal.push_back(p.value);
   std::vector<int> candidates;
   for (const int index : requested) {
     if (std::find(held.begin(), held.end(), parameters[index].name) == held.end())
@@ -311,15 +312,15 @@ Identification identify_at_nominal(const Kinematics& kinematics,
   return identify_parameters(jacobian, candidates, parameters, rank_tolerance);
 }
 
-std::vector<ScreenedParameter> screened_parameters(const Kinematics& kinematics,
+std::vector<ScreenedParameter> screened_parameters(const kinematics::Kinematics& kinematics,
                                                    const std::vector<int>& free,
                                                    const std::vector<double>& values,
                                                    double extent_mm) {
-  const std::vector<Parameter> parameters = kinematics.parameters();
+  const std::vector<kinematics::Parameter> parameters = kinematics.parameters();
   const double size_mm = machine_size_mm(parameters, extent_mm);
   std::vector<ScreenedParameter> result;
   for (const int index : free) {
-    const Parameter& p = parameters[static_cast<std::size_t>(index)];
+    const kinematics::Parameter& p = parameters[static_cast<std::size_t>(index)];
     const Plausibility plausibility = parameter_plausibility(p, size_mm);
     result.push_back({p.name, p.unit, plausibility.kind, p.value,
                       values[static_cast<std::size_t>(index)], plausibility.deviation,
@@ -341,11 +342,11 @@ struct FinalSolution {
 // Fits `free`, holds what the solution shows the data pin less well than the machine file
 // (removed from `free`, added to report.poorly_determined), and fits again without it: each
 // round holds at least one parameter, so this ends.
-FinalSolution solve_holding_poorly_determined(const Kinematics& kinematics,
+FinalSolution solve_holding_poorly_determined(const kinematics::Kinematics& kinematics,
                                               const ParameterResiduals& residuals,
                                               const std::vector<double>& nominal,
                                               std::vector<int>& free, FitReport& report) {
-  const std::vector<Parameter> parameters = kinematics.parameters();
+  const std::vector<kinematics::Parameter> parameters = kinematics.parameters();
   FinalSolution result;
   for (;;) {
     result.solution = solve(residuals, nominal, free);
@@ -368,13 +369,13 @@ FinalSolution solve_holding_poorly_determined(const Kinematics& kinematics,
 
 }  // namespace
 
-FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& residuals,
+FitReport fit_parameters(kinematics::Kinematics& kinematics, const ParameterResiduals& residuals,
                          const std::vector<int>& requested,
                          const std::vector<std::string>& held_rigid_motion,
                          const FitOptions& options) {
-  const std::vector<Parameter> parameters = kinematics.parameters();
+  const std::vector<kinematics::Parameter> parameters = kinematics.parameters();
   std::vector<double> nominal;
-  for (const Parameter& p : parameters) nominal.push_back(p.value);
+  for (const kinematics::Parameter& p : parameters) nominal.push_back(p.value);
   FitReport report;
   std::vector<double> before(residuals.count());
   if (!residuals.evaluate(nominal, before.data())) {
@@ -442,4 +443,4 @@ FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& resid
   return report;
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -16,7 +16,7 @@
 #include "pkm/calibration/identifiability.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 struct FitOptions {
   // Parameter names to fit; '*' matches any run of characters ("leg*.offset"). Empty: all.
@@ -96,7 +96,7 @@ class ParameterResiduals {
 
 // Indices (parameters() order) of the parameters `patterns` name ('*' wildcards; empty: all).
 // Throws FitError naming the model's parameters when a pattern names none.
-std::vector<int> requested_parameters(const Kinematics& kinematics,
+std::vector<int> requested_parameters(const kinematics::Kinematics& kinematics,
                                       const std::vector<std::string>& patterns);
 
 // Central-difference Jacobian of `function` (`rows` values) at `at` over the parameters
@@ -122,17 +122,18 @@ struct Identification {
 // is zero (at rounding level) is named in `no_effect`, not in a group.
 Identification identify_parameters(const Eigen::MatrixXd& jacobian,
                                    const std::vector<int>& candidates,
-                                   const std::vector<Parameter>& parameters, double rank_tolerance);
+                                   const std::vector<kinematics::Parameter>& parameters,
+                                   double rank_tolerance);
 
 // identify_parameters from the residuals' Jacobian at the model's current (nominal) geometry,
 // over `requested` minus the parameters named in `held`. Throws FitError where the model fails.
-Identification identify_at_nominal(const Kinematics& kinematics,
+Identification identify_at_nominal(const kinematics::Kinematics& kinematics,
                                    const ParameterResiduals& residuals,
                                    const std::vector<int>& requested,
                                    const std::vector<std::string>& held, double rank_tolerance);
 
 // The parameters of `free` (indices) with their kinds' plausible deviations, at `values`.
-std::vector<ScreenedParameter> screened_parameters(const Kinematics& kinematics,
+std::vector<ScreenedParameter> screened_parameters(const kinematics::Kinematics& kinematics,
                                                    const std::vector<int>& free,
                                                    const std::vector<double>& values,
                                                    double extent_mm);
@@ -143,9 +144,9 @@ std::vector<ScreenedParameter> screened_parameters(const Kinematics& kinematics,
 // poorly determined (poorly_determined()) are held and the rest fitted again. Throws FitError,
 // naming its numbers, when a fitted value is more than kImplausibleDeviations plausible
 // deviations from nominal. Updates `kinematics` to the fit.
-FitReport fit_parameters(Kinematics& kinematics, const ParameterResiduals& residuals,
+FitReport fit_parameters(kinematics::Kinematics& kinematics, const ParameterResiduals& residuals,
                          const std::vector<int>& requested,
                          const std::vector<std::string>& held_rigid_motion,
                          const FitOptions& options);
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace pkm {
+namespace pkm::calibration {
 
 namespace {
 
@@ -17,7 +17,8 @@ Plausibility size_relative(std::string kind, double size_mm) {
 }
 
 // A catalogue part (a pulley) or a weighed or looked-up property is known as a share of itself.
-Plausibility value_relative(std::string kind, const Parameter& parameter, double share) {
+Plausibility value_relative(std::string kind, const kinematics::Parameter& parameter,
+                            double share) {
   return {std::move(kind), share * std::abs(parameter.value),
           std::to_string(static_cast<int>(std::lround(100.0 * share))) + " % of its nominal value"};
 }
@@ -30,28 +31,28 @@ Plausibility absolute(std::string kind, double deviation) {
 
 }  // namespace
 
-double machine_size_mm(const std::vector<Parameter>& parameters, double extent_mm) {
+double machine_size_mm(const std::vector<kinematics::Parameter>& parameters, double extent_mm) {
   double size = extent_mm;
-  for (const Parameter& p : parameters) {
+  for (const kinematics::Parameter& p : parameters) {
     if (p.unit == "mm") size = std::max(size, std::abs(p.value));
   }
   return size;
 }
 
-Plausibility parameter_plausibility(const Parameter& parameter, double size_mm) {
-  const BuiltAs& built = parameter.built_as;
+Plausibility parameter_plausibility(const kinematics::Parameter& parameter, double size_mm) {
+  const kinematics::BuiltAs& built = parameter.built_as;
   std::string kind(built.what);
   Plausibility result;
   switch (built.tolerance) {
-    case BuiltTolerance::none:
+    case kinematics::BuiltTolerance::none:
       break;
-    case BuiltTolerance::machine_size:
+    case kinematics::BuiltTolerance::machine_size:
       result = size_relative(std::move(kind), size_mm);
       break;
-    case BuiltTolerance::own_value:
+    case kinematics::BuiltTolerance::own_value:
       result = value_relative(std::move(kind), parameter, built.amount);
       break;
-    case BuiltTolerance::absolute:
+    case kinematics::BuiltTolerance::absolute:
       result = absolute(std::move(kind), built.amount);
       break;
   }
@@ -61,4 +62,4 @@ Plausibility parameter_plausibility(const Parameter& parameter, double size_mm) 
   return result;
 }
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -9,7 +9,7 @@
 
 #include "pkm/kinematics/kinematics.hpp"
 
-namespace pkm {
+namespace pkm::calibration {
 
 struct Plausibility {
   // What the parameter is, for messages ("a pulley's radius"); empty when the kind is unknown
@@ -30,10 +30,10 @@ inline constexpr double kImplausibleDeviations = 3.0;
 // measured (the diagonal of the measured positions' or marks' bounding box), and the largest
 // length or coordinate of the machine file's geometry (a hexapod measured over 100 mm of its
 // 600 mm frame).
-double machine_size_mm(const std::vector<Parameter>& parameters, double extent_mm);
+double machine_size_mm(const std::vector<kinematics::Parameter>& parameters, double extent_mm);
 
 // By what the model says the parameter stands for (Parameter::built_as); `size_mm` as
 // machine_size_mm gives.
-Plausibility parameter_plausibility(const Parameter& parameter, double size_mm);
+Plausibility parameter_plausibility(const kinematics::Parameter& parameter, double size_mm);
 
-}  // namespace pkm
+}  // namespace pkm::calibration

@@ -4,7 +4,7 @@
 
 namespace pkm::certify {
 
-JobCheck check_job(const Machine& machine, const std::filesystem::path& job,
+JobCheck check_job(const machine::Machine& machine, const std::filesystem::path& job,
                    const JobCheckOptions& options) {
   JobCheck check;
   check.file = job.string();

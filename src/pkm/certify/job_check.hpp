@@ -16,7 +16,8 @@ namespace pkm::certify {
 
 struct JobCheckOptions {
   gcode::InterpreterOptions job_options;
-  Vector6d origin = Vector6d::Zero();  // where the job's X0 Y0 Z0 sits (mm, rad)
+  geometry::Vector6d origin =
+      geometry::Vector6d::Zero();  // where the job's X0 Y0 Z0 sits (mm, rad)
   ProofOptions proof;
   std::function<void(int line)> on_line;  // progress: each source line as it is read
 };
@@ -40,7 +41,7 @@ struct JobCheck {
 };
 
 // Throws gcode::GcodeError for a job that cannot be read (file:line:column).
-JobCheck check_job(const Machine& machine, const std::filesystem::path& job,
+JobCheck check_job(const machine::Machine& machine, const std::filesystem::path& job,
                    const JobCheckOptions& options);
 
 }  // namespace pkm::certify

@@ -31,8 +31,8 @@ namespace {
 // What a piece spans: its middle pose, its chord (zero in the coordinates the model does not
 // control), its half-length in the scaled norm and, for an arc, how far it bows off the chord.
 struct PieceSpan {
-  Vector6d centre;
-  Vector6d chord;
+  geometry::Vector6d centre;
+  geometry::Vector6d chord;
   double radius = 0.0;
   double sagitta = 0.0;
   bool line = true;
@@ -48,17 +48,19 @@ struct Unproven {
 
 // The first joint angle or leg clearance whose reach over the ball of `radius` about the piece's
 // middle (bounds::mechanism_reach) may pass its limit.
-std::optional<Unproven> unproven_leg_limit(const Kinematics& model, const Vector6d& centre,
-                                           const JointVector& joints,
+std::optional<Unproven> unproven_leg_limit(const kinematics::Kinematics& model,
+                                           const geometry::Vector6d& centre,
+                                           const kinematics::JointVector& joints,
                                            const bounds::LegMotion& motion, double radius) {
   if (!model.has_mechanism_limits()) return std::nullopt;
-  std::vector<MechanismLimit> values;
-  model.mechanism_limits(Pose::from_vector(centre), values);
-  const std::optional<LegEnds> ends = bounds::legs_at(model, Pose::from_vector(centre), joints);
-  for (const MechanismLimit& value : values) {
+  std::vector<kinematics::MechanismLimit> values;
+  model.mechanism_limits(geometry::Pose::from_vector(centre), values);
+  const std::optional<kinematics::LegEnds> ends =
+      bounds::legs_at(model, geometry::Pose::from_vector(centre), joints);
+  for (const kinematics::MechanismLimit& value : values) {
     const bounds::Reach reach =
         bounds::mechanism_reach(value, motion, radius, ends ? &*ends : nullptr);
-    const bool angle = value.code == StatusCode::joint_angle;
+    const bool angle = value.code == kinematics::StatusCode::joint_angle;
     const double falls = angle ? reach.up : reach.down;  // how far the margin can fall
     if (!(value.margin() - falls >= 0.0)) {
       return Unproven{angle ? Quantity::joint_angle : Quantity::clearance, value.leg,
@@ -70,8 +72,9 @@ std::optional<Unproven> unproven_leg_limit(const Kinematics& model, const Vector
 
 // The first joint whose range over the piece (its value at the middle, the first-order change
 // along the chord, the second-order bend) is not proven within [min, max].
-std::optional<Unproven> unproven_joint(const Machine& machine, const PieceSpan& span,
-                                       const JointVector& joints, const JointJacobian& jacobian,
+std::optional<Unproven> unproven_joint(const machine::Machine& machine, const PieceSpan& span,
+                                       const kinematics::JointVector& joints,
+                                       const kinematics::JointJacobian& jacobian,
                                        const bounds::HessianBounds& hessians) {
   for (int i = 0; i < joints.size(); ++i) {
     const auto k = static_cast<std::size_t>(i);
@@ -79,7 +82,7 @@ std::optional<Unproven> unproven_joint(const Machine& machine, const PieceSpan& 
     const double bend = span.line ? hessians.along[k] / 8.0
                                   : 2.0 * span.sagitta * jacobian.block<1, 3>(i, 0).norm() +
                                         0.5 * hessians.norm[k] * span.radius * span.radius;
-    const JointSpec& spec = machine.joints()[k];
+    const machine::JointSpec& spec = machine.joints()[k];
     const double low = joints[i] - slope - bend, high = joints[i] + slope + bend;
     if (!(low >= spec.min)) return Unproven{Quantity::joint, i, low, spec.min};
     if (!(high <= spec.max)) return Unproven{Quantity::joint, i, high, spec.max};
@@ -96,17 +99,18 @@ double spread(const PieceSpan& span, int axis) {
 // The assembly mode over the box the piece lies in, for models whose mode is bounded over a box
 // (a hexapod's: the platform tilted less than 90 deg, index -1, and each platform joint on home's
 // side of the base plane, index: the leg, reach in mm; the bounds workspace takes over a cell).
-std::optional<Unproven> unproven_mode_over_box(const AssemblyModeBounds& modes, int home_mode,
-                                               const PieceSpan& span) {
-  Vector6d half;
-  for (int axis = 0; axis < kPoseSize; ++axis) half[axis] = spread(span, axis);
-  const std::optional<ModeShortfall> shortfall = modes.mode_over_box(home_mode, span.centre, half);
+std::optional<Unproven> unproven_mode_over_box(const kinematics::AssemblyModeBounds& modes,
+                                               int home_mode, const PieceSpan& span) {
+  geometry::Vector6d half;
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) half[axis] = spread(span, axis);
+  const std::optional<kinematics::ModeShortfall> shortfall =
+      modes.mode_over_box(home_mode, span.centre, half);
   if (!shortfall) return std::nullopt;
   return Unproven{Quantity::assembly_mode, shortfall->leg, shortfall->low, 0.0};
 }
 
 // The first controlled coordinate whose range over the piece is not proven within the envelope.
-std::optional<Unproven> unproven_envelope(const CartesianLimits& limits,
+std::optional<Unproven> unproven_envelope(const machine::CartesianLimits& limits,
                                           const std::vector<int>& axes, const PieceSpan& span) {
   for (const int axis : axes) {
     const double low = span.centre[axis] - spread(span, axis),
@@ -121,8 +125,8 @@ std::optional<Unproven> unproven_envelope(const CartesianLimits& limits,
   return std::nullopt;
 }
 
-Finding piece_finding(double u0, double u1, const Vector6d& pose, Quantity quantity, int index,
-                      int other, double value, double limit) {
+Finding piece_finding(double u0, double u1, const geometry::Vector6d& pose, Quantity quantity,
+                      int index, int other, double value, double limit) {
   Finding finding;
   finding.u0 = u0;
   finding.u1 = u1;
@@ -144,8 +148,8 @@ struct PullMargin {
   int index = -1;  // 0, 1: anchor's vertical; 2: the angle between the cables
 };
 
-PullMargin pull_margin(const CablePlotterGeometry& g, const Vector6d& home, const Vector6d& centre,
-                       double x_spread, double radius) {
+PullMargin pull_margin(const kinematics::CablePlotterGeometry& g, const geometry::Vector6d& home,
+                       const geometry::Vector6d& centre, double x_spread, double radius) {
   PullMargin worst;
   std::array<Eigen::Vector2d, 2> unit;
   double rate = 0.0;
@@ -160,15 +164,15 @@ PullMargin pull_margin(const CablePlotterGeometry& g, const Vector6d& home, cons
     unit[static_cast<std::size_t>(i)] = from_anchor.normalized();
   }
   const double sine = std::abs(unit[0].x() * unit[1].y() - unit[0].y() * unit[1].x());
-  const double margin = sine - rate * radius - kMinCableAngleSine;
+  const double margin = sine - rate * radius - kinematics::kMinCableAngleSine;
   if (!(margin >= worst.margin)) worst = {margin, 2};
   return worst;
 }
 
 // A cable plotter as built (pulleys, a weighed or tilting effector, stretch), whose balance
 // bounds::cable_box_bound bounds; nullptr for the ideal plotter and other models.
-const HangingCables* as_built_plotter(const Kinematics& model) {
-  const HangingCables* cables = model.hanging_cables();
+const kinematics::HangingCables* as_built_plotter(const kinematics::Kinematics& model) {
+  const kinematics::HangingCables* cables = model.hanging_cables();
   return cables != nullptr && !cables->cable_geometry().ideal() ? cables : nullptr;
 }
 
@@ -177,7 +181,8 @@ const HangingCables* as_built_plotter(const Kinematics& model) {
 // bound: the effector tilts or the cables stretch) each joint, the pass-through joints exactly;
 // then both cables pulling (index 0, 1: that cable's tension; 2: the angle between them; 3:
 // the balance unbounded) and the tension limits.
-std::optional<Unproven> unproven_cable(const Machine& machine, const HangingCables& cables,
+std::optional<Unproven> unproven_cable(const machine::Machine& machine,
+                                       const kinematics::HangingCables& cables,
                                        const PieceSpan& span, bool joints_too) {
   Eigen::Vector2d half;
   for (int axis = 0; axis < 2; ++axis) half[axis] = spread(span, axis);
@@ -186,9 +191,9 @@ std::optional<Unproven> unproven_cable(const Machine& machine, const HangingCabl
   const bounds::CableBoxBound bound = bounds::cable_box_bound(
       cables.cable_geometry(), span.centre.head<2>(), half, span.line ? &half_chord : nullptr);
   if (!bound.known) return Unproven{Quantity::pull, 3, -INFINITY, 0.0};
-  const Kinematics& model = machine.kinematics();
+  const kinematics::Kinematics& model = machine.kinematics();
   for (int joint = 0; joints_too && joint < model.joint_count(); ++joint) {
-    const JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
+    const machine::JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
     bounds::Range range;
     if (const int axis = model.passthrough_axis(joint); axis >= 0) {
       range = {span.centre[axis] - spread(span, axis), span.centre[axis] + spread(span, axis)};
@@ -203,7 +208,7 @@ std::optional<Unproven> unproven_cable(const Machine& machine, const HangingCabl
     if (!(t.lo > 0.0)) return Unproven{Quantity::pull, cable, t.lo, 0.0};
   }
   if (!(bound.apart.lo > 0.0)) return Unproven{Quantity::pull, 2, bound.apart.lo, 0.0};
-  const CablePlotterGeometry& g = cables.cable_geometry();
+  const kinematics::CablePlotterGeometry& g = cables.cable_geometry();
   for (int cable = 0; cable < 2 && g.tension_limited; ++cable) {
     const bounds::Range& t = bound.tension_N[static_cast<std::size_t>(cable)];
     if (!(t.lo >= g.tension_min_N))
@@ -220,16 +225,16 @@ std::optional<Unproven> unproven_cable(const Machine& machine, const HangingCabl
 // quantity whose bound reaches a limit, for the undecided report).
 struct MoveProver::Outcome {
   enum Kind { proven, refused, open } kind = proven;
-  Status refusal;
+  kinematics::Status refusal;
   Finding open_at;
 };
 
-MoveProver::MoveProver(const Machine& machine, ProofOptions options)
+MoveProver::MoveProver(const machine::Machine& machine, ProofOptions options)
     : machine_(machine), options_(options) {
-  const Kinematics& model = machine.kinematics();
+  const kinematics::Kinematics& model = machine.kinematics();
   axes_ = model.dof().axes();
   angle_scale_mm_ = bounds::pose_angle_scale_mm(model);
-  const Vector6d home = machine.home().as_vector();
+  const geometry::Vector6d home = machine.home().as_vector();
   cables_ = as_built_plotter(model);
   if (cables_ != nullptr) {
     // Pulleys, a weighed or tilting effector, stretch: the balance's bounds (bounds/cable_bound).
@@ -245,24 +250,24 @@ MoveProver::MoveProver(const Machine& machine, ProofOptions options)
 
 MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, double u0,
                                             double u1) const {
-  const Kinematics& model = machine_.kinematics();
+  const kinematics::Kinematics& model = machine_.kinematics();
   const double um = 0.5 * (u0 + u1);
-  const Vector6d centre = segment.at(um);
-  JointVector joints;
+  const geometry::Vector6d centre = segment.at(um);
+  kinematics::JointVector joints;
   Outcome outcome;
-  outcome.refusal = machine_.inverse(Pose::from_vector(centre), joints);
+  outcome.refusal = machine_.inverse(geometry::Pose::from_vector(centre), joints);
   if (!outcome.refusal.ok()) {
     outcome.kind = Outcome::refused;
     return outcome;
   }
-  JointJacobian jacobian;
-  model.inverse_and_jacobian(Pose::from_vector(centre), joints, jacobian);
+  kinematics::JointJacobian jacobian;
+  model.inverse_and_jacobian(geometry::Pose::from_vector(centre), joints, jacobian);
   const bounds::PieceMotion piece = bounds::piece_motion(segment, u0, u1, axes_, angle_scale_mm_);
   const bool line = segment.kind == motion::SegmentKind::line;
   const double radius = 0.5 * piece.length;
   const double sagitta = line ? 0.0 : piece.acceleration / 8.0;  // off the chord, position only
-  Vector6d chord = segment.at(u1) - segment.at(u0);
-  for (int axis = 0; axis < kPoseSize; ++axis) {
+  geometry::Vector6d chord = segment.at(u1) - segment.at(u0);
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
     if (!model.dof().controls(axis)) chord[axis] = 0.0;
   }
   const auto hessians =
@@ -299,7 +304,7 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
   if (const auto leg = unproven_leg_limit(model, centre, joints, motion, radius)) {
     return open(leg->quantity, leg->index, leg->other, leg->reach, leg->limit);
   }
-  if (const HangingCables* hanging = model.hanging_cables()) {
+  if (const kinematics::HangingCables* hanging = model.hanging_cables()) {
     // An ideal plotter (one as built is bounded above): both cables pull.
     const double x_spread = spread(span, 0);
     const PullMargin pull = pull_margin(hanging->cable_geometry(), machine_.home().as_vector(),
@@ -307,7 +312,7 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
     if (!(pull.margin > 0.0)) return open(Quantity::pull, pull.index, -1, pull.margin, 0.0);
   }
   const int home_mode = model.assembly_mode(machine_.home());
-  if (const AssemblyModeBounds* modes = model.assembly_mode_bounds();
+  if (const kinematics::AssemblyModeBounds* modes = model.assembly_mode_bounds();
       modes != nullptr && modes->has_mode_over_box()) {
     if (const auto mode = unproven_mode_over_box(*modes, home_mode, span)) {
       return open(mode->quantity, mode->index, -1, mode->reach, mode->limit);
@@ -355,8 +360,9 @@ MoveProof MoveProver::prove(const motion::Segment& segment) const {
     proof.finding = finding;
     return proof;
   }
-  JointVector joints;
-  if (const Status at_start = machine_.inverse(Pose::from_vector(segment.at(0.0)), joints);
+  kinematics::JointVector joints;
+  if (const kinematics::Status at_start =
+          machine_.inverse(geometry::Pose::from_vector(segment.at(0.0)), joints);
       !at_start.ok()) {
     proof.verdict = Verdict::violated;
     proof.finding = refusal_at(segment, 0.0, at_start);
@@ -411,7 +417,7 @@ MoveProof MoveProver::prove(const motion::Segment& segment) const {
       violation->text += "; the farthest past it: " +
                          wording().excess_text(*violation, violation->worst_value,
                                                excess(*violation, violation->worst_value)) +
-                         " at " + formatted_number("%.6f", 100.0 * violation->worst_u) +
+                         " at " + kinematics::formatted_number("%.6f", 100.0 * violation->worst_u) +
                          " % of the move";
     }
     proof.finding = violation;
@@ -422,11 +428,12 @@ MoveProof MoveProver::prove(const motion::Segment& segment) const {
   return proof;
 }
 
-std::optional<double> MoveProver::quantity_at(const Finding& finding, const Pose& pose) const {
+std::optional<double> MoveProver::quantity_at(const Finding& finding,
+                                              const geometry::Pose& pose) const {
   switch (finding.quantity) {
     case Quantity::joint: {
-      JointVector joints;
-      JointJacobian jacobian;  // the leg limits do not apply to inverse_and_jacobian
+      kinematics::JointVector joints;
+      kinematics::JointJacobian jacobian;  // the leg limits do not apply to inverse_and_jacobian
       if (!machine_.kinematics().inverse_and_jacobian(pose, joints, jacobian).ok()) {
         return std::nullopt;
       }
@@ -441,7 +448,7 @@ std::optional<double> MoveProver::quantity_at(const Finding& finding, const Pose
       return machine_.kinematics().base_plane_margin(pose).margin_mm;
     }
     case Quantity::tension: {
-      CableStatics statics;
+      kinematics::CableStatics statics;
       if (cables_ == nullptr || !cables_->statics(pose, Eigen::Vector2d::Zero(), statics).ok()) {
         return std::nullopt;
       }
@@ -451,11 +458,11 @@ std::optional<double> MoveProver::quantity_at(const Finding& finding, const Pose
     }
     case Quantity::joint_angle:
     case Quantity::clearance: {
-      std::vector<MechanismLimit> values;
+      std::vector<kinematics::MechanismLimit> values;
       machine_.kinematics().mechanism_limits(pose, values);
-      for (const MechanismLimit& value : values) {
+      for (const kinematics::MechanismLimit& value : values) {
         if (value.leg == finding.index && value.other == finding.other &&
-            (value.code == StatusCode::joint_angle) ==
+            (value.code == kinematics::StatusCode::joint_angle) ==
                 (finding.quantity == Quantity::joint_angle)) {
           return value.value;
         }
@@ -471,7 +478,8 @@ void MoveProver::farthest_past(const motion::Segment& segment, Finding& finding)
   constexpr int kSamples = 1000;
   for (int k = 0; k <= kSamples; ++k) {
     const double u = finding.u0 + (1.0 - finding.u0) * k / kSamples;
-    const std::optional<double> value = quantity_at(finding, Pose::from_vector(segment.at(u)));
+    const std::optional<double> value =
+        quantity_at(finding, geometry::Pose::from_vector(segment.at(u)));
     if (value && excess(finding, *value) > excess(finding, finding.worst_value)) {
       finding.worst_value = *value;
       finding.worst_u = u;
@@ -505,15 +513,17 @@ double MoveProver::excess(const Finding& finding, double value) const {
 }
 
 Finding MoveProver::refusal_at(const motion::Segment& segment, double u,
-                               const Status& status) const {
+                               const kinematics::Status& status) const {
   Finding finding;
   finding.u0 = finding.u1 = u;
   finding.pose = segment.at(u);
-  const Pose pose = Pose::from_vector(finding.pose);
-  const std::string at = "at " + formatted_number("%.6f", 100.0 * u) + " % of the move: ";
-  JointVector joints;
-  if (status.code == StatusCode::joint_limit && machine_.kinematics().inverse(pose, joints).ok()) {
-    const JointSpec& spec = machine_.joints()[static_cast<std::size_t>(status.joint)];
+  const geometry::Pose pose = geometry::Pose::from_vector(finding.pose);
+  const std::string at =
+      "at " + kinematics::formatted_number("%.6f", 100.0 * u) + " % of the move: ";
+  kinematics::JointVector joints;
+  if (status.code == kinematics::StatusCode::joint_limit &&
+      machine_.kinematics().inverse(pose, joints).ok()) {
+    const machine::JointSpec& spec = machine_.joints()[static_cast<std::size_t>(status.joint)];
     const double value = joints[status.joint];
     const bool below = value < spec.min;
     finding.quantity = Quantity::joint;
@@ -529,39 +539,41 @@ Finding MoveProver::refusal_at(const motion::Segment& segment, double u,
     finding.worst_value = finding.value;
     return finding;
   }
-  if (status.code == StatusCode::outside_envelope) {
+  if (status.code == kinematics::StatusCode::outside_envelope) {
     finding.quantity = Quantity::envelope;
     finding.index = status.axis;
     finding.value = finding.pose[status.axis];
     const bool below = finding.value < machine_.cartesian().envelope_min[status.axis];
     finding.limit = below ? machine_.cartesian().envelope_min[status.axis]
                           : machine_.cartesian().envelope_max[status.axis];
-  } else if (status.code == StatusCode::joint_angle || status.code == StatusCode::interference) {
-    std::vector<MechanismLimit> values;
+  } else if (status.code == kinematics::StatusCode::joint_angle ||
+             status.code == kinematics::StatusCode::interference) {
+    std::vector<kinematics::MechanismLimit> values;
     machine_.kinematics().mechanism_limits(pose, values);
-    const MechanismLimit* worst = nullptr;
-    for (const MechanismLimit& value : values) {
+    const kinematics::MechanismLimit* worst = nullptr;
+    for (const kinematics::MechanismLimit& value : values) {
       if (value.code != status.code || value.leg != status.joint) continue;
       if (worst == nullptr || value.margin() < worst->margin()) worst = &value;
     }
     if (worst != nullptr) {
-      finding.quantity =
-          status.code == StatusCode::joint_angle ? Quantity::joint_angle : Quantity::clearance;
+      finding.quantity = status.code == kinematics::StatusCode::joint_angle ? Quantity::joint_angle
+                                                                            : Quantity::clearance;
       finding.index = worst->leg;
       finding.other = worst->other;
       finding.value = worst->value;
       finding.limit = worst->limit;
     }
-  } else if (status.code == StatusCode::other_assembly) {
+  } else if (status.code == kinematics::StatusCode::other_assembly) {
     finding.quantity = Quantity::assembly_mode;
     // Past the base plane (a hexapod's platform): which leg, how far.
-    const BasePlaneMargin side = machine_.kinematics().base_plane_margin(pose);
+    const kinematics::BasePlaneMargin side = machine_.kinematics().base_plane_margin(pose);
     if (side.margin_mm <= 0.0) {
       finding.index = side.leg;
       finding.value = side.margin_mm;
     }
   } else if (cables_ != nullptr && status.joint >= 0 && status.joint < 2 &&
-             (status.code == StatusCode::tension || status.code == StatusCode::unreachable)) {
+             (status.code == kinematics::StatusCode::tension ||
+              status.code == kinematics::StatusCode::unreachable)) {
     cable_refusal(pose, status.joint, finding);
   }
   finding.text = at + machine_.explain(pose, status);
@@ -574,11 +586,11 @@ Finding MoveProver::refusal_at(const motion::Segment& segment, double u,
 
 namespace pkm::certify {
 
-void MoveProver::cable_refusal(const Pose& pose, int cable, Finding& finding) const {
-  CableStatics statics;
+void MoveProver::cable_refusal(const geometry::Pose& pose, int cable, Finding& finding) const {
+  kinematics::CableStatics statics;
   finding.index = cable;
-  const Status balance = cables_->statics(pose, Eigen::Vector2d::Zero(), statics);
-  if (balance.code == StatusCode::tension && balance.joint == cable) {
+  const kinematics::Status balance = cables_->statics(pose, Eigen::Vector2d::Zero(), statics);
+  if (balance.code == kinematics::StatusCode::tension && balance.joint == cable) {
     finding.quantity = Quantity::pull;  // the cable would push
     return;
   }

@@ -34,8 +34,9 @@ enum class Quantity { joint, envelope, joint_angle, clearance, assembly_mode, pu
 
 // Where a move fails or where its proof stops. Values in the machine's internal units (mm, rad).
 struct Finding {
-  double u0 = 0.0, u1 = 0.0;         // violated: u0 == u1, the pose found; undecided: the piece
-  Vector6d pose = Vector6d::Zero();  // at u0 (violated) or at the piece's middle (undecided)
+  double u0 = 0.0, u1 = 0.0;  // violated: u0 == u1, the pose found; undecided: the piece
+  geometry::Vector6d pose =
+      geometry::Vector6d::Zero();  // at u0 (violated) or at the piece's middle (undecided)
   Quantity quantity = Quantity::none;
   int index = -1;      // joint, axis, leg (joint_angle, clearance)
   int other = -1;      // joint_angle: the end (0 inner, 1 platform); clearance: the second leg
@@ -61,7 +62,7 @@ struct ProofOptions {
 
 class MoveProver {
  public:
-  explicit MoveProver(const Machine& machine, ProofOptions options = {});
+  explicit MoveProver(const machine::Machine& machine, ProofOptions options = {});
 
   // Empty when moves can be proven on this machine; else why not (no derivative bound for the
   // model, cable tensions without one): every move is then undecided with this reason.
@@ -77,10 +78,11 @@ class MoveProver {
   struct Piece;
   struct Outcome;
   Outcome bound_piece(const motion::Segment& segment, double u0, double u1) const;
-  Finding refusal_at(const motion::Segment& segment, double u, const Status& status) const;
+  Finding refusal_at(const motion::Segment& segment, double u,
+                     const kinematics::Status& status) const;
   // What a cable plotter's refusal at `pose` for `cable` is: a cable that would push, or one
   // past a tension limit (its value and the limit).
-  void cable_refusal(const Pose& pose, int cable, Finding& finding) const;
+  void cable_refusal(const geometry::Pose& pose, int cable, Finding& finding) const;
   // The words of this machine's findings (proof_wording.hpp).
   ProofWording wording() const;
   // How far beyond its limit a violated finding's value is (> 0), in its own unit.
@@ -89,12 +91,12 @@ class MoveProver {
   // quantity, it keeps the farther excess of the two as the farthest past the limit.
   Finding earlier_violation(Finding found, const std::optional<Finding>& later) const;
   // The finding's quantity at a pose (joint values without the machine's limits), if defined.
-  std::optional<double> quantity_at(const Finding& finding, const Pose& pose) const;
+  std::optional<double> quantity_at(const Finding& finding, const geometry::Pose& pose) const;
   // Moves worst_u and worst_value to the farthest past the limit of 1001 samples from u0 on.
   void farthest_past(const motion::Segment& segment, Finding& finding) const;
 
-  const Machine& machine_;
-  const HangingCables* cables_ = nullptr;  // a cable plotter as built, else nullptr
+  const machine::Machine& machine_;
+  const kinematics::HangingCables* cables_ = nullptr;  // a cable plotter as built, else nullptr
   ProofOptions options_;
   std::vector<int> axes_;  // the pose coordinates the model controls
   double angle_scale_mm_ = 100.0;

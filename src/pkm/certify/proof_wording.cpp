@@ -33,9 +33,9 @@ std::string ProofWording::quantity_name(Quantity quantity, int index, int other)
     case Quantity::joint:
       return "joint " + joint(index);
     case Quantity::envelope:
-      return std::string(kAxisNames[index]) + " (the work envelope)";
+      return std::string(geometry::kAxisNames[index]) + " (the work envelope)";
     case Quantity::joint_angle:
-      return std::string("the ") + (other == kInnerEnd ? "inner" : "platform") +
+      return std::string("the ") + (other == kinematics::kInnerEnd ? "inner" : "platform") +
              " joint angle of " + joint(index);
     case Quantity::clearance:
       return "the clearance between " + joint(index) + " and " + joint(other);
@@ -58,36 +58,37 @@ std::string ProofWording::quantity_name(Quantity quantity, int index, int other)
 }
 
 std::string ProofWording::value_text(Quantity quantity, int index, double value) const {
-  const bool units_are_inches = machine_.units() == LengthUnit::inch;
+  const bool units_are_inches = machine_.units() == machine::LengthUnit::inch;
   switch (quantity) {
     case Quantity::joint:
-      return formatted_number(units_are_inches ? "%.4f " : "%.3f ",
-                              machine_.joint_to_file(index, value)) +
+      return kinematics::formatted_number(units_are_inches ? "%.4f " : "%.3f ",
+                                          machine_.joint_to_file(index, value)) +
              machine_.joint_file_unit(index);
     case Quantity::envelope:
-      return formatted_number(units_are_inches && index < 3 ? "%.4f " : "%.3f ",
-                              machine_.axis_to_file(index, value)) +
+      return kinematics::formatted_number(units_are_inches && index < 3 ? "%.4f " : "%.3f ",
+                                          machine_.axis_to_file(index, value)) +
              machine_.axis_file_unit(index);
     case Quantity::joint_angle:
-      return formatted_number("%.3f deg", radians_to_degrees(value));
+      return kinematics::formatted_number("%.3f deg", geometry::radians_to_degrees(value));
     case Quantity::clearance:
-      return formatted_number(units_are_inches ? "%.4f " : "%.3f ",
-                              value / machine_.mm_per_unit()) +
+      return kinematics::formatted_number(units_are_inches ? "%.4f " : "%.3f ",
+                                          value / machine_.mm_per_unit()) +
              machine_.length_unit();
     case Quantity::tension:
-      return formatted_number("%.3f N", value);
+      return kinematics::formatted_number("%.3f N", value);
     case Quantity::assembly_mode:
     case Quantity::pull:
     case Quantity::none:
       break;
   }
-  return formatted_number("%.7g", value);
+  return kinematics::formatted_number("%.7g", value);
 }
 
 std::string ProofWording::undecided_text(const Finding& finding) const {
-  const std::string where = formatted_number("%.6f", 100.0 * finding.u0) + " % and " +
-                            formatted_number("%.6f", 100.0 * finding.u1) + " % of the move (pose " +
-                            machine_.format_pose(Pose::from_vector(finding.pose)) + ")";
+  const std::string where = kinematics::formatted_number("%.6f", 100.0 * finding.u0) + " % and " +
+                            kinematics::formatted_number("%.6f", 100.0 * finding.u1) +
+                            " % of the move (pose " +
+                            machine_.format_pose(geometry::Pose::from_vector(finding.pose)) + ")";
   if (finding.quantity == Quantity::assembly_mode || finding.quantity == Quantity::pull) {
     return "cannot prove " + quantity_name(finding.quantity, finding.index, -1) +
            " keeps its sign between " + where;
@@ -113,7 +114,7 @@ std::string ProofWording::excess_text(const Finding& finding, double value, doub
       unit = machine_.axis_file_unit(finding.index);
       break;
     case Quantity::joint_angle:
-      file_units = radians_to_degrees(file_units);
+      file_units = geometry::radians_to_degrees(file_units);
       break;
     case Quantity::clearance:
     case Quantity::assembly_mode:
@@ -126,7 +127,7 @@ std::string ProofWording::excess_text(const Finding& finding, double value, doub
     default:
       unit.clear();
   }
-  return formatted_number("%.3g ", file_units) + unit;
+  return kinematics::formatted_number("%.3g ", file_units) + unit;
 }
 
 }  // namespace pkm::certify

@@ -14,7 +14,7 @@ class ProofWording {
  public:
   // `cables`: the machine's cable plotter as built (pulleys, a weighed or tilting effector,
   // stretch), whose pull findings name the balance's margins; nullptr otherwise.
-  ProofWording(const Machine& machine, const HangingCables* cables)
+  ProofWording(const machine::Machine& machine, const kinematics::HangingCables* cables)
       : machine_(machine), cables_(cables) {}
 
   // "joint 'leg1'", "x (the work envelope)", "the platform joint angle of 'leg5'", ...
@@ -28,8 +28,8 @@ class ProofWording {
   std::string undecided_text(const Finding& finding) const;
 
  private:
-  const Machine& machine_;
-  const HangingCables* cables_;
+  const machine::Machine& machine_;
+  const kinematics::HangingCables* cables_;
 };
 
 }  // namespace pkm::certify

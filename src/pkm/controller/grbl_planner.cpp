@@ -80,13 +80,13 @@ std::invalid_argument line_error(std::string_view line, const std::string& what)
 
 }  // namespace
 
-GrblSetup grbl_setup_of(const Machine& machine) {
+GrblSetup grbl_setup_of(const machine::Machine& machine) {
   if (!machine.controller()) {
     throw std::invalid_argument(machine.source() + ": no [controller] table: nothing to model");
   }
   GrblSetup setup;
   setup.settings = *machine.controller();
-  for (const JointSpec& joint : machine.joints()) {
+  for (const machine::JointSpec& joint : machine.joints()) {
     if (!joint.steps_per_unit) {
       throw std::invalid_argument(machine.source() + ": joint '" + joint.name +
                                   "' has no steps_per_unit, which its [controller] needs");
@@ -95,7 +95,7 @@ GrblSetup grbl_setup_of(const Machine& machine) {
                           joint.to_interface(joint.max_velocity),
                           joint.to_interface(joint.max_acceleration)});
   }
-  JointVector home;
+  kinematics::JointVector home;
   if (!machine.inverse(machine.home(), home).ok()) {
     throw std::invalid_argument(machine.source() + ": home has no joint values to start from");
   }

@@ -28,7 +28,7 @@ struct GrblAxis {
 
 struct GrblSetup {
   std::vector<GrblAxis> axes;
-  ControllerSettings settings;
+  machine::ControllerSettings settings;
   // Where grbl's axes stand when the program starts (units); empty: at zero.
   std::vector<double> start;
 };
@@ -36,7 +36,7 @@ struct GrblSetup {
 // The axes `pkm export grbl` gives the machine's joints, and its [controller] table, starting at
 // home (the joints' values there, as the controller is zeroed). Throws std::invalid_argument
 // where the machine has no [controller] table, a joint has no steps or home has no joints.
-GrblSetup grbl_setup_of(const Machine& machine);
+GrblSetup grbl_setup_of(const machine::Machine& machine);
 
 struct GrblPrediction {
   double time_s = 0.0;          // from the program's first byte sent to the end of its motion

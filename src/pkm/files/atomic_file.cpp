@@ -20,7 +20,7 @@
 #include <stdexcept>
 #include <system_error>
 
-namespace pkm {
+namespace pkm::files {
 
 namespace {
 
@@ -403,4 +403,4 @@ void write_files_together(std::span<const FileContent> files) {
   for (const auto& writer : writers) writer->commit();
 }
 
-}  // namespace pkm
+}  // namespace pkm::files

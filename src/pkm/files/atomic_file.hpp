@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-namespace pkm {
+namespace pkm::files {
 
 // A file being written under a temporary name. commit() renames it into place; destroying it
 // uncommitted removes it, so a failed run leaves nothing behind. Opening one first removes the
@@ -115,4 +115,4 @@ void on_stale_temporary(std::function<void(const StaleTemporary&)> report);
 // function and returned).
 std::vector<StaleTemporary> remove_stale_temporaries(const std::filesystem::path& output);
 
-}  // namespace pkm
+}  // namespace pkm::files

@@ -3,7 +3,7 @@
 #include <cctype>
 #include <cmath>
 
-namespace pkm {
+namespace pkm::geometry {
 
 int axis_index(std::string_view letter) {
   if (letter.size() != 1) return -1;
@@ -75,4 +75,4 @@ void rotation_and_derivatives_abc(const Eigen::Vector3d& abc_rad, Eigen::Matrix3
   derivatives = derivatives_from(t);
 }
 
-}  // namespace pkm
+}  // namespace pkm::geometry

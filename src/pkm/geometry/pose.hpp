@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-namespace pkm {
+namespace pkm::geometry {
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
@@ -79,4 +79,4 @@ Eigen::Matrix3d rotation_from_abc(const Eigen::Vector3d& abc_rad);
 void rotation_and_derivatives_abc(const Eigen::Vector3d& abc_rad, Eigen::Matrix3d& rotation,
                                   std::array<Eigen::Matrix3d, 3>& derivatives);
 
-}  // namespace pkm
+}  // namespace pkm::geometry

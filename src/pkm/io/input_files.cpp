@@ -2,7 +2,7 @@
 
 #include <system_error>
 
-namespace pkm {
+namespace pkm::io {
 
 std::string overwrites_input(const std::filesystem::path& output,
                              const std::vector<NamedInput>& inputs) {
@@ -24,4 +24,4 @@ std::string overwrites_input(const std::filesystem::path& output,
   return "";
 }
 
-}  // namespace pkm
+}  // namespace pkm::io

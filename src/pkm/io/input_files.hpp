@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-namespace pkm {
+namespace pkm::io {
 
 struct NamedInput {
   std::string what;  // "the job", "the machine file", "a subroutine file the job calls"
@@ -20,4 +20,4 @@ struct NamedInput {
 std::string overwrites_input(const std::filesystem::path& output,
                              const std::vector<NamedInput>& inputs);
 
-}  // namespace pkm
+}  // namespace pkm::io

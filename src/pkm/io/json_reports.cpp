@@ -3,15 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
-namespace pkm {
+namespace pkm::io {
 
 namespace {
 
-std::string joint_name(const Machine& machine, int joint) {
+std::string joint_name(const machine::Machine& machine, int joint) {
   return joint >= 0 ? machine.joints()[static_cast<std::size_t>(joint)].name : "";
 }
 
-nlohmann::json to_json(const Machine& machine, const verify::Violation& v,
+nlohmann::json to_json(const machine::Machine& machine, const verify::Violation& v,
                        const std::string& unit) {
   nlohmann::json json = {{"line", v.line},
                          {"job_line", v.job_line},
@@ -23,7 +23,7 @@ nlohmann::json to_json(const Machine& machine, const verify::Violation& v,
   return json;
 }
 
-nlohmann::json to_json(const Machine& machine, const verify::ViolationSummary& summary,
+nlohmann::json to_json(const machine::Machine& machine, const verify::ViolationSummary& summary,
                        const std::string& unit) {
   nlohmann::json first = nlohmann::json::array();
   for (const verify::Violation& v : summary.first) first.push_back(to_json(machine, v, unit));
@@ -33,22 +33,23 @@ nlohmann::json to_json(const Machine& machine, const verify::ViolationSummary& s
 }
 
 // "F1500.0": a feed (mm/s inside) in the machine's length unit per minute.
-std::string feed_text(const Machine& machine, double mm_per_s) {
-  return "F" + formatted_number("%.1f", mm_per_s * 60.0 / machine.mm_per_unit());
+std::string feed_text(const machine::Machine& machine, double mm_per_s) {
+  return "F" + kinematics::formatted_number("%.1f", mm_per_s * 60.0 / machine.mm_per_unit());
 }
 
 // "at the G64 corner blend after line 43 (turn 90.0 deg, radius 0.0341 mm)", "on the arc (radius
 // 1.52 mm)", or "" off curves.
-std::string curve_text(const Machine& machine, const motion::FeedLimit& limit) {
+std::string curve_text(const machine::Machine& machine, const motion::FeedLimit& limit) {
   const double radius = limit.radius_mm / machine.mm_per_unit();
-  const std::string radius_text = "radius " +
-                                  formatted_number(radius < 1.0 ? "%.4f" : "%.3f", radius) + " " +
-                                  machine.length_unit();
+  const std::string radius_text =
+      "radius " + kinematics::formatted_number(radius < 1.0 ? "%.4f" : "%.3f", radius) + " " +
+      machine.length_unit();
   switch (limit.curve) {
     case motion::CurveKind::blend:
       return " at the G64 corner blend after line " + std::to_string(limit.previous_line) +
-             " (turn " + formatted_number("%.1f", radians_to_degrees(limit.turn_rad)) + " deg, " +
-             radius_text + ")";
+             " (turn " +
+             kinematics::formatted_number("%.1f", geometry::radians_to_degrees(limit.turn_rad)) +
+             " deg, " + radius_text + ")";
     case motion::CurveKind::arc:
       return " on the arc (" + radius_text + ")";
     case motion::CurveKind::none:
@@ -59,25 +60,28 @@ std::string curve_text(const Machine& machine, const motion::FeedLimit& limit) {
 
 // "; the tool's own v^2/r allows F271.6 (within 600.0 mm/s^2, half the acceleration the move
 // may use; max_acceleration 1200.0)"
-std::string cartesian_curve_text(const Machine& machine, const motion::FeedLimit& limit) {
+std::string cartesian_curve_text(const machine::Machine& machine, const motion::FeedLimit& limit) {
   if (limit.curve == motion::CurveKind::none) return "";
   const double per_unit = machine.mm_per_unit();
   return "; the tool's own v^2/r allows " + feed_text(machine, limit.curve_allowed_mm_per_s) +
-         " (within " + formatted_number("%.1f", limit.curve_acceleration_mm_per_s2 / per_unit) +
-         " " + machine.length_unit() +
-         "/s^2, half the acceleration the move may use; max_acceleration " +
-         formatted_number("%.1f", machine.cartesian().max_acceleration_mm_per_s2 / per_unit) + ")";
+         " (within " +
+         kinematics::formatted_number("%.1f", limit.curve_acceleration_mm_per_s2 / per_unit) + " " +
+         machine.length_unit() + "/s^2, half the acceleration the move may use; max_acceleration " +
+         kinematics::formatted_number("%.1f",
+                                      machine.cartesian().max_acceleration_mm_per_s2 / per_unit) +
+         ")";
 }
 
 // "joint right's velocity would be 156.4 mm/s at F1500.0, over the 148.5 mm/s it may use (99 %
 // of max_velocity 150.0)"
-std::string joint_bound_text(const Machine& machine, const motion::FeedLimit& limit) {
-  const JointSpec& joint = machine.joints()[static_cast<std::size_t>(limit.joint)];
+std::string joint_bound_text(const machine::Machine& machine, const motion::FeedLimit& limit) {
+  const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(limit.joint)];
   const bool velocity = limit.bound == motion::JointBound::velocity;
   const std::string unit =
       std::string(machine.joint_file_unit(limit.joint)) + (velocity ? "/s" : "/s^2");
   const auto value = [&](double internal) {
-    return formatted_number("%.1f", machine.joint_to_file(limit.joint, internal)) + " " + unit;
+    return kinematics::formatted_number("%.1f", machine.joint_to_file(limit.joint, internal)) +
+           " " + unit;
   };
   const double programmed =
       std::min(limit.programmed_mm_per_s, machine.cartesian().max_feed_mm_per_s());
@@ -87,15 +91,19 @@ std::string joint_bound_text(const Machine& machine, const motion::FeedLimit& li
                      " it may use";
   if (velocity) {
     return text + " (99 % of max_velocity " +
-           formatted_number("%.1f", machine.joint_to_file(limit.joint, joint.max_velocity)) + ")";
+           kinematics::formatted_number("%.1f",
+                                        machine.joint_to_file(limit.joint, joint.max_velocity)) +
+           ")";
   }
   return text + " on a bend (half of 80 % of max_acceleration " +
-         formatted_number("%.1f", machine.joint_to_file(limit.joint, joint.max_acceleration)) + ")";
+         kinematics::formatted_number("%.1f",
+                                      machine.joint_to_file(limit.joint, joint.max_acceleration)) +
+         ")";
 }
 
 }  // namespace
 
-std::string feed_limit_text(const Machine& machine, const motion::FeedLimit& limit) {
+std::string feed_limit_text(const machine::Machine& machine, const motion::FeedLimit& limit) {
   std::string text = feed_text(machine, limit.programmed_mm_per_s) + " lowered to " +
                      feed_text(machine, limit.allowed_mm_per_s) + curve_text(machine, limit) + ": ";
   if (limit.cause == motion::LimitCause::tension) {
@@ -109,7 +117,7 @@ std::string feed_limit_text(const Machine& machine, const motion::FeedLimit& lim
   return text + joint_bound_text(machine, limit) + cartesian_curve_text(machine, limit);
 }
 
-std::string violation_unit(const Machine& machine, const verify::Violation& v,
+std::string violation_unit(const machine::Machine& machine, const verify::Violation& v,
                            const std::string& unit) {
   if (v.joint < 0) return unit;
   return machine.joints()[static_cast<std::size_t>(v.joint)].interface_unit() + unit;
@@ -120,12 +128,12 @@ namespace {
 // {"limit": "velocity", "unit": "mm/s", "at_programmed_feed": 156.4, "usable": 148.5}, in the
 // joint's interface units (mm or deg); for a cable's tension {"limit": "tension", "bound": "min"}
 // ("min": faster, it would go slack; "max": over its maximum).
-nlohmann::json limit_bound_json(const Machine& machine, const motion::FeedLimit& limit) {
+nlohmann::json limit_bound_json(const machine::Machine& machine, const motion::FeedLimit& limit) {
   if (limit.cause == motion::LimitCause::tension) {
     return {{"limit", "tension"}, {"bound", limit.slack ? "min" : "max"}};
   }
   if (limit.joint < 0) return nullptr;
-  const JointSpec& joint = machine.joints()[static_cast<std::size_t>(limit.joint)];
+  const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(limit.joint)];
   const bool velocity = limit.bound == motion::JointBound::velocity;
   return {{"limit", velocity ? "velocity" : "acceleration"},
           {"unit", std::string(joint.interface_unit()) + (velocity ? "/s" : "/s^2")},
@@ -143,18 +151,18 @@ nlohmann::json curve_json(const motion::FeedLimit& limit) {
                          {"cartesian_acceleration_mm_per_s2", limit.curve_acceleration_mm_per_s2}};
   if (limit.curve == motion::CurveKind::blend) {
     json["after_line"] = limit.previous_line;
-    json["turn_deg"] = radians_to_degrees(limit.turn_rad);
+    json["turn_deg"] = geometry::radians_to_degrees(limit.turn_rad);
   }
   return json;
 }
 
 }  // namespace
 
-nlohmann::json plan_report_json(const Machine& machine, const motion::PlanReport& report,
+nlohmann::json plan_report_json(const machine::Machine& machine, const motion::PlanReport& report,
                                 const std::string& program, double period_s, bool estimate) {
   nlohmann::json joints = nlohmann::json::array();
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
-    const JointSpec& joint = machine.joints()[i];
+    const machine::JointSpec& joint = machine.joints()[i];
     const motion::JointStatistics& s = report.joints[i];
     joints.push_back(
         {{"name", joint.name},
@@ -214,7 +222,7 @@ nlohmann::json plan_report_json(const Machine& machine, const motion::PlanReport
           {"warnings", warnings}};
 }
 
-nlohmann::json verify_report_json(const Machine& machine, const std::string& joint_program,
+nlohmann::json verify_report_json(const machine::Machine& machine, const std::string& joint_program,
                                   const std::string& job, const verify::VerifyReport& report) {
   return {{"joint_program", joint_program},
           {"job", job},
@@ -244,9 +252,9 @@ namespace {
 
 // A joint's range used from home on against its travel, in its interface unit (mm or deg), with
 // the margin left at each end (negative: beyond it).
-nlohmann::json joint_range_json(const JointSpec& joint, const verify::JointRange& range) {
+nlohmann::json joint_range_json(const machine::JointSpec& joint, const verify::JointRange& range) {
   return {{"name", joint.name},
-          {"unit", joint.kind == JointKind::rotary ? "deg" : "mm"},
+          {"unit", joint.kind == kinematics::JointKind::rotary ? "deg" : "mm"},
           {"min", joint.to_interface(joint.min)},
           {"max", joint.to_interface(joint.max)},
           {"low", joint.to_interface(range.low)},
@@ -264,7 +272,7 @@ nlohmann::json extent_json(double low, double high) {
 
 }  // namespace
 
-nlohmann::json view_report_json(const Machine& machine, const std::string& joint_program,
+nlohmann::json view_report_json(const machine::Machine& machine, const std::string& joint_program,
                                 const verify::TraceReport& report) {
   nlohmann::json joints = nlohmann::json::array();
   for (std::size_t i = 0; i < report.joints.size(); ++i) {
@@ -285,7 +293,7 @@ nlohmann::json view_report_json(const Machine& machine, const std::string& joint
           {"violations", {{"position", to_json(machine, report.position, "")}}}};
 }
 
-nlohmann::json post_report_json(const Machine& machine, const std::string& program,
+nlohmann::json post_report_json(const machine::Machine& machine, const std::string& program,
                                 const std::string& output, const post::PostReport& report,
                                 double tolerance_mm) {
   nlohmann::json warnings = nlohmann::json::array();
@@ -304,7 +312,7 @@ nlohmann::json post_report_json(const Machine& machine, const std::string& progr
                            {"warnings", warnings}};
   if (report.controller && machine.controller()) {
     const controller::GrblPrediction& prediction = *report.controller;
-    result["controller"] = {{"kind", controller_kind_name(machine.controller()->kind)},
+    result["controller"] = {{"kind", machine::controller_kind_name(machine.controller()->kind)},
                             {"predicted_time_s", prediction.time_s},
                             {"motion_start_s", prediction.motion_start_s},
                             {"unlimited_look_ahead_s", prediction.unlimited_time_s},
@@ -313,4 +321,4 @@ nlohmann::json post_report_json(const Machine& machine, const std::string& progr
   return result;
 }
 
-}  // namespace pkm
+}  // namespace pkm::io

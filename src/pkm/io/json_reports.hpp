@@ -13,11 +13,11 @@
 #include "pkm/verify/joint_path.hpp"
 #include "pkm/verify/joint_trace.hpp"
 
-namespace pkm {
+namespace pkm::io {
 
 // The report of a plan of `program` at `period_s`; `estimate`: the planner made no samples (the
 // peak accelerations are then null: an estimate has none).
-nlohmann::json plan_report_json(const Machine& machine, const motion::PlanReport& report,
+nlohmann::json plan_report_json(const machine::Machine& machine, const motion::PlanReport& report,
                                 const std::string& program, double period_s, bool estimate);
 
 // Why a move's feed was lowered, in the machine file's units: the limit that did it with its
@@ -29,25 +29,25 @@ nlohmann::json plan_report_json(const Machine& machine, const motion::PlanReport
 // allows F271.6 (within 600.0 mm/s^2, half the acceleration the move may use; max_acceleration
 // 1200.0)", or "F30000.0 lowered to F314.2 ...: the right cable would go slack at a higher
 // speed". Feeds in the machine's length unit per minute.
-std::string feed_limit_text(const Machine& machine, const motion::FeedLimit& limit);
+std::string feed_limit_text(const machine::Machine& machine, const motion::FeedLimit& limit);
 
 // The report of `pkm post` of `program` into `output`: the numbers its summary line prints.
-nlohmann::json post_report_json(const Machine& machine, const std::string& program,
+nlohmann::json post_report_json(const machine::Machine& machine, const std::string& program,
                                 const std::string& output, const post::PostReport& report,
                                 double tolerance_mm);
 
 // The report of a verification of the joint program `joint_program` against the job `job`.
-nlohmann::json verify_report_json(const Machine& machine, const std::string& joint_program,
+nlohmann::json verify_report_json(const machine::Machine& machine, const std::string& joint_program,
                                   const std::string& job, const verify::VerifyReport& report);
 
 // The report of `pkm view` of the joint program `joint_program` (docs/html-views.md, "A joint
 // program alone"): lengths in mm, each joint's range against its travel in its interface unit.
-nlohmann::json view_report_json(const Machine& machine, const std::string& joint_program,
+nlohmann::json view_report_json(const machine::Machine& machine, const std::string& joint_program,
                                 const verify::TraceReport& report);
 
 // The unit of a finding's value and limit: a joint's own (mm or deg, per s for speeds) followed by
 // `unit`, or `unit` alone where no joint is concerned (deviations and pen stretches, mm).
-std::string violation_unit(const Machine& machine, const verify::Violation& v,
+std::string violation_unit(const machine::Machine& machine, const verify::Violation& v,
                            const std::string& unit);
 
-}  // namespace pkm
+}  // namespace pkm::io

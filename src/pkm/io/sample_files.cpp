@@ -6,7 +6,7 @@
 
 #include "pkm/text/decimal_text.hpp"
 
-namespace pkm {
+namespace pkm::io {
 
 namespace {
 
@@ -38,7 +38,7 @@ void append_csv_row(const double* row, std::size_t n, bool pen, text::TextBuffer
 
 class CsvFile final : public SampleFile {
  public:
-  CsvFile(const std::filesystem::path& path, const Machine& machine)
+  CsvFile(const std::filesystem::path& path, const machine::Machine& machine)
       : file_(path), rows_(machine), pending_(kBlockBytes + kMaxRowChars) {
     std::string header;
     for (const std::string& column : sample_columns(machine)) {
@@ -63,7 +63,7 @@ class CsvFile final : public SampleFile {
     pending_.clear();
   }
 
-  AtomicFileWriter file_;
+  files::AtomicFileWriter file_;
   SampleRows rows_;  // a row's values in column order and interface units
   text::TextBuffer pending_;
 };
@@ -90,7 +90,7 @@ std::string python_string(const std::string& text) {
 // the header is written with room for it and rewritten on commit.
 class NpyFile final : public SampleFile {
  public:
-  NpyFile(const std::filesystem::path& path, const Machine& machine)
+  NpyFile(const std::filesystem::path& path, const machine::Machine& machine)
       : file_(path),
         rows_(machine),
         block_rows_(kBlockBytes / (sizeof(double) * rows_.columns())),
@@ -140,7 +140,7 @@ class NpyFile final : public SampleFile {
     pending_rows_ = 0;
   }
 
-  AtomicFileWriter file_;
+  files::AtomicFileWriter file_;
   SampleRows rows_;              // a row's values in column order and interface units
   std::size_t block_rows_;       // rows in about kBlockBytes
   std::vector<double> pending_;  // block_rows_ rows, and room for a row too long
@@ -152,11 +152,11 @@ class NpyFile final : public SampleFile {
 }  // namespace
 
 std::unique_ptr<SampleFile> SampleFile::open(const std::filesystem::path& path,
-                                             const Machine& machine) {
+                                             const machine::Machine& machine) {
   const std::string extension = path.extension().string();
   if (extension == ".csv") return std::make_unique<CsvFile>(path, machine);
   if (extension == ".npy") return std::make_unique<NpyFile>(path, machine);
   throw std::invalid_argument("output " + path.string() + ": give a .csv or .npy file name");
 }
 
-}  // namespace pkm
+}  // namespace pkm::io

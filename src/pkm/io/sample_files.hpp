@@ -14,14 +14,14 @@
 #include "pkm/machine/machine.hpp"
 #include "pkm/motion/planner.hpp"
 
-namespace pkm {
+namespace pkm::io {
 
 class SampleFile : public motion::SampleSink {
  public:
   // The format follows the extension: .csv or .npy. Throws std::invalid_argument for another.
   static std::unique_ptr<SampleFile> open(const std::filesystem::path& path,
-                                          const Machine& machine);
+                                          const machine::Machine& machine);
   virtual void commit() = 0;  // complete the file and move it into place
 };
 
-}  // namespace pkm
+}  // namespace pkm::io

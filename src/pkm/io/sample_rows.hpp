@@ -12,9 +12,9 @@
 #include "pkm/machine/machine.hpp"
 #include "pkm/motion/planner.hpp"
 
-namespace pkm {
+namespace pkm::io {
 
-std::vector<std::string> sample_columns(const Machine& machine);
+std::vector<std::string> sample_columns(const machine::Machine& machine);
 
 // The values of a row in column order and interface units.
 class SampleRows {
@@ -22,17 +22,17 @@ class SampleRows {
   // The most columns a row has: t, line, six pose coordinates, the joints, the pen.
   static constexpr std::size_t kMaxColumns = 32;
 
-  explicit SampleRows(const Machine& machine);
+  explicit SampleRows(const machine::Machine& machine);
   // Writes the row of `sample` to `row` (room for kMaxColumns) and returns its length.
   std::size_t fill(const motion::Sample& sample, double* row) const;
   std::size_t columns() const { return columns_; }
   bool pen() const { return pen_; }
 
  private:
-  const Machine& machine_;
+  const machine::Machine& machine_;
   bool orientation_;
   bool pen_;
   std::size_t columns_;
 };
 
-}  // namespace pkm
+}  // namespace pkm::io

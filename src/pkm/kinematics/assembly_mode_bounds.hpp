@@ -10,7 +10,7 @@
 
 #include "pkm/kinematics/kinematics.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 // The mode value at a ball's centre (positive in home's mode) and an upper bound on how fast it
 // changes per unit of the ball's radius: value - rate * radius > 0 proves the mode over the ball.
@@ -33,7 +33,8 @@ class AssemblyModeBounds {
   // Over a ball about the pose `centre` (mm, rad) whose joints read `joints`, each joint moving
   // at most `joint_speed[i]` per unit of the ball's (scaled) radius: home's mode times the mode's
   // value, and its rate. None where the mode has no such bound.
-  virtual std::optional<ModeBound> mode_over_ball(int /*home_mode*/, const Vector6d& /*centre*/,
+  virtual std::optional<ModeBound> mode_over_ball(int /*home_mode*/,
+                                                  const geometry::Vector6d& /*centre*/,
                                                   const JointVector& /*joints*/,
                                                   std::span<const double> /*joint_speed*/) const {
     return std::nullopt;
@@ -42,17 +43,19 @@ class AssemblyModeBounds {
   // lengths, its rate per mm (the workspace's). None where the centre or the cell leaves the
   // model's reach; has_mode_over_cell() false where the model has no such bound.
   virtual bool has_mode_over_cell() const { return false; }
-  virtual std::optional<ModeBound> mode_over_cell(int /*home_mode*/, const Vector6d& /*centre*/,
+  virtual std::optional<ModeBound> mode_over_cell(int /*home_mode*/,
+                                                  const geometry::Vector6d& /*centre*/,
                                                   double /*radius_mm*/) const {
     return std::nullopt;
   }
   // Over the box centre +- half (mm, rad), for models whose mode is bounded over a box instead
   // (has_mode_over_box()): the first of its measures not proven positive, none when all are.
   virtual bool has_mode_over_box() const { return false; }
-  virtual std::optional<ModeShortfall> mode_over_box(int /*home_mode*/, const Vector6d& /*centre*/,
-                                                     const Vector6d& /*half*/) const {
+  virtual std::optional<ModeShortfall> mode_over_box(int /*home_mode*/,
+                                                     const geometry::Vector6d& /*centre*/,
+                                                     const geometry::Vector6d& /*half*/) const {
     return std::nullopt;
   }
 };
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

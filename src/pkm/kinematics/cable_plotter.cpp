@@ -8,7 +8,7 @@
 
 #include "pkm/kinematics/closed_form_text.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 namespace {
 // Below this sine of the angle between the cables they are nearly collinear: the pen's height is
@@ -182,11 +182,11 @@ Status CablePlotterKinematics::balance_at(const Eigen::Vector2d& pen_mm, CableBa
   return Status::success();
 }
 
-Status CablePlotterKinematics::inverse(const Pose& pose, JointVector& joints) const {
+Status CablePlotterKinematics::inverse(const geometry::Pose& pose, JointVector& joints) const {
   return inverse_within(pose, joints, true);
 }
 
-Status CablePlotterKinematics::inverse_within(const Pose& pose, JointVector& joints,
+Status CablePlotterKinematics::inverse_within(const geometry::Pose& pose, JointVector& joints,
                                               bool within_limits) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
   const Eigen::Vector2d pen = pose.position_mm.head<2>();
@@ -217,14 +217,14 @@ class WithoutTensionLimits final : public Kinematics {
   explicit WithoutTensionLimits(const CablePlotterKinematics& model) : model_(model) {}
   std::string_view type() const override { return model_.type(); }
   int joint_count() const override { return model_.joint_count(); }
-  Dof dof() const override { return model_.dof(); }
-  Status inverse(const Pose& pose, JointVector& joints) const override {
+  geometry::Dof dof() const override { return model_.dof(); }
+  Status inverse(const geometry::Pose& pose, JointVector& joints) const override {
     return model_.inverse_within(pose, joints, false);
   }
-  Status forward(const JointVector&, Pose&) const override {
+  Status forward(const JointVector&, geometry::Pose&) const override {
     return Status::failure(StatusCode::not_converged);
   }
-  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override {
+  Status jacobian(const geometry::Pose& pose, JointJacobian& d_joints_d_pose) const override {
     return numerical_jacobian(*this, pose, d_joints_d_pose);
   }
   std::vector<Parameter> parameters() const override { return {}; }
@@ -268,7 +268,8 @@ Status CablePlotterKinematics::ideal_forward(const JointVector& joints,
                             joints[1] - geometry_.cable_offsets_mm[1], pen_mm);
 }
 
-Status CablePlotterKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
+Status CablePlotterKinematics::forward(const JointVector& joints,
+                                       geometry::Pose& pose_inout) const {
   if (joints.size() != joint_count() || !all_finite(joints)) {
     return Status::failure(StatusCode::invalid_input);
   }
@@ -288,7 +289,7 @@ Status CablePlotterKinematics::forward(const JointVector& joints, Pose& pose_ino
   // points (the previous pose along a path), that meeting point, the one without the wrap, then
   // the meeting point lowered by growing steps.
   passthrough_.forward(joints, 2, pose_inout);
-  std::array<Pose, 9> starts;
+  std::array<geometry::Pose, 9> starts;
   int count = 0;
   Eigen::Vector2d wrapped, unwrapped;
   const bool guessed = straight_guess(joints, 0.25, wrapped).ok();
@@ -312,7 +313,7 @@ Status CablePlotterKinematics::forward(const JointVector& joints, Pose& pose_ino
   const WithoutTensionLimits unlimited(*this);
   Status result = Status::failure(StatusCode::not_converged);
   for (int k = 0; k < count && !result.ok(); ++k) {
-    Pose start = starts[k];
+    geometry::Pose start = starts[k];
     result = solve_forward_newton(unlimited, joints, start, forward_options_);
     if (result.ok()) pose_inout = start;
   }
@@ -332,9 +333,10 @@ Status CablePlotterKinematics::straight_guess(const JointVector& joints, double 
                             joints[1] - geometry_.cable_offsets_mm[1] - wrap, pen_mm);
 }
 
-Status CablePlotterKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
+Status CablePlotterKinematics::jacobian(const geometry::Pose& pose,
+                                        JointJacobian& d_joints_d_pose) const {
   if (!geometry_.ideal()) return numerical_jacobian(*this, pose, d_joints_d_pose);
-  d_joints_d_pose.setZero(joint_count(), kPoseSize);
+  d_joints_d_pose.setZero(joint_count(), geometry::kPoseSize);
   passthrough_.jacobian(d_joints_d_pose, 2);
   for (int cable = 0; cable < 2; ++cable) {
     const Eigen::Vector2d from_anchor = pose.position_mm.head<2>() - geometry_.anchors_mm[cable];
@@ -346,7 +348,7 @@ Status CablePlotterKinematics::jacobian(const Pose& pose, JointJacobian& d_joint
   return Status::success();
 }
 
-Status CablePlotterKinematics::statics(const Pose& pose,
+Status CablePlotterKinematics::statics(const geometry::Pose& pose,
                                        const Eigen::Vector2d& acceleration_mm_per_s2,
                                        CableStatics& out) const {
   if (!all_finite(pose) || !acceleration_mm_per_s2.allFinite()) {
@@ -365,7 +367,8 @@ Status CablePlotterKinematics::statics(const Pose& pose,
   return Status::success();
 }
 
-std::string CablePlotterKinematics::why_refused(const Pose& pose, const Status& status) const {
+std::string CablePlotterKinematics::why_refused(const geometry::Pose& pose,
+                                                const Status& status) const {
   const Eigen::Vector2d pen = pose.position_mm.head<2>();
   const int cable = status.joint;
   const bool named = cable == 0 || cable == 1;
@@ -525,7 +528,8 @@ CablePlotterGeometry read_geometry(const ModelConfig& config) {
 std::unique_ptr<Kinematics> make_cable_plotter_kinematics(const ModelConfig& config) {
   const CablePlotterGeometry geometry = read_geometry(config);
   // A pen on a real Z axis (or a drag knife's C) is a joint that follows the program.
-  PassThroughAxes passthrough = PassThroughAxes::read(config, Dof::planar_xy(), Dof::all());
+  PassThroughAxes passthrough =
+      PassThroughAxes::read(config, geometry::Dof::planar_xy(), geometry::Dof::all());
   try {
     return std::make_unique<CablePlotterKinematics>(geometry, std::move(passthrough));
   } catch (const GeometryFault& fault) {
@@ -611,7 +615,7 @@ void CablePlotterKinematics::fixed_parts(std::span<const JointTravel> /*travel*/
   }
 }
 
-void CablePlotterKinematics::moving_parts(const Pose& pose, const JointVector& /*joints*/,
+void CablePlotterKinematics::moving_parts(const geometry::Pose& pose, const JointVector& /*joints*/,
                                           std::vector<SketchLine>& out) const {
   const Eigen::Vector3d pen = pose.position_mm;
   const Eigen::Vector3d pen_xy(pen.x(), pen.y(), 0.0);
@@ -645,4 +649,4 @@ void CablePlotterKinematics::moving_parts(const Pose& pose, const JointVector& /
   }
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -16,7 +16,7 @@
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/passthrough.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 class CablePlotterKinematics final : public Kinematics,
                                      public HangingCables,
@@ -28,17 +28,17 @@ class CablePlotterKinematics final : public Kinematics,
 
   std::string_view type() const override { return "cable_plotter"; }
   int joint_count() const override { return 2 + passthrough_.count(); }
-  Dof dof() const override { return passthrough_.add_to(Dof::planar_xy()); }
+  geometry::Dof dof() const override { return passthrough_.add_to(geometry::Dof::planar_xy()); }
   JointKind joint_kind(int joint) const override {
     return joint < 2 ? JointKind::linear : passthrough_.kind(joint - 2);
   }
   int passthrough_axis(int joint) const override {
     return joint < 2 ? -1 : passthrough_.axes()[joint - 2];
   }
-  Status inverse(const Pose& pose, JointVector& joints) const override;
-  Status forward(const JointVector& joints, Pose& pose_inout) const override;
-  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
-  std::string why_refused(const Pose& pose, const Status& status) const override;
+  Status inverse(const geometry::Pose& pose, JointVector& joints) const override;
+  Status forward(const JointVector& joints, geometry::Pose& pose_inout) const override;
+  Status jacobian(const geometry::Pose& pose, JointJacobian& d_joints_d_pose) const override;
+  std::string why_refused(const geometry::Pose& pose, const Status& status) const override;
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;
   std::unique_ptr<Kinematics> clone() const override {
@@ -57,8 +57,8 @@ class CablePlotterKinematics final : public Kinematics,
   // The proofs' capabilities (cable_plotter_bounds.cpp): the rigid cables' Hessian bounds; the
   // geometry the balance's bounds over a box take (bounds/cable_bound).
   const DerivativeBounds* derivative_bounds() const override { return this; }
-  std::optional<HessianBounds> own_hessian_bounds(const Vector6d& centre, double radius_mm,
-                                                  double angle_scale_mm,
+  std::optional<HessianBounds> own_hessian_bounds(const geometry::Vector6d& centre,
+                                                  double radius_mm, double angle_scale_mm,
                                                   const Chord& chord) const override;
   const CablePlotterGeometry& cable_geometry() const override { return geometry_; }
   double effector_mass_kg() const override { return geometry_.effector_mass_kg; }
@@ -67,7 +67,7 @@ class CablePlotterKinematics final : public Kinematics,
   // The tensions' [min, max] in N: tension_limits, else [0, inf) ("both cables pull").
   double tension_min_N() const override { return geometry_.tension_min_N; }
   double tension_max_N() const override { return geometry_.tension_max_N; }
-  Status statics(const Pose& pose, const Eigen::Vector2d& acceleration_mm_per_s2,
+  Status statics(const geometry::Pose& pose, const Eigen::Vector2d& acceleration_mm_per_s2,
                  CableStatics& out) const override;
   // The tension map's question (hanging_cables.hpp; cable_plotter_reach.cpp).
   std::unique_ptr<Kinematics> without_tension_limits() const override;
@@ -77,12 +77,12 @@ class CablePlotterKinematics final : public Kinematics,
   const MechanismSketch* sketch() const override { return this; }
   void fixed_parts(std::span<const JointTravel> travel,
                    std::vector<SketchLine>& out) const override;
-  void moving_parts(const Pose& pose, const JointVector& joints,
+  void moving_parts(const geometry::Pose& pose, const JointVector& joints,
                     std::vector<SketchLine>& out) const override;
 
   // Inverse kinematics with or without the tension limits (forward kinematics iterates without:
   // the limits say where the machine may go, not where its joints put the pen).
-  Status inverse_within(const Pose& pose, JointVector& joints, bool within_limits) const;
+  Status inverse_within(const geometry::Pose& pose, JointVector& joints, bool within_limits) const;
 
   // Reach box (kinematics.hpp; cable_plotter_reach.cpp).
   std::optional<Eigen::AlignedBox3d> tool_position_box(const JointVector& joint_min,
@@ -116,4 +116,4 @@ void validate_cable_plotter_geometry(const CablePlotterGeometry& geometry);
 
 std::unique_ptr<Kinematics> make_cable_plotter_kinematics(const ModelConfig& config);
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

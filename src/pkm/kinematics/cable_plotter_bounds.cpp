@@ -4,7 +4,7 @@
 
 #include "pkm/kinematics/cable_plotter.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 // A cable (or leg) of length l = |p - a|: Hessian (I - n n^T) / l, norm 1 / l; along v,
 // |v|^2 sin^2 / l = |v|^2 h^2 / l^3 with h the anchor's distance from the line through p along v.
@@ -13,10 +13,9 @@ namespace pkm {
 // (I - u u^T) / s, and u is within asin(r / |p - a|) of the direction from the pulley's centre.
 // Models whose cables sag, stretch, build up on a drum or tilt the effector have no such bound
 // here.
-std::optional<HessianBounds> CablePlotterKinematics::own_hessian_bounds(const Vector6d& centre,
-                                                                        double radius_mm,
-                                                                        double /*angle_scale_mm*/,
-                                                                        const Chord& chord) const {
+std::optional<HessianBounds> CablePlotterKinematics::own_hessian_bounds(
+    const geometry::Vector6d& centre, double radius_mm, double /*angle_scale_mm*/,
+    const Chord& chord) const {
   const CablePlotterGeometry& g = geometry();
   if (!g.rigid()) return std::nullopt;
   const Eigen::Vector2d p(centre[0], centre[1]);
@@ -40,4 +39,4 @@ std::optional<HessianBounds> CablePlotterKinematics::own_hessian_bounds(const Ve
   return bounds;
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

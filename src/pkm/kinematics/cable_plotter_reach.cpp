@@ -7,7 +7,7 @@
 
 #include "pkm/kinematics/cable_plotter.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 std::optional<Eigen::AlignedBox3d> CablePlotterKinematics::tool_position_box(
     const JointVector& /*joint_min*/, const JointVector& joint_max) const {
@@ -33,4 +33,4 @@ std::unique_ptr<Kinematics> CablePlotterKinematics::without_tension_limits() con
   return std::make_unique<CablePlotterKinematics>(geometry, passthrough_);
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -7,7 +7,7 @@
 #include "pkm/kinematics/cable_statics.hpp"
 #include "pkm/kinematics/elastic_catenary.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 namespace {
 
@@ -163,4 +163,4 @@ Status solve_sagging_balance(const CablePlotterGeometry& geometry, const Eigen::
   return Status::success();
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -6,7 +6,7 @@
 
 #include "pkm/kinematics/elastic_catenary.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 namespace {
 
@@ -182,4 +182,4 @@ double cable_joint(const CablePlotterGeometry& geometry, double cable_past_top_m
   return -r0 / k * std::log1p(-k * cable_past_top_mm / r0) + geometry.cable_offsets_mm[cable];
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

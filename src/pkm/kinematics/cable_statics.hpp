@@ -12,7 +12,7 @@
 
 #include "pkm/kinematics/kinematics.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 inline constexpr double kStandardGravity_mm_per_s2 = 9806.65;
 
@@ -127,4 +127,4 @@ double cable_past_top(const CablePlotterGeometry& geometry, const CableBalance& 
 // the drum would run out of radius.
 double cable_joint(const CablePlotterGeometry& geometry, double cable_past_top_mm, int cable);
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

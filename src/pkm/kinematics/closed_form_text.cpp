@@ -3,7 +3,7 @@
 #include <charconv>
 #include <cmath>
 
-namespace pkm {
+namespace pkm::kinematics {
 
 std::string plain_decimal(double value) {
   char text[64];
@@ -17,4 +17,4 @@ std::string shifted_coordinate(const char* axis, double offset) {
          plain_decimal(std::abs(offset)) + ")";
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

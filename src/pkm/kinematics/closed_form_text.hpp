@@ -5,7 +5,7 @@
 
 #include <string>
 
-namespace pkm {
+namespace pkm::kinematics {
 
 // The shortest plain decimal that reads back as the same double (no exponent: a formula parser
 // may not take one).
@@ -14,4 +14,4 @@ std::string plain_decimal(double value);
 // "(x + 12.5)" or "(x - 3)" or "x": coordinate `axis` shifted by `offset`.
 std::string shifted_coordinate(const char* axis, double offset);
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

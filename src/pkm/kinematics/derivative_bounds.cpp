@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-namespace pkm {
+namespace pkm::kinematics {
 
 double platform_point_gain(double b_norm_mm, double angle_scale_mm) {
   return std::sqrt(1.0 + 3.0 * (b_norm_mm / angle_scale_mm) * (b_norm_mm / angle_scale_mm));
@@ -18,4 +18,4 @@ double platform_point_change(double position, const Chord& chord, double b_norm_
   return position + std::sqrt(3.0) * b_norm_mm / angle_scale_mm * chord.angle;
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -14,7 +14,7 @@
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/leg_limits.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 // A straight move in pose space: its position change (mm, zero in the coordinates the model
 // does not control) and the norm of its angle change (scaled).
@@ -63,8 +63,8 @@ class DerivativeBounds {
   // The Hessian bounds of the model's own joints (its pass-through joints after them are
   // bounds/'s) over the ball of `radius_mm` about `centre` (mm, rad); none where this machine
   // has no such bound (cables that sag, stretch or tilt the effector).
-  virtual std::optional<HessianBounds> own_hessian_bounds(const Vector6d& centre, double radius_mm,
-                                                          double angle_scale_mm,
+  virtual std::optional<HessianBounds> own_hessian_bounds(const geometry::Vector6d& centre,
+                                                          double radius_mm, double angle_scale_mm,
                                                           const Chord& chord) const = 0;
   // The distance of the farthest platform point from the tool tip (mm), for models whose
   // rotations swing platform points (the scale of angles is twice it); none: 100 mm per rad.
@@ -78,7 +78,7 @@ class DerivativeBounds {
     return {};
   }
   // The legs at a pose whose joints are `joints`; none for models without legs.
-  virtual std::optional<LegEnds> legs_at(const Pose& /*pose*/,
+  virtual std::optional<LegEnds> legs_at(const geometry::Pose& /*pose*/,
                                          const JointVector& /*joints*/) const {
     return std::nullopt;
   }
@@ -87,7 +87,7 @@ class DerivativeBounds {
   // within `scaled_radius` (angles weighing `angle_scale_mm`) and `position_radius_mm` of
   // `centre`. None where the joint bounds and the assembly mode say it all.
   virtual int reach_count() const { return 0; }
-  virtual void reach_over_cell(const Vector6d& /*centre*/, double /*scaled_radius*/,
+  virtual void reach_over_cell(const geometry::Vector6d& /*centre*/, double /*scaled_radius*/,
                                double /*position_radius_mm*/, double /*angle_scale_mm*/,
                                std::span<std::array<double, 2>> /*margins*/) const {}
   // True where inverse() refuses no pose of the controlled coordinates beyond the joint limits (a
@@ -95,4 +95,4 @@ class DerivativeBounds {
   virtual bool refuses_only_joint_limits() const { return false; }
 };
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

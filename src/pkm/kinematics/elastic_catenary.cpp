@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-namespace pkm {
+namespace pkm::kinematics {
 
 double asinh_difference(double a, double delta) {
   const double b = a + delta;
@@ -75,4 +75,4 @@ CatenarySpanDerivatives catenary_span_derivatives(double horizontal_N, double ve
   return d;
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -3,7 +3,7 @@
 // cable plotter for sagging chains and stretching cords; with no weight it is a straight cable.
 #pragma once
 
-namespace pkm {
+namespace pkm::kinematics {
 
 // Where the cable's upper end is, relative to its lower end: `across_mm` horizontally (towards
 // the side the horizontal tension pulls the lower end) and `rise_mm` upwards.
@@ -32,4 +32,4 @@ CatenarySpanDerivatives catenary_span_derivatives(double horizontal_N, double ve
 // when delta is small (a light chain's span).
 double asinh_difference(double a, double delta);
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -8,7 +8,7 @@
 
 #include "pkm/kinematics/closed_form_text.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 FormulaKinematics::FormulaKinematics(FormulaDefinition definition)
     : definition_(std::move(definition)) {
@@ -66,7 +66,7 @@ std::unique_ptr<FormulaKinematics::Evaluator> FormulaKinematics::make_evaluator(
     mu::Parser& parser = evaluator->parsers.emplace_back();
     try {
       for (const int axis : definition_.axes) {
-        parser.DefineVar(std::string(kAxisNames[axis]), &evaluator->pose_variables[axis]);
+        parser.DefineVar(std::string(geometry::kAxisNames[axis]), &evaluator->pose_variables[axis]);
       }
       for (std::size_t i = 0; i < definition_.constants.size(); ++i) {
         parser.DefineVar(definition_.constants[i].first, &constant_values_[i]);
@@ -104,11 +104,12 @@ FormulaKinematics::Evaluator& FormulaKinematics::thread_evaluator() const {
   return *cache.back().evaluator;
 }
 
-Status FormulaKinematics::evaluate(Evaluator& evaluator, const Pose& pose,
+Status FormulaKinematics::evaluate(Evaluator& evaluator, const geometry::Pose& pose,
                                    JointVector& joints) const {
   for (const int axis : definition_.axes) {
-    evaluator.pose_variables[axis] = axis < 3 ? pose.position_mm[axis] / definition_.mm_per_unit
-                                              : radians_to_degrees(pose.orientation_rad[axis - 3]);
+    evaluator.pose_variables[axis] =
+        axis < 3 ? pose.position_mm[axis] / definition_.mm_per_unit
+                 : geometry::radians_to_degrees(pose.orientation_rad[axis - 3]);
   }
   joints.resize(joint_count());
   for (int i = 0; i < joint_count(); ++i) {
@@ -125,7 +126,7 @@ Status FormulaKinematics::evaluate(Evaluator& evaluator, const Pose& pose,
   return Status::success();
 }
 
-Status FormulaKinematics::inverse(const Pose& pose, JointVector& joints) const {
+Status FormulaKinematics::inverse(const geometry::Pose& pose, JointVector& joints) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
   if (!own_busy_.test_and_set(std::memory_order_acquire)) {
     const Status status = evaluate(*own_, pose, joints);
@@ -135,20 +136,21 @@ Status FormulaKinematics::inverse(const Pose& pose, JointVector& joints) const {
   return evaluate(thread_evaluator(), pose, joints);
 }
 
-Status FormulaKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
+Status FormulaKinematics::forward(const JointVector& joints, geometry::Pose& pose_inout) const {
   if (joints.size() != joint_count()) return Status::failure(StatusCode::invalid_input);
   return solve_forward_newton(*this, joints, pose_inout, forward_options_);
 }
 
-Status FormulaKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
+Status FormulaKinematics::jacobian(const geometry::Pose& pose,
+                                   JointJacobian& d_joints_d_pose) const {
   return numerical_jacobian(*this, pose, d_joints_d_pose);
 }
 
-int FormulaKinematics::assembly_mode(const Pose& pose) const {
+int FormulaKinematics::assembly_mode(const geometry::Pose& pose) const {
   if (static_cast<int>(definition_.axes.size()) != joint_count()) return 0;
   JointJacobian jacobian;
   if (!numerical_jacobian(*this, pose, jacobian).ok()) return 0;
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxJoints, kPoseSize> square(
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxJoints, geometry::kPoseSize> square(
       joint_count(), joint_count());
   for (int k = 0; k < joint_count(); ++k) square.col(k) = jacobian.col(definition_.axes[k]);
   return square.determinant() >= 0.0 ? 1 : -1;
@@ -179,7 +181,7 @@ std::unique_ptr<Kinematics> make_formula_kinematics(const ModelConfig& config) {
   FormulaDefinition definition;
   definition.mm_per_unit = config.mm_per_file_unit();
   for (const std::string& name : config.string_list("axes")) {
-    const int axis = axis_index(name);
+    const int axis = geometry::axis_index(name);
     if (axis < 0) config.fail("axes", "'" + name + "' is not one of x, y, z, a, b, c");
     for (const int seen : definition.axes) {
       if (seen == axis) config.fail("axes", "'" + name + "' is listed twice");
@@ -189,7 +191,7 @@ std::unique_ptr<Kinematics> make_formula_kinematics(const ModelConfig& config) {
   if (definition.axes.empty()) config.fail("axes", "needs at least one axis");
   if (config.has("constants")) {
     for (const auto& [name, value] : config.number_table("constants")) {
-      if (axis_index(name) >= 0) {
+      if (geometry::axis_index(name) >= 0) {
         config.fail("constants", "'" + name + "' would hide the axis of the same name");
       }
       definition.constants.emplace_back(name, value);
@@ -243,4 +245,4 @@ std::optional<std::vector<std::string>> FormulaKinematics::joint_formulas() cons
   return formulas;
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

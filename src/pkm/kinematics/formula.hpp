@@ -16,7 +16,7 @@
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/model_config_writer.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 struct FormulaDefinition {
   std::vector<int> axes;  // pose indices the formulas may use (and the machine controls)
@@ -54,13 +54,13 @@ class FormulaKinematics final : public Kinematics {
 
   std::string_view type() const override { return "formula"; }
   int joint_count() const override { return static_cast<int>(definition_.formulas.size()); }
-  Dof dof() const override { return dof_; }
-  Status inverse(const Pose& pose, JointVector& joints) const override;
-  Status forward(const JointVector& joints, Pose& pose_inout) const override;
-  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
+  geometry::Dof dof() const override { return dof_; }
+  Status inverse(const geometry::Pose& pose, JointVector& joints) const override;
+  Status forward(const JointVector& joints, geometry::Pose& pose_inout) const override;
+  Status jacobian(const geometry::Pose& pose, JointJacobian& d_joints_d_pose) const override;
   // Sign of det(d joints / d pose): formulas such as Hektor's are met by mirror-image poses
   // (above and below the anchors), and only the home pose's side is the machine's.
-  int assembly_mode(const Pose& pose) const override;
+  int assembly_mode(const geometry::Pose& pose) const override;
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;
   std::unique_ptr<Kinematics> clone() const override {
@@ -76,17 +76,17 @@ class FormulaKinematics final : public Kinematics {
  private:
   // One set of parsers, one per formula, and the pose they read: x y z (file units), a b c (deg).
   struct Evaluator {
-    std::array<double, kPoseSize> pose_variables{};
+    std::array<double, geometry::kPoseSize> pose_variables{};
     std::vector<mu::Parser> parsers;
   };
   // Parses every formula (throws FormulaError naming the joint), binding this model's constants.
   std::unique_ptr<Evaluator> make_evaluator() const;
-  Status evaluate(Evaluator& evaluator, const Pose& pose, JointVector& joints) const;
+  Status evaluate(Evaluator& evaluator, const geometry::Pose& pose, JointVector& joints) const;
   // This thread's evaluator for this model, made on first use.
   Evaluator& thread_evaluator() const;
 
   FormulaDefinition definition_;
-  Dof dof_;
+  geometry::Dof dof_;
   // Names this model (not its address, which a later one may reuse) in the threads' evaluators.
   std::uint64_t serial_ = 0;
   // The constants' values, read by every evaluator; written only by set_parameters, which no
@@ -98,4 +98,4 @@ class FormulaKinematics final : public Kinematics {
 
 std::unique_ptr<Kinematics> make_formula_kinematics(const ModelConfig& config);
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -11,7 +11,7 @@
 #include "pkm/kinematics/closed_form_text.hpp"
 #include "pkm/kinematics/lanes.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 namespace {
 // A strut closer than this (relative) to perpendicular to its rail is at a singularity: the
@@ -20,7 +20,8 @@ constexpr double kMinRelativeDiscriminant = 1e-12;
 
 constexpr std::array<const char*, 3> kComponent = {"x", "y", "z"};
 
-static_assert(sizeof(Pose) == kPoseSize * sizeof(double), "poses are read as 6 doubles");
+static_assert(sizeof(geometry::Pose) == geometry::kPoseSize * sizeof(double),
+              "poses are read as 6 doubles");
 
 // The carriage reading `along` (mm) where the strut's foot projects onto the rail, and the
 // discriminant (mm^2) whose root is how far either way of it the carriage sits: one pose (T =
@@ -63,8 +64,9 @@ Status rail_status(const GlideRail& rail, int i, double discriminant) {
 // Every rail's `along` and discriminant for one pose (`part`: its controlled coordinates), and
 // the first rail's refusal, if any. At most six rails.
 [[gnu::always_inline]] inline Status rails_before_roots(std::span<const GlideRail> rails,
-                                                        const double* rotation, const Pose& part,
-                                                        double* along, double* discriminant) {
+                                                        const double* rotation,
+                                                        const geometry::Pose& part, double* along,
+                                                        double* discriminant) {
   const double position[3] = {part.position_mm.x(), part.position_mm.y(), part.position_mm.z()};
   for (std::size_t i = 0; i < rails.size(); ++i) {
     rail_solution(rails[i], rotation, position, along[i], discriminant[i]);
@@ -80,7 +82,7 @@ Status rail_status(const GlideRail& rail, int i, double discriminant) {
 // the first rail without a reading refuses, as rails_before_roots does.
 PKM_AVX2 Status rail_readings_one_avx2(const GlideKinematics::RailsSideBySide& side,
                                        std::span<const GlideRail> rails, bool rotates,
-                                       const Pose& part, JointVector& joints) {
+                                       const geometry::Pose& part, JointVector& joints) {
   static_assert(kMaxJoints >= 8, "two blocks of four rails' readings fit in a JointVector");
   using lanes::Lanes4;
   double rotation[9] = {};
@@ -125,9 +127,9 @@ PKM_AVX2 Status rail_readings_one_avx2(const GlideKinematics::RailsSideBySide& s
 // The rails' readings of one block of four poses from `first` on (statuses: invalid input, a
 // rail's refusal, or ok); pass-through joints and leg limits are the caller's. Uncontrolled
 // coordinates read as 0.
-PKM_AVX2 void rail_readings_block(std::span<const GlideRail> rails, Dof dof,
+PKM_AVX2 void rail_readings_block(std::span<const GlideRail> rails, geometry::Dof dof,
                                   const lanes::PoseChunk& chunk, std::size_t block,
-                                  std::span<const Pose> poses, std::size_t first,
+                                  std::span<const geometry::Pose> poses, std::size_t first,
                                   std::span<JointVector> joints, std::span<Status> statuses,
                                   int joint_count) {
   using lanes::Lanes4;
@@ -162,9 +164,10 @@ PKM_AVX2 void rail_readings_block(std::span<const GlideRail> rails, Dof dof,
 
 // rail_readings_block over every pose, a chunk of blocks at a time; a last partial block repeats
 // its last pose in the spare lanes.
-PKM_AVX2 void rail_readings_avx2(std::span<const GlideRail> rails, Dof dof,
-                                 std::span<const Pose> poses, std::span<JointVector> joints,
-                                 std::span<Status> statuses, int joint_count) {
+PKM_AVX2 void rail_readings_avx2(std::span<const GlideRail> rails, geometry::Dof dof,
+                                 std::span<const geometry::Pose> poses,
+                                 std::span<JointVector> joints, std::span<Status> statuses,
+                                 int joint_count) {
   lanes::PoseChunk chunk;
   for (std::size_t first = 0; first < poses.size();) {
     lanes::load_pose_chunk(poses[first].position_mm.data(), poses.size() - first,
@@ -178,8 +181,8 @@ PKM_AVX2 void rail_readings_avx2(std::span<const GlideRail> rails, Dof dof,
 #endif
 }  // namespace
 
-GlideKinematics::GlideKinematics(std::vector<GlideRail> rails, Dof dof, PassThroughAxes passthrough,
-                                 const LegLimitSettings& leg_limits)
+GlideKinematics::GlideKinematics(std::vector<GlideRail> rails, geometry::Dof dof,
+                                 PassThroughAxes passthrough, const LegLimitSettings& leg_limits)
     : rails_(std::move(rails)), dof_(dof), passthrough_(std::move(passthrough)) {
   leg_limits_ = LegLimits(leg_limits, static_cast<int>(rails_.size()));
   validate(rails_, dof_);
@@ -189,15 +192,15 @@ GlideKinematics::GlideKinematics(std::vector<GlideRail> rails, Dof dof, PassThro
   }
   for (const int axis : passthrough_.axes()) {
     if (dof_.controls(axis)) {
-      throw std::invalid_argument("the rails move " + std::string(kAxisNames[axis]) +
+      throw std::invalid_argument("the rails move " + std::string(geometry::kAxisNames[axis]) +
                                   " themselves");
     }
   }
 }
 
-void GlideKinematics::validate(std::vector<GlideRail>& rails, Dof dof) {
+void GlideKinematics::validate(std::vector<GlideRail>& rails, geometry::Dof dof) {
   const int count = static_cast<int>(rails.size());
-  if (dof == Dof::all()) {
+  if (dof == geometry::Dof::all()) {
     if (count != 6) throw std::invalid_argument("a glide with orientation needs exactly 6 rails");
   } else if (dof.any_rotation() || dof.count() != count || count < 2 || count > 3) {
     throw std::invalid_argument("a translating glide needs 2 or 3 rails, one per controlled axis");
@@ -219,9 +222,9 @@ void GlideKinematics::validate(std::vector<GlideRail>& rails, Dof dof) {
   }
 }
 
-Pose GlideKinematics::controlled_part(const Pose& pose) const {
-  Pose part;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
+geometry::Pose GlideKinematics::controlled_part(const geometry::Pose& pose) const {
+  geometry::Pose part;
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
     if (!dof_.controls(axis)) continue;
     if (axis < 3) {
       part.position_mm[axis] = pose.position_mm[axis];
@@ -232,16 +235,16 @@ Pose GlideKinematics::controlled_part(const Pose& pose) const {
   return part;
 }
 
-Status GlideKinematics::inverse(const Pose& pose, JointVector& joints) const {
+Status GlideKinematics::inverse(const geometry::Pose& pose, JointVector& joints) const {
   const Status status = inverse_without_leg_limits(pose, joints);
   if (!status.ok() || !leg_limits_.active()) return status;
   return leg_limits_.check(leg_ends(pose, joints));
 }
 
-LegEnds GlideKinematics::leg_ends(const Pose& pose, const JointVector& joints) const {
-  const Pose part = controlled_part(pose);
+LegEnds GlideKinematics::leg_ends(const geometry::Pose& pose, const JointVector& joints) const {
+  const geometry::Pose part = controlled_part(pose);
   LegEnds ends;
-  if (dof_.any_rotation()) ends.rotation = rotation_from_abc(part.orientation_rad);
+  if (dof_.any_rotation()) ends.rotation = geometry::rotation_from_abc(part.orientation_rad);
   ends.inner.resize(3, rail_count());
   ends.platform.resize(3, rail_count());
   for (int i = 0; i < rail_count(); ++i) {
@@ -252,29 +255,32 @@ LegEnds GlideKinematics::leg_ends(const Pose& pose, const JointVector& joints) c
   return ends;
 }
 
-void GlideKinematics::set_home(const Pose& home) {
+void GlideKinematics::set_home(const geometry::Pose& home) {
   JointVector joints;
   if (leg_limits_.active() && inverse_without_leg_limits(home, joints).ok()) {
     leg_limits_.set_home(leg_ends(home, joints));
   }
 }
 
-void GlideKinematics::mechanism_limits(const Pose& pose, std::vector<MechanismLimit>& out) const {
+void GlideKinematics::mechanism_limits(const geometry::Pose& pose,
+                                       std::vector<MechanismLimit>& out) const {
   JointVector joints;
   if (leg_limits_.active() && inverse_without_leg_limits(pose, joints).ok()) {
     leg_limits_.append_values(leg_ends(pose, joints), out);
   }
 }
 
-std::string GlideKinematics::leg_limits_why(const Pose& pose, const Status& status) const {
+std::string GlideKinematics::leg_limits_why(const geometry::Pose& pose,
+                                            const Status& status) const {
   JointVector joints;
   if (!leg_limits_.active() || !inverse_without_leg_limits(pose, joints).ok()) return {};
   return leg_limits_.why(leg_ends(pose, joints), status, "strut");
 }
 
-Status GlideKinematics::inverse_without_leg_limits(const Pose& pose, JointVector& joints) const {
+Status GlideKinematics::inverse_without_leg_limits(const geometry::Pose& pose,
+                                                   JointVector& joints) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
-  const Pose part = controlled_part(pose);
+  const geometry::Pose part = controlled_part(pose);
   joints.resize(joint_count());
   Status status;
 #if PKM_HAS_AVX2_LANES
@@ -302,7 +308,8 @@ Status GlideKinematics::inverse_without_leg_limits(const Pose& pose, JointVector
   return Status::success();
 }
 
-void GlideKinematics::inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
+void GlideKinematics::inverse_batch(std::span<const geometry::Pose> poses,
+                                    std::span<JointVector> joints,
                                     std::span<Status> statuses) const {
 #if PKM_HAS_AVX2_LANES
   if (lanes::avx2_enabled()) {
@@ -321,16 +328,17 @@ void GlideKinematics::inverse_batch(std::span<const Pose> poses, std::span<Joint
   Kinematics::inverse_batch(poses, joints, statuses);
 }
 
-Status GlideKinematics::inverse_and_jacobian(const Pose& pose, JointVector& joints,
+Status GlideKinematics::inverse_and_jacobian(const geometry::Pose& pose, JointVector& joints,
                                              JointJacobian& d_joints_d_pose) const {
   const Status status = inverse_without_leg_limits(pose, joints);
   if (!status.ok()) return status;
-  const Pose part = controlled_part(pose);
+  const geometry::Pose part = controlled_part(pose);
   const bool rotates = dof_.any_rotation();
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
   std::array<Eigen::Matrix3d, 3> rotation_derivatives{};
-  if (rotates) rotation_and_derivatives_abc(part.orientation_rad, rotation, rotation_derivatives);
-  d_joints_d_pose.setZero(joint_count(), kPoseSize);
+  if (rotates)
+    geometry::rotation_and_derivatives_abc(part.orientation_rad, rotation, rotation_derivatives);
+  d_joints_d_pose.setZero(joint_count(), geometry::kPoseSize);
   for (int i = 0; i < rail_count(); ++i) {
     const GlideRail& rail = rails_[i];
     const Eigen::Vector3d foot = part.position_mm + rotation * rail.attach_mm - rail.origin_mm;
@@ -351,12 +359,12 @@ Status GlideKinematics::inverse_and_jacobian(const Pose& pose, JointVector& join
   return Status::success();
 }
 
-Status GlideKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
+Status GlideKinematics::jacobian(const geometry::Pose& pose, JointJacobian& d_joints_d_pose) const {
   JointVector joints;
   return inverse_and_jacobian(pose, joints, d_joints_d_pose);
 }
 
-int GlideKinematics::assembly_mode(const Pose& pose) const {
+int GlideKinematics::assembly_mode(const geometry::Pose& pose) const {
   if (dof_.any_rotation()) return 0;
   JointVector joints;
   if (!inverse_without_leg_limits(pose, joints).ok()) return 0;
@@ -411,7 +419,7 @@ Status intersect_spheres(const std::array<Eigen::Vector3d, 3>& centre,
 // Two rails: the spheres of the first two carriages cut the plane of the two controlled axes
 // (`dof`) in circles; their two intersections, the third coordinate 0.
 Status intersect_circles(const std::array<Eigen::Vector3d, 3>& centre,
-                         const std::array<double, 3>& radius, Dof dof,
+                         const std::array<double, 3>& radius, geometry::Dof dof,
                          std::array<Eigen::Vector3d, 2>& candidates) {
   std::array<int, 2> plane{};
   int off_plane = 0;
@@ -452,7 +460,8 @@ Status intersect_circles(const std::array<Eigen::Vector3d, 3>& centre,
 
 }  // namespace
 
-Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pose_inout) const {
+Status GlideKinematics::forward_translating(const JointVector& joints,
+                                            geometry::Pose& pose_inout) const {
   // Sphere i: the tip lies at distance strut_i from carriage_i - attach_i.
   std::array<Eigen::Vector3d, 3> centre;
   std::array<double, 3> radius{};
@@ -465,7 +474,7 @@ Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pos
                                  ? intersect_spheres(centre, radius, candidates)
                                  : intersect_circles(centre, radius, dof_, candidates);
   if (!intersected.ok()) return intersected;
-  Pose best;
+  geometry::Pose best;
   const Status picked = pick_candidate(joints, candidates, pose_inout, best);
   if (!picked.ok()) return picked;
   // The closed form loses a few digits to cancellation; Newton from it restores full precision.
@@ -478,7 +487,8 @@ Status GlideKinematics::forward_translating(const JointVector& joints, Pose& pos
 
 Status GlideKinematics::pick_candidate(const JointVector& joints,
                                        const std::array<Eigen::Vector3d, 2>& candidates,
-                                       const Pose& seed_pose, Pose& picked) const {
+                                       const geometry::Pose& seed_pose,
+                                       geometry::Pose& picked) const {
   // Both intersections satisfy the strut lengths; only those whose carriages sit on the
   // configured branch reproduce the joint readings. Where both do, the one in the seed's assembly
   // mode (the side of the struts' plane the platform hangs on, which the joints move with) wins,
@@ -486,7 +496,7 @@ Status GlideKinematics::pick_candidate(const JointVector& joints,
   // mode: then the candidate on the seed's side of the spheres' centres.
   const double scale = 1.0 + joints.cwiseAbs().maxCoeff();
   const Eigen::Vector3d seed = controlled_part(seed_pose).position_mm;
-  std::array<Pose, 2> trials{seed_pose, seed_pose};
+  std::array<geometry::Pose, 2> trials{seed_pose, seed_pose};
   std::array<bool, 2> valid{};
   for (int k = 0; k < 2; ++k) {
     for (int axis = 0; axis < 3; ++axis) {
@@ -516,11 +526,11 @@ Status GlideKinematics::pick_candidate(const JointVector& joints,
   return Status::success();
 }
 
-Status GlideKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
+Status GlideKinematics::forward(const JointVector& joints, geometry::Pose& pose_inout) const {
   if (joints.size() != joint_count() || !all_finite(joints) || !all_finite(pose_inout)) {
     return Status::failure(StatusCode::invalid_input);
   }
-  Pose pose = pose_inout;
+  geometry::Pose pose = pose_inout;
   Status status;
   if (!dof_.any_rotation()) {
     // The pass-through coordinates are the joints themselves; the rails solve the rest.
@@ -618,7 +628,7 @@ std::unique_ptr<Kinematics> make_glide_kinematics(const ModelConfig& config) {
     rails.push_back(rail);
   }
   const bool orientation = config.boolean_or("orientation", false);
-  Dof dof;
+  geometry::Dof dof;
   if (orientation) {
     if (rails.size() != 6) {
       config.fail("rails", "orientation = true needs exactly 6 rails, found " +
@@ -628,15 +638,15 @@ std::unique_ptr<Kinematics> make_glide_kinematics(const ModelConfig& config) {
     if (config.has("passthrough")) {
       config.fail("passthrough", "a hexaglide moves all six axes itself; nothing passes through");
     }
-    dof = Dof::all();
+    dof = geometry::Dof::all();
   } else if (config.has("axes")) {
     for (const std::string& name : config.string_list("axes")) {
-      const int axis = axis_index(name);
+      const int axis = geometry::axis_index(name);
       if (axis < 0 || axis > 2) config.fail("axes", "'" + name + "' is not one of x, y, z");
       dof = dof.with(axis);
     }
   } else {
-    dof = rails.size() == 2 ? Dof::planar_xy() : Dof::translation();
+    dof = rails.size() == 2 ? geometry::Dof::planar_xy() : geometry::Dof::translation();
   }
   if (!orientation &&
       (static_cast<int>(rails.size()) != dof.count() || rails.size() < 2 || rails.size() > 3)) {
@@ -646,7 +656,7 @@ std::unique_ptr<Kinematics> make_glide_kinematics(const ModelConfig& config) {
   }
   // A pen on a real Z axis of a biglide, or a rotary axis under a delta, follows the program.
   PassThroughAxes passthrough;
-  if (!orientation) passthrough = PassThroughAxes::read(config, dof, Dof::all());
+  if (!orientation) passthrough = PassThroughAxes::read(config, dof, geometry::Dof::all());
   const LegLimitSettings leg_limits = read_leg_limit_settings(config, "carriage_joint_axis");
   try {
     return std::make_unique<GlideKinematics>(std::move(rails), dof, std::move(passthrough),
@@ -709,9 +719,9 @@ void GlideKinematics::fixed_parts(std::span<const JointTravel> travel,
   }
 }
 
-void GlideKinematics::moving_parts(const Pose& pose, const JointVector& joints,
+void GlideKinematics::moving_parts(const geometry::Pose& pose, const JointVector& joints,
                                    std::vector<SketchLine>& out) const {
-  const Eigen::Matrix3d rotation = rotation_from_abc(pose.orientation_rad);
+  const Eigen::Matrix3d rotation = geometry::rotation_from_abc(pose.orientation_rad);
   std::vector<Eigen::Vector3d> ends;
   for (std::size_t i = 0; i < rails_.size(); ++i) {
     const GlideRail& rail = rails_[i];
@@ -727,4 +737,4 @@ void GlideKinematics::moving_parts(const Pose& pose, const JointVector& joints,
   for (const Eigen::Vector3d& end : ends) out.push_back({SketchPart::tool, end, pose.position_mm});
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -14,7 +14,7 @@
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/passthrough.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 struct GlideRail {
   Eigen::Vector3d origin_mm = Eigen::Vector3d::Zero();   // where the carriage reading is 0
@@ -31,12 +31,12 @@ class GlideKinematics final : public Kinematics,
  public:
   // `dof` is translation-only (2 or 3 axes, one per rail) or Dof::all() with six rails.
   // Pass-through axes, translating glides only, follow the rails as joints.
-  GlideKinematics(std::vector<GlideRail> rails, Dof dof, PassThroughAxes passthrough = {},
+  GlideKinematics(std::vector<GlideRail> rails, geometry::Dof dof, PassThroughAxes passthrough = {},
                   const LegLimitSettings& leg_limits = {});
 
   std::string_view type() const override { return "glide"; }
   int joint_count() const override { return rail_count() + passthrough_.count(); }
-  Dof dof() const override { return passthrough_.add_to(dof_); }
+  geometry::Dof dof() const override { return passthrough_.add_to(dof_); }
   JointKind joint_kind(int joint) const override {
     return joint < rail_count() ? JointKind::linear : passthrough_.kind(joint - rail_count());
   }
@@ -45,12 +45,12 @@ class GlideKinematics final : public Kinematics,
   }
   // The carriages' readings, then the leg limits (max_joint_angle, leg_diameter: the struts are
   // the legs) where the file sets them.
-  Status inverse(const Pose& pose, JointVector& joints) const override;
-  Status inverse_without_leg_limits(const Pose& pose, JointVector& joints) const;
+  Status inverse(const geometry::Pose& pose, JointVector& joints) const override;
+  Status inverse_without_leg_limits(const geometry::Pose& pose, JointVector& joints) const;
   // jacobian and inverse_and_jacobian do not check the leg limits (see hexapod.hpp).
-  Status forward(const JointVector& joints, Pose& pose_inout) const override;
-  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
-  std::string why_refused(const Pose& pose, const Status& status) const override {
+  Status forward(const JointVector& joints, geometry::Pose& pose_inout) const override;
+  Status jacobian(const geometry::Pose& pose, JointJacobian& d_joints_d_pose) const override;
+  std::string why_refused(const geometry::Pose& pose, const Status& status) const override {
     if (const std::string why = leg_limits_why(pose, status); !why.empty()) return why;
     if (status.joint < 0 || status.joint >= rail_count()) return {};
     const std::string rail = "rail " + std::to_string(status.joint + 1);
@@ -58,21 +58,22 @@ class GlideKinematics final : public Kinematics,
     if (status.code != StatusCode::unreachable) return {};
     return "the strut of " + rail + " is too short to reach it";
   }
-  Status inverse_and_jacobian(const Pose& pose, JointVector& joints,
+  Status inverse_and_jacobian(const geometry::Pose& pose, JointVector& joints,
                               JointJacobian& d_joints_d_pose) const override;
   // Translating glides: the side of the plane (line, with 2 rails) through the carriages' strut
   // ends on which the platform hangs, i.e. the sign of det[strut vectors].
-  int assembly_mode(const Pose& pose) const override;
-  void set_home(const Pose& home) override;
+  int assembly_mode(const geometry::Pose& pose) const override;
+  void set_home(const geometry::Pose& home) override;
   bool has_mechanism_limits() const override { return leg_limits_.active(); }
-  void mechanism_limits(const Pose& pose, std::vector<MechanismLimit>& out) const override;
+  void mechanism_limits(const geometry::Pose& pose,
+                        std::vector<MechanismLimit>& out) const override;
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;
   std::unique_ptr<Kinematics> clone() const override {
     return std::make_unique<GlideKinematics>(*this);
   }
   // Four poses at a time where AVX2 runs (lanes.hpp); the single-pose calls otherwise.
-  void inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
+  void inverse_batch(std::span<const geometry::Pose> poses, std::span<JointVector> joints,
                      std::span<Status> statuses) const override;
 
   // orientation, axes, passthrough, the leg limits, then one [[kinematics.rails]] per rail.
@@ -88,32 +89,33 @@ class GlideKinematics final : public Kinematics,
   const MechanismSketch* sketch() const override { return this; }
   void fixed_parts(std::span<const JointTravel> travel,
                    std::vector<SketchLine>& out) const override;
-  void moving_parts(const Pose& pose, const JointVector& joints,
+  void moving_parts(const geometry::Pose& pose, const JointVector& joints,
                     std::vector<SketchLine>& out) const override;
 
   // The proofs' capabilities (glide_bounds.cpp): the carriages' Hessian bounds, the struts as
   // legs, each strut's reach over a cell; a translating glide's assembly mode over a ball or a
   // cell.
   const DerivativeBounds* derivative_bounds() const override { return this; }
-  std::optional<HessianBounds> own_hessian_bounds(const Vector6d& centre, double radius_mm,
-                                                  double angle_scale_mm,
+  std::optional<HessianBounds> own_hessian_bounds(const geometry::Vector6d& centre,
+                                                  double radius_mm, double angle_scale_mm,
                                                   const Chord& chord) const override;
   std::optional<double> farthest_platform_point_mm() const override;
   LegMotion leg_motion(const JointVector& joints, const JointJacobian& jacobian,
                        const HessianBounds& hessians, double radius, double scale) const override;
-  std::optional<LegEnds> legs_at(const Pose& pose, const JointVector& joints) const override;
+  std::optional<LegEnds> legs_at(const geometry::Pose& pose,
+                                 const JointVector& joints) const override;
   int reach_count() const override { return rail_count(); }
-  void reach_over_cell(const Vector6d& centre, double scaled_radius, double position_radius_mm,
-                       double angle_scale_mm,
+  void reach_over_cell(const geometry::Vector6d& centre, double scaled_radius,
+                       double position_radius_mm, double angle_scale_mm,
                        std::span<std::array<double, 2>> margins) const override;
   const AssemblyModeBounds* assembly_mode_bounds() const override {
     return dof_.any_rotation() ? nullptr : this;
   }
-  std::optional<ModeBound> mode_over_ball(int home_mode, const Vector6d& centre,
+  std::optional<ModeBound> mode_over_ball(int home_mode, const geometry::Vector6d& centre,
                                           const JointVector& joints,
                                           std::span<const double> joint_speed) const override;
   bool has_mode_over_cell() const override { return true; }
-  std::optional<ModeBound> mode_over_cell(int home_mode, const Vector6d& centre,
+  std::optional<ModeBound> mode_over_cell(int home_mode, const geometry::Vector6d& centre,
                                           double radius_mm) const override;
   // Reach box (kinematics.hpp; glide_reach.cpp).
   std::optional<Eigen::AlignedBox3d> tool_position_box(const JointVector& joint_min,
@@ -123,30 +125,30 @@ class GlideKinematics final : public Kinematics,
   const PassThroughAxes& passthrough() const { return passthrough_; }
   const LegLimits& leg_limits() const { return leg_limits_; }
   // The struts' joint centres at a pose whose carriage readings are `joints`.
-  LegEnds leg_ends(const Pose& pose, const JointVector& joints) const;
+  LegEnds leg_ends(const geometry::Pose& pose, const JointVector& joints) const;
   // The axes the rails move (dof() adds the pass-through ones).
-  Dof rail_dof() const { return dof_; }
+  geometry::Dof rail_dof() const { return dof_; }
 
  private:
   int rail_count() const { return static_cast<int>(rails_.size()); }
   // The pose as this model reads it: uncontrolled coordinates are zero.
-  Pose controlled_part(const Pose& pose) const;
+  geometry::Pose controlled_part(const geometry::Pose& pose) const;
   // Closed-form FK of a translating platform: intersection of the spheres (3 rails) or circles
   // (2 rails) around each carriage, the candidate matching every rail's branch nearest the seed.
-  Status forward_translating(const JointVector& joints, Pose& pose_inout) const;
+  Status forward_translating(const JointVector& joints, geometry::Pose& pose_inout) const;
   // forward_translating's choice between the two intersections `candidates` (tool tips): the
   // seed's pose with the one that reproduces `joints`, in the seed's assembly mode where both do.
   Status pick_candidate(const JointVector& joints, const std::array<Eigen::Vector3d, 2>& candidates,
-                        const Pose& seed_pose, Pose& picked) const;
+                        const geometry::Pose& seed_pose, geometry::Pose& picked) const;
   // assembly_mode() of a translating platform whose tool tip is at `tip_mm` (controlled
   // coordinates; the others 0) on carriages at `joints`.
   int mode_of_tip(const Eigen::Vector3d& tip_mm, const JointVector& joints) const;
-  static void validate(std::vector<GlideRail>& rails, Dof dof);
-  std::string leg_limits_why(const Pose& pose, const Status& status) const;
+  static void validate(std::vector<GlideRail>& rails, geometry::Dof dof);
+  std::string leg_limits_why(const geometry::Pose& pose, const Status& status) const;
   LegLimits leg_limits_;
 
   std::vector<GlideRail> rails_;
-  Dof dof_;
+  geometry::Dof dof_;
   PassThroughAxes passthrough_;
 
  public:
@@ -169,4 +171,4 @@ class GlideKinematics final : public Kinematics,
 
 std::unique_ptr<Kinematics> make_glide_kinematics(const ModelConfig& config);
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -6,12 +6,12 @@
 
 #include "pkm/kinematics/glide.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 // A carriage reading s on a rail (origin o, direction d) whose strut of length L reaches the
 // platform point w: s = d.(w - o) -+ f with f = sqrt(L^2 - |u|^2), u the part of w - o across
 // the rail. Its Hessian in w has norm L^2 / f^3, its gradient norm <= 1 + |u| / f.
-std::optional<HessianBounds> GlideKinematics::own_hessian_bounds(const Vector6d& centre,
+std::optional<HessianBounds> GlideKinematics::own_hessian_bounds(const geometry::Vector6d& centre,
                                                                  double radius_mm,
                                                                  double angle_scale_mm,
                                                                  const Chord& chord) const {
@@ -21,7 +21,8 @@ std::optional<HessianBounds> GlideKinematics::own_hessian_bounds(const Vector6d&
     if (dof().controls(axis)) tip[axis] = centre[axis];
   }
   const Eigen::Matrix3d rotation =
-      rotating ? rotation_from_abc(Eigen::Vector3d(centre.tail<3>())) : Eigen::Matrix3d::Identity();
+      rotating ? geometry::rotation_from_abc(Eigen::Vector3d(centre.tail<3>()))
+               : Eigen::Matrix3d::Identity();
   HessianBounds bounds;
   for (const GlideRail& rail : rails()) {
     const Eigen::Vector3d relative = tip + rotation * rail.attach_mm - rail.origin_mm;
@@ -81,19 +82,21 @@ LegMotion GlideKinematics::leg_motion(const JointVector& /*joints*/, const Joint
   return motion;
 }
 
-std::optional<LegEnds> GlideKinematics::legs_at(const Pose& pose, const JointVector& joints) const {
+std::optional<LegEnds> GlideKinematics::legs_at(const geometry::Pose& pose,
+                                                const JointVector& joints) const {
   return leg_ends(pose, joints);
 }
 
 // A strut reaches its rail: g = L - |u|, u the part of the platform point w - o across the rail.
 // |u| is 1-Lipschitz in w, and w moves at most `platform_point_gain` times the scaled pose change
 // (the identity for a translating platform).
-void GlideKinematics::reach_over_cell(const Vector6d& centre, double scaled_radius,
+void GlideKinematics::reach_over_cell(const geometry::Vector6d& centre, double scaled_radius,
                                       double position_radius_mm, double angle_scale_mm,
                                       std::span<std::array<double, 2>> margins) const {
   const bool rotating = rail_dof().any_rotation();
   const Eigen::Matrix3d rotation =
-      rotating ? rotation_from_abc(Eigen::Vector3d(centre.tail<3>())) : Eigen::Matrix3d::Identity();
+      rotating ? geometry::rotation_from_abc(Eigen::Vector3d(centre.tail<3>()))
+               : Eigen::Matrix3d::Identity();
   Eigen::Vector3d tip = Eigen::Vector3d::Zero();
   for (int axis = 0; axis < 3; ++axis) {
     if (rail_dof().controls(axis)) tip[axis] = centre[axis];
@@ -132,9 +135,9 @@ enum class ModeScale { absolute, per_length };
 // Over a ball about the pose `centre` whose carriages read `joints`, each strut vector (tip +
 // attach - origin - reading * direction, of fixed length) moving at most `strut_speed[i]` per
 // unit of radius: |d det| <= sum over the struts of its speed times the other struts' lengths.
-ModeBound glide_mode_bound(const GlideKinematics& glide, int home_mode, const Vector6d& centre,
-                           const JointVector& joints, std::span<const double> strut_speed,
-                           ModeScale scale) {
+ModeBound glide_mode_bound(const GlideKinematics& glide, int home_mode,
+                           const geometry::Vector6d& centre, const JointVector& joints,
+                           std::span<const double> strut_speed, ModeScale scale) {
   const int rails = static_cast<int>(glide.rails().size());
   Eigen::Vector3d tip = Eigen::Vector3d::Zero();
   for (int axis = 0; axis < 3; ++axis) {
@@ -171,7 +174,7 @@ ModeBound glide_mode_bound(const GlideKinematics& glide, int home_mode, const Ve
 // rails), which keeps its sign within a mode. Each strut keeps its length and moves its vector by
 // at most (1 + its carriage's speed) per unit of the ball's radius.
 std::optional<ModeBound> GlideKinematics::mode_over_ball(
-    int home_mode, const Vector6d& centre, const JointVector& joints,
+    int home_mode, const geometry::Vector6d& centre, const JointVector& joints,
     std::span<const double> joint_speed) const {
   std::array<double, 3> strut_speed{};
   const std::size_t count = rails().size();
@@ -184,14 +187,15 @@ std::optional<ModeBound> GlideKinematics::mode_over_ball(
 // s_i = w - o_i - q_i d_i keeps its length L_i and moves at most L_i / f_i per mm of the tip,
 // f_i = sqrt(L_i^2 - |u_i|^2) its part along the rail, so the normalised determinant moves at
 // most sum 1 / f_i,min per mm.
-std::optional<ModeBound> GlideKinematics::mode_over_cell(int home_mode, const Vector6d& centre,
+std::optional<ModeBound> GlideKinematics::mode_over_cell(int home_mode,
+                                                         const geometry::Vector6d& centre,
                                                          double radius_mm) const {
   Eigen::Vector3d tip = Eigen::Vector3d::Zero();
   for (int axis = 0; axis < 3; ++axis) {
     if (rail_dof().controls(axis)) tip[axis] = centre[axis];
   }
   JointVector joints;
-  if (!inverse(Pose::from_vector(centre), joints).ok()) return std::nullopt;
+  if (!inverse(geometry::Pose::from_vector(centre), joints).ok()) return std::nullopt;
   std::array<double, 3> strut_speed{};  // per mm of the tip, per mm of the strut's length
   const std::size_t count = rails().size();
   for (std::size_t i = 0; i < count; ++i) {
@@ -206,4 +210,4 @@ std::optional<ModeBound> GlideKinematics::mode_over_cell(int home_mode, const Ve
                           ModeScale::per_length);
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

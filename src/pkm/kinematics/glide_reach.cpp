@@ -3,7 +3,7 @@
 // platform end less the attachment (its length for a rotating platform).
 #include "pkm/kinematics/glide.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 std::optional<Eigen::AlignedBox3d> GlideKinematics::tool_position_box(
     const JointVector& joint_min, const JointVector& joint_max) const {
@@ -23,4 +23,4 @@ std::optional<Eigen::AlignedBox3d> GlideKinematics::tool_position_box(
   return box;
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -10,7 +10,7 @@
 #include "pkm/kinematics/cable_statics.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 class HangingCables {
  public:
@@ -27,7 +27,7 @@ class HangingCables {
   virtual double tension_max_N() const = 0;
   // Quasi-static balance at the pen position of `pose` while the effector accelerates
   // (mm/s^2, x right, y up): tensions from m (g - a), the tilt for that effective gravity.
-  virtual Status statics(const Pose& pose, const Eigen::Vector2d& acceleration_mm_per_s2,
+  virtual Status statics(const geometry::Pose& pose, const Eigen::Vector2d& acceleration_mm_per_s2,
                          CableStatics& out) const = 0;
   // The whole geometry (anchors, pulleys, effector, stretch), for the bounds of the balance over
   // a box of poses (bounds/cable_bound), the ideal plotter's pull region and the tension map's
@@ -38,4 +38,4 @@ class HangingCables {
   virtual std::unique_ptr<Kinematics> without_tension_limits() const = 0;
 };
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

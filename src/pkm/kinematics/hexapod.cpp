@@ -10,12 +10,13 @@
 
 #include "pkm/kinematics/lanes.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 namespace {
 constexpr std::array<const char*, 3> kComponent = {"x", "y", "z"};
 
-static_assert(sizeof(Pose) == kPoseSize * sizeof(double), "poses are read as 6 doubles");
+static_assert(sizeof(geometry::Pose) == geometry::kPoseSize * sizeof(double),
+              "poses are read as 6 doubles");
 
 // The squared lengths of the six legs (mm^2), from the tool position (mm) and the sines and
 // cosines of A B C: one pose (T = double) or four (T = lanes::Lanes4). `platform` and `base` are
@@ -42,7 +43,8 @@ template <class T>
 // One pose's leg lengths (mm): the scalar arithmetic with the sines, cosines and square roots in
 // vector registers.
 PKM_AVX2 void leg_lengths_one_avx2(const double* platform, const double* base,
-                                   const double* offsets, const Pose& pose, double* lengths) {
+                                   const double* offsets, const geometry::Pose& pose,
+                                   double* lengths) {
   double sines[3], cosines[3];
   lanes::sin_cos_3_avx2(pose.orientation_rad.data(), sines, cosines);
   const double position[3] = {pose.position_mm.x(), pose.position_mm.y(), pose.position_mm.z()};
@@ -56,7 +58,7 @@ PKM_AVX2 void leg_lengths_one_avx2(const double* platform, const double* base,
 // their statuses.
 PKM_AVX2 void leg_lengths_block(const double* platform, const double* base, const double* offsets,
                                 const lanes::PoseChunk& chunk, std::size_t block,
-                                std::span<const Pose> poses, std::size_t first,
+                                std::span<const geometry::Pose> poses, std::size_t first,
                                 std::span<JointVector> joints, std::span<Status> statuses) {
   using lanes::Lanes4;
   const std::size_t used = chunk.used[block];
@@ -92,7 +94,7 @@ PKM_AVX2 void leg_lengths_block(const double* platform, const double* base, cons
 // inverse_without_leg_limits of every pose, four at a time; a last partial block repeats its last
 // pose in the spare lanes.
 PKM_AVX2 void leg_lengths_avx2(const double* platform, const double* base, const double* offsets,
-                               std::span<const Pose> poses, std::span<JointVector> joints,
+                               std::span<const geometry::Pose> poses, std::span<JointVector> joints,
                                std::span<Status> statuses) {
   lanes::PoseChunk chunk;
   for (std::size_t first = 0; first < poses.size();) {
@@ -190,10 +192,10 @@ Eigen::Vector3d HexapodKinematics::normal_in_platform(const Eigen::Vector3d& abc
     const double cos_b = std::cos(abc_rad.y());
     return {-std::sin(abc_rad.y()), cos_b * std::sin(abc_rad.x()), cos_b * std::cos(abc_rad.x())};
   }
-  return rotation_from_abc(abc_rad).transpose() * base_normal_;
+  return geometry::rotation_from_abc(abc_rad).transpose() * base_normal_;
 }
 
-HexapodKinematics::BaseSide HexapodKinematics::base_side(const Pose& pose) const {
+HexapodKinematics::BaseSide HexapodKinematics::base_side(const geometry::Pose& pose) const {
   BaseSide side;
   if (!home_) return side;
   const Eigen::Vector3d tilted = normal_in_platform(pose.orientation_rad);
@@ -208,11 +210,11 @@ HexapodKinematics::BaseSide HexapodKinematics::base_side(const Pose& pose) const
   return side;
 }
 
-HexapodKinematics::BaseSideBound HexapodKinematics::base_side_bound(const Vector6d& centre,
-                                                                    const Vector6d& half) const {
+HexapodKinematics::BaseSideBound HexapodKinematics::base_side_bound(
+    const geometry::Vector6d& centre, const geometry::Vector6d& half) const {
   BaseSideBound bound;
   if (!home_) return bound;
-  const Pose middle = Pose::from_vector(centre);
+  const geometry::Pose middle = geometry::Pose::from_vector(centre);
   const Eigen::Vector3d tilted = normal_in_platform(middle.orientation_rad);
   const double height = base_normal_.dot(middle.position_mm);
   const double moves = base_normal_.cwiseAbs().dot(half.head<3>().cwiseAbs());
@@ -228,7 +230,8 @@ HexapodKinematics::BaseSideBound HexapodKinematics::base_side_bound(const Vector
   return bound;
 }
 
-Status HexapodKinematics::inverse_without_leg_limits(const Pose& pose, JointVector& joints) const {
+Status HexapodKinematics::inverse_without_leg_limits(const geometry::Pose& pose,
+                                                     JointVector& joints) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
   joints.resize(6);
 #if PKM_HAS_AVX2_LANES
@@ -248,37 +251,39 @@ Status HexapodKinematics::inverse_without_leg_limits(const Pose& pose, JointVect
   return Status::success();
 }
 
-Status HexapodKinematics::inverse(const Pose& pose, JointVector& joints) const {
+Status HexapodKinematics::inverse(const geometry::Pose& pose, JointVector& joints) const {
   const Status status = inverse_without_leg_limits(pose, joints);
   if (!status.ok() || !leg_limits_.active()) return status;
   return leg_limits_.check(leg_ends(pose));
 }
 
-LegEnds HexapodKinematics::leg_ends(const Pose& pose) const {
+LegEnds HexapodKinematics::leg_ends(const geometry::Pose& pose) const {
   LegEnds ends;
-  ends.rotation = rotation_from_abc(pose.orientation_rad);
+  ends.rotation = geometry::rotation_from_abc(pose.orientation_rad);
   ends.inner = base_mm_;
   ends.platform = (ends.rotation * platform_from_tip_mm_).colwise() + pose.position_mm;
   return ends;
 }
 
-void HexapodKinematics::set_home(const Pose& home) {
+void HexapodKinematics::set_home(const geometry::Pose& home) {
   if (leg_limits_.active() && all_finite(home)) leg_limits_.set_home(leg_ends(home));
   home_ = home;
   update_home_side();
 }
 
-void HexapodKinematics::mechanism_limits(const Pose& pose, std::vector<MechanismLimit>& out) const {
+void HexapodKinematics::mechanism_limits(const geometry::Pose& pose,
+                                         std::vector<MechanismLimit>& out) const {
   if (leg_limits_.active() && all_finite(pose)) leg_limits_.append_values(leg_ends(pose), out);
 }
 
-std::string HexapodKinematics::why_refused(const Pose& pose, const Status& status) const {
+std::string HexapodKinematics::why_refused(const geometry::Pose& pose, const Status& status) const {
   if (!all_finite(pose)) return {};
 
   return leg_limits_.why(leg_ends(pose), status, "leg");
 }
 
-void HexapodKinematics::inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
+void HexapodKinematics::inverse_batch(std::span<const geometry::Pose> poses,
+                                      std::span<JointVector> joints,
                                       std::span<Status> statuses) const {
   if (joints.size() < poses.size() || statuses.size() < poses.size()) {
     throw std::invalid_argument("inverse_batch: output spans shorter than the input");
@@ -301,14 +306,15 @@ void HexapodKinematics::inverse_batch(std::span<const Pose> poses, std::span<Joi
   Eigen::Vector3d rotation_angles = Eigen::Vector3d::Constant(std::nan(""));
   Eigen::Matrix<double, 3, 6> rotated_from_base;
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    const Pose& pose = poses[i];
+    const geometry::Pose& pose = poses[i];
     if (!all_finite(pose)) {
       statuses[i] = Status::failure(StatusCode::invalid_input);
       continue;
     }
     if (pose.orientation_rad != rotation_angles) {
       rotation_angles = pose.orientation_rad;
-      rotated_from_base = rotation_from_abc(rotation_angles) * platform_from_tip_mm_ - base_mm_;
+      rotated_from_base =
+          geometry::rotation_from_abc(rotation_angles) * platform_from_tip_mm_ - base_mm_;
     }
     joints[i] = (rotated_from_base.colwise() + pose.position_mm).colwise().norm().transpose() +
                 leg_offset_mm_;
@@ -316,11 +322,11 @@ void HexapodKinematics::inverse_batch(std::span<const Pose> poses, std::span<Joi
   }
 }
 
-Status HexapodKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
+Status HexapodKinematics::forward(const JointVector& joints, geometry::Pose& pose_inout) const {
   if (joints.size() != 6) return Status::failure(StatusCode::invalid_input);
   if (!leg_limits_.active())
     return solve_forward_newton(*this, joints, pose_inout, forward_options_);
-  Pose solved = pose_inout;
+  geometry::Pose solved = pose_inout;
   Status status = solve_forward_newton(WithoutLegLimits<HexapodKinematics>(*this), joints, solved,
                                        forward_options_);
   if (status.ok()) {
@@ -332,14 +338,14 @@ Status HexapodKinematics::forward(const JointVector& joints, Pose& pose_inout) c
   return status;
 }
 
-Status HexapodKinematics::inverse_and_jacobian(const Pose& pose, JointVector& joints,
+Status HexapodKinematics::inverse_and_jacobian(const geometry::Pose& pose, JointVector& joints,
                                                JointJacobian& d_joints_d_pose) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
   Eigen::Matrix3d rotation;
   std::array<Eigen::Matrix3d, 3> rotation_derivatives;
-  rotation_and_derivatives_abc(pose.orientation_rad, rotation, rotation_derivatives);
+  geometry::rotation_and_derivatives_abc(pose.orientation_rad, rotation, rotation_derivatives);
   joints.resize(6);
-  d_joints_d_pose.resize(6, kPoseSize);
+  d_joints_d_pose.resize(6, geometry::kPoseSize);
   for (int i = 0; i < 6; ++i) {
     const Eigen::Vector3d leg =
         pose.position_mm + rotation * platform_from_tip_mm_.col(i) - base_mm_.col(i);
@@ -355,7 +361,8 @@ Status HexapodKinematics::inverse_and_jacobian(const Pose& pose, JointVector& jo
   return Status::success();
 }
 
-double HexapodKinematics::tilt_low(const Vector6d& centre, const Vector6d& half) {
+double HexapodKinematics::tilt_low(const geometry::Vector6d& centre,
+                                   const geometry::Vector6d& half) {
   const auto least_cos = [&](int axis) {
     const double lo = centre[axis] - std::abs(half[axis]), hi = centre[axis] + std::abs(half[axis]);
     if (!(lo > -std::numbers::pi && hi < std::numbers::pi)) return -1.0;
@@ -365,7 +372,7 @@ double HexapodKinematics::tilt_low(const Vector6d& centre, const Vector6d& half)
   return a > 0.0 && b > 0.0 ? a * b : -1.0;
 }
 
-int HexapodKinematics::assembly_mode(const Pose& pose) const {
+int HexapodKinematics::assembly_mode(const geometry::Pose& pose) const {
   if (!(base_side(pose).margin_mm > 0.0)) return -1;
   // Every machine tilts less than 90 deg about X and Y: no cosine needed there.
   constexpr double kQuarterTurn = std::numbers::pi / 2.0;
@@ -377,7 +384,8 @@ int HexapodKinematics::assembly_mode(const Pose& pose) const {
   return normal_z > 0.0 ? 1 : -1;
 }
 
-Status HexapodKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
+Status HexapodKinematics::jacobian(const geometry::Pose& pose,
+                                   JointJacobian& d_joints_d_pose) const {
   JointVector joints;
   return inverse_and_jacobian(pose, joints, d_joints_d_pose);
 }
@@ -490,9 +498,9 @@ void HexapodKinematics::fixed_parts(std::span<const JointTravel> /*travel*/,
   sketch_loop(out, SketchPart::frame, {geometry_.base_mm.begin(), geometry_.base_mm.end()});
 }
 
-void HexapodKinematics::moving_parts(const Pose& pose, const JointVector& /*joints*/,
+void HexapodKinematics::moving_parts(const geometry::Pose& pose, const JointVector& /*joints*/,
                                      std::vector<SketchLine>& out) const {
-  const Eigen::Matrix3d rotation = rotation_from_abc(pose.orientation_rad);
+  const Eigen::Matrix3d rotation = geometry::rotation_from_abc(pose.orientation_rad);
   const Eigen::Vector3d up(0.0, 0.0, geometry_.tool_length_mm);
   const Eigen::Vector3d centre = pose.position_mm + rotation * up;
   std::vector<Eigen::Vector3d> platform_joints;
@@ -504,4 +512,4 @@ void HexapodKinematics::moving_parts(const Pose& pose, const JointVector& /*join
   out.push_back({SketchPart::tool, centre, pose.position_mm});
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -16,7 +16,7 @@
 #include "pkm/kinematics/mechanism_sketch.hpp"
 #include "pkm/kinematics/model_config.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 struct HexapodGeometry {
   std::array<Eigen::Vector3d, 6> base_mm;      // base joint centres, world frame
@@ -48,16 +48,16 @@ class HexapodKinematics final : public Kinematics,
 
   std::string_view type() const override { return "hexapod"; }
   int joint_count() const override { return 6; }
-  Dof dof() const override { return Dof::all(); }
+  geometry::Dof dof() const override { return geometry::Dof::all(); }
   // The legs' lengths, then the leg limits (max_joint_angle, leg_diameter) where the file sets
   // them.
-  Status inverse(const Pose& pose, JointVector& joints) const override;
-  Status inverse_without_leg_limits(const Pose& pose, JointVector& joints) const;
+  Status inverse(const geometry::Pose& pose, JointVector& joints) const override;
+  Status inverse_without_leg_limits(const geometry::Pose& pose, JointVector& joints) const;
   // jacobian and inverse_and_jacobian do not check the leg limits: they serve the iterations of
   // forward kinematics, whose answer forward() checks.
-  Status forward(const JointVector& joints, Pose& pose_inout) const override;
-  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
-  Status inverse_and_jacobian(const Pose& pose, JointVector& joints,
+  Status forward(const JointVector& joints, geometry::Pose& pose_inout) const override;
+  Status jacobian(const geometry::Pose& pose, JointJacobian& d_joints_d_pose) const override;
+  Status inverse_and_jacobian(const geometry::Pose& pose, JointVector& joints,
                               JointJacobian& d_joints_d_pose) const override;
   // +1 while the platform is tilted less than 90 deg from the base (cos A cos B > 0, the z of its
   // normal) and every platform joint stays on home's side of the base plane (base_side below),
@@ -65,14 +65,16 @@ class HexapodKinematics final : public Kinematics,
   // base plane (the platform below the base, same leg lengths) are other assembly modes, which
   // the machine cannot reach from home without passing a singularity (with the platform in the
   // base plane every leg lies in it and nothing holds the platform up or down).
-  int assembly_mode(const Pose& pose) const override;
+  int assembly_mode(const geometry::Pose& pose) const override;
   // How far the platform stands on home's side of the base plane (mm): the least over the legs
   // of (platform joint - base joint) . n, n the normal of the plane through the base joints,
   // signed by that leg's side at home. Legs in the plane at home, or a base whose joints lie on
   // one line, take no part (+infinity without any leg, and before set_home).
   using BaseSide = BasePlaneMargin;
-  BaseSide base_side(const Pose& pose) const;
-  BasePlaneMargin base_plane_margin(const Pose& pose) const override { return base_side(pose); }
+  BaseSide base_side(const geometry::Pose& pose) const;
+  BasePlaneMargin base_plane_margin(const geometry::Pose& pose) const override {
+    return base_side(pose);
+  }
   // Bounds on base_side's margin over every pose within centre +- half (mm, rad), and the leg of
   // the least low bound: (n . position) moves by at most sum |n_k| half_k over the box, and a
   // platform joint at distance q from the tool tip by at most q (|half a| + |half b| + |half c|)
@@ -81,14 +83,16 @@ class HexapodKinematics final : public Kinematics,
     double low = INFINITY, high = INFINITY;
     int leg = -1;
   };
-  BaseSideBound base_side_bound(const Vector6d& centre, const Vector6d& half) const;
+  BaseSideBound base_side_bound(const geometry::Vector6d& centre,
+                                const geometry::Vector6d& half) const;
   // A lower bound on cos a cos b (the z of the platform's normal) over centre +- half: each
   // cosine is least at the end of its interval farther from 0 (-1 once an interval reaches pi).
-  static double tilt_low(const Vector6d& centre, const Vector6d& half);
-  std::string why_refused(const Pose& pose, const Status& status) const override;
-  void set_home(const Pose& home) override;
+  static double tilt_low(const geometry::Vector6d& centre, const geometry::Vector6d& half);
+  std::string why_refused(const geometry::Pose& pose, const Status& status) const override;
+  void set_home(const geometry::Pose& home) override;
   bool has_mechanism_limits() const override { return leg_limits_.active(); }
-  void mechanism_limits(const Pose& pose, std::vector<MechanismLimit>& out) const override;
+  void mechanism_limits(const geometry::Pose& pose,
+                        std::vector<MechanismLimit>& out) const override;
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;
   std::unique_ptr<Kinematics> clone() const override {
@@ -96,7 +100,7 @@ class HexapodKinematics final : public Kinematics,
   }
   // Four poses at a time where AVX2 runs (lanes.hpp); elsewhere pose by pose, the rotation
   // computed once while the attitude stays (the paper's fixed-attitude mode).
-  void inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
+  void inverse_batch(std::span<const geometry::Pose> poses, std::span<JointVector> joints,
                      std::span<Status> statuses) const override;
 
   // base, platform, tool_length, leg_offsets, then the leg limits.
@@ -108,23 +112,24 @@ class HexapodKinematics final : public Kinematics,
   const MechanismSketch* sketch() const override { return this; }
   void fixed_parts(std::span<const JointTravel> travel,
                    std::vector<SketchLine>& out) const override;
-  void moving_parts(const Pose& pose, const JointVector& joints,
+  void moving_parts(const geometry::Pose& pose, const JointVector& joints,
                     std::vector<SketchLine>& out) const override;
 
   // The proofs' capabilities (hexapod_bounds.cpp): the legs' Hessian and third-derivative
   // bounds, the legs; the assembly mode over a box (tilt_low, base_side_bound).
   const DerivativeBounds* derivative_bounds() const override { return this; }
-  std::optional<HessianBounds> own_hessian_bounds(const Vector6d& centre, double radius_mm,
-                                                  double angle_scale_mm,
+  std::optional<HessianBounds> own_hessian_bounds(const geometry::Vector6d& centre,
+                                                  double radius_mm, double angle_scale_mm,
                                                   const Chord& chord) const override;
   std::optional<double> farthest_platform_point_mm() const override;
   LegMotion leg_motion(const JointVector& joints, const JointJacobian& jacobian,
                        const HessianBounds& hessians, double radius, double scale) const override;
-  std::optional<LegEnds> legs_at(const Pose& pose, const JointVector& joints) const override;
+  std::optional<LegEnds> legs_at(const geometry::Pose& pose,
+                                 const JointVector& joints) const override;
   const AssemblyModeBounds* assembly_mode_bounds() const override { return this; }
   bool has_mode_over_box() const override { return true; }
-  std::optional<ModeShortfall> mode_over_box(int home_mode, const Vector6d& centre,
-                                             const Vector6d& half) const override;
+  std::optional<ModeShortfall> mode_over_box(int home_mode, const geometry::Vector6d& centre,
+                                             const geometry::Vector6d& half) const override;
   // Reach box (kinematics.hpp; hexapod_reach.cpp).
   std::optional<Eigen::AlignedBox3d> tool_position_box(const JointVector& joint_min,
                                                        const JointVector& joint_max) const override;
@@ -132,7 +137,7 @@ class HexapodKinematics final : public Kinematics,
   const HexapodGeometry& geometry() const { return geometry_; }
   const LegLimits& leg_limits() const { return leg_limits_; }
   // The legs' joint centres at a pose (what the leg limits judge).
-  LegEnds leg_ends(const Pose& pose) const;
+  LegEnds leg_ends(const geometry::Pose& pose) const;
 
  private:
   void update_derived();
@@ -152,9 +157,9 @@ class HexapodKinematics final : public Kinematics,
   // side of it at home: +1, -1, or 0 (in the plane, or no home yet).
   Eigen::Vector3d base_normal_ = Eigen::Vector3d::Zero();
   std::array<double, 6> home_side_{};
-  std::optional<Pose> home_;
+  std::optional<geometry::Pose> home_;
 };
 
 std::unique_ptr<Kinematics> make_hexapod_kinematics(const ModelConfig& config);
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

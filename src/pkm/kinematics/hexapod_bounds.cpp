@@ -5,17 +5,17 @@
 
 #include "pkm/kinematics/hexapod.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 // A leg l = |t + R b - a| (plus its offset): the cable's 1 / l through the platform point's map,
 // and the rotation's own curvature (the leg's gradient in w is a unit vector).
-std::optional<HessianBounds> HexapodKinematics::own_hessian_bounds(const Vector6d& centre,
+std::optional<HessianBounds> HexapodKinematics::own_hessian_bounds(const geometry::Vector6d& centre,
                                                                    double radius_mm,
                                                                    double angle_scale_mm,
                                                                    const Chord& chord) const {
   HessianBounds bounds;
   JointVector legs;
-  if (!inverse_without_leg_limits(Pose::from_vector(centre), legs).ok()) {
+  if (!inverse_without_leg_limits(geometry::Pose::from_vector(centre), legs).ok()) {
     for (int i = 0; i < 6; ++i) bounds.add(INFINITY, INFINITY);
     return bounds;
   }
@@ -67,7 +67,7 @@ LegMotion HexapodKinematics::leg_motion(const JointVector& joints,
   return motion;
 }
 
-std::optional<LegEnds> HexapodKinematics::legs_at(const Pose& pose,
+std::optional<LegEnds> HexapodKinematics::legs_at(const geometry::Pose& pose,
                                                   const JointVector& /*joints*/) const {
   return leg_ends(pose);
 }
@@ -75,8 +75,8 @@ std::optional<LegEnds> HexapodKinematics::legs_at(const Pose& pose,
 // The platform tilted less than 90 deg (leg -1; a home upside down has no bound here), then each
 // platform joint on home's side of the base plane (tilt_low, base_side_bound: the bounds the
 // workspace takes over a cell).
-std::optional<ModeShortfall> HexapodKinematics::mode_over_box(int home_mode, const Vector6d& centre,
-                                                              const Vector6d& half) const {
+std::optional<ModeShortfall> HexapodKinematics::mode_over_box(
+    int home_mode, const geometry::Vector6d& centre, const geometry::Vector6d& half) const {
   const double tilt = tilt_low(centre, half);
   if (home_mode < 0 || !(tilt > 0.0)) return ModeShortfall{-1, tilt};
   const BaseSideBound side = base_side_bound(centre, half);
@@ -84,4 +84,4 @@ std::optional<ModeShortfall> HexapodKinematics::mode_over_box(int home_mode, con
   return std::nullopt;
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -4,7 +4,7 @@
 
 #include "pkm/kinematics/hexapod.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 std::optional<Eigen::AlignedBox3d> HexapodKinematics::tool_position_box(
     const JointVector& /*joint_min*/, const JointVector& joint_max) const {
@@ -20,4 +20,4 @@ std::optional<Eigen::AlignedBox3d> HexapodKinematics::tool_position_box(
   return box;
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

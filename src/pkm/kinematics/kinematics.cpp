@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-namespace pkm {
+namespace pkm::kinematics {
 
 std::string formatted_number(const char* printf_pattern, double value) {
   char text[64];
@@ -89,8 +89,8 @@ std::string describe(const Status& status, std::span<const std::string> joint_na
     }
     text += ")";
   }
-  if (status.axis >= 0 && status.axis < kPoseSize) {
-    text += " (axis " + std::string(kAxisNames[status.axis]) + ")";
+  if (status.axis >= 0 && status.axis < geometry::kPoseSize) {
+    text += " (axis " + std::string(geometry::kAxisNames[status.axis]) + ")";
   }
   return text;
 }
@@ -102,14 +102,14 @@ bool all_finite(const JointVector& joints) {
   return true;
 }
 
-Status Kinematics::inverse_and_jacobian(const Pose& pose, JointVector& joints,
+Status Kinematics::inverse_and_jacobian(const geometry::Pose& pose, JointVector& joints,
                                         JointJacobian& d_joints_d_pose) const {
   const Status status = inverse(pose, joints);
   if (!status.ok()) return status;
   return jacobian(pose, d_joints_d_pose);
 }
 
-void Kinematics::inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
+void Kinematics::inverse_batch(std::span<const geometry::Pose> poses, std::span<JointVector> joints,
                                std::span<Status> statuses) const {
   if (joints.size() < poses.size() || statuses.size() < poses.size()) {
     throw std::invalid_argument("inverse_batch: output spans shorter than the input");
@@ -124,10 +124,10 @@ using ReducedSquare = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6
 using ReducedVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 
 struct ControlledAxes {
-  std::array<int, kPoseSize> index{};
+  std::array<int, geometry::kPoseSize> index{};
   int count = 0;
-  explicit ControlledAxes(Dof dof) {
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+  explicit ControlledAxes(geometry::Dof dof) {
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       if (dof.controls(axis)) index[count++] = axis;
     }
   }
@@ -149,7 +149,7 @@ struct Factorization {
   double det_sign = 0.0;
 
   void compute(const JointJacobian& jacobian, const ControlledAxes& axes) {
-    is_six = axes.count == kPoseSize;
+    is_six = axes.count == geometry::kPoseSize;
     if (is_six) {
       six.compute(Eigen::Matrix<double, 6, 6>(jacobian.topRows<6>()));
       det_sign = std::copysign(1.0, six.determinant());
@@ -166,7 +166,7 @@ struct Factorization {
 };
 
 double determinant_sign(const JointJacobian& jacobian, const ControlledAxes& axes) {
-  if (axes.count == kPoseSize) {
+  if (axes.count == geometry::kPoseSize) {
     return std::copysign(1.0, Eigen::Matrix<double, 6, 6>(jacobian.topRows<6>()).determinant());
   }
   return std::copysign(1.0, reduce(jacobian, axes).determinant());
@@ -178,15 +178,15 @@ double max_abs(const JointVector& v) {
 
 }  // namespace
 
-void Kinematics::forward_path(std::span<const JointVector> joints, const Pose& seed,
-                              std::span<Pose> poses, std::span<Status> statuses) const {
+void Kinematics::forward_path(std::span<const JointVector> joints, const geometry::Pose& seed,
+                              std::span<geometry::Pose> poses, std::span<Status> statuses) const {
   if (poses.size() < joints.size() || statuses.size() < joints.size()) {
     throw std::invalid_argument("forward_path: output spans shorter than the input");
   }
   ForwardTrack track;
-  Pose previous = seed;
+  geometry::Pose previous = seed;
   for (std::size_t i = 0; i < joints.size(); ++i) {
-    Pose pose = previous;
+    geometry::Pose pose = previous;
     statuses[i] = forward_along(joints[i], pose, track);
     poses[i] = pose;
     if (statuses[i].ok()) previous = pose;
@@ -204,16 +204,16 @@ constexpr int kRefreshAfterExtraSteps = 2;
 
 // The next sample's seed from the last solutions, for samples evenly spaced in time: constant,
 // linear, then quadratic extrapolation as they accumulate.
-Vector6d extrapolated(const std::array<Vector6d, 3>& solutions, int count) {
+geometry::Vector6d extrapolated(const std::array<geometry::Vector6d, 3>& solutions, int count) {
   if (count >= 3) return 3.0 * (solutions[0] - solutions[1]) + solutions[2];
   if (count == 2) return 2.0 * solutions[0] - solutions[1];
   return solutions[0];
 }
 }  // namespace
 
-Status Kinematics::forward_along(const JointVector& joints, Pose& pose_inout,
+Status Kinematics::forward_along(const JointVector& joints, geometry::Pose& pose_inout,
                                  ForwardTrack& track) const {
-  const Dof controlled = dof();
+  const geometry::Dof controlled = dof();
   const ControlledAxes axes(controlled);
   bool trackable = axes.count == joint_count() && joints.size() == joint_count();
   for (int j = 0; trackable && j < joint_count(); ++j) {
@@ -222,14 +222,14 @@ Status Kinematics::forward_along(const JointVector& joints, Pose& pose_inout,
     // land nearer. Pass-through rotary joints are exact.
     trackable = joint_kind(j) == JointKind::linear || passthrough_axis(j) >= 0;
   }
-  const Vector6d given = pose_inout.as_vector();
+  const geometry::Vector6d given = pose_inout.as_vector();
   const bool continues = track.count_ > 0 && all_finite(pose_inout) &&
                          (given - track.solutions_[0]).cwiseAbs().maxCoeff() <= kTrackContinues;
   int iterations = 0;
   if (trackable && continues && all_finite(joints)) {
-    Vector6d x = extrapolated(track.solutions_, track.count_);
+    geometry::Vector6d x = extrapolated(track.solutions_, track.count_);
     // Coordinates the model does not control stay as seeded, as forward() leaves them.
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       if (!controlled.controls(axis)) x[axis] = given[axis];
     }
     if (track_steps(joints, x, track, iterations)) {
@@ -237,7 +237,7 @@ Status Kinematics::forward_along(const JointVector& joints, Pose& pose_inout,
       track.solutions_[1] = track.solutions_[0];
       track.solutions_[0] = x;
       track.count_ = std::min(track.count_ + 1, 3);
-      pose_inout = Pose::from_vector(x);
+      pose_inout = geometry::Pose::from_vector(x);
       Status status = Status::success();
       status.iterations = iterations;
       return status;
@@ -253,18 +253,18 @@ Status Kinematics::forward_along(const JointVector& joints, Pose& pose_inout,
   return status;
 }
 
-bool Kinematics::track_steps(const JointVector& joints, Vector6d& x, ForwardTrack& track,
+bool Kinematics::track_steps(const JointVector& joints, geometry::Vector6d& x, ForwardTrack& track,
                              int& iterations) const {
   const ControlledAxes axes(dof());
   const int joint_total = joint_count();
   JointVector at_x(joint_total);
-  const auto residual_at = [&](const Vector6d& pose, Vector6d& residual) {
-    if (!inverse(Pose::from_vector(pose), at_x).ok()) return false;
+  const auto residual_at = [&](const geometry::Vector6d& pose, geometry::Vector6d& residual) {
+    if (!inverse(geometry::Pose::from_vector(pose), at_x).ok()) return false;
     residual.setZero();
     for (int j = 0; j < joint_total; ++j) residual[j] = at_x[j] - joints[j];
     return true;
   };
-  Vector6d residual;
+  geometry::Vector6d residual;
   if (!residual_at(x, residual)) return false;
   double error = residual.cwiseAbs().maxCoeff();
   int factored_at = -1;  // the step whose Jacobian this sample factorised, if any
@@ -274,10 +274,10 @@ bool Kinematics::track_steps(const JointVector& joints, Vector6d& x, ForwardTrac
       if (!factorise(x, track)) return false;
       factored_at = iterations;
     }
-    const Vector6d step = -(track.inverse_ * residual);
-    Vector6d trial = x;
+    const geometry::Vector6d step = -(track.inverse_ * residual);
+    geometry::Vector6d trial = x;
     for (int k = 0; k < axes.count; ++k) trial[axes.index[k]] += step[k];
-    Vector6d trial_residual;
+    geometry::Vector6d trial_residual;
     if (!step.allFinite() || !residual_at(trial, trial_residual)) return false;
     const double trial_error = trial_residual.cwiseAbs().maxCoeff();
     if (!(trial_error < error)) return false;
@@ -298,11 +298,11 @@ bool Kinematics::track_steps(const JointVector& joints, Vector6d& x, ForwardTrac
   return true;
 }
 
-bool Kinematics::factorise(const Vector6d& x, ForwardTrack& track) const {
+bool Kinematics::factorise(const geometry::Vector6d& x, ForwardTrack& track) const {
   const ControlledAxes axes(dof());
   JointVector at_x(joint_count());
-  JointJacobian jacobian(joint_count(), kPoseSize);
-  if (!inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian).ok()) return false;
+  JointJacobian jacobian(joint_count(), geometry::kPoseSize);
+  if (!inverse_and_jacobian(geometry::Pose::from_vector(x), at_x, jacobian).ok()) return false;
   // Padded with identity, so that every square model (2 to 6 coordinates) has one 6x6 LU.
   Eigen::Matrix<double, 6, 6> padded = Eigen::Matrix<double, 6, 6>::Identity();
   for (int k = 0; k < axes.count; ++k) {
@@ -313,7 +313,7 @@ bool Kinematics::factorise(const Vector6d& x, ForwardTrack& track) const {
   // Across a singularity from the path so far: forward() decides, from the last solution.
   if (track.det_sign_ != 0.0 && det_sign != track.det_sign_) return false;
   // Column by column: the fixed-size vector solves, where inverse() takes Eigen's blocked paths.
-  for (int k = 0; k < 6; ++k) track.inverse_.col(k) = lu.solve(Vector6d::Unit(k));
+  for (int k = 0; k < 6; ++k) track.inverse_.col(k) = lu.solve(geometry::Vector6d::Unit(k));
   if (!track.inverse_.allFinite()) return false;
   track.det_sign_ = det_sign;
   track.factored_ = true;
@@ -325,14 +325,14 @@ namespace {
 // The state of one damped-Newton solve (newton_from_seed): the iterate, what is known at it,
 // and the trial buffers, all fixed-capacity so that a solve allocates nothing.
 struct NewtonIterate {
-  NewtonIterate(const Vector6d& seed, int joint_count)
+  NewtonIterate(const geometry::Vector6d& seed, int joint_count)
       : x(seed),
         at_x(joint_count),
-        jacobian_at_x(joint_count, kPoseSize),
+        jacobian_at_x(joint_count, geometry::kPoseSize),
         at_trial(joint_count),
-        jacobian_at_trial(joint_count, kPoseSize) {}
+        jacobian_at_trial(joint_count, geometry::kPoseSize) {}
 
-  Vector6d x;
+  geometry::Vector6d x;
   JointVector at_x;
   JointJacobian jacobian_at_x;
   bool jacobian_current = true;  // jacobian_at_x belongs to x (not to an earlier iterate)
@@ -352,7 +352,8 @@ struct NewtonIterate {
 
 // Recomputes the joints and Jacobian at the iterate; false where x is outside the workspace.
 bool jacobian_at_iterate(const Kinematics& model, NewtonIterate& it) {
-  if (!model.inverse_and_jacobian(Pose::from_vector(it.x), it.at_x, it.jacobian_at_x).ok()) {
+  if (!model.inverse_and_jacobian(geometry::Pose::from_vector(it.x), it.at_x, it.jacobian_at_x)
+           .ok()) {
     return false;
   }
   it.jacobian_current = true;
@@ -379,8 +380,9 @@ ReducedVector damped_step(const NewtonIterate& it, const ControlledAxes& axes) {
 
 // Moves the iterate to a trial that lowered the cost, and decides what of the Jacobian and its
 // factorisation still holds there.
-void accept_trial(const Kinematics& model, const JointVector& joints, const Vector6d& trial,
-                  double trial_cost, bool newton, NewtonIterate& it) {
+void accept_trial(const Kinematics& model, const JointVector& joints,
+                  const geometry::Vector6d& trial, double trial_cost, bool newton,
+                  NewtonIterate& it) {
   const bool fast = trial_cost <= 0.01 * it.cost;  // residual cut at least tenfold
   it.x = trial;
   it.residual = it.at_trial - joints;
@@ -414,9 +416,9 @@ TrialOutcome try_step(const Kinematics& model, const JointVector& joints,
     it.factorization.valid = false;
   }
   const ReducedVector step = newton ? newton_step(it, axes) : damped_step(it, axes);
-  Vector6d trial = it.x;
+  geometry::Vector6d trial = it.x;
   for (int k = 0; k < axes.count; ++k) trial[axes.index[k]] += step[k];
-  const Pose trial_pose = Pose::from_vector(trial);
+  const geometry::Pose trial_pose = geometry::Pose::from_vector(trial);
   const bool reached =
       step.allFinite() &&
       (newton ? model.inverse(trial_pose, it.at_trial)
@@ -463,14 +465,16 @@ bool crossed_singularity(const NewtonIterate& it, const ControlledAxes& axes) {
 // Damped Newton from the seed `pose_inout`. `contracted`: every step was an undamped Newton
 // step that at least halved the residual (Deuflhard's test of the region where the linear model
 // holds): a solution reached so leaves no doubt that it is the seed's own.
-Status newton_from_seed(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
-                        const ForwardOptions& options, bool& contracted) {
+Status newton_from_seed(const Kinematics& model, const JointVector& joints,
+                        geometry::Pose& pose_inout, const ForwardOptions& options,
+                        bool& contracted) {
   contracted = true;
   const ControlledAxes axes(model.dof());
   const int joint_count = model.joint_count();
   const bool square = axes.count == joint_count;
   NewtonIterate it(pose_inout.as_vector(), joint_count);
-  if (!model.inverse_and_jacobian(Pose::from_vector(it.x), it.at_x, it.jacobian_at_x).ok()) {
+  if (!model.inverse_and_jacobian(geometry::Pose::from_vector(it.x), it.at_x, it.jacobian_at_x)
+           .ok()) {
     return Status::failure(StatusCode::not_converged);  // the seed itself is outside the workspace
   }
   it.residual = it.at_x - joints;
@@ -495,7 +499,7 @@ Status newton_from_seed(const Kinematics& model, const JointVector& joints, Pose
   if (square && crossed_singularity(it, axes)) {
     return counted(Status::failure(StatusCode::branch_changed));
   }
-  pose_inout = Pose::from_vector(it.x);
+  pose_inout = geometry::Pose::from_vector(it.x);
   return counted(Status::success());
 }
 
@@ -510,13 +514,15 @@ constexpr int kCorrections = 8;
 // with a fresh Jacobian whose determinant keeps `det_sign`, each at least halving the residual:
 // the steps stay on the branch they start on, or fail (the caller halves the stretch).
 bool corrected(const Kinematics& model, const JointVector& target, double tolerance,
-               double det_sign, const ControlledAxes& axes, Vector6d& x, int& iterations) {
+               double det_sign, const ControlledAxes& axes, geometry::Vector6d& x,
+               int& iterations) {
   const int joint_count = model.joint_count();
   JointVector at_x(joint_count);
-  JointJacobian jacobian(joint_count, kPoseSize);
+  JointJacobian jacobian(joint_count, geometry::kPoseSize);
   double error = INFINITY;
   for (int step = 0; step <= kCorrections; ++step) {
-    if (!model.inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian).ok()) return false;
+    if (!model.inverse_and_jacobian(geometry::Pose::from_vector(x), at_x, jacobian).ok())
+      return false;
     const JointVector residual = at_x - target;
     const double trial_error = max_abs(residual);
     if (!(trial_error <= 0.5 * error) && trial_error > tolerance) return false;
@@ -538,26 +544,26 @@ bool corrected(const Kinematics& model, const JointVector& target, double tolera
 // the pose follows in steps short enough for Newton to stay on the seed's branch (halved where
 // it would not, doubled where it does). Fails where the line meets a singularity of the seed's
 // branch, or the seed has no joints.
-Status traced_from_seed(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
-                        const ForwardOptions& options) {
+Status traced_from_seed(const Kinematics& model, const JointVector& joints,
+                        geometry::Pose& pose_inout, const ForwardOptions& options) {
   const ControlledAxes axes(model.dof());
   const int joint_count = model.joint_count();
   JointVector start(joint_count);
-  JointJacobian jacobian(joint_count, kPoseSize);
+  JointJacobian jacobian(joint_count, geometry::kPoseSize);
   if (!model.inverse_and_jacobian(pose_inout, start, jacobian).ok()) {
     return Status::failure(StatusCode::not_converged);
   }
   const double det_sign = determinant_sign(jacobian, axes);
   // A stretch's end is solved to this joint residual (mm or rad): near enough for the next.
   const double loose = std::max(options.tolerance_mm, 1e-9);
-  Vector6d x = pose_inout.as_vector();
+  geometry::Vector6d x = pose_inout.as_vector();
   double done = 0.0;
   double stretch = 0.25;
   int iterations = 0;
   for (int tried = 0; done < 1.0; ++tried) {
     const double next = std::min(1.0, done + stretch);
     const JointVector target = start + next * (joints - start);
-    Vector6d trial = x;
+    geometry::Vector6d trial = x;
     if (corrected(model, next == 1.0 ? joints : target, next == 1.0 ? options.tolerance_mm : loose,
                   det_sign, axes, trial, iterations)) {
       x = trial;
@@ -571,7 +577,7 @@ Status traced_from_seed(const Kinematics& model, const JointVector& joints, Pose
       stretch *= 0.5;
     }
   }
-  pose_inout = Pose::from_vector(x);
+  pose_inout = geometry::Pose::from_vector(x);
   Status status = Status::success();
   status.iterations = iterations;
   return status;
@@ -580,16 +586,16 @@ Status traced_from_seed(const Kinematics& model, const JointVector& joints, Pose
 // Newton steps from the seed, each shortened (halved) until it cuts the residual without det J
 // changing sign: a walk in pose space that keeps to the seed's side of the singularities, for the
 // poses whose straight joint path from the seed folds back at one (a hexaglide's corners).
-Status walked_from_seed(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
-                        const ForwardOptions& options) {
+Status walked_from_seed(const Kinematics& model, const JointVector& joints,
+                        geometry::Pose& pose_inout, const ForwardOptions& options) {
   constexpr int kMostSteps = 100;
   constexpr int kMostHalvings = 30;
   const ControlledAxes axes(model.dof());
   const int joint_count = model.joint_count();
   JointVector at_x(joint_count);
-  JointJacobian jacobian(joint_count, kPoseSize);
-  Vector6d x = pose_inout.as_vector();
-  if (!model.inverse_and_jacobian(Pose::from_vector(x), at_x, jacobian).ok()) {
+  JointJacobian jacobian(joint_count, geometry::kPoseSize);
+  geometry::Vector6d x = pose_inout.as_vector();
+  if (!model.inverse_and_jacobian(geometry::Pose::from_vector(x), at_x, jacobian).ok()) {
     return Status::failure(StatusCode::not_converged);
   }
   const double det_sign = determinant_sign(jacobian, axes);
@@ -603,11 +609,14 @@ Status walked_from_seed(const Kinematics& model, const JointVector& joints, Pose
     double length = 1.0;
     bool moved = false;
     for (int halving = 0; halving < kMostHalvings && !moved; ++halving, length *= 0.5) {
-      Vector6d trial = x;
+      geometry::Vector6d trial = x;
       for (int k = 0; k < axes.count; ++k) trial[axes.index[k]] += length * delta[k];
       JointVector at_trial(joint_count);
-      JointJacobian jacobian_at_trial(joint_count, kPoseSize);
-      if (!model.inverse_and_jacobian(Pose::from_vector(trial), at_trial, jacobian_at_trial).ok()) {
+      JointJacobian jacobian_at_trial(joint_count, geometry::kPoseSize);
+      if (!model
+               .inverse_and_jacobian(geometry::Pose::from_vector(trial), at_trial,
+                                     jacobian_at_trial)
+               .ok()) {
         continue;
       }
       const double trial_error = max_abs(at_trial - joints);
@@ -624,7 +633,7 @@ Status walked_from_seed(const Kinematics& model, const JointVector& joints, Pose
     if (!moved) return status;
   }
   if (error > options.tolerance_mm) return status;
-  pose_inout = Pose::from_vector(x);
+  pose_inout = geometry::Pose::from_vector(x);
   const int iterations = status.iterations;
   status = Status::success();
   status.iterations = iterations;
@@ -633,17 +642,18 @@ Status walked_from_seed(const Kinematics& model, const JointVector& joints, Pose
 
 // Whether the straight pose segment from `seed` to `end` stays where IK answers with det J of
 // the seed's sign, at 64 points along it.
-bool on_seeds_side(const Kinematics& model, const Pose& seed, const Pose& end) {
+bool on_seeds_side(const Kinematics& model, const geometry::Pose& seed, const geometry::Pose& end) {
   constexpr int kPoints = 64;
   const ControlledAxes axes(model.dof());
   JointVector at(model.joint_count());
-  JointJacobian jacobian(model.joint_count(), kPoseSize);
+  JointJacobian jacobian(model.joint_count(), geometry::kPoseSize);
   if (!model.inverse_and_jacobian(seed, at, jacobian).ok()) return false;
   const double det_sign = determinant_sign(jacobian, axes);
-  const Vector6d from = seed.as_vector();
-  const Vector6d span = end.as_vector() - from;
+  const geometry::Vector6d from = seed.as_vector();
+  const geometry::Vector6d span = end.as_vector() - from;
   for (int k = 1; k <= kPoints; ++k) {
-    const Pose point = Pose::from_vector(from + (static_cast<double>(k) / kPoints) * span);
+    const geometry::Pose point =
+        geometry::Pose::from_vector(from + (static_cast<double>(k) / kPoints) * span);
     if (!model.inverse_and_jacobian(point, at, jacobian).ok() ||
         determinant_sign(jacobian, axes) != det_sign) {
       return false;
@@ -654,12 +664,12 @@ bool on_seeds_side(const Kinematics& model, const Pose& seed, const Pose& end) {
 
 }  // namespace
 
-Status solve_forward_newton(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
-                            const ForwardOptions& options) {
+Status solve_forward_newton(const Kinematics& model, const JointVector& joints,
+                            geometry::Pose& pose_inout, const ForwardOptions& options) {
   if (!all_finite(joints) || !all_finite(pose_inout)) {
     return Status::failure(StatusCode::invalid_input);
   }
-  Pose direct = pose_inout;
+  geometry::Pose direct = pose_inout;
   bool contracted = false;
   const Status status = newton_from_seed(model, joints, direct, options, contracted);
   const bool square = ControlledAxes(model.dof()).count == model.joint_count();
@@ -689,26 +699,26 @@ Status solve_forward_newton(const Kinematics& model, const JointVector& joints, 
   return traced;
 }
 
-Status numerical_jacobian(const Kinematics& model, const Pose& pose,
+Status numerical_jacobian(const Kinematics& model, const geometry::Pose& pose,
                           JointJacobian& d_joints_d_pose) {
   const int joints = model.joint_count();
-  d_joints_d_pose.setZero(joints, kPoseSize);
-  const Vector6d x = pose.as_vector();
+  d_joints_d_pose.setZero(joints, geometry::kPoseSize);
+  const geometry::Vector6d x = pose.as_vector();
   JointVector plus(joints), minus(joints);
-  for (int axis = 0; axis < kPoseSize; ++axis) {
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
     if (!model.dof().controls(axis)) continue;
     // Steps near the cube root of machine epsilon balance truncation and rounding error.
     const double step = axis < 3 ? 1e-5 * std::max(1.0, std::abs(x[axis])) : 1e-6;
-    Vector6d shifted = x;
+    geometry::Vector6d shifted = x;
     shifted[axis] = x[axis] + step;
-    Status status = model.inverse(Pose::from_vector(shifted), plus);
+    Status status = model.inverse(geometry::Pose::from_vector(shifted), plus);
     if (!status.ok()) return status;
     shifted[axis] = x[axis] - step;
-    status = model.inverse(Pose::from_vector(shifted), minus);
+    status = model.inverse(geometry::Pose::from_vector(shifted), minus);
     if (!status.ok()) return status;
     d_joints_d_pose.col(axis) = (plus - minus) / (2.0 * step);
   }
   return Status::success();
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -17,7 +17,7 @@
 
 #include "pkm/geometry/pose.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 // What a model may answer for itself beyond its equations, each interface in its own header.
 class ModelConfigWriter;  // model_config_writer.hpp
@@ -34,7 +34,8 @@ inline constexpr int kMaxJoints = 9;
 using JointVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxJoints, 1>;
 // d joints / d pose: one row per joint, one column per pose coordinate x y z (mm) a b c (rad).
 // Columns of coordinates the model does not control are zero.
-using JointJacobian = Eigen::Matrix<double, Eigen::Dynamic, kPoseSize, 0, kMaxJoints, kPoseSize>;
+using JointJacobian =
+    Eigen::Matrix<double, Eigen::Dynamic, geometry::kPoseSize, 0, kMaxJoints, geometry::kPoseSize>;
 
 enum class StatusCode {
   ok,
@@ -142,7 +143,7 @@ class ForwardTrack {
 
  private:
   friend class Kinematics;
-  std::array<Vector6d, 3> solutions_{};  // [0] the latest
+  std::array<geometry::Vector6d, 3> solutions_{};  // [0] the latest
   int count_ = 0;
   // The inverse of J (padded to 6x6 with identity), from its LU: a step is then one 6x6 product,
   // where the LU's triangular solves would take six dependent divisions.
@@ -158,39 +159,40 @@ class Kinematics {
 
   virtual std::string_view type() const = 0;
   virtual int joint_count() const = 0;
-  virtual Dof dof() const = 0;
+  virtual geometry::Dof dof() const = 0;
   virtual JointKind joint_kind(int /*joint*/) const { return JointKind::linear; }
   // The pose coordinate (0..5) a pass-through joint copies, or -1 for a joint of the mechanism.
   virtual int passthrough_axis(int /*joint*/) const { return -1; }
 
   // IK. Never writes NaN: a failed pose returns a status and leaves `joints` unspecified.
-  virtual Status inverse(const Pose& pose, JointVector& joints) const = 0;
+  virtual Status inverse(const geometry::Pose& pose, JointVector& joints) const = 0;
   // FK. `pose_inout` is the seed on entry (the previous pose along a path, or home); coordinates
   // the model does not control are left as seeded.
-  virtual Status forward(const JointVector& joints, Pose& pose_inout) const = 0;
-  virtual Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const = 0;
+  virtual Status forward(const JointVector& joints, geometry::Pose& pose_inout) const = 0;
+  virtual Status jacobian(const geometry::Pose& pose, JointJacobian& d_joints_d_pose) const = 0;
   // Both at once, sharing the work (one rotation, one set of strut vectors): what every Newton
   // iteration of FK asks for. The default calls the two.
-  virtual Status inverse_and_jacobian(const Pose& pose, JointVector& joints,
+  virtual Status inverse_and_jacobian(const geometry::Pose& pose, JointVector& joints,
                                       JointJacobian& d_joints_d_pose) const;
   // +1 or -1: which of the model's mirror-image assembly modes the pose is in, for models whose
   // IK alone cannot tell (a triaglide's platform below or above its carriages); 0 where the model
   // has a single mode or the check would cost more than it is worth in the per-sample path.
-  virtual int assembly_mode(const Pose& /*pose*/) const { return 0; }
+  virtual int assembly_mode(const geometry::Pose& /*pose*/) const { return 0; }
   // Why inverse() refused `pose` with `status`, in the model's own terms (which cable would push,
   // which strut is too short), for error messages; empty where the status says it all.
-  virtual std::string why_refused(const Pose& /*pose*/, const Status& /*status*/) const {
+  virtual std::string why_refused(const geometry::Pose& /*pose*/, const Status& /*status*/) const {
     return {};
   }
 
   // The machine's home pose, for models whose limits refer to it (the neutral axes of joints with
   // a max_joint_angle are the legs' directions at home). Machine's constructor calls it.
-  virtual void set_home(const Pose& /*home*/) {}
+  virtual void set_home(const geometry::Pose& /*home*/) {}
   // Whether inverse() checks limits of the mechanism beyond the joints' ranges (joint angles,
   // leg interference), and their values at `pose` (appended to `out`; nothing where the pose has
   // no legs, or the model has no such limits).
   virtual bool has_mechanism_limits() const { return false; }
-  virtual void mechanism_limits(const Pose& /*pose*/, std::vector<MechanismLimit>& /*out*/) const {}
+  virtual void mechanism_limits(const geometry::Pose& /*pose*/,
+                                std::vector<MechanismLimit>& /*out*/) const {}
 
   // What the model answers for itself beyond its equations (docs/kinematics.md, "What a model
   // answers for itself"): the rest of pkm asks these, never which class a model is.
@@ -214,7 +216,7 @@ class Kinematics {
   virtual const LegLimitSettings* leg_limit_settings() const { return nullptr; }
   // A hexapod's platform against its base plane at `pose` (its assembly mode's measure); the
   // default, no leg, for every other model.
-  virtual BasePlaneMargin base_plane_margin(const Pose& /*pose*/) const { return {}; }
+  virtual BasePlaneMargin base_plane_margin(const geometry::Pose& /*pose*/) const { return {}; }
   // The proofs' capabilities: bounds on the inverse kinematics' derivatives over a ball (and the
   // legs' motion, the reach over a cell), and on the assembly mode over a ball or a box; none: the
   // proofs have no bound for this model (a formula machine's).
@@ -241,10 +243,10 @@ class Kinematics {
 
   // Batch entry points. Defaults loop over the single-pose calls; models with a cheap closed form
   // override them. forward_path runs forward_along over the samples with one track.
-  virtual void inverse_batch(std::span<const Pose> poses, std::span<JointVector> joints,
+  virtual void inverse_batch(std::span<const geometry::Pose> poses, std::span<JointVector> joints,
                              std::span<Status> statuses) const;
-  void forward_path(std::span<const JointVector> joints, const Pose& seed, std::span<Pose> poses,
-                    std::span<Status> statuses) const;
+  void forward_path(std::span<const JointVector> joints, const geometry::Pose& seed,
+                    std::span<geometry::Pose> poses, std::span<Status> statuses) const;
   // FK of the next sample along a path, samples evenly spaced in time (a servo period, a planner's
   // step). While `pose_inout` is the track's last solution (to 1e-9 mm or rad) the seed is
   // extrapolated from the last three, and Newton steps go through the track's factorised
@@ -254,17 +256,18 @@ class Kinematics {
   // changes sign, it is forward() from `pose_inout`, as without a track. Square models with
   // linear joints only (as many joints as controlled coordinates; rotary ones only passing
   // through); the others always take forward().
-  Status forward_along(const JointVector& joints, Pose& pose_inout, ForwardTrack& track) const;
+  Status forward_along(const JointVector& joints, geometry::Pose& pose_inout,
+                       ForwardTrack& track) const;
 
  protected:
   ForwardOptions forward_options_;
 
  private:
   // forward_along's Newton steps from `x`; false where they do not get within the tolerance.
-  bool track_steps(const JointVector& joints, Vector6d& x, ForwardTrack& track,
+  bool track_steps(const JointVector& joints, geometry::Vector6d& x, ForwardTrack& track,
                    int& iterations) const;
   // The track's LU of the Jacobian at `x`; false where IK fails there or det J changed sign.
-  bool factorise(const Vector6d& x, ForwardTrack& track) const;
+  bool factorise(const geometry::Vector6d& x, ForwardTrack& track) const;
 };
 
 // `value` printed with a printf pattern ("%.3f", "%g"): the numbers of error messages.
@@ -272,7 +275,7 @@ std::string formatted_number(const char* printf_pattern, double value);
 
 // True when every entry is finite. Plain loops, inline: Eigen's allFinite (x - x == 0 over the
 // whole vector) cost several times more, on every sample.
-inline bool all_finite(const Pose& pose) {
+inline bool all_finite(const geometry::Pose& pose) {
   for (int k = 0; k < 3; ++k) {
     if (!std::isfinite(pose.position_mm[k]) || !std::isfinite(pose.orientation_rad[k]))
       return false;
@@ -288,11 +291,11 @@ bool all_finite(const JointVector& joints);
 // seed: it could land on another solution of the same joints) is replaced by continuation along
 // the straight joint path from the seed's joints, then a walk keeping det J's sign: the answer is
 // the seed's branch's (docs/kinematics.md, "Forward kinematics").
-Status solve_forward_newton(const Kinematics& model, const JointVector& joints, Pose& pose_inout,
-                            const ForwardOptions& options);
+Status solve_forward_newton(const Kinematics& model, const JointVector& joints,
+                            geometry::Pose& pose_inout, const ForwardOptions& options);
 
 // Central-difference Jacobian of model.inverse, for models without an analytic one.
-Status numerical_jacobian(const Kinematics& model, const Pose& pose,
+Status numerical_jacobian(const Kinematics& model, const geometry::Pose& pose,
                           JointJacobian& d_joints_d_pose);
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -2,7 +2,7 @@
 
 #include <atomic>
 
-namespace pkm::lanes {
+namespace pkm::kinematics::lanes {
 
 namespace {
 bool cpu_has_avx2() {
@@ -41,4 +41,4 @@ void sin_cos_3(const double angles[3], double sines[3], double cosines[3]) {
   }
 }
 
-}  // namespace pkm::lanes
+}  // namespace pkm::kinematics::lanes

@@ -17,7 +17,7 @@
 #define PKM_HAS_AVX2_LANES 0
 #endif
 
-namespace pkm::lanes {
+namespace pkm::kinematics::lanes {
 
 // Whether the vector paths run: the CPU has AVX2 and FMA, and nothing turned them off.
 bool avx2_enabled();
@@ -230,4 +230,4 @@ inline double sqrt(double x) {
   return std::sqrt(x);
 }
 
-}  // namespace pkm::lanes
+}  // namespace pkm::kinematics::lanes

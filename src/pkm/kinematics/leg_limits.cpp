@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace pkm {
+namespace pkm::kinematics {
 
 namespace {
 
@@ -44,7 +44,7 @@ LegLimitSettings read_leg_limit_settings(const ModelConfig& config, const char* 
         config.fail("max_joint_angle", "must be between 0 and 180 deg (exclusive), not " +
                                            formatted_number("%g", degrees[end]));
       }
-      settings.max_joint_angle_rad[end] = degrees_to_radians(degrees[end]);
+      settings.max_joint_angle_rad[end] = geometry::degrees_to_radians(degrees[end]);
     }
   }
   if (config.has("leg_diameter")) {
@@ -65,9 +65,10 @@ void write_leg_limit_settings(const LegLimitSettings& settings, const char* inne
   const auto& angle = settings.max_joint_angle_rad;
   if (settings.checks_angles()) {
     if (angle[0] == angle[1]) {
-      out.number("max_joint_angle", radians_to_degrees(angle[0]));
+      out.number("max_joint_angle", geometry::radians_to_degrees(angle[0]));
     } else {
-      const double degrees[2] = {radians_to_degrees(angle[0]), radians_to_degrees(angle[1])};
+      const double degrees[2] = {geometry::radians_to_degrees(angle[0]),
+                                 geometry::radians_to_degrees(angle[1])};
       out.number_list("max_joint_angle", degrees);
     }
   }
@@ -175,9 +176,9 @@ std::string LegLimits::why(const LegEnds& ends, const Status& status, const char
   if (worst->code == StatusCode::joint_angle) {
     const char* end = worst->other == kInnerEnd ? "inner (base or carriage)" : "platform";
     return "the " + std::string(end) + " joint of " + leg + " is at " +
-           formatted_number("%.3f", radians_to_degrees(worst->value)) +
+           formatted_number("%.3f", geometry::radians_to_degrees(worst->value)) +
            " deg from its axis, beyond max_joint_angle " +
-           formatted_number("%g", radians_to_degrees(worst->limit)) + " deg";
+           formatted_number("%g", geometry::radians_to_degrees(worst->limit)) + " deg";
   }
   return std::string(leg_word) + "s " + std::to_string(worst->leg + 1) + " and " +
          std::to_string(worst->other + 1) + " are " + formatted_number("%.3f", worst->value) +
@@ -203,4 +204,4 @@ double segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
   return (w + s * u - t * v).norm();
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -19,7 +19,7 @@
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/model_config_writer.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 // The two ends of a leg: 0 the inner one (base joint, carriage joint), 1 the platform joint.
 inline constexpr int kInnerEnd = 0;
@@ -119,19 +119,19 @@ class WithoutLegLimits final : public Kinematics {
       : owned_(std::move(owned)), model_(*owned_) {}
   std::string_view type() const override { return model_.type(); }
   int joint_count() const override { return model_.joint_count(); }
-  Dof dof() const override { return model_.dof(); }
+  geometry::Dof dof() const override { return model_.dof(); }
   JointKind joint_kind(int joint) const override { return model_.joint_kind(joint); }
   int passthrough_axis(int joint) const override { return model_.passthrough_axis(joint); }
-  Status inverse(const Pose& pose, JointVector& joints) const override {
+  Status inverse(const geometry::Pose& pose, JointVector& joints) const override {
     return model_.inverse_without_leg_limits(pose, joints);
   }
-  Status forward(const JointVector&, Pose&) const override {
+  Status forward(const JointVector&, geometry::Pose&) const override {
     return Status::failure(StatusCode::invalid_input);
   }
-  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override {
+  Status jacobian(const geometry::Pose& pose, JointJacobian& d_joints_d_pose) const override {
     return model_.jacobian(pose, d_joints_d_pose);
   }
-  Status inverse_and_jacobian(const Pose& pose, JointVector& joints,
+  Status inverse_and_jacobian(const geometry::Pose& pose, JointVector& joints,
                               JointJacobian& d_joints_d_pose) const override {
     return model_.inverse_and_jacobian(pose, joints, d_joints_d_pose);
   }
@@ -150,4 +150,4 @@ class WithoutLegLimits final : public Kinematics {
 double segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
                         const Eigen::Vector3d& q0, const Eigen::Vector3d& q1);
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -8,7 +8,7 @@
 
 #include "pkm/kinematics/closed_form_text.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 namespace {
 constexpr std::array<const char*, 3> kRowNames = {"x", "y", "z"};
@@ -16,8 +16,8 @@ constexpr std::array<const char*, 3> kRowNames = {"x", "y", "z"};
 
 MatrixKinematics::MatrixKinematics(const Eigen::Matrix3d& coefficients,
                                    std::vector<int> passthrough_axes)
-    : passthrough_(std::move(passthrough_axes), Dof::translation()),
-      dof_(passthrough_.add_to(Dof::translation())) {
+    : passthrough_(std::move(passthrough_axes), geometry::Dof::translation()),
+      dof_(passthrough_.add_to(geometry::Dof::translation())) {
   set_coefficients(coefficients);
 }
 
@@ -37,7 +37,7 @@ void MatrixKinematics::set_coefficients(const Eigen::Matrix3d& coefficients) {
   inverse_coefficients_ = coefficients.inverse();
 }
 
-Status MatrixKinematics::inverse(const Pose& pose, JointVector& joints) const {
+Status MatrixKinematics::inverse(const geometry::Pose& pose, JointVector& joints) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
   joints.resize(joint_count());
   joints.head<3>() = coefficients_ * pose.position_mm;
@@ -45,7 +45,7 @@ Status MatrixKinematics::inverse(const Pose& pose, JointVector& joints) const {
   return Status::success();
 }
 
-Status MatrixKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
+Status MatrixKinematics::forward(const JointVector& joints, geometry::Pose& pose_inout) const {
   if (joints.size() != joint_count() || !all_finite(joints)) {
     return Status::failure(StatusCode::invalid_input);
   }
@@ -54,8 +54,9 @@ Status MatrixKinematics::forward(const JointVector& joints, Pose& pose_inout) co
   return Status::success();
 }
 
-Status MatrixKinematics::jacobian(const Pose& /*pose*/, JointJacobian& d_joints_d_pose) const {
-  d_joints_d_pose.setZero(joint_count(), kPoseSize);
+Status MatrixKinematics::jacobian(const geometry::Pose& /*pose*/,
+                                  JointJacobian& d_joints_d_pose) const {
+  d_joints_d_pose.setZero(joint_count(), geometry::kPoseSize);
   d_joints_d_pose.topLeftCorner<3, 3>() = coefficients_;
   passthrough_.jacobian(d_joints_d_pose, 3);
   return Status::success();
@@ -99,7 +100,8 @@ std::optional<std::vector<std::string>> MatrixKinematics::joint_formulas() const
 std::unique_ptr<Kinematics> make_matrix_kinematics(const ModelConfig& config) {
   const Eigen::Matrix3d coefficients =
       config.has("matrix") ? config.matrix3("matrix") : Eigen::Matrix3d::Identity();
-  const PassThroughAxes passthrough = PassThroughAxes::read(config, Dof::translation(), Dof::all());
+  const PassThroughAxes passthrough =
+      PassThroughAxes::read(config, geometry::Dof::translation(), geometry::Dof::all());
   try {
     return std::make_unique<MatrixKinematics>(coefficients, passthrough.axes());
   } catch (const std::invalid_argument& error) {
@@ -112,4 +114,4 @@ void MatrixKinematics::write_config(ModelConfigWriter& out) const {
   passthrough_.write(out);
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -9,7 +9,7 @@
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/passthrough.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 class MatrixKinematics final : public Kinematics, public DerivativeBounds {
  public:
@@ -18,16 +18,16 @@ class MatrixKinematics final : public Kinematics, public DerivativeBounds {
 
   std::string_view type() const override { return "matrix"; }
   int joint_count() const override { return 3 + passthrough_.count(); }
-  Dof dof() const override { return dof_; }
+  geometry::Dof dof() const override { return dof_; }
   JointKind joint_kind(int joint) const override {
     return joint < 3 ? JointKind::linear : passthrough_.kind(joint - 3);
   }
   int passthrough_axis(int joint) const override {
     return joint < 3 ? -1 : passthrough_.axes()[joint - 3];
   }
-  Status inverse(const Pose& pose, JointVector& joints) const override;
-  Status forward(const JointVector& joints, Pose& pose_inout) const override;
-  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
+  Status inverse(const geometry::Pose& pose, JointVector& joints) const override;
+  Status forward(const JointVector& joints, geometry::Pose& pose_inout) const override;
+  Status jacobian(const geometry::Pose& pose, JointJacobian& d_joints_d_pose) const override;
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;
   std::unique_ptr<Kinematics> clone() const override {
@@ -40,8 +40,8 @@ class MatrixKinematics final : public Kinematics, public DerivativeBounds {
   // The proofs' capability (matrix_bounds.cpp): linear, every second derivative zero, no limit
   // but the joints'.
   const DerivativeBounds* derivative_bounds() const override { return this; }
-  std::optional<HessianBounds> own_hessian_bounds(const Vector6d& centre, double radius_mm,
-                                                  double angle_scale_mm,
+  std::optional<HessianBounds> own_hessian_bounds(const geometry::Vector6d& centre,
+                                                  double radius_mm, double angle_scale_mm,
                                                   const Chord& chord) const override;
   bool refuses_only_joint_limits() const override { return true; }
 
@@ -61,9 +61,9 @@ class MatrixKinematics final : public Kinematics, public DerivativeBounds {
   Eigen::Matrix3d coefficients_;
   Eigen::Matrix3d inverse_coefficients_;
   PassThroughAxes passthrough_;
-  Dof dof_;
+  geometry::Dof dof_;
 };
 
 std::unique_ptr<Kinematics> make_matrix_kinematics(const ModelConfig& config);
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

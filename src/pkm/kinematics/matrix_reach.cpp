@@ -2,7 +2,7 @@
 // C^-1 over the corners of the joints' box (its first three joints; the others pass through).
 #include "pkm/kinematics/matrix.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 std::optional<Eigen::AlignedBox3d> MatrixKinematics::tool_position_box(
     const JointVector& joint_min, const JointVector& joint_max) const {
@@ -17,4 +17,4 @@ std::optional<Eigen::AlignedBox3d> MatrixKinematics::tool_position_box(
   return box;
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

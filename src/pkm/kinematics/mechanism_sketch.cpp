@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-namespace pkm {
+namespace pkm::kinematics {
 
 void sketch_loop(std::vector<SketchLine>& out, SketchPart part,
                  const std::vector<Eigen::Vector3d>& corners) {
@@ -22,4 +22,4 @@ void sketch_circle(std::vector<SketchLine>& out, SketchPart part, const Eigen::V
   sketch_loop(out, part, corners);
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

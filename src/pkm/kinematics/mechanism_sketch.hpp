@@ -10,7 +10,7 @@
 
 #include "pkm/kinematics/kinematics.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 // What a line is part of: the page gives each its colour and width. The envelope is the work
 // envelope's box, which the views add: never a model's.
@@ -34,7 +34,7 @@ class MechanismSketch {
   virtual void fixed_parts(std::span<const JointTravel> travel,
                            std::vector<SketchLine>& out) const = 0;
   // The parts that move, at `pose` (mm, rad) with its joints as inverse kinematics gave them.
-  virtual void moving_parts(const Pose& pose, const JointVector& joints,
+  virtual void moving_parts(const geometry::Pose& pose, const JointVector& joints,
                             std::vector<SketchLine>& out) const = 0;
 };
 
@@ -45,4 +45,4 @@ void sketch_loop(std::vector<SketchLine>& out, SketchPart part,
 void sketch_circle(std::vector<SketchLine>& out, SketchPart part, const Eigen::Vector3d& centre,
                    double radius, const Eigen::Vector3d& u, const Eigen::Vector3d& v);
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

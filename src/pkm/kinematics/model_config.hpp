@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-namespace pkm {
+namespace pkm::kinematics {
 
 class ModelConfig {
  public:
@@ -80,4 +80,4 @@ class ModelConfig {
   }
 };
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -12,7 +12,7 @@
 
 #include "pkm/geometry/pose.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 class ModelConfigWriter {
  public:
@@ -50,10 +50,10 @@ class ModelConfigWriter {
     length_list(key, std::span<const double>(mm.data(), 3));
   }
   // The names of the axes `dof` controls, in pose order (`axes = ["x", "y"]`).
-  void axis_list(std::string_view key, Dof dof) {
+  void axis_list(std::string_view key, geometry::Dof dof) {
     std::vector<std::string> names;
-    for (int axis = 0; axis < kPoseSize; ++axis) {
-      if (dof.controls(axis)) names.emplace_back(kAxisNames[axis]);
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
+      if (dof.controls(axis)) names.emplace_back(geometry::kAxisNames[axis]);
     }
     string_list(key, names);
   }
@@ -69,4 +69,4 @@ class ModelConfigWriter {
   }
 };
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -2,13 +2,14 @@
 
 #include <stdexcept>
 
-namespace pkm {
+namespace pkm::kinematics {
 
-PassThroughAxes::PassThroughAxes(std::vector<int> axes, Dof mechanism) : axes_(std::move(axes)) {
-  Dof seen;
+PassThroughAxes::PassThroughAxes(std::vector<int> axes, geometry::Dof mechanism)
+    : axes_(std::move(axes)) {
+  geometry::Dof seen;
   for (const int axis : axes_) {
-    if (axis < 0 || axis >= kPoseSize) throw std::invalid_argument("no such pose axis");
-    const std::string name(kAxisNames[axis]);
+    if (axis < 0 || axis >= geometry::kPoseSize) throw std::invalid_argument("no such pose axis");
+    const std::string name(geometry::kAxisNames[axis]);
     if (mechanism.controls(axis)) {
       throw std::invalid_argument("the mechanism moves " + name + " itself");
     }
@@ -17,18 +18,19 @@ PassThroughAxes::PassThroughAxes(std::vector<int> axes, Dof mechanism) : axes_(s
   }
 }
 
-PassThroughAxes PassThroughAxes::read(const ModelConfig& config, Dof mechanism, Dof allowed) {
+PassThroughAxes PassThroughAxes::read(const ModelConfig& config, geometry::Dof mechanism,
+                                      geometry::Dof allowed) {
   if (!config.has("passthrough")) return {};
   std::string allowed_names;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
     if (allowed.controls(axis) && !mechanism.controls(axis)) {
       allowed_names +=
-          (allowed_names.empty() ? "\"" : ", \"") + std::string(kAxisNames[axis]) + "\"";
+          (allowed_names.empty() ? "\"" : ", \"") + std::string(geometry::kAxisNames[axis]) + "\"";
     }
   }
   std::vector<int> axes;
   for (const std::string& name : config.string_list("passthrough")) {
-    const int axis = axis_index(name);
+    const int axis = geometry::axis_index(name);
     if (axis < 0 || !allowed.controls(axis) || mechanism.controls(axis)) {
       config.fail("passthrough", "'" + name + "' cannot pass through here; this model passes " +
                                      (allowed_names.empty() ? "none" : allowed_names));
@@ -42,17 +44,17 @@ PassThroughAxes PassThroughAxes::read(const ModelConfig& config, Dof mechanism, 
   }
 }
 
-Dof PassThroughAxes::add_to(Dof mechanism) const {
+geometry::Dof PassThroughAxes::add_to(geometry::Dof mechanism) const {
   for (const int axis : axes_) mechanism = mechanism.with(axis);
   return mechanism;
 }
 
-void PassThroughAxes::inverse(const Pose& pose, JointVector& joints, int first) const {
-  const Vector6d values = pose.as_vector();
+void PassThroughAxes::inverse(const geometry::Pose& pose, JointVector& joints, int first) const {
+  const geometry::Vector6d values = pose.as_vector();
   for (int k = 0; k < count(); ++k) joints[first + k] = values[axes_[k]];
 }
 
-void PassThroughAxes::forward(const JointVector& joints, int first, Pose& pose) const {
+void PassThroughAxes::forward(const JointVector& joints, int first, geometry::Pose& pose) const {
   for (int k = 0; k < count(); ++k) {
     const int axis = axes_[k];
     if (axis < 3) {
@@ -73,8 +75,8 @@ void PassThroughAxes::jacobian(JointJacobian& d_joints_d_pose, int first) const 
 void PassThroughAxes::write(ModelConfigWriter& out) const {
   if (axes_.empty()) return;
   std::vector<std::string> names;
-  for (const int axis : axes_) names.emplace_back(kAxisNames[axis]);
+  for (const int axis : axes_) names.emplace_back(geometry::kAxisNames[axis]);
   out.string_list("passthrough", names);
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -10,25 +10,26 @@
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/model_config_writer.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 class PassThroughAxes {
  public:
   PassThroughAxes() = default;
   // Throws std::invalid_argument for an axis out of 0..5, one the mechanism moves, or a repeat.
-  PassThroughAxes(std::vector<int> axes, Dof mechanism);
+  PassThroughAxes(std::vector<int> axes, geometry::Dof mechanism);
 
   // The optional `passthrough` key: a list of axis names, each one `allowed` lets through.
-  static PassThroughAxes read(const ModelConfig& config, Dof mechanism, Dof allowed);
+  static PassThroughAxes read(const ModelConfig& config, geometry::Dof mechanism,
+                              geometry::Dof allowed);
 
   const std::vector<int>& axes() const { return axes_; }
   int count() const { return static_cast<int>(axes_.size()); }
-  Dof add_to(Dof mechanism) const;
+  geometry::Dof add_to(geometry::Dof mechanism) const;
   // Joint `first + k` is axis k's: linear for x y z (mm), rotary for a b c (rad).
   JointKind kind(int k) const { return axes_[k] < 3 ? JointKind::linear : JointKind::rotary; }
 
-  void inverse(const Pose& pose, JointVector& joints, int first) const;
-  void forward(const JointVector& joints, int first, Pose& pose) const;
+  void inverse(const geometry::Pose& pose, JointVector& joints, int first) const;
+  void forward(const JointVector& joints, int first, geometry::Pose& pose) const;
   void jacobian(JointJacobian& d_joints_d_pose, int first) const;
   // The `passthrough` key read() reads; nothing when there are none.
   void write(ModelConfigWriter& out) const;
@@ -37,4 +38,4 @@ class PassThroughAxes {
   std::vector<int> axes_;
 };
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -16,7 +16,7 @@
 #include "pkm/kinematics/matrix.hpp"
 #include "pkm/kinematics/rotary_delta.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 namespace {
 struct Entry {
@@ -137,4 +137,4 @@ KinematicsKind::~KinematicsKind() {
   kinds.readers.erase(type_);
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

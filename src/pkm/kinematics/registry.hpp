@@ -10,7 +10,7 @@
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/model_config_writer.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 // A model's reader: its make_<kind>_kinematics, from its keys of a machine file's [kinematics].
 using KinematicsReader = std::unique_ptr<Kinematics> (*)(const ModelConfig&);
@@ -48,4 +48,4 @@ class KinematicsKind {
   std::string type_;  // empty once moved from
 };
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

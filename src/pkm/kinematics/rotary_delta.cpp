@@ -8,7 +8,7 @@
 #include <string>
 #include <utility>
 
-namespace pkm {
+namespace pkm::kinematics {
 
 namespace {
 
@@ -63,7 +63,8 @@ RotaryDeltaKinematics::RotaryDeltaKinematics(const RotaryDeltaGeometry& geometry
   validate(geometry_);
   for (const int axis : passthrough_.axes()) {
     if (axis < 3) {
-      throw std::invalid_argument("the arms move " + std::string(kAxisNames[axis]) + " themselves");
+      throw std::invalid_argument("the arms move " + std::string(geometry::kAxisNames[axis]) +
+                                  " themselves");
     }
   }
 }
@@ -119,7 +120,7 @@ Status RotaryDeltaKinematics::solve_arm(int arm, const Eigen::Vector3d& tip,
   return Status::success();
 }
 
-Status RotaryDeltaKinematics::solve_arms(const Pose& pose,
+Status RotaryDeltaKinematics::solve_arms(const geometry::Pose& pose,
                                          std::array<ArmSolution, kArms>& arms) const {
   if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
   for (int arm = 0; arm < kArms; ++arm) {
@@ -129,7 +130,7 @@ Status RotaryDeltaKinematics::solve_arms(const Pose& pose,
   return Status::success();
 }
 
-Status RotaryDeltaKinematics::inverse(const Pose& pose, JointVector& joints) const {
+Status RotaryDeltaKinematics::inverse(const geometry::Pose& pose, JointVector& joints) const {
   std::array<ArmSolution, kArms> arms;
   const Status status = solve_arms(pose, arms);
   if (!status.ok()) return status;
@@ -139,13 +140,13 @@ Status RotaryDeltaKinematics::inverse(const Pose& pose, JointVector& joints) con
   return Status::success();
 }
 
-Status RotaryDeltaKinematics::inverse_and_jacobian(const Pose& pose, JointVector& joints,
+Status RotaryDeltaKinematics::inverse_and_jacobian(const geometry::Pose& pose, JointVector& joints,
                                                    JointJacobian& d_joints_d_pose) const {
   std::array<ArmSolution, kArms> arms;
   const Status status = solve_arms(pose, arms);
   if (!status.ok()) return status;
   joints.resize(joint_count());
-  d_joints_d_pose.setZero(joint_count(), kPoseSize);
+  d_joints_d_pose.setZero(joint_count(), geometry::kPoseSize);
   for (int arm = 0; arm < kArms; ++arm) {
     joints[arm] = arms[arm].angle_rad;
     // Differentiating |platform joint - elbow(q)|^2 = forearm^2: forearm . (dtip - elbow' dq) = 0.
@@ -156,12 +157,13 @@ Status RotaryDeltaKinematics::inverse_and_jacobian(const Pose& pose, JointVector
   return Status::success();
 }
 
-Status RotaryDeltaKinematics::jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const {
+Status RotaryDeltaKinematics::jacobian(const geometry::Pose& pose,
+                                       JointJacobian& d_joints_d_pose) const {
   JointVector joints;
   return inverse_and_jacobian(pose, joints, d_joints_d_pose);
 }
 
-int RotaryDeltaKinematics::assembly_mode(const Pose& pose) const {
+int RotaryDeltaKinematics::assembly_mode(const geometry::Pose& pose) const {
   std::array<ArmSolution, kArms> arms;
   if (!solve_arms(pose, arms).ok()) return 0;
   const double determinant = arms[0].forearm_mm.dot(arms[1].forearm_mm.cross(arms[2].forearm_mm));
@@ -206,7 +208,7 @@ Status lower_meeting_point(const std::array<Eigen::Vector3d, 3>& centre, double 
 
 }  // namespace
 
-Status RotaryDeltaKinematics::forward(const JointVector& joints, Pose& pose_inout) const {
+Status RotaryDeltaKinematics::forward(const JointVector& joints, geometry::Pose& pose_inout) const {
   if (joints.size() != joint_count() || !all_finite(joints)) {
     return Status::failure(StatusCode::invalid_input);
   }
@@ -216,7 +218,7 @@ Status RotaryDeltaKinematics::forward(const JointVector& joints, Pose& pose_inou
     angles[arm] = wrapped(joints[arm]);
     centre[arm] = shifted_elbow(arm, angles[arm]);
   }
-  Pose solved = pose_inout;
+  geometry::Pose solved = pose_inout;
   const Status met = lower_meeting_point(centre, geometry_.forearm_length_mm, solved.position_mm);
   if (!met.ok()) return met;
   passthrough_.forward(joints, kArms, solved);
@@ -251,7 +253,8 @@ Status RotaryDeltaKinematics::forward(const JointVector& joints, Pose& pose_inou
   return Status::success();
 }
 
-std::string RotaryDeltaKinematics::why_refused(const Pose& pose, const Status& status) const {
+std::string RotaryDeltaKinematics::why_refused(const geometry::Pose& pose,
+                                               const Status& status) const {
   if (status.joint < 0 || status.joint >= kArms || !all_finite(pose)) return {};
   const std::string arm = "arm " + std::to_string(status.joint + 1);
   if (status.code == StatusCode::singular) {
@@ -309,7 +312,8 @@ std::unique_ptr<Kinematics> make_rotary_delta_kinematics(const ModelConfig& conf
     }
   }
   // A rotary C on the platform (Clavel's fourth axis) is a joint that follows the program.
-  PassThroughAxes passthrough = PassThroughAxes::read(config, Dof::translation(), Dof::all());
+  PassThroughAxes passthrough =
+      PassThroughAxes::read(config, geometry::Dof::translation(), geometry::Dof::all());
   try {
     return std::make_unique<RotaryDeltaKinematics>(geometry, std::move(passthrough));
   } catch (const std::invalid_argument& error) {
@@ -331,7 +335,7 @@ void RotaryDeltaKinematics::fixed_parts(std::span<const JointTravel> /*travel*/,
                 Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY());
 }
 
-void RotaryDeltaKinematics::moving_parts(const Pose& pose, const JointVector& joints,
+void RotaryDeltaKinematics::moving_parts(const geometry::Pose& pose, const JointVector& joints,
                                          std::vector<SketchLine>& out) const {
   for (int arm = 0; arm < kArms; ++arm) {
     const Eigen::Vector3d outward = arm_direction(arm);
@@ -347,4 +351,4 @@ void RotaryDeltaKinematics::moving_parts(const Pose& pose, const JointVector& jo
                 Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY());
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -20,7 +20,7 @@
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/passthrough.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 struct RotaryDeltaGeometry {
   double base_radius_mm = 0.0;  // centre to each arm's pivot axis (rotarydeltakins' platformradius)
@@ -41,14 +41,14 @@ class RotaryDeltaKinematics final : public Kinematics,
 
   std::string_view type() const override { return "rotary_delta"; }
   int joint_count() const override { return kArms + passthrough_.count(); }
-  Dof dof() const override { return passthrough_.add_to(Dof::translation()); }
+  geometry::Dof dof() const override { return passthrough_.add_to(geometry::Dof::translation()); }
   JointKind joint_kind(int joint) const override {
     return joint < kArms ? JointKind::rotary : passthrough_.kind(joint - kArms);
   }
   int passthrough_axis(int joint) const override {
     return joint < kArms ? -1 : passthrough_.axes()[joint - kArms];
   }
-  Status inverse(const Pose& pose, JointVector& joints) const override;
+  Status inverse(const geometry::Pose& pose, JointVector& joints) const override;
   // The elbow of arm `arm` at `angle_rad`, shifted inward by the platform radius: where the tool
   // point would be if the forearm had zero length (the forearm is tip - this).
   Eigen::Vector3d shifted_elbow(int arm, double angle_rad) const;
@@ -56,15 +56,15 @@ class RotaryDeltaKinematics final : public Kinematics,
   // each elbow shifted inward by platform_radius; of their two meeting points the lower one, as
   // rotarydeltakins takes. Joints whose elbows are not the outer ones reaching that point are
   // refused (`other_assembly`, naming the arm). The seed only supplies uncontrolled coordinates.
-  Status forward(const JointVector& joints, Pose& pose_inout) const override;
-  Status jacobian(const Pose& pose, JointJacobian& d_joints_d_pose) const override;
-  Status inverse_and_jacobian(const Pose& pose, JointVector& joints,
+  Status forward(const JointVector& joints, geometry::Pose& pose_inout) const override;
+  Status jacobian(const geometry::Pose& pose, JointJacobian& d_joints_d_pose) const override;
+  Status inverse_and_jacobian(const geometry::Pose& pose, JointVector& joints,
                               JointJacobian& d_joints_d_pose) const override;
   // +1 where the platform hangs on the side of the plane through the three shifted elbows that
   // forward kinematics returns (the forearms' determinant negative: below them, on every
   // machine whose elbows stay outside the platform joints), -1 on the mirror side.
-  int assembly_mode(const Pose& pose) const override;
-  std::string why_refused(const Pose& pose, const Status& status) const override;
+  int assembly_mode(const geometry::Pose& pose) const override;
+  std::string why_refused(const geometry::Pose& pose, const Status& status) const override;
   // base_radius, arm_length, forearm_length, platform_radius (mm): the three arms share them.
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;
@@ -79,19 +79,19 @@ class RotaryDeltaKinematics final : public Kinematics,
   const MechanismSketch* sketch() const override { return this; }
   void fixed_parts(std::span<const JointTravel> travel,
                    std::vector<SketchLine>& out) const override;
-  void moving_parts(const Pose& pose, const JointVector& joints,
+  void moving_parts(const geometry::Pose& pose, const JointVector& joints,
                     std::vector<SketchLine>& out) const override;
 
   // The proofs' capabilities (rotary_delta_bounds.cpp): the arms' Hessian bounds and turns per
   // mm; the assembly mode (det of the forearms) over a ball.
   const DerivativeBounds* derivative_bounds() const override { return this; }
-  std::optional<HessianBounds> own_hessian_bounds(const Vector6d& centre, double radius_mm,
-                                                  double angle_scale_mm,
+  std::optional<HessianBounds> own_hessian_bounds(const geometry::Vector6d& centre,
+                                                  double radius_mm, double angle_scale_mm,
                                                   const Chord& chord) const override;
   LegMotion leg_motion(const JointVector& joints, const JointJacobian& jacobian,
                        const HessianBounds& hessians, double radius, double scale) const override;
   const AssemblyModeBounds* assembly_mode_bounds() const override { return this; }
-  std::optional<ModeBound> mode_over_ball(int home_mode, const Vector6d& centre,
+  std::optional<ModeBound> mode_over_ball(int home_mode, const geometry::Vector6d& centre,
                                           const JointVector& joints,
                                           std::span<const double> joint_speed) const override;
 
@@ -110,7 +110,7 @@ class RotaryDeltaKinematics final : public Kinematics,
     double lever_mm2 = 0.0;
   };
   Status solve_arm(int arm, const Eigen::Vector3d& tip, ArmSolution& solution) const;
-  Status solve_arms(const Pose& pose, std::array<ArmSolution, kArms>& arms) const;
+  Status solve_arms(const geometry::Pose& pose, std::array<ArmSolution, kArms>& arms) const;
   static void validate(const RotaryDeltaGeometry& geometry);
 
   RotaryDeltaGeometry geometry_;
@@ -119,4 +119,4 @@ class RotaryDeltaKinematics final : public Kinematics,
 
 std::unique_ptr<Kinematics> make_rotary_delta_kinematics(const ModelConfig& config);
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -5,7 +5,7 @@
 
 #include "pkm/kinematics/rotary_delta.hpp"
 
-namespace pkm {
+namespace pkm::kinematics {
 
 // An arm angle q of a rotary delta, where the platform joint w is forearm S from the elbow
 // k(q) on a circle of radius T (|k'| = |k''| = T): its gradient is g = f / L, f the forearm and
@@ -14,14 +14,13 @@ namespace pkm {
 // (1 + 2 T S / L + (T^2 + T S) S^2 / L^2) / L. The lever changes by at most
 // T + (T^2 + T S) S / L per mm of w: while it stays above half its value L0 at the centre, by at
 // most G = T + 2 (T^2 + T S) S / L0, so over the ball L >= L0 - G r if that is above L0 / 2.
-std::optional<HessianBounds> RotaryDeltaKinematics::own_hessian_bounds(const Vector6d& centre,
-                                                                       double radius_mm,
-                                                                       double /*angle_scale_mm*/,
-                                                                       const Chord& chord) const {
+std::optional<HessianBounds> RotaryDeltaKinematics::own_hessian_bounds(
+    const geometry::Vector6d& centre, double radius_mm, double /*angle_scale_mm*/,
+    const Chord& chord) const {
   HessianBounds bounds;
   JointVector joints;
   JointJacobian jacobian;
-  if (!inverse_and_jacobian(Pose::from_vector(centre), joints, jacobian).ok()) {
+  if (!inverse_and_jacobian(geometry::Pose::from_vector(centre), joints, jacobian).ok()) {
     for (int arm = 0; arm < kArms; ++arm) bounds.add(INFINITY, INFINITY);
     return bounds;
   }
@@ -60,7 +59,7 @@ LegMotion RotaryDeltaKinematics::leg_motion(const JointVector& /*joints*/,
 // the arm's turn, so f moves by at most 1 + T times the arm's rate per mm (`joint_speed`: the
 // arms' turns per mm over the ball, leg_motion's inner_speed).
 std::optional<ModeBound> RotaryDeltaKinematics::mode_over_ball(
-    int home_mode, const Vector6d& centre, const JointVector& joints,
+    int home_mode, const geometry::Vector6d& centre, const JointVector& joints,
     std::span<const double> joint_speed) const {
   std::array<Eigen::Vector3d, 3> forearm;
   for (int arm = 0; arm < 3; ++arm) {
@@ -75,4 +74,4 @@ std::optional<ModeBound> RotaryDeltaKinematics::mode_over_ball(
   return ModeBound{-home_mode * forearm[0].dot(forearm[1].cross(forearm[2])), rate};
 }
 
-}  // namespace pkm
+}  // namespace pkm::kinematics

@@ -41,13 +41,13 @@ char axis_letter(int axis) {
 }
 
 // Pose coordinate (mm, rad) in the machine file's units (length unit, deg).
-double axis_in_file(const Machine& machine, int axis, double value) {
+double axis_in_file(const machine::Machine& machine, int axis, double value) {
   return machine.axis_to_file(axis, value);
 }
 
 // The coordinates LinuxCNC moves: those the model controls, and Z always (a plotter's Z is the
 // pen's channel, or ignored, but G-code programs write it).
-Dof moved_axes(const Machine& machine) {
+geometry::Dof moved_axes(const machine::Machine& machine) {
   return machine.kinematics().dof().with(2);
 }
 
@@ -56,16 +56,16 @@ struct Header {
   void line(const std::string& s) { text += s.empty() ? "#\n" : "# " + s + "\n"; }
 };
 
-std::string units_name(const Machine& machine) {
-  return machine.units() == LengthUnit::inch ? "inch" : "mm";
+std::string units_name(const machine::Machine& machine) {
+  return machine.units() == machine::LengthUnit::inch ? "inch" : "mm";
 }
 
 // The rate (velocity or acceleration) of an axis in the INI's units (length unit or deg per s).
-double rate_in_file(const Machine& machine, int axis, double internal) {
-  return axis < 3 ? internal / machine.mm_per_unit() : radians_to_degrees(internal);
+double rate_in_file(const machine::Machine& machine, int axis, double internal) {
+  return axis < 3 ? internal / machine.mm_per_unit() : geometry::radians_to_degrees(internal);
 }
 
-std::string joint_name(const Machine& machine, int joint) {
+std::string joint_name(const machine::Machine& machine, int joint) {
   return "joint " + std::to_string(joint) + " '" +
          machine.joints()[static_cast<std::size_t>(joint)].name + "'";
 }
@@ -78,7 +78,8 @@ std::string fixed(double value, int decimals) {
 
 // The speed pkm plan allows a move along `axis` at the worst cell centre the bound met: the
 // joints' rates there are the largest sampled.
-double plan_speed_at_worst(const Machine& machine, const bounds::JointRateBound& bound, int axis) {
+double plan_speed_at_worst(const machine::Machine& machine, const bounds::JointRateBound& bound,
+                           int axis) {
   double speed = machine.cartesian().max_feed_mm_per_s();
   for (int i = 0; i < bound.sampled_slope.rows(); ++i) {
     const double rate = bound.sampled_slope(i, axis);
@@ -88,7 +89,7 @@ double plan_speed_at_worst(const Machine& machine, const bounds::JointRateBound&
   return speed;
 }
 
-std::vector<std::string> cost_lines(const Machine& machine, const LinuxcncConfig& config) {
+std::vector<std::string> cost_lines(const machine::Machine& machine, const LinuxcncConfig& config) {
   std::vector<std::string> lines;
   const double unit = machine.mm_per_unit();
   const std::string u = machine.length_unit();
@@ -147,7 +148,7 @@ void bound_comments(Header& h, const LinuxcncConfig& config) {
   for (const std::string& line : config.cost) h.line("  " + line);
 }
 
-std::string traj_section(const Machine& machine, const LinuxcncConfig& config) {
+std::string traj_section(const machine::Machine& machine, const LinuxcncConfig& config) {
   const double unit = machine.mm_per_unit();
   std::string letters;
   for (const int axis : config.moved.axes()) {
@@ -158,9 +159,9 @@ std::string traj_section(const Machine& machine, const LinuxcncConfig& config) {
   std::string s = "[TRAJ]\nCOORDINATES = " + letters + "\nLINEAR_UNITS = " + units_name(machine) +
                   "\nANGULAR_UNITS = degree\n";
   // The forward kinematics' seed once every joint is homed: the machine's home pose (x y z a b c).
-  const Vector6d home = machine.home().as_vector();
+  const geometry::Vector6d home = machine.home().as_vector();
   s += "HOME =";
-  for (int axis = 0; axis < kPoseSize; ++axis)
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis)
     s += " " + number(axis_in_file(machine, axis, home[axis]));
   s += "\n";
   s += "DEFAULT_LINEAR_VELOCITY = " + number_down(v) + "\nMAX_LINEAR_VELOCITY = " + number_down(v) +
@@ -185,7 +186,7 @@ std::string traj_section(const Machine& machine, const LinuxcncConfig& config) {
 // any job's pen heights.
 constexpr double kFreeZRangeMm = 100.0;
 
-std::string axis_sections(const Machine& machine, const LinuxcncConfig& config) {
+std::string axis_sections(const machine::Machine& machine, const LinuxcncConfig& config) {
   std::string s;
   for (const int axis : config.moved.axes()) {
     const bool controlled = machine.kinematics().dof().controls(axis);
@@ -195,7 +196,7 @@ std::string axis_sections(const Machine& machine, const LinuxcncConfig& config) 
                                    : kFreeZRangeMm / machine.mm_per_unit();
     s += "[AXIS_" + std::string(1, axis_letter(axis)) + "]\n";
     if (!controlled) {
-      s += machine.tool().z == ToolZ::pen
+      s += machine.tool().z == machine::ToolZ::pen
                ? "# Z moves no joint: it is the pen's channel (pen-up in the HAL files)\n"
                : "# Z moves no joint: the machine ignores it\n";
     } else {
@@ -219,20 +220,23 @@ std::string axis_sections(const Machine& machine, const LinuxcncConfig& config) 
   return s;
 }
 
-std::string joint_sections(const Machine& machine, const JointVector& home_joints, bool sim) {
+std::string joint_sections(const machine::Machine& machine,
+                           const kinematics::JointVector& home_joints, bool sim) {
   std::string s;
   for (int i = 0; i < static_cast<int>(machine.joints().size()); ++i) {
-    const JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
+    const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
     const auto file = [&](double v) { return number(machine.joint_to_file(i, v)); };
     const double home = machine.joint_to_file(i, home_joints[i]);
     s += "[JOINT_" + std::to_string(i) + "]\n# " + joint.name + " (" + machine.joint_file_unit(i) +
          "); HOME: the joint at the machine's home pose\n";
-    s += std::string("TYPE = ") + (joint.kind == JointKind::rotary ? "ANGULAR" : "LINEAR") + "\n";
+    s += std::string("TYPE = ") +
+         (joint.kind == kinematics::JointKind::rotary ? "ANGULAR" : "LINEAR") + "\n";
     s += "MIN_LIMIT = " + file(joint.min) + "\nMAX_LIMIT = " + file(joint.max) + "\n";
     s += "MAX_VELOCITY = " + file(joint.max_velocity) +
          "\nMAX_ACCELERATION = " + file(joint.max_acceleration) + "\n";
     // Following errors: 1 mm (or 1 deg) at full speed, a quarter of it at rest.
-    const double ferror = joint.kind == JointKind::rotary ? 1.0 : 1.0 / machine.mm_per_unit();
+    const double ferror =
+        joint.kind == kinematics::JointKind::rotary ? 1.0 : 1.0 / machine.mm_per_unit();
     s += "FERROR = " + number(ferror) + "\nMIN_FERROR = " + number(0.25 * ferror) + "\n";
     if (!sim) {
       s += "# Homing: with HOME_SEARCH_VEL 0 the joint takes HOME_OFFSET where it stands when you\n"
@@ -245,8 +249,8 @@ std::string joint_sections(const Machine& machine, const JointVector& home_joint
   return s;
 }
 
-std::string ini_text(const Machine& machine, const LinuxcncConfig& config,
-                     const ExportOptions& options, const JointVector& home_joints) {
+std::string ini_text(const machine::Machine& machine, const LinuxcncConfig& config,
+                     const ExportOptions& options, const kinematics::JointVector& home_joints) {
   const std::string stem = std::filesystem::path(options.machine_file_name).stem().string();
   Header h;
   h.line(config.ini_name + ": LinuxCNC 2.9 configuration of \"" + machine.name() + "\",");
@@ -281,9 +285,9 @@ std::string ini_text(const Machine& machine, const LinuxcncConfig& config,
 }
 
 // comp's out is true while in1 > in0: the commanded Z above down_below, or below down_above.
-std::string pen_hal(const Machine& machine) {
-  const ToolChannel& tool = machine.tool();
-  if (tool.z != ToolZ::pen) return "";
+std::string pen_hal(const machine::Machine& machine) {
+  const machine::ToolChannel& tool = machine.tool();
+  if (tool.z != machine::ToolZ::pen) return "";
   const std::string height = number(tool.pen_height_mm / machine.mm_per_unit());
   const std::string z = "axis.z.pos-cmd";
   return std::string("\n# The pen: up while the commanded Z is ") +
@@ -294,7 +298,7 @@ std::string pen_hal(const Machine& machine) {
          "net pen-up pen-up.out\n";
 }
 
-std::string main_hal(const Machine& machine, const std::string& name) {
+std::string main_hal(const machine::Machine& machine, const std::string& name) {
   return "# " + name +
          ": motion, the pkmkins kinematics and the servo thread (pkm export linuxcnc)\n"
          "loadrt [KINS]KINEMATICS\n"
@@ -307,7 +311,7 @@ std::string main_hal(const Machine& machine, const std::string& name) {
          pen_hal(machine);
 }
 
-std::string sim_hal(const Machine& machine) {
+std::string sim_hal(const machine::Machine& machine) {
   std::string s =
       "# sim.hal: no hardware. Each joint's command is its feedback; E-stop always released.\n"
       "# The joints read 0 until homed; homing (HOME_SEARCH_VEL 0, all at once) sets each to its\n"
@@ -321,7 +325,7 @@ std::string sim_hal(const Machine& machine) {
   return s;
 }
 
-std::string hardware_hal(const Machine& machine) {
+std::string hardware_hal(const machine::Machine& machine) {
   std::string s =
       "# hardware.hal: WIRE YOUR MACHINE HERE. Every line marked WIRE names a signal with one\n"
       "# end only: connect the other end to your drives' pins (a step generator such as\n"
@@ -338,7 +342,7 @@ std::string hardware_hal(const Machine& machine) {
     s += "net " + n + "-enable " + j + ".amp-enable-out  # WIRE: to the drive's enable\n";
     s += "net " + n + "-home-sw " + j + ".home-sw-in  # WIRE: from the home switch, if any\n";
   }
-  if (machine.tool().z == ToolZ::pen) {
+  if (machine.tool().z == machine::ToolZ::pen) {
     s += "\n# WIRE: pen-up (bit, true while the pen is up) to the pen's servo or solenoid output\n";
   }
   return s;
@@ -346,13 +350,14 @@ std::string hardware_hal(const Machine& machine) {
 
 }  // namespace
 
-LinuxcncConfig make_linuxcnc_config(const Machine& machine, const ExportOptions& options) {
+LinuxcncConfig make_linuxcnc_config(const machine::Machine& machine, const ExportOptions& options) {
   LinuxcncConfig config;
   const std::string stem = std::filesystem::path(options.machine_file_name).stem().string();
   config.ini_name = stem + ".ini";
   config.moved = moved_axes(machine);
-  JointVector home_joints;
-  if (const Status status = machine.inverse(machine.home(), home_joints); !status.ok()) {
+  kinematics::JointVector home_joints;
+  if (const kinematics::Status status = machine.inverse(machine.home(), home_joints);
+      !status.ok()) {
     throw std::runtime_error("the machine's home is not a pose it can take: " +
                              machine.explain(machine.home(), status));
   }
@@ -402,7 +407,7 @@ namespace {
 // Writes `file` under `directory`, making the directories its name has; each made is added to
 // `tree` when there is one (a staging directory), so that a signal removes it with its files.
 void write_config_file(const std::filesystem::path& directory, const ConfigFile& file,
-                       TemporaryTree* tree) {
+                       files::TemporaryTree* tree) {
   const std::filesystem::path path = directory / file.name;
   std::vector<std::filesystem::path> made;
   for (std::filesystem::path parent = path.parent_path();
@@ -415,7 +420,7 @@ void write_config_file(const std::filesystem::path& directory, const ConfigFile&
   if (tree) {
     for (auto it = made.rbegin(); it != made.rend(); ++it) tree->add_directory(*it);
   }
-  write_file_atomically(path, file.text);
+  files::write_file_atomically(path, file.text);
   if (tree) tree->add_file(path);
 }
 
@@ -452,7 +457,7 @@ constexpr std::size_t kMaxCarriedFiles = 10000;
 // `relative`: `from` within the old directory ("" at its top).
 void carry_over(const std::filesystem::path& old_root, const std::filesystem::path& from,
                 const std::filesystem::path& to, const std::filesystem::path& relative,
-                TemporaryTree& tree, KeptFiles& kept) {
+                files::TemporaryTree& tree, KeptFiles& kept) {
   namespace fs = std::filesystem;
   for (const fs::directory_entry& entry : fs::directory_iterator(from)) {
     const fs::path target = to / entry.path().filename();
@@ -508,7 +513,7 @@ KeptFiles replace_config_directory(const std::filesystem::path& directory,
                              "outside, e.g. from " +
                              old_root.parent_path().string());
   }
-  TemporaryTree staging(staging_path(old_root));
+  files::TemporaryTree staging(staging_path(old_root));
   fs::permissions(staging.root(), fs::status(old_root).permissions(), error);
   KeptFiles kept;
   for (const ConfigFile& file : files) {
@@ -546,7 +551,7 @@ KeptFiles write_config_directory(const std::filesystem::path& directory,
     fs::create_directories(target.parent_path(), error);  // as mkdir -p
     if (error) fail("create the directory", target.parent_path(), error);
   }
-  TemporaryTree staging(staging_path(target));
+  files::TemporaryTree staging(staging_path(target));
   for (const ConfigFile& file : files) write_config_file(staging.root(), file, &staging);
   staging.commit_to(target);
   return {};

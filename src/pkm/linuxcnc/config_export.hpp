@@ -40,13 +40,13 @@ struct LinuxcncConfig {
   double shrink = 1.0;
   bounds::JointRateBound bound;
   AxisRateLimits limits;
-  Dof moved;                      // the coordinates LinuxCNC moves ([TRAJ] COORDINATES)
+  geometry::Dof moved;            // the coordinates LinuxCNC moves ([TRAJ] COORDINATES)
   double bound_seconds = 0;       // wall time of the joint-rate bound
   std::vector<std::string> cost;  // what the bound costs, one line per axis (terminal and INI)
 };
 
 // Throws std::runtime_error (no finite reach, a singularity in the envelope, home unreachable).
-LinuxcncConfig make_linuxcnc_config(const Machine& machine, const ExportOptions& options);
+LinuxcncConfig make_linuxcnc_config(const machine::Machine& machine, const ExportOptions& options);
 
 // What writing over an existing configuration (`force`) kept of it.
 struct KeptFiles {

@@ -142,11 +142,14 @@ class SectionText {
  public:
   explicit SectionText(const std::string& type) { line("[kinematics]\ntype = \"" + type + "\""); }
   void line(const std::string& text) { out_ << text << "\n"; }
-  void number(const std::string& key, double value) { line(key + " = " + toml_number(value)); }
+  void number(const std::string& key, double value) {
+    line(key + " = " + machine::toml_number(value));
+  }
   void points(const std::string& key, const std::vector<std::array<double, 3>>& points) {
     line(key + " = [");
     for (const auto& p : points) {
-      line("  [" + toml_number(p[0]) + ", " + toml_number(p[1]) + ", " + toml_number(p[2]) + "],");
+      line("  [" + machine::toml_number(p[0]) + ", " + machine::toml_number(p[1]) + ", " +
+           machine::toml_number(p[2]) + "],");
     }
     line("]");
   }
@@ -242,7 +245,7 @@ std::string genhexkins_section(const PinReader& pins, std::vector<std::string>& 
     platform.push_back(p);
   }
   if (offset != 0.0) {
-    notes.push_back("genhexkins' tool-offset + spindle-offset " + toml_number(offset) +
+    notes.push_back("genhexkins' tool-offset + spindle-offset " + machine::toml_number(offset) +
                     " is tool_length, and raises the base joints' z by as much (as genhexkins "
                     "does): the joints equal genhexkins' for the same pose");
   }
@@ -267,7 +270,8 @@ std::string lineardeltakins_section(const PinReader& pins, const JointPlan& plan
   for (const auto& tower : towers) {
     section.line("");
     section.line("[[kinematics.rails]]");
-    section.line("origin = [" + toml_number(tower[0]) + ", " + toml_number(tower[1]) + ", 0.0]");
+    section.line("origin = [" + machine::toml_number(tower[0]) + ", " +
+                 machine::toml_number(tower[1]) + ", 0.0]");
     section.line("direction = [0.0, 0.0, 1.0]");
     section.number("strut", l);
     section.line("attach = [0.0, 0.0, 0.0]");
@@ -295,7 +299,7 @@ std::string matrix_section(const PinReader& pins, const JointPlan& plan, bool ma
       for (const char column : std::string("xyz")) {
         const std::string pin = std::string("matrixkins.C_") + row + column;
         text += (column == 'x' ? "" : ", ") +
-                toml_number(pins.geometry(pin, row == column ? 1.0 : 0.0));
+                machine::toml_number(pins.geometry(pin, row == column ? 1.0 : 0.0));
       }
       section.line(text + "],");
     }
@@ -338,7 +342,7 @@ double number_or_default(const IniFile& ini, const std::string& section, const s
                          double fallback, std::vector<std::string>& notes) {
   if (const std::optional<double> value = ini.number(section, key)) return *value;
   notes.push_back("[" + section + "] " + key + " is not set: LinuxCNC's default " +
-                  toml_number(fallback));
+                  machine::toml_number(fallback));
   return fallback;
 }
 
@@ -349,8 +353,9 @@ double position_limit(std::optional<double> value, double sign, const std::strin
   if (value && std::abs(*value) <= kLargestPosition) return *value;
   const double largest = std::copysign(kLargestPosition, value ? *value : sign);
   notes.push_back(
-      what + (value ? " " + toml_number(*value) : std::string(" is not set (no limit)")) +
-      ": written as " + toml_number(largest) + ", the largest position a machine file takes");
+      what + (value ? " " + machine::toml_number(*value) : std::string(" is not set (no limit)")) +
+      ": written as " + machine::toml_number(largest) +
+      ", the largest position a machine file takes");
   return largest;
 }
 
@@ -362,8 +367,8 @@ std::optional<double> steps_per_unit(const IniFile& ini, const std::string& sect
     const std::optional<double> scale = ini.number(section, key);
     if (!scale || *scale == 0.0 || !std::isfinite(*scale)) continue;
     if (*scale < 0.0) {
-      notes.push_back("[" + section + "] " + key + " " + toml_number(*scale) + ": steps_per_unit " +
-                      toml_number(-*scale) +
+      notes.push_back("[" + section + "] " + key + " " + machine::toml_number(*scale) +
+                      ": steps_per_unit " + machine::toml_number(-*scale) +
                       "; the minus sign (the motor's direction) is not carried: on grbl it is $3");
     }
     return std::abs(*scale);
@@ -385,7 +390,7 @@ ImportedJoint read_joint(const IniFile& ini, int index, const std::string& name,
   if (!(joint.min < joint.max)) {
     const IniEntry* max = ini.find(section, "MAX_LIMIT");
     if (max == nullptr) ini.fail_missing(section, "MAX_LIMIT", "it must lie above MIN_LIMIT");
-    ini.fail(*max, "must be greater than MIN_LIMIT (" + toml_number(joint.min) +
+    ini.fail(*max, "must be greater than MIN_LIMIT (" + machine::toml_number(joint.min) +
                        "): pkmkit needs the joint's travel");
   }
   joint.max_velocity = number_or_default(ini, section, "MAX_VELOCITY", 1.0, notes);
@@ -574,48 +579,50 @@ std::string kinematics_section(const KinematicsModule& module, const PinReader& 
 }
 
 // The model of the section, made by the registry as a machine file's would be.
-std::unique_ptr<Kinematics> make_model(const ImportedConfig& config,
-                                       const std::string& output_name) {
+std::unique_ptr<kinematics::Kinematics> make_model(const ImportedConfig& config,
+                                                   const std::string& output_name) {
   toml::table document;
   try {
     document = toml::parse(config.kinematics_section, output_name);
   } catch (const toml::parse_error& error) {
-    throw MachineFileError(output_name, static_cast<int>(error.source().begin.line), "(syntax)",
-                           std::string(error.description()));
+    throw machine::MachineFileError(output_name, static_cast<int>(error.source().begin.line),
+                                    "(syntax)", std::string(error.description()));
   }
   std::vector<std::string> names;
   for (const ImportedJoint& joint : config.joints) names.push_back(joint.name);
-  auto tracker = std::make_shared<KeyTracker>(output_name);
-  const TomlSection section(*document["kinematics"].as_table(), "kinematics", tracker,
-                            config.inch ? 25.4 : 1.0, names);
-  return make_kinematics(section);
+  auto tracker = std::make_shared<machine::KeyTracker>(output_name);
+  const machine::TomlSection section(*document["kinematics"].as_table(), "kinematics", tracker,
+                                     config.inch ? 25.4 : 1.0, names);
+  return kinematics::make_kinematics(section);
 }
 
 // The pose of the joints' HOME values by the model's forward kinematics, in the config's units.
 std::vector<double> home_through_forward(const ImportedConfig& config,
                                          const std::string& output_name) {
-  const std::unique_ptr<Kinematics> model = make_model(config, output_name);
+  const std::unique_ptr<kinematics::Kinematics> model = make_model(config, output_name);
   const double mm_per_unit = config.inch ? 25.4 : 1.0;
-  JointVector joints(static_cast<Eigen::Index>(config.joints.size()));
+  kinematics::JointVector joints(static_cast<Eigen::Index>(config.joints.size()));
   double mean = 0.0;
   for (std::size_t i = 0; i < config.joints.size(); ++i) {
     const ImportedJoint& joint = config.joints[i];
     joints[static_cast<Eigen::Index>(i)] =
-        joint.angular ? degrees_to_radians(joint.home) : joint.home * mm_per_unit;
+        joint.angular ? geometry::degrees_to_radians(joint.home) : joint.home * mm_per_unit;
     mean += joint.home * mm_per_unit / static_cast<double>(config.joints.size());
   }
   // A hexapod's platform is above its base: the seed picks that assembly.
-  Pose pose = Pose::from_mm_deg(0.0, 0.0, config.module == "genhexkins" ? mean : 0.0);
-  const Status status = model->forward(joints, pose);
+  geometry::Pose pose =
+      geometry::Pose::from_mm_deg(0.0, 0.0, config.module == "genhexkins" ? mean : 0.0);
+  const kinematics::Status status = model->forward(joints, pose);
   if (!status.ok()) {
     throw ConfigError(config.source, "the joints' HOME values have no pose (" +
-                                         describe(status, {}) +
+                                         kinematics::describe(status, {}) +
                                          "); set [TRAJ] HOME to the pose they give");
   }
-  const Vector6d values = pose.as_vector();
+  const geometry::Vector6d values = pose.as_vector();
   std::vector<double> home;
   for (int axis = 0; axis < config.pose_size; ++axis) {
-    const double value = axis < 3 ? values[axis] / mm_per_unit : radians_to_degrees(values[axis]);
+    const double value =
+        axis < 3 ? values[axis] / mm_per_unit : geometry::radians_to_degrees(values[axis]);
     // Rounding noise of the solution (1e-14) would read as a real offset in the file.
     home.push_back(std::abs(value) < 1e-9 ? 0.0 : value);
   }
@@ -624,19 +631,21 @@ std::vector<double> home_through_forward(const ImportedConfig& config,
 
 std::string number_list(const std::vector<double>& values) {
   std::string text;
-  for (const double value : values) text += (text.empty() ? "" : ", ") + toml_number(value);
+  for (const double value : values)
+    text += (text.empty() ? "" : ", ") + machine::toml_number(value);
   return "[" + text + "]";
 }
 
 std::string joints_text(const ImportedConfig& config) {
   std::string text;
   for (const ImportedJoint& joint : config.joints) {
-    text += "\n[[joints]]\nname = " + toml_string(joint.name) + "\n";
-    text += "min = " + toml_number(joint.min) + "\nmax = " + toml_number(joint.max) + "\n";
-    text += "max_velocity = " + toml_number(joint.max_velocity) + "\n";
-    text += "max_acceleration = " + toml_number(joint.max_acceleration) + "\n";
+    text += "\n[[joints]]\nname = " + machine::toml_string(joint.name) + "\n";
+    text += "min = " + machine::toml_number(joint.min) +
+            "\nmax = " + machine::toml_number(joint.max) + "\n";
+    text += "max_velocity = " + machine::toml_number(joint.max_velocity) + "\n";
+    text += "max_acceleration = " + machine::toml_number(joint.max_acceleration) + "\n";
     if (joint.steps_per_unit)
-      text += "steps_per_unit = " + toml_number(*joint.steps_per_unit) + "\n";
+      text += "steps_per_unit = " + machine::toml_number(*joint.steps_per_unit) + "\n";
   }
   return text;
 }
@@ -722,20 +731,20 @@ std::string machine_file_text(const ImportedConfig& config, const std::string& o
   std::string text = "# Imported by `pkm import linuxcnc` from " + config.source + " (kinematics " +
                      config.module + ").\n";
   for (const std::string& note : config.notes) text += "# - " + note + "\n";
-  text += "name = " + toml_string(config.name) + "\n";
+  text += "name = " + machine::toml_string(config.name) + "\n";
   text += std::string("units = \"") + (config.inch ? "inch" : "mm") + "\"\n\n";
   text += config.kinematics_section;
   text += joints_text(config);
-  text += "\n[cartesian]\nmax_feed = " + toml_number(config.max_feed_per_min) + "\n";
-  text += "max_acceleration = " + toml_number(config.max_acceleration) + "\n";
+  text += "\n[cartesian]\nmax_feed = " + machine::toml_number(config.max_feed_per_min) + "\n";
+  text += "max_acceleration = " + machine::toml_number(config.max_acceleration) + "\n";
   text += "home = " + number_list(home) + "\n";
   if (config.envelope_min && config.envelope_max) {
     text += "min = " + number_list(*config.envelope_min) + "\n";
     text += "max = " + number_list(*config.envelope_max) + "\n";
   }
   try {
-    (void)parse_machine(text, output_name);
-  } catch (const MachineFileError& error) {
+    (void)machine::parse_machine(text, output_name);
+  } catch (const machine::MachineFileError& error) {
     throw ConfigError(config.source,
                       std::string("pkmkit refuses the imported machine (") + error.what() + ")");
   }

@@ -245,8 +245,8 @@ class Migrator {
   std::string kinematics_value() const {
     std::string value = "pkmkins machine=" + options_.machine_file_name;
     if (const IniEntry* units = ini_.find("TRAJ", "LINEAR_UNITS")) {
-      const std::optional<LengthUnit> unit = parse_world_unit(units->value);
-      const std::string name = unit == LengthUnit::inch ? "inch" : "mm";
+      const std::optional<machine::LengthUnit> unit = parse_world_unit(units->value);
+      const std::string name = unit == machine::LengthUnit::inch ? "inch" : "mm";
       if (unit && name != options_.machine_units) value += " units=" + name;
     }
     return value;

@@ -17,16 +17,16 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // axis could have alone); the row (a joint over a cell) or
 // axis cap that runs out first fixes the free axes it concerns; repeat until every axis is fixed.
 struct Filling {
-  Vector6d value = Vector6d::Zero();
-  std::vector<int> limiting = std::vector<int>(kPoseSize, -1);  // the joint, -1: a cap
+  geometry::Vector6d value = geometry::Vector6d::Zero();
+  std::vector<int> limiting = std::vector<int>(geometry::kPoseSize, -1);  // the joint, -1: a cap
 };
 
 Filling fill(const bounds::JointRateBound& bound, const std::vector<double>& budget,
-             const Vector6d& ratio, const Vector6d& cap, Dof moved) {
+             const geometry::Vector6d& ratio, const geometry::Vector6d& cap, geometry::Dof moved) {
   const Eigen::MatrixXd& slope = bound.cell_slope;
   Filling result;
-  std::vector<bool> free(kPoseSize, false);
-  for (int axis = 0; axis < kPoseSize; ++axis)
+  std::vector<bool> free(geometry::kPoseSize, false);
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis)
     free[static_cast<std::size_t>(axis)] = moved.controls(axis);
   const auto any_free = [&] { return std::find(free.begin(), free.end(), true) != free.end(); };
   while (any_free()) {
@@ -35,7 +35,7 @@ Filling fill(const bounds::JointRateBound& bound, const std::vector<double>& bud
     int capped = -1;
     for (Eigen::Index r = 0; r < slope.rows(); ++r) {
       double denominator = 0.0, used = 0.0;
-      for (int axis = 0; axis < kPoseSize; ++axis) {
+      for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
         (free[static_cast<std::size_t>(axis)] ? denominator : used) +=
             slope(r, axis) *
             (free[static_cast<std::size_t>(axis)] ? ratio[axis] : result.value[axis]);
@@ -44,12 +44,12 @@ Filling fill(const bounds::JointRateBound& bound, const std::vector<double>& bud
       const double t = std::max(0.0, budget[static_cast<std::size_t>(r)] - used) / denominator;
       if (t < best) best = t, limiting_row = r, capped = -1;
     }
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       if (free[static_cast<std::size_t>(axis)] && cap[axis] / ratio[axis] < best) {
         best = cap[axis] / ratio[axis], capped = axis, limiting_row = -1;
       }
     }
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       std::size_t k = static_cast<std::size_t>(axis);
       if (!free[k]) continue;
       const bool fixes =
@@ -67,9 +67,9 @@ Filling fill(const bounds::JointRateBound& bound, const std::vector<double>& bud
 // Per axis: the most it could have alone (every other axis still), from the rows and its cap;
 // the filling's ratios, so that every axis gets the same share of its own reach and a small
 // coupling (a matrix mill's 0.0002) does not tie a fast axis to a slow joint.
-Vector6d alone(const bounds::JointRateBound& bound, const std::vector<double>& budget,
-               const Vector6d& cap, Dof moved) {
-  Vector6d result = Vector6d::Zero();
+geometry::Vector6d alone(const bounds::JointRateBound& bound, const std::vector<double>& budget,
+                         const geometry::Vector6d& cap, geometry::Dof moved) {
+  geometry::Vector6d result = geometry::Vector6d::Zero();
   for (const int axis : moved.axes()) {
     double most = cap[axis];
     for (Eigen::Index r = 0; r < bound.cell_slope.rows(); ++r) {
@@ -84,15 +84,15 @@ Vector6d alone(const bounds::JointRateBound& bound, const std::vector<double>& b
 
 }  // namespace
 
-AxisRateLimits axis_rate_limits(const Machine& machine, const bounds::JointRateBound& bound,
-                                Dof moved) {
+AxisRateLimits axis_rate_limits(const machine::Machine& machine,
+                                const bounds::JointRateBound& bound, geometry::Dof moved) {
   const std::vector<int> controlled = machine.kinematics().dof().axes();
   const std::size_t rows = bound.cell_joint.size();
   const auto joint_of = [&](std::size_t r) {
     return machine.joints()[static_cast<std::size_t>(bound.cell_joint[r])];
   };
-  Vector6d velocity_cap, acceleration_cap;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
+  geometry::Vector6d velocity_cap, acceleration_cap;
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
     velocity_cap[axis] = axis < 3 ? machine.cartesian().max_feed_mm_per_s() : kInfinity;
     acceleration_cap[axis] = axis < 3 ? machine.cartesian().max_acceleration_mm_per_s2 : kInfinity;
   }
@@ -101,7 +101,7 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const bounds::JointRateB
   Filling velocity =
       fill(bound, budget, alone(bound, budget, velocity_cap, moved), velocity_cap, moved);
   // |v|^2 in the scaled coordinates the Hessian bound speaks, over the controlled axes.
-  const auto scaled_square = [&](const Vector6d& v) {
+  const auto scaled_square = [&](const geometry::Vector6d& v) {
     double sum = 0.0;
     for (const int axis : controlled) {
       sum += std::pow(v[axis] * (axis < 3 ? 1.0 : bound.angle_scale_mm), 2);
@@ -143,22 +143,24 @@ AxisRateLimits axis_rate_limits(const Machine& machine, const bounds::JointRateB
   return limits;
 }
 
-double plan_speed_along(const Machine& machine, const Pose& pose, int axis) {
-  JointJacobian jacobian;
-  JointVector behind, here, ahead;
-  const Kinematics& model = machine.kinematics();
+double plan_speed_along(const machine::Machine& machine, const geometry::Pose& pose, int axis) {
+  kinematics::JointJacobian jacobian;
+  kinematics::JointVector behind, here, ahead;
+  const kinematics::Kinematics& model = machine.kinematics();
   if (!model.jacobian(pose, jacobian).ok() || !model.inverse(pose, here).ok()) return 0.0;
   // The joints' rates along the move, and their curvature by central differences over the
   // planner's own step.
   constexpr double kStepMm = motion::kJointSampleStepMm;
-  Vector6d step = Vector6d::Zero();
+  geometry::Vector6d step = geometry::Vector6d::Zero();
   step[axis] = kStepMm;
-  const bool curved = model.inverse(Pose::from_vector(pose.as_vector() - step), behind).ok() &&
-                      model.inverse(Pose::from_vector(pose.as_vector() + step), ahead).ok();
-  const JointVector slope = jacobian.col(axis).cwiseAbs();
-  const JointVector curvature =
-      curved ? JointVector((ahead - 2.0 * here + behind).cwiseAbs() / (kStepMm * kStepMm))
-             : JointVector(JointVector::Zero(jacobian.rows()));
+  const bool curved =
+      model.inverse(geometry::Pose::from_vector(pose.as_vector() - step), behind).ok() &&
+      model.inverse(geometry::Pose::from_vector(pose.as_vector() + step), ahead).ok();
+  const kinematics::JointVector slope = jacobian.col(axis).cwiseAbs();
+  const kinematics::JointVector curvature =
+      curved
+          ? kinematics::JointVector((ahead - 2.0 * here + behind).cwiseAbs() / (kStepMm * kStepMm))
+          : kinematics::JointVector(kinematics::JointVector::Zero(jacobian.rows()));
   return motion::joint_feed_limit(machine.joints(), slope, curvature,
                                   machine.cartesian().max_feed_mm_per_s())
       .speed_mm_per_s;

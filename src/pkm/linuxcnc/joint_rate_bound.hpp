@@ -15,8 +15,8 @@ namespace pkm::linuxcnc {
 // of each axis on its own, chosen so that with every axis within its own limit no joint passes
 // its max_velocity or max_acceleration anywhere in the box.
 struct AxisRateLimits {
-  Vector6d velocity = Vector6d::Zero();
-  Vector6d acceleration = Vector6d::Zero();
+  geometry::Vector6d velocity = geometry::Vector6d::Zero();
+  geometry::Vector6d acceleration = geometry::Vector6d::Zero();
   double linear_velocity = 0.0;        // the tool's speed cap, mm/s ([TRAJ] MAX_LINEAR_VELOCITY)
   double linear_acceleration = 0.0;    // mm/s^2
   std::vector<int> velocity_limiting;  // per axis: the joint that set its velocity, -1: none
@@ -39,11 +39,11 @@ inline constexpr double kPlannerAccelerationOvershoot = 1.5;
 // half of every joint's acceleration limit. `moved` says which coordinates LinuxCNC moves (the
 // controlled ones, and Z on a plotter): those no joint follows take the machine's limits. The
 // accelerations returned are for LinuxCNC: the split's divided by the planner's overshoot (above).
-AxisRateLimits axis_rate_limits(const Machine& machine, const bounds::JointRateBound& bound,
-                                Dof moved);
+AxisRateLimits axis_rate_limits(const machine::Machine& machine,
+                                const bounds::JointRateBound& bound, geometry::Dof moved);
 
 // The speed (mm/s) `pkm plan` allows a straight move along the linear axis `axis` at `pose`:
 // the machine's max_feed, lowered by the planner's feed rule (motion/feed_rule.hpp).
-double plan_speed_along(const Machine& machine, const Pose& pose, int axis);
+double plan_speed_along(const machine::Machine& machine, const geometry::Pose& pose, int axis);
 
 }  // namespace pkm::linuxcnc

@@ -36,7 +36,7 @@ struct WorldPose {
 static_assert(sizeof(WorldPose) == 9 * sizeof(double), "WorldPose must stay EmcPose's layout");
 
 // "mm" or "inch" (LinuxCNC's LINEAR_UNITS also says "in"); nullopt for anything else.
-std::optional<LengthUnit> parse_world_unit(std::string_view text);
+std::optional<machine::LengthUnit> parse_world_unit(std::string_view text);
 
 // What the module shows on its HAL pins (genhexkins' pins, plus the inverse's).
 struct KinsCounters {
@@ -59,18 +59,19 @@ class KinsAdapter {
  public:
   // world_unit: LinuxCNC's length unit; the machine file's own when not given. `source`: where
   // the machine came from (empty when it was not read from a file).
-  KinsAdapter(Machine machine, std::optional<LengthUnit> world_unit, MachineFileSource source = {});
+  KinsAdapter(machine::Machine machine, std::optional<machine::LengthUnit> world_unit,
+              MachineFileSource source = {});
 
-  const Machine& machine() const { return machine_; }
+  const machine::Machine& machine() const { return machine_; }
   int joint_count() const { return joint_count_; }
-  LengthUnit world_unit() const { return world_unit_; }
+  machine::LengthUnit world_unit() const { return world_unit_; }
   const KinsCounters& counters() const { return counters_; }
   const MachineFileSource& source() const { return source_; }
 
   // Pose <-> world: mm and rad inside, the world unit and degrees at LinuxCNC's side.
-  Pose to_pose(const WorldPose& world) const;
+  geometry::Pose to_pose(const WorldPose& world) const;
   // Writes x..c; u v w are left as they are in `world`.
-  void to_world(const Pose& pose, WorldPose& world) const;
+  void to_world(const geometry::Pose& pose, WorldPose& world) const;
   // Joint n: mm or rad inside; the world unit (linear) or degrees (rotary) at LinuxCNC's side.
   double joint_to_world(int joint, double internal) const;
   double joint_from_world(int joint, double value) const;
@@ -78,12 +79,12 @@ class KinsAdapter {
   // IK with the machine file's joint limits and work envelope. Writes joint_count() values to
   // `joints` on success and leaves them untouched on failure (so LinuxCNC keeps the last good
   // ones); records the failure for failure_message().
-  Status inverse(const WorldPose& world, double* joints);
+  kinematics::Status inverse(const WorldPose& world, double* joints);
   // FK of joint_count() values, seeded with `world_inout` (LinuxCNC passes the previous pose),
   // or the last pose forward found when that is not finite; the machine falls back to its home
   // pose when the seed leads astray. Coordinates the machine does not control are left as
   // seeded. On failure `world_inout` is left as it was.
-  Status forward(const double* joints, WorldPose& world_inout);
+  kinematics::Status forward(const double* joints, WorldPose& world_inout);
   // The machine file's home pose and its joints.
   void home(WorldPose& world, double* joints) const;
 
@@ -99,25 +100,26 @@ class KinsAdapter {
   static constexpr unsigned kReportEvery = 1000;
 
  private:
-  Machine machine_;
+  machine::Machine machine_;
   MachineFileSource source_;
-  LengthUnit world_unit_;
+  machine::LengthUnit world_unit_;
   double mm_per_world_unit_;
   int joint_count_;
-  Pose last_forward_;
-  ForwardTrack forward_track_;  // LinuxCNC calls forward once a servo period along the path
+  geometry::Pose last_forward_;
+  kinematics::ForwardTrack
+      forward_track_;  // LinuxCNC calls forward once a servo period along the path
   // The last failed inverse: the pose, its status, the joint values IK found (when it got that
   // far: a joint limit), and how many failures in a row it ends.
-  Pose failed_pose_;
-  Status failed_status_;
-  JointVector failed_joints_;
+  geometry::Pose failed_pose_;
+  kinematics::Status failed_status_;
+  kinematics::JointVector failed_joints_;
   unsigned failures_in_a_row_ = 0;
   KinsCounters counters_;
 };
 
 // Loads the machine file; throws MachineFileError (file:line:key) when it does not load.
 KinsAdapter load_kins(const std::filesystem::path& machine_file,
-                      std::optional<LengthUnit> world_unit);
+                      std::optional<machine::LengthUnit> world_unit);
 
 // What in LinuxCNC's INI file contradicts the module as loaded: a machine file changed since
 // `pkm export linuxcnc` wrote the INI ([KINS] PKM_MACHINE_SHA256, machine_fingerprint.hpp),

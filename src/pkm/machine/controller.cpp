@@ -4,7 +4,7 @@
 
 #include "pkm/machine/machine.hpp"
 
-namespace pkm {
+namespace pkm::machine {
 
 namespace {
 
@@ -29,28 +29,29 @@ KindDefaults defaults_of(ControllerKind kind) {
 }
 
 // A whole number of the table within [low, high], or `fallback` when the key is absent.
-int whole_number(const ModelConfig& table, std::string_view key, int low, int high,
+int whole_number(const kinematics::ModelConfig& table, std::string_view key, int low, int high,
                  const std::string& unit, int fallback) {
   if (!table.has(key)) return fallback;
   const double value = table.number(key);
   if (value != std::floor(value)) {
-    table.fail(key, "must be a whole number of " + unit + ", not " + formatted_number("%g", value));
+    table.fail(key, "must be a whole number of " + unit + ", not " +
+                        kinematics::formatted_number("%g", value));
   }
   if (!(value >= low && value <= high)) {
     table.fail(key, "must be between " + std::to_string(low) + " and " + std::to_string(high) +
-                        " " + unit + ", not " + formatted_number("%g", value));
+                        " " + unit + ", not " + kinematics::formatted_number("%g", value));
   }
   return static_cast<int>(value);
 }
 
-ControllerKind read_kind(const ModelConfig& table) {
+ControllerKind read_kind(const kinematics::ModelConfig& table) {
   const std::string kind = table.string("kind");
   if (kind == "grbl") return ControllerKind::grbl;
   if (kind == "grblhal") return ControllerKind::grblhal;
   table.fail("kind", "must be \"grbl\" or \"grblhal\", not \"" + kind + "\"");
 }
 
-int read_axes(const ModelConfig& table, ControllerKind kind) {
+int read_axes(const kinematics::ModelConfig& table, ControllerKind kind) {
   if (kind == ControllerKind::grbl) {
     const int axes = whole_number(table, "axes", 1, kGrblhalMaxAxes, "axes", kGrblAxes);
     if (axes != kGrblAxes) {
@@ -63,9 +64,9 @@ int read_axes(const ModelConfig& table, ControllerKind kind) {
 }
 
 // Every joint has its steps, a letter the controller has, and there are no more joints than axes.
-void check_joints(const ModelConfig& table, const ControllerSettings& settings,
+void check_joints(const kinematics::ModelConfig& table, const ControllerSettings& settings,
                   const std::vector<JointSpec>& joints,
-                  const std::vector<std::unique_ptr<ModelConfig>>& joint_tables) {
+                  const std::vector<std::unique_ptr<kinematics::ModelConfig>>& joint_tables) {
   const std::string kind = controller_kind_name(settings.kind);
   if (static_cast<int>(joints.size()) > settings.axes) {
     table.fail(table.has("axes") ? "axes" : "kind",
@@ -78,7 +79,7 @@ void check_joints(const ModelConfig& table, const ControllerSettings& settings,
   }
   const std::string_view letters = controller_axis_letters(settings.kind, settings.axes);
   for (std::size_t i = 0; i < joints.size(); ++i) {
-    const ModelConfig& joint_table = *joint_tables[i];
+    const kinematics::ModelConfig& joint_table = *joint_tables[i];
     if (!joints[i].steps_per_unit) {
       joint_table.fail("steps_per_unit", "joint '" + joints[i].name +
                                              "' has no steps_per_unit, and the [controller] "
@@ -105,8 +106,8 @@ std::string_view controller_axis_letters(ControllerKind kind, int axes) {
 }
 
 ControllerSettings read_controller_table(
-    const ModelConfig& table, const std::vector<JointSpec>& joints,
-    const std::vector<std::unique_ptr<ModelConfig>>& joint_tables) {
+    const kinematics::ModelConfig& table, const std::vector<JointSpec>& joints,
+    const std::vector<std::unique_ptr<kinematics::ModelConfig>>& joint_tables) {
   ControllerSettings settings;
   settings.kind = read_kind(table);
   const KindDefaults defaults = defaults_of(settings.kind);
@@ -125,13 +126,14 @@ ControllerSettings read_controller_table(
       table.fail(
           "junction_deviation",
           "must be between 0 and " +
-              formatted_number("%g", kMaxDeviation_mm / table.mm_per_file_unit()) + " " +
-              (table.mm_per_file_unit() == 1.0 ? "mm" : "in") + ", not " +
-              formatted_number("%g", settings.junction_deviation / table.mm_per_file_unit()));
+              kinematics::formatted_number("%g", kMaxDeviation_mm / table.mm_per_file_unit()) +
+              " " + (table.mm_per_file_unit() == 1.0 ? "mm" : "in") + ", not " +
+              kinematics::formatted_number("%g",
+                                           settings.junction_deviation / table.mm_per_file_unit()));
     }
   }
   check_joints(table, settings, joints, joint_tables);
   return settings;
 }
 
-}  // namespace pkm
+}  // namespace pkm::machine

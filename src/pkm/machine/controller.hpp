@@ -9,9 +9,12 @@
 #include <string_view>
 #include <vector>
 
-namespace pkm {
-
+namespace pkm::kinematics {
 class ModelConfig;
+}  // namespace pkm::kinematics
+
+namespace pkm::machine {
+
 struct JointSpec;
 
 enum class ControllerKind { grbl, grblhal };
@@ -44,7 +47,7 @@ std::string_view controller_axis_letters(ControllerKind kind, int axes);
 // kind, an impossible number, a joint without steps_per_unit, more joints than the controller
 // has axes, or a joint on a letter it lacks.
 ControllerSettings read_controller_table(
-    const ModelConfig& controller, const std::vector<JointSpec>& joints,
-    const std::vector<std::unique_ptr<ModelConfig>>& joint_tables);
+    const kinematics::ModelConfig& controller, const std::vector<JointSpec>& joints,
+    const std::vector<std::unique_ptr<kinematics::ModelConfig>>& joint_tables);
 
-}  // namespace pkm
+}  // namespace pkm::machine

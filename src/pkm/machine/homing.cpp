@@ -8,7 +8,7 @@
 
 #include "pkm/machine/machine.hpp"
 
-namespace pkm {
+namespace pkm::machine {
 
 namespace {
 
@@ -20,15 +20,15 @@ constexpr double kMinFeed = 1e-3, kMaxFeed = 6e7;
 constexpr double kDefaultBackoff_mm = 5.0;
 
 // A number of the [homing] table within [low, high] (low itself refused unless `zero_ok`).
-double bounded(const ModelConfig& section, std::string_view key, double low, double high,
-               const std::string& unit, bool zero_ok = false) {
+double bounded(const kinematics::ModelConfig& section, std::string_view key, double low,
+               double high, const std::string& unit, bool zero_ok = false) {
   const double value = section.number(key);
   const bool above_low = zero_ok ? value >= low : value > low;
   if (!(above_low && value <= high)) {
     section.fail(key, std::string("must be ") + (zero_ok ? "at least " : "greater than ") +
-                          formatted_number("%g", low) + " and at most " +
-                          formatted_number("%g", high) + " " + unit + ", not " +
-                          formatted_number("%g", value));
+                          kinematics::formatted_number("%g", low) + " and at most " +
+                          kinematics::formatted_number("%g", high) + " " + unit + ", not " +
+                          kinematics::formatted_number("%g", value));
   }
   return value;
 }
@@ -46,7 +46,8 @@ std::string joint_list(const std::vector<JointSpec>& joints) {
   return names;
 }
 
-std::vector<int> read_sequence(const ModelConfig& section, const std::vector<JointSpec>& joints,
+std::vector<int> read_sequence(const kinematics::ModelConfig& section,
+                               const std::vector<JointSpec>& joints,
                                const std::vector<bool>& passthrough) {
   std::vector<int> sequence;
   for (const std::string& name : section.string_list("sequence")) {
@@ -79,7 +80,7 @@ std::vector<int> read_sequence(const ModelConfig& section, const std::vector<Joi
 }
 
 bool any_of_kind(const std::vector<JointSpec>& joints, const std::vector<int>& sequence,
-                 JointKind kind) {
+                 kinematics::JointKind kind) {
   return std::any_of(sequence.begin(), sequence.end(),
                      [&](int j) { return joints[static_cast<std::size_t>(j)].kind == kind; });
 }
@@ -87,9 +88,9 @@ bool any_of_kind(const std::vector<JointSpec>& joints, const std::vector<int>& s
 // Units of the [homing] table's numbers, as its joints read them.
 std::string table_unit(const std::vector<JointSpec>& joints, const std::vector<int>& sequence,
                        double mm_per_unit) {
-  const bool rotary = any_of_kind(joints, sequence, JointKind::rotary);
+  const bool rotary = any_of_kind(joints, sequence, kinematics::JointKind::rotary);
   const std::string length = mm_per_unit == 1.0 ? "mm" : "in";
-  if (rotary && any_of_kind(joints, sequence, JointKind::linear)) {
+  if (rotary && any_of_kind(joints, sequence, kinematics::JointKind::linear)) {
     return length + " (deg for rotary joints)";
   }
   return rotary ? "deg" : length;
@@ -106,7 +107,7 @@ class HomingPlanner {
     payouts_.assign(count, 0);
   }
 
-  std::vector<HomingMove> plan(const JointVector& home) {
+  std::vector<HomingMove> plan(const kinematics::JointVector& home) {
     for (const int joint : table_.sequence) home_joint(joint);
     HomingMove go_home{HomingMoveKind::go_home, -1, {}, 0.0, 0.0};
     for (const int joint : table_.sequence) go_home.targets.emplace_back(joint, home[joint]);
@@ -220,15 +221,16 @@ class HomingPlanner {
 
 }  // namespace
 
-std::optional<HomeSwitch> read_home_switch(const ModelConfig& table, const JointSpec& joint,
-                                           double scale) {
+std::optional<HomeSwitch> read_home_switch(const kinematics::ModelConfig& table,
+                                           const JointSpec& joint, double scale) {
   if (!table.has("home_switch")) {
     if (table.has("home_toward")) table.fail("home_toward", "needs home_switch beside it");
     return std::nullopt;
   }
   const double value = table.number("home_switch");
   if (!(std::abs(value) <= kMaxDistance)) {
-    table.fail("home_switch", "must be within 1e+06 of 0, not " + formatted_number("%g", value));
+    table.fail("home_switch",
+               "must be within 1e+06 of 0, not " + kinematics::formatted_number("%g", value));
   }
   HomeSwitch home_switch;
   home_switch.position = value * scale;
@@ -245,7 +247,8 @@ std::optional<HomeSwitch> read_home_switch(const ModelConfig& table, const Joint
   return home_switch;
 }
 
-HomingTable read_homing_table(const ModelConfig& section, const std::vector<JointSpec>& joints,
+HomingTable read_homing_table(const kinematics::ModelConfig& section,
+                              const std::vector<JointSpec>& joints,
                               const std::vector<bool>& passthrough, double mm_per_unit) {
   HomingTable table;
   table.sequence = read_sequence(section, joints, passthrough);
@@ -259,12 +262,13 @@ HomingTable read_homing_table(const ModelConfig& section, const std::vector<Join
     table.feed = kMaxFeed;
     for (const int j : table.sequence) {
       const JointSpec& joint = joints[static_cast<std::size_t>(j)];
-      const double per_s = joint.kind == JointKind::rotary ? joint.to_interface(joint.max_velocity)
-                                                           : joint.max_velocity / mm_per_unit;
+      const double per_s = joint.kind == kinematics::JointKind::rotary
+                               ? joint.to_interface(joint.max_velocity)
+                               : joint.max_velocity / mm_per_unit;
       table.feed = std::min(table.feed, 60.0 * per_s);
     }
   }
-  const bool only_rotary = !any_of_kind(joints, table.sequence, JointKind::linear);
+  const bool only_rotary = !any_of_kind(joints, table.sequence, kinematics::JointKind::linear);
   table.backoff = section.has("backoff")
                       ? bounded(section, "backoff", 0.0, kMaxDistance, unit)
                       : (only_rotary ? kDefaultBackoff_mm : kDefaultBackoff_mm / mm_per_unit);
@@ -274,13 +278,14 @@ HomingTable read_homing_table(const ModelConfig& section, const std::vector<Join
   return table;
 }
 
-std::vector<HomingMove> homing_moves(const Machine& machine, const ModelConfig* section) {
+std::vector<HomingMove> homing_moves(const Machine& machine,
+                                     const kinematics::ModelConfig* section) {
   if (!machine.homing()) {
     throw std::invalid_argument(machine.source() +
                                 ": the machine file has no [homing] table (docs/homing.md)");
   }
-  JointVector home;
-  const Status status = machine.inverse(machine.home(), home);
+  kinematics::JointVector home;
+  const kinematics::Status status = machine.inverse(machine.home(), home);
   if (!status.ok()) {
     throw std::invalid_argument(machine.source() +
                                 ": home is not usable: " + machine.explain(machine.home(), status));
@@ -294,4 +299,4 @@ std::vector<HomingMove> homing_moves(const Machine& machine, const ModelConfig* 
   return planner.plan(home);
 }
 
-}  // namespace pkm
+}  // namespace pkm::machine

@@ -12,7 +12,7 @@
 
 #include "pkm/kinematics/model_config.hpp"
 
-namespace pkm {
+namespace pkm::machine {
 
 class Machine;
 struct JointSpec;
@@ -58,20 +58,22 @@ struct HomingMove {
 
 // `home_switch` and `home_toward` of a [[joints]] table (the joint as read so far, its limits
 // in mm or rad; `scale`: mm or rad per file unit); none without home_switch.
-std::optional<HomeSwitch> read_home_switch(const ModelConfig& joint_table, const JointSpec& joint,
-                                           double scale);
+std::optional<HomeSwitch> read_home_switch(const kinematics::ModelConfig& joint_table,
+                                           const JointSpec& joint, double scale);
 
 // The [homing] table: every joint its sequence names exists, has a home_switch and is named
 // once; every joint of the mechanism is named (`passthrough[i]`: joint i follows a pose
 // coordinate and may be left out); numbers positive and finite. Fails through the section
 // (file:line:key).
-HomingTable read_homing_table(const ModelConfig& section, const std::vector<JointSpec>& joints,
+HomingTable read_homing_table(const kinematics::ModelConfig& section,
+                              const std::vector<JointSpec>& joints,
                               const std::vector<bool>& passthrough, double mm_per_unit);
 
 // The moves of the machine's homing procedure, in order. Every joint whose position is known
 // (after its switch) stays within its limits, or the procedure fails through `section` (the
 // [homing] table: file:line:key), or with std::invalid_argument without one. Throws
 // std::invalid_argument when the machine has no [homing] table.
-std::vector<HomingMove> homing_moves(const Machine& machine, const ModelConfig* section = nullptr);
+std::vector<HomingMove> homing_moves(const Machine& machine,
+                                     const kinematics::ModelConfig* section = nullptr);
 
-}  // namespace pkm
+}  // namespace pkm::machine

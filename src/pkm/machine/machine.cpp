@@ -15,11 +15,11 @@
 #include "pkm/machine/toml_config.hpp"
 #include "pkm/text/text_file.hpp"
 
-namespace pkm {
+namespace pkm::machine {
 
 Machine::Machine(std::string name, std::string source, LengthUnit units,
-                 std::unique_ptr<Kinematics> kinematics, std::vector<JointSpec> joints,
-                 CartesianLimits cartesian, Pose home)
+                 std::unique_ptr<kinematics::Kinematics> kinematics, std::vector<JointSpec> joints,
+                 CartesianLimits cartesian, geometry::Pose home)
     : name_(std::move(name)),
       source_(std::move(source)),
       units_(units),
@@ -54,92 +54,104 @@ Machine& Machine::operator=(const Machine& other) {
   return *this;
 }
 
-Status Machine::check_joint_limits(const JointVector& joints) const {
+kinematics::Status Machine::check_joint_limits(const kinematics::JointVector& joints) const {
   for (int i = 0; i < static_cast<int>(joints_.size()); ++i) {
     // Written so that NaN fails too (every comparison with NaN is false).
     if (!(joints[i] >= joints_[i].min && joints[i] <= joints_[i].max)) {
-      return Status::failure(StatusCode::joint_limit, i);
+      return kinematics::Status::failure(kinematics::StatusCode::joint_limit, i);
     }
   }
-  return Status::success();
+  return kinematics::Status::success();
 }
 
-Status Machine::check_envelope(const Pose& pose) const {
-  if (!checks_envelope_) return Status::success();
-  const Dof dof = kinematics_->dof();
-  for (int axis = 0; axis < kPoseSize; ++axis) {
+kinematics::Status Machine::check_envelope(const geometry::Pose& pose) const {
+  if (!checks_envelope_) return kinematics::Status::success();
+  const geometry::Dof dof = kinematics_->dof();
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
     const double value = axis < 3 ? pose.position_mm[axis] : pose.orientation_rad[axis - 3];
     if (dof.controls(axis) &&
         !(value >= cartesian_.envelope_min[axis] && value <= cartesian_.envelope_max[axis])) {
-      return Status::outside(axis);
+      return kinematics::Status::outside(axis);
     }
   }
-  return Status::success();
+  return kinematics::Status::success();
 }
 
-Status Machine::inverse(const Pose& pose, JointVector& joints) const {
-  if (!all_finite(pose)) return Status::failure(StatusCode::invalid_input);
-  const Status inside = check_envelope(pose);
+kinematics::Status Machine::inverse(const geometry::Pose& pose,
+                                    kinematics::JointVector& joints) const {
+  if (!kinematics::all_finite(pose))
+    return kinematics::Status::failure(kinematics::StatusCode::invalid_input);
+  const kinematics::Status inside = check_envelope(pose);
   if (!inside.ok()) return inside;
-  const Status status = kinematics_->inverse(pose, joints);
+  const kinematics::Status status = kinematics_->inverse(pose, joints);
   if (!status.ok()) return status;
   for (int i = 0; i < joints.size(); ++i) {
     // A pose far enough away overflows a model's arithmetic: no joint value, not a NaN one.
-    if (!std::isfinite(joints[i])) return Status::failure(StatusCode::unreachable, i);
+    if (!std::isfinite(joints[i]))
+      return kinematics::Status::failure(kinematics::StatusCode::unreachable, i);
   }
   if (home_assembly_mode_ != 0 && kinematics_->assembly_mode(pose) != home_assembly_mode_) {
-    return Status::failure(StatusCode::other_assembly);
+    return kinematics::Status::failure(kinematics::StatusCode::other_assembly);
   }
   return check_joint_limits(joints);
 }
 
 double Machine::joint_to_file(int joint, double internal) const {
   const JointSpec& spec = joints_[static_cast<std::size_t>(joint)];
-  return spec.kind == JointKind::rotary ? radians_to_degrees(internal) : internal / mm_per_unit();
+  return spec.kind == kinematics::JointKind::rotary ? geometry::radians_to_degrees(internal)
+                                                    : internal / mm_per_unit();
 }
 
 double Machine::joint_from_file(int joint, double value) const {
   const JointSpec& spec = joints_[static_cast<std::size_t>(joint)];
-  return spec.kind == JointKind::rotary ? degrees_to_radians(value) : value * mm_per_unit();
+  return spec.kind == kinematics::JointKind::rotary ? geometry::degrees_to_radians(value)
+                                                    : value * mm_per_unit();
 }
 
 const char* Machine::joint_file_unit(int joint) const {
-  return joints_[static_cast<std::size_t>(joint)].kind == JointKind::rotary ? "deg" : length_unit();
+  return joints_[static_cast<std::size_t>(joint)].kind == kinematics::JointKind::rotary
+             ? "deg"
+             : length_unit();
 }
 
 double Machine::axis_to_file(int axis, double internal) const {
-  return axis < 3 ? internal / mm_per_unit() : radians_to_degrees(internal);
+  return axis < 3 ? internal / mm_per_unit() : geometry::radians_to_degrees(internal);
 }
 
 double Machine::axis_from_file(int axis, double value) const {
-  return axis < 3 ? value * mm_per_unit() : degrees_to_radians(value);
+  return axis < 3 ? value * mm_per_unit() : geometry::degrees_to_radians(value);
 }
 
-Status Machine::forward(const JointVector& joints, Pose& pose_inout) const {
+kinematics::Status Machine::forward(const kinematics::JointVector& joints,
+                                    geometry::Pose& pose_inout) const {
   return forward_with(joints, pose_inout, nullptr);
 }
 
-Status Machine::forward(const JointVector& joints, Pose& pose_inout, ForwardTrack& track) const {
+kinematics::Status Machine::forward(const kinematics::JointVector& joints,
+                                    geometry::Pose& pose_inout,
+                                    kinematics::ForwardTrack& track) const {
   return forward_with(joints, pose_inout, &track);
 }
 
-Status Machine::forward_with(const JointVector& joints, Pose& pose_inout,
-                             ForwardTrack* track) const {
+kinematics::Status Machine::forward_with(const kinematics::JointVector& joints,
+                                         geometry::Pose& pose_inout,
+                                         kinematics::ForwardTrack* track) const {
   if (joints.size() != static_cast<int>(joints_.size())) {
-    return Status::failure(StatusCode::invalid_input);
+    return kinematics::Status::failure(kinematics::StatusCode::invalid_input);
   }
-  if (!all_finite(joints)) return Status::failure(StatusCode::invalid_input);
-  const Status limits = check_joint_limits(joints);
+  if (!kinematics::all_finite(joints))
+    return kinematics::Status::failure(kinematics::StatusCode::invalid_input);
+  const kinematics::Status limits = check_joint_limits(joints);
   if (!limits.ok()) return limits;
-  Pose solved = pose_inout;
-  Status status = track != nullptr ? kinematics_->forward_along(joints, solved, *track)
-                                   : kinematics_->forward(joints, solved);
+  geometry::Pose solved = pose_inout;
+  kinematics::Status status = track != nullptr ? kinematics_->forward_along(joints, solved, *track)
+                                               : kinematics_->forward(joints, solved);
   const auto wrong_mode = [&] {
     return status.ok() && home_assembly_mode_ != 0 &&
            kinematics_->assembly_mode(solved) != home_assembly_mode_;
   };
-  if (status.code == StatusCode::branch_changed || status.code == StatusCode::not_converged ||
-      wrong_mode()) {
+  if (status.code == kinematics::StatusCode::branch_changed ||
+      status.code == kinematics::StatusCode::not_converged || wrong_mode()) {
     // A seed across a singularity from the answer leads FK astray (or to the mirror-image pose);
     // home is on the machine's side by definition, so it is the seed of last resort.
     const int iterations_from_seed = status.iterations;
@@ -147,10 +159,11 @@ Status Machine::forward_with(const JointVector& joints, Pose& pose_inout,
     solved = home_;
     status = kinematics_->forward(joints, solved);
     const int iterations = iterations_from_seed + status.iterations;
-    if (wrong_mode()) status = Status::failure(StatusCode::branch_changed);
+    if (wrong_mode()) status = kinematics::Status::failure(kinematics::StatusCode::branch_changed);
     status.iterations = iterations;
   }
-  if (status.ok() && !all_finite(solved)) status = Status::failure(StatusCode::not_converged);
+  if (status.ok() && !kinematics::all_finite(solved))
+    status = kinematics::Status::failure(kinematics::StatusCode::not_converged);
   if (status.ok()) pose_inout = solved;
   return status;
 }
@@ -168,24 +181,25 @@ constexpr double kMaxVelocity = 1e6;
 constexpr double kMaxAcceleration = 1e9;
 
 // A number of the file (in its units), refused outside [low, high].
-double ranged(const ModelConfig& table, std::string_view key, double low, double high,
+double ranged(const kinematics::ModelConfig& table, std::string_view key, double low, double high,
               const std::string& unit) {
   const double value = table.number(key);
   if (!(value >= low && value <= high)) {
-    table.fail(key, "must be between " + formatted_number("%g", low) + " and " +
-                        formatted_number("%g", high) + " " + unit + ", not " +
-                        formatted_number("%g", value));
+    table.fail(key, "must be between " + kinematics::formatted_number("%g", low) + " and " +
+                        kinematics::formatted_number("%g", high) + " " + unit + ", not " +
+                        kinematics::formatted_number("%g", value));
   }
   return value;
 }
 
-JointSpec read_joint(const ModelConfig& table, JointKind kind, double mm_per_unit) {
+JointSpec read_joint(const kinematics::ModelConfig& table, kinematics::JointKind kind,
+                     double mm_per_unit) {
   JointSpec joint;
   joint.name = table.string("name");
   joint.kind = kind;
   // Rotary joints are in degrees in the file and radians inside.
-  const bool rotary = kind == JointKind::rotary;
-  const double scale = rotary ? degrees_to_radians(1.0) : mm_per_unit;
+  const bool rotary = kind == kinematics::JointKind::rotary;
+  const double scale = rotary ? geometry::degrees_to_radians(1.0) : mm_per_unit;
   const std::string unit = rotary ? "deg" : (mm_per_unit == 1.0 ? "mm" : "in");
   joint.min = ranged(table, "min", -kMaxPosition, kMaxPosition, unit) * scale;
   joint.max = ranged(table, "max", -kMaxPosition, kMaxPosition, unit) * scale;
@@ -200,8 +214,9 @@ JointSpec read_joint(const ModelConfig& table, JointKind kind, double mm_per_uni
     const double steps = table.number("steps_per_unit");
     if (!(steps > 0.0 && steps <= kMaxStepsPerUnit)) {
       table.fail("steps_per_unit", "must be greater than 0 and at most " +
-                                       formatted_number("%g", kMaxStepsPerUnit) + " steps/" + unit +
-                                       ", not " + formatted_number("%g", steps));
+                                       kinematics::formatted_number("%g", kMaxStepsPerUnit) +
+                                       " steps/" + unit + ", not " +
+                                       kinematics::formatted_number("%g", steps));
     }
     joint.steps_per_unit = rotary ? steps : steps / mm_per_unit;
   }
@@ -210,11 +225,11 @@ JointSpec read_joint(const ModelConfig& table, JointKind kind, double mm_per_uni
 
 // The letter each joint takes in joint-space G-code: its `axis`, else a pass-through joint's own
 // axis (a pass-through of c is C), else the first of X Y Z A B C U V W no other joint takes.
-void assign_axis_letters(const std::vector<std::unique_ptr<ModelConfig>>& tables,
-                         const Kinematics& kinematics, std::vector<JointSpec>& joints) {
+void assign_axis_letters(const std::vector<std::unique_ptr<kinematics::ModelConfig>>& tables,
+                         const kinematics::Kinematics& kinematics, std::vector<JointSpec>& joints) {
   std::vector<std::string> why(joints.size());
   for (std::size_t i = 0; i < joints.size(); ++i) {
-    const ModelConfig& table = *tables[i];
+    const kinematics::ModelConfig& table = *tables[i];
     const int passthrough = kinematics.passthrough_axis(static_cast<int>(i));
     if (table.has("axis")) {
       const std::string letter = table.string("axis");
@@ -228,8 +243,8 @@ void assign_axis_letters(const std::vector<std::unique_ptr<ModelConfig>>& tables
       joints[i].axis_letter = upper;
       why[i] = "axis = \"" + std::string(1, upper) + "\"";
     } else if (passthrough >= 0) {
-      joints[i].axis_letter = static_cast<char>(std::toupper(kAxisNames[passthrough][0]));
-      why[i] = "the pass-through of " + std::string(kAxisNames[passthrough]);
+      joints[i].axis_letter = static_cast<char>(std::toupper(geometry::kAxisNames[passthrough][0]));
+      why[i] = "the pass-through of " + std::string(geometry::kAxisNames[passthrough]);
     } else {
       joints[i].axis_letter = 0;  // chosen below, from the letters left
     }
@@ -256,8 +271,9 @@ void assign_axis_letters(const std::vector<std::unique_ptr<ModelConfig>>& tables
   }
 }
 
-std::vector<JointSpec> read_joints(const std::vector<std::unique_ptr<ModelConfig>>& tables,
-                                   const Kinematics& kinematics, double mm_per_unit) {
+std::vector<JointSpec> read_joints(
+    const std::vector<std::unique_ptr<kinematics::ModelConfig>>& tables,
+    const kinematics::Kinematics& kinematics, double mm_per_unit) {
   std::vector<JointSpec> joints;
   for (std::size_t i = 0; i < tables.size(); ++i) {
     joints.push_back(
@@ -268,31 +284,32 @@ std::vector<JointSpec> read_joints(const std::vector<std::unique_ptr<ModelConfig
 }
 
 // x y [z [a b c]] in the file's units and degrees, to mm and rad.
-Vector6d pose_values(const TomlSection& cartesian, const std::vector<double>& values) {
-  Vector6d pose = Vector6d::Zero();
-  for (std::size_t i = 0; i < values.size() && i < kPoseSize; ++i) {
+geometry::Vector6d pose_values(const TomlSection& cartesian, const std::vector<double>& values) {
+  geometry::Vector6d pose = geometry::Vector6d::Zero();
+  for (std::size_t i = 0; i < values.size() && i < geometry::kPoseSize; ++i) {
     pose[static_cast<int>(i)] =
-        i < 3 ? values[i] * cartesian.mm_per_file_unit() : degrees_to_radians(values[i]);
+        i < 3 ? values[i] * cartesian.mm_per_file_unit() : geometry::degrees_to_radians(values[i]);
   }
   return pose;
 }
 
-Pose read_home(const TomlSection& cartesian, const Kinematics& kinematics) {
+geometry::Pose read_home(const TomlSection& cartesian, const kinematics::Kinematics& kinematics) {
   const std::vector<double> values = cartesian.number_list("home");
   if (values.size() < 2 || values.size() > 6) {
     cartesian.fail("home", "needs 2 to 6 numbers: x y [z [a b c]] in mm and deg");
   }
-  for (int axis = static_cast<int>(values.size()); axis < kPoseSize; ++axis) {
+  for (int axis = static_cast<int>(values.size()); axis < geometry::kPoseSize; ++axis) {
     if (kinematics.dof().controls(axis)) {
-      cartesian.fail("home", "this machine controls " + std::string(kAxisNames[axis]) +
+      cartesian.fail("home", "this machine controls " + std::string(geometry::kAxisNames[axis]) +
                                  ", so home needs a value for it");
     }
   }
-  return Pose::from_vector(pose_values(cartesian, values));
+  return geometry::Pose::from_vector(pose_values(cartesian, values));
 }
 
 // The optional work envelope: min and max list x y [z [a b c]] like home, as many values.
-void read_envelope(const TomlSection& cartesian, const Pose& home, CartesianLimits& limits) {
+void read_envelope(const TomlSection& cartesian, const geometry::Pose& home,
+                   CartesianLimits& limits) {
   if (!cartesian.has("min") && !cartesian.has("max")) return;
   const char* missing = cartesian.has("min") ? "max" : "min";
   if (!cartesian.has(missing)) {
@@ -306,11 +323,11 @@ void read_envelope(const TomlSection& cartesian, const Pose& home, CartesianLimi
                               " numbers, one per coordinate of home (x y [z [a b c]])");
     }
   }
-  const Vector6d min = pose_values(cartesian, cartesian.number_list("min"));
-  const Vector6d max = pose_values(cartesian, cartesian.number_list("max"));
-  const Vector6d at_home = home.as_vector();
+  const geometry::Vector6d min = pose_values(cartesian, cartesian.number_list("min"));
+  const geometry::Vector6d max = pose_values(cartesian, cartesian.number_list("max"));
+  const geometry::Vector6d at_home = home.as_vector();
   for (int axis = 0; axis < static_cast<int>(count); ++axis) {
-    const std::string name(kAxisNames[axis]);
+    const std::string name(geometry::kAxisNames[axis]);
     if (!(min[axis] < max[axis])) cartesian.fail("max", name + ": must be greater than min");
     if (!(at_home[axis] >= min[axis] && at_home[axis] <= max[axis])) {
       cartesian.fail("home", name + " lies outside the work envelope (min, max)");
@@ -320,7 +337,7 @@ void read_envelope(const TomlSection& cartesian, const Pose& home, CartesianLimi
   }
 }
 
-CartesianLimits read_cartesian(const TomlSection& cartesian, const Pose& home) {
+CartesianLimits read_cartesian(const TomlSection& cartesian, const geometry::Pose& home) {
   const std::string unit = cartesian.mm_per_file_unit() == 1.0 ? "mm" : "in";
   CartesianLimits limits;
   limits.max_feed_mm_per_min =
@@ -422,7 +439,7 @@ void read_pen_height(const TomlSection& tool, ToolChannel& channel) {
 }
 
 // The optional [tool] table: the pen channel of machines that do not move in Z.
-ToolChannel read_tool(const TomlSection& tool, const Kinematics& kinematics,
+ToolChannel read_tool(const TomlSection& tool, const kinematics::Kinematics& kinematics,
                       const std::vector<JointSpec>& joints,
                       const std::optional<ControllerSettings>& controller) {
   ToolChannel channel;
@@ -469,7 +486,8 @@ double read_units(const toml::table& document, const std::shared_ptr<KeyTracker>
   return 1.0;
 }
 
-std::vector<std::string> read_joint_names(const std::vector<std::unique_ptr<ModelConfig>>& tables) {
+std::vector<std::string> read_joint_names(
+    const std::vector<std::unique_ptr<kinematics::ModelConfig>>& tables) {
   std::vector<std::string> joint_names;
   for (const auto& table : tables) {
     const std::string joint_name = table->string("name");
@@ -483,7 +501,7 @@ std::vector<std::string> read_joint_names(const std::vector<std::unique_ptr<Mode
 }
 
 // Which joints follow a pose coordinate (a pen's Z) rather than move the mechanism.
-std::vector<bool> passthrough_joints(const Kinematics& kinematics) {
+std::vector<bool> passthrough_joints(const kinematics::Kinematics& kinematics) {
   std::vector<bool> passthrough;
   for (int i = 0; i < kinematics.joint_count(); ++i) {
     passthrough.push_back(kinematics.passthrough_axis(i) >= 0);
@@ -511,7 +529,8 @@ Machine parse_machine(std::string_view toml_text, const std::string& source_name
   root.set_joint_names(read_joint_names(joint_tables));
 
   TomlSection kinematics_section = root.section("kinematics");
-  std::unique_ptr<Kinematics> kinematics = make_kinematics(kinematics_section);
+  std::unique_ptr<kinematics::Kinematics> kinematics =
+      kinematics::make_kinematics(kinematics_section);
   if (kinematics->joint_count() != static_cast<int>(joint_tables.size())) {
     root.fail("joints", "the " + std::string(kinematics->type()) + " kinematics here has " +
                             std::to_string(kinematics->joint_count()) + " joints; the file lists " +
@@ -520,7 +539,7 @@ Machine parse_machine(std::string_view toml_text, const std::string& source_name
   std::vector<JointSpec> joints = read_joints(joint_tables, *kinematics, mm_per_unit);
 
   const TomlSection cartesian_section = root.section("cartesian");
-  const Pose home = read_home(cartesian_section, *kinematics);
+  const geometry::Pose home = read_home(cartesian_section, *kinematics);
   const CartesianLimits cartesian = read_cartesian(cartesian_section, home);
 
   std::optional<ControllerSettings> controller;
@@ -543,8 +562,8 @@ Machine parse_machine(std::string_view toml_text, const std::string& source_name
   machine.set_tool(std::move(tool));
   machine.set_homing(std::move(homing));
   machine.set_controller(controller);
-  JointVector home_joints;
-  const Status home_status = machine.inverse(home, home_joints);
+  kinematics::JointVector home_joints;
+  const kinematics::Status home_status = machine.inverse(home, home_joints);
   if (!home_status.ok()) {
     cartesian_section.fail("home", "is not a usable pose: " + machine.explain(home, home_status));
   }
@@ -569,4 +588,4 @@ Machine load_machine(const std::filesystem::path& path) {
   return parse_machine(text, path.string());
 }
 
-}  // namespace pkm
+}  // namespace pkm::machine

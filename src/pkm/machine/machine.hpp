@@ -18,7 +18,7 @@
 #include "pkm/machine/homing.hpp"
 #include "pkm/machine/machine_file_error.hpp"
 
-namespace pkm {
+namespace pkm::machine {
 
 enum class LengthUnit { mm, inch };
 
@@ -26,7 +26,7 @@ enum class LengthUnit { mm, inch };
 // and accelerations are the same units per second and per second squared.
 struct JointSpec {
   std::string name;
-  JointKind kind = JointKind::linear;
+  kinematics::JointKind kind = kinematics::JointKind::linear;
   double min = 0.0;
   double max = 0.0;
   double max_velocity = 0.0;
@@ -39,12 +39,16 @@ struct JointSpec {
 
   // Joint values cross the interfaces (files, joint-space G-code, command line) in mm or deg.
   double to_interface(double internal_value) const {
-    return kind == JointKind::rotary ? radians_to_degrees(internal_value) : internal_value;
+    return kind == kinematics::JointKind::rotary ? geometry::radians_to_degrees(internal_value)
+                                                 : internal_value;
   }
   double from_interface(double interface_value) const {
-    return kind == JointKind::rotary ? degrees_to_radians(interface_value) : interface_value;
+    return kind == kinematics::JointKind::rotary ? geometry::degrees_to_radians(interface_value)
+                                                 : interface_value;
   }
-  const char* interface_unit() const { return kind == JointKind::rotary ? "deg" : "mm"; }
+  const char* interface_unit() const {
+    return kind == kinematics::JointKind::rotary ? "deg" : "mm";
+  }
 };
 
 // What a machine without a Z joint does with the program's Z (the machine file's [tool] table).
@@ -79,8 +83,10 @@ struct CartesianLimits {
   double max_acceleration_mm_per_s2 = 0.0;
   // The work envelope ([cartesian] min and max, LinuxCNC's axis limits): mm and rad, infinite
   // where the file gives none. Only the coordinates the machine controls are checked.
-  Vector6d envelope_min = Vector6d::Constant(-std::numeric_limits<double>::infinity());
-  Vector6d envelope_max = Vector6d::Constant(std::numeric_limits<double>::infinity());
+  geometry::Vector6d envelope_min =
+      geometry::Vector6d::Constant(-std::numeric_limits<double>::infinity());
+  geometry::Vector6d envelope_max =
+      geometry::Vector6d::Constant(std::numeric_limits<double>::infinity());
   bool has_envelope() const {
     return envelope_min.array().isFinite().any() || envelope_max.array().isFinite().any();
   }
@@ -89,8 +95,8 @@ struct CartesianLimits {
 class Machine {
  public:
   Machine(std::string name, std::string source, LengthUnit units,
-          std::unique_ptr<Kinematics> kinematics, std::vector<JointSpec> joints,
-          CartesianLimits cartesian, Pose home);
+          std::unique_ptr<kinematics::Kinematics> kinematics, std::vector<JointSpec> joints,
+          CartesianLimits cartesian, geometry::Pose home);
   Machine(const Machine& other);
   Machine& operator=(const Machine& other);
   Machine(Machine&&) noexcept = default;
@@ -99,12 +105,12 @@ class Machine {
   const std::string& name() const { return name_; }
   const std::string& source() const { return source_; }  // file the machine came from
   LengthUnit units() const { return units_; }
-  const Kinematics& kinematics() const { return *kinematics_; }
-  Kinematics& kinematics() { return *kinematics_; }
+  const kinematics::Kinematics& kinematics() const { return *kinematics_; }
+  kinematics::Kinematics& kinematics() { return *kinematics_; }
   const std::vector<JointSpec>& joints() const { return joints_; }
   const std::vector<std::string>& joint_names() const { return joint_names_; }
   const CartesianLimits& cartesian() const { return cartesian_; }
-  const Pose& home() const { return home_; }
+  const geometry::Pose& home() const { return home_; }
   const ToolChannel& tool() const { return tool_; }
   void set_tool(ToolChannel tool) { tool_ = std::move(tool); }
   // The [homing] table, if the file has one (homing.hpp).
@@ -121,26 +127,30 @@ class Machine {
   }
 
   // The work envelope, IK (finite joints only), the assembly mode of home, then the joint limits.
-  Status inverse(const Pose& pose, JointVector& joints) const;
+  kinematics::Status inverse(const geometry::Pose& pose, kinematics::JointVector& joints) const;
   // Joint limits first, then FK seeded with pose_inout; a result in another assembly mode than
   // home's is solved again from home, and refused if it stays there.
-  Status forward(const JointVector& joints, Pose& pose_inout) const;
+  kinematics::Status forward(const kinematics::JointVector& joints,
+                             geometry::Pose& pose_inout) const;
   // The same for the next sample of a path: the model's forward_along with `track` (the path's
   // scratch, kinematics.hpp) before the fall-back to home.
-  Status forward(const JointVector& joints, Pose& pose_inout, ForwardTrack& track) const;
+  kinematics::Status forward(const kinematics::JointVector& joints, geometry::Pose& pose_inout,
+                             kinematics::ForwardTrack& track) const;
   // Refuses NaN as well as values beyond [min, max].
-  Status check_joint_limits(const JointVector& joints) const;
-  Status check_envelope(const Pose& pose) const;
-  std::string describe(const Status& status) const { return pkm::describe(status, joint_names_); }
+  kinematics::Status check_joint_limits(const kinematics::JointVector& joints) const;
+  kinematics::Status check_envelope(const geometry::Pose& pose) const;
+  std::string describe(const kinematics::Status& status) const {
+    return kinematics::describe(status, joint_names_);
+  }
 
   // What a user needs to act on a pose the machine refused (inverse's status): the pose, the
   // joint, its value and the limit it passes, in the machine file's units, e.g.
   // "pose x 1234.000 y -20.000 mm: joint 'left' = 2345.678 mm passes its max 2100.000 mm".
-  std::string explain(const Pose& pose, const Status& status) const;
+  std::string explain(const geometry::Pose& pose, const kinematics::Status& status) const;
   // "joint_angle: the platform joint of 'leg3' is at 31.200 deg from its axis; max_joint_angle is
   // 30.000 deg", "interference: 'leg2' and 'leg5' are 31.400 mm apart (axis to axis);
   // leg_diameter is 40.000 mm", in the machine file's units.
-  std::string mechanism_limit_text(const MechanismLimit& limit) const;
+  std::string mechanism_limit_text(const kinematics::MechanismLimit& limit) const;
   // "joint 'left' = 2345.678 mm passes its max 2100.000 mm" (value in mm or rad inside).
   std::string explain_joint(int joint, double value) const;
   // A joint value (mm or rad inside) as the machine file writes it: "12.500 mm", "0.4921 in".
@@ -148,7 +158,7 @@ class Machine {
   // A move the machine cannot follow, given as its poses for u in [0, 1] (mm, rad): explains
   // where it first leaves the reach (found by sampling and bisection, so every caller names the
   // same pose and joint), with how far the failing joint goes along the move.
-  std::string explain_path(const std::function<Vector6d(double)>& pose_at) const;
+  std::string explain_path(const std::function<geometry::Vector6d(double)>& pose_at) const;
 
   // The interface units of ik, fk, check and the explanations: the machine file's length unit
   // (mm or inch) and degrees.
@@ -161,28 +171,31 @@ class Machine {
   double axis_from_file(int axis, double value) const;
   const char* axis_file_unit(int axis) const { return axis < 3 ? length_unit() : "deg"; }
   // "x 1234.000 y -20.000 mm" (the controlled coordinates; angles "a 10.000 deg").
-  std::string format_pose(const Pose& pose) const;
+  std::string format_pose(const geometry::Pose& pose) const;
 
  private:
   // forward() with the model's forward_along where `track` is given, forward where it is null.
-  Status forward_with(const JointVector& joints, Pose& pose_inout, ForwardTrack* track) const;
+  kinematics::Status forward_with(const kinematics::JointVector& joints, geometry::Pose& pose_inout,
+                                  kinematics::ForwardTrack* track) const;
   // The envelope part of explain_path: where the move crosses the envelope on `axis`, and how far
   // beyond it the move goes.
   // The joint_angle or interference part of explain().
-  std::string explain_mechanism_limit(const Pose& pose, const Status& status) const;
+  std::string explain_mechanism_limit(const geometry::Pose& pose,
+                                      const kinematics::Status& status) const;
   // The other_assembly part of explain(): a hexapod's leg past the base plane with its numbers.
-  std::string explain_other_assembly(const Pose& pose) const;
-  std::string explain_envelope_crossing(const Pose& pose, int axis,
-                                        const std::function<Vector6d(double)>& pose_at) const;
+  std::string explain_other_assembly(const geometry::Pose& pose) const;
+  std::string explain_envelope_crossing(
+      const geometry::Pose& pose, int axis,
+      const std::function<geometry::Vector6d(double)>& pose_at) const;
 
   std::string name_;
   std::string source_;
   LengthUnit units_ = LengthUnit::mm;
-  std::unique_ptr<Kinematics> kinematics_;
+  std::unique_ptr<kinematics::Kinematics> kinematics_;
   std::vector<JointSpec> joints_;
   std::vector<std::string> joint_names_;
   CartesianLimits cartesian_;
-  Pose home_;
+  geometry::Pose home_;
   ToolChannel tool_;
   std::optional<HomingTable> homing_;
   std::optional<ControllerSettings> controller_;
@@ -207,9 +220,9 @@ std::vector<AxisExtent> reachable_extent(const Machine& machine);
 
 // An axis-aligned box of pose coordinates (mm, rad); `axes` says which coordinates it bounds.
 struct PoseBox {
-  Dof axes;
-  Vector6d min = Vector6d::Zero();
-  Vector6d max = Vector6d::Zero();
+  geometry::Dof axes;
+  geometry::Vector6d min = geometry::Vector6d::Zero();
+  geometry::Vector6d max = geometry::Vector6d::Zero();
   bool contains(const PoseBox& inner) const;
 };
 // The reachable extent as a box over the machine's controlled coordinates.
@@ -219,7 +232,8 @@ PoseBox reach_box(const Machine& machine);
 // both boxes in the machine file's units and the --origin that would centre the job, e.g.
 // "the job spans x 0.000..500.000 y ... mm; the machine reaches x ...; try --origin 650 -900".
 // Empty when the job's box fits.
-std::string outside_reach_hint(const Machine& machine, const PoseBox& job, const Vector6d& origin);
+std::string outside_reach_hint(const Machine& machine, const PoseBox& job,
+                               const geometry::Vector6d& origin);
 
 // Smallest over largest singular value of the machine's jacobian at home, each column scaled to
 // unit length (so mm and rad columns compare): 0 at a singular machine (a hexapod with parallel
@@ -231,4 +245,4 @@ inline constexpr double kSingularAtHome = 1e-6;
 // the tool that moves no joint); empty when it is not.
 std::string singular_at_home(const Machine& machine);
 
-}  // namespace pkm
+}  // namespace pkm::machine

@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace pkm {
+namespace pkm::machine {
 
 // An error in a machine file, located as file:line:key; or a file that cannot be read at all
 // ("file: cannot open (reason)", line 0).
@@ -26,4 +26,4 @@ class MachineFileError : public std::runtime_error {
   std::string key_;
 };
 
-}  // namespace pkm
+}  // namespace pkm::machine

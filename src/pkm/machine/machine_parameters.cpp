@@ -3,10 +3,10 @@
 #include <memory>
 #include <utility>
 
-namespace pkm {
+namespace pkm::machine {
 
 Machine with_kinematics_parameters(const Machine& machine, std::span<const double> values) {
-  std::unique_ptr<Kinematics> kinematics = machine.kinematics().clone();
+  std::unique_ptr<kinematics::Kinematics> kinematics = machine.kinematics().clone();
   kinematics->set_parameters(values);
   Machine out(machine.name(), machine.source(), machine.units(), std::move(kinematics),
               machine.joints(), machine.cartesian(), machine.home());
@@ -16,4 +16,4 @@ Machine with_kinematics_parameters(const Machine& machine, std::span<const doubl
   return out;
 }
 
-}  // namespace pkm
+}  // namespace pkm::machine

@@ -7,7 +7,7 @@
 
 #include "pkm/machine/machine.hpp"
 
-namespace pkm {
+namespace pkm::machine {
 
 // `machine` with its model's parameters set to `values` (the order and units of
 // Kinematics::parameters()), made again from its parts so that what a machine derives from its
@@ -15,4 +15,4 @@ namespace pkm {
 // std::invalid_argument for an impossible geometry (set_parameters refuses it).
 Machine with_kinematics_parameters(const Machine& machine, std::span<const double> values);
 
-}  // namespace pkm
+}  // namespace pkm::machine

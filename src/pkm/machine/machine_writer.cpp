@@ -16,7 +16,7 @@
 #include "pkm/machine/machine_file_error.hpp"
 #include "pkm/machine/toml_config.hpp"
 
-namespace pkm {
+namespace pkm::machine {
 
 std::string toml_number(double value) {
   char text[32];
@@ -58,7 +58,7 @@ std::string toml_row(std::span<const double> values, double scale) {
 // One TOML table as a model writes it: its keys in the order written, then its sub-tables (each
 // after a blank line, under its own header), lengths converted from mm to the file's unit. An
 // array of more than two rows (a matrix, a hexapod's six joints) puts each row on its own line.
-class TomlTableWriter final : public ModelConfigWriter {
+class TomlTableWriter final : public kinematics::ModelConfigWriter {
  public:
   TomlTableWriter(std::string header, std::string path, double per_mm)
       : header_(std::move(header)), path_(std::move(path)), per_mm_(per_mm) {}
@@ -104,7 +104,7 @@ class TomlTableWriter final : public ModelConfigWriter {
     TomlTableWriter& table = sub_table("[", key, "]");
     for (const auto& [name, value] : entries) table.string(name, value);
   }
-  ModelConfigWriter& table_list_entry(std::string_view key) override {
+  kinematics::ModelConfigWriter& table_list_entry(std::string_view key) override {
     return sub_table("[[", key, "]]");
   }
 
@@ -146,16 +146,16 @@ class TomlTableWriter final : public ModelConfigWriter {
 
 }  // namespace
 
-std::string kinematics_toml(const Kinematics& kinematics, LengthUnit units) {
+std::string kinematics_toml(const kinematics::Kinematics& kinematics, LengthUnit units) {
   TomlTableWriter section("[kinematics]", "kinematics",
                           units == LengthUnit::inch ? 1.0 / 25.4 : 1.0);
-  write_kinematics_config(kinematics, section);
+  kinematics::write_kinematics_config(kinematics, section);
   return section.text();
 }
 
 std::string replace_kinematics_section(const std::string& original_text,
-                                       const std::string& source_name, const Kinematics& kinematics,
-                                       LengthUnit units) {
+                                       const std::string& source_name,
+                                       const kinematics::Kinematics& kinematics, LengthUnit units) {
   // Where the section starts and ends comes from the parser, not from scanning text: a line
   // beginning with '[' may as well be a row of a multi-line array.
   refuse_unbounded_toml(original_text, source_name);
@@ -207,4 +207,4 @@ std::string replace_kinematics_section(const std::string& original_text,
   return text;
 }
 
-}  // namespace pkm
+}  // namespace pkm::machine

@@ -10,13 +10,14 @@
 
 #include "pkm/machine/machine.hpp"
 
-namespace pkm {
+namespace pkm::machine {
 
 namespace {
 
 // Values in the machine file's units: three decimals of a mm or a degree, four of an inch.
 std::string value_text(double value, const char* unit) {
-  std::string text = formatted_number(std::string(unit) == "in" ? "%.4f" : "%.3f", value);
+  std::string text =
+      kinematics::formatted_number(std::string(unit) == "in" ? "%.4f" : "%.3f", value);
   // A crossing found by bisection lies a hair past zero: "-0.000" says nothing more than 0.
   if (text[0] == '-' && text.find_first_not_of("-0.") == std::string::npos) text.erase(0, 1);
   return text;
@@ -24,15 +25,15 @@ std::string value_text(double value, const char* unit) {
 
 }  // namespace
 
-std::string Machine::format_pose(const Pose& pose) const {
-  const Vector6d values = pose.as_vector();
-  const Dof dof = kinematics_->dof();
+std::string Machine::format_pose(const geometry::Pose& pose) const {
+  const geometry::Vector6d values = pose.as_vector();
+  const geometry::Dof dof = kinematics_->dof();
   std::string lengths;
   std::string angles;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
     if (!dof.controls(axis)) continue;
     std::string& part = axis < 3 ? lengths : angles;
-    part += (part.empty() ? "" : " ") + std::string(kAxisNames[axis]) + " " +
+    part += (part.empty() ? "" : " ") + std::string(geometry::kAxisNames[axis]) + " " +
             value_text(axis_to_file(axis, values[axis]), axis_file_unit(axis));
   }
   std::string text;
@@ -57,59 +58,60 @@ std::string Machine::explain_joint(int joint, double value) const {
   return text + ", within its limits " + shown(spec.min) + " .. " + shown(spec.max);
 }
 
-std::string Machine::explain(const Pose& pose, const Status& status) const {
+std::string Machine::explain(const geometry::Pose& pose, const kinematics::Status& status) const {
   std::string text = "pose " + format_pose(pose) + ": ";
   const std::string joint_name =
       status.joint >= 0 && status.joint < static_cast<int>(joints_.size())
           ? "joint '" + joints_[static_cast<std::size_t>(status.joint)].name + "'"
           : "";
-  JointVector joints;
+  kinematics::JointVector joints;
   switch (status.code) {
-    case StatusCode::joint_limit:
-    case StatusCode::unreachable:
-    case StatusCode::singular:
-    case StatusCode::tension:
+    case kinematics::StatusCode::joint_limit:
+    case kinematics::StatusCode::unreachable:
+    case kinematics::StatusCode::singular:
+    case kinematics::StatusCode::tension:
       if (!joint_name.empty() && kinematics_->inverse(pose, joints).ok()) {
         return text + explain_joint(status.joint, joints[status.joint]);
       }
       if (const std::string why = kinematics_->why_refused(pose, status); !why.empty()) {
-        return text + std::string(status_name(status.code)) + ": " + why;
+        return text + std::string(kinematics::status_name(status.code)) + ": " + why;
       }
-      if (status.code == StatusCode::singular) return text + describe(status);
+      if (status.code == kinematics::StatusCode::singular)
+        return text + kinematics::describe(status);
       return text + (joint_name.empty() ? "unreachable" : joint_name + " cannot reach it");
-    case StatusCode::outside_envelope: {
+    case kinematics::StatusCode::outside_envelope: {
       const int axis = status.axis;
       const double value = pose.as_vector()[axis];
       const bool below = value < cartesian_.envelope_min[axis];
       const double limit = below ? cartesian_.envelope_min[axis] : cartesian_.envelope_max[axis];
       const char* unit = axis_file_unit(axis);
-      return text + std::string(kAxisNames[axis]) + " = " +
+      return text + std::string(geometry::kAxisNames[axis]) + " = " +
              value_text(axis_to_file(axis, value), unit) + " " + unit +
              " passes the work envelope's " + (below ? "min " : "max ") +
              value_text(axis_to_file(axis, limit), unit) + " " + unit + " ([cartesian] " +
              (below ? "min" : "max") + ")";
     }
-    case StatusCode::other_assembly:
+    case kinematics::StatusCode::other_assembly:
       return text + explain_other_assembly(pose);
-    case StatusCode::invalid_input:
+    case kinematics::StatusCode::invalid_input:
       return text + "not a finite pose";
-    case StatusCode::joint_angle:
-    case StatusCode::interference:
+    case kinematics::StatusCode::joint_angle:
+    case kinematics::StatusCode::interference:
       return text + explain_mechanism_limit(pose, status);
     default:
       // A tension limit, a balance not found: the model's own words where it has some.
       if (const std::string why = kinematics_->why_refused(pose, status); !why.empty()) {
-        return text + pkm::describe(status, joint_names()) + ": " + why;
+        return text + pkm::kinematics::describe(status, joint_names()) + ": " + why;
       }
-      return text + pkm::describe(status, joint_names());
+      return text + pkm::kinematics::describe(status, joint_names());
   }
 }
 
-std::string Machine::explain_other_assembly(const Pose& pose) const {
+std::string Machine::explain_other_assembly(const geometry::Pose& pose) const {
   const std::string across =
       "another assembly mode than home's, across a singularity (a platform below its "
       "carriages, a hexapod platform tilted past 90 deg)";
-  const BasePlaneMargin side = kinematics_->base_plane_margin(pose);
+  const kinematics::BasePlaneMargin side = kinematics_->base_plane_margin(pose);
   if (!(side.margin_mm <= 0.0)) return across;
   return "another assembly mode than home's: the platform joint of '" +
          joints_[static_cast<std::size_t>(side.leg)].name + "' is " +
@@ -118,30 +120,32 @@ std::string Machine::explain_other_assembly(const Pose& pose) const {
          "mirror image, beyond the singularity where its legs lie flat in that plane";
 }
 
-std::string Machine::explain_mechanism_limit(const Pose& pose, const Status& status) const {
-  std::vector<MechanismLimit> limits;
+std::string Machine::explain_mechanism_limit(const geometry::Pose& pose,
+                                             const kinematics::Status& status) const {
+  std::vector<kinematics::MechanismLimit> limits;
   kinematics_->mechanism_limits(pose, limits);
-  const MechanismLimit* worst = nullptr;
-  for (const MechanismLimit& limit : limits) {
+  const kinematics::MechanismLimit* worst = nullptr;
+  for (const kinematics::MechanismLimit& limit : limits) {
     if (limit.code != status.code || limit.leg != status.joint) continue;
     if (worst == nullptr || limit.margin() < worst->margin()) worst = &limit;
   }
-  if (worst == nullptr) return describe(status);
+  if (worst == nullptr) return kinematics::describe(status);
   return mechanism_limit_text(*worst);
 }
 
-std::string Machine::mechanism_limit_text(const MechanismLimit& limit) const {
+std::string Machine::mechanism_limit_text(const kinematics::MechanismLimit& limit) const {
   const auto joint = [&](int leg) {
     return leg < static_cast<int>(joints_.size())
                ? "'" + joints_[static_cast<std::size_t>(leg)].name + "'"
                : std::to_string(leg + 1);
   };
-  if (limit.code == StatusCode::joint_angle) {
+  if (limit.code == kinematics::StatusCode::joint_angle) {
     return std::string("joint_angle: the ") +
            (limit.other == 0 ? "inner (base or carriage)" : "platform") + " joint of " +
-           joint(limit.leg) + " is at " + value_text(radians_to_degrees(limit.value), "deg") +
+           joint(limit.leg) + " is at " +
+           value_text(geometry::radians_to_degrees(limit.value), "deg") +
            " deg from its axis; max_joint_angle is " +
-           value_text(radians_to_degrees(limit.limit), "deg") + " deg";
+           value_text(geometry::radians_to_degrees(limit.limit), "deg") + " deg";
   }
   return "interference: " + joint(limit.leg) + " and " + joint(limit.other) + " are " +
          value_text(limit.value / mm_per_unit(), length_unit()) + " " + length_unit() +
@@ -150,7 +154,8 @@ std::string Machine::mechanism_limit_text(const MechanismLimit& limit) const {
 }
 
 std::string Machine::explain_envelope_crossing(
-    const Pose& pose, int axis, const std::function<Vector6d(double)>& pose_at) const {
+    const geometry::Pose& pose, int axis,
+    const std::function<geometry::Vector6d(double)>& pose_at) const {
   constexpr int kSamples = 1000;
   const double value = pose.as_vector()[axis];
   const bool over = value > cartesian_.envelope_max[axis];
@@ -161,17 +166,19 @@ std::string Machine::explain_envelope_crossing(
   }
   const char* unit = axis_file_unit(axis);
   const auto shown = [&](double v) { return value_text(axis_to_file(axis, v), unit) + " " + unit; };
-  return "pose " + format_pose(pose) + ": " + std::string(kAxisNames[axis]) +
+  return "pose " + format_pose(pose) + ": " + std::string(geometry::kAxisNames[axis]) +
          " passes the work envelope's " +
          (over ? "max " + shown(cartesian_.envelope_max[axis])
                : "min " + shown(cartesian_.envelope_min[axis])) +
          " there, " + (over ? "up to " : "down to ") + shown(worst) + " along the move";
 }
 
-std::string Machine::explain_path(const std::function<Vector6d(double)>& pose_at) const {
+std::string Machine::explain_path(const std::function<geometry::Vector6d(double)>& pose_at) const {
   constexpr int kSamples = 1000;
-  JointVector joints;
-  const auto fails = [&](double u) { return !inverse(Pose::from_vector(pose_at(u)), joints).ok(); };
+  kinematics::JointVector joints;
+  const auto fails = [&](double u) {
+    return !inverse(geometry::Pose::from_vector(pose_at(u)), joints).ok();
+  };
   int first_bad = -1;
   for (int k = 0; k <= kSamples && first_bad < 0; ++k) {
     if (fails(static_cast<double>(k) / kSamples)) first_bad = k;
@@ -184,14 +191,15 @@ std::string Machine::explain_path(const std::function<Vector6d(double)>& pose_at
   if (first_bad > 0) {
     while (bad - good > 1e-6) (fails(0.5 * (good + bad)) ? bad : good) = 0.5 * (good + bad);
   }
-  const Pose pose = Pose::from_vector(pose_at(bad));
-  const Status status = inverse(pose, joints);
-  std::string text = first_bad == 0 ? "at its start: "
-                                    : "at " + formatted_number("%.1f", 100.0 * bad) + " % of it: ";
-  if (status.code == StatusCode::outside_envelope) {
+  const geometry::Pose pose = geometry::Pose::from_vector(pose_at(bad));
+  const kinematics::Status status = inverse(pose, joints);
+  std::string text = first_bad == 0
+                         ? "at its start: "
+                         : "at " + kinematics::formatted_number("%.1f", 100.0 * bad) + " % of it: ";
+  if (status.code == kinematics::StatusCode::outside_envelope) {
     return text + explain_envelope_crossing(pose, status.axis, pose_at);
   }
-  if (status.code != StatusCode::joint_limit) return text + explain(pose, status);
+  if (status.code != kinematics::StatusCode::joint_limit) return text + explain(pose, status);
   // The joint is at its limit at the crossing: say which limit, and how far beyond it the joint
   // goes along the rest of the move (what must change).
   const int joint = status.joint;
@@ -199,7 +207,8 @@ std::string Machine::explain_path(const std::function<Vector6d(double)>& pose_at
   const bool over = joints[joint] > spec.max;
   double worst = joints[joint];
   for (int k = first_bad; k <= kSamples; ++k) {
-    const Pose sample = Pose::from_vector(pose_at(static_cast<double>(k) / kSamples));
+    const geometry::Pose sample =
+        geometry::Pose::from_vector(pose_at(static_cast<double>(k) / kSamples));
     if (!kinematics_->inverse(sample, joints).ok() || !std::isfinite(joints[joint])) continue;
     worst = over ? std::max(worst, joints[joint]) : std::min(worst, joints[joint]);
   }
@@ -214,14 +223,14 @@ std::string Machine::explain_path(const std::function<Vector6d(double)>& pose_at
 
 std::vector<AxisExtent> reachable_extent(const Machine& machine) {
   std::vector<AxisExtent> extents;
-  const Vector6d home = machine.home().as_vector();
-  JointVector joints;
+  const geometry::Vector6d home = machine.home().as_vector();
+  kinematics::JointVector joints;
   const auto reachable = [&](int axis, double offset) {
-    Vector6d pose = home;
+    geometry::Vector6d pose = home;
     pose[axis] += offset;
-    return machine.inverse(Pose::from_vector(pose), joints).ok();
+    return machine.inverse(geometry::Pose::from_vector(pose), joints).ok();
   };
-  for (int axis = 0; axis < kPoseSize; ++axis) {
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
     if (!machine.kinematics().dof().controls(axis)) continue;
     AxisExtent extent{axis, home[axis], home[axis]};
     // Angles are bounded by a half turn; lengths by a kilometre.
@@ -251,7 +260,7 @@ std::vector<AxisExtent> reachable_extent(const Machine& machine) {
 }
 
 bool PoseBox::contains(const PoseBox& inner) const {
-  for (int axis = 0; axis < kPoseSize; ++axis) {
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
     if (!axes.controls(axis) || !inner.axes.controls(axis)) continue;
     if (inner.min[axis] < min[axis] || inner.max[axis] > max[axis]) return false;
   }
@@ -272,22 +281,24 @@ namespace {
 
 // "x 0.000..500.000 y -20.000..40.000 mm" over the translational axes both boxes share, in the
 // machine file's units.
-std::string box_text(const Machine& machine, const PoseBox& box, Dof axes) {
+std::string box_text(const Machine& machine, const PoseBox& box, geometry::Dof axes) {
   std::string text;
   for (int axis = 0; axis < 3; ++axis) {
     if (!axes.controls(axis)) continue;
-    text += (text.empty() ? "" : " ") + std::string(kAxisNames[axis]) + " " +
-            formatted_number("%.3f", machine.axis_to_file(axis, box.min[axis]) + 0.0) + ".." +
-            formatted_number("%.3f", machine.axis_to_file(axis, box.max[axis]) + 0.0);
+    text += (text.empty() ? "" : " ") + std::string(geometry::kAxisNames[axis]) + " " +
+            kinematics::formatted_number("%.3f", machine.axis_to_file(axis, box.min[axis]) + 0.0) +
+            ".." +
+            kinematics::formatted_number("%.3f", machine.axis_to_file(axis, box.max[axis]) + 0.0);
   }
   return text + " " + machine.length_unit();
 }
 
 }  // namespace
 
-std::string outside_reach_hint(const Machine& machine, const PoseBox& job, const Vector6d& origin) {
+std::string outside_reach_hint(const Machine& machine, const PoseBox& job,
+                               const geometry::Vector6d& origin) {
   const PoseBox reach = reach_box(machine);
-  Dof shared;
+  geometry::Dof shared;
   for (int axis = 0; axis < 3; ++axis) {
     if (reach.axes.controls(axis) && job.axes.controls(axis)) shared = shared.with(axis);
   }
@@ -310,10 +321,11 @@ std::string outside_reach_hint(const Machine& machine, const PoseBox& job, const
     const double centred = shared.controls(axis) ? 0.5 * (reach.min[axis] + reach.max[axis]) -
                                                        0.5 * (job.min[axis] + job.max[axis])
                                                  : origin[axis];
-    suggestion += " " + formatted_number(origin_format, machine.axis_to_file(axis, centred) + 0.0);
+    suggestion += " " + kinematics::formatted_number(origin_format,
+                                                     machine.axis_to_file(axis, centred) + 0.0);
     if (shared.controls(axis) &&
         job.max[axis] - job.min[axis] > reach.max[axis] - reach.min[axis]) {
-      too_big += std::string(too_big.empty() ? "" : ", ") + std::string(kAxisNames[axis]);
+      too_big += std::string(too_big.empty() ? "" : ", ") + std::string(geometry::kAxisNames[axis]);
     }
   }
   if (!too_big.empty()) {
@@ -328,12 +340,12 @@ namespace {
 // and those lengths; false when it has none there.
 bool scaled_jacobian_at_home(const Machine& machine, Eigen::MatrixXd& columns,
                              Eigen::VectorXd& norms) {
-  JointJacobian jacobian;
+  kinematics::JointJacobian jacobian;
   if (!machine.kinematics().jacobian(machine.home(), jacobian).ok()) return false;
-  const Dof dof = machine.kinematics().dof();
+  const geometry::Dof dof = machine.kinematics().dof();
   columns.resize(jacobian.rows(), dof.count());
   norms.resize(dof.count());
-  for (int axis = 0, k = 0; axis < kPoseSize; ++axis) {
+  for (int axis = 0, k = 0; axis < geometry::kPoseSize; ++axis) {
     if (!dof.controls(axis)) continue;
     norms[k] = jacobian.col(axis).norm();
     columns.col(k) = jacobian.col(axis) / norms[k];
@@ -391,14 +403,15 @@ std::string singular_at_home(const Machine& machine) {
   for (std::size_t k = 0; k < axes.size(); ++k) {
     const double value = motion[static_cast<Eigen::Index>(k)];
     if (std::abs(value) < 5e-4) continue;
-    direction += (direction.empty() ? "" : " ") + std::string(kAxisNames[axes[k]]) + " " +
-                 formatted_number("%.3f", value);
+    direction += (direction.empty() ? "" : " ") + std::string(geometry::kAxisNames[axes[k]]) + " " +
+                 kinematics::formatted_number("%.3f", value);
   }
   return "the machine is singular at home: the relative smallest singular value of its jacobian "
          "is " +
-         formatted_number("%.3g", conditioning) + ", below " +
-         formatted_number("%.0e", kSingularAtHome) + "; the tool's motion " + direction + " (" +
-         machine.length_unit() + ", deg) moves no joint, so no motor can drive or hold it there";
+         kinematics::formatted_number("%.3g", conditioning) + ", below " +
+         kinematics::formatted_number("%.0e", kSingularAtHome) + "; the tool's motion " +
+         direction + " (" + machine.length_unit() +
+         ", deg) moves no joint, so no motor can drive or hold it there";
 }
 
-}  // namespace pkm
+}  // namespace pkm::machine

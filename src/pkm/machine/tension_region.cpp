@@ -5,7 +5,7 @@
 
 #include "pkm/kinematics/hanging_cables.hpp"
 
-namespace pkm {
+namespace pkm::machine {
 
 void GridRegion::add(const Eigen::Vector2d& at_mm) {
   ++points;
@@ -15,7 +15,7 @@ void GridRegion::add(const Eigen::Vector2d& at_mm) {
 
 namespace {
 
-void record_extremes(const CableStatics& statics, const Eigen::Vector2d& at,
+void record_extremes(const kinematics::CableStatics& statics, const Eigen::Vector2d& at,
                      TensionRegion& region) {
   for (int cable = 0; cable < 2; ++cable) {
     const std::size_t c = static_cast<std::size_t>(cable);
@@ -34,8 +34,11 @@ void record_extremes(const CableStatics& statics, const Eigen::Vector2d& at,
 
 // The joints at a pose where a cable would push (no balance to solve): the straight distances
 // from the pulley centres, enough to tell whether the joints' limits reach the point.
-JointVector straight_joints(const Machine& machine, const HangingCables& cables, const Pose& pose) {
-  JointVector joints = JointVector::Zero(static_cast<Eigen::Index>(machine.joints().size()));
+kinematics::JointVector straight_joints(const Machine& machine,
+                                        const kinematics::HangingCables& cables,
+                                        const geometry::Pose& pose) {
+  kinematics::JointVector joints =
+      kinematics::JointVector::Zero(static_cast<Eigen::Index>(machine.joints().size()));
   for (int c = 0; c < 2; ++c) {
     const auto cable = static_cast<std::size_t>(c);
     joints[c] = (pose.position_mm.head<2>() - cables.cable_geometry().anchors_mm[cable]).norm() +
@@ -49,14 +52,15 @@ JointVector straight_joints(const Machine& machine, const HangingCables& cables,
 }
 
 // One point into the region's tallies: only where the joints reach it, tensions aside.
-void classify(const Machine& machine, const HangingCables& cables, const Kinematics& unlimited,
-              const Pose& pose, TensionRegion& region) {
+void classify(const Machine& machine, const kinematics::HangingCables& cables,
+              const kinematics::Kinematics& unlimited, const geometry::Pose& pose,
+              TensionRegion& region) {
   const Eigen::Vector2d at = pose.position_mm.head<2>();
-  JointVector joints;
-  const Status status = unlimited.inverse(pose, joints);
-  const bool pushes =
-      (status.code == StatusCode::tension || status.code == StatusCode::unreachable) &&
-      (status.joint == 0 || status.joint == 1);
+  kinematics::JointVector joints;
+  const kinematics::Status status = unlimited.inverse(pose, joints);
+  const bool pushes = (status.code == kinematics::StatusCode::tension ||
+                       status.code == kinematics::StatusCode::unreachable) &&
+                      (status.joint == 0 || status.joint == 1);
   if (!status.ok() && !pushes) return;  // no balance (the cables in line, above the anchors)
   if (pushes) joints = straight_joints(machine, cables, pose);
   if (!machine.check_envelope(pose).ok() || !machine.check_joint_limits(joints).ok()) return;
@@ -65,7 +69,7 @@ void classify(const Machine& machine, const HangingCables& cables, const Kinemat
     region.slack[static_cast<std::size_t>(status.joint)].add(at);
     return;
   }
-  CableStatics statics;
+  kinematics::CableStatics statics;
   if (!cables.statics(pose, Eigen::Vector2d::Zero(), statics).ok()) return;
   record_extremes(statics, at, region);
   bool within = true;
@@ -85,9 +89,9 @@ void classify(const Machine& machine, const HangingCables& cables, const Kinemat
 }  // namespace
 
 std::optional<TensionRegion> tension_region(const Machine& machine, int columns, int rows) {
-  const HangingCables* cables = machine.kinematics().hanging_cables();
+  const kinematics::HangingCables* cables = machine.kinematics().hanging_cables();
   if (cables == nullptr || !(cables->effector_mass_kg() > 0.0)) return std::nullopt;
-  const std::unique_ptr<Kinematics> unlimited = cables->without_tension_limits();
+  const std::unique_ptr<kinematics::Kinematics> unlimited = cables->without_tension_limits();
   const Eigen::Vector2d left = cables->cable_geometry().anchors_mm[0];
   const Eigen::Vector2d right = cables->cable_geometry().anchors_mm[1];
   TensionRegion region;
@@ -97,7 +101,7 @@ std::optional<TensionRegion> tension_region(const Machine& machine, int columns,
   region.max_mm = Eigen::Vector2d(std::max(left.x(), right.x()), std::max(left.y(), right.y()));
   const Eigen::Vector2d cell =
       (region.max_mm - region.min_mm).cwiseQuotient(Eigen::Vector2d(columns, rows));
-  Pose pose = machine.home();
+  geometry::Pose pose = machine.home();
   for (int row = 0; row < rows; ++row) {
     for (int column = 0; column < columns; ++column) {
       pose.position_mm.head<2>() =
@@ -108,4 +112,4 @@ std::optional<TensionRegion> tension_region(const Machine& machine, int columns,
   return region;
 }
 
-}  // namespace pkm
+}  // namespace pkm::machine

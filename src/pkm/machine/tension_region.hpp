@@ -11,7 +11,7 @@
 
 #include "pkm/machine/machine.hpp"
 
-namespace pkm {
+namespace pkm::machine {
 
 // Points of the grid where something holds, and the box (mm, x y) they span.
 struct GridRegion {
@@ -42,4 +42,4 @@ struct TensionRegion {
 std::optional<TensionRegion> tension_region(const Machine& machine, int columns = 60,
                                             int rows = 40);
 
-}  // namespace pkm
+}  // namespace pkm::machine

@@ -8,7 +8,7 @@
 
 #include "pkm/machine/machine_file_error.hpp"
 
-namespace pkm {
+namespace pkm::machine {
 
 namespace {
 int line_of_node(const toml::node& node) {
@@ -336,12 +336,13 @@ std::vector<std::pair<std::string, std::string>> TomlSection::string_table(
   return entries;
 }
 
-std::vector<std::unique_ptr<ModelConfig>> TomlSection::table_list(std::string_view key) const {
+std::vector<std::unique_ptr<kinematics::ModelConfig>> TomlSection::table_list(
+    std::string_view key) const {
   const toml::array* array = require(key).as_array();
   if (array == nullptr || !array->is_array_of_tables() || array->empty()) {
     fail(key, "must be one or more [[" + key_path(key) + "]] tables");
   }
-  std::vector<std::unique_ptr<ModelConfig>> sections;
+  std::vector<std::unique_ptr<kinematics::ModelConfig>> sections;
   int index = 1;
   for (const toml::node& element : *array) {
     sections.push_back(std::make_unique<TomlSection>(
@@ -435,4 +436,4 @@ void refuse_unbounded_toml(std::string_view text, const std::string& source_name
   }
 }
 
-}  // namespace pkm
+}  // namespace pkm::machine

@@ -11,7 +11,7 @@
 
 #include "pkm/kinematics/model_config.hpp"
 
-namespace pkm {
+namespace pkm::machine {
 
 // Bounds on a machine file's text, checked before toml++ reads it: toml++ recurses once per part
 // of a dotted key and per level of nested arrays and inline tables, so text beyond these would
@@ -47,7 +47,7 @@ class KeyTracker {
   std::map<const toml::table*, Entry> tables_;
 };
 
-class TomlSection final : public ModelConfig {
+class TomlSection final : public kinematics::ModelConfig {
  public:
   TomlSection(const toml::table& table, std::string path, std::shared_ptr<KeyTracker> tracker,
               double mm_per_unit, std::vector<std::string> joint_names);
@@ -68,7 +68,8 @@ class TomlSection final : public ModelConfig {
   std::vector<std::pair<std::string, double>> number_table(std::string_view key) const override;
   std::vector<std::pair<std::string, std::string>> string_table(
       std::string_view key) const override;
-  std::vector<std::unique_ptr<ModelConfig>> table_list(std::string_view key) const override;
+  std::vector<std::unique_ptr<kinematics::ModelConfig>> table_list(
+      std::string_view key) const override;
   std::vector<std::string> joint_names() const override { return joint_names_; }
   double mm_per_file_unit() const override { return mm_per_unit_; }
   void raise(std::string_view key, std::string_view message) const override;
@@ -94,4 +95,4 @@ class TomlSection final : public ModelConfig {
   std::vector<std::string> joint_names_;
 };
 
-}  // namespace pkm
+}  // namespace pkm::machine

@@ -31,12 +31,13 @@ double junction_ends(double length, bool at_end, double& from, double& to) {
 
 }  // namespace
 
-JointFeedLimit joint_feed_limit(const std::vector<JointSpec>& joints, const JointVector& slope,
-                                const JointVector& curvature, double speed) {
+JointFeedLimit joint_feed_limit(const std::vector<machine::JointSpec>& joints,
+                                const kinematics::JointVector& slope,
+                                const kinematics::JointVector& curvature, double speed) {
   JointFeedLimit limit;
   limit.speed_mm_per_s = speed;
   for (int i = 0; i < slope.size(); ++i) {
-    const JointSpec& joint = joints[static_cast<std::size_t>(i)];
+    const machine::JointSpec& joint = joints[static_cast<std::size_t>(i)];
     const double max_velocity = kJointVelocityMargin * joint.max_velocity;
     const double max_acceleration = kMoveAccelerationShare * joint.max_acceleration;
     double& allowed = limit.speed_mm_per_s;
@@ -83,17 +84,19 @@ void FeedLimits::limit_by_curvature(Piece& piece, double radius) {
   piece.acceleration *= std::sqrt(0.75);
 }
 
-void FeedLimits::joint_derivatives(const Piece& piece, JointVector& slope, JointVector& curvature) {
+void FeedLimits::joint_derivatives(const Piece& piece, kinematics::JointVector& slope,
+                                   kinematics::JointVector& curvature) {
   const Segment& segment = piece.segment;
   const int points = sample_points(piece.length);
   const double step = piece.length / points;
   const int joint_count = static_cast<int>(machine_.joints().size());
-  slope = JointVector::Zero(joint_count);
-  curvature = JointVector::Zero(joint_count);
-  JointVector previous, current, next;
-  const auto joints_at = [&](int k, JointVector& q) {
-    const Pose pose = Pose::from_vector(segment.at(static_cast<double>(k) / points));
-    const Status status = machine_.inverse(pose, q);
+  slope = kinematics::JointVector::Zero(joint_count);
+  curvature = kinematics::JointVector::Zero(joint_count);
+  kinematics::JointVector previous, current, next;
+  const auto joints_at = [&](int k, kinematics::JointVector& q) {
+    const geometry::Pose pose =
+        geometry::Pose::from_vector(segment.at(static_cast<double>(k) / points));
+    const kinematics::Status status = machine_.inverse(pose, q);
     if (!status.ok()) leaves_reach(segment);
     require_numbers(machine_, file_, pose.as_vector(), q, segment.line, "along the move");
     if (options_.estimate_only) widen_ranges(report_.joints, q);
@@ -118,7 +121,7 @@ void FeedLimits::joint_derivatives(const Piece& piece, JointVector& slope, Joint
 // and |q''| by C over the move, speed^2 C <= amax / 2 (the feed rule) and accel S <= amax -
 // speed^2 C keep it within amax everywhere.
 void FeedLimits::limit_by_joints(Piece& piece) {
-  JointVector slope, curvature;
+  kinematics::JointVector slope, curvature;
   joint_derivatives(piece, slope, curvature);
   const double programmed = piece.max_speed;
   piece.joint_slope = slope;
@@ -135,7 +138,7 @@ void FeedLimits::limit_by_joints(Piece& piece) {
   }
   if (rule.joint < 0 || !(speed < programmed * (1.0 - 1e-9))) return;
   FeedLimit limit = feed_limit(piece, rule.joint, speed, LimitCause::joint);
-  const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(rule.joint)];
+  const machine::JointSpec& joint = machine_.joints()[static_cast<std::size_t>(rule.joint)];
   const double feed =
       std::min(programmed_feed(piece.segment), machine_.cartesian().max_feed_mm_per_s());
   limit.bound = rule.bound;
@@ -203,14 +206,15 @@ void FeedLimits::limit_junction(Piece& before, const Segment& after, double afte
   const auto rate = [&](const Segment& segment, double length, bool at_end) {
     double from = 0.0, to = 0.0;
     const double ds = junction_ends(length, at_end, from, to);
-    JointVector q0, q1;
-    const Status a = machine_.inverse(Pose::from_vector(segment.at(from)), q0);
-    const Status b = machine_.inverse(Pose::from_vector(segment.at(to)), q1);
+    kinematics::JointVector q0, q1;
+    const kinematics::Status a =
+        machine_.inverse(geometry::Pose::from_vector(segment.at(from)), q0);
+    const kinematics::Status b = machine_.inverse(geometry::Pose::from_vector(segment.at(to)), q1);
     if (!a.ok() || !b.ok()) leaves_reach(segment);
-    return JointVector((q1 - q0) / ds);
+    return kinematics::JointVector((q1 - q0) / ds);
   };
-  const JointVector out = rate(before.segment, before.length, true);
-  const JointVector in = rate(after, after_length, false);
+  const kinematics::JointVector out = rate(before.segment, before.length, true);
+  const kinematics::JointVector in = rate(after, after_length, false);
   for (int i = 0; i < out.size(); ++i) {
     const double jump = std::abs(in[i] - out[i]);
     if (jump <= 0.0) continue;

@@ -15,7 +15,7 @@ namespace pkm::motion {
 
 class FeedLimits {
  public:
-  FeedLimits(const Machine& machine, const PlanOptions& options, const std::string& file,
+  FeedLimits(const machine::Machine& machine, const PlanOptions& options, const std::string& file,
              PlanReport& report)
       : machine_(machine),
         options_(options),
@@ -48,7 +48,8 @@ class FeedLimits {
   void limit_by_joints(Piece& piece);
   // The largest |dq/ds| (`slope`) and |d2q/ds2| (`curvature`) of every joint along the piece,
   // sampled every kJointSampleStepMm; an estimate widens the joint ranges with the samples.
-  void joint_derivatives(const Piece& piece, JointVector& slope, JointVector& curvature);
+  void joint_derivatives(const Piece& piece, kinematics::JointVector& slope,
+                         kinematics::JointVector& curvature);
   void limit_by_tensions(Piece& piece);
   // The report's entry for a move whose feed `joint` (or cable) lowered to `speed`, with the
   // curve it is, if any.
@@ -57,7 +58,7 @@ class FeedLimits {
     return segment.rapid ? machine_.cartesian().max_feed_mm_per_s() : segment.feed_mm_per_s;
   }
 
-  const Machine& machine_;
+  const machine::Machine& machine_;
   const PlanOptions& options_;
   const std::string& file_;
   PlanReport& report_;

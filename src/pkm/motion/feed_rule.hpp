@@ -28,7 +28,8 @@ struct JointFeedLimit {
 // (per mm^2) over it: the highest speed up to `speed` (mm/s) at which every joint's rate q' v
 // stays within kJointVelocityMargin of its max_velocity and its q'' v^2 within half of the
 // kMoveAccelerationShare of its max_acceleration; the joint that bound last, and how.
-JointFeedLimit joint_feed_limit(const std::vector<JointSpec>& joints, const JointVector& slope,
-                                const JointVector& curvature, double speed);
+JointFeedLimit joint_feed_limit(const std::vector<machine::JointSpec>& joints,
+                                const kinematics::JointVector& slope,
+                                const kinematics::JointVector& curvature, double speed);
 
 }  // namespace pkm::motion

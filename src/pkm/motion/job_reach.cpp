@@ -5,11 +5,12 @@
 
 namespace pkm::motion {
 
-std::string job_reach_hint(const Machine& machine, const std::filesystem::path& program,
-                           const gcode::InterpreterOptions& options, const Vector6d& origin) {
-  PoseBox job;
-  job.min = Vector6d::Constant(INFINITY);
-  job.max = Vector6d::Constant(-INFINITY);
+std::string job_reach_hint(const machine::Machine& machine, const std::filesystem::path& program,
+                           const gcode::InterpreterOptions& options,
+                           const geometry::Vector6d& origin) {
+  machine::PoseBox job;
+  job.min = geometry::Vector6d::Constant(INFINITY);
+  job.max = geometry::Vector6d::Constant(-INFINITY);
   try {
     gcode::Interpreter(program, options).run([&](const gcode::Canon& canon) {
       if (canon.kind != gcode::CanonKind::traverse && canon.kind != gcode::CanonKind::feed) return;
@@ -26,7 +27,7 @@ std::string job_reach_hint(const Machine& machine, const std::filesystem::path& 
     if (!std::isfinite(job.min[axis])) return "";
     job.axes = job.axes.with(axis);
   }
-  const std::string hint = outside_reach_hint(machine, job, origin);
+  const std::string hint = machine::outside_reach_hint(machine, job, origin);
   return hint.empty() ? "" : "\n  hint: " + hint;
 }
 

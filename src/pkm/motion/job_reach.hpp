@@ -14,7 +14,8 @@ namespace pkm::motion {
 // When the job's moves, placed at `origin` (mm, rad), lie outside the machine's reach:
 // "\n  hint: " and a line with both boxes and the --origin that would centre the job, to append
 // to the error; "" when the job fits (or cannot be read again).
-std::string job_reach_hint(const Machine& machine, const std::filesystem::path& program,
-                           const gcode::InterpreterOptions& options, const Vector6d& origin);
+std::string job_reach_hint(const machine::Machine& machine, const std::filesystem::path& program,
+                           const gcode::InterpreterOptions& options,
+                           const geometry::Vector6d& origin);
 
 }  // namespace pkm::motion

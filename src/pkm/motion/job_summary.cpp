@@ -30,7 +30,7 @@ void extreme_points(const Segment& segment, const Add& add) {
 class Summariser {
  public:
   Summariser(JobSummary& summary, const std::string& file)
-      : summary_(summary), builder_(Vector6d::Zero(), Vector6d::Zero(), false) {
+      : summary_(summary), builder_(geometry::Vector6d::Zero(), geometry::Vector6d::Zero(), false) {
     builder_.set_file(file);
   }
 
@@ -93,7 +93,8 @@ JobSummary summarize_job(const std::filesystem::path& program,
                          const gcode::InterpreterOptions& options) {
   JobSummary summary;
   Summariser summariser(summary, program.string());
-  gcode::Interpreter interpreter(program, starting_at(options, Vector6d::Zero(), Vector6d::Zero()));
+  gcode::Interpreter interpreter(
+      program, starting_at(options, geometry::Vector6d::Zero(), geometry::Vector6d::Zero()));
   interpreter.run([&](const gcode::Canon& canon) { summariser.on_canon(canon); });
   summary.warnings = interpreter.warnings();
   return summary;

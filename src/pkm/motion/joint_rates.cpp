@@ -2,11 +2,11 @@
 
 namespace pkm::motion {
 
-void JointRates::add(double time_s, const JointVector& joints) {
+void JointRates::add(double time_s, const kinematics::JointVector& joints) {
   const double interval_s = time_s - last_time_s_;
   if (samples_ == 0) {
-    velocity_ = JointVector::Zero(joints.size());
-    acceleration_ = JointVector::Zero(joints.size());
+    velocity_ = kinematics::JointVector::Zero(joints.size());
+    acceleration_ = kinematics::JointVector::Zero(joints.size());
   }
   has_velocity_ = samples_ > 0 && interval_s > 0.0;
   has_acceleration_ = has_velocity_ && samples_ > 1;

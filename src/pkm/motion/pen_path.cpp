@@ -54,7 +54,7 @@ std::string list_text(const std::vector<double>& levels) {
 
 }  // namespace
 
-PenPath::PenPath(const Machine& machine)
+PenPath::PenPath(const machine::Machine& machine)
     : tool_(machine.tool()), mm_per_unit_(machine.mm_per_unit()), unit_(machine.length_unit()) {}
 
 namespace {
@@ -62,7 +62,7 @@ namespace {
 // The fractions of the move (in order) where its Z passes from one side of the pen's height to
 // the other, each the first point on the new side: 64 pieces, each bisected, so a move whose Z
 // goes down and up again (an arc in XZ) shows both.
-std::vector<double> side_changes(const Segment& segment, const ToolChannel& tool) {
+std::vector<double> side_changes(const Segment& segment, const machine::ToolChannel& tool) {
   const auto down_at = [&](double u) { return tool.pen_down(segment.at(u)[2]); };
   std::vector<double> changes;
   bool down = down_at(0.0);

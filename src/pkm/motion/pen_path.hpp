@@ -30,7 +30,7 @@ struct ZLevelMoves {
 
 class PenPath {
  public:
-  explicit PenPath(const Machine& machine);
+  explicit PenPath(const machine::Machine& machine);
 
   // The job's next move (in the job's order, every one): where along it the pen changes.
   std::vector<PenChange> follow(const Segment& segment);
@@ -54,7 +54,7 @@ class PenPath {
   std::string levels_text() const;
   std::string suggestion() const;
 
-  const ToolChannel& tool_;
+  const machine::ToolChannel& tool_;
   double mm_per_unit_;
   std::string unit_;
   bool down_ = false;

@@ -16,7 +16,7 @@ struct Piece {
   bool stop_after = false;
   double max_exit_speed = 1e300;  // where the joints' rates jump at the junction to the next
   double entry_speed = 0.0, exit_speed = 0.0;
-  JointVector joint_slope;  // largest |dq/ds| of each joint along the piece (per mm)
+  kinematics::JointVector joint_slope;  // largest |dq/ds| of each joint along the piece (per mm)
   // On an arc or a corner blend: its radius, and the speed and acceleration v^2/r may take
   // (limit_by_curvature); the line before a blend's corner.
   double curve_radius_mm = 0.0;

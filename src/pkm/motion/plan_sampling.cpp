@@ -5,8 +5,9 @@
 
 namespace pkm::motion {
 
-void not_a_number(const Machine& machine, const std::string& file, const Vector6d& pose,
-                  const JointVector& joints, int line, const std::string& where) {
+void not_a_number(const machine::Machine& machine, const std::string& file,
+                  const geometry::Vector6d& pose, const kinematics::JointVector& joints, int line,
+                  const std::string& where) {
   if (!pose.allFinite()) {
     throw PlanError(file, line, where + ": the pose is not a number (check --origin and --start)");
   }
@@ -19,7 +20,7 @@ void not_a_number(const Machine& machine, const std::string& file, const Vector6
                       std::to_string(pose[2]) + " mm");
 }
 
-void Sampler::emit(double t, int line, const Vector6d& pose) {
+void Sampler::emit(double t, int line, const geometry::Vector6d& pose) {
   if (options_.estimate_only) {  // the start and the end: counted, not made
     report_.samples = std::min(kSampleCountCap, report_.samples + 1);
     last_sample_time_ = t;
@@ -30,11 +31,12 @@ void Sampler::emit(double t, int line, const Vector6d& pose) {
   sample.line = line;
   sample.pose = pose;
   sample.pen_down = pen_down_;
-  const Status status = machine_.inverse(Pose::from_vector(pose), sample.joints);
+  const kinematics::Status status =
+      machine_.inverse(geometry::Pose::from_vector(pose), sample.joints);
   if (!status.ok()) {
-    throw PlanError(
-        file_, line,
-        "at t = " + std::to_string(t) + " s: " + machine_.explain(Pose::from_vector(pose), status));
+    throw PlanError(file_, line,
+                    "at t = " + std::to_string(t) +
+                        " s: " + machine_.explain(geometry::Pose::from_vector(pose), status));
   }
   require_numbers(machine_, file_, pose, sample.joints, line, "", t);
   rates_.add(t, sample.joints);

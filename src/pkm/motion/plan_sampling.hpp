@@ -13,23 +13,25 @@
 
 namespace pkm::motion {
 
-[[noreturn]] void not_a_number(const Machine& machine, const std::string& file,
-                               const Vector6d& pose, const JointVector& joints, int line,
+[[noreturn]] void not_a_number(const machine::Machine& machine, const std::string& file,
+                               const geometry::Vector6d& pose,
+                               const kinematics::JointVector& joints, int line,
                                const std::string& where);
 
 // Inverse kinematics that overflowed (a glide far outside its rails) gives NaN joints, which
 // pass every limit check (NaN compares false): they stop the plan here instead. `where` says
 // where on the line; empty: at time `t` (s).
-inline void require_numbers(const Machine& machine, const std::string& file, const Vector6d& pose,
-                            const JointVector& joints, int line, const char* where,
-                            double t = 0.0) {
+inline void require_numbers(const machine::Machine& machine, const std::string& file,
+                            const geometry::Vector6d& pose, const kinematics::JointVector& joints,
+                            int line, const char* where, double t = 0.0) {
   if (pose.allFinite() && joints.allFinite()) return;
   not_a_number(machine, file, pose, joints, line,
                where[0] != '\0' ? std::string(where) : "at t = " + std::to_string(t) + " s");
 }
 
 // Widens the report's joint ranges to hold `joints`.
-inline void widen_ranges(std::vector<JointStatistics>& ranges, const JointVector& joints) {
+inline void widen_ranges(std::vector<JointStatistics>& ranges,
+                         const kinematics::JointVector& joints) {
   for (int i = 0; i < joints.size(); ++i) {
     JointStatistics& stats = ranges[static_cast<std::size_t>(i)];
     stats.min = std::min(stats.min, joints[i]);
@@ -39,12 +41,12 @@ inline void widen_ranges(std::vector<JointStatistics>& ranges, const JointVector
 
 class Sampler {
  public:
-  Sampler(const Machine& machine, const PlanOptions& options, SampleSink& sink,
+  Sampler(const machine::Machine& machine, const PlanOptions& options, SampleSink& sink,
           const std::string& file, PlanReport& report)
       : machine_(machine), options_(options), sink_(sink), file_(file), report_(report) {}
 
   // The sample at `t` (s) of `line`, at `pose`; estimates count it without making it.
-  void emit(double t, int line, const Vector6d& pose);
+  void emit(double t, int line, const geometry::Vector6d& pose);
 
   // Samples on the multiples of the period up to `end` (time division), then moves on.
   template <class PoseAt>
@@ -74,7 +76,7 @@ class Sampler {
   // no further than kSampleCountCap.
   long first_sample_at_or_after(double t) const;
 
-  const Machine& machine_;
+  const machine::Machine& machine_;
   const PlanOptions& options_;
   SampleSink& sink_;
   const std::string& file_;

@@ -17,27 +17,29 @@ namespace {
 // (plan_sampling.hpp); dwells and the pen's changes stop the motion and take their time.
 class Planner {
  public:
-  Planner(const Machine& machine, const PlanOptions& options, SampleSink& sink, std::string file)
+  Planner(const machine::Machine& machine, const PlanOptions& options, SampleSink& sink,
+          std::string file)
       : machine_(machine),
         file_(std::move(file)),
         builder_((options.start ? *options.start : machine.home()).as_vector(), options.origin,
                  options.great_circle_attitude),
-        pen_(machine.tool().z == ToolZ::pen),
+        pen_(machine.tool().z == machine::ToolZ::pen),
         pen_path_(machine),
         limits_(machine, options, file_, report_),
         look_ahead_(limits_, builder_, options.jerk_mm_per_s3),
         sampler_(machine, options, sink, file_, report_) {
-    builder_.set_z_free(!machine.kinematics().dof().controls(static_cast<int>(Axis::z)));
+    builder_.set_z_free(!machine.kinematics().dof().controls(static_cast<int>(geometry::Axis::z)));
     builder_.set_file(file_);
     pose_ = builder_.pose();
     const int joints = static_cast<int>(machine.joints().size());
     report_.joints.resize(static_cast<std::size_t>(joints));
-    JointVector start_joints;
-    const Status status = machine_.inverse(Pose::from_vector(pose_), start_joints);
+    kinematics::JointVector start_joints;
+    const kinematics::Status status =
+        machine_.inverse(geometry::Pose::from_vector(pose_), start_joints);
     if (!status.ok()) {
-      throw PlanError(
-          file_, 0,
-          "the start pose is not usable: " + machine_.explain(Pose::from_vector(pose_), status));
+      throw PlanError(file_, 0,
+                      "the start pose is not usable: " +
+                          machine_.explain(geometry::Pose::from_vector(pose_), status));
     }
     require_numbers(machine_, file_, pose_, start_joints, 0, "at the start pose");
     for (int i = 0; i < joints; ++i) {
@@ -113,7 +115,7 @@ class Planner {
       sampler_.set_pen_down(change.down);
       ++report_.pen_changes;
       last_line_ = segment.line;
-      const Vector6d here = pose_;
+      const geometry::Vector6d here = pose_;
       sampler_.sample_until(sampler_.time_s() + machine_.tool().delay_s, segment.line,
                             [&](double) { return here; });
       from = change.u;
@@ -121,7 +123,7 @@ class Planner {
     add(from > 0.0 ? segment.part(from, 1.0) : segment);
   }
 
-  const Machine& machine_;
+  const machine::Machine& machine_;
   std::string file_;        // before the parts below, which keep a reference to it
   SegmentBuilder builder_;  // before pose_: the constructor takes the start from it
   bool pen_ = false;        // the machine has a pen channel
@@ -130,14 +132,14 @@ class Planner {
   FeedLimits limits_;
   LookAhead look_ahead_;
   Sampler sampler_;
-  Vector6d pose_ = Vector6d::Zero();
+  geometry::Vector6d pose_ = geometry::Vector6d::Zero();
   double entry_speed_ = 0.0;  // the speed the first piece look-ahead holds is entered at
   int last_line_ = 0;
 };
 
 }  // namespace
 
-PlanReport plan_program(const Machine& machine, const std::filesystem::path& program,
+PlanReport plan_program(const machine::Machine& machine, const std::filesystem::path& program,
                         const gcode::InterpreterOptions& interpreter_options,
                         const PlanOptions& options, SampleSink& sink) {
   if (!(options.period_s > 0.0)) throw std::invalid_argument("the period must be positive");

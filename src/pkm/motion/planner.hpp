@@ -24,10 +24,10 @@ namespace pkm::motion {
 
 struct Sample {
   double time_s = 0.0;
-  int line = 0;                      // G-code line of the move
-  Vector6d pose = Vector6d::Zero();  // x y z (mm) a b c (rad)
-  JointVector joints;                // mm (rad for rotary joints)
-  bool pen_down = false;             // the pen channel's state (machines with [tool] z = "pen")
+  int line = 0;                                          // G-code line of the move
+  geometry::Vector6d pose = geometry::Vector6d::Zero();  // x y z (mm) a b c (rad)
+  kinematics::JointVector joints;                        // mm (rad for rotary joints)
+  bool pen_down = false;  // the pen channel's state (machines with [tool] z = "pen")
 };
 
 // Where samples go: a file, a test, a controller.
@@ -38,11 +38,11 @@ class SampleSink {
 };
 
 struct PlanOptions {
-  double period_s = 0.001;    // LinuxCNC's servo period
-  std::optional<Pose> start;  // default: the machine's home
+  double period_s = 0.001;              // LinuxCNC's servo period
+  std::optional<geometry::Pose> start;  // default: the machine's home
   // Where the program's origin (X0 Y0 Z0 before any G54..G59.3/G92 offset) sits in machine
   // coordinates: mm and rad. Places a drawing made about (0, 0) on a plotter hanging below.
-  Vector6d origin = Vector6d::Zero();
+  geometry::Vector6d origin = geometry::Vector6d::Zero();
   // The tool axis along a great circle within each move (the paper's variable attitude) instead
   // of A B C interpolated linearly (LinuxCNC's way, the default).
   bool great_circle_attitude = false;
@@ -155,7 +155,7 @@ class PlanError : public std::runtime_error {
   int line_;
 };
 
-PlanReport plan_program(const Machine& machine, const std::filesystem::path& program,
+PlanReport plan_program(const machine::Machine& machine, const std::filesystem::path& program,
                         const gcode::InterpreterOptions& interpreter_options,
                         const PlanOptions& options, SampleSink& sink);
 

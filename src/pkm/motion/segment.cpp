@@ -13,9 +13,9 @@ namespace {
 double xy_length_by_chords(const Segment& arc) {
   const int chords = 256 * std::max(1, static_cast<int>(std::ceil(std::abs(arc.sweep_rad))));
   double length = 0.0;
-  Vector6d previous = arc.at(0.0);
+  geometry::Vector6d previous = arc.at(0.0);
   for (int k = 1; k <= chords; ++k) {
-    const Vector6d next = arc.at(static_cast<double>(k) / chords);
+    const geometry::Vector6d next = arc.at(static_cast<double>(k) / chords);
     length += (next.head<2>() - previous.head<2>()).norm();
     previous = next;
   }
@@ -33,7 +33,7 @@ double Segment::length() const {
       if (z_free) move.z() = 0.0;
       const double position = move.norm();
       if (position > 0.0) return position;
-      return radians_to_degrees((end.tail<3>() - start.tail<3>()).norm());
+      return geometry::radians_to_degrees((end.tail<3>() - start.tail<3>()).norm());
     }
     case SegmentKind::blend:
       return radius_mm * sweep_rad;
@@ -76,8 +76,8 @@ Eigen::Vector3d Segment::attitude_at(double u) const {
   if (!great_circle_attitude || start_abc == end_abc || u <= 0.0 || u >= 1.0) {
     return u >= 1.0 ? end_abc : (u <= 0.0 ? start_abc : linear);
   }
-  const Eigen::Matrix3d r0 = rotation_from_abc(start_abc);
-  const Eigen::Matrix3d r1 = rotation_from_abc(end_abc);
+  const Eigen::Matrix3d r0 = geometry::rotation_from_abc(start_abc);
+  const Eigen::Matrix3d r1 = geometry::rotation_from_abc(end_abc);
   const Eigen::Vector3d axis0 = r0.col(2), axis1 = r1.col(2);
   // The tilt that turns the tool axis along the great circle, and the spin left over about it.
   const Eigen::Vector3d normal = axis0.cross(axis1);
@@ -95,20 +95,20 @@ Eigen::Vector3d Segment::attitude_at(double u) const {
   return abc_near(r, linear);
 }
 
-Vector6d Segment::at(double u) const {
+geometry::Vector6d Segment::at(double u) const {
   if (kind == SegmentKind::blend) {
-    Vector6d pose = start + u * (end - start);  // the angles blend linearly
+    geometry::Vector6d pose = start + u * (end - start);  // the angles blend linearly
     if (u >= 1.0) return end;
     const double angle = u * sweep_rad;
     pose.head<3>() = centre + radius_mm * (std::cos(angle) * axis_u + std::sin(angle) * axis_v);
     return pose;
   }
   if (kind != SegmentKind::arc) {
-    Vector6d pose = start + u * (end - start);
+    geometry::Vector6d pose = start + u * (end - start);
     if (great_circle_attitude) pose.tail<3>() = attitude_at(u);
     return pose;
   }
-  Vector6d pose = start + u * (end - start);  // the normal axis is linear
+  geometry::Vector6d pose = start + u * (end - start);  // the normal axis is linear
   if (great_circle_attitude) pose.tail<3>() = attitude_at(u);
   const double start_angle =
       std::atan2(start[second_axis] - centre[second_axis], start[first_axis] - centre[first_axis]);

@@ -13,10 +13,10 @@ enum class SegmentKind { line, arc, blend, dwell };
 
 struct Segment {
   SegmentKind kind = SegmentKind::line;
-  int line = 0;                       // G-code source line
-  bool rapid = false;                 // G0: at the machine's highest feed
-  Vector6d start = Vector6d::Zero();  // x y z (mm) a b c (rad)
-  Vector6d end = Vector6d::Zero();
+  int line = 0;                                           // G-code source line
+  bool rapid = false;                                     // G0: at the machine's highest feed
+  geometry::Vector6d start = geometry::Vector6d::Zero();  // x y z (mm) a b c (rad)
+  geometry::Vector6d end = geometry::Vector6d::Zero();
   double feed_mm_per_s = 0.0;  // programmed tool-tip speed (0 for rapids and dwells)
   // Attitude along the move: A B C linear in u (LinuxCNC's way), or the tool axis (the
   // platform's +Z) along the great circle between its start and end directions at a constant
@@ -41,7 +41,7 @@ struct Segment {
   // measured in degrees as LinuxCNC does for a feed of rotary axes alone.
   double length() const;
   // The pose at fraction u of the path (0 = start, 1 = end).
-  Vector6d at(double u) const;
+  geometry::Vector6d at(double u) const;
   // The stretch of a line or arc from fraction u0 to u1, the same path: at(u0) to at(u1).
   Segment part(double u0, double u1) const;
 

@@ -15,17 +15,18 @@ double to_mm(gcode::LengthUnits units) {
 }
 }  // namespace
 
-gcode::InterpreterOptions starting_at(gcode::InterpreterOptions options, const Vector6d& start,
-                                      const Vector6d& origin) {
-  const Vector6d from_origin = start - origin;
+gcode::InterpreterOptions starting_at(gcode::InterpreterOptions options,
+                                      const geometry::Vector6d& start,
+                                      const geometry::Vector6d& origin) {
+  const geometry::Vector6d from_origin = start - origin;
   for (int axis = 0; axis < 6; ++axis) {
     options.start_position[axis] =
-        axis < 3 ? from_origin[axis] : radians_to_degrees(from_origin[axis]);
+        axis < 3 ? from_origin[axis] : geometry::radians_to_degrees(from_origin[axis]);
   }
   return options;
 }
 
-SegmentBuilder::SegmentBuilder(const Vector6d& start, const Vector6d& origin,
+SegmentBuilder::SegmentBuilder(const geometry::Vector6d& start, const geometry::Vector6d& origin,
                                bool great_circle_attitude)
     : pose_(start), origin_(origin), great_circle_attitude_(great_circle_attitude) {}
 
@@ -46,7 +47,7 @@ Moves SegmentBuilder::take(const gcode::Canon& canon) {
       store_offset(canon, tool_mm_);
       return {};
     case CanonKind::xy_rotation:
-      xy_rotation_rad_ = degrees_to_radians(canon.value);
+      xy_rotation_rad_ = geometry::degrees_to_radians(canon.value);
       return {};
     case CanonKind::traverse:
     case CanonKind::feed:
@@ -74,7 +75,8 @@ Moves SegmentBuilder::take(const gcode::Canon& canon) {
   }
 }
 
-Segment SegmentBuilder::line_segment(const gcode::Canon& canon, const Vector6d& end) const {
+Segment SegmentBuilder::line_segment(const gcode::Canon& canon,
+                                     const geometry::Vector6d& end) const {
   Segment segment;
   segment.kind = SegmentKind::line;
   segment.line = canon.line;
@@ -90,7 +92,7 @@ Segment SegmentBuilder::line_segment(const gcode::Canon& canon, const Vector6d& 
 // In to the tap's end along X Y Z and back out to where it started, both at the pitch times the
 // spindle's speed (the spindle reverses at the bottom): the tool ends where it was.
 Moves SegmentBuilder::rigid_tap(const gcode::Canon& canon) {
-  Vector6d bottom = machine_pose(canon);
+  geometry::Vector6d bottom = machine_pose(canon);
   bottom.tail<3>() = pose_.tail<3>();  // the tap moves X Y Z only
   moves_[0] = line_segment(canon, bottom);
   moves_[1] = moves_[0];
@@ -99,19 +101,19 @@ Moves SegmentBuilder::rigid_tap(const gcode::Canon& canon) {
   return {moves_.data(), 2};
 }
 
-void SegmentBuilder::store_offset(const gcode::Canon& canon, Vector6d& offset) const {
+void SegmentBuilder::store_offset(const gcode::Canon& canon, geometry::Vector6d& offset) const {
   for (int axis = 0; axis < 6; ++axis) {
-    offset[axis] =
-        axis < 3 ? canon.end[axis] * to_mm(canon.units) : degrees_to_radians(canon.end[axis]);
+    offset[axis] = axis < 3 ? canon.end[axis] * to_mm(canon.units)
+                            : geometry::degrees_to_radians(canon.end[axis]);
   }
 }
 
 // Program coordinates (program units, deg) to the machine pose (mm, rad).
-Vector6d SegmentBuilder::machine_pose(const gcode::Canon& canon) const {
-  Vector6d pose;
+geometry::Vector6d SegmentBuilder::machine_pose(const gcode::Canon& canon) const {
+  geometry::Vector6d pose;
   for (int axis = 0; axis < 6; ++axis) {
-    const double value =
-        axis < 3 ? canon.end[axis] * to_mm(canon.units) : degrees_to_radians(canon.end[axis]);
+    const double value = axis < 3 ? canon.end[axis] * to_mm(canon.units)
+                                  : geometry::degrees_to_radians(canon.end[axis]);
     pose[axis] = value + origin_[axis] + g5x_mm_[axis] + g92_mm_[axis] + tool_mm_[axis];
   }
   if (xy_rotation_rad_ != 0.0) {
@@ -186,7 +188,7 @@ Segment SegmentBuilder::arc_segment(const gcode::Canon& canon) const {
       segment.first_axis = 1, segment.second_axis = 2, segment.normal_axis = 0;
       break;
   }
-  const Vector6d offset = origin_ + g5x_mm_ + g92_mm_ + tool_mm_;
+  const geometry::Vector6d offset = origin_ + g5x_mm_ + g92_mm_ + tool_mm_;
   const double scale = to_mm(canon.units);
   if (xy_rotation_rad_ != 0.0) {
     // A turned XY plane stays a principal plane; a turned XZ or YZ plane does not (segments'
@@ -202,7 +204,7 @@ Segment SegmentBuilder::arc_segment(const gcode::Canon& canon) const {
     segment.centre[segment.first_axis] = canon.center[0] * scale + offset[segment.first_axis];
     segment.centre[segment.second_axis] = canon.center[1] * scale + offset[segment.second_axis];
   }
-  const auto angle_of = [&](const Vector6d& p) {
+  const auto angle_of = [&](const geometry::Vector6d& p) {
     return std::atan2(p[segment.second_axis] - segment.centre[segment.second_axis],
                       p[segment.first_axis] - segment.centre[segment.first_axis]);
   };

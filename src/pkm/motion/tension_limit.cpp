@@ -28,22 +28,24 @@ std::string newtons(double value) {
 
 }  // namespace
 
-std::optional<TensionLimit> TensionLimit::of(const Kinematics& kinematics, double share) {
-  const HangingCables* cables = kinematics.hanging_cables();
+std::optional<TensionLimit> TensionLimit::of(const kinematics::Kinematics& kinematics,
+                                             double share) {
+  const kinematics::HangingCables* cables = kinematics.hanging_cables();
   if (cables == nullptr || !(cables->effector_mass_kg() > 0.0)) return std::nullopt;
   return TensionLimit(*cables, share);
 }
 
-TensionExcess TensionLimit::excess(const Vector6d& pose,
+TensionExcess TensionLimit::excess(const geometry::Vector6d& pose,
                                    const Eigen::Vector2d& acceleration_mm_per_s2) const {
-  CableStatics statics;
-  const Status status =
-      kinematics_->statics(Pose::from_vector(pose), acceleration_mm_per_s2, statics);
+  kinematics::CableStatics statics;
+  const kinematics::Status status =
+      kinematics_->statics(geometry::Pose::from_vector(pose), acceleration_mm_per_s2, statics);
   TensionExcess result;
   if (!status.ok()) {
     result.outside = true;
     result.margin_N = -std::numeric_limits<double>::infinity();
-    if (status.code == StatusCode::tension && (status.joint == 0 || status.joint == 1)) {
+    if (status.code == kinematics::StatusCode::tension &&
+        (status.joint == 0 || status.joint == 1)) {
       const std::size_t c = static_cast<std::size_t>(status.joint);
       result.cable = status.joint;  // it would have to push
       result.slack = true;
@@ -66,7 +68,7 @@ TensionExcess TensionLimit::excess(const Vector6d& pose,
   return result;
 }
 
-double TensionLimit::headroom(const Vector6d& pose, const Eigen::Vector2d& base,
+double TensionLimit::headroom(const geometry::Vector6d& pose, const Eigen::Vector2d& base,
                               const Eigen::Vector2d& direction, double cap, double scale,
                               TensionExcess& excess_found) const {
   excess_found = excess(pose, scale * (base + cap * direction));
@@ -111,7 +113,7 @@ TensionBound TensionLimit::along(const Segment& segment, double length_mm, int p
   bound.acceleration_mm_per_s2 = acceleration;
   if (!(length_mm > 0.0) || points < 2) return bound;
   const double step = length_mm / points;
-  std::vector<Vector6d> poses(static_cast<std::size_t>(points) + 1);
+  std::vector<geometry::Vector6d> poses(static_cast<std::size_t>(points) + 1);
   for (int k = 0; k <= points; ++k) {
     poses[static_cast<std::size_t>(k)] = segment.at(static_cast<double>(k) / points);
   }
@@ -137,7 +139,7 @@ TensionBound TensionLimit::along(const Segment& segment, double length_mm, int p
     if (!curved(kappa)) continue;
     const double bend = kappa.norm();
     const double across = bound.speed_mm_per_s * bound.speed_mm_per_s * bend;
-    const Vector6d& pose = poses[static_cast<std::size_t>(k)];
+    const geometry::Vector6d& pose = poses[static_cast<std::size_t>(k)];
     const double allowed =
         headroom(pose, Vector2::Zero(), kappa / bend, 2.0 * across, scale, excess_found);
     if (allowed < 2.0 * across) {
@@ -153,7 +155,7 @@ TensionBound TensionLimit::along(const Segment& segment, double length_mm, int p
                                ? Vector2(bound.speed_mm_per_s * bound.speed_mm_per_s * kappa)
                                : Vector2::Zero();
     const Vector2 along = tangent(k);
-    const Vector6d& pose = poses[static_cast<std::size_t>(k)];
+    const geometry::Vector6d& pose = poses[static_cast<std::size_t>(k)];
     for (const double sign : {1.0, -1.0}) {
       const double cap = bound.acceleration_mm_per_s2;
       const double allowed = headroom(pose, across, sign * along, cap, scale, excess_found);
@@ -167,7 +169,7 @@ TensionBound TensionLimit::along(const Segment& segment, double length_mm, int p
   return bound;
 }
 
-double TensionLimit::junction_speed(const Vector6d& pose, const Eigen::Vector3d& out,
+double TensionLimit::junction_speed(const geometry::Vector6d& pose, const Eigen::Vector3d& out,
                                     const Eigen::Vector3d& in, double chord_mm, double period_s,
                                     double speed) const {
   const Vector2 change = (in - out).head<2>();
@@ -184,12 +186,13 @@ double TensionLimit::junction_speed(const Vector6d& pose, const Eigen::Vector3d&
 }
 
 std::string TensionLimit::beyond_limits_at_rest(
-    const std::function<Vector6d(double)>& pose_at) const {
+    const std::function<geometry::Vector6d(double)>& pose_at) const {
   constexpr int kSamples = 1000;
   double lowest[2] = {1e300, 1e300}, highest[2] = {-1e300, -1e300};
   for (int k = 0; k <= kSamples; ++k) {
-    CableStatics statics;
-    const Pose pose = Pose::from_vector(pose_at(static_cast<double>(k) / kSamples));
+    kinematics::CableStatics statics;
+    const geometry::Pose pose =
+        geometry::Pose::from_vector(pose_at(static_cast<double>(k) / kSamples));
     if (!kinematics_->statics(pose, Vector2::Zero(), statics).ok()) continue;
     for (std::size_t c = 0; c < 2; ++c) {
       lowest[c] = std::min(lowest[c], statics.lowest_N[c]);
@@ -209,7 +212,8 @@ std::string TensionLimit::beyond_limits_at_rest(
   return text.empty() ? text : text + " along the move";
 }
 
-std::string describe_excess(const HangingCables& kinematics, const TensionExcess& excess) {
+std::string describe_excess(const kinematics::HangingCables& kinematics,
+                            const TensionExcess& excess) {
   if (!excess.outside) return "the tensions are within their limits";
   if (excess.cable < 0) return "the effector has no balance there (the cables in line)";
   const std::string cable = std::string("the ") + cable_name(excess.cable) + " cable";

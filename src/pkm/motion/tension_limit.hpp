@@ -43,7 +43,7 @@ class TensionLimit {
  public:
   // The limit of a machine hanging from cables (a cable_plotter) whose effector has a mass (its
   // tensions are "both cables pull", [0, inf), without tension_limits); none for any other.
-  static std::optional<TensionLimit> of(const Kinematics& kinematics,
+  static std::optional<TensionLimit> of(const kinematics::Kinematics& kinematics,
                                         double share = kTensionMoveShare);
 
   // The highest speed (mm/s) and acceleration along the path (mm/s^2), at most `speed` and
@@ -61,40 +61,43 @@ class TensionLimit {
   // period of `period_s`, or, where junctions follow closer than a period (a curve in short
   // chords), once per chord, v^2 |in - out| / chord. That acceleration takes at most the rest of
   // the headroom (1 - share).
-  double junction_speed(const Vector6d& pose, const Eigen::Vector3d& out, const Eigen::Vector3d& in,
-                        double chord_mm, double period_s, double speed) const;
+  double junction_speed(const geometry::Vector6d& pose, const Eigen::Vector3d& out,
+                        const Eigen::Vector3d& in, double chord_mm, double period_s,
+                        double speed) const;
 
   // The cable whose tension is nearest to its limits (or furthest beyond) at `pose` under the
   // effector's acceleration (mm/s^2, x y); a pose without a balance (singular) is outside with
   // cable -1.
-  TensionExcess excess(const Vector6d& pose, const Eigen::Vector2d& acceleration_mm_per_s2) const;
-  bool within(const Vector6d& pose, const Eigen::Vector2d& acceleration_mm_per_s2) const {
+  TensionExcess excess(const geometry::Vector6d& pose,
+                       const Eigen::Vector2d& acceleration_mm_per_s2) const;
+  bool within(const geometry::Vector6d& pose, const Eigen::Vector2d& acceleration_mm_per_s2) const {
     return !excess(pose, acceleration_mm_per_s2).outside;
   }
 
   // How far the tensions at rest go beyond their limits along a move given as its poses for u in
   // [0, 1] (sampled 1000 times), for a refusal: "; along the move the left cable's tension
   // reaches 412.3 N", empty when they stay within.
-  std::string beyond_limits_at_rest(const std::function<Vector6d(double)>& pose_at) const;
+  std::string beyond_limits_at_rest(const std::function<geometry::Vector6d(double)>& pose_at) const;
 
-  const HangingCables& kinematics() const { return *kinematics_; }
+  const kinematics::HangingCables& kinematics() const { return *kinematics_; }
   double share() const { return share_; }
 
  private:
-  TensionLimit(const HangingCables& kinematics, double share)
+  TensionLimit(const kinematics::HangingCables& kinematics, double share)
       : kinematics_(&kinematics), share_(share) {}
   // The largest c in [0, cap] with the tensions within at `base` + c `direction`, scaled by
   // `scale` (1 / share of the headroom), to 1e-10 N of a limit; `excess` names what passes
   // just beyond it. 0 where they are not within at `base`.
-  double headroom(const Vector6d& pose, const Eigen::Vector2d& base,
+  double headroom(const geometry::Vector6d& pose, const Eigen::Vector2d& base,
                   const Eigen::Vector2d& direction, double cap, double scale,
                   TensionExcess& excess) const;
 
-  const HangingCables* kinematics_;
+  const kinematics::HangingCables* kinematics_;
   double share_;
 };
 
 // "the left cable would go slack (4.1 N, below tension_limits' minimum 5 N)" for a user.
-std::string describe_excess(const HangingCables& kinematics, const TensionExcess& excess);
+std::string describe_excess(const kinematics::HangingCables& kinematics,
+                            const TensionExcess& excess);
 
 }  // namespace pkm::motion

@@ -15,7 +15,7 @@ namespace pkm::post {
 // The joints at one point of the programmed path: as the inverse kinematics gives them, and as
 // written (rounded to the dialect's decimals).
 struct JointsAt {
-  JointVector exact, written;
+  kinematics::JointVector exact, written;
 };
 
 // What the covering needs of the post-processor: joints, the deviation of a candidate block, and
@@ -26,11 +26,12 @@ class CoveringHost {
   // Throws where the point is out of the machine's reach.
   virtual JointsAt joints_at(const motion::Segment& segment, double u) const = 0;
   // The joints of the last block written (where the next block starts).
-  virtual const JointVector& written_joints() const = 0;
+  virtual const kinematics::JointVector& written_joints() const = 0;
   // An upper bound on the block's deviation from the span (or, for models without one, its
   // sampled deviation); infinity where none.
   virtual double deviation(const Span& span, const BlockEnds& ends) const = 0;
-  virtual void write_block(const Span& span, const JointVector& joints, double deviation_mm) = 0;
+  virtual void write_block(const Span& span, const kinematics::JointVector& joints,
+                           double deviation_mm) = 0;
   // No block, however short, keeps within the tolerance at the start of this move: throws.
   [[noreturn]] virtual void cannot_keep_within(const motion::Segment& segment) const = 0;
 };

@@ -13,11 +13,11 @@ using bounds::PieceMotion;
 using bounds::pose_angle_scale_mm;
 using motion::Segment;
 
-DeviationBound::DeviationBound(const Machine& machine, double tolerance_mm)
+DeviationBound::DeviationBound(const machine::Machine& machine, double tolerance_mm)
     : machine_(machine),
       reach_mm_(std::min(3.0 * tolerance_mm, 1.5)),
       axes_(machine.kinematics().dof().axes()) {
-  const Kinematics& model = machine.kinematics();
+  const kinematics::Kinematics& model = machine.kinematics();
   angle_scale_mm_ = pose_angle_scale_mm(model);
   available_ = model.joint_count() == static_cast<int>(axes_.size()) &&
                inverse_hessian_bounds(model, machine.home().as_vector(), 0.0, angle_scale_mm_, {})
@@ -32,10 +32,11 @@ struct CentreInverse {
   Eigen::MatrixXd all, position;
 };
 
-std::optional<CentreInverse> centre_inverse(const Kinematics& model, const Vector6d& pose,
+std::optional<CentreInverse> centre_inverse(const kinematics::Kinematics& model,
+                                            const geometry::Vector6d& pose,
                                             const std::vector<int>& axes, double angle_scale_mm) {
-  JointJacobian full;
-  if (!model.jacobian(Pose::from_vector(pose), full).ok()) return std::nullopt;
+  kinematics::JointJacobian full;
+  if (!model.jacobian(geometry::Pose::from_vector(pose), full).ok()) return std::nullopt;
   const int n = static_cast<int>(axes.size());
   Eigen::MatrixXd jacobian(n, n);
   std::vector<int> position_rows;
@@ -139,12 +140,14 @@ double tool_distance(const CentreInverse& inverse, const JointError& error, cons
 // e(1/2) vanishes at 0, 1/2 and 1, so it is within |G'''| max|lambda (lambda - 1/2)
 // (lambda - 1)| / 6 = |G'''| sqrt(3) / 216 (the remainder of quadratic interpolation), and
 // 4 lambda (1 - lambda) <= 1.
-double middle_tool_distance(const Kinematics& model, const Vector6d& start, const Vector6d& end,
-                            const BlockEnds& ends, const CentreInverse& inverse,
-                            const HessianBounds& hessians, const Eigen::VectorXd& rounding,
-                            const Drift& drift, const BlockShape& shape) {
-  JointVector middle;
-  if (!model.inverse(Pose::from_vector(0.5 * (start + end)), middle).ok()) return INFINITY;
+double middle_tool_distance(const kinematics::Kinematics& model, const geometry::Vector6d& start,
+                            const geometry::Vector6d& end, const BlockEnds& ends,
+                            const CentreInverse& inverse, const kinematics::HessianBounds& hessians,
+                            const Eigen::VectorXd& rounding, const Drift& drift,
+                            const BlockShape& shape) {
+  kinematics::JointVector middle;
+  if (!model.inverse(geometry::Pose::from_vector(0.5 * (start + end)), middle).ok())
+    return INFINITY;
   const int n = static_cast<int>(rounding.size());
   Eigen::VectorXd at_middle(n), spread(n);
   for (int i = 0; i < n; ++i) {
@@ -166,7 +169,7 @@ double middle_tool_distance(const Kinematics& model, const Vector6d& start, cons
 double DeviationBound::operator()(const Segment& segment, double u0, double u1,
                                   const BlockEnds& ends) const {
   if (!available_) return INFINITY;
-  const Kinematics& model = machine_.kinematics();
+  const kinematics::Kinematics& model = machine_.kinematics();
   const PieceMotion piece = piece_motion(segment, u0, u1, axes_, angle_scale_mm_);
   const std::optional<CentreInverse> inverse =
       centre_inverse(model, piece.centre, axes_, angle_scale_mm_);

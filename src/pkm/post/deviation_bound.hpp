@@ -16,8 +16,8 @@ namespace pkm::post {
 // The ends of a joint-linear block: the joints as written (rounded) and as the inverse kinematics
 // gives them at the programmed ends of the piece.
 struct BlockEnds {
-  JointVector written0, exact0;
-  JointVector written1, exact1;
+  kinematics::JointVector written0, exact0;
+  kinematics::JointVector written1, exact1;
 };
 
 class DeviationBound {
@@ -28,7 +28,7 @@ class DeviationBound {
   // agree on which pose the machine is in. The reach is in the scaled pose norm: a hexapod's
   // joint error moves its attitude (scaled) about twice as far as its tool tip, and at 1.5 times
   // the tolerance the reach, not the deviation, ended the sphere's blocks.
-  DeviationBound(const Machine& machine, double tolerance_mm);
+  DeviationBound(const machine::Machine& machine, double tolerance_mm);
 
   // False for models without a second-derivative bound: their deviation is sampled instead.
   bool available() const { return available_; }
@@ -44,7 +44,7 @@ class DeviationBound {
                     const BlockEnds& ends) const;
 
  private:
-  const Machine& machine_;
+  const machine::Machine& machine_;
   double reach_mm_;
   std::vector<int> axes_;  // the pose coordinates the model controls
   double angle_scale_mm_ = 100.0;

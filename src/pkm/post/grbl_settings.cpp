@@ -43,15 +43,15 @@ std::string axis_comment(char letter, const std::string& joint_name, const std::
   return head + name + tail;
 }
 
-void check_controller(const Machine& machine, ControllerKind kind) {
-  const std::string wanted = controller_kind_name(kind);
+void check_controller(const machine::Machine& machine, machine::ControllerKind kind) {
+  const std::string wanted = machine::controller_kind_name(kind);
   if (!machine.controller()) {
     throw std::invalid_argument(machine.source() + ": has no [controller] table; pkm export " +
                                 wanted + " needs one (kind = \"" + wanted +
                                 "\") and each joint's steps_per_unit (docs/machine-file.md)");
   }
   if (machine.controller()->kind != kind) {
-    const std::string has = controller_kind_name(machine.controller()->kind);
+    const std::string has = machine::controller_kind_name(machine.controller()->kind);
     throw std::invalid_argument(machine.source() + ": its [controller] kind is \"" + has +
                                 "\": use pkm export " + has +
                                 ", or change kind in the machine file");
@@ -65,17 +65,18 @@ struct AxisJoint {
 
 // The joints in the controller's axis order, each with its steps; refused where a joint's range in
 // steps passes grbl's 32-bit step counter.
-std::vector<AxisJoint> axis_order(const Machine& machine) {
-  const ControllerSettings& controller = *machine.controller();
-  const std::string_view letters = controller_axis_letters(controller.kind, controller.axes);
+std::vector<AxisJoint> axis_order(const machine::Machine& machine) {
+  const machine::ControllerSettings& controller = *machine.controller();
+  const std::string_view letters =
+      machine::controller_axis_letters(controller.kind, controller.axes);
   std::vector<AxisJoint> order;
   for (int j = 0; j < static_cast<int>(machine.joints().size()); ++j) {
-    const JointSpec& joint = machine.joints()[static_cast<std::size_t>(j)];
+    const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(j)];
     const std::size_t axis = letters.find(joint.axis_letter);
     if (axis == std::string_view::npos || !joint.steps_per_unit) {
       throw std::invalid_argument(machine.source() + ": joint '" + joint.name + "' (axis " +
                                   joint.axis_letter + ") has no axis or no steps_per_unit on " +
-                                  controller_kind_name(controller.kind));
+                                  machine::controller_kind_name(controller.kind));
     }
     const double range_steps =
         (joint.to_interface(joint.max) - joint.to_interface(joint.min)) * *joint.steps_per_unit;
@@ -92,9 +93,10 @@ std::vector<AxisJoint> axis_order(const Machine& machine) {
   return order;
 }
 
-std::string step_rate_warning(const Machine& machine, const JointSpec& joint) {
+std::string step_rate_warning(const machine::Machine& machine, const machine::JointSpec& joint) {
   const double rate_Hz = joint.to_interface(joint.max_velocity) * *joint.steps_per_unit;
-  if (machine.controller()->kind != ControllerKind::grbl || rate_Hz <= kAvrMaxStepRate_Hz) {
+  if (machine.controller()->kind != machine::ControllerKind::grbl ||
+      rate_Hz <= kAvrMaxStepRate_Hz) {
     return "";
   }
   char text[240];
@@ -126,7 +128,8 @@ std::string grbl_comment_text(std::string_view text) {
   return safe;
 }
 
-ControllerSettingsFile controller_settings(const Machine& machine, ControllerKind kind) {
+ControllerSettingsFile controller_settings(const machine::Machine& machine,
+                                           machine::ControllerKind kind) {
   check_controller(machine, kind);
   const std::vector<AxisJoint> order = axis_order(machine);
   ControllerSettingsFile file;
@@ -144,7 +147,7 @@ ControllerSettingsFile controller_settings(const Machine& machine, ControllerKin
       {100, "steps/"}, {110, "max rate, "}, {120, "acceleration, "}, {130, "max travel, "}};
   for (const Column& column : columns) {
     for (const auto& [axis, j] : order) {
-      const JointSpec& joint = machine.joints()[static_cast<std::size_t>(j)];
+      const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(j)];
       const std::string unit = joint.interface_unit();
       double value = 0.0;
       std::string what = column.what + unit;

@@ -32,7 +32,8 @@ struct ControllerSettingsFile {
 // The settings of `machine` for a controller of `kind`. Throws std::invalid_argument, naming the
 // machine file, when the file has no [controller] table, when its kind is another, or when a
 // joint's range in steps passes grbl's step counter (a 32-bit integer).
-ControllerSettingsFile controller_settings(const Machine& machine, ControllerKind kind);
+ControllerSettingsFile controller_settings(const machine::Machine& machine,
+                                           machine::ControllerKind kind);
 
 // `text` made safe inside a comment sent to grbl: grbl 1.1h's serial interrupt acts on ? ! ~ and on
 // bytes above 0x7F (feed and spindle overrides) wherever they come, comments included, and a

@@ -31,7 +31,7 @@ std::string feed_word(double per_min) {
 // The program's lines, each checked against the dialect's longest line.
 class ProgramText {
  public:
-  ProgramText(const Machine& machine, Dialect dialect)
+  ProgramText(const machine::Machine& machine, Dialect dialect)
       : machine_(machine), dialect_(dialect), rules_(rules_of(dialect)) {}
 
   void line(const std::string& text) {
@@ -64,7 +64,7 @@ class ProgramText {
     }
     std::string text = "G10 L20 P1";
     for (const auto& [joint, value] : targets) {
-      const JointSpec& spec = machine_.joints()[static_cast<std::size_t>(joint)];
+      const machine::JointSpec& spec = machine_.joints()[static_cast<std::size_t>(joint)];
       const std::string word = joint_word(spec, value, rules_);  // " X160.00000"
       const auto index = static_cast<int>(std::string_view("XYZABCUVW").find(spec.axis_letter));
       text += " " + std::string(1, spec.axis_letter) + "[" + word.substr(2) + " + #" +
@@ -81,7 +81,7 @@ class ProgramText {
   std::string text() const { return text_; }
 
  private:
-  const Machine& machine_;
+  const machine::Machine& machine_;
   Dialect dialect_;
   DialectRules rules_;
   std::string text_;
@@ -92,9 +92,9 @@ constexpr Dialect kHomeDialects[] = {Dialect::linuxcnc, Dialect::mach3, Dialect:
 
 // Why the dialect cannot write the program ("" when it can): an axis letter it does not have, or
 // (`probes`) a homed joint on a rotary letter, which Mach3's G31 does not move.
-std::string refusal(const Machine& machine, Dialect dialect, bool probes) {
+std::string refusal(const machine::Machine& machine, Dialect dialect, bool probes) {
   const std::string_view axes = rules_of(dialect).axes;
-  for (const JointSpec& joint : machine.joints()) {
+  for (const machine::JointSpec& joint : machine.joints()) {
     if (axes.find(joint.axis_letter) == std::string_view::npos) {
       return "dialect " + std::string(dialect_name(dialect)) + " has no axis " + joint.axis_letter +
              " (joint '" + joint.name + "')";
@@ -102,7 +102,7 @@ std::string refusal(const Machine& machine, Dialect dialect, bool probes) {
   }
   if (probes && dialect == Dialect::mach3) {
     for (const int j : machine.homing()->sequence) {
-      const JointSpec& joint = machine.joints()[static_cast<std::size_t>(j)];
+      const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(j)];
       if (rotary_letter(joint.axis_letter)) {
         return "Mach3's probe (G31) moves no rotary axis, and joint '" + joint.name + "' is " +
                joint.axis_letter;
@@ -112,7 +112,7 @@ std::string refusal(const Machine& machine, Dialect dialect, bool probes) {
   return "";
 }
 
-void check_home_dialect(const Machine& machine, Dialect dialect, bool probes) {
+void check_home_dialect(const machine::Machine& machine, Dialect dialect, bool probes) {
   const std::string why = refusal(machine, dialect, probes);
   if (why.empty()) return;
   std::string others;
@@ -126,28 +126,28 @@ void check_home_dialect(const Machine& machine, Dialect dialect, bool probes) {
                               "change the joints' axis letters in the machine file");
 }
 
-std::string joint_text(const Machine& machine, int joint, double value) {
+std::string joint_text(const machine::Machine& machine, int joint, double value) {
   char text[48];
   std::snprintf(text, sizeof text, "%.3f %s", machine.joint_to_file(joint, value),
                 machine.joint_file_unit(joint));
   return machine.joints()[static_cast<std::size_t>(joint)].name + " " + text;
 }
 
-void write_move(ProgramText& program, const HomingMove& move, Dialect dialect) {
+void write_move(ProgramText& program, const machine::HomingMove& move, Dialect dialect) {
   const std::string feed = feed_word(move.feed_per_min);
   switch (move.kind) {
-    case HomingMoveKind::pay_out:
-    case HomingMoveKind::back_off:
+    case machine::HomingMoveKind::pay_out:
+    case machine::HomingMoveKind::back_off:
       program.line("G91 G1" + program.words(move.targets) + feed);
       break;
-    case HomingMoveKind::probe:
+    case machine::HomingMoveKind::probe:
       program.line(std::string(dialect == Dialect::mach3 ? "G91 G31" : "G91 G38.2") +
                    program.words(move.targets) + feed);
       break;
-    case HomingMoveKind::set_position:
+    case machine::HomingMoveKind::set_position:
       program.set_position(move.targets, true);
       break;
-    case HomingMoveKind::go_home:
+    case machine::HomingMoveKind::go_home:
       program.line("G90 G1" + program.words(move.targets) + feed);
       break;
   }
@@ -155,21 +155,21 @@ void write_move(ProgramText& program, const HomingMove& move, Dialect dialect) {
 
 }  // namespace
 
-std::string homing_program(const Machine& machine, Dialect dialect) {
-  const std::vector<HomingMove> moves = homing_moves(machine);
+std::string homing_program(const machine::Machine& machine, Dialect dialect) {
+  const std::vector<machine::HomingMove> moves = machine::homing_moves(machine);
   check_home_dialect(machine, dialect, true);
   ProgramText program(machine, dialect);
   program.comment("homing program by pkmkit for ", machine.name(),
                   ", dialect " + std::string(dialect_name(dialect)));
   for (const int joint : machine.homing()->sequence) {
-    const JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
+    const machine::JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
     program.comment(
         "switch of ", joint_text(machine, joint, spec.home_switch->position),
         std::string(", probed towards its ") + (spec.home_switch->toward_max ? "max" : "min"));
   }
   program.preamble();
-  const ToolChannel& tool = machine.tool();
-  if (tool.z == ToolZ::pen) {
+  const machine::ToolChannel& tool = machine.tool();
+  if (tool.z == machine::ToolZ::pen) {
     program.line(tool.up_command);
     if (tool.delay_s > 0.0) {
       char dwell[32];
@@ -178,7 +178,7 @@ std::string homing_program(const Machine& machine, Dialect dialect) {
     }
   }
   int step_of = -2;
-  for (const HomingMove& move : moves) {
+  for (const machine::HomingMove& move : moves) {
     if (move.homed_joint != step_of) {
       step_of = move.homed_joint;
       if (step_of >= 0) {
@@ -193,7 +193,7 @@ std::string homing_program(const Machine& machine, Dialect dialect) {
   return program.text();
 }
 
-std::vector<int> measured_joint_indices(const Machine& machine) {
+std::vector<int> measured_joint_indices(const machine::Machine& machine) {
   std::vector<int> indices;
   for (int joint = 0; joint < static_cast<int>(machine.joints().size()); ++joint) {
     if (machine.kinematics().passthrough_axis(joint) < 0) indices.push_back(joint);
@@ -201,7 +201,7 @@ std::vector<int> measured_joint_indices(const Machine& machine) {
   return indices;
 }
 
-MeasuredJoints measured_joints(const Machine& machine, const std::vector<double>& values) {
+MeasuredJoints measured_joints(const machine::Machine& machine, const std::vector<double>& values) {
   const std::vector<int> indices = measured_joint_indices(machine);
   std::string names;
   for (const int joint : indices) {
@@ -223,17 +223,17 @@ MeasuredJoints measured_joints(const Machine& machine, const std::vector<double>
                 joint_text(machine, indices[i], measured.joints[indices[i]]);
   }
   measured.pose = machine.home();
-  const Status status = machine.forward(measured.joints, measured.pose);
+  const kinematics::Status status = machine.forward(measured.joints, measured.pose);
   if (!status.ok()) {
-    const bool limit = status.code == StatusCode::joint_limit && status.joint >= 0;
+    const bool limit = status.code == kinematics::StatusCode::joint_limit && status.joint >= 0;
     throw std::invalid_argument(
         "no pose has the readings " + readings + " on " + machine.name() + ": " +
         (limit ? machine.explain_joint(status.joint, measured.joints[status.joint])
                : "forward kinematics finds none (" + machine.describe(status) + ")") +
         "; measure again, from the same point of each cable as the joint's zero");
   }
-  JointVector check;
-  const Status reachable = machine.inverse(measured.pose, check);
+  kinematics::JointVector check;
+  const kinematics::Status reachable = machine.inverse(measured.pose, check);
   if (!reachable.ok()) {
     throw std::invalid_argument(
         "the readings " + readings +
@@ -242,7 +242,8 @@ MeasuredJoints measured_joints(const Machine& machine, const std::vector<double>
   return measured;
 }
 
-std::string set_position_line(const Machine& machine, Dialect dialect, const JointVector& joints) {
+std::string set_position_line(const machine::Machine& machine, Dialect dialect,
+                              const kinematics::JointVector& joints) {
   std::string line = set_position_command(dialect);
   const DialectRules rules = rules_of(dialect);
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
@@ -251,7 +252,7 @@ std::string set_position_line(const Machine& machine, Dialect dialect, const Joi
   return line;
 }
 
-std::string set_position_program(const Machine& machine, Dialect dialect,
+std::string set_position_program(const machine::Machine& machine, Dialect dialect,
                                  const MeasuredJoints& measured) {
   check_home_dialect(machine, dialect, false);
   ProgramText program(machine, dialect);

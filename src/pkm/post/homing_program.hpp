@@ -19,33 +19,34 @@ namespace pkm::post {
 // file) when the machine has no [homing] table, when the dialect is not one of linuxcnc, mach3,
 // grbl or grblhal, or cannot write the machine's axis letters, or cannot probe with a homed joint's
 // letter (Mach3's G31 moves no rotary axis, A B C).
-std::string homing_program(const Machine& machine, Dialect dialect);
+std::string homing_program(const machine::Machine& machine, Dialect dialect);
 
 // Joint readings measured by hand, checked: every joint (pass-through joints at their home
 // values) and the pose forward kinematics gives for them.
 struct MeasuredJoints {
-  JointVector joints;  // mm, rad
-  Pose pose;
+  kinematics::JointVector joints;  // mm, rad
+  geometry::Pose pose;
 };
 
 // The joints of the mechanism, in order: those `pkm home --measured` takes (pass-through joints,
 // such as a pen's Z, follow a pose coordinate and are not measured).
-std::vector<int> measured_joint_indices(const Machine& machine);
+std::vector<int> measured_joint_indices(const machine::Machine& machine);
 
 // `values`: one reading per joint of the mechanism, in the machine file's units (deg for rotary
 // joints). Throws std::invalid_argument with the numbers when their count is wrong, when a
 // reading passes its joint's limits, when no pose has these readings, or when that pose is not
 // one the machine can take (its work envelope, the cables' pull).
-MeasuredJoints measured_joints(const Machine& machine, const std::vector<double>& values);
+MeasuredJoints measured_joints(const machine::Machine& machine, const std::vector<double>& values);
 
 // The set-position block for readings measured at rest: header comments, the block, M2.
 // The line that makes the controller read `joints` (mm or rad inside; one value per joint) where
 // the machine stands, without moving it: "G10 L20 P1 X1000.000 Y1204.159" (G54's offsets; Mach3:
 // G92). How a set-position block zeroes a machine measured by hand, and how `pkm stream --dry-run`
 // puts grbl-sim, which starts at step 0, at the machine's home.
-std::string set_position_line(const Machine& machine, Dialect dialect, const JointVector& joints);
+std::string set_position_line(const machine::Machine& machine, Dialect dialect,
+                              const kinematics::JointVector& joints);
 
-std::string set_position_program(const Machine& machine, Dialect dialect,
+std::string set_position_program(const machine::Machine& machine, Dialect dialect,
                                  const MeasuredJoints& measured);
 
 }  // namespace pkm::post

@@ -34,9 +34,9 @@ constexpr int kFeedDecimals = 3;    // digits after the point of G93 F, more for
 
 // Whether the coordinates the model controls change along the move (a plotter's Z-only move
 // does not move it).
-bool moves_controlled(const Segment& segment, Dof dof) {
-  const Vector6d change = segment.end - segment.start;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
+bool moves_controlled(const Segment& segment, geometry::Dof dof) {
+  const geometry::Vector6d change = segment.end - segment.start;
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
     if (dof.controls(axis) && change[axis] != 0.0) return true;
   }
   if (segment.kind == SegmentKind::arc) {
@@ -65,7 +65,7 @@ std::string inverse_time_feed(double duration_s) {
 class Poster : private CoveringHost {
  public:
   // `write_line` gets each line with the job line it was written for.
-  Poster(const Machine& machine, const PostOptions& options,
+  Poster(const machine::Machine& machine, const PostOptions& options,
          const std::function<void(const std::string&, int)>& write_line, std::string file)
       : machine_(machine),
         options_(options),
@@ -78,8 +78,8 @@ class Poster : private CoveringHost {
         pen_path_(machine),
         timed_rapids_(options.rapids.value_or(rapids_style_of(options.dialect)) ==
                       RapidsStyle::timed) {
-    JointVector home;
-    const Status status = machine_.inverse(machine_.home(), home);
+    kinematics::JointVector home;
+    const kinematics::Status status = machine_.inverse(machine_.home(), home);
     if (!status.ok())
       throw PostError(file_, 0, "home is not usable: " + machine_.explain(machine_.home(), status));
     joints_ = rounded(home);
@@ -116,7 +116,7 @@ class Poster : private CoveringHost {
   }
 
  private:
-  bool pen() const { return machine_.tool().z == ToolZ::pen; }
+  bool pen() const { return machine_.tool().z == machine::ToolZ::pen; }
 
   // A rigid tap (G33.1) in joint space: timed moves in and out at the pitch times S, with the
   // spindle reversed for the way out (as G84 does it) where the controller would have
@@ -220,7 +220,7 @@ class Poster : private CoveringHost {
   }
 
   void set_pen(bool down, int source_line) {
-    const ToolChannel& tool = machine_.tool();
+    const machine::ToolChannel& tool = machine_.tool();
     write(down ? tool.down_command : tool.up_command, source_line);
     if (tool.delay_s > 0.0) write(format("G4 P%.3f", tool.delay_s), source_line);
     pen_down_ = down;
@@ -261,8 +261,8 @@ class Poster : private CoveringHost {
     if (!options_.span_moves || !bound_.available() || segment.rapid) return false;
     if (builder_.path_mode() != 64) return false;  // G61, G61.1: every vertex exactly
     if (segment.kind == SegmentKind::dwell) return false;
-    const Dof dof = machine_.kinematics().dof();
-    for (int axis = 3; axis < kPoseSize; ++axis) {
+    const geometry::Dof dof = machine_.kinematics().dof();
+    for (int axis = 3; axis < geometry::kPoseSize; ++axis) {
       if (dof.controls(axis) && segment.start[axis] != segment.end[axis]) return false;
     }
     return true;
@@ -271,8 +271,9 @@ class Poster : private CoveringHost {
   void move(const Segment& segment, bool may_span) {
     const bool moves = moves_controlled(segment, machine_.kinematics().dof());
     if (moves) {
-      JointVector end;
-      const Status status = machine_.inverse(Pose::from_vector(segment.end), end);
+      kinematics::JointVector end;
+      const kinematics::Status status =
+          machine_.inverse(geometry::Pose::from_vector(segment.end), end);
       if (!status.ok()) {
         throw PostError(file_, segment.line,
                         "the move leaves the machine's reach " +
@@ -300,19 +301,20 @@ class Poster : private CoveringHost {
 
   // Joint values as the controller will read them: rounded to the dialect's decimals in
   // interface units (mm, deg).
-  JointVector rounded(const JointVector& q) const {
-    JointVector result = q;
+  kinematics::JointVector rounded(const kinematics::JointVector& q) const {
+    kinematics::JointVector result = q;
     const double scale = std::pow(10.0, rules_.decimals);
     for (int i = 0; i < q.size(); ++i) {
-      const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
+      const machine::JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
       result[i] = joint.from_interface(std::round(joint.to_interface(q[i]) * scale) / scale);
     }
     return result;
   }
 
   JointsAt joints_at(const Segment& segment, double u) const override {
-    JointVector q;
-    const Status status = machine_.inverse(Pose::from_vector(segment.at(u)), q);
+    kinematics::JointVector q;
+    const kinematics::Status status =
+        machine_.inverse(geometry::Pose::from_vector(segment.at(u)), q);
     if (!status.ok()) {
       throw PostError(file_, segment.line,
                       "the move leaves the machine's reach " +
@@ -321,7 +323,7 @@ class Poster : private CoveringHost {
     return {q, rounded(q)};
   }
 
-  const JointVector& written_joints() const override { return joints_; }
+  const kinematics::JointVector& written_joints() const override { return joints_; }
 
   // The bound; for models without one (no spanning there), the largest distance to the
   // programmed point at the same fraction found by forward kinematics at kSampledPoints + 1
@@ -333,9 +335,9 @@ class Poster : private CoveringHost {
     double worst = 0.0;
     for (int k = 0; k <= kSampledPoints; ++k) {
       const double lambda = static_cast<double>(k) / kSampledPoints;
-      const Vector6d programmed = segment.at(u0 + (u1 - u0) * lambda);
-      Pose pose = Pose::from_vector(programmed);  // FK's seed
-      const JointVector q = ends.written0 + lambda * (ends.written1 - ends.written0);
+      const geometry::Vector6d programmed = segment.at(u0 + (u1 - u0) * lambda);
+      geometry::Pose pose = geometry::Pose::from_vector(programmed);  // FK's seed
+      const kinematics::JointVector q = ends.written0 + lambda * (ends.written1 - ends.written0);
       if (!machine_.forward(q, pose).ok()) return INFINITY;
       double squared = 0.0;
       for (int axis = 0; axis < 3; ++axis) {
@@ -356,7 +358,7 @@ class Poster : private CoveringHost {
   }
 
   // The shortest time a block to q1 takes with every joint within its max_velocity (s).
-  double joint_limited_s(const JointVector& q1) const {
+  double joint_limited_s(const kinematics::JointVector& q1) const {
     double duration = 0.0;
     for (int i = 0; i < q1.size(); ++i) {
       duration =
@@ -371,7 +373,7 @@ class Poster : private CoveringHost {
 
   // A timed rapid kept as G0 for the spindle: warned of once per job line where its blocks, at
   // the joints' top rates, take the tool above max_feed on average.
-  void warn_of_fast_rapid(const Span& span, const JointVector& q1, int line) {
+  void warn_of_fast_rapid(const Span& span, const kinematics::JointVector& q1, int line) {
     const double joints_s = joint_limited_s(q1);
     const double max_feed = machine_.cartesian().max_feed_mm_per_s();
     if (line == fast_rapid_warned_line_ || !(joints_s > 0.0)) return;
@@ -390,7 +392,8 @@ class Poster : private CoveringHost {
                    "; stop the spindle (M5) before the rapid, or give --rapids g0 to accept it"});
   }
 
-  void write_block(const Span& span, const JointVector& q1, double deviation_mm) override {
+  void write_block(const Span& span, const kinematics::JointVector& q1,
+                   double deviation_mm) override {
     const Segment& segment = span.first().segment;
     const bool kept_for_spindle = segment.rapid && timed_rapids_ && cutting();
     if (kept_for_spindle) warn_of_fast_rapid(span, q1, segment.line);
@@ -424,7 +427,7 @@ class Poster : private CoveringHost {
     }
   }
 
-  const Machine& machine_;
+  const machine::Machine& machine_;
   const PostOptions& options_;
   DialectRules rules_;
   const std::function<void(const std::string&, int)>& write_line_;
@@ -434,7 +437,7 @@ class Poster : private CoveringHost {
   Covering covering_;
   motion::PenPath pen_path_;        // where the pen changes along the job
   double run_feed_mm_per_s_ = 0.0;  // of the moves the open block may span
-  JointVector joints_;              // as last written
+  kinematics::JointVector joints_;  // as last written
   bool inverse_time_ = false;
   const bool timed_rapids_;  // RapidsStyle::timed
   int fast_rapid_warned_line_ = -1;
@@ -468,7 +471,7 @@ double estimated_blocks(const Segment& segment, double tolerance_mm) {
   return std::max(1.0, std::ceil(std::abs(segment.sweep_rad) / chord_angle));
 }
 
-std::string joint_word(const JointSpec& joint, double value, const DialectRules& rules) {
+std::string joint_word(const machine::JointSpec& joint, double value, const DialectRules& rules) {
   char word[48];
   std::snprintf(word, sizeof word, " %c%.*f", joint.axis_letter, rules.decimals,
                 joint.to_interface(value));
@@ -543,11 +546,11 @@ Dialect dialect_named(std::string_view name) {
                               "' (linuxcnc, mach3, grbl or grblhal)");
 }
 
-void check_axis_letters(const Machine& machine, Dialect dialect) {
+void check_axis_letters(const machine::Machine& machine, Dialect dialect) {
   const std::string_view accepted = rules_of(dialect).axes;
   std::string refused;
   std::string letters;
-  for (const JointSpec& joint : machine.joints()) {
+  for (const machine::JointSpec& joint : machine.joints()) {
     letters += joint.axis_letter;
     if (accepted.find(joint.axis_letter) == std::string_view::npos) {
       refused +=
@@ -576,7 +579,7 @@ void check_axis_letters(const Machine& machine, Dialect dialect) {
                                                            "letters in the machine file"));
 }
 
-PostReport post_program(const Machine& machine, const std::filesystem::path& program,
+PostReport post_program(const machine::Machine& machine, const std::filesystem::path& program,
                         const gcode::InterpreterOptions& interpreter_options,
                         const PostOptions& options,
                         const std::function<void(const std::string&)>& write_line) {
@@ -621,7 +624,7 @@ PostReport post_program(const Machine& machine, const std::filesystem::path& pro
   return report;
 }
 
-std::optional<gcode::Warning> controller_warning(const ControllerSettings& settings,
+std::optional<gcode::Warning> controller_warning(const machine::ControllerSettings& settings,
                                                  const controller::GrblPrediction& prediction) {
   const double run_s = prediction.time_s - prediction.motion_start_s;
   if (prediction.blocks == 0 || run_s <= 1.02 * prediction.unlimited_time_s) return std::nullopt;
@@ -635,8 +638,8 @@ std::optional<gcode::Warning> controller_warning(const ControllerSettings& setti
                 "limits alone; its %ld blocks average %.4g units, and a run of such blocks goes "
                 "no faster than sqrt(2 a %d L) = %.4g units/min; the stretch slowed most (%.1f s "
                 "lost) starts at this line; a larger --tolerance gives longer blocks",
-                controller_kind_name(settings.kind), settings.planner_blocks, settings.baud, run_s,
-                prediction.unlimited_time_s, prediction.blocks, mean_length,
+                machine::controller_kind_name(settings.kind), settings.planner_blocks,
+                settings.baud, run_s, prediction.unlimited_time_s, prediction.blocks, mean_length,
                 settings.planner_blocks - 1, cap * 60.0, prediction.slowest_stretch_lost_s);
   return gcode::Warning{prediction.slowest_stretch_tag, text};
 }

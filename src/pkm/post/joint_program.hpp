@@ -49,7 +49,7 @@ Dialect dialect_named(std::string_view name);
 
 // " X123.45678": a joint's axis word for `value` (mm or rad inside), written in mm or deg with
 // the dialect's decimals.
-std::string joint_word(const JointSpec& joint, double value, const DialectRules& rules);
+std::string joint_word(const machine::JointSpec& joint, double value, const DialectRules& rules);
 
 // Text for inside a G-code comment of `dialect`: parentheses would end or nest it, a line break
 // end it; for grbl and grblHAL also ? ! ~ and bytes above 0x7F, which they act on even inside a
@@ -62,7 +62,7 @@ std::string comment_line(Dialect dialect, const std::string& before, std::string
 
 // Throws std::invalid_argument, naming the letters and the dialects that take them, when the
 // machine's joints use axis letters the dialect does not accept or more joints than it has axes.
-void check_axis_letters(const Machine& machine, Dialect dialect);
+void check_axis_letters(const machine::Machine& machine, Dialect dialect);
 
 // The most blocks pkm post and pkmkit.post write unless told otherwise: 55 times the largest real
 // job's (CAMotics' la_peinture raster, 181,694 blocks; docs/real-jobs.md), some 400 MB of
@@ -72,7 +72,8 @@ constexpr long kDefaultMaxBlocks = 10'000'000;
 struct PostOptions {
   double tolerance_mm = 0.01;
   Dialect dialect = Dialect::linuxcnc;
-  Vector6d origin = Vector6d::Zero();  // where the program's X0 Y0 Z0 sits (mm, rad)
+  geometry::Vector6d origin =
+      geometry::Vector6d::Zero();  // where the program's X0 Y0 Z0 sits (mm, rad)
   // Called with the program's line being posted, once per change of line: for progress.
   std::function<void(int line)> on_line;
   // Let one block span consecutive feed moves where it keeps within the tolerance of all of them
@@ -106,7 +107,7 @@ struct PostReport {
 // The warning, with numbers, where the controller's look-ahead or serial line make the program
 // take over 2 % longer than its rate and acceleration limits alone, at the job line where the
 // stretch they slow most starts; nothing otherwise.
-std::optional<gcode::Warning> controller_warning(const ControllerSettings& settings,
+std::optional<gcode::Warning> controller_warning(const machine::ControllerSettings& settings,
                                                  const controller::GrblPrediction& prediction);
 
 class PostError : public std::runtime_error {
@@ -129,7 +130,7 @@ class BlockBoundError : public PostError {
 double estimated_blocks(const motion::Segment& segment, double tolerance_mm);
 
 // Writes the body of the joint program (every line through `write_line`, without a header).
-PostReport post_program(const Machine& machine, const std::filesystem::path& program,
+PostReport post_program(const machine::Machine& machine, const std::filesystem::path& program,
                         const gcode::InterpreterOptions& interpreter_options,
                         const PostOptions& options,
                         const std::function<void(const std::string&)>& write_line);

@@ -5,8 +5,8 @@
 
 namespace pkm::post {
 
-std::vector<std::pair<char, std::string>> mach3_formulas(const Machine& machine) {
-  const Kinematics& kinematics = machine.kinematics();
+std::vector<std::pair<char, std::string>> mach3_formulas(const machine::Machine& machine) {
+  const kinematics::Kinematics& kinematics = machine.kinematics();
   const std::optional<std::vector<std::string>> mechanism = kinematics.joint_formulas();
   if (!mechanism) {
     throw std::invalid_argument("a " + std::string(kinematics.type()) +
@@ -18,7 +18,7 @@ std::vector<std::pair<char, std::string>> mach3_formulas(const Machine& machine)
        ++joint) {
     const int axis = kinematics.passthrough_axis(joint);
     if (axis < 0) throw std::logic_error("a joint of the mechanism has no formula");
-    expressions.push_back(std::string(kAxisNames[axis]));
+    expressions.push_back(std::string(geometry::kAxisNames[axis]));
   }
   std::vector<std::pair<char, std::string>> formulas;
   for (std::size_t i = 0; i < expressions.size(); ++i) {

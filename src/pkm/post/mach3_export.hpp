@@ -14,6 +14,6 @@ namespace pkm::post {
 
 // One (axis letter, expression) per joint, in joint order. Throws std::invalid_argument for
 // models with no closed formula in x y z (hexapods, glides that turn their platform).
-std::vector<std::pair<char, std::string>> mach3_formulas(const Machine& machine);
+std::vector<std::pair<char, std::string>> mach3_formulas(const machine::Machine& machine);
 
 }  // namespace pkm::post

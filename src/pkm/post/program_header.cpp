@@ -4,7 +4,7 @@
 
 namespace pkm::post {
 
-std::string joint_program_header(const Machine& machine, const std::string& program,
+std::string joint_program_header(const machine::Machine& machine, const std::string& program,
                                  Dialect dialect, double tolerance_mm, const PostReport* report) {
   char numbers[128];
   std::snprintf(numbers, sizeof numbers, "(tolerance %11.6f mm; %s %11.6f mm, %10ld blocks)\n",

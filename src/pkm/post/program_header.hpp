@@ -12,7 +12,7 @@
 namespace pkm::post {
 
 // `report` null: the placeholder written before the body.
-std::string joint_program_header(const Machine& machine, const std::string& program,
+std::string joint_program_header(const machine::Machine& machine, const std::string& program,
                                  Dialect dialect, double tolerance_mm, const PostReport* report);
 
 }  // namespace pkm::post

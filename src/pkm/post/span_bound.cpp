@@ -25,7 +25,7 @@ double Span::programmed_s(double rapid_mm_per_s) const {
 namespace {
 
 // The position coordinates among `axes` of a pose (mm); the others zero, so they never count.
-Eigen::Vector3d controlled_position(const Vector6d& pose, const std::vector<int>& axes) {
+Eigen::Vector3d controlled_position(const geometry::Vector6d& pose, const std::vector<int>& axes) {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   for (const int axis : axes) {
     if (axis < 3) position[axis] = pose[axis];

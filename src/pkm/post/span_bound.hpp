@@ -32,8 +32,8 @@ struct Span {
   // The fractions of piece k's move the span covers.
   double from(std::size_t k) const { return k == 0 ? start : pieces[k].from; }
   double to(std::size_t k) const { return k + 1 == count ? end : pieces[k].to; }
-  Vector6d start_pose() const { return first().segment.at(start); }
-  Vector6d end_pose() const { return last().segment.at(end); }
+  geometry::Vector6d start_pose() const { return first().segment.at(start); }
+  geometry::Vector6d end_pose() const { return last().segment.at(end); }
   // Seconds the programmed path takes at its programmed feeds, its rapids at `rapid_mm_per_s`.
   double programmed_s(double rapid_mm_per_s) const;
   // The programmed path's length (mm).

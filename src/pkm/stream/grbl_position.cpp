@@ -5,7 +5,7 @@
 
 namespace pkm::stream {
 
-int grbl_axis(const JointSpec& joint) {
+int grbl_axis(const machine::JointSpec& joint) {
   const int axis = joint.axis_letter - 'X';
   if (axis < 0 || axis > 2) {
     throw std::invalid_argument("joint '" + joint.name + "' is written as " +
@@ -15,9 +15,10 @@ int grbl_axis(const JointSpec& joint) {
   return axis;
 }
 
-JointVector joints_from_axes(const Machine& machine, const std::array<double, 3>& axes) {
+kinematics::JointVector joints_from_axes(const machine::Machine& machine,
+                                         const std::array<double, 3>& axes) {
   const auto& joints = machine.joints();
-  JointVector values(static_cast<Eigen::Index>(joints.size()));
+  kinematics::JointVector values(static_cast<Eigen::Index>(joints.size()));
   for (std::size_t i = 0; i < joints.size(); ++i) {
     const auto axis = static_cast<std::size_t>(grbl_axis(joints[i]));
     values[static_cast<Eigen::Index>(i)] = joints[i].from_interface(axes[axis]);
@@ -25,10 +26,11 @@ JointVector joints_from_axes(const Machine& machine, const std::array<double, 3>
   return values;
 }
 
-std::optional<Pose> tool_pose(const Machine& machine, const std::array<double, 3>& axes,
-                              const Pose& seed) {
-  Pose pose = seed;
-  if (machine.forward(joints_from_axes(machine, axes), pose).code != StatusCode::ok) {
+std::optional<geometry::Pose> tool_pose(const machine::Machine& machine,
+                                        const std::array<double, 3>& axes,
+                                        const geometry::Pose& seed) {
+  geometry::Pose pose = seed;
+  if (machine.forward(joints_from_axes(machine, axes), pose).code != kinematics::StatusCode::ok) {
     return std::nullopt;
   }
   return pose;

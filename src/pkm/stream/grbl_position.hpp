@@ -12,16 +12,18 @@ namespace pkm::stream {
 
 // grbl's axis of a joint, 0 1 2 for X Y Z. Throws std::invalid_argument for another letter
 // (grbl has three axes).
-int grbl_axis(const JointSpec& joint);
+int grbl_axis(const machine::JointSpec& joint);
 
 // The joints (mm or rad inside) of grbl's axis values (mm or deg: X Y Z in that order), each
 // joint read from the axis its letter names. Throws std::invalid_argument for a letter other
 // than X Y Z.
-JointVector joints_from_axes(const Machine& machine, const std::array<double, 3>& axes);
+kinematics::JointVector joints_from_axes(const machine::Machine& machine,
+                                         const std::array<double, 3>& axes);
 
 // The tool's pose for grbl's axis values, seeded with `seed` (the last pose known, or home);
 // nullopt where forward kinematics refuses the joints (past a limit, no assembly).
-std::optional<Pose> tool_pose(const Machine& machine, const std::array<double, 3>& axes,
-                              const Pose& seed);
+std::optional<geometry::Pose> tool_pose(const machine::Machine& machine,
+                                        const std::array<double, 3>& axes,
+                                        const geometry::Pose& seed);
 
 }  // namespace pkm::stream

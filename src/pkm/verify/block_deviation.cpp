@@ -18,15 +18,15 @@ constexpr int kMaxHalvings = 2048;
 constexpr double kBeyondTolerance = 100.0;
 }  // namespace
 
-BlockMeasure::BlockMeasure(const Machine& machine)
+BlockMeasure::BlockMeasure(const machine::Machine& machine)
     : machine_(machine), mask_(position_mask(machine)) {}
 
-bool BlockMeasure::add_sample(double lambda, const Pose& seed) {
+bool BlockMeasure::add_sample(double lambda, const geometry::Pose& seed) {
   Sample sample;
   sample.lambda = lambda;
   sample.pose = seed;
-  const JointVector q = q0_ + lambda * (q1_ - q0_);
-  if (!machine_.kinematics().forward(q, sample.pose).ok() || !all_finite(sample.pose)) {
+  const kinematics::JointVector q = q0_ + lambda * (q1_ - q0_);
+  if (!machine_.kinematics().forward(q, sample.pose).ok() || !kinematics::all_finite(sample.pose)) {
     return false;
   }
   sample.point = sample.pose.position_mm.cwiseProduct(mask_);
@@ -34,11 +34,12 @@ bool BlockMeasure::add_sample(double lambda, const Pose& seed) {
   return true;
 }
 
-bool BlockMeasure::sample_grid(const JointVector& q0, const JointVector& q1, const Pose& seed) {
+bool BlockMeasure::sample_grid(const kinematics::JointVector& q0, const kinematics::JointVector& q1,
+                               const geometry::Pose& seed) {
   q0_ = q0;
   q1_ = q1;
   samples_.clear();
-  Pose previous = seed;
+  geometry::Pose previous = seed;
   for (int k = 0; k <= kGrid; ++k) {
     if (!add_sample(static_cast<double>(k) / kGrid, previous)) return false;
     previous = samples_.back().pose;
@@ -132,7 +133,7 @@ bool BlockMeasure::measure(const std::vector<PieceRange>& stretch, double tolera
     const Sample &a = samples_[interval.a], &m = samples_[interval.middle];
     const double left = 0.5 * (a.lambda + m.lambda);
     const double right = 0.5 * (m.lambda + samples_[interval.b].lambda);
-    const Pose left_seed = a.pose, right_seed = m.pose;
+    const geometry::Pose left_seed = a.pose, right_seed = m.pose;
     if (!add_sample(left, left_seed) || !add_sample(right, right_seed)) return false;
     const std::size_t l = samples_.size() - 2, r = samples_.size() - 1;
     measure_sample(l);

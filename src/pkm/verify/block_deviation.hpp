@@ -23,18 +23,21 @@ struct BlockDeviation {
 class BlockMeasure {
  public:
   static constexpr int kGrid = 16;  // intervals of the uniform grid
-  explicit BlockMeasure(const Machine& machine);
+  explicit BlockMeasure(const machine::Machine& machine);
 
   // Forward kinematics on a uniform grid along the block from q0 to q1 (FK seeded with `seed`, the
   // pose at q0). False where forward kinematics fails.
-  bool sample_grid(const JointVector& q0, const JointVector& q1, const Pose& seed);
+  bool sample_grid(const kinematics::JointVector& q0, const kinematics::JointVector& q1,
+                   const geometry::Pose& seed);
   double grid_length_mm() const;  // the tool path's length as the grid sees it
   // The box of the grid's points (controlled coordinates), each side moved out by `margin_mm`.
   Eigen::AlignedBox3d grid_box(double margin_mm) const;
   const Eigen::Vector3d& end_point() const { return samples_[kGrid].point; }
-  const Pose& end_pose() const { return samples_[kGrid].pose; }
+  const geometry::Pose& end_pose() const { return samples_[kGrid].pose; }
   // The grid's poses, k = 0..kGrid, after sample_grid (before measure refines between them).
-  const Pose& grid_pose(int k) const { return samples_[static_cast<std::size_t>(k)].pose; }
+  const geometry::Pose& grid_pose(int k) const {
+    return samples_[static_cast<std::size_t>(k)].pose;
+  }
 
   // The largest distance of the block from `stretch`, refined where the samples leave room for a
   // larger one; where refinement stops short (a budget per block, or a block already a hundred
@@ -44,7 +47,7 @@ class BlockMeasure {
  private:
   struct Sample {
     double lambda = 0.0;
-    Pose pose;
+    geometry::Pose pose;
     Eigen::Vector3d point = Eigen::Vector3d::Zero();  // controlled coordinates
     double distance_mm = 0.0;
     int nearest_range = 0;
@@ -54,13 +57,13 @@ class BlockMeasure {
     int depth;
   };
 
-  bool add_sample(double lambda, const Pose& seed);
+  bool add_sample(double lambda, const geometry::Pose& seed);
   void measure_sample(std::size_t index);
   double upper_estimate(const Interval& interval) const;
 
-  const Machine& machine_;
+  const machine::Machine& machine_;
   Eigen::Vector3d mask_;
-  JointVector q0_, q1_;
+  kinematics::JointVector q0_, q1_;
   const std::vector<PieceRange>* stretch_ = nullptr;
   std::vector<Sample> samples_;
   std::vector<double> distances_;  // per sample, per range of the stretch

@@ -23,7 +23,7 @@ bool planar_in_controlled(const JobPiece& piece) {
          (piece.mask[s.normal_axis] == 0.0 || s.start[s.normal_axis] == s.end[s.normal_axis]);
 }
 
-double radius_at(const motion::Segment& s, const Vector6d& p) {
+double radius_at(const motion::Segment& s, const geometry::Vector6d& p) {
   return std::hypot(p[s.first_axis] - s.centre[s.first_axis],
                     p[s.second_axis] - s.centre[s.second_axis]);
 }
@@ -84,8 +84,8 @@ Nearest nearest_by_search(const JobPiece& piece, const Eigen::Vector3d& point, d
 
 }  // namespace
 
-Eigen::Vector3d position_mask(const Machine& machine) {
-  const Dof dof = machine.kinematics().dof();
+Eigen::Vector3d position_mask(const machine::Machine& machine) {
+  const geometry::Dof dof = machine.kinematics().dof();
   return {dof.controls(0) ? 1.0 : 0.0, dof.controls(1) ? 1.0 : 0.0, dof.controls(2) ? 1.0 : 0.0};
 }
 
@@ -97,8 +97,8 @@ Nearest nearest_on(const JobPiece& piece, const Eigen::Vector3d& point, double u
   return nearest_by_search(piece, point, u0, u1);
 }
 
-JobPath::JobPath(const Machine& machine, const std::filesystem::path& job,
-                 const gcode::InterpreterOptions& options, const Vector6d& origin)
+JobPath::JobPath(const machine::Machine& machine, const std::filesystem::path& job,
+                 const gcode::InterpreterOptions& options, const geometry::Vector6d& origin)
     : file_(job.string()),
       mask_(position_mask(machine)),
       tool_(machine.tool()),
@@ -139,7 +139,7 @@ void JobPath::take(const gcode::Canon& canon) {
   }
   for (const motion::Segment& segment : builder_.take(canon)) {
     if (segment.kind == motion::SegmentKind::dwell || segment.length() <= 0.0) continue;
-    if (tool_.z == ToolZ::pen) pen_.follow(segment);
+    if (tool_.z == machine::ToolZ::pen) pen_.follow(segment);
     window_.push_back(make_piece(segment));
     end_mm_ += window_.back().length_mm;
   }

@@ -17,7 +17,7 @@
 namespace pkm::verify {
 
 // 1 for each of x y z the machine positions, 0 for those it does not (its dof).
-Eigen::Vector3d position_mask(const Machine& machine);
+Eigen::Vector3d position_mask(const machine::Machine& machine);
 
 // One programmed move: its geometry, and its path as the machine controls it.
 struct JobPiece {
@@ -60,8 +60,8 @@ bool compared_command(const std::string& text);
 class JobPath {
  public:
   // The job read as post reads it: from the machine's home, with its origin at `origin` (mm, rad).
-  JobPath(const Machine& machine, const std::filesystem::path& job,
-          const gcode::InterpreterOptions& options, const Vector6d& origin);
+  JobPath(const machine::Machine& machine, const std::filesystem::path& job,
+          const gcode::InterpreterOptions& options, const geometry::Vector6d& origin);
   JobPath(const JobPath&) = delete;
   JobPath& operator=(const JobPath&) = delete;
 
@@ -78,7 +78,7 @@ class JobPath {
   long pen_downs() const { return pen_.downs(); }
   int first_pen_down_line() const { return pen_.first_down_line(); }
   std::optional<gcode::Warning> pen_warning() const {
-    return tool_.z == ToolZ::pen ? pen_.warning() : std::nullopt;
+    return tool_.z == machine::ToolZ::pen ? pen_.warning() : std::nullopt;
   }
   const std::string& file() const { return file_; }
   // The job's machine commands read so far, each with where the job is when it comes.
@@ -91,7 +91,7 @@ class JobPath {
 
   std::string file_;
   Eigen::Vector3d mask_;
-  ToolChannel tool_;
+  machine::ToolChannel tool_;
   motion::PenPath pen_;  // where the job puts the pen down
   motion::SegmentBuilder builder_;
   gcode::Interpreter interpreter_;

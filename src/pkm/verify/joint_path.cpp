@@ -68,7 +68,7 @@ double reach_mm(double block_length_mm, double tolerance_mm) {
 
 // What the job asks of the pen over a range: down (1), up (0), or either (-1, the range crosses
 // the pen's height, or where the pen starts following the job's Z: motion/pen_path.hpp).
-int pen_asked(const ToolChannel& tool, const PieceRange& range) {
+int pen_asked(const machine::ToolChannel& tool, const PieceRange& range) {
   const double from = range.piece->pen_follows_from;
   if (range.u1 <= from) return 0;
   if (range.u0 < from) return -1;
@@ -79,7 +79,7 @@ int pen_asked(const ToolChannel& tool, const PieceRange& range) {
 
 class Verifier {
  public:
-  Verifier(const Machine& machine, const std::filesystem::path& joints,
+  Verifier(const machine::Machine& machine, const std::filesystem::path& joints,
            const std::filesystem::path& job, const VerifyOptions& options)
       : machine_(machine),
         tool_(machine.tool()),
@@ -103,7 +103,7 @@ class Verifier {
 
   void on_canon(const gcode::Canon& canon) {
     using gcode::CanonKind;
-    if (canon.kind == CanonKind::event && tool_.z == ToolZ::pen &&
+    if (canon.kind == CanonKind::event && tool_.z == machine::ToolZ::pen &&
         (canon.text == tool_.down_command || canon.text == tool_.up_command)) {
       close_pen_stretch();
       const bool down = canon.text == tool_.down_command;
@@ -153,9 +153,9 @@ class Verifier {
     throw VerifyError(file_ + ":" + std::to_string(line) + ": " + message);
   }
 
-  void check_positions(int line, const JointVector& q) {
+  void check_positions(int line, const kinematics::JointVector& q) {
     for (int i = 0; i < q.size(); ++i) {
-      const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
+      const machine::JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
       if (!(q[i] >= joint.min && q[i] <= joint.max)) {  // NaN is beyond every limit
         const double limit = q[i] < joint.min ? joint.min : joint.max;
         report_.position.add({line, cursor_.line(), i, joint.to_interface(q[i]),
@@ -167,12 +167,13 @@ class Verifier {
   // G94's F as LinuxCNC reads it: the length of the block's X Y Z move per minute (mm or inch);
   // without one, of its U V W move; without either, of its A B C move in deg per minute (G20 or
   // not). Joint values as written: mm for linear joints, deg for rotary ones.
-  double units_per_minute_duration_s(const gcode::Canon& canon, const JointVector& q) const {
+  double units_per_minute_duration_s(const gcode::Canon& canon,
+                                     const kinematics::JointVector& q) const {
     double squares[3] = {0.0, 0.0, 0.0};  // X Y Z, A B C, U V W
     for (std::size_t i = 0; i < machine_.joints().size(); ++i) {
       const int index = words_.position_index(i);
       if (index < 0) continue;
-      const JointSpec& joint = machine_.joints()[i];
+      const machine::JointSpec& joint = machine_.joints()[i];
       const double step = joint.to_interface(q[int(i)]) - joint.to_interface(previous_[int(i)]);
       squares[index / 3] += step * step;
     }
@@ -196,13 +197,13 @@ class Verifier {
 
   // G93 blocks take 1/F minutes; G94 ones as units_per_minute_duration_s; rapids are the
   // controller's own business.
-  void check_speeds(const gcode::Canon& canon, const JointVector& q) {
+  void check_speeds(const gcode::Canon& canon, const kinematics::JointVector& q) {
     if (canon.kind != gcode::CanonKind::feed || !(canon.value > 0.0)) return;
     const double duration = canon.feed_mode == gcode::FeedMode::inverse_time
                                 ? 60.0 / canon.value
                                 : units_per_minute_duration_s(canon, q);
     for (int i = 0; i < q.size() && duration > 0.0; ++i) {
-      const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
+      const machine::JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
       const double speed = std::abs(q[i] - previous_[i]) / duration;
       if (speed > joint.max_velocity * (1.0 + 1e-9)) {
         report_.velocity.add({canon.line, cursor_.line(), i, joint.to_interface(speed),
@@ -212,7 +213,7 @@ class Verifier {
   }
 
   void on_block(const gcode::Canon& canon) {
-    const JointVector q = words_.read(canon);
+    const kinematics::JointVector q = words_.read(canon);
     check_positions(canon.line, q);
     check_speeds(canon, q);
     if (!measure_.sample_grid(previous_, q, pose_)) {
@@ -278,7 +279,7 @@ class Verifier {
   // A stretch drawn with the pen where the job lifts it, or travelled with it up where the job
   // draws: one violation per stretch of consecutive blocks, its length the value.
   void check_pen(int line) {
-    if (tool_.z != ToolZ::pen) return;
+    if (tool_.z != machine::ToolZ::pen) return;
     bool wrong = false;
     double length_mm = 0.0;
     int job_line = 0;
@@ -311,8 +312,8 @@ class Verifier {
     pen_stretch_open_ = false;
   }
 
-  const Machine& machine_;
-  const ToolChannel& tool_;
+  const machine::Machine& machine_;
+  const machine::ToolChannel& tool_;
   std::string file_;
   const VerifyOptions& options_;
   JobPath path_;
@@ -321,8 +322,8 @@ class Verifier {
   JointWords words_;
   std::vector<PieceRange> stretch_;
   std::vector<PieceRange> point_stretch_;
-  JointVector previous_;
-  Pose pose_;
+  kinematics::JointVector previous_;
+  geometry::Pose pose_;
   bool pen_down_ = false;  // a plotter starts with its pen up
   long pen_downs_ = 0;
   bool pen_stretch_open_ = false;
@@ -345,7 +346,8 @@ void ViolationSummary::add(const Violation& violation) {
   }
 }
 
-VerifyReport verify_joint_program(const Machine& machine, const std::filesystem::path& joints,
+VerifyReport verify_joint_program(const machine::Machine& machine,
+                                  const std::filesystem::path& joints,
                                   const std::filesystem::path& job, const VerifyOptions& options) {
   if (!(options.tolerance_mm > 0.0) || !std::isfinite(options.tolerance_mm)) {
     throw VerifyError("the tolerance must be a positive number of mm");

@@ -20,16 +20,17 @@ namespace pkm::verify {
 
 // One block of the joint program as verify reconstructs it by forward kinematics: for a view.
 struct VerifiedBlock {
-  int line = 0;      // joint program
-  int job_line = 0;  // the job's line it was held against where it deviates most
-  Pose end_pose;     // the tool's pose at the block's end (mm, rad)
-  JointVector joints;
+  int line = 0;             // joint program
+  int job_line = 0;         // the job's line it was held against where it deviates most
+  geometry::Pose end_pose;  // the tool's pose at the block's end (mm, rad)
+  kinematics::JointVector joints;
   double deviation_mm = 0.0;  // the block's largest distance from the job
 };
 
 struct VerifyOptions {
-  double tolerance_mm = 0.01;          // largest deviation accepted, mm (post's default; > 0)
-  Vector6d origin = Vector6d::Zero();  // where the job's X0 Y0 Z0 sits (mm, rad)
+  double tolerance_mm = 0.01;  // largest deviation accepted, mm (post's default; > 0)
+  geometry::Vector6d origin =
+      geometry::Vector6d::Zero();  // where the job's X0 Y0 Z0 sits (mm, rad)
   // The job's tool table and block delete; its loop bounds hold for the joint program too.
   gcode::InterpreterOptions job_options;
   // Called with the joint program's line being verified, once per change of line: for progress.
@@ -96,7 +97,8 @@ class VerifyError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-VerifyReport verify_joint_program(const Machine& machine, const std::filesystem::path& joints,
+VerifyReport verify_joint_program(const machine::Machine& machine,
+                                  const std::filesystem::path& joints,
                                   const std::filesystem::path& job, const VerifyOptions& options);
 
 // The tolerance pkm post wrote in the joint program's header ("(tolerance 0.010000 mm; ..."), if

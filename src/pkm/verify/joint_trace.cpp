@@ -47,11 +47,11 @@ int parameter_column(const std::string& line) {
 // to the interpreter, which says why at the same place.
 class WordCheck {
  public:
-  WordCheck(const Machine& machine, const std::string& file, const JointDialect& dialect)
+  WordCheck(const machine::Machine& machine, const std::string& file, const JointDialect& dialect)
       : machine_(machine), file_(file), dialect_(dialect) {
-    const ToolChannel& tool = machine.tool();
-    if (tool.z == ToolZ::pen) events_ = {tool.down_command, tool.up_command};
-    for (const JointSpec& joint : machine.joints()) {
+    const machine::ToolChannel& tool = machine.tool();
+    if (tool.z == machine::ToolZ::pen) events_ = {tool.down_command, tool.up_command};
+    for (const machine::JointSpec& joint : machine.joints()) {
       if (!joints_text_.empty()) joints_text_ += ", ";
       joints_text_ += joint.name + " " + joint.axis_letter;
     }
@@ -93,8 +93,9 @@ class WordCheck {
       const char lower = static_cast<char>(std::tolower(static_cast<unsigned char>(letter)));
       if (!block_.has(lower)) continue;
       const int column = block_.word(lower)->column;
-      const bool joint = std::any_of(machine_.joints().begin(), machine_.joints().end(),
-                                     [&](const JointSpec& j) { return j.axis_letter == letter; });
+      const bool joint =
+          std::any_of(machine_.joints().begin(), machine_.joints().end(),
+                      [&](const machine::JointSpec& j) { return j.axis_letter == letter; });
       if (!joint) {
         fail(line, column,
              std::string(1, letter) + " word: no joint of " + machine_.name() + " is on " + letter +
@@ -126,7 +127,7 @@ class WordCheck {
     }
   }
 
-  const Machine& machine_;
+  const machine::Machine& machine_;
   std::string file_;
   const JointDialect& dialect_;
   std::vector<std::string> events_;
@@ -135,7 +136,7 @@ class WordCheck {
   gcode::Block block_;
 };
 
-void check_words(const Machine& machine, const std::filesystem::path& path,
+void check_words(const machine::Machine& machine, const std::filesystem::path& path,
                  const JointDialect& dialect) {
   std::ifstream in(path);
   if (!in) {
@@ -151,7 +152,8 @@ void check_words(const Machine& machine, const std::filesystem::path& path,
 
 class Tracer {
  public:
-  Tracer(const Machine& machine, const std::filesystem::path& file, const TraceOptions& options)
+  Tracer(const machine::Machine& machine, const std::filesystem::path& file,
+         const TraceOptions& options)
       : machine_(machine),
         file_(file.string()),
         options_(options),
@@ -159,7 +161,7 @@ class Tracer {
         mask_(position_mask(machine)) {
     if (!machine.inverse(machine.home(), previous_).ok()) throw TraceError("home is not usable");
     pose_ = machine.home();
-    report_.has_pen = machine.tool().z == ToolZ::pen;
+    report_.has_pen = machine.tool().z == machine::ToolZ::pen;
     for (int i = 0; i < previous_.size(); ++i) {
       report_.joints.push_back({previous_[i], previous_[i], 0, 0});
     }
@@ -172,7 +174,7 @@ class Tracer {
 
   void on_canon(const gcode::Canon& canon) {
     using gcode::CanonKind;
-    const ToolChannel& tool = machine_.tool();
+    const machine::ToolChannel& tool = machine_.tool();
     if (canon.kind == CanonKind::event && report_.has_pen &&
         (canon.text == tool.down_command || canon.text == tool.up_command)) {
       const bool down = canon.text == tool.down_command;
@@ -198,18 +200,18 @@ class Tracer {
     if (options_.on_point) options_.on_point(point);
   }
 
-  std::string joints_text(const JointVector& q) const {
+  std::string joints_text(const kinematics::JointVector& q) const {
     std::string text;
     for (int i = 0; i < q.size(); ++i) {
-      const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
+      const machine::JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
       text += (i > 0 ? ", " : "") + joint.name + " " + machine_.joint_value_text(i, q[i]);
     }
     return text;
   }
 
-  void check_joints(int line, const JointVector& q) {
+  void check_joints(int line, const kinematics::JointVector& q) {
     for (int i = 0; i < q.size(); ++i) {
-      const JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
+      const machine::JointSpec& joint = machine_.joints()[static_cast<std::size_t>(i)];
       JointRange& range = report_.joints[static_cast<std::size_t>(i)];
       if (q[i] < range.low) range = {q[i], range.high, line, range.high_line};
       if (q[i] > range.high) range = {range.low, q[i], range.low_line, line};
@@ -231,24 +233,26 @@ class Tracer {
 
   // Forward kinematics at `intervals` + 1 evenly spaced points of the joints' straight line from
   // previous_ to q, each seeded with the one before (kept in samples_).
-  bool sample_block(const JointVector& q, int intervals) {
+  bool sample_block(const kinematics::JointVector& q, int intervals) {
     samples_.assign(1, pose_);
     for (int k = 1; k <= intervals; ++k) {
-      Pose pose = samples_.back();
-      const JointVector at = previous_ + (static_cast<double>(k) / intervals) * (q - previous_);
-      if (!machine_.kinematics().forward(at, pose).ok() || !all_finite(pose)) return false;
+      geometry::Pose pose = samples_.back();
+      const kinematics::JointVector at =
+          previous_ + (static_cast<double>(k) / intervals) * (q - previous_);
+      if (!machine_.kinematics().forward(at, pose).ok() || !kinematics::all_finite(pose))
+        return false;
       samples_.push_back(pose);
     }
     return true;
   }
 
-  double planar_distance(const Pose& a, const Pose& b) const {
+  double planar_distance(const geometry::Pose& a, const geometry::Pose& b) const {
     return (b.position_mm - a.position_mm).cwiseProduct(mask_).norm();
   }
 
   // Evenly spaced samples at most kSpacingMm apart along the tool's path (at least kMinIntervals
   // per block): a metre-long rapid of a plotter bends visibly, and its length with it.
-  void sample(int line, const JointVector& q) {
+  void sample(int line, const kinematics::JointVector& q) {
     bool sampled = sample_block(q, kMinIntervals);
     if (sampled) {
       double length = 0.0;
@@ -266,7 +270,7 @@ class Tracer {
   }
 
   void on_block(const gcode::Canon& canon) {
-    const JointVector q = words_.read(canon);
+    const kinematics::JointVector q = words_.read(canon);
     check_joints(canon.line, q);
     sample(canon.line, q);
     const bool rapid = canon.kind == gcode::CanonKind::traverse;
@@ -275,7 +279,7 @@ class Tracer {
     const int intervals = static_cast<int>(samples_.size()) - 1;
     double length = 0.0;
     for (int k = 1; k <= intervals; ++k) {
-      const Pose& pose = samples_[static_cast<std::size_t>(k)];
+      const geometry::Pose& pose = samples_[static_cast<std::size_t>(k)];
       const double step = planar_distance(samples_[static_cast<std::size_t>(k - 1)], pose);
       length += step;
       along_mm_ += step;
@@ -291,14 +295,14 @@ class Tracer {
     ++report_.blocks;
   }
 
-  const Machine& machine_;
+  const machine::Machine& machine_;
   std::string file_;
   const TraceOptions& options_;
   JointWords words_;
-  std::vector<Pose> samples_;
+  std::vector<geometry::Pose> samples_;
   Eigen::Vector3d mask_;
-  JointVector previous_;
-  Pose pose_;
+  kinematics::JointVector previous_;
+  geometry::Pose pose_;
   bool pen_down_ = false;  // a plotter starts with its pen up
   double along_mm_ = 0.0;
   TraceReport report_;
@@ -306,8 +310,8 @@ class Tracer {
 
 }  // namespace
 
-TraceReport trace_joint_program(const Machine& machine, const std::filesystem::path& joints,
-                                const TraceOptions& options) {
+TraceReport trace_joint_program(const machine::Machine& machine,
+                                const std::filesystem::path& joints, const TraceOptions& options) {
   check_words(machine, joints, options.dialect);
   Tracer tracer(machine, joints, options);
   gcode::LineProgress progress(options.on_line);

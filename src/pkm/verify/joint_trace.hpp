@@ -32,8 +32,8 @@ struct JointDialect {
 struct TracePoint {
   int line = 0;           // the block's line (0: home)
   double along_mm = 0.0;  // the length of the tool's path so far, in the controlled coordinates
-  Pose pose;
-  JointVector joints;
+  geometry::Pose pose;
+  kinematics::JointVector joints;
   bool drawn = false;      // on the way to this point: the pen down (no pen channel: a G1 block)
   bool block_end = false;  // the end of a block (or home)
 };
@@ -74,7 +74,7 @@ class TraceError : public std::runtime_error {
 // Throws TraceError for a word the dialect or the machine does not have, an arc or probe in joint
 // space, or a block whose joints have no tool pose; gcode::GcodeError for what the interpreter
 // refuses.
-TraceReport trace_joint_program(const Machine& machine, const std::filesystem::path& joints,
-                                const TraceOptions& options);
+TraceReport trace_joint_program(const machine::Machine& machine,
+                                const std::filesystem::path& joints, const TraceOptions& options);
 
 }  // namespace pkm::verify

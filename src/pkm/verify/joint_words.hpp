@@ -13,19 +13,19 @@ namespace pkm::verify {
 
 class JointWords {
  public:
-  explicit JointWords(const Machine& machine);
+  explicit JointWords(const machine::Machine& machine);
 
   // Index of joint i's letter in the interpreter's position (X Y Z A B C U V W: 0..8).
   int position_index(std::size_t joint) const { return index_[joint]; }
   // The options of a joint program that starts at `start` (joint values, internal units), with
   // the loop bounds of `bounds`, and the pen's commands as events on a machine with a pen channel.
-  gcode::InterpreterOptions program_options(const JointVector& start,
+  gcode::InterpreterOptions program_options(const kinematics::JointVector& start,
                                             const gcode::InterpreterOptions& bounds) const;
   // The joint values a motion command ends at.
-  JointVector read(const gcode::Canon& canon) const;
+  kinematics::JointVector read(const gcode::Canon& canon) const;
 
  private:
-  const Machine& machine_;
+  const machine::Machine& machine_;
   std::vector<int> index_;
 };
 

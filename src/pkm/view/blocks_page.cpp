@@ -14,11 +14,12 @@ namespace {
 
 using nlohmann::json;
 
-json block_quantities(const Machine& machine, const MinMaxBuckets& buckets, double tolerance_mm) {
+json block_quantities(const machine::Machine& machine, const MinMaxBuckets& buckets,
+                      double tolerance_mm) {
   const int count = static_cast<int>(machine.joints().size());
   json position = json::array();
   for (int i = 0; i < count; ++i) {
-    const JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
+    const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
     const double s = interface_scale(joint);
     position.push_back(series_json(buckets, i, s, joint.min * s, joint.max * s));
   }
@@ -32,7 +33,7 @@ json count_of(const json& report, const char* kind) {
   return report["violations"][kind]["count"];
 }
 
-json verify_summary(const json& report, const Machine& machine) {
+json verify_summary(const json& report, const machine::Machine& machine) {
   return json::array(
       {row("blocks", "blocks", report["blocks"], ""),
        row("max_deviation_mm", "largest deviation", report["max_deviation_mm"], "mm"),
@@ -202,7 +203,7 @@ double largest_deviation(const BlockRecorder& recorder) {
 std::string blocks_page(const std::string& kind, const json& report, const BlockRecorder& recorder,
                         double tolerance_mm, const std::vector<PathPoint>& outline,
                         const std::string& title) {
-  const Machine& machine = recorder.machine();
+  const machine::Machine& machine = recorder.machine();
   json data = base_data(kind, machine, report, title);
   data["summary"] = kind == "verify" ? verify_summary(report, machine)
                                      : post_summary(report, recorder, largest_deviation(recorder));

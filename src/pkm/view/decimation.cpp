@@ -112,7 +112,8 @@ void PathThinner::rethin() {
   points_ = std::move(kept);
 }
 
-void MomentSampler::add(double t, const Pose& pose, const JointVector& joints) {
+void MomentSampler::add(double t, const geometry::Pose& pose,
+                        const kinematics::JointVector& joints) {
   last_ = {t, pose, joints};
   last_kept_ = seen_ % every_ == 0;
   if (last_kept_) {

@@ -78,8 +78,8 @@ class PathThinner {
 // A moment at which the machine is drawn.
 struct Moment {
   double t = 0.0;
-  Pose pose;
-  JointVector joints;
+  geometry::Pose pose;
+  kinematics::JointVector joints;
 };
 
 // Every k-th sample, k doubling whenever 2 * `target` moments are held: between `target` and
@@ -87,7 +87,7 @@ struct Moment {
 class MomentSampler {
  public:
   explicit MomentSampler(std::size_t target) : target_(target) {}
-  void add(double t, const Pose& pose, const JointVector& joints);
+  void add(double t, const geometry::Pose& pose, const kinematics::JointVector& joints);
   void finish();
   const std::vector<Moment>& moments() const { return moments_; }
 

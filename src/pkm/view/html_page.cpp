@@ -15,11 +15,11 @@ namespace {
 
 using nlohmann::json;
 
-json plan_quantities(const Machine& machine, const MinMaxBuckets& buckets) {
+json plan_quantities(const machine::Machine& machine, const MinMaxBuckets& buckets) {
   const int count = static_cast<int>(machine.joints().size());
   json position = json::array(), velocity = json::array(), acceleration = json::array();
   for (int i = 0; i < count; ++i) {
-    const JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
+    const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(i)];
     const double s = interface_scale(joint);
     position.push_back(series_json(buckets, i, s, joint.min * s, joint.max * s));
     velocity.push_back(
@@ -121,7 +121,7 @@ json plan_marks(const json& report, const std::map<int, LineStart>& starts) {
 }  // namespace
 
 std::string plan_page(const json& report, const PlanRecorder& recorder, const std::string& title) {
-  const Machine& machine = recorder.machine();
+  const machine::Machine& machine = recorder.machine();
   json data = base_data("plan", machine, report, title);
   data["summary"] = plan_summary(report, recorder);
   double use = 0.0;
@@ -139,7 +139,7 @@ std::string plan_page(const json& report, const PlanRecorder& recorder, const st
 }
 
 void write_page(const std::filesystem::path& path, const std::string& html) {
-  write_file_atomically(path, html);
+  files::write_file_atomically(path, html);
 }
 
 }  // namespace pkm::view

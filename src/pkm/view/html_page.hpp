@@ -34,11 +34,11 @@ inline constexpr std::size_t kWorkspaceCellsDrawn = 40000;
 
 // The page of `pkm workspace`: `workspace` follows the workspace JSON schema
 // (docs/html-views.md, "Workspace"); its machine is drawn at home when `machine` is given.
-std::string workspace_page(const nlohmann::json& workspace, const Machine* machine,
+std::string workspace_page(const nlohmann::json& workspace, const machine::Machine* machine,
                            const std::string& title);
 // Writes it through the atomic file helper. Throws std::runtime_error (path and reason).
 void write_workspace_html(const std::filesystem::path& path, const nlohmann::json& workspace,
-                          const Machine* machine = nullptr);
+                          const machine::Machine* machine = nullptr);
 
 // Any page, written whole or not at all (files/atomic_file.hpp).
 void write_page(const std::filesystem::path& path, const std::string& html);

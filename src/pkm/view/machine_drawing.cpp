@@ -9,8 +9,8 @@ namespace pkm::view {
 namespace {
 
 // The work envelope's box over the coordinates it bounds (a planar machine's rectangle at z 0).
-void add_envelope(std::vector<Segment>& out, const Machine& machine) {
-  const CartesianLimits& limits = machine.cartesian();
+void add_envelope(std::vector<Segment>& out, const machine::Machine& machine) {
+  const machine::CartesianLimits& limits = machine.cartesian();
   Eigen::Vector3d low, high;
   for (int axis = 0; axis < 3; ++axis) {
     low[axis] = limits.envelope_min[axis];
@@ -19,11 +19,11 @@ void add_envelope(std::vector<Segment>& out, const Machine& machine) {
   }
   if (low.x() == high.x() || low.y() == high.y()) return;
   for (double z : {low.z(), high.z()}) {
-    sketch_loop(out, Part::envelope,
-                {{low.x(), low.y(), z},
-                 {high.x(), low.y(), z},
-                 {high.x(), high.y(), z},
-                 {low.x(), high.y(), z}});
+    kinematics::sketch_loop(out, Part::envelope,
+                            {{low.x(), low.y(), z},
+                             {high.x(), low.y(), z},
+                             {high.x(), high.y(), z},
+                             {low.x(), high.y(), z}});
     if (low.z() == high.z()) return;
   }
   for (double x : {low.x(), high.x()}) {
@@ -35,27 +35,28 @@ void add_envelope(std::vector<Segment>& out, const Machine& machine) {
 
 }  // namespace
 
-bool drawn_planar(const Machine& machine) {
-  const Dof dof = machine.kinematics().dof();
+bool drawn_planar(const machine::Machine& machine) {
+  const geometry::Dof dof = machine.kinematics().dof();
   return machine.kinematics().hanging_cables() != nullptr ||
          (!dof.controls(2) && !dof.any_rotation());
 }
 
-std::vector<Segment> fixed_parts(const Machine& machine) {
+std::vector<Segment> fixed_parts(const machine::Machine& machine) {
   std::vector<Segment> out;
-  if (const MechanismSketch* sketch = machine.kinematics().sketch()) {
-    std::vector<JointTravel> travel;
-    for (const JointSpec& joint : machine.joints()) travel.push_back({joint.min, joint.max});
+  if (const kinematics::MechanismSketch* sketch = machine.kinematics().sketch()) {
+    std::vector<kinematics::JointTravel> travel;
+    for (const machine::JointSpec& joint : machine.joints())
+      travel.push_back({joint.min, joint.max});
     sketch->fixed_parts(travel, out);
   }
   add_envelope(out, machine);
   return out;
 }
 
-std::vector<Segment> moving_parts(const Machine& machine, const Pose& pose,
-                                  const JointVector& joints) {
+std::vector<Segment> moving_parts(const machine::Machine& machine, const geometry::Pose& pose,
+                                  const kinematics::JointVector& joints) {
   std::vector<Segment> out;
-  if (const MechanismSketch* sketch = machine.kinematics().sketch()) {
+  if (const kinematics::MechanismSketch* sketch = machine.kinematics().sketch()) {
     sketch->moving_parts(pose, joints, out);
   }
   return out;

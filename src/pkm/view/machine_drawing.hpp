@@ -13,19 +13,19 @@ namespace pkm::view {
 
 // A line of the drawing and what it is part of (the page gives each kind its colour and width):
 // the model's own (mechanism_sketch.hpp) and the envelope's.
-using Part = SketchPart;
-using Segment = SketchLine;
+using Part = kinematics::SketchPart;
+using Segment = kinematics::SketchLine;
 
 // True when the machine is best seen from the front as a plane (x right, y up): cable plotters
 // and machines that control neither z nor an angle.
-bool drawn_planar(const Machine& machine);
+bool drawn_planar(const machine::Machine& machine);
 
 // The parts that never move.
-std::vector<Segment> fixed_parts(const Machine& machine);
+std::vector<Segment> fixed_parts(const machine::Machine& machine);
 
 // The parts that move, at `pose` (mm, rad) with its joints (mm, rad) as inverse kinematics gave
 // them.
-std::vector<Segment> moving_parts(const Machine& machine, const Pose& pose,
-                                  const JointVector& joints);
+std::vector<Segment> moving_parts(const machine::Machine& machine, const geometry::Pose& pose,
+                                  const kinematics::JointVector& joints);
 
 }  // namespace pkm::view

@@ -29,9 +29,9 @@ json rounded_array(const std::vector<double>& values, double scale) {
   return out;
 }
 
-json joints_json(const Machine& machine) {
+json joints_json(const machine::Machine& machine) {
   json joints = json::array();
-  for (const JointSpec& joint : machine.joints()) {
+  for (const machine::JointSpec& joint : machine.joints()) {
     joints.push_back({{"name", joint.name},
                       {"unit", joint.interface_unit()},
                       {"min", rounded(joint.to_interface(joint.min))},
@@ -52,7 +52,7 @@ static void append_segments(json& flat, const std::vector<Segment>& segments) {
 }
 
 // The machine: fixed parts once, moving parts at each moment (flat: part, x0 y0 z0, x1 y1 z1).
-json drawing_json(const Machine& machine, const std::vector<Moment>& moments) {
+json drawing_json(const machine::Machine& machine, const std::vector<Moment>& moments) {
   json fixed = json::array();
   append_segments(fixed, fixed_parts(machine));
   json times = json::array(), frames = json::array();
@@ -96,8 +96,8 @@ json mark_json(const LineStart& at, const std::string& label) {
           {"label", label}};
 }
 
-json units_row(const Machine& machine) {
-  const bool inch = machine.units() == LengthUnit::inch;
+json units_row(const machine::Machine& machine) {
+  const bool inch = machine.units() == machine::LengthUnit::inch;
   return row("units", "units shown",
              inch ? "mm and deg (the machine file is in inches)" : "mm and deg", "");
 }
@@ -111,7 +111,7 @@ json series_json(const MinMaxBuckets& buckets, int channel, double scale, double
 }
 
 // Interface units per internal unit of joint i (deg per rad for rotary joints).
-double interface_scale(const JointSpec& joint) {
+double interface_scale(const machine::JointSpec& joint) {
   return joint.to_interface(1.0);
 }
 
@@ -173,7 +173,7 @@ std::string page_with(const json& data, const std::string& title) {
   return page;
 }
 
-json base_data(const std::string& kind, const Machine& machine, const json& report,
+json base_data(const std::string& kind, const machine::Machine& machine, const json& report,
                const std::string& title) {
   return {{"kind", kind},
           {"title", title},
@@ -183,8 +183,8 @@ json base_data(const std::string& kind, const Machine& machine, const json& repo
           {"report", report}};
 }
 
-int joint_nearest_its_travel(const Machine& machine, const MinMaxBuckets& buckets) {
-  const std::vector<JointSpec>& joints = machine.joints();
+int joint_nearest_its_travel(const machine::Machine& machine, const MinMaxBuckets& buckets) {
+  const std::vector<machine::JointSpec>& joints = machine.joints();
   int nearest = 0;
   double least = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < joints.size(); ++i) {

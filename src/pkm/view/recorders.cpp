@@ -9,7 +9,7 @@
 
 namespace pkm::view {
 
-double initial_spacing_mm(const Machine& machine) {
+double initial_spacing_mm(const machine::Machine& machine) {
   Eigen::Vector3d low = machine.home().position_mm, high = low;
   for (const Segment& segment : fixed_parts(machine)) {
     for (const Eigen::Vector3d& point : {segment.from, segment.to}) {
@@ -31,17 +31,17 @@ double PlanRecorder::controlled_distance_mm(const Eigen::Vector3d& step) const {
   return std::sqrt(squared);
 }
 
-PlanRecorder::PlanRecorder(const Machine& machine, motion::SampleSink* next)
+PlanRecorder::PlanRecorder(const machine::Machine& machine, motion::SampleSink* next)
     : machine_(machine),
       next_(next),
-      has_pen_(machine.tool().z == ToolZ::pen),
+      has_pen_(machine.tool().z == machine::ToolZ::pen),
       buckets_(3 * static_cast<int>(machine.joints().size()), kChartBuckets),
       path_(initial_spacing_mm(machine), kMaxPathPoints),
       moments_(kDrawnMoments),
       values_(3 * machine.joints().size()) {
-  const Dof dof = machine.kinematics().dof();
+  const geometry::Dof dof = machine.kinematics().dof();
   for (int k = 0; k < 3; ++k) {
-    controlled_[k] = dof.controls(k) && !(k == 2 && machine.tool().z != ToolZ::none);
+    controlled_[k] = dof.controls(k) && !(k == 2 && machine.tool().z != machine::ToolZ::none);
   }
 }
 
@@ -66,7 +66,7 @@ void PlanRecorder::write(const motion::Sample& sample) {
   buckets_.add(t, values_);
   path_.add(t, position, speed, sample.line, sample.pen_down || !has_pen_);
   pen_ever_down_ = pen_ever_down_ || sample.pen_down;
-  moments_.add(t, Pose::from_vector(sample.pose), sample.joints);
+  moments_.add(t, geometry::Pose::from_vector(sample.pose), sample.joints);
   line_starts_.try_emplace(sample.line, LineStart{t, position});
   last_position_ = position;
   last_t_ = t;
@@ -80,14 +80,14 @@ void PlanRecorder::finish() {
 
 // The program starts at home: the path and the charts start there too, so that a program of a
 // single block still draws its move.
-BlockRecorder::BlockRecorder(const Machine& machine)
+BlockRecorder::BlockRecorder(const machine::Machine& machine)
     : machine_(machine),
       buckets_(static_cast<int>(machine.joints().size()) + 1, kChartBuckets),
       path_(initial_spacing_mm(machine), kMaxPathPoints),
       moments_(kDrawnMoments),
       values_(machine.joints().size() + 1),
       last_position_(machine.home().position_mm) {
-  JointVector home;
+  kinematics::JointVector home;
   if (!machine.inverse(machine.home(), home).ok()) return;
   const std::size_t count = machine_.joints().size();
   for (std::size_t i = 0; i < count; ++i) values_[i] = home[static_cast<int>(i)];
@@ -135,7 +135,7 @@ void BlockRecorder::finish() {
   moments_.finish();
 }
 
-TraceRecorder::TraceRecorder(const Machine& machine)
+TraceRecorder::TraceRecorder(const machine::Machine& machine)
     : machine_(machine),
       buckets_(static_cast<int>(machine.joints().size()), kChartBuckets),
       path_(initial_spacing_mm(machine), kMaxPathPoints),
@@ -143,10 +143,10 @@ TraceRecorder::TraceRecorder(const Machine& machine)
       values_(machine.joints().size()) {}
 
 // The largest distance of a joint from the middle of its travel, as a share of half the travel.
-double TraceRecorder::travel_used_percent(const JointVector& joints) const {
+double TraceRecorder::travel_used_percent(const kinematics::JointVector& joints) const {
   double used = 0.0;
   for (std::size_t i = 0; i < machine_.joints().size(); ++i) {
-    const JointSpec& joint = machine_.joints()[i];
+    const machine::JointSpec& joint = machine_.joints()[i];
     const double half = 0.5 * (joint.max - joint.min);
     if (!(half > 0.0) || !std::isfinite(half)) continue;
     const double q = joints[static_cast<int>(i)];
@@ -170,9 +170,10 @@ void TraceRecorder::finish() {
   moments_.finish();
 }
 
-std::vector<PathPoint> job_outline(const Machine& machine, const std::filesystem::path& job,
+std::vector<PathPoint> job_outline(const machine::Machine& machine,
+                                   const std::filesystem::path& job,
                                    const gcode::InterpreterOptions& options,
-                                   const Vector6d& origin) {
+                                   const geometry::Vector6d& origin) {
   const double spacing = initial_spacing_mm(machine);
   PathThinner outline(spacing, kMaxPathPoints);
   verify::JobPath path(machine, job, options, origin);

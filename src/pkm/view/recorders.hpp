@@ -28,17 +28,17 @@ inline constexpr std::size_t kDrawnMoments = 200;
 
 // The spacing a path starts thinned at: a 4000th of the machine's drawing (fixed parts and
 // home), so that a path on screen is exact to a fraction of a pixel.
-double initial_spacing_mm(const Machine& machine);
+double initial_spacing_mm(const machine::Machine& machine);
 
 // A sink of the planner that records the samples for the page and passes each on to `next`
 // (the samples' file), if any.
 class PlanRecorder final : public motion::SampleSink {
  public:
-  explicit PlanRecorder(const Machine& machine, motion::SampleSink* next = nullptr);
+  explicit PlanRecorder(const machine::Machine& machine, motion::SampleSink* next = nullptr);
   void write(const motion::Sample& sample) override;
   void finish();  // after the last sample
 
-  const Machine& machine() const { return machine_; }
+  const machine::Machine& machine() const { return machine_; }
   // Channels: joint i's position (i), velocity (J + i), acceleration (2J + i), in the machine's
   // internal units, per s and per s^2 as the planner's report computes them.
   const MinMaxBuckets& joint_buckets() const { return buckets_; }
@@ -51,7 +51,7 @@ class PlanRecorder final : public motion::SampleSink {
 
  private:
   double controlled_distance_mm(const Eigen::Vector3d& step) const;
-  const Machine& machine_;
+  const machine::Machine& machine_;
   motion::SampleSink* next_;
   bool has_pen_ = false;
   bool pen_ever_down_ = false;
@@ -80,13 +80,13 @@ struct WorstBlock {
 class BlockRecorder {
  public:
   static constexpr std::size_t kWorstKept = 100;
-  explicit BlockRecorder(const Machine& machine);
+  explicit BlockRecorder(const machine::Machine& machine);
   void add(const verify::VerifiedBlock& block);
   void finish();
   // The kWorstKept largest deviations, largest first.
   std::vector<WorstBlock> worst_blocks() const;
 
-  const Machine& machine() const { return machine_; }
+  const machine::Machine& machine() const { return machine_; }
   const MinMaxBuckets& buckets() const { return buckets_; }
   const PathThinner& path() const { return path_; }  // colour: deviation, mm
   const MomentSampler& moments() const { return moments_; }
@@ -94,7 +94,7 @@ class BlockRecorder {
   long blocks() const { return blocks_; }
 
  private:
-  const Machine& machine_;
+  const machine::Machine& machine_;
   MinMaxBuckets buckets_;
   PathThinner path_;
   MomentSampler moments_;
@@ -112,19 +112,19 @@ class BlockRecorder {
 // from home (mm). Channels: joint i's position (i).
 class TraceRecorder {
  public:
-  explicit TraceRecorder(const Machine& machine);
+  explicit TraceRecorder(const machine::Machine& machine);
   void add(const verify::TracePoint& point);
   void finish();
 
-  const Machine& machine() const { return machine_; }
+  const machine::Machine& machine() const { return machine_; }
   const MinMaxBuckets& buckets() const { return buckets_; }
   const PathThinner& path() const { return path_; }  // colour: % of a joint's half travel
   const MomentSampler& moments() const { return moments_; }
   const std::map<int, LineStart>& line_starts() const { return line_starts_; }
 
  private:
-  double travel_used_percent(const JointVector& joints) const;
-  const Machine& machine_;
+  double travel_used_percent(const kinematics::JointVector& joints) const;
+  const machine::Machine& machine_;
   MinMaxBuckets buckets_;
   PathThinner path_;
   MomentSampler moments_;
@@ -135,8 +135,9 @@ class TraceRecorder {
 // The job a joint program must trace, as verify reads it (JobPath: from home, at `origin`, mm and
 // rad; uncontrolled coordinates 0), sampled every few mm of each move and thinned like a plan's
 // path: drawn grey under the blocks so that a reader sees where they should have gone.
-std::vector<PathPoint> job_outline(const Machine& machine, const std::filesystem::path& job,
+std::vector<PathPoint> job_outline(const machine::Machine& machine,
+                                   const std::filesystem::path& job,
                                    const gcode::InterpreterOptions& options,
-                                   const Vector6d& origin);
+                                   const geometry::Vector6d& origin);
 
 }  // namespace pkm::view

@@ -12,10 +12,10 @@ namespace {
 
 using nlohmann::json;
 
-json trace_quantities(const Machine& machine, const MinMaxBuckets& buckets) {
+json trace_quantities(const machine::Machine& machine, const MinMaxBuckets& buckets) {
   json position = json::array();
   for (std::size_t i = 0; i < machine.joints().size(); ++i) {
-    const JointSpec& joint = machine.joints()[i];
+    const machine::JointSpec& joint = machine.joints()[i];
     const double s = interface_scale(joint);
     position.push_back(series_json(buckets, static_cast<int>(i), s, joint.min * s, joint.max * s));
   }
@@ -30,7 +30,7 @@ json extent_row(const json& report, const char* axis) {
   return row(std::string("drawn_") + axis, std::string("drawing's extent in ") + axis, text, "mm");
 }
 
-json trace_summary(const json& report, const Machine& machine) {
+json trace_summary(const json& report, const machine::Machine& machine) {
   const bool pen = report["pen_channel"].get<bool>();
   json rows = json::array({row("blocks", "blocks", report["blocks"], "")});
   if (pen) rows.push_back(row("pen_downs", "pen downs", report["pen_downs"], ""));
@@ -87,7 +87,7 @@ std::string trace_verdict(const json& report) {
 }  // namespace
 
 std::string view_page(const json& report, const TraceRecorder& recorder, const std::string& title) {
-  const Machine& machine = recorder.machine();
+  const machine::Machine& machine = recorder.machine();
   json data = base_data("view", machine, report, title);
   data["summary"] = trace_summary(report, machine);
   data["worst_joint_index"] = joint_nearest_its_travel(machine, recorder.buckets());

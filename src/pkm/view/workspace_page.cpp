@@ -104,7 +104,7 @@ json workspace_summary(const json& w) {
 
 }  // namespace
 
-std::string workspace_page(const json& workspace, const Machine* machine,
+std::string workspace_page(const json& workspace, const machine::Machine* machine,
                            const std::string& title) {
   json data = {{"kind", "workspace"},
                {"title", title},
@@ -121,7 +121,7 @@ std::string workspace_page(const json& workspace, const Machine* machine,
   }
   json drawing = {{"fixed", json::array()}, {"t", json::array()}, {"frames", json::array()}};
   if (machine != nullptr) {
-    JointVector joints;
+    kinematics::JointVector joints;
     if (machine->inverse(machine->home(), joints).ok()) {
       drawing = drawing_json(*machine, {Moment{0.0, machine->home(), joints}});
     }
@@ -144,7 +144,7 @@ std::string workspace_page(const json& workspace, const Machine* machine,
 }
 
 void write_workspace_html(const std::filesystem::path& path, const json& workspace,
-                          const Machine* machine) {
+                          const machine::Machine* machine) {
   write_page(path, workspace_page(workspace, machine,
                                   "pkm workspace: " + workspace.value("machine", std::string())));
 }

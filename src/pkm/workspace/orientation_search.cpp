@@ -200,7 +200,7 @@ Bracket largest_joint_turn(const LegJointEnd& end, const Eigen::Vector3d& centre
   Eigen::Matrix3d rotation;
   std::array<Eigen::Matrix3d, 3> derivatives;
   const auto evaluate = [&](BranchBox<3>& box) {
-    rotation_and_derivatives_abc(box.centre, rotation, derivatives);
+    geometry::rotation_and_derivatives_abc(box.centre, rotation, derivatives);
     const Eigen::Vector3d w = end.v + rotation * end.p;
     const double length = w.norm();
     const Eigen::Vector3d along = w / length;

@@ -9,14 +9,14 @@
 
 namespace pkm::workspace {
 
-double characteristic_length_mm(const Kinematics& model) {
+double characteristic_length_mm(const kinematics::Kinematics& model) {
   return 0.5 * bounds::pose_angle_scale_mm(model);
 }
 
-double dexterity(const JointJacobian& jacobian, Dof dof, double length_mm) {
+double dexterity(const kinematics::JointJacobian& jacobian, geometry::Dof dof, double length_mm) {
   Eigen::MatrixXd scaled(jacobian.rows(), dof.count());
   int column = 0;
-  for (int axis = 0; axis < kPoseSize; ++axis) {
+  for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
     if (!dof.controls(axis)) continue;
     scaled.col(column++) = jacobian.col(axis) / (axis >= 3 ? length_mm : 1.0);
   }
@@ -26,22 +26,24 @@ double dexterity(const JointJacobian& jacobian, Dof dof, double length_mm) {
   return values[values.size() - 1] / values[0];
 }
 
-double joint_speed_per_tool_speed(const Machine& machine, const JointJacobian& jacobian) {
-  const Kinematics& model = machine.kinematics();
+double joint_speed_per_tool_speed(const machine::Machine& machine,
+                                  const kinematics::JointJacobian& jacobian) {
+  const kinematics::Kinematics& model = machine.kinematics();
   double worst = 0.0;
   for (int joint = 0; joint < model.joint_count(); ++joint) {
     if (model.passthrough_axis(joint) >= 0) continue;
     const double per_mm = jacobian.block(joint, 0, 1, 3).norm();
-    const bool rotary = machine.joints()[static_cast<std::size_t>(joint)].kind == JointKind::rotary;
-    worst = std::max(worst, rotary ? radians_to_degrees(per_mm) : per_mm);
+    const bool rotary =
+        machine.joints()[static_cast<std::size_t>(joint)].kind == kinematics::JointKind::rotary;
+    worst = std::max(worst, rotary ? geometry::radians_to_degrees(per_mm) : per_mm);
   }
   return worst;
 }
 
-std::vector<PlaneMap> plane_maps(const Machine& machine, const Workspace& ws, int points) {
+std::vector<PlaneMap> plane_maps(const machine::Machine& machine, const Workspace& ws, int points) {
   std::vector<PlaneMap> maps;
   if (!ws.extent || points < 2) return maps;
-  const Kinematics& model = machine.kinematics();
+  const kinematics::Kinematics& model = machine.kinematics();
   const Eigen::Vector3d lo = ws.extent->min(), hi = ws.extent->max();
   const double longer = std::max(hi.x() - lo.x(), hi.y() - lo.y());
   if (!(longer > 0.0)) return maps;
@@ -53,11 +55,11 @@ std::vector<PlaneMap> plane_maps(const Machine& machine, const Workspace& ws, in
   speed.name = "joint_speed_per_tool_speed";
   const double length = characteristic_length_mm(model);
   const Eigen::Vector3d orientation = 0.5 * (ws.orientation_min_rad + ws.orientation_max_rad);
-  JointVector joints;
-  JointJacobian jacobian;
+  kinematics::JointVector joints;
+  kinematics::JointJacobian jacobian;
   for (int j = 0; j < dex.dims[1]; ++j) {
     for (int i = 0; i < dex.dims[0]; ++i) {
-      Pose pose = machine.home();
+      geometry::Pose pose = machine.home();
       pose.position_mm.x() = lo.x() + i * step;
       pose.position_mm.y() = lo.y() + j * step;
       for (int k = 0; k < 3; ++k) {

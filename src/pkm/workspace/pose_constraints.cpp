@@ -31,9 +31,9 @@ double scaled_radius(const PoseCell& cell, double angle_scale_mm) {
 // [cartesian] min and max on each controlled coordinate: exact over a box.
 class EnvelopeConstraint final : public PoseConstraint {
  public:
-  explicit EnvelopeConstraint(const Machine& machine) {
-    const CartesianLimits& limits = machine.cartesian();
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+  explicit EnvelopeConstraint(const machine::Machine& machine) {
+    const machine::CartesianLimits& limits = machine.cartesian();
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       if (!machine.kinematics().dof().controls(axis)) continue;
       if (std::isfinite(limits.envelope_min[axis]))
         sides_.push_back({axis, -1, limits.envelope_min[axis]});
@@ -50,8 +50,8 @@ class EnvelopeConstraint final : public PoseConstraint {
       margins[k] = {at_centre - cell.half[side.axis], at_centre + cell.half[side.axis]};
     }
   }
-  Status failure(int index) const override {
-    return Status::outside(sides_[static_cast<std::size_t>(index)].axis);
+  kinematics::Status failure(int index) const override {
+    return kinematics::Status::outside(sides_[static_cast<std::size_t>(index)].axis);
   }
   bool covers_orientation() const override { return true; }
   bool closed() const override { return true; }
@@ -71,19 +71,20 @@ class EnvelopeConstraint final : public PoseConstraint {
 // Infinite H (the ball reaches a singularity or leaves the model's reach) bounds nothing.
 class JointLimitConstraint final : public PoseConstraint {
  public:
-  explicit JointLimitConstraint(const Machine& machine)
+  explicit JointLimitConstraint(const machine::Machine& machine)
       : machine_(machine), scale_(bounds::pose_angle_scale_mm(machine.kinematics())) {}
   int count() const override { return 2 * machine_.kinematics().joint_count(); }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     std::fill(margins.begin(), margins.end(), Margin{});
-    const Kinematics& model = machine_.kinematics();
+    const kinematics::Kinematics& model = machine_.kinematics();
     // Pass-through joints are PassThroughConstraint's.
     for (int joint = 0; joint < model.joint_count(); ++joint) {
       if (model.passthrough_axis(joint) < 0) continue;
       margins[static_cast<std::size_t>(2 * joint)] = {1.0, 1.0};
       margins[static_cast<std::size_t>(2 * joint + 1)] = {1.0, 1.0};
     }
-    if (!model.inverse_and_jacobian(Pose::from_vector(cell.centre), joints_, jacobian_).ok()) {
+    if (!model.inverse_and_jacobian(geometry::Pose::from_vector(cell.centre), joints_, jacobian_)
+             .ok()) {
       return;
     }
     const double r = scaled_radius(cell, scale_);
@@ -95,44 +96,44 @@ class JointLimitConstraint final : public PoseConstraint {
       const double curved = 0.5 * curvature->norm[static_cast<std::size_t>(joint)] * r * r;
       if (!std::isfinite(curved) || !std::isfinite(joints_[joint])) continue;
       const double spread = jacobian_.row(joint).cwiseAbs().dot(cell.half) + curved;
-      const JointSpec& spec = machine_.joints()[static_cast<std::size_t>(joint)];
+      const machine::JointSpec& spec = machine_.joints()[static_cast<std::size_t>(joint)];
       const double q = joints_[joint];
       margins[static_cast<std::size_t>(2 * joint)] = {q - spread - spec.min, q + spread - spec.min};
       margins[static_cast<std::size_t>(2 * joint + 1)] = {spec.max - q - spread,
                                                           spec.max - q + spread};
     }
   }
-  Status failure(int index) const override {
-    return Status::failure(StatusCode::joint_limit, index / 2);
+  kinematics::Status failure(int index) const override {
+    return kinematics::Status::failure(kinematics::StatusCode::joint_limit, index / 2);
   }
 
  private:
-  const Machine& machine_;
+  const machine::Machine& machine_;
   double scale_;
-  mutable JointVector joints_;
-  mutable JointJacobian jacobian_;
+  mutable kinematics::JointVector joints_;
+  mutable kinematics::JointJacobian jacobian_;
 };
 
 // The mechanism reaches (a glide's struts their rails): the model's own bounds over the cell
 // (DerivativeBounds::reach_over_cell), in the scaled norm of its derivative bounds.
 class ReachConstraint final : public PoseConstraint {
  public:
-  ReachConstraint(const Kinematics& model, const DerivativeBounds& reach)
+  ReachConstraint(const kinematics::Kinematics& model, const kinematics::DerivativeBounds& reach)
       : reach_(reach), scale_(bounds::pose_angle_scale_mm(model)) {}
   int count() const override { return reach_.reach_count(); }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
-    std::array<std::array<double, 2>, kMaxJoints> values;
+    std::array<std::array<double, 2>, kinematics::kMaxJoints> values;
     const auto n = static_cast<std::size_t>(reach_.reach_count());
     reach_.reach_over_cell(cell.centre, scaled_radius(cell, scale_), position_radius(cell), scale_,
                            std::span(values.data(), n));
     for (std::size_t i = 0; i < n; ++i) margins[i] = {values[i][0], values[i][1]};
   }
-  Status failure(int index) const override {
-    return Status::failure(StatusCode::unreachable, index);
+  kinematics::Status failure(int index) const override {
+    return kinematics::Status::failure(kinematics::StatusCode::unreachable, index);
   }
 
  private:
-  const DerivativeBounds& reach_;
+  const kinematics::DerivativeBounds& reach_;
   double scale_;
 };
 
@@ -142,20 +143,23 @@ class ReachConstraint final : public PoseConstraint {
 // cell's position radius.
 class AssemblyOverCellConstraint final : public PoseConstraint {
  public:
-  AssemblyOverCellConstraint(const AssemblyModeBounds& modes, int home_mode)
+  AssemblyOverCellConstraint(const kinematics::AssemblyModeBounds& modes, int home_mode)
       : modes_(modes), home_mode_(home_mode) {}
   int count() const override { return 1; }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     margins[0] = Margin{};
     const double rho = position_radius(cell);
-    const std::optional<ModeBound> mode = modes_.mode_over_cell(home_mode_, cell.centre, rho);
+    const std::optional<kinematics::ModeBound> mode =
+        modes_.mode_over_cell(home_mode_, cell.centre, rho);
     if (!mode) return;
     margins[0] = {mode->value - mode->rate * rho, mode->value + mode->rate * rho};
   }
-  Status failure(int) const override { return Status::failure(StatusCode::other_assembly); }
+  kinematics::Status failure(int) const override {
+    return kinematics::Status::failure(kinematics::StatusCode::other_assembly);
+  }
 
  private:
-  const AssemblyModeBounds& modes_;
+  const kinematics::AssemblyModeBounds& modes_;
   int home_mode_;
 };
 
@@ -165,9 +169,11 @@ class HexapodAssemblyConstraint final : public PoseConstraint {
  public:
   int count() const override { return 1; }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
-    margins[0] = {HexapodKinematics::tilt_low(cell.centre, cell.half), 1.0};
+    margins[0] = {kinematics::HexapodKinematics::tilt_low(cell.centre, cell.half), 1.0};
   }
-  Status failure(int) const override { return Status::failure(StatusCode::other_assembly); }
+  kinematics::Status failure(int) const override {
+    return kinematics::Status::failure(kinematics::StatusCode::other_assembly);
+  }
   bool covers_orientation() const override { return true; }
 };
 
@@ -176,16 +182,19 @@ class HexapodAssemblyConstraint final : public PoseConstraint {
 // certify uses along a move. Without it the mirror image below the base counts as workspace.
 class HexapodBaseSideConstraint final : public PoseConstraint {
  public:
-  explicit HexapodBaseSideConstraint(const HexapodKinematics& model) : model_(model) {}
+  explicit HexapodBaseSideConstraint(const kinematics::HexapodKinematics& model) : model_(model) {}
   int count() const override { return 1; }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
-    const HexapodKinematics::BaseSideBound side = model_.base_side_bound(cell.centre, cell.half);
+    const kinematics::HexapodKinematics::BaseSideBound side =
+        model_.base_side_bound(cell.centre, cell.half);
     margins[0] = {side.low, side.high};
   }
-  Status failure(int) const override { return Status::failure(StatusCode::other_assembly); }
+  kinematics::Status failure(int) const override {
+    return kinematics::Status::failure(kinematics::StatusCode::other_assembly);
+  }
 
  private:
-  const HexapodKinematics& model_;
+  const kinematics::HexapodKinematics& model_;
 };
 
 // An ideal hanging plotter's cables both pull: the pen strictly between the anchors' verticals
@@ -193,7 +202,7 @@ class HexapodBaseSideConstraint final : public PoseConstraint {
 // linear functions of the pen, bounded exactly over the box.
 class CablePullConstraint final : public PoseConstraint {
  public:
-  explicit CablePullConstraint(const CablePlotterGeometry& geometry)
+  explicit CablePullConstraint(const kinematics::CablePlotterGeometry& geometry)
       : left_(geometry.anchors_mm[0]), right_(geometry.anchors_mm[1]) {}
   int count() const override { return 3; }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
@@ -209,10 +218,10 @@ class CablePullConstraint final : public PoseConstraint {
     margins[2] = {below - spread, below + spread};
   }
   bool covers_orientation() const override { return true; }
-  Status failure(int index) const override {
+  kinematics::Status failure(int index) const override {
     // The cable on the far side would push: inverse names it (right of the right anchor: 0).
-    if (index == 2) return Status::failure(StatusCode::unreachable);
-    return Status::failure(StatusCode::unreachable, index == 0 ? 1 : 0);
+    if (index == 2) return kinematics::Status::failure(kinematics::StatusCode::unreachable);
+    return kinematics::Status::failure(kinematics::StatusCode::unreachable, index == 0 ? 1 : 0);
   }
 
  private:
@@ -228,7 +237,8 @@ class CablePullConstraint final : public PoseConstraint {
 // cable, which decides the cells where the cables come into line.
 class CableBalanceConstraint final : public PoseConstraint {
  public:
-  CableBalanceConstraint(const Machine& machine, const CablePlotterGeometry& geometry, bool joints)
+  CableBalanceConstraint(const machine::Machine& machine,
+                         const kinematics::CablePlotterGeometry& geometry, bool joints)
       : machine_(machine), geometry_(geometry), joints_(joints) {}
   int count() const override { return 13; }
   bool covers_orientation() const override { return true; }
@@ -255,7 +265,7 @@ class CableBalanceConstraint final : public PoseConstraint {
         margins[4 + 2 * c] = from(b.tension_N[c], geometry_.tension_max_N, -1.0);
       }
       if (joints_) {
-        const JointSpec& spec = machine_.joints()[c];
+        const machine::JointSpec& spec = machine_.joints()[c];
         margins[7 + 2 * c] = from(b.joint_mm[c], spec.min, 1.0);
         margins[8 + 2 * c] = from(b.joint_mm[c], spec.max, -1.0);
       }
@@ -267,20 +277,27 @@ class CableBalanceConstraint final : public PoseConstraint {
     for (std::size_t c = 0; c < 2; ++c)
       margins[11 + c] = from(b.inverse_tension_per_N[c], inverse_max, 1.0);
   }
-  Status failure(int index) const override {
+  kinematics::Status failure(int index) const override {
     const bool weighed = geometry_.effector_mass_kg > 0.0;
     if (index < 2) {
-      return Status::failure(weighed ? StatusCode::tension : StatusCode::unreachable, index);
+      return kinematics::Status::failure(
+          weighed ? kinematics::StatusCode::tension : kinematics::StatusCode::unreachable, index);
     }
-    if (index == 2) return Status::failure(StatusCode::unreachable);  // in line, or no balance
-    if (index < 7) return Status::failure(StatusCode::tension, (index - 3) / 2);
-    if (index < 11) return Status::failure(StatusCode::joint_limit, (index - 7) / 2);
-    return Status::failure(weighed ? StatusCode::tension : StatusCode::unreachable, index - 11);
+    if (index == 2)
+      return kinematics::Status::failure(
+          kinematics::StatusCode::unreachable);  // in line, or no balance
+    if (index < 7)
+      return kinematics::Status::failure(kinematics::StatusCode::tension, (index - 3) / 2);
+    if (index < 11)
+      return kinematics::Status::failure(kinematics::StatusCode::joint_limit, (index - 7) / 2);
+    return kinematics::Status::failure(
+        weighed ? kinematics::StatusCode::tension : kinematics::StatusCode::unreachable,
+        index - 11);
   }
 
  private:
-  const Machine& machine_;
-  CablePlotterGeometry geometry_;
+  const machine::Machine& machine_;
+  kinematics::CablePlotterGeometry geometry_;
   bool joints_;
 };
 
@@ -291,7 +308,7 @@ class CableBalanceConstraint final : public PoseConstraint {
 // orientation box needs splitting; the branch and bound searches it.
 class HexapodLegConstraint final : public PoseConstraint {
  public:
-  HexapodLegConstraint(const Machine& machine, const HexapodKinematics& model)
+  HexapodLegConstraint(const machine::Machine& machine, const kinematics::HexapodKinematics& model)
       : machine_(machine), geometry_(model.geometry()) {}
   int count() const override { return 12; }
   bool covers_orientation() const override { return true; }
@@ -324,13 +341,13 @@ class HexapodLegConstraint final : public PoseConstraint {
       margins[2 * i] = {length(-least.hi) - rho - shortest, length(-least.lo) + rho - shortest};
     }
   }
-  Status failure(int index) const override {
-    return Status::failure(StatusCode::joint_limit, index / 2);
+  kinematics::Status failure(int index) const override {
+    return kinematics::Status::failure(kinematics::StatusCode::joint_limit, index / 2);
   }
 
  private:
-  const Machine& machine_;
-  HexapodGeometry geometry_;
+  const machine::Machine& machine_;
+  kinematics::HexapodGeometry geometry_;
 };
 
 // Each hexapod joint end's angle within max_joint_angle for every orientation of the cell:
@@ -340,7 +357,7 @@ class HexapodLegConstraint final : public PoseConstraint {
 // length per mm of the platform joint; the platform end's axis does not depend on position).
 class HexapodJointAngleConstraint final : public PoseConstraint {
  public:
-  explicit HexapodJointAngleConstraint(const HexapodKinematics& model)
+  explicit HexapodJointAngleConstraint(const kinematics::HexapodKinematics& model)
       : geometry_(model.geometry()), limits_(model.leg_limits()) {}
   int count() const override { return 12; }
   bool covers_orientation() const override { return true; }
@@ -348,7 +365,7 @@ class HexapodJointAngleConstraint final : public PoseConstraint {
              std::uint64_t settled) const override {
     const double rho = position_radius(cell);
     const Eigen::Vector3d orientation = cell.centre.tail<3>(), spread = cell.half.tail<3>();
-    const Eigen::Matrix3d middle_rotation = rotation_from_abc(orientation);
+    const Eigen::Matrix3d middle_rotation = geometry::rotation_from_abc(orientation);
     for (std::size_t i = 0; i < 6; ++i) {
       LegJointEnd end;
       end.p = geometry_.platform_from_tip_mm(i);
@@ -370,7 +387,7 @@ class HexapodJointAngleConstraint final : public PoseConstraint {
           continue;
         }
         end.axis = limits_.neutral_axis(static_cast<int>(i), side);
-        end.turns_with_platform = side == kPlatformEnd;
+        end.turns_with_platform = side == kinematics::kPlatformEnd;
         // The largest of -cos: at most -(cos_max + drift) proves the end, past -(cos_max -
         // drift) at one orientation fails every position of the cell.
         const Bracket turn = largest_joint_turn(end, orientation, spread,
@@ -379,38 +396,38 @@ class HexapodJointAngleConstraint final : public PoseConstraint {
       }
     }
   }
-  Status failure(int index) const override {
-    return Status::failure(StatusCode::joint_angle, index / 2);
+  kinematics::Status failure(int index) const override {
+    return kinematics::Status::failure(kinematics::StatusCode::joint_angle, index / 2);
   }
 
  private:
-  HexapodGeometry geometry_;
-  const LegLimits& limits_;
+  kinematics::HexapodGeometry geometry_;
+  const kinematics::LegLimits& limits_;
 };
 
 // Machine::inverse at the cell's centre and every corner: low 1 when all are ok, high -1 when
 // all fail, else [-1, 1]. Not a proof: what it says holds at the samples.
 class SampledConstraint final : public PoseConstraint {
  public:
-  explicit SampledConstraint(const Machine& machine) : machine_(machine) {
-    const Kinematics& model = machine.kinematics();
+  explicit SampledConstraint(const machine::Machine& machine) : machine_(machine) {
+    const kinematics::Kinematics& model = machine.kinematics();
     for (int joint = 0; joint < model.joint_count(); ++joint) {
       const int axis = model.passthrough_axis(joint);
-      const JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
+      const machine::JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
       if (axis >= 0) passthrough_.push_back({axis, {spec.min, spec.max}});
     }
   }
   int count() const override { return 1; }
   bool proven() const override { return false; }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
-    std::array<int, kPoseSize> spread{};
+    std::array<int, geometry::kPoseSize> spread{};
     int n = 0;
-    for (int axis = 0; axis < kPoseSize; ++axis) {
+    for (int axis = 0; axis < geometry::kPoseSize; ++axis) {
       if (cell.half[axis] > 0.0) spread[static_cast<std::size_t>(n++)] = axis;
     }
     bool any_ok = false, any_failed = false;
     for (unsigned corner = 0; corner <= (1u << n); ++corner) {
-      Vector6d pose = cell.centre;
+      geometry::Vector6d pose = cell.centre;
       if (corner < (1u << n)) {
         for (int k = 0; k < n; ++k) {
           const int axis = spread[static_cast<std::size_t>(k)];
@@ -421,7 +438,8 @@ class SampledConstraint final : public PoseConstraint {
       // about the mechanism only.
       for (const auto& [axis, range] : passthrough_)
         pose[axis] = std::clamp(pose[axis], range[0], range[1]);
-      const Status status = machine_.inverse(Pose::from_vector(pose), joints_);
+      const kinematics::Status status =
+          machine_.inverse(geometry::Pose::from_vector(pose), joints_);
       if (status.ok()) {
         any_ok = true;
       } else {
@@ -431,20 +449,20 @@ class SampledConstraint final : public PoseConstraint {
     }
     margins[0] = {any_failed ? -1.0 : 1.0, any_ok ? 1.0 : -1.0};
   }
-  Status failure(int) const override { return last_failure_; }
+  kinematics::Status failure(int) const override { return last_failure_; }
 
  private:
-  const Machine& machine_;
+  const machine::Machine& machine_;
   std::vector<std::pair<int, std::array<double, 2>>> passthrough_;  // axis, joint's [min, max]
-  mutable JointVector joints_;
-  mutable Status last_failure_;
+  mutable kinematics::JointVector joints_;
+  mutable kinematics::Status last_failure_;
 };
 
 // Pass-through joints (a plotter's Z) within their limits: each is its coordinate, exact.
 class PassThroughConstraint final : public PoseConstraint {
  public:
-  explicit PassThroughConstraint(const Machine& machine) {
-    const Kinematics& model = machine.kinematics();
+  explicit PassThroughConstraint(const machine::Machine& machine) {
+    const kinematics::Kinematics& model = machine.kinematics();
     for (int joint = 0; joint < model.joint_count(); ++joint) {
       if (model.passthrough_axis(joint) >= 0) joints_.push_back(joint);
     }
@@ -457,18 +475,19 @@ class PassThroughConstraint final : public PoseConstraint {
     for (std::size_t k = 0; k < joints_.size(); ++k) {
       const int joint = joints_[k];
       const int axis = machine_->kinematics().passthrough_axis(joint);
-      const JointSpec& spec = machine_->joints()[static_cast<std::size_t>(joint)];
+      const machine::JointSpec& spec = machine_->joints()[static_cast<std::size_t>(joint)];
       const double q = cell.centre[axis], spread = cell.half[axis];
       margins[2 * k] = {q - spread - spec.min, q + spread - spec.min};
       margins[2 * k + 1] = {spec.max - q - spread, spec.max - q + spread};
     }
   }
-  Status failure(int index) const override {
-    return Status::failure(StatusCode::joint_limit, joints_[static_cast<std::size_t>(index / 2)]);
+  kinematics::Status failure(int index) const override {
+    return kinematics::Status::failure(kinematics::StatusCode::joint_limit,
+                                       joints_[static_cast<std::size_t>(index / 2)]);
   }
 
  private:
-  const Machine* machine_ = nullptr;
+  const machine::Machine* machine_ = nullptr;
   std::vector<int> joints_;
 };
 
@@ -481,11 +500,11 @@ class MechanismLimitConstraint final : public PoseConstraint {
  public:
   // `with_angles` false: the joint angles are another constraint's (a hexapod's); the leg
   // clearances only.
-  MechanismLimitConstraint(const Machine& machine, bool with_angles)
+  MechanismLimitConstraint(const machine::Machine& machine, bool with_angles)
       : machine_(machine), scale_(bounds::pose_angle_scale_mm(machine.kinematics())) {
     machine.kinematics().mechanism_limits(machine.home(), values_);
     for (std::size_t k = 0; k < values_.size(); ++k) {
-      if (!with_angles && values_[k].code == StatusCode::joint_angle) continue;
+      if (!with_angles && values_[k].code == kinematics::StatusCode::joint_angle) continue;
       used_.push_back(k);
       failures_.push_back({values_[k].code, values_[k].leg});
     }
@@ -494,8 +513,8 @@ class MechanismLimitConstraint final : public PoseConstraint {
   int count() const override { return static_cast<int>(used_.size()); }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     std::fill(margins.begin(), margins.end(), Margin{});
-    const Kinematics& model = machine_.kinematics();
-    const Pose centre = Pose::from_vector(cell.centre);
+    const kinematics::Kinematics& model = machine_.kinematics();
+    const geometry::Pose centre = geometry::Pose::from_vector(cell.centre);
     if (!model.inverse_and_jacobian(centre, joints_, jacobian_).ok()) return;
     values_.clear();
     model.mechanism_limits(centre, values_);
@@ -506,37 +525,37 @@ class MechanismLimitConstraint final : public PoseConstraint {
     if (!curvature) return;
     const bounds::LegMotion motion =
         bounds::leg_motion(model, joints_, jacobian_, *curvature, r, scale_);
-    const std::optional<LegEnds> ends = bounds::legs_at(model, centre, joints_);
+    const std::optional<kinematics::LegEnds> ends = bounds::legs_at(model, centre, joints_);
     for (std::size_t k = 0; k < used_.size(); ++k) {
-      const MechanismLimit& value = values_[used_[k]];
+      const kinematics::MechanismLimit& value = values_[used_[k]];
       const bounds::Reach reach =
           bounds::mechanism_reach(value, motion, r, ends ? &*ends : nullptr);
       // The margin falls as an angle rises or a clearance falls.
-      const bool angle = value.code == StatusCode::joint_angle;
+      const bool angle = value.code == kinematics::StatusCode::joint_angle;
       const double falls = angle ? reach.up : reach.down, rises = angle ? reach.down : reach.up;
       const double margin = value.margin();
       if (std::isfinite(falls) && std::isfinite(rises) && std::isfinite(margin))
         margins[k] = {margin - falls, margin + rises};
     }
   }
-  Status failure(int index) const override {
+  kinematics::Status failure(int index) const override {
     const auto& [code, leg] = failures_[static_cast<std::size_t>(index)];
-    return Status::failure(code, leg);
+    return kinematics::Status::failure(code, leg);
   }
 
  private:
-  const Machine& machine_;
+  const machine::Machine& machine_;
   double scale_;
   std::size_t total_ = 0;          // values mechanism_limits gives
   std::vector<std::size_t> used_;  // the ones bounded here
-  std::vector<std::pair<StatusCode, int>> failures_;
-  mutable std::vector<MechanismLimit> values_;
-  mutable JointVector joints_;
-  mutable JointJacobian jacobian_;
+  std::vector<std::pair<kinematics::StatusCode, int>> failures_;
+  mutable std::vector<kinematics::MechanismLimit> values_;
+  mutable kinematics::JointVector joints_;
+  mutable kinematics::JointJacobian jacobian_;
 };
 
-bool has_hessian_bounds(const Machine& machine) {
-  const Kinematics& model = machine.kinematics();
+bool has_hessian_bounds(const machine::Machine& machine) {
+  const kinematics::Kinematics& model = machine.kinematics();
   return bounds::inverse_hessian_bounds(model, machine.home().as_vector(), 0.0,
                                         bounds::pose_angle_scale_mm(model), bounds::Chord{})
       .has_value();
@@ -544,7 +563,8 @@ bool has_hessian_bounds(const Machine& machine) {
 
 // The hexapod's constraints: its legs and joint angles over every orientation of the cell
 // (this module's OrientationSearch), its assembly mode (tilt, base side), its leg clearances.
-void add_hexapod_constraints(const Machine& machine, const HexapodKinematics& hexapod,
+void add_hexapod_constraints(const machine::Machine& machine,
+                             const kinematics::HexapodKinematics& hexapod,
                              std::vector<std::unique_ptr<PoseConstraint>>& constraints) {
   constraints.push_back(std::make_unique<HexapodLegConstraint>(machine, hexapod));
   constraints.push_back(std::make_unique<HexapodAssemblyConstraint>());
@@ -560,12 +580,12 @@ void add_hexapod_constraints(const Machine& machine, const HexapodKinematics& he
 // What a model whose derivatives are bounded adds beyond its joints: its reach and assembly mode
 // over a cell where it bounds them (a glide), an ideal plotter's pull region, else (a rotary
 // delta) samples, unless the joint limits are all it refuses by (a matrix).
-void add_reach_constraints(const Machine& machine,
+void add_reach_constraints(const machine::Machine& machine,
                            std::vector<std::unique_ptr<PoseConstraint>>& constraints) {
-  const Kinematics& model = machine.kinematics();
-  const DerivativeBounds& derivatives = *model.derivative_bounds();
-  const AssemblyModeBounds* modes = model.assembly_mode_bounds();
-  const HangingCables* cables = model.hanging_cables();
+  const kinematics::Kinematics& model = machine.kinematics();
+  const kinematics::DerivativeBounds& derivatives = *model.derivative_bounds();
+  const kinematics::AssemblyModeBounds* modes = model.assembly_mode_bounds();
+  const kinematics::HangingCables* cables = model.hanging_cables();
   const int home_mode = model.assembly_mode(machine.home());
   if (derivatives.reach_count() > 0) {
     constraints.push_back(std::make_unique<ReachConstraint>(model, derivatives));
@@ -589,14 +609,14 @@ void add_reach_constraints(const Machine& machine,
 
 }  // namespace
 
-std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& machine) {
+std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const machine::Machine& machine) {
   std::vector<std::unique_ptr<PoseConstraint>> constraints;
   if (machine.cartesian().has_envelope()) {
     constraints.push_back(std::make_unique<EnvelopeConstraint>(machine));
   }
-  const Kinematics& model = machine.kinematics();
+  const kinematics::Kinematics& model = machine.kinematics();
   constraints.push_back(std::make_unique<PassThroughConstraint>(machine));
-  if (const HangingCables* cables = model.hanging_cables();
+  if (const kinematics::HangingCables* cables = model.hanging_cables();
       cables != nullptr && !cables->cable_geometry().ideal() &&
       bounds::cable_bound_unavailable(cables->cable_geometry()).empty()) {
     // As built: the joints by their Hessian bound where the cables are rigid (second order),
@@ -614,7 +634,7 @@ std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& 
   // The one cast on a model class here: a hexapod's leg and joint-angle constraints search the
   // cell's orientation box with OrientationSearch (this module's branch and bound, which
   // kinematics/ cannot depend on) over the hexapod's own geometry and leg limits.
-  if (const auto* hexapod = dynamic_cast<const HexapodKinematics*>(&model)) {
+  if (const auto* hexapod = dynamic_cast<const kinematics::HexapodKinematics*>(&model)) {
     add_hexapod_constraints(machine, *hexapod, constraints);
     return constraints;
   }

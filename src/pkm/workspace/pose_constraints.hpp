@@ -18,8 +18,8 @@ namespace pkm::workspace {
 // An axis-aligned box of poses: every coordinate within centre +- half (mm, rad). Coordinates
 // the model does not control have half = 0.
 struct PoseCell {
-  Vector6d centre = Vector6d::Zero();
-  Vector6d half = Vector6d::Zero();
+  geometry::Vector6d centre = geometry::Vector6d::Zero();
+  geometry::Vector6d half = geometry::Vector6d::Zero();
 };
 
 // Bounds on one constraint's value over a cell; infinite where nothing is known.
@@ -37,7 +37,7 @@ class PoseConstraint {
   virtual void bound(const PoseCell& cell, std::span<Margin> margins,
                      std::uint64_t settled = 0) const = 0;
   // What a violated value `index` means, as Machine::inverse would say it.
-  virtual Status failure(int index) const = 0;
+  virtual kinematics::Status failure(int index) const = 0;
   // False where the bound comes from samples of the cell rather than a proof.
   virtual bool proven() const { return true; }
   // True when the bound is as tight over the cell's orientation box as at one orientation (it
@@ -57,6 +57,6 @@ class PoseConstraint {
 // for what is not covered (models without derivative bounds, cable machines that tilt, sag or
 // weigh) a sampled check of Machine::inverse at the cell's centre
 // and corners (proven() false). The machine must outlive the constraints.
-std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const Machine& machine);
+std::vector<std::unique_ptr<PoseConstraint>> machine_constraints(const machine::Machine& machine);
 
 }  // namespace pkm::workspace

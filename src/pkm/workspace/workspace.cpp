@@ -18,7 +18,7 @@
 
 namespace pkm::workspace {
 
-WorkspaceOptions default_options(const Machine& machine) {
+WorkspaceOptions default_options(const machine::Machine& machine) {
   WorkspaceOptions options;
   options.orientation_min_rad = machine.home().orientation_rad;
   options.orientation_max_rad = machine.home().orientation_rad;
@@ -33,12 +33,12 @@ Eigen::AlignedBox3d everywhere() {
 }
 
 // Pass-through joints copy their axis: its range is the joint's.
-void cut_by_passthrough(const Machine& machine, Eigen::AlignedBox3d& box) {
-  const Kinematics& model = machine.kinematics();
+void cut_by_passthrough(const machine::Machine& machine, Eigen::AlignedBox3d& box) {
+  const kinematics::Kinematics& model = machine.kinematics();
   for (int joint = 0; joint < model.joint_count(); ++joint) {
     const int axis = model.passthrough_axis(joint);
     if (axis < 0 || axis >= 3) continue;
-    const JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
+    const machine::JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
     box.min()[axis] = std::max(box.min()[axis], spec.min);
     box.max()[axis] = std::min(box.max()[axis], spec.max);
   }
@@ -46,26 +46,26 @@ void cut_by_passthrough(const Machine& machine, Eigen::AlignedBox3d& box) {
 
 }  // namespace
 
-SearchBox search_box(const Machine& machine, const WorkspaceOptions& /*options*/) {
-  const Kinematics& model = machine.kinematics();
+SearchBox search_box(const machine::Machine& machine, const WorkspaceOptions& /*options*/) {
+  const kinematics::Kinematics& model = machine.kinematics();
   SearchBox result{everywhere(), true};
   Eigen::AlignedBox3d& box = result.box;
   const auto joints = static_cast<Eigen::Index>(machine.joints().size());
-  JointVector joint_min(joints), joint_max(joints);
+  kinematics::JointVector joint_min(joints), joint_max(joints);
   for (Eigen::Index j = 0; j < joints; ++j) {
     joint_min[j] = machine.joints()[static_cast<std::size_t>(j)].min;
     joint_max[j] = machine.joints()[static_cast<std::size_t>(j)].max;
   }
   if (const auto reach = model.tool_position_box(joint_min, joint_max)) box = *reach;
   cut_by_passthrough(machine, box);
-  const CartesianLimits& limits = machine.cartesian();
+  const machine::CartesianLimits& limits = machine.cartesian();
   for (int axis = 0; axis < 3; ++axis) {
     box.min()[axis] = std::max(box.min()[axis], limits.envelope_min[axis]);
     box.max()[axis] = std::min(box.max()[axis], limits.envelope_max[axis]);
   }
   // What is still open: the extent along lines through home, widened by half on each side.
-  const std::vector<AxisExtent> extent = reachable_extent(machine);
-  for (const AxisExtent& line : extent) {
+  const std::vector<machine::AxisExtent> extent = machine::reachable_extent(machine);
+  for (const machine::AxisExtent& line : extent) {
     if (line.axis >= 3) continue;
     if (std::isfinite(box.min()[line.axis]) && std::isfinite(box.max()[line.axis])) continue;
     const double widen = 0.5 * (line.max - line.min) + 1.0;
@@ -91,13 +91,13 @@ enum class Verdict { inside, outside, undecided };
 // One top cell's constraints (with their scratch) and findings; the machine is shared by every
 // thread, constant (a model's per-call scratch is its own per thread: docs/kinematics.md).
 struct Worker {
-  explicit Worker(const Machine& shared) : machine(shared) {
+  explicit Worker(const machine::Machine& shared) : machine(shared) {
     constraints = machine_constraints(machine);
     int total = 0;
     for (const auto& constraint : constraints) total += constraint->count();
     margins.resize(static_cast<std::size_t>(total));
   }
-  const Machine& machine;
+  const machine::Machine& machine;
   std::vector<std::unique_ptr<PoseConstraint>> constraints;
   std::vector<Margin> margins;
   std::vector<CellIndex> inside, boundary;
@@ -124,8 +124,8 @@ struct Grid {
 // cell holding this one; those proven here are added to it. `splits_orientation`, when given, is
 // set if an undecided value's constraint would be tighter over a smaller orientation box (one
 // that does not search the box itself).
-Verdict judge(Worker& worker, const PoseCell& cell, Status& why, std::uint64_t* settled = nullptr,
-              bool* splits_orientation = nullptr) {
+Verdict judge(Worker& worker, const PoseCell& cell, kinematics::Status& why,
+              std::uint64_t* settled = nullptr, bool* splits_orientation = nullptr) {
   ++worker.poses_judged;
   Verdict verdict = Verdict::inside;
   std::size_t offset = 0;
@@ -179,14 +179,14 @@ PoseCell position_cell(const Grid& grid, const CellIndex& cell) {
 struct Settling {
   std::vector<OrientationBox> open;
   bool outside = false;
-  Status why;
+  kinematics::Status why;
 };
 
 void settle(Worker& worker, const Grid& grid, PoseCell cell, OrientationBox box,
             Settling& settling) {
   cell.centre.tail<3>() = box.centre;
   cell.half.tail<3>() = box.half;
-  Status why;
+  kinematics::Status why;
   bool splits_orientation = false;
   const Verdict verdict = judge(worker, cell, why, &box.settled, &splits_orientation);
   if (verdict == Verdict::inside) return;
@@ -220,7 +220,7 @@ void settle(Worker& worker, const Grid& grid, PoseCell cell, OrientationBox box,
   if (box.half.squaredNorm() > 0.0) {
     PoseCell point = cell;
     point.half.tail<3>().setZero();
-    Status middle_why;
+    kinematics::Status middle_why;
     if (judge(worker, point, middle_why) == Verdict::outside) {
       settling.outside = true;
       settling.why = middle_why;
@@ -233,8 +233,9 @@ void settle(Worker& worker, const Grid& grid, PoseCell cell, OrientationBox box,
 
 // The share of the cell's quarter points (each coordinate at +-1/4 of its side: the midpoint
 // rule on its sub-cells) where Machine::inverse accepts the range's middle and corners.
-double reachable_share(const Machine& machine, const PoseCell& cell, const OrientationBox& range) {
-  JointVector joints;
+double reachable_share(const machine::Machine& machine, const PoseCell& cell,
+                       const OrientationBox& range) {
+  kinematics::JointVector joints;
   std::array<int, 3> spread{};
   int n = 0;
   for (int axis = 0; axis < 3; ++axis) {
@@ -242,20 +243,20 @@ double reachable_share(const Machine& machine, const PoseCell& cell, const Orien
   }
   int reached = 0;
   for (unsigned point = 0; point < (1u << n); ++point) {
-    Vector6d position = cell.centre;
+    geometry::Vector6d position = cell.centre;
     for (int k = 0; k < n; ++k) {
       const int axis = spread[static_cast<std::size_t>(k)];
       position[axis] += ((point >> k) & 1u) ? 0.5 * cell.half[axis] : -0.5 * cell.half[axis];
     }
     bool all = true;
     for (unsigned corner = 0; corner <= 8 && all; ++corner) {
-      Vector6d pose = position;
+      geometry::Vector6d pose = position;
       pose.tail<3>() = range.centre;
       if (corner < 8) {
         for (int k = 0; k < 3; ++k)
           pose[3 + k] += ((corner >> k) & 1u) ? range.half[k] : -range.half[k];
       }
-      all = machine.inverse(Pose::from_vector(pose), joints).ok();
+      all = machine.inverse(geometry::Pose::from_vector(pose), joints).ok();
       if (range.half.squaredNorm() == 0.0) break;
     }
     reached += all ? 1 : 0;
@@ -278,7 +279,7 @@ void refine(Worker& worker, const Grid& grid, const CellIndex& cell,
   for (const OrientationBox& box : open) {
     settle(worker, grid, base, box, settling);
     if (settling.outside) {
-      ++worker.limited_by[std::string(status_identifier(settling.why.code))];
+      ++worker.limited_by[std::string(kinematics::status_identifier(settling.why.code))];
       return;
     }
   }
@@ -286,13 +287,14 @@ void refine(Worker& worker, const Grid& grid, const CellIndex& cell,
     // A check on the bounds, not part of the proof: Machine::inverse must accept the cell's
     // middle. A refusal there means it applies a limit no constraint bounds (a new per-pose
     // limit of a model): the cell is not claimed, and the result says so.
-    JointVector joints;
+    kinematics::JointVector joints;
     PoseCell middle = base;
     middle.centre.tail<3>() = grid.range.centre;
-    const Status status = worker.machine.inverse(Pose::from_vector(middle.centre), joints);
+    const kinematics::Status status =
+        worker.machine.inverse(geometry::Pose::from_vector(middle.centre), joints);
     if (!status.ok()) {
       ++worker.unbounded_refusals;
-      ++worker.limited_by[std::string(status_identifier(status.code))];
+      ++worker.limited_by[std::string(kinematics::status_identifier(status.code))];
       if (cell.level > 0) {
         refine_children(worker, grid, cell, open);
       } else {
@@ -305,7 +307,7 @@ void refine(Worker& worker, const Grid& grid, const CellIndex& cell,
   }
   if (cell.level == 0) {
     worker.boundary.push_back(cell);
-    ++worker.limited_by[std::string(status_identifier(settling.why.code))];
+    ++worker.limited_by[std::string(kinematics::status_identifier(settling.why.code))];
     return;
   }
   refine_children(worker, grid, cell, settling.open);
@@ -373,12 +375,12 @@ TopCells top_cells(const Eigen::Vector3d& size_mm, const std::array<bool, 3>& sp
 namespace {
 
 // The orientation range as the one box every top cell starts from: the controlled angles only.
-OrientationBox orientation_range(const Machine& machine, const WorkspaceOptions& options) {
+OrientationBox orientation_range(const machine::Machine& machine, const WorkspaceOptions& options) {
   OrientationBox box;
   for (int k = 0; k < 3; ++k) {
     const double lo = options.orientation_min_rad[k], hi = options.orientation_max_rad[k];
     if (!(lo <= hi) || !std::isfinite(lo) || !std::isfinite(hi)) {
-      throw std::invalid_argument("orientation range " + std::string(kAxisNames[3 + k]) +
+      throw std::invalid_argument("orientation range " + std::string(geometry::kAxisNames[3 + k]) +
                                   " is empty or not finite: give min <= max");
     }
     if (machine.kinematics().dof().controls(3 + k)) {
@@ -392,7 +394,7 @@ OrientationBox orientation_range(const Machine& machine, const WorkspaceOptions&
 }
 
 // Runs the refinement of every top cell on `threads` workers; the findings in top-cell order.
-void refine_all(const Machine& machine, const Grid& grid, const TopCells& top,
+void refine_all(const machine::Machine& machine, const Grid& grid, const TopCells& top,
                 const OrientationBox& range, int threads, int dimensions, Workspace& result) {
   std::vector<std::unique_ptr<Worker>> parts(top.cells.size());
   std::atomic<std::size_t> next{0};
@@ -452,7 +454,7 @@ std::uint64_t cell_hash(const CellIndex& cell) {
 // The measure of the boundary cells' reachable share (reachable_share), from every cell up to
 // kEstimateCells of them, beyond that from a sample of about that many chosen by cell_hash and
 // scaled to all: an estimate either way (docs/workspace.md, "What a cell's answer means").
-double estimate_boundary(const Machine& machine, const Grid& grid,
+double estimate_boundary(const machine::Machine& machine, const Grid& grid,
                          const std::vector<CellIndex>& boundary, int threads, int dimensions) {
   constexpr std::size_t kEstimateCells = 250'000;
   if (boundary.empty()) return 0.0;
@@ -532,9 +534,9 @@ struct Layout {
   bool empty = false;  // the search box is empty
 };
 
-Layout layout(const Machine& machine, const SearchBox& search, const OrientationBox& range,
+Layout layout(const machine::Machine& machine, const SearchBox& search, const OrientationBox& range,
               double step_mm) {
-  const Kinematics& model = machine.kinematics();
+  const kinematics::Kinematics& model = machine.kinematics();
   Layout result;
   Grid& grid = result.grid;
   grid.range = range;
@@ -570,7 +572,7 @@ int estimate_halvings(const Layout& fine) {
   return halvings;
 }
 
-CellEstimate estimate_at(const Machine& machine, const WorkspaceOptions& options,
+CellEstimate estimate_at(const machine::Machine& machine, const WorkspaceOptions& options,
                          const SearchBox& search, const OrientationBox& range, int halvings) {
   Layout coarse = layout(machine, search, range, std::ldexp(options.resolution_mm, halvings));
   std::atomic<std::int64_t> judged{0};
@@ -595,7 +597,7 @@ CellEstimate estimate_at(const Machine& machine, const WorkspaceOptions& options
 // at a time, until a run judges kEstimateRunCells (its boundary resolved well enough to scale)
 // or the next run would be the resolution's own: a coarse run of a machine that fills little of
 // its search box counts too few cells (Hektor at 8 mm, 0.6 times what scaling needs).
-CellEstimate estimate_by_runs(const Machine& machine, const WorkspaceOptions& options,
+CellEstimate estimate_by_runs(const machine::Machine& machine, const WorkspaceOptions& options,
                               const SearchBox& search, const OrientationBox& range, int halvings) {
   CellEstimate estimate = estimate_at(machine, options, search, range, halvings);
   while (halvings > 1 && estimate.run_judged < kEstimateRunCells) {
@@ -606,7 +608,7 @@ CellEstimate estimate_by_runs(const Machine& machine, const WorkspaceOptions& op
 
 // The estimate first, as plan's: a resolution too fine for the machine is refused before its
 // cells fill the memory, naming the finest that fits.
-void refuse_past_cell_bound(const Machine& machine, const WorkspaceOptions& options,
+void refuse_past_cell_bound(const machine::Machine& machine, const WorkspaceOptions& options,
                             const SearchBox& search, const OrientationBox& range,
                             const Layout& fine) {
   const int halvings = estimate_halvings(fine);
@@ -642,14 +644,14 @@ void refuse_past_cell_bound(const Machine& machine, const WorkspaceOptions& opti
 
 }  // namespace
 
-CellEstimate estimate_cells(const Machine& machine, const WorkspaceOptions& options) {
+CellEstimate estimate_cells(const machine::Machine& machine, const WorkspaceOptions& options) {
   const OrientationBox range = orientation_range(machine, options);
   const SearchBox search = search_box(machine, options);
   const Layout fine = layout(machine, search, range, options.resolution_mm);
   return estimate_by_runs(machine, options, search, range, estimate_halvings(fine));
 }
 
-Workspace compute_workspace(const Machine& machine, const WorkspaceOptions& options) {
+Workspace compute_workspace(const machine::Machine& machine, const WorkspaceOptions& options) {
   if (!(options.resolution_mm > 0.0) || !std::isfinite(options.resolution_mm)) {
     throw std::invalid_argument("the resolution must be a positive length (mm)");
   }

@@ -32,7 +32,7 @@ struct WorkspaceOptions {
 };
 
 // The orientation range of `machine` with no --orientation: home's orientation, fixed.
-WorkspaceOptions default_options(const Machine& machine);
+WorkspaceOptions default_options(const machine::Machine& machine);
 
 // A cell of the octree: indices on the finest grid (steps of resolution from the origin) and
 // its level, its side 2^level steps; it covers [i, i + 2^level) on each axis.
@@ -102,7 +102,7 @@ struct CellEstimate {
 };
 constexpr int kEstimateSteps = 64;
 constexpr std::int64_t kEstimateRunCells = 10'000;
-CellEstimate estimate_cells(const Machine& machine, const WorkspaceOptions& options);
+CellEstimate estimate_cells(const machine::Machine& machine, const WorkspaceOptions& options);
 
 // A run whose estimate passes options.max_cells, refused before its cells are allocated.
 class CellBoundError : public std::invalid_argument {
@@ -116,7 +116,7 @@ class CellBoundError : public std::invalid_argument {
 // Throws std::invalid_argument for a resolution that is not positive, an empty orientation
 // range, or one whose cell count passes options.max_cells (CellBoundError where the estimate
 // does, before any work at the resolution).
-Workspace compute_workspace(const Machine& machine, const WorkspaceOptions& options);
+Workspace compute_workspace(const machine::Machine& machine, const WorkspaceOptions& options);
 
 // The box of position coordinates (mm) that holds every pose the machine can reach: from its
 // geometry (joint limits, struts, cables), cut by the work envelope. `proven` false where it
@@ -125,6 +125,6 @@ struct SearchBox {
   Eigen::AlignedBox3d box;
   bool proven = true;
 };
-SearchBox search_box(const Machine& machine, const WorkspaceOptions& options);
+SearchBox search_box(const machine::Machine& machine, const WorkspaceOptions& options);
 
 }  // namespace pkm::workspace

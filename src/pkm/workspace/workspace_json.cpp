@@ -80,8 +80,9 @@ nlohmann::json to_json(const Workspace& ws, std::size_t max_cells_listed) {
   doc["resolution_mm"] = ws.resolution_mm;
   nlohmann::json orientation;
   for (int k = 0; k < 3; ++k) {
-    orientation[std::string(kAxisNames[3 + k])] = {radians_to_degrees(ws.orientation_min_rad[k]),
-                                                   radians_to_degrees(ws.orientation_max_rad[k])};
+    orientation[std::string(geometry::kAxisNames[3 + k])] = {
+        geometry::radians_to_degrees(ws.orientation_min_rad[k]),
+        geometry::radians_to_degrees(ws.orientation_max_rad[k])};
   }
   doc["orientation_deg"] = orientation;
   doc[ws.planar ? "area_mm2" : "volume_mm3"] = {
