@@ -12,8 +12,6 @@
 
 namespace pkm::bounds {
 
-using pkm::kinematics::ModeBound;
-
 // Whether the model's assembly mode, home's being `home_mode` (0: a single mode, nothing to
 // keep), has a bound here (over a ball or over a box).
 bool has_assembly_bound(const kinematics::Kinematics& model, int home_mode);

@@ -14,11 +14,6 @@
 
 namespace pkm::bounds {
 
-// The model's answers (kinematics/derivative_bounds.hpp), by their names here.
-using pkm::kinematics::Chord;
-using pkm::kinematics::HessianBounds;
-using pkm::kinematics::platform_point_gain;
-
 // Upper bounds on the programmed piece [u0, u1] of a move per unit of the piece's own fraction
 // (angles are linear in u, so only the position curves): its length and the acceleration of its
 // position, in the scaled pose norm below over the coordinates `axes`.

@@ -13,9 +13,6 @@
 
 namespace pkm::bounds {
 
-// How each leg's ends move over a ball (kinematics/derivative_bounds.hpp), by its name here.
-using pkm::kinematics::LegMotion;
-
 // Over the ball of `radius` (scaled, angles weighing `scale` mm per rad) about the pose whose
 // joints and Jacobian are given, `hessians` the bounds inverse_hessian_bounds gives on that ball.
 // The model's own answer (DerivativeBounds::leg_motion); empty for models without legs.

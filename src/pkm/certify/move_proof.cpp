@@ -51,7 +51,7 @@ struct Unproven {
 std::optional<Unproven> unproven_leg_limit(const kinematics::Kinematics& model,
                                            const geometry::Vector6d& centre,
                                            const kinematics::JointVector& joints,
-                                           const bounds::LegMotion& motion, double radius) {
+                                           const kinematics::LegMotion& motion, double radius) {
   if (!model.has_mechanism_limits()) return std::nullopt;
   std::vector<kinematics::MechanismLimit> values;
   model.mechanism_limits(geometry::Pose::from_vector(centre), values);
@@ -75,7 +75,7 @@ std::optional<Unproven> unproven_leg_limit(const kinematics::Kinematics& model,
 std::optional<Unproven> unproven_joint(const machine::Machine& machine, const PieceSpan& span,
                                        const kinematics::JointVector& joints,
                                        const kinematics::JointJacobian& jacobian,
-                                       const bounds::HessianBounds& hessians) {
+                                       const kinematics::HessianBounds& hessians) {
   for (int i = 0; i < joints.size(); ++i) {
     const auto k = static_cast<std::size_t>(i);
     const double slope = 0.5 * std::abs(jacobian.row(i).dot(span.chord));
@@ -299,7 +299,7 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
     }
     return outcome;
   }
-  const bounds::LegMotion motion =
+  const kinematics::LegMotion motion =
       bounds::leg_motion(model, joints, jacobian, *hessians, radius, angle_scale_mm_);
   if (const auto leg = unproven_leg_limit(model, centre, joints, motion, radius)) {
     return open(leg->quantity, leg->index, leg->other, leg->reach, leg->limit);

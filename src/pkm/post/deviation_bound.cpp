@@ -6,11 +6,11 @@
 
 namespace pkm::post {
 
-using bounds::HessianBounds;
 using bounds::inverse_hessian_bounds;
 using bounds::piece_motion;
 using bounds::PieceMotion;
 using bounds::pose_angle_scale_mm;
+using kinematics::HessianBounds;
 using motion::Segment;
 
 DeviationBound::DeviationBound(const machine::Machine& machine, double tolerance_mm)

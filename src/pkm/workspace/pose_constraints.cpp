@@ -88,8 +88,8 @@ class JointLimitConstraint final : public PoseConstraint {
       return;
     }
     const double r = scaled_radius(cell, scale_);
-    const std::optional<bounds::HessianBounds> curvature =
-        bounds::inverse_hessian_bounds(model, cell.centre, r, scale_, bounds::Chord{});
+    const std::optional<kinematics::HessianBounds> curvature =
+        bounds::inverse_hessian_bounds(model, cell.centre, r, scale_, kinematics::Chord{});
     if (!curvature) return;
     for (int joint = 0; joint < model.joint_count(); ++joint) {
       if (model.passthrough_axis(joint) >= 0) continue;
@@ -520,10 +520,10 @@ class MechanismLimitConstraint final : public PoseConstraint {
     model.mechanism_limits(centre, values_);
     if (values_.size() != total_) return;
     const double r = scaled_radius(cell, scale_);
-    const std::optional<bounds::HessianBounds> curvature =
-        bounds::inverse_hessian_bounds(model, cell.centre, r, scale_, bounds::Chord{});
+    const std::optional<kinematics::HessianBounds> curvature =
+        bounds::inverse_hessian_bounds(model, cell.centre, r, scale_, kinematics::Chord{});
     if (!curvature) return;
-    const bounds::LegMotion motion =
+    const kinematics::LegMotion motion =
         bounds::leg_motion(model, joints_, jacobian_, *curvature, r, scale_);
     const std::optional<kinematics::LegEnds> ends = bounds::legs_at(model, centre, joints_);
     for (std::size_t k = 0; k < used_.size(); ++k) {
@@ -557,7 +557,7 @@ class MechanismLimitConstraint final : public PoseConstraint {
 bool has_hessian_bounds(const machine::Machine& machine) {
   const kinematics::Kinematics& model = machine.kinematics();
   return bounds::inverse_hessian_bounds(model, machine.home().as_vector(), 0.0,
-                                        bounds::pose_angle_scale_mm(model), bounds::Chord{})
+                                        bounds::pose_angle_scale_mm(model), kinematics::Chord{})
       .has_value();
 }
 
