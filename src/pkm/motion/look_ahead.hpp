@@ -35,6 +35,7 @@ class LookAhead {
   void release(bool all, double& entry_speed, const Run& run) {
     const std::size_t n = pieces_.size();
     if (n == 0) return;
+    if (all) pieces_.back().stop_after = true;  // a dwell, a pen change or the end follows
     plan_speeds(entry_speed);
     const std::size_t count = all ? n : n - std::min(n, kKeep);
     for (std::size_t i = 0; i < count; ++i) {

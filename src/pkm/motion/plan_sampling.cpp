@@ -71,6 +71,10 @@ void Sampler::run_piece(const Piece& piece) {
       peak = std::max(peak, piece.joint_slope[i] * profile.peak_speed);
     }
   }
+  if (options_.on_piece) {
+    options_.on_piece(PlannedPiece{segment, piece.length, piece.stop_after, piece.entry_speed,
+                                   piece.exit_speed, profile.duration_s});
+  }
   const double start = time_;
   sample_until(start + profile.duration_s, segment.line,
                [&](double t) { return segment.at(profile.distance(t - start) / piece.length); });

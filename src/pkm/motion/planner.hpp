@@ -19,6 +19,7 @@
 
 #include "pkm/gcode/interpreter.hpp"
 #include "pkm/machine/machine.hpp"
+#include "pkm/motion/segment.hpp"
 
 namespace pkm::motion {
 
@@ -37,6 +38,17 @@ class SampleSink {
   virtual void write(const Sample& sample) = 0;
 };
 
+// A piece of the path as the planner sampled it: a move after look-ahead's joins (a G64 blend arc
+// between two lines, the lines shortened by it), whether the machine stops after it, and the
+// timing the plan gave it. For a reference planner over the same path (tests/, bench/).
+struct PlannedPiece {
+  Segment segment;
+  double length_mm = 0.0;  // as Segment::length()
+  bool stop_after = false;
+  double entry_speed_mm_per_s = 0.0, exit_speed_mm_per_s = 0.0;
+  double duration_s = 0.0;
+};
+
 struct PlanOptions {
   double period_s = 0.001;              // LinuxCNC's servo period
   std::optional<geometry::Pose> start;  // default: the machine's home
@@ -51,6 +63,8 @@ struct PlanOptions {
   double jerk_mm_per_s3 = 0.0;
   // Called with the G-code line being planned, once per change of line: for progress.
   std::function<void(int line)> on_line;
+  // Called with every piece of the path in order as it is planned (a reference's input).
+  std::function<void(const PlannedPiece& piece)> on_piece;
   // Plan every move but make no samples: the report's duration, sample count, joint ranges and
   // feed limits without the inverse kinematics of every sample (which is most of the work) and
   // without writing. Ranges come from the joints along each move (every 0.5 mm) and peak
