@@ -5,6 +5,7 @@
 //   bench_plan_optimality [grid_step_mm [runs]]   (default 0.05 mm; with `runs`, each job's runs
 //   from rest to rest where the planner is furthest below and above the reference)
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -63,6 +64,26 @@ double sampled_plan_cpu_s(const pkm::machine::Machine& machine, const fs::path& 
   const std::clock_t start = std::clock();
   pkm::motion::plan_program(machine, program, {}, options, discard);
   return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+}
+
+// The planner times each piece over its length_mm; the reference over its Segment::length().
+void report_length_mismatch(const pkm::test::PlannedJob& planned) {
+  double worst = 0.0;
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < planned.pieces.size(); ++k) {
+    const pkm::motion::PlannedPiece& piece = planned.pieces[k];
+    const double mismatch =
+        std::abs(piece.length_mm - piece.segment.length()) / std::max(piece.length_mm, 1e-12);
+    if (mismatch > worst) {
+      worst = mismatch;
+      at = k;
+    }
+  }
+  if (worst > 1e-9) {
+    std::printf("    piece %zu (line %d): length_mm %.9g but Segment::length() %.9g\n", at,
+                planned.pieces[at].segment.line, planned.pieces[at].length_mm,
+                planned.pieces[at].segment.length());
+  }
 }
 
 // A stretch of pieces from rest to rest: both timings.
@@ -139,6 +160,7 @@ int main(int argc, char** argv) {
                   planned.motion_time_s, reference.duration_s, ratio, planned.cpu_s, sampled_cpu,
                   reference_cpu);
       if (runs) print_runs(planned, reference);
+      report_length_mismatch(planned);
     } catch (const std::exception& error) {
       std::printf("%-22s %-18s failed: %s\n", job.name, job.machine, error.what());
       ++failures;

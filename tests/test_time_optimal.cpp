@@ -169,6 +169,25 @@ home = [1000.0, -1000.0]
   EXPECT_NEAR(reference_time(machine, job), expected, 2e-5);
 }
 
+// The first `lines` lines of a file, ended by M2.
+std::string excerpt(const std::filesystem::path& path, int lines) {
+  std::ifstream in(path);
+  std::string text, line;
+  for (int k = 0; k < lines && std::getline(in, line); ++k) text += line + "\n";
+  return text + "M2\n";
+}
+
+// The paper's sphere (examples/jobs/sphere.ngc): arcs whose tool axis turns.
+std::string sphere_excerpt(int lines) {
+  return excerpt(std::filesystem::path(PKM_SOURCE_DIR) / "examples" / "jobs" / "sphere.ngc", lines);
+}
+
+// PartKam's Dragon.nc of the real corpus: inch arcs of a few mm radius, joined tangent or at
+// corners.
+std::string dragon_excerpt(int lines) {
+  return excerpt(real_corpus() / "cam" / "maslow" / "Dragon.nc", lines);
+}
+
 // A real-shaped job with arcs, G64 blends and tangent joins on the wall plotter: halving the grid
 // changes the optimum by less than 1e-4 of it (the grid's error is O(ds)).
 const char* kPlotterJob = R"(G21 G90 G64 P0.2
@@ -199,6 +218,98 @@ TEST(TimeOptimalReference, ConvergedByHalvingTheGrid) {
   const double finer = reference_time(machine, job, 0.025);
   EXPECT_NEAR(fine / finer, 1.0, 1e-4) << coarse << " " << fine << " " << finer;
   EXPECT_LE(std::abs(fine - finer), std::abs(coarse - fine) + 1e-9);
+}
+
+// The reference's own speed profile (its passes' steps, each at one acceleration) sampled every
+// 0.1 ms, the joints by inverse kinematics of Segment::at: the largest share of each limit the
+// samples' finite differences reach, joints' velocities and accelerations and the tool tip's
+// acceleration. Only differences within one piece: at a junction the reference lets each joint
+// take its jump of rate within a servo period on top of its acceleration, as a lower bound must.
+struct LimitShares {
+  double joint_velocity = 0.0, joint_acceleration = 0.0, tool_acceleration = 0.0;
+};
+
+LimitShares profile_limit_shares(const machine::Machine& machine, const PlannedJob& job,
+                                 const ReferenceResult& reference) {
+  const double dt = 1e-4;
+  LimitShares shares;
+  std::size_t piece = job.pieces.size();
+  int history = 0;
+  kinematics::JointVector q, q1, q2;
+  Eigen::Vector3d p = Eigen::Vector3d::Zero(), p1 = p, p2 = p;
+  double start = 0.0;  // the step's start time
+  long k = 0;          // the next sample, at k dt
+  for (const ProfileStep& step : reference.profile) {
+    const double u =
+        (std::pow(step.v1_mm_per_s, 2) - std::pow(step.v0_mm_per_s, 2)) / (2.0 * step.step_mm);
+    const double duration = 2.0 * step.step_mm / (step.v0_mm_per_s + step.v1_mm_per_s);
+    const motion::Segment& segment = job.pieces[step.piece].segment;
+    if (step.piece != piece) history = 0;
+    piece = step.piece;
+    for (; static_cast<double>(k) * dt < start + duration; ++k) {
+      const double tau = static_cast<double>(k) * dt - start;
+      const double s = step.s_mm + step.v0_mm_per_s * tau + 0.5 * u * tau * tau;
+      const geometry::Vector6d pose = segment.at(s / segment.length());
+      EXPECT_TRUE(machine.inverse(geometry::Pose::from_vector(pose), q).ok());
+      p = pose.head<3>();
+      if (segment.z_free) p.z() = 0.0;
+      if (history >= 1) {
+        for (int j = 0; j < q.size(); ++j) {
+          const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(j)];
+          shares.joint_velocity =
+              std::max(shares.joint_velocity, std::abs(q[j] - q1[j]) / dt / joint.max_velocity);
+          if (history >= 2) {
+            shares.joint_acceleration =
+                std::max(shares.joint_acceleration,
+                         std::abs(q[j] - 2.0 * q1[j] + q2[j]) / (dt * dt) / joint.max_acceleration);
+          }
+        }
+      }
+      if (history >= 2) {
+        shares.tool_acceleration =
+            std::max(shares.tool_acceleration, (p - 2.0 * p1 + p2).norm() / (dt * dt) /
+                                                   machine.cartesian().max_acceleration_mm_per_s2);
+      }
+      q2 = q1;
+      q1 = q;
+      p2 = p1;
+      p1 = p;
+      ++history;
+    }
+    start += duration;
+  }
+  return shares;
+}
+
+// The profile keeps every limit within 1 % (the steps' acceleration is chosen at their start
+// point; within a step the path's curvature and the joints' rates move on).
+void expect_profile_within_limits(const machine::Machine& machine, const PlannedJob& job,
+                                  double grid_mm = kGridMm) {
+  const ReferenceResult reference = solve_reference(machine, job.pieces, kPeriodS, grid_mm, true);
+  const LimitShares shares = profile_limit_shares(machine, job, reference);
+  EXPECT_LE(shares.joint_velocity, 1.01);
+  EXPECT_LE(shares.joint_acceleration, 1.01);
+  EXPECT_LE(shares.tool_acceleration, 1.01);
+  std::cout << "shares of the limits: joint velocity " << shares.joint_velocity
+            << ", joint acceleration " << shares.joint_acceleration << ", tool tip acceleration "
+            << shares.tool_acceleration << "\n";
+}
+
+TEST(TimeOptimalReference, OwnProfileKeepsTheLimitsOnTheWallPlotter) {
+  const machine::Machine machine = load_example("wall-plotter.toml");
+  expect_profile_within_limits(machine, plan_text(machine, kPlotterJob, at_origin(700.0, -900.0)));
+}
+
+TEST(TimeOptimalReference, OwnProfileKeepsTheLimitsOnTheHexapodSphere) {
+  const machine::Machine machine = load_example("hexapod-bit.toml");
+  expect_profile_within_limits(machine, plan_text(machine, sphere_excerpt(40)));
+}
+
+TEST(TimeOptimalReference, OwnProfileKeepsTheLimitsOnTheMaslowDragon) {
+  PKM_SKIP_WITHOUT_REAL_CORPUS();
+  const machine::Machine machine = load_example("maslow.toml");
+  expect_profile_within_limits(machine,
+                               plan_text(machine, dragon_excerpt(150), at_origin(1489.2, -1072.6)));
 }
 
 // The planner against the reference: >= 1 - 1e-6 (faster than the optimum, one of the two breaks
@@ -241,10 +352,7 @@ TEST(PlannerAgainstReference, WallPlotterBlendsAndArcsWithinTwoPercent) {
 // jump.
 TEST(PlannerAgainstReference, HexapodSphereFirstRingsWithinTwoPercent) {
   const machine::Machine machine = load_example("hexapod-bit.toml");
-  std::ifstream in(std::filesystem::path(PKM_SOURCE_DIR) / "examples" / "jobs" / "sphere.ngc");
-  std::string text, line;
-  for (int k = 0; k < 40 && std::getline(in, line); ++k) text += line + "\n";
-  expect_near_optimal(machine, plan_text(machine, text + "M2\n"));
+  expect_near_optimal(machine, plan_text(machine, sphere_excerpt(40)));
 }
 
 // A tension-limited machine (tests/data/maslow-tension.toml: 9 kg on cables, 5..300 N, its joints
@@ -258,15 +366,11 @@ TEST(PlannerAgainstReference, TensionLimitedMovesWithinTwoPercent) {
   expect_near_optimal(machine, plan_text(machine, program, at_origin(1489.2, -1072.6)));
 }
 
-// The first 150 lines of a real Maslow job (PartKam's Dragon.nc: inch arcs of a few mm radius,
-// joined tangent or at corners) on the Maslow of the examples.
+// The first 150 lines of a real Maslow job (Dragon.nc) on the Maslow of the examples.
 TEST(PlannerAgainstReference, MaslowDragonExcerptWithinTwoPercent) {
   PKM_SKIP_WITHOUT_REAL_CORPUS();
-  std::ifstream in(real_corpus() / "cam" / "maslow" / "Dragon.nc");
-  std::string text, line;
-  for (int k = 0; k < 150 && std::getline(in, line); ++k) text += line + "\n";
   const machine::Machine machine = load_example("maslow.toml");
-  expect_near_optimal(machine, plan_text(machine, text + "M2\n", at_origin(1489.2, -1072.6)));
+  expect_near_optimal(machine, plan_text(machine, dragon_excerpt(150), at_origin(1489.2, -1072.6)));
 }
 
 }  // namespace
