@@ -6,9 +6,12 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <numbers>
 #include <string>
 
+#include "pkm/kinematics/cable_statics.hpp"
+#include "pkm/kinematics/hanging_cables.hpp"
 #include "real_corpus.hpp"
 #include "test_support.hpp"
 #include "time_optimal_reference.hpp"
@@ -188,6 +191,16 @@ std::string dragon_excerpt(int lines) {
   return excerpt(real_corpus() / "cam" / "maslow" / "Dragon.nc", lines);
 }
 
+// tests/data/maslow-tension.toml: 9 kg on cables, 5..300 N, its joints and tool tip far faster
+// than the tensions allow. The job: sideways lines near the top, where a cable nears slack, and a
+// blended corner.
+machine::Machine tension_machine() {
+  return machine::load_machine(std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "data" /
+                               "maslow-tension.toml");
+}
+const char* kTensionJob =
+    "G21 G90 G64\nG0 X-100 Y350\nG1 X100 F30000\nG1 X100 Y200\nG1 X-100 Y150\nM2\n";
+
 // A real-shaped job with arcs, G64 blends and tangent joins on the wall plotter: halving the grid
 // changes the optimum by less than 1e-4 of it (the grid's error is O(ds)).
 const char* kPlotterJob = R"(G21 G90 G64 P0.2
@@ -227,7 +240,25 @@ TEST(TimeOptimalReference, ConvergedByHalvingTheGrid) {
 // take its jump of rate within a servo period on top of its acceleration, as a lower bound must.
 struct LimitShares {
   double joint_velocity = 0.0, joint_acceleration = 0.0, tool_acceleration = 0.0;
+  // On a cable machine whose effector has a mass: the furthest the sampled tensions go past
+  // tension_min_N or tension_max_N (N; negative: within them by that much).
+  double tension_excess_N = -std::numeric_limits<double>::infinity();
 };
+
+// The tensions' furthest excess (N) with the effector at `pose` accelerating at `acceleration`.
+double tension_excess(const kinematics::HangingCables& cables, const geometry::Vector6d& pose,
+                      const Eigen::Vector3d& acceleration) {
+  kinematics::CableStatics out;
+  if (!cables.statics(geometry::Pose::from_vector(pose), acceleration.head<2>(), out).ok()) {
+    return std::numeric_limits<double>::infinity();
+  }
+  double excess = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 2; ++k) {
+    excess = std::max({excess, cables.tension_min_N() - out.lowest_N[k],
+                       out.highest_N[k] - cables.tension_max_N()});
+  }
+  return excess;
+}
 
 LimitShares profile_limit_shares(const machine::Machine& machine, const PlannedJob& job,
                                  const ReferenceResult& reference) {
@@ -235,6 +266,9 @@ LimitShares profile_limit_shares(const machine::Machine& machine, const PlannedJ
   LimitShares shares;
   std::size_t piece = job.pieces.size();
   int history = 0;
+  const kinematics::HangingCables* cables = machine.kinematics().hanging_cables();
+  if (cables && !(cables->effector_mass_kg() > 0.0)) cables = nullptr;
+  geometry::Vector6d pose_before = geometry::Vector6d::Zero();
   kinematics::JointVector q, q1, q2;
   Eigen::Vector3d p = Eigen::Vector3d::Zero(), p1 = p, p2 = p;
   double start = 0.0;  // the step's start time
@@ -266,14 +300,20 @@ LimitShares profile_limit_shares(const machine::Machine& machine, const PlannedJ
         }
       }
       if (history >= 2) {
+        const Eigen::Vector3d acceleration = (p - 2.0 * p1 + p2) / (dt * dt);
         shares.tool_acceleration =
-            std::max(shares.tool_acceleration, (p - 2.0 * p1 + p2).norm() / (dt * dt) /
-                                                   machine.cartesian().max_acceleration_mm_per_s2);
+            std::max(shares.tool_acceleration,
+                     acceleration.norm() / machine.cartesian().max_acceleration_mm_per_s2);
+        if (cables) {  // the acceleration of the sample before, at its pose
+          shares.tension_excess_N =
+              std::max(shares.tension_excess_N, tension_excess(*cables, pose_before, acceleration));
+        }
       }
       q2 = q1;
       q1 = q;
       p2 = p1;
       p1 = p;
+      pose_before = pose;
       ++history;
     }
     start += duration;
@@ -284,20 +324,28 @@ LimitShares profile_limit_shares(const machine::Machine& machine, const PlannedJ
 // The profile keeps every limit within 1 % (the steps' acceleration is chosen at their start
 // point; within a step the path's curvature and the joints' rates move on).
 void expect_profile_within_limits(const machine::Machine& machine, const PlannedJob& job,
-                                  double grid_mm = kGridMm) {
-  const ReferenceResult reference = solve_reference(machine, job.pieces, kPeriodS, grid_mm, true);
+                                  double tension_tolerance_N = 0.0) {
+  const ReferenceResult reference = solve_reference(machine, job.pieces, kPeriodS, kGridMm, true);
   const LimitShares shares = profile_limit_shares(machine, job, reference);
   EXPECT_LE(shares.joint_velocity, 1.01);
   EXPECT_LE(shares.joint_acceleration, 1.01);
   EXPECT_LE(shares.tool_acceleration, 1.01);
+  EXPECT_LE(shares.tension_excess_N, tension_tolerance_N);
   std::cout << "shares of the limits: joint velocity " << shares.joint_velocity
             << ", joint acceleration " << shares.joint_acceleration << ", tool tip acceleration "
-            << shares.tool_acceleration << "\n";
+            << shares.tool_acceleration << ", tensions past their limits by "
+            << shares.tension_excess_N << " N\n";
 }
 
 TEST(TimeOptimalReference, OwnProfileKeepsTheLimitsOnTheWallPlotter) {
   const machine::Machine machine = load_example("wall-plotter.toml");
   expect_profile_within_limits(machine, plan_text(machine, kPlotterJob, at_origin(700.0, -900.0)));
+}
+
+TEST(TimeOptimalReference, OwnProfileKeepsTheLimitsOnTheTensionMachine) {
+  const machine::Machine machine = tension_machine();
+  expect_profile_within_limits(machine, plan_text(machine, kTensionJob, at_origin(1489.2, -1072.6)),
+                               0.5);
 }
 
 TEST(TimeOptimalReference, OwnProfileKeepsTheLimitsOnTheHexapodSphere) {
@@ -355,15 +403,10 @@ TEST(PlannerAgainstReference, HexapodSphereFirstRingsWithinTwoPercent) {
   expect_near_optimal(machine, plan_text(machine, sphere_excerpt(40)));
 }
 
-// A tension-limited machine (tests/data/maslow-tension.toml: 9 kg on cables, 5..300 N, its joints
-// and tool tip far faster than the tensions allow): sideways lines near the top, where a cable
-// nears slack, and a blended corner.
+// The tension-limited machine and job (tension_machine(), kTensionJob).
 TEST(PlannerAgainstReference, TensionLimitedMovesWithinTwoPercent) {
-  const machine::Machine machine = machine::load_machine(std::filesystem::path(PKM_SOURCE_DIR) /
-                                                         "tests" / "data" / "maslow-tension.toml");
-  const std::string program =
-      "G21 G90 G64\nG0 X-300 Y300\nG1 X300 F30000\nG1 X300 Y-200\nG1 X-300 Y-300\nM2\n";
-  expect_near_optimal(machine, plan_text(machine, program, at_origin(1489.2, -1072.6)));
+  const machine::Machine machine = tension_machine();
+  expect_near_optimal(machine, plan_text(machine, kTensionJob, at_origin(1489.2, -1072.6)));
 }
 
 // The first 150 lines of a real Maslow job (Dragon.nc) on the Maslow of the examples.

@@ -39,7 +39,7 @@ constexpr double kMmPerRad = 100.0;
 constexpr double kPathStepPerRadius = 1e-3;
 constexpr double kLineStepMm = 0.01;  // a line's angles may follow a great circle
 // Bisections stop at this share of the value (or after kBisections halvings).
-constexpr double kBisectionTolerance = 1e-12;
+constexpr double kBisectionTolerance = 1e-10;
 constexpr int kBisections = 80;
 // Where the tensions are searched for a feasible acceleration when the bracket's middle fails.
 constexpr int kTensionSeeds = 16;
