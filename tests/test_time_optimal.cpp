@@ -90,6 +90,29 @@ TEST(TimeOptimalReference, JointLimitedDiagonal) {
   EXPECT_NEAR(reference_time(machine, job), 10.0 / 3.0 + 0.06, 1e-9);
 }
 
+// Two lines 0.5 mrad apart (below G64's tangent angle: passed without stopping). Joint y's rate
+// along the path jumps there from 0 to d = 0.05 / L2, and within one 1 ms period its velocity
+// changes by v d: with its max_acceleration of 10 mm/s^2 the junction takes at most
+// v = 10 * 0.001 / d = 0.2 L2 = 20.0000025 mm/s. Each line: accelerate or brake between rest and
+// 100 mm/s at A = 1000 mm/s^2 (0.1 s over 5 mm), brake to or accelerate from v at the junction
+// ((100 - v) / A s over (100^2 - v^2) / 2A mm), cruise the rest at 100 mm/s. Joint y's limit
+// inside the second line (|d u| <= 10, u <= 20,000 mm/s^2) does not bind.
+TEST(TimeOptimalReference, JunctionWhereAJointsRateJumps) {
+  const machine::Machine machine =
+      cartesian_machine(kFastJoint, "max_velocity = 1000.0\nmax_acceleration = 10.0\n");
+  const PlannedJob job = plan_text(machine, "G1 X100 F6000\nG1 X200 Y0.05\nM2\n");
+  ASSERT_EQ(job.pieces.size(), 2u);
+  ASSERT_FALSE(job.pieces[0].stop_after);
+  const double second = std::hypot(100.0, 0.05), v = 0.2 * second, a = 1000.0, feed = 100.0;
+  const auto line_time = [&](double length) {
+    const double ramps = feed * feed / (2.0 * a) + (feed * feed - v * v) / (2.0 * a);
+    return feed / a + (feed - v) / a + (length - ramps) / feed;
+  };
+  const ReferenceResult result = solve_reference(machine, job.pieces, kPeriodS, kGridMm);
+  EXPECT_NEAR(result.piece_durations_s[0], line_time(100.0), 1e-9);
+  EXPECT_NEAR(result.piece_durations_s[1], line_time(second), 1e-9);
+}
+
 // A full circle of r = 4 mm from rest to rest, the feed (100 mm/s) above sqrt(A r) = 63.2 mm/s.
 // With the budget u^2 + (x / r)^2 <= A^2 shared, x = A r sin(2 s / r) while accelerating, which
 // reaches cruise at s = pi r / 4 after (1/2) sqrt(r / A) I, I = int_0^(pi/2) sin^(-1/2) =
@@ -384,6 +407,12 @@ TEST(PlannerAgainstReference, JointLimitedDiagonalWithinTwoPercent) {
   const machine::Machine machine =
       cartesian_machine("max_velocity = 30.0\nmax_acceleration = 500.0\n", kFastJoint);
   expect_near_optimal(machine, plan_text(machine, "G1 X100 Y100 F6000\nM2\n"));
+}
+
+TEST(PlannerAgainstReference, JunctionWhereAJointsRateJumpsWithinTwoPercent) {
+  const machine::Machine machine =
+      cartesian_machine(kFastJoint, "max_velocity = 1000.0\nmax_acceleration = 10.0\n");
+  expect_near_optimal(machine, plan_text(machine, "G1 X100 F6000\nG1 X200 Y0.05\nM2\n"));
 }
 
 TEST(PlannerAgainstReference, CurvatureLimitedCircleWithinTwoPercent) {
