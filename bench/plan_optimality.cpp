@@ -2,8 +2,9 @@
 // dwells or pen delays) against the time-optimal reference over the same path
 // (tests/time_optimal_reference.hpp), their ratio, the planner's CPU time and the reference's;
 // then the median ratio. A plain program: the reference takes seconds, not a benchmark loop.
-//   bench_plan_optimality [grid_step_mm [runs]]   (default 0.05 mm; with `runs`, each job's runs
-//   from rest to rest where the planner is furthest below and above the reference)
+//   bench_plan_optimality [grid_step_mm [runs|more|runs,more]]   (default 0.05 mm; with `runs`,
+//   each job's runs from rest to rest where the planner is furthest below and above the reference;
+//   with `more`, the real-job table's other jobs too)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -52,6 +53,41 @@ std::vector<Job> issue_jobs() {
        "triaglide.toml",
        {-59.0, -54.0, 552.0}},
       {"Dragon", real("cam/maslow/Dragon.nc"), "maslow.toml", {1489.2, -1072.6, 0.0}},
+  };
+}
+
+// With `more`: the real-job table's other jobs (tests/test_real_jobs.cpp), on the machines and at
+// the origins it runs them.
+std::vector<Job> more_jobs() {
+  const fs::path corpus = kSource.parent_path() / "shared" / "gcode" / "real";
+  const auto real = [&](const std::string& relative) {
+    return fs::exists(corpus / relative) ? pkm::test::readable_real_job(corpus, relative)
+                                         : corpus / relative;
+  };
+  return {
+      {"smooth_curves",
+       real("plotter/svg2gcode/smooth_curves_circular_interpolation.gcode"),
+       "linuxcnc-polargraph-2366.toml",
+       {1000.0, -1200.0, 0.0}},
+      {"mandala",
+       real("plotter/inkscape/mandala_cnc_0001.gcode"),
+       "linuxcnc-polargraph-2366.toml",
+       {1130.0, -1200.0, 0.0}},
+      {"btc_laser_qr",
+       real("plotter/inkscape/btc_laser_qr_unbt_0001.gcode"),
+       "linuxcnc-polargraph-2366.toml",
+       {1130.0, -1200.0, 0.0}},
+      {"bcnc-sample", real("cam/bcnc/sample.gcode"), "linuxcnc-ldelta.toml", {-15.0, -12.0, 0.0}},
+      {"jsdc", real("cam/cncjs/jsdc.gcode"), "linuxcnc-ldelta.toml", {-50.0, 30.0, 0.0}},
+      {"milldrill",
+       real("cam/pcb2gcode/milldrill.ngc"),
+       "linuxcnc-hexapod-sim.toml",
+       {-65.0, 50.0, 480.0}},
+      {"tort", real("linuxcnc/tort.ngc"), "matrix-mill.toml", {300.0, 200.0, -150.0}},
+      {"boat-xyzac",
+       real("linuxcnc-5axis/boat-xyzac.ngc"),
+       "linuxcnc-xyzac-trt.toml",
+       {0.0, 0.0, 0.0}},
   };
 }
 
@@ -131,7 +167,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_plan_optimality: the grid step (mm) must be > 0\n");
     return 2;
   }
-  const bool runs = argc > 2 && std::string(argv[2]) == "runs";
+  const std::string mode = argc > 2 ? argv[2] : "";
+  const bool runs = mode.find("runs") != std::string::npos;
+  std::vector<Job> jobs = issue_jobs();
+  if (mode.find("more") != std::string::npos) {
+    const std::vector<Job> more = more_jobs();
+    jobs.insert(jobs.end(), more.begin(), more.end());
+  }
   std::printf("grid %.4g mm, servo period 1 ms\n", grid_mm);
   // report_s: the plan's whole duration (with dwells and pen delays); planner_s: its motion.
   // plan_cpu_s: the estimate's CPU time; sampled_cpu_s: the plan with every sample (discarded).
@@ -140,7 +182,7 @@ int main(int argc, char** argv) {
               "ref_cpu_s");
   std::vector<double> ratios;
   int failures = 0;
-  for (const Job& job : issue_jobs()) {
+  for (const Job& job : jobs) {
     try {
       if (!fs::exists(job.program)) throw std::runtime_error("no " + job.program.string());
       const pkm::machine::Machine machine =
