@@ -4,6 +4,7 @@
 #include <cmath>
 #include <ctime>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -25,7 +26,7 @@ constexpr int kMinIntervals = 20;
 // chosen at its start, and the joints' and the tool tip's share of it move on with the turn (a
 // 90 deg corner blend of 0.05 mm in 20 steps, 4.5 deg each, took its Z joint 9 % past its limit
 // within a step).
-constexpr double kMaxTurnPerStep = 0.25 * 3.14159265358979323846 / 180.0;
+constexpr double kMaxTurnPerStep = 0.25 * std::numbers::pi / 180.0;
 // The joints' derivatives along the path: inverse kinematics at poses this far (mm; an angle
 // counts kMmPerRad mm per rad) either side of the point, along the path's tangent and along its
 // curvature vector. A pose at 1,000 mm carries 1e-13 mm of rounding: a second difference over
@@ -35,7 +36,7 @@ constexpr double kJointStepMm = 0.01;
 constexpr double kMmPerRad = 100.0;
 // The path's own differences (its tangent and curvature vector, from Segment::at) are taken on a
 // copy moved next to the origin, over a thousandth of the radius (at most half the piece): the
-// truncation (h/r)^2/12 and the rounding eps (r/h)^2 are both below 1e-8 of the curvature.
+// truncation (h/r)^2/12 and the rounding eps (r/h)^2 are both below 1e-7 of the curvature.
 constexpr double kPathStepPerRadius = 1e-3;
 constexpr double kLineStepMm = 0.01;  // a line's angles may follow a great circle
 // Bisections stop at this share of the value (or after kBisections halvings).
@@ -203,8 +204,8 @@ bool cables_hold(const Context& c, const PointLimits& p, double u, double x) {
 Interval tension_interval(const Context& c, const PointLimits& p, double x, Interval bracket) {
   const auto holds = [&](double u) { return cables_hold(c, p, u, x); };
   double seed = std::clamp(0.0, bracket.lo, bracket.hi);
-  for (int k = -1; k <= kTensionSeeds && !holds(seed); ++k) {
-    if (k == kTensionSeeds) return {kInfinity, -kInfinity};
+  for (int k = -1; !holds(seed); ++k) {  // k = -1: the middle; then lo + k/n of the bracket
+    if (k > kTensionSeeds) return {kInfinity, -kInfinity};
     seed = k < 0 ? 0.5 * (bracket.lo + bracket.hi)
                  : bracket.lo + (bracket.hi - bracket.lo) * k / kTensionSeeds;
   }
