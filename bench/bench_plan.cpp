@@ -71,6 +71,28 @@ void trochoidal(benchmark::State& state) {
 }
 BENCHMARK(trochoidal)->ArgName("estimate")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
+// The 15,000-line Inkscape mandala (arcs and lines) on the wall plotter and on the polargraph of
+// LinuxCNC's sample, placed where the real-job table places it: issue 29's bound on the planner's
+// CPU time is against this.
+void mandala(benchmark::State& state, const char* machine_file) {
+  pkm::geometry::Vector6d origin;
+  origin << 1130.0, -1200.0, 0.0, 0.0, 0.0, 0.0;
+  plan_job(state, machine_file,
+           kSource.parent_path() / "shared" / "gcode" / "real" / "plotter" / "inkscape" /
+               "mandala_cnc_0001.gcode",
+           origin);
+}
+BENCHMARK_CAPTURE(mandala, wall_plotter, "wall-plotter.toml")
+    ->ArgName("estimate")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(mandala, polargraph, "linuxcnc-polargraph-2366.toml")
+    ->ArgName("estimate")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+
 }  // namespace
 
 BENCHMARK_MAIN();

@@ -31,6 +31,17 @@ machine::Machine load_example(const std::string& file_name) {
   return machine::load_machine(example_machine_path(file_name));
 }
 
+machine::Machine load_example_changed(const std::string& file_name, const std::string& from,
+                                      const std::string& to) {
+  std::ifstream in(example_machine_path(file_name));
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at)) {
+    text.replace(at, from.size(), to);
+    at += to.size();
+  }
+  return machine::parse_machine(text, file_name);
+}
+
 std::vector<std::string> example_machine_files() {
   std::vector<std::string> files;
   for (const auto& entry :

@@ -34,6 +34,9 @@ inline double distance_to_polyline(const Eigen::Vector3d& p,
 
 std::filesystem::path example_machine_path(const std::string& file_name);
 machine::Machine load_example(const std::string& file_name);
+// An example machine with every `from` in its file's text replaced by `to`.
+machine::Machine load_example_changed(const std::string& file_name, const std::string& from,
+                                      const std::string& to);
 // File names of every machine in examples/machines, sorted.
 std::vector<std::string> example_machine_files();
 // A file name as a GoogleTest parameter name: its stem, non-alphanumerics as '_'.

@@ -220,20 +220,30 @@ TEST(TensionLimit, AJunctionOfASymmetricVByHand) {
 TEST(TensionLimitedPlan, ReportsTheMoveAndTheCableThatLimitedIt) {
   const machine::Machine vee = machine::parse_machine(kVee, "vee.toml");
   // Home (500, -300) down to h = 500 and back up at 100 mm/s: 2 s each at the feed, plus the
-  // ramps of each at the tension-limited 5582.58 mm/s^2 (v / A = 0.0179 s).
+  // ramps. With 1 kg hanging at angle theta below both anchors, T = m (g - a_down) / (2 sin
+  // theta): accelerating downwards (leaving the top, or braking there on the way up) takes the
+  // cables towards their 2 N minimum, a_down <= g - 2 * 2 N sin theta / m; upwards (braking at
+  // the bottom, or leaving it) towards their 20 N maximum, a_up <= 2 * 20 N sin theta / m - g.
+  // Each ramp runs at what its own end allows (issue 29: not the least along the move).
   const TempProgram job("G1 Y-500 F6000\nG1 Y-300\nM2\n");
   TensionCheck check(cables(vee), 2.0, 20.0);
   const PlanReport report = plan_program(vee, job.path(), {}, {}, check);
-  const double a = 0.8 * (9806.65 - 2.0 * std::sqrt(0.5) * 2.0 * 1000.0);
+  const double sin_top = 300.0 / std::hypot(500.0, 300.0), sin_bottom = std::sqrt(0.5);
+  const double down_at_top = 9806.65 - 4000.0 * sin_top;       // 7748.67 mm/s^2
+  const double up_at_bottom = 40000.0 * sin_bottom - 9806.65;  // 18477.6 mm/s^2
+  const double least = 9806.65 - 4000.0 * sin_bottom;          // 6978.22: down, at the bottom
   ASSERT_EQ(report.tension_limits.size(), 2u);
   EXPECT_EQ(report.tension_limits[0].line, 1);
   EXPECT_EQ(report.tension_limits[1].line, 2);
   for (const TensionLimitedMove& move : report.tension_limits) {
     EXPECT_TRUE(move.slack);
     EXPECT_EQ(move.machine_mm_per_s2, 100000.0);
-    EXPECT_NEAR(move.allowed_mm_per_s2, a, 1e-6);
+    EXPECT_NEAR(move.allowed_mm_per_s2, least, 1e-6);
   }
-  EXPECT_NEAR(report.duration_s, 2.0 * (2.0 + 100.0 / a), 1e-9);
+  // A ramp of 100 mm/s at a covers 100^2 / (2 a) mm and takes 100 / a s, 50 / a more than at the
+  // feed: four ramps. Their 0.27 to 0.65 mm move the limit a little: 2e-5 s.
+  const double ramps = 2.0 * (50.0 / down_at_top + 50.0 / up_at_bottom);
+  EXPECT_NEAR(report.duration_s, 4.0 + ramps, 2e-5);  // 4.01832 s
   EXPECT_EQ(check.outside, 0) << check.first_outside;
   EXPECT_GT(check.worst_margin_N, 0.0);
 }

@@ -196,7 +196,8 @@ TEST(MachineDrawing, IdealCablesAreAsLongAsTheJoints) {
 // job's (verify's job_length_mm of this job is 97.2383047 mm), ending at the job's end.
 TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
   // LinuxCNC's inch hexapod: F10 (in/min) lowered to F5 by leg2's velocity, which at F10 would
-  // be 39.6 in/s against the 19.8 in/s (99 % of 20) a move may use: every number in inches.
+  // be 39.6 in/s against the 19.8 in/s (99 % of 20) a move may use: every number in inches, the
+  // share of each limit the planner gave the move said as it is (the jerk-limited planner's).
   const machine::Machine hexapod = test::load_example("linuxcnc-hexapod-sim.toml");
   motion::FeedLimit limit;
   limit.line = 3;
@@ -208,7 +209,7 @@ TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
   limit.usable = 0.99 * 20.0 * 25.4;
   EXPECT_EQ(io::feed_limit_text(hexapod, limit),
             "F10.0 lowered to F5.0: joint leg2's velocity would be 39.6 in/s at F10.0, over the "
-            "19.8 in/s it may use (99 % of max_velocity 20.0)");
+            "19.8 in/s it may use (99.0 % of max_velocity 20.0)");
   // The same on an arc of 0.5 in: the curve, and what v^2/r within half of max_acceleration
   // (200 in/s^2) allows there, sqrt(100 * 0.5) in/s = F424.3.
   limit.bound = motion::JointBound::acceleration;
@@ -220,15 +221,17 @@ TEST(FeedLimitText, SaysTheLimitAndItsNumbersInTheMachineFilesUnits) {
   limit.curve_allowed_mm_per_s = std::sqrt(100.0 * 0.5) * 25.4;
   EXPECT_EQ(io::feed_limit_text(hexapod, limit),
             "F10.0 lowered to F5.0 on the arc (radius 0.5000 in): joint leg2's acceleration would "
-            "be 250.0 in/s^2 at F10.0, over the 80.0 in/s^2 it may use on a bend (half of 80 % "
-            "of max_acceleration 200.0); the tool's own v^2/r allows F424.3 (within 100.0 "
-            "in/s^2, half the acceleration the move may use; max_acceleration 200.0)");
+            "be 250.0 in/s^2 at F10.0, over the 80.0 in/s^2 it may use on a bend (40.0 % of "
+            "max_acceleration 200.0); the tool's own v^2/r allows F424.3 (within 100.0 in/s^2, "
+            "50.0 % of max_acceleration 200.0)");
 }
 
 TEST(FeedLimitText, ThePlanReportCarriesTheBoundTheCurveAndTheReason) {
-  // The first square of the real corpus' vitruvianMan on the Makelangelo: its corner after line 7
-  // is a G64 blend whose speed the right joint's acceleration sets (tests/cli/units.cmake).
-  const machine::Machine plotter = test::load_example("makelangelo.toml");
+  // The first square of the real corpus' vitruvianMan on the Makelangelo with its joints' 1500
+  // mm/s^2 lowered to 1000: its corner after line 7 is a G64 blend whose speed the right joint's
+  // acceleration sets (tests/cli/units.cmake).
+  const machine::Machine plotter = test::load_example_changed(
+      "makelangelo.toml", "max_acceleration = 1500.0", "max_acceleration = 1000.0");
   motion::PlanOptions options;
   options.estimate_only = true;
   struct : motion::SampleSink {
@@ -242,8 +245,8 @@ TEST(FeedLimitText, ThePlanReportCarriesTheBoundTheCurveAndTheReason) {
   EXPECT_EQ(limit["line"], 8);
   EXPECT_EQ(limit["bound"]["limit"], "acceleration");
   EXPECT_EQ(limit["bound"]["unit"], "mm/s^2");
-  EXPECT_DOUBLE_EQ(limit["bound"]["usable"].get<double>(), 600.0);
-  EXPECT_GT(limit["bound"]["at_programmed_feed"].get<double>(), 600.0);
+  EXPECT_DOUBLE_EQ(limit["bound"]["usable"].get<double>(), 999.0);  // 99.9 %
+  EXPECT_GT(limit["bound"]["at_programmed_feed"].get<double>(), 999.0);
   EXPECT_EQ(limit["curve"]["kind"], "blend");
   EXPECT_EQ(limit["curve"]["after_line"], 7);
   EXPECT_NEAR(limit["curve"]["radius_mm"].get<double>(), 0.034142, 3e-4);

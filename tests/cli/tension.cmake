@@ -19,11 +19,11 @@ set_tests_properties(cli.check_tension_region_json PROPERTIES PASS_REGULAR_EXPRE
 add_test(NAME cli.plan_says_how_a_tension_lowers_a_feed
          COMMAND ${PKM} plan -m ${TENSION_FRAME} ${TENSION_JOB} --origin 1489.2 -1072.6)
 set_tests_properties(cli.plan_says_how_a_tension_lowers_a_feed PROPERTIES PASS_REGULAR_EXPRESSION
-  "    line 5: F30000\\.0 lowered to F314\\.2 at the G64 corner blend after line 4 \\(turn 162\\.2 deg, radius 0\\.0118 mm\\): the right cable would go slack at a higher speed. the tool's own v\\^2/r allows F343\\.4")
+  "    line 5: F30000\\.0 lowered to F517\\.5 at the G64 corner blend after line 4 \\(turn 162\\.2 deg, radius 0\\.0118 mm\\): the right cable would go slack at a higher speed. the tool's own v\\^2/r allows F922\\.7 \\(within 20000\\.0 mm/s\\^2, 100\\.0 % of max_acceleration 20000\\.0\\)")
 add_test(NAME cli.plan_names_tension_limited_moves
          COMMAND ${PKM} plan -m ${TENSION_FRAME} ${TENSION_JOB} --origin 1489.2 -1072.6)
 set_tests_properties(cli.plan_names_tension_limited_moves PROPERTIES PASS_REGULAR_EXPRESSION
-  "acceleration lowered by cable tensions on 6 moves \\(first at line 2, the left cable\\)\n.*    line 2: acceleration 20000\\.0 lowered to 6717\\.1 mm/s\\^2: the left cable would go slack")
+  "acceleration lowered by cable tensions on 6 moves \\(first at line 2, the left cable\\)\n.*    line 2: acceleration 20000\\.0 lowered to 8396\\.3 mm/s\\^2: the left cable would go slack")
 pkm_cli_refuses(plan_leaves_the_tension_limits
   "tension-up\\.ngc:1: the move leaves the machine's reach at 92\\.0 % of it: pose x 1397\\.232 y -336\\.859 z 5\\.000 mm: tension: the left cable would be overloaded: 300\\.00 N, above tension_limits' max 300 N \\(move the pen lower, away from the top\\). the left cable's tension reaches 441 N, the right cable's tension reaches 440\\.4 N along the move"
   plan -m ${TENSION_FRAME} ${TENSION_UP} --origin 1489.2 -1072.6)

@@ -58,21 +58,26 @@ std::string curve_text(const machine::Machine& machine, const motion::FeedLimit&
   return "";
 }
 
-// "; the tool's own v^2/r allows F271.6 (within 600.0 mm/s^2, half the acceleration the move
-// may use; max_acceleration 1200.0)"
+// "99.9 % of " for the share `part / whole` of a limit.
+std::string share_text(double part, double whole) {
+  return kinematics::formatted_number("%.1f", 100.0 * part / whole) + " % of ";
+}
+
+// "; the tool's own v^2/r allows F384.0 (within 1200.0 mm/s^2, 100.0 % of max_acceleration
+// 1200.0)"
 std::string cartesian_curve_text(const machine::Machine& machine, const motion::FeedLimit& limit) {
   if (limit.curve == motion::CurveKind::none) return "";
   const double per_unit = machine.mm_per_unit();
+  const double maximum = machine.cartesian().max_acceleration_mm_per_s2;
   return "; the tool's own v^2/r allows " + feed_text(machine, limit.curve_allowed_mm_per_s) +
          " (within " +
          kinematics::formatted_number("%.1f", limit.curve_acceleration_mm_per_s2 / per_unit) + " " +
-         machine.length_unit() + "/s^2, half the acceleration the move may use; max_acceleration " +
-         kinematics::formatted_number("%.1f",
-                                      machine.cartesian().max_acceleration_mm_per_s2 / per_unit) +
-         ")";
+         machine.length_unit() + "/s^2, " +
+         share_text(limit.curve_acceleration_mm_per_s2, maximum) + "max_acceleration " +
+         kinematics::formatted_number("%.1f", maximum / per_unit) + ")";
 }
 
-// "joint right's velocity would be 156.4 mm/s at F1500.0, over the 148.5 mm/s it may use (99 %
+// "joint right's velocity would be 156.4 mm/s at F1500.0, over the 149.8 mm/s it may use (99.9 %
 // of max_velocity 150.0)"
 std::string joint_bound_text(const machine::Machine& machine, const motion::FeedLimit& limit) {
   const machine::JointSpec& joint = machine.joints()[static_cast<std::size_t>(limit.joint)];
@@ -90,12 +95,13 @@ std::string joint_bound_text(const machine::Machine& machine, const motion::Feed
                      feed_text(machine, programmed) + ", over the " + value(limit.usable) +
                      " it may use";
   if (velocity) {
-    return text + " (99 % of max_velocity " +
+    return text + " (" + share_text(limit.usable, joint.max_velocity) + "max_velocity " +
            kinematics::formatted_number("%.1f",
                                         machine.joint_to_file(limit.joint, joint.max_velocity)) +
            ")";
   }
-  return text + " on a bend (half of 80 % of max_acceleration " +
+  return text + " on a bend (" + share_text(limit.usable, joint.max_acceleration) +
+         "max_acceleration " +
          kinematics::formatted_number("%.1f",
                                       machine.joint_to_file(limit.joint, joint.max_acceleration)) +
          ")";

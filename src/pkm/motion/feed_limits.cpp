@@ -5,6 +5,7 @@
 
 #include "pkm/motion/feed_rule.hpp"
 #include "pkm/motion/plan_sampling.hpp"
+#include "pkm/motion/time_optimal.hpp"
 
 namespace pkm::motion {
 
@@ -33,23 +34,26 @@ double junction_ends(double length, bool at_end, double& from, double& to) {
 
 JointFeedLimit joint_feed_limit(const std::vector<machine::JointSpec>& joints,
                                 const kinematics::JointVector& slope,
-                                const kinematics::JointVector& curvature, double speed) {
+                                const kinematics::JointVector& curvature, double speed,
+                                double velocity_share, double bend_share) {
   JointFeedLimit limit;
   limit.speed_mm_per_s = speed;
   for (int i = 0; i < slope.size(); ++i) {
     const machine::JointSpec& joint = joints[static_cast<std::size_t>(i)];
-    const double max_velocity = kJointVelocityMargin * joint.max_velocity;
-    const double max_acceleration = kMoveAccelerationShare * joint.max_acceleration;
+    const double max_velocity = velocity_share * joint.max_velocity;
+    const double bend_acceleration = bend_share * joint.max_acceleration;
     double& allowed = limit.speed_mm_per_s;
     if (slope[i] > 0.0 && max_velocity / slope[i] < allowed) {
       allowed = max_velocity / slope[i];
       limit.joint = i;
       limit.bound = JointBound::velocity;
+      limit.derivative = slope[i];
     }
-    if (curvature[i] > 0.0 && std::sqrt(0.5 * max_acceleration / curvature[i]) < allowed) {
-      allowed = std::sqrt(0.5 * max_acceleration / curvature[i]);
+    if (curvature[i] > 0.0 && std::sqrt(bend_acceleration / curvature[i]) < allowed) {
+      allowed = std::sqrt(bend_acceleration / curvature[i]);
       limit.joint = i;
       limit.bound = JointBound::acceleration;
+      limit.derivative = curvature[i];
     }
   }
   return limit;
@@ -71,13 +75,19 @@ Piece FeedLimits::piece(const Segment& segment, double length) {
 }
 
 void FeedLimits::limit_by_machine(Piece& piece) {
+  if (time_optimal()) return;  // the grid holds the limits, built once the piece is final
   limit_by_joints(piece);
   limit_by_tensions(piece);
 }
 
-void FeedLimits::limit_by_curvature(Piece& piece, double radius) {
+void FeedLimits::limit_by_curvature(Piece& piece, double radius) const {
   if (radius <= 0.0) return;
   piece.curve_radius_mm = radius;
+  if (time_optimal()) {  // the report's numbers: v^2/r may take the whole acceleration
+    piece.curve_acceleration_mm_per_s2 = piece.acceleration;
+    piece.curve_speed_mm_per_s = std::sqrt(piece.curve_acceleration_mm_per_s2 * radius);
+    return;
+  }
   piece.curve_acceleration_mm_per_s2 = 0.5 * piece.acceleration;
   piece.curve_speed_mm_per_s = std::sqrt(0.5 * piece.acceleration * radius);
   piece.max_speed = std::min(piece.max_speed, piece.curve_speed_mm_per_s);
@@ -137,17 +147,22 @@ void FeedLimits::limit_by_joints(Piece& piece) {
     }
   }
   if (rule.joint < 0 || !(speed < programmed * (1.0 - 1e-9))) return;
-  FeedLimit limit = feed_limit(piece, rule.joint, speed, LimitCause::joint);
+  report_joint_limit(piece, rule, kJointVelocityMargin, kJerkBendShare);
+}
+
+void FeedLimits::report_joint_limit(const Piece& piece, const JointFeedLimit& rule,
+                                    double velocity_share, double bend_share) {
+  FeedLimit limit = feed_limit(piece, rule.joint, rule.speed_mm_per_s, LimitCause::joint);
   const machine::JointSpec& joint = machine_.joints()[static_cast<std::size_t>(rule.joint)];
   const double feed =
       std::min(programmed_feed(piece.segment), machine_.cartesian().max_feed_mm_per_s());
   limit.bound = rule.bound;
   if (rule.bound == JointBound::velocity) {
-    limit.needed_at_programmed = slope[rule.joint] * feed;
-    limit.usable = kJointVelocityMargin * joint.max_velocity;
+    limit.needed_at_programmed = rule.derivative * feed;
+    limit.usable = velocity_share * joint.max_velocity;
   } else {
-    limit.needed_at_programmed = curvature[rule.joint] * feed * feed;
-    limit.usable = 0.5 * kMoveAccelerationShare * joint.max_acceleration;
+    limit.needed_at_programmed = rule.derivative * feed * feed;
+    limit.usable = bend_share * joint.max_acceleration;
   }
   report_.feed_limits.push_back(limit);
 }
@@ -202,7 +217,7 @@ void FeedLimits::limit_by_tensions(Piece& piece) {
   }
 }
 
-void FeedLimits::limit_junction(Piece& before, const Segment& after, double after_length) {
+void FeedLimits::limit_junction(Piece& before, Piece& after) {
   const auto rate = [&](const Segment& segment, double length, bool at_end) {
     double from = 0.0, to = 0.0;
     const double ds = junction_ends(length, at_end, from, to);
@@ -214,24 +229,42 @@ void FeedLimits::limit_junction(Piece& before, const Segment& after, double afte
     return kinematics::JointVector((q1 - q0) / ds);
   };
   const kinematics::JointVector out = rate(before.segment, before.length, true);
-  const kinematics::JointVector in = rate(after, after_length, false);
+  const kinematics::JointVector in = rate(after.segment, after.length, false);
+  // The fastest the junction can be passed anyway; the reserve a joint needs at that speed.
+  const double passing = std::min(before.max_speed, after.max_speed);
+  kinematics::JointVector reserve = kinematics::JointVector::Zero(out.size());
   for (int i = 0; i < out.size(); ++i) {
     const double jump = std::abs(in[i] - out[i]);
     if (jump <= 0.0) continue;
-    const double allowed = (1.0 - kMoveAccelerationShare) *
-                           machine_.joints()[static_cast<std::size_t>(i)].max_acceleration *
-                           options_.period_s / jump;
+    const double max_acceleration = machine_.joints()[static_cast<std::size_t>(i)].max_acceleration;
+    const double share = time_optimal()
+                             ? std::min(1.0 - kMoveAccelerationShare,
+                                        passing * jump / (options_.period_s * max_acceleration))
+                             : 1.0 - kMoveAccelerationShare;
+    reserve[i] = share;
+    const double allowed = share * max_acceleration * options_.period_s / jump;
     before.max_exit_speed = std::min(before.max_exit_speed, allowed);
   }
+  bool turns = false;
   if (tension_) {
     double out_from = 0.0, out_to = 0.0, in_from = 0.0, in_to = 0.0;
     junction_ends(before.length, true, out_from, out_to);
-    junction_ends(after_length, false, in_from, in_to);
+    junction_ends(after.length, false, in_from, in_to);
+    const Eigen::Vector3d out_direction = direction(before.segment, out_from, out_to);
+    const Eigen::Vector3d in_direction = direction(after.segment, in_from, in_to);
+    turns = (in_direction - out_direction).head<2>().norm() > 0.0;
     before.max_exit_speed = tension_->junction_speed(
-        before.segment.end, direction(before.segment, out_from, out_to),
-        direction(after, in_from, in_to), std::min(before.length, after_length), options_.period_s,
-        std::min(before.max_exit_speed, before.max_speed));
+        before.segment.end, out_direction, in_direction, std::min(before.length, after.length),
+        options_.period_s, std::min(before.max_exit_speed, before.max_speed));
   }
+  if (!time_optimal()) return;
+  // A sample sees the jump within two periods of the junction, at most `passing` fast; and a
+  // grid interval that reaches into that stretch takes the reserve along all of it.
+  const double reach_mm = 2.0 * options_.period_s * passing + kJointSampleStepMm;
+  before.exit_reserve = reserve;
+  after.entry_reserve = reserve;
+  before.exit_reserve_mm = after.entry_reserve_mm = reach_mm;
+  before.exit_tension_reserve = after.entry_tension_reserve = turns;
 }
 
 void FeedLimits::leaves_reach(const Segment& segment) const {

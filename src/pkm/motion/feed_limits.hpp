@@ -4,9 +4,12 @@
 // feed goes into the plan report with its numbers.
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "pkm/motion/feed_rule.hpp"
 #include "pkm/motion/plan_piece.hpp"
 #include "pkm/motion/planner.hpp"
 #include "pkm/motion/tension_limit.hpp"
@@ -30,15 +33,29 @@ class FeedLimits {
   // Everything that bounds a piece's feed and acceleration along it: its joints, its cables.
   void limit_by_machine(Piece& piece);
 
-  // On a curve of radius r the tool's acceleration is the tangential one plus v^2/r across:
-  // v^2/r <= a/2 and a tangential of 0.866 a keep the sum within a.
-  static void limit_by_curvature(Piece& piece, double radius);
+  // On a curve of radius r the tool's acceleration is the tangential one plus v^2/r across. The
+  // jerk-limited planner keeps one tangential acceleration along the move: v^2/r <= a/2 and a
+  // tangential of 0.866 a keep the sum within a. The time-optimal one shares the budget point
+  // by point (time_optimal.hpp): this only records the curve for the report.
+  void limit_by_curvature(Piece& piece, double radius) const;
+
+  // The time-optimal planner's grid over the piece as it now is (path_grid.hpp).
+  void build_grid(Piece& piece);
+  // The report's entries for what lowers a piece's speed along its grid: once per piece, as it
+  // is sampled (a blend may cut it, and its grid be built again, before).
+  void report_grid_limits(const Piece& piece);
+
+  // Plans without a jerk limit: on grids, time-optimally (time_optimal.hpp).
+  bool time_optimal() const { return !(options_.jerk_mm_per_s3 > 0.0); }
+  const machine::Machine& machine() const { return machine_; }
+  const TensionLimit* tension() const { return tension_ ? &*tension_ : nullptr; }
 
   // A joint whose rate along the path (dq/ds) differs across a junction would change its
-  // velocity in one servo period: the junction speed keeps that change within what its
-  // acceleration allows in a period. So does the effector's velocity, which a hanging effector's
-  // cables feel (TensionLimit::junction_speed).
-  void limit_junction(Piece& before, const Segment& after, double after_length);
+  // velocity in one servo period: the junction speed keeps that change within a share of what
+  // its acceleration allows in a period (20 %; time-optimally, no more than the fastest passing
+  // needs), and the pieces keep that share near the junction. So does the effector's velocity,
+  // which a hanging effector's cables feel (TensionLimit::junction_speed).
+  void limit_junction(Piece& before, Piece& after);
 
   // Where a move leaves the reach, and on a cable machine how far its tensions go beyond their
   // limits along it.
@@ -51,6 +68,20 @@ class FeedLimits {
   void joint_derivatives(const Piece& piece, kinematics::JointVector& slope,
                          kinematics::JointVector& curvature);
   void limit_by_tensions(Piece& piece);
+  // The report's entry for a move whose feed `rule`'s joint lowered, with the shares of its
+  // limits the planner gives a move.
+  void report_joint_limit(const Piece& piece, const JointFeedLimit& rule, double velocity_share,
+                          double bend_share);
+  // The grid's parts (grid_limits.cpp).
+  void grid_joint_terms(PathGrid& grid) const;
+  void grid_curvature(Piece& piece) const;
+  void grid_tension_rows(Piece& piece);
+  struct TensionSlope {
+    std::array<double, 2> lowest{}, highest{};  // N per mm/s^2, each cable
+    double stray_N = 0.0;
+  };
+  TensionSlope tension_slope(const geometry::Pose& pose, const Eigen::Vector2d& direction,
+                             double probe, const kinematics::CableStatics& rest, int line) const;
   // The report's entry for a move whose feed `joint` (or cable) lowered to `speed`, with the
   // curve it is, if any.
   FeedLimit feed_limit(const Piece& piece, int joint, double speed, LimitCause cause) const;
@@ -64,6 +95,9 @@ class FeedLimits {
   PlanReport& report_;
   // A cable machine whose effector has a mass: its cables' tensions bound the moves.
   std::optional<TensionLimit> tension_;
+  // Scratch of build_grid, kept to spare an allocation per piece.
+  std::vector<kinematics::JointVector> joints_at_points_;
+  std::vector<Eigen::Vector3d> positions_at_points_;
 };
 
 }  // namespace pkm::motion

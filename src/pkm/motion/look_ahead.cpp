@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "pkm/motion/time_optimal.hpp"
+
 namespace pkm::motion {
 
 namespace {
@@ -35,7 +37,7 @@ void LookAhead::join(Piece& previous, Piece& next) {
   const double angle = std::acos(std::clamp(out.dot(in), -1.0, 1.0));
   if (angle <= kTangentAngle) {
     // Tangent: the speed carries over, as far as the joints' rates allow.
-    limits_.limit_junction(previous, next.segment, next.length);
+    limits_.limit_junction(previous, next);
     return;
   }
   if (previous.segment.kind != SegmentKind::line || next.segment.kind != SegmentKind::line ||
@@ -71,6 +73,7 @@ bool LookAhead::blend(Piece& previous, Piece& next, double angle, const Eigen::V
   blend.sweep_rad = angle;
   previous.segment.end = blend.start;
   previous.length -= cut;
+  previous.grid.ready = false;  // its grid, if planned already, was over the corner
   next.segment.start = blend.end;
   next.length -= cut;
   Piece piece;
@@ -79,15 +82,22 @@ bool LookAhead::blend(Piece& previous, Piece& next, double angle, const Eigen::V
   piece.max_speed = std::min(previous.max_speed, next.max_speed);
   piece.acceleration = std::min(previous.acceleration, next.acceleration);
   piece.previous_line = previous.segment.line;
-  FeedLimits::limit_by_curvature(piece, radius);
+  limits_.limit_by_curvature(piece, radius);
   limits_.limit_by_machine(piece);
-  limits_.limit_junction(previous, blend, piece.length);
-  limits_.limit_junction(piece, next.segment, next.length);
+  limits_.limit_junction(previous, piece);
+  limits_.limit_junction(piece, next);
   pieces_.push_back(piece);
   return true;
 }
 
 void LookAhead::plan_speeds(double entry_speed) {
+  if (limits_.time_optimal()) {
+    for (Piece& piece : pieces_) {
+      if (!piece.grid.ready) limits_.build_grid(piece);
+    }
+    plan_time_optimal(pieces_, entry_speed, limits_.machine(), limits_.tension());
+    return;
+  }
   const std::size_t n = pieces_.size();
   // Backward: the fastest each piece may be entered and still brake in time.
   double exit = 0.0;

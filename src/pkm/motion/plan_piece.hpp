@@ -3,6 +3,7 @@
 #pragma once
 
 #include "pkm/kinematics/kinematics.hpp"
+#include "pkm/motion/path_grid.hpp"
 #include "pkm/motion/planner_profiles.hpp"
 #include "pkm/motion/segment.hpp"
 
@@ -23,6 +24,16 @@ struct Piece {
   double curve_speed_mm_per_s = 0.0;
   double curve_acceleration_mm_per_s2 = 0.0;
   int previous_line = 0;
+  // The grid the time-optimal planner plans over (without a jerk limit).
+  PathGrid grid;
+  // Near a junction where a joint's rate dq/ds jumps, the sampled joint changes its velocity
+  // within one servo period: the share of each joint's acceleration kept for that (empty: none)
+  // within the distance (mm) of the piece's start or end where a sample can see the jump; on a
+  // hanging effector whose direction changes there, the tensions keep kTensionMoveShare of
+  // their headroom there.
+  kinematics::JointVector entry_reserve, exit_reserve;
+  double entry_reserve_mm = 0.0, exit_reserve_mm = 0.0;
+  bool entry_tension_reserve = false, exit_tension_reserve = false;
 };
 
 // Direction of travel from fraction a to b of a segment's position path (in XY where the

@@ -10,6 +10,7 @@
 #include "pkm/motion/joint_rates.hpp"
 #include "pkm/motion/plan_piece.hpp"
 #include "pkm/motion/planner.hpp"
+#include "pkm/motion/time_optimal.hpp"
 
 namespace pkm::motion {
 
@@ -61,7 +62,7 @@ class Sampler {
     time_ = end;
   }
 
-  // One planned piece along its speed profile.
+  // One planned piece along its speed profile: its grid's (time-optimal) or its ramps' (jerk).
   void run_piece(const Piece& piece);
 
   void set_pen_down(bool down) { pen_down_ = down; }
@@ -75,6 +76,10 @@ class Sampler {
   // The first sample number k with k * period >= t (the samples before it come before t),
   // no further than kSampleCountCap.
   long first_sample_at_or_after(double t) const;
+  void run_on_grid(const Piece& piece);
+  void widen_peaks(const PathGrid& grid);
+  // Tells PlanOptions::on_piece of the piece.
+  void report_piece(const Piece& piece, double duration_s) const;
 
   const machine::Machine& machine_;
   const PlanOptions& options_;
@@ -86,7 +91,8 @@ class Sampler {
   long next_sample_ = 1;  // the sample at t = 0 is the start
   double last_sample_time_ = 0.0;
   Sample sample_;
-  JointRates rates_;  // of the samples emitted, for the report's peaks
+  JointRates rates_;   // of the samples emitted, for the report's peaks
+  GridTiming timing_;  // of the piece being sampled, its storage kept
 };
 
 }  // namespace pkm::motion

@@ -27,7 +27,8 @@ class Planner {
         pen_path_(machine),
         limits_(machine, options, file_, report_),
         look_ahead_(limits_, builder_, options.jerk_mm_per_s3),
-        sampler_(machine, options, sink, file_, report_) {
+        sampler_(machine, options, sink, file_, report_),
+        period_s_(options.period_s) {
     builder_.set_z_free(!machine.kinematics().dof().controls(static_cast<int>(geometry::Axis::z)));
     builder_.set_file(file_);
     pose_ = builder_.pose();
@@ -70,8 +71,11 @@ class Planner {
       throw PlanError(file_, last_line_,
                       "the job would take forever: check the machine's feeds and accelerations");
     }
-    // The last sample lands exactly on the end of the program.
-    if (sampler_.last_sample_time_s() < time) sampler_.emit(time, last_line_, pose_);
+    // The last sample lands exactly on the end of the program (a sum of many phases may pass a
+    // multiple of the period by its rounding: that sample is the end).
+    if (sampler_.last_sample_time_s() < time - 1e-9 * period_s_) {
+      sampler_.emit(time, last_line_, pose_);
+    }
     report_.duration_s = time;
     if (const auto warning = pen_path_.warning(); pen_ && warning) {
       report_.warnings.push_back(*warning);
@@ -94,7 +98,10 @@ class Planner {
 
   // Plans the speeds of the pieces held and samples them: all, or all but those look-ahead keeps.
   void flush(bool all) {
-    look_ahead_.release(all, entry_speed_, [&](const Piece& piece) { sampler_.run_piece(piece); });
+    look_ahead_.release(all, entry_speed_, [&](const Piece& piece) {
+      if (piece.grid.ready) limits_.report_grid_limits(piece);  // once, as the piece is final
+      sampler_.run_piece(piece);
+    });
   }
 
   void run_dwell(const Segment& segment) {
@@ -134,6 +141,7 @@ class Planner {
   Sampler sampler_;
   geometry::Vector6d pose_ = geometry::Vector6d::Zero();
   double entry_speed_ = 0.0;  // the speed the first piece look-ahead holds is entered at
+  double period_s_ = 0.0;
   int last_line_ = 0;
 };
 

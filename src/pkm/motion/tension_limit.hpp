@@ -65,6 +65,14 @@ class TensionLimit {
                         const Eigen::Vector3d& in, double chord_mm, double period_s,
                         double speed) const;
 
+  // The hardest the effector may accelerate along the unit vector `direction` (x y) at `pose`,
+  // up to `cap` (mm/s^2), with every tension within its limits (the whole headroom).
+  double allowed_along(const geometry::Vector6d& pose, const Eigen::Vector2d& direction,
+                       double cap) const {
+    TensionExcess unused;
+    return headroom(pose, Eigen::Vector2d::Zero(), direction, cap, 1.0, unused);
+  }
+
   // The cable whose tension is nearest to its limits (or furthest beyond) at `pose` under the
   // effector's acceleration (mm/s^2, x y); a pose without a balance (singular) is outside with
   // cable -1.

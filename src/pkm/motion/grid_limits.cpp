@@ -1,0 +1,311 @@
+// FeedLimits' grids: what the time-optimal planner needs at points along a piece (path_grid.hpp),
+// and the report's entries for the limits that lower the piece's speed there.
+#include <algorithm>
+#include <cmath>
+
+#include "pkm/motion/feed_limits.hpp"
+#include "pkm/motion/feed_rule.hpp"
+#include "pkm/motion/plan_sampling.hpp"
+#include "pkm/motion/time_optimal.hpp"
+
+namespace pkm::motion {
+
+namespace {
+
+// A curve's grid turns by at most this much per interval (rad): the limits are held at the
+// points, and the direction of the tool's acceleration across a curve turns with it.
+constexpr double kGridTurnRad = 0.05;
+
+// Points on a piece's grid: one every kJointSampleStepMm and every kGridTurnRad of a curve, at
+// least 8 intervals and at most 512.
+int grid_intervals(const Segment& segment, double length_mm) {
+  const double turn = segment.kind == SegmentKind::line ? 0.0 : std::abs(segment.sweep_rad);
+  const double by_length = std::ceil(length_mm / kJointSampleStepMm);
+  const double by_turn = std::ceil(turn / kGridTurnRad);
+  return static_cast<int>(std::clamp(std::max(by_length, by_turn), 8.0, 512.0));
+}
+
+}  // namespace
+
+void FeedLimits::build_grid(Piece& piece) {
+  const Segment& segment = piece.segment;
+  PathGrid& grid = piece.grid;
+  const int intervals = grid_intervals(segment, piece.length);
+  const int joint_count = static_cast<int>(machine_.joints().size());
+  grid.resize(intervals, joint_count, tension_.has_value());
+  grid.step_mm = piece.length / intervals;
+  joints_at_points_.resize(static_cast<std::size_t>(intervals) + 1);
+  positions_at_points_.resize(static_cast<std::size_t>(intervals) + 1);
+  for (int k = 0; k <= intervals; ++k) {
+    const geometry::Vector6d pose = segment.at(static_cast<double>(k) / intervals);
+    kinematics::JointVector& q = joints_at_points_[static_cast<std::size_t>(k)];
+    const kinematics::Status status = machine_.inverse(geometry::Pose::from_vector(pose), q);
+    if (!status.ok()) leaves_reach(segment);
+    require_numbers(machine_, file_, pose, q, segment.line, "along the move");
+    if (options_.estimate_only) widen_ranges(report_.joints, q);
+    Eigen::Vector3d position = pose.head<3>();
+    if (segment.z_free) position.z() = 0.0;
+    positions_at_points_[static_cast<std::size_t>(k)] = position;
+  }
+  grid_joint_terms(grid);
+  grid_curvature(piece);
+  const double feed_squared = piece.max_speed * piece.max_speed;
+  for (int k = 0; k <= intervals; ++k) {
+    double cap = feed_squared;
+    for (int j = 0; j < joint_count; ++j) {
+      const double slope = std::abs(grid.slope(k, j));
+      const double velocity =
+          kGridLimitShare * machine_.joints()[static_cast<std::size_t>(j)].max_velocity;
+      if (slope * velocity > 0.0) cap = std::min(cap, (velocity / slope) * (velocity / slope));
+    }
+    grid.speed_squared_cap[static_cast<std::size_t>(k)] = cap;
+  }
+  if (tension_) grid_tension_rows(piece);
+  grid.ready = true;
+}
+
+// dq/ds and d2q/ds2 at every point by differences of the joints there: central inside, of
+// second order at the ends (a one-sided first difference would be off by half a step's bend).
+void FeedLimits::grid_joint_terms(PathGrid& grid) const {
+  const int n = grid.intervals;
+  const double h = grid.step_mm;
+  const auto q = [&](int k, int j) { return joints_at_points_[static_cast<std::size_t>(k)][j]; };
+  for (int j = 0; j < grid.joint_count; ++j) {
+    for (int k = 0; k <= n; ++k) {
+      double slope = 0.0, bend = 0.0;
+      const int c = std::clamp(k, 1, n - 1);
+      bend = (q(c + 1, j) - 2.0 * q(c, j) + q(c - 1, j)) / (h * h);
+      if (k == 0) {
+        slope = (-3.0 * q(0, j) + 4.0 * q(1, j) - q(2, j)) / (2.0 * h);
+      } else if (k == n) {
+        slope = (3.0 * q(n, j) - 4.0 * q(n - 1, j) + q(n - 2, j)) / (2.0 * h);
+      } else {
+        slope = (q(k + 1, j) - q(k - 1, j)) / (2.0 * h);
+      }
+      const std::size_t at = static_cast<std::size_t>((k * grid.joint_count + j) * 2);
+      grid.joint_derivatives[at] = slope;
+      grid.joint_derivatives[at + 1] = bend;
+    }
+  }
+}
+
+void FeedLimits::grid_curvature(Piece& piece) const {
+  PathGrid& grid = piece.grid;
+  const Segment& segment = piece.segment;
+  const int n = grid.intervals;
+  double exact = 0.0;
+  if (segment.kind == SegmentKind::blend) {
+    exact = 1.0 / segment.radius_mm;
+  } else if (segment.kind == SegmentKind::arc && !(segment.z_free && segment.normal_axis != 2)) {
+    // A helix: the plane's radius r swept by theta over a path of length L bends by r theta^2/L^2.
+    const double radius =
+        std::hypot(segment.start[segment.first_axis] - segment.centre[segment.first_axis],
+                   segment.start[segment.second_axis] - segment.centre[segment.second_axis]);
+    const double turn = segment.sweep_rad / piece.length;
+    exact = radius * turn * turn;
+  } else if (segment.kind == SegmentKind::line) {
+    exact = 0.0;
+  } else {
+    exact = -1.0;  // by differences
+  }
+  const double h = grid.step_mm;
+  for (int k = 0; k <= n; ++k) {
+    double curvature = exact;
+    if (exact < 0.0) {
+      const int c = std::clamp(k, 1, n - 1);
+      const auto p = [&](int i) { return positions_at_points_[static_cast<std::size_t>(i)]; };
+      curvature = (p(c + 1) - 2.0 * p(c) + p(c - 1)).norm() / (h * h);
+    }
+    grid.curvature_per_mm[static_cast<std::size_t>(k)] = curvature;
+  }
+}
+
+namespace {
+
+// The path's unit tangent (x y part) at fraction u of `segment` (`length_mm` long), from poses
+// a thousandth of a millimetre apart: a cable pulling nearly level feels the few milliradians
+// by which a grid's chord at a curve's end turns from it.
+Eigen::Vector2d path_tangent(const Segment& segment, double u, double length_mm) {
+  const double du = std::min(0.5, 1e-3 / length_mm);
+  const double from = std::max(0.0, u - du), to = std::min(1.0, u + du);
+  return (segment.at(to) - segment.at(from)).head<2>() / ((to - from) * length_mm);
+}
+
+// The direction of the path's curvature vector (x y) at fraction u: a second difference over
+// 0.05 mm (rounding of 1e-13 mm in poses of metres stays below 1e-7 of a bend of 1 / 150 mm),
+// moved inside the segment at its ends.
+Eigen::Vector2d path_bend_direction(const Segment& segment, double u, double length_mm) {
+  const double du = std::min(1.0 / 3.0, 0.05 / length_mm);
+  const double centre = std::clamp(u, du, 1.0 - du);
+  const Eigen::Vector2d second =
+      (segment.at(centre + du) - 2.0 * segment.at(centre) + segment.at(centre - du)).head<2>();
+  const double n = second.norm();
+  return n > 0.0 ? Eigen::Vector2d(second / n) : Eigen::Vector2d::Zero();
+}
+
+// A unit vector along `v` (x y), or zero.
+Eigen::Vector2d unit(const Eigen::Vector2d& v) {
+  const double n = v.norm();
+  return n > 0.0 ? Eigen::Vector2d(v / n) : Eigen::Vector2d::Zero();
+}
+
+}  // namespace
+
+// How each cable's lowest and highest tension change with the effector's acceleration along
+// `direction` (a unit vector, x y) at `pose`: central differences at +-`probe` mm/s^2 (the most a
+// move accelerates the tool), and how far the tensions stray from that line there. A probe with
+// no balance is retried closer.
+FeedLimits::TensionSlope FeedLimits::tension_slope(const geometry::Pose& pose,
+                                                   const Eigen::Vector2d& direction, double probe,
+                                                   const kinematics::CableStatics& rest,
+                                                   int line) const {
+  TensionSlope slope;
+  if (direction.isZero()) return slope;
+  for (int attempt = 0; attempt < 6; ++attempt, probe *= 0.25) {
+    kinematics::CableStatics plus, minus;
+    const kinematics::Status a = tension_->kinematics().statics(pose, probe * direction, plus);
+    const kinematics::Status b = tension_->kinematics().statics(pose, -probe * direction, minus);
+    const auto balanced = [](const kinematics::Status& status) {
+      return status.ok() || status.code == kinematics::StatusCode::tension;
+    };
+    if (!balanced(a) || !balanced(b)) continue;
+    for (std::size_t c = 0; c < 2; ++c) {
+      slope.lowest[c] = (plus.lowest_N[c] - minus.lowest_N[c]) / (2.0 * probe);
+      slope.highest[c] = (plus.highest_N[c] - minus.highest_N[c]) / (2.0 * probe);
+      slope.stray_N = std::max(
+          {slope.stray_N, std::abs(0.5 * (plus.lowest_N[c] + minus.lowest_N[c]) - rest.lowest_N[c]),
+           std::abs(0.5 * (plus.highest_N[c] + minus.highest_N[c]) - rest.highest_N[c])});
+    }
+    return slope;
+  }
+  throw PlanError(file_, line,
+                  "the cables find no balance for the effector accelerating at a pose of the move");
+}
+
+// Each cable's tensions at every point as lines in u and x (path_grid.hpp's TensionRow): the
+// effector accelerates along the path's tangent by u and towards its centre by curvature * x.
+void FeedLimits::grid_tension_rows(Piece& piece) {
+  PathGrid& grid = piece.grid;
+  const Segment& segment = piece.segment;
+  const int n = grid.intervals;
+  // Lines fitted over a quarter of gravity at most: beyond it a cable may go slack and the
+  // balance bend; the tangential range at rest speed is found exactly below.
+  const double acceleration = machine_.cartesian().max_acceleration_mm_per_s2;
+  const double probe = std::min(acceleration, 0.25 * kinematics::kStandardGravity_mm_per_s2);
+  const kinematics::HangingCables& cables = tension_->kinematics();
+  for (int k = 0; k <= n; ++k) {
+    const geometry::Pose pose = geometry::Pose::from_vector(segment.at(static_cast<double>(k) / n));
+    kinematics::CableStatics rest;
+    if (!cables.statics(pose, Eigen::Vector2d::Zero(), rest).ok()) leaves_reach(segment);
+    const double u = static_cast<double>(k) / n;
+    const Eigen::Vector2d tangent = path_tangent(segment, u, piece.length);
+    const double curvature = grid.curvature_per_mm[static_cast<std::size_t>(k)];
+    const Eigen::Vector2d across =
+        curvature > 0.0 ? Eigen::Vector2d(path_bend_direction(segment, u, piece.length) * curvature)
+                        : Eigen::Vector2d::Zero();
+    const TensionSlope along_slope = tension_slope(pose, unit(tangent), probe, rest, segment.line);
+    const TensionSlope across_slope = tension_slope(pose, unit(across), probe, rest, segment.line);
+    const double stray = along_slope.stray_N + across_slope.stray_N;
+    const geometry::Vector6d pose_vector = pose.as_vector();
+    grid.tangent_xy[static_cast<std::size_t>(k)] = tangent;
+    grid.curvature_xy[static_cast<std::size_t>(k)] = across;
+    const double tangent_xy = tangent.norm();  // 0 on a plunge: the cables do not feel it
+    grid.tangential_range[static_cast<std::size_t>(k)] =
+        tangent_xy > 0.0 ? std::array<double, 2>{-tension_->allowed_along(
+                                                     pose_vector, -unit(tangent), acceleration) /
+                                                     tangent_xy,
+                                                 tension_->allowed_along(pose_vector, unit(tangent),
+                                                                         acceleration) /
+                                                     tangent_xy}
+                         : std::array<double, 2>{-1e300, 1e300};
+    TensionRow* rows = &grid.tension_rows[static_cast<std::size_t>(k * kTensionRowsPerPoint)];
+    for (std::size_t cable = 0; cable < 2; ++cable) {
+      rows[2 * cable] =
+          TensionRow{rest.lowest_N[cable], along_slope.lowest[cable] * tangent.norm(),
+                     across_slope.lowest[cable] * across.norm(),
+                     std::min(cables.tension_min_N() + stray, rest.lowest_N[cable]), 1e300};
+      rows[2 * cable + 1] = TensionRow{
+          rest.highest_N[cable], along_slope.highest[cable] * tangent.norm(),
+          across_slope.highest[cable] * across.norm(), -1e300,
+          std::max(std::min(1e300, cables.tension_max_N()) - stray, rest.highest_N[cable])};
+    }
+  }
+}
+
+// The report's entries for a piece planned on its grid: the slowest cruise any limit alone allows
+// along it (u = 0: a joint's velocity share / |q'|, its bend sqrt(share amax / |q''|), a cable's
+// tension across a curve), when a joint or a cable sets it below the programmed feed; and the
+// least acceleration along the path the cables allow at rest speed, when it is below the tool's.
+void FeedLimits::report_grid_limits(const Piece& piece) {
+  const PathGrid& grid = piece.grid;
+  const double programmed = piece.max_speed;
+  JointFeedLimit slowest;
+  slowest.speed_mm_per_s = programmed;
+  // What the tool's own acceleration allows on a curve comes first: a joint or a cable is named
+  // only where it holds the speed below that (as the jerk-limited planner's report does).
+  const double tool = machine_.cartesian().max_acceleration_mm_per_s2;
+  for (int k = 0; k <= grid.intervals; ++k) {
+    const double curvature = grid.curvature_per_mm[static_cast<std::size_t>(k)];
+    if (curvature > 0.0) {
+      slowest.speed_mm_per_s = std::min(slowest.speed_mm_per_s, std::sqrt(tool / curvature));
+    }
+  }
+  const double cruise = slowest.speed_mm_per_s;
+  int tension_row = -1;
+  double tangential = machine_.cartesian().max_acceleration_mm_per_s2;
+  int tension_cable = -1;
+  bool tension_slack = false;
+  for (int k = 0; k <= grid.intervals; ++k) {
+    kinematics::JointVector slope(grid.joint_count), bend(grid.joint_count);
+    for (int j = 0; j < grid.joint_count; ++j) {
+      slope[j] = std::abs(grid.slope(k, j));
+      bend[j] = std::abs(grid.bend(k, j));
+    }
+    const JointFeedLimit here = joint_feed_limit(
+        machine_.joints(), slope, bend, slowest.speed_mm_per_s, kGridLimitShare, kGridLimitShare);
+    if (here.joint >= 0) {
+      slowest = here;
+      tension_row = -1;
+    }
+    const TensionRow* rows = grid.tensions(k);
+    for (int r = 0; rows != nullptr && r < kTensionRowsPerPoint; ++r) {
+      const TensionRow& row = rows[r];
+      const double room = row.across > 0.0 ? row.high_N - row.rest_N : row.low_N - row.rest_N;
+      if (row.across != 0.0 &&
+          room / row.across < slowest.speed_mm_per_s * slowest.speed_mm_per_s) {
+        slowest.speed_mm_per_s = std::sqrt(std::max(0.0, room / row.across));
+        slowest.joint = -1;
+        tension_row = r;
+      }
+      if (row.along == 0.0) continue;
+      // Which cable sets the exact tangential range: the row nearest to its limit there.
+      const std::array<double, 2>& range = grid.tangential_range[static_cast<std::size_t>(k)];
+      for (const double u : range) {
+        const double headroom =
+            u * row.along > 0.0 ? row.high_N - row.rest_N : row.low_N - row.rest_N;
+        const double reach = std::abs(headroom / row.along);
+        if (std::abs(u) < tangential && reach <= std::abs(u) * 1.5) {
+          tangential = std::abs(u);
+          tension_cable = r / 2;
+          tension_slack = r % 2 == 0;
+        }
+      }
+    }
+  }
+  if (!(slowest.speed_mm_per_s < cruise * (1.0 - 1e-9))) {
+    // no joint or cable lowers the cruise
+  } else if (tension_row >= 0) {
+    FeedLimit limit =
+        feed_limit(piece, tension_row / 2, slowest.speed_mm_per_s, LimitCause::tension);
+    limit.slack = tension_row % 2 == 0;
+    report_.feed_limits.push_back(limit);
+  } else if (slowest.joint >= 0) {
+    report_joint_limit(piece, slowest, kGridLimitShare, kGridLimitShare);
+  }
+  if (tension_cable >= 0) {
+    report_.tension_limits.push_back({piece.segment.line, tension_cable, tension_slack,
+                                      machine_.cartesian().max_acceleration_mm_per_s2, tangential});
+  }
+}
+
+}  // namespace pkm::motion

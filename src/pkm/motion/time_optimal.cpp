@@ -1,0 +1,346 @@
+#include "pkm/motion/time_optimal.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pkm::motion {
+
+namespace {
+
+// Whether point `s_mm` of a piece `length_mm` long lies where a sample can see its junction's
+// rate jump: within `reserve_mm` of that end.
+bool near_start(double s_mm, double reserve_mm) {
+  return reserve_mm > 0.0 && s_mm <= reserve_mm;
+}
+bool near_end(double s_mm, double length_mm, double reserve_mm) {
+  return reserve_mm > 0.0 && s_mm >= length_mm - reserve_mm;
+}
+
+// The interval of u with u^2 a + u b + c <= 0 (a > 0) intersected into `range`.
+void within_quadratic(double a, double b, double c, AccelerationRange& range) {
+  const double discriminant = b * b - 4.0 * a * c;
+  if (discriminant < 0.0) {
+    range = AccelerationRange{1.0, 0.0};
+    return;
+  }
+  const double root = std::sqrt(discriminant);
+  range.low = std::max(range.low, (-b - root) / (2.0 * a));
+  range.high = std::min(range.high, (-b + root) / (2.0 * a));
+}
+
+// The highest x in [0, cap] from which some admissible u over the interval reaches at most
+// `next_bound` at its end (x + 2 ds u <= next_bound) and not below rest. The x that qualify form
+// an interval from 0 (the limits are convex in u and x), so regula falsi (Illinois) on
+// x + 2 ds low(x) - next_bound brackets its end; bisection where the limits leave no u at all.
+double highest_start(const IntervalLimits& limits, double cap, double next_bound) {
+  const double twice_step = 2.0 * limits.step_mm();
+  double excess = 0.0;
+  const auto admissible = [&](double x) {
+    const AccelerationRange range = limits.at(x);
+    if (range.empty()) {
+      excess = std::nan("");
+      return false;
+    }
+    excess = x + twice_step * range.low - next_bound;
+    return excess <= 0.0 && x + twice_step * range.high >= 0.0;
+  };
+  if (admissible(cap)) return cap;
+  double high = cap, excess_high = excess;
+  double low = 0.0;
+  if (!admissible(low)) return 0.0;
+  double excess_low = excess;
+  int kept = 0;  // +1: low moved last, -1: high moved last
+  for (int i = 0; i < 200 && high - low > 1e-15 * high; ++i) {
+    double x = std::isfinite(excess_high) && excess_high > 0.0
+                   ? low - excess_low * (high - low) / (excess_high - excess_low)
+                   : 0.5 * (low + high);
+    if (!(x > low && x < high)) x = 0.5 * (low + high);
+    if (admissible(x)) {
+      low = x;
+      excess_low = excess;
+      if (kept == 1 && std::isfinite(excess_high)) excess_high *= 0.5;
+      kept = 1;
+      if (excess_low >= -1e-13 * std::max(1.0, next_bound)) break;
+    } else {
+      high = x;
+      excess_high = excess;
+      if (kept == -1) excess_low *= 0.5;
+      kept = -1;
+    }
+  }
+  return low;
+}
+
+// The backward pass: each point's highest speed squared from which the window can still brake to
+// rest at its end.
+void bound_reachable(std::deque<Piece>& pieces, const machine::Machine& machine) {
+  double bound_after = 0.0;  // at rest after the last piece
+  for (std::size_t i = pieces.size(); i-- > 0;) {
+    Piece& piece = pieces[i];
+    PathGrid& grid = piece.grid;
+    const int last = grid.intervals;
+    double end_bound = piece.stop_after ? 0.0 : bound_after;
+    if (piece.max_exit_speed < 1e150) {
+      end_bound = std::min(end_bound, piece.max_exit_speed * piece.max_exit_speed);
+    }
+    grid.reachable_bound[static_cast<std::size_t>(last)] =
+        std::min(end_bound, grid.speed_squared_cap[static_cast<std::size_t>(last)]);
+    for (int k = last - 1; k >= 0; --k) {
+      const IntervalLimits limits(piece, k, machine);
+      const std::size_t at = static_cast<std::size_t>(k);
+      grid.reachable_bound[at] =
+          highest_start(limits, grid.speed_squared_cap[at], grid.reachable_bound[at + 1]);
+    }
+    bound_after = grid.reachable_bound[0];
+  }
+}
+
+// One interval of the forward pass from speed squared `x`. With the limits taken as they are at
+// its ends, the fastest speed along it is the least of three lines in s: accelerating from x as
+// hard as they allow, the cap between the ends' caps, and braking as hard as they allow into the
+// bound at its end. Its kinks (at most two: the least of lines is concave) are where the speed
+// changes from accelerating to cruising or braking: kept, so that it does so where it would, not
+// an interval early. Returns x at the interval's end.
+double advance(PathGrid& grid, int k, double x, const IntervalLimits& limits) {
+  const std::size_t at = static_cast<std::size_t>(k);
+  const double step = grid.step_mm;
+  const double end_bound = grid.reachable_bound[at + 1];
+  grid.split_mm[at] = {0.0, 0.0};
+  const AccelerationRange range = limits.at(x);
+  if (range.empty()) return std::max(0.0, std::min(end_bound, x));
+  const AccelerationRange at_end = limits.at(end_bound);
+  double brake = at_end.empty() ? range.low : std::max(range.low, at_end.low);
+  brake = std::min(brake, (end_bound - x) / (2.0 * step));  // x itself can still brake in time
+  const double cap_start = grid.speed_squared_cap[at], cap_end = grid.speed_squared_cap[at + 1];
+  // The three lines: value at the interval's start and slope (dx/ds).
+  const double start[3] = {x, cap_start, end_bound - 2.0 * brake * step};
+  const double slope[3] = {2.0 * range.high, (cap_end - cap_start) / step, 2.0 * brake};
+  const auto least = [&](double s) {
+    return std::min({start[0] + slope[0] * s, start[1] + slope[1] * s, start[2] + slope[2] * s});
+  };
+  double kinks[3];
+  int count = 0;
+  for (int a = 0; a < 3; ++a) {
+    for (int b = a + 1; b < 3; ++b) {
+      if (slope[a] == slope[b]) continue;
+      const double s = (start[b] - start[a]) / (slope[a] - slope[b]);
+      if (s > 1e-9 * step && s < step * (1.0 - 1e-9)) kinks[count++] = s;
+    }
+  }
+  for (int i = 1; i < count; ++i) {  // three at most: insertion
+    for (int j = i; j > 0 && kinks[j] < kinks[j - 1]; --j) std::swap(kinks[j], kinks[j - 1]);
+  }
+  int kept = 0;
+  double before = 0.0;
+  for (int i = 0; i < count && kept < 2; ++i) {
+    const double after = i + 1 < count ? kinks[i + 1] : step;
+    const double middle = least(kinks[i]);
+    const double straight =
+        least(before) + (least(after) - least(before)) * (kinks[i] - before) / (after - before);
+    if (std::abs(middle - straight) <= 1e-12 * std::max(1.0, std::abs(middle))) continue;
+    grid.split_mm[at][static_cast<std::size_t>(kept)] = kinks[i];
+    grid.split_speed_squared[at][static_cast<std::size_t>(kept)] = std::max(0.0, middle);
+    ++kept;
+    before = kinks[i];
+  }
+  return std::max(0.0, std::min(least(step), end_bound));
+}
+
+void plan_forward(std::deque<Piece>& pieces, double entry_speed, const machine::Machine& machine);
+bool tighten_tensions(Piece& piece, const TensionLimit& tension);
+
+}  // namespace
+
+IntervalLimits::IntervalLimits(const Piece& piece, int interval, const machine::Machine& machine)
+    : step_mm_(piece.grid.step_mm),
+      acceleration_(machine.cartesian().max_acceleration_mm_per_s2),
+      start_curvature_(piece.grid.curvature_per_mm[static_cast<std::size_t>(interval)]),
+      end_curvature_(piece.grid.curvature_per_mm[static_cast<std::size_t>(interval) + 1]) {
+  add_point(piece, interval, false, machine);
+  add_point(piece, interval + 1, true, machine);
+}
+
+// The point's bounds as bounds on (u, x) at the interval's start: at its end x has grown by
+// 2 ds u, so a bound along u + across x there is (along + 2 ds across) u + across x.
+void IntervalLimits::add_point(const Piece& piece, int point, bool at_end,
+                               const machine::Machine& machine) {
+  const PathGrid& grid = piece.grid;
+  const double s = grid.s_mm(point), length = grid.length_mm();
+  const bool entry = near_start(s, piece.entry_reserve_mm);
+  const bool exit = near_end(s, length, piece.exit_reserve_mm);
+  const double shift = at_end ? 2.0 * step_mm_ : 0.0;
+  for (int j = 0; j < grid.joint_count; ++j) {
+    double reserve = 0.0;
+    if (entry && piece.entry_reserve.size() > j) reserve = piece.entry_reserve[j];
+    if (exit && piece.exit_reserve.size() > j) reserve = std::max(reserve, piece.exit_reserve[j]);
+    const double limit = kGridLimitShare * (1.0 - reserve) *
+                         machine.joints()[static_cast<std::size_t>(j)].max_acceleration;
+    const double bend = grid.bend(point, j);
+    bounds_[static_cast<std::size_t>(bound_count_++)] =
+        LinearBound{grid.slope(point, j) + shift * bend, bend, -limit, limit};
+  }
+  if (const TensionRow* rows = grid.tensions(point)) {
+    const bool reserved =
+        (entry && piece.entry_tension_reserve) || (exit && piece.exit_tension_reserve);
+    const double share = reserved ? kTensionMoveShare : 1.0;
+    for (int r = 0; r < kTensionRowsPerPoint; ++r) {
+      const TensionRow& row = rows[r];
+      bounds_[static_cast<std::size_t>(bound_count_++)] =
+          LinearBound{row.along + shift * row.across, row.across, share * (row.low_N - row.rest_N),
+                      share * (row.high_N - row.rest_N)};
+    }
+    const std::array<double, 2>& along = grid.tangential_range[static_cast<std::size_t>(point)];
+    bounds_[static_cast<std::size_t>(bound_count_++)] =
+        LinearBound{1.0, 0.0, share * along[0], share * along[1]};
+  }
+}
+
+AccelerationRange IntervalLimits::at(double x) const {
+  AccelerationRange range;
+  for (int i = 0; i < bound_count_; ++i) {
+    const LinearBound& b = bounds_[static_cast<std::size_t>(i)];
+    const double fixed = b.across * x;
+    if (b.along > 0.0) {
+      range.low = std::max(range.low, (b.low - fixed) / b.along);
+      range.high = std::min(range.high, (b.high - fixed) / b.along);
+    } else if (b.along < 0.0) {
+      range.low = std::max(range.low, (b.high - fixed) / b.along);
+      range.high = std::min(range.high, (b.low - fixed) / b.along);
+    } else if (fixed < b.low || fixed > b.high) {
+      return AccelerationRange{1.0, 0.0};
+    }
+  }
+  // The tool: u^2 + (kappa x)^2 <= A^2 at the start, with x + 2 ds u at the end.
+  const double a2 = acceleration_ * acceleration_;
+  const double across_start = start_curvature_ * x;
+  within_quadratic(1.0, 0.0, across_start * across_start - a2, range);
+  const double k2 = end_curvature_ * end_curvature_;
+  within_quadratic(1.0 + 4.0 * k2 * step_mm_ * step_mm_, 4.0 * k2 * step_mm_ * x, k2 * x * x - a2,
+                   range);
+  return range;
+}
+
+void plan_time_optimal(std::deque<Piece>& pieces, double entry_speed,
+                       const machine::Machine& machine, const TensionLimit* tension) {
+  for (int round = 0; round < kTensionRounds; ++round) {
+    bound_reachable(pieces, machine);
+    plan_forward(pieces, entry_speed, machine);
+    if (tension == nullptr) return;
+    bool moved = false;
+    for (Piece& piece : pieces) moved = tighten_tensions(piece, *tension) || moved;
+    if (!moved) return;
+  }
+}
+
+namespace {
+
+void plan_forward(std::deque<Piece>& pieces, double entry_speed, const machine::Machine& machine) {
+  double x = entry_speed * entry_speed;
+  for (Piece& piece : pieces) {
+    PathGrid& grid = piece.grid;
+    x = std::min(x, grid.reachable_bound[0]);
+    grid.speed_squared[0] = x;
+    for (int k = 0; k < grid.intervals; ++k) {
+      x = advance(grid, k, x, IntervalLimits(piece, k, machine));
+      grid.speed_squared[static_cast<std::size_t>(k) + 1] = x;
+    }
+    piece.entry_speed = std::sqrt(grid.speed_squared.front());
+    piece.exit_speed = std::sqrt(grid.speed_squared.back());
+  }
+}
+
+// The path accelerations of the phases that reach and leave point k of `grid`.
+std::array<double, 2> accelerations_at(const PathGrid& grid, int k) {
+  const auto phase = [&](int interval, bool first) {
+    const std::size_t at = static_cast<std::size_t>(interval);
+    double from_mm = 0.0, from_x = grid.speed_squared[at];
+    double to_mm = grid.step_mm, to_x = grid.speed_squared[at + 1];
+    const std::array<double, 2>& split = grid.split_mm[at];
+    const std::array<double, 2>& split_x = grid.split_speed_squared[at];
+    const int splits = split[1] > 0.0 ? 2 : split[0] > 0.0 ? 1 : 0;
+    if (first && splits > 0) {
+      to_mm = split[0];
+      to_x = split_x[0];
+    } else if (!first && splits > 0) {
+      from_mm = split[static_cast<std::size_t>(splits - 1)];
+      from_x = split_x[static_cast<std::size_t>(splits - 1)];
+    }
+    return (to_x - from_x) / (2.0 * (to_mm - from_mm));
+  };
+  const double arriving = k > 0 ? phase(k - 1, false) : phase(k, true);
+  const double leaving = k < grid.intervals ? phase(k, true) : arriving;
+  return {arriving, leaving};
+}
+
+// The exact tensions at every point of `piece` as planned; a row whose line let a tension pass its
+// limit is moved by the difference (and a hair more). True when one moved.
+bool tighten_tensions(Piece& piece, const TensionLimit& tension) {
+  PathGrid& grid = piece.grid;
+  if (grid.tension_rows.empty()) return false;
+  bool moved = false;
+  for (int k = 0; k <= grid.intervals; ++k) {
+    const std::size_t at = static_cast<std::size_t>(k);
+    const double x = grid.speed_squared[at];
+    const geometry::Vector6d pose = piece.segment.at(static_cast<double>(k) / grid.intervals);
+    for (const double u : accelerations_at(grid, k)) {
+      const Eigen::Vector2d acceleration = grid.tangent_xy[at] * u + grid.curvature_xy[at] * x;
+      const TensionExcess excess = tension.excess(pose, acceleration);
+      if (!excess.outside || excess.cable < 0) continue;
+      TensionRow& row =
+          grid.tension_rows[at * kTensionRowsPerPoint + static_cast<std::size_t>(2 * excess.cable) +
+                            (excess.slack ? 0u : 1u)];
+      const double predicted = row.rest_N + row.along * u + row.across * x;
+      const double hair = 1e-6 + 1e-3 * std::abs(predicted - excess.tension_N);
+      if (excess.slack) {
+        row.low_N += predicted - excess.tension_N + hair;
+      } else {
+        row.high_N -= excess.tension_N - predicted + hair;
+      }
+      moved = true;
+    }
+  }
+  return moved;
+}
+
+}  // namespace
+
+void GridTiming::add_phase(double start_mm, double length_mm, double from_squared,
+                           double to_squared) {
+  const double from = std::sqrt(from_squared), to = std::sqrt(to_squared);
+  phases_.push_back(
+      Phase{start_mm, duration_s_, from, (to_squared - from_squared) / (2.0 * length_mm)});
+  duration_s_ += 2.0 * length_mm / (from + to);
+}
+
+void GridTiming::reset(const Piece& piece) {
+  const PathGrid& grid = piece.grid;
+  phases_.clear();
+  cursor_ = 0;
+  duration_s_ = 0.0;
+  length_mm_ = piece.length;
+  for (int k = 0; k < grid.intervals; ++k) {
+    const std::size_t at = static_cast<std::size_t>(k);
+    const double start = grid.s_mm(k);
+    double from_mm = 0.0, from_x = grid.speed_squared[at];
+    for (std::size_t i = 0; i < 2 && grid.split_mm[at][i] > 0.0; ++i) {
+      add_phase(start + from_mm, grid.split_mm[at][i] - from_mm, from_x,
+                grid.split_speed_squared[at][i]);
+      from_mm = grid.split_mm[at][i];
+      from_x = grid.split_speed_squared[at][i];
+    }
+    add_phase(start + from_mm, grid.step_mm - from_mm, from_x, grid.speed_squared[at + 1]);
+  }
+}
+
+double GridTiming::distance(double t) {
+  if (phases_.empty() || t <= 0.0) return 0.0;
+  if (t >= duration_s_) return length_mm_;
+  while (cursor_ + 1 < phases_.size() && phases_[cursor_ + 1].start_s <= t) ++cursor_;
+  const Phase& phase = phases_[cursor_];
+  const double into = t - phase.start_s;
+  const double end_mm = cursor_ + 1 < phases_.size() ? phases_[cursor_ + 1].start_mm : length_mm_;
+  return std::min(end_mm,
+                  phase.start_mm + phase.speed * into + 0.5 * phase.acceleration * into * into);
+}
+
+}  // namespace pkm::motion
