@@ -17,12 +17,12 @@ namespace {
 constexpr double kGridTurnRad = 0.05;
 
 // Points on a piece's grid: one every kJointSampleStepMm and every kGridTurnRad of a curve, at
-// least 8 intervals and at most 512.
+// least 4 intervals (the differences at its ends take three points) and at most 512.
 int grid_intervals(const Segment& segment, double length_mm) {
   const double turn = segment.kind == SegmentKind::line ? 0.0 : std::abs(segment.sweep_rad);
   const double by_length = std::ceil(length_mm / kJointSampleStepMm);
   const double by_turn = std::ceil(turn / kGridTurnRad);
-  return static_cast<int>(std::clamp(std::max(by_length, by_turn), 8.0, 512.0));
+  return static_cast<int>(std::clamp(std::max(by_length, by_turn), 4.0, 512.0));
 }
 
 }  // namespace

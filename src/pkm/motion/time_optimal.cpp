@@ -16,55 +16,59 @@ bool near_end(double s_mm, double length_mm, double reserve_mm) {
   return reserve_mm > 0.0 && s_mm >= length_mm - reserve_mm;
 }
 
-// The interval of u with u^2 a + u b + c <= 0 (a > 0) intersected into `range`.
+// The interval of u with u^2 a + u b + c <= 0 (a > 0) intersected into `range`. Where there is
+// none, a range whose low passes its high by sqrt(-discriminant) / a: empty, by how much, so that
+// the searches below see how far a speed is from admissible.
 void within_quadratic(double a, double b, double c, AccelerationRange& range) {
   const double discriminant = b * b - 4.0 * a * c;
+  const double vertex = -b / (2.0 * a);
   if (discriminant < 0.0) {
-    range = AccelerationRange{1.0, 0.0};
+    const double gap = std::sqrt(-discriminant) / a;
+    range.low = std::max(range.low, vertex + 0.5 * gap);
+    range.high = std::min(range.high, vertex - 0.5 * gap);
     return;
   }
-  const double root = std::sqrt(discriminant);
-  range.low = std::max(range.low, (-b - root) / (2.0 * a));
-  range.high = std::min(range.high, (-b + root) / (2.0 * a));
+  const double root = std::sqrt(discriminant) / (2.0 * a);
+  range.low = std::max(range.low, vertex - root);
+  range.high = std::min(range.high, vertex + root);
 }
 
 // The highest x in [0, cap] from which some admissible u over the interval reaches at most
 // `next_bound` at its end (x + 2 ds u <= next_bound) and not below rest. The x that qualify form
-// an interval from 0 (the limits are convex in u and x), so regula falsi (Illinois) on
-// x + 2 ds low(x) - next_bound brackets its end; bisection where the limits leave no u at all.
+// an interval from 0 (the limits are convex in u and x): its end is the root of how far x misses,
+// in speed squared (the hardest braking's excess over the bound, or a fall below rest; where no
+// u is admissible, the range's emptiness times 2 ds on top), found by regula falsi (Illinois)
+// from [0, cap], keeping the lower end admissible.
 double highest_start(const IntervalLimits& limits, double cap, double next_bound) {
   const double twice_step = 2.0 * limits.step_mm();
-  double excess = 0.0;
-  const auto admissible = [&](double x) {
+  const auto missed_by = [&](double x) {
     const AccelerationRange range = limits.at(x);
-    if (range.empty()) {
-      excess = std::nan("");
-      return false;
-    }
-    excess = x + twice_step * range.low - next_bound;
-    return excess <= 0.0 && x + twice_step * range.high >= 0.0;
+    const double braking = x + twice_step * range.low - next_bound;
+    if (range.empty()) return std::max(braking, 0.0) + twice_step * (range.low - range.high);
+    return std::max(braking, -(x + twice_step * range.high));
   };
-  if (admissible(cap)) return cap;
-  double high = cap, excess_high = excess;
-  double low = 0.0;
-  if (!admissible(low)) return 0.0;
-  double excess_low = excess;
+  // The tool's acceleration across a curve alone caps x (where its range shrinks to u = 0 with an
+  // infinite slope, which a secant would approach slowly).
+  cap = std::min(cap, limits.curve_cap());
+  double high = cap, miss_high = missed_by(cap);
+  if (miss_high <= 0.0) return cap;
+  double low = 0.0, miss_low = missed_by(0.0);
+  if (miss_low > 0.0) return 0.0;
+  const double close = 1e-13 * std::max(1.0, next_bound);
   int kept = 0;  // +1: low moved last, -1: high moved last
-  for (int i = 0; i < 200 && high - low > 1e-15 * high; ++i) {
-    double x = std::isfinite(excess_high) && excess_high > 0.0
-                   ? low - excess_low * (high - low) / (excess_high - excess_low)
-                   : 0.5 * (low + high);
+  for (int i = 0; i < 100 && high - low > 1e-15 * high && miss_low < -close; ++i) {
+    double x = low - miss_low * (high - low) / (miss_high - miss_low);
     if (!(x > low && x < high)) x = 0.5 * (low + high);
-    if (admissible(x)) {
+    const double miss = missed_by(x);
+    if (miss <= 0.0) {
       low = x;
-      excess_low = excess;
-      if (kept == 1 && std::isfinite(excess_high)) excess_high *= 0.5;
+      miss_low = miss;
+      if (kept == 1) miss_high *= 0.5;
       kept = 1;
-      if (excess_low >= -1e-13 * std::max(1.0, next_bound)) break;
     } else {
       high = x;
-      excess_high = excess;
-      if (kept == -1) excess_low *= 0.5;
+      miss_high = miss;
+      if (kept == -1) miss_low *= 0.5;
       kept = -1;
     }
   }
@@ -195,8 +199,21 @@ void IntervalLimits::add_point(const Piece& piece, int point, bool at_end,
   }
 }
 
+double IntervalLimits::curve_cap() const {
+  // At the start (kappa x)^2 <= A^2; at the end the discriminant of the quadratic in u,
+  // 4 A^2 (1 + 4 kappa^2 ds^2) - 4 kappa^2 x^2, must not be negative.
+  double cap = 1e300;
+  if (start_curvature_ > 0.0) cap = acceleration_ / start_curvature_;
+  if (end_curvature_ > 0.0) {
+    const double stretch = 2.0 * end_curvature_ * step_mm_;
+    cap = std::min(cap, acceleration_ * std::sqrt(1.0 + stretch * stretch) / end_curvature_);
+  }
+  return cap;
+}
+
 AccelerationRange IntervalLimits::at(double x) const {
   AccelerationRange range;
+  double miss = 0.0;
   for (int i = 0; i < bound_count_; ++i) {
     const LinearBound& b = bounds_[static_cast<std::size_t>(i)];
     const double fixed = b.across * x;
@@ -206,17 +223,26 @@ AccelerationRange IntervalLimits::at(double x) const {
     } else if (b.along < 0.0) {
       range.low = std::max(range.low, (b.high - fixed) / b.along);
       range.high = std::min(range.high, (b.low - fixed) / b.along);
-    } else if (fixed < b.low || fixed > b.high) {
-      return AccelerationRange{1.0, 0.0};
+    } else {  // a bound on x alone: missed by how far x is past it, per the interval
+      miss = std::max({miss, fixed - b.high, b.low - fixed});
     }
   }
-  // The tool: u^2 + (kappa x)^2 <= A^2 at the start, with x + 2 ds u at the end.
+  // The tool: u^2 + (kappa x)^2 <= A^2 at the start, with x + 2 ds u at the end (|u| <= A on a
+  // line, most of a job).
   const double a2 = acceleration_ * acceleration_;
-  const double across_start = start_curvature_ * x;
-  within_quadratic(1.0, 0.0, across_start * across_start - a2, range);
-  const double k2 = end_curvature_ * end_curvature_;
-  within_quadratic(1.0 + 4.0 * k2 * step_mm_ * step_mm_, 4.0 * k2 * step_mm_ * x, k2 * x * x - a2,
-                   range);
+  if (start_curvature_ > 0.0) {
+    const double across_start = start_curvature_ * x;
+    within_quadratic(1.0, 0.0, across_start * across_start - a2, range);
+  } else {
+    range.low = std::max(range.low, -acceleration_);
+    range.high = std::min(range.high, acceleration_);
+  }
+  if (end_curvature_ > 0.0) {
+    const double k2 = end_curvature_ * end_curvature_;
+    within_quadratic(1.0 + 4.0 * k2 * step_mm_ * step_mm_, 4.0 * k2 * step_mm_ * x, k2 * x * x - a2,
+                     range);
+  }
+  if (miss > 0.0) range.low = std::max(range.low, range.high + miss / step_mm_);
   return range;
 }
 

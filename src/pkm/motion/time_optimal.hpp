@@ -39,6 +39,8 @@ class IntervalLimits {
  public:
   IntervalLimits(const Piece& piece, int interval, const machine::Machine& machine);
   AccelerationRange at(double speed_squared) const;
+  // The highest speed squared the tool's acceleration across the path admits at all.
+  double curve_cap() const;
   double step_mm() const { return step_mm_; }
 
  private:
