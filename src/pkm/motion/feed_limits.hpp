@@ -76,6 +76,9 @@ class FeedLimits {
   void grid_joint_terms(PathGrid& grid) const;
   void grid_curvature(Piece& piece) const;
   void grid_tension_rows(Piece& piece);
+  void tangential_range(PathGrid& grid, int k, const geometry::Vector6d& pose,
+                        const Eigen::Vector2d& tangent, double acceleration) const;
+  JointFeedLimit slowest_cruise(const Piece& piece, int& tension_row) const;
   struct TensionSlope {
     std::array<double, 2> lowest{}, highest{};  // N per mm/s^2, each cable
     double stray_N = 0.0;

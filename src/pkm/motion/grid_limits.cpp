@@ -182,6 +182,28 @@ FeedLimits::TensionSlope FeedLimits::tension_slope(const geometry::Pose& pose,
                   "the cables find no balance for the effector accelerating at a pose of the move");
 }
 
+// The exact range of the path acceleration at point k at rest speed along `tangent` (x y; 0 on a
+// plunge, which the cables do not feel), up to the tool's `acceleration`, and the rows that set
+// its ends.
+void FeedLimits::tangential_range(PathGrid& grid, int k, const geometry::Vector6d& pose,
+                                  const Eigen::Vector2d& tangent, double acceleration) const {
+  const std::size_t at = static_cast<std::size_t>(k);
+  const double length = tangent.norm();
+  grid.tangential_range[at] = {-1e300, 1e300};
+  grid.tangential_row[at] = {-1, -1};
+  if (!(length > 0.0)) return;
+  for (std::size_t side = 0; side < 2; ++side) {
+    const double sign = side == 0 ? -1.0 : 1.0;
+    TensionExcess beyond;
+    const double allowed =
+        tension_->allowed_along(pose, sign * tangent / length, acceleration, beyond);
+    grid.tangential_range[at][side] = sign * allowed / length;
+    if (allowed < acceleration && beyond.cable >= 0) {
+      grid.tangential_row[at][side] = 2 * beyond.cable + (beyond.slack ? 0 : 1);
+    }
+  }
+}
+
 // Each cable's tensions at every point as lines in u and x (path_grid.hpp's TensionRow): the
 // effector accelerates along the path's tangent by u and towards its centre by curvature * x.
 void FeedLimits::grid_tension_rows(Piece& piece) {
@@ -209,15 +231,7 @@ void FeedLimits::grid_tension_rows(Piece& piece) {
     const geometry::Vector6d pose_vector = pose.as_vector();
     grid.tangent_xy[static_cast<std::size_t>(k)] = tangent;
     grid.curvature_xy[static_cast<std::size_t>(k)] = across;
-    const double tangent_xy = tangent.norm();  // 0 on a plunge: the cables do not feel it
-    grid.tangential_range[static_cast<std::size_t>(k)] =
-        tangent_xy > 0.0 ? std::array<double, 2>{-tension_->allowed_along(
-                                                     pose_vector, -unit(tangent), acceleration) /
-                                                     tangent_xy,
-                                                 tension_->allowed_along(pose_vector, unit(tangent),
-                                                                         acceleration) /
-                                                     tangent_xy}
-                         : std::array<double, 2>{-1e300, 1e300};
+    tangential_range(grid, k, pose_vector, tangent, acceleration);
     TensionRow* rows = &grid.tension_rows[static_cast<std::size_t>(k * kTensionRowsPerPoint)];
     for (std::size_t cable = 0; cable < 2; ++cable) {
       rows[2 * cable] =
@@ -232,29 +246,55 @@ void FeedLimits::grid_tension_rows(Piece& piece) {
   }
 }
 
-// The report's entries for a piece planned on its grid: the slowest cruise any limit alone allows
-// along it (u = 0: a joint's velocity share / |q'|, its bend sqrt(share amax / |q''|), a cable's
-// tension across a curve), when a joint or a cable sets it below the programmed feed; and the
-// least acceleration along the path the cables allow at rest speed, when it is below the tool's.
+// The report's entries for a piece planned on its grid: the slowest cruise any limit alone
+// allows along it, when a joint or a cable sets it below the programmed feed and below what the
+// tool's own acceleration allows on its curve; and the least acceleration along the path the
+// cables allow at rest speed, when it is below the tool's.
 void FeedLimits::report_grid_limits(const Piece& piece) {
+  int tension_row = -1;
+  const JointFeedLimit slowest = slowest_cruise(piece, tension_row);
+  if (tension_row >= 0) {
+    FeedLimit limit =
+        feed_limit(piece, tension_row / 2, slowest.speed_mm_per_s, LimitCause::tension);
+    limit.slack = tension_row % 2 == 0;
+    report_.feed_limits.push_back(limit);
+  } else if (slowest.joint >= 0) {
+    report_joint_limit(piece, slowest, kGridLimitShare, kGridLimitShare);
+  }
   const PathGrid& grid = piece.grid;
-  const double programmed = piece.max_speed;
-  JointFeedLimit slowest;
-  slowest.speed_mm_per_s = programmed;
-  // What the tool's own acceleration allows on a curve comes first: a joint or a cable is named
-  // only where it holds the speed below that (as the jerk-limited planner's report does).
   const double tool = machine_.cartesian().max_acceleration_mm_per_s2;
-  for (int k = 0; k <= grid.intervals; ++k) {
-    const double curvature = grid.curvature_per_mm[static_cast<std::size_t>(k)];
+  double least = tool;
+  int row = -1;
+  for (std::size_t k = 0; k < grid.tangential_range.size(); ++k) {
+    for (std::size_t side = 0; side < 2; ++side) {
+      const double allowed = std::abs(grid.tangential_range[k][side]);
+      if (grid.tangential_row[k][side] >= 0 && allowed < least) {
+        least = allowed;
+        row = grid.tangential_row[k][side];
+      }
+    }
+  }
+  if (row >= 0) {
+    report_.tension_limits.push_back({piece.segment.line, row / 2, row % 2 == 0, tool, least});
+  }
+}
+
+// The slowest speed at which the piece could cruise (u = 0) by any one limit: the feed, the
+// tool's v^2/r, each joint's velocity share / |q'| and bend sqrt(share amax / |q''|), each
+// cable's tension across a curve. The joint that sets it, or the tension row in `tension_row`
+// (else -1); neither when the feed or the tool's own acceleration does.
+JointFeedLimit FeedLimits::slowest_cruise(const Piece& piece, int& tension_row) const {
+  const PathGrid& grid = piece.grid;
+  JointFeedLimit slowest;
+  slowest.speed_mm_per_s = piece.max_speed;
+  const double tool = machine_.cartesian().max_acceleration_mm_per_s2;
+  for (const double curvature : grid.curvature_per_mm) {
     if (curvature > 0.0) {
       slowest.speed_mm_per_s = std::min(slowest.speed_mm_per_s, std::sqrt(tool / curvature));
     }
   }
   const double cruise = slowest.speed_mm_per_s;
-  int tension_row = -1;
-  double tangential = machine_.cartesian().max_acceleration_mm_per_s2;
-  int tension_cable = -1;
-  bool tension_slack = false;
+  tension_row = -1;
   for (int k = 0; k <= grid.intervals; ++k) {
     kinematics::JointVector slope(grid.joint_count), bend(grid.joint_count);
     for (int j = 0; j < grid.joint_count; ++j) {
@@ -277,35 +317,13 @@ void FeedLimits::report_grid_limits(const Piece& piece) {
         slowest.joint = -1;
         tension_row = r;
       }
-      if (row.along == 0.0) continue;
-      // Which cable sets the exact tangential range: the row nearest to its limit there.
-      const std::array<double, 2>& range = grid.tangential_range[static_cast<std::size_t>(k)];
-      for (const double u : range) {
-        const double headroom =
-            u * row.along > 0.0 ? row.high_N - row.rest_N : row.low_N - row.rest_N;
-        const double reach = std::abs(headroom / row.along);
-        if (std::abs(u) < tangential && reach <= std::abs(u) * 1.5) {
-          tangential = std::abs(u);
-          tension_cable = r / 2;
-          tension_slack = r % 2 == 0;
-        }
-      }
     }
   }
   if (!(slowest.speed_mm_per_s < cruise * (1.0 - 1e-9))) {
-    // no joint or cable lowers the cruise
-  } else if (tension_row >= 0) {
-    FeedLimit limit =
-        feed_limit(piece, tension_row / 2, slowest.speed_mm_per_s, LimitCause::tension);
-    limit.slack = tension_row % 2 == 0;
-    report_.feed_limits.push_back(limit);
-  } else if (slowest.joint >= 0) {
-    report_joint_limit(piece, slowest, kGridLimitShare, kGridLimitShare);
+    slowest.joint = -1;
+    tension_row = -1;
   }
-  if (tension_cable >= 0) {
-    report_.tension_limits.push_back({piece.segment.line, tension_cable, tension_slack,
-                                      machine_.cartesian().max_acceleration_mm_per_s2, tangential});
-  }
+  return slowest;
 }
 
 }  // namespace pkm::motion

@@ -39,8 +39,10 @@ struct PathGrid {
   std::vector<double> joint_derivatives;
   std::vector<TensionRow> tension_rows;  // kTensionRowsPerPoint per point, or none
   // With tension rows: the path acceleration the tensions allow at each point at rest speed,
-  // exactly (the rows are lines through the tensions, which bend at large accelerations).
+  // exactly (the rows are lines through the tensions, which bend at large accelerations), and
+  // the row of the cable that sets each end (-1: the tool's acceleration does, not a cable).
   std::vector<std::array<double, 2>> tangential_range;
+  std::vector<std::array<int, 2>> tangential_row;
   // With tension rows: the effector's acceleration per u (the tangent, x y) and per x (the
   // curvature vector, x y) at each point.
   std::vector<Eigen::Vector2d> tangent_xy, curvature_xy;
@@ -74,6 +76,7 @@ struct PathGrid {
     joint_derivatives.assign(points * static_cast<std::size_t>(joints) * 2, 0.0);
     tension_rows.assign(with_tensions ? points * kTensionRowsPerPoint : 0, TensionRow{});
     tangential_range.assign(with_tensions ? points : 0, {0.0, 0.0});
+    tangential_row.assign(with_tensions ? points : 0, {-1, -1});
     tangent_xy.assign(with_tensions ? points : 0, Eigen::Vector2d::Zero());
     curvature_xy.assign(with_tensions ? points : 0, Eigen::Vector2d::Zero());
     speed_squared.assign(points, 0.0);

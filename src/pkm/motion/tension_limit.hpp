@@ -66,11 +66,11 @@ class TensionLimit {
                         double speed) const;
 
   // The hardest the effector may accelerate along the unit vector `direction` (x y) at `pose`,
-  // up to `cap` (mm/s^2), with every tension within its limits (the whole headroom).
-  double allowed_along(const geometry::Vector6d& pose, const Eigen::Vector2d& direction,
-                       double cap) const {
-    TensionExcess unused;
-    return headroom(pose, Eigen::Vector2d::Zero(), direction, cap, 1.0, unused);
+  // up to `cap` (mm/s^2), with every tension within its limits (the whole headroom); `beyond`
+  // names the cable that passes its limit just beyond it.
+  double allowed_along(const geometry::Vector6d& pose, const Eigen::Vector2d& direction, double cap,
+                       TensionExcess& beyond) const {
+    return headroom(pose, Eigen::Vector2d::Zero(), direction, cap, 1.0, beyond);
   }
 
   // The cable whose tension is nearest to its limits (or furthest beyond) at `pose` under the
