@@ -307,6 +307,61 @@ std::pair<double, double> peak_speed_and_acceleration(const std::vector<Sample>&
   return {peak_speed, peak_acceleration};
 }
 
+TEST(LookAhead, AMicrometresMoveOnTheWayCostsNoTime) {
+  // Two lines along X at F6000 on the wall plotter, and the same with a move of 1e-6 mm between
+  // them (CAM rounding leaves such moves). The joints' differences over its grid's 2.5e-7 mm
+  // steps are rounding: its cables' bend read thousands per mm^2 and the plan crawled through it
+  // (4.573 s against 4.486 s).
+  const machine::Machine plotter = test::load_example("wall-plotter.toml");
+  PlanOptions options;
+  options.estimate_only = true;
+  options.origin << 650.0, -900.0, 0.0, 0.0, 0.0, 0.0;
+  struct : SampleSink {
+    void write(const Sample&) override {}
+  } none;
+  const auto duration = [&](const std::string& middle) {
+    const test::TempProgram job("G21 G90 G64\nG1 X0 Y0 F6000\nG1 X100 Y0\n" + middle +
+                                "G1 X200 Y0\nM2\n");
+    return plan_program(plotter, job.path(), {}, options, none).duration_s;
+  };
+  const double straight = duration("");
+  EXPECT_NEAR(duration("G1 X100.000001 Y0\n"), straight, 1e-6 * straight);
+  EXPECT_NEAR(duration("G1 X100.0001 Y0\n"), straight, 1e-6 * straight);
+}
+
+TEST(Segment, ItsRatesAreTheDerivativesOfItsPoses) {
+  // A line, an arc with a radius that drifts and a rise, and a blend: d pose/du and d2 pose/du2
+  // against central differences of at() (step 1e-5: errors of 1e-9 at these sizes).
+  Segment line;
+  line.start << 1.0, 2.0, 3.0, 0.1, 0.2, 0.3;
+  line.end << 4.0, -2.0, 5.0, 0.2, 0.1, 0.3;
+  Segment arc = line;
+  arc.kind = SegmentKind::arc;
+  arc.start << 10.0, 0.0, 0.0, 0.0, 0.0, 0.0;
+  arc.end << 0.0, 10.5, 2.0, 0.0, 0.0, 0.1;
+  arc.centre = Eigen::Vector3d::Zero();
+  arc.sweep_rad = M_PI / 2.0;
+  Segment blend;
+  blend.kind = SegmentKind::blend;
+  blend.centre << 5.0, 5.0, 0.0;
+  blend.radius_mm = 2.0;
+  blend.axis_u = Eigen::Vector3d::UnitX();
+  blend.axis_v = Eigen::Vector3d::UnitY();
+  blend.sweep_rad = 1.2;
+  blend.start = blend.at(0.0);
+  blend.end << 5.0 + 2.0 * std::cos(1.2), 5.0 + 2.0 * std::sin(1.2), 0.0, 0.0, 0.0, 0.0;
+  const double h = 1e-5;
+  for (const Segment* segment : {&line, &arc, &blend}) {
+    for (const double u : {0.1, 0.5, 0.9}) {
+      const geometry::Vector6d first = (segment->at(u + h) - segment->at(u - h)) / (2.0 * h);
+      const geometry::Vector6d second =
+          (segment->at(u + h) - 2.0 * segment->at(u) + segment->at(u - h)) / (h * h);
+      EXPECT_LT((segment->velocity_at(u) - first).norm(), 1e-6) << u;
+      EXPECT_LT((segment->acceleration_at(u) - second).norm(), 1e-3) << u;
+    }
+  }
+}
+
 TEST(LookAhead, ShortCamSegmentsRunAtTheProgrammedFeed) {
   // A circle of radius 20 mm as 0.1 mm chords at F600 (10 mm/s): G64 must not stop at each one.
   const machine::Machine hexapod = test::load_example("hexapod-bit.toml");

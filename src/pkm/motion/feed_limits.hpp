@@ -74,6 +74,7 @@ class FeedLimits {
                           double bend_share);
   // The grid's parts (grid_limits.cpp).
   void grid_joint_terms(PathGrid& grid) const;
+  void fine_joint_terms(Piece& piece);
   void grid_curvature(Piece& piece) const;
   void grid_tension_rows(Piece& piece);
   void tangential_range(PathGrid& grid, int k, const geometry::Vector6d& pose,

@@ -12,6 +12,10 @@ namespace pkm::motion {
 
 namespace {
 
+// Grids finer than this (mm) take their joints' derivatives along the path's own tangent over
+// this distance instead of from their points' differences (fine_joint_terms).
+constexpr double kFineStepMm = 0.01;
+
 // A curve's grid turns by at most this much per interval (rad): the limits are held at the
 // points, and the direction of the tool's acceleration across a curve turns with it.
 constexpr double kGridTurnRad = 0.05;
@@ -48,6 +52,7 @@ void FeedLimits::build_grid(Piece& piece) {
     positions_at_points_[static_cast<std::size_t>(k)] = position;
   }
   grid_joint_terms(grid);
+  if (grid.step_mm < kFineStepMm) fine_joint_terms(piece);
   grid_curvature(piece);
   const double feed_squared = piece.max_speed * piece.max_speed;
   for (int k = 0; k <= intervals; ++k) {
@@ -85,6 +90,44 @@ void FeedLimits::grid_joint_terms(PathGrid& grid) const {
       const std::size_t at = static_cast<std::size_t>((k * grid.joint_count + j) * 2);
       grid.joint_derivatives[at] = slope;
       grid.joint_derivatives[at + 1] = bend;
+    }
+  }
+}
+
+// On a grid finer than kFineStepMm the differences of its joints are rounding (a joint of a
+// metre rounds to 1e-10 mm: over 1e-6 mm steps its bend reads thousands per mm^2 and a cable
+// crawls through a micrometre's move): there the derivatives come from poses kFineStepMm apart
+// along the path's own tangent and bend at each point (chain rule: q'' = D2q[p', p'] + Dq[p'']),
+// where the inverse kinematics answers there.
+void FeedLimits::fine_joint_terms(Piece& piece) {
+  PathGrid& grid = piece.grid;
+  const Segment& segment = piece.segment;
+  const int n = grid.intervals;
+  const double delta = kFineStepMm, length = piece.length;
+  kinematics::JointVector ahead, behind, out, in;
+  for (int k = 0; k <= n; ++k) {
+    const double u = static_cast<double>(k) / n;
+    const geometry::Vector6d pose = segment.at(u);
+    const geometry::Vector6d tangent = segment.velocity_at(u) / length;
+    const geometry::Vector6d bend = segment.acceleration_at(u) / (length * length);
+    const auto joints_at = [&](const geometry::Vector6d& p, kinematics::JointVector& q) {
+      return machine_.inverse(geometry::Pose::from_vector(p), q).ok() && q.allFinite();
+    };
+    if (!joints_at(pose + delta * tangent, ahead) || !joints_at(pose - delta * tangent, behind)) {
+      continue;
+    }
+    const kinematics::JointVector& here = joints_at_points_[static_cast<std::size_t>(k)];
+    kinematics::JointVector second = (ahead - 2.0 * here + behind) / (delta * delta);
+    const double bend_size = bend.norm();
+    if (bend_size > 0.0) {
+      const double step = delta / bend_size;
+      if (!joints_at(pose + step * bend, out) || !joints_at(pose - step * bend, in)) continue;
+      second += (out - in) / (2.0 * step);
+    }
+    for (int j = 0; j < grid.joint_count; ++j) {
+      const std::size_t at = static_cast<std::size_t>((k * grid.joint_count + j) * 2);
+      grid.joint_derivatives[at] = (ahead[j] - behind[j]) / (2.0 * delta);
+      grid.joint_derivatives[at + 1] = second[j];
     }
   }
 }

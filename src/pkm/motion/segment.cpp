@@ -128,4 +128,50 @@ geometry::Vector6d Segment::at(double u) const {
   return pose;
 }
 
+geometry::Vector6d Segment::velocity_at(double u) const {
+  geometry::Vector6d rate = end - start;  // lines, the angles, an arc's normal axis
+  if (kind == SegmentKind::blend) {
+    const double angle = u * sweep_rad;
+    rate.head<3>() = radius_mm * sweep_rad * (-std::sin(angle) * axis_u + std::cos(angle) * axis_v);
+  } else if (kind == SegmentKind::arc) {
+    const double start_angle = std::atan2(start[second_axis] - centre[second_axis],
+                                          start[first_axis] - centre[first_axis]);
+    const double start_radius = std::hypot(start[first_axis] - centre[first_axis],
+                                           start[second_axis] - centre[second_axis]);
+    const double radius_change =
+        std::hypot(end[first_axis] - centre[first_axis], end[second_axis] - centre[second_axis]) -
+        start_radius;
+    const double radius = start_radius + u * radius_change;
+    const double angle = start_angle + u * sweep_rad;
+    rate[first_axis] = radius_change * std::cos(angle) - radius * sweep_rad * std::sin(angle);
+    rate[second_axis] = radius_change * std::sin(angle) + radius * sweep_rad * std::cos(angle);
+  }
+  return rate;
+}
+
+geometry::Vector6d Segment::acceleration_at(double u) const {
+  geometry::Vector6d rate = geometry::Vector6d::Zero();
+  if (kind == SegmentKind::blend) {
+    const double angle = u * sweep_rad;
+    rate.head<3>() =
+        -radius_mm * sweep_rad * sweep_rad * (std::cos(angle) * axis_u + std::sin(angle) * axis_v);
+  } else if (kind == SegmentKind::arc) {
+    const double start_angle = std::atan2(start[second_axis] - centre[second_axis],
+                                          start[first_axis] - centre[first_axis]);
+    const double start_radius = std::hypot(start[first_axis] - centre[first_axis],
+                                           start[second_axis] - centre[second_axis]);
+    const double radius_change =
+        std::hypot(end[first_axis] - centre[first_axis], end[second_axis] - centre[second_axis]) -
+        start_radius;
+    const double radius = start_radius + u * radius_change;
+    const double angle = start_angle + u * sweep_rad;
+    const double turn = sweep_rad * sweep_rad;
+    rate[first_axis] =
+        -2.0 * radius_change * sweep_rad * std::sin(angle) - radius * turn * std::cos(angle);
+    rate[second_axis] =
+        2.0 * radius_change * sweep_rad * std::cos(angle) - radius * turn * std::sin(angle);
+  }
+  return rate;
+}
+
 }  // namespace pkm::motion

@@ -42,6 +42,11 @@ struct Segment {
   double length() const;
   // The pose at fraction u of the path (0 = start, 1 = end).
   geometry::Vector6d at(double u) const;
+  // d pose / du and d2 pose / du2 at fraction u, from the segment's own numbers (no differences of
+  // poses, which rounding swamps on a segment a micrometre long). The angles' parts are linear in
+  // u (the great circle's attitude is taken as linear, as it nearly is over a short stretch).
+  geometry::Vector6d velocity_at(double u) const;
+  geometry::Vector6d acceleration_at(double u) const;
   // The stretch of a line or arc from fraction u0 to u1, the same path: at(u0) to at(u1).
   Segment part(double u0, double u1) const;
 
