@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
@@ -616,6 +618,31 @@ TEST(PlannerPropertiesReproducers, ShortArcFromRestToRestKeepsTheMatrixMillsTool
                   0.0);
 }
 
+// A G64 blend between a slow move and a fast one (triaglide random job 23: its line 2 at
+// F378.7 and line 4 at F5744, blended over 4.04 mm, 0.640 s against the reference's 0.107 s,
+// 1.033 of the reference over the job). The planner gives the blend the slower feed
+// (look_ahead.cpp, blend(): min of the two moves' max_speed); the reference takes the blend
+// segment's own feed_mm_per_s, which is the next move's; LinuxCNC's blend arcs take the faster
+// of the two (blendmath.c: v_req = fmax(prev_tc->reqvel, tc->reqvel)). One of planner and
+// reference is to change; until they agree, this fails. Here: a 90 deg corner of the wall
+// plotter from F360 to F6000 with P1, a blend of r = 3.41 mm (5.36 mm long).
+TEST(PlannerPropertiesReproducers, CornerBlendBetweenTwoFeedsPlannerAndReferenceAgree) {
+  check_edge_case("wall-plotter.toml", "G21 G90 G64 P1\nG1 X20 F360\nG1 X20 Y20 F6000\nM2\n",
+                  kPlotterHome);
+}
+
+// A square of 20 mm with blended corners (G64 P0.01) on LinuxCNC's rotary delta, whose joints
+// (50 deg/s^2) bind: 2.908 s against the reference's 2.801 s (1.038); each line 0.02-0.04 s
+// slower, the corners passed at about 2 mm/s. With G61 the same square is within 1.0006. The
+// likely cause (feed_limits.cpp, limit_junction()): a corner's reserve of up to 20 % of a
+// joint's acceleration is sized by the programmed feed (`passing`), not by the speed the corner
+// is passed at, and held over at least kJointSampleStepMm (0.5 mm) and the grid intervals
+// reaching into it, which at 2 mm/s is a quarter of a second a corner.
+TEST(PlannerPropertiesReproducers, BlendedSquareOnTheRotaryDeltaWithinTwoPercentOfTheReference) {
+  check_edge_case("linuxcnc-rdelta.toml",
+                  "G21 G90 G64 P0.01\nG1 X20 F4000\nG1 X20 Y20\nG1 X0 Y20\nG1 X0 Y0\nM2\n", {});
+}
+
 // Dragon.nc's line 103 alone (an arc of 3.0 mm radius, 1.31 mm long, at F60 in/min) on the
 // Maslow of the examples: joint 'left' at 101.06 mm/s^2 against its 100, and the tool at
 // 101.28 mm/s^2 against its 100, at t = 11.806 s (the whole job: 43 samples over a joint's
@@ -637,5 +664,25 @@ TEST(PlannerPropertiesReproducers, HelixFromRestToRestKeepsTheRotaryDeltasJointA
                   {});
 }
 
+}  // namespace
+}  // namespace pkm::test
+namespace pkm::test {
+namespace {
+TEST(PlannerPropertiesProbe, DISABLED_Pieces) {
+  const machine::Machine machine = load_example(std::getenv("PROBE_MACHINE"));
+  const PlannedJob job = plan_pieces(machine, std::getenv("PROBE_PROGRAM"), {});
+  const ReferenceResult ref = solve_reference(machine, job.pieces, 0.001, 0.01);
+  std::printf("total %.6f / %.6f = %.6f\n", job.motion_time_s, ref.duration_s,
+              job.motion_time_s / ref.duration_s);
+  for (std::size_t k = 0; k < job.pieces.size(); ++k) {
+    const auto& p = job.pieces[k];
+    std::printf(
+        "piece %zu line %d kind %d rapid %d len %.5f stop %d entry %.4f exit %.4f feed %.3f: "
+        "planner %.6f ref %.6f diff %.6f\n",
+        k, p.segment.line, static_cast<int>(p.segment.kind), p.segment.rapid, p.length_mm,
+        p.stop_after, p.entry_speed_mm_per_s, p.exit_speed_mm_per_s, p.segment.feed_mm_per_s,
+        p.duration_s, ref.piece_durations_s[k], p.duration_s - ref.piece_durations_s[k]);
+  }
+}
 }  // namespace
 }  // namespace pkm::test
