@@ -9,8 +9,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
@@ -664,25 +662,5 @@ TEST(PlannerPropertiesReproducers, HelixFromRestToRestKeepsTheRotaryDeltasJointA
                   {});
 }
 
-}  // namespace
-}  // namespace pkm::test
-namespace pkm::test {
-namespace {
-TEST(PlannerPropertiesProbe, DISABLED_Pieces) {
-  const machine::Machine machine = load_example(std::getenv("PROBE_MACHINE"));
-  const PlannedJob job = plan_pieces(machine, std::getenv("PROBE_PROGRAM"), {});
-  const ReferenceResult ref = solve_reference(machine, job.pieces, 0.001, 0.01);
-  std::printf("total %.6f / %.6f = %.6f\n", job.motion_time_s, ref.duration_s,
-              job.motion_time_s / ref.duration_s);
-  for (std::size_t k = 0; k < job.pieces.size(); ++k) {
-    const auto& p = job.pieces[k];
-    std::printf(
-        "piece %zu line %d kind %d rapid %d len %.5f stop %d entry %.4f exit %.4f feed %.3f: "
-        "planner %.6f ref %.6f diff %.6f\n",
-        k, p.segment.line, static_cast<int>(p.segment.kind), p.segment.rapid, p.length_mm,
-        p.stop_after, p.entry_speed_mm_per_s, p.exit_speed_mm_per_s, p.segment.feed_mm_per_s,
-        p.duration_s, ref.piece_durations_s[k], p.duration_s - ref.piece_durations_s[k]);
-  }
-}
 }  // namespace
 }  // namespace pkm::test
