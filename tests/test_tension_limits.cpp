@@ -17,6 +17,7 @@
 #include "pkm/motion/planner.hpp"
 #include "pkm/motion/tension_limit.hpp"
 #include "real_corpus.hpp"
+#include "sample_limit_checks.hpp"
 #include "test_support.hpp"
 
 namespace pkm::motion {
@@ -67,64 +68,8 @@ struct Discard final : SampleSink {
 
 using test::TempProgram;
 
-// Checks each sample's tensions under its acceleration, by finite differences of the sampled
-// positions (the samples before and after it), against the limits [min_N, max_N], from the
-// statics of the machine alone: the planner's own bound is not used.
-class TensionCheck final : public SampleSink {
- public:
-  TensionCheck(const kinematics::CablePlotterKinematics& kinematics, double min_N, double max_N)
-      : kinematics_(kinematics), min_N_(min_N), max_N_(max_N) {}
-
-  void write(const Sample& sample) override {
-    window_[0] = window_[1];
-    window_[1] = window_[2];
-    window_[2] = sample;
-    if (++count_ >= 3) check(window_[0], window_[1], window_[2]);
-  }
-
-  long outside = 0;               // samples with a tension outside [min_N, max_N]
-  double worst_margin_N = 1e300;  // the least distance of a tension to its nearer limit
-  double lowest_N = 1e300, highest_N = -1e300;
-  std::string first_outside;
-  long checked = 0;
-
- private:
-  void check(const Sample& before, const Sample& at, const Sample& after) {
-    const double dt0 = at.time_s - before.time_s, dt1 = after.time_s - at.time_s;
-    if (!(dt0 > 0.0) || !(dt1 > 0.0)) return;
-    const Eigen::Vector2d v0 = (at.pose.head<2>() - before.pose.head<2>()) / dt0;
-    const Eigen::Vector2d v1 = (after.pose.head<2>() - at.pose.head<2>()) / dt1;
-    const Eigen::Vector2d acceleration = 2.0 * (v1 - v0) / (dt0 + dt1);
-    kinematics::CableStatics statics;
-    const kinematics::Status status =
-        kinematics_.statics(geometry::Pose::from_vector(at.pose), acceleration, statics);
-    ++checked;
-    double margin = -1.0;
-    if (status.ok()) {
-      for (int cable = 0; cable < 2; ++cable) {
-        const std::size_t c = static_cast<std::size_t>(cable);
-        lowest_N = std::min(lowest_N, statics.lowest_N[c]);
-        highest_N = std::max(highest_N, statics.highest_N[c]);
-        margin = cable == 0 ? 1e300 : margin;
-        margin = std::min({margin, statics.lowest_N[c] - min_N_, max_N_ - statics.highest_N[c]});
-      }
-    }
-    worst_margin_N = std::min(worst_margin_N, margin);
-    if (margin < 0.0 && outside++ == 0) {
-      std::ostringstream text;
-      text << "t = " << at.time_s << " s, line " << at.line << ", x " << at.pose[0] << " y "
-           << at.pose[1] << " mm, acceleration " << acceleration.transpose()
-           << " mm/s^2: " << statics.lowest_N[0] << ".." << statics.highest_N[0] << " N, "
-           << statics.lowest_N[1] << ".." << statics.highest_N[1] << " N";
-      first_outside = text.str();
-    }
-  }
-
-  const kinematics::CablePlotterKinematics& kinematics_;
-  double min_N_, max_N_;
-  Sample window_[3];
-  long count_ = 0;
-};
+// The samples' tensions by statics (sample_limit_checks.hpp).
+using test::TensionCheck;
 
 // A symmetric V by hand: anchors 1000 mm apart, a 1 kg pen tied to both cables, tensions within
 // [2, 20] N; joints and Cartesian limits out of the way. Home (500, -300).
