@@ -59,12 +59,16 @@ JointFeedLimit joint_feed_limit(const std::vector<machine::JointSpec>& joints,
   return limit;
 }
 
+double FeedLimits::feed_cap(const Segment& segment) const {
+  const double max_feed = machine_.cartesian().max_feed_mm_per_s();
+  return segment.rapid ? max_feed : std::min(segment.feed_mm_per_s, max_feed);
+}
+
 Piece FeedLimits::piece(const Segment& segment, double length) {
   Piece piece;
   piece.segment = segment;
   piece.length = length;
-  const double max_feed = machine_.cartesian().max_feed_mm_per_s();
-  piece.max_speed = segment.rapid ? max_feed : std::min(segment.feed_mm_per_s, max_feed);
+  piece.max_speed = feed_cap(segment);
   if (!(piece.max_speed > 0.0)) {
     throw PlanError(file_, segment.line, "a feed move with no feed rate");
   }
@@ -217,6 +221,36 @@ void FeedLimits::limit_by_tensions(Piece& piece) {
   }
 }
 
+namespace {
+
+// What a junction's change of velocity v * jump (jump per mm of path: a joint's dq/ds, the tool's
+// direction) asks of a limit (per s^2): it happens within one period, or, where the moves are
+// shorter than v * period (a curve in short chords), once per chord: v jump max(1 / period,
+// v / chord). The share of the limit kept for it (20 %, or time-optimally no more than passing
+// at `passing` needs) and the highest speed at which it fits in that share.
+struct JunctionShare {
+  double share = 0.0;
+  double speed = 1e300;
+};
+JunctionShare junction_share(double jump, double limit, double passing, double period, double chord,
+                             bool time_optimal) {
+  JunctionShare result;
+  if (!(jump > 0.0) || !(limit > 0.0)) return result;
+  const double most = 1.0 - kMoveAccelerationShare;
+  if (!time_optimal) {  // the jerk-limited planner's rule: within a period, 20 %
+    result.share = most;
+    result.speed = most * limit * period / jump;
+    return result;
+  }
+  const double kick = passing * jump * std::max(1.0 / period, passing / chord);
+  result.share = std::min(most, kick / limit);
+  result.speed = std::min(result.share * limit * period / jump,
+                          std::sqrt(result.share * limit * chord / jump));
+  return result;
+}
+
+}  // namespace
+
 void FeedLimits::limit_junction(Piece& before, Piece& after) {
   const auto rate = [&](const Segment& segment, double length, bool at_end) {
     double from = 0.0, to = 0.0;
@@ -230,41 +264,52 @@ void FeedLimits::limit_junction(Piece& before, Piece& after) {
   };
   const kinematics::JointVector out = rate(before.segment, before.length, true);
   const kinematics::JointVector in = rate(after.segment, after.length, false);
-  // The fastest the junction can be passed anyway; the reserve a joint needs at that speed.
-  const double passing = std::min(before.max_speed, after.max_speed);
+  const double passing = passing_speed(before, after);
+  const double chord = std::min(before.length, after.length);
   kinematics::JointVector reserve = kinematics::JointVector::Zero(out.size());
   for (int i = 0; i < out.size(); ++i) {
-    const double jump = std::abs(in[i] - out[i]);
-    if (jump <= 0.0) continue;
-    const double max_acceleration = machine_.joints()[static_cast<std::size_t>(i)].max_acceleration;
-    const double share = time_optimal()
-                             ? std::min(1.0 - kMoveAccelerationShare,
-                                        passing * jump / (options_.period_s * max_acceleration))
-                             : 1.0 - kMoveAccelerationShare;
-    reserve[i] = share;
-    const double allowed = share * max_acceleration * options_.period_s / jump;
-    before.max_exit_speed = std::min(before.max_exit_speed, allowed);
+    const JunctionShare joint = junction_share(
+        std::abs(in[i] - out[i]), machine_.joints()[static_cast<std::size_t>(i)].max_acceleration,
+        passing, options_.period_s, chord, time_optimal());
+    reserve[i] = joint.share;
+    before.max_exit_speed = std::min(before.max_exit_speed, joint.speed);
   }
+  double out_from = 0.0, out_to = 0.0, in_from = 0.0, in_to = 0.0;
+  junction_ends(before.length, true, out_from, out_to);
+  junction_ends(after.length, false, in_from, in_to);
+  const Eigen::Vector3d out_direction = direction(before.segment, out_from, out_to);
+  const Eigen::Vector3d in_direction = direction(after.segment, in_from, in_to);
   bool turns = false;
   if (tension_) {
-    double out_from = 0.0, out_to = 0.0, in_from = 0.0, in_to = 0.0;
-    junction_ends(before.length, true, out_from, out_to);
-    junction_ends(after.length, false, in_from, in_to);
-    const Eigen::Vector3d out_direction = direction(before.segment, out_from, out_to);
-    const Eigen::Vector3d in_direction = direction(after.segment, in_from, in_to);
     turns = (in_direction - out_direction).head<2>().norm() > 0.0;
     before.max_exit_speed = tension_->junction_speed(
-        before.segment.end, out_direction, in_direction, std::min(before.length, after.length),
-        options_.period_s, std::min(before.max_exit_speed, before.max_speed));
+        before.segment.end, out_direction, in_direction, chord, options_.period_s,
+        std::min(before.max_exit_speed, before.max_speed));
   }
   if (!time_optimal()) return;
-  // A sample sees the jump within two periods of the junction, at most `passing` fast; and a
-  // grid interval that reaches into that stretch takes the reserve along all of it.
-  const double reach_mm = 2.0 * options_.period_s * passing + kJointSampleStepMm;
-  before.exit_reserve = reserve;
-  after.entry_reserve = reserve;
-  before.exit_reserve_mm = after.entry_reserve_mm = reach_mm;
+  // The tool's own change of direction, as a joint's change of rate.
+  const JunctionShare tool = junction_share((in_direction - out_direction).norm(),
+                                            machine_.cartesian().max_acceleration_mm_per_s2,
+                                            passing, options_.period_s, chord, true);
+  before.max_exit_speed = std::min(before.max_exit_speed, tool.speed);
+  // A sample's second difference sees the change within two periods of the junction.
+  before.exit_reserve = after.entry_reserve = reserve;
+  before.exit_tool_reserve = after.entry_tool_reserve = tool.share;
+  before.exit_reserve_mm = after.entry_reserve_mm = 2.0 * options_.period_s * passing;
   before.exit_tension_reserve = after.entry_tension_reserve = turns;
+}
+
+// The fastest a junction can be passed anyway: the moves' feeds, and on a curve (an arc or a
+// G64 blend) what the tool's own acceleration allows across it.
+double FeedLimits::passing_speed(const Piece& before, const Piece& after) const {
+  double passing = std::min(before.max_speed, after.max_speed);
+  const double tool = machine_.cartesian().max_acceleration_mm_per_s2;
+  for (const Piece* piece : {&before, &after}) {
+    if (piece->curve_radius_mm > 0.0) {
+      passing = std::min(passing, std::sqrt(tool * piece->curve_radius_mm));
+    }
+  }
+  return passing;
 }
 
 void FeedLimits::leaves_reach(const Segment& segment) const {

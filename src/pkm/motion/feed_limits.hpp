@@ -51,11 +51,15 @@ class FeedLimits {
   const TensionLimit* tension() const { return tension_ ? &*tension_ : nullptr; }
 
   // A joint whose rate along the path (dq/ds) differs across a junction would change its
-  // velocity in one servo period: the junction speed keeps that change within a share of what
-  // its acceleration allows in a period (20 %; time-optimally, no more than the fastest passing
-  // needs), and the pieces keep that share near the junction. So does the effector's velocity,
-  // which a hanging effector's cables feel (TensionLimit::junction_speed).
+  // velocity in one servo period (or once a chord, where chords come closer): the junction speed
+  // keeps that change within a share of what its acceleration allows (20 %; time-optimally, no
+  // more than the fastest passing needs), and the pieces keep that share near the junction. So
+  // does the tool's change of direction (time-optimally), and the effector's velocity, which a
+  // hanging effector's cables feel (TensionLimit::junction_speed).
   void limit_junction(Piece& before, Piece& after);
+  double passing_speed(const Piece& before, const Piece& after) const;
+  // A segment's programmed feed capped at max_feed (rapids: max_feed), mm/s.
+  double feed_cap(const Segment& segment) const;
 
   // Where a move leaves the reach, and on a cable machine how far its tensions go beyond their
   // limits along it.

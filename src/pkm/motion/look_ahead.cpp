@@ -79,7 +79,10 @@ bool LookAhead::blend(Piece& previous, Piece& next, double angle, const Eigen::V
   Piece piece;
   piece.segment = blend;
   piece.length = blend.length();
-  piece.max_speed = std::min(previous.max_speed, next.max_speed);
+  // The corner runs at the feed of the move it leads into (the blend's own), as far as the
+  // machine allows there (LinuxCNC takes the faster of the two, pkm the one the program set for
+  // the path from there on).
+  piece.max_speed = limits_.feed_cap(blend);
   piece.acceleration = std::min(previous.acceleration, next.acceleration);
   piece.previous_line = previous.segment.line;
   limits_.limit_by_curvature(piece, radius);

@@ -28,10 +28,12 @@ struct Piece {
   PathGrid grid;
   // Near a junction where a joint's rate dq/ds jumps, the sampled joint changes its velocity
   // within one servo period: the share of each joint's acceleration kept for that (empty: none)
-  // within the distance (mm) of the piece's start or end where a sample can see the jump; on a
-  // hanging effector whose direction changes there, the tensions keep kTensionMoveShare of
-  // their headroom there.
+  // within the distance (mm) of the piece's start or end where a sample can see the jump (a grid
+  // interval that reaches into it keeps the share along all of it); so the tool's acceleration
+  // for its change of direction; on a hanging effector whose direction changes there, the
+  // tensions keep kTensionMoveShare of their headroom there.
   kinematics::JointVector entry_reserve, exit_reserve;
+  double entry_tool_reserve = 0.0, exit_tool_reserve = 0.0;  // of the tool's acceleration
   double entry_reserve_mm = 0.0, exit_reserve_mm = 0.0;
   bool entry_tension_reserve = false, exit_tension_reserve = false;
 };

@@ -7,15 +7,6 @@ namespace pkm::motion {
 
 namespace {
 
-// Whether point `s_mm` of a piece `length_mm` long lies where a sample can see its junction's
-// rate jump: within `reserve_mm` of that end.
-bool near_start(double s_mm, double reserve_mm) {
-  return reserve_mm > 0.0 && s_mm <= reserve_mm;
-}
-bool near_end(double s_mm, double length_mm, double reserve_mm) {
-  return reserve_mm > 0.0 && s_mm >= length_mm - reserve_mm;
-}
-
 // The interval of u with u^2 a + u b + c <= 0 (a > 0) intersected into `range`. Where there is
 // none, a range whose low passes its high by sqrt(-discriminant) / a: empty, by how much, so that
 // the searches below see how far a speed is from admissible.
@@ -99,12 +90,47 @@ void bound_reachable(std::deque<Piece>& pieces, const machine::Machine& machine)
   }
 }
 
+// The speed along one interval, as the least of three lines in s: value at its start and slope
+// (dx/ds) of each.
+struct IntervalLines {
+  double start[3] = {0.0, 0.0, 0.0};
+  double slope[3] = {0.0, 0.0, 0.0};
+  double at(double s) const {
+    return std::min({start[0] + slope[0] * s, start[1] + slope[1] * s, start[2] + slope[2] * s});
+  }
+  // Where two lines cross inside (0, step), in order: the least of them kinks at some of them.
+  int crossings(double step, double (&where)[3]) const {
+    int count = 0;
+    for (int a = 0; a < 3; ++a) {
+      for (int b = a + 1; b < 3; ++b) {
+        if (slope[a] == slope[b]) continue;
+        const double s = (start[b] - start[a]) / (slope[a] - slope[b]);
+        if (s > 0.0 && s < step) where[count++] = s;
+      }
+    }
+    for (int i = 1; i < count; ++i) {  // three at most: insertion
+      for (int j = i; j > 0 && where[j] < where[j - 1]; --j) std::swap(where[j], where[j - 1]);
+    }
+    return count;
+  }
+  // The fastest the speed gets along the interval (the least of lines is concave: at a kink).
+  double top(double step) const {
+    double where[3];
+    const int count = crossings(step, where);
+    double highest = std::max(at(0.0), at(step));
+    for (int i = 0; i < count; ++i) highest = std::max(highest, at(where[i]));
+    return highest;
+  }
+};
+
 // One interval of the forward pass from speed squared `x`. With the limits taken as they are at
 // its ends, the fastest speed along it is the least of three lines in s: accelerating from x as
 // hard as they allow, the cap between the ends' caps, and braking as hard as they allow into the
-// bound at its end. Its kinks (at most two: the least of lines is concave) are where the speed
-// changes from accelerating to cruising or braking: kept, so that it does so where it would, not
-// an interval early. Returns x at the interval's end.
+// bound at its end. The acceleration and the braking hold at both ends of their stretch: at x or
+// the bound, and at the top, where the speed turns from one to the other (the limits are convex
+// in u and x, so they hold between; a bend's q'' x or the tool's kappa x tightens them at the
+// top). Its kinks (at most two) are where the speed changes from accelerating to cruising or
+// braking: kept, so that it does so where it would, not an interval early. Returns x at its end.
 double advance(PathGrid& grid, int k, double x, const IntervalLimits& limits) {
   const std::size_t at = static_cast<std::size_t>(k);
   const double step = grid.step_mm;
@@ -113,41 +139,35 @@ double advance(PathGrid& grid, int k, double x, const IntervalLimits& limits) {
   const AccelerationRange range = limits.at(x);
   if (range.empty()) return std::max(0.0, std::min(end_bound, x));
   const AccelerationRange at_end = limits.at(end_bound);
-  double brake = at_end.empty() ? range.low : std::max(range.low, at_end.low);
-  brake = std::min(brake, (end_bound - x) / (2.0 * step));  // x itself can still brake in time
+  const double in_time = (end_bound - x) / (2.0 * step);  // x itself can still brake in time
+  double accelerate = range.high;
+  double brake = std::min(at_end.empty() ? range.low : std::max(range.low, at_end.low), in_time);
   const double cap_start = grid.speed_squared_cap[at], cap_end = grid.speed_squared_cap[at + 1];
-  // The three lines: value at the interval's start and slope (dx/ds).
-  const double start[3] = {x, cap_start, end_bound - 2.0 * brake * step};
-  const double slope[3] = {2.0 * range.high, (cap_end - cap_start) / step, 2.0 * brake};
-  const auto least = [&](double s) {
-    return std::min({start[0] + slope[0] * s, start[1] + slope[1] * s, start[2] + slope[2] * s});
-  };
+  IntervalLines lines;
+  for (int round = 0; round < 3; ++round) {
+    lines = IntervalLines{{x, cap_start, end_bound - 2.0 * brake * step},
+                          {2.0 * accelerate, (cap_end - cap_start) / step, 2.0 * brake}};
+    const AccelerationRange top = limits.at(lines.top(step));
+    if (top.empty() || (top.high >= accelerate && top.low <= brake)) break;
+    accelerate = std::min(accelerate, top.high);
+    brake = std::min(std::max(brake, top.low), in_time);
+  }
   double kinks[3];
-  int count = 0;
-  for (int a = 0; a < 3; ++a) {
-    for (int b = a + 1; b < 3; ++b) {
-      if (slope[a] == slope[b]) continue;
-      const double s = (start[b] - start[a]) / (slope[a] - slope[b]);
-      if (s > 1e-9 * step && s < step * (1.0 - 1e-9)) kinks[count++] = s;
-    }
-  }
-  for (int i = 1; i < count; ++i) {  // three at most: insertion
-    for (int j = i; j > 0 && kinks[j] < kinks[j - 1]; --j) std::swap(kinks[j], kinks[j - 1]);
-  }
+  const int count = lines.crossings(step, kinks);
   int kept = 0;
   double before = 0.0;
   for (int i = 0; i < count && kept < 2; ++i) {
     const double after = i + 1 < count ? kinks[i + 1] : step;
-    const double middle = least(kinks[i]);
-    const double straight =
-        least(before) + (least(after) - least(before)) * (kinks[i] - before) / (after - before);
+    const double middle = lines.at(kinks[i]);
+    const double straight = lines.at(before) + (lines.at(after) - lines.at(before)) *
+                                                   (kinks[i] - before) / (after - before);
     if (std::abs(middle - straight) <= 1e-12 * std::max(1.0, std::abs(middle))) continue;
     grid.split_mm[at][static_cast<std::size_t>(kept)] = kinks[i];
     grid.split_speed_squared[at][static_cast<std::size_t>(kept)] = std::max(0.0, middle);
     ++kept;
     before = kinks[i];
   }
-  return std::max(0.0, std::min(least(step), end_bound));
+  return std::max(0.0, std::min(lines.at(step), end_bound));
 }
 
 void plan_forward(std::deque<Piece>& pieces, double entry_speed, const machine::Machine& machine);
@@ -160,18 +180,27 @@ IntervalLimits::IntervalLimits(const Piece& piece, int interval, const machine::
       acceleration_(machine.cartesian().max_acceleration_mm_per_s2),
       start_curvature_(piece.grid.curvature_per_mm[static_cast<std::size_t>(interval)]),
       end_curvature_(piece.grid.curvature_per_mm[static_cast<std::size_t>(interval) + 1]) {
-  add_point(piece, interval, false, machine);
-  add_point(piece, interval + 1, true, machine);
+  // An interval that reaches into the stretch where a sample sees a junction's change keeps the
+  // junction's reserve along all of it.
+  const PathGrid& grid = piece.grid;
+  Reserved reserved;
+  reserved.entry = piece.entry_reserve_mm > 0.0 && grid.s_mm(interval) < piece.entry_reserve_mm;
+  reserved.exit = piece.exit_reserve_mm > 0.0 &&
+                  grid.s_mm(interval + 1) > grid.length_mm() - piece.exit_reserve_mm;
+  double tool_reserve = 0.0;
+  if (reserved.entry) tool_reserve = piece.entry_tool_reserve;
+  if (reserved.exit) tool_reserve = std::max(tool_reserve, piece.exit_tool_reserve);
+  acceleration_ *= 1.0 - tool_reserve;
+  add_point(piece, interval, false, reserved, machine);
+  add_point(piece, interval + 1, true, reserved, machine);
 }
 
 // The point's bounds as bounds on (u, x) at the interval's start: at its end x has grown by
 // 2 ds u, so a bound along u + across x there is (along + 2 ds across) u + across x.
-void IntervalLimits::add_point(const Piece& piece, int point, bool at_end,
+void IntervalLimits::add_point(const Piece& piece, int point, bool at_end, Reserved reserved,
                                const machine::Machine& machine) {
   const PathGrid& grid = piece.grid;
-  const double s = grid.s_mm(point), length = grid.length_mm();
-  const bool entry = near_start(s, piece.entry_reserve_mm);
-  const bool exit = near_end(s, length, piece.exit_reserve_mm);
+  const bool entry = reserved.entry, exit = reserved.exit;
   const double shift = at_end ? 2.0 * step_mm_ : 0.0;
   for (int j = 0; j < grid.joint_count; ++j) {
     double reserve = 0.0;
@@ -184,9 +213,9 @@ void IntervalLimits::add_point(const Piece& piece, int point, bool at_end,
         LinearBound{grid.slope(point, j) + shift * bend, bend, -limit, limit};
   }
   if (const TensionRow* rows = grid.tensions(point)) {
-    const bool reserved =
+    const bool turning =
         (entry && piece.entry_tension_reserve) || (exit && piece.exit_tension_reserve);
-    const double share = reserved ? kTensionMoveShare : 1.0;
+    const double share = turning ? kTensionMoveShare : 1.0;
     for (int r = 0; r < kTensionRowsPerPoint; ++r) {
       const TensionRow& row = rows[r];
       bounds_[static_cast<std::size_t>(bound_count_++)] =

@@ -44,7 +44,12 @@ class IntervalLimits {
   double step_mm() const { return step_mm_; }
 
  private:
-  void add_point(const Piece& piece, int point, bool at_end, const machine::Machine& machine);
+  // Whether the interval lies where a sample sees the junction at the piece's entry or exit.
+  struct Reserved {
+    bool entry = false, exit = false;
+  };
+  void add_point(const Piece& piece, int point, bool at_end, Reserved reserved,
+                 const machine::Machine& machine);
 
   static constexpr int kMaxBounds = 2 * (kinematics::kMaxJoints + kTensionRowsPerPoint + 1);
   std::array<LinearBound, kMaxBounds> bounds_{};
