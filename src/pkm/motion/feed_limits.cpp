@@ -20,16 +20,6 @@ double arc_radius(const Segment& s) {
                     s.start[s.second_axis] - s.centre[s.second_axis]);
 }
 
-// The fractions of a piece of `length` mm over which a junction's rates are measured: its last
-// (at_end) or first thousandth of a mm, so that a blend's end is its next line's start, not its
-// own formula's end to the last bit. Returns their distance (mm).
-double junction_ends(double length, bool at_end, double& from, double& to) {
-  const double ds = std::min(1e-3, 0.01 * length);
-  from = at_end ? 1.0 - ds / length : 0.0;
-  to = at_end ? 1.0 : ds / length;
-  return ds;
-}
-
 }  // namespace
 
 JointFeedLimit joint_feed_limit(const std::vector<machine::JointSpec>& joints,
@@ -252,18 +242,26 @@ JunctionShare junction_share(double jump, double limit, double passing, double p
 }  // namespace
 
 void FeedLimits::limit_junction(Piece& before, Piece& after) {
-  const auto rate = [&](const Segment& segment, double length, bool at_end) {
-    double from = 0.0, to = 0.0;
-    const double ds = junction_ends(length, at_end, from, to);
-    kinematics::JointVector q0, q1;
+  // Each side's rate at the junction along its own tangent (from the segments' numbers, not
+  // from poses a hair apart, which rounding swamps on a micrometre's move): central differences
+  // of the joints 1e-3 mm either side of the junction's pose along that tangent.
+  const geometry::Vector6d at = before.segment.end;
+  const geometry::Vector6d out_tangent = before.segment.velocity_at(1.0) / before.length;
+  const geometry::Vector6d in_tangent = after.segment.velocity_at(0.0) / after.length;
+  const auto rate = [&](const geometry::Vector6d& tangent, const Segment& segment) {
+    constexpr double kStepMm = 1e-3;
+    kinematics::JointVector ahead, behind;
     const kinematics::Status a =
-        machine_.inverse(geometry::Pose::from_vector(segment.at(from)), q0);
-    const kinematics::Status b = machine_.inverse(geometry::Pose::from_vector(segment.at(to)), q1);
+        machine_.inverse(geometry::Pose::from_vector(at + kStepMm * tangent), ahead);
+    const kinematics::Status b =
+        machine_.inverse(geometry::Pose::from_vector(at - kStepMm * tangent), behind);
     if (!a.ok() || !b.ok()) leaves_reach(segment);
-    return kinematics::JointVector((q1 - q0) / ds);
+    return kinematics::JointVector((ahead - behind) / (2.0 * kStepMm));
   };
-  const kinematics::JointVector out = rate(before.segment, before.length, true);
-  const kinematics::JointVector in = rate(after.segment, after.length, false);
+  const kinematics::JointVector out = rate(out_tangent, before.segment);
+  const kinematics::JointVector in = rate(in_tangent, after.segment);
+  const Eigen::Vector3d out_direction = heading(before.segment, 1.0);
+  const Eigen::Vector3d in_direction = heading(after.segment, 0.0);
   const double passing = passing_speed(before, after);
   const double chord = std::min(before.length, after.length);
   kinematics::JointVector reserve = kinematics::JointVector::Zero(out.size());
@@ -274,11 +272,6 @@ void FeedLimits::limit_junction(Piece& before, Piece& after) {
     reserve[i] = joint.share;
     before.max_exit_speed = std::min(before.max_exit_speed, joint.speed);
   }
-  double out_from = 0.0, out_to = 0.0, in_from = 0.0, in_to = 0.0;
-  junction_ends(before.length, true, out_from, out_to);
-  junction_ends(after.length, false, in_from, in_to);
-  const Eigen::Vector3d out_direction = direction(before.segment, out_from, out_to);
-  const Eigen::Vector3d in_direction = direction(after.segment, in_from, in_to);
   bool turns = false;
   if (tension_) {
     turns = (in_direction - out_direction).head<2>().norm() > 0.0;

@@ -165,25 +165,17 @@ void FeedLimits::grid_curvature(Piece& piece) const {
 
 namespace {
 
-// The path's unit tangent (x y part) at fraction u of `segment` (`length_mm` long), from poses
-// a thousandth of a millimetre apart: a cable pulling nearly level feels the few milliradians
-// by which a grid's chord at a curve's end turns from it.
+// The path's tangent per mm of path (x y part; shorter than 1 where the tool also moves along Z)
+// and the direction of its bend (x y), at fraction u of `segment` (`length_mm` long), from the
+// segment's own numbers: a cable pulling nearly level feels the few milliradians by which a
+// grid's chord at a curve's end turns from the tangent.
 Eigen::Vector2d path_tangent(const Segment& segment, double u, double length_mm) {
-  const double du = std::min(0.5, 1e-3 / length_mm);
-  const double from = std::max(0.0, u - du), to = std::min(1.0, u + du);
-  return (segment.at(to) - segment.at(from)).head<2>() / ((to - from) * length_mm);
+  return segment.velocity_at(u).head<2>() / length_mm;
 }
-
-// The direction of the path's curvature vector (x y) at fraction u: a second difference over
-// 0.05 mm (rounding of 1e-13 mm in poses of metres stays below 1e-7 of a bend of 1 / 150 mm),
-// moved inside the segment at its ends.
-Eigen::Vector2d path_bend_direction(const Segment& segment, double u, double length_mm) {
-  const double du = std::min(1.0 / 3.0, 0.05 / length_mm);
-  const double centre = std::clamp(u, du, 1.0 - du);
-  const Eigen::Vector2d second =
-      (segment.at(centre + du) - 2.0 * segment.at(centre) + segment.at(centre - du)).head<2>();
-  const double n = second.norm();
-  return n > 0.0 ? Eigen::Vector2d(second / n) : Eigen::Vector2d::Zero();
+Eigen::Vector2d path_bend_direction(const Segment& segment, double u) {
+  const Eigen::Vector2d bend = segment.acceleration_at(u).head<2>();
+  const double n = bend.norm();
+  return n > 0.0 ? Eigen::Vector2d(bend / n) : Eigen::Vector2d::Zero();
 }
 
 // A unit vector along `v` (x y), or zero.
@@ -266,7 +258,7 @@ void FeedLimits::grid_tension_rows(Piece& piece) {
     const Eigen::Vector2d tangent = path_tangent(segment, u, piece.length);
     const double curvature = grid.curvature_per_mm[static_cast<std::size_t>(k)];
     const Eigen::Vector2d across =
-        curvature > 0.0 ? Eigen::Vector2d(path_bend_direction(segment, u, piece.length) * curvature)
+        curvature > 0.0 ? Eigen::Vector2d(path_bend_direction(segment, u) * curvature)
                         : Eigen::Vector2d::Zero();
     const TensionSlope along_slope = tension_slope(pose, unit(tangent), probe, rest, segment.line);
     const TensionSlope across_slope = tension_slope(pose, unit(across), probe, rest, segment.line);

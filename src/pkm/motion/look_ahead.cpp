@@ -16,7 +16,7 @@ constexpr double kTangentAngle = 1e-3;
 
 // Direction of travel at the start (at_end false) or end of a segment.
 Eigen::Vector3d tangent(const Segment& segment, bool at_end) {
-  return at_end ? direction(segment, 1.0 - 1e-6, 1.0) : direction(segment, 0.0, 1e-6);
+  return heading(segment, at_end ? 1.0 : 0.0);
 }
 
 }  // namespace

@@ -38,10 +38,10 @@ struct Piece {
   bool entry_tension_reserve = false, exit_tension_reserve = false;
 };
 
-// Direction of travel from fraction a to b of a segment's position path (in XY where the
-// machine does not move Z).
-inline Eigen::Vector3d direction(const Segment& segment, double a, double b) {
-  Eigen::Vector3d d = segment.at(b).head<3>() - segment.at(a).head<3>();
+// The unit direction of travel at fraction u of a segment (in XY where the machine does not move
+// Z), from its own numbers: zero for a move of the angles alone.
+inline Eigen::Vector3d heading(const Segment& segment, double u) {
+  Eigen::Vector3d d = segment.velocity_at(u).head<3>();
   if (segment.z_free) d.z() = 0.0;
   const double n = d.norm();
   return n > 0.0 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::Zero();
