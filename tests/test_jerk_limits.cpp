@@ -15,7 +15,6 @@
 #include "pkm/machine/machine.hpp"
 #include "pkm/machine/machine_writer.hpp"
 #include "pkm/motion/planner.hpp"
-#include "pkm/motion/time_optimal.hpp"
 #include "test_support.hpp"
 
 namespace pkm {
@@ -225,6 +224,55 @@ TEST(JerkPlan, ToolJerkIsTheLeastOfTheOptionAndTheJoints) {
   const double joints_only = plan(delta, kStopJob, a).duration_s;
   EXPECT_EQ(plan(delta, kStopJob, b, stiff).duration_s, joints_only);
   EXPECT_GT(plan(delta, kStopJob, c, soft).duration_s, joints_only + 0.1);
+}
+
+// The linear delta with joints slower than its tool (1000 mm/s^2 against 2000): the joints'
+// acceleration bounds the moves.
+machine::Machine delta_with_slow_joints() {
+  return test::load_example_changed("linear-delta.toml", "max_acceleration = 3000.0\n",
+                                    "max_acceleration = 1000.0\n");
+}
+
+TEST(JerkPlan, SoftJerkRampsUseTheJointsWholeAcceleration) {
+  // At 20,000 mm/s^3 the ramps' acceleration rises 40 mm/s^2 in two periods: a junction's
+  // reserve stays free without the 80 % share along the move.
+  const machine::Machine delta = delta_with_slow_joints();
+  motion::PlanOptions options;
+  options.jerk_mm_per_s3 = 20000.0;
+  Collect out;
+  // Straight down, the towers move as the tool: their acceleration is the ramps'.
+  plan(delta, "G21 G90 G61\nG1 F9000 Z250\nG1 Z20\nM2\n", out, options);
+  const JointPeaks peaks = joint_peaks(out.samples, 0.001);
+  const double highest = *std::max_element(peaks.acceleration.begin(), peaks.acceleration.end());
+  EXPECT_LE(highest, 1000.0 * (1.0 + 1e-6));
+  EXPECT_GT(highest, 999.0);  // not 800: kMoveAccelerationShare of it
+}
+
+TEST(JerkPlan, JointLimitsHoldAtTangentJoinsPassedAtSpeed) {
+  // A circle of 10,000 lines (0.036 deg apart: tangent joins, passed at speed) where each
+  // tower's rate along the path changes at every join: the junctions' reserve and the moves'
+  // whole acceleration together stay within the limit in every sample.
+  const machine::Machine delta = delta_with_slow_joints();
+  std::string program = "G21 G90 G64\nG1 F6000 X60 Y0 Z30\n";
+  constexpr int kLines = 10000;
+  for (int k = 1; k <= kLines; ++k) {
+    const double angle = 2.0 * std::numbers::pi * k / kLines;
+    program += "G1 X" + std::to_string(60.0 * std::cos(angle)) + " Y" +
+               std::to_string(60.0 * std::sin(angle)) + "\n";
+  }
+  program += "M2\n";
+  for (const double jerk : {20000.0, 1e6}) {
+    motion::PlanOptions options;
+    options.jerk_mm_per_s3 = jerk;
+    Collect out;
+    plan(delta, program, out, options);
+    const JointPeaks peaks = joint_peaks(out.samples, 0.001);
+    for (std::size_t i = 0; i < peaks.acceleration.size(); ++i) {
+      const machine::JointSpec& joint = delta.joints()[i];
+      EXPECT_LE(peaks.acceleration[i], joint.max_acceleration * (1.0 + 1e-6)) << jerk;
+      EXPECT_LE(peaks.velocity[i], joint.max_velocity * (1.0 + 1e-9)) << jerk;
+    }
+  }
 }
 
 }  // namespace

@@ -136,8 +136,12 @@ void FeedLimits::joint_derivatives(const Piece& piece, kinematics::JointVector& 
 }
 
 // With q(s) a joint along the path, its acceleration is q' s'' + q'' s'^2: bounding |q'| by S
-// and |q''| by C over the move, speed^2 C <= amax / 2 (the feed rule) and accel S <= amax -
-// speed^2 C keep it within amax everywhere.
+// and |q''| by C over the move, speed^2 C <= kJerkBendShare amax (the feed rule) and accel S <=
+// amax - speed^2 C keep it within amax everywhere. A junction passed at speed where the joint's
+// rate jumps takes up to 1 - kMoveAccelerationShare of amax within the two periods about it
+// (limit_junction), where the ramps' acceleration is zero at the junction and rises at most
+// 2 T J: where S 2 T J stays within kMoveAccelerationShare - kJerkBendShare of amax for every
+// joint, the move uses all of amax, else kMoveAccelerationShare of it.
 void FeedLimits::limit_by_joints(Piece& piece) {
   kinematics::JointVector slope, curvature, third;
   joint_derivatives(piece, slope, curvature, third);
@@ -146,15 +150,25 @@ void FeedLimits::limit_by_joints(Piece& piece) {
   const JointFeedLimit rule = joint_feed_limit(machine_.joints(), slope, curvature, programmed);
   const double speed = rule.speed_mm_per_s;
   piece.max_speed = speed;
+  double shared = piece.acceleration;
   for (int i = 0; i < slope.size(); ++i) {
-    const double max_acceleration =
-        kMoveAccelerationShare * machine_.joints()[static_cast<std::size_t>(i)].max_acceleration;
+    const double max_acceleration = machine_.joints()[static_cast<std::size_t>(i)].max_acceleration;
     if (slope[i] > 0.0) {
-      const double left = max_acceleration - curvature[i] * speed * speed;
-      piece.acceleration = std::min(piece.acceleration, left / slope[i]);
+      const double bend = curvature[i] * speed * speed;
+      piece.acceleration = std::min(piece.acceleration, (max_acceleration - bend) / slope[i]);
+      shared = std::min(shared, (kMoveAccelerationShare * max_acceleration - bend) / slope[i]);
     }
   }
   limit_jerk_by_joints(piece, slope, curvature, third);
+  const double ramp_end = 2.0 * options_.period_s * piece.jerk;  // tool acceleration, mm/s^2
+  for (int i = 0; i < slope.size(); ++i) {
+    const double max_acceleration = machine_.joints()[static_cast<std::size_t>(i)].max_acceleration;
+    if (!(piece.jerk > 0.0) ||
+        slope[i] * ramp_end > (kMoveAccelerationShare - kJerkBendShare) * max_acceleration) {
+      piece.acceleration = std::min(piece.acceleration, shared);
+      break;
+    }
+  }
   if (rule.joint < 0 || !(speed < programmed * (1.0 - 1e-9))) return;
   report_joint_limit(piece, rule, kJointVelocityMargin, kJerkBendShare);
 }
