@@ -174,8 +174,10 @@ machine::Machine delta_with_max_jerk(double max_jerk) {
 // continuously differentiable, as it is along a move and at a stop, where the ramps start and end
 // at zero acceleration: so the 1 ms sampling needs no tolerance of its own. What is left is the
 // rounding of four joint values of some 300 mm (1e-13 mm each, 8e-13 mm in the difference, over
-// T^3 = 1e-9 s^3: 1e-3 mm/s^3), far within the 1e-6 kept here; the planner keeps 5 % of
-// max_jerk for the sampling of q''' along the path every 0.5 mm.
+// T^3 = 1e-9 s^3: 1e-3 mm/s^3), far within the 1e-6 of 20,000 mm/s^3 kept here. The planner
+// keeps 15 % of max_jerk: 10 % for junctions passed at speed, the rest for the sampling of q'''
+// along the path every 0.5 mm (the bound it plans with is a sum of maxima: the samples reach 70 %
+// of max_jerk here).
 TEST(JerkPlan, MaxJerkHoldsInEverySampleAndCostsTime) {
   const machine::Machine delta = delta_with_max_jerk(kMaxJerk);
   Collect limited;
@@ -189,7 +191,7 @@ TEST(JerkPlan, MaxJerkHoldsInEverySampleAndCostsTime) {
     EXPECT_LE(peaks.acceleration[i], joint.max_acceleration * (1.0 + 1e-6)) << joint.name;
     highest = std::max(highest, peaks.jerk[i]);
   }
-  EXPECT_GT(highest, 0.7 * kMaxJerk);  // the limit is what bounds the ramps
+  EXPECT_GT(highest, 0.6 * kMaxJerk);  // the limit is what bounds the ramps (70 % today)
   Collect free;
   const motion::PlanReport unlimited =
       plan(test::load_example("linear-delta.toml"), kStopJob, free);
