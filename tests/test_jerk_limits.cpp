@@ -277,5 +277,26 @@ TEST(JerkPlan, JointLimitsHoldAtTangentJoinsPassedAtSpeed) {
   }
 }
 
+TEST(JerkPlan, JointLimitsHoldWhereAJunctionTakesItsReserve) {
+  // Straight down (every tower's rate along the path 1, the tool's acceleration theirs), then
+  // 10 mm on 0.9 mrad off straight (a tangent join, passed at speed), braking on both sides of
+  // the join to the stop at the end; tower_c's rate jumps by 4.9e-4 there, taking up to the
+  // 20 % reserve of its 150 mm/s^2. At 1e6 mm/s^3 the ramps brake at the move's whole
+  // acceleration up to a period from the join: the moves must keep 80 % (with all of it the
+  // samples reach 153.9 mm/s^2); at 2e4 they ease off in time and may take all.
+  const machine::Machine delta = test::load_example_changed(
+      "linear-delta.toml", "max_acceleration = 3000.0\n", "max_acceleration = 150.0\n");
+  for (const double jerk : {20000.0, 1e6}) {
+    motion::PlanOptions options;
+    options.jerk_mm_per_s3 = jerk;
+    Collect out;
+    plan(delta, "G21 G90 G64\nG1 F9000 Z250\nG1 Z100\nG1 X0.009 Z90\nM2\n", out, options);
+    const JointPeaks peaks = joint_peaks(out.samples, 0.001);
+    for (std::size_t i = 0; i < peaks.acceleration.size(); ++i) {
+      EXPECT_LE(peaks.acceleration[i], 150.0 * (1.0 + 1e-6)) << delta.joints()[i].name << jerk;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace pkm
