@@ -192,6 +192,10 @@ TEST(JerkPlan, MaxJerkHoldsInEverySampleAndCostsTime) {
     highest = std::max(highest, peaks.jerk[i]);
   }
   EXPECT_GT(highest, 0.6 * kMaxJerk);  // the limit is what bounds the ramps (70 % today)
+  motion::PlanOptions estimate;
+  estimate.estimate_only = true;
+  Collect none;
+  EXPECT_EQ(plan(delta, kStopJob, none, estimate).duration_s, report.duration_s);
   Collect free;
   const motion::PlanReport unlimited =
       plan(test::load_example("linear-delta.toml"), kStopJob, free);
