@@ -2,9 +2,12 @@
 // dwells or pen delays) against the time-optimal reference over the same path
 // (tests/time_optimal_reference.hpp), their ratio, the planner's CPU time and the reference's;
 // then the median ratio. A plain program: the reference takes seconds, not a benchmark loop.
-//   bench_plan_optimality [grid_step_mm [runs|more|runs,more]]   (default 0.05 mm; with `runs`,
-//   each job's runs from rest to rest where the planner is furthest below and above the reference;
-//   with `more`, the real-job table's other jobs too)
+//   bench_plan_optimality [grid_step_mm [runs|more|runs,more]] [--jerk mm_per_s3]
+//   (default 0.05 mm; with `runs`, each job's runs from rest to rest where the planner is furthest
+//   below and above the reference; with `more`, the real-job table's other jobs too; with
+//   --jerk, the jerk-limited planner with that tool jerk, against the same reference: without a
+//   jerk limit, its time is a lower bound of the jerk-limited optimum, so the ratio bounds how far
+//   the jerk-limited plan is from that optimum from above)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -162,19 +165,37 @@ void print_runs(const pkm::test::PlannedJob& planned, const pkm::test::Reference
 }  // namespace
 
 int main(int argc, char** argv) {
-  const double grid_mm = argc > 1 ? std::atof(argv[1]) : 0.05;
+  std::vector<std::string> arguments;
+  double jerk_mm_per_s3 = 0.0;
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--jerk" && i + 1 < argc) {
+      jerk_mm_per_s3 = std::atof(argv[++i]);
+      if (!(jerk_mm_per_s3 > 0.0)) {
+        std::fprintf(stderr, "bench_plan_optimality: --jerk (mm/s^3) must be > 0\n");
+        return 2;
+      }
+    } else {
+      arguments.emplace_back(argv[i]);
+    }
+  }
+  const double grid_mm = !arguments.empty() ? std::atof(arguments[0].c_str()) : 0.05;
   if (!(grid_mm > 0.0)) {
     std::fprintf(stderr, "bench_plan_optimality: the grid step (mm) must be > 0\n");
     return 2;
   }
-  const std::string mode = argc > 2 ? argv[2] : "";
+  const std::string mode = arguments.size() > 1 ? arguments[1] : "";
   const bool runs = mode.find("runs") != std::string::npos;
   std::vector<Job> jobs = issue_jobs();
   if (mode.find("more") != std::string::npos) {
     const std::vector<Job> more = more_jobs();
     jobs.insert(jobs.end(), more.begin(), more.end());
   }
-  std::printf("grid %.4g mm, servo period 1 ms\n", grid_mm);
+  std::printf("grid %.4g mm, servo period 1 ms", grid_mm);
+  if (jerk_mm_per_s3 > 0.0) {
+    std::printf(", planner jerk-limited at %g mm/s^3 (the reference has no jerk limit)",
+                jerk_mm_per_s3);
+  }
+  std::printf("\n");
   // report_s: the plan's whole duration (with dwells and pen delays); planner_s: its motion.
   // plan_cpu_s: the estimate's CPU time; sampled_cpu_s: the plan with every sample (discarded).
   std::printf("%-22s %-18s %7s %10s %12s %12s %8s %10s %13s %10s\n", "job", "machine", "pieces",
@@ -189,6 +210,7 @@ int main(int argc, char** argv) {
           pkm::machine::load_machine(kSource / "examples" / "machines" / job.machine);
       pkm::motion::PlanOptions options;
       options.origin << job.origin[0], job.origin[1], job.origin[2], 0.0, 0.0, 0.0;
+      options.jerk_mm_per_s3 = jerk_mm_per_s3;
       const pkm::test::PlannedJob planned = pkm::test::plan_pieces(machine, job.program, options);
       const double sampled_cpu = sampled_plan_cpu_s(machine, job.program, options);
       const std::clock_t start = std::clock();

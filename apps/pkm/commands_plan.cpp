@@ -420,7 +420,8 @@ void register_plan_commands(CLI::App& app) {
   command
       ->add_option("--jerk", options->jerk,
                    "Tool-tip jerk limit, the machine file's length unit per s^3: S-curve speed "
-                   "changes (default: none)")
+                   "changes (default: none; a machine file with a joint's max_jerk plans "
+                   "S-curves anyway, at the least jerk its joints allow)")
       ->check(number_in(0.0, motion::kMaxJerkPerS3));
   command->callback([options] { run_plan(*options); });
 }

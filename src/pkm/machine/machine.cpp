@@ -179,6 +179,8 @@ constexpr double kMaxPosition = 1e6;
 constexpr double kMinRate = 1e-3;
 constexpr double kMaxVelocity = 1e6;
 constexpr double kMaxAcceleration = 1e9;
+// As the planner's own bound on a jerk limit (motion/planner.hpp's kMaxJerkPerS3).
+constexpr double kMaxJerk = 1e12;
 
 // A number of the file (in its units), refused outside [low, high].
 double ranged(const kinematics::ModelConfig& table, std::string_view key, double low, double high,
@@ -207,6 +209,9 @@ JointSpec read_joint(const kinematics::ModelConfig& table, kinematics::JointKind
   joint.max_velocity = ranged(table, "max_velocity", kMinRate, kMaxVelocity, unit + "/s") * scale;
   joint.max_acceleration =
       ranged(table, "max_acceleration", kMinRate, kMaxAcceleration, unit + "/s^2") * scale;
+  if (table.has("max_jerk")) {
+    joint.max_jerk = ranged(table, "max_jerk", kMinRate, kMaxJerk, unit + "/s^3") * scale;
+  }
   joint.home_switch = read_home_switch(table, joint, scale);
   if (table.has("steps_per_unit")) {
     // Steps per file unit (per inch in an inch file, per deg for a rotary joint): to per mm.

@@ -22,8 +22,8 @@ namespace pkm::machine {
 
 enum class LengthUnit { mm, inch };
 
-// Joint positions are mm for linear joints and rad for rotary ones (deg in the file); velocities
-// and accelerations are the same units per second and per second squared.
+// Joint positions are mm for linear joints and rad for rotary ones (deg in the file); velocities,
+// accelerations and jerks are the same units per second, second squared and second cubed.
 struct JointSpec {
   std::string name;
   kinematics::JointKind kind = kinematics::JointKind::linear;
@@ -31,6 +31,8 @@ struct JointSpec {
   double max = 0.0;
   double max_velocity = 0.0;
   double max_acceleration = 0.0;
+  // The joint's jerk limit: a machine with one on any joint plans jerk-limited (S-curves).
+  double max_jerk = 0.0;                  // 0: none
   char axis_letter = 'X';                 // letter of this joint in joint-space G-code
   std::optional<HomeSwitch> home_switch;  // where its switch trips, if it has one
   // Motor steps per mm (linear) or per deg (rotary) on a controller without kinematics (grbl's

@@ -1,6 +1,7 @@
 #include "pkm/motion/feed_limits.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "pkm/motion/feed_rule.hpp"
@@ -10,6 +11,11 @@
 namespace pkm::motion {
 
 namespace {
+
+// The part of a joint's max_jerk a piece may use, and the part a junction passed at speed may:
+// the rest covers the sampling of its third derivative along the path, every kJointSampleStepMm.
+constexpr double kJointJerkShare = 0.85;
+constexpr double kJunctionJerkShare = 0.1;
 
 int sample_points(double length_mm) {
   return std::clamp(static_cast<int>(std::ceil(length_mm / kJointSampleStepMm)), 8, 512);
@@ -89,59 +95,147 @@ void FeedLimits::limit_by_curvature(Piece& piece, double radius) const {
 }
 
 void FeedLimits::joint_derivatives(const Piece& piece, kinematics::JointVector& slope,
-                                   kinematics::JointVector& curvature) {
+                                   kinematics::JointVector& curvature,
+                                   kinematics::JointVector& third) {
   const Segment& segment = piece.segment;
   const int points = sample_points(piece.length);
   const double step = piece.length / points;
   const int joint_count = static_cast<int>(machine_.joints().size());
   slope = kinematics::JointVector::Zero(joint_count);
   curvature = kinematics::JointVector::Zero(joint_count);
-  kinematics::JointVector previous, current, next;
-  const auto joints_at = [&](int k, kinematics::JointVector& q) {
+  third = kinematics::JointVector::Zero(joint_count);
+  // The joints at the last four points: q[k % 4] at point k.
+  std::array<kinematics::JointVector, 4> q;
+  for (int k = 0; k <= points; ++k) {
+    kinematics::JointVector& here = q[static_cast<std::size_t>(k % 4)];
     const geometry::Pose pose =
         geometry::Pose::from_vector(segment.at(static_cast<double>(k) / points));
-    const kinematics::Status status = machine_.inverse(pose, q);
+    const kinematics::Status status = machine_.inverse(pose, here);
     if (!status.ok()) leaves_reach(segment);
-    require_numbers(machine_, file_, pose.as_vector(), q, segment.line, "along the move");
-    if (options_.estimate_only) widen_ranges(report_.joints, q);
-  };
-  joints_at(0, previous);
-  joints_at(1, current);
-  for (int k = 1; k <= points; ++k) {
-    if (k < points) joints_at(k + 1, next);
-    for (int i = 0; i < joint_count; ++i) {
-      slope[i] = std::max(slope[i], std::abs(current[i] - previous[i]) / step);
-      if (k < points) {
-        curvature[i] = std::max(curvature[i],
-                                std::abs(next[i] - 2.0 * current[i] + previous[i]) / (step * step));
-      }
+    require_numbers(machine_, file_, pose.as_vector(), here, segment.line, "along the move");
+    if (options_.estimate_only) widen_ranges(report_.joints, here);
+    const auto back = [&](int n) -> const kinematics::JointVector& {
+      return q[static_cast<std::size_t>((k - n) % 4)];
+    };
+    for (int i = 0; k >= 1 && i < joint_count; ++i) {
+      slope[i] = std::max(slope[i], std::abs(here[i] - back(1)[i]) / step);
+      if (k < 2) continue;
+      const double second = here[i] - 2.0 * back(1)[i] + back(2)[i];
+      curvature[i] = std::max(curvature[i], std::abs(second) / (step * step));
+      if (k < 3) continue;
+      const double difference = here[i] - 3.0 * back(1)[i] + 3.0 * back(2)[i] - back(3)[i];
+      third[i] = std::max(third[i], std::abs(difference) / (step * step * step));
     }
-    previous = current;
-    current = next;
   }
 }
 
 // With q(s) a joint along the path, its acceleration is q' s'' + q'' s'^2: bounding |q'| by S
-// and |q''| by C over the move, speed^2 C <= amax / 2 (the feed rule) and accel S <= amax -
-// speed^2 C keep it within amax everywhere.
+// and |q''| by C over the move, speed^2 C <= kJerkBendShare amax (the feed rule) and accel S <=
+// amax - speed^2 C keep it within amax everywhere. A junction passed at speed where the joint's
+// rate jumps takes up to 1 - kMoveAccelerationShare of amax within the two periods about it
+// (limit_junction), where the ramps' acceleration is zero at the junction and rises at most
+// 2 T J: where S 2 T J stays within kMoveAccelerationShare - kJerkBendShare of amax for every
+// joint, the move uses all of amax, else kMoveAccelerationShare of it.
 void FeedLimits::limit_by_joints(Piece& piece) {
-  kinematics::JointVector slope, curvature;
-  joint_derivatives(piece, slope, curvature);
+  kinematics::JointVector slope, curvature, third;
+  joint_derivatives(piece, slope, curvature, third);
   const double programmed = piece.max_speed;
   piece.joint_slope = slope;
   const JointFeedLimit rule = joint_feed_limit(machine_.joints(), slope, curvature, programmed);
   const double speed = rule.speed_mm_per_s;
   piece.max_speed = speed;
+  double shared = piece.acceleration;
   for (int i = 0; i < slope.size(); ++i) {
-    const double max_acceleration =
-        kMoveAccelerationShare * machine_.joints()[static_cast<std::size_t>(i)].max_acceleration;
+    const double max_acceleration = machine_.joints()[static_cast<std::size_t>(i)].max_acceleration;
     if (slope[i] > 0.0) {
-      const double left = max_acceleration - curvature[i] * speed * speed;
-      piece.acceleration = std::min(piece.acceleration, left / slope[i]);
+      const double bend = curvature[i] * speed * speed;
+      piece.acceleration = std::min(piece.acceleration, (max_acceleration - bend) / slope[i]);
+      shared = std::min(shared, (kMoveAccelerationShare * max_acceleration - bend) / slope[i]);
+    }
+  }
+  limit_jerk_by_joints(piece, slope, curvature, third);
+  const double ramp_end = 2.0 * options_.period_s * piece.jerk;  // tool acceleration, mm/s^2
+  for (int i = 0; i < slope.size(); ++i) {
+    const double max_acceleration = machine_.joints()[static_cast<std::size_t>(i)].max_acceleration;
+    if (!(piece.jerk > 0.0) ||
+        slope[i] * ramp_end > (kMoveAccelerationShare - kJerkBendShare) * max_acceleration) {
+      piece.acceleration = std::min(piece.acceleration, shared);
+      break;
     }
   }
   if (rule.joint < 0 || !(speed < programmed * (1.0 - 1e-9))) return;
   report_joint_limit(piece, rule, kJointVelocityMargin, kJerkBendShare);
+}
+
+bool FeedLimits::has_joint_jerk(const machine::Machine& machine) {
+  return std::any_of(machine.joints().begin(), machine.joints().end(),
+                     [](const machine::JointSpec& joint) { return joint.max_jerk > 0.0; });
+}
+
+// A joint's jerk along the path is q' s''' + 3 q'' s' s'' + q''' s'^3. With |q'|, |q''|, |q'''|
+// bounded by S, C, T over the piece and the piece's |s'| <= v, |s''| <= a and the ramp's
+// |s'''| <= J, S J + 3 C v a + T v^3 within kJointJerkShare of max_jerk keeps it within. The
+// terms of the speed and the acceleration come first but take at most a quarter of that each
+// (the speed, then the acceleration, is lowered until they do): at least half is left to J.
+void FeedLimits::limit_jerk_by_joints(Piece& piece, const kinematics::JointVector& slope,
+                                      const kinematics::JointVector& curvature,
+                                      const kinematics::JointVector& third) const {
+  double jerk = options_.jerk_mm_per_s3 > 0.0 ? options_.jerk_mm_per_s3 : 0.0;
+  for (int i = 0; i < slope.size(); ++i) {
+    const double max_jerk = machine_.joints()[static_cast<std::size_t>(i)].max_jerk;
+    if (!(max_jerk > 0.0) || !(slope[i] > 0.0)) continue;
+    const double budget = kJointJerkShare * max_jerk;
+    double& v = piece.max_speed;
+    double& a = piece.acceleration;
+    if (third[i] * v * v * v > 0.25 * budget) v = std::cbrt(0.25 * budget / third[i]);
+    if (3.0 * curvature[i] * v * a > 0.25 * budget) a = 0.25 * budget / (3.0 * curvature[i] * v);
+    const double allowed = (budget - third[i] * v * v * v - 3.0 * curvature[i] * v * a) / slope[i];
+    jerk = jerk > 0.0 ? std::min(jerk, allowed) : allowed;
+  }
+  piece.jerk = jerk;
+}
+
+// A joint's rate q' and bend q'' at the start or end (`at_end`) of a piece: one-sided
+// differences of second order over three points `step` mm apart.
+void FeedLimits::rates_at_end(const Piece& piece, bool at_end, kinematics::JointVector& rate,
+                              kinematics::JointVector& bend) const {
+  const double step = std::min(1e-3, piece.length / 8.0);
+  std::array<kinematics::JointVector, 3> q;
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    const double distance = static_cast<double>(k) * step;
+    const double u = at_end ? 1.0 - distance / piece.length : distance / piece.length;
+    const kinematics::Status status =
+        machine_.inverse(geometry::Pose::from_vector(piece.segment.at(u)), q[k]);
+    if (!status.ok()) leaves_reach(piece.segment);
+  }
+  const double sign = at_end ? -1.0 : 1.0;  // along the travel
+  rate = sign * (-3.0 * q[0] + 4.0 * q[1] - q[2]) / (2.0 * step);
+  bend = (q[0] - 2.0 * q[1] + q[2]) / (step * step);
+}
+
+// Passing the junction at v, the ramps' tangential acceleration is zero there and a joint's
+// velocity jumps by dq' v and its acceleration by dq'' v^2 between two samples T apart: a third
+// difference over T^3 of up to dq' v / T^2 + 0.75 dq'' v^2 / T (the largest third differences of
+// a kink and of a jump of the second derivative). That within kJunctionJerkShare of max_jerk
+// bounds v; the pieces keep the rest.
+void FeedLimits::limit_junction_jerk(Piece& before, const Piece& after) const {
+  if (!has_joint_jerk(machine_)) return;
+  kinematics::JointVector out_rate, out_bend, in_rate, in_bend;
+  rates_at_end(before, true, out_rate, out_bend);
+  rates_at_end(after, false, in_rate, in_bend);
+  const double period = options_.period_s;
+  for (int i = 0; i < out_rate.size(); ++i) {
+    const double max_jerk = machine_.joints()[static_cast<std::size_t>(i)].max_jerk;
+    if (!(max_jerk > 0.0)) continue;
+    const double budget = kJunctionJerkShare * max_jerk;
+    const double linear = std::abs(in_rate[i] - out_rate[i]) / (period * period);
+    const double square = 0.75 * std::abs(in_bend[i] - out_bend[i]) / period;
+    // The positive root of square v^2 + linear v = budget.
+    const double root = std::sqrt(linear * linear + 4.0 * square * budget);
+    if (linear + root > 0.0) {
+      before.max_exit_speed = std::min(before.max_exit_speed, 2.0 * budget / (linear + root));
+    }
+  }
 }
 
 void FeedLimits::report_joint_limit(const Piece& piece, const JointFeedLimit& rule,

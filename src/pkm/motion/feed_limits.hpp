@@ -24,7 +24,8 @@ class FeedLimits {
         options_(options),
         file_(file),
         report_(report),
-        tension_(TensionLimit::of(machine.kinematics())) {}
+        tension_(TensionLimit::of(machine.kinematics())),
+        jerk_limited_(options.jerk_mm_per_s3 > 0.0 || has_joint_jerk(machine)) {}
 
   // `segment` (of `length` mm, > 0) as a piece at the fastest feed and acceleration the machine
   // allows along it.
@@ -45,8 +46,11 @@ class FeedLimits {
   // is sampled (a blend may cut it, and its grid be built again, before).
   void report_grid_limits(const Piece& piece);
 
-  // Plans without a jerk limit: on grids, time-optimally (time_optimal.hpp).
-  bool time_optimal() const { return !(options_.jerk_mm_per_s3 > 0.0); }
+  // Plans without a jerk limit (no --jerk, no joint's max_jerk): on grids, time-optimally
+  // (time_optimal.hpp).
+  bool time_optimal() const { return !jerk_limited_; }
+  // Whether any of the machine's joints has a max_jerk: its jobs plan jerk-limited.
+  static bool has_joint_jerk(const machine::Machine& machine);
   const machine::Machine& machine() const { return machine_; }
   const TensionLimit* tension() const { return tension_ ? &*tension_ : nullptr; }
 
@@ -61,16 +65,29 @@ class FeedLimits {
   // A segment's programmed feed capped at max_feed (rapids: max_feed), mm/s.
   double feed_cap(const Segment& segment) const;
 
+  // Where a joint has a max_jerk: the junction speed that keeps the jump of its velocity and
+  // acceleration there (which the samples see within a period) within a share of it.
+  void limit_junction_jerk(Piece& before, const Piece& after) const;
+
   // Where a move leaves the reach, and on a cable machine how far its tensions go beyond their
   // limits along it.
   [[noreturn]] void leaves_reach(const Segment& segment) const;
 
  private:
   void limit_by_joints(Piece& piece);
-  // The largest |dq/ds| (`slope`) and |d2q/ds2| (`curvature`) of every joint along the piece,
-  // sampled every kJointSampleStepMm; an estimate widens the joint ranges with the samples.
+  // The largest |dq/ds| (`slope`), |d2q/ds2| (`curvature`) and |d3q/ds3| (`third`) of every
+  // joint along the piece, from differences of its values every kJointSampleStepMm (at least 8
+  // steps); an estimate widens the joint ranges with them.
   void joint_derivatives(const Piece& piece, kinematics::JointVector& slope,
-                         kinematics::JointVector& curvature);
+                         kinematics::JointVector& curvature, kinematics::JointVector& third);
+  // The piece's jerk (and where a joint's jerk needs it, a lower speed or acceleration) that
+  // keeps every joint with a max_jerk within it along the piece.
+  void limit_jerk_by_joints(Piece& piece, const kinematics::JointVector& slope,
+                            const kinematics::JointVector& curvature,
+                            const kinematics::JointVector& third) const;
+  // Each joint's dq/ds and d2q/ds2 where the piece starts or ends.
+  void rates_at_end(const Piece& piece, bool at_end, kinematics::JointVector& rate,
+                    kinematics::JointVector& bend) const;
   void limit_by_tensions(Piece& piece);
   // The report's entry for a move whose feed `rule`'s joint lowered, with the shares of its
   // limits the planner gives a move.
@@ -103,6 +120,7 @@ class FeedLimits {
   PlanReport& report_;
   // A cable machine whose effector has a mass: its cables' tensions bound the moves.
   std::optional<TensionLimit> tension_;
+  bool jerk_limited_ = false;  // --jerk, or a joint's max_jerk
   // Scratch of build_grid, kept to spare an allocation per piece.
   std::vector<kinematics::JointVector> joints_at_points_;
   std::vector<Eigen::Vector3d> positions_at_points_;

@@ -38,6 +38,7 @@ void LookAhead::join(Piece& previous, Piece& next) {
   if (angle <= kTangentAngle) {
     // Tangent: the speed carries over, as far as the joints' rates allow.
     limits_.limit_junction(previous, next);
+    limits_.limit_junction_jerk(previous, next);
     return;
   }
   if (previous.segment.kind != SegmentKind::line || next.segment.kind != SegmentKind::line ||
@@ -89,6 +90,8 @@ bool LookAhead::blend(Piece& previous, Piece& next, double angle, const Eigen::V
   limits_.limit_by_machine(piece);
   limits_.limit_junction(previous, piece);
   limits_.limit_junction(piece, next);
+  limits_.limit_junction_jerk(previous, piece);
+  limits_.limit_junction_jerk(piece, next);
   pieces_.push_back(piece);
   return true;
 }
@@ -109,7 +112,7 @@ void LookAhead::plan_speeds(double entry_speed) {
     if (p.stop_after) exit = 0.0;
     exit = std::min(exit, p.max_exit_speed);
     p.exit_speed = exit;
-    double entry = ramp_for(p, jerk_mm_per_s3_).reachable(exit, p.length);
+    double entry = ramp_for(p).reachable(exit, p.length);
     entry = std::min(entry, p.max_speed);
     if (i > 0) entry = std::min(entry, pieces_[i - 1].max_speed);
     p.entry_speed = entry;
@@ -120,8 +123,7 @@ void LookAhead::plan_speeds(double entry_speed) {
   for (std::size_t i = 0; i < n; ++i) {
     Piece& p = pieces_[i];
     p.entry_speed = std::min(p.entry_speed, speed);
-    p.exit_speed =
-        std::min(p.exit_speed, ramp_for(p, jerk_mm_per_s3_).reachable(p.entry_speed, p.length));
+    p.exit_speed = std::min(p.exit_speed, ramp_for(p).reachable(p.entry_speed, p.length));
     speed = p.exit_speed;
   }
 }

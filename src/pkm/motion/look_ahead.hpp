@@ -17,8 +17,8 @@ namespace pkm::motion {
 class LookAhead {
  public:
   // `builder` gives the path mode (G61/G64) and G64's tolerance at the time each piece joins.
-  LookAhead(FeedLimits& limits, const SegmentBuilder& builder, double jerk_mm_per_s3)
-      : limits_(limits), builder_(builder), jerk_mm_per_s3_(jerk_mm_per_s3) {}
+  LookAhead(FeedLimits& limits, const SegmentBuilder& builder)
+      : limits_(limits), builder_(builder) {}
 
   // Joins `piece` to the last piece held and holds it; true when the window is full.
   bool add(Piece piece) {
@@ -60,7 +60,6 @@ class LookAhead {
 
   FeedLimits& limits_;
   const SegmentBuilder& builder_;
-  double jerk_mm_per_s3_ = 0.0;
   std::deque<Piece> pieces_;
 };
 

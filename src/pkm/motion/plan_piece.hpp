@@ -14,6 +14,9 @@ struct Piece {
   double length = 0.0;
   double max_speed = 0.0;
   double acceleration = 0.0;
+  // The jerk-limited planner's jerk along the piece (mm/s^3, 0: none): the job's --jerk and
+  // what each joint's max_jerk allows along it (FeedLimits::limit_by_joints).
+  double jerk = 0.0;
   bool stop_after = false;
   double max_exit_speed = 1e300;  // where the joints' rates jump at the junction to the next
   double entry_speed = 0.0, exit_speed = 0.0;
@@ -47,9 +50,9 @@ inline Eigen::Vector3d heading(const Segment& segment, double u) {
   return n > 0.0 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::Zero();
 }
 
-// How the piece changes speed: its acceleration, and the job's jerk limit (mm/s^3, 0: none).
-inline Ramp ramp_for(const Piece& piece, double jerk_mm_per_s3) {
-  return Ramp{piece.acceleration, jerk_mm_per_s3};
+// How the piece changes speed: its acceleration and its jerk (mm/s^3, 0: none).
+inline Ramp ramp_for(const Piece& piece) {
+  return Ramp{piece.acceleration, piece.jerk};
 }
 
 }  // namespace pkm::motion

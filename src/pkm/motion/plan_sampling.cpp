@@ -68,7 +68,7 @@ void Sampler::run_piece(const Piece& piece) {
     return;
   }
   const Profile profile = Profile::make(piece.length, piece.entry_speed, piece.exit_speed,
-                                        piece.max_speed, ramp_for(piece, options_.jerk_mm_per_s3));
+                                        piece.max_speed, ramp_for(piece));
   if (options_.estimate_only) {
     for (int i = 0; i < piece.joint_slope.size(); ++i) {
       double& peak = report_.joints[static_cast<std::size_t>(i)].peak_velocity;

@@ -26,7 +26,7 @@ class Planner {
         pen_(machine.tool().z == machine::ToolZ::pen),
         pen_path_(machine),
         limits_(machine, options, file_, report_),
-        look_ahead_(limits_, builder_, options.jerk_mm_per_s3),
+        look_ahead_(limits_, builder_),
         sampler_(machine, options, sink, file_, report_),
         period_s_(options.period_s) {
     builder_.set_z_free(!machine.kinematics().dof().controls(static_cast<int>(geometry::Axis::z)));
