@@ -123,7 +123,6 @@ class FeedLimits {
   bool jerk_limited_ = false;  // --jerk, or a joint's max_jerk
   // Scratch of build_grid, kept to spare an allocation per piece.
   std::vector<kinematics::JointVector> joints_at_points_;
-  std::vector<Eigen::Vector3d> positions_at_points_;
 };
 
 }  // namespace pkm::motion

@@ -39,7 +39,6 @@ void FeedLimits::build_grid(Piece& piece) {
   grid.resize(intervals, joint_count, tension_.has_value());
   grid.step_mm = piece.length / intervals;
   joints_at_points_.resize(static_cast<std::size_t>(intervals) + 1);
-  positions_at_points_.resize(static_cast<std::size_t>(intervals) + 1);
   for (int k = 0; k <= intervals; ++k) {
     const geometry::Vector6d pose = segment.at(static_cast<double>(k) / intervals);
     kinematics::JointVector& q = joints_at_points_[static_cast<std::size_t>(k)];
@@ -47,16 +46,14 @@ void FeedLimits::build_grid(Piece& piece) {
     if (!status.ok()) leaves_reach(segment);
     require_numbers(machine_, file_, pose, q, segment.line, "along the move");
     if (options_.estimate_only) widen_ranges(report_.joints, q);
-    Eigen::Vector3d position = pose.head<3>();
-    if (segment.z_free) position.z() = 0.0;
-    positions_at_points_[static_cast<std::size_t>(k)] = position;
   }
   grid_joint_terms(grid);
   if (grid.step_mm < kFineStepMm) fine_joint_terms(piece);
   grid_curvature(piece);
   const double feed_squared = piece.max_speed * piece.max_speed;
   for (int k = 0; k <= intervals; ++k) {
-    double cap = feed_squared;
+    // The tool's own speed is the path's times |d position / ds|.
+    double cap = feed_squared / grid.tool_rate[static_cast<std::size_t>(k)].squaredNorm();
     for (int j = 0; j < joint_count; ++j) {
       const double slope = std::abs(grid.slope(k, j));
       const double velocity =
@@ -132,51 +129,34 @@ void FeedLimits::fine_joint_terms(Piece& piece) {
   }
 }
 
+// The tool tip's rate and bend along the path at every point (from the segment's own numbers),
+// and its curvature |r x b| / |r|^3.
 void FeedLimits::grid_curvature(Piece& piece) const {
   PathGrid& grid = piece.grid;
   const Segment& segment = piece.segment;
   const int n = grid.intervals;
-  double exact = 0.0;
-  if (segment.kind == SegmentKind::blend) {
-    exact = 1.0 / segment.radius_mm;
-  } else if (segment.kind == SegmentKind::arc && !(segment.z_free && segment.normal_axis != 2)) {
-    // A helix: the plane's radius r swept by theta over a path of length L bends by r theta^2/L^2.
-    const double radius =
-        std::hypot(segment.start[segment.first_axis] - segment.centre[segment.first_axis],
-                   segment.start[segment.second_axis] - segment.centre[segment.second_axis]);
-    const double turn = segment.sweep_rad / piece.length;
-    exact = radius * turn * turn;
-  } else if (segment.kind == SegmentKind::line) {
-    exact = 0.0;
-  } else {
-    exact = -1.0;  // by differences
-  }
-  const double h = grid.step_mm;
+  const double length = piece.length;
   for (int k = 0; k <= n; ++k) {
-    double curvature = exact;
-    if (exact < 0.0) {
-      const int c = std::clamp(k, 1, n - 1);
-      const auto p = [&](int i) { return positions_at_points_[static_cast<std::size_t>(i)]; };
-      curvature = (p(c + 1) - 2.0 * p(c) + p(c - 1)).norm() / (h * h);
+    const std::size_t at = static_cast<std::size_t>(k);
+    const double u = static_cast<double>(k) / n;
+    Eigen::Vector3d rate = segment.velocity_at(u).head<3>() / length;
+    Eigen::Vector3d bend = segment.acceleration_at(u).head<3>() / (length * length);
+    if (segment.z_free) {
+      rate.z() = 0.0;
+      bend.z() = 0.0;
     }
-    grid.curvature_per_mm[static_cast<std::size_t>(k)] = curvature;
+    const double speed = rate.norm();
+    if (!(speed > 1e-12)) {  // the angles alone
+      rate = Eigen::Vector3d::UnitX();
+      bend = Eigen::Vector3d::Zero();
+    }
+    grid.tool_rate[at] = rate;
+    grid.tool_bend[at] = bend;
+    grid.curvature_per_mm[at] = rate.cross(bend).norm() / std::pow(rate.norm(), 3);
   }
 }
 
 namespace {
-
-// The path's tangent per mm of path (x y part; shorter than 1 where the tool also moves along Z)
-// and the direction of its bend (x y), at fraction u of `segment` (`length_mm` long), from the
-// segment's own numbers: a cable pulling nearly level feels the few milliradians by which a
-// grid's chord at a curve's end turns from the tangent.
-Eigen::Vector2d path_tangent(const Segment& segment, double u, double length_mm) {
-  return segment.velocity_at(u).head<2>() / length_mm;
-}
-Eigen::Vector2d path_bend_direction(const Segment& segment, double u) {
-  const Eigen::Vector2d bend = segment.acceleration_at(u).head<2>();
-  const double n = bend.norm();
-  return n > 0.0 ? Eigen::Vector2d(bend / n) : Eigen::Vector2d::Zero();
-}
 
 // A unit vector along `v` (x y), or zero.
 Eigen::Vector2d unit(const Eigen::Vector2d& v) {
@@ -254,12 +234,10 @@ void FeedLimits::grid_tension_rows(Piece& piece) {
     const geometry::Pose pose = geometry::Pose::from_vector(segment.at(static_cast<double>(k) / n));
     kinematics::CableStatics rest;
     if (!cables.statics(pose, Eigen::Vector2d::Zero(), rest).ok()) leaves_reach(segment);
+    // The effector's acceleration per u and per x (zero for a move of the angles alone).
     const double u = static_cast<double>(k) / n;
-    const Eigen::Vector2d tangent = path_tangent(segment, u, piece.length);
-    const double curvature = grid.curvature_per_mm[static_cast<std::size_t>(k)];
-    const Eigen::Vector2d across =
-        curvature > 0.0 ? Eigen::Vector2d(path_bend_direction(segment, u) * curvature)
-                        : Eigen::Vector2d::Zero();
+    const Eigen::Vector2d tangent = segment.velocity_at(u).head<2>() / piece.length;
+    const Eigen::Vector2d across = grid.tool_bend[static_cast<std::size_t>(k)].head<2>();
     const TensionSlope along_slope = tension_slope(pose, unit(tangent), probe, rest, segment.line);
     const TensionSlope across_slope = tension_slope(pose, unit(across), probe, rest, segment.line);
     const double stray = along_slope.stray_N + across_slope.stray_N;

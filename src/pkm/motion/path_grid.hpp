@@ -35,6 +35,12 @@ struct PathGrid {
   int joint_count = 0;
   std::vector<double> speed_squared_cap;  // (mm/s)^2: the feed, each joint's velocity
   std::vector<double> curvature_per_mm;   // of the tool tip's path, 0 on lines
+  // The tool tip's d position / ds and d2 position / ds2 (x y z; z 0 where the machine does not
+  // move Z): its acceleration is the first times u plus the second times x. Of unit length and
+  // square to it on a line, an arc or a blend drawn evenly; not quite on an arc whose radius
+  // drifts from start to end, which LinuxCNC accepts. A move of the angles alone has a unit
+  // first and no second: its path acceleration is held to max_acceleration (per degree).
+  std::vector<Eigen::Vector3d> tool_rate, tool_bend;
   // Per point and joint: dq/ds (per mm), then d2q/ds2 (per mm^2); mm or rad as the joint.
   std::vector<double> joint_derivatives;
   std::vector<TensionRow> tension_rows;  // kTensionRowsPerPoint per point, or none
@@ -73,6 +79,8 @@ struct PathGrid {
     const std::size_t points = static_cast<std::size_t>(interval_count) + 1;
     speed_squared_cap.assign(points, 0.0);
     curvature_per_mm.assign(points, 0.0);
+    tool_rate.assign(points, Eigen::Vector3d::UnitX());
+    tool_bend.assign(points, Eigen::Vector3d::Zero());
     joint_derivatives.assign(points * static_cast<std::size_t>(joints) * 2, 0.0);
     tension_rows.assign(with_tensions ? points * kTensionRowsPerPoint : 0, TensionRow{});
     tangential_range.assign(with_tensions ? points : 0, {0.0, 0.0});

@@ -176,10 +176,15 @@ bool tighten_tensions(Piece& piece, const TensionLimit& tension);
 }  // namespace
 
 IntervalLimits::IntervalLimits(const Piece& piece, int interval, const machine::Machine& machine)
-    : step_mm_(piece.grid.step_mm),
-      acceleration_(machine.cartesian().max_acceleration_mm_per_s2),
-      start_curvature_(piece.grid.curvature_per_mm[static_cast<std::size_t>(interval)]),
-      end_curvature_(piece.grid.curvature_per_mm[static_cast<std::size_t>(interval) + 1]) {
+    : step_mm_(piece.grid.step_mm), acceleration_(machine.cartesian().max_acceleration_mm_per_s2) {
+  const auto form = [](const Eigen::Vector3d& first, const Eigen::Vector3d& second) {
+    return ToolForm{first.squaredNorm(), first.dot(second), second.squaredNorm()};
+  };
+  const std::size_t start = static_cast<std::size_t>(interval);
+  start_tool_ = form(piece.grid.tool_rate[start], piece.grid.tool_bend[start]);
+  end_tool_ =
+      form(piece.grid.tool_rate[start + 1] + 2.0 * step_mm_ * piece.grid.tool_bend[start + 1],
+           piece.grid.tool_bend[start + 1]);
   // An interval that reaches into the stretch where a sample sees a junction's change keeps the
   // junction's reserve along all of it.
   const PathGrid& grid = piece.grid;
@@ -229,13 +234,12 @@ void IntervalLimits::add_point(const Piece& piece, int point, bool at_end, Reser
 }
 
 double IntervalLimits::curve_cap() const {
-  // At the start (kappa x)^2 <= A^2; at the end the discriminant of the quadratic in u,
-  // 4 A^2 (1 + 4 kappa^2 ds^2) - 4 kappa^2 x^2, must not be negative.
+  // a u^2 + 2 b x u + c x^2 <= A^2 has a u for x only while its discriminant, 4 x^2 (b^2 - a c) +
+  // 4 a A^2, is not negative: x <= A sqrt(a / (a c - b^2)) (a c - b^2 = |first x second|^2).
   double cap = 1e300;
-  if (start_curvature_ > 0.0) cap = acceleration_ / start_curvature_;
-  if (end_curvature_ > 0.0) {
-    const double stretch = 2.0 * end_curvature_ * step_mm_;
-    cap = std::min(cap, acceleration_ * std::sqrt(1.0 + stretch * stretch) / end_curvature_);
+  for (const ToolForm& tool : {start_tool_, end_tool_}) {
+    const double cross = tool.a * tool.c - tool.b * tool.b;
+    if (cross > 0.0) cap = std::min(cap, acceleration_ * std::sqrt(tool.a / cross));
   }
   return cap;
 }
@@ -256,20 +260,17 @@ AccelerationRange IntervalLimits::at(double x) const {
       miss = std::max({miss, fixed - b.high, b.low - fixed});
     }
   }
-  // The tool: u^2 + (kappa x)^2 <= A^2 at the start, with x + 2 ds u at the end (|u| <= A on a
-  // line, most of a job).
+  // The tool: |rate u + bend x| <= A at the start and at the end (|u| <= A on a line, most of a
+  // job).
   const double a2 = acceleration_ * acceleration_;
-  if (start_curvature_ > 0.0) {
-    const double across_start = start_curvature_ * x;
-    within_quadratic(1.0, 0.0, across_start * across_start - a2, range);
-  } else {
-    range.low = std::max(range.low, -acceleration_);
-    range.high = std::min(range.high, acceleration_);
-  }
-  if (end_curvature_ > 0.0) {
-    const double k2 = end_curvature_ * end_curvature_;
-    within_quadratic(1.0 + 4.0 * k2 * step_mm_ * step_mm_, 4.0 * k2 * step_mm_ * x, k2 * x * x - a2,
-                     range);
+  for (const ToolForm& tool : {start_tool_, end_tool_}) {
+    if (tool.straight()) {
+      const double most = acceleration_ / std::sqrt(tool.a);
+      range.low = std::max(range.low, -most);
+      range.high = std::min(range.high, most);
+    } else {
+      within_quadratic(tool.a, 2.0 * tool.b * x, tool.c * x * x - a2, range);
+    }
   }
   if (miss > 0.0) range.low = std::max(range.low, range.high + miss / step_mm_);
   return range;

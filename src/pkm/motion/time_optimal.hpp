@@ -56,7 +56,14 @@ class IntervalLimits {
   int bound_count_ = 0;
   double step_mm_ = 0.0;
   double acceleration_ = 0.0;  // the tool's, mm/s^2
-  double start_curvature_ = 0.0, end_curvature_ = 0.0;
+  // The tool's acceleration at the interval's start, rate u + bend x, and at its end, where x has
+  // grown by 2 ds u: (rate + 2 ds bend) u + bend x. Its square is a u^2 + 2 b u x + c x^2 with
+  // these coefficients (a = |first|^2, b = first . second, c = |second|^2) for each end.
+  struct ToolForm {
+    double a = 1.0, b = 0.0, c = 0.0;
+    bool straight() const { return b == 0.0 && c == 0.0; }
+  };
+  ToolForm start_tool_, end_tool_;
 };
 
 // Plans the pieces' speeds: the first entered at `entry_speed`, the machine at rest after the
