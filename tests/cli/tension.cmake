@@ -19,7 +19,7 @@ set_tests_properties(cli.check_tension_region_json PROPERTIES PASS_REGULAR_EXPRE
 add_test(NAME cli.plan_says_how_a_tension_lowers_a_feed
          COMMAND ${PKM} plan -m ${TENSION_FRAME} ${TENSION_JOB} --origin 1489.2 -1072.6)
 set_tests_properties(cli.plan_says_how_a_tension_lowers_a_feed PROPERTIES PASS_REGULAR_EXPRESSION
-  "    line 5: F30000\\.0 lowered to F517\\.5 at the G64 corner blend after line 4 \\(turn 162\\.2 deg, radius 0\\.0118 mm\\): the right cable would go slack at a higher speed. the tool's own v\\^2/r allows F922\\.7 \\(within 20000\\.0 mm/s\\^2, 100\\.0 % of max_acceleration 20000\\.0\\)")
+  "    line 5: F30000\\.0 lowered to F495\\.6 at the G64 corner blend after line 4 \\(turn 162\\.2 deg, radius 0\\.0118 mm\\): the right cable would go slack at a higher speed. the tool's own v\\^2/r allows F922\\.7 \\(within 20000\\.0 mm/s\\^2, 100\\.0 % of max_acceleration 20000\\.0\\)")
 add_test(NAME cli.plan_names_tension_limited_moves
          COMMAND ${PKM} plan -m ${TENSION_FRAME} ${TENSION_JOB} --origin 1489.2 -1072.6)
 set_tests_properties(cli.plan_names_tension_limited_moves PROPERTIES PASS_REGULAR_EXPRESSION

@@ -49,7 +49,7 @@ add_test(NAME cli.units.plan_names_the_corner_blend
          COMMAND ${PKM} plan -m ${CLI_OUT}/makelangelo-slow-joints.toml
                  ${CLI_DATA}/vitruvian-first-square.ngc)
 set_tests_properties(cli.units.plan_names_the_corner_blend PROPERTIES PASS_REGULAR_EXPRESSION
-  "feed lowered by joint acceleration on 3 moves, 3 of them G64 corner blends: G64 P with a larger tolerance rounds them wider and faster \\(first at line 8, joint right\\)\n    line 8: F1500\\.0 lowered to F349\\.4 at the G64 corner blend after line 7 \\(turn 90\\.0 deg, radius 0\\.0341 mm\\): joint right's acceleration would be 18413\\.6 mm/s\\^2 at F1500\\.0, over the 999\\.0 mm/s\\^2 it may use on a bend \\(99\\.9 % of max_acceleration 1000\\.0\\). the tool's own v\\^2/r allows F384\\.0 \\(within 1200\\.0 mm/s\\^2, 100\\.0 % of max_acceleration 1200\\.0\\)")
+  "feed lowered by joint acceleration on 3 moves, 3 of them G64 corner blends: G64 P with a larger tolerance rounds them wider and faster \\(first at line 8, joint right\\)\n    line 8: F1500\\.0 lowered to F349\\.4 at the G64 corner blend after line 7 \\(turn 90\\.0 deg, radius 0\\.0341 mm\\): joint right's acceleration would be 18417\\.3 mm/s\\^2 at F1500\\.0, over the 999\\.0 mm/s\\^2 it may use on a bend \\(99\\.9 % of max_acceleration 1000\\.0\\). the tool's own v\\^2/r allows F384\\.0 \\(within 1200\\.0 mm/s\\^2, 100\\.0 % of max_acceleration 1200\\.0\\)")
 
 # A pose with too few numbers says the unit it is read in (it said "(mm, deg)" on an inch machine).
 pkm_cli_refuses(units_pose_says_inches
