@@ -126,10 +126,10 @@ struct IntervalLines {
 // One interval of the forward pass from speed squared `x`. With the limits taken as they are at
 // its ends, the fastest speed along it is the least of three lines in s: accelerating from x as
 // hard as they allow, the cap between the ends' caps, and braking as hard as they allow into the
-// bound at its end. The acceleration and the braking hold at both ends of their stretch: at x or
-// the bound, and at the top, where the speed turns from one to the other (the limits are convex
-// in u and x, so they hold between; a bend's q'' x or the tool's kappa x tightens them at the
-// top). Its kinks (at most two) are where the speed changes from accelerating to cruising or
+// bound at its end. The acceleration and the braking hold at both ends of their stretch, at either
+// point's derivatives (IntervalLimits::at_state): at x or the bound, and at the top, where the
+// speed turns from one to the other (a bend's q'' x or the tool's kappa x tightens them there; a
+// bound on q'' x that opposes q' u, as the braking lowers x, at the bound). Its kinks (at most two) are where the speed changes from accelerating to cruising or
 // braking: kept, so that it does so where it would, not an interval early. Returns x at its end.
 double advance(PathGrid& grid, int k, double x, const IntervalLimits& limits) {
   const std::size_t at = static_cast<std::size_t>(k);
@@ -138,16 +138,18 @@ double advance(PathGrid& grid, int k, double x, const IntervalLimits& limits) {
   grid.split_mm[at] = {0.0, 0.0};
   const AccelerationRange range = limits.at(x);
   if (range.empty()) return std::max(0.0, std::min(end_bound, x));
-  const AccelerationRange at_end = limits.at(end_bound);
   const double in_time = (end_bound - x) / (2.0 * step);  // x itself can still brake in time
   double accelerate = range.high;
-  double brake = std::min(at_end.empty() ? range.low : std::max(range.low, at_end.low), in_time);
+  double brake = std::min(range.low, in_time);
   const double cap_start = grid.speed_squared_cap[at], cap_end = grid.speed_squared_cap[at + 1];
   IntervalLines lines;
+  // The braking's own end state: the bound it brakes into.
+  const AccelerationRange at_bound = limits.at_state(end_bound);
+  if (!at_bound.empty()) brake = std::min(std::max(brake, at_bound.low), in_time);
   for (int round = 0; round < 3; ++round) {
     lines = IntervalLines{{x, cap_start, end_bound - 2.0 * brake * step},
                           {2.0 * accelerate, (cap_end - cap_start) / step, 2.0 * brake}};
-    const AccelerationRange top = limits.at(lines.top(step));
+    const AccelerationRange top = limits.at_state(lines.top(step));
     if (top.empty() || (top.high >= accelerate && top.low <= brake)) break;
     accelerate = std::min(accelerate, top.high);
     brake = std::min(std::max(brake, top.low), in_time);
@@ -177,17 +179,18 @@ bool tighten_tensions(Piece& piece, const TensionLimit& tension);
 
 IntervalLimits::IntervalLimits(const Piece& piece, int interval, const machine::Machine& machine)
     : step_mm_(piece.grid.step_mm), acceleration_(machine.cartesian().max_acceleration_mm_per_s2) {
+  const PathGrid& grid = piece.grid;
   const auto form = [](const Eigen::Vector3d& first, const Eigen::Vector3d& second) {
     return ToolForm{first.squaredNorm(), first.dot(second), second.squaredNorm()};
   };
-  const std::size_t start = static_cast<std::size_t>(interval);
-  start_tool_ = form(piece.grid.tool_rate[start], piece.grid.tool_bend[start]);
-  end_tool_ =
-      form(piece.grid.tool_rate[start + 1] + 2.0 * step_mm_ * piece.grid.tool_bend[start + 1],
-           piece.grid.tool_bend[start + 1]);
+  for (std::size_t end = 0; end < 2; ++end) {
+    const std::size_t point = static_cast<std::size_t>(interval) + end;
+    tool_[end] = form(grid.tool_rate[point], grid.tool_bend[point]);
+    far_tool_[end] =
+        form(grid.tool_rate[point] + 2.0 * step_mm_ * grid.tool_bend[point], grid.tool_bend[point]);
+  }
   // An interval that reaches into the stretch where a sample sees a junction's change keeps the
   // junction's reserve along all of it.
-  const PathGrid& grid = piece.grid;
   Reserved reserved;
   reserved.entry = piece.entry_reserve_mm > 0.0 && grid.s_mm(interval) < piece.entry_reserve_mm;
   reserved.exit = piece.exit_reserve_mm > 0.0 &&
@@ -196,26 +199,23 @@ IntervalLimits::IntervalLimits(const Piece& piece, int interval, const machine::
   if (reserved.entry) tool_reserve = piece.entry_tool_reserve;
   if (reserved.exit) tool_reserve = std::max(tool_reserve, piece.exit_tool_reserve);
   acceleration_ *= 1.0 - tool_reserve;
-  add_point(piece, interval, false, reserved, machine);
-  add_point(piece, interval + 1, true, reserved, machine);
+  add_point(piece, interval, reserved, machine);
+  add_point(piece, interval + 1, reserved, machine);
 }
 
-// The point's bounds as bounds on (u, x) at the interval's start: at its end x has grown by
-// 2 ds u, so a bound along u + across x there is (along + 2 ds across) u + across x.
-void IntervalLimits::add_point(const Piece& piece, int point, bool at_end, Reserved reserved,
+// The point's bounds on (u, x).
+void IntervalLimits::add_point(const Piece& piece, int point, Reserved reserved,
                                const machine::Machine& machine) {
   const PathGrid& grid = piece.grid;
   const bool entry = reserved.entry, exit = reserved.exit;
-  const double shift = at_end ? 2.0 * step_mm_ : 0.0;
   for (int j = 0; j < grid.joint_count; ++j) {
     double reserve = 0.0;
     if (entry && piece.entry_reserve.size() > j) reserve = piece.entry_reserve[j];
     if (exit && piece.exit_reserve.size() > j) reserve = std::max(reserve, piece.exit_reserve[j]);
     const double limit = kGridLimitShare * (1.0 - reserve) *
                          machine.joints()[static_cast<std::size_t>(j)].max_acceleration;
-    const double bend = grid.bend(point, j);
     bounds_[static_cast<std::size_t>(bound_count_++)] =
-        LinearBound{grid.slope(point, j) + shift * bend, bend, -limit, limit};
+        LinearBound{grid.slope(point, j), grid.bend(point, j), -limit, limit};
   }
   if (const TensionRow* rows = grid.tensions(point)) {
     const bool turning =
@@ -224,7 +224,7 @@ void IntervalLimits::add_point(const Piece& piece, int point, bool at_end, Reser
     for (int r = 0; r < kTensionRowsPerPoint; ++r) {
       const TensionRow& row = rows[r];
       bounds_[static_cast<std::size_t>(bound_count_++)] =
-          LinearBound{row.along + shift * row.across, row.across, share * (row.low_N - row.rest_N),
+          LinearBound{row.along, row.across, share * (row.low_N - row.rest_N),
                       share * (row.high_N - row.rest_N)};
     }
     const std::array<double, 2>& along = grid.tangential_range[static_cast<std::size_t>(point)];
@@ -237,33 +237,34 @@ double IntervalLimits::curve_cap() const {
   // a u^2 + 2 b x u + c x^2 <= A^2 has a u for x only while its discriminant, 4 x^2 (b^2 - a c) +
   // 4 a A^2, is not negative: x <= A sqrt(a / (a c - b^2)) (a c - b^2 = |first x second|^2).
   double cap = 1e300;
-  for (const ToolForm& tool : {start_tool_, end_tool_}) {
-    const double cross = tool.a * tool.c - tool.b * tool.b;
-    if (cross > 0.0) cap = std::min(cap, acceleration_ * std::sqrt(tool.a / cross));
+  for (const std::array<ToolForm, 2>* forms : {&tool_, &far_tool_}) {
+    for (const ToolForm& tool : *forms) {
+      const double cross = tool.a * tool.c - tool.b * tool.b;
+      if (cross > 0.0) cap = std::min(cap, acceleration_ * std::sqrt(tool.a / cross));
+    }
   }
   return cap;
 }
 
-AccelerationRange IntervalLimits::at(double x) const {
-  AccelerationRange range;
-  double miss = 0.0;
+void IntervalLimits::bound(double x, bool far, AccelerationRange& range, double& miss) const {
+  const double shift = far ? 2.0 * step_mm_ : 0.0;
   for (int i = 0; i < bound_count_; ++i) {
     const LinearBound& b = bounds_[static_cast<std::size_t>(i)];
+    const double along = b.along + shift * b.across;
     const double fixed = b.across * x;
-    if (b.along > 0.0) {
-      range.low = std::max(range.low, (b.low - fixed) / b.along);
-      range.high = std::min(range.high, (b.high - fixed) / b.along);
-    } else if (b.along < 0.0) {
-      range.low = std::max(range.low, (b.high - fixed) / b.along);
-      range.high = std::min(range.high, (b.low - fixed) / b.along);
-    } else {  // a bound on x alone: missed by how far x is past it, per the interval
+    if (along > 0.0) {
+      range.low = std::max(range.low, (b.low - fixed) / along);
+      range.high = std::min(range.high, (b.high - fixed) / along);
+    } else if (along < 0.0) {
+      range.low = std::max(range.low, (b.high - fixed) / along);
+      range.high = std::min(range.high, (b.low - fixed) / along);
+    } else {  // a bound on x alone: missed by how far x is past it
       miss = std::max({miss, fixed - b.high, b.low - fixed});
     }
   }
-  // The tool: |rate u + bend x| <= A at the start and at the end (|u| <= A on a line, most of a
-  // job).
+  // The tool: |rate u + bend x| <= A (|u| <= A on a line, most of a job).
   const double a2 = acceleration_ * acceleration_;
-  for (const ToolForm& tool : {start_tool_, end_tool_}) {
+  for (const ToolForm& tool : far ? far_tool_ : tool_) {
     if (tool.straight()) {
       const double most = acceleration_ / std::sqrt(tool.a);
       range.low = std::max(range.low, -most);
@@ -272,6 +273,21 @@ AccelerationRange IntervalLimits::at(double x) const {
       within_quadratic(tool.a, 2.0 * tool.b * x, tool.c * x * x - a2, range);
     }
   }
+}
+
+AccelerationRange IntervalLimits::at_state(double x) const {
+  AccelerationRange range;
+  double miss = 0.0;
+  bound(x, false, range, miss);
+  if (miss > 0.0) range.low = std::max(range.low, range.high + miss / step_mm_);
+  return range;
+}
+
+AccelerationRange IntervalLimits::at(double x) const {
+  AccelerationRange range;
+  double miss = 0.0;
+  bound(x, false, range, miss);
+  bound(x, true, range, miss);
   if (miss > 0.0) range.low = std::max(range.low, range.high + miss / step_mm_);
   return range;
 }

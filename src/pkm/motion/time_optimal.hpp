@@ -34,11 +34,19 @@ struct LinearBound {
   double along = 0.0, across = 0.0, low = 0.0, high = 0.0;
 };
 
-// The limits on u over one interval of a grid, at its start and at its end.
+// The limits on u over one interval of a grid. Each limit is a bound on the point's derivatives
+// (a joint's q' and q'', a tension's lines, the tool's rate and bend) times (u, x), and the
+// derivatives vary between the interval's two points: a bound linear in them holds along the
+// interval where it holds with both points' values, and one convex in (u, x) holds along a
+// stretch of constant u where it holds at the stretch's two states. So: both points' bounds at
+// a state (at_state), or over the whole interval from x, at x and at x + 2 ds u (at).
 class IntervalLimits {
  public:
   IntervalLimits(const Piece& piece, int interval, const machine::Machine& machine);
+  // The u admissible over the whole interval entered at speed squared x.
   AccelerationRange at(double speed_squared) const;
+  // The u admissible anywhere in the interval at speed squared x.
+  AccelerationRange at_state(double speed_squared) const;
   // The highest speed squared the tool's acceleration across the path admits at all.
   double curve_cap() const;
   double step_mm() const { return step_mm_; }
@@ -48,22 +56,24 @@ class IntervalLimits {
   struct Reserved {
     bool entry = false, exit = false;
   };
-  void add_point(const Piece& piece, int point, bool at_end, Reserved reserved,
-                 const machine::Machine& machine);
+  void add_point(const Piece& piece, int point, Reserved reserved, const machine::Machine& machine);
+  // The bounds at state x into `range` (x grown by 2 ds u when `far`); how far x misses a bound
+  // on x alone into `miss`.
+  void bound(double x, bool far, AccelerationRange& range, double& miss) const;
 
   static constexpr int kMaxBounds = 2 * (kinematics::kMaxJoints + kTensionRowsPerPoint + 1);
   std::array<LinearBound, kMaxBounds> bounds_{};
   int bound_count_ = 0;
   double step_mm_ = 0.0;
   double acceleration_ = 0.0;  // the tool's, mm/s^2
-  // The tool's acceleration at the interval's start, rate u + bend x, and at its end, where x has
-  // grown by 2 ds u: (rate + 2 ds bend) u + bend x. Its square is a u^2 + 2 b u x + c x^2 with
-  // these coefficients (a = |first|^2, b = first . second, c = |second|^2) for each end.
+  // The tool's acceleration at a point, rate u + bend x (at the far state, (rate + 2 ds bend) u +
+  // bend x). Its square is a u^2 + 2 b u x + c x^2 with a = |first|^2, b = first . second,
+  // c = |second|^2: per point, at the state and at the far state.
   struct ToolForm {
     double a = 1.0, b = 0.0, c = 0.0;
     bool straight() const { return b == 0.0 && c == 0.0; }
   };
-  ToolForm start_tool_, end_tool_;
+  std::array<ToolForm, 2> tool_{}, far_tool_{};
 };
 
 // Plans the pieces' speeds: the first entered at `entry_speed`, the machine at rest after the
