@@ -549,38 +549,8 @@ TEST(PlannerPropertiesEdgeCases, ACircleOfTangentChordsKeepsTheToolAcceleration)
 // The same circle where the joints bind: a Cartesian machine whose tool may accelerate at
 // 100,000 mm/s^2 and whose x and y joints at 1,000 mm/s^2.
 TEST(PlannerPropertiesEdgeCases, ACircleOfTangentChordsKeepsTheJointAcceleration) {
-  const machine::Machine machine = machine::parse_machine(R"(name = "Cartesian, slow joints"
-units = "mm"
-[kinematics]
-type = "matrix"
-matrix = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-[[joints]]
-name = "x"
-min = -1000.0
-max = 1000.0
-max_velocity = 1000.0
-max_acceleration = 1000.0
-axis = "X"
-[[joints]]
-name = "y"
-min = -1000.0
-max = 1000.0
-max_velocity = 1000.0
-max_acceleration = 1000.0
-axis = "Y"
-[[joints]]
-name = "z"
-min = -1000.0
-max = 1000.0
-max_velocity = 1000.0
-max_acceleration = 1000.0
-axis = "Z"
-[cartesian]
-max_feed = 6000.0
-max_acceleration = 100000.0
-home = [0.0, 0.0, 0.0]
-)",
-                                                          "slow-joints.toml");
+  const std::string slow = "max_velocity = 1000.0\nmax_acceleration = 1000.0\n";
+  const machine::Machine machine = test::cartesian_machine(slow, slow, slow, 100000.0);
   const TempProgram program(tangent_chord_circle());
   const CheckedPlan plan = plan_checked(machine, program.path(), {});
   expect_within_limits(plan, "slow-joints.toml, the circle of tangent chords");

@@ -31,6 +31,24 @@ machine::Machine load_example(const std::string& file_name) {
   return machine::load_machine(example_machine_path(file_name));
 }
 
+machine::Machine cartesian_machine(const std::string& x_keys, const std::string& y_keys,
+                                   const std::string& z_keys, double tool_acceleration_mm_per_s2) {
+  std::string text =
+      "name = \"Cartesian test mill\"\nunits = \"mm\"\n[kinematics]\n"
+      "type = \"matrix\"\n"
+      "matrix = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\n";
+  const char* names[3] = {"x", "y", "z"};
+  const std::string* keys[3] = {&x_keys, &y_keys, &z_keys};
+  for (int i = 0; i < 3; ++i) {
+    text += std::string("[[joints]]\nname = \"") + names[i] +
+            "\"\nmin = -1000.0\nmax = 1000.0\naxis = \"" + static_cast<char>('X' + i) + "\"\n" +
+            *keys[i];
+  }
+  text += "[cartesian]\nmax_feed = 6000.0\nmax_acceleration = " +
+          std::to_string(tool_acceleration_mm_per_s2) + "\nhome = [0.0, 0.0, 0.0]\n";
+  return machine::parse_machine(text, "cartesian-test.toml");
+}
+
 machine::Machine load_example_changed(const std::string& file_name, const std::string& from,
                                       const std::string& to) {
   std::ifstream in(example_machine_path(file_name));

@@ -34,6 +34,15 @@ inline double distance_to_polyline(const Eigen::Vector3d& p,
 
 std::filesystem::path example_machine_path(const std::string& file_name);
 machine::Machine load_example(const std::string& file_name);
+// A Cartesian machine (a unit matrix; joints x y z, mm, travel +-1000 mm, home at the origin,
+// max_feed 100 mm/s) whose joints carry the limits given as TOML keys (max_velocity = ...,
+// max_acceleration = ...), and its tool's max_acceleration (mm/s^2).
+inline constexpr const char* kFastCartesianJoint =
+    "max_velocity = 1000.0\nmax_acceleration = 100000.0\n";
+machine::Machine cartesian_machine(const std::string& x_keys, const std::string& y_keys,
+                                   const std::string& z_keys = kFastCartesianJoint,
+                                   double tool_acceleration_mm_per_s2 = 1000.0);
+
 // An example machine with every `from` in its file's text replaced by `to`.
 machine::Machine load_example_changed(const std::string& file_name, const std::string& from,
                                       const std::string& to);

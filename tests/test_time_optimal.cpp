@@ -22,41 +22,7 @@ namespace {
 constexpr double kGridMm = 0.05;
 constexpr double kPeriodS = 0.001;
 
-// A Cartesian machine (joints = x y z) with the limits `joint_keys` on x and y.
-machine::Machine cartesian_machine(const std::string& x_keys, const std::string& y_keys) {
-  const std::string text = R"(name = "Cartesian test mill"
-units = "mm"
-[kinematics]
-type = "matrix"
-matrix = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-[[joints]]
-name = "x"
-min = -1000.0
-max = 1000.0
-axis = "X"
-)" + x_keys + R"(
-[[joints]]
-name = "y"
-min = -1000.0
-max = 1000.0
-axis = "Y"
-)" + y_keys + R"(
-[[joints]]
-name = "z"
-min = -1000.0
-max = 1000.0
-max_velocity = 1000.0
-max_acceleration = 100000.0
-axis = "Z"
-[cartesian]
-max_feed = 6000.0          # 100 mm/s
-max_acceleration = 1000.0  # mm/s^2
-home = [0.0, 0.0, 0.0]
-)";
-  return machine::parse_machine(text, "cartesian-test.toml");
-}
-
-const std::string kFastJoint = "max_velocity = 1000.0\nmax_acceleration = 100000.0\n";
+const std::string kFastJoint = std::string(kFastCartesianJoint);
 
 PlannedJob plan_text(const machine::Machine& machine, const std::string& program,
                      motion::PlanOptions options = {}) {

@@ -128,23 +128,38 @@ geometry::Vector6d Segment::at(double u) const {
   return pose;
 }
 
+namespace {
+
+// An arc's polar frame at fraction u: its angle and radius there, and how they change with u
+// (the radius blends linearly from the start's to the end's, as at() draws it).
+struct ArcFrame {
+  double angle = 0.0, radius = 0.0, radius_change = 0.0;
+};
+ArcFrame arc_frame(const Segment& arc, double u) {
+  const int a = arc.first_axis, b = arc.second_axis;
+  const double start_radius =
+      std::hypot(arc.start[a] - arc.centre[a], arc.start[b] - arc.centre[b]);
+  ArcFrame frame;
+  frame.radius_change =
+      std::hypot(arc.end[a] - arc.centre[a], arc.end[b] - arc.centre[b]) - start_radius;
+  frame.radius = start_radius + u * frame.radius_change;
+  frame.angle =
+      std::atan2(arc.start[b] - arc.centre[b], arc.start[a] - arc.centre[a]) + u * arc.sweep_rad;
+  return frame;
+}
+
+}  // namespace
+
 geometry::Vector6d Segment::velocity_at(double u) const {
   geometry::Vector6d rate = end - start;  // lines, the angles, an arc's normal axis
   if (kind == SegmentKind::blend) {
     const double angle = u * sweep_rad;
     rate.head<3>() = radius_mm * sweep_rad * (-std::sin(angle) * axis_u + std::cos(angle) * axis_v);
   } else if (kind == SegmentKind::arc) {
-    const double start_angle = std::atan2(start[second_axis] - centre[second_axis],
-                                          start[first_axis] - centre[first_axis]);
-    const double start_radius = std::hypot(start[first_axis] - centre[first_axis],
-                                           start[second_axis] - centre[second_axis]);
-    const double radius_change =
-        std::hypot(end[first_axis] - centre[first_axis], end[second_axis] - centre[second_axis]) -
-        start_radius;
-    const double radius = start_radius + u * radius_change;
-    const double angle = start_angle + u * sweep_rad;
-    rate[first_axis] = radius_change * std::cos(angle) - radius * sweep_rad * std::sin(angle);
-    rate[second_axis] = radius_change * std::sin(angle) + radius * sweep_rad * std::cos(angle);
+    const ArcFrame f = arc_frame(*this, u);
+    const double c = std::cos(f.angle), s = std::sin(f.angle);
+    rate[first_axis] = f.radius_change * c - f.radius * sweep_rad * s;
+    rate[second_axis] = f.radius_change * s + f.radius * sweep_rad * c;
   }
   return rate;
 }
@@ -156,20 +171,11 @@ geometry::Vector6d Segment::acceleration_at(double u) const {
     rate.head<3>() =
         -radius_mm * sweep_rad * sweep_rad * (std::cos(angle) * axis_u + std::sin(angle) * axis_v);
   } else if (kind == SegmentKind::arc) {
-    const double start_angle = std::atan2(start[second_axis] - centre[second_axis],
-                                          start[first_axis] - centre[first_axis]);
-    const double start_radius = std::hypot(start[first_axis] - centre[first_axis],
-                                           start[second_axis] - centre[second_axis]);
-    const double radius_change =
-        std::hypot(end[first_axis] - centre[first_axis], end[second_axis] - centre[second_axis]) -
-        start_radius;
-    const double radius = start_radius + u * radius_change;
-    const double angle = start_angle + u * sweep_rad;
+    const ArcFrame f = arc_frame(*this, u);
+    const double c = std::cos(f.angle), s = std::sin(f.angle);
     const double turn = sweep_rad * sweep_rad;
-    rate[first_axis] =
-        -2.0 * radius_change * sweep_rad * std::sin(angle) - radius * turn * std::cos(angle);
-    rate[second_axis] =
-        2.0 * radius_change * sweep_rad * std::cos(angle) - radius * turn * std::sin(angle);
+    rate[first_axis] = -2.0 * f.radius_change * sweep_rad * s - f.radius * turn * c;
+    rate[second_axis] = 2.0 * f.radius_change * sweep_rad * c - f.radius * turn * s;
   }
   return rate;
 }

@@ -129,8 +129,9 @@ struct IntervalLines {
 // bound at its end. The acceleration and the braking hold at both ends of their stretch, at either
 // point's derivatives (IntervalLimits::at_state): at x or the bound, and at the top, where the
 // speed turns from one to the other (a bend's q'' x or the tool's kappa x tightens them there; a
-// bound on q'' x that opposes q' u, as the braking lowers x, at the bound). Its kinks (at most two) are where the speed changes from accelerating to cruising or
-// braking: kept, so that it does so where it would, not an interval early. Returns x at its end.
+// bound on q'' x that opposes q' u, as the braking lowers x, at the bound). Its kinks (at most two)
+// are where the speed changes from accelerating to cruising or braking: kept, so that it does so
+// where it would, not an interval early. Returns x at its end.
 double advance(PathGrid& grid, int k, double x, const IntervalLimits& limits) {
   const std::size_t at = static_cast<std::size_t>(k);
   const double step = grid.step_mm;
