@@ -2,12 +2,13 @@
 // the interpolation period, the tool pose at the end of each step turned into joint values by
 // inverse kinematics, streamed to a sink.
 //
-// Moves are joined by look-ahead (G64 corner blends, tangent joins) with trapezoidal or S-curve
-// speed profiles; the feed of each move is lowered where a joint would exceed its velocity or
-// acceleration limit, and on a cable machine whose effector has a mass, its feed on curves and its
-// acceleration where a cable would go slack or pass its tension limit (tension_limit.hpp). On a
-// machine that does not move Z, Z takes no time; with a pen channel the pen changes at rest, where
-// the program's Z crosses its height, for the pen's delay.
+// Moves are joined by look-ahead (G64 corner blends, tangent joins). Without a jerk limit the
+// speed along each move is time-optimal under every limit at once (time_optimal.hpp: each
+// joint's velocity and acceleration, the tool's acceleration as one budget, a hanging effector's
+// cable tensions), with a reserve only near joins that need one; with a jerk limit (--jerk or a
+// joint's max_jerk) each move has one top speed and acceleration and S-curve ramps. On a machine
+// that does not move Z, Z takes no time; with a pen channel the pen changes at rest, where the
+// program's Z crosses its height, for the pen's delay.
 #pragma once
 
 #include <filesystem>
@@ -104,8 +105,9 @@ enum class LimitCause { joint, tension };
 // blend, a cable's line near its anchor: the joint's second derivative times the speed squared).
 enum class JointBound { velocity, acceleration };
 
-// The curve a move is, where its own bend bounds the speed: v^2/r within half of the Cartesian
-// max_acceleration. A blend is the arc G64 puts at the corner between two lines.
+// The curve a move is, where its own bend bounds the speed: v^2/r within the Cartesian
+// max_acceleration (half of it with a jerk limit). A blend is the arc G64 puts at the corner
+// between two lines.
 enum class CurveKind { none, arc, blend };
 
 // A move whose feed a joint, or a cable's tension on a curve, lowered: the limit that did it and
@@ -118,8 +120,8 @@ struct FeedLimit {
   LimitCause cause = LimitCause::joint;
   // For LimitCause::joint: the limit that bound, the joint's velocity (per s) or acceleration
   // (per s^2) the move would need at the programmed feed (capped at max_feed), and the part of
-  // the limit a move may use (99 % of max_velocity; half of the moves' 80 % of max_acceleration
-  // for the bend). mm or rad, as the joint.
+  // the limit a move may use (99.9 % of max_velocity and of max_acceleration for the bend; with
+  // a jerk limit 99 % and 40 %). mm or rad, as the joint.
   JointBound bound = JointBound::velocity;
   double needed_at_programmed = 0.0;
   double usable = 0.0;
