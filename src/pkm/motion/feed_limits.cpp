@@ -108,12 +108,7 @@ void FeedLimits::joint_derivatives(const Piece& piece, kinematics::JointVector& 
   std::array<kinematics::JointVector, 4> q;
   for (int k = 0; k <= points; ++k) {
     kinematics::JointVector& here = q[static_cast<std::size_t>(k % 4)];
-    const geometry::Pose pose =
-        geometry::Pose::from_vector(segment.at(static_cast<double>(k) / points));
-    const kinematics::Status status = machine_.inverse(pose, here);
-    if (!status.ok()) leaves_reach(segment);
-    require_numbers(machine_, file_, pose.as_vector(), here, segment.line, "along the move");
-    if (options_.estimate_only) widen_ranges(report_.joints, here);
+    joints_along(segment, static_cast<double>(k) / points, here);
     const auto back = [&](int n) -> const kinematics::JointVector& {
       return q[static_cast<std::size_t>((k - n) % 4)];
     };
@@ -127,6 +122,22 @@ void FeedLimits::joint_derivatives(const Piece& piece, kinematics::JointVector& 
       third[i] = std::max(third[i], std::abs(difference) / (step * step * step));
     }
   }
+}
+
+void FeedLimits::joints_along(const Segment& segment, double u, kinematics::JointVector& q) {
+  const geometry::Vector6d pose = segment.at(u);
+  const kinematics::Status status = machine_.inverse(geometry::Pose::from_vector(pose), q);
+  if (!status.ok()) leaves_reach(segment);
+  require_numbers(machine_, file_, pose, q, segment.line, "along the move");
+  if (options_.estimate_only) widen_ranges(report_.joints, q);
+}
+
+bool FeedLimits::joints_either_side(const geometry::Vector6d& pose,
+                                    const geometry::Vector6d& direction, double step_mm,
+                                    kinematics::JointVector& ahead,
+                                    kinematics::JointVector& behind) const {
+  return machine_.inverse(geometry::Pose::from_vector(pose + step_mm * direction), ahead).ok() &&
+         machine_.inverse(geometry::Pose::from_vector(pose - step_mm * direction), behind).ok();
 }
 
 // With q(s) a joint along the path, its acceleration is q' s'' + q'' s'^2: bounding |q'| by S
@@ -345,11 +356,7 @@ void FeedLimits::limit_junction(Piece& before, Piece& after) {
   const auto rate = [&](const geometry::Vector6d& tangent, const Segment& segment) {
     constexpr double kStepMm = 1e-3;
     kinematics::JointVector ahead, behind;
-    const kinematics::Status a =
-        machine_.inverse(geometry::Pose::from_vector(at + kStepMm * tangent), ahead);
-    const kinematics::Status b =
-        machine_.inverse(geometry::Pose::from_vector(at - kStepMm * tangent), behind);
-    if (!a.ok() || !b.ok()) leaves_reach(segment);
+    if (!joints_either_side(at, tangent, kStepMm, ahead, behind)) leaves_reach(segment);
     return kinematics::JointVector((ahead - behind) / (2.0 * kStepMm));
   };
   const kinematics::JointVector out = rate(out_tangent, before.segment);

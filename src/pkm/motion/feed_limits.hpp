@@ -75,6 +75,14 @@ class FeedLimits {
 
  private:
   void limit_by_joints(Piece& piece);
+  // The joints at fraction u of `segment` into `q`, as a plan takes them: a pose out of reach or
+  // joints that are no number stop the plan at the move's line; an estimate widens its ranges.
+  void joints_along(const Segment& segment, double u, kinematics::JointVector& q);
+  // The joints `step_mm` ahead of and behind `pose` along `direction` (pose per mm of path);
+  // false where the inverse kinematics finds none.
+  bool joints_either_side(const geometry::Vector6d& pose, const geometry::Vector6d& direction,
+                          double step_mm, kinematics::JointVector& ahead,
+                          kinematics::JointVector& behind) const;
   // The largest |dq/ds| (`slope`), |d2q/ds2| (`curvature`) and |d3q/ds3| (`third`) of every
   // joint along the piece, from differences of its values every kJointSampleStepMm (at least 8
   // steps); an estimate widens the joint ranges with them.

@@ -40,12 +40,8 @@ void FeedLimits::build_grid(Piece& piece) {
   grid.step_mm = piece.length / intervals;
   joints_at_points_.resize(static_cast<std::size_t>(intervals) + 1);
   for (int k = 0; k <= intervals; ++k) {
-    const geometry::Vector6d pose = segment.at(static_cast<double>(k) / intervals);
-    kinematics::JointVector& q = joints_at_points_[static_cast<std::size_t>(k)];
-    const kinematics::Status status = machine_.inverse(geometry::Pose::from_vector(pose), q);
-    if (!status.ok()) leaves_reach(segment);
-    require_numbers(machine_, file_, pose, q, segment.line, "along the move");
-    if (options_.estimate_only) widen_ranges(report_.joints, q);
+    joints_along(segment, static_cast<double>(k) / intervals,
+                 joints_at_points_[static_cast<std::size_t>(k)]);
   }
   grid_joint_terms(grid);
   if (grid.step_mm < kFineStepMm) fine_joint_terms(piece);
@@ -107,18 +103,18 @@ void FeedLimits::fine_joint_terms(Piece& piece) {
     const geometry::Vector6d pose = segment.at(u);
     const geometry::Vector6d tangent = segment.velocity_at(u) / length;
     const geometry::Vector6d bend = segment.acceleration_at(u) / (length * length);
-    const auto joints_at = [&](const geometry::Vector6d& p, kinematics::JointVector& q) {
-      return machine_.inverse(geometry::Pose::from_vector(p), q).ok() && q.allFinite();
+    const auto numbers = [&](double step, const geometry::Vector6d& direction,
+                             kinematics::JointVector& forth, kinematics::JointVector& back) {
+      return joints_either_side(pose, direction, step, forth, back) && forth.allFinite() &&
+             back.allFinite();
     };
-    if (!joints_at(pose + delta * tangent, ahead) || !joints_at(pose - delta * tangent, behind)) {
-      continue;
-    }
+    if (!numbers(delta, tangent, ahead, behind)) continue;
     const kinematics::JointVector& here = joints_at_points_[static_cast<std::size_t>(k)];
     kinematics::JointVector second = (ahead - 2.0 * here + behind) / (delta * delta);
     const double bend_size = bend.norm();
     if (bend_size > 0.0) {
       const double step = delta / bend_size;
-      if (!joints_at(pose + step * bend, out) || !joints_at(pose - step * bend, in)) continue;
+      if (!numbers(step, bend, out, in)) continue;
       second += (out - in) / (2.0 * step);
     }
     for (int j = 0; j < grid.joint_count; ++j) {
