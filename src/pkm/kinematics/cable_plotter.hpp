@@ -10,6 +10,7 @@
 
 #include "pkm/kinematics/cable_statics.hpp"
 #include "pkm/kinematics/derivative_bounds.hpp"
+#include "pkm/kinematics/firmware_form.hpp"
 #include "pkm/kinematics/hanging_cables.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/mechanism_sketch.hpp"
@@ -51,6 +52,9 @@ class CablePlotterKinematics final : public Kinematics,
   // The paper's model only: each cable the distance from its anchor plus its offset. Throws for
   // pulleys, a tilting effector, tension limits, sag or stretch (a balance of forces, no formula).
   std::optional<std::vector<std::string>> joint_formulas() const override;
+  // A two-cable wall plotter (cable_plotter_firmware.cpp): the anchors and offsets; pulleys, a
+  // tilting effector, sag, stretch and spool build-up are what the form loses.
+  std::optional<FirmwareForm> firmware_form() const override;
 
   // The cables as the tension checks ask them (hanging_cables.hpp).
   const HangingCables* hanging_cables() const override { return this; }

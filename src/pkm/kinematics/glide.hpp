@@ -8,6 +8,7 @@
 
 #include "pkm/kinematics/assembly_mode_bounds.hpp"
 #include "pkm/kinematics/derivative_bounds.hpp"
+#include "pkm/kinematics/firmware_form.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/leg_limits.hpp"
 #include "pkm/kinematics/mechanism_sketch.hpp"
@@ -81,6 +82,9 @@ class GlideKinematics final : public Kinematics,
   // A translating glide's carriages in closed form: q = d.w +- sqrt((d.w)^2 - w.w + strut^2), w
   // the tool tip plus the strut's attachment less the rail's origin. Throws for a hexaglide.
   std::optional<std::vector<std::string>> joint_formulas() const override;
+  // A linear delta (glide_firmware.cpp) for three rails moving x y z: rails that lean or carry
+  // their carriage below the effector are what the form loses.
+  std::optional<FirmwareForm> firmware_form() const override;
   const LegLimitSettings* leg_limit_settings() const override {
     return leg_limits_.active() ? &leg_limits_.settings() : nullptr;
   }

@@ -27,6 +27,7 @@ struct LegLimitSettings;  // leg_limits.hpp
 // The proofs' capabilities (issue 28, the proofs' part).
 class DerivativeBounds;    // derivative_bounds.hpp
 class AssemblyModeBounds;  // assembly_mode_bounds.hpp
+struct FirmwareForm;       // firmware_form.hpp
 
 // Nine joints cover every model here (a hexapod has six, a matrix mill three plus pass-through
 // rotary axes); the fixed upper bound keeps joint vectors on the stack in the per-sample path.
@@ -206,6 +207,9 @@ class Kinematics {
   // std::invalid_argument saying why where this machine of a model that has one cannot (a glide
   // that turns its platform).
   virtual std::optional<std::vector<std::string>> joint_formulas() const { return std::nullopt; }
+  // The model's geometry in a form firmwares with kinematics implement, with what that form
+  // leaves out (firmware_form.hpp); none where the model is no such form (the default).
+  virtual std::optional<FirmwareForm> firmware_form() const;
   // The mechanism drawn to scale; none: a drawing shows the work envelope only.
   virtual const MechanismSketch* sketch() const { return nullptr; }
   // The effector's balance and the tension limits of a machine hanging from cables; none for a

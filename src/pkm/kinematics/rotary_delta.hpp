@@ -15,6 +15,7 @@
 
 #include "pkm/kinematics/assembly_mode_bounds.hpp"
 #include "pkm/kinematics/derivative_bounds.hpp"
+#include "pkm/kinematics/firmware_form.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/mechanism_sketch.hpp"
 #include "pkm/kinematics/model_config.hpp"
@@ -95,6 +96,8 @@ class RotaryDeltaKinematics final : public Kinematics,
                                           const JointVector& joints,
                                           std::span<const double> joint_speed) const override;
 
+  // A rotary delta, exactly: the form's conventions are this model's (firmware_form.hpp).
+  std::optional<FirmwareForm> firmware_form() const override;
   const RotaryDeltaGeometry& geometry() const { return geometry_; }
   const PassThroughAxes& passthrough() const { return passthrough_; }
   // Horizontal unit vector from the centre towards arm `arm`'s pivot axis.

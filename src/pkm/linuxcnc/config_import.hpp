@@ -13,40 +13,23 @@
 
 #include "pkm/linuxcnc/hal_file.hpp"
 #include "pkm/linuxcnc/ini_file.hpp"
+#include "pkm/machine/imported_machine.hpp"
 
 namespace pkm::linuxcnc {
 
 // The kinematics modules the import understands.
 const std::vector<std::string>& importable_kinematics();
 
-struct ImportedJoint {
-  std::string name;
-  bool angular = false;  // deg, else the config's length unit
-  double min = 0.0, max = 0.0, max_velocity = 0.0, max_acceleration = 0.0;
-  double home = 0.0;  // [JOINT_n] HOME
-  // Steps per unit of a stepper joint: |STEP_SCALE|, else |SCALE| (stepconf's and pncconf's key
-  // for stepgen's position-scale); none where the config gives neither (a servo's INPUT_SCALE
-  // counts encoder lines, not steps).
-  std::optional<double> steps_per_unit;
-};
+using machine::ImportedJoint;
 
-// Everything the machine file will say, in the configuration's own units (LINEAR_UNITS, deg).
-struct ImportedConfig {
-  std::string source;              // the INI's path
-  std::string module;              // "genhexkins"
-  std::string name;                // [EMC] MACHINE, else the INI's file name
-  bool inch = false;               // [TRAJ] LINEAR_UNITS
-  std::string kinematics_section;  // "[kinematics]\ntype = ...", lengths in the config's unit
-  int pose_size = 3;               // coordinates of home: 3 (x y z) or 6 (x y z a b c)
-  std::vector<ImportedJoint> joints;
-  double max_feed_per_min = 0.0;
-  double max_acceleration = 0.0;
-  std::optional<std::vector<double>> home;                        // [TRAJ] HOME, pose_size values
-  std::optional<std::vector<double>> envelope_min, envelope_max;  // [AXIS_x] limits
-  std::vector<std::string> notes;  // decisions and what was not imported, for the file's header
-  // What the user must act on (also among the notes): limits that are placeholders (the same
-  // -M..M, M >= 1000 units, on every linear joint, or on X Y Z; docs/linuxcnc-import.md).
-  std::vector<std::string> warnings;
+// Everything the machine file will say, in the configuration's own units (LINEAR_UNITS, deg):
+// the INI's path as `source`, [EMC] MACHINE (else the INI's file name) as `name`, the joints'
+// [JOINT_n] HOME as their homes; the warnings are limits that are placeholders (the same -M..M,
+// M >= 1000 units, on every linear joint, or on X Y Z; docs/linuxcnc-import.md). Steps per unit
+// are |STEP_SCALE|, else |SCALE| (stepconf's and pncconf's key for stepgen's position-scale);
+// none where the config gives neither (a servo's INPUT_SCALE counts encoder lines, not steps).
+struct ImportedConfig : machine::ImportedMachine {
+  std::string module;  // "genhexkins"
 };
 
 struct ImportOptions {

@@ -1,0 +1,55 @@
+// A machine as a firmware with its own kinematics can hold it (docs/firmware.md): the machine
+// itself where its model is one of the firmware's forms exactly, else (only when asked) the
+// nearest machine of that form, fitted over the workspace, with the tool error that costs.
+#pragma once
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "pkm/kinematics/firmware_form.hpp"
+#include "pkm/machine/machine.hpp"
+
+namespace pkm::firmware {
+
+enum class FormKind { wall_plotter, linear_delta, rotary_delta };
+FormKind form_kind(const kinematics::FormGeometry& geometry);
+const char* form_kind_name(FormKind kind);  // "two-cable wall plotter"
+
+// What following the approximation costs: the firmware's joints for a pose are the form's
+// inverse kinematics; the machine as built goes where its own forward kinematics takes them.
+struct ApproximationCost {
+  int samples = 0;  // workspace poses compared
+  double worst_tool_error_mm = 0.0;
+  geometry::Pose worst_at;  // machine coordinates, mm
+  double rms_tool_error_mm = 0.0;
+  double worst_before_fit_mm = 0.0;  // the form's nearest geometry before the fit
+};
+
+struct FirmwareMachine {
+  machine::Machine machine;       // its model is in the form
+  kinematics::FirmwareForm form;  // form.losses: what the firmware cannot hold (empty: exact)
+  std::optional<ApproximationCost> cost;  // set when the machine was approximated
+};
+
+// A machine a target cannot express: says which of its forms the model is not, or what the
+// form would lose, with the numbers.
+class ExportRefused : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// `machine` as a firmware whose forms are `accepted` (by `target`, for messages) holds it.
+// Exact: the machine as it is. With losses: ExportRefused listing them, unless `approximate`,
+// which fits the form's geometry to the machine's joints over the workspace and measures the cost.
+FirmwareMachine firmware_machine(const machine::Machine& machine,
+                                 const std::vector<FormKind>& accepted, const std::string& target,
+                                 bool approximate);
+
+// Poses over the machine's reach (a grid of about `per_axis` points along each controlled axis
+// over the reachable extent, kept where the machine's inverse kinematics and limits accept them),
+// mm and rad: where round trips and approximations are measured.
+std::vector<geometry::Pose> workspace_samples(const machine::Machine& machine, int per_axis = 15);
+
+}  // namespace pkm::firmware

@@ -1,0 +1,68 @@
+#include "pkm/kinematics/firmware_form.hpp"
+
+#include <stdexcept>
+
+#include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/glide.hpp"
+#include "pkm/kinematics/rotary_delta.hpp"
+
+namespace pkm::kinematics {
+namespace {
+
+struct FormName {
+  const char* operator()(const WallPlotterForm&) const { return "two-cable wall plotter"; }
+  const char* operator()(const LinearDeltaForm&) const { return "linear delta"; }
+  const char* operator()(const RotaryDeltaForm&) const { return "rotary delta"; }
+};
+
+// Each form as the pkmkit model that computes it.
+struct FormModel {
+  const PassThroughAxes& passthrough;
+
+  std::unique_ptr<Kinematics> operator()(const WallPlotterForm& form) const {
+    CablePlotterGeometry geometry;
+    geometry.anchors_mm = form.anchors_mm;
+    geometry.cable_offsets_mm = form.cable_offsets_mm;
+    return std::make_unique<CablePlotterKinematics>(geometry, passthrough);
+  }
+  // A rail at the column, its reading 0 where the carriage is `carriage_offset` below the tool's
+  // height, the rod's ends folded into the column (attach 0).
+  std::unique_ptr<Kinematics> operator()(const LinearDeltaForm& form) const {
+    std::vector<GlideRail> rails;
+    for (const LinearDeltaTower& tower : form.towers) {
+      GlideRail rail;
+      rail.origin_mm =
+          Eigen::Vector3d(tower.column_mm.x(), tower.column_mm.y(), -tower.carriage_offset_mm);
+      rail.direction = Eigen::Vector3d::UnitZ();
+      rail.strut_mm = tower.rod_mm;
+      rails.push_back(rail);
+    }
+    return std::make_unique<GlideKinematics>(std::move(rails), geometry::Dof::translation(),
+                                             passthrough);
+  }
+  std::unique_ptr<Kinematics> operator()(const RotaryDeltaForm& form) const {
+    RotaryDeltaGeometry geometry;
+    geometry.base_radius_mm = form.base_radius_mm;
+    geometry.arm_length_mm = form.arm_length_mm;
+    geometry.forearm_length_mm = form.forearm_length_mm;
+    geometry.platform_radius_mm = form.platform_radius_mm;
+    return std::make_unique<RotaryDeltaKinematics>(geometry, passthrough);
+  }
+};
+
+}  // namespace
+
+const char* form_name(const FormGeometry& geometry) {
+  return std::visit(FormName{}, geometry);
+}
+
+std::unique_ptr<Kinematics> make_form_kinematics(const FormGeometry& geometry,
+                                                 const PassThroughAxes& passthrough) {
+  return std::visit(FormModel{passthrough}, geometry);
+}
+
+std::optional<FirmwareForm> Kinematics::firmware_form() const {
+  return std::nullopt;
+}
+
+}  // namespace pkm::kinematics
