@@ -114,6 +114,18 @@ void register_view_commands(CLI::App& app);
 // Adds `linuxcnc` to the `export` command (register_post_commands first).
 void register_linuxcnc_commands(CLI::App& app);
 void register_linuxcnc_import_commands(CLI::App& app);
+// Adds the firmware targets to `export` and `import` (both registered first;
+// commands_firmware.cpp).
+void register_firmware_commands(CLI::App& app);
+// `pkm export TARGET`: a firmware's configuration of a machine its own kinematics can drive.
+struct FirmwareExportOptions {
+  std::string machine;
+  std::string output;
+  bool approximate = false;
+  bool kinematics_wanted = false;  // grblhal: its kinematics' settings, not the joints'
+};
+void add_firmware_export_options(CLI::App& command, FirmwareExportOptions& options);
+void run_firmware_export(const std::string& target_name, const FirmwareExportOptions& options);
 void register_home_commands(CLI::App& app);
 void register_workspace_commands(CLI::App& app);
 void register_stream_commands(CLI::App& app);

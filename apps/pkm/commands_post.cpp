@@ -252,8 +252,29 @@ void register_export_settings(CLI::App& export_command, machine::ControllerKind 
   command
       ->add_option("-o,--output", options->output, "The settings file (default: standard output)")
       ->check(file_name());
-  command->callback(
-      [options, kind] { run_export_settings(options->machine, options->output, kind); });
+  if (kind != machine::ControllerKind::grblhal) {
+    command->callback(
+        [options, kind] { run_export_settings(options->machine, options->output, kind); });
+    return;
+  }
+  // grblHAL also has kinematics of its own (a wall plotter, a delta): docs/firmware-grblhal.md.
+  auto firmware = std::make_shared<FirmwareExportOptions>();
+  command->add_flag("--kinematics", firmware->kinematics_wanted,
+                    "The settings of grblHAL's own kinematics instead (a wall plotter or delta "
+                    "built with them): G-code in machine coordinates, no joint-space post");
+  command->add_flag("--approximate", firmware->approximate,
+                    "With --kinematics: where grblHAL's kinematics cannot hold the machine "
+                    "exactly, the nearest machine they can hold, with the worst tool error");
+  command->callback([options, firmware, kind] {
+    if (firmware->kinematics_wanted) {
+      firmware->machine = options->machine;
+      firmware->output = options->output;
+      run_firmware_export("grblhal", *firmware);
+      return;
+    }
+    if (firmware->approximate) throw CommandError("--approximate needs --kinematics");
+    run_export_settings(options->machine, options->output, kind);
+  });
 }
 
 }  // namespace

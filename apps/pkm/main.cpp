@@ -97,6 +97,7 @@ int main(int argc, char** argv) {
   pkm::app::register_calibrate_commands(app);
   pkm::app::register_linuxcnc_commands(app);
   pkm::app::register_linuxcnc_import_commands(app);
+  pkm::app::register_firmware_commands(app);
   pkm::app::register_home_commands(app);
   pkm::app::register_workspace_commands(app);
   pkm::app::register_stream_commands(app);

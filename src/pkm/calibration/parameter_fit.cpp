@@ -73,15 +73,12 @@ class FreeParameterCost final : public ceres::CostFunction {
   std::vector<double> nominal_;
 };
 
-struct Solution {
-  std::vector<double> fitted;
-  bool converged = true;
-  int iterations = 0;
-};
+}  // namespace
 
-Solution solve(const ParameterResiduals& residuals, const std::vector<double>& nominal,
-               const std::vector<int>& free) {
-  Solution solution{nominal};
+LeastSquaresSolution least_squares(const ParameterResiduals& residuals,
+                                   const std::vector<double>& nominal,
+                                   const std::vector<int>& free) {
+  LeastSquaresSolution solution{nominal};
   if (free.empty()) return solution;
   std::vector<double> values(free.size());
   for (std::size_t i = 0; i < free.size(); ++i) values[i] = nominal[free[i]];
@@ -102,6 +99,8 @@ Solution solve(const ParameterResiduals& residuals, const std::vector<double>& n
   for (std::size_t i = 0; i < free.size(); ++i) solution.fitted[free[i]] = values[i];
   return solution;
 }
+
+namespace {
 
 // The residuals' Jacobian over the free parameters at a solution, and the noise sigma (mm) the
 // residuals there show: sqrt(sum of squares / (measurements - free parameters)).
@@ -333,7 +332,7 @@ namespace {
 
 // The solution with the poorly determined parameters held, and what the precision is taken from.
 struct FinalSolution {
-  Solution solution;
+  LeastSquaresSolution solution;
   std::vector<double> after;  // residuals
   SolutionJacobian at_solution;
   std::vector<ScreenedParameter> screened;  // the free parameters, at the solution
@@ -349,7 +348,7 @@ FinalSolution solve_holding_poorly_determined(const kinematics::Kinematics& kine
   const std::vector<kinematics::Parameter> parameters = kinematics.parameters();
   FinalSolution result;
   for (;;) {
-    result.solution = solve(residuals, nominal, free);
+    result.solution = least_squares(residuals, nominal, free);
     result.after = evaluated(residuals, result.solution.fitted);
     result.at_solution = solution_jacobian(residuals, result.solution.fitted, free, result.after);
     result.screened =
@@ -404,7 +403,7 @@ FitReport fit_parameters(kinematics::Kinematics& kinematics, const ParameterResi
 
   const FinalSolution final_solution =
       solve_holding_poorly_determined(kinematics, residuals, nominal, free, report);
-  const Solution& solution = final_solution.solution;
+  const LeastSquaresSolution& solution = final_solution.solution;
   const std::vector<double>& after = final_solution.after;
   const SolutionJacobian& at_solution = final_solution.at_solution;
   const std::vector<ScreenedParameter>& screened = final_solution.screened;

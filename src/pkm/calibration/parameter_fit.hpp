@@ -138,6 +138,18 @@ std::vector<ScreenedParameter> screened_parameters(const kinematics::Kinematics&
                                                    const std::vector<double>& values,
                                                    double extent_mm);
 
+// Levenberg-Marquardt (Ceres) alone over the parameters `free` (indices), the others held at
+// `nominal`: no identification, no plausibility (what fit_parameters adds). For fits that are not
+// identifications of a built machine (the nearest machine of a firmware's form).
+struct LeastSquaresSolution {
+  std::vector<double> fitted;
+  bool converged = true;
+  int iterations = 0;
+};
+LeastSquaresSolution least_squares(const ParameterResiduals& residuals,
+                                   const std::vector<double>& nominal,
+                                   const std::vector<int>& free);
+
 // The whole fit: identification at the model's current (nominal) geometry over `requested`
 // minus `held_rigid_motion`, Levenberg-Marquardt over the identified parameters, standard
 // deviations from sigma^2 (J^T J)^-1 at the solution (sigma^2 from the residuals); parameters

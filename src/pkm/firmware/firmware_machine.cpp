@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "pkm/calibration/geometry_fit.hpp"
+#include "pkm/calibration/parameter_fit.hpp"
 
 namespace pkm::firmware {
 namespace {
@@ -35,16 +35,111 @@ std::string refusal(const machine::Machine& machine, const kinematics::FirmwareF
 }
 
 // The parameters of each form's model that a fit may move: those the firmware has.
-std::vector<std::string> form_parameters(FormKind kind) {
+bool fitted_parameter(FormKind kind, const std::string& name) {
   switch (kind) {
     case FormKind::wall_plotter:
-      return {"anchor_*", "cable_offset_*"};
+      return name.rfind("anchor_", 0) == 0 || name.rfind("cable_offset_", 0) == 0;
     case FormKind::linear_delta:
-      return {"rail*.origin.*", "rail*.strut"};
+      return name.find(".origin.") != std::string::npos || name.find(".strut") != std::string::npos;
     case FormKind::rotary_delta:
       break;
   }
-  return {"*"};
+  return false;
+}
+
+// Where the machine goes, to first order, on the joints the form's model gives for each sample,
+// less the sample (mm, over the controlled coordinates): the firmware's joints against the
+// machine's own, through the inverse of the machine's Jacobian there. A cord nearly level moves
+// the tool far for a small change of its length: the fit weighs it so.
+class ToolResiduals final : public calibration::ParameterResiduals {
+ public:
+  struct Sample {
+    geometry::Pose pose;
+    kinematics::JointVector joints;  // the machine's own
+    Eigen::MatrixXd tool_per_joint;  // d pose / d joints over the controlled coordinates
+  };
+
+  ToolResiduals(const kinematics::Kinematics& model, std::vector<Sample> samples)
+      : model_(model.clone()), samples_(std::move(samples)) {}
+
+  int count() const override {
+    return samples_.empty()
+               ? 0
+               : static_cast<int>(samples_.size() * samples_.front().tool_per_joint.rows());
+  }
+  bool evaluate(std::span<const double> parameters, double* residuals) const override {
+    try {
+      model_->set_parameters(parameters);
+    } catch (const std::invalid_argument&) {
+      return false;
+    }
+    kinematics::JointVector values(model_->joint_count());
+    for (const Sample& sample : samples_) {
+      if (!model_->inverse(sample.pose, values).ok()) return false;
+      const Eigen::VectorXd moved = sample.tool_per_joint * (values - sample.joints);
+      for (Eigen::Index k = 0; k < moved.size(); ++k) *residuals++ = moved[k];
+    }
+    return true;
+  }
+  void summarise(const std::vector<double>& residuals, double& rms_mm, double& max_mm,
+                 int& max_line) const override {
+    double sum = 0.0;
+    max_mm = 0.0;
+    for (std::size_t k = 0; k < residuals.size(); ++k) {
+      sum += residuals[k] * residuals[k];
+      if (std::abs(residuals[k]) > max_mm) {
+        max_mm = std::abs(residuals[k]);
+        max_line = static_cast<int>(k);
+      }
+    }
+    rms_mm = residuals.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(residuals.size()));
+  }
+  std::string nominal_failure_hint() const override {
+    return "the form's inverse kinematics refuses a workspace pose";
+  }
+  double extent_mm() const override { return 0.0; }
+
+ private:
+  std::unique_ptr<kinematics::Kinematics> model_;
+  std::vector<Sample> samples_;
+};
+
+// The fit's samples: the poses both the machine and the form's nearest geometry reach, with the
+// machine's joints and Jacobian there.
+std::vector<ToolResiduals::Sample> fit_samples(const machine::Machine& machine,
+                                               const kinematics::Kinematics& model,
+                                               const std::vector<geometry::Pose>& poses) {
+  const kinematics::Kinematics& built = machine.kinematics();
+  const std::vector<int> axes = built.dof().axes();
+  std::vector<ToolResiduals::Sample> samples;
+  kinematics::JointVector form_joints(model.joint_count());
+  for (const geometry::Pose& pose : poses) {
+    ToolResiduals::Sample sample{pose, kinematics::JointVector(built.joint_count()), {}};
+    kinematics::JointJacobian jacobian(built.joint_count(), geometry::kPoseSize);
+    if (!built.inverse_and_jacobian(pose, sample.joints, jacobian).ok()) continue;
+    if (!model.inverse(pose, form_joints).ok()) continue;
+    Eigen::MatrixXd controlled(built.joint_count(), static_cast<Eigen::Index>(axes.size()));
+    for (std::size_t k = 0; k < axes.size(); ++k)
+      controlled.col(static_cast<Eigen::Index>(k)) = jacobian.col(axes[k]);
+    sample.tool_per_joint = controlled.completeOrthogonalDecomposition().pseudoInverse();
+    samples.push_back(std::move(sample));
+  }
+  return samples;
+}
+
+// The form's parameters fitted to the machine over `poses` (least squares, Ceres).
+void fit_form(kinematics::Kinematics& model, FormKind kind, const machine::Machine& machine,
+              const std::vector<geometry::Pose>& poses) {
+  std::vector<double> nominal;
+  std::vector<int> free;
+  const std::vector<kinematics::Parameter> parameters = model.parameters();
+  for (std::size_t k = 0; k < parameters.size(); ++k) {
+    nominal.push_back(parameters[k].value);
+    if (fitted_parameter(kind, parameters[k].name)) free.push_back(static_cast<int>(k));
+  }
+  const ToolResiduals residuals(model, fit_samples(machine, model, poses));
+  if (residuals.count() == 0) return;
+  model.set_parameters(calibration::least_squares(residuals, nominal, free).fitted);
 }
 
 // The tool position (mm) the machine as built reaches on the joints `form_model` gives for `pose`;
@@ -67,7 +162,10 @@ ApproximationCost measure_cost(const machine::Machine& machine,
   double sum_squares = 0.0;
   for (const geometry::Pose& pose : samples) {
     const std::optional<double> error = tool_error_mm(machine, form_model, pose);
-    if (!error) continue;
+    if (!error) {
+      ++cost.unreached;
+      continue;
+    }
     ++cost.samples;
     sum_squares += *error * *error;
     if (*error >= cost.worst_tool_error_mm) {
@@ -91,18 +189,7 @@ FirmwareMachine approximate(const machine::Machine& machine, const kinematics::F
   std::unique_ptr<kinematics::Kinematics> model =
       kinematics::make_form_kinematics(form.geometry, form.passthrough);
   const double worst_before = measure_cost(machine, *model, samples).worst_tool_error_mm;
-  std::vector<calibration::Measurement> measurements;
-  for (const geometry::Pose& pose : samples) {
-    calibration::Measurement measurement;
-    measurement.joints.resize(machine.kinematics().joint_count());
-    if (!machine.kinematics().inverse(pose, measurement.joints).ok()) continue;
-    measurement.pose = pose.as_vector();
-    for (const int axis : machine.kinematics().dof().axes()) measurement.measured[axis] = true;
-    measurements.push_back(std::move(measurement));
-  }
-  calibration::FitOptions options;
-  options.parameters = form_parameters(form_kind(form.geometry));
-  (void)calibration::fit_geometry(*model, machine.home(), measurements, options);
+  fit_form(*model, form_kind(form.geometry), machine, samples);
   std::optional<kinematics::FirmwareForm> fitted = model->firmware_form();
   if (!fitted || !fitted->losses.empty()) {
     throw ExportRefused(machine.source() + ": the fitted " + form_name(form.geometry) +

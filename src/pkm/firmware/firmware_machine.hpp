@@ -25,6 +25,9 @@ struct ApproximationCost {
   geometry::Pose worst_at;  // machine coordinates, mm
   double rms_tool_error_mm = 0.0;
   double worst_before_fit_mm = 0.0;  // the form's nearest geometry before the fit
+  // Workspace poses the machine reaches where the form's inverse kinematics or the machine's
+  // forward kinematics of the form's joints fails: the firmware cannot go there.
+  int unreached = 0;
 };
 
 struct FirmwareMachine {

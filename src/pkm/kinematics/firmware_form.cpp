@@ -32,7 +32,7 @@ struct FormModel {
     for (const LinearDeltaTower& tower : form.towers) {
       GlideRail rail;
       rail.origin_mm =
-          Eigen::Vector3d(tower.column_mm.x(), tower.column_mm.y(), -tower.carriage_offset_mm);
+          Eigen::Vector3d(tower.column_mm.x(), tower.column_mm.y(), 0.0 - tower.carriage_offset_mm);
       rail.direction = Eigen::Vector3d::UnitZ();
       rail.strut_mm = tower.rod_mm;
       rails.push_back(rail);

@@ -82,8 +82,8 @@ class GlideKinematics final : public Kinematics,
   // A translating glide's carriages in closed form: q = d.w +- sqrt((d.w)^2 - w.w + strut^2), w
   // the tool tip plus the strut's attachment less the rail's origin. Throws for a hexaglide.
   std::optional<std::vector<std::string>> joint_formulas() const override;
-  // A linear delta (glide_firmware.cpp) for three rails moving x y z: rails that lean or carry
-  // their carriage below the effector are what the form loses.
+  // A linear delta (glide_firmware.cpp) for three rails within 30 deg of vertical moving x y z:
+  // rails that lean or carry their carriage below the effector are what the form loses.
   std::optional<FirmwareForm> firmware_form() const override;
   const LegLimitSettings* leg_limit_settings() const override {
     return leg_limits_.active() ? &leg_limits_.settings() : nullptr;

@@ -13,6 +13,13 @@ std::optional<FirmwareForm> GlideKinematics::firmware_form() const {
       !rail_dof().controls(1) || !rail_dof().controls(2)) {
     return std::nullopt;
   }
+  // A rail more than 30 deg from vertical makes another machine (a triaglide's horizontal rails),
+  // not a delta with an error to approximate.
+  const double kMostLean_deg = 30.0;
+  for (const GlideRail& rail : rails_) {
+    if (rail.direction.normalized().z() < std::cos(geometry::degrees_to_radians(kMostLean_deg)))
+      return std::nullopt;
+  }
   LinearDeltaForm form;
   FirmwareForm result{form, {}, {}, passthrough_};
   for (std::size_t i = 0; i < rails_.size(); ++i) {

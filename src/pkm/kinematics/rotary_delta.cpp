@@ -321,12 +321,6 @@ std::unique_ptr<Kinematics> make_rotary_delta_kinematics(const ModelConfig& conf
   }
 }
 
-std::optional<FirmwareForm> RotaryDeltaKinematics::firmware_form() const {
-  const RotaryDeltaForm form{geometry_.base_radius_mm, geometry_.arm_length_mm,
-                             geometry_.forearm_length_mm, geometry_.platform_radius_mm};
-  return FirmwareForm{form, {}, {}, passthrough_};
-}
-
 void RotaryDeltaKinematics::write_config(ModelConfigWriter& out) const {
   out.length("base_radius", geometry_.base_radius_mm);
   out.length("arm_length", geometry_.arm_length_mm);
