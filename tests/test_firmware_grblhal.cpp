@@ -84,9 +84,9 @@ RoundTrip round_trip(const firmware::FirmwareMachine& machine, const std::string
   return result;
 }
 
-class ExactWallPlotter : public ::testing::TestWithParam<std::string> {};
+class firmware_grblhal_exact : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(ExactWallPlotter, FirmwareJointsMatchPkmkitOverTheWorkspace) {
+TEST_P(firmware_grblhal_exact, FirmwareJointsMatchPkmkitOverTheWorkspace) {
   const machine::Machine machine = test::load_example(GetParam());
   const firmware::FirmwareMachine exact = wall_plotter(machine, false);
   ASSERT_FALSE(exact.cost);
@@ -109,7 +109,7 @@ std::string settings_part(const std::string& text) {
   return text.substr(text.find("\n$") + 1);
 }
 
-TEST_P(ExactWallPlotter, ImportThenExportGivesTheSameSettings) {
+TEST_P(firmware_grblhal_exact, ImportThenExportGivesTheSameSettings) {
   const machine::Machine machine = test::load_example(GetParam());
   const std::string text = turned_export(wall_plotter(machine, false));
   const machine::ImportedMachine imported = firmware::grblhal_read(text, "exported.txt");
@@ -118,12 +118,12 @@ TEST_P(ExactWallPlotter, ImportThenExportGivesTheSameSettings) {
   EXPECT_EQ(settings_part(turned_export(wall_plotter(again, false))), settings_part(text));
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, ExactWallPlotter,
+INSTANTIATE_TEST_SUITE_P(Examples, firmware_grblhal_exact,
                          ::testing::Values("wall-plotter.toml", "hektor.toml", "pen-plotter.toml",
                                            "maslow.toml", "linuxcnc-polargraph-2366.toml"),
                          [](const auto& param_info) { return test::test_name(param_info.param); });
 
-TEST(GrblhalExport, TheTargetRefusesTheTurnedFrameNamingIt) {
+TEST(firmware_grblhal_export, TheTargetRefusesTheTurnedFrameNamingIt) {
   const machine::Machine machine = test::load_example("wall-plotter.toml");
   try {
     (void)firmware::grblhal_target().write(wall_plotter(machine, false), kContext);
@@ -134,7 +134,7 @@ TEST(GrblhalExport, TheTargetRefusesTheTurnedFrameNamingIt) {
   }
 }
 
-TEST(GrblhalExport, HandComputedPose) {
+TEST(firmware_grblhal_export, HandComputedPose) {
   // wall-plotter.toml: anchors (0, 0) and (1500, 0). The pen at machine (300, -400) is G54
   // (-300, 400); the G54 offset is the right anchor (1500, 0), so grblHAL's position is
   // (1200, 400): motor A = sqrt(1200^2 + 400^2) = sqrt(1600000) = 1264.911064 mm (the right
@@ -157,14 +157,15 @@ TEST(GrblhalExport, HandComputedPose) {
   EXPECT_NEAR(joints[1], 1264.911064, 1e-6);
 }
 
-TEST(GrblhalExport, OtherFormsAreRefusedNamingTheWallPlotter) {
-  for (const char* name : {"linear-delta.toml", "linuxcnc-rdelta.toml", "hexapod-bit.toml",
+TEST(firmware_grblhal_export, OtherFormsAreRefusedNamingTheWallPlotter) {
+  for (const char* name : {"linear-delta.toml", "linuxcnc-ldelta.toml", "hexapod-bit.toml",
                            "matrix-mill.toml", "triaglide.toml", "mach3-formula.toml"}) {
     try {
       (void)wall_plotter(test::load_example(name), true);
       ADD_FAILURE() << name << ": expected a refusal";
     } catch (const firmware::ExportRefused& refused) {
-      EXPECT_NE(std::string(refused.what()).find("two-cable wall plotter"), std::string::npos)
+      EXPECT_NE(std::string(refused.what()).find("a two-cable wall plotter or a rotary delta"),
+                std::string::npos)
           << name << ": " << refused.what();
     }
   }
@@ -252,9 +253,9 @@ firmware::FirmwareMachine approximated(const machine::Machine& machine) {
   return firmware::FirmwareMachine{std::move(nearest), std::move(fitted), cost};
 }
 
-class ApproximatedWallPlotter : public ::testing::TestWithParam<std::string> {};
+class firmware_grblhal_approximated : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(ApproximatedWallPlotter, TheTrueMachineLandsWithinTheStatedCost) {
+TEST_P(firmware_grblhal_approximated, TheTrueMachineLandsWithinTheStatedCost) {
   const machine::Machine machine = test::load_example(GetParam());
   EXPECT_THROW((void)wall_plotter(machine, false), firmware::ExportRefused);
   const firmware::FirmwareMachine fitted = approximated(machine);
@@ -287,7 +288,7 @@ TEST_P(ApproximatedWallPlotter, TheTrueMachineLandsWithinTheStatedCost) {
   EXPECT_LE(worst, fitted.cost->worst_tool_error_mm + 1e-6);
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, ApproximatedWallPlotter,
+INSTANTIATE_TEST_SUITE_P(Examples, firmware_grblhal_approximated,
                          ::testing::Values("makelangelo.toml", "maslow-frame.toml",
                                            "hektor-pulleys.toml"),
                          [](const auto& param_info) { return test::test_name(param_info.param); });
@@ -311,7 +312,7 @@ const char* kSettings =
     "$130=1500\n"
     "$131=2100\n";
 
-TEST(GrblhalImport, ReadsARealShapedDumpNotingWhatItLeaves) {
+TEST(firmware_grblhal_import, ReadsARealShapedDumpNotingWhatItLeaves) {
   const std::string text = std::string("; a $$ dump\n$0=5.0\n$22=0\n$70=mynet\n$H\n") + kSettings +
                            "G10 L2 P1 X1500 Y0 ; G54\nG21\n";
   const machine::ImportedMachine imported = firmware::grblhal_read(text, "plotter.txt");
@@ -331,19 +332,82 @@ TEST(GrblhalImport, ReadsARealShapedDumpNotingWhatItLeaves) {
   EXPECT_EQ(machine.joints().size(), 2u);
 }
 
-TEST(GrblhalImport, AMissingKinematicsSettingNamesItself) {
+TEST(firmware_grblhal_import, AMissingKinematicsSettingNamesItself) {
   std::string text = kSettings;
   text.replace(text.find("$130=1500\n"), 10, "");
   EXPECT_EQ(failure_of(text),
             "plotter.txt:7: $130: missing (X max travel: WallPlotter's motor A to motor B, mm)");
 }
 
-TEST(GrblhalImport, ANonNumberFailsAtItsLine) {
+TEST(firmware_grblhal_import, ANonNumberFailsAtItsLine) {
   std::string text = kSettings;
   text.replace(text.find("$111=9000"), 9, "$111=fast");
   EXPECT_EQ(failure_of(text), "plotter.txt:4: $111: 'fast' is not a number");
   EXPECT_EQ(failure_of(std::string(kSettings) + "G10 L2 P1 X1,5 Y0\n"),
             "plotter.txt:9: G10 L2 P1 X: '1,5' is not a number");
+}
+
+// linuxcnc-rdelta.toml (inch): base_radius 10, arm 10, forearm 18, platform 5 in.
+TEST(firmware_grblhal_delta, FirmwareAnglesMatchPkmkitOverTheWorkspace) {
+  const firmware::FirmwareMachine exact =
+      wall_plotter(test::load_example("linuxcnc-rdelta.toml"), false);
+  const std::string text = firmware::grblhal_target().write(exact, kContext).text;
+  const reference::WallPlotterFile file = reference::parse(text);
+  double worst_rad = 0.0;
+  int samples = 0;
+  for (const geometry::Pose& pose : firmware::workspace_samples(exact.machine)) {
+    kinematics::JointVector joints(3);
+    ASSERT_TRUE(exact.machine.inverse(pose, joints).ok());
+    Eigen::Vector3d angles;
+    ASSERT_TRUE(reference::delta_angles_rad(file, pose.position_mm, angles));
+    worst_rad = std::max(worst_rad, (angles - joints.head<3>()).cwiseAbs().maxCoeff());
+    ++samples;
+  }
+  std::printf(
+      "[ grblhal ] linuxcnc-rdelta.toml: %d poses, worst arm angle error %.3g rad (%.3g mm "
+      "at the 254 mm bicep's elbow)\n",
+      samples, worst_rad, worst_rad * 254.0);
+  EXPECT_GT(samples, 50);
+  EXPECT_LT(worst_rad * 254.0, 1e-6);
+}
+
+TEST(firmware_grblhal_delta, HandComputedHome) {
+  // rdelta's home: every arm at 1 deg, the tool at z = -10 sin 1 deg - sqrt(18^2 - (10 - 5 +
+  // 10 cos 1 deg)^2) = -10.126694 in = -257.218 mm on the axis. The triangle sides are 2 sqrt 3
+  // times the radii: f = 3.4641016 x 254 = 879.88181 mm, e = 3.4641016 x 127 = 439.940905 mm.
+  const firmware::FirmwareMachine exact =
+      wall_plotter(test::load_example("linuxcnc-rdelta.toml"), false);
+  const std::string text = firmware::grblhal_target().write(exact, kContext).text;
+  EXPECT_NE(text.find("\n$641=457.200 ("), std::string::npos) << text;
+  EXPECT_NE(text.find("\n$642=254.000 ("), std::string::npos) << text;
+  EXPECT_NE(text.find("\n$643=879.88181 ("), std::string::npos) << text;
+  EXPECT_NE(text.find("\n$644=439.940905 ("), std::string::npos) << text;
+  EXPECT_NE(text.find("\n$646=-45.000 ("), std::string::npos) << text;
+  EXPECT_NE(text.find("\n$648=90.000 ("), std::string::npos) << text;
+  EXPECT_NE(text.find("\n$110=104.719755 ("), std::string::npos) << text;  // 100 deg/s in rad/min
+  Eigen::Vector3d angles;
+  ASSERT_TRUE(reference::delta_angles_rad(
+      reference::parse(text), Eigen::Vector3d(0.0, 0.0, -10.126694135940447 * 25.4), angles));
+  // 1e-6 deg: the settings carry six decimals of a mm (879.88181 for 879.8818102).
+  for (int arm = 0; arm < 3; ++arm) EXPECT_NEAR(angles[arm] * 180.0 / M_PI, 1.0, 1e-6);
+}
+
+TEST(firmware_grblhal_delta, ImportThenExportGivesTheSameSettings) {
+  const firmware::FirmwareMachine exact =
+      wall_plotter(test::load_example("linuxcnc-rdelta.toml"), false);
+  const std::string text = firmware::grblhal_target().write(exact, kContext).text;
+  const machine::ImportedMachine imported = firmware::grblhal_read(text, "delta.txt");
+  const machine::Machine again = machine::parse_machine(
+      machine::machine_file_text(imported, "imported.toml"), "imported.toml");
+  EXPECT_EQ(
+      settings_part(firmware::grblhal_target().write(wall_plotter(again, false), kContext).text),
+      settings_part(text));
+}
+
+TEST(firmware_grblhal_delta, AMissingBicepNamesItself) {
+  EXPECT_EQ(failure_of("$110=100\n$111=100\n$112=100\n$120=50\n$121=50\n$122=50\n$641=300\n"
+                       "$643=75\n$644=24\n"),
+            "plotter.txt:9: $642: missing (bicep length rf, mm)");
 }
 
 }  // namespace

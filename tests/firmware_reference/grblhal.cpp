@@ -79,3 +79,41 @@ Eigen::Vector3d machine_position_mm(const WallPlotterFile& file, const Eigen::Ve
 }
 
 }  // namespace pkm::test::grblhal_reference
+
+namespace pkm::test::grblhal_reference {
+namespace {
+
+// One arm in its own y z plane (delta_calcAngleYZ): the pivot at y1 = -f tan30 / 2, the point's
+// joint e tan30 / 2 nearer -y; the elbow is where the bicep's circle meets the forearm's sphere,
+// the outer of the two points; the angle is measured from the horizontal, down positive.
+bool arm_angle(double f, double e, double rf, double re, double x0, double y0, double z0,
+               double& theta) {
+  const double tan30 = 1.0 / std::sqrt(3.0);
+  const double y1 = -0.5 * tan30 * f;
+  y0 -= 0.5 * tan30 * e;
+  const double a = (x0 * x0 + y0 * y0 + z0 * z0 + rf * rf - re * re - y1 * y1) / (2.0 * z0);
+  const double b = (y1 - y0) / z0;
+  const double d = -(a + b * y1) * (a + b * y1) + rf * (b * b * rf + rf);
+  if (d < 0.0) return false;
+  const double yj = (y1 - a * b - std::sqrt(d)) / (b * b + 1.0);
+  const double zj = a + b * yj;
+  theta = std::atan(-zj / (y1 - yj)) + (yj > y1 ? M_PI : 0.0);
+  return true;
+}
+
+}  // namespace
+
+bool delta_angles_rad(const WallPlotterFile& file, const Eigen::Vector3d& p,
+                      Eigen::Vector3d& angles_rad) {
+  const double re = file.settings.at(641), rf = file.settings.at(642);
+  const double f = file.settings.at(643), e = file.settings.at(644);
+  const double c = std::cos(2.0 * M_PI / 3.0), s = std::sin(2.0 * M_PI / 3.0);
+  // Arms B and C see the point turned by -120 and +120 deg (their planes at +120 and +240).
+  return arm_angle(f, e, rf, re, p.x(), p.y(), p.z(), angles_rad[0]) &&
+         arm_angle(f, e, rf, re, p.x() * c + p.y() * s, p.y() * c - p.x() * s, p.z(),
+                   angles_rad[1]) &&
+         arm_angle(f, e, rf, re, p.x() * c - p.y() * s, p.y() * c + p.x() * s, p.z(),
+                   angles_rad[2]);
+}
+
+}  // namespace pkm::test::grblhal_reference

@@ -28,3 +28,12 @@ Eigen::Vector3d motors_mm_float(const WallPlotterFile& file,
 Eigen::Vector3d machine_position_mm(const WallPlotterFile& file, const Eigen::Vector3d& motors_mm);
 
 }  // namespace pkm::test::grblhal_reference
+
+namespace pkm::test::grblhal_reference {
+
+// delta.c's inverse kinematics (delta_calcInverse): the three arms' angles in rad from a machine
+// position (mm), read from the exported $641..$644; false where an arm cannot reach.
+bool delta_angles_rad(const WallPlotterFile& file, const Eigen::Vector3d& position_mm,
+                      Eigen::Vector3d& angles_rad);
+
+}  // namespace pkm::test::grblhal_reference

@@ -6,13 +6,15 @@
 // motor B its left one; the G54 offset a1 makes G54's x y the machine's -x -y.
 #include "pkm/firmware/grblhal.hpp"
 
+#include "pkm/firmware/grblhal_settings.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <variant>
 
 namespace pkm::firmware {
-namespace {
+namespace grblhal {
 
 // grblHAL reads a setting with read_float (any number of decimals) and stores a float; six
 // decimals carry a length to well under the float's own rounding.
@@ -25,6 +27,8 @@ std::string value_text(double value) {
   if (written == "-0.000") written = "0.000";
   return written;
 }
+
+namespace {
 
 // A comment grblHAL's line reader and a sender both pass whole: no nested parentheses, printable
 // ASCII, no real-time characters.
@@ -45,14 +49,23 @@ std::string comment_text(std::string_view text) {
   return safe;
 }
 
-struct Lines {
-  std::string text;
-  void comment(std::string_view line) { text += "(" + comment_text(line) + ")\n"; }
-  void setting(int number, double value, std::string_view what) {
-    text +=
-        "$" + std::to_string(number) + "=" + value_text(value) + " (" + comment_text(what) + ")\n";
-  }
-};
+}  // namespace
+
+void Lines::comment(std::string_view line) {
+  text += "(" + comment_text(line) + ")\n";
+}
+
+void Lines::setting(int number, double value, std::string_view what) {
+  text +=
+      "$" + std::to_string(number) + "=" + value_text(value) + " (" + comment_text(what) + ")\n";
+}
+
+}  // namespace grblhal
+
+namespace {
+
+using grblhal::Lines;
+using grblhal::value_text;
 
 // The machine's joints in grblHAL's axis order: X = motor A (joint 1, the right cord), Y = motor
 // B (joint 0, the left cord), Z = the pass-through z.
@@ -201,11 +214,14 @@ ExportedFile write_wall_plotter(const FirmwareMachine& firmware, const ExportCon
 
 ExportedFile grblhal_write(const FirmwareMachine& machine, const ExportContext& context,
                            GrblhalFrameTurn turn) {
+  if (const auto* delta = std::get_if<kinematics::RotaryDeltaForm>(&machine.form.geometry)) {
+    return grblhal::write_rotary_delta(machine, context, *delta);
+  }
   const auto* wall_plotter = std::get_if<kinematics::WallPlotterForm>(&machine.form.geometry);
   if (wall_plotter == nullptr) {
     throw ExportRefused(machine.machine.source() +
-                        ": grblhal writes a two-cable wall plotter "
-                        "only; this machine is a " +
+                        ": grblhal writes a two-cable wall plotter or a rotary delta; this "
+                        "machine is a " +
                         std::string(kinematics::form_name(machine.form.geometry)));
   }
   return write_wall_plotter(machine, context, *wall_plotter, turn);
@@ -215,7 +231,7 @@ Target grblhal_target() {
   return Target{
       "grblhal",
       "$ settings",
-      {FormKind::wall_plotter},
+      {FormKind::wall_plotter, FormKind::rotary_delta},
       [](const FirmwareMachine& machine, const ExportContext& context) {
         return grblhal_write(machine, context, GrblhalFrameTurn::refuse);
       },

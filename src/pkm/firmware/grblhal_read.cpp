@@ -10,23 +10,12 @@
 #include <optional>
 
 #include "pkm/firmware/grblhal.hpp"
+#include "pkm/firmware/grblhal_settings.hpp"
 #include "pkm/machine/machine_writer.hpp"
 
 namespace pkm::firmware {
+namespace grblhal {
 namespace {
-
-struct Setting {
-  std::string value;  // as written, comments and spaces stripped
-  int line = 0;
-};
-
-struct SettingsFile {
-  std::string source;
-  std::map<int, Setting> settings;
-  std::map<char, Setting> g54;  // X Y Z words of a G10 L2 P1 line
-  int last_line = 0;
-  std::vector<std::string> ignored;  // "line 12: $H"
-};
 
 std::string without_comments(std::string_view line) {
   std::string kept;
@@ -77,6 +66,8 @@ bool read_g54_line(const std::string& line, int number, SettingsFile& file) {
   return true;
 }
 
+}  // namespace
+
 SettingsFile scan(std::string_view text, const std::string& source) {
   SettingsFile file;
   file.source = source;
@@ -114,7 +105,6 @@ double number_of(const SettingsFile& file, const std::string& key, const Setting
   return value;
 }
 
-// Setting `number`, which the kinematics needs (`what` says why), a number above 0.
 double required(const SettingsFile& file, int number, const std::string& what) {
   const std::string key = "$" + std::to_string(number);
   const auto found = file.settings.find(number);
@@ -129,6 +119,32 @@ double required(const SettingsFile& file, int number, const std::string& what) {
   }
   return value;
 }
+
+std::optional<double> optional_number(const SettingsFile& file, int number) {
+  const auto found = file.settings.find(number);
+  if (found == file.settings.end()) return std::nullopt;
+  return number_of(file, "$" + std::to_string(number), found->second);
+}
+
+void note_unused(const SettingsFile& file, const std::vector<int>& used,
+                 std::vector<std::string>& notes) {
+  std::string list;
+  for (const auto& [number, setting] : file.settings) {
+    if (std::find(used.begin(), used.end(), number) == used.end()) {
+      list += (list.empty() ? "$" : ", $") + std::to_string(number);
+    }
+  }
+  if (!list.empty())
+    notes.push_back("settings not imported (not the kinematics' or its axes'): " + list);
+  for (const std::string& line : file.ignored) notes.push_back("ignored " + line);
+}
+
+}  // namespace grblhal
+
+namespace {
+
+using grblhal::required;
+using grblhal::SettingsFile;
 
 std::optional<double> optional_steps(const SettingsFile& file, int number) {
   if (!file.settings.count(number)) return std::nullopt;
@@ -165,7 +181,7 @@ machine::ImportedJoint z_joint(const SettingsFile& file) {
 double g54_word(const SettingsFile& file, char axis) {
   const auto found = file.g54.find(axis);
   if (found == file.g54.end()) return 0.0;
-  return number_of(file, std::string("G10 L2 P1 ") + axis, found->second);
+  return grblhal::number_of(file, std::string("G10 L2 P1 ") + axis, found->second);
 }
 
 void add_notes(machine::ImportedMachine& imported, const SettingsFile& file) {
@@ -179,25 +195,15 @@ void add_notes(machine::ImportedMachine& imported, const SettingsFile& file) {
   imported.notes.push_back(
       "the cords' limits are our choice: 0 to $131 (grblHAL has no setting for them); home is "
       "ours: midway between the anchors, the cords halfway between W/2 and $131");
-  std::vector<int> unused;
-  for (const auto& [number, setting] : file.settings) {
-    if (!(number >= 100 && number <= 102) && !(number >= 110 && number <= 112) &&
-        !(number >= 120 && number <= 122) && !(number >= 130 && number <= 132)) {
-      unused.push_back(number);
-    }
-  }
-  if (!unused.empty()) {
-    std::string list;
-    for (const int number : unused) list += (list.empty() ? "$" : ", $") + std::to_string(number);
-    imported.notes.push_back("settings not imported (not the kinematics' or its axes'): " + list);
-  }
-  for (const std::string& line : file.ignored) imported.notes.push_back("ignored " + line);
+  grblhal::note_unused(file, {100, 101, 102, 110, 111, 112, 120, 121, 122, 130, 131, 132},
+                       imported.notes);
 }
 
 }  // namespace
 
 machine::ImportedMachine grblhal_read(std::string_view text, const std::string& source) {
-  const SettingsFile file = scan(text, source);
+  const SettingsFile file = grblhal::scan(text, source);
+  if (grblhal::is_delta_file(file)) return grblhal::read_rotary_delta(file);
   const double width = required(file, 130, "X max travel: WallPlotter's motor A to motor B, mm");
   const double longest = required(file, 131, "Y max travel: the longest cord, mm");
   if (!(longest > 0.5 * width)) {
