@@ -51,8 +51,14 @@ std::string comment_text(std::string_view text) {
 
 }  // namespace
 
+// grblHAL reads 256 characters a line (protocol.h LINE_BUFFER_SIZE) and reports an overflow past
+// them: a longer comment goes on as many lines as it takes.
 void Lines::comment(std::string_view line) {
-  text += "(" + comment_text(line) + ")\n";
+  constexpr std::size_t kRoom = 250;
+  const std::string safe = comment_text(line);
+  for (std::size_t at = 0; at == 0 || at < safe.size(); at += kRoom) {
+    text += "(" + safe.substr(at, kRoom) + ")\n";
+  }
 }
 
 void Lines::setting(int number, double value, std::string_view what) {
@@ -181,7 +187,7 @@ void write_axes(Lines& out, const FirmwareMachine& firmware, const std::vector<A
   const double width = form.anchors_mm[1].x() - form.anchors_mm[0].x();
   out.setting(130, width, "X max travel = WallPlotter's width: motor A to motor B, mm");
   out.setting(131, longest_cord_mm(firmware, form),
-              "Y max travel: unused by WallPlotter; pkmkit's longest cord, mm");
+              "Y max travel: unused by WallPlotter, pkmkit's longest cord, mm");
   for (std::size_t k = 2; k < axes.size(); ++k) {
     out.setting(130 + static_cast<int>(k), spec(axes[k]).max - spec(axes[k]).min,
                 label(axes[k], "max travel, mm: its max - min"));

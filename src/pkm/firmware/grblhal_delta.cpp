@@ -47,16 +47,16 @@ void write_header(Lines& out, const FirmwareMachine& firmware, const ExportConte
   for (const std::string& line : header_lines(firmware, context)) out.comment(line);
   out.comment(
       "grblHAL built with DELTA_ROBOT On [config.h, or -DDELTA_ROBOT=1]: $I reports "
-      "[KINEMATICS:Delta v0.05]; $DELTA shows its envelope");
+      "[KINEMATICS:Delta v0.05], $DELTA shows its envelope");
   out.comment(
-      "Frame: the machine's own: z = 0 the pivots' plane, z up; arm A [X] at -y, B [Y] and C [Z] "
-      "at +120 and +240 deg; an angle is 0 with the arm horizontal outward, positive down");
+      "Frame: the machine's own: z = 0 the pivots' plane, z up, arm A [X] at -y, B [Y] and C [Z] "
+      "at +120 and +240 deg, an angle is 0 with the arm horizontal outward, positive down");
   const std::vector<std::string>& names = firmware.machine.joint_names();
   out.comment("motor A = joint '" + names[0] + "', B = '" + names[1] + "', C = '" + names[2] +
               "': the arm's angle, rad in grblHAL, deg in the machine file");
   out.comment(
       "Not written: $640 segment length, $645 base to floor, $647 flags [keep grblHAL's or "
-      "yours]; the work envelope [$130-$132 and the cuboid]");
+      "yours], the work envelope [$130-$132 and the cuboid]");
 }
 
 void write_motors(Lines& out, const FirmwareMachine& firmware, std::vector<std::string>& warnings) {
