@@ -121,7 +121,7 @@ std::string turned_frame_refusal(const FirmwareMachine& firmware) {
          "turned 180 deg about z (motor A the right motor; G-code X and Y move the pen the "
          "other way). No grblHAL setting turns it back (G10 L2 R needs ROTATION_ENABLE and "
          "leaves incremental moves and jogs unturned), so grblhal refuses it; run the machine "
-         "with pkmkit's joint-space output (pkm export grblhal) instead";
+         "on joint-space G-code instead (pkmkit's joint settings for grblHAL: docs/grbl.md)";
 }
 
 void write_header(Lines& out, const FirmwareMachine& firmware, const ExportContext& context,
