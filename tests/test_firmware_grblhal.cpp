@@ -176,44 +176,59 @@ TEST(firmware_grblhal_export, OtherFormsAreRefusedNamingTheWallPlotter) {
 // straight-cord form's forward kinematics fails for one of them ("the model fails with the
 // nominal geometry"): it does for makelangelo, maslow-frame and hektor-pulleys. The same fit and
 // cost here, over the poses whose joints the form's forward kinematics takes.
-firmware::FirmwareMachine approximated(const machine::Machine& machine) {
-  const kinematics::FirmwareForm form = *machine.kinematics().firmware_form();
-  std::unique_ptr<kinematics::Kinematics> model =
-      kinematics::make_form_kinematics(form.geometry, form.passthrough);
-  const std::vector<geometry::Pose> samples = firmware::workspace_samples(machine);
-  const auto tool_error = [&](const kinematics::Kinematics& form_model,
-                              const geometry::Pose& pose) -> std::optional<double> {
-    kinematics::JointVector joints(form_model.joint_count());
-    if (!form_model.inverse(pose, joints).ok()) return std::nullopt;
-    geometry::Pose reached = pose;
-    if (!machine.kinematics().forward(joints, reached).ok()) return std::nullopt;
-    return (reached.position_mm - pose.position_mm).norm();
-  };
+// The core's ApproximationCost of following `form_model` on `machine` over `samples`.
+firmware::ApproximationCost cost_of(const machine::Machine& machine,
+                                    const kinematics::Kinematics& form_model,
+                                    const std::vector<geometry::Pose>& samples) {
   firmware::ApproximationCost cost;
+  double sum_squares = 0.0;
   for (const geometry::Pose& pose : samples) {
-    if (const auto error = tool_error(*model, pose)) {
-      cost.worst_before_fit_mm = std::max(cost.worst_before_fit_mm, *error);
+    kinematics::JointVector joints(form_model.joint_count());
+    if (!form_model.inverse(pose, joints).ok()) continue;
+    geometry::Pose reached = pose;
+    if (!machine.kinematics().forward(joints, reached).ok()) continue;
+    const double error = (reached.position_mm - pose.position_mm).norm();
+    ++cost.samples;
+    sum_squares += error * error;
+    if (error >= cost.worst_tool_error_mm) {
+      cost.worst_tool_error_mm = error;
+      cost.worst_at = pose;
     }
   }
+  cost.rms_tool_error_mm = std::sqrt(sum_squares / std::max(cost.samples, 1));
+  return cost;
+}
+
+// The machine's joints at the samples where the form's forward kinematics takes them.
+std::vector<calibration::Measurement> reachable_measurements(
+    const machine::Machine& machine, const kinematics::Kinematics& form_model,
+    const std::vector<geometry::Pose>& samples) {
   std::vector<calibration::Measurement> measurements;
-  int left_out = 0;
   for (const geometry::Pose& pose : samples) {
     calibration::Measurement measurement;
     measurement.joints.resize(machine.kinematics().joint_count());
     if (!machine.kinematics().inverse(pose, measurement.joints).ok()) continue;
     geometry::Pose reached = machine.home();
-    if (!model->forward(measurement.joints, reached).ok()) {
-      ++left_out;
-      continue;
-    }
+    if (!form_model.forward(measurement.joints, reached).ok()) continue;
     measurement.pose = pose.as_vector();
     for (const int axis : machine.kinematics().dof().axes()) measurement.measured[axis] = true;
     measurements.push_back(std::move(measurement));
   }
   std::printf(
-      "[ grblhal ] %s: %d of %zu poses left out of the fit (the form cannot reach the "
+      "[ grblhal ] %s: %zu of %zu poses left out of the fit (the form cannot reach the "
       "machine's joints there)\n",
-      machine.source().c_str(), left_out, samples.size());
+      machine.source().c_str(), samples.size() - measurements.size(), samples.size());
+  return measurements;
+}
+
+firmware::FirmwareMachine approximated(const machine::Machine& machine) {
+  const kinematics::FirmwareForm form = *machine.kinematics().firmware_form();
+  std::unique_ptr<kinematics::Kinematics> model =
+      kinematics::make_form_kinematics(form.geometry, form.passthrough);
+  const std::vector<geometry::Pose> samples = firmware::workspace_samples(machine);
+  const double worst_before = cost_of(machine, *model, samples).worst_tool_error_mm;
+  const std::vector<calibration::Measurement> measurements =
+      reachable_measurements(machine, *model, samples);
   calibration::FitOptions options;
   options.parameters = {"anchor_*", "cable_offset_*"};
   try {
@@ -235,18 +250,8 @@ firmware::FirmwareMachine approximated(const machine::Machine& machine) {
   kinematics::FirmwareForm fitted = *model->firmware_form();
   fitted.losses = form.losses;
   fitted.unchecked = form.unchecked;
-  double sum_squares = 0.0;
-  for (const geometry::Pose& pose : samples) {
-    const auto error = tool_error(*model, pose);
-    if (!error) continue;
-    ++cost.samples;
-    sum_squares += *error * *error;
-    if (*error >= cost.worst_tool_error_mm) {
-      cost.worst_tool_error_mm = *error;
-      cost.worst_at = pose;
-    }
-  }
-  cost.rms_tool_error_mm = std::sqrt(sum_squares / std::max(cost.samples, 1));
+  firmware::ApproximationCost cost = cost_of(machine, *model, samples);
+  cost.worst_before_fit_mm = worst_before;
   machine::Machine nearest(machine.name() + " (nearest two-cable wall plotter)", machine.source(),
                            machine.units(), std::move(model), machine.joints(), machine.cartesian(),
                            machine.home());
