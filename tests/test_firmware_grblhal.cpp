@@ -335,6 +335,13 @@ TEST(firmware_grblhal_import, ReadsARealShapedDumpNotingWhatItLeaves) {
   const machine::Machine machine =
       machine::parse_machine(machine::machine_file_text(imported, "out.toml"), "out.toml");
   EXPECT_EQ(machine.joints().size(), 2u);
+  // The G54 offset X1500 is the right anchor: anchors (0, 0) and (1500, 0). The pen at (300,
+  // -400) is G54 (-300, 400), grblHAL's (1200, 400): motor B (the left cord) sqrt(300^2 + 400^2)
+  // = 500, motor A (the right) sqrt(1200^2 + 400^2) = 1264.911064 mm.
+  kinematics::JointVector joints(2);
+  ASSERT_TRUE(machine.inverse(geometry::Pose::from_mm_deg(300.0, -400.0, 0.0), joints).ok());
+  EXPECT_NEAR(joints[0], 500.0, 1e-9);
+  EXPECT_NEAR(joints[1], 1264.911064, 1e-6);
 }
 
 TEST(firmware_grblhal_import, AMissingKinematicsSettingNamesItself) {
