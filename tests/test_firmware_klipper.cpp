@@ -243,6 +243,43 @@ TEST(firmware_klipper, ImportsAUsersPrinterCfg) {
   EXPECT_NEAR(machine.home().position_mm.z(), 296.0, 1.0);  // every carriage at its endstop
 }
 
+// Why rotary deltas are refused, and only why: Klipper's rotary_delta turns every arm exactly as
+// pkmkit's rotary delta does (shoulder_radius = base_radius - platform_radius, arms at 270, 30
+// and 150 deg for joints 0, 1, 2, Klipper's angle = -pkmkit's joint) once its frame is pkmkit's
+// moved up by shoulder_height, which Klipper requires above 0: the frames cannot coincide.
+TEST(firmware_klipper, RotaryDeltaMatchesOnlyInAShiftedFrame) {
+  const machine::Machine machine = test::load_example("linuxcnc-rdelta.toml");
+  const std::optional<kinematics::FirmwareForm> held = machine.kinematics().firmware_form();
+  ASSERT_TRUE(held.has_value());
+  const kinematics::RotaryDeltaForm form = std::get<kinematics::RotaryDeltaForm>(held->geometry);
+  const double shoulder_radius = form.base_radius_mm - form.platform_radius_mm;  // 127 mm
+  const double shoulder_height = 600.0;  // any height above 0: Klipper's bed below the shoulders
+  const std::array<double, 3> arm_angles_deg = {270.0, 30.0, 150.0};
+  kinematics::JointVector joints(3);
+  double worst_rad = 0.0, worst_unshifted_rad = 0.0;
+  for (const geometry::Pose& pose : firmware::workspace_samples(machine)) {
+    ASSERT_TRUE(machine.inverse(pose, joints).ok());
+    const Eigen::Vector3d& p = pose.position_mm;
+    for (int i = 0; i < 3; ++i) {
+      const auto klipper = [&](double z) {
+        return reference::rotary_arm_angle(shoulder_radius, shoulder_height, arm_angles_deg[i],
+                                           form.arm_length_mm, form.forearm_length_mm, p.x(), p.y(),
+                                           z);
+      };
+      worst_rad = std::max(worst_rad, std::abs(klipper(p.z() + shoulder_height) + joints[i]));
+      const double unshifted = klipper(p.z()) + joints[i];
+      worst_unshifted_rad =
+          std::max(worst_unshifted_rad, std::isnan(unshifted) ? 1e9 : std::abs(unshifted));
+    }
+  }
+  std::printf(
+      "klipper linuxcnc-rdelta: worst arm error %.3g rad with the frame shifted, %.3g "
+      "rad without\n",
+      worst_rad, worst_unshifted_rad);
+  EXPECT_LT(worst_rad, 1e-9);
+  EXPECT_GT(worst_unshifted_rad, 0.1);  // in pkmkit's own frame Klipper's arms go elsewhere
+}
+
 std::string import_error(const std::string& text) {
   try {
     (void)firmware::read_klipper(text, "printer.cfg");

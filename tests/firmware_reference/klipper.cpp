@@ -88,4 +88,23 @@ std::array<double, 3> stepper_coordinates(const Delta& delta, double x, double y
   return coordinates;
 }
 
+double rotary_arm_angle(double shoulder_radius, double shoulder_height, double angle_deg,
+                        double upper_arm, double lower_arm, double x, double y, double z) {
+  const double angle = angle_deg * std::numbers::pi / 180.0;
+  // The tool in the arm's plane: outward from the shoulder, up from it, and across the plane.
+  const double out = x * std::cos(angle) + y * std::sin(angle) - shoulder_radius;
+  const double up = z - shoulder_height;
+  const double across = -x * std::sin(angle) + y * std::cos(angle);
+  const double lower2 = lower_arm * lower_arm - across * across;  // the forearm in the plane
+  // The elbow: on the circle of upper_arm about the shoulder and of the in-plane forearm about
+  // the tool; the two circles meet on the chord at `along` from the shoulder.
+  const double distance = std::hypot(out, up);
+  const double along = (upper_arm * upper_arm - lower2 + distance * distance) / (2.0 * distance);
+  const double half_chord = std::sqrt(upper_arm * upper_arm - along * along);
+  const double ux = out / distance, uy = up / distance;
+  const double x1 = along * ux - half_chord * uy, y1 = along * uy + half_chord * ux;
+  const double x2 = along * ux + half_chord * uy, y2 = along * uy - half_chord * ux;
+  return x1 > x2 ? std::atan2(y1, x1) : std::atan2(y2, x2);
+}
+
 }  // namespace pkm::test::klipper_reference

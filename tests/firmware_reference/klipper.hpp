@@ -29,4 +29,11 @@ Delta delta(const Config& config);
 // kin_delta.c's stepper coordinate (mm) for the tool at (x, y, z).
 std::array<double, 3> stepper_coordinates(const Delta& delta, double x, double y, double z);
 
+// Klipper's rotary delta (klippy/kinematics/rotary_delta.py, kin_rotary_delta.c): the arm's
+// angle (rad, 0 horizontal and outward, positive with the elbow UP) for the tool at (x, y, z)
+// in Klipper's frame, the shoulder at shoulder_radius along `angle_deg` and shoulder_height up;
+// of the two elbows, the outer one.
+double rotary_arm_angle(double shoulder_radius, double shoulder_height, double angle_deg,
+                        double upper_arm, double lower_arm, double x, double y, double z);
+
 }  // namespace pkm::test::klipper_reference
