@@ -30,7 +30,8 @@ firmware::ExportedFile export_machine(const machine::Machine& machine) {
 }
 
 // The worst difference (mm) over the workspace between Klipper's carriage travel from its
-// endstop and pkmkit's joint travel from the joint's endstop reading (its max).
+// endstop and pkmkit's joint travel from the joint's endstop reading (its home switch, else its
+// max).
 double worst_joint_error_mm(const machine::Machine& machine, const std::string& exported) {
   const reference::Delta delta = reference::delta(reference::parse(exported));
   const std::vector<geometry::Pose> samples = firmware::workspace_samples(machine);
@@ -44,12 +45,16 @@ double worst_joint_error_mm(const machine::Machine& machine, const std::string& 
         reference::stepper_coordinates(delta, p.x(), p.y(), p.z());
     for (int i = 0; i < 3; ++i) {
       const double klipper_travel = klipper[i] - delta.abs_endstop[i];
-      const double pkmkit_travel = joints[i] - machine.joints()[i].max;
+      const machine::JointSpec& joint = machine.joints()[i];
+      const double endstop = joint.home_switch ? joint.home_switch->position : joint.max;
+      const double pkmkit_travel = joints[i] - endstop;
       worst = std::max(worst, std::abs(klipper_travel - pkmkit_travel));
     }
   }
   return worst;
 }
+
+std::string export_refusal(const machine::Machine& machine);
 
 // The settings after the header (the header names the source, which an import changes).
 std::string settings(const std::string& text) {
@@ -145,6 +150,19 @@ TEST(firmware_klipper, CarriageOffsetMovesItsEndstop) {
   const firmware::ExportedFile file = export_machine(machine);
   EXPECT_NE(file.text.find("position_endstop: 434.228449"), std::string::npos) << file.text;
   EXPECT_LT(worst_joint_error_mm(machine, file.text), 1e-6);
+}
+
+// A home switch at reading 650 (towards max) is tower a's endstop: 650 - sqrt(64400) =
+// 396.2284492; a switch met moving down is no Klipper delta's.
+TEST(firmware_klipper, HomeSwitchIsTheEndstop) {
+  const machine::Machine machine = test::load_example_changed(
+      "linear-delta.toml", "name = \"tower_a\"", "name = \"tower_a\"\nhome_switch = 650.0");
+  const firmware::ExportedFile file = export_machine(machine);
+  EXPECT_NE(file.text.find("position_endstop: 396.228449"), std::string::npos) << file.text;
+  EXPECT_LT(worst_joint_error_mm(machine, file.text), 1e-6);
+  const std::string refusal = export_refusal(test::load_example_changed(
+      "linear-delta.toml", "name = \"tower_a\"", "name = \"tower_a\"\nhome_switch = 10.0"));
+  EXPECT_NE(refusal.find("joint 'tower_a' homes downwards"), std::string::npos) << refusal;
 }
 
 // A Klipper user's printer.cfg: pins, other sections, comments of both kinds, a continuation
