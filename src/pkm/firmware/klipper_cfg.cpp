@@ -198,8 +198,9 @@ std::vector<std::string> KlipperConfig::unread() const {
     }
     if (count == 0) continue;
     const bool whole = count == static_cast<int>(candidate.options.size());
-    notes.push_back("[" + candidate.name + "] " + (whole ? "not read" : "not read: " + keys) +
-                    (whole ? " (" + std::to_string(count) + " options)" : ""));
+    notes.push_back(
+        "[" + candidate.name + "] " + (whole ? "not read" : "not read: " + keys) +
+        (whole ? " (" + std::to_string(count) + (count == 1 ? " option)" : " options)") : ""));
   }
   return notes;
 }
