@@ -165,6 +165,18 @@ TEST(firmware_klipper, HomeSwitchIsTheEndstop) {
   EXPECT_NE(refusal.find("joint 'tower_a' homes downwards"), std::string::npos) << refusal;
 }
 
+// The same delta in inch: Klipper's settings are mm (130.25 in = 3308.35 mm, 300 in/s = 7620
+// mm/s).
+TEST(firmware_klipper, InchMachineWritesMillimetres) {
+  const machine::Machine machine =
+      test::load_example_changed("linuxcnc-ldelta.toml", "units = \"mm\"", "units = \"inch\"");
+  const firmware::ExportedFile file = export_machine(machine);
+  EXPECT_NE(file.text.find("delta_radius: 3308.35  #"), std::string::npos) << file.text;
+  EXPECT_NE(file.text.find("arm_length: 6832.6  #"), std::string::npos);
+  EXPECT_NE(file.text.find("max_velocity: 7620  #"), std::string::npos);
+  EXPECT_LT(worst_joint_error_mm(machine, file.text), 1e-6);
+}
+
 // A Klipper user's printer.cfg: pins, other sections, comments of both kinds, a continuation
 // line and DELTA_CALIBRATE's SAVE_CONFIG block, which overrides the endstops and angles above.
 constexpr const char* kUserConfig = R"([stepper_a]
