@@ -10,6 +10,7 @@
 
 #include "firmware_reference/klipper.hpp"
 #include "pkm/firmware/klipper.hpp"
+#include "pkm/firmware/klipper_fit.hpp"
 #include "pkm/firmware/klipper_import.hpp"
 #include "pkm/machine/machine.hpp"
 #include "test_support.hpp"
@@ -363,6 +364,44 @@ TEST(firmware_klipper, RefusesWhatItCannotHold) {
   const std::string radii = export_refusal(test::load_example_changed(
       "linuxcnc-ldelta.toml", "origin = [0.0, 130.25, 0.0]", "origin = [0.0, 131.25, 0.0]"));
   EXPECT_NE(radii.find("131.250000, 130.250000 and 130.250000 mm"), std::string::npos) << radii;
+  EXPECT_NE(radii.find("would cost a tool error of up to"), std::string::npos) << radii;
+}
+
+// The nearest delta Klipper holds to linuxcnc-ldelta with tower a 1 mm further out: its
+// printer.cfg, driven by Klipper's own equations (the reference), moves the machine as built (its
+// forward kinematics) within the stated cost of every workspace pose.
+TEST(firmware_klipper, NearestDeltaKeepsItsStatedCost) {
+  const machine::Machine machine = test::load_example_changed(
+      "linuxcnc-ldelta.toml", "origin = [0.0, 130.25, 0.0]", "origin = [0.0, 131.25, 0.0]");
+  const firmware::FirmwareMachine exact =
+      firmware::firmware_machine(machine, klipper().forms, "klipper", false);
+  const firmware::FirmwareMachine nearest = firmware::klipper_nearest_delta(exact);
+  ASSERT_TRUE(nearest.cost.has_value());
+  const firmware::ApproximationCost& cost = *nearest.cost;
+  std::printf(
+      "klipper nearest delta to a tower 1 mm out: worst %.4f mm (before the fit %.4f), "
+      "rms %.4f over %d poses\n",
+      cost.worst_tool_error_mm, cost.worst_before_fit_mm, cost.rms_tool_error_mm, cost.samples);
+  EXPECT_GT(cost.samples, 100);
+  EXPECT_LT(cost.worst_tool_error_mm, cost.worst_before_fit_mm);
+  const std::string text = klipper().write(nearest, firmware::ExportContext{"test", "m"}).text;
+  EXPECT_NE(text.find("APPROXIMATED"), std::string::npos);
+  const reference::Delta delta = reference::delta(reference::parse(text));
+  kinematics::JointVector joints(3);
+  double worst = 0.0;
+  for (const geometry::Pose& pose : firmware::workspace_samples(machine)) {
+    const Eigen::Vector3d& p = pose.position_mm;
+    const std::array<double, 3> carriages =
+        reference::stepper_coordinates(delta, p.x(), p.y(), p.z());
+    for (int i = 0; i < 3; ++i) {
+      joints[i] = carriages[i] - delta.abs_endstop[i] + machine.joints()[i].max;
+    }
+    geometry::Pose reached = pose;
+    ASSERT_TRUE(machine.kinematics().forward(joints, reached).ok());
+    worst = std::max(worst, (reached.position_mm - p).norm());
+  }
+  EXPECT_LE(worst, cost.worst_tool_error_mm + 1e-6);
+  EXPECT_GT(worst, 0.01);  // a real error: the tower is 1 mm out
 }
 
 }  // namespace

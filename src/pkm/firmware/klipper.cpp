@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "pkm/firmware/klipper_fit.hpp"
 #include "pkm/firmware/klipper_import.hpp"
 #include "pkm/geometry/pose.hpp"
 
@@ -38,22 +39,31 @@ std::string millimetres(double value) {
   return text;
 }
 
-// The tower radii, one delta_radius, or the refusal naming them.
-double common_radius(const kinematics::LinearDeltaForm& form, const std::string& source) {
+// The tower radii, one delta_radius, or the refusal naming them and what the nearest delta
+// Klipper holds would cost.
+double common_radius(const FirmwareMachine& firmware) {
+  const auto& form = std::get<kinematics::LinearDeltaForm>(firmware.form.geometry);
   std::array<double, 3> radii{};
   for (int i = 0; i < 3; ++i) radii[i] = form.towers[i].column_mm.norm();
   const double radius = (radii[0] + radii[1] + radii[2]) / 3.0;
   const auto [low, high] = std::minmax_element(radii.begin(), radii.end());
-  if (*high - *low > kRadiusTolerance) {
-    throw ExportRefused(source +
-                        ": klipper's delta puts every tower at one delta_radius from the origin; "
-                        "this machine's towers (their rods' columns) are " +
-                        millimetres(radii[0]) + ", " + millimetres(radii[1]) + " and " +
-                        millimetres(radii[2]) +
-                        " mm from it (a common radius would move the frame's origin, "
-                        "which Klipper's delta has no setting for)");
+  if (*high - *low <= kRadiusTolerance) return radius;
+  std::string text = firmware.machine.source() +
+                     ": klipper's delta puts every tower at one delta_radius from the origin; "
+                     "this machine's towers (their rods' columns) are " +
+                     millimetres(radii[0]) + ", " + millimetres(radii[1]) + " and " +
+                     millimetres(radii[2]) +
+                     " mm from it, and Klipper's delta has no setting that moves the origin";
+  if (!firmware.cost) {
+    const ApproximationCost cost = klipper_nearest_delta(firmware).cost.value();
+    const Eigen::Vector3d& at = cost.worst_at.position_mm;
+    text +=
+        ". The nearest delta it holds (one delta_radius; angles, rods and endstops fitted over " +
+        std::to_string(cost.samples) + " workspace poses) would cost a tool error of up to " +
+        millimetres(cost.worst_tool_error_mm) + " mm (at x " + millimetres(at.x()) + " y " +
+        millimetres(at.y()) + " z " + millimetres(at.z()) + ")";
   }
-  return radius;
+  throw ExportRefused(text);
 }
 
 // The reading at which joint i's carriage meets its endstop: its home switch (towards max), else
@@ -113,8 +123,13 @@ void check_delta(const KlipperDelta& delta, const std::string& source) {
 KlipperDelta klipper_delta(const FirmwareMachine& firmware) {
   const machine::Machine& machine = firmware.machine;
   const auto& form = std::get<kinematics::LinearDeltaForm>(firmware.form.geometry);
+  if (firmware.form.passthrough.count() > 0) {
+    throw ExportRefused(machine.source() + ": klipper's delta moves x y z only; this machine has " +
+                        std::to_string(firmware.form.passthrough.count()) +
+                        " pass-through joint(s) it would not drive");
+  }
   KlipperDelta delta;
-  delta.radius = common_radius(form, machine.source());
+  delta.radius = common_radius(firmware);
   for (int i = 0; i < 3; ++i) {
     const kinematics::LinearDeltaTower& tower = form.towers[i];
     double angle =
