@@ -342,6 +342,9 @@ TEST(firmware_klipper, BadInputNamesItsLine) {
             "printer.cfg:2: [printer] kinematics: deltesian: pkmkit has no model of that form");
   EXPECT_EQ(import_error("[mcu]\nserial: /dev/ttyACM0\n"),
             "printer.cfg:1: no [printer] section: not a Klipper printer.cfg");
+  EXPECT_EQ(import_error("[include delta.cfg]\n[mcu]\nserial: /dev/ttyACM0\n"),
+            "printer.cfg:1: no [printer] section: not a Klipper printer.cfg (it includes "
+            "delta.cfg: import the file that holds [printer])");
 }
 
 std::string export_refusal(const machine::Machine& machine) {

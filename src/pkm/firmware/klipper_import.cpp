@@ -125,7 +125,12 @@ double home_z(const kinematics::Kinematics& model, const machine::ImportedMachin
 machine::ImportedMachine read_klipper(std::string_view text, const std::string& source) {
   KlipperConfig config(text, source);
   if (config.section("printer") == nullptr) {
-    throw FirmwareFileError(source + ":1: no [printer] section: not a Klipper printer.cfg");
+    std::string includes;
+    for (const std::string& include : config.includes()) includes += " " + include;
+    throw FirmwareFileError(source + ":1: no [printer] section: not a Klipper printer.cfg" +
+                            (includes.empty() ? std::string()
+                                              : " (it includes" + includes +
+                                                    ": import the file that holds [printer])"));
   }
   check_kinematics(config);
   machine::ImportedMachine imported;
