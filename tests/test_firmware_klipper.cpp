@@ -272,6 +272,15 @@ TEST(firmware_klipper, ImportsAUsersPrinterCfg) {
   }
   EXPECT_LT(worst, 1e-9);
   EXPECT_NEAR(machine.home().position_mm.z(), 296.0, 1.0);  // every carriage at its endstop
+  // Its export carries the calibration, and imports and exports to the same settings.
+  const std::string first = export_machine(machine).text;
+  EXPECT_NE(first.find("angle: 210.5  #"), std::string::npos) << first;
+  EXPECT_NE(first.find("delta_radius: 175.004  #"), std::string::npos);
+  EXPECT_NE(first.find("position_endstop: 297.5  #"), std::string::npos);
+  const machine::Machine back = machine::parse_machine(
+      machine::machine_file_text(firmware::read_klipper(first, "exported.cfg"), "back.toml"),
+      "back.toml");
+  EXPECT_EQ(settings(first), settings(export_machine(back).text));
 }
 
 // Why rotary deltas are refused, and only why: Klipper's rotary_delta turns every arm exactly as
