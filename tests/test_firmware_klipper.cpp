@@ -297,6 +297,7 @@ TEST(firmware_klipper, RotaryDeltaMatchesOnlyInAShiftedFrame) {
   const std::array<double, 3> arm_angles_deg = {270.0, 30.0, 150.0};
   kinematics::JointVector joints(3);
   double worst_rad = 0.0, worst_unshifted_rad = 0.0;
+  int unreachable_unshifted = 0;  // poses Klipper's arms cannot reach in pkmkit's own frame
   for (const geometry::Pose& pose : firmware::workspace_samples(machine)) {
     ASSERT_TRUE(machine.inverse(pose, joints).ok());
     const Eigen::Vector3d& p = pose.position_mm;
@@ -308,16 +309,20 @@ TEST(firmware_klipper, RotaryDeltaMatchesOnlyInAShiftedFrame) {
       };
       worst_rad = std::max(worst_rad, std::abs(klipper(p.z() + shoulder_height) + joints[i]));
       const double unshifted = klipper(p.z()) + joints[i];
-      worst_unshifted_rad =
-          std::max(worst_unshifted_rad, std::isnan(unshifted) ? 1e9 : std::abs(unshifted));
+      if (std::isnan(unshifted)) {
+        ++unreachable_unshifted;
+      } else {
+        worst_unshifted_rad = std::max(worst_unshifted_rad, std::abs(unshifted));
+      }
     }
   }
   std::printf(
-      "klipper linuxcnc-rdelta: worst arm error %.3g rad with the frame shifted, %.3g "
-      "rad without\n",
-      worst_rad, worst_unshifted_rad);
+      "klipper linuxcnc-rdelta: worst arm error %.3g rad with the frame shifted; without, %.3g "
+      "rad and %d arm positions out of reach\n",
+      worst_rad, worst_unshifted_rad, unreachable_unshifted);
   EXPECT_LT(worst_rad, 1e-9);
-  EXPECT_GT(worst_unshifted_rad, 0.1);  // in pkmkit's own frame Klipper's arms go elsewhere
+  // In pkmkit's own frame Klipper's arms go elsewhere, or cannot reach.
+  EXPECT_TRUE(worst_unshifted_rad > 0.1 || unreachable_unshifted > 0);
 }
 
 std::string import_error(const std::string& text) {
