@@ -20,12 +20,13 @@ struct ImportOptions {
   std::string output;
 };
 
-std::string cost_summary(const firmware::FirmwareMachine& held) {
-  if (!held.cost) return "exact";
-  char text[160];
-  const Eigen::Vector3d& at = held.cost->worst_at.position_mm;
-  std::snprintf(text, sizeof text, "approximated: worst tool error %.4f mm at x %.1f y %.1f z %.1f",
-                held.cost->worst_tool_error_mm, at.x(), at.y(), at.z());
+std::string cost_summary(const std::optional<firmware::ApproximationCost>& cost) {
+  if (!cost) return "exact";
+  char text[200];
+  const Eigen::Vector3d& at = cost->worst_at.position_mm;
+  std::snprintf(text, sizeof text,
+                "approximated: worst tool error %.4f mm at x %.1f y %.1f z %.1f mm, rms %.4f mm",
+                cost->worst_tool_error_mm, at.x(), at.y(), at.z(), cost->rms_tool_error_mm);
   return text;
 }
 
@@ -91,8 +92,8 @@ void run_firmware_export(const std::string& target_name, const FirmwareExportOpt
   }
   for (const std::string& warning : file.warnings)
     std::fprintf(stderr, "%s: warning: %s\n", machine.source().c_str(), warning.c_str());
-  if (held->cost)
-    std::fprintf(stderr, "%s: %s\n", machine.source().c_str(), cost_summary(*held).c_str());
+  const std::optional<firmware::ApproximationCost>& cost = file.cost ? file.cost : held->cost;
+  if (cost) std::fprintf(stderr, "%s: %s\n", machine.source().c_str(), cost_summary(cost).c_str());
   if (options.output.empty()) {
     std::fputs(file.text.c_str(), stdout);
     return;
@@ -100,7 +101,7 @@ void run_firmware_export(const std::string& target_name, const FirmwareExportOpt
   files::write_file_atomically(options.output, file.text);
   std::printf("%s: %s %s for %s (%s, %s)\n", options.output.c_str(), target.name.c_str(),
               target.file_kind.c_str(), machine.name().c_str(),
-              kinematics::form_name(held->form.geometry), cost_summary(*held).c_str());
+              kinematics::form_name(held->form.geometry), cost_summary(cost).c_str());
 }
 
 void add_firmware_export_options(CLI::App& command, FirmwareExportOptions& options) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -17,6 +18,9 @@ namespace pkm::firmware {
 struct ExportContext {
   std::string pkmkit_version;  // "0.9.0"
   std::string machine_source;  // the machine file's path as given
+  // --approximate: a target whose own settings hold less than its form (one radius for three
+  // towers) writes its nearest machine with the cost, as firmware_machine does for a form's losses.
+  bool approximate = false;
 };
 
 // The lines every exported file opens with, without their comment marks: what machine and
@@ -26,6 +30,9 @@ std::vector<std::string> header_lines(const FirmwareMachine& machine, const Expo
 struct ExportedFile {
   std::string text;
   std::vector<std::string> warnings;  // what the user must act on (a setting to compile in)
+  // Set where the target wrote a nearer machine than the one it was given (ExportContext's
+  // approximate): what that costs.
+  std::optional<ApproximationCost> cost;
 };
 
 // A firmware file that cannot be read: file:line[:key] and why.
