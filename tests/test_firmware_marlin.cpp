@@ -4,9 +4,12 @@
 // approximations' stated cost; refusals and bad input with their lines.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #include "firmware_reference/marlin.hpp"
@@ -166,6 +169,61 @@ TEST(MarlinHandComputed, WallPlotterBeltsAtHome) {
   const std::array<double, 3> belts = ref::stepper_positions(ref::parse(text), {750, -700, 0});
   EXPECT_NEAR(belts[0], 1025.914226, 1e-6);
   EXPECT_NEAR(belts[1], 1025.914226, 1e-6);
+}
+
+// Carriage switches at different heights: after Marlin's G28 each carriage sits at its switch
+// moved by DELTA_ENDSTOP_ADJ (<= 0), where Marlin declares it at the reference IK of
+// (0, 0, DELTA_HEIGHT); that must be the machine's reading there less the carriage offset.
+TEST(MarlinDelta, EndstopAdjustmentsPutG28OnTheMachinesScale) {
+  const machine::Machine m =
+      test::load_example_changed("linear-delta.toml", "axis = \"X\"",
+                                 "axis = \"X\"\nhome_switch = 650.0\nhome_toward = \"max\"");
+  const FirmwareMachine fm = exported(m);
+  const std::string file = marlin().write(fm, kContext).text;
+  const ref::Config config = ref::parse(file);
+  const double height = config.values.at("DELTA_HEIGHT")[0];
+  const std::vector<double>& adj = config.values.at("DELTA_ENDSTOP_ADJ");
+  const std::array<double, 3> declared = ref::stepper_positions(config, {0, 0, height});
+  double largest_adj = -1e9;
+  for (int k = 0; k < 3; ++k) {
+    const int j = config.joint_of_stepper[k];
+    EXPECT_LE(adj[k], 0.0);
+    largest_adj = std::max(largest_adj, adj[k]);
+    // Tower a (joint 1) trips at 650; the others at the home pose's reading.
+    kinematics::JointVector at_home(3);
+    ASSERT_TRUE(m.kinematics().inverse(m.home(), at_home).ok());
+    const double trips = j == 0 ? 650.0 : at_home[j];
+    EXPECT_NEAR(declared[k] + joint_offset(fm, j), trips + adj[k], 1e-6) << "stepper " << k;
+  }
+  EXPECT_DOUBLE_EQ(largest_adj, 0.0);
+  EXPECT_LT(*std::min_element(adj.begin(), adj.end()), -1.0) << file;
+}
+
+// The M665 and M666 comment lines carry the same geometry as the defines.
+TEST(MarlinDelta, TheM665LineGivesTheSameSteppers) {
+  const machine::Machine m = test::load_example_changed(
+      "linear-delta.toml", "origin = [0.0, 200.0, 0.0]", "origin = [3.0, 204.0, 0.0]");
+  const std::string file = marlin().write(exported(m), kContext).text;
+  const ref::Config from_defines = ref::parse(file);
+  ref::Config from_gcode = from_defines;
+  const std::size_t at = file.find("M665 ");
+  ASSERT_NE(at, std::string::npos) << file;
+  std::istringstream words(file.substr(at + 5, file.find('\n', at) - at - 5));
+  std::string word;
+  std::map<char, double> letters;
+  while (words >> word) letters[word[0]] = std::stod(word.substr(1));
+  from_gcode.values["DELTA_DIAGONAL_ROD"] = {letters.at('L')};
+  from_gcode.values["DELTA_RADIUS"] = {letters.at('R')};
+  from_gcode.values["DELTA_TOWER_ANGLE_TRIM"] = {letters.at('X'), letters.at('Y'), letters.at('Z')};
+  from_gcode.values["DELTA_DIAGONAL_ROD_TRIM_TOWER"] = {letters.at('A'), letters.at('B'),
+                                                        letters.at('C')};
+  EXPECT_NE(file.find("DELTA_RADIUS_TRIM_TOWER has no G-code"), std::string::npos);
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 0, 50), Eigen::Vector3d(60, -40, 10)}) {
+    const auto a = ref::stepper_positions(from_defines, p),
+               b = ref::stepper_positions(from_gcode, p);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 1e-5);
+  }
+  EXPECT_DOUBLE_EQ(letters.at('H'), from_defines.values.at("DELTA_HEIGHT")[0]);
 }
 
 TEST(MarlinRefuses, MachinesOfAnotherFormNameTheForms) {
