@@ -265,7 +265,13 @@ const char* kDelta =
     "#define DELTA_RADIUS 124.0\n"
     "#define DELTA_HEIGHT 250.00\n"
     "//#define DELTA_ENDSTOP_ADJ { 9, 9, 9 }\n"
-    "#define DELTA_PRINTABLE_RADIUS 140.0\n"
+    "#define PRINTABLE_RADIUS 140.0\n"
+    "#define X_MIN_POS -(PRINTABLE_RADIUS)\n"
+    "#define BED_CENTER_AT_0_0\n"
+    "#define STEPS_PER_TURN 200\n"
+    "#define MICROSTEPS 16\n"
+    "#define XYZ_STEPS ((STEPS_PER_TURN) * (MICROSTEPS) / double(2 * 20))\n"
+    "#define DEFAULT_AXIS_STEPS_PER_UNIT { XYZ_STEPS, XYZ_STEPS, XYZ_STEPS, 760*1.1 }\n"
     "#define DEFAULT_MAX_FEEDRATE { 500, 500, 500, 25 }\n"
     "#define DEFAULT_MAX_ACCELERATION { 9000, 9000, 9000, 9000 }\n"
     "#define BAUDRATE 250000\n";
@@ -274,6 +280,9 @@ TEST(MarlinReader, ReadsAUsersDeltaWithExpressionsAndIgnoresTheRest) {
   const machine::ImportedMachine imported = marlin().read(kDelta, "Configuration.h");
   ASSERT_EQ(imported.joints.size(), 3u);
   EXPECT_DOUBLE_EQ(imported.joints[0].max_velocity, 500.0);
+  EXPECT_DOUBLE_EQ(*imported.joints[2].steps_per_unit, 80.0);  // 200 * 16 / double(40)
+  EXPECT_DOUBLE_EQ((*imported.envelope_min)[0], -140.0);
+  EXPECT_DOUBLE_EQ((*imported.home)[2], 250.0);
   EXPECT_NE(imported.kinematics_section.find("strut = 250"), std::string::npos)
       << imported.kinematics_section;
   bool noted = false;
@@ -282,6 +291,36 @@ TEST(MarlinReader, ReadsAUsersDeltaWithExpressionsAndIgnoresTheRest) {
   EXPECT_TRUE(noted);
   // DELTA_ENDSTOP_ADJ is commented out: off, so every joint's endstop is at the same height.
   EXPECT_DOUBLE_EQ(imported.joints[0].max, imported.joints[1].max);
+}
+
+// Shaped like Marlin's own Polargraph example configuration: motors 650 mm apart at y 500, the
+// pen homed where both belts are at full length (hypot(325, 982.65) = 1035.0 mm), no
+// MANUAL_X_HOME_POS.
+TEST(MarlinReader, APolargraphHomedAtFullBelt) {
+  const char* text =
+      "#define POLARGRAPH\n"
+      "#if ENABLED(POLARGRAPH)\n"
+      "  #define POLARGRAPH_MAX_BELT_LEN  1035.0 // (mm)\n"
+      "#endif\n"
+      "#define DEFAULT_AXIS_STEPS_PER_UNIT { 80, 80, 80 }\n"
+      "#define DEFAULT_MAX_FEEDRATE { 300, 300, 5 }\n"
+      "#define DEFAULT_MAX_ACCELERATION { 3000, 3000, 100 }\n"
+      "#define X_BED_SIZE 650\n#define Y_BED_SIZE 1000\n"
+      "#define X_MIN_POS -325\n#define Y_MIN_POS -500\n#define Z_MIN_POS 0\n"
+      "#define X_MAX_POS 325\n#define Y_MAX_POS 500\n#define Z_MAX_POS 100\n"
+      "//#define MANUAL_X_HOME_POS 0\n"
+      "#define MANUAL_Y_HOME_POS -482.65\n";
+  const machine::ImportedMachine imported = marlin().read(text, "Configuration.h");
+  EXPECT_NE(imported.kinematics_section.find("[-325.0, 500.0]"), std::string::npos)
+      << imported.kinematics_section;
+  ASSERT_EQ(imported.joints.size(), 3u);             // left, right and the pen's Z
+  EXPECT_DOUBLE_EQ(imported.joints[0].max, 1036.0);  // Marlin's reach test: belt < 1035 + 1
+  EXPECT_EQ(imported.warnings.size(), 1u);
+  const machine::Machine m =
+      machine::parse_machine(machine::machine_file_text(imported, "p.toml"), "p.toml");
+  kinematics::JointVector joints(3);
+  ASSERT_TRUE(m.inverse(m.home(), joints).ok());
+  EXPECT_NEAR(joints[0], 1035.0, 1e-3);
 }
 
 TEST(MarlinReader, AMissingSettingNamesItAndTheLine) {

@@ -120,6 +120,13 @@ class MarlinExpression {
     while (at_ < text_.size() && is_name_char(text_[at_])) ++at_;
     const std::string other(text_.substr(begin, at_ - begin));
     if (other.empty()) fail("'" + std::string(text_.substr(begin)) + "'");
+    if (other == "double" || other == "float" || other == "int" || other == "long") {
+      // A functional cast, double(XYZ_BELT_PITCH): the value in parentheses.
+      if (!take('(')) fail(other + " without '('");
+      const double value = sum();
+      if (!take(')')) fail("a '(' is not closed");
+      return other == "int" || other == "long" ? std::trunc(value) : value;
+    }
     if (!defines_.enabled(other)) fail(other + " is not defined in this file");
     if (depth_ > 32) fail("the defines refer to each other in a loop");
     const MarlinDefines::Define& define = defines_.find(other);

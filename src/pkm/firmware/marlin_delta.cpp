@@ -139,8 +139,9 @@ std::string delta_limit_defines(const FirmwareMachine& fm, const DeltaSettings& 
                        marlin_number(box.max.z()) + " mm");
   }
   std::string text;
-  text += define_line("DELTA_PRINTABLE_RADIUS", marlin_number(printable),
+  text += define_line("PRINTABLE_RADIUS", marlin_number(printable),
                       "mm: the largest circle about X0 Y0 inside the machine's work area");
+  text += define_line("DELTA_PRINTABLE_RADIUS", marlin_number(printable), "older Marlin's name");
   text += define_line("DELTA_MAX_RADIUS", marlin_number(printable), "mm");
   text += define_line("MANUAL_X_HOME_POS", "0", "");
   text += define_line("MANUAL_Y_HOME_POS", "0", "");
@@ -190,86 +191,130 @@ ExportedFile write_marlin_delta(const FirmwareMachine& fm, const ExportContext& 
   return file;
 }
 
-machine::ImportedMachine read_marlin_delta(const MarlinDefines& defines) {
-  const char* required[] = {"DELTA_DIAGONAL_ROD", "DELTA_RADIUS", "DELTA_HEIGHT"};
-  for (const char* name : required) {
+namespace {
+
+// What a Configuration.h says of a delta, in Marlin's terms (absent trims are 0).
+struct DeltaFile {
+  double rod = 0, radius = 0, height = 0, printable = 0, z_min = 0;
+  std::array<double, 3> angle_trim{}, radius_trim{}, rod_trim{}, adj{};
+  Eigen::Vector2d home_xy = Eigen::Vector2d::Zero();
+};
+
+std::array<double, 3> optional_triple(const MarlinDefines& defines, const char* name) {
+  const std::optional<std::vector<double>> values = defines.optional_list(name, 3);
+  return values ? std::array{(*values)[0], (*values)[1], (*values)[2]} : std::array{0.0, 0.0, 0.0};
+}
+
+// X_HOME_POS as Marlin's Conditionals_post.h sets it for a delta: MANUAL_X_HOME_POS, else 0
+// with BED_CENTER_AT_0_0, else the bed's middle.
+double delta_home(const MarlinDefines& defines, const char axis) {
+  const std::string letter(1, axis);
+  if (const auto manual = defines.optional_number("MANUAL_" + letter + "_HOME_POS")) return *manual;
+  if (defines.enabled("BED_CENTER_AT_0_0")) return 0.0;
+  const auto min = defines.optional_number(letter + "_MIN_POS");
+  const auto size = defines.optional_number(letter + "_BED_SIZE");
+  return min && size ? *min + 0.5 * *size : 0.0;
+}
+
+DeltaFile read_delta_file(const MarlinDefines& defines) {
+  for (const char* name : {"DELTA_DIAGONAL_ROD", "DELTA_RADIUS", "DELTA_HEIGHT"}) {
     if (!defines.enabled(name)) defines.missing(name, "DELTA", "the delta's geometry needs it");
   }
-  auto triple = [&](const char* name) {
-    const std::optional<std::vector<double>> values = defines.optional_list(name, 3);
-    return values ? std::array{(*values)[0], (*values)[1], (*values)[2]}
-                  : std::array{0.0, 0.0, 0.0};
-  };
-  const double rod = defines.number("DELTA_DIAGONAL_ROD"), radius = defines.number("DELTA_RADIUS");
-  const double height = defines.number("DELTA_HEIGHT");
-  const auto angle_trim = triple("DELTA_TOWER_ANGLE_TRIM"),
-             radius_trim = triple("DELTA_RADIUS_TRIM_TOWER");
-  const auto rod_trim = triple("DELTA_DIAGONAL_ROD_TRIM_TOWER"), adj = triple("DELTA_ENDSTOP_ADJ");
-  const double home_x = defines.optional_number("MANUAL_X_HOME_POS").value_or(0.0);
-  const double home_y = defines.optional_number("MANUAL_Y_HOME_POS").value_or(0.0);
+  DeltaFile file;
+  file.rod = defines.number("DELTA_DIAGONAL_ROD");
+  file.radius = defines.number("DELTA_RADIUS");
+  file.height = defines.number("DELTA_HEIGHT");
+  file.angle_trim = optional_triple(defines, "DELTA_TOWER_ANGLE_TRIM");
+  file.radius_trim = optional_triple(defines, "DELTA_RADIUS_TRIM_TOWER");
+  file.rod_trim = optional_triple(defines, "DELTA_DIAGONAL_ROD_TRIM_TOWER");
+  file.adj = optional_triple(defines, "DELTA_ENDSTOP_ADJ");
+  file.home_xy = Eigen::Vector2d(delta_home(defines, 'X'), delta_home(defines, 'Y'));
+  // PRINTABLE_RADIUS is newer Marlin's name of DELTA_PRINTABLE_RADIUS.
+  file.printable =
+      defines.optional_number("PRINTABLE_RADIUS")
+          .value_or(
+              defines.optional_number("DELTA_PRINTABLE_RADIUS")
+                  .value_or(defines.optional_number("DELTA_MAX_RADIUS").value_or(file.radius)));
+  file.z_min = defines.optional_number("Z_MIN_POS").value_or(0.0);
+  return file;
+}
+
+const std::vector<std::string> kDeltaDefinesRead = {"DELTA",
+                                                    "DELTA_DIAGONAL_ROD",
+                                                    "DELTA_RADIUS",
+                                                    "DELTA_HEIGHT",
+                                                    "DELTA_TOWER_ANGLE_TRIM",
+                                                    "DELTA_RADIUS_TRIM_TOWER",
+                                                    "DELTA_DIAGONAL_ROD_TRIM_TOWER",
+                                                    "DELTA_ENDSTOP_ADJ",
+                                                    "MANUAL_X_HOME_POS",
+                                                    "MANUAL_Y_HOME_POS",
+                                                    "MANUAL_Z_HOME_POS",
+                                                    "BED_CENTER_AT_0_0",
+                                                    "PRINTABLE_RADIUS",
+                                                    "DELTA_PRINTABLE_RADIUS",
+                                                    "DELTA_MAX_RADIUS",
+                                                    "X_BED_SIZE",
+                                                    "Y_BED_SIZE",
+                                                    "X_MIN_POS",
+                                                    "Y_MIN_POS",
+                                                    "X_MAX_POS",
+                                                    "Y_MAX_POS",
+                                                    "Z_MIN_POS",
+                                                    "Z_MAX_POS"};
+
+// Tower k (Marlin's A B C) as the machine's joint `joint` of `form` and `imported`.
+void add_tower(const DeltaFile& file, const StepperRates& rates, const std::string& name, int k,
+               int joint, kinematics::LinearDeltaForm& form, machine::ImportedMachine& imported) {
+  const double angle = geometry::degrees_to_radians(kNominalDeg[k] + file.angle_trim[k]);
+  const double r = file.radius + file.radius_trim[k], rod = file.rod + file.rod_trim[k];
+  kinematics::LinearDeltaTower& tower = form.towers[joint];
+  tower.column_mm = Eigen::Vector2d(r * std::cos(angle), r * std::sin(angle));
+  tower.rod_mm = rod;
+  const double rise =
+      std::sqrt(std::max(rod * rod - (file.home_xy - tower.column_mm).squaredNorm(), 0.0));
+  machine::ImportedJoint& spec = imported.joints[joint];
+  spec.name = name;
+  spec.min = 0.0;
+  spec.max = file.height + rise - file.adj[k];  // the endstop
+  spec.max_velocity = rates.feed_mm_per_s[k];
+  spec.max_acceleration = rates.acceleration_mm_per_s2[k];
+  spec.home = file.height + rise;
+  if (rates.steps_per_mm) spec.steps_per_unit = (*rates.steps_per_mm)[k];
+}
+
+}  // namespace
+
+machine::ImportedMachine read_marlin_delta(const MarlinDefines& defines) {
+  const DeltaFile file = read_delta_file(defines);
   const MarlinJointNames names = read_joint_names(defines, {"x", "y", "z"});
   const StepperRates rates = read_stepper_rates(defines, names, "DELTA");
-
-  // The towers in the machine's joint order (the pkmkit line's, else X Y Z).
+  machine::ImportedMachine imported = imported_base(defines, kDeltaDefinesRead);
   kinematics::LinearDeltaForm form;
-  machine::ImportedMachine imported = imported_base(defines, {"DELTA",
-                                                              "DELTA_DIAGONAL_ROD",
-                                                              "DELTA_RADIUS",
-                                                              "DELTA_HEIGHT",
-                                                              "DELTA_TOWER_ANGLE_TRIM",
-                                                              "DELTA_RADIUS_TRIM_TOWER",
-                                                              "DELTA_DIAGONAL_ROD_TRIM_TOWER",
-                                                              "DELTA_ENDSTOP_ADJ",
-                                                              "MANUAL_X_HOME_POS",
-                                                              "MANUAL_Y_HOME_POS",
-                                                              "MANUAL_Z_HOME_POS",
-                                                              "DELTA_PRINTABLE_RADIUS",
-                                                              "DELTA_MAX_RADIUS",
-                                                              "X_BED_SIZE",
-                                                              "Y_BED_SIZE",
-                                                              "X_MIN_POS",
-                                                              "Y_MIN_POS",
-                                                              "X_MAX_POS",
-                                                              "Y_MAX_POS",
-                                                              "Z_MIN_POS",
-                                                              "Z_MAX_POS"});
   imported.joints.resize(3);
   for (int k = 0; k < 3; ++k) {
-    const int j = names.order[k] >= 0 && names.order[k] < 3 ? names.order[k] : k;
-    const double angle = geometry::degrees_to_radians(kNominalDeg[k] + angle_trim[k]);
-    const double r = radius + radius_trim[k], l = rod + rod_trim[k];
-    form.towers[j].column_mm = Eigen::Vector2d(r * std::cos(angle), r * std::sin(angle));
-    form.towers[j].rod_mm = l;
-    const double rise = std::sqrt(std::max(
-        l * l - (Eigen::Vector2d(home_x, home_y) - form.towers[j].column_mm).squaredNorm(), 0.0));
-    machine::ImportedJoint& joint = imported.joints[j];
-    joint.name = names.names[k];
-    joint.min = 0.0;
-    joint.max = height + rise - adj[k];  // the endstop
-    joint.max_velocity = rates.feed_mm_per_s[k];
-    joint.max_acceleration = rates.acceleration_mm_per_s2[k];
-    joint.home = height + rise;
-    if (rates.steps_per_mm) joint.steps_per_unit = (*rates.steps_per_mm)[k];
+    const int joint = names.order[k] >= 0 && names.order[k] < 3 ? names.order[k] : k;
+    add_tower(file, rates, names.names[k], k, joint, form, imported);
   }
   imported.kinematics_section =
       machine::kinematics_toml(*kinematics::make_form_kinematics(form), machine::LengthUnit::mm);
-  imported.home = std::vector<double>{home_x, home_y, height};
-  const double printable = defines.optional_number("DELTA_PRINTABLE_RADIUS").value_or(radius);
-  const double z_min = defines.optional_number("Z_MIN_POS").value_or(0.0);
-  imported.envelope_min = std::vector<double>{-printable, -printable, z_min};
-  imported.envelope_max = std::vector<double>{printable, printable, height};
-  imported.max_feed_per_min =
-      60.0 * *std::min_element(rates.feed_mm_per_s.begin(), rates.feed_mm_per_s.end());
-  imported.max_acceleration = defines.optional_number("DEFAULT_ACCELERATION")
-                                  .value_or(*std::min_element(rates.acceleration_mm_per_s2.begin(),
-                                                              rates.acceleration_mm_per_s2.end()));
+  imported.home = std::vector<double>{file.home_xy.x(), file.home_xy.y(), file.height};
+  imported.envelope_min = std::vector<double>{-file.printable, -file.printable, file.z_min};
+  imported.envelope_max = std::vector<double>{file.printable, file.printable, file.height};
+  const auto& feed = rates.feed_mm_per_s;
+  const auto& acceleration = rates.acceleration_mm_per_s2;
+  imported.max_feed_per_min = 60.0 * *std::min_element(feed.begin(), feed.end());
+  imported.max_acceleration =
+      defines.optional_number("DEFAULT_ACCELERATION")
+          .value_or(*std::min_element(acceleration.begin(), acceleration.end()));
   imported.notes.push_back(
       "carriage readings are Marlin's: z + sqrt(rod^2 - horizontal distance^2); each joint's max "
       "is where its endstop trips (DELTA_HEIGHT, DELTA_ENDSTOP_ADJ), min 0: Marlin has no "
       "carriage limit below");
-  if (adj[0] != 0.0 || adj[1] != 0.0 || adj[2] != 0.0) {
-    imported.notes.push_back("DELTA_ENDSTOP_ADJ " + marlin_list(as_list(adj)) +
-                             " mm: the joints' max; the machine file has no home switches from it");
+  if (file.adj != std::array{0.0, 0.0, 0.0}) {
+    imported.notes.push_back("DELTA_ENDSTOP_ADJ " + marlin_list(as_list(file.adj)) +
+                             " mm: in the joints' max; the machine file has no home switches "
+                             "from it");
   }
   imported.notes.push_back("max_feed: Marlin has no tool feed limit; the slowest stepper's");
   return imported;

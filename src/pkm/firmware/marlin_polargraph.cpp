@@ -14,6 +14,8 @@ namespace {
 
 // Fitted anchors level within this (mm) are written level: half of it is the most it moves one.
 constexpr double kLevelTolerance_mm = 1e-6;
+// Marlin's position_is_reachable takes a belt up to POLARGRAPH_MAX_BELT_LEN + 1 mm.
+constexpr double kBeltSlack_mm = 1.0;
 
 struct PolargraphSettings {
   StepperJoints joints{0, 1, -1};
@@ -53,6 +55,7 @@ PolargraphSettings polargraph_settings(const FirmwareMachine& fm) {
   for (int k = 0; k < 2; ++k) {
     s.belt = std::min(s.belt, fm.machine.joints()[k].max - form.cable_offsets_mm[k]);
   }
+  s.belt -= kBeltSlack_mm;
   return s;
 }
 
@@ -89,7 +92,7 @@ std::string polargraph_defines(const FirmwareMachine& fm, const PolargraphSettin
   text += define_line("X_BED_SIZE", marlin_number(s.x_max - s.x_min), "mm");
   text += define_line("Y_BED_SIZE", marlin_number(s.y_max - s.y_min), "mm");
   text += define_line("POLARGRAPH_MAX_BELT_LEN", marlin_number(s.belt),
-                      "mm: the longest belt, motor to pen");
+                      "mm: Marlin takes belts up to this + 1 mm, the joints' max");
   text += define_line("MANUAL_X_HOME_POS", marlin_number(home.x()), "mm: the pen after G28");
   text += define_line("MANUAL_Y_HOME_POS", marlin_number(home.y()), "mm");
   if (s.joints[2] >= 0) {
@@ -146,7 +149,7 @@ machine::ImportedMachine read_marlin_polargraph(const MarlinDefines& defines) {
     machine::ImportedJoint& joint = imported.joints[k];
     joint.name = names.names[k];
     joint.min = k < 2 ? 0.0 : defines.number("Z_MIN_POS");
-    joint.max = k < 2 ? belt : defines.number("Z_MAX_POS");
+    joint.max = k < 2 ? belt + kBeltSlack_mm : defines.number("Z_MAX_POS");
     joint.max_velocity = rates.feed_mm_per_s[k];
     joint.max_acceleration = rates.acceleration_mm_per_s2[k];
     if (rates.steps_per_mm) joint.steps_per_unit = (*rates.steps_per_mm)[k];
@@ -178,7 +181,8 @@ machine::ImportedMachine read_marlin_polargraph(const MarlinDefines& defines) {
           .value_or(std::min(rates.acceleration_mm_per_s2[0], rates.acceleration_mm_per_s2[1]));
   imported.notes.push_back(
       "belts from (X_MIN_POS, Y_MAX_POS) and (X_MAX_POS, Y_MAX_POS); a "
-      "joint's max is POLARGRAPH_MAX_BELT_LEN, its min 0 (Marlin has none)");
+      "joint's max is POLARGRAPH_MAX_BELT_LEN + 1 mm (Marlin's reach test), its min 0 (Marlin has "
+      "none)");
   imported.notes.push_back(
       "the envelope is Marlin's clamp rectangle X_MIN_POS..X_MAX_POS, "
       "Y_MIN_POS..Y_MAX_POS");
