@@ -84,7 +84,7 @@ TEST_P(MarlinExact, ImportThenExportGivesTheSameText) {
   EXPECT_EQ(marlin().write(exported(again), kContext).text, text) << toml;
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, MarlinExact,
+INSTANTIATE_TEST_SUITE_P(firmware_marlin, MarlinExact,
                          ::testing::Values("linear-delta.toml", "linuxcnc-ldelta.toml",
                                            "wall-plotter.toml", "hektor.toml", "pen-plotter.toml",
                                            "maslow.toml", "linuxcnc-polargraph-2366.toml"),
@@ -131,7 +131,7 @@ TEST_P(MarlinApproximate, TheStatedWorstErrorBoundsTheTrueMachine) {
   EXPECT_GT(fm.cost->worst_tool_error_mm, 0.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, MarlinApproximate,
+INSTANTIATE_TEST_SUITE_P(firmware_marlin, MarlinApproximate,
                          ::testing::Values("makelangelo.toml", "maslow-frame.toml",
                                            "hektor-pulleys.toml"),
                          [](const ::testing::TestParamInfo<std::string>& param) {
@@ -142,7 +142,7 @@ INSTANTIATE_TEST_SUITE_P(Examples, MarlinApproximate,
 // 330 deg (joint 3) go to Marlin's C, A and B with no trims. At the tool (10, 20, 5) tower C's
 // column is (0, 130.25): horizontal distance^2 = 10^2 + 110.25^2 = 12255.0625, and
 // 5 + sqrt(269^2 - 12255.0625) = 5 + sqrt(60105.9375) = 250.165123 mm on the Z stepper.
-TEST(MarlinHandComputed, LinuxcncDeltaTowerCAtOnePose) {
+TEST(firmware_marlin_HandComputed, LinuxcncDeltaTowerCAtOnePose) {
   const FirmwareMachine fm = exported(test::load_example("linuxcnc-ldelta.toml"));
   const std::string text = marlin().write(fm, kContext).text;
   EXPECT_NE(text.find("#define DELTA_RADIUS 130.25"), std::string::npos) << text;
@@ -159,7 +159,7 @@ TEST(MarlinHandComputed, LinuxcncDeltaTowerCAtOnePose) {
 
 // Worked by hand: the 1500 mm wall plotter's pen at its home (750, -700): each belt is
 // sqrt(750^2 + 700^2) = sqrt(1052500) = 1025.914226 mm from its motor at y 0.
-TEST(MarlinHandComputed, WallPlotterBeltsAtHome) {
+TEST(firmware_marlin_HandComputed, WallPlotterBeltsAtHome) {
   const FirmwareMachine fm = exported(test::load_example("wall-plotter.toml"));
   const std::string text = marlin().write(fm, kContext).text;
   EXPECT_NE(text.find("#define X_MIN_POS 0"), std::string::npos) << text;
@@ -174,7 +174,7 @@ TEST(MarlinHandComputed, WallPlotterBeltsAtHome) {
 // Carriage switches at different heights: after Marlin's G28 each carriage sits at its switch
 // moved by DELTA_ENDSTOP_ADJ (<= 0), where Marlin declares it at the reference IK of
 // (0, 0, DELTA_HEIGHT); that must be the machine's reading there less the carriage offset.
-TEST(MarlinDelta, EndstopAdjustmentsPutG28OnTheMachinesScale) {
+TEST(firmware_marlin_Delta, EndstopAdjustmentsPutG28OnTheMachinesScale) {
   const machine::Machine m =
       test::load_example_changed("linear-delta.toml", "axis = \"X\"",
                                  "axis = \"X\"\nhome_switch = 650.0\nhome_toward = \"max\"");
@@ -200,7 +200,7 @@ TEST(MarlinDelta, EndstopAdjustmentsPutG28OnTheMachinesScale) {
 }
 
 // The M665 and M666 comment lines carry the same geometry as the defines.
-TEST(MarlinDelta, TheM665LineGivesTheSameSteppers) {
+TEST(firmware_marlin_Delta, TheM665LineGivesTheSameSteppers) {
   const machine::Machine m = test::load_example_changed(
       "linear-delta.toml", "origin = [0.0, 200.0, 0.0]", "origin = [3.0, 204.0, 0.0]");
   const std::string file = marlin().write(exported(m), kContext).text;
@@ -226,7 +226,7 @@ TEST(MarlinDelta, TheM665LineGivesTheSameSteppers) {
   EXPECT_DOUBLE_EQ(letters.at('H'), from_defines.values.at("DELTA_HEIGHT")[0]);
 }
 
-TEST(MarlinRefuses, MachinesOfAnotherFormNameTheForms) {
+TEST(firmware_marlin_Refuses, MachinesOfAnotherFormNameTheForms) {
   try {
     (void)exported(test::load_example("hexapod-bit.toml"));
     FAIL() << "exported a hexapod";
@@ -237,7 +237,7 @@ TEST(MarlinRefuses, MachinesOfAnotherFormNameTheForms) {
   }
 }
 
-TEST(MarlinRefuses, TiltedAnchors) {
+TEST(firmware_marlin_Refuses, TiltedAnchors) {
   const machine::Machine tilted = test::load_example_changed(
       "wall-plotter.toml", "anchor_distance = 1500.0", "anchors = [[0.0, 0.0], [1500.0, 20.0]]");
   const FirmwareMachine fm = exported(tilted);
@@ -276,7 +276,7 @@ const char* kDelta =
     "#define DEFAULT_MAX_ACCELERATION { 9000, 9000, 9000, 9000 }\n"
     "#define BAUDRATE 250000\n";
 
-TEST(MarlinReader, ReadsAUsersDeltaWithExpressionsAndIgnoresTheRest) {
+TEST(firmware_marlin_Reader, ReadsAUsersDeltaWithExpressionsAndIgnoresTheRest) {
   const machine::ImportedMachine imported = marlin().read(kDelta, "Configuration.h");
   ASSERT_EQ(imported.joints.size(), 3u);
   EXPECT_DOUBLE_EQ(imported.joints[0].max_velocity, 500.0);
@@ -296,7 +296,7 @@ TEST(MarlinReader, ReadsAUsersDeltaWithExpressionsAndIgnoresTheRest) {
 // Shaped like Marlin's own Polargraph example configuration: motors 650 mm apart at y 500, the
 // pen homed where both belts are at full length (hypot(325, 982.65) = 1035.0 mm), no
 // MANUAL_X_HOME_POS.
-TEST(MarlinReader, APolargraphHomedAtFullBelt) {
+TEST(firmware_marlin_Reader, APolargraphHomedAtFullBelt) {
   const char* text =
       "#define POLARGRAPH\n"
       "#if ENABLED(POLARGRAPH)\n"
@@ -323,14 +323,14 @@ TEST(MarlinReader, APolargraphHomedAtFullBelt) {
   EXPECT_NEAR(joints[0], 1035.0, 1e-3);
 }
 
-TEST(MarlinReader, AMissingSettingNamesItAndTheLine) {
+TEST(firmware_marlin_Reader, AMissingSettingNamesItAndTheLine) {
   std::string text = kDelta;
   text.replace(text.find("#define DELTA_RADIUS 124.0\n"), 27, "");
   EXPECT_EQ(read_error(text).rfind("Configuration.h:2: DELTA_RADIUS: missing", 0), 0u)
       << read_error(text);
 }
 
-TEST(MarlinReader, ANonNumberNamesItsLine) {
+TEST(firmware_marlin_Reader, ANonNumberNamesItsLine) {
   std::string text = kDelta;
   text.replace(text.find("124.0"), 5, "12.4.0");
   EXPECT_EQ(read_error(text).rfind("Configuration.h:4: DELTA_RADIUS:", 0), 0u) << read_error(text);
@@ -341,7 +341,7 @@ TEST(MarlinReader, ANonNumberNamesItsLine) {
       << read_error(text);
 }
 
-TEST(MarlinReader, NeitherKinematicsIsAnError) {
+TEST(firmware_marlin_Reader, NeitherKinematicsIsAnError) {
   EXPECT_NE(read_error("#define X_BED_SIZE 200\n").find("Configuration.h:1: DELTA"),
             std::string::npos);
 }
