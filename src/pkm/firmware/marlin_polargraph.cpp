@@ -44,10 +44,11 @@ PolargraphSettings polargraph_settings(const FirmwareMachine& fm) {
         marlin_number(a.y()) + " and " + marlin_number(b.y()) +
         " mm, and Marlin has no setting that turns its frame");
   }
-  if (a.x() == b.x()) throw ExportRefused(source + ": the anchors are at the same x");
-  if (a.x() > b.x()) s.joints = {1, 0, s.joints[2]};  // Marlin's X stepper is the left motor
-  s.x_min = std::min(a.x(), b.x());
-  s.x_max = std::max(a.x(), b.x());
+  // pkmkit lists the left anchor first (cable_plotter refuses the other order), as Marlin's X
+  // stepper is the left motor.
+  if (a.x() >= b.x()) throw ExportRefused(source + ": the first anchor is not left of the second");
+  s.x_min = a.x();
+  s.x_max = b.x();
   s.y_max = 0.5 * (a.y() + b.y());
   const WorkBox box = work_box(fm.machine);
   s.y_min = box.min.y();
