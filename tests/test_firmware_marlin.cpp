@@ -226,6 +226,32 @@ TEST(firmware_marlin_Delta, TheM665LineGivesTheSameSteppers) {
   EXPECT_DOUBLE_EQ(letters.at('H'), from_defines.values.at("DELTA_HEIGHT")[0]);
 }
 
+// An inch machine's lengths go to Marlin in mm: the same delta 25.4 times larger.
+TEST(firmware_marlin_Delta, AnInchMachineIsWrittenInMillimetres) {
+  const machine::Machine inch =
+      test::load_example_changed("linear-delta.toml", "units = \"mm\"", "units = \"inch\"");
+  const FirmwareMachine fm = exported(inch);
+  const std::string text = marlin().write(fm, kContext).text;
+  EXPECT_NE(text.find("#define DELTA_RADIUS 4064  "), std::string::npos) << text;  // 160 in
+  EXPECT_NE(text.find("#define DELTA_DIAGONAL_ROD 7620  "), std::string::npos);    // 300 in
+  EXPECT_LT(round_trip_error(fm, text), 1e-3);
+}
+
+// Marlin clamps a polargraph to the rectangle between and below its motors: a machine whose
+// envelope reaches past them is exported with a warning giving both ranges.
+TEST(firmware_marlin_Polargraph, TheClampIsWarnedWithItsNumbers) {
+  const machine::Machine wide = test::load_example_changed(
+      "pen-plotter.toml", "home = [750.0, -700.0]",
+      "home = [750.0, -700.0]\nmin = [-100.0, -1800.0]\nmax = [1600.0, -150.0]");
+  const firmware::ExportedFile file = marlin().write(exported(wide), kContext);
+  ASSERT_EQ(file.warnings.size(), 1u);
+  EXPECT_NE(file.warnings[0].find("Marlin clamps X to 0..1500"), std::string::npos)
+      << file.warnings[0];
+  EXPECT_NE(file.warnings[0].find("the machine reaches X -100..1600"), std::string::npos)
+      << file.warnings[0];
+  EXPECT_NE(file.text.find("#define Y_MIN_POS -1800  "), std::string::npos) << file.text;
+}
+
 TEST(firmware_marlin_Refuses, MachinesOfAnotherFormNameTheForms) {
   try {
     (void)exported(test::load_example("hexapod-bit.toml"));
