@@ -199,6 +199,21 @@ TEST(firmware_marlin_Delta, EndstopAdjustmentsPutG28OnTheMachinesScale) {
   EXPECT_LT(*std::min_element(adj.begin(), adj.end()), -1.0) << file;
 }
 
+// A switch 0.03 mm above the home pose's reading (353.77155081 = 100 + sqrt(300^2 - 160^2) mm):
+// an adjustment of -0.03 mm, under Marlin's 6 steps at 80 steps/mm (0.075 mm), is warned.
+TEST(firmware_marlin_Delta, AnAdjustmentMarlinWillNotMoveIsWarned) {
+  const machine::Machine m =
+      test::load_example_changed("linear-delta.toml", "axis = \"X\"",
+                                 "axis = \"X\"\nhome_switch = 353.80155081\nhome_toward = \"max\"");
+  const firmware::ExportedFile file = marlin().write(exported(m), kContext);
+  std::string all;
+  for (const std::string& warning : file.warnings) all += warning + "\n";
+  EXPECT_NE(
+      all.find("DELTA_ENDSTOP_ADJ of tower C is -0.03 mm, within Marlin's 6 steps (0.075 mm)"),
+      std::string::npos)
+      << all;
+}
+
 // The M665 and M666 comment lines carry the same geometry as the defines.
 TEST(firmware_marlin_Delta, TheM665LineGivesTheSameSteppers) {
   const machine::Machine m = test::load_example_changed(

@@ -72,7 +72,8 @@ std::string marlin_motion_defines(const FirmwareMachine& machine, const StepperJ
     const int j = joints[k];
     const bool has_steps = j >= 0 && specs[j].steps_per_unit.has_value();
     stock_steps = stock_steps || (j >= 0 && !has_steps);
-    steps.push_back(has_steps ? *specs[j].steps_per_unit : kMarlinStockSteps[k]);
+    // A joint without steps gets Marlin's stock X value (its deltas' too); a missing Z, Z's.
+    steps.push_back(has_steps ? *specs[j].steps_per_unit : kMarlinStockSteps[j >= 0 ? 0 : k]);
     feed.push_back(j >= 0 ? specs[j].max_velocity : kMarlinStockFeed[k]);
     acceleration.push_back(
         std::floor(j >= 0 ? specs[j].max_acceleration : kMarlinStockAcceleration[k]));

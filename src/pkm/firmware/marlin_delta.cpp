@@ -173,6 +173,24 @@ std::string delta_gcode_comments(const DeltaSettings& s) {
   return text;
 }
 
+// Marlin's homeaxis moves a carriage by its DELTA_ENDSTOP_ADJ only when that is more than
+// MIN_STEPS_PER_SEGMENT (6 by default) steps: a smaller one is not moved at all.
+void warn_small_adjustments(const FirmwareMachine& fm, const DeltaSettings& s,
+                            std::vector<std::string>& warnings) {
+  for (int k = 0; k < 3; ++k) {
+    const machine::JointSpec& joint = fm.machine.joints()[s.joints[k]];
+    const double steps = joint.steps_per_unit.value_or(kMarlinStockSteps[0]);
+    const double smallest = 6.0 / steps;
+    if (s.endstop_adj[k] != 0.0 && std::abs(s.endstop_adj[k]) <= smallest) {
+      warnings.push_back(std::string("DELTA_ENDSTOP_ADJ of tower ") + kTowerLetters[k] + " is " +
+                         marlin_number(s.endstop_adj[k]) + " mm, within Marlin's 6 steps (" +
+                         marlin_number(smallest) +
+                         " mm), which it does not move: G28 leaves "
+                         "that carriage that far off");
+    }
+  }
+}
+
 }  // namespace
 
 ExportedFile write_marlin_delta(const FirmwareMachine& fm, const ExportContext& context) {
@@ -186,6 +204,7 @@ ExportedFile write_marlin_delta(const FirmwareMachine& fm, const ExportContext& 
   file.text = marlin_preamble(fm, context, "DELTA");
   file.text += delta_geometry_defines(settings);
   file.text += delta_limit_defines(fm, settings, file.warnings);
+  warn_small_adjustments(fm, settings, file.warnings);
   file.text += marlin_motion_defines(fm, settings.joints);
   file.text += delta_gcode_comments(settings);
   return file;
