@@ -34,17 +34,57 @@ std::string refusal(const machine::Machine& machine, const kinematics::FirmwareF
   return text;
 }
 
-// The parameters of each form's model that a fit may move: those the firmware has.
+// The parameters of each form's model that a fit may move: those the firmware has, less the
+// joints' offsets, which the machine's home pins (below).
 bool fitted_parameter(FormKind kind, const std::string& name) {
   switch (kind) {
     case FormKind::wall_plotter:
-      return name.rfind("anchor_", 0) == 0 || name.rfind("cable_offset_", 0) == 0;
+      return name.rfind("anchor_", 0) == 0;
     case FormKind::linear_delta:
-      return name.find(".origin.") != std::string::npos || name.find(".strut") != std::string::npos;
+      return name.find(".origin.x") != std::string::npos ||
+             name.find(".origin.y") != std::string::npos ||
+             name.find(".strut") != std::string::npos;
     case FormKind::rotary_delta:
       break;
   }
   return false;
+}
+
+// Per joint of the form, the parameter that shifts its reading alone and the sign of that shift:
+// a cord's offset (+1), a rail origin's height (-1: the reading counts up from it).
+struct JointOffset {
+  int parameter = 0;
+  double sign = 1.0;
+};
+std::vector<JointOffset> joint_offsets(FormKind kind, const kinematics::Kinematics& model) {
+  std::vector<JointOffset> offsets;
+  const std::vector<kinematics::Parameter> parameters = model.parameters();
+  for (std::size_t k = 0; k < parameters.size(); ++k) {
+    const std::string& name = parameters[k].name;
+    if (kind == FormKind::wall_plotter && name.rfind("cable_offset_", 0) == 0)
+      offsets.push_back({static_cast<int>(k), 1.0});
+    if (kind == FormKind::linear_delta && name.find(".origin.z") != std::string::npos)
+      offsets.push_back({static_cast<int>(k), -1.0});
+  }
+  return offsets;
+}
+
+// The firmware and the machine agree at home, however the firmware homes (a switch whose reading
+// the export writes, or the pose declared there): each joint's offset moved so that the form's
+// reading at home is the machine's. Updates `values` and the model; false where the form does not
+// reach home.
+bool pin_at_home(kinematics::Kinematics& model, const std::vector<JointOffset>& offsets,
+                 const geometry::Pose& home, const kinematics::JointVector& home_joints,
+                 std::vector<double>& values) {
+  model.set_parameters(values);
+  kinematics::JointVector form_joints(model.joint_count());
+  if (!model.inverse(home, form_joints).ok()) return false;
+  for (std::size_t j = 0; j < offsets.size(); ++j) {
+    const Eigen::Index joint = static_cast<Eigen::Index>(j);
+    values[offsets[j].parameter] += offsets[j].sign * (home_joints[joint] - form_joints[joint]);
+  }
+  model.set_parameters(values);
+  return true;
 }
 
 // Where the machine goes, to first order, on the joints the form's model gives for each sample,
@@ -59,8 +99,24 @@ class ToolResiduals final : public calibration::ParameterResiduals {
     Eigen::MatrixXd tool_per_joint;  // d pose / d joints over the controlled coordinates
   };
 
-  ToolResiduals(const kinematics::Kinematics& model, std::vector<Sample> samples)
-      : model_(model.clone()), samples_(std::move(samples)) {}
+  struct Home {
+    geometry::Pose pose;
+    kinematics::JointVector joints;  // the machine's own
+    std::vector<JointOffset> offsets;
+  };
+
+  ToolResiduals(const kinematics::Kinematics& model, std::vector<Sample> samples, Home home)
+      : model_(model.clone()), samples_(std::move(samples)), home_(std::move(home)) {}
+
+  // `parameters` with the joints' offsets pinned at home.
+  bool pinned(std::span<const double> parameters, std::vector<double>& values) const {
+    values.assign(parameters.begin(), parameters.end());
+    try {
+      return pin_at_home(*model_, home_.offsets, home_.pose, home_.joints, values);
+    } catch (const std::invalid_argument&) {
+      return false;
+    }
+  }
 
   int count() const override {
     return samples_.empty()
@@ -68,11 +124,8 @@ class ToolResiduals final : public calibration::ParameterResiduals {
                : static_cast<int>(samples_.size() * samples_.front().tool_per_joint.rows());
   }
   bool evaluate(std::span<const double> parameters, double* residuals) const override {
-    try {
-      model_->set_parameters(parameters);
-    } catch (const std::invalid_argument&) {
-      return false;
-    }
+    std::vector<double> pinned_values;
+    if (!pinned(parameters, pinned_values)) return false;
     kinematics::JointVector values(model_->joint_count());
     for (const Sample& sample : samples_) {
       if (!model_->inverse(sample.pose, values).ok()) return false;
@@ -102,6 +155,7 @@ class ToolResiduals final : public calibration::ParameterResiduals {
  private:
   std::unique_ptr<kinematics::Kinematics> model_;
   std::vector<Sample> samples_;
+  Home home_;
 };
 
 // The fit's samples: the poses both the machine and the form's nearest geometry reach, with the
@@ -137,9 +191,47 @@ void fit_form(kinematics::Kinematics& model, FormKind kind, const machine::Machi
     nominal.push_back(parameters[k].value);
     if (fitted_parameter(kind, parameters[k].name)) free.push_back(static_cast<int>(k));
   }
-  const ToolResiduals residuals(model, fit_samples(machine, model, poses));
+  ToolResiduals::Home home{machine.home(),
+                           kinematics::JointVector(machine.kinematics().joint_count()),
+                           joint_offsets(kind, model)};
+  if (!machine.kinematics().inverse(home.pose, home.joints).ok()) return;
+  const ToolResiduals residuals(model, fit_samples(machine, model, poses), home);
   if (residuals.count() == 0) return;
-  model.set_parameters(calibration::least_squares(residuals, nominal, free).fitted);
+  std::vector<double> fitted;
+  if (!residuals.pinned(calibration::least_squares(residuals, nominal, free).fitted, fitted) &&
+      !residuals.pinned(nominal, fitted)) {
+    return;
+  }
+  model.set_parameters(fitted);
+}
+
+// The joints a firmware computes for `pose` from the form (firmware_form.hpp's equations):
+// without the model's checks of its balance, which no firmware makes (a pen beyond an anchor
+// still gets its cords' lengths). False where the equations have no value (a rod too short).
+bool firmware_joints(const kinematics::Kinematics& form_model, const geometry::Pose& pose,
+                     kinematics::JointVector& joints) {
+  const std::optional<kinematics::FirmwareForm> form = form_model.firmware_form();
+  const Eigen::Vector3d& tool = pose.position_mm;
+  int first_passthrough = 0;
+  if (const auto* plotter = std::get_if<kinematics::WallPlotterForm>(&form->geometry)) {
+    for (int cable = 0; cable < 2; ++cable) {
+      joints[cable] =
+          (tool.head<2>() - plotter->anchors_mm[cable]).norm() + plotter->cable_offsets_mm[cable];
+    }
+    first_passthrough = 2;
+  } else if (const auto* delta = std::get_if<kinematics::LinearDeltaForm>(&form->geometry)) {
+    for (int tower = 0; tower < 3; ++tower) {
+      const kinematics::LinearDeltaTower& t = delta->towers[tower];
+      const double under_root = t.rod_mm * t.rod_mm - (tool.head<2>() - t.column_mm).squaredNorm();
+      if (!(under_root >= 0.0)) return false;
+      joints[tower] = tool.z() + std::sqrt(under_root) + t.carriage_offset_mm;
+    }
+    first_passthrough = 3;
+  } else {
+    return form_model.inverse(pose, joints).ok();
+  }
+  form->passthrough.inverse(pose, joints, first_passthrough);
+  return true;
 }
 
 // The tool position (mm) the machine as built reaches on the joints `form_model` gives for `pose`;
@@ -148,7 +240,7 @@ std::optional<double> tool_error_mm(const machine::Machine& machine,
                                     const kinematics::Kinematics& form_model,
                                     const geometry::Pose& pose) {
   kinematics::JointVector joints(form_model.joint_count());
-  if (!form_model.inverse(pose, joints).ok()) return std::nullopt;
+  if (!firmware_joints(form_model, pose, joints)) return std::nullopt;
   geometry::Pose reached = pose;
   if (!machine.kinematics().forward(joints, reached).ok()) return std::nullopt;
   return (reached.position_mm - pose.position_mm).norm();
