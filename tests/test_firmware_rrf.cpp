@@ -1,0 +1,285 @@
+// `pkm export rrf` and `pkm import rrf` (docs/firmware-rrf.md), proven against an independent
+// RepRapFirmware linear delta (firmware_reference/rrf.hpp) reading the exported config.g lines.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "firmware_reference/rrf.hpp"
+#include "pkm/firmware/firmware_machine.hpp"
+#include "pkm/firmware/target.hpp"
+#include "pkm/machine/imported_machine.hpp"
+#include "test_support.hpp"
+
+namespace pkm {
+namespace {
+
+namespace reference = test::rrf_reference;
+
+const firmware::Target& rrf() {
+  return firmware::target("rrf");
+}
+
+std::string export_text(const machine::Machine& machine) {
+  const firmware::FirmwareMachine held =
+      firmware::firmware_machine(machine, rrf().forms, rrf().name, false);
+  return rrf().write(held, firmware::ExportContext{"test", machine.source()}).text;
+}
+
+std::string export_example(const std::string& file_name) {
+  return export_text(test::load_example(file_name));
+}
+
+// The worst difference (mm) over the machine's workspace between each carriage's distance below
+// its endstop as the reference RRF computes it from `text`, and as pkmkit's joints say it: the
+// endstop at the joint's max (it has no home switch), the joint `text` names for each drive.
+double worst_carriage_error_mm(const machine::Machine& machine, const std::string& text,
+                               int& samples) {
+  const reference::LinearDelta delta = reference::parse(text);
+  double worst = 0.0;
+  samples = 0;
+  kinematics::JointVector joints(machine.kinematics().joint_count());
+  for (const geometry::Pose& pose : firmware::workspace_samples(machine)) {
+    if (!machine.inverse(pose, joints).ok()) continue;
+    ++samples;
+    const Eigen::Vector3d& p = pose.position_mm;
+    for (int drive = 0; drive < 3; ++drive) {
+      const int joint = delta.joint_of_drive[static_cast<std::size_t>(drive)];
+      const double rrf_below = reference::homed_carriage_height(delta, drive) -
+                               reference::motor_position(delta, drive, p.x(), p.y(), p.z());
+      const double pkm_below =
+          machine.joints()[static_cast<std::size_t>(joint)].max - joints[joint];
+      worst = std::max(worst, std::abs(rrf_below - pkm_below));
+    }
+  }
+  return worst;
+}
+
+class RrfLinearDeltaExample : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(RrfLinearDeltaExample, ReferenceRrfMovesEveryCarriageAsPkmkitOverTheWorkspace) {
+  const machine::Machine machine = test::load_example(GetParam());
+  const std::string text = export_text(machine);
+  const reference::LinearDelta delta = reference::parse(text);
+  for (int drive = 0; drive < 3; ++drive) {
+    ASSERT_GE(delta.joint_of_drive[static_cast<std::size_t>(drive)], 0) << text;
+  }
+  int samples = 0;
+  const double worst = worst_carriage_error_mm(machine, text, samples);
+  EXPECT_GT(samples, 100);
+  EXPECT_LT(worst, 1e-3) << text;
+  char worst_text[32];
+  std::snprintf(worst_text, sizeof worst_text, "%.3g", worst);
+  RecordProperty("worst_carriage_error_mm", worst_text);
+  RecordProperty("samples", samples);
+  // Speeds and accelerations are the effector's, per axis.
+  for (const char* drive : {"X", "Y", "Z"}) {
+    EXPECT_EQ(delta.settings.at(std::string("M203 ") + drive),
+              machine.cartesian().max_feed_mm_per_min);
+    EXPECT_EQ(delta.settings.at(std::string("M201 ") + drive),
+              machine.cartesian().max_acceleration_mm_per_s2);
+  }
+  EXPECT_EQ(delta.x_tilt, 0.0);
+  EXPECT_EQ(delta.y_tilt, 0.0);
+}
+
+// Import, then export: the same lines (but for the header, which names the file it came from,
+// and the drive comments, which number the joints of the file the export read).
+std::vector<std::string> settings_lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream stream(text);
+  std::string line;
+  while (std::getline(stream, line)) {
+    if (line.rfind("; Written by pkmkit", 0) == 0 || line.rfind("; drive ", 0) == 0) continue;
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+TEST_P(RrfLinearDeltaExample, ImportThenExportGivesTheSameLines) {
+  const std::string first = export_example(GetParam());
+  const machine::ImportedMachine imported = rrf().read(first, "config.g");
+  const std::string file = machine::machine_file_text(imported, "imported.toml");
+  const machine::Machine again = machine::parse_machine(file, "imported.toml");
+  const std::string second = export_text(again);
+  EXPECT_EQ(settings_lines(first), settings_lines(second)) << first << "\n----\n" << second;
+  // The imported machine's joints are RRF's motor positions themselves.
+  const reference::LinearDelta delta = reference::parse(first);
+  kinematics::JointVector joints(3);
+  double worst = 0.0;
+  for (const geometry::Pose& pose : firmware::workspace_samples(again)) {
+    if (!again.inverse(pose, joints).ok()) continue;
+    const Eigen::Vector3d& p = pose.position_mm;
+    for (int drive = 0; drive < 3; ++drive) {
+      worst = std::max(
+          worst,
+          std::abs(reference::motor_position(delta, drive, p.x(), p.y(), p.z()) - joints[drive]));
+    }
+  }
+  EXPECT_LT(worst, 1e-3);
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, RrfLinearDeltaExample,
+                         ::testing::Values("linear-delta.toml", "linuxcnc-ldelta.toml"),
+                         [](const auto& param_info) { return test::test_name(param_info.param); });
+
+// linear-delta.toml by hand. Its columns (rail origin less the effector's joint offset) are
+// (0, 160), (-138.564, -80), (138.564, -80): radius 160 at 90, 210 and 330 deg, RRF's towers C,
+// A, B with no correction: drive X = joint 2, Y = joint 3, Z = joint 1. Rods 300, the endstops
+// at the joints' max 700: H = 700 - sqrt(300^2 - 160^2) = 700 - 253.771551 = 446.228449.
+// The bed circle: the envelope's +-120 box holds a circle of 120 about the centre.
+// At x 30 y 40 z 10 tower C's carriage is 10 + sqrt(300^2 - (30^2 + 120^2)) = 10 +
+// sqrt(74700) = 283.313007 mm, which is joint 1's reading (its carriage offset is 0).
+TEST(RrfExport, LinearDeltaByHand) {
+  const std::string text = export_example("linear-delta.toml");
+  EXPECT_NE(text.find("\nM669 K3 ; linear delta kinematics\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nM665 L300:300:300 R160 H446.228449 B120 X0 Y0 Z0 ;"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\nM666 X0 Y0 Z0 A0 B0 ;"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nM203 X9000 Y9000 Z9000 ;"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nM201 X2000 Y2000 Z2000 ;"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nM208 S1 Z0 ;"), std::string::npos) << text;
+  EXPECT_NE(text.find("; drive X = tower A = joint 2 \"tower_b\""), std::string::npos) << text;
+  EXPECT_NE(text.find("; drive Z = tower C = joint 1 \"tower_a\""), std::string::npos) << text;
+  EXPECT_EQ(text.rfind("; Written by pkmkit test from ", 0), 0u) << text;
+
+  const reference::LinearDelta delta = reference::parse(text);
+  EXPECT_NEAR(reference::motor_position(delta, 2, 30.0, 40.0, 10.0), 283.313007, 1e-6);
+  const machine::Machine machine = test::load_example("linear-delta.toml");
+  kinematics::JointVector joints(3);
+  ASSERT_TRUE(machine.inverse(geometry::Pose::from_mm_deg(30.0, 40.0, 10.0), joints).ok());
+  EXPECT_NEAR(joints[0], 283.313007, 1e-6);
+}
+
+// A Kossel Pro-shaped config.g as Duet users write it (the settings of a Kossel Pro MK3
+// config.g on a Duet WiFi found on GitHub, in a file written here): comments, the drives'
+// directions and currents, the extruder's steps in a second M92, a Z probe, tools, a macro call.
+constexpr const char* kKosselConfig = R"(; Main configuration file
+M550 P"Kossel Pro" ; name
+M111 S0 ; Debug off
+G21 ; Work in millimetres
+G90
+M83
+M569 P0 S0 ; Drive 0 goes backwards
+M569 P1 S0
+M569 P2 S0
+M574 X2 Y2 Z2 S1 ; endstops at the high end
+M665 L300.000 R153 H270 B135.0 X0 Y0 Z0 ; delta radius, rods, printable radius, homed height
+M666 X0.3 Y-0.1 Z-0.2 A0.00 B0.00 ; endstop adjustments
+M350 X16 Y16 E16 I1
+M92 X80 Y80 Z80 ; Set axis steps/mm
+M906 X1000 Y1000 Z1000 E800 I60
+M201 X9000 Y9000 Z9000 E5000 ; Accelerations (mm/s^2)
+M203 X30000 Y30000 Z30000 E7200 ; Maximum speeds (mm/min)
+M566 X600 Y600 Z600 E150
+M563 P0 D0 H1
+M92 E92.6 ; extruder steps per mm
+M558 P5 I1 X0 Y0 Z0
+G31 X0 Y0 Z0.25 P500
+M208 S1 Z-0.2 ; set minimum Z
+if exists(param.X)
+  echo "meta commands are not read"
+T0
+M98 P"local.g"
+)";
+
+TEST(RrfImport, KosselConfigGivesTheMachineRrfRuns) {
+  const machine::ImportedMachine imported = rrf().read(kKosselConfig, "config.g");
+  EXPECT_EQ(imported.name, "Kossel Pro");
+  ASSERT_EQ(imported.joints.size(), 3u);
+  // The endstops: H + sqrt(300^2 - 153^2) + M666 = 270 + 258.049608 + 0.3 for tower A.
+  const double rise = std::sqrt(300.0 * 300.0 - 153.0 * 153.0);
+  EXPECT_NEAR(imported.joints[0].max, 270.0 + rise + 0.3, 1e-9);
+  EXPECT_NEAR(imported.joints[1].max, 270.0 + rise - 0.1, 1e-9);
+  EXPECT_NEAR(imported.joints[2].max, 270.0 + rise - 0.2, 1e-9);
+  EXPECT_EQ(imported.joints[0].steps_per_unit, 80.0);
+  EXPECT_DOUBLE_EQ(imported.max_feed_per_min, 30000.0);
+  EXPECT_DOUBLE_EQ(imported.max_acceleration, 9000.0);
+  ASSERT_TRUE(imported.envelope_min && imported.envelope_max);
+  EXPECT_EQ(*imported.envelope_min, (std::vector<double>{-135.0, -135.0, -0.2}));
+  std::string notes;
+  for (const std::string& note : imported.notes) notes += note + "\n";
+  EXPECT_NE(notes.find("M569 (lines 7 8 9)"), std::string::npos) << notes;
+  EXPECT_NE(notes.find("M92 E (line 20)"), std::string::npos) << notes;
+  EXPECT_NE(notes.find("line 24: if exists(param.X)"), std::string::npos) << notes;
+
+  // The machine file loads, and exporting it gives the file's settings back (the endstop
+  // corrections already average to 0, so H stays 270).
+  const machine::Machine machine =
+      machine::parse_machine(machine::machine_file_text(imported, "kossel.toml"), "kossel.toml");
+  const std::string text = export_text(machine);
+  EXPECT_NE(text.find("\nM665 L300:300:300 R153 H270 B135 X0 Y0 Z0 ;"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nM666 X0.3 Y-0.1 Z-0.2 A0 B0 ;"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nM92 X80 Y80 Z80 ;"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nM208 S1 Z-0.2 ;"), std::string::npos) << text;
+  int samples = 0;
+  EXPECT_LT(worst_carriage_error_mm(machine, text, samples), 1e-3);
+  EXPECT_GT(samples, 100);
+}
+
+std::string import_error(const std::string& text) {
+  try {
+    (void)rrf().read(text, "config.g");
+  } catch (const firmware::FirmwareFileError& error) {
+    return error.what();
+  }
+  return "no error";
+}
+
+TEST(RrfImport, BadInputSaysWhereAndWhy) {
+  const std::string speeds = "M203 X9000 Y9000 Z9000\nM201 X1000 Y1000 Z1000\n";
+  EXPECT_EQ(import_error("M665 L300 H400\n" + speeds),
+            "config.g:1: M665 R: not set (the delta radius, mm)");
+  EXPECT_EQ(import_error("; delta\nM665 L3x0 R150 H400\n" + speeds),
+            "config.g:2: M665 L: '3x0' is not a number");
+  EXPECT_EQ(import_error("M665 L300:301:302:303 R150 H400\n" + speeds)
+                .rfind("config.g:1: M665 L: 4 "
+                       "diagonals",
+                       0),
+            0u);
+  EXPECT_EQ(import_error("M665 L300 R150 H400\nM201 X1000 Y1000 Z1000\n"),
+            "config.g:3: M203 X: not set (the maximum speed, mm/min): no M203 sets it before the "
+            "end of the file");
+  EXPECT_EQ(import_error("M665 L300 R150 H400\nM666 A0.11\n" + speeds)
+                .rfind("config.g:2: M666 A: "
+                       "a bed tilt",
+                       0),
+            0u);
+  EXPECT_EQ(import_error("M669 K4\n"),
+            "config.g:1: M669 K: kinematics 4: pkmkit imports RRF's linear delta (K3) and rotary "
+            "delta (K10)");
+  EXPECT_EQ(import_error("M92 X80\n"),
+            "config.g:2: M665: no delta in this file: RRF's linear delta is M665 L R H (and M669 "
+            "K3), its rotary delta M669 K10 U L R");
+  EXPECT_EQ(import_error("M665 L300 R150 H400 B{global.radius}\n" + speeds),
+            "config.g:1: M665 B: '{global.radius}' is not a number");
+}
+
+std::string export_refusal(const machine::Machine& machine) {
+  try {
+    (void)export_text(machine);
+  } catch (const firmware::ExportRefused& error) {
+    return error.what();
+  }
+  return "no refusal";
+}
+
+TEST(RrfExport, RefusesWhatRrfCannotHold) {
+  // Another form: the message names the one rrf has.
+  const std::string hexapod = export_refusal(test::load_example("hexapod-bit.toml"));
+  EXPECT_NE(hexapod.find("rrf has kinematics for a linear delta"), std::string::npos) << hexapod;
+  // A column off the common circle (tower_a's rail 1 mm farther out).
+  const std::string moved = export_refusal(test::load_example_changed(
+      "linear-delta.toml", "origin = [0.0, 200.0, 0.0]", "origin = [0.0, 201.0, 0.0]"));
+  EXPECT_NE(moved.find("one circle about x 0 y 0 (M665 R), and this machine's columns stand at "
+                       "161 mm, 160 mm and 160 mm"),
+            std::string::npos)
+      << moved;
+}
+
+}  // namespace
+}  // namespace pkm
