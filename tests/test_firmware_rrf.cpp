@@ -259,6 +259,110 @@ TEST(RrfImport, BadInputSaysWhereAndWhy) {
             "config.g:1: M665 B: '{global.radius}' is not a number");
 }
 
+// The rotary delta: RRF's arm angle (deg, up positive) is minus pkmkit's reading; each arm's
+// endstop is at its joint's min (the arm at its highest). Returns the worst difference over the
+// workspace between RRF's angle below the endstop and pkmkit's, as the distance (mm) the elbow
+// moves by it; `absolute` the worst of RRF's angle against minus the reading, likewise.
+double worst_arm_error_mm(const machine::Machine& machine, const std::string& text, int& samples,
+                          double& absolute) {
+  const reference::RotaryDelta delta = reference::parse_rotary(text);
+  const auto deg = [](double rad) { return rad * 180.0 / 3.14159265358979323846; };
+  double worst_deg = 0.0, worst_absolute_deg = 0.0;
+  samples = 0;
+  kinematics::JointVector joints(3);
+  for (const geometry::Pose& pose : firmware::workspace_samples(machine)) {
+    if (!machine.inverse(pose, joints).ok()) continue;
+    ++samples;
+    const Eigen::Vector3d& p = pose.position_mm;
+    for (int drive = 0; drive < 3; ++drive) {
+      const int joint = delta.joint_of_drive[static_cast<std::size_t>(drive)];
+      const double rrf = reference::arm_angle_deg(delta, drive, p.x(), p.y(), p.z());
+      const double rrf_below = reference::homed_arm_angle_deg(delta, drive) - rrf;
+      const double pkm_below =
+          deg(joints[joint]) - deg(machine.joints()[static_cast<std::size_t>(joint)].min);
+      worst_deg = std::max(worst_deg, std::abs(rrf_below - pkm_below));
+      worst_absolute_deg = std::max(worst_absolute_deg, std::abs(rrf + deg(joints[joint])));
+    }
+  }
+  const double arm_mm = delta.arms[0];
+  absolute = worst_absolute_deg * 3.14159265358979323846 / 180.0 * arm_mm;
+  return worst_deg * 3.14159265358979323846 / 180.0 * arm_mm;
+}
+
+TEST(RrfRotaryDelta, ReferenceRrfTurnsEveryArmAsPkmkitOverTheWorkspace) {
+  const machine::Machine machine = test::load_example("linuxcnc-rdelta.toml");
+  const std::string text = export_text(machine);
+  int samples = 0;
+  double absolute = 0.0;
+  const double worst = worst_arm_error_mm(machine, text, samples, absolute);
+  EXPECT_GT(samples, 100);
+  EXPECT_LT(worst, 1e-3) << text;
+  EXPECT_LT(absolute, 1e-3) << text;
+  char worst_text[32];
+  std::snprintf(worst_text, sizeof worst_text, "%.3g", worst);
+  RecordProperty("worst_elbow_error_mm", worst_text);
+  RecordProperty("samples", samples);
+}
+
+// linuxcnc-rdelta.toml by hand, in mm: pivots at 10 in = 254 mm, effector joints at 5 in: RRF's
+// R = 127 mm; arms 254, rods 457.2. pkmkit's arms point at -90, 30, 150 deg, RRF's at -150, -30,
+// 90 plus corrections: +60 each, drive X = joint 1. Joints -45..90 deg, positive down: RRF's
+// arm angles -90..45, the endstops (the arms at their highest, -45 deg) at A's max 45. The
+// envelope, +-4 in and z -18..-10 in: B 101.6, Z -457.2..-254. 600 in/min = 15240 mm/min,
+// 100 in/s^2 = 2540 mm/s^2.
+// At x 0 y 0 z -350 every arm, in its own frame: a = 2 U R = 64516, b = 2 U (0 - z) = 177800,
+// c = L^2 - U^2 - (z^2 + R^2) = 209031.84 - 64516 - (122500 + 16129) = 5886.84;
+// sin t = (b c - a sqrt(a^2 + b^2 - c^2)) / (a^2 + b^2) = -0.311632, t = -18.160119 deg: the
+// arm 18.160119 deg below horizontal, pkmkit's reading.
+TEST(RrfRotaryDelta, LinuxcncRdeltaByHand) {
+  const std::string text = export_example("linuxcnc-rdelta.toml");
+  EXPECT_NE(text.find("\nM669 K10 U254:254:254 L457.2:457.2:457.2 H0:0:0 A-90:45 R127 B101.6 "
+                      "X60 Y60 Z60 ;"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\nM666 X0 Y0 Z0 ;"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nM203 X15240 Y15240 Z15240 ;"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nM201 X2540 Y2540 Z2540 ;"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nM208 Z-457.2:-254 ;"), std::string::npos) << text;
+  EXPECT_NE(text.find("; drive X = arm A = joint 1 \"joint0\": towards -90 deg"), std::string::npos)
+      << text;
+  const reference::RotaryDelta delta = reference::parse_rotary(text);
+  for (int drive = 0; drive < 3; ++drive) {
+    EXPECT_NEAR(reference::arm_angle_deg(delta, drive, 0.0, 0.0, -350.0), -18.160119, 1e-6);
+  }
+  const machine::Machine machine = test::load_example("linuxcnc-rdelta.toml");
+  kinematics::JointVector joints(3);
+  ASSERT_TRUE(machine.inverse(geometry::Pose::from_mm_deg(0.0, 0.0, -350.0), joints).ok());
+  EXPECT_NEAR(joints[0] * 180.0 / 3.14159265358979323846, 18.160119, 1e-6);
+}
+
+TEST(RrfRotaryDelta, ImportThenExportGivesTheSameLines) {
+  const std::string first = export_example("linuxcnc-rdelta.toml");
+  const machine::ImportedMachine imported = rrf().read(first, "config.g");
+  const machine::Machine again = machine::parse_machine(
+      machine::machine_file_text(imported, "imported.toml"), "imported.toml");
+  const std::string second = export_text(again);
+  EXPECT_EQ(settings_lines(first), settings_lines(second)) << first << "\n----\n" << second;
+  int samples = 0;
+  double absolute = 0.0;
+  EXPECT_LT(worst_arm_error_mm(again, first, samples, absolute), 1e-3);
+  EXPECT_LT(absolute, 1e-3);
+  EXPECT_GT(samples, 100);
+}
+
+TEST(RrfImport, RotaryDeltaPkmkitCannotHoldIsRefusedAtItsSetting) {
+  const std::string speeds = "M203 X9000 Y9000 Z9000\nM201 X1000 Y1000 Z1000\n";
+  EXPECT_EQ(import_error("M669 K10 U100 L200 R50 H250 X0 Y0 Z0\n" + speeds),
+            "config.g:1: M669 H: pivots at heights 250:250:250 mm: pkmkit's rotary delta has "
+            "them at z 0, and RRF's Z would be another (set H0:0:0 and Z from the pivots' plane)");
+  EXPECT_EQ(import_error("M669 K10 U100 L200 R50 H0\n" + speeds),
+            "config.g:1: M669 X: the arms point at -150, -30, 90 deg: pkmkit's rotary delta has "
+            "them at -90, 30 and 150 deg (X60 Y60 Z60), and RRF cannot turn its frame");
+  EXPECT_EQ(import_error("M669 K10 U100:100:101 L200 R50 H0 X60 Y60 Z60\n" + speeds),
+            "config.g:1: M669 U: arms of 100:100:101 mm: pkmkit's rotary delta has one for every "
+            "arm");
+}
+
 std::string export_refusal(const machine::Machine& machine) {
   try {
     (void)export_text(machine);

@@ -47,7 +47,7 @@ void apply(LinearDelta& delta, const std::string& code, char letter, const std::
 }
 
 // "; drive Y = tower B = joint 3 ..." names joint 3 (from 1) for drive Y.
-void read_drive_comment(LinearDelta& delta, const std::string& comment) {
+void read_drive_comment(std::array<int, 3>& joint_of_drive, const std::string& comment) {
   std::istringstream words(comment);
   std::string semicolon, drive_word, drive, eq1, tower_word, tower, eq2, joint_word;
   int joint = 0;
@@ -55,17 +55,90 @@ void read_drive_comment(LinearDelta& delta, const std::string& comment) {
       joint;
   if (drive_word != "drive" || joint_word != "joint" || drive.size() != 1) return;
   const int index = drive[0] - 'X';
-  if (index >= 0 && index < 3) delta.joint_of_drive[static_cast<std::size_t>(index)] = joint - 1;
+  if (index >= 0 && index < 3) joint_of_drive[static_cast<std::size_t>(index)] = joint - 1;
+}
+
+void apply_rotary(RotaryDelta& delta, const std::string& code, char letter,
+                  const std::string& value) {
+  if (code == "M669" && (letter == 'U' || letter == 'L' || letter == 'H')) {
+    const std::vector<double> values = colon_list(value);
+    std::array<double, 3>& target = letter == 'U'   ? delta.arms
+                                    : letter == 'L' ? delta.rods
+                                                    : delta.bearing_heights;
+    for (std::size_t k = 0; k < 3; ++k) target[k] = values.size() == 1 ? values[0] : values.at(k);
+    return;
+  }
+  if (code == "M669" && letter == 'A') {
+    const std::vector<double> values = colon_list(value);
+    delta.min_arm_angle = values.at(0);
+    delta.max_arm_angle = values.at(1);
+    return;
+  }
+  if (code == "M208" && letter == 'Z') {
+    const std::vector<double> values = colon_list(value);
+    delta.settings["M208 Z min"] = values.front();
+    delta.settings["M208 Z max"] = values.back();
+    return;
+  }
+  const double number = std::stod(value);
+  const int drive = letter - 'X';
+  if (code == "M669" && letter == 'R') delta.radius = number;
+  if (code == "M669" && drive >= 0 && drive < 3) {
+    delta.angle_corrections[static_cast<std::size_t>(drive)] = number;
+  }
+  if (code == "M666" && drive >= 0 && drive < 3) {
+    delta.endstop_adjustments[static_cast<std::size_t>(drive)] = number;
+  }
+  delta.settings[code + " " + letter] = number;
 }
 
 }  // namespace
+
+RotaryDelta parse_rotary(const std::string& config_text) {
+  RotaryDelta delta;
+  std::istringstream lines(config_text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind("; drive ", 0) == 0) read_drive_comment(delta.joint_of_drive, line);
+    std::istringstream words(line.substr(0, line.find(';')));
+    std::string code, word;
+    if (!(words >> code)) continue;
+    while (words >> word) apply_rotary(delta, code, word[0], word.substr(1));
+  }
+  return delta;
+}
+
+// Arm A, B, C point at -150, -30, 90 deg plus their corrections; in the arm's frame (+x along
+// the arm) the rod from the elbow (R + U cos t, 0, H + U sin t) reaches the head (x, y, z):
+// L^2 = (U cos t + R - x)^2 + y^2 + (U sin t + H - z)^2, i.e. a cos t + b sin t = c; RRF takes
+// the lower root for sin t.
+double arm_angle_deg(const RotaryDelta& delta, int arm, double x, double y, double z) {
+  const std::size_t k = static_cast<std::size_t>(arm);
+  const double nominal[3] = {-150.0, -30.0, 90.0};
+  const double angle = radians(nominal[k] + delta.angle_corrections[k]);
+  const double along = x * std::cos(angle) + y * std::sin(angle);
+  const double across = y * std::cos(angle) - x * std::sin(angle);
+  const double u = delta.arms[k];
+  const double r_minus_x = delta.radius - along;
+  const double h_minus_z = delta.bearing_heights[k] - z;
+  const double a = 2.0 * u * r_minus_x;
+  const double b = 2.0 * u * h_minus_z;
+  const double c = delta.rods[k] * delta.rods[k] - u * u -
+                   (h_minus_z * h_minus_z + r_minus_x * r_minus_x + across * across);
+  const double sin_t = (b * c - a * std::sqrt(a * a + b * b - c * c)) / (a * a + b * b);
+  return std::asin(sin_t) * 180.0 / kPi;
+}
+
+double homed_arm_angle_deg(const RotaryDelta& delta, int arm) {
+  return delta.max_arm_angle + delta.endstop_adjustments[static_cast<std::size_t>(arm)];
+}
 
 LinearDelta parse(const std::string& config_text) {
   LinearDelta delta;
   std::istringstream lines(config_text);
   std::string line;
   while (std::getline(lines, line)) {
-    if (line.rfind("; drive ", 0) == 0) read_drive_comment(delta, line);
+    if (line.rfind("; drive ", 0) == 0) read_drive_comment(delta.joint_of_drive, line);
     const std::string code_part = line.substr(0, line.find(';'));
     std::istringstream words(code_part);
     std::string code, word;
