@@ -383,6 +383,26 @@ TEST(RrfExport, RefusesWhatRrfCannotHold) {
                        "161 mm, 160 mm and 160 mm"),
             std::string::npos)
       << moved;
+  // A leaning rail: refused exactly; --approximate fits the nearest linear delta (the core's fit,
+  // columns free), whose columns are then off one circle, which RRF cannot hold either.
+  const machine::Machine leaning = test::load_example_changed(
+      "linear-delta.toml", "direction = [0.0, 0.0, 1.0]\nstrut = 300.0\nattach = [0.0, 40.0, 0.0]",
+      "direction = [0.0, 0.01, 1.0]\nstrut = 300.0\nattach = [0.0, 40.0, 0.0]");
+  const std::string lean = export_refusal(leaning);
+  EXPECT_NE(lean.find("rail 1 leans 0.5729 deg from vertical"), std::string::npos) << lean;
+  const firmware::FirmwareMachine nearest =
+      firmware::firmware_machine(leaning, rrf().forms, rrf().name, true);
+  ASSERT_TRUE(nearest.cost);
+  try {
+    (void)rrf().write(nearest, firmware::ExportContext{"test", "linear-delta.toml"});
+    ADD_FAILURE() << "the fitted columns off one circle were written";
+  } catch (const firmware::ExportRefused& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("(the --approximate fit does not hold the columns to "
+                        "one circle)"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace

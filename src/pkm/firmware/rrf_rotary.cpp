@@ -189,6 +189,26 @@ double arm_deg_per_mm(const kinematics::Kinematics& model, const geometry::Pose&
   return std::abs(geometry::radians_to_degrees(high[arm] - low[arm]));
 }
 
+// Where the effector is with every arm at its endstop (rad), or x 0 y 0 at M208's Z max where
+// that is above it (RRF homes there, then moves down; pkmkit's home is inside the envelope).
+geometry::Pose rotary_home(const kinematics::Kinematics& model,
+                           const kinematics::JointVector& endstops, const RrfRotaryDelta& delta,
+                           std::vector<std::string>& notes) {
+  geometry::Pose home = geometry::Pose::from_mm_deg(0.0, 0.0, delta.z_min_mm);
+  if (!model.forward(endstops, home).ok()) {
+    throw RrfSettingRefused("M669 A", "the arms at their endstops hold the effector nowhere");
+  }
+  if (home.position_mm.z() > delta.z_max_mm) {
+    notes.push_back("RRF homes the arms up to z " + rrf_number(home.position_mm.z()) +
+                    " mm, above M208's Z max: home is x 0 y 0 at Z max");
+    return geometry::Pose::from_mm_deg(0.0, 0.0, delta.z_max_mm);
+  }
+  for (int axis = 0; axis < 2; ++axis) {
+    if (std::abs(home.position_mm[axis]) < 1e-9) home.position_mm[axis] = 0.0;
+  }
+  return home;
+}
+
 }  // namespace
 
 machine::ImportedMachine rrf_rotary_machine(const RrfRotaryDelta& delta) {
@@ -216,10 +236,7 @@ machine::ImportedMachine rrf_rotary_machine(const RrfRotaryDelta& delta) {
     endstops[arm] = -geometry::degrees_to_radians(delta.max_arm_angle_deg +
                                                   delta.endstop_adjustments_deg[tower]);
   }
-  geometry::Pose home = geometry::Pose::from_mm_deg(0.0, 0.0, delta.z_min_mm);
-  if (!model->forward(endstops, home).ok()) {
-    throw RrfSettingRefused("M669 A", "the arms at their endstops hold the effector nowhere");
-  }
+  const geometry::Pose home = rotary_home(*model, endstops, delta, result.notes);
   for (int arm = 0; arm < 3; ++arm) {
     const std::size_t tower = static_cast<std::size_t>(tower_of_arm[static_cast<std::size_t>(arm)]);
     machine::ImportedJoint joint;
@@ -239,22 +256,15 @@ machine::ImportedMachine rrf_rotary_machine(const RrfRotaryDelta& delta) {
   const double b = delta.print_radius_mm;
   result.envelope_min = std::vector<double>{-b, -b, delta.z_min_mm};
   result.envelope_max = std::vector<double>{b, b, delta.z_max_mm};
+  result.home =
+      std::vector<double>{home.position_mm.x(), home.position_mm.y(), home.position_mm.z()};
   result.home_seed_z = home.position_mm.z();
-  if (home.position_mm.z() <= delta.z_max_mm) {
-    auto tidy = [](double value) { return std::abs(value) < 1e-9 ? 0.0 : value; };
-    result.home = std::vector<double>{tidy(home.position_mm.x()), tidy(home.position_mm.y()),
-                                      home.position_mm.z()};
-  } else {
-    result.home = std::vector<double>{0.0, 0.0, delta.z_max_mm};
-    result.notes.push_back("RRF homes the arms up to z " + rrf_number(home.position_mm.z()) +
-                           " mm, above M208's Z max: home is x 0 y 0 at Z max");
-  }
   result.notes.push_back(
       "joints arm_* are RRF's drives, in pkmkit's order (the arm towards -90 deg first); a "
       "reading is minus RRF's arm angle, its min the endstop (M669 A max + M666), home there");
   result.notes.push_back(
       "RRF limits no arm's own speed: each joint takes M203 Z and M201 Z times its rate in a "
-      "vertical move with every arm at its endstop");
+      "vertical move at home");
   return result;
 }
 
