@@ -36,7 +36,7 @@ std::string export_example(const std::string& file_name) {
 
 // The worst difference (mm) over the machine's workspace between each carriage's distance below
 // its endstop as the reference RRF computes it from `text`, and as pkmkit's joints say it: the
-// endstop at the joint's max (it has no home switch), the joint `text` names for each drive.
+// endstop at the joint's home switch, else its max; the joint `text` names for each drive.
 double worst_carriage_error_mm(const machine::Machine& machine, const std::string& text,
                                int& samples) {
   const reference::LinearDelta delta = reference::parse(text);
@@ -51,8 +51,9 @@ double worst_carriage_error_mm(const machine::Machine& machine, const std::strin
       const int joint = delta.joint_of_drive[static_cast<std::size_t>(drive)];
       const double rrf_below = reference::homed_carriage_height(delta, drive) -
                                reference::motor_position(delta, drive, p.x(), p.y(), p.z());
-      const double pkm_below =
-          machine.joints()[static_cast<std::size_t>(joint)].max - joints[joint];
+      const machine::JointSpec& spec = machine.joints()[static_cast<std::size_t>(joint)];
+      const double endstop = spec.home_switch ? spec.home_switch->position : spec.max;
+      const double pkm_below = endstop - joints[joint];
       worst = std::max(worst, std::abs(rrf_below - pkm_below));
     }
   }
@@ -403,6 +404,80 @@ TEST(RrfExport, RefusesWhatRrfCannotHold) {
               std::string::npos)
         << error.what();
   }
+}
+
+// A delta as calibration leaves one, each tower its own: columns on a 150 mm circle at 91, 209.5
+// and 330.2 deg (RRF's C, A, B, corrections +1, -0.5, +0.2), rods 290, 290.4, 289.7, the second
+// carriage 1.5 mm above its effector joint, the endstops at 600, 601 and a switch at 590.
+// Carriage heights at the endstops in RRF's terms (endstop less offset less sqrt(L^2 - R^2)):
+// A 601 - 1.5 - 249.060733 = 350.839267, B 590 - 247.842874 = 342.157126, C 600 - 248.193473 =
+// 351.806527; H their mean 348.267640, M666 the rest: 2.571627, -6.110514, 3.538887.
+constexpr const char* kCalibratedDelta = R"(name = "calibrated delta"
+units = "mm"
+[kinematics]
+type = "glide"
+[[kinematics.rails]]
+origin = [-2.6178609655925213, 149.9771542734587, 0.0]
+direction = [0.0, 0.0, 1.0]
+strut = 290.0
+attach = [0.0, 0.0, 0.0]
+[[kinematics.rails]]
+origin = [-130.55335439098496, -73.86353401552005, 0.0]
+direction = [0.0, 0.0, 1.0]
+strut = 290.4
+attach = [0.0, 0.0, 1.5]
+[[kinematics.rails]]
+origin = [130.1648180053392, -74.5460941541334, 0.0]
+direction = [0.0, 0.0, 1.0]
+strut = 289.7
+attach = [0.0, 0.0, 0.0]
+[[joints]]
+name = "c"
+min = 0.0
+max = 600.0
+max_velocity = 200.0
+max_acceleration = 3000.0
+steps_per_unit = 80.0
+[[joints]]
+name = "a"
+min = 0.0
+max = 601.0
+max_velocity = 200.0
+max_acceleration = 3000.0
+steps_per_unit = 80.5
+[[joints]]
+name = "b"
+min = 0.0
+max = 600.0
+max_velocity = 200.0
+max_acceleration = 3000.0
+steps_per_unit = 79.5
+home_switch = 590.0
+home_toward = "max"
+[cartesian]
+max_feed = 6000.0
+max_acceleration = 1500.0
+home = [0.0, 0.0, 100.0]
+min = [-100.0, -110.0, 0.5]
+max = [105.0, 100.0, 200.0]
+)";
+
+TEST(RrfExport, EachTowerItsOwnRodOffsetEndstopAndAngle) {
+  const machine::Machine machine = machine::parse_machine(kCalibratedDelta, "calibrated.toml");
+  const std::string text = export_text(machine);
+  EXPECT_NE(text.find("\nM665 L290.4:289.7:290 R150 H348.26764 B100 X-0.5 Y0.2 Z1 ;"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\nM666 X2.571627 Y-6.110514 Z3.538887 A0 B0 ;"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nM92 X80.5 Y79.5 Z80 ;"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nM208 S1 Z0.5 ;"), std::string::npos) << text;
+  int samples = 0;
+  EXPECT_LT(worst_carriage_error_mm(machine, text, samples), 1e-3) << text;
+  EXPECT_GT(samples, 100);
+  // And back: the same lines again.
+  const machine::Machine again = machine::parse_machine(
+      machine::machine_file_text(rrf().read(text, "config.g"), "imported.toml"), "imported.toml");
+  EXPECT_EQ(settings_lines(text), settings_lines(export_text(again)));
 }
 
 }  // namespace
