@@ -139,6 +139,9 @@ ExportedFile write_rrf_rotary_delta(const FirmwareMachine& fm, const ExportConte
       "endstops (homedelta.g)\n";
   for (const std::string& line : rrf_rotary_lines(delta)) file.text += line + "\n";
   file.text += std::string(kRotaryNotHeld) + "\n";
+  file.warnings.push_back(
+      "RRF's rotary delta (M669 K10) is left out of the Duet 2 WiFi/Ethernet firmware "
+      "(SUPPORT_ROTARY_DELTA 0 in its Pins_DuetNG.h): run it on a board whose build has it");
   if (!delta.steps_per_deg[0] || !delta.steps_per_deg[1] || !delta.steps_per_deg[2]) {
     file.warnings.push_back(
         "the machine file gives no steps_per_unit for every arm: set M92 in config.g");
