@@ -60,6 +60,14 @@ double worst_carriage_error_mm(const machine::Machine& machine, const std::strin
   return worst;
 }
 
+// The number after `key` ("M665 B") in the exported text.
+std::string rrf_number_of(const std::string& text, const std::string& key) {
+  const std::size_t line = text.find("\n" + key.substr(0, key.find(' ')) + " ");
+  const std::size_t at = text.find(" " + key.substr(key.find(' ') + 1), line);
+  const std::size_t end = text.find_first_of(" \n", at + 2);
+  return text.substr(at + 2, end - at - 2);
+}
+
 class RrfLinearDeltaExample : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(RrfLinearDeltaExample, ReferenceRrfMovesEveryCarriageAsPkmkitOverTheWorkspace) {
@@ -483,6 +491,22 @@ TEST(RrfExport, EachTowerItsOwnRodOffsetEndstopAndAngle) {
   const machine::Machine again = machine::parse_machine(
       machine::machine_file_text(rrf().read(text, "config.g"), "imported.toml"), "imported.toml");
   EXPECT_EQ(settings_lines(text), settings_lines(export_text(again)));
+}
+
+// Without a work envelope, B and Z min come from the reach along the axes through home.
+TEST(RrfExport, WithoutAnEnvelopeTheReachBoundsB) {
+  const machine::Machine machine = test::load_example_changed(
+      "linear-delta.toml", "min = [-120.0, -120.0, 0.0]\nmax = [120.0, 120.0, 300.0]", "");
+  ASSERT_FALSE(machine.cartesian().has_envelope());
+  const std::string text = export_text(machine);
+  const reference::LinearDelta delta = reference::parse(text);
+  const machine::PoseBox reach = machine::reach_box(machine);
+  EXPECT_DOUBLE_EQ(
+      std::stod(rrf_number_of(text, "M665 B")),
+      std::round(std::min({-reach.min[0], reach.max[0], -reach.min[1], reach.max[1]}) * 1e6) / 1e6);
+  EXPECT_GT(delta.print_radius, 120.0);
+  int samples = 0;
+  EXPECT_LT(worst_carriage_error_mm(machine, text, samples), 1e-3);
 }
 
 }  // namespace

@@ -62,7 +62,10 @@ TowerAssignment assign_towers(const std::array<double, 3>& angles_deg,
 
 RrfBounds rrf_bounds(const machine::Machine& machine) {
   const machine::CartesianLimits& limits = machine.cartesian();
-  const machine::PoseBox reach = machine::reach_box(machine);
+  // The reach (a bisection per axis) only where the envelope leaves a bound open.
+  const bool open =
+      !limits.envelope_min.head<3>().allFinite() || !limits.envelope_max.head<3>().allFinite();
+  const machine::PoseBox reach = open ? machine::reach_box(machine) : machine::PoseBox{};
   auto low = [&](int axis) {
     return std::isfinite(limits.envelope_min[axis]) ? limits.envelope_min[axis] : reach.min[axis];
   };
