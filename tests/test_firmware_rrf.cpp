@@ -132,7 +132,7 @@ TEST_P(RrfLinearDeltaExample, ImportThenExportGivesTheSameLines) {
   EXPECT_LT(worst, 1e-3);
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, RrfLinearDeltaExample,
+INSTANTIATE_TEST_SUITE_P(firmware_rrf, RrfLinearDeltaExample,
                          ::testing::Values("linear-delta.toml", "linuxcnc-ldelta.toml"),
                          [](const auto& param_info) { return test::test_name(param_info.param); });
 
@@ -143,7 +143,7 @@ INSTANTIATE_TEST_SUITE_P(Examples, RrfLinearDeltaExample,
 // The bed circle: the envelope's +-120 box holds a circle of 120 about the centre.
 // At x 30 y 40 z 10 tower C's carriage is 10 + sqrt(300^2 - (30^2 + 120^2)) = 10 +
 // sqrt(74700) = 283.313007 mm, which is joint 1's reading (its carriage offset is 0).
-TEST(RrfExport, LinearDeltaByHand) {
+TEST(firmware_rrf_export, LinearDeltaByHand) {
   const std::string text = export_example("linear-delta.toml");
   EXPECT_NE(text.find("\nM669 K3 ; linear delta kinematics\n"), std::string::npos) << text;
   EXPECT_NE(text.find("\nM665 L300:300:300 R160 H446.228449 B120 X0 Y0 Z0 ;"), std::string::npos)
@@ -196,7 +196,7 @@ T0
 M98 P"local.g"
 )";
 
-TEST(RrfImport, KosselConfigGivesTheMachineRrfRuns) {
+TEST(firmware_rrf_import, KosselConfigGivesTheMachineRrfRuns) {
   const machine::ImportedMachine imported = rrf().read(kKosselConfig, "config.g");
   EXPECT_EQ(imported.name, "Kossel Pro");
   ASSERT_EQ(imported.joints.size(), 3u);
@@ -239,7 +239,7 @@ std::string import_error(const std::string& text) {
   return "no error";
 }
 
-TEST(RrfImport, BadInputSaysWhereAndWhy) {
+TEST(firmware_rrf_import, BadInputSaysWhereAndWhy) {
   const std::string speeds = "M203 X9000 Y9000 Z9000\nM201 X1000 Y1000 Z1000\n";
   EXPECT_EQ(import_error("M665 L300 H400\n" + speeds),
             "config.g:1: M665 R: not set (the delta radius, mm)");
@@ -298,7 +298,7 @@ double worst_arm_error_mm(const machine::Machine& machine, const std::string& te
   return worst_deg * 3.14159265358979323846 / 180.0 * arm_mm;
 }
 
-TEST(RrfRotaryDelta, ReferenceRrfTurnsEveryArmAsPkmkitOverTheWorkspace) {
+TEST(firmware_rrf_rotary, ReferenceRrfTurnsEveryArmAsPkmkitOverTheWorkspace) {
   const machine::Machine machine = test::load_example("linuxcnc-rdelta.toml");
   const std::string text = export_text(machine);
   int samples = 0;
@@ -323,7 +323,7 @@ TEST(RrfRotaryDelta, ReferenceRrfTurnsEveryArmAsPkmkitOverTheWorkspace) {
 // c = L^2 - U^2 - (z^2 + R^2) = 209031.84 - 64516 - (122500 + 16129) = 5886.84;
 // sin t = (b c - a sqrt(a^2 + b^2 - c^2)) / (a^2 + b^2) = -0.311632, t = -18.160119 deg: the
 // arm 18.160119 deg below horizontal, pkmkit's reading.
-TEST(RrfRotaryDelta, LinuxcncRdeltaByHand) {
+TEST(firmware_rrf_rotary, LinuxcncRdeltaByHand) {
   const std::string text = export_example("linuxcnc-rdelta.toml");
   EXPECT_NE(text.find("\nM669 K10 U254:254:254 L457.2:457.2:457.2 H0:0:0 A-90:45 R127 B101.6 "
                       "X60 Y60 Z60 ;"),
@@ -345,7 +345,7 @@ TEST(RrfRotaryDelta, LinuxcncRdeltaByHand) {
   EXPECT_NEAR(joints[0] * 180.0 / 3.14159265358979323846, 18.160119, 1e-6);
 }
 
-TEST(RrfRotaryDelta, ImportThenExportGivesTheSameLines) {
+TEST(firmware_rrf_rotary, ImportThenExportGivesTheSameLines) {
   const std::string first = export_example("linuxcnc-rdelta.toml");
   const machine::ImportedMachine imported = rrf().read(first, "config.g");
   const machine::Machine again = machine::parse_machine(
@@ -359,7 +359,7 @@ TEST(RrfRotaryDelta, ImportThenExportGivesTheSameLines) {
   EXPECT_GT(samples, 100);
 }
 
-TEST(RrfImport, RotaryDeltaPkmkitCannotHoldIsRefusedAtItsSetting) {
+TEST(firmware_rrf_import, RotaryDeltaPkmkitCannotHoldIsRefusedAtItsSetting) {
   const std::string speeds = "M203 X9000 Y9000 Z9000\nM201 X1000 Y1000 Z1000\n";
   EXPECT_EQ(import_error("M669 K10 U100 L200 R50 H250 X0 Y0 Z0\n" + speeds),
             "config.g:1: M669 H: pivots at heights 250:250:250 mm: pkmkit's rotary delta has "
@@ -381,7 +381,7 @@ std::string export_refusal(const machine::Machine& machine) {
   return "no refusal";
 }
 
-TEST(RrfExport, RefusesWhatRrfCannotHold) {
+TEST(firmware_rrf_export, RefusesWhatRrfCannotHold) {
   // Another form: the message names the one rrf has.
   const std::string hexapod = export_refusal(test::load_example("hexapod-bit.toml"));
   EXPECT_NE(hexapod.find("rrf has kinematics for a linear delta"), std::string::npos) << hexapod;
@@ -470,7 +470,7 @@ min = [-100.0, -110.0, 0.5]
 max = [105.0, 100.0, 200.0]
 )";
 
-TEST(RrfExport, EachTowerItsOwnRodOffsetEndstopAndAngle) {
+TEST(firmware_rrf_export, EachTowerItsOwnRodOffsetEndstopAndAngle) {
   const machine::Machine machine = machine::parse_machine(kCalibratedDelta, "calibrated.toml");
   const std::string text = export_text(machine);
   EXPECT_NE(text.find("\nM665 L290.4:289.7:290 R150 H348.26764 B100 X-0.5 Y0.2 Z1 ;"),
@@ -494,7 +494,7 @@ TEST(RrfExport, EachTowerItsOwnRodOffsetEndstopAndAngle) {
 }
 
 // Without a work envelope, B and Z min come from the reach along the axes through home.
-TEST(RrfExport, WithoutAnEnvelopeTheReachBoundsB) {
+TEST(firmware_rrf_export, WithoutAnEnvelopeTheReachBoundsB) {
   const machine::Machine machine = test::load_example_changed(
       "linear-delta.toml", "min = [-120.0, -120.0, 0.0]\nmax = [120.0, 120.0, 300.0]", "");
   ASSERT_FALSE(machine.cartesian().has_envelope());
