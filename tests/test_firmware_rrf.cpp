@@ -370,6 +370,8 @@ TEST(firmware_rrf_import, RotaryDeltaPkmkitCannotHoldIsRefusedAtItsSetting) {
   EXPECT_EQ(import_error("M669 K10 U100:100:101 L200 R50 H0 X60 Y60 Z60\n" + speeds),
             "config.g:1: M669 U: arms of 100:100:101 mm: pkmkit's rotary delta has one for every "
             "arm");
+  EXPECT_EQ(import_error("M669 K10 U100 L200 R50 H0 X60 Y60 Z60 A-40:30\nM666 Y-75\n" + speeds),
+            "config.g:1: M669 A: arm B's endstop at -45 deg is not above A's min -40 deg");
 }
 
 std::string export_refusal(const machine::Machine& machine) {
@@ -507,6 +509,20 @@ TEST(firmware_rrf_export, WithoutAnEnvelopeTheReachBoundsB) {
   EXPECT_GT(delta.print_radius, 120.0);
   int samples = 0;
   EXPECT_LT(worst_carriage_error_mm(machine, text, samples), 1e-3);
+}
+
+// RRF does not ask M666 to average 0: the export moves their mean into H, every carriage's homed
+// height the same (270 + 0.5 either way).
+TEST(firmware_rrf_import, EndstopCorrectionsComeBackWithTheirMeanInH) {
+  const machine::ImportedMachine imported = rrf().read(
+      "M665 L300 R153 H270 B135\nM666 X0.5 Y0.5 Z0.5\nM203 X9000 Y9000 Z9000\n"
+      "M201 X1000 Y1000 Z1000\n",
+      "config.g");
+  const std::string text = export_text(machine::parse_machine(
+      machine::machine_file_text(imported, "imported.toml"), "imported.toml"));
+  EXPECT_NE(text.find("\nM665 L300:300:300 R153 H270.5 B135 X0 Y0 Z0 ;"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\nM666 X0 Y0 Z0 A0 B0 ;"), std::string::npos) << text;
 }
 
 }  // namespace

@@ -224,6 +224,15 @@ machine::ImportedMachine rrf_rotary_machine(const RrfRotaryDelta& delta) {
                                           "pivots' plane)");
   }
   const std::array<int, 3> tower_of_arm = towers_of_arms(delta);
+  for (std::size_t tower = 0; tower < 3; ++tower) {
+    const double endstop = delta.max_arm_angle_deg + delta.endstop_adjustments_deg[tower];
+    if (!(endstop > delta.min_arm_angle_deg)) {
+      throw RrfSettingRefused("M669 A", "arm " + std::string(1, kRrfTowerNames[tower]) +
+                                            "'s endstop at " + rrf_number(endstop) +
+                                            " deg is not above A's min " +
+                                            rrf_number(delta.min_arm_angle_deg) + " deg");
+    }
+  }
   kinematics::RotaryDeltaForm form;
   form.base_radius_mm = std::max(delta.radius_mm, 0.0);
   form.platform_radius_mm = std::max(-delta.radius_mm, 0.0);
