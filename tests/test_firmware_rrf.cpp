@@ -166,7 +166,8 @@ TEST(firmware_rrf_export, LinearDeltaByHand) {
 
 // A Kossel Pro-shaped config.g as Duet users write it (the settings of a Kossel Pro MK3
 // config.g on a Duet WiFi found on GitHub, in a file written here): comments, the drives'
-// directions and currents, the extruder's steps in a second M92, a Z probe, tools, a macro call.
+// directions and currents, the extruder's steps in a second M92, a Z probe, tools, a macro call
+// and M501, which loads the calibration M500 saved (warned: it is another file).
 constexpr const char* kKosselConfig = R"(; Main configuration file
 M550 P"Kossel Pro" ; name
 M111 S0 ; Debug off
@@ -194,6 +195,7 @@ if exists(param.X)
   echo "meta commands are not read"
 T0
 M98 P"local.g"
+M501 ; config-override.g
 )";
 
 TEST(firmware_rrf_import, KosselConfigGivesTheMachineRrfRuns) {
@@ -215,6 +217,9 @@ TEST(firmware_rrf_import, KosselConfigGivesTheMachineRrfRuns) {
   EXPECT_NE(notes.find("M569 (lines 7 8 9)"), std::string::npos) << notes;
   EXPECT_NE(notes.find("M92 E (line 20)"), std::string::npos) << notes;
   EXPECT_NE(notes.find("line 24: if exists(param.X)"), std::string::npos) << notes;
+  ASSERT_EQ(imported.warnings.size(), 2u);
+  EXPECT_EQ(imported.warnings[0], "line 27: M98 runs \"local.g\", whose settings were not read");
+  EXPECT_EQ(imported.warnings[1].rfind("line 28: M501 loads config-override.g", 0), 0u);
 
   // The machine file loads, and exporting it gives the file's settings back (the endstop
   // corrections already average to 0, so H stays 270).

@@ -418,6 +418,28 @@ machine::ImportedMachine ConfigReader::rotary() const {
   }
 }
 
+// M501 loads config-override.g, where M500 saves what auto-calibration found (M665, M666), and
+// M98 runs another file: settings there override or add to this file's, unread.
+std::vector<std::string> other_files(const std::vector<RrfCommand>& commands) {
+  std::vector<std::string> warnings;
+  for (const RrfCommand& command : commands) {
+    const std::string at = "line " + std::to_string(command.line) + ": ";
+    if (command.code == "M501") {
+      warnings.push_back(at +
+                         "M501 loads config-override.g, where M500 saves auto-calibration's M665 "
+                         "and M666; they were not read: import config.g and config-override.g as "
+                         "one file (cat config.g config-override.g)");
+    }
+    if (command.code != "M98") continue;
+    for (const RrfWord& word : command.words) {
+      if (word.letter == 'P') {
+        warnings.push_back(at + "M98 runs " + word.value + ", whose settings were not read");
+      }
+    }
+  }
+  return warnings;
+}
+
 machine::ImportedMachine ConfigReader::read() {
   for (const RrfCommand& command : commands_) {
     if (command.code == "M669") {
@@ -459,6 +481,8 @@ machine::ImportedMachine ConfigReader::read() {
     result.notes.push_back("not read: " + std::to_string(skipped_.size()) +
                            " line(s) of meta commands, first " + skipped_.front());
   }
+  result.warnings = other_files(commands_);
+  for (const std::string& warning : result.warnings) result.notes.push_back("WARNING: " + warning);
   return result;
 }
 
