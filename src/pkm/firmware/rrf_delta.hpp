@@ -2,7 +2,8 @@
 // M666, M92, M203, M201, M208, and the geometry RRF derives from them (its
 // LinearDeltaKinematics::Recalc): where each tower stands and each carriage's height at its
 // endstop. The writer (rrf.cpp) fills them from a machine, the reader (rrf_config.cpp) from a
-// file; both print them with rrf_delta_lines, so an import exports the same lines.
+// file; both print them with rrf_delta_lines, so an import exports the same lines. Also what
+// both of RRF's deltas share: the towers' match to the joints, the print circle and Z range.
 #pragma once
 
 #include <Eigen/Core>
