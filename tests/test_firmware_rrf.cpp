@@ -256,7 +256,7 @@ TEST(firmware_rrf_import, BadInputSaysWhereAndWhy) {
                        0),
             0u);
   EXPECT_EQ(import_error("M665 L300 R150 H400\nM201 X1000 Y1000 Z1000\n"),
-            "config.g:3: M203 X: not set (the maximum speed, mm/min): no M203 sets it before the "
+            "config.g:2: M203 X: not set (the maximum speed, mm/min): no M203 sets it before the "
             "end of the file");
   EXPECT_EQ(import_error("M665 L300 R150 H400\nM666 A0.11\n" + speeds)
                 .rfind("config.g:2: M666 A: "
@@ -267,7 +267,7 @@ TEST(firmware_rrf_import, BadInputSaysWhereAndWhy) {
             "config.g:1: M669 K: kinematics 4: pkmkit imports RRF's linear delta (K3) and rotary "
             "delta (K10)");
   EXPECT_EQ(import_error("M92 X80\n"),
-            "config.g:2: M665: no delta in this file: RRF's linear delta is M665 L R H (and M669 "
+            "config.g:1: M665: no delta in this file: RRF's linear delta is M665 L R H (and M669 "
             "K3), its rotary delta M669 K10 U L R");
   EXPECT_EQ(import_error("M665 L300 R150 H400 B{global.radius}\n" + speeds),
             "config.g:1: M665 B: '{global.radius}' is not a number");

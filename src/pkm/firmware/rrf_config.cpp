@@ -66,7 +66,9 @@ class ConfigReader {
  public:
   ConfigReader(std::string_view text, std::string source) : source_(std::move(source)) {
     commands_ = rrf_commands(text, skipped_);
-    line_count_ = static_cast<int>(std::count(text.begin(), text.end(), '\n')) + 1;
+    // The last line's number: a final newline ends it, it does not start another.
+    line_count_ = static_cast<int>(std::count(text.begin(), text.end(), '\n')) +
+                  (text.empty() || text.back() != '\n' ? 1 : 0);
   }
   machine::ImportedMachine read();
 
