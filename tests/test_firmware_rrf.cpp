@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -528,6 +529,49 @@ TEST(firmware_rrf_import, EndstopCorrectionsComeBackWithTheirMeanInH) {
   EXPECT_NE(text.find("\nM665 L300:300:300 R153 H270.5 B135 X0 Y0 Z0 ;"), std::string::npos)
       << text;
   EXPECT_NE(text.find("\nM666 X0 Y0 Z0 A0 B0 ;"), std::string::npos) << text;
+}
+
+// Users' own settings, drawn at random as RRF's auto-calibration leaves them (3 decimals, a few
+// degrees of correction, endstop corrections of any mean): import then export moves each tower
+// and each homed carriage height by less than 1e-6 mm, and the exported file drives the imported
+// machine's joints as RRF would.
+TEST(firmware_rrf_import, RandomSettingsComeBackAsTheSameDelta) {
+  std::mt19937_64 rng(30);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const auto three = [](double value) { return std::round(value * 1000.0) / 1000.0; };
+  for (int trial = 0; trial < 20; ++trial) {
+    const double radius = three(120.0 + 60.0 * (unit(rng) + 1.0));
+    std::string rods = "L";
+    for (int k = 0; k < 3; ++k) {
+      rods += (k > 0 ? ":" : "") + std::to_string(three(radius * 1.8 + 2.0 * unit(rng)));
+    }
+    std::string text =
+        "M665 " + rods + " R" + std::to_string(radius) + " H" +
+        std::to_string(three(300.0 + 50.0 * unit(rng))) + " B" +
+        std::to_string(three(radius * 0.6)) + " X" + std::to_string(three(3.0 * unit(rng))) + " Y" +
+        std::to_string(three(3.0 * unit(rng))) + " Z" + std::to_string(three(3.0 * unit(rng))) +
+        "\nM666 X" + std::to_string(three(2.0 * unit(rng))) + " Y" +
+        std::to_string(three(2.0 * unit(rng))) + " Z" + std::to_string(three(2.0 * unit(rng))) +
+        "\nM203 X12000 Y12000 Z12000\nM201 X3000 Y3000 Z3000\nM208 S1 Z-2\n";
+    SCOPED_TRACE(text);
+    const machine::Machine machine = machine::parse_machine(
+        machine::machine_file_text(rrf().read(text, "config.g"), "imported.toml"), "imported.toml");
+    const std::string exported = export_text(machine);
+    const reference::LinearDelta before = reference::parse(text);
+    const reference::LinearDelta after = reference::parse(exported);
+    for (int tower = 0; tower < 3; ++tower) {
+      EXPECT_EQ(after.joint_of_drive[static_cast<std::size_t>(tower)], tower);
+      const std::array<double, 2> was = reference::tower_position(before, tower);
+      const std::array<double, 2> is = reference::tower_position(after, tower);
+      EXPECT_NEAR(is[0], was[0], 1e-6);
+      EXPECT_NEAR(is[1], was[1], 1e-6);
+      EXPECT_NEAR(reference::homed_carriage_height(after, tower),
+                  reference::homed_carriage_height(before, tower), 1e-6);
+    }
+    int samples = 0;
+    EXPECT_LT(worst_carriage_error_mm(machine, exported, samples), 1e-3);
+    EXPECT_GT(samples, 100);
+  }
 }
 
 }  // namespace

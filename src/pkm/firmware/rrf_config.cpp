@@ -350,7 +350,12 @@ machine::ImportedMachine ConfigReader::imported(const RrfLinearDelta& delta) con
   kinematics::JointVector endstops(3);
   for (int tower = 0; tower < 3; ++tower) endstops[tower] = result.joints[tower].max;
   geometry::Pose home = geometry::Pose::from_mm_deg(0.0, 0.0, delta.homed_height_mm);
-  if (!model->forward(endstops, home).ok()) {
+  std::array<double, 3> lowest{}, highest{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    lowest[k] = result.joints[k].min;
+    highest[k] = result.joints[k].max;
+  }
+  if (!model->forward(endstops, home).ok() || !lower_into_limits(*model, lowest, highest, home)) {
     fail(lines_.count("M665 H") ? lines_.at("M665 H") : line_count_, "M665 H",
          "the carriages at their endstops hold the effector nowhere");
   }

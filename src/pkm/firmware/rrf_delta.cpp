@@ -84,6 +84,24 @@ RrfBounds rrf_bounds(const machine::Machine& machine) {
   return bounds;
 }
 
+bool lower_into_limits(const kinematics::Kinematics& model, const std::array<double, 3>& low,
+                       const std::array<double, 3>& high, geometry::Pose& pose) {
+  const double start_z = pose.position_mm.z();
+  kinematics::JointVector joints(model.joint_count());
+  for (double step = 1e-9; step < 2.0; step *= 2.0) {
+    if (model.inverse(pose, joints).ok()) {
+      bool within = true;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const double value = joints[static_cast<Eigen::Index>(k)];
+        within = within && value >= low[k] + 1e-12 && value <= high[k] - 1e-12;
+      }
+      if (within) return true;
+    }
+    pose.position_mm.z() = start_z - step;
+  }
+  return false;
+}
+
 Eigen::Vector2d rrf_tower_position(const RrfLinearDelta& delta, int tower) {
   const double angle =
       geometry::degrees_to_radians(kRrfNominalTowerAngles[static_cast<std::size_t>(tower)] +

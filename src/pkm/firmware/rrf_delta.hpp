@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "pkm/kinematics/kinematics.hpp"
 #include "pkm/machine/machine.hpp"
 
 namespace pkm::firmware {
@@ -60,6 +61,12 @@ struct RrfBounds {
   double z_min_mm = 0.0, z_max_mm = 0.0;
 };
 RrfBounds rrf_bounds(const machine::Machine& machine);
+
+// An imported home with every joint at its endstop, a limit: its forward kinematics may read back
+// a joint 1e-13 past it. Lowers `pose` (by 1e-9 mm, doubling) until the model's joints are
+// 1e-12 inside [low, high] (mm or rad); false if 1 mm does not do it.
+bool lower_into_limits(const kinematics::Kinematics& model, const std::array<double, 3>& low,
+                       const std::array<double, 3>& high, geometry::Pose& pose);
 
 // A number as the lines write it: at most 6 decimals, no trailing zeros, no "-0".
 std::string rrf_number(double value);

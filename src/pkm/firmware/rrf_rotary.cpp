@@ -209,6 +209,11 @@ geometry::Pose rotary_home(const kinematics::Kinematics& model,
   for (int axis = 0; axis < 2; ++axis) {
     if (std::abs(home.position_mm[axis]) < 1e-9) home.position_mm[axis] = 0.0;
   }
+  const double highest_rad = geometry::degrees_to_radians(-delta.min_arm_angle_deg);
+  if (!lower_into_limits(model, {endstops[0], endstops[1], endstops[2]},
+                         {highest_rad, highest_rad, highest_rad}, home)) {
+    throw RrfSettingRefused("M669 A", "the arms at their endstops hold the effector nowhere");
+  }
   return home;
 }
 
