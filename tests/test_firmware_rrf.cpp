@@ -574,5 +574,42 @@ TEST(firmware_rrf_import, RandomSettingsComeBackAsTheSameDelta) {
   }
 }
 
+// Rotary settings pkmkit's form holds, drawn at random, their Z range above the endstops' pose:
+// import then export gives each arm's homed angle back within 1e-6 deg, and the reference RRF
+// follows the imported machine's joints.
+TEST(firmware_rrf_import, RandomRotarySettingsComeBackAsTheSameDelta) {
+  std::mt19937_64 rng(10);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const auto three = [](double value) {
+    return std::to_string(std::round(value * 1000.0) / 1000.0);
+  };
+  for (int trial = 0; trial < 20; ++trial) {
+    const std::string text =
+        "M669 K10 U" + three(100.0 + 20.0 * unit(rng)) + " L" + three(215.0 + 30.0 * unit(rng)) +
+        " H0 A" + three(-50.0 + 10.0 * unit(rng)) + ":" + three(40.0 + 10.0 * unit(rng)) + " R" +
+        three(50.0 + 20.0 * unit(rng)) + " B60 X60 Y60 Z60\nM666 X" + three(2.0 * unit(rng)) +
+        " Y" + three(2.0 * unit(rng)) + " Z" + three(2.0 * unit(rng)) +
+        "\nM203 X6000 Y6000 Z6000\nM201 X500 Y500 Z500\nM208 Z-400:100\n";
+    SCOPED_TRACE(text);
+    const machine::Machine machine = machine::parse_machine(
+        machine::machine_file_text(rrf().read(text, "config.g"), "imported.toml"), "imported.toml");
+    const std::string exported = export_text(machine);
+    const reference::RotaryDelta before = reference::parse_rotary(text);
+    const reference::RotaryDelta after = reference::parse_rotary(exported);
+    for (int arm = 0; arm < 3; ++arm) {
+      EXPECT_NEAR(reference::homed_arm_angle_deg(after, arm),
+                  reference::homed_arm_angle_deg(before, arm), 1e-6);
+      EXPECT_NEAR(after.angle_corrections[static_cast<std::size_t>(arm)], 60.0, 1e-9);
+    }
+    EXPECT_NEAR(after.radius, before.radius, 1e-9);
+    EXPECT_NEAR(after.min_arm_angle, before.min_arm_angle, 1e-9);
+    int samples = 0;
+    double absolute = 0.0;
+    EXPECT_LT(worst_arm_error_mm(machine, exported, samples, absolute), 1e-3);
+    EXPECT_LT(absolute, 1e-3);
+    EXPECT_GT(samples, 100);
+  }
+}
+
 }  // namespace
 }  // namespace pkm
