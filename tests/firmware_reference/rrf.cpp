@@ -1,0 +1,179 @@
+#include "rrf.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace pkm::test::rrf_reference {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+double radians(double degrees) {
+  return degrees * kPi / 180.0;
+}
+
+std::vector<double> colon_list(const std::string& text) {
+  std::vector<double> values;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ':')) values.push_back(std::stod(item));
+  return values;
+}
+
+void apply(LinearDelta& delta, const std::string& code, char letter, const std::string& value) {
+  const std::string key = code + " " + letter;
+  if (code == "M665" && letter == 'L') {
+    const std::vector<double> rods = colon_list(value);
+    for (std::size_t k = 0; k < 3; ++k) delta.diagonals[k] = k < rods.size() ? rods[k] : rods[0];
+    return;
+  }
+  const double number = std::stod(value);
+  if (code == "M665") {
+    if (letter == 'R') delta.radius = number;
+    if (letter == 'H') delta.homed_height = number;
+    if (letter == 'B') delta.print_radius = number;
+    if (letter == 'X') delta.angle_corrections[0] = number;
+    if (letter == 'Y') delta.angle_corrections[1] = number;
+    if (letter == 'Z') delta.angle_corrections[2] = number;
+  } else if (code == "M666") {
+    if (letter == 'X') delta.endstop_adjustments[0] = number;
+    if (letter == 'Y') delta.endstop_adjustments[1] = number;
+    if (letter == 'Z') delta.endstop_adjustments[2] = number;
+    if (letter == 'A') delta.x_tilt = number * 0.01;
+    if (letter == 'B') delta.y_tilt = number * 0.01;
+  }
+  delta.settings[key] = number;
+}
+
+// "; drive Y = tower B = joint 3 ..." names joint 3 (from 1) for drive Y.
+void read_drive_comment(std::array<int, 3>& joint_of_drive, const std::string& comment) {
+  std::istringstream words(comment);
+  std::string semicolon, drive_word, drive, eq1, tower_word, tower, eq2, joint_word;
+  int joint = 0;
+  words >> semicolon >> drive_word >> drive >> eq1 >> tower_word >> tower >> eq2 >> joint_word >>
+      joint;
+  if (drive_word != "drive" || joint_word != "joint" || drive.size() != 1) return;
+  const int index = drive[0] - 'X';
+  if (index >= 0 && index < 3) joint_of_drive[static_cast<std::size_t>(index)] = joint - 1;
+}
+
+void apply_rotary(RotaryDelta& delta, const std::string& code, char letter,
+                  const std::string& value) {
+  if (code == "M669" && (letter == 'U' || letter == 'L' || letter == 'H')) {
+    const std::vector<double> values = colon_list(value);
+    std::array<double, 3>& target = letter == 'U'   ? delta.arms
+                                    : letter == 'L' ? delta.rods
+                                                    : delta.bearing_heights;
+    for (std::size_t k = 0; k < 3; ++k) target[k] = values.size() == 1 ? values[0] : values.at(k);
+    return;
+  }
+  if (code == "M669" && letter == 'A') {
+    const std::vector<double> values = colon_list(value);
+    delta.min_arm_angle = values.at(0);
+    delta.max_arm_angle = values.at(1);
+    return;
+  }
+  if (code == "M208" && letter == 'Z') {
+    const std::vector<double> values = colon_list(value);
+    delta.settings["M208 Z min"] = values.front();
+    delta.settings["M208 Z max"] = values.back();
+    return;
+  }
+  const double number = std::stod(value);
+  const int drive = letter - 'X';
+  if (code == "M669" && letter == 'R') delta.radius = number;
+  if (code == "M669" && drive >= 0 && drive < 3) {
+    delta.angle_corrections[static_cast<std::size_t>(drive)] = number;
+  }
+  if (code == "M666" && drive >= 0 && drive < 3) {
+    delta.endstop_adjustments[static_cast<std::size_t>(drive)] = number;
+  }
+  delta.settings[code + " " + letter] = number;
+}
+
+}  // namespace
+
+RotaryDelta parse_rotary(const std::string& config_text) {
+  RotaryDelta delta;
+  std::istringstream lines(config_text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind("; drive ", 0) == 0) read_drive_comment(delta.joint_of_drive, line);
+    std::istringstream words(line.substr(0, line.find(';')));
+    std::string code, word;
+    if (!(words >> code)) continue;
+    while (words >> word) apply_rotary(delta, code, word[0], word.substr(1));
+  }
+  return delta;
+}
+
+// Arm A, B, C point at -150, -30, 90 deg plus their corrections; in the arm's frame (+x along
+// the arm) the rod from the elbow (R + U cos t, 0, H + U sin t) reaches the head (x, y, z):
+// L^2 = (U cos t + R - x)^2 + y^2 + (U sin t + H - z)^2, i.e. a cos t + b sin t = c; RRF takes
+// the lower root for sin t.
+double arm_angle_deg(const RotaryDelta& delta, int arm, double x, double y, double z) {
+  const std::size_t k = static_cast<std::size_t>(arm);
+  const double nominal[3] = {-150.0, -30.0, 90.0};
+  const double angle = radians(nominal[k] + delta.angle_corrections[k]);
+  const double along = x * std::cos(angle) + y * std::sin(angle);
+  const double across = y * std::cos(angle) - x * std::sin(angle);
+  const double u = delta.arms[k];
+  const double r_minus_x = delta.radius - along;
+  const double h_minus_z = delta.bearing_heights[k] - z;
+  const double a = 2.0 * u * r_minus_x;
+  const double b = 2.0 * u * h_minus_z;
+  const double c = delta.rods[k] * delta.rods[k] - u * u -
+                   (h_minus_z * h_minus_z + r_minus_x * r_minus_x + across * across);
+  const double sin_t = (b * c - a * std::sqrt(a * a + b * b - c * c)) / (a * a + b * b);
+  return std::asin(sin_t) * 180.0 / kPi;
+}
+
+double homed_arm_angle_deg(const RotaryDelta& delta, int arm) {
+  return delta.max_arm_angle + delta.endstop_adjustments[static_cast<std::size_t>(arm)];
+}
+
+LinearDelta parse(const std::string& config_text) {
+  LinearDelta delta;
+  std::istringstream lines(config_text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind("; drive ", 0) == 0) read_drive_comment(delta.joint_of_drive, line);
+    const std::string code_part = line.substr(0, line.find(';'));
+    std::istringstream words(code_part);
+    std::string code, word;
+    if (!(words >> code)) continue;
+    while (words >> word) apply(delta, code, word[0], word.substr(1));
+  }
+  return delta;
+}
+
+std::array<double, 2> tower_position(const LinearDelta& delta, int tower) {
+  const double r = delta.radius;
+  const std::array<double, 3>& c = delta.angle_corrections;
+  switch (tower) {
+    case 0:
+      return {-r * std::cos(radians(30.0 + c[0])), -r * std::sin(radians(30.0 + c[0]))};
+    case 1:
+      return {r * std::cos(radians(30.0 - c[1])), -r * std::sin(radians(30.0 - c[1]))};
+    case 2:
+      return {-r * std::sin(radians(c[2])), r * std::cos(radians(c[2]))};
+    default:
+      throw std::out_of_range("tower");
+  }
+}
+
+double motor_position(const LinearDelta& delta, int tower, double x, double y, double z) {
+  const std::array<double, 2> at = tower_position(delta, tower);
+  const double rod = delta.diagonals[static_cast<std::size_t>(tower)];
+  return std::sqrt(rod * rod - (x - at[0]) * (x - at[0]) - (y - at[1]) * (y - at[1])) + z +
+         x * delta.x_tilt + y * delta.y_tilt;
+}
+
+double homed_carriage_height(const LinearDelta& delta, int tower) {
+  const double rod = delta.diagonals[static_cast<std::size_t>(tower)];
+  return delta.homed_height + std::sqrt(rod * rod - delta.radius * delta.radius) +
+         delta.endstop_adjustments[static_cast<std::size_t>(tower)];
+}
+
+}  // namespace pkm::test::rrf_reference

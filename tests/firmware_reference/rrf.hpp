@@ -1,0 +1,57 @@
+// An independent RepRapFirmware linear and rotary delta, written from its source
+// (Duet3D/RepRapFirmware, src/Movement/Kinematics/LinearDeltaKinematics.cpp: Configure for M665
+// and M666, Recalc for the towers and the homed carriage heights, Transform for a motor's
+// position; RotaryDeltaKinematics.cpp: Configure for M669 and M666, Recalc, Transform,
+// OnHomingSwitchTriggered) to check what `pkm export rrf` writes: it reads the exported config.g
+// lines with its own small parser, not pkmkit's reader.
+#pragma once
+
+#include <array>
+#include <map>
+#include <string>
+
+namespace pkm::test::rrf_reference {
+
+struct LinearDelta {
+  std::array<double, 3> diagonals{215.0, 215.0, 215.0};  // RRF's defaults
+  double radius = 105.6;
+  double homed_height = 240.0;
+  double print_radius = 80.0;
+  std::array<double, 3> angle_corrections{};  // deg
+  std::array<double, 3> endstop_adjustments{};
+  double x_tilt = 0.0, y_tilt = 0.0;  // M666 A, B over 100
+  // "M92 X" -> value, for every other parameter of the lines read.
+  std::map<std::string, double> settings;
+  // From the export's "; drive X = tower A = joint N" comments: pkmkit joint (from 0) per drive.
+  std::array<int, 3> joint_of_drive{-1, -1, -1};
+};
+
+// The settings the config.g text sets, read as RRF would (later lines override earlier ones).
+LinearDelta parse(const std::string& config_text);
+
+// Tower `tower`'s x y as Recalc places it (0 = A, driven by X).
+std::array<double, 2> tower_position(const LinearDelta& delta, int tower);
+// The motor position (mm) Transform gives tower `tower` for the head at x y z (mm).
+double motor_position(const LinearDelta& delta, int tower, double x, double y, double z);
+// The motor position homing sets at the tower's endstop (Recalc's homed carriage height).
+double homed_carriage_height(const LinearDelta& delta, int tower);
+
+struct RotaryDelta {
+  std::array<double, 3> arms{100.0, 100.0, 100.0};  // RRF's defaults
+  std::array<double, 3> rods{200.0, 200.0, 200.0};
+  std::array<double, 3> bearing_heights{250.0, 250.0, 250.0};
+  double min_arm_angle = -45.0, max_arm_angle = 45.0;
+  double radius = 50.0;
+  std::array<double, 3> angle_corrections{};    // deg
+  std::array<double, 3> endstop_adjustments{};  // deg
+  std::map<std::string, double> settings;
+  std::array<int, 3> joint_of_drive{-1, -1, -1};
+};
+
+RotaryDelta parse_rotary(const std::string& config_text);
+// The arm angle (deg, up positive) Transform gives arm `arm` for the head at x y z (mm).
+double arm_angle_deg(const RotaryDelta& delta, int arm, double x, double y, double z);
+// The angle homing sets at the arm's endstop (OnHomingSwitchTriggered, the high end).
+double homed_arm_angle_deg(const RotaryDelta& delta, int arm);
+
+}  // namespace pkm::test::rrf_reference
