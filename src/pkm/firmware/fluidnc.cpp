@@ -1,18 +1,245 @@
+// FluidNC's config.yaml for a two-cable wall plotter (docs/firmware-fluidnc.md). FluidNC's
+// WallPlotter (bdring/FluidNC, FluidNC/src/Kinematics/WallPlotter.cpp): the cords' lengths are
+// their distances from the anchors; a motor position is the cord's length less its length at
+// the frame's origin (the pen's place at power-on), the left motor's sign reversed.
 #include "pkm/firmware/fluidnc.hpp"
 
-namespace pkm::firmware {
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <variant>
 
-// Placeholder until the target's writer and reader land (issue 30).
+namespace pkm::firmware {
+namespace {
+
+// FluidNC reads each value as a float and has no cord-shape tolerance; the anchors must be level
+// for its forward kinematics (lengths_to_xy) to match its inverse (xy_to_lengths).
+constexpr double kLevelToleranceMm = 1e-6;
+// How far a cord may leave its straight-line length mid-segment (segment_length below).
+constexpr double kSegmentCordErrorMm = 0.001;
+
+std::string fixed(double value, int decimals = 6) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  std::string result = text;
+  // A value that rounds to zero is written "0.000", never "-0.000".
+  if (result.find_first_not_of("-0.") == std::string::npos && result[0] == '-') result.erase(0, 1);
+  return result;
+}
+
+std::string refusal_start(const FirmwareMachine& machine) {
+  return machine.machine.source() + ": fluidnc's WallPlotter cannot hold this machine: ";
+}
+
+// FluidNC's ParallelDelta in the machine's numbers: its triangles are the sides of equilateral
+// triangles whose inradius is the form's radius (side = 2 sqrt(3) r).
+[[noreturn]] void refuse_rotary_delta(const FirmwareMachine& machine,
+                                      const kinematics::RotaryDeltaForm& form) {
+  const double to_side = 2.0 * std::sqrt(3.0);
+  const std::array<std::pair<const char*, double>, 4> settings = {{
+      {"crank_mm", form.arm_length_mm},
+      {"base_triangle_mm", to_side * form.base_radius_mm},
+      {"linkage_mm", form.forearm_length_mm},
+      {"end_effector_triangle_mm", to_side * form.platform_radius_mm},
+  }};
+  std::string text = machine.machine.source() +
+                     ": fluidnc: pkmkit does not write FluidNC's parallel_delta kinematics yet "
+                     "(docs/firmware-fluidnc.md); the machine's settings would be";
+  for (const auto& [key, value] : settings) {
+    text += " " + std::string(key) + " " + fixed(value, 3);
+    // FluidNC's handler.item ranges for these settings (ParallelDelta::group).
+    const double low = std::string(key) == "crank_mm" ? 50.0 : 20.0;
+    if (value < low || value > 500.0) {
+      text += " (outside FluidNC's " + fixed(low, 0) + "..500 mm)";
+    }
+  }
+  throw ExportRefused(text);
+}
+
+// What FluidNC's WallPlotter fixes that the machine must already be: left anchor left of the
+// right one at the same height (its forward kinematics intersect the circles that way, pen
+// below), a pass-through Z only, and every workspace pose below the anchors.
+void check_wall_plotter(const FirmwareMachine& machine, const kinematics::WallPlotterForm& form) {
+  const Eigen::Vector2d& left = form.anchors_mm[0];
+  const Eigen::Vector2d& right = form.anchors_mm[1];
+  if (!(left.x() < right.x())) {
+    throw ExportRefused(refusal_start(machine) + "its anchor 0 (x " + fixed(left.x(), 3) +
+                        " mm) is not left of anchor 1 (x " + fixed(right.x(), 3) +
+                        " mm): FluidNC's forward kinematics take the left cord's anchor first");
+  }
+  if (std::abs(left.y() - right.y()) > kLevelToleranceMm) {
+    throw ExportRefused(refusal_start(machine) + "its anchors are not level (y " +
+                        fixed(left.y(), 6) + " and " + fixed(right.y(), 6) +
+                        " mm): FluidNC's forward kinematics (WallPlotter::lengths_to_xy, the "
+                        "position it reports and resumes from) take them at one height");
+  }
+  for (const int axis : machine.form.passthrough.axes()) {
+    if (axis != 2) {
+      throw ExportRefused(refusal_start(machine) +
+                          "pkmkit writes only a pass-through Z as FluidNC's third axis");
+    }
+  }
+  for (const geometry::Pose& pose : workspace_samples(machine.machine)) {
+    if (pose.position_mm.y() >= left.y()) {
+      throw ExportRefused(refusal_start(machine) + "its workspace reaches y " +
+                          fixed(pose.position_mm.y(), 3) + " mm, not below the anchors (y " +
+                          fixed(left.y(), 3) +
+                          " mm); FluidNC's forward kinematics put the pen below them");
+    }
+  }
+}
+
+// The longest segment (from 10 mm down) over which each cord stays within kSegmentCordErrorMm of
+// its length on the straight line: mid-segment the error is at most s^2 / (8 L) for a cord of
+// length L (its length's second derivative along a line is at most 1 / L).
+double segment_length_mm(double shortest_cord_mm) {
+  for (const double s : {10.0, 5.0, 2.0, 1.0, 0.5, 0.2, 0.1}) {
+    if (s * s / (8.0 * shortest_cord_mm) <= kSegmentCordErrorMm) return s;
+  }
+  return 0.05;
+}
+
+struct AxisText {
+  char letter;
+  std::string what;  // comment lines, each without its "# "
+  const machine::JointSpec* joint;
+  double cord_offset_mm;  // reading less the cord length (0 for z)
+};
+
+std::string axis_section(const AxisText& axis) {
+  const machine::JointSpec& joint = *axis.joint;
+  std::string text = std::string("  ") + axis.letter + ":\n";
+  text += axis.what;
+  if (joint.steps_per_unit) {
+    text += "    steps_per_mm: " + fixed(*joint.steps_per_unit) + "\n";
+  } else {
+    text +=
+        "    # steps_per_mm: not in the machine file; FluidNC's default 80 applies: set your "
+        "motor's\n";
+  }
+  text += "    max_rate_mm_per_min: " + fixed(joint.max_velocity * 60.0, 3) + "\n";
+  text += "    acceleration_mm_per_sec2: " + fixed(joint.max_acceleration, 3) + "\n";
+  text +=
+      "    # FluidNC's WallPlotter checks no travel; the machine file's limits (mm, cord length "
+      "for a cord):\n";
+  text += "    # pkmkit limits: " + fixed(joint.min - axis.cord_offset_mm) + " .. " +
+          fixed(joint.max - axis.cord_offset_mm) + " mm\n";
+  text += "    max_travel_mm: " + fixed(joint.max - joint.min, 3) + "\n";
+  text += "    soft_limits: false\n";
+  text += "    motor0:\n";
+  text += "      # FILL IN your board's pins (gpio.N): NO_PIN drives nothing\n";
+  text += "      standard_stepper:\n";
+  text += "        step_pin: NO_PIN\n";
+  text += "        direction_pin: NO_PIN\n";
+  text += "        disable_pin: NO_PIN\n";
+  return text;
+}
+
+std::string kinematics_section(const kinematics::WallPlotterForm& form, const Eigen::Vector2d& home,
+                               double segment_mm, double shortest_cord_mm) {
+  const Eigen::Vector2d left = form.anchors_mm[0] - home;
+  const Eigen::Vector2d right = form.anchors_mm[1] - home;
+  std::string text = "kinematics:\n  WallPlotter:\n";
+  text += "    # anchors (mm) in FluidNC's frame: the machine file's less its home (x " +
+          fixed(home.x(), 3) + " y " + fixed(home.y(), 3) +
+          "), where the pen must be at power-on\n";
+  text += "    # FluidNC's WallPlotter drives axes 0 (x) and 1 (y) whatever left_axis says\n";
+  text += "    left_axis: 0\n";
+  text += "    left_anchor_x: " + fixed(left.x()) + "\n";
+  text += "    left_anchor_y: " + fixed(left.y()) + "\n";
+  text += "    right_axis: 1\n";
+  text += "    right_anchor_x: " + fixed(right.x()) + "\n";
+  text += "    right_anchor_y: " + fixed(right.y()) + "\n";
+  text +=
+      "    # a move is cut into pieces of this length (mm): mid-piece a cord is off its "
+      "straight-line length by at most " +
+      fixed(segment_mm * segment_mm / (8.0 * shortest_cord_mm), 4) + " mm (at its shortest, " +
+      fixed(shortest_cord_mm, 3) + " mm)\n";
+  text += "    segment_length: " + fixed(segment_mm, 3) + "\n";
+  return text;
+}
+
+}  // namespace
+
+std::string fluidnc_startup_line(double home_x_mm, double home_y_mm, const double* home_z_mm) {
+  // G10 L2 P1 puts G54's origin at the given machine position: work = machine - origin, so the
+  // origin -home makes work coordinates the machine file's.
+  std::string line = "G10 L2 P1 X" + fixed(-home_x_mm) + " Y" + fixed(-home_y_mm);
+  if (home_z_mm) line += " Z" + fixed(-*home_z_mm);
+  return line;
+}
+
+ExportedFile write_fluidnc(const FirmwareMachine& machine, const ExportContext& context) {
+  if (const auto* delta = std::get_if<kinematics::RotaryDeltaForm>(&machine.form.geometry)) {
+    refuse_rotary_delta(machine, *delta);
+  }
+  const auto* form = std::get_if<kinematics::WallPlotterForm>(&machine.form.geometry);
+  if (!form) {
+    throw ExportRefused(machine.machine.source() +
+                        ": fluidnc has kinematics for a two-cable wall plotter or a rotary delta");
+  }
+  check_wall_plotter(machine, *form);
+  const machine::Machine& m = machine.machine;
+  const bool has_z = machine.form.passthrough.count() == 1;
+  const Eigen::Vector3d home = m.home().position_mm;
+  const Eigen::Vector2d home_xy = home.head<2>();
+
+  std::array<double, 2> home_cord{};
+  double shortest_cord = INFINITY;
+  for (int k = 0; k < 2; ++k) {
+    home_cord[k] = (form->anchors_mm[k] - home_xy).norm();
+    shortest_cord = std::min(shortest_cord, m.joints()[k].min - form->cable_offsets_mm[k]);
+  }
+  shortest_cord = std::max(shortest_cord, 1.0);
+
+  ExportedFile file;
+  for (const std::string& line : header_lines(machine, context)) file.text += "# " + line + "\n";
+  file.text +=
+      "# pkmkit writes kinematics:, axes: and macros: startup_line0 below; the rest of "
+      "config.yaml (board, stepping, spindle, pins) is yours.\n";
+  file.text += "# FluidNC's WallPlotter cannot home: park the pen at the machine's home (x " +
+               fixed(home.x(), 3) + " y " + fixed(home.y(), 3) +
+               (has_z ? " z " + fixed(home.z(), 3) : std::string()) +
+               " mm) before power-on; there FluidNC's machine position is 0.\n";
+  file.text += kinematics_section(*form, home_xy, segment_length_mm(shortest_cord), shortest_cord);
+  file.text += "axes:\n";
+  const std::array<const char*, 2> names = {"left", "right"};
+  for (int k = 0; k < 2; ++k) {
+    const double reading_at_home = home_cord[k] + form->cable_offsets_mm[k];
+    std::string what = "    # the " + std::string(names[k]) + " cord, pkmkit joint '" +
+                       m.joint_names()[k] + "': its reading = " + fixed(reading_at_home) +
+                       (k == 0 ? " - " : " + ") + "FluidNC's " + (k == 0 ? "x" : "y") +
+                       " motor position (mm)\n";
+    file.text +=
+        axis_section({k == 0 ? 'x' : 'y', what, &m.joints()[k], form->cable_offsets_mm[k]});
+  }
+  if (has_z) {
+    const std::string what = "    # the pass-through Z, pkmkit joint '" + m.joint_names()[2] +
+                             "': its reading = " + fixed(home.z()) +
+                             " + FluidNC's z motor position (mm)\n";
+    file.text += axis_section({'z', what, &m.joints()[2], 0.0});
+  }
+  file.text +=
+      "macros:\n  # G54 work coordinates = the machine file's frame (FluidNC's machine position "
+      "+ home)\n";
+  const double home_z = home.z();
+  file.text +=
+      "  startup_line0: " + fluidnc_startup_line(home.x(), home.y(), has_z ? &home_z : nullptr) +
+      "\n";
+  if (!machine.form.unchecked.empty()) {
+    file.warnings.push_back("FluidNC does not check: " + machine.form.unchecked.front());
+  }
+  file.warnings.push_back(
+      "fill in the motors' pins (NO_PIN) in axes:, and park the pen at home before power-on");
+  return file;
+}
+
 Target fluidnc_target() {
   return Target{"fluidnc",
                 "config.yaml",
                 {FormKind::wall_plotter, FormKind::rotary_delta},
-                [](const FirmwareMachine&, const ExportContext&) -> ExportedFile {
-                  throw std::logic_error("fluidnc export: not built yet");
-                },
-                [](std::string_view, const std::string&) -> machine::ImportedMachine {
-                  throw std::logic_error("fluidnc import: not built yet");
-                }};
+                write_fluidnc,
+                read_fluidnc};
 }
 
 }  // namespace pkm::firmware
