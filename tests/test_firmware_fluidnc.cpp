@@ -68,6 +68,16 @@ TEST_P(FluidncExact, FirmwareMotorsAreThePkmkitJointsOverTheWorkspace) {
   EXPECT_GT(compared, 100);
   EXPECT_LT(worst, 1e-3) << text;
   RecordProperty("worst_motor_error_mm", std::to_string(worst));
+  // FluidNC itself computes in 32-bit floats: what that costs here, for the doc.
+  const ref::WallPlotter plotter = ref::wall_plotter(ref::read_config(text));
+  double float_worst = 0.0;
+  for (const geometry::Pose& pose : firmware::workspace_samples(machine)) {
+    const std::array<double, 3> exact = ref::motors(plotter, pose.position_mm);
+    const std::array<double, 3> single = ref::motors_float(plotter, pose.position_mm);
+    for (int k = 0; k < 3; ++k) float_worst = std::max(float_worst, std::abs(exact[k] - single[k]));
+  }
+  std::printf("  FluidNC's float arithmetic: worst %.2g mm\n", float_worst);
+  EXPECT_LT(float_worst, 1e-3);
   std::printf("%s: %d poses, worst motor error %.3g mm\n", GetParam().c_str(), compared, worst);
 }
 

@@ -66,4 +66,18 @@ std::array<double, 3> motors(const WallPlotter& p, const Eigen::Vector3d& work_m
   return {-(left - zero_left), right - zero_right, machine.z()};
 }
 
+std::array<double, 3> motors_float(const WallPlotter& p, const Eigen::Vector3d& work_mm) {
+  // G-code's coordinates reach the kinematics as floats, already in machine coordinates.
+  const float x = static_cast<float>(work_mm.x() + p.g54_origin.x());
+  const float y = static_cast<float>(work_mm.y() + p.g54_origin.y());
+  const float lx = static_cast<float>(p.left_anchor_x), ly = static_cast<float>(p.left_anchor_y);
+  const float rx = static_cast<float>(p.right_anchor_x), ry = static_cast<float>(p.right_anchor_y);
+  const float zero_left = std::hypot(lx, ly);
+  const float zero_right = std::hypot(rx, ry);
+  const float left = std::hypot(lx - x, ly - y);
+  const float right = std::hypot(rx - x, ry - y);
+  return {-(left - zero_left), right - zero_right,
+          static_cast<float>(work_mm.z() + p.g54_origin.z())};
+}
+
 }  // namespace pkm::test::fluidnc_reference

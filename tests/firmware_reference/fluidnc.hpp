@@ -26,5 +26,7 @@ WallPlotter wall_plotter(const std::map<std::string, std::string>& config);
 // The motor positions (mm) FluidNC commands for a point given in G54 work coordinates: the
 // cords' lengths less their lengths at machine position (0, 0), the left one negated; Z as is.
 std::array<double, 3> motors(const WallPlotter& plotter, const Eigen::Vector3d& work_mm);
+// The same in FluidNC's own arithmetic: 32-bit floats from the settings on (hypot_f, float).
+std::array<double, 3> motors_float(const WallPlotter& plotter, const Eigen::Vector3d& work_mm);
 
 }  // namespace pkm::test::fluidnc_reference
