@@ -160,10 +160,66 @@ TEST(FluidncRotaryDelta, RefusedWithFluidncsRanges) {
     FAIL() << "not refused";
   } catch (const firmware::ExportRefused& error) {
     // base_radius 10 in = 254 mm: a base triangle of side 2 sqrt(3) 254 = 879.882 mm.
-    EXPECT_NE(std::string(error.what()).find("base_triangle_mm 879.882 (outside FluidNC's 20..500"),
+    EXPECT_NE(std::string(error.what()).find("base_triangle_mm 879.882 (FluidNC takes 20..500 mm)"),
               std::string::npos)
         << error.what();
   }
+}
+
+// A rotary delta inside FluidNC's ranges: pivots 60 mm from the centre, arms 80 mm, forearms
+// 200 mm, effector joints 25 mm from the tool. With the arms horizontal the tool is at
+// z = -sqrt(200^2 - (60 + 80 - 25)^2) = -sqrt(26775) = -163.630682 mm.
+machine::Machine small_rotary_delta() {
+  std::string text =
+      "name = \"small rotary delta\"\nunits = \"mm\"\n[kinematics]\ntype = \"rotary_delta\"\n"
+      "base_radius = 60.0\narm_length = 80.0\nforearm_length = 200.0\nplatform_radius = 25.0\n";
+  for (int arm = 0; arm < 3; ++arm) {
+    text += "[[joints]]\nname = \"arm" + std::to_string(arm) +
+            "\"\nmin = -40.0\nmax = 80.0\nmax_velocity = 100.0\nmax_acceleration = 500.0\n"
+            "steps_per_unit = 50.0\naxis = \"" +
+            std::string(1, "XYZ"[arm]) + "\"\n";
+  }
+  text +=
+      "[cartesian]\nmax_feed = 3000.0\nmax_acceleration = 1000.0\n"
+      "home = [0.0, 0.0, -163.630682]\n";
+  return machine::parse_machine(text, "small-rotary-delta.toml");
+}
+
+TEST(FluidncRotaryDelta, FirmwareArmsAreThePkmkitJointsOverTheWorkspace) {
+  const machine::Machine machine = small_rotary_delta();
+  const std::string text = export_text(fluidnc_machine(machine, false));
+  EXPECT_NE(text.find("    base_triangle_mm: 207.846097\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("    end_effector_triangle_mm: 86.602540\n"), std::string::npos);
+  EXPECT_NE(text.find("    up_degrees: -40.000\n"), std::string::npos);
+  const ref::ParallelDelta delta = ref::parallel_delta(ref::read_config(text));
+  // Hand case: the arms horizontal put the tool at (0, 0, -163.630682): every arm at 0 deg.
+  std::array<double, 3> degrees{};
+  ASSERT_TRUE(ref::arm_degrees(delta, Eigen::Vector3d(0.0, 0.0, -163.630682), degrees));
+  for (const double arm : degrees) EXPECT_NEAR(arm, 0.0, 1e-5);
+  // 1 um at the end of an 80 mm arm.
+  const double tolerance_deg = geometry::radians_to_degrees(1e-3 / 80.0);
+  double worst = 0.0;
+  int compared = 0;
+  for (const geometry::Pose& pose : firmware::workspace_samples(machine)) {
+    const kinematics::JointVector joints = joints_at(machine, pose);
+    ASSERT_TRUE(ref::arm_degrees(delta, pose.position_mm, degrees)) << pose.position_mm.transpose();
+    for (int arm = 0; arm < 3; ++arm) {
+      worst = std::max(worst, std::abs(degrees[arm] - geometry::radians_to_degrees(joints[arm])));
+    }
+    ++compared;
+  }
+  std::printf("small rotary delta: %d poses, worst arm error %.3g deg\n", compared, worst);
+  EXPECT_GT(compared, 100);
+  EXPECT_LT(worst, tolerance_deg);
+}
+
+TEST(FluidncRotaryDelta, ImportThenExportGivesTheSameText) {
+  const std::string text = export_text(fluidnc_machine(small_rotary_delta(), false));
+  const machine::ImportedMachine imported = firmware::read_fluidnc(text, "config.yaml");
+  const machine::Machine back =
+      machine::parse_machine(machine::machine_file_text(imported, "back.toml"), "back.toml");
+  auto settings = [](const std::string& all) { return all.substr(all.find("kinematics:")); };
+  EXPECT_EQ(settings(export_text(fluidnc_machine(back, false))), settings(text));
 }
 
 // The approximation's cost, followed as FluidNC does: the reference's motor positions for each

@@ -1,6 +1,7 @@
 #include "fluidnc.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -78,6 +79,48 @@ std::array<double, 3> motors_float(const WallPlotter& p, const Eigen::Vector3d& 
   const float right = std::hypot(rx - x, ry - y);
   return {-(left - zero_left), right - zero_right,
           static_cast<float>(work_mm.z() + p.g54_origin.z())};
+}
+
+ParallelDelta parallel_delta(const std::map<std::string, std::string>& config) {
+  ParallelDelta delta;
+  auto number = [&](const std::string& key, double& out) {
+    const auto found = config.find("kinematics.parallel_delta." + key);
+    if (found != config.end()) out = std::stod(found->second);
+  };
+  number("crank_mm", delta.crank_mm);
+  number("base_triangle_mm", delta.base_triangle_mm);
+  number("linkage_mm", delta.linkage_mm);
+  number("end_effector_triangle_mm", delta.end_effector_triangle_mm);
+  number("up_degrees", delta.up_degrees);
+  return delta;
+}
+
+bool arm_degrees(const ParallelDelta& d, const Eigen::Vector3d& point_mm,
+                 std::array<double, 3>& degrees) {
+  // An equilateral triangle's inradius is its side / (2 sqrt 3).
+  const double pivot = d.base_triangle_mm / (2.0 * std::sqrt(3.0));
+  const double joint = d.end_effector_triangle_mm / (2.0 * std::sqrt(3.0));
+  for (int arm = 0; arm < 3; ++arm) {
+    // Turn the point by -120 deg per arm: each arm is then arm 0, on the -y side.
+    const double turn = -2.0 * std::numbers::pi / 3.0 * arm;
+    const double x = std::cos(turn) * point_mm.x() - std::sin(turn) * point_mm.y();
+    const double y = std::sin(turn) * point_mm.x() + std::cos(turn) * point_mm.y();
+    // The effector's joint J = (x, y - joint, z); the elbow E = (0, -pivot - crank cos t,
+    // -crank sin t). |E - J| = linkage gives A cos t + B sin t = K with A = pivot + J.y,
+    // B = J.z: t = atan2(B, A) -+ acos(K / hypot(A, B)); the outer elbow has the larger cos t.
+    const double jy = y - joint, jz = point_mm.z();
+    const double a = pivot + jy, b = jz;
+    const double k =
+        (d.linkage_mm * d.linkage_mm - x * x - a * a - b * b - d.crank_mm * d.crank_mm) /
+        (2.0 * d.crank_mm);
+    const double r = std::hypot(a, b);
+    if (std::abs(k) > r) return false;
+    const double alpha = std::atan2(b, a), beta = std::acos(k / r);
+    const double t = std::cos(alpha - beta) > std::cos(alpha + beta) ? alpha - beta : alpha + beta;
+    degrees[arm] = std::remainder(t, 2.0 * std::numbers::pi) * 180.0 / std::numbers::pi;
+    if (!(degrees[arm] > d.up_degrees - 1.0)) return false;
+  }
+  return true;
 }
 
 }  // namespace pkm::test::fluidnc_reference

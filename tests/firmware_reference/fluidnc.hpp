@@ -29,4 +29,20 @@ std::array<double, 3> motors(const WallPlotter& plotter, const Eigen::Vector3d& 
 // The same in FluidNC's own arithmetic: 32-bit floats from the settings on (hypot_f, float).
 std::array<double, 3> motors_float(const WallPlotter& plotter, const Eigen::Vector3d& work_mm);
 
+// FluidNC's parallel_delta (FluidNC/src/Kinematics/ParallelDelta.cpp: delta_calcAngleYZ,
+// transform_cartesian_to_motors): the pivots on a triangle of side base_triangle_mm, arm 0 on
+// the -y side swinging in the y z plane, arms 1 and 2 at +120 and +240 deg; the effector's
+// joints on a triangle of side end_effector_triangle_mm; the elbow crank_mm from the pivot,
+// linkage_mm from the effector's joint, the outer of the two elbows.
+struct ParallelDelta {
+  double crank_mm = 70.0, base_triangle_mm = 179.437, linkage_mm = 133.5,
+         end_effector_triangle_mm = 86.603, up_degrees = -30.0;  // FluidNC's defaults
+};
+ParallelDelta parallel_delta(const std::map<std::string, std::string>& config);
+
+// The arms' motor positions (deg: 0 horizontal, positive down) for a point (mm, FluidNC's frame,
+// unhomed); false where FluidNC refuses it (no elbow, or an arm above up_degrees - 1).
+bool arm_degrees(const ParallelDelta& delta, const Eigen::Vector3d& point_mm,
+                 std::array<double, 3>& degrees);
+
 }  // namespace pkm::test::fluidnc_reference

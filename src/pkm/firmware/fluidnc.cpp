@@ -1,9 +1,10 @@
-// FluidNC's config.yaml for a two-cable wall plotter (docs/firmware-fluidnc.md). FluidNC's
-// WallPlotter (bdring/FluidNC, FluidNC/src/Kinematics/WallPlotter.cpp): the cords' lengths are
-// their distances from the anchors; a motor position is the cord's length less its length at
-// the frame's origin (the pen's place at power-on), the left motor's sign reversed.
+// FluidNC's config.yaml for a two-cable wall plotter or a rotary delta (docs/firmware-fluidnc.md).
+// FluidNC's WallPlotter (bdring/FluidNC, FluidNC/src/Kinematics/WallPlotter.cpp): the cords'
+// lengths are their distances from the anchors; a motor position is the cord's length less its
+// length at the frame's origin (the pen's place at power-on), the left motor's sign reversed.
 #include "pkm/firmware/fluidnc.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -31,29 +32,140 @@ std::string refusal_start(const FirmwareMachine& machine) {
   return machine.machine.source() + ": fluidnc's WallPlotter cannot hold this machine: ";
 }
 
-// FluidNC's ParallelDelta in the machine's numbers: its triangles are the sides of equilateral
-// triangles whose inradius is the form's radius (side = 2 sqrt(3) r).
-[[noreturn]] void refuse_rotary_delta(const FirmwareMachine& machine,
-                                      const kinematics::RotaryDeltaForm& form) {
+struct AxisText {
+  char letter;
+  std::string what;  // comment lines, each without its "# "
+  const machine::JointSpec* joint;
+  double cord_offset_mm;  // reading less the cord length (0 for z)
+};
+
+std::string axis_section(const AxisText& axis, const char* unit = "mm") {
+  const machine::JointSpec& joint = *axis.joint;
+  std::string text = std::string("  ") + axis.letter + ":\n";
+  text += axis.what;
+  if (joint.steps_per_unit) {
+    text += "    steps_per_mm: " + fixed(*joint.steps_per_unit) + "\n";
+  } else {
+    text +=
+        "    # steps_per_mm: not in the machine file; FluidNC's default 80 applies: set your "
+        "motor's\n";
+  }
+  text += "    max_rate_mm_per_min: " + fixed(joint.max_velocity * 60.0, 3) + "\n";
+  text += "    acceleration_mm_per_sec2: " + fixed(joint.max_acceleration, 3) + "\n";
+  text += std::string("    # FluidNC checks no travel here; the machine file's limits (") + unit +
+          ", a cord's length for a cord):\n";
+  text += "    # pkmkit limits: " + fixed(joint.min - axis.cord_offset_mm) + " .. " +
+          fixed(joint.max - axis.cord_offset_mm) + " " + unit + "\n";
+  text += "    max_travel_mm: " + fixed(joint.max - joint.min, 3) + "\n";
+  text += "    soft_limits: false\n";
+  text += "    motor0:\n";
+  text += "      # FILL IN your board's pins (gpio.N): NO_PIN drives nothing\n";
+  text += "      standard_stepper:\n";
+  text += "        step_pin: NO_PIN\n";
+  text += "        direction_pin: NO_PIN\n";
+  text += "        disable_pin: NO_PIN\n";
+  return text;
+}
+
+// FluidNC's ParallelDelta (FluidNC/src/Kinematics/ParallelDelta.cpp) takes pkmkit's
+// RotaryDeltaForm conventions as they are: arm 0 on the -y side, arms 1 and 2 at +120 and +240
+// deg, angle 0 horizontal, positive down, z = 0 at the pivots. Its triangles are sides of
+// equilateral triangles whose inradius is the form's radius (side = 2 sqrt(3) r).
+struct DeltaSetting {
+  const char* key;
+  double value_mm;
+  double low_mm;  // FluidNC's handler.item range (ParallelDelta::group), up to 500 mm
+};
+
+std::array<DeltaSetting, 4> delta_settings(const kinematics::RotaryDeltaForm& form) {
   const double to_side = 2.0 * std::sqrt(3.0);
-  const std::array<std::pair<const char*, double>, 4> settings = {{
-      {"crank_mm", form.arm_length_mm},
-      {"base_triangle_mm", to_side * form.base_radius_mm},
-      {"linkage_mm", form.forearm_length_mm},
-      {"end_effector_triangle_mm", to_side * form.platform_radius_mm},
-  }};
-  std::string text = machine.machine.source() +
-                     ": fluidnc: pkmkit does not write FluidNC's parallel_delta kinematics yet "
-                     "(docs/firmware-fluidnc.md); the machine's settings would be";
-  for (const auto& [key, value] : settings) {
-    text += " " + std::string(key) + " " + fixed(value, 3);
-    // FluidNC's handler.item ranges for these settings (ParallelDelta::group).
-    const double low = std::string(key) == "crank_mm" ? 50.0 : 20.0;
-    if (value < low || value > 500.0) {
-      text += " (outside FluidNC's " + fixed(low, 0) + "..500 mm)";
+  return {{{"crank_mm", form.arm_length_mm, 50.0},
+           {"base_triangle_mm", to_side * form.base_radius_mm, 20.0},
+           {"linkage_mm", form.forearm_length_mm, 20.0},
+           {"end_effector_triangle_mm", to_side * form.platform_radius_mm, 20.0}}};
+}
+
+std::string delta_refusal(const FirmwareMachine& machine) {
+  return machine.machine.source() + ": fluidnc's parallel_delta cannot hold this machine: ";
+}
+
+// What FluidNC's ParallelDelta fixes that the machine must already be: its settings' ranges,
+// one step count for the three arms (init() gives y and z x's), no pass-through axes, and the
+// arms horizontal a pose of the machine (where FluidNC starts, unhomed).
+void check_rotary_delta(const FirmwareMachine& machine, const kinematics::RotaryDeltaForm& form) {
+  std::string out_of_range;
+  for (const DeltaSetting& setting : delta_settings(form)) {
+    if (setting.value_mm < setting.low_mm || setting.value_mm > 500.0) {
+      out_of_range += std::string(out_of_range.empty() ? "" : ", ") + setting.key + " " +
+                      fixed(setting.value_mm, 3) + " (FluidNC takes " + fixed(setting.low_mm, 0) +
+                      "..500 mm)";
     }
   }
-  throw ExportRefused(text);
+  if (!out_of_range.empty()) throw ExportRefused(delta_refusal(machine) + out_of_range);
+  if (machine.form.passthrough.count() > 0) {
+    throw ExportRefused(delta_refusal(machine) + "pkmkit writes no pass-through axes for it");
+  }
+  const std::vector<machine::JointSpec>& joints = machine.machine.joints();
+  for (int arm = 0; arm < 3; ++arm) {
+    if (joints[arm].steps_per_unit != joints[0].steps_per_unit) {
+      throw ExportRefused(delta_refusal(machine) +
+                          "its arms' steps_per_unit differ; FluidNC gives every arm x's");
+    }
+    if (joints[arm].min > 0.0 || joints[arm].max < 0.0) {
+      throw ExportRefused(delta_refusal(machine) + "arm " + std::to_string(arm) +
+                          " cannot be horizontal (its limits exclude 0 deg), where FluidNC's "
+                          "unhomed ParallelDelta starts");
+    }
+  }
+}
+
+ExportedFile write_rotary_delta(const FirmwareMachine& machine, const ExportContext& context,
+                                const kinematics::RotaryDeltaForm& form) {
+  check_rotary_delta(machine, form);
+  const std::vector<machine::JointSpec>& joints = machine.machine.joints();
+  double min_deg = -90.0, velocity = INFINITY, acceleration = INFINITY;
+  for (int arm = 0; arm < 3; ++arm) {
+    min_deg = std::max(min_deg, geometry::radians_to_degrees(joints[arm].min));
+    velocity = std::min(velocity, joints[arm].max_velocity);
+    acceleration = std::min(acceleration, joints[arm].max_acceleration);
+  }
+  ExportedFile file;
+  for (const std::string& line : header_lines(machine, context)) file.text += "# " + line + "\n";
+  file.text +=
+      "# pkmkit writes kinematics: and axes: below; the rest of config.yaml (board, stepping, "
+      "spindle, pins) is yours.\n"
+      "# Unhomed, FluidNC's parallel_delta takes the arms to be horizontal at power-on: park "
+      "them there.\n";
+  file.text += "kinematics:\n  parallel_delta:\n";
+  file.text +=
+      "    # mm; the triangles' sides: 2 sqrt(3) x the centre-to-pivot and tool-to-joint "
+      "radii\n";
+  for (const DeltaSetting& setting : delta_settings(form)) {
+    file.text += "    " + std::string(setting.key) + ": " + fixed(setting.value_mm) + "\n";
+  }
+  file.text +=
+      "    # FluidNC refuses arm angles below up_degrees - 1 (deg, 0 horizontal, + down)\n";
+  file.text += "    up_degrees: " + fixed(std::min(min_deg, 0.0), 3) + "\n";
+  file.text += "    kinematic_segment_len_mm: 1.000\n    use_servos: false\n";
+  file.text += "axes:\n";
+  for (int arm = 0; arm < 3; ++arm) {
+    machine::JointSpec joint = joints[arm];
+    // FluidNC's units for a delta arm are degrees where the names say mm; FluidNC takes x's
+    // steps, rate and acceleration for all three (ParallelDelta::init): the least of them.
+    joint.min = geometry::radians_to_degrees(joint.min);
+    joint.max = geometry::radians_to_degrees(joint.max);
+    joint.max_velocity = geometry::radians_to_degrees(velocity);
+    joint.max_acceleration = geometry::radians_to_degrees(acceleration);
+    const std::string what = "    # arm " + std::to_string(arm) + ", pkmkit joint '" +
+                             machine.machine.joint_names()[arm] +
+                             "': its reading (deg) = FluidNC's motor position (deg; rates in "
+                             "deg/min, deg/s^2)\n";
+    file.text += axis_section({"xyz"[arm], what, &joint, 0.0}, "deg");
+  }
+  file.warnings.push_back(
+      "fill in the motors' pins (NO_PIN) in axes:, and park the arms horizontal "
+      "before power-on");
+  return file;
 }
 
 // What FluidNC's WallPlotter fixes that the machine must already be: left anchor left of the
@@ -99,42 +211,6 @@ double segment_length_mm(double shortest_cord_mm) {
   return 0.05;
 }
 
-struct AxisText {
-  char letter;
-  std::string what;  // comment lines, each without its "# "
-  const machine::JointSpec* joint;
-  double cord_offset_mm;  // reading less the cord length (0 for z)
-};
-
-std::string axis_section(const AxisText& axis) {
-  const machine::JointSpec& joint = *axis.joint;
-  std::string text = std::string("  ") + axis.letter + ":\n";
-  text += axis.what;
-  if (joint.steps_per_unit) {
-    text += "    steps_per_mm: " + fixed(*joint.steps_per_unit) + "\n";
-  } else {
-    text +=
-        "    # steps_per_mm: not in the machine file; FluidNC's default 80 applies: set your "
-        "motor's\n";
-  }
-  text += "    max_rate_mm_per_min: " + fixed(joint.max_velocity * 60.0, 3) + "\n";
-  text += "    acceleration_mm_per_sec2: " + fixed(joint.max_acceleration, 3) + "\n";
-  text +=
-      "    # FluidNC's WallPlotter checks no travel; the machine file's limits (mm, cord length "
-      "for a cord):\n";
-  text += "    # pkmkit limits: " + fixed(joint.min - axis.cord_offset_mm) + " .. " +
-          fixed(joint.max - axis.cord_offset_mm) + " mm\n";
-  text += "    max_travel_mm: " + fixed(joint.max - joint.min, 3) + "\n";
-  text += "    soft_limits: false\n";
-  text += "    motor0:\n";
-  text += "      # FILL IN your board's pins (gpio.N): NO_PIN drives nothing\n";
-  text += "      standard_stepper:\n";
-  text += "        step_pin: NO_PIN\n";
-  text += "        direction_pin: NO_PIN\n";
-  text += "        disable_pin: NO_PIN\n";
-  return text;
-}
-
 std::string kinematics_section(const kinematics::WallPlotterForm& form, const Eigen::Vector2d& home,
                                double segment_mm, double shortest_cord_mm) {
   const Eigen::Vector2d left = form.anchors_mm[0] - home;
@@ -171,7 +247,7 @@ std::string fluidnc_startup_line(double home_x_mm, double home_y_mm, const doubl
 
 ExportedFile write_fluidnc(const FirmwareMachine& machine, const ExportContext& context) {
   if (const auto* delta = std::get_if<kinematics::RotaryDeltaForm>(&machine.form.geometry)) {
-    refuse_rotary_delta(machine, *delta);
+    return write_rotary_delta(machine, context, *delta);
   }
   const auto* form = std::get_if<kinematics::WallPlotterForm>(&machine.form.geometry);
   if (!form) {

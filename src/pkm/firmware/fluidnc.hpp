@@ -1,6 +1,6 @@
 // The fluidnc target (docs/firmware-fluidnc.md): FluidNC's config.yaml `kinematics:` and `axes:`
-// sections for a two-cable wall plotter (FluidNC's WallPlotter), and the machine such a
-// config.yaml describes. FluidNC's ParallelDelta (a rotary delta) is refused with its reason.
+// sections for a two-cable wall plotter (FluidNC's WallPlotter) or a rotary delta (FluidNC's
+// parallel_delta), and the machine such a config.yaml describes.
 #pragma once
 
 #include <string>

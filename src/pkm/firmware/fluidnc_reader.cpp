@@ -157,10 +157,11 @@ std::optional<std::pair<double, double>> pkmkit_limits(const Node& axis) {
 
 machine::ImportedJoint read_axis(const Document& doc, const Node& axes, const char* letter,
                                  const std::string& name, double home_reading,
-                                 std::vector<std::string>& notes) {
+                                 std::vector<std::string>& notes, bool angular = false) {
   const Node& axis = doc.require(axes, letter);
   machine::ImportedJoint joint;
   joint.name = name;
+  joint.angular = angular;
   const std::string where = std::string("axes: ") + letter + ": ";
   // FluidNC's defaults (Machine/Axis.h) where the file leaves a setting out.
   auto setting = [&](const char* key, double fallback) {
@@ -178,11 +179,12 @@ machine::ImportedJoint read_axis(const Document& doc, const Node& axes, const ch
     joint.max = limits->second;
   } else {
     // FluidNC's WallPlotter has no limits: a range of max_travel_mm around home.
-    joint.min = std::max(home_reading - travel / 2.0, letter[0] == 'z' ? -INFINITY : 0.0);
+    joint.min =
+        std::max(home_reading - travel / 2.0, letter[0] == 'z' || angular ? -INFINITY : 0.0);
     joint.max = joint.min + travel;
     notes.push_back(where + "limits " + machine::toml_number(joint.min) + " .. " +
-                    machine::toml_number(joint.max) +
-                    " mm: FluidNC's WallPlotter has none; max_travel_mm placed about home");
+                    machine::toml_number(joint.max) + (angular ? " deg" : " mm") +
+                    ": FluidNC checks none; max_travel_mm placed about the start");
   }
   joint.home = home_reading;
   return joint;
@@ -199,18 +201,57 @@ std::vector<std::string> ignored_sections(const Document& doc) {
   return ignored;
 }
 
+// FluidNC's parallel_delta: pkmkit's rotary delta with the triangles' sides turned back into
+// radii (r = side / (2 sqrt(3))); the arms' readings are FluidNC's motor positions (deg).
+machine::ImportedMachine read_parallel_delta(const Document& doc, const Node& delta) {
+  const Node& root = doc.nodes[0];
+  machine::ImportedMachine imported;
+  imported.source = doc.source;
+  imported.origin =
+      "Imported by `pkm import fluidnc " + doc.source + "` from FluidNC's parallel_delta";
+  const Node* name = doc.child(root, "name");
+  imported.name =
+      name && !name->value.empty() ? name->value : "FluidNC rotary delta (" + doc.source + ")";
+  const double to_radius = 1.0 / (2.0 * std::sqrt(3.0));
+  kinematics::RotaryDeltaForm form;
+  form.arm_length_mm = doc.number(doc.require(delta, "crank_mm"));
+  form.base_radius_mm = doc.number(doc.require(delta, "base_triangle_mm")) * to_radius;
+  form.forearm_length_mm = doc.number(doc.require(delta, "linkage_mm"));
+  form.platform_radius_mm = doc.number(doc.require(delta, "end_effector_triangle_mm")) * to_radius;
+  imported.kinematics_section =
+      machine::kinematics_toml(*kinematics::make_form_kinematics(form), machine::LengthUnit::mm);
+  const Node& axes = doc.require(root, "axes");
+  const char* letters[] = {"x", "y", "z"};
+  for (int arm = 0; arm < 3; ++arm) {
+    imported.joints.push_back(
+        read_axis(doc, axes, letters[arm], "arm" + std::to_string(arm), 0.0, imported.notes, true));
+  }
+  // FluidNC's start, unhomed: the arms horizontal; below the pivots by about a forearm.
+  imported.home_seed_z = -form.forearm_length_mm;
+  imported.max_feed_per_min = 6000.0;
+  imported.max_acceleration = 1000.0;
+  imported.notes.push_back(
+      "[cartesian] max_feed 6000 mm/min and max_acceleration 1000 mm/s^2: FluidNC limits the "
+      "arms only; set the tool's");
+  imported.notes.push_back("home = the arms horizontal, where FluidNC starts unhomed");
+  return imported;
+}
+
 }  // namespace
 
 machine::ImportedMachine read_fluidnc(std::string_view text, const std::string& source) {
   const Document doc = parse(text, source);
   const Node& root = doc.nodes[0];
   const Node& kinematics = doc.require(root, "kinematics");
+  if (const Node* delta = doc.child(kinematics, "parallel_delta")) {
+    return read_parallel_delta(doc, *delta);
+  }
   const Node* wall = doc.child(kinematics, "WallPlotter");
   if (!wall) {
     const std::string found =
         kinematics.children.empty() ? std::string("none") : doc.nodes[kinematics.children[0]].key;
     doc.fail(kinematics.line, "kinematics",
-             found + ": pkmkit imports FluidNC's WallPlotter (a two-cable wall plotter) only");
+             found + ": pkmkit imports FluidNC's WallPlotter and parallel_delta only");
   }
   for (const char* key : {"left_axis", "right_axis"}) {
     const Node* axis = doc.child(*wall, key);
