@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <optional>
 #include <string>
 #include <variant>
@@ -191,6 +192,7 @@ TEST(FluidncRotaryDelta, FirmwareArmsAreThePkmkitJointsOverTheWorkspace) {
   EXPECT_NE(text.find("    base_triangle_mm: 207.846097\n"), std::string::npos) << text;
   EXPECT_NE(text.find("    end_effector_triangle_mm: 86.602540\n"), std::string::npos);
   EXPECT_NE(text.find("    up_degrees: -40.000\n"), std::string::npos);
+  if (std::getenv("PKM_SHOW_FLUIDNC")) std::printf("%s", text.c_str());
   const ref::ParallelDelta delta = ref::parallel_delta(ref::read_config(text));
   // Hand case: the arms horizontal put the tool at (0, 0, -163.630682): every arm at 0 deg.
   std::array<double, 3> degrees{};
@@ -406,6 +408,29 @@ TEST(FluidncImport, NotANumberNamesItsLine) {
     FAIL() << "accepted";
   } catch (const firmware::FirmwareFileError& error) {
     EXPECT_STREQ(error.what(), "config.yaml:4: left_anchor_y: '1OO' is not a number");
+  }
+}
+
+TEST(FluidncImport, ParallelDeltaMissingSettingNamesItsLine) {
+  const std::string text =
+      "kinematics:\n  parallel_delta:\n    crank_mm: 70\n    base_triangle_mm: 179.437\n"
+      "    end_effector_triangle_mm: 86.603\naxes:\n  x:\n  y:\n  z:\n";
+  try {
+    (void)firmware::read_fluidnc(text, "config.yaml");
+    FAIL() << "accepted";
+  } catch (const firmware::FirmwareFileError& error) {
+    EXPECT_STREQ(error.what(), "config.yaml:2: linkage_mm: missing in parallel_delta:");
+  }
+}
+
+TEST(FluidncImport, OtherKinematicsRefusedAtItsLine) {
+  try {
+    (void)firmware::read_fluidnc("axes:\n  x:\nkinematics:\n  CoreXY:\n", "config.yaml");
+    FAIL() << "accepted";
+  } catch (const firmware::FirmwareFileError& error) {
+    EXPECT_STREQ(error.what(),
+                 "config.yaml:3: kinematics: CoreXY: pkmkit imports FluidNC's WallPlotter and "
+                 "parallel_delta only");
   }
 }
 

@@ -52,8 +52,10 @@ std::string axis_section(const AxisText& axis, const char* unit = "mm") {
   }
   text += "    max_rate_mm_per_min: " + fixed(joint.max_velocity * 60.0, 3) + "\n";
   text += "    acceleration_mm_per_sec2: " + fixed(joint.max_acceleration, 3) + "\n";
-  text += std::string("    # FluidNC checks no travel here; the machine file's limits (") + unit +
-          ", a cord's length for a cord):\n";
+  text += std::string(unit) == "deg"
+              ? "    # FluidNC checks only up_degrees - 1; the machine file's limits (deg):\n"
+              : "    # FluidNC's WallPlotter checks no travel; the machine file's limits (mm, a "
+                "cord's length for a cord):\n";
   text += "    # pkmkit limits: " + fixed(joint.min - axis.cord_offset_mm) + " .. " +
           fixed(joint.max - axis.cord_offset_mm) + " " + unit + "\n";
   text += "    max_travel_mm: " + fixed(joint.max - joint.min, 3) + "\n";

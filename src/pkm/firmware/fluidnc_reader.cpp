@@ -157,7 +157,8 @@ std::optional<std::pair<double, double>> pkmkit_limits(const Node& axis) {
 
 machine::ImportedJoint read_axis(const Document& doc, const Node& axes, const char* letter,
                                  const std::string& name, double home_reading,
-                                 std::vector<std::string>& notes, bool angular = false) {
+                                 std::vector<std::string>& notes, bool angular = false,
+                                 std::optional<double> fallback_min = std::nullopt) {
   const Node& axis = doc.require(axes, letter);
   machine::ImportedJoint joint;
   joint.name = name;
@@ -178,13 +179,16 @@ machine::ImportedJoint read_axis(const Document& doc, const Node& axes, const ch
     joint.min = limits->first;
     joint.max = limits->second;
   } else {
-    // FluidNC's WallPlotter has no limits: a range of max_travel_mm around home.
-    joint.min =
-        std::max(home_reading - travel / 2.0, letter[0] == 'z' || angular ? -INFINITY : 0.0);
+    // FluidNC's WallPlotter has no limits: a range of max_travel_mm around home; a delta's arms
+    // from up_degrees on.
+    joint.min = fallback_min ? *fallback_min
+                             : std::max(home_reading - travel / 2.0,
+                                        letter[0] == 'z' || angular ? -INFINITY : 0.0);
     joint.max = joint.min + travel;
     notes.push_back(where + "limits " + machine::toml_number(joint.min) + " .. " +
                     machine::toml_number(joint.max) + (angular ? " deg" : " mm") +
-                    ": FluidNC checks none; max_travel_mm placed about the start");
+                    (fallback_min ? ": from up_degrees, max_travel_mm on"
+                                  : ": FluidNC checks none; max_travel_mm placed about the start"));
   }
   joint.home = home_reading;
   return joint;
@@ -222,9 +226,10 @@ machine::ImportedMachine read_parallel_delta(const Document& doc, const Node& de
       machine::kinematics_toml(*kinematics::make_form_kinematics(form), machine::LengthUnit::mm);
   const Node& axes = doc.require(root, "axes");
   const char* letters[] = {"x", "y", "z"};
+  const double up_degrees = doc.number(delta, "up_degrees").value_or(-30.0);  // FluidNC's default
   for (int arm = 0; arm < 3; ++arm) {
-    imported.joints.push_back(
-        read_axis(doc, axes, letters[arm], "arm" + std::to_string(arm), 0.0, imported.notes, true));
+    imported.joints.push_back(read_axis(doc, axes, letters[arm], "arm" + std::to_string(arm), 0.0,
+                                        imported.notes, true, up_degrees));
   }
   // FluidNC's start, unhomed: the arms horizontal; below the pivots by about a forearm.
   imported.home_seed_z = -form.forearm_length_mm;
