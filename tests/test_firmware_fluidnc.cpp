@@ -134,6 +134,22 @@ TEST(FluidncWallPlotter, MaslowZIsTheThirdAxis) {
   EXPECT_EQ(config.at("macros.startup_line0"), "G10 L2 P1 X-1489.200000 Y1072.600000 Z-5.000000");
 }
 
+// A calibrated plotter's anchors are rarely level: FluidNC's forward kinematics, which take them
+// level, would report (and resume from) another place than its inverse kinematics went to.
+TEST(FluidncWallPlotter, UnlevelAnchorsRefusedWithTheError) {
+  const machine::Machine machine = test::load_example_changed(
+      "wall-plotter.toml", "anchor_distance = 1500.0", "anchors = [[0.0, 0.0], [1500.0, 5.0]]");
+  try {
+    (void)export_text(fluidnc_machine(machine, false));
+    FAIL() << "not refused";
+  } catch (const firmware::ExportRefused& error) {
+    const std::string what = error.what();
+    EXPECT_NE(what.find("would be off by up to "), std::string::npos) << what;
+    std::printf("%s\n", what.c_str());
+    EXPECT_NE(what.find("(anchors' y 0.0000 and 5.0000 mm)"), std::string::npos) << what;
+  }
+}
+
 class FluidncRefused : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FluidncRefused, NamesTheFormsItHas) {

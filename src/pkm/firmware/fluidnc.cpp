@@ -13,9 +13,9 @@
 namespace pkm::firmware {
 namespace {
 
-// FluidNC reads each value as a float and has no cord-shape tolerance; the anchors must be level
-// for its forward kinematics (lengths_to_xy) to match its inverse (xy_to_lengths).
-constexpr double kLevelToleranceMm = 1e-6;
+// How far FluidNC's forward kinematics (lengths_to_xy) may miss the pose its inverse
+// (xy_to_lengths) was given: 1 um, the round trips' bound.
+constexpr double kForwardToleranceMm = 1e-3;
 // How far a cord may leave its straight-line length mid-segment (segment_length below).
 constexpr double kSegmentCordErrorMm = 0.001;
 
@@ -170,36 +170,48 @@ ExportedFile write_rotary_delta(const FirmwareMachine& machine, const ExportCont
   return file;
 }
 
-// What FluidNC's WallPlotter fixes that the machine must already be: left anchor left of the
-// right one at the same height (its forward kinematics intersect the circles that way, pen
-// below), a pass-through Z only, and every workspace pose below the anchors.
+// Where FluidNC's forward kinematics (WallPlotter::lengths_to_xy) put the pen for the cords to
+// `point` (FluidNC's frame, mm): it takes the anchors' separation along x only and the lower of
+// the circles' meeting points, so it is right for level anchors with the pen below them.
+Eigen::Vector2d fluidnc_forward(const Eigen::Vector2d& left, const Eigen::Vector2d& right,
+                                const Eigen::Vector2d& point) {
+  const double left_cord = (left - point).norm(), right_cord = (right - point).norm();
+  const double separation = right.x() - left.x();
+  const double along = (left_cord * left_cord - right_cord * right_cord + separation * separation) /
+                       (2.0 * separation);
+  const double below = std::sqrt(std::max(left_cord * left_cord - along * along, 0.0));
+  return {left.x() + along, left.y() - below};
+}
+
+// What FluidNC's WallPlotter fixes that the machine must already be: a pass-through Z only, and
+// forward kinematics that give the pen back (the position FluidNC reports and resumes from after
+// a stop) within kForwardToleranceMm over the workspace: level anchors, the pen below them.
 void check_wall_plotter(const FirmwareMachine& machine, const kinematics::WallPlotterForm& form) {
-  const Eigen::Vector2d& left = form.anchors_mm[0];
-  const Eigen::Vector2d& right = form.anchors_mm[1];
-  if (!(left.x() < right.x())) {
-    throw ExportRefused(refusal_start(machine) + "its anchor 0 (x " + fixed(left.x(), 3) +
-                        " mm) is not left of anchor 1 (x " + fixed(right.x(), 3) +
-                        " mm): FluidNC's forward kinematics take the left cord's anchor first");
-  }
-  if (std::abs(left.y() - right.y()) > kLevelToleranceMm) {
-    throw ExportRefused(refusal_start(machine) + "its anchors are not level (y " +
-                        fixed(left.y(), 6) + " and " + fixed(right.y(), 6) +
-                        " mm): FluidNC's forward kinematics (WallPlotter::lengths_to_xy, the "
-                        "position it reports and resumes from) take them at one height");
-  }
   for (const int axis : machine.form.passthrough.axes()) {
     if (axis != 2) {
       throw ExportRefused(refusal_start(machine) +
                           "pkmkit writes only a pass-through Z as FluidNC's third axis");
     }
   }
+  const Eigen::Vector2d home = machine.machine.home().position_mm.head<2>();
+  const Eigen::Vector2d left = form.anchors_mm[0] - home, right = form.anchors_mm[1] - home;
+  double worst = 0.0;
+  Eigen::Vector2d worst_at = Eigen::Vector2d::Zero();
   for (const geometry::Pose& pose : workspace_samples(machine.machine)) {
-    if (pose.position_mm.y() >= left.y()) {
-      throw ExportRefused(refusal_start(machine) + "its workspace reaches y " +
-                          fixed(pose.position_mm.y(), 3) + " mm, not below the anchors (y " +
-                          fixed(left.y(), 3) +
-                          " mm); FluidNC's forward kinematics put the pen below them");
+    const Eigen::Vector2d point = pose.position_mm.head<2>() - home;
+    const double error = (fluidnc_forward(left, right, point) - point).norm();
+    if (!(error <= worst)) {
+      worst = error;
+      worst_at = pose.position_mm.head<2>();
     }
+  }
+  if (!(worst <= kForwardToleranceMm)) {
+    throw ExportRefused(
+        refusal_start(machine) + "FluidNC's forward kinematics (WallPlotter::lengths_to_xy: " +
+        "anchors level, the pen below them; the position it reports and resumes from after a " +
+        "stop) would be off by up to " + fixed(worst, 4) + " mm, at x " + fixed(worst_at.x(), 3) +
+        " y " + fixed(worst_at.y(), 3) + " mm (anchors' y " + fixed(form.anchors_mm[0].y(), 4) +
+        " and " + fixed(form.anchors_mm[1].y(), 4) + " mm)");
   }
 }
 
