@@ -456,7 +456,8 @@ TEST(FluidncImport, UsersFileWithOtherSections) {
       "board: MKS DLC32\r\nname: my plotter\r\n# a comment\r\nstepping:\r\n  engine: RMT\r\n"
       "kinematics:\r\n  WallPlotter:\r\n    left_anchor_x: -400\r\n    left_anchor_y: 300\r\n"
       "    right_anchor_x: 400\r\n    right_anchor_y: 300\r\n    segment_length: 5\r\n"
-      "axes:\r\n  x:\r\n    steps_per_mm: 100\r\n    max_rate_mm_per_min: 3000\r\n"
+      "axes:\r\n  x:\r\n    steps_per_mm: \"100\"  # quoted, then a comment\r\n    "
+      "max_rate_mm_per_min: 3000\r\n"
       "    motor0:\r\n      standard_stepper:\r\n        step_pin: gpio.12\r\n"
       "  y:\r\n    steps_per_mm: 100\r\n    max_rate_mm_per_min: 3000\r\n"
       "spindle:\r\n  PWM:\r\n    pwm_hz: 5000\r\n";
@@ -465,6 +466,7 @@ TEST(FluidncImport, UsersFileWithOtherSections) {
   ASSERT_EQ(imported.joints.size(), 2u);
   EXPECT_DOUBLE_EQ(imported.joints[0].max_velocity, 50.0);
   EXPECT_DOUBLE_EQ(imported.joints[0].max_acceleration, 25.0);  // FluidNC's default
+  EXPECT_DOUBLE_EQ(*imported.joints[0].steps_per_unit, 100.0);  // quoted, with a comment
   EXPECT_DOUBLE_EQ(*imported.joints[1].steps_per_unit, 100.0);
   bool noted = false;
   for (const std::string& note : imported.notes) {

@@ -103,9 +103,11 @@ Document parse(std::string_view text, const std::string& source) {
     Node node;
     node.key = trim(line.substr(0, colon));
     node.value = trim(line.substr(colon + 1));
-    if (node.value.size() >= 2 && (node.value.front() == '"' || node.value.front() == '\'') &&
-        node.value.back() == node.value.front()) {
-      node.value = node.value.substr(1, node.value.size() - 2);
+    // A quoted value ends at its closing quote; FluidNC drops what follows (a comment).
+    if (!node.value.empty() && (node.value.front() == '"' || node.value.front() == '\'')) {
+      const auto close = node.value.find(node.value.front(), 1);
+      if (close == std::string::npos) doc.fail(number, node.key, "no closing quote");
+      node.value = node.value.substr(1, close - 1);
     }
     node.line = number;
     node.indent = indent;
