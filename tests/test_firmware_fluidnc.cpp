@@ -150,6 +150,21 @@ TEST(FluidncWallPlotter, UnlevelAnchorsRefusedWithTheError) {
   }
 }
 
+TEST(FluidncWallPlotter, SettingOutsideFluidncsRangeRefused) {
+  const machine::Machine machine = test::load_example_changed(
+      "wall-plotter.toml", "steps_per_unit = 80.0", "steps_per_unit = 200000.0");
+  try {
+    (void)export_text(fluidnc_machine(machine, false));
+    FAIL() << "not refused";
+  } catch (const firmware::ExportRefused& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("fluidnc: axis x steps_per_mm 200000.000 (mm) is outside FluidNC's "
+                        "0.001..100000"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 class FluidncRefused : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FluidncRefused, NamesTheFormsItHas) {

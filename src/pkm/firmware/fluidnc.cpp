@@ -37,9 +37,32 @@ struct AxisText {
   std::string what;  // comment lines, each without its "# "
   const machine::JointSpec* joint;
   double cord_offset_mm;  // reading less the cord length (0 for z)
+  std::string source;     // the machine file, for refusals
 };
 
+// FluidNC's ranges for an axis's settings (Machine/Axis.cpp, handler.item): a value outside is
+// not what FluidNC would run.
+void check_axis_ranges(const AxisText& axis, const char* unit) {
+  const machine::JointSpec& joint = *axis.joint;
+  struct Range {
+    const char* key;
+    double value, low, high;
+  };
+  const Range ranges[] = {{"steps_per_mm", joint.steps_per_unit.value_or(80.0), 0.001, 100000.0},
+                          {"max_rate_mm_per_min", joint.max_velocity * 60.0, 0.001, 250000.0},
+                          {"acceleration_mm_per_sec2", joint.max_acceleration, 0.001, 100000.0},
+                          {"max_travel_mm", joint.max - joint.min, 0.1, 1e7}};
+  for (const Range& range : ranges) {
+    if (range.value < range.low || range.value > range.high) {
+      throw ExportRefused(axis.source + ": fluidnc: axis " + axis.letter + " " + range.key + " " +
+                          fixed(range.value, 3) + " (" + unit + ") is outside FluidNC's " +
+                          fixed(range.low, 3) + ".." + fixed(range.high, 0));
+    }
+  }
+}
+
 std::string axis_section(const AxisText& axis, const char* unit = "mm") {
+  check_axis_ranges(axis, unit);
   const machine::JointSpec& joint = *axis.joint;
   std::string text = std::string("  ") + axis.letter + ":\n";
   text += axis.what;
@@ -162,7 +185,7 @@ ExportedFile write_rotary_delta(const FirmwareMachine& machine, const ExportCont
                              machine.machine.joint_names()[arm] +
                              "': its reading (deg) = FluidNC's motor position (deg; rates in "
                              "deg/min, deg/s^2)\n";
-    file.text += axis_section({"xyz"[arm], what, &joint, 0.0}, "deg");
+    file.text += axis_section({"xyz"[arm], what, &joint, 0.0, machine.machine.source()}, "deg");
   }
   file.warnings.push_back(
       "fill in the motors' pins (NO_PIN) in axes:, and park the arms horizontal "
@@ -300,14 +323,14 @@ ExportedFile write_fluidnc(const FirmwareMachine& machine, const ExportContext& 
                        m.joint_names()[k] + "': its reading = " + fixed(reading_at_home) +
                        (k == 0 ? " - " : " + ") + "FluidNC's " + (k == 0 ? "x" : "y") +
                        " motor position (mm)\n";
-    file.text +=
-        axis_section({k == 0 ? 'x' : 'y', what, &m.joints()[k], form->cable_offsets_mm[k]});
+    file.text += axis_section(
+        {k == 0 ? 'x' : 'y', what, &m.joints()[k], form->cable_offsets_mm[k], m.source()});
   }
   if (has_z) {
     const std::string what = "    # the pass-through Z, pkmkit joint '" + m.joint_names()[2] +
                              "': its reading = " + fixed(home.z()) +
                              " + FluidNC's z motor position (mm)\n";
-    file.text += axis_section({'z', what, &m.joints()[2], 0.0});
+    file.text += axis_section({'z', what, &m.joints()[2], 0.0, m.source()});
   }
   file.text +=
       "macros:\n  # G54 work coordinates = the machine file's frame (FluidNC's machine position "
