@@ -59,9 +59,9 @@ double worst_motor_error_mm(const machine::Machine& machine, const std::string& 
   return worst;
 }
 
-class FluidncExact : public ::testing::TestWithParam<std::string> {};
+class firmware_fluidnc_exact : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(FluidncExact, FirmwareMotorsAreThePkmkitJointsOverTheWorkspace) {
+TEST_P(firmware_fluidnc_exact, FirmwareMotorsAreThePkmkitJointsOverTheWorkspace) {
   const machine::Machine machine = test::load_example(GetParam());
   const std::string text = export_text(fluidnc_machine(machine, false));
   int compared = 0;
@@ -82,7 +82,7 @@ TEST_P(FluidncExact, FirmwareMotorsAreThePkmkitJointsOverTheWorkspace) {
   std::printf("%s: %d poses, worst motor error %.3g mm\n", GetParam().c_str(), compared, worst);
 }
 
-TEST_P(FluidncExact, ImportThenExportGivesTheSameText) {
+TEST_P(firmware_fluidnc_exact, ImportThenExportGivesTheSameText) {
   const machine::Machine machine = test::load_example(GetParam());
   const std::string text = export_text(fluidnc_machine(machine, false));
   const machine::ImportedMachine imported = firmware::read_fluidnc(text, "config.yaml");
@@ -93,7 +93,7 @@ TEST_P(FluidncExact, ImportThenExportGivesTheSameText) {
   EXPECT_EQ(settings(export_text(fluidnc_machine(back, false))), settings(text)) << machine_text;
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, FluidncExact,
+INSTANTIATE_TEST_SUITE_P(Examples, firmware_fluidnc_exact,
                          ::testing::Values("wall-plotter.toml", "hektor.toml", "pen-plotter.toml",
                                            "maslow.toml", "linuxcnc-polargraph-2366.toml"),
                          [](const auto& param_info) { return test::test_name(param_info.param); });
@@ -103,7 +103,7 @@ INSTANTIATE_TEST_SUITE_P(Examples, FluidncExact,
 // hypot(750, 700) = 1025.914226 mm. The pen at machine (300, -1000) is FluidNC's (-450, -300):
 // left cord hypot(300, 1000) = 1044.030651, motor -(1044.030651 - 1025.914226) = -18.116424 mm;
 // right cord hypot(1200, 1000) = 1562.049935, motor 1562.049935 - 1025.914226 = 536.135709 mm.
-TEST(FluidncWallPlotter, HandComputedPose) {
+TEST(firmware_fluidnc_wall_plotter, HandComputedPose) {
   const machine::Machine machine = test::load_example("wall-plotter.toml");
   const std::string text = export_text(fluidnc_machine(machine, false));
   EXPECT_NE(text.find("    left_anchor_x: -750.000000\n    left_anchor_y: 700.000000\n"),
@@ -125,7 +125,7 @@ TEST(FluidncWallPlotter, HandComputedPose) {
   EXPECT_NEAR(joints[1], 1562.049935, 1e-6);
 }
 
-TEST(FluidncWallPlotter, MaslowZIsTheThirdAxis) {
+TEST(firmware_fluidnc_wall_plotter, MaslowZIsTheThirdAxis) {
   const machine::Machine machine = test::load_example("maslow.toml");
   const std::string text = export_text(fluidnc_machine(machine, false));
   const auto config = ref::read_config(text);
@@ -136,7 +136,7 @@ TEST(FluidncWallPlotter, MaslowZIsTheThirdAxis) {
 
 // A calibrated plotter's anchors are rarely level: FluidNC's forward kinematics, which take them
 // level, would report (and resume from) another place than its inverse kinematics went to.
-TEST(FluidncWallPlotter, UnlevelAnchorsRefusedWithTheError) {
+TEST(firmware_fluidnc_wall_plotter, UnlevelAnchorsRefusedWithTheError) {
   const machine::Machine machine = test::load_example_changed(
       "wall-plotter.toml", "anchor_distance = 1500.0", "anchors = [[0.0, 0.0], [1500.0, 5.0]]");
   try {
@@ -150,7 +150,7 @@ TEST(FluidncWallPlotter, UnlevelAnchorsRefusedWithTheError) {
   }
 }
 
-TEST(FluidncWallPlotter, SettingOutsideFluidncsRangeRefused) {
+TEST(firmware_fluidnc_wall_plotter, SettingOutsideFluidncsRangeRefused) {
   const machine::Machine machine = test::load_example_changed(
       "wall-plotter.toml", "steps_per_unit = 80.0", "steps_per_unit = 200000.0");
   try {
@@ -165,9 +165,9 @@ TEST(FluidncWallPlotter, SettingOutsideFluidncsRangeRefused) {
   }
 }
 
-class FluidncRefused : public ::testing::TestWithParam<std::string> {};
+class firmware_fluidnc_refused : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(FluidncRefused, NamesTheFormsItHas) {
+TEST_P(firmware_fluidnc_refused, NamesTheFormsItHas) {
   const machine::Machine machine = test::load_example(GetParam());
   try {
     (void)fluidnc_machine(machine, true);
@@ -179,13 +179,13 @@ TEST_P(FluidncRefused, NamesTheFormsItHas) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, FluidncRefused,
+INSTANTIATE_TEST_SUITE_P(Examples, firmware_fluidnc_refused,
                          ::testing::Values("linear-delta.toml", "hexapod-bit.toml",
                                            "matrix-mill.toml", "triaglide.toml",
                                            "mach3-formula.toml"),
                          [](const auto& param_info) { return test::test_name(param_info.param); });
 
-TEST(FluidncRotaryDelta, RefusedWithFluidncsRanges) {
+TEST(firmware_fluidnc_rotary_delta, RefusedWithFluidncsRanges) {
   const machine::Machine machine = test::load_example("linuxcnc-rdelta.toml");
   try {
     (void)export_text(fluidnc_machine(machine, false));
@@ -217,7 +217,7 @@ machine::Machine small_rotary_delta() {
   return machine::parse_machine(text, "small-rotary-delta.toml");
 }
 
-TEST(FluidncRotaryDelta, FirmwareArmsAreThePkmkitJointsOverTheWorkspace) {
+TEST(firmware_fluidnc_rotary_delta, FirmwareArmsAreThePkmkitJointsOverTheWorkspace) {
   const machine::Machine machine = small_rotary_delta();
   const std::string text = export_text(fluidnc_machine(machine, false));
   EXPECT_NE(text.find("    base_triangle_mm: 207.846097\n"), std::string::npos) << text;
@@ -246,7 +246,7 @@ TEST(FluidncRotaryDelta, FirmwareArmsAreThePkmkitJointsOverTheWorkspace) {
   EXPECT_LT(worst, tolerance_deg);
 }
 
-TEST(FluidncRotaryDelta, ImportThenExportGivesTheSameText) {
+TEST(firmware_fluidnc_rotary_delta, ImportThenExportGivesTheSameText) {
   const std::string text = export_text(fluidnc_machine(small_rotary_delta(), false));
   const machine::ImportedMachine imported = firmware::read_fluidnc(text, "config.yaml");
   const machine::Machine back =
@@ -379,9 +379,9 @@ Nearest nearest_wall_plotter(const machine::Machine& truth) {
                  lost_fitted};
 }
 
-class FluidncApproximated : public ::testing::TestWithParam<std::string> {};
+class firmware_fluidnc_approximated : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(FluidncApproximated, LandsWithinTheStatedCost) {
+TEST_P(firmware_fluidnc_approximated, LandsWithinTheStatedCost) {
   const machine::Machine truth = test::load_example(GetParam());
   EXPECT_THROW((void)fluidnc_machine(truth, false), firmware::ExportRefused);
   const Nearest nearest = nearest_wall_plotter(truth);
@@ -412,12 +412,12 @@ TEST_P(FluidncApproximated, LandsWithinTheStatedCost) {
   EXPECT_LE(worst, cost.worst_tool_error_mm + 1e-4) << text;
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, FluidncApproximated,
+INSTANTIATE_TEST_SUITE_P(Examples, firmware_fluidnc_approximated,
                          ::testing::Values("makelangelo.toml", "maslow-frame.toml",
                                            "hektor-pulleys.toml"),
                          [](const auto& param_info) { return test::test_name(param_info.param); });
 
-TEST(FluidncImport, MissingAnchorNamesItsLine) {
+TEST(firmware_fluidnc_import, MissingAnchorNamesItsLine) {
   const std::string text =
       "name: \"plotter\"\nboard: MKS\nkinematics:\n  WallPlotter:\n    left_anchor_x: -100\n"
       "    right_anchor_x: 100\n    right_anchor_y: 100\naxes:\n  x:\n    steps_per_mm: 80\n"
@@ -430,7 +430,7 @@ TEST(FluidncImport, MissingAnchorNamesItsLine) {
   }
 }
 
-TEST(FluidncImport, NotANumberNamesItsLine) {
+TEST(firmware_fluidnc_import, NotANumberNamesItsLine) {
   const std::string text =
       "kinematics:\n  WallPlotter:\n    left_anchor_x: -100\n    left_anchor_y: 1OO\n"
       "    right_anchor_x: 100\n    right_anchor_y: 100\naxes:\n  x:\n  y:\n";
@@ -442,7 +442,7 @@ TEST(FluidncImport, NotANumberNamesItsLine) {
   }
 }
 
-TEST(FluidncImport, ParallelDeltaMissingSettingNamesItsLine) {
+TEST(firmware_fluidnc_import, ParallelDeltaMissingSettingNamesItsLine) {
   const std::string text =
       "kinematics:\n  parallel_delta:\n    crank_mm: 70\n    base_triangle_mm: 179.437\n"
       "    end_effector_triangle_mm: 86.603\naxes:\n  x:\n  y:\n  z:\n";
@@ -454,7 +454,7 @@ TEST(FluidncImport, ParallelDeltaMissingSettingNamesItsLine) {
   }
 }
 
-TEST(FluidncImport, OtherKinematicsRefusedAtItsLine) {
+TEST(firmware_fluidnc_import, OtherKinematicsRefusedAtItsLine) {
   try {
     (void)firmware::read_fluidnc("axes:\n  x:\nkinematics:\n  CoreXY:\n", "config.yaml");
     FAIL() << "accepted";
@@ -466,7 +466,7 @@ TEST(FluidncImport, OtherKinematicsRefusedAtItsLine) {
 }
 
 // A user's file: other sections, comments, CRLF, FluidNC's defaults for what is left out.
-TEST(FluidncImport, UsersFileWithOtherSections) {
+TEST(firmware_fluidnc_import, UsersFileWithOtherSections) {
   const std::string text =
       "board: MKS DLC32\r\nname: my plotter\r\n# a comment\r\nstepping:\r\n  engine: RMT\r\n"
       "kinematics:\r\n  WallPlotter:\r\n    left_anchor_x: -400\r\n    left_anchor_y: 300\r\n"
