@@ -257,8 +257,8 @@ TEST(firmware_fluidnc_rotary_delta, ImportThenExportGivesTheSameText) {
 // The approximation's cost, followed as FluidNC does: the reference's motor positions for each
 // sample, added to the true machine's joints at home (the pen parked there at power-on), through
 // the true machine's forward kinematics.
-std::optional<double> fluidnc_tool_error_mm(const machine::Machine& truth,
-                                            const std::string& text, const geometry::Pose& pose) {
+std::optional<double> fluidnc_tool_error_mm(const machine::Machine& truth, const std::string& text,
+                                            const geometry::Pose& pose) {
   const ref::WallPlotter plotter = ref::wall_plotter(ref::read_config(text));
   const kinematics::JointVector at_home = joints_at(truth, truth.home());
   const std::array<double, 3> motors = ref::motors(plotter, pose.position_mm);
