@@ -10,8 +10,8 @@
 
 #include "firmware_reference/klipper.hpp"
 #include "pkm/firmware/klipper.hpp"
-#include "pkm/firmware/klipper_fit.hpp"
 #include "pkm/firmware/klipper_import.hpp"
+#include "pkm/firmware/one_circle_delta.hpp"
 #include "pkm/machine/machine.hpp"
 #include "test_support.hpp"
 
@@ -392,7 +392,8 @@ TEST(firmware_klipper, NearestDeltaKeepsItsStatedCost) {
       "linuxcnc-ldelta.toml", "origin = [0.0, 130.25, 0.0]", "origin = [0.0, 131.25, 0.0]");
   const firmware::FirmwareMachine exact =
       firmware::firmware_machine(machine, klipper().forms, "klipper", false);
-  const firmware::FirmwareMachine nearest = firmware::klipper_nearest_delta(exact);
+  const firmware::FirmwareMachine nearest =
+      firmware::nearest_delta_on_one_circle(exact, "klipper's delta_radius");
   ASSERT_TRUE(nearest.cost.has_value());
   const firmware::ApproximationCost& cost = *nearest.cost;
   std::printf(

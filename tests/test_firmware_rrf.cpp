@@ -400,8 +400,10 @@ TEST(firmware_rrf_export, RefusesWhatRrfCannotHold) {
                        "161 mm, 160 mm and 160 mm"),
             std::string::npos)
       << moved;
-  // A leaning rail: refused exactly; --approximate fits the nearest linear delta (the core's fit,
-  // columns free), whose columns are then off one circle, which RRF cannot hold either.
+  // A leaning rail: refused exactly; the core's --approximate fits the nearest linear delta
+  // (columns free), whose columns are then off one circle: without --approximate reaching the
+  // target that is refused, with it the nearest delta on one circle is written, its cost
+  // measured on the leaning machine as built.
   const machine::Machine leaning = test::load_example_changed(
       "linear-delta.toml", "direction = [0.0, 0.0, 1.0]\nstrut = 300.0\nattach = [0.0, 40.0, 0.0]",
       "direction = [0.0, 0.01, 1.0]\nstrut = 300.0\nattach = [0.0, 40.0, 0.0]");
@@ -414,12 +416,23 @@ TEST(firmware_rrf_export, RefusesWhatRrfCannotHold) {
     (void)rrf().write(nearest, firmware::ExportContext{"test", "linear-delta.toml"});
     ADD_FAILURE() << "the fitted columns off one circle were written";
   } catch (const firmware::ExportRefused& error) {
-    EXPECT_NE(std::string(error.what())
-                  .find("(the --approximate fit does not hold the columns to "
-                        "one circle)"),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(error.what()).find("--approximate writes the nearest delta on one circle"),
+        std::string::npos)
         << error.what();
   }
+  const firmware::ExportedFile on_circle =
+      rrf().write(nearest, firmware::ExportContext{"test", "linear-delta.toml", true});
+  ASSERT_TRUE(on_circle.cost);
+  EXPECT_NE(on_circle.text.find("APPROXIMATED"), std::string::npos);
+  EXPECT_NE(on_circle.text.find("columns at different radii"), std::string::npos);
+  // Measured on the machine as built: more than the first fit's (the circle costs something),
+  // and a real number (a leaning rail of 0.57 deg over a 700 mm rail).
+  EXPECT_GE(on_circle.cost->worst_tool_error_mm, nearest.cost->worst_tool_error_mm - 1e-9);
+  EXPECT_GT(on_circle.cost->worst_tool_error_mm, 0.01);
+  EXPECT_LT(on_circle.cost->worst_tool_error_mm, 20.0);
+  std::printf("rrf leaning rail: first fit %.4f mm, on one circle %.4f mm worst\n",
+              nearest.cost->worst_tool_error_mm, on_circle.cost->worst_tool_error_mm);
 }
 
 // A delta as calibration leaves one, each tower its own: columns on a 150 mm circle at 91, 209.5

@@ -246,10 +246,11 @@ std::optional<double> tool_error_mm(const machine::Machine& machine,
   return (reached.position_mm - pose.position_mm).norm();
 }
 
-// The worst and root-mean-square tool errors of following `form_model` over `samples`.
-ApproximationCost measure_cost(const machine::Machine& machine,
-                               const kinematics::Kinematics& form_model,
-                               const std::vector<geometry::Pose>& samples) {
+}  // namespace
+
+ApproximationCost approximation_cost(const machine::Machine& machine,
+                                     const kinematics::Kinematics& form_model,
+                                     const std::vector<geometry::Pose>& samples) {
   ApproximationCost cost;
   double sum_squares = 0.0;
   for (const geometry::Pose& pose : samples) {
@@ -269,6 +270,20 @@ ApproximationCost measure_cost(const machine::Machine& machine,
   return cost;
 }
 
+machine::Machine nearest_machine(const machine::Machine& machine,
+                                 std::unique_ptr<kinematics::Kinematics> form_model,
+                                 const std::string& what) {
+  machine::Machine nearest(machine.name() + " (nearest " + what + ")", machine.source(),
+                           machine.units(), std::move(form_model), machine.joints(),
+                           machine.cartesian(), machine.home());
+  nearest.set_tool(machine.tool());
+  nearest.set_homing(machine.homing());
+  nearest.set_controller(machine.controller());
+  return nearest;
+}
+
+namespace {
+
 // The form's geometry fitted to the machine's joints over its workspace.
 FirmwareMachine approximate(const machine::Machine& machine, const kinematics::FirmwareForm& form,
                             const std::string& target) {
@@ -280,7 +295,7 @@ FirmwareMachine approximate(const machine::Machine& machine, const kinematics::F
   }
   std::unique_ptr<kinematics::Kinematics> model =
       kinematics::make_form_kinematics(form.geometry, form.passthrough);
-  const double worst_before = measure_cost(machine, *model, samples).worst_tool_error_mm;
+  const double worst_before = approximation_cost(machine, *model, samples).worst_tool_error_mm;
   fit_form(*model, form_kind(form.geometry), machine, samples);
   std::optional<kinematics::FirmwareForm> fitted = model->firmware_form();
   if (!fitted || !fitted->losses.empty()) {
@@ -289,15 +304,11 @@ FirmwareMachine approximate(const machine::Machine& machine, const kinematics::F
   }
   fitted->losses = form.losses;
   fitted->unchecked = form.unchecked;
-  ApproximationCost cost = measure_cost(machine, *model, samples);
+  ApproximationCost cost = approximation_cost(machine, *model, samples);
   cost.worst_before_fit_mm = worst_before;
-  machine::Machine nearest(machine.name() + " (nearest " + form_name(form.geometry) + ")",
-                           machine.source(), machine.units(), std::move(model), machine.joints(),
-                           machine.cartesian(), machine.home());
-  nearest.set_tool(machine.tool());
-  nearest.set_homing(machine.homing());
-  nearest.set_controller(machine.controller());
-  return FirmwareMachine{std::move(nearest), std::move(*fitted), cost};
+  return FirmwareMachine{nearest_machine(machine, std::move(model), form_name(form.geometry)),
+                         std::move(*fitted), cost,
+                         std::make_shared<const machine::Machine>(machine)};
 }
 
 }  // namespace
@@ -329,7 +340,7 @@ FirmwareMachine firmware_machine(const machine::Machine& machine,
                         std::string(machine.kinematics().type()) +
                         (form ? std::string(" (a ") + form_name(form->geometry) + ")" : ""));
   }
-  if (form->losses.empty()) return FirmwareMachine{machine, *form, std::nullopt};
+  if (form->losses.empty()) return FirmwareMachine{machine, *form, std::nullopt, nullptr};
   if (!approximate_if_needed) throw ExportRefused(refusal(machine, *form, target));
   return approximate(machine, *form, target);
 }

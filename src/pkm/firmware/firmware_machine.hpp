@@ -3,6 +3,7 @@
 // nearest machine of that form, fitted over the workspace, with the tool error that costs.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -34,6 +35,9 @@ struct FirmwareMachine {
   machine::Machine machine;       // its model is in the form
   kinematics::FirmwareForm form;  // form.losses: what the firmware cannot hold (empty: exact)
   std::optional<ApproximationCost> cost;  // set when the machine was approximated
+  // The machine as built, which an approximation's cost is measured on (none: `machine` itself).
+  std::shared_ptr<const machine::Machine> as_built;
+  const machine::Machine& built() const { return as_built ? *as_built : machine; }
 };
 
 // A machine a target cannot express: says which of its forms the model is not, or what the
@@ -49,6 +53,18 @@ class ExportRefused : public std::runtime_error {
 FirmwareMachine firmware_machine(const machine::Machine& machine,
                                  const std::vector<FormKind>& accepted, const std::string& target,
                                  bool approximate);
+
+// What following `form_model` (a model whose firmware_form() is exact) costs on `machine` at
+// `samples`: the firmware's joints by the form's own equations, driven through the machine's
+// forward kinematics (ApproximationCost; worst_before_fit_mm left 0).
+ApproximationCost approximation_cost(const machine::Machine& machine,
+                                     const kinematics::Kinematics& form_model,
+                                     const std::vector<geometry::Pose>& samples);
+
+// `machine` with its model replaced by `form_model` (name: "... (nearest <what>)"), the rest kept.
+machine::Machine nearest_machine(const machine::Machine& machine,
+                                 std::unique_ptr<kinematics::Kinematics> form_model,
+                                 const std::string& what);
 
 // Poses over the machine's reach (a grid of about `per_axis` points along each controlled axis
 // over the reachable extent, kept where the machine's inverse kinematics and limits accept them),

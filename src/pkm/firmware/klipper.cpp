@@ -11,8 +11,8 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "pkm/firmware/klipper_fit.hpp"
 #include "pkm/firmware/klipper_import.hpp"
+#include "pkm/firmware/one_circle_delta.hpp"
 #include "pkm/geometry/pose.hpp"
 
 namespace pkm::firmware {
@@ -48,15 +48,12 @@ std::array<double, 3> tower_radii(const FirmwareMachine& firmware) {
   return radii;
 }
 
-bool on_one_circle(const std::array<double, 3>& radii) {
-  const auto [low, high] = std::minmax_element(radii.begin(), radii.end());
-  return *high - *low <= kRadiusTolerance;
-}
-
 double common_radius(const FirmwareMachine& firmware) {
   const std::array<double, 3> radii = tower_radii(firmware);
   const double radius = (radii[0] + radii[1] + radii[2]) / 3.0;
-  if (on_one_circle(radii)) return radius;
+  if (towers_on_one_circle(std::get<kinematics::LinearDeltaForm>(firmware.form.geometry),
+                           kRadiusTolerance))
+    return radius;
   std::string text = firmware.machine.source() +
                      ": klipper's delta puts every tower at one delta_radius from the origin; "
                      "this machine's towers (their rods' columns) are " +
@@ -64,7 +61,8 @@ double common_radius(const FirmwareMachine& firmware) {
                      millimetres(radii[2]) +
                      " mm from it, and Klipper's delta has no setting that moves the origin";
   if (!firmware.cost) {
-    const ApproximationCost cost = klipper_nearest_delta(firmware).cost.value();
+    const ApproximationCost cost =
+        nearest_delta_on_one_circle(firmware, "klipper's delta_radius").cost.value();
     const Eigen::Vector3d& at = cost.worst_at.position_mm;
     text +=
         ". The nearest delta it holds (one delta_radius; angles, rods and endstops fitted over " +
@@ -221,8 +219,10 @@ ExportedFile write_klipper(const FirmwareMachine& firmware, const ExportContext&
         "machine's shifted up by the shoulder height. Not exported: drive it with pkmkit's joint "
         "output, or move the frame in the machine file when pkmkit's rotary delta has an offset");
   }
-  if (context.approximate && !firmware.cost && !on_one_circle(tower_radii(firmware))) {
-    const FirmwareMachine nearest = klipper_nearest_delta(firmware);
+  if (context.approximate &&
+      !towers_on_one_circle(std::get<kinematics::LinearDeltaForm>(firmware.form.geometry),
+                            kRadiusTolerance)) {
+    const FirmwareMachine nearest = nearest_delta_on_one_circle(firmware, "klipper's delta_radius");
     ExportedFile file = write_klipper(nearest, context);
     file.cost = nearest.cost;
     return file;

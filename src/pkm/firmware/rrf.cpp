@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "pkm/firmware/one_circle_delta.hpp"
 #include "pkm/firmware/rrf_config.hpp"
 #include "pkm/firmware/rrf_delta.hpp"
 #include "pkm/firmware/rrf_rotary.hpp"
@@ -57,8 +58,8 @@ double common_radius(const FirmwareMachine& fm, const kinematics::LinearDeltaFor
         ": rrf's linear delta puts its three towers on one circle about x 0 " +
         "y 0 (M665 R), and this machine's columns stand at " + millimetres(radii[0]) + ", " +
         millimetres(radii[1]) + " and " + millimetres(radii[2]) +
-        " from it: RRF cannot move its frame or give a tower its own radius" +
-        (fm.cost ? " (the --approximate fit does not hold the columns to one circle)" : ""));
+        " from it: RRF cannot move its frame or give a tower its own radius; --approximate "
+        "writes the nearest delta on one circle and states the worst tool error that costs");
   }
   return (radii[0] + radii[1] + radii[2]) / 3.0;
 }
@@ -147,6 +148,13 @@ ExportedFile write(const FirmwareMachine& fm, const ExportContext& context) {
   }
   if (std::holds_alternative<kinematics::RotaryDeltaForm>(fm.form.geometry)) {
     return write_rrf_rotary_delta(fm, context);
+  }
+  const auto& form = std::get<kinematics::LinearDeltaForm>(fm.form.geometry);
+  if (context.approximate && !towers_on_one_circle(form, kRadiusTolerance_mm)) {
+    const FirmwareMachine nearest = nearest_delta_on_one_circle(fm, "rrf's M665 R");
+    ExportedFile file = write_linear_delta(nearest, context);
+    file.cost = nearest.cost;
+    return file;
   }
   return write_linear_delta(fm, context);
 }
