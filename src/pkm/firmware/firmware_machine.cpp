@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "pkm/calibration/parameter_fit.hpp"
+#include "pkm/firmware/fit_residuals.hpp"
 
 namespace pkm::firmware {
 namespace {
@@ -91,7 +92,7 @@ bool pin_at_home(kinematics::Kinematics& model, const std::vector<JointOffset>& 
 // less the sample (mm, over the controlled coordinates): the firmware's joints against the
 // machine's own, through the inverse of the machine's Jacobian there. A cord nearly level moves
 // the tool far for a small change of its length: the fit weighs it so.
-class ToolResiduals final : public calibration::ParameterResiduals {
+class ToolResiduals final : public MillimetreResiduals {
  public:
   struct Sample {
     geometry::Pose pose;
@@ -106,7 +107,10 @@ class ToolResiduals final : public calibration::ParameterResiduals {
   };
 
   ToolResiduals(const kinematics::Kinematics& model, std::vector<Sample> samples, Home home)
-      : model_(model.clone()), samples_(std::move(samples)), home_(std::move(home)) {}
+      : MillimetreResiduals(static_cast<int>(model.dof().count())),
+        model_(model.clone()),
+        samples_(std::move(samples)),
+        home_(std::move(home)) {}
 
   // `parameters` with the joints' offsets pinned at home.
   bool pinned(std::span<const double> parameters, std::vector<double>& values) const {
@@ -134,23 +138,9 @@ class ToolResiduals final : public calibration::ParameterResiduals {
     }
     return true;
   }
-  void summarise(const std::vector<double>& residuals, double& rms_mm, double& max_mm,
-                 int& max_line) const override {
-    double sum = 0.0;
-    max_mm = 0.0;
-    for (std::size_t k = 0; k < residuals.size(); ++k) {
-      sum += residuals[k] * residuals[k];
-      if (std::abs(residuals[k]) > max_mm) {
-        max_mm = std::abs(residuals[k]);
-        max_line = static_cast<int>(k);
-      }
-    }
-    rms_mm = residuals.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(residuals.size()));
-  }
   std::string nominal_failure_hint() const override {
     return "the form's inverse kinematics refuses a workspace pose";
   }
-  double extent_mm() const override { return 0.0; }
 
  private:
   std::unique_ptr<kinematics::Kinematics> model_;

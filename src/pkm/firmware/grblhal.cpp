@@ -7,6 +7,7 @@
 #include "pkm/firmware/grblhal.hpp"
 
 #include "pkm/firmware/grblhal_settings.hpp"
+#include "pkm/post/grbl_settings.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -28,42 +29,21 @@ std::string value_text(double value) {
   return written;
 }
 
-namespace {
-
-// A comment grblHAL's line reader and a sender both pass whole: no nested parentheses, printable
-// ASCII, no real-time characters.
-std::string comment_text(std::string_view text) {
-  std::string safe;
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (c == '(') {
-      safe += '[';
-    } else if (c == ')') {
-      safe += ']';
-    } else if (byte < 0x20 || byte > 0x7E || c == '?' || c == '!' || c == '~' || c == ';') {
-      safe += '_';
-    } else {
-      safe += c;
-    }
-  }
-  return safe;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 // grblHAL reads 256 characters a line (protocol.h LINE_BUFFER_SIZE) and reports an overflow past
 // them: a longer comment goes on as many lines as it takes.
 void Lines::comment(std::string_view line) {
   constexpr std::size_t kRoom = 250;
-  const std::string safe = comment_text(line);
+  const std::string safe = post::grbl_comment_text(line);
   for (std::size_t at = 0; at == 0 || at < safe.size(); at += kRoom) {
     text += "(" + safe.substr(at, kRoom) + ")\n";
   }
 }
 
 void Lines::setting(int number, double value, std::string_view what) {
-  text +=
-      "$" + std::to_string(number) + "=" + value_text(value) + " (" + comment_text(what) + ")\n";
+  text += "$" + std::to_string(number) + "=" + value_text(value) + " (" +
+          post::grbl_comment_text(what) + ")\n";
 }
 
 }  // namespace grblhal

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "pkm/calibration/parameter_fit.hpp"
+#include "pkm/firmware/fit_residuals.hpp"
 
 namespace pkm::firmware {
 namespace {
@@ -27,9 +28,10 @@ struct Sample {
 };
 
 // Each sample's form readings less the machine's (mm).
-class CircleResiduals final : public calibration::ParameterResiduals {
+class CircleResiduals final : public MillimetreResiduals {
  public:
-  explicit CircleResiduals(std::vector<Sample> samples) : samples_(std::move(samples)) {}
+  explicit CircleResiduals(std::vector<Sample> samples)
+      : MillimetreResiduals(3), samples_(std::move(samples)) {}
 
   int count() const override { return 3 * static_cast<int>(samples_.size()); }
   bool evaluate(std::span<const double> parameters, double* residuals) const override {
@@ -46,23 +48,9 @@ class CircleResiduals final : public calibration::ParameterResiduals {
     }
     return true;
   }
-  void summarise(const std::vector<double>& residuals, double& rms_mm, double& max_mm,
-                 int& max_line) const override {
-    double sum = 0.0;
-    max_mm = 0.0;
-    for (std::size_t k = 0; k < residuals.size(); ++k) {
-      sum += residuals[k] * residuals[k];
-      if (std::abs(residuals[k]) > max_mm) {
-        max_mm = std::abs(residuals[k]);
-        max_line = static_cast<int>(k / 3);
-      }
-    }
-    rms_mm = residuals.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(residuals.size()));
-  }
   std::string nominal_failure_hint() const override {
     return "a tower's rod does not reach a workspace pose";
   }
-  double extent_mm() const override { return 0.0; }
 
  private:
   std::vector<Sample> samples_;
