@@ -49,6 +49,14 @@ std::optional<double> steps_per_mm(KlipperConfig& config, const std::string& sec
     }
   }
   if (distance && *distance <= 0.0) config.fail(section, "rotation_distance", "must be above 0");
+  // Klipper before 2021 had step_distance (mm per step) where it now has rotation_distance.
+  if (const std::optional<double> step = config.number(section, "step_distance");
+      step && !distance) {
+    if (*step <= 0.0) config.fail(section, "step_distance", "must be above 0");
+    notes.push_back("[" + section + "] step_distance (older Klipper's key): " +
+                    klipper_number(1.0 / *step) + " steps/mm");
+    return 1.0 / *step;
+  }
   if (!distance || !microsteps) {
     notes.push_back("[" + section + "] has no rotation_distance and microsteps: no steps_per_unit");
     return std::nullopt;
@@ -59,7 +67,14 @@ std::optional<double> steps_per_mm(KlipperConfig& config, const std::string& sec
 std::array<TowerSettings, 3> read_towers(KlipperConfig& config, double radius,
                                          std::vector<std::string>& notes) {
   std::array<TowerSettings, 3> towers;
-  const double arm_a = config.required("stepper_a", "arm_length");
+  // Klipper before 2019 read one rod length from [printer] delta_arm_length.
+  const std::optional<double> old_arm = config.number("printer", "delta_arm_length");
+  if (old_arm && !config.number("stepper_a", "arm_length")) {
+    notes.push_back("[printer] delta_arm_length (older Klipper's key) is every tower's arm_length");
+  }
+  const double arm_a = old_arm && !config.number("stepper_a", "arm_length")
+                           ? *old_arm
+                           : config.required("stepper_a", "arm_length");
   const double endstop_a = config.required("stepper_a", "position_endstop");
   for (int i = 0; i < 3; ++i) {
     const std::string section = kSteppers[i];
@@ -152,6 +167,9 @@ machine::ImportedMachine read_klipper(std::string_view text, const std::string& 
   for (int i = 0; i < 3; ++i) {
     const double angle = geometry::degrees_to_radians(towers[i].angle_deg);
     form.towers[i].column_mm = radius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    // cos 90 deg is 6e-17, not 0: a machine file would read "1.07e-14" for a tower on the y axis.
+    form.towers[i].column_mm = form.towers[i].column_mm.unaryExpr(
+        [](double value) { return std::abs(value) < 1e-12 ? 0.0 : value; });
     form.towers[i].rod_mm = towers[i].arm;
     imported.joints.push_back(
         tower_joint(i, towers[i], radius, minimum_z, max_z_velocity, max_z_accel));
