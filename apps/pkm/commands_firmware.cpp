@@ -85,7 +85,8 @@ void run_firmware_export(const std::string& target_name, const FirmwareExportOpt
   try {
     held = firmware::firmware_machine(machine, target.forms, target.name, options.approximate);
     const firmware::ExportContext context{
-        kVersion, options.machine.empty() ? std::string("the embedded machine") : options.machine};
+        kVersion, options.machine.empty() ? std::string("the embedded machine") : options.machine,
+        options.approximate};
     file = target.write(*held, context);
   } catch (const firmware::ExportRefused& error) {
     throw CommandError(error.what());
