@@ -152,6 +152,14 @@ add_test(NAME cli.firmware_calibrated_delta_to_klipper
                  ${CMAKE_CURRENT_SOURCE_DIR}/data/delta-measurements.csv ${FW_OUT})
 set_tests_properties(cli.firmware_calibrated_delta_to_klipper PROPERTIES PASS_REGULAR_EXPRESSION
   "rail2\\.strut +300\\.000000 +301\\.(199|200)[0-9]* .*rail3\\.origin\\.z +0\\.000000 +0\\.(799|800|801)[0-9]* .*delta-fitted\\.cfg: klipper printer\\.cfg for Linear delta \\(linear delta, exact\\).*delta_radius: 160  .*\\[stepper_a\\][^[]*arm_length: 300\\.000[0-9]*  [^[]*position_endstop: 446\\.22[78][0-9]*  .*\\[stepper_b\\][^[]*arm_length: 301\\.(199|200)[0-9]*  [^[]*position_endstop: 444\\.81[01][0-9]*  .*\\[stepper_c\\][^[]*arm_length: 300\\.000[0-9]*  [^[]*position_endstop: 447\\.02[89][0-9]*  ")
+# The same fit to RepRapFirmware: RRF's tower A is tower_b (at 210 deg), so M665 L lists the rods
+# B C A of the machine file; the endstops become H (their mean) and M666's corrections.
+add_test(NAME cli.firmware_calibrated_delta_to_rrf
+         COMMAND sh -c "rm -f \"$3/delta-fitted-rrf.toml\" \"$3/delta-fitted.g\"; \"$0\" calibrate fit -m \"$1\" \"$2\" --params 'rail*.strut,rail*.origin.z' -o \"$3/delta-fitted-rrf.toml\" >/dev/null && \"$0\" export rrf -m \"$3/delta-fitted-rrf.toml\" -o \"$3/delta-fitted.g\" && cat \"$3/delta-fitted.g\""
+                 ${PKM} ${MACHINES}/linear-delta.toml
+                 ${CMAKE_CURRENT_SOURCE_DIR}/data/delta-measurements.csv ${FW_OUT})
+set_tests_properties(cli.firmware_calibrated_delta_to_rrf PROPERTIES PASS_REGULAR_EXPRESSION
+  "delta-fitted\\.g: rrf config\\.g for Linear delta \\(linear delta, exact\\).*M665 L301\\.(199|200)[0-9]*:300\\.000[0-9]*:300\\.000[0-9]* R160 H446\\.02[23][0-9]* .*M666 X-1\\.21[12][0-9]* Y1\\.00[56][0-9]* Z0\\.20[56][0-9]* ")
 # Fitting the rails' origins in x and y as well moves the towers off one circle by the
 # measurements' noise: Klipper's delta refuses that, --approximate states what it costs.
 add_test(NAME cli.firmware_calibrated_delta_origins_to_klipper_approximate
