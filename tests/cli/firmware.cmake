@@ -132,6 +132,16 @@ pkm_firmware_bad_import(marlin_import_missing_x_max_pos marlin marlin-no-x-max-p
 pkm_firmware_bad_import(grblhal_import_missing_641 grblhal grblhal-no-641.txt
   "grblhal-no-641\\.txt:17: \\$641: missing \\(forearm length re, mm\\)")
 
+# A calibrated Klipper delta (its SAVE_CONFIG block: towers of different rods and endstops, so the
+# carriages home the tool off x = y = 0) imports, its home lowered by rounding's worth where the
+# inverse kinematics would read a carriage past its endstop (it once refused its own home:
+# "joint 'stepper_a' = 699.812 mm passes its max 699.812 mm"), and exports its saved values.
+add_test(NAME cli.firmware_klipper_imports_a_calibrated_delta
+         COMMAND sh -c "rm -f \"$2/calibrated.toml\" \"$2/calibrated.cfg\"; \"$0\" import klipper \"$1\" -o \"$2/calibrated.toml\" && grep '^home = ' \"$2/calibrated.toml\" && \"$0\" export klipper -m \"$2/calibrated.toml\" -o \"$2/calibrated.cfg\" && cat \"$2/calibrated.cfg\""
+                 ${PKM} ${FW_DATA}/klipper-delta-calibrated.cfg ${FW_OUT})
+set_tests_properties(cli.firmware_klipper_imports_a_calibrated_delta PROPERTIES
+  PASS_REGULAR_EXPRESSION "calibrated\\.toml: machine file of Klipper delta.*home = \\[0\\.0, 0\\.3036[0-9]*, 446\\.3412[0-9]*\\].*delta_radius: 160\\.214313  .*\\[stepper_a\\][^[]*angle: 90  [^[]*arm_length: 299\\.697938  [^[]*position_endstop: 446\\.533108  .*\\[stepper_b\\][^[]*angle: 209\\.998947  [^[]*arm_length: 300\\.252411  [^[]*position_endstop: 446\\.24531  ")
+
 # Calibration to firmware (docs/firmware.md): pkm calibrate fit, then pkm export of the fitted
 # machine carries the fitted geometry.
 # Hektor measured (tests/data/hektor-measurements.csv: right anchor 0.6 mm out) to FluidNC: the
