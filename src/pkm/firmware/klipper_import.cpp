@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "pkm/firmware/klipper.hpp"
 #include "pkm/firmware/klipper_cfg.hpp"
+#include "pkm/firmware/rrf_delta.hpp"
 #include "pkm/firmware/target.hpp"
 #include "pkm/kinematics/firmware_form.hpp"
 #include "pkm/machine/machine.hpp"
@@ -126,13 +128,25 @@ machine::ImportedJoint tower_joint(int i, const TowerSettings& tower, double rad
   return joint;
 }
 
-// The tool's z with every carriage at its endstop (Klipper's home position).
-double home_z(const kinematics::Kinematics& model, const machine::ImportedMachine& imported,
-              double seed_z) {
+// The tool with every carriage at its endstop (Klipper's home position), none where the
+// carriages hold it nowhere. `lowered`: the same pose lowered by rounding's worth (from 1e-9 mm)
+// until no carriage's reading passes its endstop, as the machine file's check of its home reads
+// it (towers of different rods or endstops home off x = y = 0, where the solution's noise can put
+// a carriage 1e-13 mm past its endstop).
+std::optional<geometry::Pose> home_pose(const kinematics::Kinematics& model,
+                                        const machine::ImportedMachine& imported, double seed_z,
+                                        bool lowered) {
   kinematics::JointVector joints(3);
-  for (int i = 0; i < 3; ++i) joints[i] = imported.joints[i].home;
+  std::array<double, 3> lowest{}, highest{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    joints[static_cast<Eigen::Index>(i)] = imported.joints[i].home;
+    lowest[i] = imported.joints[i].min;
+    highest[i] = imported.joints[i].max;
+  }
   geometry::Pose pose = geometry::Pose::from_mm_deg(0.0, 0.0, seed_z);
-  return model.forward(joints, pose).ok() ? pose.position_mm.z() : seed_z;
+  if (!model.forward(joints, pose).ok()) return std::nullopt;
+  if (lowered && !lower_into_limits(model, lowest, highest, pose)) return std::nullopt;
+  return pose;
 }
 
 }  // namespace
@@ -181,7 +195,13 @@ machine::ImportedMachine read_klipper(std::string_view text, const std::string& 
   imported.max_acceleration = max_accel;
   imported.home_seed_z = max_z;
   // Klipper's z reaches the lowest endstop; its home (every carriage at its endstop) may be above.
-  const double top = std::max(max_z, home_z(*model, imported, max_z));
+  const std::optional<geometry::Pose> endstops = home_pose(*model, imported, max_z, false);
+  const double top = std::max(max_z, endstops ? endstops->position_mm.z() : max_z);
+  if (const std::optional<geometry::Pose> home = home_pose(*model, imported, max_z, true)) {
+    auto tidy = [](double value) { return std::abs(value) < 1e-9 ? 0.0 : value; };
+    const Eigen::Vector3d& at = home->position_mm;
+    imported.home = std::vector<double>{tidy(at.x()), tidy(at.y()), at.z()};
+  }
   imported.envelope_min = std::vector<double>{-print_radius, -print_radius, minimum_z};
   imported.envelope_max = std::vector<double>{print_radius, print_radius, top};
   imported.notes.push_back(
