@@ -273,7 +273,10 @@ bool brute_force(const Eigen::MatrixXd& a, const Eigen::VectorXd& w, const Tensi
       continue;
     }
     const double distance = (t - targets.preferred_N).norm();
-    if (distance < best_distance) best_distance = distance, best = t;
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = t;
+    }
   }
   return std::isfinite(best_distance);
 }

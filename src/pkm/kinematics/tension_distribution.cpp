@@ -41,10 +41,12 @@ void validate(const Eigen::MatrixXd& structure, const Eigen::VectorXd& wrench_N,
                static_cast<double>(wrench_N.size()), static_cast<double>(structure.rows())));
   }
   if (targets.min_N.size() != n || targets.max_N.size() != n || targets.preferred_N.size() != n) {
-    throw std::invalid_argument(format(
-        "tension distribution: %g cables, but limits and preferred tensions for %g, %g and %g",
-        static_cast<double>(n), static_cast<double>(targets.min_N.size()),
-        static_cast<double>(targets.max_N.size())));
+    throw std::invalid_argument("tension distribution: " + std::to_string(n) +
+                                " cables, but min, max and preferred "
+                                "tensions for " +
+                                std::to_string(targets.min_N.size()) + ", " +
+                                std::to_string(targets.max_N.size()) + " and " +
+                                std::to_string(targets.preferred_N.size()));
   }
   if (!structure.allFinite() || !wrench_N.allFinite() || !targets.preferred_N.allFinite() ||
       !targets.min_N.allFinite()) {
@@ -116,6 +118,34 @@ ActiveBound most_violated(const Eigen::VectorXd& t, const Eigen::VectorXd& lo,
   return worst;
 }
 
+struct StepDirections {
+  Eigen::VectorXd primal;  // z: the new bound's normal projected off the active normals
+  Eigen::VectorXd dual;    // r: that normal in the active normals' coordinates (N^T N)^-1 N^T n
+};
+
+// The active normals N = [V, sign_j e_j] (orthonormal equilibrium rows, then the active bounds)
+// by a Householder QR: z = n - Q Q^T n, r = R^-1 Q^T n.
+StepDirections step_directions(const Eigen::MatrixXd& v, const std::vector<ActiveBound>& active,
+                               const ActiveBound& adding) {
+  const Eigen::Index n = v.rows(), rank = v.cols();
+  Eigen::MatrixXd normals =
+      Eigen::MatrixXd::Zero(n, rank + static_cast<Eigen::Index>(active.size()));
+  normals.leftCols(rank) = v;
+  for (std::size_t j = 0; j < active.size(); ++j) {
+    normals(active[j].cable, rank + static_cast<Eigen::Index>(j)) = active[j].sign;
+  }
+  const Eigen::Index q = normals.cols();
+  StepDirections directions{Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(q)};
+  directions.primal[adding.cable] = adding.sign;
+  if (q == 0) return directions;
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(normals);
+  const Eigen::MatrixXd basis = qr.householderQ() * Eigen::MatrixXd::Identity(n, q);
+  const Eigen::VectorXd along = basis.transpose() * directions.primal;
+  directions.primal -= basis * along;
+  directions.dual = qr.matrixQR().topLeftCorner(q, q).triangularView<Eigen::Upper>().solve(along);
+  return directions;
+}
+
 // Goldfarb-Idnani with H = I. Adds the most violated bound; steps along z (the bound's normal
 // projected off the active normals) and in the multipliers; drops the active bound whose
 // multiplier reaches zero first. Finite: the dual objective never decreases and no active set
@@ -137,30 +167,16 @@ BoxSolution solve_in_box(const Equilibrium& equilibrium, const Eigen::VectorXd& 
       if (++solution.iterations > cap) {
         throw std::runtime_error("tension distribution: the active-set method did not finish");
       }
-      Eigen::MatrixXd normals(n, rank + static_cast<Eigen::Index>(solution.active.size()));
-      normals.leftCols(rank) = v;
-      normals.rightCols(solution.active.size()).setZero();
-      for (std::size_t j = 0; j < solution.active.size(); ++j) {
-        normals(solution.active[j].cable, rank + static_cast<Eigen::Index>(j)) =
-            solution.active[j].sign;
-      }
-      const Eigen::Index q = normals.cols();
-      Eigen::VectorXd normal = Eigen::VectorXd::Zero(n);
-      normal[adding.cable] = adding.sign;
-      Eigen::VectorXd z = normal, r = Eigen::VectorXd::Zero(q);
-      if (q > 0) {
-        const Eigen::HouseholderQR<Eigen::MatrixXd> qr(normals);
-        const Eigen::MatrixXd basis = qr.householderQ() * Eigen::MatrixXd::Identity(n, q);
-        const Eigen::VectorXd along = basis.transpose() * normal;
-        z -= basis * along;
-        r = qr.matrixQR().topLeftCorner(q, q).triangularView<Eigen::Upper>().solve(along);
-      }
+      const StepDirections directions = step_directions(v, solution.active, adding);
+      const Eigen::VectorXd& z = directions.primal;
+      const Eigen::VectorXd& r = directions.dual;
       double dual_step = kInfinity;
       std::size_t dropping = 0;
       for (std::size_t j = 0; j < solution.active.size(); ++j) {
         const double rate = r[rank + static_cast<Eigen::Index>(j)];
         if (rate > kDependentNormal && solution.active[j].multiplier / rate < dual_step) {
-          dual_step = solution.active[j].multiplier / rate, dropping = j;
+          dual_step = solution.active[j].multiplier / rate;
+          dropping = j;
         }
       }
       const double z_squared = z.squaredNorm();
