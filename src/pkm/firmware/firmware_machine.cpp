@@ -263,9 +263,9 @@ ApproximationCost approximation_cost(const machine::Machine& machine,
 machine::Machine nearest_machine(const machine::Machine& machine,
                                  std::unique_ptr<kinematics::Kinematics> form_model,
                                  const std::string& what) {
-  machine::Machine nearest(machine.name() + " (nearest " + what + ")", machine.source(),
-                           machine.units(), std::move(form_model), machine.joints(),
-                           machine.cartesian(), machine.home());
+  machine::Machine nearest(machine.name() + ", nearest " + what, machine.source(), machine.units(),
+                           std::move(form_model), machine.joints(), machine.cartesian(),
+                           machine.home());
   nearest.set_tool(machine.tool());
   nearest.set_homing(machine.homing());
   nearest.set_controller(machine.controller());
