@@ -161,6 +161,31 @@ TEST_P(CableRobotExample, JacobianMatchesFiniteDifferences) {
   }
 }
 
+TEST_P(CableRobotExample, ReachBoxHoldsEveryPoseWithinTheJointLimits) {
+  const machine::Machine m = data_machine(GetParam());
+  JointVector joint_min(m.kinematics().joint_count());
+  JointVector joint_max(m.kinematics().joint_count());
+  for (int j = 0; j < joint_min.size(); ++j) {
+    joint_min[j] = m.joints()[j].min;
+    joint_max[j] = m.joints()[j].max;
+  }
+  const auto box = m.kinematics().tool_position_box(joint_min, joint_max);
+  ASSERT_TRUE(box.has_value());
+  std::mt19937_64 rng(5);
+  for (const geometry::Pose& pose : envelope_poses(m, 500, rng)) {
+    EXPECT_TRUE(box->contains(pose.position_mm)) << pose.position_mm.transpose();
+  }
+  // A cable's max length less its offset about its centre: the Hangprinter's D line reaches
+  // 3500 mm down from 2299.83 mm; the Maslow's z is its Z joint's range.
+  if (GetParam() == "hangprinter-v4.toml") {
+    EXPECT_DOUBLE_EQ(box->min().z(), 2299.83 - 3500.0);
+  } else {
+    EXPECT_EQ(box->min().z(), -40.0);
+    EXPECT_EQ(box->max().z(), 20.0);
+    EXPECT_DOUBLE_EQ(box->max().x(), -27.6 + 3300.0 + 153.4);  // the top left belt
+  }
+}
+
 TEST_P(CableRobotExample, WriterReadsBack) {
   const std::string text = data_text(GetParam());
   const machine::Machine m = machine::parse_machine(text, GetParam());

@@ -116,6 +116,10 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch {
   void moving_parts(const geometry::Pose& pose, const JointVector& joints,
                     std::vector<SketchLine>& out) const override;
 
+  // Reach box (kinematics.hpp; cable_robot_reach.cpp).
+  std::optional<Eigen::AlignedBox3d> tool_position_box(const JointVector& joint_min,
+                                                       const JointVector& joint_max) const override;
+
   const CableRobotGeometry& geometry() const { return geometry_; }
 
  private:
