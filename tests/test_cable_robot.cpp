@@ -298,6 +298,37 @@ TEST(CableRobot, ForwardFromAFarSeedFindsTheJointsPose) {
   }
 }
 
+TEST(CableRobot, RefusesAnAnchorWithinItsArmAndSaysWhy) {
+  const machine::Machine m = data_machine("maslow4.toml");
+  geometry::Pose pose = m.home();
+  pose.position_mm = {30.0, 40.0, 0.0};  // 50 mm from the bottom left corner, its arm 153.4
+  JointVector joints;
+  const kinematics::Status status = m.kinematics().inverse(pose, joints);
+  EXPECT_EQ(status.code, StatusCode::unreachable);
+  EXPECT_EQ(status.joint, 2);
+  EXPECT_EQ(m.kinematics().why_refused(pose, status),
+            "cable 3's anchor is 50.000 mm from its arm's pivot in plan view, within the swivel "
+            "arm's 153.400 mm");
+}
+
+TEST(CableRobot, SketchDrawsEachCableFromItsAnchor) {
+  const machine::Machine m = data_machine("maslow4.toml");
+  const kinematics::MechanismSketch* sketch = m.kinematics().sketch();
+  ASSERT_NE(sketch, nullptr);
+  JointVector joints;
+  ASSERT_TRUE(m.kinematics().inverse(m.home(), joints).ok());
+  std::vector<kinematics::SketchLine> lines;
+  sketch->moving_parts(m.home(), joints, lines);
+  int cables = 0;
+  for (const kinematics::SketchLine& line : lines) {
+    if (line.part != kinematics::SketchPart::link) continue;
+    // Each belt runs from its anchor to its arm's end, as long as its joint says.
+    EXPECT_NEAR((line.to - line.from).norm(), joints[cables], 1e-9);
+    ++cables;
+  }
+  EXPECT_EQ(cables, 4);
+}
+
 struct BadKey {
   std::string name;
   std::string file;
