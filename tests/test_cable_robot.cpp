@@ -229,6 +229,47 @@ JointVector joints_with_excess(const machine::Machine& m, const geometry::Pose& 
   return joints;
 }
 
+// Maslow 4's belt length as its firmware computes it (MaslowKinematics::computeTL and its
+// siblings), in its own coordinates about the frame's centre, written here from its equation.
+double maslow_belt(double corner_x, double corner_y, double corner_z, double x, double y,
+                   double z) {
+  constexpr double kCentreX = 1461.9000902928362;  // the frame's diagonals' crossing
+  constexpr double kCentreY = 1033.0733975960557;
+  constexpr double kArmAndBeltEnd = 123.4 + 30.0;
+  const double a = corner_x - (x + kCentreX);
+  const double b = corner_y - (y + kCentreY);
+  const double c = 0.0 - (z + corner_z);
+  const double in_plan = std::sqrt(a * a + b * b) - kArmAndBeltEnd;
+  return std::sqrt(in_plan * in_plan + c * c);
+}
+
+TEST(CableRobot, MaslowBeltsAsItsFirmwareComputesThem) {
+  const machine::Machine m = data_machine("maslow4.toml");
+  const double corners[4][3] = {
+      {-27.6, 2064.9, 100.0}, {2924.3, 2066.5, 56.0}, {0.0, 0.0, 34.0}, {2953.2, 0.0, 78.0}};
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> across(-1200.0, 1200.0);
+  std::uniform_real_distribution<double> up_down(-600.0, 600.0);
+  std::uniform_real_distribution<double> plunge(-40.0, 20.0);
+  double worst = 0.0;
+  for (int sample = 0; sample < 1000; ++sample) {
+    const double x = across(rng);
+    const double y = up_down(rng);
+    const double z = plunge(rng);
+    geometry::Pose pose = m.home();
+    pose.position_mm = {x + 1461.9000902928362, y + 1033.0733975960557, z};
+    JointVector joints;
+    ASSERT_TRUE(m.kinematics().inverse(pose, joints).ok());
+    for (int belt = 0; belt < 4; ++belt) {
+      const double theirs =
+          maslow_belt(corners[belt][0], corners[belt][1], corners[belt][2], x, y, z);
+      worst = std::max(worst, std::abs(joints[belt] - theirs));
+    }
+    EXPECT_EQ(joints[4], z);
+  }
+  EXPECT_LT(worst, 1e-9);
+}
+
 TEST(CableRobot, MaslowNamesTheMismeasuredBelt) {
   // Four belts in a plane: two more than coordinates, so one belt's error shows as its own.
   const machine::Machine m = data_machine("maslow4.toml");
@@ -337,6 +378,10 @@ struct BadKey {
   std::string message;
 };
 
+std::ostream& operator<<(std::ostream& out, const BadKey& c) {
+  return out << c.name;
+}
+
 class CableRobotBadKey : public ::testing::TestWithParam<BadKey> {};
 
 int line_of(const std::string& text, const std::string& needle) {
@@ -368,10 +413,10 @@ const std::string kDCable =
     "[[kinematics.cables]]           # D\nanchor = [0.0, 0.01, 2299.83]\nattach = [0.0, 0.0, "
     "0.0]\n";
 const std::string kTwoBelts =
-    "[[kinematics.cables]]           # top right\nanchor = [2924.3, 2066.5, 56.0]\n"
-    "attach = [0.0, 0.0, 0.0]\nswivel_arm = 153.4\n\n"
-    "[[kinematics.cables]]           # bottom left\nanchor = [0.0, 0.0, 34.0]\n"
-    "attach = [0.0, 0.0, 0.0]\nswivel_arm = 153.4\n";
+    "[[kinematics.cables]]           # top right\nanchor = [2924.3, 2066.5, 0.0]\n"
+    "attach = [0.0, 0.0, 56.0]\nswivel_arm = 153.4\n\n"
+    "[[kinematics.cables]]           # bottom left\nanchor = [0.0, 0.0, 0.0]\n"
+    "attach = [0.0, 0.0, 34.0]\nswivel_arm = 153.4\n";
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, CableRobotBadKey,
@@ -402,6 +447,13 @@ INSTANTIATE_TEST_SUITE_P(
                              {{"swivel_arm = 153.4", "swivel_arm = -1.0 # <-"}},
                              "kinematics.cables[1].swivel_arm",
                              "must be a length of 0 or more"},
+                      BadKey{"follow_z_without_a_z_joint",
+                             "maslow4.toml",
+                             {{"passthrough = [\"z\"]\n", ""},
+                              {"cables_follow_z = true", "cables_follow_z = true # <-"},
+                              {"[[joints]]\nname = \"z\"", "[[no_joints]]\nname = \"z\""}},
+                             "kinematics.cables_follow_z",
+                             "needs the tool's z as a pass-through joint"},
                       BadKey{
                           "tension_limits_backwards",
                           "hangprinter-v4.toml",

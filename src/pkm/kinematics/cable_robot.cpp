@@ -39,6 +39,11 @@ std::string mm(double value) {
 CableRobotKinematics::CableRobotKinematics(CableRobotGeometry geometry, PassThroughAxes passthrough)
     : geometry_(std::move(geometry)), passthrough_(std::move(passthrough)) {
   validate_cable_robot_geometry(geometry_);
+  const auto& axes = passthrough_.axes();
+  if (geometry_.cables_follow_z && std::find(axes.begin(), axes.end(), 2) == axes.end()) {
+    throw std::invalid_argument(
+        "cables_follow_z: needs the tool's z as a pass-through joint (passthrough = [\"z\"])");
+  }
   if (joint_count() > kMaxJoints) {
     throw std::invalid_argument("cables: " + std::to_string(cable_count()) + " cables and " +
                                 std::to_string(passthrough_.count()) +
@@ -80,15 +85,20 @@ void validate_cable_robot_geometry(const CableRobotGeometry& g) {
                              std::isfinite(g.tension_max_N))) {
     throw std::invalid_argument("tension_limits: must be [min, max] with 0 <= min < max (N)");
   }
+  if (g.cables_follow_z && !g.planar) {
+    throw std::invalid_argument(
+        "cables_follow_z: only a planar robot's tie points can ride on its tool's z");
+  }
   if (!(g.misfit_tolerance_mm > 0.0) || !(g.misfit_tolerance_mm <= 100.0)) {
     throw std::invalid_argument("misfit_tolerance: must be a length above 0 and at most 100 mm");
   }
 }
 
 Eigen::Vector3d CableRobotKinematics::tool_point(const geometry::Pose& pose) const {
-  // A planar robot's effector moves in the plane z = 0: its cables' z are heights above it.
+  // A planar robot's effector moves in the plane z = 0: its cables' z are heights above it,
+  // unless its tie points ride on the tool's z (Maslow 4's arms on the spindle).
   Eigen::Vector3d tool = pose.position_mm;
-  if (geometry_.planar) tool.z() = 0.0;
+  if (geometry_.planar && !geometry_.cables_follow_z) tool.z() = 0.0;
   return tool;
 }
 
@@ -107,9 +117,8 @@ bool CableRobotKinematics::tie_point(int cable, const Eigen::Vector3d& tool_mm,
 Status CableRobotKinematics::lengths(const Eigen::Vector3d& tool_mm, CableVector& length_mm,
                                      CableJacobian* d_length) const {
   const int n = cable_count();
-  const int k = coordinates();
   length_mm.resize(n);
-  if (d_length != nullptr) d_length->resize(n, k);
+  if (d_length != nullptr) d_length->resize(n, 3);
   for (int i = 0; i < n; ++i) {
     Eigen::Vector3d tie;
     if (!tie_point(i, tool_mm, tie)) return Status::failure(StatusCode::unreachable, i);
@@ -119,7 +128,7 @@ Status CableRobotKinematics::lengths(const Eigen::Vector3d& tool_mm, CableVector
     length_mm[i] = length;
     // d length / d tool = -(unit vector to the anchor), with or without a swivel arm: the arm's
     // end moves across the cable, which changes its length only to second order.
-    if (d_length != nullptr) d_length->row(i) = -(along / length).head(k).transpose();
+    if (d_length != nullptr) d_length->row(i) = -(along / length).transpose();
   }
   return Status::success();
 }
@@ -143,7 +152,10 @@ Status CableRobotKinematics::jacobian(const geometry::Pose& pose,
   const Status status = lengths(tool_point(pose), length, &d_length);
   if (!status.ok()) return status;
   d_joints_d_pose.setZero(joint_count(), geometry::kPoseSize);
-  d_joints_d_pose.topLeftCorner(cable_count(), coordinates()) = d_length;
+  d_joints_d_pose.topLeftCorner(cable_count(), coordinates()) = d_length.leftCols(coordinates());
+  if (geometry_.planar && geometry_.cables_follow_z) {
+    d_joints_d_pose.col(2).head(cable_count()) = d_length.col(2);
+  }
   passthrough_.jacobian(d_joints_d_pose, cable_count());
   return Status::success();
 }
@@ -152,7 +164,7 @@ Eigen::MatrixXd CableRobotKinematics::structure_matrix(const geometry::Pose& pos
   CableVector length;
   CableJacobian d_length;
   if (!all_finite(pose) || !lengths(tool_point(pose), length, &d_length).ok()) return {};
-  return -d_length.transpose();
+  return -d_length.leftCols(coordinates()).transpose();
 }
 
 std::string CableRobotKinematics::why_refused(const geometry::Pose& pose,
@@ -186,11 +198,11 @@ CableFit CableRobotKinematics::gauss_newton(const CableVector& wanted_mm,
   for (int iteration = 1; iteration <= forward_options_.max_iterations; ++iteration) {
     fit.iterations = iteration;
     const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3> normal =
-        d_length.transpose() * d_length;
+        d_length.leftCols(k).transpose() * d_length.leftCols(k);
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3> damped = normal;
     damped.diagonal() *= 1.0 + damping;
     const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> step =
-        -damped.ldlt().solve(d_length.transpose() * (length - wanted_mm));
+        -damped.ldlt().solve(d_length.leftCols(k).transpose() * (length - wanted_mm));
     if (!step.allFinite()) break;
     Eigen::Vector3d trial = x;
     trial.head(k) += step;
@@ -229,7 +241,7 @@ void CableRobotKinematics::analyse_misfit(const CableJacobian& d_length, CableFi
   fit.worst_mm = misfit.cwiseAbs().maxCoeff(&fit.worst_cable);
   // The misfits a pose cannot take up: the projection on the complement of d length / d tool's
   // columns. Cable i's joint changed by e moves the fitted misfit by -e (projection of unit i).
-  const Eigen::MatrixXd columns = d_length;
+  const Eigen::MatrixXd columns = d_length.leftCols(coordinates());
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(columns);
   const Eigen::MatrixXd q = qr.householderQ();
   const Eigen::MatrixXd free = q.rightCols(n - coordinates());
@@ -252,8 +264,8 @@ void CableRobotKinematics::analyse_misfit(const CableJacobian& d_length, CableFi
   if (explaining != 1) fit.culprit = -1;
 }
 
-std::optional<Eigen::Vector3d> CableRobotKinematics::trilateration(
-    const CableVector& wanted_mm) const {
+std::optional<Eigen::Vector3d> CableRobotKinematics::trilateration(const CableVector& wanted_mm,
+                                                                   double tool_z_mm) const {
   // |tool - centre_i| = radius_i for each cable: subtracting the mean of the squared equations
   // leaves a linear system in the tool position (planar: in plan view, the heights taken out).
   const int n = cable_count();
@@ -266,7 +278,8 @@ std::optional<Eigen::Vector3d> CableRobotKinematics::trilateration(
     const Eigen::Vector3d centre = c.anchor_mm - c.attach_mm;
     double radius = wanted_mm[i];
     if (geometry_.planar) {
-      const double flat = radius * radius - centre.z() * centre.z();
+      const double height = centre.z() - tool_z_mm;
+      const double flat = radius * radius - height * height;
       if (!(flat >= 0.0)) return std::nullopt;
       radius = std::sqrt(flat) + c.swivel_arm_mm;
     }
@@ -293,14 +306,17 @@ CableFit CableRobotKinematics::fit(const JointVector& joints, const geometry::Po
   }
   CableVector wanted(cable_count());
   for (int i = 0; i < cable_count(); ++i) wanted[i] = joints[i] - geometry_.cables[i].offset_mm;
-  result = gauss_newton(wanted, seed);
+  // The pass-through joints first: a tool's z the cables ride on is its joint's.
+  geometry::Pose start = seed;
+  passthrough_.forward(joints, cable_count(), start);
+  result = gauss_newton(wanted, start);
   const bool fits = result.status.ok() && result.worst_mm <= geometry_.misfit_tolerance_mm;
   if (!fits) {
     // The seed may have led to a local minimum (a far seed, the mirror image of the anchors'
     // plane): start again from the joints' own linear estimate, keep the better fit.
-    if (const std::optional<Eigen::Vector3d> start = trilateration(wanted)) {
-      geometry::Pose from = seed;
-      from.position_mm.head(coordinates()) = start->head(coordinates());
+    if (const std::optional<Eigen::Vector3d> guess = trilateration(wanted, tool_point(start).z())) {
+      geometry::Pose from = start;
+      from.position_mm.head(coordinates()) = guess->head(coordinates());
       CableFit again = gauss_newton(wanted, from);
       again.iterations += result.iterations;
       again.status.iterations = again.iterations;
@@ -309,7 +325,6 @@ CableFit CableRobotKinematics::fit(const JointVector& joints, const geometry::Po
       }
     }
   }
-  passthrough_.forward(joints, cable_count(), result.pose);
   return result;
 }
 
@@ -418,6 +433,7 @@ CableRobotGeometry read_geometry(const ModelConfig& config) {
   refuse_pulley(config);
   CableRobotGeometry g;
   g.planar = config.boolean_or("planar", false);
+  g.cables_follow_z = config.boolean_or("cables_follow_z", false);
   for (const auto& cable_config : config.table_list("cables")) {
     g.cables.push_back(read_cable(*cable_config));
   }
@@ -457,6 +473,7 @@ std::unique_ptr<Kinematics> make_cable_robot_kinematics(const ModelConfig& confi
 void CableRobotKinematics::write_config(ModelConfigWriter& out) const {
   const CableRobotGeometry& g = geometry_;
   out.boolean("planar", g.planar);
+  if (g.cables_follow_z) out.boolean("cables_follow_z", true);
   if (g.effector_mass_kg != 0.0) out.number("effector_mass", g.effector_mass_kg);
   if (!g.center_of_mass_mm.isZero()) out.length_vector3("center_of_mass", g.center_of_mass_mm);
   if (g.tension_limited) {

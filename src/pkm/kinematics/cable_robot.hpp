@@ -37,6 +37,9 @@ struct RobotCable {
 struct CableRobotGeometry {
   std::vector<RobotCable> cables;
   bool planar = false;  // x y only (N >= 3); else x y z (N >= 4)
+  // A planar robot whose tie points ride on the tool's z (a pass-through joint): Maslow 4's arms
+  // on its spindle. Otherwise the sled stays in z = 0 whatever the tool's z.
+  bool cables_follow_z = false;
   double effector_mass_kg = 0.0;
   Eigen::Vector3d center_of_mass_mm = Eigen::Vector3d::Zero();  // effector frame
   bool tension_limited = false;
@@ -130,14 +133,15 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch {
   // Where cable i is tied at tool position p: the arm's end (or `attach` without an arm); false
   // where the arm cannot point at its anchor (the anchor within the arm's reach in plan view).
   bool tie_point(int cable, const Eigen::Vector3d& tool_mm, Eigen::Vector3d& tie_mm) const;
-  // The cables' lengths and d length / d tool position (rows), with the first failure.
+  // The cables' lengths and d length / d tool position x y z (rows), with the first failure.
   Status lengths(const Eigen::Vector3d& tool_mm, CableVector& length_mm,
                  CableJacobian* d_length) const;
   // Gauss-Newton (Marquardt-damped where a step does not lower the misfit) from `start`.
   CableFit gauss_newton(const CableVector& cable_lengths_mm, const geometry::Pose& start) const;
   // A start from the joints alone: the trilateration's linear least squares; none where the
   // cables' centres do not span the coordinates.
-  std::optional<Eigen::Vector3d> trilateration(const CableVector& cable_lengths_mm) const;
+  std::optional<Eigen::Vector3d> trilateration(const CableVector& cable_lengths_mm,
+                                               double tool_z_mm) const;
   void analyse_misfit(const CableJacobian& d_length, CableFit& fit) const;
   Eigen::Vector3d tool_point(const geometry::Pose& pose) const;
 
