@@ -206,7 +206,7 @@ TEST(KinematicsKind, AMachineFileOfAnUnregisteredKindIsRefusedAtItsType) {
   } catch (const machine::MachineFileError& error) {
     EXPECT_EQ(std::string(error.what()),
               "slide-pair.toml:5:kinematics.type: unknown kinematics type 'slide_pair' (known: "
-              "matrix, cable_plotter, glide, hexapod, formula, rotary_delta)");
+              "matrix, cable_plotter, glide, hexapod, formula, rotary_delta, cable_robot)");
   }
 }
 
