@@ -393,8 +393,9 @@ std::string export_refusal(const machine::Machine& machine) {
 
 TEST(firmware_klipper, RefusesWhatItCannotHold) {
   const std::string hexapod = export_refusal(test::load_example("hexapod-bit.toml"));
-  EXPECT_NE(hexapod.find("klipper has kinematics for a linear delta or a rotary delta"),
-            std::string::npos)
+  EXPECT_NE(
+      hexapod.find("klipper has kinematics for a linear delta, a rotary delta or a cable robot"),
+      std::string::npos)
       << hexapod;
   const std::string rotary = export_refusal(test::load_example("linuxcnc-rdelta.toml"));
   EXPECT_NE(rotary.find("shifted up by the shoulder height"), std::string::npos) << rotary;

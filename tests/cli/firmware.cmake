@@ -75,10 +75,10 @@ pkm_firmware_refuses(fluidnc_refuses_a_linear_delta
   "fluidnc has kinematics for a two-cable wall plotter or a rotary delta. this machine's model is glide \\(a linear delta\\)"
   export fluidnc -m ${MACHINES}/linear-delta.toml)
 pkm_firmware_refuses(klipper_refuses_a_wall_plotter
-  "klipper has kinematics for a linear delta or a rotary delta. this machine's model is cable_plotter \\(a two-cable wall plotter\\)"
+  "klipper has kinematics for a linear delta, a rotary delta or a cable robot. this machine's model is cable_plotter \\(a two-cable wall plotter\\)"
   export klipper -m ${MACHINES}/hektor.toml)
 pkm_firmware_refuses(rrf_refuses_a_hexapod
-  "rrf has kinematics for a linear delta or a rotary delta. this machine's model is hexapod"
+  "rrf has kinematics for a linear delta, a rotary delta or a cable robot. this machine's model is hexapod"
   export rrf -m ${MACHINES}/hexapod-bit.toml)
 pkm_firmware_refuses(marlin_refuses_a_rotary_delta
   "marlin has kinematics for a two-cable wall plotter or a linear delta. this machine's model is rotary_delta \\(a rotary delta\\)"

@@ -14,7 +14,7 @@
 
 namespace pkm::firmware {
 
-enum class FormKind { wall_plotter, linear_delta, rotary_delta };
+enum class FormKind { wall_plotter, linear_delta, rotary_delta, cable_robot };
 FormKind form_kind(const kinematics::FormGeometry& geometry);
 const char* form_kind_name(FormKind kind);  // "two-cable wall plotter"
 

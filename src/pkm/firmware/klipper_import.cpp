@@ -8,6 +8,7 @@
 
 #include "pkm/firmware/klipper.hpp"
 #include "pkm/firmware/klipper_cfg.hpp"
+#include "pkm/firmware/klipper_winch.hpp"
 #include "pkm/firmware/rrf_delta.hpp"
 #include "pkm/firmware/target.hpp"
 #include "pkm/kinematics/firmware_form.hpp"
@@ -27,10 +28,10 @@ struct TowerSettings {
   std::optional<double> steps_per_mm;
 };
 
-// Klipper's steps per mm: full_steps_per_rotation (200) x microsteps x gear_ratio over
-// rotation_distance; none when rotation_distance or microsteps is missing.
-std::optional<double> steps_per_mm(KlipperConfig& config, const std::string& section,
-                                   std::vector<std::string>& notes) {
+}  // namespace
+
+std::optional<double> klipper_steps_per_mm(KlipperConfig& config, const std::string& section,
+                                           std::vector<std::string>& notes) {
   const std::optional<double> distance = config.number(section, "rotation_distance");
   const std::optional<double> microsteps = config.number(section, "microsteps");
   const double full_steps = config.number(section, "full_steps_per_rotation").value_or(200.0);
@@ -66,6 +67,8 @@ std::optional<double> steps_per_mm(KlipperConfig& config, const std::string& sec
   return full_steps * *microsteps * gearing / *distance;
 }
 
+namespace {
+
 std::array<TowerSettings, 3> read_towers(KlipperConfig& config, double radius,
                                          std::vector<std::string>& notes) {
   std::array<TowerSettings, 3> towers;
@@ -90,7 +93,7 @@ std::array<TowerSettings, 3> read_towers(KlipperConfig& config, double radius,
                       klipper_number(radius) + " mm");
     }
     if (tower.endstop <= 0.0) config.fail(section, "position_endstop", "must be above 0");
-    tower.steps_per_mm = steps_per_mm(config, section, notes);
+    tower.steps_per_mm = klipper_steps_per_mm(config, section, notes);
   }
   return towers;
 }
@@ -99,7 +102,7 @@ std::array<TowerSettings, 3> read_towers(KlipperConfig& config, double radius,
 void check_kinematics(KlipperConfig& config) {
   const std::optional<std::string> kinematics = config.text("printer", "kinematics");
   if (!kinematics) config.fail("printer", "kinematics", "must be given");
-  if (*kinematics == "delta") return;
+  if (*kinematics == "delta" || *kinematics == "winch") return;
   if (*kinematics == "rotary_delta") {
     config.fail("printer", "kinematics",
                 "rotary_delta measures z up from the bed with the shoulders shoulder_height above "
@@ -110,7 +113,8 @@ void check_kinematics(KlipperConfig& config) {
     config.fail("printer", "kinematics", "deltesian: pkmkit has no model of that form");
   }
   config.fail("printer", "kinematics",
-              "'" + *kinematics + "': pkmkit imports Klipper's delta (linear delta) only");
+              "'" + *kinematics +
+                  "': pkmkit imports Klipper's delta (linear delta) and winch (cable robot) only");
 }
 
 machine::ImportedJoint tower_joint(int i, const TowerSettings& tower, double radius,
@@ -162,6 +166,7 @@ machine::ImportedMachine read_klipper(std::string_view text, const std::string& 
                                                     ": import the file that holds [printer])"));
   }
   check_kinematics(config);
+  if (config.text("printer", "kinematics") == "winch") return read_klipper_winch(config, source);
   machine::ImportedMachine imported;
   imported.source = source;
   imported.origin = "Imported by `pkm import klipper` from " + source + " (kinematics delta).";

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "pkm/kinematics/firmware_form.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/mechanism_sketch.hpp"
 #include "pkm/kinematics/model_config.hpp"
@@ -104,6 +105,10 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch {
   // components, the sheet taking the rest; 3 for a spatial one). Empty where a cable has no
   // direction (zero length).
   Eigen::MatrixXd structure_matrix(const geometry::Pose& pose) const;
+
+  // A cable robot, its tie points folded into the anchors; Maslow 4's swivel arms and tie points
+  // riding on z are losses (cable_robot_firmware.cpp).
+  std::optional<FirmwareForm> firmware_form() const override;
 
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;
