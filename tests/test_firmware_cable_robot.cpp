@@ -192,6 +192,21 @@ TEST(firmware_cable_robot, Maslow4IsRefusedNamingWhatItWouldLose) {
   }
 }
 
+// Maslow 4 without its arms and with the sled in z 0: a planar cable robot the form holds exactly,
+// which neither firmware moves (both drive x y z through the lines).
+TEST(firmware_cable_robot, APlanarCableRobotIsRefused) {
+  std::string text = data_text("maslow4.toml");
+  for (std::size_t at; (at = text.find("swivel_arm = 153.4\n")) != std::string::npos;) {
+    text.erase(at, std::string("swivel_arm = 153.4\n").size());
+  }
+  const std::string follow = "cables_follow_z = true\n";
+  text.erase(text.find(follow), follow.size());
+  const machine::Machine planar = machine::parse_machine(text, "planar.toml");
+  EXPECT_TRUE(planar.kinematics().firmware_form()->losses.empty());
+  EXPECT_NE(refusal("klipper", planar).find("this cable robot is planar"), std::string::npos);
+  EXPECT_NE(refusal("rrf", planar).find("this cable robot is planar"), std::string::npos);
+}
+
 TEST(firmware_cable_robot, KlipperWinchRefusesAHomeOffTheOrigin) {
   std::string text = data_text("hangprinter-v4.toml");
   const std::string home = "home = [0.0, 0.0, 0.0]";
@@ -288,6 +303,14 @@ TEST(firmware_cable_robot, RrfImportsHangprintersOwnConfig) {
   for (const std::string& note : imported.notes) notes += note + "\n";
   EXPECT_NE(notes.find("M666 Q0.128181: RRF's spool buildup"), std::string::npos) << notes;
 
+  try {
+    firmware::target("rrf").read("M92 E415\nM669 K6\nM669 A0:-2000:-100 B2000:1000:-100\n",
+                                 "two.g");
+    ADD_FAILURE() << "imported two anchors";
+  } catch (const firmware::FirmwareFileError& error) {
+    EXPECT_NE(std::string(error.what()).find("two.g:2: M669 C: must be given"), std::string::npos)
+        << error.what();
+  }
   try {
     firmware::target("rrf").read(config + "M666 F1\n", "flex.g");
     ADD_FAILURE() << "imported flex compensation";

@@ -166,7 +166,10 @@ HangprinterLines read_lines(const std::vector<RrfCommand>& commands, const std::
       continue;
     }
     for (const RrfWord& word : command.words) {
-      if (command.code == "M669" && word.letter == 'K') continue;
+      if (command.code == "M669" && word.letter == 'K') {
+        read.lines["M669 K"] = command.line;
+        continue;
+      }
       if (!read_value(command, word, source, read)) ++ignored[command.code];
     }
   }
@@ -180,7 +183,9 @@ double required(const HangprinterLines& read, const std::string& key, const std:
                 std::size_t count) {
   const auto found = read.values.find(key);
   if (found == read.values.end()) {
-    fail(source, 1, key,
+    // At the M669 K6 line that made this a Hangprinter.
+    const auto kinematics = read.lines.find("M669 K");
+    fail(source, kinematics == read.lines.end() ? 1 : kinematics->second, key,
          "must be given (RRF's default is a placeholder; RepRapFirmware's Hangprinter needs it)");
   }
   if (found->second.size() != count) {
