@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -176,6 +177,51 @@ TEST(CableRobotTensions, ContinuousAlongALineUntilRefused) {
   EXPECT_EQ(coarse.held, 386);
   RecordProperty("largest_step_N", formatted_number("%.6f", coarse.largest_step_N));
   RecordProperty("held_of_401", coarse.held);
+}
+
+// inverse() decides first by the projection of the preferred tensions (no allocation), then by
+// the full distribution: it refuses exactly the poses the distribution does not hold.
+TEST(CableRobotTensions, InverseRefusesExactlyWhereTheDistributionIsNotHeld) {
+  const machine::Machine m = machine::parse_machine(hangprinter_text(), "hangprinter-v4.toml");
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> across(-1000.0, 1000.0), up(-10.0, 2000.0);
+  int refused = 0, at_a_limit = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const geometry::Pose pose = at(m, {across(rng), across(rng), up(rng)});
+    JointVector joints;
+    const kinematics::Status status = m.kinematics().inverse(pose, joints);
+    const std::optional<TensionDistribution> d = robot(m).tensions(pose);
+    ASSERT_TRUE(d.has_value());
+    EXPECT_EQ(status.code == StatusCode::tension, !d->held()) << pose.position_mm.transpose();
+    if (!d->held()) {
+      ++refused;
+      EXPECT_EQ(status.joint, d->violations.at(0).cable);
+    } else if ((d->tension_N.array() <= 1e-9).any() ||
+               (d->tension_N.array() >= 70.0 - 1e-9).any()) {
+      ++at_a_limit;  // held only with a cable at its limit: the full method's answer
+    }
+  }
+  // Both kinds occur in the envelope (the wrench-feasible part is a prism over A B C, narrower
+  // up near D).
+  EXPECT_GT(refused, 300);
+  EXPECT_GT(at_a_limit, 10);
+  RecordProperty("refused_of_3000", refused);
+  RecordProperty("held_at_a_limit", at_a_limit);
+}
+
+TEST(CableRobotTensions, AnAccelerationChangesTheLoad) {
+  const machine::Machine m = machine::parse_machine(hangprinter_text(), "hangprinter-v4.toml");
+  const CableRobotKinematics& model = robot(m);
+  // Falling freely the effector weighs nothing; pushed along x at 1000 mm/s^2 the cables must
+  // also pull it 1 N along x: w = m (g - a) = (-1, 0, -9.80665) N.
+  EXPECT_LT(model.wrench_N({0.0, 0.0, -9806.65}).norm(), 1e-12);
+  const Eigen::Vector3d a(1000.0, 0.0, 0.0);
+  const Eigen::VectorXd w = model.wrench_N(a);
+  EXPECT_NEAR(w[0], -1.0, 1e-12);
+  EXPECT_NEAR(w[2], -kWeightOf1kg_N, 1e-12);
+  const std::optional<TensionDistribution> d = model.tensions(m.home(), a);
+  ASSERT_TRUE(d.has_value() && d->held());
+  EXPECT_LT((model.structure_matrix(m.home()) * d->tension_N + w).norm(), 1e-9);
 }
 
 TEST(CableRobotTensions, WithoutTensionLimitsNothingIsRefusedForTensions) {

@@ -169,6 +169,10 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch {
   // inverse()'s tension check at rest: `tension` and the worst cable where tension_limits are
   // given and no tensions within them hold the effector; success otherwise.
   Status check_tensions(const geometry::Pose& pose) const;
+  // m (g - a) in N, all three components.
+  Eigen::Vector3d load_N(const Eigen::Vector3d& acceleration_mm_per_s2) const;
+  // Whether p projected onto the balance keeps every limit (then it is the distribution).
+  bool projection_held(const geometry::Pose& pose) const;
   std::string explain_tensions(const geometry::Pose& pose) const;
 
   CableRobotGeometry geometry_;

@@ -3,6 +3,7 @@
 // from the machine file, and inverse kinematics' refusal of a pose no tensions within the limits
 // hold. The distribution itself is tension_distribution.cpp's; the conventions are in
 // docs/cable-machines.md ("N cables: the tension distribution").
+#include <Eigen/Cholesky>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -40,14 +41,16 @@ void validate_cable_robot_load(const CableRobotGeometry& g) {
   }
 }
 
-Eigen::VectorXd CableRobotKinematics::wrench_N(
-    const Eigen::Vector3d& acceleration_mm_per_s2) const {
+Eigen::Vector3d CableRobotKinematics::load_N(const Eigen::Vector3d& acceleration_mm_per_s2) const {
   const Eigen::Vector3d gravity_mm_per_s2 =
       kStandardGravity_mm_per_s2 * geometry_.gravity_direction.normalized();
   // kg mm/s^2 is 1e-3 N.
-  const Eigen::Vector3d load_N =
-      geometry_.effector_mass_kg * 1e-3 * (gravity_mm_per_s2 - acceleration_mm_per_s2);
-  return load_N.head(coordinates());
+  return geometry_.effector_mass_kg * 1e-3 * (gravity_mm_per_s2 - acceleration_mm_per_s2);
+}
+
+Eigen::VectorXd CableRobotKinematics::wrench_N(
+    const Eigen::Vector3d& acceleration_mm_per_s2) const {
+  return load_N(acceleration_mm_per_s2).head(coordinates());
 }
 
 TensionTargets CableRobotKinematics::tension_targets() const {
@@ -70,8 +73,34 @@ std::optional<TensionDistribution> CableRobotKinematics::tensions(
   return distribute_tensions(structure, wrench_N(acceleration_mm_per_s2), tension_targets());
 }
 
+bool CableRobotKinematics::projection_held(const geometry::Pose& pose) const {
+  // Pott's closed form: p projected onto the balance, t = p - A^T (A A^T)^-1 (A p + w). Where it
+  // keeps every limit it is the distribution's answer (the nearest of all balancing tensions), so
+  // the pose is held; else the full method decides. On the stack: inverse() allocates nothing.
+  CableVector length;
+  CableJacobian d_length;
+  if (!lengths(tool_point(pose), length, &d_length).ok()) return false;
+  const int k = coordinates();
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
+  using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>;
+  const CableJacobian a_transposed = -d_length.leftCols(k);  // n x k: the unit vectors as rows
+  const double preferred = geometry_.preferred_tension_N.value_or(
+      0.5 * (geometry_.tension_min_N + geometry_.tension_max_N));
+  const CableVector p = CableVector::Constant(cable_count(), preferred);
+  const SmallVector w = load_N(Eigen::Vector3d::Zero()).head(k);
+  const Small normal = a_transposed.transpose() * a_transposed;
+  const SmallVector excess = a_transposed.transpose() * p + w;
+  const Eigen::LDLT<Small> factor(normal);
+  if (factor.info() != Eigen::Success) return false;
+  const CableVector t = p - a_transposed * factor.solve(excess);
+  const double scale = 1.0 + w.lpNorm<Eigen::Infinity>() + geometry_.tension_max_N;
+  if (!t.allFinite() || (a_transposed.transpose() * t + w).norm() > 1e-9 * scale) return false;
+  return (t.array() >= geometry_.tension_min_N).all() &&
+         (t.array() <= geometry_.tension_max_N).all();
+}
+
 Status CableRobotKinematics::check_tensions(const geometry::Pose& pose) const {
-  if (!geometry_.tension_limited) return Status::success();
+  if (!geometry_.tension_limited || projection_held(pose)) return Status::success();
   const std::optional<TensionDistribution> at_rest = tensions(pose);
   if (!at_rest) return Status::failure(StatusCode::singular);
   if (at_rest->held()) return Status::success();
