@@ -14,6 +14,21 @@
 
 namespace pkm::kinematics {
 
+namespace {
+
+// A pose found by bisection along a move sits on the border, past a limit by less than the
+// tensions' printed digits ("would need -0.000 N"): say by how much.
+std::string border_note(const TensionDistribution& distribution) {
+  if (distribution.outcome != TensionOutcome::out_of_limits ||
+      !(distribution.largest_violation_N < 0.0005)) {
+    return {};
+  }
+  return " (past the limits by " + formatted_number("%.2g", distribution.largest_violation_N) +
+         " N: on the border of the poses the cables hold)";
+}
+
+}  // namespace
+
 void validate_cable_robot_load(const CableRobotGeometry& g) {
   const Eigen::Vector3d& down = g.gravity_direction;
   if (!down.allFinite() || !(down.norm() > 0.0)) {
@@ -114,7 +129,7 @@ std::string CableRobotKinematics::explain_tensions(const geometry::Pose& pose) c
   return "no tensions within tension_limits [" + formatted_number("%.3f", geometry_.tension_min_N) +
          ", " + formatted_number("%.3f", geometry_.tension_max_N) + "] N hold the " +
          formatted_number("%.3f", geometry_.effector_mass_kg) +
-         " kg effector here: " + describe_refusal(*at_rest);
+         " kg effector here: " + describe_refusal(*at_rest) + border_note(*at_rest);
 }
 
 }  // namespace pkm::kinematics
