@@ -294,6 +294,18 @@ TEST(CableRobotTensions, PlanarRobotOnAVerticalAndATiltedSheet) {
   const std::optional<TensionDistribution> d = robot(level).tensions(level.home());
   ASSERT_TRUE(d.has_value() && d->held());
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(d->tension_N[i], 52.5, 1e-9);
+  // `gravity` is written back as read.
+  const machine::Machine tilted = machine::parse_machine(
+      square_robot("gravity = [0, -0.5, -0.8660254037844386]\n"), "tilted.toml");
+  const std::string toml = machine::kinematics_toml(tilted.kinematics(), tilted.units());
+  EXPECT_NE(toml.find("gravity = [0"), std::string::npos) << toml;
+  const machine::Machine again =
+      machine::parse_machine(machine::replace_kinematics_section(
+                                 square_robot("gravity = [0, -0.5, -0.8660254037844386]\n"),
+                                 "tilted.toml", tilted.kinematics(), tilted.units()),
+                             "again.toml");
+  EXPECT_EQ(robot(again).geometry().gravity_direction, robot(tilted).geometry().gravity_direction);
+  EXPECT_TRUE(robot(again).geometry().gravity_given);
 }
 
 struct BadLoad {
