@@ -85,6 +85,7 @@ void validate_cable_robot_geometry(const CableRobotGeometry& g) {
                              std::isfinite(g.tension_max_N))) {
     throw std::invalid_argument("tension_limits: must be [min, max] with 0 <= min < max (N)");
   }
+  validate_cable_robot_load(g);
   if (g.cables_follow_z && !g.planar) {
     throw std::invalid_argument(
         "cables_follow_z: only a planar robot's tie points can ride on its tool's z");
@@ -141,7 +142,7 @@ Status CableRobotKinematics::inverse(const geometry::Pose& pose, JointVector& jo
   joints.resize(joint_count());
   for (int i = 0; i < cable_count(); ++i) joints[i] = length[i] + geometry_.cables[i].offset_mm;
   passthrough_.inverse(pose, joints, cable_count());
-  return Status::success();
+  return check_tensions(pose);
 }
 
 Status CableRobotKinematics::jacobian(const geometry::Pose& pose,
@@ -169,6 +170,7 @@ Eigen::MatrixXd CableRobotKinematics::structure_matrix(const geometry::Pose& pos
 
 std::string CableRobotKinematics::why_refused(const geometry::Pose& pose,
                                               const Status& status) const {
+  if (status.code == StatusCode::tension) return explain_tensions(pose);
   if (status.joint < 0 || status.joint >= cable_count()) return {};
   const RobotCable& cable = geometry_.cables[status.joint];
   const Eigen::Vector3d pivot = tool_point(pose) + cable.attach_mm;
@@ -446,6 +448,15 @@ CableRobotGeometry read_geometry(const ModelConfig& config) {
     g.tension_min_N = limits[0];
     g.tension_max_N = limits[1];
   }
+  if (config.has("gravity")) {
+    const std::vector<double> down = config.number_list("gravity");
+    if (down.size() != 3) config.fail("gravity", "needs 3 numbers [gx, gy, gz] (a direction)");
+    g.gravity_direction = {down[0], down[1], down[2]};
+    g.gravity_given = true;
+  }
+  if (config.has("preferred_tension")) {
+    g.preferred_tension_N = config.number_or("preferred_tension", 0.0);
+  }
   g.misfit_tolerance_mm = config.length_or("misfit_tolerance", g.misfit_tolerance_mm);
   return g;
 }
@@ -480,6 +491,8 @@ void CableRobotKinematics::write_config(ModelConfigWriter& out) const {
     const double limits[2] = {g.tension_min_N, g.tension_max_N};
     out.number_list("tension_limits", limits);
   }
+  if (g.gravity_given) out.vector3("gravity", g.gravity_direction);
+  if (g.preferred_tension_N) out.number("preferred_tension", *g.preferred_tension_N);
   if (g.misfit_tolerance_mm != CableRobotGeometry{}.misfit_tolerance_mm) {
     out.length("misfit_tolerance", g.misfit_tolerance_mm);
   }

@@ -19,6 +19,7 @@
 #include "pkm/kinematics/mechanism_sketch.hpp"
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/passthrough.hpp"
+#include "pkm/kinematics/tension_distribution.hpp"
 
 namespace pkm::kinematics {
 
@@ -42,10 +43,19 @@ struct CableRobotGeometry {
   // on its spindle. Otherwise the sled stays in z = 0 whatever the tool's z.
   bool cables_follow_z = false;
   double effector_mass_kg = 0.0;
-  Eigen::Vector3d center_of_mass_mm = Eigen::Vector3d::Zero();  // effector frame
+  // Effector frame. The tension distribution balances forces only (the orientation held fixed by
+  // assumption): the centre of mass would enter only the moments.
+  Eigen::Vector3d center_of_mass_mm = Eigen::Vector3d::Zero();
+  // Which way is down in machine coordinates: a direction (its length ignored), g = 9.80665 m/s^2
+  // along it. A planar robot with a mass must give it (its sheet may be vertical, level or
+  // tilted); a spatial one defaults to -z.
+  Eigen::Vector3d gravity_direction = -Eigen::Vector3d::UnitZ();
+  bool gravity_given = false;
   bool tension_limited = false;
   double tension_min_N = 0.0;
   double tension_max_N = 0.0;
+  // The tension the distribution aims for (N); none: the middle of tension_limits (0 without).
+  std::optional<double> preferred_tension_N;
   // Forward kinematics refuses joints whose least-squares fit leaves a cable further off (mm).
   double misfit_tolerance_mm = 0.01;
 };
@@ -109,6 +119,17 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch {
   // A cable robot, its tie points folded into the anchors; Maslow 4's swivel arms and tie points
   // riding on z are losses (cable_robot_firmware.cpp).
   std::optional<FirmwareForm> firmware_form() const override;
+  // The tension distribution (cable_robot_tensions.cpp; docs/cable-machines.md, "N cables").
+  // The load the cables must balance: m (g - a) in N, forces only (x y for a planar robot, the
+  // sheet taking the rest), the acceleration in mm/s^2.
+  Eigen::VectorXd wrench_N(const Eigen::Vector3d& acceleration_mm_per_s2) const;
+  // Per cable: tension_limits ([0, inf) without) and preferred_tension (their middle without).
+  TensionTargets tension_targets() const;
+  // The tensions at `pose` while the effector accelerates; none where a cable has no direction.
+  // Without tension_limits: the tensions of [0, inf) nearest the preferred ones (0: the least).
+  std::optional<TensionDistribution> tensions(
+      const geometry::Pose& pose,
+      const Eigen::Vector3d& acceleration_mm_per_s2 = Eigen::Vector3d::Zero()) const;
 
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;
@@ -149,6 +170,14 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch {
                                                double tool_z_mm) const;
   void analyse_misfit(const CableJacobian& d_length, CableFit& fit) const;
   Eigen::Vector3d tool_point(const geometry::Pose& pose) const;
+  // inverse()'s tension check at rest: `tension` and the worst cable where tension_limits are
+  // given and no tensions within them hold the effector; success otherwise.
+  Status check_tensions(const geometry::Pose& pose) const;
+  // m (g - a) in N, all three components.
+  Eigen::Vector3d load_N(const Eigen::Vector3d& acceleration_mm_per_s2) const;
+  // Whether p projected onto the balance keeps every limit (then it is the distribution).
+  bool projection_held(const geometry::Pose& pose) const;
+  std::string explain_tensions(const geometry::Pose& pose) const;
 
   CableRobotGeometry geometry_;
   PassThroughAxes passthrough_;
@@ -156,6 +185,9 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch {
 
 // Throws std::invalid_argument ("key: message") naming the machine-file key at fault.
 void validate_cable_robot_geometry(const CableRobotGeometry& geometry);
+// The part of it about the load: gravity, the tension limits and the preferred tension
+// (cable_robot_tensions.cpp).
+void validate_cable_robot_load(const CableRobotGeometry& geometry);
 
 std::unique_ptr<Kinematics> make_cable_robot_kinematics(const ModelConfig& config);
 
