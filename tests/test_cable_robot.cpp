@@ -24,15 +24,15 @@ using kinematics::CableRobotKinematics;
 using kinematics::JointVector;
 using kinematics::StatusCode;
 
-std::string data_text(const std::string& file) {
-  std::ifstream in(std::string(PKM_SOURCE_DIR) + "/tests/data/" + file);
+std::string example_text(const std::string& file) {
+  std::ifstream in(std::string(PKM_SOURCE_DIR) + "/examples/machines/" + file);
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
 }
 
-machine::Machine data_machine(const std::string& file) {
-  return machine::parse_machine(data_text(file), file);
+machine::Machine example_machine(const std::string& file) {
+  return machine::parse_machine(example_text(file), file);
 }
 
 const CableRobotKinematics& robot(const machine::Machine& m) {
@@ -112,7 +112,7 @@ std::vector<geometry::Pose> envelope_poses(const machine::Machine& m, int count,
 class CableRobotExample : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(CableRobotExample, InverseForwardRoundTrip) {
-  const machine::Machine m = data_machine(GetParam());
+  const machine::Machine m = example_machine(GetParam());
   std::mt19937_64 rng(31);
   double worst_mm = 0.0;
   int most_iterations = 0;
@@ -138,7 +138,7 @@ TEST_P(CableRobotExample, InverseForwardRoundTrip) {
 }
 
 TEST_P(CableRobotExample, JacobianMatchesFiniteDifferences) {
-  const machine::Machine m = data_machine(GetParam());
+  const machine::Machine m = example_machine(GetParam());
   std::mt19937_64 rng(7);
   const double h = 1e-3;
   for (const geometry::Pose& pose : envelope_poses(m, 200, rng)) {
@@ -162,7 +162,7 @@ TEST_P(CableRobotExample, JacobianMatchesFiniteDifferences) {
 }
 
 TEST_P(CableRobotExample, ReachBoxHoldsEveryPoseWithinTheJointLimits) {
-  const machine::Machine m = data_machine(GetParam());
+  const machine::Machine m = example_machine(GetParam());
   JointVector joint_min(m.kinematics().joint_count());
   JointVector joint_max(m.kinematics().joint_count());
   for (int j = 0; j < joint_min.size(); ++j) {
@@ -187,7 +187,7 @@ TEST_P(CableRobotExample, ReachBoxHoldsEveryPoseWithinTheJointLimits) {
 }
 
 TEST_P(CableRobotExample, WriterReadsBack) {
-  const std::string text = data_text(GetParam());
+  const std::string text = example_text(GetParam());
   const machine::Machine m = machine::parse_machine(text, GetParam());
   const std::string written =
       machine::replace_kinematics_section(text, GetParam(), m.kinematics(), m.units());
@@ -244,7 +244,7 @@ double maslow_belt(double corner_x, double corner_y, double corner_z, double x, 
 }
 
 TEST(CableRobot, MaslowBeltsAsItsFirmwareComputesThem) {
-  const machine::Machine m = data_machine("maslow4.toml");
+  const machine::Machine m = example_machine("maslow4.toml");
   const double corners[4][3] = {
       {-27.6, 2064.9, 100.0}, {2924.3, 2066.5, 56.0}, {0.0, 0.0, 34.0}, {2953.2, 0.0, 78.0}};
   std::mt19937_64 rng(4);
@@ -272,7 +272,7 @@ TEST(CableRobot, MaslowBeltsAsItsFirmwareComputesThem) {
 
 TEST(CableRobot, MaslowNamesTheMismeasuredBelt) {
   // Four belts in a plane: two more than coordinates, so one belt's error shows as its own.
-  const machine::Machine m = data_machine("maslow4.toml");
+  const machine::Machine m = example_machine("maslow4.toml");
   const CableRobotKinematics& model = robot(m);
   geometry::Pose pose = m.home();
   pose.position_mm = {900.0, 700.0, -5.0};
@@ -297,7 +297,7 @@ TEST(CableRobot, MaslowNamesTheMismeasuredBelt) {
 
 TEST(CableRobot, HangprinterRefusesAMismeasuredLineAndSaysAnyCouldBeIt) {
   // Four lines in space, one more than coordinates: any one line's error fits the misfit.
-  const machine::Machine m = data_machine("hangprinter-v4.toml");
+  const machine::Machine m = example_machine("hangprinter-v4.toml");
   const CableRobotKinematics& model = robot(m);
   geometry::Pose pose = m.home();
   pose.position_mm = {150.0, -100.0, 400.0};
@@ -324,7 +324,7 @@ TEST(CableRobot, HangprinterRefusesAMismeasuredLineAndSaysAnyCouldBeIt) {
 }
 
 TEST(CableRobot, ForwardFromAFarSeedFindsTheJointsPose) {
-  const machine::Machine m = data_machine("hangprinter-v4.toml");
+  const machine::Machine m = example_machine("hangprinter-v4.toml");
   geometry::Pose pose = m.home();
   pose.position_mm = {-300.0, 200.0, 1200.0};
   JointVector joints;
@@ -340,7 +340,7 @@ TEST(CableRobot, ForwardFromAFarSeedFindsTheJointsPose) {
 }
 
 TEST(CableRobot, RefusesAnAnchorWithinItsArmAndSaysWhy) {
-  const machine::Machine m = data_machine("maslow4.toml");
+  const machine::Machine m = example_machine("maslow4.toml");
   geometry::Pose pose = m.home();
   pose.position_mm = {30.0, 40.0, 0.0};  // 50 mm from the bottom left corner, its arm 153.4
   JointVector joints;
@@ -353,7 +353,7 @@ TEST(CableRobot, RefusesAnAnchorWithinItsArmAndSaysWhy) {
 }
 
 TEST(CableRobot, SketchDrawsEachCableFromItsAnchor) {
-  const machine::Machine m = data_machine("maslow4.toml");
+  const machine::Machine m = example_machine("maslow4.toml");
   const kinematics::MechanismSketch* sketch = m.kinematics().sketch();
   ASSERT_NE(sketch, nullptr);
   JointVector joints;
@@ -392,7 +392,7 @@ int line_of(const std::string& text, const std::string& needle) {
 
 TEST_P(CableRobotBadKey, NamesFileLineAndKey) {
   const BadKey& c = GetParam();
-  std::string text = data_text(c.file);
+  std::string text = example_text(c.file);
   for (const auto& [find, replace] : c.edits) {
     const auto at = text.find(find);
     ASSERT_NE(at, std::string::npos) << find;

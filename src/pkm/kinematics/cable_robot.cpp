@@ -225,8 +225,7 @@ CableFit CableRobotKinematics::gauss_newton(const CableVector& wanted_mm,
       fit.pose.position_mm.head(k) = x.head(k);
       fit.status = Status::success();
       fit.status.iterations = iteration;
-      fit.misfit_mm.assign(length.data(), length.data() + length.size());
-      for (int i = 0; i < length.size(); ++i) fit.misfit_mm[i] -= wanted_mm[i];
+      fit.misfit_mm = length - wanted_mm;
       analyse_misfit(d_length, fit);
       return fit;
     }
@@ -238,21 +237,25 @@ CableFit CableRobotKinematics::gauss_newton(const CableVector& wanted_mm,
 
 void CableRobotKinematics::analyse_misfit(const CableJacobian& d_length, CableFit& fit) const {
   const int n = cable_count();
-  const Eigen::Map<const Eigen::VectorXd> misfit(fit.misfit_mm.data(), n);
+  const CableVector& misfit = fit.misfit_mm;
   fit.rms_mm = std::sqrt(misfit.squaredNorm() / n);
   fit.worst_mm = misfit.cwiseAbs().maxCoeff(&fit.worst_cable);
   // The misfits a pose cannot take up: the projection on the complement of d length / d tool's
   // columns. Cable i's joint changed by e moves the fitted misfit by -e (projection of unit i).
-  const Eigen::MatrixXd columns = d_length.leftCols(coordinates());
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(columns);
-  const Eigen::MatrixXd q = qr.householderQ();
-  const Eigen::MatrixXd free = q.rightCols(n - coordinates());
-  const Eigen::MatrixXd projection = free * free.transpose();
-  fit.alone_excess_mm.assign(n, 0.0);
-  fit.alone_worst_mm.assign(n, fit.worst_mm);
+  // Fixed-capacity matrices: no heap in the servo thread.
+  using CableSquare =
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxJoints, kMaxJoints>;
+  const CableJacobian columns = d_length.leftCols(coordinates());
+  const Eigen::HouseholderQR<CableJacobian> qr(columns);
+  CableSquare q = CableSquare::Identity(n, n);
+  q.applyOnTheLeft(qr.householderQ());
+  const CableSquare projection =
+      q.rightCols(n - coordinates()) * q.rightCols(n - coordinates()).transpose();
+  fit.alone_excess_mm.setZero(n);
+  fit.alone_worst_mm.setConstant(n, fit.worst_mm);
   int explaining = 0;
   for (int i = 0; i < n; ++i) {
-    const Eigen::VectorXd column = projection.col(i);
+    const CableVector column = projection.col(i);
     const double reach = column.squaredNorm();
     if (reach < kNoRedundancy) continue;
     const double excess = -column.dot(misfit) / reach;
@@ -272,8 +275,8 @@ std::optional<Eigen::Vector3d> CableRobotKinematics::trilateration(const CableVe
   // leaves a linear system in the tool position (planar: in plan view, the heights taken out).
   const int n = cable_count();
   const int k = coordinates();
-  Eigen::MatrixXd centres(n, k);
-  Eigen::VectorXd squares(n);
+  CableJacobian centres(n, k);
+  CableVector squares(n);
   for (int i = 0; i < n; ++i) {
     const RobotCable& c = geometry_.cables[i];
     if (c.swivel_arm_mm != 0.0 && !geometry_.planar) return std::nullopt;
@@ -288,10 +291,11 @@ std::optional<Eigen::Vector3d> CableRobotKinematics::trilateration(const CableVe
     centres.row(i) = centre.head(k).transpose();
     squares[i] = centre.head(k).squaredNorm() - radius * radius;
   }
-  const Eigen::RowVectorXd mean_centre = centres.colwise().mean();
-  const Eigen::MatrixXd system = 2.0 * (centres.rowwise() - mean_centre);
-  const Eigen::VectorXd right = squares.array() - squares.mean();
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(system);
+  const Eigen::Matrix<double, 1, Eigen::Dynamic, Eigen::RowMajor, 1, 3> mean_centre =
+      centres.colwise().mean();
+  const CableJacobian system = 2.0 * (centres.rowwise() - mean_centre);
+  const CableVector right = squares.array() - squares.mean();
+  const Eigen::ColPivHouseholderQR<CableJacobian> qr(system);
   if (qr.rank() < k) return std::nullopt;
   Eigen::Vector3d tool = Eigen::Vector3d::Zero();
   tool.head(k) = qr.solve(right);

@@ -60,12 +60,13 @@ struct CableRobotGeometry {
   double misfit_tolerance_mm = 0.01;
 };
 
-// Forward kinematics' least-squares fit of the joints, whatever its misfit.
+// Forward kinematics' least-squares fit of the joints, whatever its misfit. On the stack: the
+// LinuxCNC module fits in its servo thread, where nothing may allocate.
 struct CableFit {
   geometry::Pose pose;
-  Status status;                  // of the solve itself (not of the misfit)
-  int iterations = 0;             // Gauss-Newton steps
-  std::vector<double> misfit_mm;  // per cable: its length at `pose` less the joint's (mm)
+  Status status;          // of the solve itself (not of the misfit)
+  int iterations = 0;     // Gauss-Newton steps
+  CableVector misfit_mm;  // per cable: its length at `pose` less the joint's (mm)
   double rms_mm = 0.0;
   double worst_mm = 0.0;  // the largest |misfit|
   int worst_cable = -1;
@@ -73,8 +74,8 @@ struct CableFit {
   // the joints best, and the worst misfit left then (mm; the worst above where the cable cannot
   // change the misfit). A cable that leaves none beyond the tolerance explains the misfit alone;
   // with one cable more than coordinates every cable the fit depends on does.
-  std::vector<double> alone_excess_mm;
-  std::vector<double> alone_worst_mm;
+  CableVector alone_excess_mm;
+  CableVector alone_worst_mm;
   // The one cable that alone explains the misfit; -1 where none or several do.
   int culprit = -1;
 };
