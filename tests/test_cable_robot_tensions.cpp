@@ -28,7 +28,7 @@ using kinematics::TensionDistribution;
 constexpr double kWeightOf1kg_N = 9.80665;
 
 std::string hangprinter_text() {
-  std::ifstream in(std::string(PKM_SOURCE_DIR) + "/tests/data/hangprinter-v4.toml");
+  std::ifstream in(std::string(PKM_SOURCE_DIR) + "/examples/machines/hangprinter-v4.toml");
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
@@ -52,7 +52,7 @@ geometry::Pose at(const machine::Machine& m, const Eigen::Vector3d& position_mm)
   return pose;
 }
 
-// The Hangprinter's anchors A B C D (tests/data/hangprinter-v4.toml).
+// The Hangprinter's anchors A B C D (examples/machines/hangprinter-v4.toml).
 const Eigen::Vector3d kA(0.0, -1610.98, -131.53);
 const Eigen::Vector3d kB(1314.22, 1268.14, -121.28);
 const Eigen::Vector3d kC(-1415.73, 707.61, -121.82);

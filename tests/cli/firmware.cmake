@@ -64,11 +64,11 @@ pkm_firmware_round_trip(rrf_rotary_delta rrf linuxcnc-rdelta.toml "^. drive [XYZ
 pkm_firmware_round_trip(marlin_hektor marlin hektor.toml)
 pkm_firmware_round_trip(marlin_linear_delta marlin linear-delta.toml)
 pkm_firmware_round_trip(grblhal_rotary_delta grblhal linuxcnc-rdelta.toml "^\\(motor A = ")
-# The cable robot (tests/data): its header says what the firmware does not check (the mover's mass,
+# The cable robot: its header says what the firmware does not check (the mover's mass,
 # the tension limits), which the imported machine has not.
-pkm_firmware_round_trip(klipper_hangprinter klipper ../../tests/data/hangprinter-v4.toml
+pkm_firmware_round_trip(klipper_hangprinter klipper hangprinter-v4.toml
                         "^. Not checked by the firmware")
-pkm_firmware_round_trip(rrf_hangprinter rrf ../../tests/data/hangprinter-v4.toml
+pkm_firmware_round_trip(rrf_hangprinter rrf hangprinter-v4.toml
                         "^. Not checked by the firmware")
 
 # A machine of a form the target has not: refused, the forms named, no file left behind.
@@ -94,7 +94,7 @@ pkm_firmware_refuses(grblhal_refuses_a_linear_delta
   export grblhal --kinematics -m ${MACHINES}/linear-delta.toml)
 pkm_firmware_refuses(klipper_refuses_maslow4_swivel_arms
   "maslow4\\.toml: klipper's cable robot kinematics cannot hold this machine exactly:"
-  export klipper --approximate -m ${PROJECT_SOURCE_DIR}/tests/data/maslow4.toml)
+  export klipper --approximate -m ${MACHINES}/maslow4.toml)
 set_tests_properties(cli.firmware_klipper_refuses_maslow4_swivel_arms PROPERTIES
   PASS_REGULAR_EXPRESSION "exactly:\n  - swivel_arm 153\\.400 mm: .*\n  - cables_follow_z: .*\npkmkit does not approximate a cable robot"
   FAIL_REGULAR_EXPRESSION "expect-refusal:")
