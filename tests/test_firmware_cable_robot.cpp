@@ -1,8 +1,8 @@
 // The cable robot's firmware exports (docs/firmware-klipper.md, docs/firmware-rrf.md), proven
 // against independent readings of each firmware (firmware_reference/): the exported text moves
 // every line's motor as far as pkmkit's inverse kinematics moves the machine's joint, over the
-// Hangprinter v4's workspace (examples/machines/hangprinter-v4.toml); import then export gives the same
-// text; Maslow 4 (swivel arms, tie points on the spindle) is refused with what would be lost.
+// Hangprinter v4's workspace (examples/machines/hangprinter-v4.toml); import then export gives the
+// same text; Maslow 4 (swivel arms, tie points on the spindle) is refused with what would be lost.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -250,8 +250,8 @@ TEST(firmware_cable_robot, RrfHangprinterLinesFollowPkmkitsJointsOverTheWorkspac
   }
 }
 
-// The anchors as Hangprinter's own config.g has them (examples/machines/hangprinter-v4.toml's comment),
-// spool buildup and flex off; by hand (python math.dist) line A at (100, 200, 300) is
+// The anchors as Hangprinter's own config.g has them (examples/machines/hangprinter-v4.toml's
+// comment), spool buildup and flex off; by hand (python math.dist) line A at (100, 200, 300) is
 // 1864.3676411319736 - 1616.3405276426129 = 248.0271135 mm out from the origin.
 TEST(firmware_cable_robot, RrfHangprinterHandComputedPose) {
   const std::string text = export_to("rrf", data_machine("hangprinter-v4.toml")).text;
