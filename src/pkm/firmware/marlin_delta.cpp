@@ -312,8 +312,13 @@ machine::ImportedMachine read_marlin_delta(const MarlinDefines& defines) {
   kinematics::LinearDeltaForm form;
   imported.joints.resize(3);
   for (int k = 0; k < 3; ++k) {
-    const int joint = names.order[k] >= 0 && names.order[k] < 3 ? names.order[k] : k;
-    add_tower(file, rates, names.names[k], k, joint, form, imported);
+    if (names.order[k] < 0) {
+      joint_names_fail(defines, names,
+                       std::string("stepper ") + "XYZ"[k] +
+                           " = none: a delta's steppers drive "
+                           "joints 1 to 3");
+    }
+    add_tower(file, rates, names.names[k], k, names.order[k], form, imported);
   }
   imported.kinematics_section =
       machine::kinematics_toml(*kinematics::make_form_kinematics(form), machine::LengthUnit::mm);
