@@ -396,6 +396,22 @@ TEST(firmware_marlin_Reader, FuzzFoundAJointOutOfRangeIsAnErrorAtItsLine) {
       << read_error(text);
 }
 
+// Found by fuzz/firmware_config.cpp: "#define DELTA_DIAGONAL_ROD -00" made a rail of rod 0, and
+// the model threw std::invalid_argument ("rail 1: strut must be positive") with no file or line.
+TEST(firmware_marlin_Reader, FuzzFoundARodOfZeroIsAnErrorAtItsLine) {
+  std::string text = kDelta;
+  text.replace(text.find("(200 + 50.0f)"), 13, "-00");
+  EXPECT_EQ(
+      read_error(text).rfind("Configuration.h:3: DELTA_DIAGONAL_ROD: tower A's rod is 0 mm", 0), 0u)
+      << read_error(text);
+  // A trim that takes one tower's rod below 0: that tower, at the trim's line.
+  text = std::string(kDelta) + "#define DELTA_DIAGONAL_ROD_TRIM_TOWER { 0, -300, 0 }\n";
+  EXPECT_EQ(read_error(text).rfind(
+                "Configuration.h:17: DELTA_DIAGONAL_ROD_TRIM_TOWER: tower B's rod is -50 mm", 0),
+            0u)
+      << read_error(text);
+}
+
 // A joint's name may hold spaces (the machine file allows them): the pkmkit line gives it back.
 TEST(firmware_marlin_Reader, JointNamesWithSpacesComeBack) {
   const std::string text = std::string(kDelta) +
