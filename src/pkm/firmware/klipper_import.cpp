@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "pkm/firmware/klipper.hpp"
@@ -111,13 +112,26 @@ machine::ImportedJoint tower_joint(int i, const TowerSettings& tower, double rad
   return joint;
 }
 
-// The tool's z with every carriage at its endstop (Klipper's home position).
-double home_z(const kinematics::Kinematics& model, const machine::ImportedMachine& imported,
-              double seed_z) {
-  kinematics::JointVector joints(3);
+// Klipper's home: every carriage at its endstop, its pose by the model's forward kinematics
+// (none where the endstops meet in no pose), x and y within 1e-9 mm of 0 written as 0. Each
+// joint's max is raised to the model's reading at that pose where rounding (the round trip's
+// 1e-13 mm, the 1e-9 mm to 0) put it above: else a calibrated delta's home (distinct endstops)
+// would pass a limit by that rounding, and pkmkit refuse it.
+std::optional<geometry::Pose> klipper_home(const kinematics::Kinematics& model,
+                                           machine::ImportedMachine& imported, double seed_z) {
+  kinematics::JointVector joints(3), back(3);
   for (int i = 0; i < 3; ++i) joints[i] = imported.joints[i].home;
   geometry::Pose pose = geometry::Pose::from_mm_deg(0.0, 0.0, seed_z);
-  return model.forward(joints, pose).ok() ? pose.position_mm.z() : seed_z;
+  if (!model.forward(joints, pose).ok()) return std::nullopt;
+  for (int axis = 0; axis < 2; ++axis) {
+    if (std::abs(pose.position_mm[axis]) < 1e-9) pose.position_mm[axis] = 0.0;
+  }
+  if (!model.inverse(pose, back).ok()) return std::nullopt;
+  for (int i = 0; i < 3; ++i) {
+    machine::ImportedJoint& joint = imported.joints[i];
+    if (back[i] > joint.max && back[i] - joint.max < 1e-7) joint.max = back[i];
+  }
+  return pose;
 }
 
 }  // namespace
@@ -163,7 +177,12 @@ machine::ImportedMachine read_klipper(std::string_view text, const std::string& 
   imported.max_acceleration = max_accel;
   imported.home_seed_z = max_z;
   // Klipper's z reaches the lowest endstop; its home (every carriage at its endstop) may be above.
-  const double top = std::max(max_z, home_z(*model, imported, max_z));
+  double top = max_z;
+  if (const std::optional<geometry::Pose> home = klipper_home(*model, imported, max_z)) {
+    const Eigen::Vector3d& at = home->position_mm;
+    imported.home = std::vector<double>{at.x(), at.y(), at.z()};
+    top = std::max(max_z, at.z());
+  }
   imported.envelope_min = std::vector<double>{-print_radius, -print_radius, minimum_z};
   imported.envelope_max = std::vector<double>{print_radius, print_radius, top};
   imported.notes.push_back(
