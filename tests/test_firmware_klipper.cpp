@@ -14,6 +14,7 @@
 #include "pkm/firmware/klipper_import.hpp"
 #include "pkm/firmware/one_circle_delta.hpp"
 #include "pkm/machine/machine.hpp"
+#include "pkm/machine/machine_writer.hpp"
 #include "test_support.hpp"
 
 namespace pkm {
@@ -235,6 +236,26 @@ radius: 50
 #*# position_endstop = 297.5
 )";
 
+// A printer.cfg of Klipper before 2019-2021: one [printer] delta_arm_length, and step_distance
+// (mm per step) where Klipper now has rotation_distance and microsteps.
+TEST(firmware_klipper, ImportsAnOlderKlippersKeys) {
+  const machine::ImportedMachine imported = firmware::read_klipper(
+      "[stepper_a]\nstep_distance: .01\nposition_endstop: 297.05\n"
+      "[stepper_b]\nstep_distance: .01\n[stepper_c]\nstep_distance: .0125\n"
+      "[printer]\nkinematics: delta\nmax_velocity: 300\nmax_accel: 3000\n"
+      "delta_arm_length: 333.0\ndelta_radius: 174.75\n",
+      "printer.cfg");
+  ASSERT_EQ(imported.joints.size(), 3U);
+  EXPECT_DOUBLE_EQ(*imported.joints[0].steps_per_unit, 100.0);
+  EXPECT_DOUBLE_EQ(*imported.joints[2].steps_per_unit, 80.0);
+  const machine::Machine machine = machine::parse_machine(
+      machine::machine_file_text(imported, "imported.toml"), "imported.toml");
+  // Tower c at 90 deg on the y axis (x exactly 0, not cos 90 deg's rounding), rods of 333 mm.
+  EXPECT_NE(machine::kinematics_toml(machine.kinematics(), machine::LengthUnit::mm)
+                .find("origin = [0.0, 174.75, 0.0]\ndirection = [0.0, 0.0, 1.0]\nstrut = 333.0"),
+            std::string::npos);
+}
+
 TEST(firmware_klipper, ImportsAUsersPrinterCfg) {
   const machine::ImportedMachine imported = firmware::read_klipper(kUserConfig, "printer.cfg");
   ASSERT_EQ(imported.joints.size(), 3U);
@@ -407,8 +428,9 @@ std::string export_refusal(const machine::Machine& machine) {
 
 TEST(firmware_klipper, RefusesWhatItCannotHold) {
   const std::string hexapod = export_refusal(test::load_example("hexapod-bit.toml"));
-  EXPECT_NE(hexapod.find("klipper has kinematics for a linear delta or a rotary delta"),
-            std::string::npos)
+  EXPECT_NE(
+      hexapod.find("klipper has kinematics for a linear delta, a rotary delta or a cable robot"),
+      std::string::npos)
       << hexapod;
   const std::string rotary = export_refusal(test::load_example("linuxcnc-rdelta.toml"));
   EXPECT_NE(rotary.find("shifted up by the shoulder height"), std::string::npos) << rotary;

@@ -265,8 +265,8 @@ TEST(firmware_rrf_import, BadInputSaysWhereAndWhy) {
                        0),
             0u);
   EXPECT_EQ(import_error("M669 K4\n"),
-            "config.g:1: M669 K: kinematics 4: pkmkit imports RRF's linear delta (K3) and rotary "
-            "delta (K10)");
+            "config.g:1: M669 K: kinematics 4: pkmkit imports RRF's linear delta (K3), rotary "
+            "delta (K10) and Hangprinter (K6)");
   EXPECT_EQ(import_error("M92 X80\n"),
             "config.g:1: M665: no delta in this file: RRF's linear delta is M665 L R H (and M669 "
             "K3), its rotary delta M669 K10 U L R");

@@ -204,9 +204,14 @@ TEST(KinematicsKind, AMachineFileOfAnUnregisteredKindIsRefusedAtItsType) {
     machine::parse_machine(kSlidePairFile, "slide-pair.toml");
     FAIL() << "an unregistered kind loaded";
   } catch (const machine::MachineFileError& error) {
-    EXPECT_EQ(std::string(error.what()),
-              "slide-pair.toml:5:kinematics.type: unknown kinematics type 'slide_pair' (known: "
-              "matrix, cable_plotter, glide, hexapod, formula, rotary_delta)");
+    // The built-in kinds listed (whatever they are: a new kind must not have to edit this
+    // test), the unregistered one not among them.
+    const std::string message = error.what();
+    const std::string start =
+        "slide-pair.toml:5:kinematics.type: unknown kinematics type 'slide_pair' (known: matrix, ";
+    EXPECT_EQ(message.substr(0, start.size()), start) << message;
+    EXPECT_EQ(message.find("slide_pair", start.size()), std::string::npos) << message;
+    EXPECT_EQ(message.back(), ')') << message;
   }
 }
 

@@ -107,4 +107,27 @@ double rotary_arm_angle(double shoulder_radius, double shoulder_height, double a
   return x1 > x2 ? std::atan2(y1, x1) : std::atan2(y2, x2);
 }
 
+std::vector<std::array<double, 3>> winch_anchors(const Config& config) {
+  if (config.at("printer").at("kinematics") != "winch") throw std::runtime_error("not a winch");
+  std::vector<std::array<double, 3>> anchors;
+  for (char letter = 'a'; letter <= 'z'; ++letter) {
+    const std::string section = std::string("stepper_") + letter;
+    if (letter > 'c' && config.find(section) == config.end()) break;
+    anchors.push_back({value(config, section, "anchor_x", nullptr),
+                       value(config, section, "anchor_y", nullptr),
+                       value(config, section, "anchor_z", nullptr)});
+  }
+  return anchors;
+}
+
+std::vector<double> winch_stepper_coordinates(const std::vector<std::array<double, 3>>& anchors,
+                                              double x, double y, double z) {
+  std::vector<double> lines;
+  for (const std::array<double, 3>& anchor : anchors) {
+    const double dx = anchor[0] - x, dy = anchor[1] - y, dz = anchor[2] - z;
+    lines.push_back(std::sqrt(dx * dx + dy * dy + dz * dz));
+  }
+  return lines;
+}
+
 }  // namespace pkm::test::klipper_reference

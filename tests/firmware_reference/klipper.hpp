@@ -1,12 +1,14 @@
-// An independent reading of Klipper's linear delta, for the klipper target's proof
+// An independent reading of Klipper's linear delta and cable winch, for the klipper target's proof
 // (tests/test_firmware_klipper.cpp): its own parser of printer.cfg text and the stepper
 // coordinates Klipper computes, written from Klipper's source (klippy/kinematics/delta.py,
-// klippy/chelper/kin_delta.c, klippy/stepper.py), not from pkmkit's writer or reader.
+// klippy/chelper/kin_delta.c, klippy/kinematics/winch.py, klippy/chelper/kin_winch.c,
+// klippy/stepper.py), not from pkmkit's writer or reader.
 #pragma once
 
 #include <array>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace pkm::test::klipper_reference {
 
@@ -35,5 +37,14 @@ std::array<double, 3> stepper_coordinates(const Delta& delta, double x, double y
 // of the two elbows, the outer one.
 double rotary_arm_angle(double shoulder_radius, double shoulder_height, double angle_deg,
                         double upper_arm, double lower_arm, double x, double y, double z);
+
+// winch.py's anchors: [stepper_a] .. [stepper_c] always, then stepper_d .. stepper_z while the
+// section exists, each anchor_x anchor_y anchor_z. Throws std::runtime_error for a missing one or
+// a kinematics other than winch.
+std::vector<std::array<double, 3>> winch_anchors(const Config& config);
+
+// kin_winch.c's stepper coordinate (mm) for the tool at (x, y, z): the distance to each anchor.
+std::vector<double> winch_stepper_coordinates(const std::vector<std::array<double, 3>>& anchors,
+                                              double x, double y, double z);
 
 }  // namespace pkm::test::klipper_reference

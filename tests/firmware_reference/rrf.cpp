@@ -176,4 +176,46 @@ double homed_carriage_height(const LinearDelta& delta, int tower) {
          delta.endstop_adjustments[static_cast<std::size_t>(tower)];
 }
 
+Hangprinter parse_hangprinter(const std::string& config_text) {
+  Hangprinter hangprinter;
+  const std::string letters = "ABCDI";
+  std::size_t count = 4;
+  std::vector<std::array<double, 3>> anchors(5, {0.0, 0.0, 0.0});
+  std::istringstream lines(config_text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::istringstream words(line.substr(0, line.find(';')));
+    std::string code, word;
+    if (!(words >> code)) continue;
+    while (words >> word) {
+      const char letter = word[0];
+      const std::string value = word.substr(1);
+      if (code == "M669" && letter == 'N') count = static_cast<std::size_t>(std::stoi(value));
+      const std::size_t anchor = letters.find(letter);
+      if (code == "M669" && anchor != std::string::npos) {
+        const std::vector<double> xyz = colon_list(value);
+        if (xyz.size() != 3) throw std::runtime_error("M669 " + word + ": 3 values expected");
+        anchors[anchor] = {xyz[0], xyz[1], xyz[2]};
+      }
+      if (code == "M666" && letter == 'Q') hangprinter.spool_buildup = std::stod(value);
+      if (code == "M666" && letter == 'F') hangprinter.flex = std::stoi(value);
+    }
+  }
+  anchors.resize(count);
+  hangprinter.anchors = anchors;
+  return hangprinter;
+}
+
+double hangprinter_line_position(const Hangprinter& hangprinter, int anchor, double x, double y,
+                                 double z) {
+  if (hangprinter.spool_buildup != 0.0 || hangprinter.flex != 0) {
+    throw std::runtime_error("spool buildup or flex: the motor position is no line length");
+  }
+  const std::array<double, 3>& a = hangprinter.anchors.at(static_cast<std::size_t>(anchor));
+  const double distance =
+      std::sqrt((a[0] - x) * (a[0] - x) + (a[1] - y) * (a[1] - y) + (a[2] - z) * (a[2] - z));
+  const double at_origin = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  return distance - at_origin;
+}
+
 }  // namespace pkm::test::rrf_reference

@@ -2,13 +2,15 @@
 // (Duet3D/RepRapFirmware, src/Movement/Kinematics/LinearDeltaKinematics.cpp: Configure for M665
 // and M666, Recalc for the towers and the homed carriage heights, Transform for a motor's
 // position; RotaryDeltaKinematics.cpp: Configure for M669 and M666, Recalc, Transform,
-// OnHomingSwitchTriggered) to check what `pkm export rrf` writes: it reads the exported config.g
+// OnHomingSwitchTriggered; HangprinterKinematics.cpp: Configure for M669 and M666, Recalc and
+// CartesianToMotorSteps) to check what `pkm export rrf` writes: it reads the exported config.g
 // lines with its own small parser, not pkmkit's reader.
 #pragma once
 
 #include <array>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace pkm::test::rrf_reference {
 
@@ -53,5 +55,20 @@ RotaryDelta parse_rotary(const std::string& config_text);
 double arm_angle_deg(const RotaryDelta& delta, int arm, double x, double y, double z);
 // The angle homing sets at the arm's endstop (OnHomingSwitchTriggered, the high end).
 double homed_arm_angle_deg(const RotaryDelta& delta, int arm);
+
+// RRF's Hangprinter (M669 K6): the anchors M669 A B C D (N5: and I), M666 Q (spool buildup) and
+// F (flex: 0 off, 1 or 2 on).
+struct Hangprinter {
+  std::vector<std::array<double, 3>> anchors;
+  double spool_buildup = 0.007;  // RRF's default
+  int flex = 0;
+};
+Hangprinter parse_hangprinter(const std::string& config_text);
+// CartesianToMotorSteps' line position (mm) of anchor `anchor` for the tool at x y z: the
+// line's length less its length at the origin, RRF's motor position over the steps per mm where
+// Q is 0 (useConstantSpoolModel). Throws std::runtime_error where Q or F is not 0: the motor
+// position is then no line length.
+double hangprinter_line_position(const Hangprinter& hangprinter, int anchor, double x, double y,
+                                 double z);
 
 }  // namespace pkm::test::rrf_reference

@@ -14,6 +14,7 @@ struct KindOf {
   FormKind operator()(const kinematics::WallPlotterForm&) const { return FormKind::wall_plotter; }
   FormKind operator()(const kinematics::LinearDeltaForm&) const { return FormKind::linear_delta; }
   FormKind operator()(const kinematics::RotaryDeltaForm&) const { return FormKind::rotary_delta; }
+  FormKind operator()(const kinematics::CableRobotForm&) const { return FormKind::cable_robot; }
 };
 
 std::string accepted_names(const std::vector<FormKind>& accepted) {
@@ -30,6 +31,13 @@ std::string refusal(const machine::Machine& machine, const kinematics::FirmwareF
   std::string text = machine.source() + ": " + target + "'s " + form_name(form.geometry) +
                      " kinematics cannot hold this machine exactly:";
   for (const std::string& loss : form.losses) text += "\n  - " + loss;
+  if (form_kind(form.geometry) == FormKind::cable_robot) {
+    // A swivel arm's error grows towards the frame's edges and with z; fixed tie points fitted
+    // over the sheet would spread it everywhere. Not offered: the joint-space output is exact.
+    return text +
+           "\npkmkit does not approximate a cable robot (--approximate refuses it too): drive this "
+           "machine with pkmkit's joint-space output (pkm post)";
+  }
   text += "\n--approximate writes the nearest " + std::string(form_name(form.geometry)) +
           " it can hold, fitted over the workspace, and states the worst tool error that costs";
   return text;
@@ -46,6 +54,7 @@ bool fitted_parameter(FormKind kind, const std::string& name) {
              name.find(".origin.y") != std::string::npos ||
              name.find(".strut") != std::string::npos;
     case FormKind::rotary_delta:
+    case FormKind::cable_robot:  // not approximated (firmware_machine refuses first)
       break;
   }
   return false;
@@ -263,9 +272,9 @@ ApproximationCost approximation_cost(const machine::Machine& machine,
 machine::Machine nearest_machine(const machine::Machine& machine,
                                  std::unique_ptr<kinematics::Kinematics> form_model,
                                  const std::string& what) {
-  machine::Machine nearest(machine.name() + " (nearest " + what + ")", machine.source(),
-                           machine.units(), std::move(form_model), machine.joints(),
-                           machine.cartesian(), machine.home());
+  machine::Machine nearest(machine.name() + ", nearest " + what, machine.source(), machine.units(),
+                           std::move(form_model), machine.joints(), machine.cartesian(),
+                           machine.home());
   nearest.set_tool(machine.tool());
   nearest.set_homing(machine.homing());
   nearest.set_controller(machine.controller());
@@ -315,6 +324,8 @@ const char* form_kind_name(FormKind kind) {
       return "linear delta";
     case FormKind::rotary_delta:
       return "rotary delta";
+    case FormKind::cable_robot:
+      return "cable robot";
   }
   return "?";
 }
@@ -331,7 +342,8 @@ FirmwareMachine firmware_machine(const machine::Machine& machine,
                         (form ? std::string(" (a ") + form_name(form->geometry) + ")" : ""));
   }
   if (form->losses.empty()) return FirmwareMachine{machine, *form, std::nullopt, nullptr};
-  if (!approximate_if_needed) throw ExportRefused(refusal(machine, *form, target));
+  if (!approximate_if_needed || form_kind(form->geometry) == FormKind::cable_robot)
+    throw ExportRefused(refusal(machine, *form, target));
   return approximate(machine, *form, target);
 }
 

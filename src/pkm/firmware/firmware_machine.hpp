@@ -14,7 +14,7 @@
 
 namespace pkm::firmware {
 
-enum class FormKind { wall_plotter, linear_delta, rotary_delta };
+enum class FormKind { wall_plotter, linear_delta, rotary_delta, cable_robot };
 FormKind form_kind(const kinematics::FormGeometry& geometry);
 const char* form_kind_name(FormKind kind);  // "two-cable wall plotter"
 
@@ -61,7 +61,7 @@ ApproximationCost approximation_cost(const machine::Machine& machine,
                                      const kinematics::Kinematics& form_model,
                                      const std::vector<geometry::Pose>& samples);
 
-// `machine` with its model replaced by `form_model` (name: "... (nearest <what>)"), the rest kept.
+// `machine` with its model replaced by `form_model` (name: "..., nearest <what>"), the rest kept.
 machine::Machine nearest_machine(const machine::Machine& machine,
                                  std::unique_ptr<kinematics::Kinematics> form_model,
                                  const std::string& what);

@@ -13,6 +13,17 @@
 namespace pkm::firmware {
 namespace {
 
+// FluidNC's `name:`, double-quoted: the machine's name with its quotes and backslashes made
+// plain, so that FluidNC's reader and pkm's both take it whole.
+std::string name_line(const machine::Machine& machine) {
+  std::string name = machine.name();
+  for (char& c : name) {
+    if (c == '"' || c == '\\') c = '\'';
+    if (static_cast<unsigned char>(c) < 0x20) c = ' ';
+  }
+  return "name: \"" + name + "\"\n";
+}
+
 // How far FluidNC's forward kinematics (lengths_to_xy) may miss the pose its inverse
 // (xy_to_lengths) was given: 1 um, the round trips' bound.
 constexpr double kForwardToleranceMm = 1e-3;
@@ -157,10 +168,11 @@ ExportedFile write_rotary_delta(const FirmwareMachine& machine, const ExportCont
   ExportedFile file;
   for (const std::string& line : header_lines(machine, context)) file.text += "# " + line + "\n";
   file.text +=
-      "# pkmkit writes kinematics: and axes: below; the rest of config.yaml (board, stepping, "
-      "spindle, pins) is yours.\n"
+      "# pkmkit writes name:, kinematics: and axes: below; the rest of config.yaml (board, "
+      "stepping, spindle, pins) is yours.\n"
       "# Unhomed, FluidNC's parallel_delta takes the arms to be horizontal at power-on: park "
       "them there.\n";
+  file.text += name_line(machine.machine);
   file.text += "kinematics:\n  parallel_delta:\n";
   file.text +=
       "    # mm; the triangles' sides: 2 sqrt(3) x the centre-to-pivot and tool-to-joint "
@@ -308,8 +320,9 @@ ExportedFile write_fluidnc(const FirmwareMachine& machine, const ExportContext& 
   ExportedFile file;
   for (const std::string& line : header_lines(machine, context)) file.text += "# " + line + "\n";
   file.text +=
-      "# pkmkit writes kinematics:, axes: and macros: startup_line0 below; the rest of "
+      "# pkmkit writes name:, kinematics:, axes: and macros: startup_line0 below; the rest of "
       "config.yaml (board, stepping, spindle, pins) is yours.\n";
+  file.text += name_line(machine.machine);
   file.text += "# FluidNC's WallPlotter cannot home: park the pen at the machine's home (x " +
                fixed(home.x(), 3) + " y " + fixed(home.y(), 3) +
                (has_z ? " z " + fixed(home.z(), 3) : std::string()) +

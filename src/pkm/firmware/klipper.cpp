@@ -1,8 +1,9 @@
-// Klipper's delta kinematics (klippy/kinematics/delta.py, klippy/chelper/kin_delta.c), as
-// docs/firmware-klipper.md reads them: tower i stands at delta_radius from the origin at `angle`
-// deg counter-clockwise from +X; its stepper's coordinate is z + sqrt(arm_length^2 - the tool's
-// horizontal distance to the tower^2); homing sets it to position_endstop + sqrt(arm_length^2 -
-// delta_radius^2), and the carriage never goes above that.
+// The klipper target; its cable robot is klipper_winch.cpp. Klipper's delta kinematics
+// (klippy/kinematics/delta.py, klippy/chelper/kin_delta.c), as docs/firmware-klipper.md reads them:
+// tower i stands at delta_radius from the origin at `angle` deg counter-clockwise from +X; its
+// stepper's coordinate is z + sqrt(arm_length^2 - the tool's horizontal distance to the tower^2);
+// homing sets it to position_endstop + sqrt(arm_length^2 - delta_radius^2), and the carriage never
+// goes above that.
 #include "pkm/firmware/klipper.hpp"
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <cstdlib>
 
 #include "pkm/firmware/klipper_import.hpp"
+#include "pkm/firmware/klipper_winch.hpp"
 #include "pkm/firmware/one_circle_delta.hpp"
 #include "pkm/geometry/pose.hpp"
 
@@ -195,21 +197,13 @@ std::string stepper_section(const FirmwareMachine& firmware, const KlipperDelta&
   text += option("position_endstop", delta.endstop[i],
                  "mm: the tool's z at x = y = 0 with this carriage at its endstop (joint reading " +
                      klipper_number(delta.endstop_reading[i]) + " mm)");
-  if (!joint.steps_per_unit) {
-    text += "#rotation_distance:  # the machine file gives no steps_per_unit: set it\n";
-    warnings.push_back(std::string(kSteppers[i]) + ": the machine file gives joint '" + joint.name +
-                       "' no steps_per_unit: set rotation_distance and microsteps");
-    return text;
-  }
-  text += option("rotation_distance", kFullSteps * kMicrosteps / *joint.steps_per_unit,
-                 "mm per motor turn: " + klipper_number(*joint.steps_per_unit) +
-                     " steps/mm at the microsteps below");
-  text += "microsteps: " + std::to_string(kMicrosteps) + "\n";
-  text += "full_steps_per_rotation: " + std::to_string(kFullSteps) + "\n";
-  return text;
+  return text + klipper_steps(joint, kSteppers[i], warnings);
 }
 
 ExportedFile write_klipper(const FirmwareMachine& firmware, const ExportContext& context) {
+  if (form_kind(firmware.form.geometry) == FormKind::cable_robot) {
+    return write_klipper_winch(firmware, context);
+  }
   if (form_kind(firmware.form.geometry) == FormKind::rotary_delta) {
     throw ExportRefused(
         firmware.machine.source() +
@@ -243,6 +237,21 @@ ExportedFile write_klipper(const FirmwareMachine& firmware, const ExportContext&
 
 }  // namespace
 
+std::string klipper_steps(const machine::JointSpec& joint, const std::string& section,
+                          std::vector<std::string>& warnings) {
+  if (!joint.steps_per_unit) {
+    warnings.push_back(section + ": the machine file gives joint '" + joint.name +
+                       "' no steps_per_unit: set rotation_distance and microsteps");
+    return "#rotation_distance:  # the machine file gives no steps_per_unit: set it\n";
+  }
+  std::string text = option("rotation_distance", kFullSteps * kMicrosteps / *joint.steps_per_unit,
+                            "mm per motor turn: " + klipper_number(*joint.steps_per_unit) +
+                                " steps/mm at the microsteps below");
+  text += "microsteps: " + std::to_string(kMicrosteps) + "\n";
+  text += "full_steps_per_rotation: " + std::to_string(kFullSteps) + "\n";
+  return text;
+}
+
 std::string klipper_number(double value) {
   char text[64];
   for (int decimals = 0; decimals <= 12; ++decimals) {
@@ -259,7 +268,7 @@ std::string klipper_number(double value) {
 Target klipper_target() {
   return Target{"klipper",
                 "printer.cfg",
-                {FormKind::linear_delta, FormKind::rotary_delta},
+                {FormKind::linear_delta, FormKind::rotary_delta, FormKind::cable_robot},
                 write_klipper,
                 read_klipper};
 }

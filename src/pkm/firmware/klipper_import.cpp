@@ -8,6 +8,8 @@
 
 #include "pkm/firmware/klipper.hpp"
 #include "pkm/firmware/klipper_cfg.hpp"
+#include "pkm/firmware/klipper_winch.hpp"
+#include "pkm/firmware/rrf_delta.hpp"
 #include "pkm/firmware/target.hpp"
 #include "pkm/kinematics/firmware_form.hpp"
 #include "pkm/machine/machine.hpp"
@@ -26,10 +28,10 @@ struct TowerSettings {
   std::optional<double> steps_per_mm;
 };
 
-// Klipper's steps per mm: full_steps_per_rotation (200) x microsteps x gear_ratio over
-// rotation_distance; none when rotation_distance or microsteps is missing.
-std::optional<double> steps_per_mm(KlipperConfig& config, const std::string& section,
-                                   std::vector<std::string>& notes) {
+}  // namespace
+
+std::optional<double> klipper_steps_per_mm(KlipperConfig& config, const std::string& section,
+                                           std::vector<std::string>& notes) {
   const std::optional<double> distance = config.number(section, "rotation_distance");
   const std::optional<double> microsteps = config.number(section, "microsteps");
   const double full_steps = config.number(section, "full_steps_per_rotation").value_or(200.0);
@@ -50,6 +52,14 @@ std::optional<double> steps_per_mm(KlipperConfig& config, const std::string& sec
     }
   }
   if (distance && *distance <= 0.0) config.fail(section, "rotation_distance", "must be above 0");
+  // Klipper before 2021 had step_distance (mm per step) where it now has rotation_distance.
+  if (const std::optional<double> step = config.number(section, "step_distance");
+      step && !distance) {
+    if (*step <= 0.0) config.fail(section, "step_distance", "must be above 0");
+    notes.push_back("[" + section + "] step_distance (older Klipper's key): " +
+                    klipper_number(1.0 / *step) + " steps/mm");
+    return 1.0 / *step;
+  }
   if (!distance || !microsteps) {
     notes.push_back("[" + section + "] has no rotation_distance and microsteps: no steps_per_unit");
     return std::nullopt;
@@ -57,10 +67,19 @@ std::optional<double> steps_per_mm(KlipperConfig& config, const std::string& sec
   return full_steps * *microsteps * gearing / *distance;
 }
 
+namespace {
+
 std::array<TowerSettings, 3> read_towers(KlipperConfig& config, double radius,
                                          std::vector<std::string>& notes) {
   std::array<TowerSettings, 3> towers;
-  const double arm_a = config.required("stepper_a", "arm_length");
+  // Klipper before 2019 read one rod length from [printer] delta_arm_length.
+  const std::optional<double> old_arm = config.number("printer", "delta_arm_length");
+  if (old_arm && !config.number("stepper_a", "arm_length")) {
+    notes.push_back("[printer] delta_arm_length (older Klipper's key) is every tower's arm_length");
+  }
+  const double arm_a = old_arm && !config.number("stepper_a", "arm_length")
+                           ? *old_arm
+                           : config.required("stepper_a", "arm_length");
   const double endstop_a = config.required("stepper_a", "position_endstop");
   for (int i = 0; i < 3; ++i) {
     const std::string section = kSteppers[i];
@@ -74,7 +93,7 @@ std::array<TowerSettings, 3> read_towers(KlipperConfig& config, double radius,
                       klipper_number(radius) + " mm");
     }
     if (tower.endstop <= 0.0) config.fail(section, "position_endstop", "must be above 0");
-    tower.steps_per_mm = steps_per_mm(config, section, notes);
+    tower.steps_per_mm = klipper_steps_per_mm(config, section, notes);
   }
   return towers;
 }
@@ -83,7 +102,7 @@ std::array<TowerSettings, 3> read_towers(KlipperConfig& config, double radius,
 void check_kinematics(KlipperConfig& config) {
   const std::optional<std::string> kinematics = config.text("printer", "kinematics");
   if (!kinematics) config.fail("printer", "kinematics", "must be given");
-  if (*kinematics == "delta") return;
+  if (*kinematics == "delta" || *kinematics == "winch") return;
   if (*kinematics == "rotary_delta") {
     config.fail("printer", "kinematics",
                 "rotary_delta measures z up from the bed with the shoulders shoulder_height above "
@@ -94,7 +113,8 @@ void check_kinematics(KlipperConfig& config) {
     config.fail("printer", "kinematics", "deltesian: pkmkit has no model of that form");
   }
   config.fail("printer", "kinematics",
-              "'" + *kinematics + "': pkmkit imports Klipper's delta (linear delta) only");
+              "'" + *kinematics +
+                  "': pkmkit imports Klipper's delta (linear delta) and winch (cable robot) only");
 }
 
 machine::ImportedJoint tower_joint(int i, const TowerSettings& tower, double radius,
@@ -112,25 +132,29 @@ machine::ImportedJoint tower_joint(int i, const TowerSettings& tower, double rad
   return joint;
 }
 
-// Klipper's home: every carriage at its endstop, its pose by the model's forward kinematics
-// (none where the endstops meet in no pose), x and y within 1e-9 mm of 0 written as 0. Each
-// joint's max is raised to the model's reading at that pose where rounding (the round trip's
-// 1e-13 mm, the 1e-9 mm to 0) put it above: else a calibrated delta's home (distinct endstops)
-// would pass a limit by that rounding, and pkmkit refuse it.
-std::optional<geometry::Pose> klipper_home(const kinematics::Kinematics& model,
-                                           machine::ImportedMachine& imported, double seed_z) {
-  kinematics::JointVector joints(3), back(3);
-  for (int i = 0; i < 3; ++i) joints[i] = imported.joints[i].home;
+// The tool with every carriage at its endstop (Klipper's home position), none where the
+// carriages hold it nowhere. `lowered`: the same pose lowered by rounding's worth (from 1e-9 mm)
+// until no carriage's reading passes its endstop, as the machine file's check of its home reads
+// it (towers of different rods or endstops home off x = y = 0, where the solution's noise can put
+// a carriage 1e-13 mm past its endstop).
+std::optional<geometry::Pose> home_pose(const kinematics::Kinematics& model,
+                                        const machine::ImportedMachine& imported, double seed_z,
+                                        bool lowered) {
+  kinematics::JointVector joints(3);
+  std::array<double, 3> lowest{}, highest{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    joints[static_cast<Eigen::Index>(i)] = imported.joints[i].home;
+    lowest[i] = imported.joints[i].min;
+    highest[i] = imported.joints[i].max;
+  }
   geometry::Pose pose = geometry::Pose::from_mm_deg(0.0, 0.0, seed_z);
   if (!model.forward(joints, pose).ok()) return std::nullopt;
+  // x and y within 1e-9 mm of 0 are 0 (the file would read 1e-14), before the lowering: a
+  // rounding after it could put a carriage past its endstop again.
   for (int axis = 0; axis < 2; ++axis) {
     if (std::abs(pose.position_mm[axis]) < 1e-9) pose.position_mm[axis] = 0.0;
   }
-  if (!model.inverse(pose, back).ok()) return std::nullopt;
-  for (int i = 0; i < 3; ++i) {
-    machine::ImportedJoint& joint = imported.joints[i];
-    if (back[i] > joint.max && back[i] - joint.max < 1e-7) joint.max = back[i];
-  }
+  if (lowered && !lower_into_limits(model, lowest, highest, pose)) return std::nullopt;
   return pose;
 }
 
@@ -147,6 +171,7 @@ machine::ImportedMachine read_klipper(std::string_view text, const std::string& 
                                                     ": import the file that holds [printer])"));
   }
   check_kinematics(config);
+  if (config.text("printer", "kinematics") == "winch") return read_klipper_winch(config, source);
   machine::ImportedMachine imported;
   imported.source = source;
   imported.origin = "Imported by `pkm import klipper` from " + source + " (kinematics delta).";
@@ -166,6 +191,9 @@ machine::ImportedMachine read_klipper(std::string_view text, const std::string& 
   for (int i = 0; i < 3; ++i) {
     const double angle = geometry::degrees_to_radians(towers[i].angle_deg);
     form.towers[i].column_mm = radius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    // cos 90 deg is 6e-17, not 0: a machine file would read "1.07e-14" for a tower on the y axis.
+    form.towers[i].column_mm = form.towers[i].column_mm.unaryExpr(
+        [](double value) { return std::abs(value) < 1e-12 ? 0.0 : value; });
     form.towers[i].rod_mm = towers[i].arm;
     imported.joints.push_back(
         tower_joint(i, towers[i], radius, minimum_z, max_z_velocity, max_z_accel));
@@ -177,11 +205,11 @@ machine::ImportedMachine read_klipper(std::string_view text, const std::string& 
   imported.max_acceleration = max_accel;
   imported.home_seed_z = max_z;
   // Klipper's z reaches the lowest endstop; its home (every carriage at its endstop) may be above.
-  double top = max_z;
-  if (const std::optional<geometry::Pose> home = klipper_home(*model, imported, max_z)) {
+  const std::optional<geometry::Pose> endstops = home_pose(*model, imported, max_z, false);
+  const double top = std::max(max_z, endstops ? endstops->position_mm.z() : max_z);
+  if (const std::optional<geometry::Pose> home = home_pose(*model, imported, max_z, true)) {
     const Eigen::Vector3d& at = home->position_mm;
     imported.home = std::vector<double>{at.x(), at.y(), at.z()};
-    top = std::max(max_z, at.z());
   }
   imported.envelope_min = std::vector<double>{-print_radius, -print_radius, minimum_z};
   imported.envelope_max = std::vector<double>{print_radius, print_radius, top};

@@ -9,6 +9,7 @@
 #include "pkm/firmware/one_circle_delta.hpp"
 #include "pkm/firmware/rrf_config.hpp"
 #include "pkm/firmware/rrf_delta.hpp"
+#include "pkm/firmware/rrf_hangprinter.hpp"
 #include "pkm/firmware/rrf_rotary.hpp"
 #include "pkm/geometry/pose.hpp"
 
@@ -140,6 +141,9 @@ ExportedFile write_linear_delta(const FirmwareMachine& fm, const ExportContext& 
 }
 
 ExportedFile write(const FirmwareMachine& fm, const ExportContext& context) {
+  if (std::holds_alternative<kinematics::CableRobotForm>(fm.form.geometry)) {
+    return write_rrf_hangprinter(fm, context);
+  }
   if (fm.form.passthrough.count() > 0) {
     throw ExportRefused(fm.machine.source() +
                         ": rrf's export writes the three towers only; this machine passes " +
@@ -164,7 +168,7 @@ ExportedFile write(const FirmwareMachine& fm, const ExportContext& context) {
 Target rrf_target() {
   return Target{"rrf",
                 "config.g",
-                {FormKind::linear_delta, FormKind::rotary_delta},
+                {FormKind::linear_delta, FormKind::rotary_delta, FormKind::cable_robot},
                 write,
                 [](std::string_view text, const std::string& source) {
                   return read_rrf_config(text, source);

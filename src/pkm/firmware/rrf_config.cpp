@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "pkm/firmware/rrf_delta.hpp"
+#include "pkm/firmware/rrf_hangprinter.hpp"
 #include "pkm/firmware/rrf_rotary.hpp"
 #include "pkm/kinematics/firmware_form.hpp"
 #include "pkm/machine/machine_writer.hpp"
@@ -101,23 +102,7 @@ class ConfigReader {
 };
 
 std::vector<double> ConfigReader::numbers(const RrfCommand& command, const RrfWord& word) const {
-  const std::string key = command.code + " " + word.letter;
-  std::vector<double> values;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t end = word.value.find(':', start);
-    const std::string item = word.value.substr(start, end - start);
-    char* stop = nullptr;
-    const double value = std::strtod(item.c_str(), &stop);
-    if (item.empty() || *stop != '\0' || !std::isfinite(value)) {
-      fail(command.line, key,
-           "'" + word.value + "' is not a number" +
-               (word.value.find(':') != std::string::npos ? " list" : ""));
-    }
-    values.push_back(value);
-    if (end == std::string::npos) return values;
-    start = end + 1;
-  }
+  return rrf_numbers(command, word, source_);
 }
 
 double ConfigReader::number(const RrfCommand& command, const RrfWord& word) const {
@@ -136,7 +121,7 @@ void ConfigReader::read_kinematics(const RrfCommand& command) {
     if (kind != 3.0 && kind != 10.0) {
       fail(command.line, "M669 K",
            "kinematics " + rrf_number(kind) +
-               ": pkmkit imports RRF's linear delta (K3) and rotary delta (K10)");
+               ": pkmkit imports RRF's linear delta (K3), rotary delta (K10) and Hangprinter (K6)");
     }
     kind_ = static_cast<int>(kind);
     values_["M669 K"] = {kind};
@@ -495,6 +480,27 @@ machine::ImportedMachine ConfigReader::read() {
 
 }  // namespace
 
+std::vector<double> rrf_numbers(const RrfCommand& command, const RrfWord& word,
+                                const std::string& source) {
+  const std::string key = command.code + " " + word.letter;
+  std::vector<double> values;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = word.value.find(':', start);
+    const std::string item = word.value.substr(start, end - start);
+    char* stop = nullptr;
+    const double value = std::strtod(item.c_str(), &stop);
+    if (item.empty() || *stop != '\0' || !std::isfinite(value)) {
+      throw FirmwareFileError(source + ":" + std::to_string(command.line) + ": " + key + ": '" +
+                              word.value + "' is not a number" +
+                              (word.value.find(':') != std::string::npos ? " list" : ""));
+    }
+    values.push_back(value);
+    if (end == std::string::npos) return values;
+    start = end + 1;
+  }
+}
+
 std::vector<RrfCommand> rrf_commands(std::string_view text, std::vector<std::string>& skipped) {
   std::vector<RrfCommand> commands;
   int line = 0;
@@ -516,6 +522,9 @@ std::vector<RrfCommand> rrf_commands(std::string_view text, std::vector<std::str
 }
 
 machine::ImportedMachine read_rrf_config(std::string_view text, const std::string& source) {
+  std::vector<std::string> skipped;
+  const std::vector<RrfCommand> commands = rrf_commands(text, skipped);
+  if (rrf_is_hangprinter(commands)) return read_rrf_hangprinter(commands, source);
   return ConfigReader(text, source).read();
 }
 

@@ -23,8 +23,8 @@ std::string millimetres(double value) {
 std::vector<std::string> header_lines(const FirmwareMachine& machine,
                                       const ExportContext& context) {
   std::vector<std::string> lines = {
-      "Written by pkmkit " + context.pkmkit_version + " from " + context.machine_source + " (" +
-          machine.machine.name() + ")",
+      "Written by pkmkit " + context.pkmkit_version + " from " + context.machine_source + ": " +
+          machine.machine.name(),
       std::string("Kinematics: ") + kinematics::form_name(machine.form.geometry)};
   if (machine.cost) {
     const ApproximationCost& cost = *machine.cost;

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/cable_robot.hpp"
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/rotary_delta.hpp"
 
@@ -13,6 +14,7 @@ struct FormName {
   const char* operator()(const WallPlotterForm&) const { return "two-cable wall plotter"; }
   const char* operator()(const LinearDeltaForm&) const { return "linear delta"; }
   const char* operator()(const RotaryDeltaForm&) const { return "rotary delta"; }
+  const char* operator()(const CableRobotForm&) const { return "cable robot"; }
 };
 
 // Each form as the pkmkit model that computes it.
@@ -47,6 +49,20 @@ struct FormModel {
     geometry.forearm_length_mm = form.forearm_length_mm;
     geometry.platform_radius_mm = form.platform_radius_mm;
     return std::make_unique<RotaryDeltaKinematics>(geometry, passthrough);
+  }
+  std::unique_ptr<Kinematics> operator()(const CableRobotForm& form) const {
+    if (form.cable_offsets_mm.size() != form.anchors_mm.size()) {
+      throw std::invalid_argument("cable robot form: one cable offset per anchor");
+    }
+    CableRobotGeometry geometry;
+    geometry.planar = form.planar;
+    for (std::size_t i = 0; i < form.anchors_mm.size(); ++i) {
+      RobotCable cable;
+      cable.anchor_mm = form.anchors_mm[i];
+      cable.offset_mm = form.cable_offsets_mm[i];
+      geometry.cables.push_back(cable);
+    }
+    return std::make_unique<CableRobotKinematics>(std::move(geometry), passthrough);
   }
 };
 

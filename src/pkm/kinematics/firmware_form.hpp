@@ -1,8 +1,9 @@
 // A model's geometry in the forms that controllers with their own kinematics implement (FluidNC,
 // Klipper, RepRapFirmware, grblHAL, Marlin; docs/firmware.md): a two-cable wall plotter, a
-// linear delta, a rotary delta. A model answers `Kinematics::firmware_form()` with its nearest
-// geometry in one form and what that form leaves out; `make_form_kinematics` builds the pkmkit
-// model of a form back (an import, an approximation).
+// linear delta, a rotary delta, a cable robot (N straight cables to a translating effector). A
+// model answers `Kinematics::firmware_form()` with its nearest geometry in one form and what that
+// form leaves out; `make_form_kinematics` builds the pkmkit model of a form back (an import, an
+// approximation).
 #pragma once
 
 #include <Eigen/Core>
@@ -49,9 +50,21 @@ struct RotaryDeltaForm {
   double platform_radius_mm = 0.0;  // tool to each forearm's effector joint
 };
 
-using FormGeometry = std::variant<WallPlotterForm, LinearDeltaForm, RotaryDeltaForm>;
+// N straight cables from fixed points to one point of an effector that translates without
+// turning (RepRapFirmware's Hangprinter, Klipper's winch): each anchor with the effector's tie
+// point folded in (the anchor less the tie point's offset from the tool), so that
+//   reading = |anchor - tool| + offset
+// (mm, machine frame). Planar: the tool moves in x y at z = 0 (N >= 3); else x y z (N >= 4).
+struct CableRobotForm {
+  std::vector<Eigen::Vector3d> anchors_mm;
+  std::vector<double> cable_offsets_mm;  // one per anchor
+  bool planar = false;
+};
 
-// "two-cable wall plotter", "linear delta", "rotary delta".
+using FormGeometry =
+    std::variant<WallPlotterForm, LinearDeltaForm, RotaryDeltaForm, CableRobotForm>;
+
+// "two-cable wall plotter", "linear delta", "rotary delta", "cable robot".
 const char* form_name(const FormGeometry& geometry);
 
 struct FirmwareForm {
@@ -66,8 +79,9 @@ struct FirmwareForm {
 };
 
 // The pkmkit model of a form: a cable_plotter, a glide with three vertical rails, a
-// rotary_delta; its pass-through joints after them. Throws std::invalid_argument for a geometry
-// the model refuses (a rod shorter than nothing).
+// rotary_delta, a cable_robot (its tie points at the tool, no mass or tension limits); its
+// pass-through joints after them. Throws std::invalid_argument for a geometry the model refuses (a
+// rod shorter than nothing).
 std::unique_ptr<Kinematics> make_form_kinematics(const FormGeometry& geometry,
                                                  const PassThroughAxes& passthrough = {});
 

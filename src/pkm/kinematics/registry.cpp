@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "pkm/kinematics/cable_plotter.hpp"
+#include "pkm/kinematics/cable_robot.hpp"
 #include "pkm/kinematics/formula.hpp"
 #include "pkm/kinematics/glide.hpp"
 #include "pkm/kinematics/hexapod.hpp"
@@ -24,9 +25,13 @@ struct Entry {
   KinematicsReader make;
 };
 constexpr Entry kModels[] = {
-    {"matrix", make_matrix_kinematics},   {"cable_plotter", make_cable_plotter_kinematics},
-    {"glide", make_glide_kinematics},     {"hexapod", make_hexapod_kinematics},
-    {"formula", make_formula_kinematics}, {"rotary_delta", make_rotary_delta_kinematics},
+    {"matrix", make_matrix_kinematics},
+    {"cable_plotter", make_cable_plotter_kinematics},
+    {"glide", make_glide_kinematics},
+    {"hexapod", make_hexapod_kinematics},
+    {"formula", make_formula_kinematics},
+    {"rotary_delta", make_rotary_delta_kinematics},
+    {"cable_robot", make_cable_robot_kinematics},
 };
 
 // The kinds registered at run time (KinematicsKind), behind a lock: machine files may load on

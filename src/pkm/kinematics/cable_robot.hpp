@@ -1,0 +1,195 @@
+// A robot hung on N straight cables (issue 31): Hangprinter (spatial, four cables from anchors
+// around the bed and one on the ceiling), Maslow 4 (planar, four belts on swivelling arms to the
+// corners of a frame), Klipper's winch. The effector translates with its orientation held fixed,
+// as these machines' firmwares take it (in reality the cables hold it only approximately). One
+// joint per cable: its straight length from the anchor to the point where it is tied on the
+// effector, plus an offset. With more cables than coordinates, forward kinematics is a
+// least-squares fit over all cables, and joints that fit no pose (a slack or mismeasured cable) are
+// refused with the misfit (docs/kinematics.md, "Cable robot").
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "pkm/kinematics/firmware_form.hpp"
+#include "pkm/kinematics/kinematics.hpp"
+#include "pkm/kinematics/mechanism_sketch.hpp"
+#include "pkm/kinematics/model_config.hpp"
+#include "pkm/kinematics/passthrough.hpp"
+#include "pkm/kinematics/tension_distribution.hpp"
+
+namespace pkm::kinematics {
+
+// Per-cable values and d length / d tool position, on the stack (at most kMaxJoints cables).
+using CableVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxJoints, 1>;
+using CableJacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxJoints, 3>;
+
+struct RobotCable {
+  Eigen::Vector3d anchor_mm = Eigen::Vector3d::Zero();  // where it leaves the frame (world)
+  Eigen::Vector3d attach_mm = Eigen::Vector3d::Zero();  // on the effector (tool point at 0)
+  double offset_mm = 0.0;                               // joint = length + offset
+  // A Maslow 4 arm: the cable is tied this far from `attach`, at the end of an arm turning freely
+  // about the effector's z axis through `attach`, so that it points at the anchor in plan view.
+  double swivel_arm_mm = 0.0;
+};
+
+struct CableRobotGeometry {
+  std::vector<RobotCable> cables;
+  bool planar = false;  // x y only (N >= 3); else x y z (N >= 4)
+  // A planar robot whose tie points ride on the tool's z (a pass-through joint): Maslow 4's arms
+  // on its spindle. Otherwise the sled stays in z = 0 whatever the tool's z.
+  bool cables_follow_z = false;
+  double effector_mass_kg = 0.0;
+  // Effector frame. The tension distribution balances forces only (the orientation held fixed by
+  // assumption): the centre of mass would enter only the moments.
+  Eigen::Vector3d center_of_mass_mm = Eigen::Vector3d::Zero();
+  // Which way is down in machine coordinates: a direction (its length ignored), g = 9.80665 m/s^2
+  // along it. A planar robot with a mass must give it (its sheet may be vertical, level or
+  // tilted); a spatial one defaults to -z.
+  Eigen::Vector3d gravity_direction = -Eigen::Vector3d::UnitZ();
+  bool gravity_given = false;
+  bool tension_limited = false;
+  double tension_min_N = 0.0;
+  double tension_max_N = 0.0;
+  // The tension the distribution aims for (N); none: the middle of tension_limits (0 without).
+  std::optional<double> preferred_tension_N;
+  // Forward kinematics refuses joints whose least-squares fit leaves a cable further off (mm).
+  double misfit_tolerance_mm = 0.01;
+};
+
+// Forward kinematics' least-squares fit of the joints, whatever its misfit. On the stack: the
+// LinuxCNC module fits in its servo thread, where nothing may allocate.
+struct CableFit {
+  geometry::Pose pose;
+  Status status;          // of the solve itself (not of the misfit)
+  int iterations = 0;     // Gauss-Newton steps
+  CableVector misfit_mm;  // per cable: its length at `pose` less the joint's (mm)
+  double rms_mm = 0.0;
+  double worst_mm = 0.0;  // the largest |misfit|
+  int worst_cable = -1;
+  // Per cable: how much its joint reads more than the value that, the others as they are, fits
+  // the joints best, and the worst misfit left then (mm; the worst above where the cable cannot
+  // change the misfit). A cable that leaves none beyond the tolerance explains the misfit alone;
+  // with one cable more than coordinates every cable the fit depends on does.
+  CableVector alone_excess_mm;
+  CableVector alone_worst_mm;
+  // The one cable that alone explains the misfit; -1 where none or several do.
+  int culprit = -1;
+};
+
+class CableRobotKinematics final : public Kinematics, public MechanismSketch {
+ public:
+  // Throws std::invalid_argument ("key: message", key a machine-file key) for a bad geometry.
+  explicit CableRobotKinematics(CableRobotGeometry geometry, PassThroughAxes passthrough = {});
+
+  std::string_view type() const override { return "cable_robot"; }
+  int joint_count() const override { return cable_count() + passthrough_.count(); }
+  int cable_count() const { return static_cast<int>(geometry_.cables.size()); }
+  geometry::Dof dof() const override { return passthrough_.add_to(mechanism_dof()); }
+  JointKind joint_kind(int joint) const override {
+    return joint < cable_count() ? JointKind::linear : passthrough_.kind(joint - cable_count());
+  }
+  int passthrough_axis(int joint) const override {
+    return joint < cable_count() ? -1 : passthrough_.axes()[joint - cable_count()];
+  }
+
+  Status inverse(const geometry::Pose& pose, JointVector& joints) const override;
+  // The least-squares fit (fit()), refused where it leaves a cable more than misfit_tolerance off:
+  // `unreachable`, the joint the culprit cable (or the worst misfit where no single cable
+  // explains it). explain_misfit() says it in numbers.
+  Status forward(const JointVector& joints, geometry::Pose& pose_inout) const override;
+  Status jacobian(const geometry::Pose& pose, JointJacobian& d_joints_d_pose) const override;
+  std::string why_refused(const geometry::Pose& pose, const Status& status) const override;
+
+  // Gauss-Newton over all cables from the seed, and from the trilateration's linear estimate where
+  // the seed's fit misfits; the better of the two.
+  CableFit fit(const JointVector& joints, const geometry::Pose& seed) const;
+  // "the cables fit no pose: ..." with the RMS, the worst cable and the cables that alone explain
+  // the misfit, named by `joint_names` (or numbered); empty where the fit is within the tolerance.
+  std::string explain_misfit(const CableFit& fit, std::span<const std::string> joint_names) const;
+
+  // The wrench matrix the tension distribution takes: one column per cable, the unit vector from
+  // its tie point on the effector towards its anchor (2 rows for a planar robot: the plane's
+  // components, the sheet taking the rest; 3 for a spatial one). Empty where a cable has no
+  // direction (zero length).
+  Eigen::MatrixXd structure_matrix(const geometry::Pose& pose) const;
+
+  // A cable robot, its tie points folded into the anchors; Maslow 4's swivel arms and tie points
+  // riding on z are losses (cable_robot_firmware.cpp).
+  std::optional<FirmwareForm> firmware_form() const override;
+  // The tension distribution (cable_robot_tensions.cpp; docs/cable-machines.md, "N cables").
+  // The load the cables must balance: m (g - a) in N, forces only (x y for a planar robot, the
+  // sheet taking the rest), the acceleration in mm/s^2.
+  Eigen::VectorXd wrench_N(const Eigen::Vector3d& acceleration_mm_per_s2) const;
+  // Per cable: tension_limits ([0, inf) without) and preferred_tension (their middle without).
+  TensionTargets tension_targets() const;
+  // The tensions at `pose` while the effector accelerates; none where a cable has no direction.
+  // Without tension_limits: the tensions of [0, inf) nearest the preferred ones (0: the least).
+  std::optional<TensionDistribution> tensions(
+      const geometry::Pose& pose,
+      const Eigen::Vector3d& acceleration_mm_per_s2 = Eigen::Vector3d::Zero()) const;
+
+  std::vector<Parameter> parameters() const override;
+  void set_parameters(std::span<const double> values) override;
+  std::unique_ptr<Kinematics> clone() const override {
+    return std::make_unique<CableRobotKinematics>(*this);
+  }
+  void write_config(ModelConfigWriter& out) const override;
+
+  // The drawing: the anchors joined as the frame, the cables and the effector's tie points.
+  const MechanismSketch* sketch() const override { return this; }
+  void fixed_parts(std::span<const JointTravel> travel,
+                   std::vector<SketchLine>& out) const override;
+  void moving_parts(const geometry::Pose& pose, const JointVector& joints,
+                    std::vector<SketchLine>& out) const override;
+
+  // Reach box (kinematics.hpp; cable_robot_reach.cpp).
+  std::optional<Eigen::AlignedBox3d> tool_position_box(const JointVector& joint_min,
+                                                       const JointVector& joint_max) const override;
+
+  const CableRobotGeometry& geometry() const { return geometry_; }
+
+ private:
+  geometry::Dof mechanism_dof() const {
+    return geometry_.planar ? geometry::Dof::planar_xy() : geometry::Dof::translation();
+  }
+  int coordinates() const { return geometry_.planar ? 2 : 3; }
+  // Where cable i is tied at tool position p: the arm's end (or `attach` without an arm); false
+  // where the arm cannot point at its anchor (the anchor within the arm's reach in plan view).
+  bool tie_point(int cable, const Eigen::Vector3d& tool_mm, Eigen::Vector3d& tie_mm) const;
+  // The cables' lengths and d length / d tool position x y z (rows), with the first failure.
+  Status lengths(const Eigen::Vector3d& tool_mm, CableVector& length_mm,
+                 CableJacobian* d_length) const;
+  // Gauss-Newton (Marquardt-damped where a step does not lower the misfit) from `start`.
+  CableFit gauss_newton(const CableVector& cable_lengths_mm, const geometry::Pose& start) const;
+  // A start from the joints alone: the trilateration's linear least squares; none where the
+  // cables' centres do not span the coordinates.
+  std::optional<Eigen::Vector3d> trilateration(const CableVector& cable_lengths_mm,
+                                               double tool_z_mm) const;
+  void analyse_misfit(const CableJacobian& d_length, CableFit& fit) const;
+  Eigen::Vector3d tool_point(const geometry::Pose& pose) const;
+  // inverse()'s tension check at rest: `tension` and the worst cable where tension_limits are
+  // given and no tensions within them hold the effector; success otherwise.
+  Status check_tensions(const geometry::Pose& pose) const;
+  // m (g - a) in N, all three components.
+  Eigen::Vector3d load_N(const Eigen::Vector3d& acceleration_mm_per_s2) const;
+  // Whether p projected onto the balance keeps every limit (then it is the distribution).
+  bool projection_held(const geometry::Pose& pose) const;
+  std::string explain_tensions(const geometry::Pose& pose) const;
+
+  CableRobotGeometry geometry_;
+  PassThroughAxes passthrough_;
+};
+
+// Throws std::invalid_argument ("key: message") naming the machine-file key at fault.
+void validate_cable_robot_geometry(const CableRobotGeometry& geometry);
+// The part of it about the load: gravity, the tension limits and the preferred tension
+// (cable_robot_tensions.cpp).
+void validate_cable_robot_load(const CableRobotGeometry& geometry);
+
+std::unique_ptr<Kinematics> make_cable_robot_kinematics(const ModelConfig& config);
+
+}  // namespace pkm::kinematics
