@@ -327,14 +327,15 @@ TEST(firmware_klipper, FuzzFoundAHomeAtEveryEndstopLoads) {
     const machine::ImportedMachine imported = firmware::read_klipper(text, "printer.cfg");
     const machine::Machine machine = machine::parse_machine(
         machine::machine_file_text(imported, "imported.toml"), "imported.toml");
-    // Each joint's max is its endstop's reading, and home puts every carriage there.
+    // Each joint's max is its endstop's reading, and home puts every carriage there (lowered by
+    // 1e-9 mm steps of z where rounding put one past it: its reading moves by up to 1.4 times).
     const double rise = std::sqrt(300.0 * 300.0 - c.radius * c.radius);
     kinematics::JointVector joints(3);
     ASSERT_TRUE(machine.inverse(machine.home(), joints).ok());
     const std::array<double, 3> endstops = {c.endstop_a, c.endstop_b, c.endstop_c};
     for (int i = 0; i < 3; ++i) {
       EXPECT_NEAR(machine.joints()[i].max, endstops[i] + rise, 1e-9) << text;
-      EXPECT_NEAR(joints[i], endstops[i] + rise, 1e-9) << text;
+      EXPECT_NEAR(joints[i], endstops[i] + rise, 1e-8) << text;
     }
   }
 }
