@@ -3,7 +3,7 @@
 tests and examples, the head of every program of the real G-code corpus (when present), each
 cut to its first lines so that one seed stays small, and LinuxCNC's sample configurations (when
 installed), each INI followed by the files beside it that it names (fuzz/linuxcnc_ini.cpp's
-`#FILE name` parts). Usage: make_seeds.py SOURCE_DIR CORPUS OUT [LINUXCNC_SAMPLES]"""
+`#FILE name` parts), and firmware configurations, each after its target's selector byte. Usage: make_seeds.py SOURCE_DIR CORPUS OUT [LINUXCNC_SAMPLES]"""
 import hashlib
 import re
 import pathlib
@@ -24,6 +24,8 @@ BAD_INPUTS = [
     "G21 G0 X0 Y0\nG41.1 D2\nG1 X10 F100\nG2 X20 Y0 I5\nG40\nG1 X30\nM2\n",
 ]
 BAD_MACHINES = ["a" + ".a" * 100 + " = 1\n", "x = " + "[" * 100 + "]" * 100 + "\n"]
+# The firmware target's selector byte is a target's index in pkm::firmware::targets().
+FIRMWARE_TARGETS = ["fluidnc", "klipper", "rrf", "grblhal", "marlin"]
 
 
 def write(directory: pathlib.Path, data: bytes) -> None:
@@ -48,6 +50,19 @@ def linuxcnc_config(ini: pathlib.Path) -> bytes:
         if beside.is_file() and len(seed) + beside.stat().st_size < MAX_BYTES:
             seed += b"\n#FILE " + name + b"\n" + beside.read_bytes()
     return seed
+
+
+def firmware_configs(source: pathlib.Path):
+    """(target's index, text) of every firmware file of tests/data/firmware (TARGET-NAME.EXT,
+    exports of example machines) and every raw string of tests/test_firmware_TARGET.cpp (the
+    users' configurations the tests read)."""
+    for index, target in enumerate(FIRMWARE_TARGETS):
+        for path in sorted(source.glob(f"tests/data/firmware/{target}-*")):
+            yield index, path.read_bytes()
+        test = source / f"tests/test_firmware_{target}.cpp"
+        if test.is_file():
+            for text in re.findall(rb'R"\((.*?)\)"', test.read_bytes(), re.DOTALL):
+                yield index, text
 
 
 def main() -> None:
@@ -75,6 +90,8 @@ def main() -> None:
     for path in source.glob("tests/data/*pattern*.json"):
         write(out / "calibration_pattern", path.read_bytes())
     write(out / "calibration_pattern", b'{"marks": [{"id": 1, "x": 1e6, "y": -0.0005}]}')
+    for index, text in firmware_configs(source):
+        write(out / "firmware_config", bytes([index]) + text)
     inis = [*source.glob("tests/data/linuxcnc/*/*.ini")]
     if samples is not None and samples.is_dir():
         inis += sorted(samples.rglob("*.ini"))

@@ -4,6 +4,7 @@
 // endstop reading, over the machine's workspace; import then export gives the same settings.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -302,6 +303,41 @@ TEST(firmware_klipper, ImportsAUsersPrinterCfg) {
       machine::machine_file_text(firmware::read_klipper(first, "exported.cfg"), "back.toml"),
       "back.toml");
   EXPECT_EQ(settings(first), settings(export_machine(back).text));
+}
+
+// Found by fuzz/firmware_config.cpp: an export read back refused ("cartesian.home: is not a
+// usable pose: ... joint 'stepper_a' = 700.000 mm passes its max 700.000 mm"). Klipper's home is
+// every carriage at its endstop, each joint's max; forward kinematics to that pose and inverse
+// back put a joint 1e-13 mm above its max (or 1e-9 mm, x and y that close to 0 written as 0). It
+// was not the export: a calibrated delta, its endstops apart (SAVE_CONFIG's), was refused one time
+// in three (the first two here, of 40 random ones; the third is the fuzzer's, endstops 1e-9 apart).
+TEST(firmware_klipper, FuzzFoundAHomeAtEveryEndstopLoads) {
+  struct Case {
+    double radius, endstop_a, endstop_b, endstop_c;
+  };
+  for (const Case& c :
+       {Case{179.9, 296.168, 299.543, 295.063}, Case{130.2, 299.818, 292.593, 296.447},
+        Case{160.0, 446.22844919, 446.228449191, 446.228449191}}) {
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "[printer]\nkinematics: delta\nmax_velocity: 300\nmax_accel: 3000\n"
+                  "delta_radius: %.4f\n[stepper_a]\narm_length: 300\nposition_endstop: %.9f\n"
+                  "[stepper_b]\nposition_endstop: %.9f\n[stepper_c]\nposition_endstop: %.9f\n",
+                  c.radius, c.endstop_a, c.endstop_b, c.endstop_c);
+    const machine::ImportedMachine imported = firmware::read_klipper(text, "printer.cfg");
+    const machine::Machine machine = machine::parse_machine(
+        machine::machine_file_text(imported, "imported.toml"), "imported.toml");
+    // Each joint's max is its endstop's reading, and home puts every carriage there (lowered by
+    // 1e-9 mm steps of z where rounding put one past it: its reading moves by up to 1.4 times).
+    const double rise = std::sqrt(300.0 * 300.0 - c.radius * c.radius);
+    kinematics::JointVector joints(3);
+    ASSERT_TRUE(machine.inverse(machine.home(), joints).ok());
+    const std::array<double, 3> endstops = {c.endstop_a, c.endstop_b, c.endstop_c};
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(machine.joints()[i].max, endstops[i] + rise, 1e-9) << text;
+      EXPECT_NEAR(joints[i], endstops[i] + rise, 1e-8) << text;
+    }
+  }
 }
 
 // Why rotary deltas are refused, and only why: Klipper's rotary_delta turns every arm exactly as

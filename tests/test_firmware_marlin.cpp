@@ -376,6 +376,55 @@ TEST(firmware_marlin_Reader, ANonNumberNamesItsLine) {
       << read_error(text);
 }
 
+// Found by fuzz/firmware_config.cpp: an exported delta whose pkmkit line said "X = joint 4"
+// left a tower without geometry, and the model threw std::invalid_argument ("rail 2: strut must
+// be positive") with no file or line. A stepper's joint out of 1..3, a joint twice, or "none" on
+// a delta is now an error at the comment's line.
+TEST(firmware_marlin_Reader, FuzzFoundAJointOutOfRangeIsAnErrorAtItsLine) {
+  const std::string line17 = "Configuration.h:17: // pkmkit joints: stepper X = 'joint 4 tower_b'";
+  std::string text = std::string(kDelta) +
+                     "// pkmkit joints: X = joint 4 tower_b, Y = joint 3 tower_c, Z = joint 1 "
+                     "tower_a (steps per mm: Marlin's stock values, set yours)\n";
+  EXPECT_EQ(read_error(text).rfind(line17, 0), 0u) << read_error(text);
+  text = std::string(kDelta) + "// pkmkit joints: X = joint 1 a, Y = joint 3 c, Z = joint 1 b\n";
+  EXPECT_EQ(
+      read_error(text).rfind("Configuration.h:17: // pkmkit joints: stepper Z = 'joint 1 b'", 0),
+      0u)
+      << read_error(text);
+  text = std::string(kDelta) + "// pkmkit joints: X = joint 1 a, Y = joint 2 b, Z = none\n";
+  EXPECT_EQ(read_error(text).rfind("Configuration.h:17: // pkmkit joints: stepper Z = none", 0), 0u)
+      << read_error(text);
+}
+
+// Found by fuzz/firmware_config.cpp: "#define DELTA_DIAGONAL_ROD -00" made a rail of rod 0, and
+// the model threw std::invalid_argument ("rail 1: strut must be positive") with no file or line.
+TEST(firmware_marlin_Reader, FuzzFoundARodOfZeroIsAnErrorAtItsLine) {
+  std::string text = kDelta;
+  text.replace(text.find("(200 + 50.0f)"), 13, "-00");
+  EXPECT_EQ(
+      read_error(text).rfind("Configuration.h:3: DELTA_DIAGONAL_ROD: tower A's rod is 0 mm", 0), 0u)
+      << read_error(text);
+  // A trim that takes one tower's rod below 0: that tower, at the trim's line.
+  text = std::string(kDelta) + "#define DELTA_DIAGONAL_ROD_TRIM_TOWER { 0, -300, 0 }\n";
+  EXPECT_EQ(read_error(text).rfind(
+                "Configuration.h:17: DELTA_DIAGONAL_ROD_TRIM_TOWER: tower B's rod is -50 mm", 0),
+            0u)
+      << read_error(text);
+}
+
+// A joint's name may hold spaces (the machine file allows them): the pkmkit line gives it back.
+TEST(firmware_marlin_Reader, JointNamesWithSpacesComeBack) {
+  const std::string text = std::string(kDelta) +
+                           "// pkmkit joints: X = joint 2 tower b, Y = joint 3 tower c, Z = joint "
+                           "1 tower a (steps per mm: Marlin's stock values, set yours)\n";
+  const machine::ImportedMachine imported = marlin().read(text, "Configuration.h");
+  ASSERT_EQ(imported.joints.size(), 3u);
+  EXPECT_EQ(imported.joints[0].name, "tower a");
+  EXPECT_EQ(imported.joints[1].name, "tower b");
+  EXPECT_EQ(imported.joints[2].name, "tower c");
+  EXPECT_FALSE(imported.joints[0].steps_per_unit);  // Marlin's stock steps are not the machine's
+}
+
 TEST(firmware_marlin_Reader, NeitherKinematicsIsAnError) {
   EXPECT_NE(read_error("#define X_BED_SIZE 200\n").find("Configuration.h:1: DELTA"),
             std::string::npos);

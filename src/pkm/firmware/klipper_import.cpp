@@ -149,6 +149,11 @@ std::optional<geometry::Pose> home_pose(const kinematics::Kinematics& model,
   }
   geometry::Pose pose = geometry::Pose::from_mm_deg(0.0, 0.0, seed_z);
   if (!model.forward(joints, pose).ok()) return std::nullopt;
+  // x and y within 1e-9 mm of 0 are 0 (the file would read 1e-14), before the lowering: a
+  // rounding after it could put a carriage past its endstop again.
+  for (int axis = 0; axis < 2; ++axis) {
+    if (std::abs(pose.position_mm[axis]) < 1e-9) pose.position_mm[axis] = 0.0;
+  }
   if (lowered && !lower_into_limits(model, lowest, highest, pose)) return std::nullopt;
   return pose;
 }
@@ -203,9 +208,8 @@ machine::ImportedMachine read_klipper(std::string_view text, const std::string& 
   const std::optional<geometry::Pose> endstops = home_pose(*model, imported, max_z, false);
   const double top = std::max(max_z, endstops ? endstops->position_mm.z() : max_z);
   if (const std::optional<geometry::Pose> home = home_pose(*model, imported, max_z, true)) {
-    auto tidy = [](double value) { return std::abs(value) < 1e-9 ? 0.0 : value; };
     const Eigen::Vector3d& at = home->position_mm;
-    imported.home = std::vector<double>{tidy(at.x()), tidy(at.y()), at.z()};
+    imported.home = std::vector<double>{at.x(), at.y(), at.z()};
   }
   imported.envelope_min = std::vector<double>{-print_radius, -print_radius, minimum_z};
   imported.envelope_max = std::vector<double>{print_radius, print_radius, top};

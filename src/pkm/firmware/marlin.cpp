@@ -1,8 +1,8 @@
 #include "pkm/firmware/marlin.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 
 #include "pkm/firmware/marlin_forms.hpp"
 
@@ -116,24 +116,49 @@ MarlinJointNames read_joint_names(const MarlinDefines& defines,
                                   const std::array<std::string, 3>& default_names) {
   MarlinJointNames result;
   result.names = default_names;
-  const std::vector<std::string> lines = defines.comment_lines("pkmkit joints:");
+  const std::vector<MarlinDefines::Comment> lines = defines.comment_lines("pkmkit joints:");
   if (lines.empty()) return result;
-  result.stock_steps = lines.front().find("Marlin's stock values") != std::string::npos;
-  std::istringstream in(lines.front());
-  std::string letter, equals, word;
-  for (int k = 0; k < 3 && (in >> letter >> equals >> word); ++k) {
-    if (word == "none" || word == "none,") {
+  result.line = lines.front().line;
+  // "X = joint 2 tower b, Y = joint 3 tower c, Z = none (steps per mm: ...)": a joint's name may
+  // hold spaces, so each stepper's part runs to the next ", Y = " or ", Z = ".
+  std::string text = lines.front().text;
+  const std::size_t stock = text.find(" (steps per mm: Marlin's stock values");
+  result.stock_steps = stock != std::string::npos;
+  if (result.stock_steps) text.resize(stock);
+  const std::size_t y = text.find(", Y = "), z = text.find(", Z = ");
+  if (text.rfind("X = ", 0) != 0 || y == std::string::npos || z == std::string::npos || z < y) {
+    joint_names_fail(defines, result, "not 'X = joint N name, Y = ..., Z = ...'");
+  }
+  const std::array<std::string, 3> parts = {text.substr(4, y - 4), text.substr(y + 6, z - y - 6),
+                                            text.substr(z + 6)};
+  for (int k = 0; k < 3; ++k) {
+    if (parts[k] == "none") {
       result.order[k] = -1;
       continue;
     }
-    int index = 0;
-    std::string name;
-    in >> index >> name;
-    if (!name.empty() && name.back() == ',') name.pop_back();
-    result.order[k] = index - 1;
-    result.names[k] = name;
+    // Each stepper one joint of the three, none twice: else a tower or cord would have no
+    // geometry (the comment is pkmkit's own; Marlin ignores it).
+    const char digit = parts[k].size() > 8 ? parts[k][6] : '0';
+    const int joint = digit - '1';
+    const bool taken = std::find(result.order.begin(), result.order.begin() + k, joint) !=
+                       result.order.begin() + k;
+    if (parts[k].rfind("joint ", 0) != 0 || joint < 0 || joint > 2 || parts[k][7] != ' ' || taken) {
+      joint_names_fail(defines, result,
+                       std::string("stepper ") + "XYZ"[k] + " = '" + parts[k] +
+                           "' is not 'none' or 'joint N name' of joints 1 to 3");
+    }
+    result.order[k] = joint;
+    result.names[k] = parts[k].substr(8);
   }
   return result;
+}
+
+void joint_names_fail(const MarlinDefines& defines, const MarlinJointNames& names,
+                      const std::string& why) {
+  throw FirmwareFileError(defines.source() + ":" + std::to_string(names.line) +
+                          ": // pkmkit joints: " + why +
+                          ", each joint once (the comment names the machine joint of each "
+                          "stepper; correct it, or delete it for X Y Z = joints 1 2 3)");
 }
 
 StepperRates read_stepper_rates(const MarlinDefines& defines, const MarlinJointNames& names,

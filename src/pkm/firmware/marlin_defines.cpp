@@ -150,7 +150,7 @@ MarlinDefines::MarlinDefines(std::string_view text, std::string source)
     start = end + 1;
     ++line_number;
     if (line.rfind("//", 0) == 0) {
-      comments_.push_back(trim(std::string_view(line).substr(2)));
+      comments_.push_back(Comment{trim(std::string_view(line).substr(2)), line_number});
       continue;
     }
     if (line.rfind("#define", 0) != 0) continue;
@@ -258,10 +258,13 @@ std::vector<std::string> MarlinDefines::unused(const std::vector<std::string>& u
   return names;
 }
 
-std::vector<std::string> MarlinDefines::comment_lines(std::string_view prefix) const {
-  std::vector<std::string> lines;
-  for (const std::string& comment : comments_) {
-    if (comment.rfind(prefix, 0) == 0) lines.push_back(trim(comment.substr(prefix.size())));
+std::vector<MarlinDefines::Comment> MarlinDefines::comment_lines(std::string_view prefix) const {
+  std::vector<Comment> lines;
+  for (const Comment& comment : comments_) {
+    if (comment.text.rfind(prefix, 0) == 0) {
+      lines.push_back(
+          Comment{trim(std::string_view(comment.text).substr(prefix.size())), comment.line});
+    }
   }
   return lines;
 }

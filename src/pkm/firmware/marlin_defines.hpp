@@ -35,8 +35,12 @@ class MarlinDefines {
   // The names of the file's defines not in `used`, in file order.
   std::vector<std::string> unused(const std::vector<std::string>& used) const;
   const std::string& source() const { return source_; }
-  // Every comment line starting with `prefix` (after "//"), with its text after the prefix.
-  std::vector<std::string> comment_lines(std::string_view prefix) const;
+  struct Comment {
+    std::string text;
+    int line = 0;
+  };
+  // Every comment line starting with `prefix` (after "//"): its text after the prefix, its line.
+  std::vector<Comment> comment_lines(std::string_view prefix) const;
 
  private:
   struct Define {
@@ -50,7 +54,7 @@ class MarlinDefines {
   std::string source_;
   std::map<std::string, Define> defines_;
   std::vector<std::string> order_;
-  std::vector<std::string> comments_;
+  std::vector<Comment> comments_;
   friend class MarlinExpression;
 };
 

@@ -247,6 +247,18 @@ DeltaFile read_delta_file(const MarlinDefines& defines) {
   file.radius_trim = optional_triple(defines, "DELTA_RADIUS_TRIM_TOWER");
   file.rod_trim = optional_triple(defines, "DELTA_DIAGONAL_ROD_TRIM_TOWER");
   file.adj = optional_triple(defines, "DELTA_ENDSTOP_ADJ");
+  for (int k = 0; k < 3; ++k) {
+    // Each tower's rod with its trim: a rod of 0 or less has no carriage height.
+    const double rod = file.rod + file.rod_trim[k], radius = file.radius + file.radius_trim[k];
+    if (!(rod > 0.0) || !std::isfinite(rod) || !std::isfinite(radius)) {
+      const char* name =
+          file.rod_trim[k] != 0.0 ? "DELTA_DIAGONAL_ROD_TRIM_TOWER" : "DELTA_DIAGONAL_ROD";
+      throw FirmwareFileError(defines.source() + ":" + std::to_string(defines.line(name)) + ": " +
+                              name + ": tower " + "ABC"[k] + "'s rod is " + marlin_number(rod) +
+                              " mm (with its trim), radius " + marlin_number(radius) +
+                              " mm: a rod must be longer than 0 mm");
+    }
+  }
   file.home_xy = Eigen::Vector2d(delta_home(defines, 'X'), delta_home(defines, 'Y'));
   // PRINTABLE_RADIUS is newer Marlin's name of DELTA_PRINTABLE_RADIUS.
   file.printable =
@@ -312,8 +324,13 @@ machine::ImportedMachine read_marlin_delta(const MarlinDefines& defines) {
   kinematics::LinearDeltaForm form;
   imported.joints.resize(3);
   for (int k = 0; k < 3; ++k) {
-    const int joint = names.order[k] >= 0 && names.order[k] < 3 ? names.order[k] : k;
-    add_tower(file, rates, names.names[k], k, joint, form, imported);
+    if (names.order[k] < 0) {
+      joint_names_fail(defines, names,
+                       std::string("stepper ") + "XYZ"[k] +
+                           " = none: a delta's steppers drive "
+                           "joints 1 to 3");
+    }
+    add_tower(file, rates, names.names[k], k, names.order[k], form, imported);
   }
   imported.kinematics_section =
       machine::kinematics_toml(*kinematics::make_form_kinematics(form), machine::LengthUnit::mm);

@@ -49,9 +49,13 @@ struct MarlinJointNames {
   std::array<std::string, 3> names;
   std::array<int, 3> order{0, 1, 2};  // machine joint index of stepper X Y Z
   bool stock_steps = false;           // the steps were Marlin's stock values, not the machine's
+  int line = 0;                       // the pkmkit line's, 0 without one
 };
+// FirmwareFileError: a stepper of the pkmkit line is none of the joints 1 to 3, or one named twice.
 MarlinJointNames read_joint_names(const MarlinDefines& defines,
                                   const std::array<std::string, 3>& default_names);
+[[noreturn]] void joint_names_fail(const MarlinDefines& defines, const MarlinJointNames& names,
+                                   const std::string& why);
 struct StepperRates {
   std::array<double, 3> feed_mm_per_s{}, acceleration_mm_per_s2{};
   std::optional<std::array<double, 3>> steps_per_mm;
