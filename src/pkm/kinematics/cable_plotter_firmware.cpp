@@ -4,16 +4,6 @@
 #include "pkm/kinematics/cable_plotter.hpp"
 
 namespace pkm::kinematics {
-namespace {
-
-std::string number(const char* format, double value) {
-  char text[256];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
-}
-
-}  // namespace
-
 std::optional<FirmwareForm> CablePlotterKinematics::firmware_form() const {
   const CablePlotterGeometry& g = geometry_;
   WallPlotterForm form;
@@ -22,31 +12,31 @@ std::optional<FirmwareForm> CablePlotterKinematics::firmware_form() const {
   FirmwareForm result{form, {}, {}, passthrough_};
   if (g.pulley_radius_mm != 0.0) {
     result.losses.push_back(
-        number("pulley_radius %.3f mm: the cords leave their pulleys "
-               "tangentially, not from a point",
-               g.pulley_radius_mm));
+        loss_text("pulley_radius %.3f mm: the cords leave their pulleys "
+                  "tangentially, not from a point",
+                  g.pulley_radius_mm));
   }
   if (!g.attach_mm[0].isZero() || !g.attach_mm[1].isZero()) {
     result.losses.push_back(
-        number("effector_attach (%.3f mm apart): the cords are tied apart from the pen, and "
-               "the effector tilts",
-               (g.attach_mm[1] - g.attach_mm[0]).norm()));
+        loss_text("effector_attach (%.3f mm apart): the cords are tied apart from the pen, and "
+                  "the effector tilts",
+                  (g.attach_mm[1] - g.attach_mm[0]).norm()));
   }
   if (g.cable_density_kg_per_m != 0.0) {
     result.losses.push_back(
-        number("cable_density %.4f kg/m: the cords sag", g.cable_density_kg_per_m));
+        loss_text("cable_density %.4f kg/m: the cords sag", g.cable_density_kg_per_m));
   }
   if (g.cable_stretch_mm_per_m_per_N != 0.0) {
-    result.losses.push_back(number("cable_stiffness %.0f N: the cords stretch",
-                                   1000.0 / g.cable_stretch_mm_per_m_per_N));
+    result.losses.push_back(loss_text("cable_stiffness %.0f N: the cords stretch",
+                                      1000.0 / g.cable_stretch_mm_per_m_per_N));
   }
   if (g.spool_buildup_mm_per_m != 0.0) {
     result.losses.push_back(
-        number("spool_buildup %.4f mm/m: the drums' radius changes", g.spool_buildup_mm_per_m));
+        loss_text("spool_buildup %.4f mm/m: the drums' radius changes", g.spool_buildup_mm_per_m));
   }
   if (g.tension_limited) {
-    result.unchecked.push_back(number("tension_limits [%.3f", g.tension_min_N) +
-                               number(", %.3f] N", g.tension_max_N));
+    result.unchecked.push_back(loss_text("tension_limits [%.3f", g.tension_min_N) +
+                               loss_text(", %.3f] N", g.tension_max_N));
   }
   return result;
 }

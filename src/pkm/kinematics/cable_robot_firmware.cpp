@@ -8,16 +8,6 @@
 #include "pkm/kinematics/cable_robot.hpp"
 
 namespace pkm::kinematics {
-namespace {
-
-std::string number(const char* format, double value) {
-  char text[256];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
-}
-
-}  // namespace
-
 std::optional<FirmwareForm> CableRobotKinematics::firmware_form() const {
   const CableRobotGeometry& g = geometry_;
   CableRobotForm form;
@@ -32,9 +22,9 @@ std::optional<FirmwareForm> CableRobotKinematics::firmware_form() const {
   }
   if (arm != 0.0) {
     result.losses.push_back(
-        number("swivel_arm %.3f mm: each cable is tied at the end of an arm that turns to point "
-               "at its anchor (Maslow 4), not at a point fixed on the effector",
-               arm));
+        loss_text("swivel_arm %.3f mm: each cable is tied at the end of an arm that turns to point "
+                  "at its anchor (Maslow 4), not at a point fixed on the effector",
+                  arm));
   }
   if (g.cables_follow_z) {
     result.losses.push_back(
@@ -43,13 +33,13 @@ std::optional<FirmwareForm> CableRobotKinematics::firmware_form() const {
   }
   if (g.effector_mass_kg != 0.0) {
     result.unchecked.push_back(
-        number("effector_mass %.3f kg: whether the cables can hold it (the wrench-feasible "
-               "workspace)",
-               g.effector_mass_kg));
+        loss_text("effector_mass %.3f kg: whether the cables can hold it (the wrench-feasible "
+                  "workspace)",
+                  g.effector_mass_kg));
   }
   if (g.tension_limited) {
-    result.unchecked.push_back(number("tension_limits [%.3f", g.tension_min_N) +
-                               number(", %.3f] N", g.tension_max_N));
+    result.unchecked.push_back(loss_text("tension_limits [%.3f", g.tension_min_N) +
+                               loss_text(", %.3f] N", g.tension_max_N));
   }
   return result;
 }

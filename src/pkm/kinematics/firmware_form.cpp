@@ -1,5 +1,6 @@
 #include "pkm/kinematics/firmware_form.hpp"
 
+#include <cstdio>
 #include <stdexcept>
 
 #include "pkm/kinematics/cable_plotter.hpp"
@@ -67,6 +68,12 @@ struct FormModel {
 };
 
 }  // namespace
+
+std::string loss_text(const char* format, double value) {
+  char text[256];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
 
 const char* form_name(const FormGeometry& geometry) {
   return std::visit(FormName{}, geometry);

@@ -78,6 +78,10 @@ struct FirmwareForm {
   PassThroughAxes passthrough;  // the model's pass-through joints, after the form's own
 };
 
+// One number in a loss's text ("pulley_radius %.3f mm: ..."): the models' firmware_form()s share
+// it.
+std::string loss_text(const char* format, double value);
+
 // The pkmkit model of a form: a cable_plotter, a glide with three vertical rails, a
 // rotary_delta, a cable_robot (its tie points at the tool, no mass or tension limits); its
 // pass-through joints after them. Throws std::invalid_argument for a geometry the model refuses (a
