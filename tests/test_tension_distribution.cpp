@@ -222,6 +222,32 @@ TEST(TensionDistribution, BadInputIsRefusedWithItsSizes) {
   EXPECT_TRUE(result.held());
 }
 
+// The fixed capacity (allocation-free in the servo thread): 26 cables and 6 wrench rows at most.
+TEST(TensionDistribution, MoreThan26CablesOr6RowsAreRefused) {
+  EXPECT_THROW(TensionTargets::uniform(27, 0, 1, 0.5), std::invalid_argument);
+  const TensionTargets targets = TensionTargets::uniform(26, 0, 100, 50);
+  Eigen::MatrixXd wide = Eigen::MatrixXd::Zero(3, 27);
+  wide.row(2).setOnes();
+  try {
+    distribute_tensions(wide, Eigen::Vector3d(0, 0, -10), targets);
+    ADD_FAILURE() << "27 cables accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_STREQ(error.what(),
+                 "tension distribution: a 3 x 27 structure matrix; at most 6 wrench rows and 26 "
+                 "cables");
+  }
+  Eigen::MatrixXd tall = Eigen::MatrixXd::Zero(7, 26);
+  tall.row(2).setOnes();
+  EXPECT_THROW(distribute_tensions(tall, Eigen::VectorXd::Zero(7), targets), std::invalid_argument);
+  Eigen::MatrixXd full = Eigen::MatrixXd::Zero(6, 26);
+  full.row(2).setOnes();
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(6);
+  w[2] = -260.0;
+  const TensionDistribution at_capacity = distribute_tensions(full, w, targets);
+  EXPECT_TRUE(at_capacity.held());
+  EXPECT_NEAR(at_capacity.tension_N[25], 10.0, 1e-12);  // 50 N each less 1300 - 260 N shared
+}
+
 // A random structure: d = 2 or 3 (cable directions) or 6 (with moments about the effector's
 // origin of cables tied at random points on it).
 Eigen::MatrixXd random_structure(int rows, int cables, std::mt19937& rng) {

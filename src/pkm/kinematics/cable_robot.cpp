@@ -161,7 +161,7 @@ Status CableRobotKinematics::jacobian(const geometry::Pose& pose,
   return Status::success();
 }
 
-Eigen::MatrixXd CableRobotKinematics::structure_matrix(const geometry::Pose& pose) const {
+StructureMatrix CableRobotKinematics::structure_matrix(const geometry::Pose& pose) const {
   CableVector length;
   CableJacobian d_length;
   if (!all_finite(pose) || !lengths(tool_point(pose), length, &d_length).ok()) return {};

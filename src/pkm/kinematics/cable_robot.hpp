@@ -115,7 +115,7 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch {
   // its tie point on the effector towards its anchor (2 rows for a planar robot: the plane's
   // components, the sheet taking the rest; 3 for a spatial one). Empty where a cable has no
   // direction (zero length).
-  Eigen::MatrixXd structure_matrix(const geometry::Pose& pose) const;
+  StructureMatrix structure_matrix(const geometry::Pose& pose) const;
 
   // A cable robot, its tie points folded into the anchors; Maslow 4's swivel arms and tie points
   // riding on z are losses (cable_robot_firmware.cpp).
@@ -123,7 +123,7 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch {
   // The tension distribution (cable_robot_tensions.cpp; docs/cable-machines.md, "N cables").
   // The load the cables must balance: m (g - a) in N, forces only (x y for a planar robot, the
   // sheet taking the rest), the acceleration in mm/s^2.
-  Eigen::VectorXd wrench_N(const Eigen::Vector3d& acceleration_mm_per_s2) const;
+  WrenchVector wrench_N(const Eigen::Vector3d& acceleration_mm_per_s2) const;
   // Per cable: tension_limits ([0, inf) without) and preferred_tension (their middle without).
   TensionTargets tension_targets() const;
   // The tensions at `pose` while the effector accelerates; none where a cable has no direction.

@@ -63,8 +63,7 @@ Eigen::Vector3d CableRobotKinematics::load_N(const Eigen::Vector3d& acceleration
   return geometry_.effector_mass_kg * 1e-3 * (gravity_mm_per_s2 - acceleration_mm_per_s2);
 }
 
-Eigen::VectorXd CableRobotKinematics::wrench_N(
-    const Eigen::Vector3d& acceleration_mm_per_s2) const {
+WrenchVector CableRobotKinematics::wrench_N(const Eigen::Vector3d& acceleration_mm_per_s2) const {
   return load_N(acceleration_mm_per_s2).head(coordinates());
 }
 
@@ -83,7 +82,7 @@ TensionTargets CableRobotKinematics::tension_targets() const {
 
 std::optional<TensionDistribution> CableRobotKinematics::tensions(
     const geometry::Pose& pose, const Eigen::Vector3d& acceleration_mm_per_s2) const {
-  const Eigen::MatrixXd structure = structure_matrix(pose);
+  const StructureMatrix structure = structure_matrix(pose);
   if (structure.size() == 0 || !acceleration_mm_per_s2.allFinite()) return std::nullopt;
   return distribute_tensions(structure, wrench_N(acceleration_mm_per_s2), tension_targets());
 }

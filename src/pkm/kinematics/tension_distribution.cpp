@@ -1,11 +1,13 @@
 // The tension distribution: Goldfarb and Idnani's dual active-set method (Math. Programming 27,
 // 1983) for the projection of the preferred tensions onto {t : A t = -w, min <= t <= max}, and a
-// bisection on a widened box for the least-violating tensions where that set is empty.
+// bisection on a widened box for the least-violating tensions where that set is empty. All on
+// fixed-capacity Eigen types and arrays: nothing allocates but a refusal's violations list.
 #include "pkm/kinematics/tension_distribution.hpp"
 
 #include <Eigen/QR>
 #include <Eigen/SVD>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -23,17 +25,34 @@ constexpr double kDependentNormal = 1e-10;
 // Bisection on the least violation stops at this fraction of the problem's tension scale.
 constexpr double kViolationResolution = 1e-12;
 
+// V (n x rank) and the active normals [V, sign_j e_j] (n x (rank + active)): the active bounds'
+// normals are independent of V's and of each other, so rank + active <= n; the capacity allows
+// for rank + kMaxCables.
+using EquilibriumNormals =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxCables, kMaxWrenchRows>;
+using ActiveNormals = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxCables,
+                                    kMaxWrenchRows + kMaxCables>;
+using DualVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxWrenchRows + kMaxCables, 1>;
+using SquareWrench =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxWrenchRows, kMaxWrenchRows>;
+
 std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0) {
   char text[160];
   std::snprintf(text, sizeof text, pattern, a, b, c);
   return text;
 }
 
-void validate(const Eigen::MatrixXd& structure, const Eigen::VectorXd& wrench_N,
-              const TensionTargets& targets) {
+void validate(const Eigen::Ref<const Eigen::MatrixXd>& structure,
+              const Eigen::Ref<const Eigen::VectorXd>& wrench_N, const TensionTargets& targets) {
   const Eigen::Index n = structure.cols();
   if (structure.rows() < 1 || n < 1) {
     throw std::invalid_argument("tension distribution: the structure matrix is empty");
+  }
+  if (structure.rows() > kMaxWrenchRows || n > kMaxCables) {
+    throw std::invalid_argument("tension distribution: a " + std::to_string(structure.rows()) +
+                                " x " + std::to_string(n) + " structure matrix; at most " +
+                                std::to_string(kMaxWrenchRows) + " wrench rows and " +
+                                std::to_string(kMaxCables) + " cables");
   }
   if (wrench_N.size() != structure.rows()) {
     throw std::invalid_argument(
@@ -66,19 +85,19 @@ void validate(const Eigen::MatrixXd& structure, const Eigen::VectorXd& wrench_N,
 // A t = -w as V^T t = c with V's columns an orthonormal basis of A's row space; `residual` is
 // how far -w is from A's column space (0: some tensions balance it).
 struct Equilibrium {
-  Eigen::MatrixXd normals;  // V: n x rank
-  Eigen::VectorXd values;   // c
+  EquilibriumNormals normals;  // V: n x rank
+  WrenchVector values;         // c
   double residual_N = 0.0;
 };
 
-Equilibrium equilibrium_constraints(const Eigen::MatrixXd& structure,
-                                    const Eigen::VectorXd& wrench_N) {
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(structure, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd& sigma = svd.singularValues();
+Equilibrium equilibrium_constraints(const StructureMatrix& structure,
+                                    const WrenchVector& wrench_N) {
+  const Eigen::JacobiSVD<StructureMatrix> svd(structure, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const auto& sigma = svd.singularValues();
   Eigen::Index rank = 0;
   while (rank < sigma.size() && sigma[rank] > kRankTolerance * sigma[0]) ++rank;
-  const Eigen::MatrixXd u = svd.matrixU().leftCols(rank);
-  const Eigen::VectorXd projected = u.transpose() * (-wrench_N);
+  const SquareWrench u = svd.matrixU().leftCols(rank);
+  const WrenchVector projected = u.transpose() * (-wrench_N);
   Equilibrium equilibrium;
   equilibrium.normals = svd.matrixV().leftCols(rank);
   equilibrium.values = projected.cwiseQuotient(sigma.head(rank));
@@ -92,17 +111,42 @@ struct ActiveBound {
   double multiplier;  // >= 0
 };
 
+// The active bounds in the order they were added (the normals' column order), on the stack: at
+// most one per cable (a cable's two bounds have dependent normals).
+struct ActiveSet {
+  std::array<ActiveBound, kMaxCables> bounds;
+  std::size_t count = 0;
+
+  std::size_t size() const { return count; }
+  ActiveBound& operator[](std::size_t j) { return bounds[j]; }
+  const ActiveBound& operator[](std::size_t j) const { return bounds[j]; }
+  const ActiveBound* begin() const { return bounds.data(); }
+  const ActiveBound* end() const { return bounds.data() + count; }
+  void push_back(const ActiveBound& bound) {
+    if (count == bounds.size()) {
+      throw std::logic_error("tension distribution: more active bounds than cables");
+    }
+    bounds[count++] = bound;
+  }
+  void erase(std::size_t j) {
+    std::copy(bounds.begin() + static_cast<std::ptrdiff_t>(j + 1),
+              bounds.begin() + static_cast<std::ptrdiff_t>(count),
+              bounds.begin() + static_cast<std::ptrdiff_t>(j));
+    --count;
+  }
+};
+
 struct BoxSolution {
   bool feasible = false;
-  Eigen::VectorXd tension_N;
-  std::vector<ActiveBound> active;
+  TensionVector tension_N;
+  ActiveSet active;
   int iterations = 0;
 };
 
 // The most violated bound of `t` among those not active: its cable and sign, and its slack
 // (negative where violated); sign 0 when none is violated by more than `tolerance`.
-ActiveBound most_violated(const Eigen::VectorXd& t, const Eigen::VectorXd& lo,
-                          const Eigen::VectorXd& hi, double tolerance, double& slack) {
+ActiveBound most_violated(const TensionVector& t, const TensionVector& lo, const TensionVector& hi,
+                          double tolerance, double& slack) {
   ActiveBound worst{-1, 0.0, 0.0};
   slack = -tolerance;
   for (Eigen::Index i = 0; i < t.size(); ++i) {
@@ -119,28 +163,27 @@ ActiveBound most_violated(const Eigen::VectorXd& t, const Eigen::VectorXd& lo,
 }
 
 struct StepDirections {
-  Eigen::VectorXd primal;  // z: the new bound's normal projected off the active normals
-  Eigen::VectorXd dual;    // r: that normal in the active normals' coordinates (N^T N)^-1 N^T n
+  TensionVector primal;  // z: the new bound's normal projected off the active normals
+  DualVector dual;       // r: that normal in the active normals' coordinates (N^T N)^-1 N^T n
 };
 
 // The active normals N = [V, sign_j e_j] (orthonormal equilibrium rows, then the active bounds)
 // by a Householder QR: z = n - Q Q^T n, r = R^-1 Q^T n.
-StepDirections step_directions(const Eigen::MatrixXd& v, const std::vector<ActiveBound>& active,
+StepDirections step_directions(const EquilibriumNormals& v, const ActiveSet& active,
                                const ActiveBound& adding) {
   const Eigen::Index n = v.rows(), rank = v.cols();
-  Eigen::MatrixXd normals =
-      Eigen::MatrixXd::Zero(n, rank + static_cast<Eigen::Index>(active.size()));
+  ActiveNormals normals = ActiveNormals::Zero(n, rank + static_cast<Eigen::Index>(active.size()));
   normals.leftCols(rank) = v;
   for (std::size_t j = 0; j < active.size(); ++j) {
     normals(active[j].cable, rank + static_cast<Eigen::Index>(j)) = active[j].sign;
   }
   const Eigen::Index q = normals.cols();
-  StepDirections directions{Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(q)};
+  StepDirections directions{TensionVector::Zero(n), DualVector::Zero(q)};
   directions.primal[adding.cable] = adding.sign;
   if (q == 0) return directions;
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(normals);
-  const Eigen::MatrixXd basis = qr.householderQ() * Eigen::MatrixXd::Identity(n, q);
-  const Eigen::VectorXd along = basis.transpose() * directions.primal;
+  const Eigen::HouseholderQR<ActiveNormals> qr(normals);
+  const ActiveNormals basis = qr.householderQ() * ActiveNormals::Identity(n, q);
+  const DualVector along = basis.transpose() * directions.primal;
   directions.primal -= basis * along;
   directions.dual = qr.matrixQR().topLeftCorner(q, q).triangularView<Eigen::Upper>().solve(along);
   return directions;
@@ -151,13 +194,13 @@ StepDirections step_directions(const Eigen::MatrixXd& v, const std::vector<Activ
 // multiplier reaches zero first. Finite: the dual objective never decreases and no active set
 // repeats (Goldfarb and Idnani, theorem 3). A bound whose normal is dependent on the active ones
 // with no multiplier to drop proves the box and the equilibrium disjoint.
-BoxSolution solve_in_box(const Equilibrium& equilibrium, const Eigen::VectorXd& lo,
-                         const Eigen::VectorXd& hi, const Eigen::VectorXd& preferred,
+BoxSolution solve_in_box(const Equilibrium& equilibrium, const TensionVector& lo,
+                         const TensionVector& hi, const TensionVector& preferred,
                          double tolerance) {
-  const Eigen::MatrixXd& v = equilibrium.normals;
+  const EquilibriumNormals& v = equilibrium.normals;
   const Eigen::Index n = preferred.size(), rank = v.cols();
   BoxSolution solution;
-  Eigen::VectorXd t = preferred + v * (equilibrium.values - v.transpose() * preferred);
+  TensionVector t = preferred + v * (equilibrium.values - v.transpose() * preferred);
   const int cap = 100 * static_cast<int>(n + rank) + 100;
   for (;;) {
     double slack = 0.0;
@@ -168,8 +211,8 @@ BoxSolution solve_in_box(const Equilibrium& equilibrium, const Eigen::VectorXd& 
         throw std::runtime_error("tension distribution: the active-set method did not finish");
       }
       const StepDirections directions = step_directions(v, solution.active, adding);
-      const Eigen::VectorXd& z = directions.primal;
-      const Eigen::VectorXd& r = directions.dual;
+      const TensionVector& z = directions.primal;
+      const DualVector& r = directions.dual;
       double dual_step = kInfinity;
       std::size_t dropping = 0;
       for (std::size_t j = 0; j < solution.active.size(); ++j) {
@@ -199,7 +242,7 @@ BoxSolution solve_in_box(const Equilibrium& equilibrium, const Eigen::VectorXd& 
         solution.active.push_back(adding);
         break;
       }
-      solution.active.erase(solution.active.begin() + static_cast<std::ptrdiff_t>(dropping));
+      solution.active.erase(dropping);
     }
   }
   solution.feasible = true;
@@ -209,36 +252,37 @@ BoxSolution solve_in_box(const Equilibrium& equilibrium, const Eigen::VectorXd& 
 
 // The KKT system of the final active set solved afresh (active tensions at their bounds, the rest
 // closest to preferred on the equilibrium): removes the rounding the steps accumulated.
-Eigen::VectorXd polished(const Equilibrium& equilibrium, const BoxSolution& solution,
-                         const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
-                         const Eigen::VectorXd& preferred) {
-  Eigen::VectorXd t = preferred;
-  std::vector<bool> fixed(static_cast<std::size_t>(preferred.size()), false);
+TensionVector polished(const Equilibrium& equilibrium, const BoxSolution& solution,
+                       const TensionVector& lo, const TensionVector& hi,
+                       const TensionVector& preferred) {
+  TensionVector t = preferred;
+  std::array<bool, kMaxCables> fixed{};
   for (const ActiveBound& bound : solution.active) {
     t[bound.cable] = bound.sign > 0.0 ? lo[bound.cable] : hi[bound.cable];
     fixed[static_cast<std::size_t>(bound.cable)] = true;
   }
-  std::vector<Eigen::Index> free;
+  std::array<Eigen::Index, kMaxCables> free{};
+  std::size_t free_count = 0;
   for (Eigen::Index i = 0; i < t.size(); ++i) {
-    if (!fixed[static_cast<std::size_t>(i)]) free.push_back(i);
+    if (!fixed[static_cast<std::size_t>(i)]) free[free_count++] = i;
   }
-  const Eigen::MatrixXd& v = equilibrium.normals;
-  if (free.empty() || v.cols() == 0) return t;
-  Eigen::MatrixXd free_rows(v.cols(), static_cast<Eigen::Index>(free.size()));
-  for (std::size_t k = 0; k < free.size(); ++k) {
+  const EquilibriumNormals& v = equilibrium.normals;
+  if (free_count == 0 || v.cols() == 0) return t;
+  StructureMatrix free_rows(v.cols(), static_cast<Eigen::Index>(free_count));
+  for (std::size_t k = 0; k < free_count; ++k) {
     free_rows.col(static_cast<Eigen::Index>(k)) = v.row(free[k]).transpose();
   }
   // min |x - p_free| subject to free_rows x = c - (fixed part): the least-norm correction.
-  const Eigen::VectorXd rhs = equilibrium.values - v.transpose() * t;
-  const Eigen::VectorXd correction =
-      Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(free_rows).solve(rhs);
-  for (std::size_t k = 0; k < free.size(); ++k) {
+  const WrenchVector rhs = equilibrium.values - v.transpose() * t;
+  const TensionVector correction =
+      Eigen::CompleteOrthogonalDecomposition<StructureMatrix>(free_rows).solve(rhs);
+  for (std::size_t k = 0; k < free_count; ++k) {
     t[free[k]] += correction[static_cast<Eigen::Index>(k)];
   }
   return t;
 }
 
-double tension_scale(const Eigen::VectorXd& wrench_N, const TensionTargets& targets) {
+double tension_scale(const WrenchVector& wrench_N, const TensionTargets& targets) {
   double scale = 1.0 + wrench_N.lpNorm<Eigen::Infinity>() +
                  targets.min_N.lpNorm<Eigen::Infinity>() +
                  targets.preferred_N.lpNorm<Eigen::Infinity>();
@@ -248,7 +292,7 @@ double tension_scale(const Eigen::VectorXd& wrench_N, const TensionTargets& targ
   return scale;
 }
 
-double largest_violation(const Eigen::VectorXd& t, const TensionTargets& targets) {
+double largest_violation(const TensionVector& t, const TensionTargets& targets) {
   return std::max(0.0, std::max((targets.min_N - t).maxCoeff(), (t - targets.max_N).maxCoeff()));
 }
 
@@ -256,11 +300,11 @@ double largest_violation(const Eigen::VectorXd& t, const TensionTargets& targets
 // grows with s, so feasibility is monotone), and the tensions closest to preferred in that box.
 BoxSolution least_violating(const Equilibrium& equilibrium, const TensionTargets& targets,
                             double scale, double tolerance, int& iterations) {
-  const Eigen::VectorXd& p = targets.preferred_N;
-  const Eigen::VectorXd on_equilibrium =
+  const TensionVector& p = targets.preferred_N;
+  const TensionVector on_equilibrium =
       p + equilibrium.normals * (equilibrium.values - equilibrium.normals.transpose() * p);
   double infeasible = 0.0, feasible = largest_violation(on_equilibrium, targets) + tolerance;
-  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(p.size());
+  const TensionVector ones = TensionVector::Ones(p.size());
   BoxSolution best = solve_in_box(equilibrium, targets.min_N - feasible * ones,
                                   targets.max_N + feasible * ones, p, tolerance);
   iterations += best.iterations;
@@ -280,7 +324,7 @@ BoxSolution least_violating(const Equilibrium& equilibrium, const TensionTargets
   return best;
 }
 
-std::vector<CableViolation> violations_of(const Eigen::VectorXd& t, const TensionTargets& targets,
+std::vector<CableViolation> violations_of(const TensionVector& t, const TensionTargets& targets,
                                           double tolerance) {
   std::vector<CableViolation> violations;
   for (Eigen::Index i = 0; i < t.size(); ++i) {
@@ -301,8 +345,12 @@ std::vector<CableViolation> violations_of(const Eigen::VectorXd& t, const Tensio
 }  // namespace
 
 TensionTargets TensionTargets::uniform(int cables, double min_N, double max_N, double preferred_N) {
-  return {Eigen::VectorXd::Constant(cables, min_N), Eigen::VectorXd::Constant(cables, max_N),
-          Eigen::VectorXd::Constant(cables, preferred_N)};
+  if (cables < 0 || cables > kMaxCables) {
+    throw std::invalid_argument("tension distribution: " + std::to_string(cables) +
+                                " cables; at most " + std::to_string(kMaxCables));
+  }
+  return {TensionVector::Constant(cables, min_N), TensionVector::Constant(cables, max_N),
+          TensionVector::Constant(cables, preferred_N)};
 }
 
 TensionTargets TensionTargets::middle(int cables, double min_N, double max_N) {
@@ -315,10 +363,12 @@ TensionTargets TensionTargets::middle(int cables, double min_N, double max_N) {
   return uniform(cables, min_N, max_N, 0.5 * (min_N + max_N));
 }
 
-TensionDistribution distribute_tensions(const Eigen::MatrixXd& structure,
-                                        const Eigen::VectorXd& wrench_N,
+TensionDistribution distribute_tensions(const Eigen::Ref<const Eigen::MatrixXd>& structure_in,
+                                        const Eigen::Ref<const Eigen::VectorXd>& wrench_in,
                                         const TensionTargets& targets) {
-  validate(structure, wrench_N, targets);
+  validate(structure_in, wrench_in, targets);
+  const StructureMatrix structure = structure_in;
+  const WrenchVector wrench_N = wrench_in;
   const double scale = tension_scale(wrench_N, targets);
   const double tolerance = 1e-12 * scale;
   const Equilibrium equilibrium = equilibrium_constraints(structure, wrench_N);

@@ -3,6 +3,9 @@
 // controller prefers; or, where none exist, the tensions that break the limits least and by how
 // much. Model-independent: the caller gives the structure matrix and the wrench. The method and
 // its guarantees are in docs/cable-machines.md ("N cables: the tension distribution").
+// Allocation-free where the tensions are held (inverse kinematics runs it in LinuxCNC's servo
+// thread): every vector and matrix has a fixed capacity, at most kMaxCables cables and
+// kMaxWrenchRows wrench rows; only a refusal's list of violations allocates.
 #pragma once
 
 #include <Eigen/Core>
@@ -11,14 +14,25 @@
 
 namespace pkm::kinematics {
 
+// At most 26 cables (Klipper's winch kinematics' maximum) and 6 wrench rows (force and moment).
+inline constexpr int kMaxCables = 26;
+inline constexpr int kMaxWrenchRows = 6;
+// Per-cable tensions (N), on the stack.
+using TensionVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxCables, 1>;
+// The structure matrix A (d x n) and the wrench w (d), on the stack.
+using StructureMatrix =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxWrenchRows, kMaxCables>;
+using WrenchVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxWrenchRows, 1>;
+
 // Per-cable limits and preferred tensions (N). The preferred tension is what a controller aims
 // for: the middle of the limits, or a pretension.
 struct TensionTargets {
-  Eigen::VectorXd min_N;
-  Eigen::VectorXd max_N;
-  Eigen::VectorXd preferred_N;
+  TensionVector min_N;
+  TensionVector max_N;
+  TensionVector preferred_N;
 
-  // The same limits and preference for all n cables.
+  // The same limits and preference for all n cables (at most kMaxCables; std::invalid_argument
+  // otherwise).
   static TensionTargets uniform(int cables, double min_N, double max_N, double preferred_N);
   // The same limits for all n cables, preferring their middle (both must be finite).
   static TensionTargets middle(int cables, double min_N, double max_N);
@@ -45,7 +59,7 @@ struct TensionDistribution {
   // tensions (the largest violation minimised; of those, the closest to the preferred ones).
   // unbalanced: the tensions within the limits closest to the preferred ones that come nearest
   // to equilibrium in least squares (the residual says how far).
-  Eigen::VectorXd tension_N;
+  TensionVector tension_N;
   double equilibrium_residual_N = 0.0;     // |A t + w|
   double largest_violation_N = 0.0;        // max over cables of how far t passes a limit; 0: held
   std::vector<CableViolation> violations;  // out_of_limits: worst first
@@ -58,9 +72,10 @@ struct TensionDistribution {
 // direction from the effector towards its anchor, with its moment rows below for d > 3) and the
 // external wrench w (d; the effector's m (g - a), and its moment): A t + w = 0,
 // min <= t <= max, |t - preferred| least. Throws std::invalid_argument on sizes that do not
-// agree, non-finite entries, min > max or a non-finite min.
-TensionDistribution distribute_tensions(const Eigen::MatrixXd& structure,
-                                        const Eigen::VectorXd& wrench_N,
+// agree, more than kMaxCables cables or kMaxWrenchRows rows, non-finite entries, min > max or a
+// non-finite min. Allocates nothing unless it refuses (then only the violations list).
+TensionDistribution distribute_tensions(const Eigen::Ref<const Eigen::MatrixXd>& structure,
+                                        const Eigen::Ref<const Eigen::VectorXd>& wrench_N,
                                         const TensionTargets& targets);
 
 // A sentence per violation for a user: "cable 4 would need -12.400 N (its min 5.000 N)", cables
