@@ -1,6 +1,6 @@
 // One firmware target of `pkm export TARGET` and `pkm import TARGET` (docs/firmware.md): its
-// name, the forms its kinematics take, its writer and its reader. Each target is one file
-// (fluidnc.cpp, klipper.cpp, rrf.cpp, grblhal.cpp, marlin.cpp); targets() lists them.
+// name, the forms its kinematics take, its writer and its reader. Each target lives in its own
+// files (fluidnc*.cpp, klipper*.cpp, rrf*.cpp, grblhal*.cpp, marlin*.cpp); targets() lists them.
 #pragma once
 
 #include <functional>
