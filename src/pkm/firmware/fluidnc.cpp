@@ -166,7 +166,7 @@ ExportedFile write_rotary_delta(const FirmwareMachine& machine, const ExportCont
     acceleration = std::min(acceleration, joints[arm].max_acceleration);
   }
   ExportedFile file;
-  for (const std::string& line : header_lines(machine, context)) file.text += "# " + line + "\n";
+  file.text += header_comment(machine, context, "# ");
   file.text +=
       "# pkmkit writes name:, kinematics: and axes: below; the rest of config.yaml (board, "
       "stepping, spindle, pins) is yours.\n"
@@ -318,7 +318,7 @@ ExportedFile write_fluidnc(const FirmwareMachine& machine, const ExportContext& 
   shortest_cord = std::max(shortest_cord, 1.0);
 
   ExportedFile file;
-  for (const std::string& line : header_lines(machine, context)) file.text += "# " + line + "\n";
+  file.text += header_comment(machine, context, "# ");
   file.text +=
       "# pkmkit writes name:, kinematics:, axes: and macros: startup_line0 below; the rest of "
       "config.yaml (board, stepping, spindle, pins) is yours.\n";

@@ -24,8 +24,6 @@ constexpr std::array<const char*, 3> kSteppers = {"stepper_a", "stepper_b", "ste
 // The steps written: a rotation_distance for 200 full steps per turn at 16 microsteps.
 constexpr int kFullSteps = 200;
 constexpr int kMicrosteps = 16;
-// Tower radii that differ by more than this (mm) are not one delta_radius.
-constexpr double kRadiusTolerance = 1e-6;
 
 // The delta in Klipper's own terms (mm, deg, mm/s).
 struct KlipperDelta {
@@ -53,8 +51,7 @@ std::array<double, 3> tower_radii(const FirmwareMachine& firmware) {
 double common_radius(const FirmwareMachine& firmware) {
   const std::array<double, 3> radii = tower_radii(firmware);
   const double radius = (radii[0] + radii[1] + radii[2]) / 3.0;
-  if (towers_on_one_circle(std::get<kinematics::LinearDeltaForm>(firmware.form.geometry),
-                           kRadiusTolerance))
+  if (towers_on_one_circle(std::get<kinematics::LinearDeltaForm>(firmware.form.geometry)))
     return radius;
   std::string text = firmware.machine.source() +
                      ": klipper's delta puts every tower at one delta_radius from the origin; "
@@ -214,8 +211,7 @@ ExportedFile write_klipper(const FirmwareMachine& firmware, const ExportContext&
         "output, or move the frame in the machine file when pkmkit's rotary delta has an offset");
   }
   if (context.approximate &&
-      !towers_on_one_circle(std::get<kinematics::LinearDeltaForm>(firmware.form.geometry),
-                            kRadiusTolerance)) {
+      !towers_on_one_circle(std::get<kinematics::LinearDeltaForm>(firmware.form.geometry))) {
     const FirmwareMachine nearest = nearest_delta_on_one_circle(firmware, "klipper's delta_radius");
     ExportedFile file = write_klipper(nearest, context);
     file.cost = nearest.cost;
@@ -223,7 +219,7 @@ ExportedFile write_klipper(const FirmwareMachine& firmware, const ExportContext&
   }
   const KlipperDelta delta = klipper_delta(firmware);
   ExportedFile file;
-  for (const std::string& line : header_lines(firmware, context)) file.text += "# " + line + "\n";
+  file.text += header_comment(firmware, context, "# ");
   file.text +=
       "# Klipper's delta (klippy/kinematics/delta.py). Merge into printer.cfg, or [include] this\n"
       "# file: Klipper merges sections of one name, so your pins and homing speeds stay yours.\n"

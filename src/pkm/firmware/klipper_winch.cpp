@@ -65,7 +65,7 @@ ExportedFile write_klipper_winch(const FirmwareMachine& firmware, const ExportCo
   const kinematics::CableRobotForm& form = winch_form(firmware);
   const machine::Machine& machine = firmware.machine;
   ExportedFile file;
-  for (const std::string& line : header_lines(firmware, context)) file.text += "# " + line + "\n";
+  file.text += header_comment(firmware, context, "# ");
   file.text +=
       "# Klipper's winch (klippy/kinematics/winch.py). Merge into printer.cfg, or [include] this\n"
       "# file: Klipper merges sections of one name, so your pins stay yours. Each stepper's\n"

@@ -57,7 +57,7 @@ std::string marlin_list(const std::vector<double>& values) {
 std::string marlin_preamble(const FirmwareMachine& machine, const ExportContext& context,
                             const char* kinematics_define) {
   std::string text;
-  for (const std::string& line : header_lines(machine, context)) text += "// " + line + "\n";
+  text += header_comment(machine, context, "// ");
   text += "// Paste into Marlin's Configuration.h: each define replaces the one of that name.\n";
   text += define_line(kinematics_define, "", "");
   text += define_line("CUSTOM_MACHINE_NAME", "\"" + machine.machine.name() + "\"", "");

@@ -75,13 +75,13 @@ std::vector<Sample> fit_samples(const machine::Machine& machine,
 
 }  // namespace
 
-bool towers_on_one_circle(const kinematics::LinearDeltaForm& form, double tolerance_mm) {
+bool towers_on_one_circle(const kinematics::LinearDeltaForm& form) {
   double low = form.towers[0].column_mm.norm(), high = low;
   for (const kinematics::LinearDeltaTower& tower : form.towers) {
     low = std::min(low, tower.column_mm.norm());
     high = std::max(high, tower.column_mm.norm());
   }
-  return high - low <= tolerance_mm;
+  return high - low <= kOneCircleTolerance_mm;
 }
 
 FirmwareMachine nearest_delta_on_one_circle(const FirmwareMachine& exact,

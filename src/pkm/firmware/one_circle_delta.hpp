@@ -10,8 +10,11 @@
 
 namespace pkm::firmware {
 
-// Whether every tower's column is within `tolerance_mm` of one radius about the origin.
-bool towers_on_one_circle(const kinematics::LinearDeltaForm& form, double tolerance_mm);
+// Columns whose distances from the origin differ by more than this (mm) are not on one circle.
+inline constexpr double kOneCircleTolerance_mm = 1e-6;
+
+// Whether every tower's column is within kOneCircleTolerance_mm of one radius about the origin.
+bool towers_on_one_circle(const kinematics::LinearDeltaForm& form);
 
 // `exact` must hold a linear delta form (exactly, or an approximation: the cost is measured on
 // the machine as built). The result's machine is the fitted form's (the joints, limits and home

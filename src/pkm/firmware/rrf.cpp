@@ -16,9 +16,6 @@
 namespace pkm::firmware {
 namespace {
 
-// Columns farther apart than this from one radius are not RRF's towers (mm).
-constexpr double kRadiusTolerance_mm = 1e-6;
-
 // What the machine file says that RRF has no setting for (the same for every machine, so that an
 // import exports the same text).
 constexpr const char* kRrfNotHeld =
@@ -52,8 +49,7 @@ std::string millimetres(double value) {
 double common_radius(const FirmwareMachine& fm, const kinematics::LinearDeltaForm& form) {
   std::array<double, 3> radii{};
   for (std::size_t k = 0; k < 3; ++k) radii[k] = form.towers[k].column_mm.norm();
-  const auto [low, high] = std::minmax_element(radii.begin(), radii.end());
-  if (*high - *low > kRadiusTolerance_mm) {
+  if (!towers_on_one_circle(form)) {
     throw ExportRefused(
         fm.machine.source() +
         ": rrf's linear delta puts its three towers on one circle about x 0 " +
@@ -123,7 +119,7 @@ ExportedFile write_linear_delta(const FirmwareMachine& fm, const ExportContext& 
   TowerAssignment towers;
   const RrfLinearDelta delta = linear_delta(fm, towers);
   ExportedFile file;
-  for (const std::string& line : header_lines(fm, context)) file.text += "; " + line + "\n";
+  file.text += header_comment(fm, context, "; ");
   file.text +=
       "; RepRapFirmware 3 config.g lines: they replace the kinematics, M92, M203, M201 and M208 "
       "lines of config.g\n";
@@ -154,7 +150,7 @@ ExportedFile write(const FirmwareMachine& fm, const ExportContext& context) {
     return write_rrf_rotary_delta(fm, context);
   }
   const auto& form = std::get<kinematics::LinearDeltaForm>(fm.form.geometry);
-  if (context.approximate && !towers_on_one_circle(form, kRadiusTolerance_mm)) {
+  if (context.approximate && !towers_on_one_circle(form)) {
     const FirmwareMachine nearest = nearest_delta_on_one_circle(fm, "rrf's M665 R");
     ExportedFile file = write_linear_delta(nearest, context);
     file.cost = nearest.cost;

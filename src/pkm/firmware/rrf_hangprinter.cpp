@@ -60,7 +60,7 @@ ExportedFile write_rrf_hangprinter(const FirmwareMachine& fm, const ExportContex
   const machine::Machine& machine = fm.machine;
   const RrfBounds bounds = rrf_bounds(machine);
   ExportedFile file;
-  for (const std::string& line : header_lines(fm, context)) file.text += "; " + line + "\n";
+  file.text += header_comment(fm, context, "; ");
   file.text +=
       "; RepRapFirmware config.g lines (HangprinterKinematics): they replace the M669, M666 Q F, "
       "M203, M201 and M208 lines of config.g. Each line's motor counts its length less its "

@@ -129,7 +129,7 @@ ExportedFile write_rrf_rotary_delta(const FirmwareMachine& fm, const ExportConte
   TowerAssignment towers;
   const RrfRotaryDelta delta = rotary_settings(fm, towers);
   ExportedFile file;
-  for (const std::string& line : header_lines(fm, context)) file.text += "; " + line + "\n";
+  file.text += header_comment(fm, context, "; ");
   file.text +=
       "; RepRapFirmware 3 config.g lines: they replace the kinematics, M92, M203, M201 and M208 "
       "lines of config.g; the firmware needs rotary delta support (SUPPORT_ROTARY_DELTA)\n";

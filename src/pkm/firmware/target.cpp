@@ -46,6 +46,14 @@ std::vector<std::string> header_lines(const FirmwareMachine& machine,
   return lines;
 }
 
+std::string header_comment(const FirmwareMachine& machine, const ExportContext& context,
+                           std::string_view mark) {
+  std::string text;
+  for (const std::string& line : header_lines(machine, context))
+    text.append(mark).append(line).append("\n");
+  return text;
+}
+
 const std::vector<Target>& targets() {
   static const std::vector<Target> all = {fluidnc_target(), klipper_target(), rrf_target(),
                                           grblhal_target(), marlin_target()};

@@ -26,6 +26,9 @@ struct ExportContext {
 // The lines every exported file opens with, without their comment marks: what machine and
 // which pkmkit version it came from, the form, and for an approximation its cost.
 std::vector<std::string> header_lines(const FirmwareMachine& machine, const ExportContext& context);
+// The same lines, each behind `mark` ("# ", "; ", "// ") and ended by a line break.
+std::string header_comment(const FirmwareMachine& machine, const ExportContext& context,
+                           std::string_view mark);
 
 struct ExportedFile {
   std::string text;
