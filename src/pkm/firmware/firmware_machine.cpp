@@ -204,32 +204,19 @@ void fit_form(kinematics::Kinematics& model, FormKind kind, const machine::Machi
   model.set_parameters(fitted);
 }
 
-// The joints a firmware computes for `pose` from the form (firmware_form.hpp's equations):
-// without the model's checks of its balance, which no firmware makes (a pen beyond an anchor
-// still gets its cords' lengths). False where the equations have no value (a rod too short).
-bool firmware_joints(const kinematics::Kinematics& form_model, const geometry::Pose& pose,
-                     kinematics::JointVector& joints) {
-  const std::optional<kinematics::FirmwareForm> form = form_model.firmware_form();
-  const Eigen::Vector3d& tool = pose.position_mm;
-  int first_passthrough = 0;
-  if (const auto* plotter = std::get_if<kinematics::WallPlotterForm>(&form->geometry)) {
-    for (int cable = 0; cable < 2; ++cable) {
-      joints[cable] =
-          (tool.head<2>() - plotter->anchors_mm[cable]).norm() + plotter->cable_offsets_mm[cable];
-    }
-    first_passthrough = 2;
-  } else if (const auto* delta = std::get_if<kinematics::LinearDeltaForm>(&form->geometry)) {
-    for (int tower = 0; tower < 3; ++tower) {
-      const kinematics::LinearDeltaTower& t = delta->towers[tower];
-      const double under_root = t.rod_mm * t.rod_mm - (tool.head<2>() - t.column_mm).squaredNorm();
-      if (!(under_root >= 0.0)) return false;
-      joints[tower] = tool.z() + std::sqrt(under_root) + t.carriage_offset_mm;
-    }
-    first_passthrough = 3;
-  } else {
-    return form_model.inverse(pose, joints).ok();
+// The joints a firmware computes for `pose` from the form `form_model` answers (`form`): a wall
+// plotter's cords by firmware_form.hpp's equation, without the model's check of its balance,
+// which no firmware makes (a pen beyond an anchor still gets its cords' lengths); the other forms'
+// models check nothing a firmware does not. False where the equations have no value.
+bool firmware_joints(const kinematics::Kinematics& form_model, const kinematics::FirmwareForm& form,
+                     const geometry::Pose& pose, kinematics::JointVector& joints) {
+  const auto* plotter = std::get_if<kinematics::WallPlotterForm>(&form.geometry);
+  if (plotter == nullptr) return form_model.inverse(pose, joints).ok();
+  for (int cable = 0; cable < 2; ++cable) {
+    joints[cable] = (pose.position_mm.head<2>() - plotter->anchors_mm[cable]).norm() +
+                    plotter->cable_offsets_mm[cable];
   }
-  form->passthrough.inverse(pose, joints, first_passthrough);
+  form.passthrough.inverse(pose, joints, 2);
   return true;
 }
 
@@ -237,9 +224,10 @@ bool firmware_joints(const kinematics::Kinematics& form_model, const geometry::P
 // none where either model refuses.
 std::optional<double> tool_error_mm(const machine::Machine& machine,
                                     const kinematics::Kinematics& form_model,
+                                    const kinematics::FirmwareForm& form,
                                     const geometry::Pose& pose) {
   kinematics::JointVector joints(form_model.joint_count());
-  if (!firmware_joints(form_model, pose, joints)) return std::nullopt;
+  if (!firmware_joints(form_model, form, pose, joints)) return std::nullopt;
   geometry::Pose reached = pose;
   if (!machine.kinematics().forward(joints, reached).ok()) return std::nullopt;
   return (reached.position_mm - pose.position_mm).norm();
@@ -250,10 +238,13 @@ std::optional<double> tool_error_mm(const machine::Machine& machine,
 ApproximationCost approximation_cost(const machine::Machine& machine,
                                      const kinematics::Kinematics& form_model,
                                      const std::vector<geometry::Pose>& samples) {
+  // Asked once: the answer carries its texts and is the same at every pose.
+  const std::optional<kinematics::FirmwareForm> form = form_model.firmware_form();
+  if (!form) throw std::invalid_argument("approximation_cost: the model is no firmware form");
   ApproximationCost cost;
   double sum_squares = 0.0;
   for (const geometry::Pose& pose : samples) {
-    const std::optional<double> error = tool_error_mm(machine, form_model, pose);
+    const std::optional<double> error = tool_error_mm(machine, form_model, *form, pose);
     if (!error) {
       ++cost.unreached;
       continue;
