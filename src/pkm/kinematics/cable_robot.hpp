@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "pkm/kinematics/cable_tensions.hpp"
 #include "pkm/kinematics/firmware_form.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/mechanism_sketch.hpp"
@@ -80,7 +81,7 @@ struct CableFit {
   int culprit = -1;
 };
 
-class CableRobotKinematics final : public Kinematics, public MechanismSketch {
+class CableRobotKinematics final : public Kinematics, public MechanismSketch, public CableTensions {
  public:
   // Throws std::invalid_argument ("key: message", key a machine-file key) for a bad geometry.
   explicit CableRobotKinematics(CableRobotGeometry geometry, PassThroughAxes passthrough = {});
@@ -125,12 +126,17 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch {
   // sheet taking the rest), the acceleration in mm/s^2.
   WrenchVector wrench_N(const Eigen::Vector3d& acceleration_mm_per_s2) const;
   // Per cable: tension_limits ([0, inf) without) and preferred_tension (their middle without).
-  TensionTargets tension_targets() const;
+  TensionTargets tension_targets() const override;
   // The tensions at `pose` while the effector accelerates; none where a cable has no direction.
   // Without tension_limits: the tensions of [0, inf) nearest the preferred ones (0: the least).
   std::optional<TensionDistribution> tensions(
       const geometry::Pose& pose,
-      const Eigen::Vector3d& acceleration_mm_per_s2 = Eigen::Vector3d::Zero()) const;
+      const Eigen::Vector3d& acceleration_mm_per_s2 = Eigen::Vector3d::Zero()) const override;
+  // The same, as the rest of pkm asks them (cable_tensions.hpp).
+  const CableTensions* cable_tensions() const override { return this; }
+  int tension_count() const override { return cable_count(); }
+  double effector_mass_kg() const override { return geometry_.effector_mass_kg; }
+  bool tension_limited() const override { return geometry_.tension_limited; }
 
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;

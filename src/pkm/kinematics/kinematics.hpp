@@ -23,6 +23,7 @@ namespace pkm::kinematics {
 class ModelConfigWriter;  // model_config_writer.hpp
 class MechanismSketch;    // mechanism_sketch.hpp
 class HangingCables;      // hanging_cables.hpp
+class CableTensions;      // cable_tensions.hpp
 struct LegLimitSettings;  // leg_limits.hpp
 // The proofs' capabilities (issue 28, the proofs' part).
 class DerivativeBounds;    // derivative_bounds.hpp
@@ -215,6 +216,9 @@ class Kinematics {
   // The effector's balance and the tension limits of a machine hanging from cables; none for a
   // machine without cables.
   virtual const HangingCables* hanging_cables() const { return nullptr; }
+  // The tensions of an effector held by more cables than it has coordinates (their distribution
+  // among the cables is chosen, not given by the geometry); none for any other machine.
+  virtual const CableTensions* cable_tensions() const { return nullptr; }
   // The joint-angle and interference limits the machine file sets; none where it sets none, or
   // the model has no legs.
   virtual const LegLimitSettings* leg_limit_settings() const { return nullptr; }

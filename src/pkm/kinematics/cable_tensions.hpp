@@ -1,0 +1,37 @@
+// What the rest of pkm asks of a machine whose effector is held by more cables than it has
+// coordinates (a cable_robot): how many cables, their limits and preferred tension, and the
+// tensions that hold the effector at a pose while it accelerates. Kinematics::cable_tensions()
+// gives it; pkm ik and check list the tensions, the planner limits acceleration by them, the
+// workspace and the certified check bound the poses they hold, the pages draw them, whatever the
+// model (docs/cable-machines.md, "N cables"). The two-cable plotter, whose tensions follow from
+// its geometry alone, answers hanging_cables.hpp instead.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+
+#include "pkm/geometry/pose.hpp"
+#include "pkm/kinematics/tension_distribution.hpp"
+
+namespace pkm::kinematics {
+
+class CableTensions {
+ public:
+  virtual ~CableTensions() = default;
+
+  // The cables are joints 0 .. tension_count() - 1, in the machine file's order.
+  virtual int tension_count() const = 0;
+  // kg; 0: the cables hold only their own pretension.
+  virtual double effector_mass_kg() const = 0;
+  // Whether the machine file sets tension_limits (else each cable's are [0, inf)).
+  virtual bool tension_limited() const = 0;
+  // Per cable: its limits and the tension a controller aims for (N).
+  virtual TensionTargets tension_targets() const = 0;
+  // The tensions at `pose` while the effector accelerates (mm/s^2, machine x y z): the
+  // distribution of tension_distribution.hpp; none where a cable has no direction.
+  virtual std::optional<TensionDistribution> tensions(
+      const geometry::Pose& pose,
+      const Eigen::Vector3d& acceleration_mm_per_s2 = Eigen::Vector3d::Zero()) const = 0;
+};
+
+}  // namespace pkm::kinematics
