@@ -1,5 +1,5 @@
 // pkm calibrate matrix, pkm calibrate fit (measured poses, or distances between drawn marks),
-// pkm calibrate pattern.
+// pkm calibrate pattern, pkm calibrate readings (joint readings at poses nobody measured).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +17,7 @@
 #include "pkm/calibration/fit_report.hpp"
 #include "pkm/calibration/geometry_fit.hpp"
 #include "pkm/calibration/matrix_calibration.hpp"
+#include "pkm/calibration/readings_fit.hpp"
 #include "pkm/files/atomic_file.hpp"
 #include "pkm/kinematics/matrix.hpp"
 #include "pkm/machine/machine_writer.hpp"
@@ -40,6 +41,15 @@ struct FitCommandOptions {
   std::string pattern;
   std::string output;
   std::string params;
+  bool json = false;
+};
+
+struct ReadingsCommandOptions {
+  std::string machine;
+  std::string data;
+  std::string output;
+  std::string params;
+  bool absolute = false;
   bool json = false;
 };
 
@@ -258,6 +268,98 @@ void run_fit(const FitCommandOptions& options) {
   }
 }
 
+void print_readings_text(const calibration::ReadingsFitReport& readings, bool relative,
+                         const std::string& output) {
+  const calibration::FitReport& report = readings.fit;
+  std::printf(
+      "%d samples of %d readings (%s), %d pose coordinates each solved for; residual (per "
+      "reading, mm): RMS %.6f max %.6f before, RMS %.6f max %.6f after (largest at line %d); "
+      "noise of a reading by the residuals %.6f mm\n",
+      readings.samples, readings.readings_per_sample, relative ? "counted from home" : "absolute",
+      readings.pose_coordinates, report.rms_before_mm, report.max_before_mm, report.rms_after_mm,
+      report.max_after_mm, report.max_after_line, readings.noise_mm);
+  std::printf("%-24s %16s %16s %12s %12s\n", "parameter", "nominal", "fitted", "change", "std dev");
+  for (const calibration::ParameterEstimate& p : report.parameters) {
+    if (p.free) {
+      std::printf("%-24s %16.6f %16.6f %12.6f %12.6f %s\n", p.name.c_str(), p.nominal, p.fitted,
+                  p.fitted - p.nominal, p.standard_deviation, p.unit.c_str());
+    } else {
+      std::printf("%-24s %16.6f %16s %12s %12s %s\n", p.name.c_str(), p.nominal, "(held)", "", "",
+                  p.unit.c_str());
+    }
+  }
+  if (!report.held_rigid_motion.empty()) {
+    std::printf(
+        "the readings cannot see these (the frame turned about home, a point moved with its "
+        "cable): held at the machine file's values: %s\n",
+        joined(report.held_rigid_motion).c_str());
+  }
+  for (const auto& group : report.indistinguishable) {
+    std::printf("the data cannot tell these apart: %s\n", joined(group).c_str());
+  }
+  for (const calibration::PoorlyDetermined& p : report.poorly_determined)
+    std::printf("warning: %s\n", calibration::poorly_determined_text(p).c_str());
+  if (!report.no_effect.empty()) {
+    std::printf("no effect on the readings: %s\n", joined(report.no_effect).c_str());
+  }
+  if (!report.converged) std::printf("warning: the solver did not converge\n");
+  std::printf("poses found (mm):\n");
+  for (std::size_t k = 0; k < readings.poses.size(); ++k) {
+    const Eigen::Vector3d& p = readings.poses[k].position_mm;
+    std::printf("  sample %zu: %.3f %.3f %.3f\n", k + 1, p.x(), p.y(), p.z());
+  }
+  if (!output.empty()) std::printf("wrote %s\n", output.c_str());
+}
+
+nlohmann::json readings_json(const calibration::ReadingsFitReport& readings, bool relative,
+                             const std::string& output) {
+  nlohmann::json json = calibration::fit_report_json(readings.fit, output);
+  json["samples"] = readings.samples;
+  json["readings_per_sample"] = readings.readings_per_sample;
+  json["relative_to_home"] = relative;
+  json["noise_mm"] = readings.noise_mm;
+  nlohmann::json poses = nlohmann::json::array();
+  for (const geometry::Pose& pose : readings.poses) {
+    poses.push_back({pose.position_mm.x(), pose.position_mm.y(), pose.position_mm.z()});
+  }
+  json["poses_mm"] = poses;
+  return json;
+}
+
+void run_readings(const ReadingsCommandOptions& options) {
+  refuse_overwriting_input(options.output,
+                           {{"the machine file", options.machine}, {"the readings", options.data}});
+  machine::Machine machine = load_machine_or_default(options.machine);
+  calibration::ReadingsFitOptions fit_options;
+  fit_options.fit.parameters = split_names(options.params);
+  fit_options.relative_to_home = !options.absolute;
+  calibration::ReadingsFitReport report;
+  try {
+    const std::vector<calibration::JointReadings> samples =
+        calibration::read_readings_csv(options.data, machine);
+    report = calibration::fit_readings(machine.kinematics(), machine.home(), samples, fit_options);
+  } catch (const calibration::MeasurementFileError& error) {
+    throw CommandError(error.what());
+  } catch (const calibration::FitError& error) {
+    throw CommandError(options.data + ": " + error.what());
+  }
+  try {
+    write_machine(options.machine, machine, machine.kinematics(), options.output);
+  } catch (const machine::MachineFileError& error) {
+    if (!options.json) print_readings_text(report, fit_options.relative_to_home, "");
+    throw CommandError(
+        "the fitted geometry does not make a usable machine, so nothing was written (as it "
+        "would have read: " +
+        std::string(error.what()) + ")");
+  }
+  if (options.json) {
+    std::cout << readings_json(report, fit_options.relative_to_home, options.output).dump(2)
+              << "\n";
+  } else {
+    print_readings_text(report, fit_options.relative_to_home, options.output);
+  }
+}
+
 // A reach found by bisection ends a hair off zero: "-0.0" says nothing more than 0.
 double shown(double value_mm) {
   return std::abs(value_mm) < 0.05 ? 0.0 : value_mm;
@@ -404,6 +506,28 @@ void register_fit_command(CLI::App& calibrate) {
   fit_command->callback([fit] { run_fit(*fit); });
 }
 
+// `pkm calibrate readings`: the geometry fitted to joint readings at poses nobody measured.
+void register_readings_command(CLI::App& calibrate) {
+  auto readings = std::make_shared<ReadingsCommandOptions>();
+  CLI::App* command = calibrate.add_subcommand(
+      "readings",
+      "Fit the geometry to joint readings at unknown poses (a machine with more joints than "
+      "coordinates: Hangprinter's auto-calibration)");
+  command->add_option("-m,--machine", readings->machine,
+                      "Machine file (default: embedded hexapod)");
+  command
+      ->add_option("data", readings->data, "CSV: one j_<joint> column per joint, a row per sample")
+      ->required();
+  command->add_option("-o,--output", readings->output, "Corrected machine file to write")
+      ->required();
+  command->add_option("--params", readings->params,
+                      "Comma-separated parameter names to fit, '*' wildcards (default: all)");
+  command->add_flag("--absolute", readings->absolute,
+                    "The readings are the joints' values, not counted from home");
+  command->add_flag("--json", readings->json, "Print the report as JSON");
+  command->callback([readings] { run_readings(*readings); });
+}
+
 // `pkm calibrate pattern`: the drawing of numbered crosses and its pattern.json.
 void register_pattern_command(CLI::App& calibrate) {
   auto pattern = std::make_shared<PatternCommandOptions>();
@@ -447,6 +571,7 @@ void register_calibrate_commands(CLI::App& app) {
   register_matrix_command(*calibrate);
   register_fit_command(*calibrate);
   register_pattern_command(*calibrate);
+  register_readings_command(*calibrate);
 }
 
 }  // namespace pkm::app

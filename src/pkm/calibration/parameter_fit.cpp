@@ -123,8 +123,9 @@ SolutionJacobian solution_jacobian(const ParameterResiduals& residuals,
     return result;
   double sum_of_squares = 0.0;
   for (const double r : after) sum_of_squares += r * r;
-  result.sigma = std::sqrt(sum_of_squares /
-                           static_cast<double>(residuals.count() - static_cast<int>(free.size())));
+  const int degrees_of_freedom =
+      residuals.count() - static_cast<int>(free.size()) - residuals.eliminated_unknowns();
+  result.sigma = std::sqrt(sum_of_squares / static_cast<double>(degrees_of_freedom));
   result.ok = true;
   return result;
 }
@@ -395,10 +396,14 @@ FitReport fit_parameters(kinematics::Kinematics& kinematics, const ParameterResi
   report.indistinguishable = identified.indistinguishable;
   report.no_effect = identified.no_effect;
   report.held_rigid_motion = held_rigid_motion;
-  if (residuals.count() <= static_cast<int>(free.size())) {
+  if (residuals.count() - residuals.eliminated_unknowns() <= static_cast<int>(free.size())) {
+    const std::string also =
+        residuals.eliminated_unknowns() > 0
+            ? " and " + std::to_string(residuals.eliminated_unknowns()) + " pose coordinates"
+            : std::string();
     throw FitError(std::to_string(residuals.count()) + " measured values cannot fit " +
-                   std::to_string(free.size()) +
-                   " parameters: measure more, or fit fewer with --params");
+                   std::to_string(free.size()) + " parameters" + also +
+                   ": measure more, or fit fewer with --params");
   }
 
   const FinalSolution final_solution =

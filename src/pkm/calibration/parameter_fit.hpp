@@ -92,6 +92,10 @@ class ParameterResiduals {
   // The size of what was measured (the diagonal of the bounding box of the measured positions
   // or of the marks), mm: the scale of a frame position's plausible deviation.
   virtual double extent_mm() const = 0;
+  // Unknowns solved for inside evaluate() beside the parameters (each sample's pose where the
+  // fit eliminates them, readings_fit.hpp): they take degrees of freedom from the residuals'
+  // noise estimate and from what the measured values can fit.
+  virtual int eliminated_unknowns() const { return 0; }
 };
 
 // Indices (parameters() order) of the parameters `patterns` name ('*' wildcards; empty: all).

@@ -1,0 +1,422 @@
+#include "pkm/calibration/readings_fit.hpp"
+
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+#include "pkm/calibration/measurements.hpp"
+
+namespace pkm::calibration {
+
+namespace {
+
+// Largest reading a file may hold, mm or deg (as a measurement file's).
+constexpr double kLargestValue = 1e6;
+// A sample's pose is solved until its step is below this share of its size (mm, rad): the fit
+// differences the residuals over parameter steps of 1e-6 of their size and finds what they cannot
+// see as singular values below 1e-6 of the largest, which needs poses to rounding level.
+constexpr double kPoseConverged = 1e-15;
+constexpr int kPoseIterations = 60;
+
+[[noreturn]] void fail_at(const std::string& source_name, int line, int column,
+                          const std::string& message) {
+  throw MeasurementFileError(source_name + ":" + std::to_string(line) + ":" +
+                             std::to_string(column) + ": " + message);
+}
+
+// The joint each header column names (-1: t or line, ignored), every joint once.
+std::vector<int> read_header(const std::vector<CsvField>& header, int line_number,
+                             const std::string& source_name, const machine::Machine& machine) {
+  const int joint_count = static_cast<int>(machine.joints().size());
+  std::vector<int> joint_of_column(header.size(), -1);
+  std::vector<bool> seen(static_cast<std::size_t>(joint_count), false);
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    const std::string& name = header[c].text;
+    if (name == "t" || name == "line") continue;
+    int joint = -1;
+    for (int j = 0; j < joint_count; ++j) {
+      if (name == "j_" + machine.joints()[j].name) joint = j;
+    }
+    if (joint < 0) {
+      fail_at(source_name, line_number, header[c].column,
+              "unknown column '" + name + "' (expected j_<joint name>, t or line)");
+    }
+    if (seen[joint]) {
+      fail_at(source_name, line_number, header[c].column, "column '" + name + "' appears twice");
+    }
+    seen[joint] = true;
+    joint_of_column[c] = joint;
+  }
+  for (int j = 0; j < joint_count; ++j) {
+    if (!seen[j])
+      fail_at(source_name, line_number, 1, "no column 'j_" + machine.joints()[j].name + "'");
+  }
+  return joint_of_column;
+}
+
+JointReadings read_row(const std::vector<CsvField>& fields, const std::vector<int>& joint_of_column,
+                       int line_number, const std::string& source_name,
+                       const machine::Machine& machine) {
+  JointReadings sample;
+  sample.values.resize(static_cast<int>(machine.joints().size()));
+  sample.line = line_number;
+  for (std::size_t c = 0; c < fields.size(); ++c) {
+    const int joint = joint_of_column[c];
+    if (joint < 0) continue;
+    const std::string& field = fields[c].text;
+    double value = 0.0;
+    if (!csv_number(field, value)) {
+      fail_at(source_name, line_number, fields[c].column, "'" + field + "' is not a number");
+    }
+    if (!std::isfinite(value))
+      fail_at(source_name, line_number, fields[c].column, "must be finite");
+    if (std::abs(value) > kLargestValue) {
+      fail_at(source_name, line_number, fields[c].column,
+              "'" + field + "' is beyond any machine (at most 1e6 mm or deg in size)");
+    }
+    sample.values[joint] = machine.joints()[joint].from_interface(value);
+  }
+  return sample;
+}
+
+// The pose (its controlled coordinates `axes`, from `pose` as the seed) whose weighted joints
+// fit `wanted` best in least squares (Levenberg-Marquardt), and what it leaves unexplained.
+// False where the model fails on the way or the solve does not settle.
+bool fit_pose(const kinematics::Kinematics& model, const kinematics::JointVector& wanted,
+              const Eigen::VectorXd& weight, const std::vector<int>& axes, geometry::Pose& pose,
+              Eigen::VectorXd& misfit) {
+  const auto evaluate = [&](const geometry::Pose& at, Eigen::VectorXd& residual,
+                            Eigen::MatrixXd& d_residual) {
+    kinematics::JointVector joints;
+    kinematics::JointJacobian d_joints;
+    if (!model.inverse_and_jacobian(at, joints, d_joints).ok()) return false;
+    residual = weight.cwiseProduct((joints - wanted).cast<double>());
+    d_residual.resize(residual.size(), static_cast<Eigen::Index>(axes.size()));
+    for (std::size_t c = 0; c < axes.size(); ++c) {
+      d_residual.col(static_cast<Eigen::Index>(c)) = weight.cwiseProduct(d_joints.col(axes[c]));
+    }
+    return residual.allFinite() && d_residual.allFinite();
+  };
+  Eigen::VectorXd residual;
+  Eigen::MatrixXd d_residual;
+  if (!evaluate(pose, residual, d_residual)) return false;
+  double damping = 0.0;
+  double last_step = std::numeric_limits<double>::infinity();
+  for (int iteration = 0; iteration < kPoseIterations; ++iteration) {
+    Eigen::MatrixXd normal = d_residual.transpose() * d_residual;
+    normal.diagonal() *= 1.0 + damping;
+    const Eigen::VectorXd step = -normal.ldlt().solve(d_residual.transpose() * residual);
+    if (!step.allFinite()) return false;
+    geometry::Vector6d values = pose.as_vector();
+    for (std::size_t c = 0; c < axes.size(); ++c)
+      values[axes[c]] += step[static_cast<Eigen::Index>(c)];
+    const geometry::Pose trial = geometry::Pose::from_vector(values);
+    Eigen::VectorXd trial_residual;
+    Eigen::MatrixXd trial_d_residual;
+    // Near the solution the cost changes by less than its rounding (a step of 1e-7 mm changes
+    // it by 1e-14 mm^2): Gauss-Newton's own steps are taken there, not judged by the cost.
+    const double size = 1.0 + values.head<3>().norm();
+    const bool near = damping == 0.0 && step.norm() <= 1e-6 * size;
+    if (evaluate(trial, trial_residual, trial_d_residual) &&
+        (near || trial_residual.squaredNorm() <= residual.squaredNorm())) {
+      pose = trial;
+      residual = trial_residual;
+      d_residual = trial_d_residual;
+      damping = damping < 1e-6 ? 0.0 : damping / 10.0;
+    } else {
+      damping = damping == 0.0 ? 1e-3 : damping * 10.0;
+    }
+    last_step = step.norm() / size;
+    if (last_step <= kPoseConverged) break;
+  }
+  // Rounding may keep the last steps above kPoseConverged; far above, the solve did not settle.
+  if (!(last_step <= 1e-12)) return false;
+  misfit = residual;
+  return true;
+}
+
+// The residuals of a geometry: each sample's pose fitted to its readings, and what it leaves.
+class ReadingsResiduals final : public ParameterResiduals {
+ public:
+  ReadingsResiduals(const kinematics::Kinematics& kinematics, const geometry::Pose& home,
+                    const std::vector<JointReadings>& samples, const ReadingsFitOptions& options)
+      : model_(kinematics.clone()),
+        home_(home),
+        samples_(samples),
+        axes_(kinematics.dof().axes()),
+        relative_(options.relative_to_home) {
+    const int n = kinematics.joint_count();
+    weight_ = Eigen::VectorXd::Ones(n);
+    for (int j = 0; j < n; ++j) {
+      if (kinematics.joint_kind(j) == kinematics::JointKind::rotary) {
+        weight_[j] = options.fit.angle_weight_mm_per_rad;
+      }
+    }
+    seeds_.assign(samples_.size(), home_);
+    std::vector<double> nominal;
+    for (const kinematics::Parameter& p : kinematics.parameters()) nominal.push_back(p.value);
+    std::vector<geometry::Pose> found;
+    std::vector<double> residuals(static_cast<std::size_t>(count()));
+    const int failed = solve(nominal, residuals.data(), &found);
+    if (failed >= 0) {
+      throw FitError("line " + std::to_string(failed) +
+                     ": no pose fits these readings with the machine file's geometry (solved "
+                     "from home" +
+                     std::string(relative_ ? ", where the readings count from" : "") +
+                     "): check the joints' order and units, and that the machine holds every "
+                     "sample's effector");
+    }
+    seeds_ = found;
+  }
+
+  int count() const override { return static_cast<int>(samples_.size()) * model_->joint_count(); }
+  int eliminated_unknowns() const override {
+    return static_cast<int>(samples_.size() * axes_.size());
+  }
+
+  bool evaluate(std::span<const double> parameters, double* residuals) const override {
+    return solve(parameters, residuals, nullptr) < 0;
+  }
+
+  // -1 on success, else the line of the sample that failed (0: the geometry or home failed).
+  int solve(std::span<const double> parameters, double* residuals,
+            std::vector<geometry::Pose>* poses) const {
+    try {
+      model_->set_parameters(parameters);
+    } catch (const std::invalid_argument&) {
+      return 0;
+    }
+    kinematics::JointVector zero = kinematics::JointVector::Zero(model_->joint_count());
+    if (relative_ && !model_->inverse(home_, zero).ok()) return 0;
+    const int n = model_->joint_count();
+    if (poses != nullptr) poses->clear();
+    for (std::size_t i = 0; i < samples_.size(); ++i) {
+      geometry::Pose pose = seeds_[i];
+      Eigen::VectorXd misfit;
+      const kinematics::JointVector wanted = zero + samples_[i].values;
+      if (!fit_pose(*model_, wanted, weight_, axes_, pose, misfit)) return samples_[i].line;
+      for (int j = 0; j < n; ++j) residuals[static_cast<int>(i) * n + j] = misfit[j];
+      if (poses != nullptr) poses->push_back(pose);
+    }
+    return -1;
+  }
+
+  void summarise(const std::vector<double>& residuals, double& rms, double& max,
+                 int& max_line) const override {
+    double sum = 0.0;
+    max = 0.0;
+    const int n = model_->joint_count();
+    for (std::size_t k = 0; k < residuals.size(); ++k) {
+      sum += residuals[k] * residuals[k];
+      if (std::abs(residuals[k]) > max) {
+        max = std::abs(residuals[k]);
+        max_line = samples_[k / static_cast<std::size_t>(n)].line;
+      }
+    }
+    rms = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(residuals.size(), 1)));
+  }
+
+  std::string nominal_failure_hint() const override {
+    return "no pose fits a sample's readings; check that the readings are the machine's joints";
+  }
+
+  double extent_mm() const override {
+    Eigen::AlignedBox3d box;
+    for (const geometry::Pose& pose : seeds_) box.extend(pose.position_mm);
+    return box.isEmpty() ? 0.0 : box.diagonal().norm();
+  }
+
+ private:
+  std::unique_ptr<kinematics::Kinematics> model_;
+  geometry::Pose home_;
+  const std::vector<JointReadings>& samples_;
+  std::vector<int> axes_;
+  bool relative_;
+  Eigen::VectorXd weight_;
+  std::vector<geometry::Pose> seeds_;  // the poses fitted with the machine file's geometry
+};
+
+// What joint readings cannot see at all: the directions of parameter space that change no
+// residual (the frame turned about home, an anchor moved with its attach point). They are found
+// from the residuals' Jacobian at the machine file's geometry. A parameter that acts exactly as
+// an earlier one (an attach point as its cable's anchor) is held first: the later in the model's
+// order, so the frame's anchors are fitted and the effector's points kept. Then the null space of
+// the rest (columns normalised; singular values below rank_tolerance of the largest) is held one
+// parameter per direction: each time the parameter with the largest share in what is left
+// unseen (the one that carries it most firmly; on ties, the later in the model's order), that
+// share then taken out. Parameters without effect are left to the identification (no_effect).
+// The first of `kept` whose column acts as column `c` does (parallel to 1e-6 of its length, either
+// sign: an anchor and its cable's attach point on an effector tied at one point), or -1.
+int twin_column(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& norms,
+                const std::vector<int>& kept, int c) {
+  for (const int k : kept) {
+    const double cosine = jacobian.col(k).dot(jacobian.col(c)) / (norms[k] * norms[c]);
+    if (std::abs(cosine) > 1.0 - 1e-6) return k;
+  }
+  return -1;
+}
+
+struct UnseenParameters {
+  std::vector<std::string> held;
+  int without_effect = 0;
+};
+UnseenParameters unseen_by_readings(const kinematics::Kinematics& kinematics,
+                                    const ReadingsResiduals& residuals,
+                                    const std::vector<int>& requested, double rank_tolerance) {
+  UnseenParameters result;
+  const std::vector<kinematics::Parameter> parameters = kinematics.parameters();
+  std::vector<double> nominal;
+  for (const kinematics::Parameter& p : parameters) nominal.push_back(p.value);
+  Eigen::MatrixXd jacobian;
+  const auto function = [&](std::span<const double> p, double* out) {
+    return residuals.evaluate(p, out);
+  };
+  if (requested.empty() ||
+      !parameter_jacobian(function, residuals.count(), nominal, requested, jacobian)) {
+    return result;
+  }
+  const Eigen::VectorXd norms = jacobian.colwise().norm().transpose();
+  std::vector<int> columns;
+  for (Eigen::Index c = 0; c < norms.size(); ++c) {
+    if (!(norms[c] > 1e-9 * norms.maxCoeff())) {
+      ++result.without_effect;
+    } else if (const int twin = twin_column(jacobian, norms, columns, static_cast<int>(c));
+               twin >= 0) {
+      result.held.push_back(parameters[requested[c]].name);
+    } else {
+      columns.push_back(static_cast<int>(c));
+    }
+  }
+  if (columns.empty()) return result;
+  Eigen::MatrixXd normalised(jacobian.rows(), static_cast<Eigen::Index>(columns.size()));
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    normalised.col(static_cast<Eigen::Index>(k)) = jacobian.col(columns[k]) / norms[columns[k]];
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(normalised, Eigen::ComputeFullV);
+  const Eigen::VectorXd& singular = svd.singularValues();
+  Eigen::Index rank = 0;
+  while (rank < singular.size() && singular[rank] > rank_tolerance * singular[0]) ++rank;
+  const Eigen::Index unseen = static_cast<Eigen::Index>(columns.size()) - rank;
+  if (unseen <= 0) return result;
+  // Back to the parameters' own units (mm), orthonormal again.
+  Eigen::MatrixXd basis = svd.matrixV().rightCols(unseen);
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    basis.row(static_cast<Eigen::Index>(k)) /= norms[columns[k]];
+  }
+  basis = Eigen::HouseholderQR<Eigen::MatrixXd>(basis).householderQ() *
+          Eigen::MatrixXd::Identity(basis.rows(), unseen);
+  for (Eigen::Index direction = 0; direction < unseen; ++direction) {
+    const Eigen::VectorXd share = basis.rowwise().norm();
+    Eigen::Index best = 0;
+    for (Eigen::Index k = 1; k < share.size(); ++k) {
+      if (share[k] >= share[best] * (1.0 - 1e-6)) best = k;
+    }
+    if (share[best] < 1e-9) break;
+    result.held.push_back(parameters[requested[columns[best]]].name);
+    const Eigen::RowVectorXd along = basis.row(best) / share[best];
+    basis -= (basis * along.transpose()) * along;
+  }
+  return result;
+}
+
+}  // namespace
+
+std::vector<JointReadings> parse_readings_csv(const std::string& text,
+                                              const std::string& source_name,
+                                              const machine::Machine& machine) {
+  std::istringstream in(text);
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {  // blank lines before the header are skipped
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") != std::string::npos) break;
+  }
+  if (line_number == 0 || line.find_first_not_of(" \t\r") == std::string::npos) {
+    fail_at(source_name, 1, 1,
+            "empty file: expected a header row naming every joint, such as j_A,j_B,j_C,j_D");
+  }
+  const std::vector<CsvField> header = split_csv_line(line);
+  const std::vector<int> joint_of_column = read_header(header, line_number, source_name, machine);
+  std::vector<JointReadings> samples;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const std::vector<CsvField> fields = split_csv_line(line);
+    if (fields.size() != header.size()) {
+      fail_at(source_name, line_number, 1,
+              "has " + std::to_string(fields.size()) + " fields; the header has " +
+                  std::to_string(header.size()));
+    }
+    samples.push_back(read_row(fields, joint_of_column, line_number, source_name, machine));
+  }
+  if (samples.empty()) fail_at(source_name, line_number, 1, "no samples after the header");
+  return samples;
+}
+
+std::vector<JointReadings> read_readings_csv(const std::filesystem::path& path,
+                                             const machine::Machine& machine) {
+  return parse_readings_csv(read_text_file(path), path.string(), machine);
+}
+
+int fewest_samples(int readings_per_sample, int pose_coordinates, int parameters) {
+  const int spare = readings_per_sample - pose_coordinates;
+  return spare <= 0 ? std::numeric_limits<int>::max() : parameters / spare + 1;
+}
+
+ReadingsFitReport fit_readings(kinematics::Kinematics& kinematics, const geometry::Pose& home,
+                               const std::vector<JointReadings>& samples,
+                               const ReadingsFitOptions& options) {
+  ReadingsFitReport report;
+  report.samples = static_cast<int>(samples.size());
+  report.readings_per_sample = kinematics.joint_count();
+  report.pose_coordinates = kinematics.dof().count();
+  if (report.readings_per_sample <= report.pose_coordinates) {
+    throw FitError("a " + std::string(kinematics.type()) + " has " +
+                   std::to_string(report.readings_per_sample) + " joints for " +
+                   std::to_string(report.pose_coordinates) +
+                   " coordinates: its readings fix each pose and leave nothing to pin its "
+                   "geometry; measure the poses and use `pkm calibrate fit`");
+  }
+  if (samples.empty()) throw FitError("no samples to fit");
+  const std::vector<int> requested = requested_parameters(kinematics, options.fit.parameters);
+  const ReadingsResiduals residuals(kinematics, home, samples, options);
+  const UnseenParameters unseen =
+      unseen_by_readings(kinematics, residuals, requested, options.fit.rank_tolerance);
+  const int fitted =
+      static_cast<int>(requested.size() - unseen.held.size()) - unseen.without_effect;
+  const int fewest = fewest_samples(report.readings_per_sample, report.pose_coordinates, fitted);
+  if (report.samples < fewest) {
+    throw FitError(
+        std::to_string(report.samples) + " samples of " +
+        std::to_string(report.readings_per_sample) + " readings pin " +
+        std::to_string(report.readings_per_sample - report.pose_coordinates) +
+        " each beyond their own " + std::to_string(report.pose_coordinates) +
+        " pose coordinates, " +
+        std::to_string(report.samples * (report.readings_per_sample - report.pose_coordinates)) +
+        " in all: too few for " + std::to_string(fitted) +
+        " parameters with the noise left to estimate; take at least " + std::to_string(fewest) +
+        " samples (30 or more spread over the workspace "
+        "pin them well), or fit fewer with --params");
+  }
+  std::vector<double> nominal;
+  for (const kinematics::Parameter& p : kinematics.parameters()) nominal.push_back(p.value);
+  std::vector<double> values(static_cast<std::size_t>(residuals.count()));
+  residuals.solve(nominal, values.data(), &report.poses_before);
+  report.fit = fit_parameters(kinematics, residuals, requested, unseen.held, options.fit);
+  std::vector<double> after;
+  for (const kinematics::Parameter& p : kinematics.parameters()) after.push_back(p.value);
+  residuals.solve(after, values.data(), &report.poses);
+  const auto fitted_count =
+      std::count_if(report.fit.parameters.begin(), report.fit.parameters.end(),
+                    [](const ParameterEstimate& p) { return p.free; });
+  const double left = static_cast<double>(residuals.count() - residuals.eliminated_unknowns() -
+                                          static_cast<int>(fitted_count));
+  report.noise_mm = report.fit.rms_after_mm * std::sqrt(residuals.count() / left);
+  return report;
+}
+
+}  // namespace pkm::calibration

@@ -1,0 +1,40 @@
+# Calibration from joint readings at poses nobody measured (`pkm calibrate readings`): readings
+# of a hidden Hangprinter whose anchors are up to 35 mm off hangprinter-v4.toml, counted from home
+# with 0.05 mm of noise (tests/data/hangprinter-readings.csv, made by
+# tools/make-cable-readings.py --shift '0,-25,18 30,-22,15 -28,27,-20 0,0,35'), and bad input.
+set(HANGPRINTER ${MACHINES}/hangprinter-v4.toml)
+set(HP_READINGS ${CLI_DATA}/hangprinter-readings.csv)
+
+# D's z is 35 mm low in the file: the fit finds it (2299.83 + 35 = 2334.83) to its deviation.
+add_test(NAME cli.calibrate_readings_recovers_the_hangprinter
+         COMMAND ${PKM} calibrate readings -m ${HANGPRINTER} ${HP_READINGS}
+                 --params "cable*.anchor.*" -o ${CLI_OUT}/hangprinter-fitted.toml)
+set_tests_properties(cli.calibrate_readings_recovers_the_hangprinter PROPERTIES
+  FIXTURES_SETUP hangprinter_fitted
+  PASS_REGULAR_EXPRESSION "30 samples of 4 readings \\(counted from home\\), 3 pose coordinates each solved for; residual \\(per reading, mm\\): RMS [0-9.]+ max [0-9.]+ before, RMS 0\\.0[0-9]+ max 0\\.[0-9]+ after.*noise of a reading by the residuals 0\\.0[3-7][0-9]* mm.*cable4\\.anchor\\.z +2299\\.830000 +233[0-9]\\.[0-9]+ .*the readings cannot see these .*held at the machine file's values: cable4\\.anchor\\.[xy], cable4\\.anchor\\.[xy], cable1\\.anchor\\.x.*sample 30: .*wrote")
+# The fitted file loads and fits its own readings with nothing left to move.
+add_test(NAME cli.calibrate_readings_fitted_file_fits
+         COMMAND ${PKM} calibrate readings -m ${CLI_OUT}/hangprinter-fitted.toml ${HP_READINGS}
+                 --params "cable*.anchor.*" -o ${CLI_OUT}/hangprinter-refitted.toml)
+set_tests_properties(cli.calibrate_readings_fitted_file_fits PROPERTIES
+  FIXTURES_REQUIRED hangprinter_fitted
+  PASS_REGULAR_EXPRESSION "RMS 0\\.0[0-9]+ max 0\\.[0-9]+ before")
+
+pkm_cli_refuses(calibrate_readings_bad_number
+                "hangprinter-readings-bad\\.csv:4:6: 'abc' is not a number"
+                NO_FILE ${CLI_OUT}/readings-never.toml
+                calibrate readings -m ${HANGPRINTER} ${CLI_DATA}/hangprinter-readings-bad.csv
+                -o ${CLI_OUT}/readings-never.toml)
+pkm_cli_refuses(calibrate_readings_too_few_samples
+                "5 samples of 4 readings pin 1 each beyond their own 3 pose coordinates, 5 in all: too few for 9 parameters with the noise left to estimate.{2}take at least 10 samples"
+                NO_FILE ${CLI_OUT}/readings-never.toml
+                calibrate readings -m ${HANGPRINTER} ${CLI_DATA}/hangprinter-readings-few.csv
+                --params "cable*.anchor.*" -o ${CLI_OUT}/readings-never.toml)
+pkm_cli_refuses(calibrate_readings_pose_fixed_by_joints
+                "a cable_plotter has 2 joints for 2 coordinates: its readings fix each pose"
+                NO_FILE ${CLI_OUT}/readings-never.toml
+                calibrate readings -m ${PLOTTER} ${CLI_DATA}/wall-plotter-readings.csv
+                -o ${CLI_OUT}/readings-never.toml)
+pkm_cli_refuses(calibrate_readings_output_is_the_data
+                "the output is the input file .*hangprinter-readings\\.csv \\(the readings\\)"
+                calibrate readings -m ${HANGPRINTER} ${HP_READINGS} -o ${HP_READINGS})

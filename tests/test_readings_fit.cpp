@@ -1,0 +1,248 @@
+// Calibration from joint readings at unknown poses (readings_fit.hpp): a hidden "true"
+// Hangprinter whose anchors are tens of mm off its machine file is read at poses nobody measured,
+// with noise on every reading, and the fit must find the true anchors within its stated standard
+// deviations; bad files and too few samples are refused with their numbers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "pkm/calibration/measurements.hpp"
+#include "pkm/calibration/readings_fit.hpp"
+#include "test_support.hpp"
+
+namespace pkm {
+namespace {
+
+using calibration::JointReadings;
+
+// The hidden machine's anchors: the machine file's plus these (mm), A B C D in order. Anchor
+// A's x and D's x and y stay: readings of lengths cannot see the frame turned about home, and
+// the fit holds those three (as Hangprinter's own calibration does).
+constexpr double kHangprinterShift[4][3] = {
+    {0.0, -25.0, 18.0}, {30.0, -22.0, 15.0}, {-28.0, 27.0, -20.0}, {0.0, 0.0, 35.0}};
+
+struct Synthetic {
+  std::vector<JointReadings> samples;
+  std::vector<geometry::Pose> poses;  // where the hidden machine was
+  std::vector<double> truth;          // its parameters
+};
+
+// Whether the machine holds its effector at the six points `margin_mm` away from `pose` along
+// the axes: a sample with room about it, where a geometry some mm off still holds it.
+bool held_around(const kinematics::Kinematics& machine, const geometry::Pose& pose,
+                 double margin_mm) {
+  kinematics::JointVector joints;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const double side : {-margin_mm, margin_mm}) {
+      geometry::Pose near = pose;
+      near.position_mm[axis] += side;
+      if (!machine.inverse(near, joints).ok()) return false;
+    }
+  }
+  return true;
+}
+
+// `count` poses the hidden machine holds (with room about them) (tensions within limits), uniform
+// in the box, read relative to home with Gaussian noise of `noise_mm`.
+Synthetic read_hidden(const kinematics::Kinematics& nominal, const geometry::Pose& home,
+                      const double (*shift)[3], const Eigen::Vector3d& low,
+                      const Eigen::Vector3d& high, int count, double noise_mm, unsigned seed) {
+  Synthetic result;
+  std::unique_ptr<kinematics::Kinematics> hidden = nominal.clone();
+  const std::vector<kinematics::Parameter> parameters = nominal.parameters();
+  for (const kinematics::Parameter& p : parameters) result.truth.push_back(p.value);
+  const int per_cable = static_cast<int>(parameters.size()) / 4;
+  for (int cable = 0; cable < 4; ++cable) {
+    for (int k = 0; k < 3; ++k) result.truth[cable * per_cable + k] += shift[cable][k];
+  }
+  hidden->set_parameters(result.truth);
+  kinematics::JointVector at_home;
+  EXPECT_TRUE(hidden->inverse(home, at_home).ok());
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> noise(0.0, noise_mm);
+  int line = 2;
+  while (static_cast<int>(result.samples.size()) < count) {
+    geometry::Pose pose = home;
+    for (int k = 0; k < 3; ++k) pose.position_mm[k] = low[k] + (high[k] - low[k]) * unit(random);
+    kinematics::JointVector joints;
+    if (!hidden->inverse(pose, joints).ok() || !held_around(*hidden, pose, 60.0)) continue;
+    JointReadings sample;
+    sample.values = joints - at_home;
+    for (int j = 0; j < sample.values.size(); ++j) sample.values[j] += noise(random);
+    sample.line = line++;
+    result.samples.push_back(sample);
+    result.poses.push_back(pose);
+  }
+  return result;
+}
+
+const calibration::ParameterEstimate& estimate(const calibration::ReadingsFitReport& report,
+                                               const std::string& name) {
+  for (const calibration::ParameterEstimate& p : report.fit.parameters) {
+    if (p.name == name) return p;
+  }
+  throw std::runtime_error("no parameter " + name);
+}
+
+TEST(ReadingsFit, RecoversHangprinterAnchorsWithinTheirDeviations) {
+  machine::Machine machine = test::load_example("hangprinter-v4.toml");
+  const Synthetic hidden =
+      read_hidden(machine.kinematics(), machine.home(), kHangprinterShift, {-600.0, -600.0, 0.0},
+                  {600.0, 600.0, 1200.0}, 30, 0.05, 31u);
+  calibration::ReadingsFitOptions options;
+  options.fit.parameters = {"cable*.anchor.*"};
+  const calibration::ReadingsFitReport report =
+      calibration::fit_readings(machine.kinematics(), machine.home(), hidden.samples, options);
+
+  // What lengths cannot see is held where Hangprinter holds it: D above the origin, A at x = 0.
+  std::vector<std::string> held = report.fit.held_rigid_motion;
+  std::sort(held.begin(), held.end());
+  EXPECT_EQ(held,
+            (std::vector<std::string>{"cable1.anchor.x", "cable4.anchor.x", "cable4.anchor.y"}));
+  EXPECT_EQ(report.samples, 30);
+  EXPECT_TRUE(report.fit.poorly_determined.empty());
+  // One reading per sample is more than its pose needs: 30 of the 120 residuals are free, so
+  // their RMS is the noise times sqrt(21 / 120) (21: 30 less the 9 anchors fitted).
+  EXPECT_GT(report.fit.rms_before_mm, 1.0);
+  EXPECT_NEAR(report.fit.rms_after_mm, 0.05 * std::sqrt(21.0 / 120.0), 0.01);
+  EXPECT_NEAR(report.noise_mm, 0.05, 0.015);
+
+  const std::vector<kinematics::Parameter> fitted = machine.kinematics().parameters();
+  double worst_before = 0.0, worst_after = 0.0, sum_before = 0.0, sum_after = 0.0;
+  int compared = 0;
+  double largest_deviation = 0.0;
+  for (std::size_t i = 0; i < fitted.size(); ++i) {
+    if (fitted[i].name.find(".anchor.") == std::string::npos) continue;
+    const calibration::ParameterEstimate& e = estimate(report, fitted[i].name);
+    const double before = e.nominal - hidden.truth[i];
+    const double after = fitted[i].value - hidden.truth[i];
+    EXPECT_DOUBLE_EQ(e.fitted, fitted[i].value);
+    if (e.free) {
+      EXPECT_GT(e.standard_deviation, 0.0) << e.name;
+      largest_deviation = std::max(largest_deviation, e.standard_deviation);
+      EXPECT_LT(std::abs(after), 3.0 * e.standard_deviation)
+          << e.name << " off by " << after << " mm, standard deviation " << e.standard_deviation;
+    } else {
+      EXPECT_EQ(after, 0.0) << e.name;
+    }
+    worst_before = std::max(worst_before, std::abs(before));
+    worst_after = std::max(worst_after, std::abs(after));
+    sum_before += before * before;
+    sum_after += after * after;
+    ++compared;
+  }
+  std::printf(
+      "anchors off (mm): before worst %.3f RMS %.3f, after worst %.3f RMS %.3f; "
+      "largest standard deviation %.3f\n",
+      worst_before, std::sqrt(sum_before / compared), worst_after, std::sqrt(sum_after / compared),
+      largest_deviation);
+  EXPECT_NEAR(worst_before, 35.0, 1e-9);
+  EXPECT_LT(worst_after, 3.0 * largest_deviation);
+  EXPECT_LT(largest_deviation, 2.0);  // 30 samples at 0.05 mm: 1.4 mm at worst
+  // Each sample's pose is found where the hidden machine was.
+  ASSERT_EQ(report.poses.size(), hidden.poses.size());
+  for (std::size_t k = 0; k < report.poses.size(); ++k) {
+    EXPECT_LT((report.poses[k].position_mm - hidden.poses[k].position_mm).norm(), 2.0) << k;
+  }
+}
+
+// Fitting every parameter (the default) fits the same anchors: each attach point acts exactly as
+// its cable's anchor and is held (the later in the model's order), the offsets cancel in readings
+// counted from home, and the frame's turn is held on the same three anchor coordinates.
+TEST(ReadingsFit, DefaultParametersHoldTheAttachPointsAndFitTheAnchors) {
+  machine::Machine anchors_only = test::load_example("hangprinter-v4.toml");
+  machine::Machine every = test::load_example("hangprinter-v4.toml");
+  const Synthetic hidden = read_hidden(every.kinematics(), every.home(), kHangprinterShift,
+                                       {-600.0, -600.0, 0.0}, {600.0, 600.0, 1200.0}, 30, 0.05, 5u);
+  calibration::ReadingsFitOptions options;
+  const calibration::ReadingsFitReport report =
+      calibration::fit_readings(every.kinematics(), every.home(), hidden.samples, options);
+  options.fit.parameters = {"cable*.anchor.*"};
+  calibration::fit_readings(anchors_only.kinematics(), anchors_only.home(), hidden.samples,
+                            options);
+  EXPECT_EQ(report.fit.held_rigid_motion.size(), 15u);
+  EXPECT_EQ(report.fit.held_rigid_motion.front(), "cable1.attach.x");
+  EXPECT_EQ(report.fit.no_effect, (std::vector<std::string>{"cable1.offset", "cable2.offset",
+                                                            "cable3.offset", "cable4.offset"}));
+  EXPECT_TRUE(report.fit.poorly_determined.empty());
+  const std::vector<kinematics::Parameter> a = anchors_only.kinematics().parameters();
+  const std::vector<kinematics::Parameter> b = every.kinematics().parameters();
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i].value, b[i].value, 1e-6) << a[i].name;
+}
+
+TEST(ReadingsFit, TooFewSamplesAreRefusedWithTheirNumbers) {
+  machine::Machine machine = test::load_example("hangprinter-v4.toml");
+  const Synthetic hidden = read_hidden(machine.kinematics(), machine.home(), kHangprinterShift,
+                                       {-600.0, -600.0, 0.0}, {600.0, 600.0, 1200.0}, 9, 0.05, 7u);
+  calibration::ReadingsFitOptions options;
+  options.fit.parameters = {"cable*.anchor.*"};
+  try {
+    calibration::fit_readings(machine.kinematics(), machine.home(), hidden.samples, options);
+    FAIL() << "9 samples fitted 9 anchors";
+  } catch (const calibration::FitError& error) {
+    EXPECT_STREQ(error.what(),
+                 "9 samples of 4 readings pin 1 each beyond their own 3 pose coordinates, 9 in "
+                 "all: too few for 9 parameters with the noise left to estimate; take at least "
+                 "10 samples (30 or more spread over the workspace pin them well), or fit fewer "
+                 "with --params");
+  }
+  EXPECT_EQ(calibration::fewest_samples(4, 3, 9), 10);
+  EXPECT_EQ(calibration::fewest_samples(5, 3, 8), 5);
+}
+
+TEST(ReadingsFit, ReadingsThatFixThePoseCannotPinTheGeometry) {
+  machine::Machine plotter = test::load_example("wall-plotter.toml");
+  std::vector<JointReadings> samples(20);
+  for (JointReadings& s : samples)
+    s.values = kinematics::JointVector::Zero(plotter.kinematics().joint_count());
+  EXPECT_THROW(
+      {
+        try {
+          calibration::fit_readings(plotter.kinematics(), plotter.home(), samples, {});
+        } catch (const calibration::FitError& error) {
+          EXPECT_NE(std::string(error.what()).find("joints for 2 coordinates"), std::string::npos)
+              << error.what();
+          throw;
+        }
+      },
+      calibration::FitError);
+}
+
+void expect_refused(const std::string& text, const std::string& message) {
+  const machine::Machine machine = test::load_example("hangprinter-v4.toml");
+  try {
+    calibration::parse_readings_csv(text, "r.csv", machine);
+    FAIL() << "accepted: " << text;
+  } catch (const calibration::MeasurementFileError& error) {
+    EXPECT_EQ(std::string(error.what()), message);
+  }
+}
+
+TEST(ReadingsFit, BadFilesAreRefusedAtTheirLineAndColumn) {
+  expect_refused("j_A,j_B,j_C,j_D\n1,2,3,4\n1,2,x3,4\n", "r.csv:3:5: 'x3' is not a number");
+  expect_refused("j_A,j_B,j_C\n1,2,3\n", "r.csv:1:1: no column 'j_D'");
+  expect_refused("j_A,j_B,j_C,j_D,j_E\n",
+                 "r.csv:1:17: unknown column 'j_E' (expected j_<joint "
+                 "name>, t or line)");
+  expect_refused("j_A,j_B,j_C,j_A\n", "r.csv:1:13: column 'j_A' appears twice");
+  expect_refused("j_A,j_B,j_C,j_D\n1,2,3\n", "r.csv:2:1: has 3 fields; the header has 4");
+  expect_refused("j_A,j_B,j_C,j_D\n1,2,3,1e7\n",
+                 "r.csv:2:7: '1e7' is beyond any machine (at most 1e6 mm or deg in size)");
+  expect_refused("j_A,j_B,j_C,j_D\n\n", "r.csv:2:1: no samples after the header");
+  expect_refused("",
+                 "r.csv:1:1: empty file: expected a header row naming every joint, such as "
+                 "j_A,j_B,j_C,j_D");
+  const machine::Machine machine = test::load_example("hangprinter-v4.toml");
+  const std::vector<JointReadings> read =
+      calibration::parse_readings_csv("t,j_D,j_C,j_B,j_A\n0,4,3,2,1.5\n", "r.csv", machine);
+  ASSERT_EQ(read.size(), 1u);
+  EXPECT_EQ(read[0].line, 2);
+  EXPECT_EQ(read[0].values[0], 1.5);
+  EXPECT_EQ(read[0].values[3], 4.0);
+}
+
+}  // namespace
+}  // namespace pkm

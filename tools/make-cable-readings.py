@@ -1,0 +1,80 @@
+#!/usr/bin/env python3
+"""Joint readings of a hidden cable robot at poses nobody measured, for `pkm calibrate readings`.
+
+Reads the anchors of a machine file (type = "cable_robot", every attach point at the tool, no
+cable offsets), moves each anchor by --shift (mm, "dx,dy,dz" per cable, separated by blanks), and writes a CSV of the
+cable lengths of that hidden machine at --samples random positions inside the anchors' tetrahedron
+(barycentric coordinates each at least --margin, so the lines hold the effector), counted from
+home (the origin) as a Hangprinter's encoders count from power-on, with Gaussian noise of --noise
+mm on every reading. An independent implementation of the cable lengths: |anchor - position|.
+
+  tools/make-cable-readings.py examples/machines/hangprinter-v4.toml \\
+      --shift '0,-25,18 30,-22,15 -28,27,-20 0,0,35' > readings.csv
+"""
+import argparse
+import math
+import random
+import sys
+import tomllib
+
+
+def barycentric(point, corners):
+    """Barycentric coordinates of `point` in the tetrahedron `corners` (4 points)."""
+    a, b, c, d = corners
+    columns = [[b[k] - a[k], c[k] - a[k], d[k] - a[k]] for k in range(3)]
+    rhs = [point[k] - a[k] for k in range(3)]
+
+    def det(m):
+        return (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
+
+    whole = det(columns)
+    weights = []
+    for col in range(3):
+        replaced = [row[:] for row in columns]
+        for k in range(3):
+            replaced[k][col] = rhs[k]
+        weights.append(det(replaced) / whole)
+    return [1.0 - sum(weights)] + weights
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("machine")
+    parser.add_argument("--shift", default="", help="'dx,dy,dz dx,dy,dz ..' per cable, mm")
+    parser.add_argument("--samples", type=int, default=30)
+    parser.add_argument("--noise", type=float, default=0.05, help="mm")
+    parser.add_argument("--margin", type=float, default=0.12)
+    parser.add_argument("--box", type=float, nargs=6, default=[-600, -600, 0, 600, 600, 1200],
+                        help="x y z min, x y z max, mm")
+    parser.add_argument("--seed", type=int, default=31)
+    args = parser.parse_args()
+    with open(args.machine, "rb") as file:
+        machine = tomllib.load(file)
+    cables = machine["kinematics"]["cables"]
+    names = [joint["name"] for joint in machine["joints"]]
+    if len(cables) != 4 or len(names) != 4:
+        sys.exit("this script reads four cables in space")
+    anchors = [list(cable["anchor"]) for cable in cables]
+    for i, text in enumerate(args.shift.split()):
+        for k, value in enumerate(text.split(",")):
+            anchors[i][k] += float(value)
+    home = [0.0, 0.0, 0.0]
+    zero = [math.dist(anchor, home) for anchor in anchors]
+    rng = random.Random(args.seed)
+    low, high = args.box[:3], args.box[3:]
+    print(",".join("j_" + name for name in names))
+    written = 0
+    while written < args.samples:
+        point = [rng.uniform(low[k], high[k]) for k in range(3)]
+        if min(barycentric(point, anchors)) < args.margin:
+            continue
+        readings = [math.dist(anchor, point) - zero[i] + rng.gauss(0.0, args.noise)
+                    for i, anchor in enumerate(anchors)]
+        print(",".join(f"{value:.4f}" for value in readings))
+        written += 1
+
+
+if __name__ == "__main__":
+    main()
