@@ -306,7 +306,7 @@ void print_readings_text(const calibration::ReadingsFitReport& readings, bool re
   std::printf("poses found (mm):\n");
   for (std::size_t k = 0; k < readings.poses.size(); ++k) {
     const Eigen::Vector3d& p = readings.poses[k].position_mm;
-    std::printf("  sample %zu: %.3f %.3f %.3f\n", k + 1, p.x(), p.y(), p.z());
+    std::printf("  line %d: %.3f %.3f %.3f\n", readings.lines[k], p.x(), p.y(), p.z());
   }
   if (!output.empty()) std::printf("wrote %s\n", output.c_str());
 }
@@ -319,10 +319,11 @@ nlohmann::json readings_json(const calibration::ReadingsFitReport& readings, boo
   json["relative_to_home"] = relative;
   json["noise_mm"] = readings.noise_mm;
   nlohmann::json poses = nlohmann::json::array();
-  for (const geometry::Pose& pose : readings.poses) {
-    poses.push_back({pose.position_mm.x(), pose.position_mm.y(), pose.position_mm.z()});
+  for (std::size_t k = 0; k < readings.poses.size(); ++k) {
+    const Eigen::Vector3d& p = readings.poses[k].position_mm;
+    poses.push_back({{"line", readings.lines[k]}, {"x", p.x()}, {"y", p.y()}, {"z", p.z()}});
   }
-  json["poses_mm"] = poses;
+  json["poses"] = poses;
   return json;
 }
 

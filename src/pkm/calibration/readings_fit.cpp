@@ -372,6 +372,7 @@ ReadingsFitReport fit_readings(kinematics::Kinematics& kinematics, const geometr
                                const ReadingsFitOptions& options) {
   ReadingsFitReport report;
   report.samples = static_cast<int>(samples.size());
+  for (const JointReadings& sample : samples) report.lines.push_back(sample.line);
   report.readings_per_sample = kinematics.joint_count();
   report.pose_coordinates = kinematics.dof().count();
   if (report.readings_per_sample <= report.pose_coordinates) {
@@ -407,6 +408,7 @@ ReadingsFitReport fit_readings(kinematics::Kinematics& kinematics, const geometr
   std::vector<double> values(static_cast<std::size_t>(residuals.count()));
   residuals.solve(nominal, values.data(), &report.poses_before);
   report.fit = fit_parameters(kinematics, residuals, requested, unseen.held, options.fit);
+  report.fit.measurements = report.samples;
   std::vector<double> after;
   for (const kinematics::Parameter& p : kinematics.parameters()) after.push_back(p.value);
   residuals.solve(after, values.data(), &report.poses);

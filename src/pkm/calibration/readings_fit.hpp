@@ -52,6 +52,7 @@ struct ReadingsFitReport {
   // it (readings less pose coordinates less fitted parameters), mm.
   double noise_mm = 0.0;
   std::vector<geometry::Pose> poses;         // each sample's pose with the fitted geometry
+  std::vector<int> lines;                    // each sample's source line
   std::vector<geometry::Pose> poses_before;  // with the machine file's geometry
 };
 
