@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <random>
 
+#include "pkm/calibration/fit_report.hpp"
 #include "pkm/calibration/measurements.hpp"
 #include "pkm/calibration/readings_fit.hpp"
 #include "test_support.hpp"
@@ -237,6 +238,23 @@ TEST(ReadingsFit, AbsoluteReadingsHoldTheFramesPlaceToo) {
   EXPECT_EQ(report.fit.held_rigid_motion.size(), 6u);
   EXPECT_NEAR(report.noise_mm, 0.05, 0.015);
   EXPECT_GT(report.fit.rms_before_mm, 10.0);
+}
+
+// Samples bunched within 100 mm of one another pin the anchors far less well than the machine
+// file does: those are held, each with its numbers, not fitted to the noise.
+TEST(ReadingsFit, BunchedSamplesHoldWhatTheyCannotPin) {
+  machine::Machine machine = test::load_example("hangprinter-v4.toml");
+  const Synthetic hidden = read_hidden(machine.kinematics(), machine.home(), kHangprinterShift,
+                                       {-50.0, -50.0, 300.0}, {50.0, 50.0, 400.0}, 30, 0.05, 3u);
+  calibration::ReadingsFitOptions options;
+  options.fit.parameters = {"cable*.anchor.*"};
+  const calibration::ReadingsFitReport report =
+      calibration::fit_readings(machine.kinematics(), machine.home(), hidden.samples, options);
+  ASSERT_FALSE(report.fit.poorly_determined.empty());
+  for (const calibration::PoorlyDetermined& held : report.fit.poorly_determined) {
+    std::printf("%s\n", calibration::poorly_determined_text(held).c_str());
+    EXPECT_GT(held.standard_deviation, held.plausible_deviation) << held.name;
+  }
 }
 
 TEST(ReadingsFit, TooFewSamplesAreRefusedWithTheirNumbers) {
