@@ -5,8 +5,9 @@ Reads the anchors of a machine file (type = "cable_robot", every attach point at
 cable offsets), moves each anchor by --shift (mm, "dx,dy,dz" per cable, separated by blanks), and writes a CSV of the
 cable lengths of that hidden machine at --samples random positions inside the anchors' tetrahedron
 (barycentric coordinates each at least --margin, so the lines hold the effector), counted from
-home (the origin) as a Hangprinter's encoders count from power-on, with Gaussian noise of --noise
-mm on every reading. An independent implementation of the cable lengths: |anchor - position|.
+home (the origin) as a Hangprinter's encoders count from power-on (--absolute: the lengths
+themselves), with Gaussian noise of --noise mm on every reading. An independent
+implementation of the cable lengths: |anchor - position|.
 
   tools/make-cable-readings.py examples/machines/hangprinter-v4.toml \\
       --shift '0,-25,18 30,-22,15 -28,27,-20 0,0,35' > readings.csv
@@ -49,6 +50,8 @@ def main():
     parser.add_argument("--box", type=float, nargs=6, default=[-600, -600, 0, 600, 600, 1200],
                         help="x y z min, x y z max, mm")
     parser.add_argument("--seed", type=int, default=31)
+    parser.add_argument("--absolute", action="store_true",
+                        help="write the lengths themselves, not counted from home")
     args = parser.parse_args()
     with open(args.machine, "rb") as file:
         machine = tomllib.load(file)
@@ -61,7 +64,7 @@ def main():
         for k, value in enumerate(text.split(",")):
             anchors[i][k] += float(value)
     home = [0.0, 0.0, 0.0]
-    zero = [math.dist(anchor, home) for anchor in anchors]
+    zero = [0.0 if args.absolute else math.dist(anchor, home) for anchor in anchors]
     rng = random.Random(args.seed)
     low, high = args.box[:3], args.box[3:]
     print(",".join("j_" + name for name in names))

@@ -290,8 +290,9 @@ void print_readings_text(const calibration::ReadingsFitReport& readings, bool re
   }
   if (!report.held_rigid_motion.empty()) {
     std::printf(
-        "the readings cannot see these (the frame turned about home, a point moved with its "
-        "cable): held at the machine file's values: %s\n",
+        "the readings cannot see these (%s, a point moved with its cable): held at the "
+        "machine file's values: %s\n",
+        relative ? "the frame turned about home" : "the frame moved or turned as a whole",
         joined(report.held_rigid_motion).c_str());
   }
   for (const auto& group : report.indistinguishable) {

@@ -38,3 +38,11 @@ pkm_cli_refuses(calibrate_readings_pose_fixed_by_joints
 pkm_cli_refuses(calibrate_readings_output_is_the_data
                 "the output is the input file .*hangprinter-readings\\.csv \\(the readings\\)"
                 calibrate readings -m ${HANGPRINTER} ${HP_READINGS} -o ${HP_READINGS})
+
+# The same hidden machine's lengths themselves (tools/make-cable-readings.py --absolute): the
+# frame's place is unseen too, and the cables' offsets act and are fitted.
+add_test(NAME cli.calibrate_readings_absolute
+         COMMAND ${PKM} calibrate readings -m ${HANGPRINTER} ${CLI_DATA}/hangprinter-readings-absolute.csv
+                 --absolute -o ${CLI_OUT}/hangprinter-absolute-fitted.toml)
+set_tests_properties(cli.calibrate_readings_absolute PROPERTIES
+  PASS_REGULAR_EXPRESSION "30 samples of 4 readings \\(absolute\\).*noise of a reading by the residuals 0\\.0[3-7][0-9]* mm.*cable1\\.offset +0\\.000000 +-?[0-9]\\.[0-9]+ .*the readings cannot see these \\(the frame moved or turned as a whole, a point moved with its cable\\).*wrote")
