@@ -342,6 +342,8 @@ void run_readings(const ReadingsCommandOptions& options) {
     report = calibration::fit_readings(machine.kinematics(), machine.home(), samples, fit_options);
   } catch (const calibration::MeasurementFileError& error) {
     throw CommandError(error.what());
+  } catch (const calibration::SampleFitError& error) {
+    throw CommandError(options.data + ":" + std::to_string(error.line()) + ":1: " + error.what());
   } catch (const calibration::FitError& error) {
     throw CommandError(options.data + ": " + error.what());
   }

@@ -46,3 +46,11 @@ add_test(NAME cli.calibrate_readings_absolute
                  --absolute -o ${CLI_OUT}/hangprinter-absolute-fitted.toml)
 set_tests_properties(cli.calibrate_readings_absolute PROPERTIES
   PASS_REGULAR_EXPRESSION "30 samples of 4 readings \\(absolute\\).*noise of a reading by the residuals 0\\.0[3-7][0-9]* mm.*cable1\\.offset +0\\.000000 +-?[0-9]\\.[0-9]+ .*the readings cannot see these \\(the frame moved or turned as a whole, a point moved with its cable\\).*wrote")
+# A gross outlier (line 4: the three low lines 900 mm shorter, D's 900 mm longer) puts the effector
+# where the machine file's tension limits only just hold it: refused at its line, nothing written
+# (it once held every parameter at nominal, wrote the file unchanged and exited 0).
+pkm_cli_refuses(calibrate_readings_outlier_at_the_edge
+                "hangprinter-readings-outlier\\.csv:4:1: the machine file's geometry only just holds the effector where these readings put it"
+                NO_FILE ${CLI_OUT}/readings-never.toml
+                calibrate readings -m ${HANGPRINTER} ${CLI_DATA}/hangprinter-readings-outlier.csv
+                -o ${CLI_OUT}/readings-never.toml)

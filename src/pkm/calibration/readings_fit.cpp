@@ -106,6 +106,7 @@ bool fit_pose(const kinematics::Kinematics& model, const kinematics::JointVector
   if (!evaluate(pose, residual, d_residual)) return false;
   double damping = 0.0;
   double last_step = std::numeric_limits<double>::infinity();
+  bool refused = false;  // the last step was rejected because the model failed there
   for (int iteration = 0; iteration < kPoseIterations; ++iteration) {
     Eigen::MatrixXd normal = d_residual.transpose() * d_residual;
     normal.diagonal() *= 1.0 + damping;
@@ -121,20 +122,24 @@ bool fit_pose(const kinematics::Kinematics& model, const kinematics::JointVector
     // it by 1e-14 mm^2): Gauss-Newton's own steps are taken there, not judged by the cost.
     const double size = 1.0 + values.head<3>().norm();
     const bool near = damping == 0.0 && step.norm() <= 1e-6 * size;
-    if (evaluate(trial, trial_residual, trial_d_residual) &&
-        (near || trial_residual.squaredNorm() <= residual.squaredNorm())) {
+    const bool solved = evaluate(trial, trial_residual, trial_d_residual);
+    if (solved && (near || trial_residual.squaredNorm() <= residual.squaredNorm())) {
       pose = trial;
       residual = trial_residual;
       d_residual = trial_d_residual;
       damping = damping < 1e-6 ? 0.0 : damping / 10.0;
+      refused = false;
     } else {
       damping = damping == 0.0 ? 1e-3 : damping * 10.0;
+      refused = !solved;
     }
     last_step = step.norm() / size;
     if (last_step <= kPoseConverged) break;
   }
   // Rounding may keep the last steps above kPoseConverged; far above, the solve did not settle.
-  if (!(last_step <= 1e-12)) return false;
+  // Steps shrunk by the model refusing every step further (tension limits, a cable too short)
+  // end at the edge of what it holds, not at the least-squares pose.
+  if (!(last_step <= 1e-12) || (refused && damping > 1.0)) return false;
   misfit = residual;
   return true;
 }
@@ -163,12 +168,12 @@ class ReadingsResiduals final : public ParameterResiduals {
     std::vector<double> residuals(static_cast<std::size_t>(count()));
     const int failed = solve(nominal, residuals.data(), &found);
     if (failed >= 0) {
-      throw FitError("line " + std::to_string(failed) +
-                     ": no pose fits these readings with the machine file's geometry (solved "
-                     "from home" +
-                     std::string(relative_ ? ", where the readings count from" : "") +
-                     "): check the joints' order and units, and that the machine holds every "
-                     "sample's effector");
+      throw SampleFitError(
+          failed,
+          "no pose fits these readings with the machine file's geometry (solved from home" +
+              std::string(relative_ ? ", where the readings count from" : "") +
+              "): check the joints' order and units, and that the machine file's geometry holds "
+              "the effector there (its tension limits)");
     }
     seeds_ = found;
   }
@@ -179,8 +184,11 @@ class ReadingsResiduals final : public ParameterResiduals {
   }
 
   bool evaluate(std::span<const double> parameters, double* residuals) const override {
-    return solve(parameters, residuals, nullptr) < 0;
+    last_failure_ = solve(parameters, residuals, nullptr);
+    return last_failure_ < 0;
   }
+  // The line of the sample the last evaluate() could not solve (0: the geometry itself failed).
+  int last_failure() const { return last_failure_; }
 
   // -1 on success, else the line of the sample that failed (0: the geometry or home failed).
   int solve(std::span<const double> parameters, double* residuals,
@@ -238,6 +246,7 @@ class ReadingsResiduals final : public ParameterResiduals {
   bool relative_;
   Eigen::VectorXd weight_;
   std::vector<geometry::Pose> seeds_;  // the poses fitted with the machine file's geometry
+  mutable int last_failure_ = -1;
 };
 
 // What joint readings cannot see at all: the directions of parameter space that change no
@@ -272,12 +281,24 @@ UnseenParameters unseen_by_readings(const kinematics::Kinematics& kinematics,
   std::vector<double> nominal;
   for (const kinematics::Parameter& p : parameters) nominal.push_back(p.value);
   Eigen::MatrixXd jacobian;
+  int failed_line = 0;
   const auto function = [&](std::span<const double> p, double* out) {
-    return residuals.evaluate(p, out);
+    if (residuals.evaluate(p, out)) return true;
+    failed_line = std::max(failed_line, residuals.last_failure());
+    return false;
   };
   if (requested.empty() ||
       !parameter_jacobian(function, residuals.count(), nominal, requested, jacobian)) {
     return result;
+  }
+  // A parameter at the edge of its range is held (no effect); a sample lost when a parameter
+  // moves by a millionth sits where the machine file's geometry only just holds its effector,
+  // and would silently take that parameter out of the fit.
+  if (failed_line > 0) {
+    throw SampleFitError(failed_line,
+                         "the machine file's geometry only just holds the effector where these "
+                         "readings put it (the pose is lost when a parameter moves by a "
+                         "millionth): leave the sample out, or check its readings");
   }
   const Eigen::VectorXd norms = jacobian.colwise().norm().transpose();
   std::vector<int> columns;

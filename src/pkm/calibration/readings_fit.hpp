@@ -36,6 +36,16 @@ std::vector<JointReadings> parse_readings_csv(const std::string& text,
 std::vector<JointReadings> read_readings_csv(const std::filesystem::path& path,
                                              const machine::Machine& machine);
 
+// A sample no pose fits with the machine file's geometry, at its source line.
+class SampleFitError : public FitError {
+ public:
+  SampleFitError(int line, const std::string& message) : FitError(message), line_(line) {}
+  int line() const { return line_; }
+
+ private:
+  int line_;
+};
+
 struct ReadingsFitOptions {
   FitOptions fit;
   // true: each reading counts from the joint's value at home (encoders zeroed there); false: the
@@ -63,7 +73,7 @@ int fewest_samples(int readings_per_sample, int pose_coordinates, int parameters
 // Fits `kinematics` (its current geometry is the machine file's; updated to the fit) to the
 // readings. `home` seeds every sample's pose and, with relative_to_home, is where the readings
 // were zeroed. Throws FitError with its numbers: a model with no more joints than coordinates,
-// too few samples, a sample no pose fits with the machine file's geometry (its line).
+// too few samples; SampleFitError for a sample no pose fits with the machine file's geometry.
 ReadingsFitReport fit_readings(kinematics::Kinematics& kinematics, const geometry::Pose& home,
                                const std::vector<JointReadings>& samples,
                                const ReadingsFitOptions& options);
