@@ -304,6 +304,15 @@ void print_readings_text(const calibration::ReadingsFitReport& readings, bool re
     std::printf("no effect on the readings: %s\n", joined(report.no_effect).c_str());
   }
   if (!report.converged) std::printf("warning: the solver did not converge\n");
+  // Gaussian residuals reach about 3 of their spreads among a few hundred; 8 is no noise.
+  if (report.max_after_mm > 8.0 * readings.residual_spread_mm) {
+    std::printf(
+        "warning: a reading at line %d is %.3f mm off the fit, %.0f times the others' spread "
+        "(%.4f mm, 1.4826 x their median): a slack line, a slipped belt or a misread sample? "
+        "leave it out and fit again\n",
+        report.max_after_line, report.max_after_mm,
+        report.max_after_mm / readings.residual_spread_mm, readings.residual_spread_mm);
+  }
   std::printf("poses found (mm):\n");
   for (std::size_t k = 0; k < readings.poses.size(); ++k) {
     const Eigen::Vector3d& p = readings.poses[k].position_mm;
@@ -319,6 +328,7 @@ nlohmann::json readings_json(const calibration::ReadingsFitReport& readings, boo
   json["readings_per_sample"] = readings.readings_per_sample;
   json["relative_to_home"] = relative;
   json["noise_mm"] = readings.noise_mm;
+  json["residual_spread_mm"] = readings.residual_spread_mm;
   nlohmann::json poses = nlohmann::json::array();
   for (std::size_t k = 0; k < readings.poses.size(); ++k) {
     const Eigen::Vector3d& p = readings.poses[k].position_mm;

@@ -54,3 +54,10 @@ pkm_cli_refuses(calibrate_readings_outlier_at_the_edge
                 NO_FILE ${CLI_OUT}/readings-never.toml
                 calibrate readings -m ${HANGPRINTER} ${CLI_DATA}/hangprinter-readings-outlier.csv
                 -o ${CLI_OUT}/readings-never.toml)
+# A reading 12 mm off (line 11: line A slipped) inflates the noise estimate to 1.5 mm, so the
+# warning measures it against the others' median, which one reading does not move.
+add_test(NAME cli.calibrate_readings_names_a_slipped_reading
+         COMMAND ${PKM} calibrate readings -m ${HANGPRINTER} ${CLI_DATA}/hangprinter-readings-slip.csv
+                 -o ${CLI_OUT}/hangprinter-slip-fitted.toml)
+set_tests_properties(cli.calibrate_readings_names_a_slipped_reading PROPERTIES
+  PASS_REGULAR_EXPRESSION "warning: a reading at line 11 is 4\\.[0-9]+ mm off the fit, [0-9]+ times the others' spread")

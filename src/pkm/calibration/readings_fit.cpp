@@ -433,6 +433,10 @@ ReadingsFitReport fit_readings(kinematics::Kinematics& kinematics, const geometr
   std::vector<double> after;
   for (const kinematics::Parameter& p : kinematics.parameters()) after.push_back(p.value);
   residuals.solve(after, values.data(), &report.poses);
+  for (double& value : values) value = std::abs(value);
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2),
+                   values.end());
+  report.residual_spread_mm = 1.4826 * values[values.size() / 2];
   const auto fitted_count =
       std::count_if(report.fit.parameters.begin(), report.fit.parameters.end(),
                     [](const ParameterEstimate& p) { return p.free; });

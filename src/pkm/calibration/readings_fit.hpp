@@ -61,6 +61,9 @@ struct ReadingsFitReport {
   // The noise of a reading the residuals show: their sum of squares over what is left free of
   // it (readings less pose coordinates less fitted parameters), mm.
   double noise_mm = 0.0;
+  // The residuals' spread that one bad reading does not inflate: 1.4826 x their median size
+  // (their standard deviation for Gaussian noise), mm.
+  double residual_spread_mm = 0.0;
   std::vector<geometry::Pose> poses;         // each sample's pose with the fitted geometry
   std::vector<int> lines;                    // each sample's source line
   std::vector<geometry::Pose> poses_before;  // with the machine file's geometry
