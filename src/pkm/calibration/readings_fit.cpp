@@ -249,15 +249,6 @@ class ReadingsResiduals final : public ParameterResiduals {
   mutable int last_failure_ = -1;
 };
 
-// What joint readings cannot see at all: the directions of parameter space that change no
-// residual (the frame turned about home, an anchor moved with its attach point). They are found
-// from the residuals' Jacobian at the machine file's geometry. A parameter that acts exactly as
-// an earlier one (an attach point as its cable's anchor) is held first: the later in the model's
-// order, so the frame's anchors are fitted and the effector's points kept. Then the null space of
-// the rest (columns normalised; singular values below rank_tolerance of the largest) is held one
-// parameter per direction: each time the parameter with the largest share in what is left
-// unseen (the one that carries it most firmly; on ties, the later in the model's order), that
-// share then taken out. Parameters without effect are left to the identification (no_effect).
 // The first of `kept` whose column acts as column `c` does (parallel to 1e-6 of its length, either
 // sign: an anchor and its cable's attach point on an effector tied at one point), or -1.
 int twin_column(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& norms,
@@ -269,17 +260,13 @@ int twin_column(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& norms,
   return -1;
 }
 
-struct UnseenParameters {
-  std::vector<std::string> held;
-  int without_effect = 0;
-};
-UnseenParameters unseen_by_readings(const kinematics::Kinematics& kinematics,
-                                    const ReadingsResiduals& residuals,
-                                    const std::vector<int>& requested, double rank_tolerance) {
-  UnseenParameters result;
-  const std::vector<kinematics::Parameter> parameters = kinematics.parameters();
-  std::vector<double> nominal;
-  for (const kinematics::Parameter& p : parameters) nominal.push_back(p.value);
+// The residuals' Jacobian over `requested` at the machine file's geometry. A parameter at the
+// edge of its range gets a zero column (held: no effect); a sample lost when a parameter moves by
+// a millionth sits where the machine file's geometry only just holds its effector, and would
+// silently take that parameter out of the fit: refused at its line.
+Eigen::MatrixXd nominal_jacobian(const std::vector<double>& nominal,
+                                 const ReadingsResiduals& residuals,
+                                 const std::vector<int>& requested) {
   Eigen::MatrixXd jacobian;
   int failed_line = 0;
   const auto function = [&](std::span<const double> p, double* out) {
@@ -287,32 +274,26 @@ UnseenParameters unseen_by_readings(const kinematics::Kinematics& kinematics,
     failed_line = std::max(failed_line, residuals.last_failure());
     return false;
   };
-  if (requested.empty() ||
-      !parameter_jacobian(function, residuals.count(), nominal, requested, jacobian)) {
-    return result;
+  if (!parameter_jacobian(function, residuals.count(), nominal, requested, jacobian)) {
+    throw FitError("the model fails with the machine file's geometry: " +
+                   residuals.nominal_failure_hint());
   }
-  // A parameter at the edge of its range is held (no effect); a sample lost when a parameter
-  // moves by a millionth sits where the machine file's geometry only just holds its effector,
-  // and would silently take that parameter out of the fit.
   if (failed_line > 0) {
     throw SampleFitError(failed_line,
                          "the machine file's geometry only just holds the effector where these "
                          "readings put it (the pose is lost when a parameter moves by a "
                          "millionth): leave the sample out, or check its readings");
   }
-  const Eigen::VectorXd norms = jacobian.colwise().norm().transpose();
-  std::vector<int> columns;
-  for (Eigen::Index c = 0; c < norms.size(); ++c) {
-    if (!(norms[c] > 1e-9 * norms.maxCoeff())) {
-      ++result.without_effect;
-    } else if (const int twin = twin_column(jacobian, norms, columns, static_cast<int>(c));
-               twin >= 0) {
-      result.held.push_back(parameters[requested[c]].name);
-    } else {
-      columns.push_back(static_cast<int>(c));
-    }
-  }
-  if (columns.empty()) return result;
+  return jacobian;
+}
+
+// One parameter per direction of the null space of `jacobian`'s `columns` (normalised; singular
+// values below rank_tolerance of the largest): each time the column with the largest share in
+// what is left unseen (the parameter that carries it most firmly; on ties the later), that share
+// then taken out. Returns indices into `columns`.
+std::vector<int> null_space_holds(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& norms,
+                                  const std::vector<int>& columns, double rank_tolerance) {
+  std::vector<int> held;
   Eigen::MatrixXd normalised(jacobian.rows(), static_cast<Eigen::Index>(columns.size()));
   for (std::size_t k = 0; k < columns.size(); ++k) {
     normalised.col(static_cast<Eigen::Index>(k)) = jacobian.col(columns[k]) / norms[columns[k]];
@@ -322,7 +303,7 @@ UnseenParameters unseen_by_readings(const kinematics::Kinematics& kinematics,
   Eigen::Index rank = 0;
   while (rank < singular.size() && singular[rank] > rank_tolerance * singular[0]) ++rank;
   const Eigen::Index unseen = static_cast<Eigen::Index>(columns.size()) - rank;
-  if (unseen <= 0) return result;
+  if (unseen <= 0) return held;
   // Back to the parameters' own units (mm), orthonormal again.
   Eigen::MatrixXd basis = svd.matrixV().rightCols(unseen);
   for (std::size_t k = 0; k < columns.size(); ++k) {
@@ -337,9 +318,47 @@ UnseenParameters unseen_by_readings(const kinematics::Kinematics& kinematics,
       if (share[k] >= share[best] * (1.0 - 1e-6)) best = k;
     }
     if (share[best] < 1e-9) break;
-    result.held.push_back(parameters[requested[columns[best]]].name);
+    held.push_back(static_cast<int>(best));
     const Eigen::RowVectorXd along = basis.row(best) / share[best];
     basis -= (basis * along.transpose()) * along;
+  }
+  return held;
+}
+
+// What joint readings cannot see at all: the directions of parameter space that change no
+// residual (the frame turned about home, an anchor moved with its attach point), found from the
+// residuals' Jacobian at the machine file's geometry. A parameter that acts exactly as an earlier
+// one (an attach point as its cable's anchor) is held first: the later in the model's order, so
+// the frame's anchors are fitted and the effector's points kept. Then the null space of the rest,
+// one parameter per direction (null_space_holds). Parameters without effect are left to the
+// identification (no_effect).
+struct UnseenParameters {
+  std::vector<std::string> held;
+  int without_effect = 0;
+};
+UnseenParameters unseen_by_readings(const kinematics::Kinematics& kinematics,
+                                    const ReadingsResiduals& residuals,
+                                    const std::vector<int>& requested, double rank_tolerance) {
+  UnseenParameters result;
+  if (requested.empty()) return result;
+  const std::vector<kinematics::Parameter> parameters = kinematics.parameters();
+  std::vector<double> nominal;
+  for (const kinematics::Parameter& p : parameters) nominal.push_back(p.value);
+  const Eigen::MatrixXd jacobian = nominal_jacobian(nominal, residuals, requested);
+  const Eigen::VectorXd norms = jacobian.colwise().norm().transpose();
+  std::vector<int> columns;
+  for (Eigen::Index c = 0; c < norms.size(); ++c) {
+    if (!(norms[c] > 1e-9 * norms.maxCoeff())) {
+      ++result.without_effect;
+    } else if (twin_column(jacobian, norms, columns, static_cast<int>(c)) >= 0) {
+      result.held.push_back(parameters[requested[c]].name);
+    } else {
+      columns.push_back(static_cast<int>(c));
+    }
+  }
+  if (columns.empty()) return result;
+  for (const int k : null_space_holds(jacobian, norms, columns, rank_tolerance)) {
+    result.held.push_back(parameters[requested[columns[k]]].name);
   }
   return result;
 }
@@ -388,6 +407,40 @@ int fewest_samples(int readings_per_sample, int pose_coordinates, int parameters
   return spare <= 0 ? std::numeric_limits<int>::max() : parameters / spare + 1;
 }
 
+namespace {
+
+// Throws FitError with the numbers when the samples leave no degree of freedom for the noise.
+void refuse_too_few_samples(const ReadingsFitReport& report, int fitted) {
+  const int spare = report.readings_per_sample - report.pose_coordinates;
+  const int fewest = fewest_samples(report.readings_per_sample, report.pose_coordinates, fitted);
+  if (report.samples >= fewest) return;
+  throw FitError(
+      std::to_string(report.samples) + " samples of " + std::to_string(report.readings_per_sample) +
+      " readings pin " + std::to_string(spare) + " each beyond their own " +
+      std::to_string(report.pose_coordinates) + " pose coordinates, " +
+      std::to_string(report.samples * spare) + " in all: too few for " + std::to_string(fitted) +
+      " parameters with the noise left to estimate; take at least " + std::to_string(fewest) +
+      " samples (30 or more spread over the workspace pin them well), or fit fewer "
+      "with --params");
+}
+
+// The residuals' spread (robust) and the noise of a reading they show, from the residuals at the
+// solution.
+void measure_noise(const ReadingsResiduals& residuals, std::vector<double> values,
+                   ReadingsFitReport& report) {
+  for (double& value : values) value = std::abs(value);
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  report.residual_spread_mm = 1.4826 * *middle;
+  const auto fitted = std::count_if(report.fit.parameters.begin(), report.fit.parameters.end(),
+                                    [](const ParameterEstimate& p) { return p.free; });
+  const double left = static_cast<double>(residuals.count() - residuals.eliminated_unknowns() -
+                                          static_cast<int>(fitted));
+  report.noise_mm = report.fit.rms_after_mm * std::sqrt(residuals.count() / left);
+}
+
+}  // namespace
+
 ReadingsFitReport fit_readings(kinematics::Kinematics& kinematics, const geometry::Pose& home,
                                const std::vector<JointReadings>& samples,
                                const ReadingsFitOptions& options) {
@@ -410,20 +463,7 @@ ReadingsFitReport fit_readings(kinematics::Kinematics& kinematics, const geometr
       unseen_by_readings(kinematics, residuals, requested, options.fit.rank_tolerance);
   const int fitted =
       static_cast<int>(requested.size() - unseen.held.size()) - unseen.without_effect;
-  const int fewest = fewest_samples(report.readings_per_sample, report.pose_coordinates, fitted);
-  if (report.samples < fewest) {
-    throw FitError(
-        std::to_string(report.samples) + " samples of " +
-        std::to_string(report.readings_per_sample) + " readings pin " +
-        std::to_string(report.readings_per_sample - report.pose_coordinates) +
-        " each beyond their own " + std::to_string(report.pose_coordinates) +
-        " pose coordinates, " +
-        std::to_string(report.samples * (report.readings_per_sample - report.pose_coordinates)) +
-        " in all: too few for " + std::to_string(fitted) +
-        " parameters with the noise left to estimate; take at least " + std::to_string(fewest) +
-        " samples (30 or more spread over the workspace "
-        "pin them well), or fit fewer with --params");
-  }
+  refuse_too_few_samples(report, fitted);
   std::vector<double> nominal;
   for (const kinematics::Parameter& p : kinematics.parameters()) nominal.push_back(p.value);
   std::vector<double> values(static_cast<std::size_t>(residuals.count()));
@@ -433,16 +473,7 @@ ReadingsFitReport fit_readings(kinematics::Kinematics& kinematics, const geometr
   std::vector<double> after;
   for (const kinematics::Parameter& p : kinematics.parameters()) after.push_back(p.value);
   residuals.solve(after, values.data(), &report.poses);
-  for (double& value : values) value = std::abs(value);
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2),
-                   values.end());
-  report.residual_spread_mm = 1.4826 * values[values.size() / 2];
-  const auto fitted_count =
-      std::count_if(report.fit.parameters.begin(), report.fit.parameters.end(),
-                    [](const ParameterEstimate& p) { return p.free; });
-  const double left = static_cast<double>(residuals.count() - residuals.eliminated_unknowns() -
-                                          static_cast<int>(fitted_count));
-  report.noise_mm = report.fit.rms_after_mm * std::sqrt(residuals.count() / left);
+  measure_noise(residuals, values, report);
   return report;
 }
 
