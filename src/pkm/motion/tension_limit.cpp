@@ -325,13 +325,15 @@ std::string TensionLimit::describe(const TensionExcess& excess) const {
     held += std::string(held.empty() ? "" : " and ") + cable_list(at_min) + " at the minimum " +
             newtons(targets.min_N[first_cable(at_min)]);
   }
+  // Said on the side the load passes, the normal turned to point out of the polytope there.
+  const double side = excess.high ? 1.0 : -1.0;
+  const Eigen::Vector3d outwards = side * f.normal;
   char direction[96];
-  std::snprintf(direction, sizeof direction, "(%.3f, %.3f, %.3f)", f.normal.x(), f.normal.y(),
-                f.normal.z());
-  const double bound = excess.high ? f.high_N : f.low_N;
-  return "the cables would pull " + newtons(excess.force_N) + " along " + direction +
-         (excess.high ? ", more than the " : ", less than the ") + newtons(bound) + " they give " +
-         "with " + held;
+  std::snprintf(direction, sizeof direction, "(%.3f, %.3f, %.3f)", outwards.x(), outwards.y(),
+                outwards.z());
+  const double bound = side * (excess.high ? f.high_N : f.low_N);
+  return "the cables would pull " + newtons(side * excess.force_N) + " along " + direction +
+         ", more than the " + newtons(bound) + " they give there with " + held;
 }
 
 std::string TensionLimit::robot_beyond_limits_at_rest(
