@@ -260,8 +260,9 @@ TEST(CableRobotPlan, JerkLimitedZigzagIsHeld) {
   EXPECT_GT(free.outside, 0);
   std::printf(
       "  jerk-limited zigzag: %.3f s with the tension limit, %.3f s without; %.4f of a "
-      "facet's headroom used at most\n",
-      limited.report.duration_s, free.report.duration_s, limited.most_used);
+      "facet's headroom used at most; without: %ld of %ld samples not held (worst %.3f N)\n",
+      limited.report.duration_s, free.report.duration_s, limited.most_used, free.outside,
+      free.checked, free.worst_violation_N);
 }
 
 TEST(CableRobotPlan, RealSurfacingJobAtAHeightIsHeld) {
