@@ -293,10 +293,15 @@ void FeedLimits::grid_force_rows(Piece& piece) {
       row = TensionRow{facet.normal.dot(rest_force), mass * facet.normal.dot(grid.tool_rate[at]),
                        mass * facet.normal.dot(grid.tool_bend[at]), finite(facet.low_N),
                        finite(facet.high_N)};
-      // A pose the cables do not hold at rest: inverse kinematics refuses it, so only rounding.
-      if (row.rest_N < row.low_N - 1e-9 || row.rest_N > row.high_N + 1e-9) {
+      // A pose the cables do not hold at rest: inverse kinematics refuses it (beyond its 1e-9
+      // of the tension scale), so only a pose on the border, past a facet by rounding, gets
+      // here; its row then allows rest and no acceleration outwards, as the plotter's does.
+      const double rounding = 1e-8 * (1.0 + std::abs(row.rest_N));
+      if (row.rest_N < row.low_N - rounding || row.rest_N > row.high_N + rounding) {
         leaves_reach(piece.segment);
       }
+      row.low_N = std::min(row.low_N, row.rest_N);
+      row.high_N = std::max(row.high_N, row.rest_N);
       for (std::size_t side = 0; side < 2; ++side) {  // u < 0, u > 0
         const double slope = side == 0 ? -row.along : row.along;
         if (slope == 0.0) continue;
