@@ -93,6 +93,22 @@ BENCHMARK_CAPTURE(mandala, polargraph, "linuxcnc-polargraph-2366.toml")
     ->Arg(1)
     ->Unit(benchmark::kMillisecond);
 
+// LinuxCNC's 3D_Chips surfacing (4711 lines of G1 with z) on the Hangprinter v4 at z 400 mm: its
+// 1 kg effector's four lines bound the acceleration through their force polytope at every grid
+// point (docs/motion.md, "N cables: the force polytope").
+void surfacing_on_hangprinter(benchmark::State& state) {
+  pkm::geometry::Vector6d origin;
+  origin << 0.0, 0.0, 400.0, 0.0, 0.0, 0.0;
+  plan_job(state, "hangprinter-v4.toml",
+           kSource.parent_path() / "shared" / "gcode" / "real" / "linuxcnc" / "3D_Chips.ngc",
+           origin);
+}
+BENCHMARK(surfacing_on_hangprinter)
+    ->ArgName("estimate")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+
 }  // namespace
 
 BENCHMARK_MAIN();

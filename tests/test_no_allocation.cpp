@@ -13,6 +13,7 @@
 
 #include "pkm/gcode/interpreter.hpp"
 #include "pkm/io/sample_files.hpp"
+#include "pkm/kinematics/cable_tensions.hpp"
 #include "pkm/kinematics/lanes.hpp"
 #include "pkm/linuxcnc/kins_adapter.hpp"
 #include "pkm/motion/planner.hpp"
@@ -228,6 +229,28 @@ TEST(NoAllocationOfPlan, SamplesAlongAMoveAllocateNothing) {
   for (const double t : sink.times()) {
     EXPECT_TRUE(t < 0.01 || t > report.duration_s - 0.01) << "an allocation after t = " << t;
   }
+}
+
+// The forces a cable robot's cables can exert (the planner asks them at every grid point of a
+// heavy effector's moves) allocate nothing.
+TEST(NoAllocationOfPlan, CableForcePolytopeAllocatesNothing) {
+  const machine::Machine machine = test::load_example("hangprinter-v4.toml");
+  const kinematics::CableTensions& cables = *machine.kinematics().cable_tensions();
+  kinematics::CableForcePolytope polytope;
+  int held = 0;
+  const long before = allocations.load();
+  for (int k = 0; k < 100; ++k) {
+    geometry::Vector6d pose = geometry::Vector6d::Zero();
+    pose.x() = 3.0 * k - 150.0;
+    pose.z() = 5.0 * k;
+    if (!cables.force_polytope(geometry::Pose::from_vector(pose), polytope)) continue;
+    int facet = -1;
+    bool high = false;
+    const Eigen::Vector3d force = cables.cable_force_N(Eigen::Vector3d(0.0, 0.0, 100.0));
+    if (polytope.margin_N(force, facet, high) > 0.0) ++held;
+  }
+  EXPECT_EQ(allocations.load() - before, 0);
+  EXPECT_GT(held, 50);
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, NoAllocation, ::testing::ValuesIn(test::example_machine_files()),

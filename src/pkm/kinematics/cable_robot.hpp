@@ -137,6 +137,10 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch, pu
   int tension_count() const override { return cable_count(); }
   double effector_mass_kg() const override { return geometry_.effector_mass_kg; }
   bool tension_limited() const override { return geometry_.tension_limited; }
+  Eigen::Vector3d cable_force_N(const Eigen::Vector3d& acceleration_mm_per_s2) const override {
+    return -load_N(acceleration_mm_per_s2);
+  }
+  bool force_polytope(const geometry::Pose& pose, CableForcePolytope& polytope) const override;
 
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;

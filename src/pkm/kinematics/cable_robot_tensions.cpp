@@ -87,6 +87,14 @@ std::optional<TensionDistribution> CableRobotKinematics::tensions(
   return distribute_tensions(structure, wrench_N(acceleration_mm_per_s2), tension_targets());
 }
 
+bool CableRobotKinematics::force_polytope(const geometry::Pose& pose,
+                                          CableForcePolytope& polytope) const {
+  polytope.count = 0;
+  const StructureMatrix structure = structure_matrix(pose);
+  if (structure.size() == 0) return false;
+  return cable_force_polytope(structure, tension_targets(), polytope);
+}
+
 bool CableRobotKinematics::projection_held(const geometry::Pose& pose) const {
   // Pott's closed form: p projected onto the balance, t = p - A^T (A A^T)^-1 (A p + w). Where it
   // keeps every limit it is the distribution's answer (the nearest of all balancing tensions), so

@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "pkm/geometry/pose.hpp"
+#include "pkm/kinematics/cable_force_polytope.hpp"
 #include "pkm/kinematics/tension_distribution.hpp"
 
 namespace pkm::kinematics {
@@ -32,6 +33,14 @@ class CableTensions {
   virtual std::optional<TensionDistribution> tensions(
       const geometry::Pose& pose,
       const Eigen::Vector3d& acceleration_mm_per_s2 = Eigen::Vector3d::Zero()) const = 0;
+  // The force (N, machine x y z) the cables must exert on the effector accelerating at
+  // `acceleration` (mm/s^2): m (a - g). A planar robot's cables give its x y, the sheet the rest.
+  virtual Eigen::Vector3d cable_force_N(const Eigen::Vector3d& acceleration_mm_per_s2) const = 0;
+  // The forces the cables can exert at `pose` with every tension within tension_targets()'
+  // limits (cable_force_polytope.hpp): the effector is held while accelerating at a exactly where
+  // cable_force_N(a) is within every facet. False where a cable has no direction or the cables
+  // do not span the effector's directions. Allocation-free (the planner asks it per grid point).
+  virtual bool force_polytope(const geometry::Pose& pose, CableForcePolytope& polytope) const = 0;
 };
 
 }  // namespace pkm::kinematics

@@ -308,7 +308,7 @@ void FeedLimits::limit_by_tensions(Piece& piece) {
       throw PlanError(file_, segment.line,
                       "no acceleration along the move keeps the cables within their tension "
                       "limits: " +
-                          describe_excess(tension_->kinematics(), bound.excess));
+                          tension_->describe(bound.excess));
     }
     report_.tension_limits.push_back({segment.line, bound.excess.cable, bound.excess.slack,
                                       piece.acceleration, bound.acceleration_mm_per_s2});
@@ -375,7 +375,9 @@ void FeedLimits::limit_junction(Piece& before, Piece& after) {
   }
   bool turns = false;
   if (tension_) {
-    turns = (in_direction - out_direction).head<2>().norm() > 0.0;
+    // What the cables feel: the plotter's x y, n cables' x y z.
+    turns = tension_->robot() != nullptr ? (in_direction - out_direction).norm() > 0.0
+                                         : (in_direction - out_direction).head<2>().norm() > 0.0;
     before.max_exit_speed = tension_->junction_speed(
         before.segment.end, out_direction, in_direction, chord, options_.period_s,
         std::min(before.max_exit_speed, before.max_speed));

@@ -108,7 +108,9 @@ class FeedLimits {
   void grid_tension_rows(Piece& piece);
   void tangential_range(PathGrid& grid, int k, const geometry::Vector6d& pose,
                         const Eigen::Vector2d& tangent, double acceleration) const;
-  JointFeedLimit slowest_cruise(const Piece& piece, int& tension_row) const;
+  void grid_force_rows(Piece& piece);
+  TensionExcess row_cable(const Piece& piece, int point, int row) const;
+  JointFeedLimit slowest_cruise(const Piece& piece, int& tension_row, int& tension_point) const;
   struct TensionSlope {
     std::array<double, 2> lowest{}, highest{};  // N per mm/s^2, each cable
     double stray_N = 0.0;
@@ -126,7 +128,8 @@ class FeedLimits {
   const PlanOptions& options_;
   const std::string& file_;
   PlanReport& report_;
-  // A cable machine whose effector has a mass: its cables' tensions bound the moves.
+  // A cable machine whose effector has a mass: its cables' tensions bound the moves (a plotter's
+  // two, or a cable robot's n through the forces they can exert).
   std::optional<TensionLimit> tension_;
   bool jerk_limited_ = false;  // --jerk, or a joint's max_jerk
   // Scratch of build_grid, kept to spare an allocation per piece.

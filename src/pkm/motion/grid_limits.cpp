@@ -36,7 +36,7 @@ void FeedLimits::build_grid(Piece& piece) {
   PathGrid& grid = piece.grid;
   const int intervals = grid_intervals(segment, piece.length);
   const int joint_count = static_cast<int>(machine_.joints().size());
-  grid.resize(intervals, joint_count, tension_.has_value());
+  grid.resize(intervals, joint_count, tension_ ? tension_->rows_per_point() : 0);
   grid.step_mm = piece.length / intervals;
   joints_at_points_.resize(static_cast<std::size_t>(intervals) + 1);
   for (int k = 0; k <= intervals; ++k) {
@@ -218,6 +218,10 @@ void FeedLimits::tangential_range(PathGrid& grid, int k, const geometry::Vector6
 // Each cable's tensions at every point as lines in u and x (path_grid.hpp's TensionRow): the
 // effector accelerates along the path's tangent by u and towards its centre by curvature * x.
 void FeedLimits::grid_tension_rows(Piece& piece) {
+  if (tension_->robot() != nullptr) {
+    grid_force_rows(piece);
+    return;
+  }
   PathGrid& grid = piece.grid;
   const Segment& segment = piece.segment;
   const int n = grid.intervals;
@@ -241,7 +245,7 @@ void FeedLimits::grid_tension_rows(Piece& piece) {
     grid.tangent_xy[static_cast<std::size_t>(k)] = tangent;
     grid.curvature_xy[static_cast<std::size_t>(k)] = across;
     tangential_range(grid, k, pose_vector, tangent, acceleration);
-    TensionRow* rows = &grid.tension_rows[static_cast<std::size_t>(k * kTensionRowsPerPoint)];
+    TensionRow* rows = &grid.tension_rows[static_cast<std::size_t>(k * grid.rows_per_point)];
     for (std::size_t cable = 0; cable < 2; ++cable) {
       rows[2 * cable] =
           TensionRow{rest.lowest_N[cable], along_slope.lowest[cable] * tangent.norm(),
@@ -255,17 +259,91 @@ void FeedLimits::grid_tension_rows(Piece& piece) {
   }
 }
 
+// n cables: at every point a row per facet pair of the forces the cables can exert there
+// (cable_force_polytope.hpp). The force they must exert is m (a - g) with a = rate u + bend x, so
+// its component along a facet's normal is exactly linear in u and x: the rows need no probing
+// and no tightening. The path acceleration each allows at rest speed, for the report.
+void FeedLimits::grid_force_rows(Piece& piece) {
+  PathGrid& grid = piece.grid;
+  const kinematics::CableTensions& robot = *tension_->robot();
+  const double mass = 1e-3 * robot.effector_mass_kg();  // N per mm/s^2
+  const Eigen::Vector3d rest_force = robot.cable_force_N(Eigen::Vector3d::Zero());
+  const double tool = machine_.cartesian().max_acceleration_mm_per_s2;
+  const int n = grid.intervals, per_point = grid.rows_per_point;
+  grid.exact_tension_rows = true;
+  kinematics::CableForcePolytope polytope;
+  const auto finite = [](double value) { return std::clamp(value, -1e300, 1e300); };
+  for (int k = 0; k <= n; ++k) {
+    const std::size_t at = static_cast<std::size_t>(k);
+    const geometry::Pose pose =
+        geometry::Pose::from_vector(piece.segment.at(static_cast<double>(k) / n));
+    if (!robot.force_polytope(pose, polytope) || polytope.count > per_point) {
+      leaves_reach(piece.segment);
+    }
+    TensionRow* rows = &grid.tension_rows[at * static_cast<std::size_t>(per_point)];
+    std::array<double, 2> allowed = {tool, tool};
+    std::array<int, 2> bound_by = {-1, -1};
+    for (int f = 0; f < per_point; ++f) {
+      if (f >= polytope.count) {
+        rows[f] = TensionRow{0.0, 0.0, 0.0, -1e300, 1e300};
+        continue;
+      }
+      const kinematics::ForceFacet& facet = polytope.facets[static_cast<std::size_t>(f)];
+      TensionRow& row = rows[f];
+      row = TensionRow{facet.normal.dot(rest_force), mass * facet.normal.dot(grid.tool_rate[at]),
+                       mass * facet.normal.dot(grid.tool_bend[at]), finite(facet.low_N),
+                       finite(facet.high_N)};
+      // A pose the cables do not hold at rest: inverse kinematics refuses it (beyond its 1e-9
+      // of the tension scale), so only a pose on the border, past a facet by rounding, gets
+      // here; its row then allows rest and no acceleration outwards, as the plotter's does.
+      const double rounding = 1e-8 * (1.0 + std::abs(row.rest_N));
+      if (row.rest_N < row.low_N - rounding || row.rest_N > row.high_N + rounding) {
+        leaves_reach(piece.segment);
+      }
+      row.low_N = std::min(row.low_N, row.rest_N);
+      row.high_N = std::max(row.high_N, row.rest_N);
+      for (std::size_t side = 0; side < 2; ++side) {  // u < 0, u > 0
+        const double slope = side == 0 ? -row.along : row.along;
+        if (slope == 0.0) continue;
+        const bool high = slope > 0.0;
+        const double most =
+            std::max(0.0, (high ? row.high_N - row.rest_N : row.low_N - row.rest_N) / slope);
+        if (most < allowed[side]) {
+          allowed[side] = most;
+          bound_by[side] = 2 * f + (high ? 1 : 0);
+        }
+      }
+    }
+    grid.tangential_range[at] = {-allowed[0], allowed[1]};
+    grid.tangential_row[at] = bound_by;
+  }
+}
+
+// The cable a tension row names for the report: the plotter's rows are each cable's lowest and
+// highest tension; n cables', a facet's side (2 facet + high) at `point`.
+TensionExcess FeedLimits::row_cable(const Piece& piece, int point, int row) const {
+  if (tension_->robot() != nullptr) {
+    const geometry::Vector6d pose =
+        piece.segment.at(static_cast<double>(point) / piece.grid.intervals);
+    return tension_->on_facet(pose, row / 2, row % 2 == 1);
+  }
+  TensionExcess excess;
+  excess.cable = row / 2;
+  excess.slack = row % 2 == 0;
+  return excess;
+}
+
 // The report's entries for a piece planned on its grid: the slowest cruise any limit alone
 // allows along it, when a joint or a cable sets it below the programmed feed and below what the
 // tool's own acceleration allows on its curve; and the least acceleration along the path the
 // cables allow at rest speed, when it is below the tool's.
 void FeedLimits::report_grid_limits(const Piece& piece) {
-  int tension_row = -1;
-  const JointFeedLimit slowest = slowest_cruise(piece, tension_row);
+  int tension_row = -1, tension_point = 0;
+  const JointFeedLimit slowest = slowest_cruise(piece, tension_row, tension_point);
   if (tension_row >= 0) {
-    FeedLimit limit =
-        feed_limit(piece, tension_row / 2, slowest.speed_mm_per_s, LimitCause::tension);
-    limit.slack = tension_row % 2 == 0;
+    const TensionExcess cable = row_cable(piece, tension_point, tension_row);
+    FeedLimit limit = feed_limit(piece, cable.cable, slowest.speed_mm_per_s, LimitCause::tension);
+    limit.slack = cable.slack;
     report_.feed_limits.push_back(limit);
   } else if (slowest.joint >= 0) {
     report_joint_limit(piece, slowest, kGridLimitShare, kGridLimitShare);
@@ -273,18 +351,20 @@ void FeedLimits::report_grid_limits(const Piece& piece) {
   const PathGrid& grid = piece.grid;
   const double tool = machine_.cartesian().max_acceleration_mm_per_s2;
   double least = tool;
-  int row = -1;
+  int row = -1, point = 0;
   for (std::size_t k = 0; k < grid.tangential_range.size(); ++k) {
     for (std::size_t side = 0; side < 2; ++side) {
       const double allowed = std::abs(grid.tangential_range[k][side]);
       if (grid.tangential_row[k][side] >= 0 && allowed < least) {
         least = allowed;
         row = grid.tangential_row[k][side];
+        point = static_cast<int>(k);
       }
     }
   }
   if (row >= 0) {
-    report_.tension_limits.push_back({piece.segment.line, row / 2, row % 2 == 0, tool, least});
+    const TensionExcess cable = row_cable(piece, point, row);
+    report_.tension_limits.push_back({piece.segment.line, cable.cable, cable.slack, tool, least});
   }
 }
 
@@ -292,7 +372,8 @@ void FeedLimits::report_grid_limits(const Piece& piece) {
 // tool's v^2/r, each joint's velocity share / |q'| and bend sqrt(share amax / |q''|), each
 // cable's tension across a curve. The joint that sets it, or the tension row in `tension_row`
 // (else -1); neither when the feed or the tool's own acceleration does.
-JointFeedLimit FeedLimits::slowest_cruise(const Piece& piece, int& tension_row) const {
+JointFeedLimit FeedLimits::slowest_cruise(const Piece& piece, int& tension_row,
+                                          int& tension_point) const {
   const PathGrid& grid = piece.grid;
   JointFeedLimit slowest;
   slowest.speed_mm_per_s = piece.max_speed;
@@ -317,14 +398,16 @@ JointFeedLimit FeedLimits::slowest_cruise(const Piece& piece, int& tension_row) 
       tension_row = -1;
     }
     const TensionRow* rows = grid.tensions(k);
-    for (int r = 0; rows != nullptr && r < kTensionRowsPerPoint; ++r) {
+    for (int r = 0; rows != nullptr && r < grid.rows_per_point; ++r) {
       const TensionRow& row = rows[r];
       const double room = row.across > 0.0 ? row.high_N - row.rest_N : row.low_N - row.rest_N;
       if (row.across != 0.0 &&
           room / row.across < slowest.speed_mm_per_s * slowest.speed_mm_per_s) {
         slowest.speed_mm_per_s = std::sqrt(std::max(0.0, room / row.across));
         slowest.joint = -1;
-        tension_row = r;
+        // n cables' rows are two-sided: the side that bound (row_cable).
+        tension_row = grid.exact_tension_rows ? 2 * r + (row.across > 0.0 ? 1 : 0) : r;
+        tension_point = k;
       }
     }
   }

@@ -25,8 +25,12 @@ struct TensionRow {
   double low_N = 0.0, high_N = 0.0;
 };
 
-// Two rows per cable: its lowest and its highest tension.
+// The plotter's rows: two per cable, its lowest and its highest tension. n cables (a cable_robot)
+// have a row per facet pair of the forces they can exert (cable_force_polytope.hpp): the force
+// along the facet's normal, exactly linear in the acceleration, within the facet's two bounds.
 inline constexpr int kTensionRowsPerPoint = 4;
+inline constexpr int kMaxTensionRowsPerPoint =
+    kinematics::kMaxJoints * (kinematics::kMaxJoints - 1) / 2;
 
 struct PathGrid {
   bool ready = false;  // built for the piece's segment as it is now
@@ -43,7 +47,10 @@ struct PathGrid {
   std::vector<Eigen::Vector3d> tool_rate, tool_bend;
   // Per point and joint: dq/ds (per mm), then d2q/ds2 (per mm^2); mm or rad as the joint.
   std::vector<double> joint_derivatives;
-  std::vector<TensionRow> tension_rows;  // kTensionRowsPerPoint per point, or none
+  std::vector<TensionRow> tension_rows;  // rows_per_point per point, or none
+  int rows_per_point = 0;
+  // The rows are exact (n cables' facets): no tangential range bound, nothing to tighten.
+  bool exact_tension_rows = false;
   // With tension rows: the path acceleration the tensions allow at each point at rest speed,
   // exactly (the rows are lines through the tensions, which bend at large accelerations), and
   // the row of the cable that sets each end (-1: the tool's acceleration does, not a cable).
@@ -66,14 +73,17 @@ struct PathGrid {
     return joint_derivatives[static_cast<std::size_t>((point * joint_count + joint) * 2 + 1)];
   }
   const TensionRow* tensions(int point) const {
-    return tension_rows.empty()
-               ? nullptr
-               : &tension_rows[static_cast<std::size_t>(point * kTensionRowsPerPoint)];
+    return tension_rows.empty() ? nullptr
+                                : &tension_rows[static_cast<std::size_t>(point * rows_per_point)];
   }
   double s_mm(int point) const { return point * step_mm; }
   double length_mm() const { return intervals * step_mm; }
 
-  void resize(int interval_count, int joints, bool with_tensions) {
+  // `tension_rows_per_point`: 0 without tension rows.
+  void resize(int interval_count, int joints, int tension_rows_per_point) {
+    const bool with_tensions = tension_rows_per_point > 0;
+    rows_per_point = tension_rows_per_point;
+    exact_tension_rows = false;
     intervals = interval_count;
     joint_count = joints;
     const std::size_t points = static_cast<std::size_t>(interval_count) + 1;
@@ -82,7 +92,7 @@ struct PathGrid {
     tool_rate.assign(points, Eigen::Vector3d::UnitX());
     tool_bend.assign(points, Eigen::Vector3d::Zero());
     joint_derivatives.assign(points * static_cast<std::size_t>(joints) * 2, 0.0);
-    tension_rows.assign(with_tensions ? points * kTensionRowsPerPoint : 0, TensionRow{});
+    tension_rows.assign(points * static_cast<std::size_t>(tension_rows_per_point), TensionRow{});
     tangential_range.assign(with_tensions ? points : 0, {0.0, 0.0});
     tangential_row.assign(with_tensions ? points : 0, {-1, -1});
     tangent_xy.assign(with_tensions ? points : 0, Eigen::Vector2d::Zero());

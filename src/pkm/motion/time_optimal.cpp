@@ -222,12 +222,13 @@ void IntervalLimits::add_point(const Piece& piece, int point, Reserved reserved,
     const bool turning =
         (entry && piece.entry_tension_reserve) || (exit && piece.exit_tension_reserve);
     const double share = turning ? kTensionMoveShare : 1.0;
-    for (int r = 0; r < kTensionRowsPerPoint; ++r) {
+    for (int r = 0; r < grid.rows_per_point; ++r) {
       const TensionRow& row = rows[r];
       bounds_[static_cast<std::size_t>(bound_count_++)] =
           LinearBound{row.along, row.across, share * (row.low_N - row.rest_N),
                       share * (row.high_N - row.rest_N)};
     }
+    if (grid.exact_tension_rows) return;
     const std::array<double, 2>& along = grid.tangential_range[static_cast<std::size_t>(point)];
     bounds_[static_cast<std::size_t>(bound_count_++)] =
         LinearBound{1.0, 0.0, share * along[0], share * along[1]};
@@ -349,7 +350,7 @@ std::array<double, 2> accelerations_at(const PathGrid& grid, int k) {
 // limit is moved by the difference (and a hair more). True when one moved.
 bool tighten_tensions(Piece& piece, const TensionLimit& tension) {
   PathGrid& grid = piece.grid;
-  if (grid.tension_rows.empty()) return false;
+  if (grid.tension_rows.empty() || grid.exact_tension_rows) return false;
   bool moved = false;
   for (int k = 0; k <= grid.intervals; ++k) {
     const std::size_t at = static_cast<std::size_t>(k);

@@ -30,8 +30,9 @@ struct AccelerationRange {
 };
 
 // A bound low <= along * u + across * x <= high.
+// No initializers: IntervalLimits keeps room for many and fills only the ones it uses.
 struct LinearBound {
-  double along = 0.0, across = 0.0, low = 0.0, high = 0.0;
+  double along, across, low, high;
 };
 
 // The limits on u over one interval of a grid. Each limit is a bound on the point's derivatives
@@ -61,8 +62,8 @@ class IntervalLimits {
   // on x alone into `miss`.
   void bound(double x, bool far, AccelerationRange& range, double& miss) const;
 
-  static constexpr int kMaxBounds = 2 * (kinematics::kMaxJoints + kTensionRowsPerPoint + 1);
-  std::array<LinearBound, kMaxBounds> bounds_{};
+  static constexpr int kMaxBounds = 2 * (kinematics::kMaxJoints + kMaxTensionRowsPerPoint + 1);
+  std::array<LinearBound, kMaxBounds> bounds_;  // the first bound_count_
   int bound_count_ = 0;
   double step_mm_ = 0.0;
   double acceleration_ = 0.0;  // the tool's, mm/s^2
