@@ -381,8 +381,8 @@
       text = 'cable tensions at rest here: no balance (a cable would have no direction)';
     }
     if (tensionRange) {
-      text += '; over the ' + drawing.frames.length + ' drawn moments ' +
-              tensionRange.lo.N.toFixed(2) + ' N (' + tensionRange.lo.cable + ') to ' +
+      text += '; over the ' + drawing.frames.length + ' drawn moments of the path: least ' +
+              tensionRange.lo.N.toFixed(2) + ' N (' + tensionRange.lo.cable + '), greatest ' +
               tensionRange.hi.N.toFixed(2) + ' N (' + tensionRange.hi.cable + ')';
     }
     readout.textContent = text;
