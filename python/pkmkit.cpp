@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -14,6 +15,7 @@
 #include "bind_common.hpp"
 #include "pkm/gcode/gcode_error.hpp"
 #include "pkm/machine/machine_parameters.hpp"
+#include "pkm/machine/pose_tensions.hpp"
 #include "pkm/motion/job_reach.hpp"
 #include "pkm/motion/planner.hpp"
 #include "pkm/post/joint_program.hpp"
@@ -219,6 +221,34 @@ py::tuple forward(const machine::Machine& machine, const py::object& joint_input
   return py::make_tuple(poses, status_array(codes));
 }
 
+// The cables' tensions at rest (N) at each pose of an (N, k) array, by the model's interface (the
+// distribution of an effector on more cables than coordinates, a plotter's balance):
+// (tensions (N, c), held (N,) of bool); a row with no balance is NaN and not held.
+py::tuple tensions(const machine::Machine& machine, const py::object& pose_input) {
+  if (!machine::lists_tensions(machine)) {
+    throw py::value_error(machine.name() +
+                          " has no cable tensions to list: no cables, or cables without an "
+                          "effector_mass or tension_limits");
+  }
+  const Array poses = batch_input(pose_input, "poses");
+  const std::vector<int> axes = controlled_axes(machine);
+  const std::size_t rows = checked_rows(poses, axes.size(), "poses (" + axes_text(axes) + ")");
+  const std::optional<machine::PoseTensions> at_home =
+      machine::pose_tensions(machine, machine.home());
+  const std::size_t cables = at_home ? at_home->names.size() : 0;
+  Array out({rows, cables});
+  py::array_t<bool> held(static_cast<py::ssize_t>(rows));
+  auto values = out.mutable_unchecked<2>();
+  auto held_out = held.mutable_unchecked<1>();
+  for (std::size_t row = 0; row < rows; ++row) {
+    const std::optional<machine::PoseTensions> t = machine::pose_tensions(
+        machine, pose_from_row(machine, axes, poses.data() + row * axes.size()));
+    held_out(row) = t && t->held;
+    for (std::size_t c = 0; c < cables; ++c) values(row, c) = t ? t->tension_N[c] : NAN;
+  }
+  return py::make_tuple(out, held);
+}
+
 // d joints / d pose at one pose, (n, k): joints in mm or deg per pose coordinate in mm or deg.
 Array jacobian(const machine::Machine& machine, const Array& pose) {
   const std::vector<int> axes = controlled_axes(machine);
@@ -363,6 +393,10 @@ void bind_machine(py::module_& module) {
   machine.def("forward", &forward, py::arg("joints"), py::arg("seed") = py::none(),
               "FK of an (N, n) joint array, each row seeded with the previous row's pose (home, "
               "or seed, first): (poses (N, k), status (N,) of str).");
+  machine.def("tensions", &tensions, py::arg("poses"),
+              "Cable tensions at rest (N) at an (N, k) pose array (mm, deg), cables in the "
+              "joints' order: (tensions (N, c), held (N,) of bool: tensions within the limits "
+              "hold the effector); ValueError for a machine without cable tensions.");
   machine.def("jacobian", &jacobian, py::arg("pose"),
               "d joints / d pose at one pose (k,): an (n, k) array in mm or deg per mm or deg.");
 }

@@ -327,6 +327,7 @@
     }
     if (f >= 0) drawSegments(g, project, drawing.frames[f].parts);
     window.pkmView.drawnMoment = f;
+    showTensions(f);
     // Marked moves as small red rings: many of them must not hide the path.
     g.strokeStyle = 'rgba(179, 38, 30, 0.8)';
     g.lineWidth = 1.2;
@@ -347,6 +348,46 @@
       g.fill();
     }
     if (!planar) drawAxes(g);
+  }
+
+  // A machine hung on cables: each cable's tension at rest at the drawn moment, and the least
+  // and greatest over the drawn moments (a sample of the path, said so).
+  var tensionRange = tensionExtremes();
+  function tensionExtremes() {
+    var cables = drawing.cables;
+    if (!cables) return null;
+    var lo = {N: Infinity}, hi = {N: -Infinity};
+    drawing.frames.forEach(function (frame) {
+      if (!frame.tensions) return;
+      frame.tensions.N.forEach(function (n, c) {
+        if (n < lo.N) lo = {N: n, cable: cables.names[c]};
+        if (n > hi.N) hi = {N: n, cable: cables.names[c]};
+      });
+    });
+    return isFinite(lo.N) ? {lo: lo, hi: hi} : null;
+  }
+  function showTensions(f) {
+    var readout = document.getElementById('tension-readout');
+    var cables = drawing.cables;
+    if (!cables || !readout) return;
+    var frame = f >= 0 ? drawing.frames[f] : null;
+    var text;
+    if (frame && frame.tensions) {
+      text = 'cable tensions at rest here: ' + frame.tensions.N.map(function (n, c) {
+        return cables.names[c] + ' ' + n.toFixed(2) + ' N';
+      }).join(', ') + ' (limits ' + cables.limits + ')';
+      if (!frame.tensions.held) text += ': no tensions within the limits hold the effector here';
+    } else {
+      text = 'cable tensions at rest here: no balance (a cable would have no direction)';
+    }
+    if (tensionRange) {
+      text += '; over the ' + drawing.frames.length + ' drawn moments of the path: least ' +
+              tensionRange.lo.N.toFixed(2) + ' N (' + tensionRange.lo.cable + '), greatest ' +
+              tensionRange.hi.N.toFixed(2) + ' N (' + tensionRange.hi.cable + ')';
+    }
+    readout.textContent = text;
+    readout.className = frame && frame.tensions && frame.tensions.held ? '' : 'refused';
+    window.pkmView.tensions = text;
   }
 
   // A small x y z cross in the corner, turned as the machine is.

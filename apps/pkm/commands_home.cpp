@@ -1,5 +1,6 @@
 // pkm home: the homing program of a machine with switches, or the set-position block for joint
-// readings measured by hand (docs/homing.md).
+// readings measured by hand, or for home's joints where the effector was put at home by hand
+// (a Hangprinter's or a Maslow's, without switches) (docs/homing.md).
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -17,6 +18,7 @@ struct HomeOptions {
   std::string output;
   std::string dialect = "linuxcnc";
   std::vector<double> measured;
+  bool at_home = false;
 };
 
 // "left 160.000 mm, right 160.000 mm"
@@ -64,7 +66,19 @@ void run_home(const HomeOptions& options) {
   std::string program;
   std::string summary;
   try {
-    if (options.measured.empty()) {
+    if (options.at_home) {
+      const post::MeasuredJoints at_home = post::joints_at_home(machine);
+      program = post::set_position_program(machine, dialect, at_home);
+      summary = "sets " +
+                readings_text(machine, post::measured_joint_indices(machine), at_home.joints) +
+                ", the joints at home " + machine.format_pose(at_home.pose);
+    } else if (options.measured.empty()) {
+      if (!machine.homing()) {
+        throw CommandError(machine.source() +
+                           ": the machine file has no [homing] table (docs/homing.md): without "
+                           "switches, put the effector at home and use --at-home, or measure "
+                           "the joints (--measured)");
+      }
       program = post::homing_program(machine, dialect);
       summary = homing_summary(machine, dialect);
     } else {
@@ -97,7 +111,11 @@ void register_home_commands(CLI::App& app) {
       ->add_option("--measured", options->measured,
                    "Joint readings measured by hand at rest, one per joint of the mechanism "
                    "(not pass-through joints such as a pen's Z), in the machine file's units")
-      ->check(number_in(-kMaxCoordinate, kMaxCoordinate));
+      ->check(number_in(-kMaxCoordinate, kMaxCoordinate))
+      ->excludes(command->add_flag(
+          "--at-home", options->at_home,
+          "The effector stands at home (put there by hand: a machine without switches, such as "
+          "a Hangprinter or a Maslow): set each joint to its value there"));
   command->callback([options] { run_home(*options); });
 }
 

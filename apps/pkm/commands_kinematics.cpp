@@ -10,6 +10,7 @@
 #include "app.hpp"
 #include "pkm/kinematics/hanging_cables.hpp"
 #include "pkm/kinematics/leg_limits.hpp"
+#include "pkm/machine/pose_tensions.hpp"
 #include "pkm/machine/tension_region.hpp"
 
 namespace pkm::app {
@@ -90,6 +91,66 @@ void add_cable_statics(const machine::Machine& machine, const geometry::Pose& po
                    {"tilt_deg", geometry::radians_to_degrees(statics->tilt_rad)}};
 }
 
+// An effector held by more cables than coordinates: each cable's tension at rest and its limits,
+// "tension A = 39.650 N (limits [0, 70] N)", and where no tensions within them hold it, which
+// cable would need what.
+void print_pose_tensions(const machine::PoseTensions& t, const char* indent = "") {
+  for (std::size_t c = 0; c < t.names.size(); ++c) {
+    std::printf("%stension %s = %.3f N (limits %s)\n", indent, t.names[c].c_str(),
+                t.tension_N[c] + 0.0, machine::cable_limits_text(t, c).c_str());
+  }
+  if (!t.held)
+    std::printf("%sno tensions within the limits hold it: %s\n", indent, t.refusal.c_str());
+}
+
+nlohmann::json pose_tensions_json(const machine::PoseTensions& t) {
+  nlohmann::json max = nlohmann::json::array();
+  for (const double value : t.max_N) {
+    max.push_back(std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr));
+  }
+  nlohmann::json out{{"names", t.names}, {"tension_N", t.tension_N},
+                     {"min_N", t.min_N}, {"max_N", max},
+                     {"held", t.held},   {"mass_kg", t.effector_mass_kg}};
+  if (!t.held) out["refusal"] = t.refusal;
+  return out;
+}
+
+// The N-cable tensions of a cable_tensions() model (the plotter's balance prints its own, with
+// the tension along each cable and the tilt).
+std::optional<machine::PoseTensions> distributed_tensions(const machine::Machine& machine,
+                                                          const geometry::Pose& pose) {
+  if (machine.kinematics().cable_tensions() == nullptr) return std::nullopt;
+  return machine::pose_tensions(machine, pose);
+}
+
+void print_tensions(const machine::Machine& machine, const geometry::Pose& pose) {
+  if (const auto t = distributed_tensions(machine, pose)) {
+    print_pose_tensions(*t);
+  } else {
+    print_cable_statics(machine, pose);
+  }
+}
+
+void add_tensions(const machine::Machine& machine, const geometry::Pose& pose,
+                  nlohmann::json& out) {
+  if (const auto t = distributed_tensions(machine, pose)) {
+    out["tensions"] = pose_tensions_json(*t);
+  } else {
+    add_cable_statics(machine, pose, out);
+  }
+}
+
+// IK's refusal; a tension refusal adds the tensions nearest to holding the effector, by name.
+std::string ik_refusal(const machine::Machine& machine, const geometry::Pose& pose,
+                       const kinematics::Status& status) {
+  std::string text = machine.explain(pose, status);
+  if (status.code != kinematics::StatusCode::tension) return text;
+  const std::optional<machine::PoseTensions> t = distributed_tensions(machine, pose);
+  if (!t || t->held) return text;
+  return text + "; the tensions nearest to holding it: " + machine::tensions_text(*t) +
+         " (limits " + machine::limits_text(*t) + ")";
+}
+
 void run_ik(const IkOptions& options) {
   const machine::Machine machine = load_machine_or_default(options.machine);
   const geometry::Pose pose = pose_from_arguments(machine, options.pose);
@@ -97,14 +158,14 @@ void run_ik(const IkOptions& options) {
   const kinematics::Status status = machine.inverse(pose, joints);
   if (!status.ok()) {
     throw CommandError("pose is not reachable on " + machine.name() + ": " +
-                       machine.explain(pose, status));
+                       ik_refusal(machine, pose, status));
   }
   if (options.json) {
     nlohmann::json values = nlohmann::json::array();
     for (int i = 0; i < joints.size(); ++i) values.push_back(machine.joint_to_file(i, joints[i]));
     nlohmann::json out{
         {"joints", values}, {"names", machine.joint_names()}, {"units", machine.length_unit()}};
-    add_cable_statics(machine, pose, out);
+    add_tensions(machine, pose, out);
     std::cout << out.dump() << "\n";
     return;
   }
@@ -112,7 +173,7 @@ void run_ik(const IkOptions& options) {
     std::printf("%s = %.6f %s\n", machine.joints()[i].name.c_str(),
                 machine.joint_to_file(i, joints[i]), machine.joint_file_unit(i));
   }
-  print_cable_statics(machine, pose);
+  print_tensions(machine, pose);
 }
 
 void run_fk(FkOptions options) {
@@ -143,26 +204,30 @@ void run_fk(FkOptions options) {
                          std::to_string(joint_count) + " joint values");
     }
   }
+  const geometry::Pose seed = pose;
   const kinematics::Status status = machine.forward(joints, pose);
   if (!status.ok()) {
     const bool limit = status.code == kinematics::StatusCode::joint_limit && status.joint >= 0;
+    const std::string why =
+        machine.kinematics().why_forward_refused(joints, seed, status, machine.joint_names());
     throw CommandError("no pose for these joints on " + machine.name() + ": " +
-                       (limit ? machine.explain_joint(status.joint, joints[status.joint])
-                              : machine.describe(status)));
+                       (limit         ? machine.explain_joint(status.joint, joints[status.joint])
+                        : why.empty() ? machine.describe(status)
+                                      : machine.describe(status) + ": " + why));
   }
   // Where the joints put the pen is not always where the machine may go: say so.
   kinematics::JointVector again;
   const kinematics::Status allowed = machine.inverse(pose, again);
   if (options.json) {
     nlohmann::json out{{"pose", pose_json(machine, pose)}, {"units", machine.length_unit()}};
-    add_cable_statics(machine, pose, out);
+    add_tensions(machine, pose, out);
     if (allowed.code == kinematics::StatusCode::tension)
       out["refused"] = machine.explain(pose, allowed);
     std::cout << out.dump() << "\n";
     return;
   }
   print_pose(machine, pose);
-  print_cable_statics(machine, pose);
+  print_tensions(machine, pose);
   if (allowed.code == kinematics::StatusCode::tension) {
     std::printf("note: IK refuses this pose: %s\n", machine.explain(pose, allowed).c_str());
   }
@@ -173,6 +238,8 @@ struct CheckSummary {
   std::vector<machine::AxisExtent> extents;
   double conditioning = 0.0;                       // relative_conditioning_at_home
   std::optional<machine::TensionRegion> tensions;  // a hanging effector's: tension_region
+  // An effector on more cables than coordinates: its tensions at rest at home.
+  std::optional<machine::PoseTensions> home_tensions;
 };
 
 // "x 0.000..2978.400 y -1200.000..0.000 mm" in the machine file's units.
@@ -311,6 +378,8 @@ nlohmann::json check_json(const machine::Machine& machine, const CheckSummary& s
           {"envelope", envelope},
           {"extent", extent},
           {"tensions", tension_region_json(machine, summary.tensions)},
+          {"home_tensions", summary.home_tensions ? pose_tensions_json(*summary.home_tensions)
+                                                  : nlohmann::json(nullptr)},
           {"leg_limits", leg_limits_json(machine)},
           {"parameters", parameters}};
 }
@@ -409,6 +478,12 @@ void print_check(const machine::Machine& machine, const CheckSummary& summary) {
         machine.axis_file_unit(e.axis), clipped ? "  (clipped by the envelope)" : "");
   }
   if (summary.tensions) print_tension_region(machine, *summary.tensions);
+  if (const std::optional<machine::PoseTensions>& t = summary.home_tensions) {
+    std::printf("  tensions at home at rest (%g kg effector, %s):\n", t->effector_mass_kg,
+                t->limited ? ("tension_limits " + machine::limits_text(*t)).c_str()
+                           : "no tension_limits: the least that hold it");
+    print_pose_tensions(*t, "    ");
+  }
   std::printf("  ok: machine file is valid\n");
 }
 
@@ -424,6 +499,7 @@ void run_check(const CheckOptions& options) {
   summary.extents = machine::reachable_extent(machine);
   summary.conditioning = machine::relative_conditioning_at_home(machine);
   summary.tensions = machine::tension_region(machine);
+  summary.home_tensions = distributed_tensions(machine, machine.home());
   if (options.json) {
     std::cout << check_json(machine, summary).dump(2) << "\n";
   } else {

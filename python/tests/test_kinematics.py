@@ -223,3 +223,65 @@ def test_contiguous_input_is_not_copied_other_input_is_with_a_warning(machines):
         np.testing.assert_allclose(joints, expected, atol=1e-4)
     with pytest.warns(pkmkit.CopyWarning, match="joints is not"):
         m.forward(np.asfortranarray(expected))
+
+
+# The N-cable robot (type = "cable_robot"): IK equals `pkm ik`, FK of a line read long refuses the
+# row, and Machine.tensions gives the tension distribution, checked by the balance it must satisfy
+# (sum of t_i u_i = m g straight up, u_i the unit vector to anchor i), independently of pkm.
+HANGPRINTER_ANCHORS = np.array([[0.0, -1610.98, -131.53], [1314.22, 1268.14, -121.28],
+                                [-1415.73, 707.61, -121.82], [0.0, 0.01, 2299.83]])
+
+
+def test_cable_robot_inverse_forward_and_tensions(machines, pkm_binary):
+    m = pkmkit.Machine.load(str(machines / "hangprinter-v4.toml"))
+    poses = np.array([[0.0, 0.0, 0.0], [-200.0, -200.0, 100.0], [150.0, 50.0, 300.0]])
+    joints, status = m.inverse(poses)
+    assert status.tolist() == ["ok"] * 3
+    # Each line's length is |anchor - tool| (the tie points are the tool point).
+    expected = np.linalg.norm(HANGPRINTER_ANCHORS[None, :, :] - poses[:, None, :], axis=2)
+    np.testing.assert_allclose(joints, expected, rtol=0, atol=1e-9)
+    for row, pose in enumerate(poses.tolist()):
+        assert joints[row].tolist() == pkm_ik(pkm_binary, machines / "hangprinter-v4.toml", pose)
+    back, status = m.forward(joints)
+    assert status.tolist() == ["ok"] * 3
+    np.testing.assert_allclose(back, poses, rtol=0, atol=1e-9)
+    # Line B read 5 mm long at home: no pose fits the four lines within misfit_tolerance.
+    misread = joints[:1].copy()
+    misread[0, 1] += 5.0
+    _, status = m.forward(misread)
+    assert status.tolist() == ["unreachable"]
+
+    tensions, held = m.tensions(poses)
+    assert tensions.shape == (3, 4) and held.tolist() == [True] * 3
+    # At home: the distribution nearest 35 N each (docs/cable-machines.md, "N cables").
+    np.testing.assert_allclose(tensions[0], [39.6545, 37.5787, 30.2545, 17.8454], atol=5e-5)
+    for pose, t in zip(poses, tensions):
+        towards = HANGPRINTER_ANCHORS - pose
+        units = towards / np.linalg.norm(towards, axis=1)[:, None]
+        np.testing.assert_allclose(units.T @ t, [0.0, 0.0, 1.0 * 9.80665], rtol=0, atol=1e-9)
+        assert (t >= 0.0).all() and (t <= 70.0).all()
+    # Near the ceiling anchor, 600 mm off its axis, the lower lines would have to push.
+    tensions, held = m.tensions(np.array([[600.0, 600.0, 1900.0]]))
+    assert held.tolist() == [False]
+    np.testing.assert_allclose(tensions[0, :3], [-4.176, -4.176, -3.071], atol=5e-4)
+
+
+def test_cable_robot_without_a_load_has_no_tensions(machines):
+    # A Maslow 4's sled lies on its sheet: no mass, no tension limits, every tension 0.
+    m = pkmkit.Machine.load(str(machines / "maslow4.toml"))
+    joints, status = m.inverse(np.array([[1461.9, 1033.073, 0.0]]))
+    assert status.tolist() == ["ok"]
+    np.testing.assert_allclose(joints[0, 0], 1661.593459, atol=1e-6)
+    with pytest.raises(ValueError, match="has no cable tensions to list"):
+        m.tensions(np.array([[1461.9, 1033.073, 0.0]]))
+
+
+def test_plotter_tensions_equal_pkm_ik(machines, pkm_binary):
+    # The two-cable plotter's balance through the same call: what `pkm ik --json` prints.
+    m = pkmkit.Machine.load(str(machines / "maslow-frame.toml"))
+    tensions, held = m.tensions(np.array([[1489.2, -1072.6, 5.0]]))
+    result = subprocess.run([pkm_binary, "ik", "-m", str(machines / "maslow-frame.toml"),
+                             "--json", "1489.2", "-1072.6", "5"],
+                            capture_output=True, text=True, check=True)
+    assert held.tolist() == [True]
+    assert tensions[0].tolist() == json.loads(result.stdout)["cables"]["tension_N"]

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """The HTML views in a real headless Chromium: every page of the example jobs (plan, post, verify
-on a hexapod, a cable plotter and a glide) loads with no console error and no network request,
+on a hexapod, a cable plotter, a glide and a Hangprinter) loads with no console error and no network request,
 its drawing and charts are not blank (pixel statistics of screenshots), the slider moves the drawn
-machine, and every number of its summary equals the JSON report's.
+machine, every number of its summary equals the JSON report's, and a machine hung on cables shows
+each cable's tension at the drawn moment (home's at the start).
 
 usage: test_views.py PKM SOURCE_DIR OUT_DIR [--screenshots DIR] [--workspace-page EXE]"""
 
@@ -71,6 +72,7 @@ def pages(pkm, source, out, workspace_page):
     plan("hektor", "hektor.toml", os.path.join(data, "hektor-job.ngc"))
     plan("triaglide", "triaglide.toml", os.path.join(out, "triaglide-square.ngc"))
     plan("plotter", "pen-plotter.toml", os.path.join(out, "plotter-square.ngc"))
+    plan("hangprinter", "hangprinter-v4.toml", os.path.join(out, "hangprinter-square.ngc"))
     post_and_verify("sphere-hexapod", "hexapod-bit.toml", os.path.join(jobs, "sphere.ngc"), "0.01")
     post_and_verify("hektor", "hektor.toml", os.path.join(data, "hektor-job.ngc"), "0.05")
     # pkm view of joint programs alone: the pen plotter's square (pen up and down), Hektor's job.
@@ -206,6 +208,7 @@ def check_page(browser, name, kind, html, report_path, screenshots):
         check_findings(browser, name, json.load(open(report_path)))
     if kind == "plan":
         check_speed_scale(browser, name, json.load(open(report_path)))
+    check_tension_readout(browser, name)
     if kind == "workspace":
         report_maps = json.load(open(report_path))["maps"]
         maps = browser.script("return document.querySelectorAll('.map canvas').length")
@@ -256,6 +259,26 @@ def check_findings(browser, name, report):
           f"{name}: the first finding is {labels[:1]}, not the worst ({worst})")
 
 
+def check_tension_readout(browser, name):
+    """A machine hung on cables: at the first drawn moment (home) the readout under the drawing
+    names each cable with home's tension (the page's data, as pkm ik prints it), and its limits."""
+    cables = browser.script("return window.pkmView.data.drawing.cables || null")
+    if not cables:
+        check(not browser.script("return document.getElementById('tension-readout').textContent"),
+              f"{name}: a tension readout on a machine without cable tensions")
+        return
+    browser.script("window.pkmView.setT(window.pkmView.data.drawing.t[0]);")
+    browser.script("return new Promise(function (r) { requestAnimationFrame(function () { r(); }); });")
+    text = browser.script("return document.getElementById('tension-readout').textContent")
+    expected = ("cable tensions at rest here: " +
+                ", ".join(f"{n} {t:.2f} N" for n, t in zip(cables["names"], cables["home_N"])) +
+                f" (limits {cables['limits']}); over the ")
+    check(text.startswith(expected), f"{name}: the tension readout reads {text!r}, not {expected!r}")
+    box = browser.script(
+        "return document.getElementById('tension-readout').getBoundingClientRect().toJSON()")
+    check(box["height"] > 0, f"{name}: the tension readout is not shown")
+
+
 def check_speed_scale(browser, name, report):
     """The speed's colour scale ends at most at the machine's fastest feed (a pen plotter's pen
     jumps are no tool speed)."""
@@ -292,6 +315,8 @@ def main():
         job.write(TRIAGLIDE_JOB)
     with open(os.path.join(out, "plotter-square.ngc"), "w") as job:
         job.write(PLOTTER_JOB)
+    with open(os.path.join(out, "hangprinter-square.ngc"), "w") as job:
+        job.write(HANGPRINTER_JOB)
     made = pages(pkm, source, out, arguments.workspace_page)
     browser = Browser()
     try:
@@ -333,6 +358,16 @@ G1 X700
 G1 Y-650
 G0 Z5
 G0 X750 Y-700
+M2
+"""
+
+# A 400 mm square 100 mm above the Hangprinter's origin (its home), reached from home.
+HANGPRINTER_JOB = """G21 G90
+G0 X-200 Y-200 Z100
+G1 F6000 X200
+G1 Y200
+G1 X-200
+G1 Y-200
 M2
 """
 

@@ -347,6 +347,13 @@ Status CableRobotKinematics::forward(const JointVector& joints, geometry::Pose& 
   return solved.status;
 }
 
+std::string CableRobotKinematics::why_forward_refused(
+    const JointVector& joints, const geometry::Pose& seed, const Status& status,
+    std::span<const std::string> joint_names) const {
+  if (status.code != StatusCode::unreachable) return {};
+  return explain_misfit(fit(joints, seed), joint_names);
+}
+
 std::string CableRobotKinematics::explain_misfit(const CableFit& fit,
                                                  std::span<const std::string> joint_names) const {
   if (!fit.status.ok() || fit.worst_mm <= geometry_.misfit_tolerance_mm) return {};

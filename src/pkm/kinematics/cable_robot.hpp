@@ -104,6 +104,10 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch, pu
   Status forward(const JointVector& joints, geometry::Pose& pose_inout) const override;
   Status jacobian(const geometry::Pose& pose, JointJacobian& d_joints_d_pose) const override;
   std::string why_refused(const geometry::Pose& pose, const Status& status) const override;
+  // A refused forward(): explain_misfit() of the fit from `seed`.
+  std::string why_forward_refused(const JointVector& joints, const geometry::Pose& seed,
+                                  const Status& status,
+                                  std::span<const std::string> joint_names) const override;
 
   // Gauss-Newton over all cables from the seed, and from the trilateration's linear estimate where
   // the seed's fit misfits; the better of the two.

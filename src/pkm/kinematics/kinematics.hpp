@@ -185,6 +185,14 @@ class Kinematics {
   virtual std::string why_refused(const geometry::Pose& /*pose*/, const Status& /*status*/) const {
     return {};
   }
+  // Why forward() refused `joints` from `seed` with `status`, in the model's own terms (joints
+  // that fit no pose: which cables alone explain the misfit, by how much), its joints named by
+  // `joint_names` (or numbered); empty where the status says it all.
+  virtual std::string why_forward_refused(const JointVector& /*joints*/,
+                                          const geometry::Pose& /*seed*/, const Status& /*status*/,
+                                          std::span<const std::string> /*joint_names*/) const {
+    return {};
+  }
 
   // The machine's home pose, for models whose limits refer to it (the neutral axes of joints with
   // a max_joint_angle are the legs' directions at home). Machine's constructor calls it.

@@ -394,7 +394,8 @@ TensionDistribution distribute_tensions(const Eigen::Ref<const Eigen::MatrixXd>&
   return result;
 }
 
-std::string describe_refusal(const TensionDistribution& distribution) {
+std::string describe_refusal(const TensionDistribution& distribution,
+                             std::span<const std::string> names) {
   std::string text;
   if (distribution.outcome == TensionOutcome::unbalanced) {
     text = format(
@@ -404,9 +405,11 @@ std::string describe_refusal(const TensionDistribution& distribution) {
   }
   for (const CableViolation& violation : distribution.violations) {
     if (!text.empty()) text += "; ";
-    text += format(violation.below_min ? "cable %.0f would need %.3f N (its min %.3f N)"
-                                       : "cable %.0f would need %.3f N (its max %.3f N)",
-                   violation.cable + 1.0, violation.tension_N, violation.limit_N);
+    const std::size_t cable = static_cast<std::size_t>(violation.cable);
+    text += cable < names.size() ? names[cable] : "cable " + std::to_string(cable + 1);
+    text += format(violation.below_min ? " would need %.3f N (its min %.3f N)"
+                                       : " would need %.3f N (its max %.3f N)",
+                   violation.tension_N, violation.limit_N);
   }
   return text;
 }

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -79,7 +80,9 @@ TensionDistribution distribute_tensions(const Eigen::Ref<const Eigen::MatrixXd>&
                                         const TensionTargets& targets);
 
 // A sentence per violation for a user: "cable 4 would need -12.400 N (its min 5.000 N)", cables
-// numbered from 1; for `unbalanced`, the residual. Empty when held.
-std::string describe_refusal(const TensionDistribution& distribution);
+// numbered from 1, or named by `names` where given (one per cable: "D would need ..."); for
+// `unbalanced`, the residual. Empty when held.
+std::string describe_refusal(const TensionDistribution& distribution,
+                             std::span<const std::string> names = {});
 
 }  // namespace pkm::kinematics

@@ -252,6 +252,14 @@ std::string set_position_line(const machine::Machine& machine, Dialect dialect,
   return line;
 }
 
+MeasuredJoints joints_at_home(const machine::Machine& machine) {
+  MeasuredJoints at_home;
+  at_home.pose = machine.home();
+  machine.inverse(at_home.pose, at_home.joints);  // checked when the machine file was loaded
+  at_home.source = "at home";
+  return at_home;
+}
+
 std::string set_position_program(const machine::Machine& machine, Dialect dialect,
                                  const MeasuredJoints& measured) {
   check_home_dialect(machine, dialect, false);
@@ -261,8 +269,7 @@ std::string set_position_program(const machine::Machine& machine, Dialect dialec
   std::vector<std::pair<int, double>> targets;
   for (const int joint : measured_joint_indices(machine)) {
     targets.emplace_back(joint, measured.joints[joint]);
-    program.comment(
-        "measured by hand at rest: ", joint_text(machine, joint, measured.joints[joint]), "");
+    program.comment(measured.source + ": ", joint_text(machine, joint, measured.joints[joint]), "");
   }
   program.comment("pose ", machine.format_pose(measured.pose), "");
   program.preamble();

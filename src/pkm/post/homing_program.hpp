@@ -26,7 +26,13 @@ std::string homing_program(const machine::Machine& machine, Dialect dialect);
 struct MeasuredJoints {
   kinematics::JointVector joints;  // mm, rad
   geometry::Pose pose;
+  // Where the readings come from, for the program's comments.
+  std::string source = "measured by hand at rest";
 };
+
+// The joints at the machine's home, for a machine without switches whose effector is put there by
+// hand (a Hangprinter's lines set at the origin): its set-position block.
+MeasuredJoints joints_at_home(const machine::Machine& machine);
 
 // The joints of the mechanism, in order: those `pkm home --measured` takes (pass-through joints,
 // such as a pen's Z, follow a pose coordinate and are not measured).

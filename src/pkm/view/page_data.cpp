@@ -7,6 +7,7 @@
 #include <limits>
 #include <string_view>
 
+#include "pkm/machine/pose_tensions.hpp"
 #include "pkm/view/machine_drawing.hpp"
 #include "pkm/view/web_assets.hpp"
 
@@ -51,10 +52,20 @@ static void append_segments(json& flat, const std::vector<Segment>& segments) {
   }
 }
 
-// The machine: fixed parts once, moving parts at each moment (flat: part, x0 y0 z0, x1 y1 z1).
+// The cables' tensions at rest at a drawn moment: {"N": [..], "held": b}; null where the
+// cables have no balance there.
+static json frame_tensions(const machine::Machine& machine, const geometry::Pose& pose) {
+  const std::optional<machine::PoseTensions> tensions = machine::pose_tensions(machine, pose);
+  if (!tensions) return nullptr;
+  return {{"N", rounded_array(tensions->tension_N)}, {"held", tensions->held}};
+}
+
+// The machine: fixed parts once, moving parts at each moment (flat: part, x0 y0 z0, x1 y1 z1);
+// for a machine hung on cables, their names and limits and each moment's tensions at rest.
 json drawing_json(const machine::Machine& machine, const std::vector<Moment>& moments) {
   json fixed = json::array();
   append_segments(fixed, fixed_parts(machine));
+  const bool tensions = machine::lists_tensions(machine);
   json times = json::array(), frames = json::array();
   for (const Moment& moment : moments) {
     times.push_back(rounded(moment.t));
@@ -63,8 +74,16 @@ json drawing_json(const machine::Machine& machine, const std::vector<Moment>& mo
     json tool = json::array();
     for (int k = 0; k < 3; ++k) tool.push_back(rounded(moment.pose.position_mm[k]));
     frames.push_back({{"parts", flat}, {"tool", tool}});
+    if (tensions) frames.back()["tensions"] = frame_tensions(machine, moment.pose);
   }
-  return {{"fixed", fixed}, {"t", times}, {"frames", frames}};
+  json out = {{"fixed", fixed}, {"t", times}, {"frames", frames}};
+  if (const auto at_home =
+          tensions ? machine::pose_tensions(machine, machine.home()) : std::nullopt) {
+    out["cables"] = {{"names", at_home->names},
+                     {"limits", machine::limits_text(*at_home)},
+                     {"home_N", rounded_array(at_home->tension_N)}};
+  }
+  return out;
 }
 
 json path_json(const std::vector<PathPoint>& points, bool pen) {
