@@ -21,6 +21,51 @@ double held_tolerance_N(const WrenchVector& load_N, double max_N) {
   return 1e-9 * (1.0 + std::max(load_N.lpNorm<Eigen::Infinity>(), std::abs(max_N)));
 }
 
+// The dual side of the margin, over a cell where column i of the structure matrix A0 moves by at
+// most delta_i: for a unit wrench direction y and s_i = y . a_i, tensions in [lo + m, hi - m]
+// give y . (A t + w) >= y . w + lo P - hi N + m (P + N) (P, N the sums of the positive and
+// negative s_i's sizes), which is positive past m_y = (hi N - lo P - y . w) / (P + N): no
+// tensions there hold the effector, so m <= m_y (weak duality). Each s_i moves by at most delta_i
+// over the cell; the numerator falls as s_i grows (lo, hi >= 0), so it is largest at s_i -
+// delta_i. The least m_y over the candidates y: those normal to k - 1 cables (a dual vertex of
+// the margin's LP: the cables strictly within their limits at the optimum are orthogonal to y).
+double dual_margin_bound(const StructureMatrix& a0, const WrenchVector& load_N,
+                         const TensionVector& delta, double lo, double hi) {
+  const int k = static_cast<int>(a0.rows()), n = static_cast<int>(a0.cols());
+  const auto bound_for = [&](const Eigen::Vector3d& direction) {
+    const double length = direction.norm();
+    if (!(length > 1e-9)) return static_cast<double>(INFINITY);
+    const WrenchVector y = (direction / length).head(k);
+    double numerator = -y.dot(load_N), widest = 0.0, narrowest = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double s = y.dot(a0.col(i)), low_s = s - delta[i];
+      numerator += low_s > 0.0 ? -lo * low_s : -hi * low_s;
+      widest += std::abs(s) + delta[i];
+      narrowest += std::max(0.0, std::abs(s) - delta[i]);
+    }
+    if (numerator <= 0.0) return numerator / widest;
+    return narrowest > 0.0 ? numerator / narrowest : static_cast<double>(INFINITY);
+  };
+  const auto column = [&](int i) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    c.head(k) = a0.col(i);
+    return c;
+  };
+  double best = INFINITY;
+  for (int i = 0; i < n; ++i) {
+    if (k == 2) {
+      const Eigen::Vector3d across(-a0(1, i), a0(0, i), 0.0);
+      best = std::min({best, bound_for(across), bound_for(-across)});
+      continue;
+    }
+    for (int j = i + 1; j < n; ++j) {
+      const Eigen::Vector3d normal = column(i).cross(column(j));
+      best = std::min({best, bound_for(normal), bound_for(-normal)});
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 // A straight cable of length l from its tie point to its anchor: Hessian (I - u u^T) / l, u its
@@ -132,14 +177,38 @@ void CableRobotKinematics::reach_over_cell(const geometry::Vector6d& centre,
       directions_bounded ? wrench_margin(geometry::Pose::from_vector(centre)) : std::nullopt;
   if (!at_centre) return;
   const double sigma_cell = at_centre->smallest_singular - std::sqrt(delta_squares);
-  const double unbalanced = at_centre->residual_N + delta.dot(at_centre->tension_N.cwiseAbs());
-  if (sigma_cell > 0.0) wrench[0] = at_centre->margin_N - unbalanced / sigma_cell;
+  const WrenchVector load = wrench_N(Eigen::Vector3d::Zero());
+  if (sigma_cell > 0.0) {
+    const auto low_from = [&](const TensionVector& t, double residual_N) {
+      const double room = std::min((t.array() - geometry_.tension_min_N).minCoeff(),
+                                   (geometry_.tension_max_N - t.array()).minCoeff());
+      return room - (residual_N + delta.dot(t.cwiseAbs())) / sigma_cell;
+    };
+    wrench[0] = low_from(at_centre->tension_N, at_centre->residual_N);
+    // The widest tensions sit mid-range, and each N of them is unbalanced by the cables' turn:
+    // tensions nearest min + m / 2 that keep half the room may leave less unbalanced.
+    if (at_centre->margin_N > 0.0) {
+      const double half = 0.5 * at_centre->margin_N;
+      const double low = geometry_.tension_min_N + half, high = geometry_.tension_max_N - half;
+      const TensionDistribution lighter =
+          distribute_tensions(structure_matrix(geometry::Pose::from_vector(centre)), load,
+                              TensionTargets::uniform(cable_count(), low, high, low));
+      if (lighter.held()) {
+        wrench[0] =
+            std::max(wrench[0], low_from(lighter.tension_N, lighter.equilibrium_residual_N));
+      }
+    }
+  }
+  const double tolerance = held_tolerance_N(load, geometry_.tension_max_N);
   if (at_centre->smallest_singular > 0.0) {
     const double largest =
         std::max(std::abs(geometry_.tension_min_N), std::abs(geometry_.tension_max_N));
-    wrench[1] = at_centre->upper_N + largest * delta_sum / at_centre->smallest_singular +
-                held_tolerance_N(wrench_N(Eigen::Vector3d::Zero()), geometry_.tension_max_N);
+    wrench[1] = at_centre->upper_N + largest * delta_sum / at_centre->smallest_singular + tolerance;
   }
+  // The dual bound: valid with or without the centre's singular value.
+  const double dual = dual_margin_bound(structure_matrix(geometry::Pose::from_vector(centre)), load,
+                                        delta, geometry_.tension_min_N, geometry_.tension_max_N);
+  wrench[1] = std::min(wrench[1], dual + 2.0 * tolerance);
 }
 
 ReachMargin CableRobotKinematics::reach_margin(int index) const {
