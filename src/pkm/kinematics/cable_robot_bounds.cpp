@@ -66,6 +66,52 @@ double dual_margin_bound(const StructureMatrix& a0, const WrenchVector& load_N,
   return best;
 }
 
+// The wrench-feasibility margin's [low, high] over a cell whose structure matrix's columns move
+// by at most `delta` (the argument above reach_over_cell). The dual bound first, which needs no
+// distribution: where it proves a cell refused, the low side is not needed (-infinity).
+std::array<double, 2> wrench_over_cell(const CableRobotKinematics& model,
+                                       const geometry::Vector6d& centre,
+                                       const TensionVector& delta) {
+  const CableRobotGeometry& g = model.geometry();
+  const geometry::Pose pose = geometry::Pose::from_vector(centre);
+  const StructureMatrix structure = model.structure_matrix(pose);
+  if (structure.size() == 0) return {-INFINITY, INFINITY};
+  const WrenchVector load = model.wrench_N(Eigen::Vector3d::Zero());
+  const double tolerance = held_tolerance_N(load, g.tension_max_N);
+  const double dual =
+      dual_margin_bound(structure, load, delta, g.tension_min_N, g.tension_max_N) + 2.0 * tolerance;
+  // At a single pose (no turn) the low side is the margin itself: computed, whatever the dual.
+  if (dual < 0.0 && delta.sum() > 0.0) return {-INFINITY, dual};
+  const std::optional<CableRobotKinematics::WrenchMargin> at_centre = model.wrench_margin(pose);
+  if (!at_centre) return {-INFINITY, dual};
+  std::array<double, 2> wrench{-INFINITY, dual};
+  const double sigma = at_centre->smallest_singular;
+  if (sigma > 0.0) {
+    const double largest = std::max(std::abs(g.tension_min_N), std::abs(g.tension_max_N));
+    wrench[1] = std::min(dual, at_centre->upper_N + largest * delta.sum() / sigma + tolerance);
+  }
+  const double sigma_cell = sigma - delta.norm();
+  if (!(sigma_cell > 0.0)) return wrench;
+  const auto low_from = [&](const TensionVector& t, double residual_N) {
+    const double room = std::min((t.array() - g.tension_min_N).minCoeff(),
+                                 (g.tension_max_N - t.array()).minCoeff());
+    return room - (residual_N + delta.dot(t.cwiseAbs())) / sigma_cell;
+  };
+  wrench[0] = low_from(at_centre->tension_N, at_centre->residual_N);
+  // The widest tensions sit mid-range, and each N of them is unbalanced by the cables' turn:
+  // tensions nearest min + m / 2 that keep half the room may leave less unbalanced.
+  if (wrench[0] <= 0.0 && at_centre->margin_N > 0.0) {
+    const double half = 0.5 * at_centre->margin_N;
+    const double low = g.tension_min_N + half, high = g.tension_max_N - half;
+    const TensionDistribution lighter = distribute_tensions(
+        structure, load, TensionTargets::uniform(model.cable_count(), low, high, low));
+    if (lighter.held()) {
+      wrench[0] = std::max(wrench[0], low_from(lighter.tension_N, lighter.equilibrium_residual_N));
+    }
+  }
+  return wrench;
+}
+
 }  // namespace
 
 // A straight cable of length l from its tie point to its anchor: Hessian (I - u u^T) / l, u its
@@ -149,7 +195,6 @@ void CableRobotKinematics::reach_over_cell(const geometry::Vector6d& centre,
                                            std::span<std::array<double, 2>> margins) const {
   const double r = position_radius_mm;
   const Eigen::Vector3d tool = tool_point(geometry::Pose::from_vector(centre));
-  double delta_sum = 0.0, delta_squares = 0.0;
   TensionVector delta(cable_count());
   bool directions_bounded = true;
   for (int i = 0; i < cable_count(); ++i) {
@@ -167,48 +212,11 @@ void CableRobotKinematics::reach_over_cell(const geometry::Vector6d& centre,
         clearance - r > 0.0 && tie_point(i, tool, tie) ? (cable.anchor_mm - tie).norm() : 0.0;
     directions_bounded = directions_bounded && length > r;
     delta[i] = length > r ? r / (length - r) : INFINITY;
-    delta_sum += delta[i];
-    delta_squares += delta[i] * delta[i];
   }
   if (!geometry_.tension_limited) return;
-  std::array<double, 2>& wrench = margins[static_cast<std::size_t>(cable_count())];
-  wrench = {-INFINITY, INFINITY};
-  const std::optional<WrenchMargin> at_centre =
-      directions_bounded ? wrench_margin(geometry::Pose::from_vector(centre)) : std::nullopt;
-  if (!at_centre) return;
-  const double sigma_cell = at_centre->smallest_singular - std::sqrt(delta_squares);
-  const WrenchVector load = wrench_N(Eigen::Vector3d::Zero());
-  if (sigma_cell > 0.0) {
-    const auto low_from = [&](const TensionVector& t, double residual_N) {
-      const double room = std::min((t.array() - geometry_.tension_min_N).minCoeff(),
-                                   (geometry_.tension_max_N - t.array()).minCoeff());
-      return room - (residual_N + delta.dot(t.cwiseAbs())) / sigma_cell;
-    };
-    wrench[0] = low_from(at_centre->tension_N, at_centre->residual_N);
-    // The widest tensions sit mid-range, and each N of them is unbalanced by the cables' turn:
-    // tensions nearest min + m / 2 that keep half the room may leave less unbalanced.
-    if (at_centre->margin_N > 0.0) {
-      const double half = 0.5 * at_centre->margin_N;
-      const double low = geometry_.tension_min_N + half, high = geometry_.tension_max_N - half;
-      const TensionDistribution lighter =
-          distribute_tensions(structure_matrix(geometry::Pose::from_vector(centre)), load,
-                              TensionTargets::uniform(cable_count(), low, high, low));
-      if (lighter.held()) {
-        wrench[0] =
-            std::max(wrench[0], low_from(lighter.tension_N, lighter.equilibrium_residual_N));
-      }
-    }
-  }
-  const double tolerance = held_tolerance_N(load, geometry_.tension_max_N);
-  if (at_centre->smallest_singular > 0.0) {
-    const double largest =
-        std::max(std::abs(geometry_.tension_min_N), std::abs(geometry_.tension_max_N));
-    wrench[1] = at_centre->upper_N + largest * delta_sum / at_centre->smallest_singular + tolerance;
-  }
-  // The dual bound: valid with or without the centre's singular value.
-  const double dual = dual_margin_bound(structure_matrix(geometry::Pose::from_vector(centre)), load,
-                                        delta, geometry_.tension_min_N, geometry_.tension_max_N);
-  wrench[1] = std::min(wrench[1], dual + 2.0 * tolerance);
+  margins[static_cast<std::size_t>(cable_count())] =
+      directions_bounded ? wrench_over_cell(*this, centre, delta)
+                         : std::array<double, 2>{-INFINITY, INFINITY};
 }
 
 ReachMargin CableRobotKinematics::reach_margin(int index) const {
