@@ -51,16 +51,33 @@ double dual_margin_bound(const StructureMatrix& a0, const WrenchVector& load_N,
     c.head(k) = a0.col(i);
     return c;
   };
+  // Each candidate also tilted towards or away from the cables it is normal to, by a few times
+  // their turn: a cable with s_i = 0 costs max * delta_i, one with s_i >= delta_i costs min's.
   double best = INFINITY;
+  const auto try_tilted = [&](const Eigen::Vector3d& unit_normal, int i, int j) {
+    const double turn = std::max(delta[i], j >= 0 ? delta[j] : 0.0);
+    for (const double sign : {1.0, -1.0}) {
+      const Eigen::Vector3d y = sign * unit_normal;
+      best = std::min(best, bound_for(y));
+      if (!std::isfinite(turn)) continue;
+      for (const double scale : {1.5, 3.0}) {
+        for (int tilt = 0; tilt < (j >= 0 ? 4 : 2); ++tilt) {
+          Eigen::Vector3d tilted = y + (tilt & 1 ? -1.0 : 1.0) * scale * turn * column(i);
+          if (j >= 0) tilted += (tilt & 2 ? -1.0 : 1.0) * scale * turn * column(j);
+          best = std::min(best, bound_for(tilted));
+        }
+      }
+    }
+  };
   for (int i = 0; i < n; ++i) {
     if (k == 2) {
       const Eigen::Vector3d across(-a0(1, i), a0(0, i), 0.0);
-      best = std::min({best, bound_for(across), bound_for(-across)});
+      if (across.norm() > 1e-9) try_tilted(across.normalized(), i, -1);
       continue;
     }
     for (int j = i + 1; j < n; ++j) {
       const Eigen::Vector3d normal = column(i).cross(column(j));
-      best = std::min({best, bound_for(normal), bound_for(-normal)});
+      if (normal.norm() > 1e-9) try_tilted(normal.normalized(), i, j);
     }
   }
   return best;
