@@ -5,7 +5,9 @@
 // joint per cable: its straight length from the anchor to the point where it is tied on the
 // effector, plus an offset. With more cables than coordinates, forward kinematics is a
 // least-squares fit over all cables, and joints that fit no pose (a slack or mismeasured cable) are
-// refused with the misfit (docs/kinematics.md, "Cable robot").
+// refused with the misfit (docs/kinematics.md, "Cable robot"). Its derivative bounds and reach
+// over a cell, the wrench-feasibility margin among them, are cable_robot_bounds.cpp's
+// (docs/cable-machines.md, "The wrench-feasible workspace").
 #pragma once
 
 #include <Eigen/Core>
@@ -181,10 +183,12 @@ class CableRobotKinematics final : public Kinematics,
   // The wrench-feasibility margin at one pose (N) and the tensions that keep it; none where a
   // cable has no direction or the cables do not span the coordinates.
   struct WrenchMargin {
-    double margin_N = 0.0;    // the tensions' least distance from a limit (< 0: past one)
-    double upper_N = 0.0;     // no tensions holding the effector keep further from the limits
-    TensionVector tension_N;  // holds the effector, within equilibrium_residual_N
-    double residual_N = 0.0;  // |A t + w|
+    double margin_N = 0.0;  // tension_N's least distance from a limit (< 0: past one)
+    // No tensions holding the effector keep further from the limits (margin_N plus the
+    // distribution's tolerance).
+    double upper_N = 0.0;
+    TensionVector tension_N;         // holds the effector, within residual_N
+    double residual_N = 0.0;         // |A t + w|
     double smallest_singular = 0.0;  // of the structure matrix
   };
   std::optional<WrenchMargin> wrench_margin(const geometry::Pose& pose) const;
