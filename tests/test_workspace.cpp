@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "pkm/kinematics/cable_tensions.hpp"
 #include "pkm/kinematics/hexapod.hpp"
 #include "pkm/workspace/pose_constraints.hpp"
 #include "pkm/workspace/workspace.hpp"
@@ -397,9 +398,11 @@ TEST_P(WorkspaceOfEveryExample, VolumeAgreesWithMonteCarlo) {
       shortest = std::min(shortest, search.box.max()[axis] - search.box.min()[axis]);
     }
   }
-  // Models whose inverse solves a balance are slow (and sampled): coarser cells, fewer Monte
-  // Carlo samples, a wider statistical error.
-  bool slow = false;
+  // Models whose inverse solves a balance are slow (sampled, or a cable robot's tensions, whose
+  // bound solves it at each cell): coarser cells, fewer Monte Carlo samples, a wider
+  // statistical error.
+  const kinematics::CableTensions* tensions = machine.kinematics().cable_tensions();
+  bool slow = tensions != nullptr && tensions->tension_limited();
   for (const auto& constraint : machine_constraints(machine)) slow = slow || !constraint->proven();
   // A thin axis (a Maslow's 60 mm of Z) needs a few cells across.
   const double resolution = std::min(longest / (slow ? 100.0 : 160.0), shortest / 4.0);

@@ -8,6 +8,8 @@
 #include "app.hpp"
 #include "pkm/certify/job_check.hpp"
 #include "pkm/gcode/gcode_error.hpp"
+#include "pkm/kinematics/cable_tensions.hpp"
+#include "pkm/kinematics/derivative_bounds.hpp"
 #include "pkm/kinematics/hanging_cables.hpp"
 #include "pkm/motion/job_reach.hpp"
 #include "progress.hpp"
@@ -32,6 +34,8 @@ std::string_view quantity_name(certify::Quantity quantity) {
       return "pull";
     case certify::Quantity::tension:
       return "tension";
+    case certify::Quantity::reach:
+      return "reach";
     case certify::Quantity::none:
       break;
   }
@@ -47,6 +51,10 @@ std::string covered(const machine::Machine& machine) {
   if (const kinematics::HangingCables* cables = machine.kinematics().hanging_cables()) {
     text += ", both cables pulling";
     if (cables->tension_limited()) text += ", the cables' tension limits";
+  }
+  if (const kinematics::CableTensions* tensions = machine.kinematics().cable_tensions();
+      tensions != nullptr && tensions->tension_limited()) {
+    text += ", tensions within tension_limits holding the effector";
   }
   return text;
 }
@@ -64,6 +72,11 @@ double value_in_file_units(const machine::Machine& machine, const certify::Findi
       return geometry::radians_to_degrees(value);
     case certify::Quantity::clearance:
       return value / machine.mm_per_unit();
+    case certify::Quantity::reach: {
+      const kinematics::DerivativeBounds* own = machine.kinematics().derivative_bounds();
+      const bool newtons = own != nullptr && own->reach_margin(finding.index).newtons;
+      return newtons ? value : value / machine.mm_per_unit();
+    }
     default:
       return value;
   }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "pkm/bounds/assembly_mode.hpp"
 #include "pkm/bounds/cable_bound.hpp"
@@ -10,6 +11,7 @@
 #include "pkm/bounds/mechanism_rate.hpp"
 #include "pkm/certify/proof_wording.hpp"
 #include "pkm/kinematics/assembly_mode_bounds.hpp"
+#include "pkm/kinematics/derivative_bounds.hpp"
 #include "pkm/kinematics/hanging_cables.hpp"
 
 namespace pkm::certify {
@@ -107,6 +109,46 @@ std::optional<Unproven> unproven_mode_over_box(const kinematics::AssemblyModeBou
       modes.mode_over_box(home_mode, span.centre, half);
   if (!shortfall) return std::nullopt;
   return Unproven{Quantity::assembly_mode, shortfall->leg, shortfall->low, 0.0};
+}
+
+// The first of the model's reach margins (DerivativeBounds::reach_over_cell: a glide's struts
+// reaching their rails, a cable robot's cables clear of their anchors and its tensions holding
+// the effector) not proven positive over the ball about the piece's middle that holds it (every
+// pose of the piece is within half its length, `radius`, along the move).
+std::optional<Unproven> unproven_reach(const kinematics::Kinematics& model,
+                                       const geometry::Vector6d& centre, double radius,
+                                       double angle_scale_mm) {
+  const kinematics::DerivativeBounds* own = model.derivative_bounds();
+  const int count = own != nullptr ? own->reach_count() : 0;
+  if (count == 0) return std::nullopt;
+  std::array<std::array<double, 2>, kinematics::kMaxJoints + 1> margins;
+  own->reach_over_cell(centre, radius, radius, angle_scale_mm,
+                       std::span(margins.data(), static_cast<std::size_t>(count)));
+  for (int i = 0; i < count; ++i) {
+    const double low = margins[static_cast<std::size_t>(i)][0];
+    if (!(low > 0.0)) return Unproven{Quantity::reach, i, low, 0.0};
+  }
+  return std::nullopt;
+}
+
+// The model's reach margin measured in N whose refusal is `code` (a cable robot's tensions' room
+// within tension_limits), and its value at `pose` (its bound over a ball of radius 0); none
+// where the model has no such margin.
+std::optional<std::pair<int, double>> force_margin_at(const kinematics::Kinematics& model,
+                                                      const geometry::Vector6d& pose,
+                                                      kinematics::StatusCode code,
+                                                      double angle_scale_mm) {
+  const kinematics::DerivativeBounds* own = model.derivative_bounds();
+  const int count = own != nullptr ? own->reach_count() : 0;
+  for (int i = 0; i < count; ++i) {
+    const kinematics::ReachMargin margin = own->reach_margin(i);
+    if (!margin.newtons || margin.failure.code != code) continue;
+    std::array<std::array<double, 2>, kinematics::kMaxJoints + 1> margins;
+    own->reach_over_cell(pose, 0.0, 0.0, angle_scale_mm,
+                         std::span(margins.data(), static_cast<std::size_t>(count)));
+    return std::pair{i, margins[static_cast<std::size_t>(i)][0]};
+  }
+  return std::nullopt;
 }
 
 // The first controlled coordinate whose range over the piece is not proven within the envelope.
@@ -292,6 +334,9 @@ MoveProver::Outcome MoveProver::bound_piece(const motion::Segment& segment, doub
   if (const auto axis = unproven_envelope(machine_.cartesian(), axes_, span)) {
     return open(axis->quantity, axis->index, -1, axis->reach, axis->limit);
   }
+  if (const auto reach = unproven_reach(model, centre, radius, angle_scale_mm_)) {
+    return open(reach->quantity, reach->index, -1, reach->reach, reach->limit);
+  }
   if (cables_ != nullptr) {
     // Cables as built: their balance bounded over the box the piece lies in (no legs, no mode).
     if (const auto cable = unproven_cable(machine_, *cables_, span, !hessians)) {
@@ -456,6 +501,13 @@ std::optional<double> MoveProver::quantity_at(const Finding& finding,
       const bool min = finding.limit == cables_->tension_min_N();
       return min ? statics.lowest_N[cable] : statics.highest_N[cable];
     }
+    case Quantity::reach: {
+      // Only a force margin's refusal becomes a finding's quantity (refusal_at).
+      const auto margin = force_margin_at(machine_.kinematics(), pose.as_vector(),
+                                          kinematics::StatusCode::tension, angle_scale_mm_);
+      if (!margin || margin->first != finding.index) return std::nullopt;
+      return margin->second;
+    }
     case Quantity::joint_angle:
     case Quantity::clearance: {
       std::vector<kinematics::MechanismLimit> values;
@@ -502,6 +554,7 @@ double MoveProver::excess(const Finding& finding, double value) const {
       return value - finding.limit;
     case Quantity::clearance:
     case Quantity::assembly_mode:  // a hexapod's side of its base plane (mm), limit 0
+    case Quantity::reach:
       return finding.limit - value;
     case Quantity::tension:
       return cables_ != nullptr && finding.limit == cables_->tension_min_N()
@@ -575,6 +628,14 @@ Finding MoveProver::refusal_at(const motion::Segment& segment, double u,
              (status.code == kinematics::StatusCode::tension ||
               status.code == kinematics::StatusCode::unreachable)) {
     cable_refusal(pose, status.joint, finding);
+  } else if (status.code == kinematics::StatusCode::tension) {
+    // A cable robot's tensions: its wrench-feasibility margin (N), how far past 0.
+    if (const auto margin =
+            force_margin_at(machine_.kinematics(), finding.pose, status.code, angle_scale_mm_)) {
+      finding.quantity = Quantity::reach;
+      finding.index = margin->first;
+      finding.value = margin->second;
+    }
   }
   finding.text = at + machine_.explain(pose, status);
   finding.worst_u = u;

@@ -1,7 +1,8 @@
 // A proof that one programmed move keeps the machine within its limits at every pose along it,
 // not only at samples: bounds on each constrained quantity (joints, work envelope, joint angles,
-// leg clearances, assembly mode) over pieces of the move from its value and derivatives at the
-// piece's middle, the pieces halved where a bound still reaches a limit (docs/certified-check.md).
+// leg clearances, the model's reach margins, assembly mode) over pieces of the move from its value
+// and derivatives at the piece's middle, the pieces halved where a bound still reaches a limit
+// (docs/certified-check.md).
 #pragma once
 
 #include <optional>
@@ -29,8 +30,20 @@ std::string_view verdict_name(Verdict verdict);
 // `pull`: a cable plotter's pen between its anchors' verticals and off the anchors' line, where
 // both cables pull (as built, over pulleys or weighed: index 0, 1 that cable's tension's sign,
 // 2 the angle between the cables, 3 the balance itself). `tension`: a cable's tension (N,
-// index: the cable) within tension_limits.
-enum class Quantity { joint, envelope, joint_angle, clearance, assembly_mode, pull, tension, none };
+// index: the cable) within tension_limits. `reach`: one of the model's reach margins
+// (DerivativeBounds::reach_margin, index: the margin; a cable robot's cable clear of its anchor,
+// its tensions' room within tension_limits), limit 0.
+enum class Quantity {
+  joint,
+  envelope,
+  joint_angle,
+  clearance,
+  assembly_mode,
+  pull,
+  tension,
+  reach,
+  none
+};
 
 // Where a move fails or where its proof stops. Values in the machine's internal units (mm, rad).
 struct Finding {

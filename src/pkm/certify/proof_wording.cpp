@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "pkm/kinematics/derivative_bounds.hpp"
 #include "pkm/kinematics/leg_limits.hpp"
 
 namespace pkm::certify {
@@ -22,6 +23,12 @@ std::string as_built_pull_name(int index) {
 }
 
 }  // namespace
+
+kinematics::ReachMargin ProofWording::reach_margin(int index) const {
+  const kinematics::DerivativeBounds* own = machine_.kinematics().derivative_bounds();
+  if (own == nullptr) return {"the mechanism's reach", false, {}};
+  return own->reach_margin(index);
+}
 
 std::string ProofWording::quantity_name(Quantity quantity, int index, int other) const {
   const auto joint = [&](int i) {
@@ -51,6 +58,8 @@ std::string ProofWording::quantity_name(Quantity quantity, int index, int other)
                        : std::string("the angle between the cables");
     case Quantity::tension:
       return "the " + std::string(index == 0 ? "left" : "right") + " cable's tension";
+    case Quantity::reach:
+      return reach_margin(index).name;
     case Quantity::none:
       break;
   }
@@ -76,6 +85,11 @@ std::string ProofWording::value_text(Quantity quantity, int index, double value)
              machine_.length_unit();
     case Quantity::tension:
       return kinematics::formatted_number("%.3f N", value);
+    case Quantity::reach:
+      if (reach_margin(index).newtons) return kinematics::formatted_number("%.3f N", value);
+      return kinematics::formatted_number(units_are_inches ? "%.4f " : "%.3f ",
+                                          value / machine_.mm_per_unit()) +
+             machine_.length_unit();
     case Quantity::assembly_mode:
     case Quantity::pull:
     case Quantity::none:
@@ -123,6 +137,14 @@ std::string ProofWording::excess_text(const Finding& finding, double value, doub
       break;
     case Quantity::tension:
       unit = "N";
+      break;
+    case Quantity::reach:
+      if (reach_margin(finding.index).newtons) {
+        unit = "N";
+      } else {
+        file_units /= machine_.mm_per_unit();
+        unit = machine_.length_unit();
+      }
       break;
     default:
       unit.clear();

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "pkm/certify/move_proof.hpp"
+#include "pkm/kinematics/derivative_bounds.hpp"
 
 namespace pkm::certify {
 
@@ -28,6 +29,9 @@ class ProofWording {
   std::string undecided_text(const Finding& finding) const;
 
  private:
+  // The model's reach margin `index` (its name and unit).
+  kinematics::ReachMargin reach_margin(int index) const;
+
   const machine::Machine& machine_;
   const kinematics::HangingCables* cables_;
 };

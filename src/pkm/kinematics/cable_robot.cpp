@@ -14,8 +14,6 @@ namespace pkm::kinematics {
 
 namespace {
 
-// A cable shorter than this has no direction: its tie point is at its anchor.
-constexpr double kShortestCable_mm = 1e-9;
 // Gauss-Newton has converged once a step moves the tool less than this (mm): the steps shrink
 // quadratically where the joints fit a pose, so the pose is then good to the doubles' last digits.
 constexpr double kConvergedStep_mm = 1e-10;
@@ -125,7 +123,7 @@ Status CableRobotKinematics::lengths(const Eigen::Vector3d& tool_mm, CableVector
     if (!tie_point(i, tool_mm, tie)) return Status::failure(StatusCode::unreachable, i);
     const Eigen::Vector3d along = geometry_.cables[i].anchor_mm - tie;
     const double length = along.norm();
-    if (!(length >= kShortestCable_mm)) return Status::failure(StatusCode::singular, i);
+    if (!(length >= kShortestRobotCable_mm)) return Status::failure(StatusCode::singular, i);
     length_mm[i] = length;
     // d length / d tool = -(unit vector to the anchor), with or without a swivel arm: the arm's
     // end moves across the cable, which changes its length only to second order.

@@ -5,7 +5,9 @@
 // joint per cable: its straight length from the anchor to the point where it is tied on the
 // effector, plus an offset. With more cables than coordinates, forward kinematics is a
 // least-squares fit over all cables, and joints that fit no pose (a slack or mismeasured cable) are
-// refused with the misfit (docs/kinematics.md, "Cable robot").
+// refused with the misfit (docs/kinematics.md, "Cable robot"). Its derivative bounds and reach
+// over a cell, the wrench-feasibility margin among them, are cable_robot_bounds.cpp's
+// (docs/cable-machines.md, "The wrench-feasible workspace").
 #pragma once
 
 #include <Eigen/Core>
@@ -15,6 +17,7 @@
 #include <vector>
 
 #include "pkm/kinematics/cable_tensions.hpp"
+#include "pkm/kinematics/derivative_bounds.hpp"
 #include "pkm/kinematics/firmware_form.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "pkm/kinematics/mechanism_sketch.hpp"
@@ -23,6 +26,10 @@
 #include "pkm/kinematics/tension_distribution.hpp"
 
 namespace pkm::kinematics {
+
+// A cable shorter than this has no direction: its tie point is at its anchor (inverse() refuses
+// it as singular).
+inline constexpr double kShortestRobotCable_mm = 1e-9;
 
 // Per-cable values and d length / d tool position, on the stack (at most kMaxJoints cables).
 using CableVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxJoints, 1>;
@@ -81,7 +88,10 @@ struct CableFit {
   int culprit = -1;
 };
 
-class CableRobotKinematics final : public Kinematics, public MechanismSketch, public CableTensions {
+class CableRobotKinematics final : public Kinematics,
+                                   public MechanismSketch,
+                                   public CableTensions,
+                                   public DerivativeBounds {
  public:
   // Throws std::invalid_argument ("key: message", key a machine-file key) for a bad geometry.
   explicit CableRobotKinematics(CableRobotGeometry geometry, PassThroughAxes passthrough = {});
@@ -163,6 +173,33 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch, pu
   // Reach box (kinematics.hpp; cable_robot_reach.cpp).
   std::optional<Eigen::AlignedBox3d> tool_position_box(const JointVector& joint_min,
                                                        const JointVector& joint_max) const override;
+
+  // Derivative bounds and reach (cable_robot_bounds.cpp; docs/kinematics.md, "Cable robot").
+  const DerivativeBounds* derivative_bounds() const override { return this; }
+  // Each cable's Hessian (I - u u^T) / l, a swivel arm's dominated by it (its own length l).
+  std::optional<HessianBounds> own_hessian_bounds(const geometry::Vector6d& centre,
+                                                  double radius_mm, double angle_scale_mm,
+                                                  const Chord& chord) const override;
+  // Per cable its clearance (mm): the straight cable's length, a swivel arm's plan distance to
+  // its anchor less the arm; then, with tension_limits, the wrench-feasibility margin (N): the
+  // largest m for which tensions within [min + m, max - m] hold the effector at rest.
+  int reach_count() const override { return cable_count() + (geometry_.tension_limited ? 1 : 0); }
+  void reach_over_cell(const geometry::Vector6d& centre, double scaled_radius,
+                       double position_radius_mm, double angle_scale_mm,
+                       std::span<std::array<double, 2>> margins) const override;
+  ReachMargin reach_margin(int index) const override;
+  // The wrench-feasibility margin at one pose (N) and the tensions that keep it; none where a
+  // cable has no direction or the cables do not span the coordinates.
+  struct WrenchMargin {
+    double margin_N = 0.0;  // tension_N's least distance from a limit (< 0: past one)
+    // No tensions holding the effector keep further from the limits (margin_N plus the
+    // distribution's tolerance).
+    double upper_N = 0.0;
+    TensionVector tension_N;         // holds the effector, within residual_N
+    double residual_N = 0.0;         // |A t + w|
+    double smallest_singular = 0.0;  // of the structure matrix
+  };
+  std::optional<WrenchMargin> wrench_margin(const geometry::Pose& pose) const;
 
   const CableRobotGeometry& geometry() const { return geometry_; }
 

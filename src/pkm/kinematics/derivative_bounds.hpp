@@ -9,6 +9,7 @@
 #include <array>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "pkm/kinematics/kinematics.hpp"
@@ -56,6 +57,13 @@ double rotation_curvature(double b_norm_mm, double angle_scale_mm);
 double platform_point_change(double position, const Chord& chord, double b_norm_mm,
                              double angle_scale_mm);
 
+// One of DerivativeBounds' reach margins, for findings and the workspace's "limited by".
+struct ReachMargin {
+  std::string name;      // "strut 2's reach of its rail", "the tensions' margin within ..."
+  bool newtons = false;  // N (a force); else mm
+  Status failure;        // what inverse() says where the margin is negative
+};
+
 class DerivativeBounds {
  public:
   virtual ~DerivativeBounds() = default;
@@ -82,14 +90,21 @@ class DerivativeBounds {
                                          const JointVector& /*joints*/) const {
     return std::nullopt;
   }
-  // The edge of the mechanism's reach over a cell of poses (a glide's struts reaching their
-  // rails): reach_count() values, each [low, high] bounds on its margin (mm) over every pose
-  // within `scaled_radius` (angles weighing `angle_scale_mm`) and `position_radius_mm` of
-  // `centre`. None where the joint bounds and the assembly mode say it all.
+  // The edge of the mechanism's reach over a cell of poses, beyond its joints and assembly mode
+  // (a glide's struts reaching their rails, a cable robot's cables clear of their anchors and its
+  // tensions holding the effector): reach_count() values, each [low, high] bounds on its margin,
+  // in the margin's own unit (reach_margin()), over every pose within `scaled_radius` (angles
+  // weighing `angle_scale_mm`) and `position_radius_mm` of `centre`. A margin is >= 0 where
+  // inverse() does not refuse by it: low > 0 proves the cell keeps it, high < 0 that inverse()
+  // refuses every pose of it. None where the joint bounds and the assembly mode say it all. The
+  // workspace bounds cells with it, the certified check the ball about each piece of a move.
   virtual int reach_count() const { return 0; }
   virtual void reach_over_cell(const geometry::Vector6d& /*centre*/, double /*scaled_radius*/,
                                double /*position_radius_mm*/, double /*angle_scale_mm*/,
                                std::span<std::array<double, 2>> /*margins*/) const {}
+  // What reach margin `index` is: its name in a finding, its unit and inverse()'s refusal where
+  // it is negative. By default a length (mm) whose refusal is `unreachable` for joint `index`.
+  virtual ReachMargin reach_margin(int index) const;
   // True where inverse() refuses no pose of the controlled coordinates beyond the joint limits (a
   // linear model): a workspace needs nothing else proven.
   virtual bool refuses_only_joint_limits() const { return false; }

@@ -108,6 +108,7 @@ class GlideKinematics final : public Kinematics,
                        const HessianBounds& hessians, double radius, double scale) const override;
   std::optional<LegEnds> legs_at(const geometry::Pose& pose,
                                  const JointVector& joints) const override;
+  ReachMargin reach_margin(int index) const override;
   int reach_count() const override { return rail_count(); }
   void reach_over_cell(const geometry::Vector6d& centre, double scaled_radius,
                        double position_radius_mm, double angle_scale_mm,

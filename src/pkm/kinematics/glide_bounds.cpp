@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
 
 #include "pkm/kinematics/glide.hpp"
 
@@ -110,6 +111,11 @@ void GlideKinematics::reach_over_cell(const geometry::Vector6d& centre, double s
     const double change = rotating ? gain * scaled_radius : position_radius_mm;
     margins[i] = {rail.strut_mm - across - change, rail.strut_mm - across + change};
   }
+}
+
+ReachMargin GlideKinematics::reach_margin(int index) const {
+  return {"strut " + std::to_string(index + 1) + "'s reach of its rail (mm)", false,
+          Status::failure(StatusCode::unreachable, index)};
 }
 
 namespace {

@@ -114,22 +114,25 @@ class JointLimitConstraint final : public PoseConstraint {
   mutable kinematics::JointJacobian jacobian_;
 };
 
-// The mechanism reaches (a glide's struts their rails): the model's own bounds over the cell
-// (DerivativeBounds::reach_over_cell), in the scaled norm of its derivative bounds.
+// The mechanism reaches (a glide's struts their rails, a cable robot's cables clear of their
+// anchors and its tensions holding the effector): the model's own bounds over the cell
+// (DerivativeBounds::reach_over_cell, each margin in its own unit), in the scaled norm of its
+// derivative bounds.
 class ReachConstraint final : public PoseConstraint {
  public:
   ReachConstraint(const kinematics::Kinematics& model, const kinematics::DerivativeBounds& reach)
       : reach_(reach), scale_(bounds::pose_angle_scale_mm(model)) {}
   int count() const override { return reach_.reach_count(); }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
-    std::array<std::array<double, 2>, kinematics::kMaxJoints> values;
+    // A margin per joint at most, and a cable robot's tensions'.
+    std::array<std::array<double, 2>, kinematics::kMaxJoints + 1> values;
     const auto n = static_cast<std::size_t>(reach_.reach_count());
     reach_.reach_over_cell(cell.centre, scaled_radius(cell, scale_), position_radius(cell), scale_,
                            std::span(values.data(), n));
     for (std::size_t i = 0; i < n; ++i) margins[i] = {values[i][0], values[i][1]};
   }
   kinematics::Status failure(int index) const override {
-    return kinematics::Status::failure(kinematics::StatusCode::unreachable, index);
+    return reach_.reach_margin(index).failure;
   }
 
  private:
@@ -578,8 +581,8 @@ void add_hexapod_constraints(const machine::Machine& machine,
 }
 
 // What a model whose derivatives are bounded adds beyond its joints: its reach and assembly mode
-// over a cell where it bounds them (a glide), an ideal plotter's pull region, else (a rotary
-// delta) samples, unless the joint limits are all it refuses by (a matrix).
+// over a cell where it bounds them (a glide, a cable robot), an ideal plotter's pull region, else
+// (a rotary delta) samples, unless the joint limits are all it refuses by (a matrix).
 void add_reach_constraints(const machine::Machine& machine,
                            std::vector<std::unique_ptr<PoseConstraint>>& constraints) {
   const kinematics::Kinematics& model = machine.kinematics();
