@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -339,6 +340,57 @@ TEST(CableRobot, ForwardFromAFarSeedFindsTheJointsPose) {
   }
 }
 
+// Flex compensation (hangprinter-v4-flex.toml): forward kinematics inverts the unstretched
+// lengths, stretch and all, to 1e-9 mm over a grid of the workspace and from a far seed; the
+// stretch is D's alone at home (A B C at their 0 N minimum), and grows towards the frame's edge.
+TEST(CableRobot, FlexCompensationRoundTripsAndStretchesTheLines) {
+  const machine::Machine flex = example_machine("hangprinter-v4-flex.toml");
+  const machine::Machine straight = example_machine("hangprinter-v4.toml");
+  double worst = 0.0, most_stretch = 0.0;
+  int poses = 0;
+  for (double x = -900.0; x <= 900.0; x += 300.0) {
+    for (double y = -900.0; y <= 900.0; y += 300.0) {
+      for (double z = 0.0; z <= 1800.0; z += 300.0) {
+        const geometry::Pose pose = geometry::Pose::from_mm_deg(x, y, z);
+        JointVector joints, lengths;
+        if (!flex.inverse(pose, joints).ok()) continue;
+        ASSERT_TRUE(straight.inverse(pose, lengths).ok());
+        most_stretch = std::max(most_stretch, (lengths - joints).maxCoeff());
+        EXPECT_GE((lengths - joints).minCoeff(), 0.0);
+        geometry::Pose solved = flex.home();
+        solved.position_mm = {5000.0, -5000.0, 9000.0};
+        ASSERT_TRUE(flex.kinematics().forward(joints, solved).ok()) << x << " " << y << " " << z;
+        worst = std::max(worst, (solved.position_mm - pose.position_mm).norm());
+        ++poses;
+      }
+    }
+  }
+  std::printf("flex: %d poses, worst FK error %.3g mm, largest stretch %.4f mm\n", poses, worst,
+              most_stretch);
+  EXPECT_GT(poses, 90);
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_GT(most_stretch, 1.127);
+  JointVector home, lengths;
+  ASSERT_TRUE(flex.inverse(flex.home(), home).ok());
+  ASSERT_TRUE(straight.inverse(straight.home(), lengths).ok());
+  EXPECT_NEAR(lengths[3] - home[3], 9.81 / 1.001 * 2299.83 / 20000.0, 1e-6);
+  EXPECT_EQ(lengths[0] - home[0], 0.0);
+}
+
+TEST(CableRobot, FlexCompensationNeedsTensionLimits) {
+  std::string text = example_text("hangprinter-v4-flex.toml");
+  const std::string limits = "tension_limits = [0.0, 70.0]    # N (M666 I0.0, X70.0)\n";
+  text.erase(text.find(limits), limits.size());
+  try {
+    machine::parse_machine(text, "flex.toml");
+    ADD_FAILURE() << "flex without tension_limits";
+  } catch (const machine::MachineFileError& error) {
+    EXPECT_NE(std::string(error.what()).find("flex_compensation: needs tension_limits"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(CableRobot, RefusesAnAnchorWithinItsArmAndSaysWhy) {
   const machine::Machine m = example_machine("maslow4.toml");
   geometry::Pose pose = m.home();
@@ -411,7 +463,8 @@ TEST_P(CableRobotBadKey, NamesFileLineAndKey) {
 const std::string kFirstCable = "[[kinematics.cables]]           # A\n";
 const std::string kDCable =
     "[[kinematics.cables]]           # D\nanchor = [0.0, 0.01, 2299.83]\nattach = [0.0, 0.0, "
-    "0.0]\n";
+    "0.0]\nspool_radius = 75.192          # mm (M666 R)\nmechanical_advantage = 4        # M666 "
+    "U\n";
 const std::string kTwoBelts =
     "[[kinematics.cables]]           # top right\nanchor = [2924.3, 2066.5, 0.0]\n"
     "attach = [0.0, 0.0, 56.0]\nswivel_arm = 153.4\n\n"
