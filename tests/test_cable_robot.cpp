@@ -347,6 +347,7 @@ TEST(CableRobot, FlexCompensationRoundTripsAndStretchesTheLines) {
   const machine::Machine flex = example_machine("hangprinter-v4-flex.toml");
   const machine::Machine straight = example_machine("hangprinter-v4.toml");
   double worst = 0.0, most_stretch = 0.0;
+  Eigen::Vector3d where = Eigen::Vector3d::Zero();
   int poses = 0;
   for (double x = -900.0; x <= 900.0; x += 300.0) {
     for (double y = -900.0; y <= 900.0; y += 300.0) {
@@ -355,7 +356,10 @@ TEST(CableRobot, FlexCompensationRoundTripsAndStretchesTheLines) {
         JointVector joints, lengths;
         if (!flex.inverse(pose, joints).ok()) continue;
         ASSERT_TRUE(straight.inverse(pose, lengths).ok());
-        most_stretch = std::max(most_stretch, (lengths - joints).maxCoeff());
+        if ((lengths - joints).maxCoeff() > most_stretch) {
+          most_stretch = (lengths - joints).maxCoeff();
+          where = pose.position_mm;
+        }
         EXPECT_GE((lengths - joints).minCoeff(), 0.0);
         geometry::Pose solved = flex.home();
         solved.position_mm = {5000.0, -5000.0, 9000.0};
@@ -365,8 +369,8 @@ TEST(CableRobot, FlexCompensationRoundTripsAndStretchesTheLines) {
       }
     }
   }
-  std::printf("flex: %d poses, worst FK error %.3g mm, largest stretch %.4f mm\n", poses, worst,
-              most_stretch);
+  std::printf("flex: %d poses, worst FK error %.3g mm, largest stretch %.4f mm at %g %g %g\n",
+              poses, worst, most_stretch, where.x(), where.y(), where.z());
   EXPECT_GT(poses, 90);
   EXPECT_LT(worst, 1e-9);
   EXPECT_GT(most_stretch, 1.127);
@@ -473,51 +477,65 @@ const std::string kTwoBelts =
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, CableRobotBadKey,
-    ::testing::Values(BadKey{"three_cables_in_space",
-                             "hangprinter-v4.toml",
-                             {{kDCable, ""}, {kFirstCable, "[[kinematics.cables]] # <-\n"}},
-                             "kinematics.cables",
-                             "a spatial cable robot needs at least 4 cables"},
-                      BadKey{"two_belts_in_a_plane",
-                             "maslow4.toml",
-                             {{kTwoBelts, ""}, {"# top left\n", "# <-\n"}},
-                             "kinematics.cables",
-                             "a planar cable robot needs at least 3 cables"},
-                      BadKey{"anchor_not_a_number",
-                             "hangprinter-v4.toml",
-                             {{"anchor = [1314.22, 1268.14, -121.28]",
-                               "anchor = [1314.22, \"x\", -121.28] # <-"}},
-                             "kinematics.cables[2].anchor",
-                             "must be a number"},
-                      BadKey{"pulley_radius_not_yet",
-                             "hangprinter-v4.toml",
-                             {{"attach = [0.0, 0.0, 0.0]\n",
-                               "attach = [0.0, 0.0, 0.0]\npulley_radius = 10.0 # <-\n"}},
-                             "kinematics.cables[1].pulley_radius",
-                             "not yet"},
-                      BadKey{"negative_swivel_arm",
-                             "maslow4.toml",
-                             {{"swivel_arm = 153.4", "swivel_arm = -1.0 # <-"}},
-                             "kinematics.cables[1].swivel_arm",
-                             "must be a length of 0 or more"},
-                      BadKey{"follow_z_without_a_z_joint",
-                             "maslow4.toml",
-                             {{"passthrough = [\"z\"]\n", ""},
-                              {"cables_follow_z = true", "cables_follow_z = true # <-"},
-                              {"[[joints]]\nname = \"z\"", "[[no_joints]]\nname = \"z\""}},
-                             "kinematics.cables_follow_z",
-                             "needs the tool's z as a pass-through joint"},
-                      BadKey{
-                          "tension_limits_backwards",
-                          "hangprinter-v4.toml",
-                          {{"tension_limits = [0.0, 70.0]", "tension_limits = [70.0, 0.0] # <-"}},
-                          "kinematics.tension_limits",
-                          "0 <= min < max"},
-                      BadKey{"unknown_key",
-                             "hangprinter-v4.toml",
-                             {{"attach = [0.0, 0.0, 0.0]\n", "atach = [0.0, 0.0, 0.0] # <-\n"}},
-                             "kinematics.cables[1].atach",
-                             "unknown key"}),
+    ::testing::Values(
+        BadKey{"three_cables_in_space",
+               "hangprinter-v4.toml",
+               {{kDCable, ""}, {kFirstCable, "[[kinematics.cables]] # <-\n"}},
+               "kinematics.cables",
+               "a spatial cable robot needs at least 4 cables"},
+        BadKey{"half_a_strand",
+               "hangprinter-v4.toml",
+               {{"mechanical_advantage = 4        # M666 U", "mechanical_advantage = 2.5 # <-"}},
+               "kinematics.cables[4].mechanical_advantage",
+               "must be a whole number from 1 to 100000, got 2.5"},
+        BadKey{"shared_spool_key_without_a_radius",
+               "hangprinter-v4.toml",
+               {{"spool_radius = 75.192          # mm (M666 R)\nmechanical_advantage = 4        # "
+                 "M666 U\n",
+                 ""},
+                {"lines_per_spool = 1             # M666 O, for every cable",
+                 "lines_per_spool = 1 # <-"}},
+               "kinematics.lines_per_spool",
+               "cable 4 has no spool_radius"},
+        BadKey{"two_belts_in_a_plane",
+               "maslow4.toml",
+               {{kTwoBelts, ""}, {"# top left\n", "# <-\n"}},
+               "kinematics.cables",
+               "a planar cable robot needs at least 3 cables"},
+        BadKey{
+            "anchor_not_a_number",
+            "hangprinter-v4.toml",
+            {{"anchor = [1314.22, 1268.14, -121.28]", "anchor = [1314.22, \"x\", -121.28] # <-"}},
+            "kinematics.cables[2].anchor",
+            "must be a number"},
+        BadKey{"pulley_radius_not_yet",
+               "hangprinter-v4.toml",
+               {{"attach = [0.0, 0.0, 0.0]\n",
+                 "attach = [0.0, 0.0, 0.0]\npulley_radius = 10.0 # <-\n"}},
+               "kinematics.cables[1].pulley_radius",
+               "not yet"},
+        BadKey{"negative_swivel_arm",
+               "maslow4.toml",
+               {{"swivel_arm = 153.4", "swivel_arm = -1.0 # <-"}},
+               "kinematics.cables[1].swivel_arm",
+               "must be a length of 0 or more"},
+        BadKey{"follow_z_without_a_z_joint",
+               "maslow4.toml",
+               {{"passthrough = [\"z\"]\n", ""},
+                {"cables_follow_z = true", "cables_follow_z = true # <-"},
+                {"[[joints]]\nname = \"z\"", "[[no_joints]]\nname = \"z\""}},
+               "kinematics.cables_follow_z",
+               "needs the tool's z as a pass-through joint"},
+        BadKey{"tension_limits_backwards",
+               "hangprinter-v4.toml",
+               {{"tension_limits = [0.0, 70.0]", "tension_limits = [70.0, 0.0] # <-"}},
+               "kinematics.tension_limits",
+               "0 <= min < max"},
+        BadKey{"unknown_key",
+               "hangprinter-v4.toml",
+               {{"attach = [0.0, 0.0, 0.0]\n", "atach = [0.0, 0.0, 0.0] # <-\n"}},
+               "kinematics.cables[1].atach",
+               "unknown key"}),
     [](const auto& test_info) { return test_info.param.name; });
 
 }  // namespace

@@ -384,6 +384,27 @@ TEST(firmware_cable_robot, RrfImportsHangprintersOwnConfig) {
     EXPECT_NE(std::string(error.what()).find("flex.g:11: M666 F: 2 is RRF's Tikhonov"),
               std::string::npos)
         << error.what();
+  }  // Flex on with W S I X (its own lines) and no Y: imported, the guy wires RRF's 0, noted.
+  const machine::ImportedMachine flex = firmware::target("rrf").read(
+      config + "M666 W1.0 S20000.0 I0.0:0.0:0.0:0.0 X70.0:70.0:70.0:70.0\nM666 F1\n", "f1.g");
+  const machine::Machine flexed =
+      machine::parse_machine(machine::machine_file_text(flex, "f1.toml"), "f1.toml");
+  const auto& flex_robot =
+      dynamic_cast<const kinematics::CableRobotKinematics&>(flexed.kinematics());
+  EXPECT_TRUE(flex_robot.geometry().flex_compensation);
+  EXPECT_EQ(flex_robot.geometry().effector_mass_kg, 1.0);
+  EXPECT_EQ(flex_robot.geometry().tension_max_N, 70.0);
+  for (const auto& [extra, where] :
+       {std::pair<std::string, std::string>{"M666 R75:75:75\n",
+                                            "bad.g:11: M666 R: 4 values expected"},
+        {"M666 F1 I0:0:0:5\n", "bad.g:11: M666 I: pkmkit's tension_limits are the same"},
+        {"M666 F1 B1\n", "bad.g:11: M666 B: RRF's flex without gravity"}}) {
+    try {
+      firmware::target("rrf").read(config + extra, "bad.g");
+      ADD_FAILURE() << "imported " << extra;
+    } catch (const firmware::FirmwareFileError& error) {
+      EXPECT_NE(std::string(error.what()).find(where), std::string::npos) << error.what();
+    }
   }
 }
 
