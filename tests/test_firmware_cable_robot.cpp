@@ -334,6 +334,15 @@ TEST(firmware_cable_robot, RrfHangprinterFlexByHand) {
   const std::vector<double> forces = rrf_reference::hangprinter_forces(hangprinter, 0, 0, 0);
   EXPECT_NEAR(forces[3], 9.81 / 1.001, 1e-6);
   EXPECT_EQ(forces[0], 0.0);
+  // Where the cables cannot hold the mover (x 750 y -900 z 0, A B C slack), RRF's iteration
+  // stalls at its clamped start: D 10.48 N against the least squares' 8.73 N (0.23 mm of line).
+  // pkmkit refuses the pose, so the two never meet there.
+  EXPECT_NEAR(rrf_reference::hangprinter_forces(hangprinter, 750, -900, 0)[3], 8.7325, 1e-3);
+  EXPECT_NEAR(rrf_reference::hangprinter_forces_iterated(hangprinter, 750, -900, 0)[3], 10.4787,
+              1e-3);
+  kinematics::JointVector slack(4);
+  EXPECT_EQ(flex.inverse(geometry::Pose::from_mm_deg(750, -900, 0), slack).code,
+            kinematics::StatusCode::tension);
   // Klipper's winch has no stretch: refused, not exported with straight lengths.
   EXPECT_NE(refusal("klipper", flex).find("unstretched lengths (flex_compensation)"),
             std::string::npos);

@@ -1,5 +1,6 @@
 #include "rrf.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -320,6 +321,87 @@ std::vector<double> hangprinter_forces(const Hangprinter& hp, double x, double y
   throw std::runtime_error("no optimal forces found");
 }
 
+std::vector<double> hangprinter_forces_iterated(const Hangprinter& hp, double x, double y,
+                                                double z) {
+  // solve_box_ridge_ls as RRF iterates it: the unconstrained ridge solution clamped into [I, X];
+  // then, until the projected gradient is within 1e-3 N (a force within 1e-5 N of a limit counting
+  // as at it) or after 100 rounds, a Newton step on the forces that are free or pulled inwards by
+  // more than 1e-3 N (else the one pulled most), as long as no limit is crossed, then clamped.
+  const std::size_t n = hp.anchors.size();
+  std::vector<std::vector<double>> h(n, std::vector<double>(n));
+  std::vector<double> f(n);
+  {
+    const double weight = hp.mover_weight * 9.81;
+    std::vector<std::array<double, 3>> unit(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double d = distance(hp.anchors[i], x, y, z);
+      for (int k = 0; k < 3; ++k) unit[i][k] = (hp.anchors[i][k] - std::array{x, y, z}[k]) / d;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      f[i] = unit[i][2] * weight;
+      for (std::size_t j = 0; j < n; ++j) {
+        h[i][j] = unit[i][0] * unit[j][0] + unit[i][1] * unit[j][1] + unit[i][2] * unit[j][2] +
+                  (i == j ? 0.001 : 0.0);
+      }
+    }
+  }
+  const std::vector<double>& low = hp.per_anchor.at('I');
+  const std::vector<double>& high = hp.per_anchor.at('X');
+  const double tol = 1e-3, edge = 1e-5;
+  std::vector<double> t;
+  gauss_solve(h, f, t);
+  for (std::size_t i = 0; i < n; ++i) t[i] = std::min(std::max(t[i], low[i]), high[i]);
+  const auto gradient = [&](std::size_t i) {
+    double g = -f[i];
+    for (std::size_t j = 0; j < n; ++j) g += h[i][j] * t[j];
+    return g;
+  };
+  for (int round = 0; round < 100; ++round) {
+    double projected = 0.0;
+    std::vector<std::size_t> free;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double g = gradient(i);
+      const bool at_low = t[i] <= low[i] + edge, at_high = t[i] >= high[i] - edge;
+      if ((!at_low && !at_high) || (at_low && g < -tol) || (at_high && g > tol)) free.push_back(i);
+      if (!((at_low && g > 0.0) || (at_high && g < 0.0))) projected += g * g;
+    }
+    if (std::sqrt(projected) <= tol) break;
+    if (free.empty()) {
+      std::size_t best = 0;
+      double most = 0.0;
+      for (std::size_t i = 0; i < n; ++i) {
+        const double g = gradient(i);
+        double pull = 0.0;
+        if (t[i] <= low[i] + edge) pull = std::max(0.0, -g);
+        if (t[i] >= high[i] - edge) pull = std::max(pull, g);
+        if (pull > most) {
+          most = pull;
+          best = i;
+        }
+      }
+      free.push_back(best);
+    }
+    std::vector<std::vector<double>> m(free.size(), std::vector<double>(free.size()));
+    std::vector<double> r(free.size()), step;
+    for (std::size_t a = 0; a < free.size(); ++a) {
+      r[a] = -gradient(free[a]);
+      for (std::size_t b = 0; b < free.size(); ++b) m[a][b] = h[free[a]][free[b]];
+    }
+    gauss_solve(m, r, step);
+    double alpha = 1.0;
+    for (std::size_t a = 0; a < free.size(); ++a) {
+      const std::size_t i = free[a];
+      if (std::abs(step[a]) < 1e-8) continue;
+      const double most_alpha =
+          step[a] > 0.0 ? (high[i] - t[i]) / step[a] : (low[i] - t[i]) / step[a];
+      if (most_alpha < alpha) alpha = std::max(0.0, most_alpha);
+    }
+    for (std::size_t a = 0; a < free.size(); ++a) t[free[a]] += alpha * step[a];
+    for (std::size_t i = 0; i < n; ++i) t[i] = std::min(std::max(t[i], low[i]), high[i]);
+  }
+  return t;
+}
+
 double hangprinter_motor_steps(const Hangprinter& hp, int anchor, double x, double y, double z) {
   const std::size_t i = static_cast<std::size_t>(anchor);
   const std::array<double, 3>& a = hp.anchors.at(i);
@@ -329,7 +411,7 @@ double hangprinter_motor_steps(const Hangprinter& hp, int anchor, double x, doub
   if (hp.flex == 1) {
     // FlexDistances: minus the force over SpringK(d U + Y) U.
     const double spring = hp.spring_k_per_unit_length / (d * u + hp.per_anchor.at('Y')[i]);
-    line_position -= hangprinter_forces(hp, x, y, z)[i] / (spring * u);
+    line_position -= hangprinter_forces_iterated(hp, x, y, z)[i] / (spring * u);
   } else if (hp.flex != 0) {
     throw std::runtime_error("M666 F2 not written here");
   }

@@ -69,12 +69,18 @@ struct Hangprinter {
   std::map<char, std::vector<double>> per_anchor;  // 'R' 'U' 'O' 'L' 'H' 'J' 'I' 'X' 'Y'
 };
 Hangprinter parse_hangprinter(const std::string& config_text);
-// StaticForcesQp's planned force per anchor (N) for the tool at x y z.
+// StaticForcesQp's planned force per anchor (N) for the tool at x y z: the exact minimum of its
+// least squares (every free/at-min/at-max assignment tried), and the forces as RRF's own iteration
+// leaves them (solve_box_ridge_ls: it stops at a projected gradient of 1e-3 N, and a step that
+// meets a limit at once stalls it).
 std::vector<double> hangprinter_forces(const Hangprinter& hangprinter, double x, double y,
                                        double z);
+std::vector<double> hangprinter_forces_iterated(const Hangprinter& hangprinter, double x, double y,
+                                                double z);
 // CartesianToMotorSteps' motor position of anchor `anchor` (full steps, unrounded) for the tool
 // at x y z: the line position |anchor - tool| - |anchor| (less the stretch with F1) through the
-// spool model (constant radius where U O Q is 0, else k0 (sqrt(R^2 + linePos k2) - R)).
+// spool model (constant radius where U O Q is 0, else k0 (sqrt(R^2 + linePos k2) - R)); the
+// stretch with RRF's iterated forces.
 double hangprinter_motor_steps(const Hangprinter& hangprinter, int anchor, double x, double y,
                                double z);
 // Recalc's steps per mm at the origin (full steps).
