@@ -131,7 +131,8 @@ TEST_P(CableRobotExample, InverseForwardRoundTrip) {
     previous = pose;
   }
   EXPECT_LE(worst_mm, 1e-9);
-  EXPECT_LE(most_iterations, 12);
+  // With flex, Gauss-Newton's Jacobian leaves out the stretch's (a ten-thousandth): a step more.
+  EXPECT_LE(most_iterations, GetParam() == "hangprinter-v4-flex.toml" ? 16 : 12);
   std::ostringstream worst;
   worst << worst_mm;
   RecordProperty("worst_mm", worst.str());
@@ -180,6 +181,9 @@ TEST_P(CableRobotExample, ReachBoxHoldsEveryPoseWithinTheJointLimits) {
   // 3500 mm down from 2299.83 mm; the Maslow's z is its Z joint's range.
   if (GetParam() == "hangprinter-v4.toml") {
     EXPECT_DOUBLE_EQ(box->min().z(), 2299.83 - 3500.0);
+  } else if (GetParam() == "hangprinter-v4-flex.toml") {
+    // Stretched at most 70 N x 3500 mm x 4 strands / (4 x (20000 - 70) N): 12.2930 mm more.
+    EXPECT_NEAR(box->min().z(), 2299.83 - 3500.0 - 70.0 * 3500.0 / (20000.0 - 70.0), 1e-9);
   } else {
     EXPECT_EQ(box->min().z(), -40.0);
     EXPECT_EQ(box->max().z(), 20.0);
@@ -215,10 +219,13 @@ TEST_P(CableRobotExample, WriterReadsBack) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Data, CableRobotExample,
-                         ::testing::Values("hangprinter-v4.toml", "maslow4.toml"),
+                         ::testing::Values("hangprinter-v4.toml", "hangprinter-v4-flex.toml",
+                                           "maslow4.toml"),
                          [](const auto& test_info) {
-                           return test_info.param == "maslow4.toml" ? std::string("maslow4")
-                                                                    : std::string("hangprinter_v4");
+                           std::string name = test_info.param;
+                           name = name.substr(0, name.find('.'));
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
                          });
 
 // The joints of `pose` with `cable` read `excess_mm` long.

@@ -209,6 +209,9 @@ class CableRobotKinematics final : public Kinematics, public MechanismSketch, pu
   // The cables' lengths and d length / d tool position x y z (rows), with the first failure.
   Status lengths(const Eigen::Vector3d& tool_mm, CableVector& length_mm,
                  CableJacobian* d_length) const;
+  // The most a cable whose unstretched length is `unstretched_mm` stretches (mm; 0 without flex
+  // compensation, cable_robot_reach.cpp).
+  double most_stretch(const RobotCable& cable, double unstretched_mm) const;
   // With flex compensation, d unstretched length / d tool: the stretch's part by Richardson-
   // extrapolated central differences (RRF's forces have no closed-form derivative).
   void flex_jacobian(const Eigen::Vector3d& tool_mm, CableJacobian& d_length) const;
