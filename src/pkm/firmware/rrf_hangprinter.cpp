@@ -132,10 +132,10 @@ ExportedFile write_rrf_hangprinter(const FirmwareMachine& fm, const ExportContex
   ExportedFile file;
   file.text += header_comment(fm, context, "; ");
   file.text +=
-      "; RepRapFirmware config.g lines (HangprinterKinematics): they replace the M669, M666 Q F, "
-      "M203, M201 and M208 lines of config.g. Each line's motor counts its length less its "
-      "length at x 0 y 0 z 0, the machine's home, where homeall.g must set the position (G92 X0 "
-      "Y0 Z0)\n";
+      "; RepRapFirmware config.g lines (HangprinterKinematics): they replace the M669, M666, M203, "
+      "M201 and M208 lines of config.g; they need the HangprinterKinematics with M666 F. Each "
+      "line's motor counts from its position at x 0 y 0 z 0, the machine's home, where homeall.g "
+      "must set the position (G92 X0 Y0 Z0)\n";
   file.text += "M669 K6 ; Hangprinter\n";
   std::string anchors = "M669";
   if (form.anchors_mm.size() != kFourAnchors) {

@@ -116,6 +116,11 @@ void validate_cable_robot_drive(const CableRobotGeometry& g) {
         "flex_compensation: needs tension_limits = [min, max] (N): RRF plans each line's force "
         "within them (M666 I X)");
   }
+  if (!(g.line_stiffness_N > g.tension_max_N)) {
+    throw std::invalid_argument(
+        "line_stiffness: must exceed tension_limits' max (N), or a line at its max force would "
+        "stretch without end");
+  }
   const Eigen::Vector3d down = g.gravity_direction.normalized();
   if (g.gravity_given && !(down - Eigen::Vector3d(0.0, 0.0, -1.0)).isZero(1e-12)) {
     throw std::invalid_argument(
