@@ -447,8 +447,9 @@ machine::ImportedMachine read_rrf_hangprinter(const std::vector<RrfCommand>& com
   imported.envelope_min = std::vector<double>{low.x(), low.y(), low.z()};
   imported.envelope_max = std::vector<double>{high.x(), high.y(), high.z()};
   imported.notes.push_back(
-      "each line's reading is its length; RRF's motor position is that less its length at x 0 "
-      "y 0 z 0, pkmkit's home; the work envelope is the square around M669 P from M208 Z min to "
+      "each line's reading is its length (unstretched with flex compensation); RRF's motor "
+      "position counts from its value at x 0 y 0 z 0, pkmkit's home; the work envelope is the "
+      "square around M669 P from M208 Z min to "
       "max");
   return imported;
 }
