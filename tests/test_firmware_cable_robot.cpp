@@ -15,6 +15,7 @@
 #include "firmware_reference/rrf.hpp"
 #include "pkm/firmware/klipper_import.hpp"
 #include "pkm/firmware/target.hpp"
+#include "pkm/kinematics/cable_robot.hpp"
 #include "pkm/machine/machine.hpp"
 #include "pkm/machine/machine_writer.hpp"
 
@@ -45,6 +46,15 @@ machine::Machine offset_hangprinter() {
   text.replace(at, line_a.size(),
                "anchor = [0.0, -1610.98, -131.53]\nattach = [12.5, -30.0, 40.0]\noffset = 7.0");
   return machine::parse_machine(text, "hangprinter-offset.toml");
+}
+
+// Hangprinter v4 whose spools keep their radius (M666 Q0: RRF's constant spool model), so that the
+// motor travel over the steps per mm is the line's own travel.
+machine::Machine no_spools_hangprinter() {
+  std::string text = data_text("hangprinter-v4.toml");
+  const std::string buildup = "spool_buildup = 0.128181";
+  text.replace(text.find(buildup), buildup.size(), "spool_buildup = 0.0");
+  return machine::parse_machine(text, "hangprinter-constant-spools.toml");
 }
 
 firmware::ExportedFile export_to(const std::string& target, const machine::Machine& machine,
@@ -216,8 +226,18 @@ TEST(firmware_cable_robot, KlipperWinchRefusesAHomeOffTheOrigin) {
   EXPECT_NE(why.find("home is x 0 y 0 z 100 mm"), std::string::npos) << why;
 }
 
-// RRF's motor position for a line (over its steps per mm, spool buildup 0) is its length less its
-// length at x = y = z = 0; pkmkit's joint moves from its reading at home (the origin).
+// RRF's motor travel for a line from the origin, where homeall.g sets the position, over its steps
+// per mm at the origin (mm); pkmkit's the same through its own spool model from the joint's reading
+// at home (or the joint's travel itself, without spools).
+double pkmkit_travel_mm(const machine::Machine& machine, Eigen::Index k, double joint,
+                        double home_joint, double steps_per_mm) {
+  const auto* robot = dynamic_cast<const kinematics::CableRobotKinematics*>(&machine.kinematics());
+  const int cable = static_cast<int>(k);
+  if (robot == nullptr || !robot->full_steps_per_mm(cable)) return joint - home_joint;
+  return (*robot->motor_full_steps(cable, joint) - *robot->motor_full_steps(cable, home_joint)) /
+         steps_per_mm;
+}
+
 double worst_hangprinter_error_mm(const machine::Machine& machine, const std::string& exported) {
   const rrf_reference::Hangprinter hangprinter = rrf_reference::parse_hangprinter(exported);
   EXPECT_EQ(hangprinter.anchors.size(),
@@ -231,9 +251,14 @@ double worst_hangprinter_error_mm(const machine::Machine& machine, const std::st
     EXPECT_TRUE(machine.inverse(pose, joints).ok());
     const Eigen::Vector3d& p = pose.position_mm;
     for (Eigen::Index k = 0; k < joints.size(); ++k) {
-      const double rrf = rrf_reference::hangprinter_line_position(hangprinter, static_cast<int>(k),
-                                                                  p.x(), p.y(), p.z());
-      worst = std::max(worst, std::abs(rrf - (joints[k] - home_joints[k])));
+      const int anchor = static_cast<int>(k);
+      const double per_mm = rrf_reference::hangprinter_steps_per_mm(hangprinter, anchor);
+      const double rrf =
+          (rrf_reference::hangprinter_motor_steps(hangprinter, anchor, p.x(), p.y(), p.z()) -
+           rrf_reference::hangprinter_motor_steps(hangprinter, anchor, 0.0, 0.0, 0.0)) /
+          per_mm;
+      worst = std::max(
+          worst, std::abs(rrf - pkmkit_travel_mm(machine, k, joints[k], home_joints[k], per_mm)));
     }
   }
   return worst;
@@ -241,12 +266,13 @@ double worst_hangprinter_error_mm(const machine::Machine& machine, const std::st
 
 TEST(firmware_cable_robot, RrfHangprinterLinesFollowPkmkitsJointsOverTheWorkspace) {
   for (const machine::Machine& machine :
-       {data_machine("hangprinter-v4.toml"), offset_hangprinter()}) {
+       {data_machine("hangprinter-v4.toml"), offset_hangprinter(),
+        data_machine("hangprinter-v4-flex.toml"), no_spools_hangprinter()}) {
     const firmware::ExportedFile file = export_to("rrf", machine);
     const double worst = worst_hangprinter_error_mm(machine, file.text);
     std::printf("rrf hangprinter %s: worst line error %.3g mm over %zu poses\n",
                 machine.source().c_str(), worst, firmware::workspace_samples(machine).size());
-    EXPECT_LT(worst, 1e-6);  // exact: config.g's 6 decimals only
+    EXPECT_LT(worst, 1e-6);  // 1 um: config.g's 6 decimals
   }
 }
 
@@ -254,12 +280,18 @@ TEST(firmware_cable_robot, RrfHangprinterLinesFollowPkmkitsJointsOverTheWorkspac
 // comment), spool buildup and flex off; by hand (python math.dist) line A at (100, 200, 300) is
 // 1864.3676411319736 - 1616.3405276426129 = 248.0271135 mm out from the origin.
 TEST(firmware_cable_robot, RrfHangprinterHandComputedPose) {
-  const std::string text = export_to("rrf", data_machine("hangprinter-v4.toml")).text;
+  const std::string text = export_to("rrf", no_spools_hangprinter()).text;
   EXPECT_NE(text.find("\nM669 K6 ; Hangprinter\nM669 A0:-1610.98:-131.53 B1314.22:1268.14:-121.28 "
                       "C-1415.73:707.61:-121.82 D0:0.01:2299.83 P1000 ;"),
             std::string::npos)
       << text;
-  EXPECT_NE(text.find("\nM666 Q0 F0 ;"), std::string::npos);
+  EXPECT_NE(text.find("\nM666 Q0 R75.546:75.659:76.128:75.192 U2:2:2:4 O1:1:1:1 L20:20:20:20 "
+                      "H255:255:255:255 J25:25:25:25 ;"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\nM666 F0 ;"), std::string::npos);
+  const std::string spools = export_to("rrf", data_machine("hangprinter-v4.toml")).text;
+  EXPECT_NE(spools.find("\nM666 Q0.128181 R75.546:"), std::string::npos) << spools;
   EXPECT_NE(text.find("\nM203 X36000 Y36000 Z36000 ;"), std::string::npos);
   EXPECT_NE(text.find("\nM208 S1 Z-10 ;"), std::string::npos);
   EXPECT_NE(text.find("\nM208 Z2000 ;"), std::string::npos);
@@ -271,17 +303,53 @@ TEST(firmware_cable_robot, RrfHangprinterHandComputedPose) {
 }
 
 TEST(firmware_cable_robot, RrfHangprinterImportThenExportGivesTheSameLines) {
-  const std::string first = export_to("rrf", data_machine("hangprinter-v4.toml")).text;
-  const machine::ImportedMachine imported = firmware::target("rrf").read(first, "config.g");
-  const std::string machine_text = machine::machine_file_text(imported, "imported.toml");
-  const machine::Machine back = machine::parse_machine(machine_text, "imported.toml");
-  const std::string second = export_to("rrf", back).text;
-  EXPECT_EQ(settings(first, "M669 K6"), settings(second, "M669 K6"));
-  EXPECT_LT(worst_hangprinter_error_mm(back, first), 1e-6);
+  for (const char* file : {"hangprinter-v4.toml", "hangprinter-v4-flex.toml"}) {
+    const std::string first = export_to("rrf", data_machine(file)).text;
+    const machine::ImportedMachine imported = firmware::target("rrf").read(first, "config.g");
+    const std::string machine_text = machine::machine_file_text(imported, "imported.toml");
+    const machine::Machine back = machine::parse_machine(machine_text, "imported.toml");
+    const std::string second = export_to("rrf", back).text;
+    EXPECT_EQ(settings(first, "M669 K6"), settings(second, "M669 K6")) << file;
+    EXPECT_LT(worst_hangprinter_error_mm(back, first), 1e-6) << file;
+  }
+}
+
+// Flex compensation by hand: at the origin RRF's least squares leaves A B C at their 0 N minimum
+// and gives D (straight up, its unit vector z 0.9999999999905) the 1 kg weight less its ridge,
+// 9.81 / 1.001 N to first order; its stretch is that times D's 2299.83 mm x 4 strands (no guy
+// wire) over S 20000 N x 4: 1.1269467 mm. Spools and flex go out as M666 Q R U O L H J and F1 W
+// S I X Y.
+TEST(firmware_cable_robot, RrfHangprinterFlexByHand) {
+  const machine::Machine flex = data_machine("hangprinter-v4-flex.toml");
+  kinematics::JointVector joints(4);
+  ASSERT_TRUE(flex.inverse(flex.home(), joints).ok());
+  EXPECT_NEAR(2299.83 - joints[3], 9.81 / 1.001 * 2299.83 / 20000.0, 1e-6);
+  EXPECT_NEAR(joints[0], 1616.3405276426129, 1e-9);
+  const std::string text = export_to("rrf", flex).text;
+  EXPECT_NE(text.find("\nM666 F1 W1 S20000 I0:0:0:0 X70:70:70:70 "
+                      "Y2916.642:3032.672:2892.988:0 B0 P0 ;"),
+            std::string::npos)
+      << text;
+  const rrf_reference::Hangprinter hangprinter = rrf_reference::parse_hangprinter(text);
+  const std::vector<double> forces = rrf_reference::hangprinter_forces(hangprinter, 0, 0, 0);
+  EXPECT_NEAR(forces[3], 9.81 / 1.001, 1e-6);
+  EXPECT_EQ(forces[0], 0.0);
+  // Where the cables cannot hold the mover (x 750 y -900 z 0, A B C slack), RRF's iteration
+  // stalls at its clamped start: D 10.48 N against the least squares' 8.73 N (0.23 mm of line).
+  // pkmkit refuses the pose, so the two never meet there.
+  EXPECT_NEAR(rrf_reference::hangprinter_forces(hangprinter, 750, -900, 0)[3], 8.7325, 1e-3);
+  EXPECT_NEAR(rrf_reference::hangprinter_forces_iterated(hangprinter, 750, -900, 0)[3], 10.4787,
+              1e-3);
+  kinematics::JointVector slack(4);
+  EXPECT_EQ(flex.inverse(geometry::Pose::from_mm_deg(750, -900, 0), slack).code,
+            kinematics::StatusCode::tension);
+  // Klipper's winch has no stretch: refused, not exported with straight lengths.
+  EXPECT_NE(refusal("klipper", flex).find("unstretched lengths (flex_compensation)"),
+            std::string::npos);
 }
 
 // Hangprinter's own config.g (tobbelobb/hangprinter, firmware/RepRapFirmware/Duet3/config.g):
-// its anchors and spool buildup Q read, the buildup only noted (pkmkit's joints are lengths).
+// its anchors and spools read (the motor steps agree), its W S I X noted unused (no M666 F1).
 TEST(firmware_cable_robot, RrfImportsHangprintersOwnConfig) {
   const std::string config =
       "M669 K6\nM669 P2000.0\nM669 S300 T0.1\n"
@@ -301,7 +369,14 @@ TEST(firmware_cable_robot, RrfImportsHangprintersOwnConfig) {
   EXPECT_LT((mine - theirs).cwiseAbs().maxCoeff(), 1e-9);
   std::string notes;
   for (const std::string& note : imported.notes) notes += note + "\n";
-  EXPECT_NE(notes.find("M666 Q0.128181: RRF's spool buildup"), std::string::npos) << notes;
+  // Its spools come in whole; J is not in those lines, so RRF's default 25 (noted).
+  EXPECT_NE(notes.find("M666 J not set: RRF's default 25 taken"), std::string::npos) << notes;
+  const auto& robot = dynamic_cast<const kinematics::CableRobotKinematics&>(back.kinematics());
+  const auto& own = dynamic_cast<const kinematics::CableRobotKinematics&>(original.kinematics());
+  EXPECT_EQ(robot.geometry().spool_buildup_mm, 0.128181);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NEAR(*robot.motor_full_steps(i, theirs[i]), *own.motor_full_steps(i, mine[i]), 1e-6);
+  }
 
   try {
     firmware::target("rrf").read("M92 E415\nM669 K6\nM669 A0:-2000:-100 B2000:1000:-100\n",
@@ -312,19 +387,41 @@ TEST(firmware_cable_robot, RrfImportsHangprintersOwnConfig) {
         << error.what();
   }
   try {
-    firmware::target("rrf").read(config + "M666 F1\n", "flex.g");
-    ADD_FAILURE() << "imported flex compensation";
+    firmware::target("rrf").read(config + "M666 F2\n", "flex.g");
+    ADD_FAILURE() << "imported Tikhonov flex compensation";
   } catch (const firmware::FirmwareFileError& error) {
-    EXPECT_NE(std::string(error.what()).find("flex.g:11: M666 F: flex compensation"),
+    EXPECT_NE(std::string(error.what()).find("flex.g:11: M666 F: 2 is RRF's Tikhonov"),
               std::string::npos)
         << error.what();
+  }  // Flex on with W S I X (its own lines) and no Y: imported, the guy wires RRF's 0, noted.
+  const machine::ImportedMachine flex = firmware::target("rrf").read(
+      config + "M666 W1.0 S20000.0 I0.0:0.0:0.0:0.0 X70.0:70.0:70.0:70.0\nM666 F1\n", "f1.g");
+  const machine::Machine flexed =
+      machine::parse_machine(machine::machine_file_text(flex, "f1.toml"), "f1.toml");
+  const auto& flex_robot =
+      dynamic_cast<const kinematics::CableRobotKinematics&>(flexed.kinematics());
+  EXPECT_TRUE(flex_robot.geometry().flex_compensation);
+  EXPECT_EQ(flex_robot.geometry().effector_mass_kg, 1.0);
+  EXPECT_EQ(flex_robot.geometry().tension_max_N, 70.0);
+  for (const auto& [extra, where] :
+       {std::pair<std::string, std::string>{"M666 R75:75:75\n",
+                                            "bad.g:11: M666 R: 4 values expected"},
+        {"M666 F1 I0:0:0:5\n", "bad.g:11: M666 I: pkmkit's tension_limits are the same"},
+        {"M666 F1 B1\n", "bad.g:11: M666 B: RRF's flex without gravity"}}) {
+    try {
+      firmware::target("rrf").read(config + extra, "bad.g");
+      ADD_FAILURE() << "imported " << extra;
+    } catch (const firmware::FirmwareFileError& error) {
+      EXPECT_NE(std::string(error.what()).find(where), std::string::npos) << error.what();
+    }
   }
 }
 
 TEST(firmware_cable_robot, RrfRefusesSixAnchorsAndAHomeOffTheOrigin) {
   std::string text = data_text("hangprinter-v4.toml");
   const std::string cable =
-      "\n[[kinematics.cables]]\nanchor = [0.0, 1800.0, -120.0]\nattach = [0.0, 0.0, 0.0]\n";
+      "\n[[kinematics.cables]]\nanchor = [0.0, 1800.0, -120.0]\nattach = [0.0, 0.0, 0.0]\n"
+      "spool_radius = 75.0\nmechanical_advantage = 2\n";
   auto joint = [](const std::string& name) {
     return "\n[[joints]]\nname = \"" + name +
            "\"\nmin = 100.0\nmax = 3500.0\nmax_velocity = 600.0\nmax_acceleration = 10000.0\n";

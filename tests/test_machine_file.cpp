@@ -548,7 +548,7 @@ TEST(MachineFile, EveryExampleLoads) {
   for (const std::string& file : test::example_machine_files()) {
     EXPECT_NO_THROW(test::load_example(file)) << file;
   }
-  EXPECT_EQ(test::example_machine_files().size(), 22u);
+  EXPECT_EQ(test::example_machine_files().size(), 23u);
   const machine::Machine pen =
       test::load_example("pen-plotter.toml");  // the servo pen's [tool] table
   EXPECT_EQ(pen.tool().z, machine::ToolZ::pen);

@@ -56,18 +56,37 @@ double arm_angle_deg(const RotaryDelta& delta, int arm, double x, double y, doub
 // The angle homing sets at the arm's endstop (OnHomingSwitchTriggered, the high end).
 double homed_arm_angle_deg(const RotaryDelta& delta, int arm);
 
-// RRF's Hangprinter (M669 K6): the anchors M669 A B C D (N5: and I), M666 Q (spool buildup) and
-// F (flex: 0 off, 1 or 2 on).
+// RRF's Hangprinter (M669 K6) as its HangprinterKinematics with M666 F: the anchors M669 A B C D
+// (N5: and I); M666 Q (spool buildup), R U O L H J (spools), F (flex: 0 off, 1 least squares),
+// W S I X Y (mover weight, line stiffness, min and max planned force, guy wires); RRF's Init
+// defaults for what is not set. Microstepping 1 (it scales every motor position alike).
 struct Hangprinter {
   std::vector<std::array<double, 3>> anchors;
   double spool_buildup = 0.007;  // RRF's default
   int flex = 0;
+  double mover_weight = 0.0;
+  double spring_k_per_unit_length = 20000.0;
+  std::map<char, std::vector<double>> per_anchor;  // 'R' 'U' 'O' 'L' 'H' 'J' 'I' 'X' 'Y'
 };
 Hangprinter parse_hangprinter(const std::string& config_text);
-// CartesianToMotorSteps' line position (mm) of anchor `anchor` for the tool at x y z: the
-// line's length less its length at the origin, RRF's motor position over the steps per mm where
-// Q is 0 (useConstantSpoolModel). Throws std::runtime_error where Q or F is not 0: the motor
-// position is then no line length.
+// StaticForcesQp's planned force per anchor (N) for the tool at x y z: the exact minimum of its
+// least squares (every free/at-min/at-max assignment tried), and the forces as RRF's own iteration
+// leaves them (solve_box_ridge_ls: it stops at a projected gradient of 1e-3 N, and a step that
+// meets a limit at once stalls it).
+std::vector<double> hangprinter_forces(const Hangprinter& hangprinter, double x, double y,
+                                       double z);
+std::vector<double> hangprinter_forces_iterated(const Hangprinter& hangprinter, double x, double y,
+                                                double z);
+// CartesianToMotorSteps' motor position of anchor `anchor` (full steps, unrounded) for the tool
+// at x y z: the line position |anchor - tool| - |anchor| (less the stretch with F1) through the
+// spool model (constant radius where U O Q is 0, else k0 (sqrt(R^2 + linePos k2) - R)); the
+// stretch with RRF's iterated forces.
+double hangprinter_motor_steps(const Hangprinter& hangprinter, int anchor, double x, double y,
+                               double z);
+// Recalc's steps per mm at the origin (full steps).
+double hangprinter_steps_per_mm(const Hangprinter& hangprinter, int anchor);
+// The motor position over the steps per mm at the origin (mm; the line position itself with Q 0
+// and F 0).
 double hangprinter_line_position(const Hangprinter& hangprinter, int anchor, double x, double y,
                                  double z);
 

@@ -38,6 +38,12 @@ const kinematics::CableRobotForm& winch_form(const FirmwareMachine& firmware) {
                         ": klipper's winch moves the tool in x y z; this cable robot is planar "
                         "(its cables hold x y only), so Klipper would drive z through the cables");
   }
+  if (form.flex_compensation) {
+    throw ExportRefused(source +
+                        ": klipper's winch pays out each line's straight length; this machine's "
+                        "joints are the lines' unstretched lengths (flex_compensation), which "
+                        "Klipper has no setting for");
+  }
   if (firmware.form.passthrough.count() > 0) {
     throw ExportRefused(source + ": klipper's winch moves x y z only; this machine has " +
                         std::to_string(firmware.form.passthrough.count()) +

@@ -84,6 +84,7 @@ void validate_cable_robot_geometry(const CableRobotGeometry& g) {
     throw std::invalid_argument("tension_limits: must be [min, max] with 0 <= min < max (N)");
   }
   validate_cable_robot_load(g);
+  validate_cable_robot_drive(g);
   if (g.cables_follow_z && !g.planar) {
     throw std::invalid_argument(
         "cables_follow_z: only a planar robot's tie points can ride on its tool's z");
@@ -129,6 +130,13 @@ Status CableRobotKinematics::lengths(const Eigen::Vector3d& tool_mm, CableVector
     // end moves across the cable, which changes its length only to second order.
     if (d_length != nullptr) d_length->row(i) = -(along / length).transpose();
   }
+  if (geometry_.flex_compensation) {
+    // The joints are the unstretched lengths. d length / d tool stays the straight lines': the
+    // stretch changes with the pose a ten-thousandth as fast, which Gauss-Newton absorbs.
+    CableVector stretched;
+    stretch(tool_mm, length_mm, stretched);
+    length_mm -= stretched;
+  }
   return Status::success();
 }
 
@@ -150,6 +158,7 @@ Status CableRobotKinematics::jacobian(const geometry::Pose& pose,
   CableJacobian d_length;
   const Status status = lengths(tool_point(pose), length, &d_length);
   if (!status.ok()) return status;
+  if (geometry_.flex_compensation) flex_jacobian(tool_point(pose), d_length);
   d_joints_d_pose.setZero(joint_count(), geometry::kPoseSize);
   d_joints_d_pose.topLeftCorner(cable_count(), coordinates()) = d_length.leftCols(coordinates());
   if (geometry_.planar && geometry_.cables_follow_z) {
@@ -467,6 +476,7 @@ CableRobotGeometry read_geometry(const ModelConfig& config) {
     g.preferred_tension_N = config.number_or("preferred_tension", 0.0);
   }
   g.misfit_tolerance_mm = config.length_or("misfit_tolerance", g.misfit_tolerance_mm);
+  read_cable_robot_drive(config, g);
   return g;
 }
 
@@ -505,6 +515,7 @@ void CableRobotKinematics::write_config(ModelConfigWriter& out) const {
   if (g.misfit_tolerance_mm != CableRobotGeometry{}.misfit_tolerance_mm) {
     out.length("misfit_tolerance", g.misfit_tolerance_mm);
   }
+  write_cable_robot_drive(g, out);
   passthrough_.write(out);
   for (const RobotCable& cable : g.cables) {
     ModelConfigWriter& entry = out.table_list_entry("cables");
@@ -512,6 +523,7 @@ void CableRobotKinematics::write_config(ModelConfigWriter& out) const {
     entry.length_vector3("attach", cable.attach_mm);
     if (cable.offset_mm != 0.0) entry.length("offset", cable.offset_mm);
     if (cable.swivel_arm_mm != 0.0) entry.length("swivel_arm", cable.swivel_arm_mm);
+    write_cable_drive(g, cable, entry);
   }
 }
 

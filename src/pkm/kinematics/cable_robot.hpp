@@ -35,6 +35,20 @@ inline constexpr double kShortestRobotCable_mm = 1e-9;
 using CableVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxJoints, 1>;
 using CableJacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxJoints, 3>;
 
+// The spool a cable winds on, as RepRapFirmware's Hangprinter drives it (M666 R U O L H J;
+// cable_robot_spool.cpp): pkmkit's joint stays the cable's length; the spool turns it into motor
+// steps, for the firmware export and for a controller counting motor steps.
+struct CableSpool {
+  // At line position 0: the cable as long as with the tool at x 0 y 0 z 0 (M666 R, "incl
+  // buildup, when homed").
+  double radius_mm = 0.0;
+  int mechanical_advantage = 1;  // strands between anchor and effector (M666 U)
+  int lines_per_spool = 1;       // M666 O
+  int motor_gear_teeth = 1;      // M666 L
+  int spool_gear_teeth = 1;      // M666 H
+  int full_steps_per_rev = 200;  // M666 J
+};
+
 struct RobotCable {
   Eigen::Vector3d anchor_mm = Eigen::Vector3d::Zero();  // where it leaves the frame (world)
   Eigen::Vector3d attach_mm = Eigen::Vector3d::Zero();  // on the effector (tool point at 0)
@@ -42,6 +56,9 @@ struct RobotCable {
   // A Maslow 4 arm: the cable is tied this far from `attach`, at the end of an arm turning freely
   // about the effector's z axis through `attach`, so that it points at the anchor in plan view.
   double swivel_arm_mm = 0.0;
+  std::optional<CableSpool> spool;
+  // Flex compensation: the line from its spool to the anchor (M666 Y), which stretches too.
+  double guy_wire_mm = 0.0;
 };
 
 struct CableRobotGeometry {
@@ -66,7 +83,18 @@ struct CableRobotGeometry {
   std::optional<double> preferred_tension_N;
   // Forward kinematics refuses joints whose least-squares fit leaves a cable further off (mm).
   double misfit_tolerance_mm = 0.01;
+  // M666 Q (mm): how fast a spool's radius grows with the line wound on it; 0: constant radius.
+  double spool_buildup_mm = 0.0;
+  // RepRapFirmware's flex compensation (M666 F1; cable_robot_flex.cpp): each joint is the
+  // unstretched length that the forces RRF plans stretch to the straight length.
+  bool flex_compensation = false;
+  // M666 S (N): a line of L mm stretches F L / S mm under F N.
+  double line_stiffness_N = 20000.0;
 };
+
+// RepRapFirmware's planned forces (N) and its gravity (m/s^2) for flex compensation.
+inline constexpr double kRrfGravity_m_per_s2 = 9.81;
+inline constexpr double kRrfForceRidge = 1e-3;
 
 // Forward kinematics' least-squares fit of the joints, whatever its misfit. On the stack: the
 // LinuxCNC module fits in its servo thread, where nothing may allocate.
@@ -203,6 +231,18 @@ class CableRobotKinematics final : public Kinematics,
 
   const CableRobotGeometry& geometry() const { return geometry_; }
 
+  // The motor position of cable `cable` for joint `joint_mm` in full steps (one microstep per
+  // step) from line position 0, as RRF's spool model turns it (cable_robot_spool.cpp); none
+  // without a spool or where the spool would unwind past its core.
+  std::optional<double> motor_full_steps(int cable, double joint_mm) const;
+  // Full steps per mm of line at line position 0 (RRF's steps per mm over the microstepping).
+  std::optional<double> full_steps_per_mm(int cable) const;
+  // Flex compensation: the forces RRF plans for the tool at `tool_mm` (N, per cable; M666 F1's
+  // least squares of the weight within tension_limits) and each cable's stretch under them (mm).
+  void planned_forces(const Eigen::Vector3d& tool_mm, CableVector& force_N) const;
+  void stretch(const Eigen::Vector3d& tool_mm, const CableVector& length_mm,
+               CableVector& stretch_mm) const;
+
  private:
   geometry::Dof mechanism_dof() const {
     return geometry_.planar ? geometry::Dof::planar_xy() : geometry::Dof::translation();
@@ -214,6 +254,12 @@ class CableRobotKinematics final : public Kinematics,
   // The cables' lengths and d length / d tool position x y z (rows), with the first failure.
   Status lengths(const Eigen::Vector3d& tool_mm, CableVector& length_mm,
                  CableJacobian* d_length) const;
+  // The most a cable whose unstretched length is `unstretched_mm` stretches (mm; 0 without flex
+  // compensation, cable_robot_reach.cpp).
+  double most_stretch(const RobotCable& cable, double unstretched_mm) const;
+  // With flex compensation, d unstretched length / d tool: the stretch's part by Richardson-
+  // extrapolated central differences (RRF's forces have no closed-form derivative).
+  void flex_jacobian(const Eigen::Vector3d& tool_mm, CableJacobian& d_length) const;
   // Gauss-Newton (Marquardt-damped where a step does not lower the misfit) from `start`.
   CableFit gauss_newton(const CableVector& cable_lengths_mm, const geometry::Pose& start) const;
   // A start from the joints alone: the trilateration's linear least squares; none where the
@@ -240,6 +286,16 @@ void validate_cable_robot_geometry(const CableRobotGeometry& geometry);
 // The part of it about the load: gravity, the tension limits and the preferred tension
 // (cable_robot_tensions.cpp).
 void validate_cable_robot_load(const CableRobotGeometry& geometry);
+
+// The spools and flex compensation (cable_robot_spool.cpp): throws std::invalid_argument ("key:
+// message") for a bad value.
+void validate_cable_robot_drive(const CableRobotGeometry& geometry);
+// Their machine-file keys: spool keys in [kinematics] hold for every cable that does not give its
+// own; spool_buildup, flex_compensation and line_stiffness only there, guy_wire_length per cable.
+void read_cable_robot_drive(const ModelConfig& kinematics, CableRobotGeometry& geometry);
+void write_cable_robot_drive(const CableRobotGeometry& geometry, ModelConfigWriter& kinematics);
+void write_cable_drive(const CableRobotGeometry& geometry, const RobotCable& cable,
+                       ModelConfigWriter& entry);
 
 std::unique_ptr<Kinematics> make_cable_robot_kinematics(const ModelConfig& config);
 

@@ -12,6 +12,7 @@ std::optional<FirmwareForm> CableRobotKinematics::firmware_form() const {
   const CableRobotGeometry& g = geometry_;
   CableRobotForm form;
   form.planar = g.planar;
+  form.flex_compensation = g.flex_compensation;
   FirmwareForm result{form, {}, {}, passthrough_};
   CableRobotForm& folded = std::get<CableRobotForm>(result.geometry);
   double arm = 0.0;

@@ -59,6 +59,9 @@ struct CableRobotForm {
   std::vector<Eigen::Vector3d> anchors_mm;
   std::vector<double> cable_offsets_mm;  // one per anchor
   bool planar = false;
+  // The joints are unstretched lengths (RepRapFirmware's flex compensation, M666 F1): a firmware
+  // whose lines do not stretch moves other joints.
+  bool flex_compensation = false;
 };
 
 using FormGeometry =
