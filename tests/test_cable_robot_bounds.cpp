@@ -288,6 +288,20 @@ TEST(CableRobotBounds, HangprinterSquareAtZ100IsProven) {
   EXPECT_EQ(check.proven, 5);
 }
 
+// With flex compensation a joint is its line less the stretch under RRF's forces: the straight
+// cable's Hessian bound does not hold for it, so the check proves nothing (it would otherwise
+// certify joints the stretch moves by up to 5 mm).
+TEST(CableRobotBounds, FlexCompensationHasNoHessianBound) {
+  const machine::Machine m = test::load_example("hangprinter-v4-flex.toml");
+  Chord chord;
+  chord.position = Eigen::Vector3d(10.0, 0.0, 0.0);
+  EXPECT_FALSE(robot(m).own_hessian_bounds(pose_at(0, 0, 100), 5.0, 100.0, chord));
+  const test::TempProgram job("G21 G90\nG1 X0 Y0 Z100 F6000\nG1 X200 Y0\nM2\n");
+  const certify::JobCheck check = certify::check_job(m, job.path(), {});
+  EXPECT_EQ(check.proven, 0);
+  EXPECT_FALSE(check.unavailable.empty());
+}
+
 TEST(CableRobotBounds, ALineLeavingTheWrenchFeasibleWorkspaceIsNotProven) {
   const machine::Machine m = test::load_example("hangprinter-v4.toml");
   // Along x at z 100 mm no tensions within [0, 70] N hold the 1 kg effector past x 636.96 mm.

@@ -140,6 +140,9 @@ std::array<double, 2> wrench_over_cell(const CableRobotKinematics& model,
 std::optional<HessianBounds> CableRobotKinematics::own_hessian_bounds(
     const geometry::Vector6d& centre, double radius_mm, double /*angle_scale_mm*/,
     const Chord& chord) const {
+  // With flex compensation a joint is the length less its stretch under RRF's forces, which turn
+  // with the pose through a clamped least-squares solve: no bound on their derivatives here.
+  if (geometry_.flex_compensation) return std::nullopt;
   const Eigen::Vector3d tool = tool_point(geometry::Pose::from_vector(centre));
   Eigen::Vector3d v = chord.position;
   if (geometry_.planar && !geometry_.cables_follow_z) v.z() = 0.0;  // z does not move the cables
