@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "pkm/calibration/measurements.hpp"
+#include "pkm/kinematics/cable_tensions.hpp"
 
 namespace pkm::calibration {
 
@@ -137,7 +138,7 @@ bool fit_pose(const kinematics::Kinematics& model, const kinematics::JointVector
     if (last_step <= kPoseConverged) break;
   }
   // Rounding may keep the last steps above kPoseConverged; far above, the solve did not settle.
-  // Steps shrunk by the model refusing every step further (tension limits, a cable too short)
+  // Steps shrunk by the model refusing every step further (a cable too short, a leg's reach)
   // end at the edge of what it holds, not at the least-squares pose.
   if (!(last_step <= 1e-12) || (refused && damping > 1.0)) return false;
   misfit = residual;
@@ -149,7 +150,8 @@ class ReadingsResiduals final : public ParameterResiduals {
  public:
   ReadingsResiduals(const kinematics::Kinematics& kinematics, const geometry::Pose& home,
                     const std::vector<JointReadings>& samples, const ReadingsFitOptions& options)
-      : model_(kinematics.clone()),
+      : model_(kinematics.cable_tensions() != nullptr ? kinematics.cable_tensions()->geometry_only()
+                                                      : kinematics.clone()),
         home_(home),
         samples_(samples),
         axes_(kinematics.dof().axes()),
@@ -172,8 +174,9 @@ class ReadingsResiduals final : public ParameterResiduals {
           failed,
           "no pose fits these readings with the machine file's geometry (solved from home" +
               std::string(relative_ ? ", where the readings count from" : "") +
-              "): check the joints' order and units, and that the machine file's geometry holds "
-              "the effector there (its tension limits)");
+              "): check the joints' order and units, and that the machine file's geometry is near "
+              "enough the machine's to start from (a cable robot's tension limits are not asked: "
+              "the readings were taken where the machine held its effector)");
     }
     seeds_ = found;
   }

@@ -90,6 +90,9 @@ struct CableRobotGeometry {
   bool flex_compensation = false;
   // M666 S (N): a line of L mm stretches F L / S mm under F N.
   double line_stiffness_N = 20000.0;
+  // Whether inverse() refuses the poses no tensions within tension_limits hold; not a machine-file
+  // key: false only in geometry_only()'s copy.
+  bool refuses_unheld_poses = true;
 };
 
 // RepRapFirmware's planned forces (N) and its gravity (m/s^2) for flex compensation.
@@ -183,6 +186,7 @@ class CableRobotKinematics final : public Kinematics,
     return -load_N(acceleration_mm_per_s2);
   }
   bool force_polytope(const geometry::Pose& pose, CableForcePolytope& polytope) const override;
+  std::unique_ptr<Kinematics> geometry_only() const override;
 
   std::vector<Parameter> parameters() const override;
   void set_parameters(std::span<const double> values) override;

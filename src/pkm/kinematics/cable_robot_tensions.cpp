@@ -122,12 +122,20 @@ bool CableRobotKinematics::projection_held(const geometry::Pose& pose) const {
 }
 
 Status CableRobotKinematics::check_tensions(const geometry::Pose& pose) const {
-  if (!geometry_.tension_limited || projection_held(pose)) return Status::success();
+  if (!geometry_.tension_limited || !geometry_.refuses_unheld_poses || projection_held(pose)) {
+    return Status::success();
+  }
   const std::optional<TensionDistribution> at_rest = tensions(pose);
   if (!at_rest) return Status::failure(StatusCode::singular);
   if (at_rest->held()) return Status::success();
   return Status::failure(StatusCode::tension,
                          at_rest->violations.empty() ? -1 : at_rest->violations.front().cable);
+}
+
+std::unique_ptr<Kinematics> CableRobotKinematics::geometry_only() const {
+  auto copy = std::make_unique<CableRobotKinematics>(*this);
+  copy->geometry_.refuses_unheld_poses = false;
+  return copy;
 }
 
 std::string CableRobotKinematics::explain_tensions(const geometry::Pose& pose) const {

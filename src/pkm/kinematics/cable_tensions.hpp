@@ -8,6 +8,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <optional>
 
 #include "pkm/geometry/pose.hpp"
@@ -15,6 +16,8 @@
 #include "pkm/kinematics/tension_distribution.hpp"
 
 namespace pkm::kinematics {
+
+class Kinematics;
 
 class CableTensions {
  public:
@@ -41,6 +44,10 @@ class CableTensions {
   // cable_force_N(a) is within every facet. False where a cable has no direction or the cables
   // do not span the effector's directions. Allocation-free (the planner asks it per grid point).
   virtual bool force_polytope(const geometry::Pose& pose, CableForcePolytope& polytope) const = 0;
+  // The same machine with inverse() refusing no pose for its tensions: its geometry alone, what a
+  // calibration from readings fits (the readings were taken where the machine as built held its
+  // effector, which the machine file's geometry, still being fitted, may judge otherwise).
+  virtual std::unique_ptr<Kinematics> geometry_only() const = 0;
 };
 
 }  // namespace pkm::kinematics
