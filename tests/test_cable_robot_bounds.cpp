@@ -209,6 +209,11 @@ TEST(CableRobotBounds, HangprinterWorkspaceIsCertifiedAndHoldsAMonteCarloEstimat
   EXPECT_TRUE(ws.guaranteed);
   EXPECT_EQ(ws.unbounded_refusals, 0);
   ASSERT_GT(ws.inside_measure, 0.0);
+  // What limits the cells is the tensions (and the envelope): the joints' lines stay within 100
+  // .. 3500 mm wherever the effector is held. The joints are bounded by the geometry alone, also
+  // where the tensions refuse a cell's middle (they were counted as joint_limit).
+  EXPECT_EQ(ws.limited_by.count("joint_limit"), 0u);
+  EXPECT_GT(ws.limited_by.at("tension"), 3000);
   // Each finest cell of the grid: 0 outside, 1 inside, 2 undecided.
   const std::array<int, 3> dims = ws.dims;
   std::vector<char> state(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2], 0);
