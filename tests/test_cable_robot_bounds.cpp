@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "pkm/bounds/pose_box_rate.hpp"
 #include "pkm/certify/job_check.hpp"
 #include "pkm/certify/move_proof.hpp"
 #include "pkm/kinematics/cable_robot.hpp"
@@ -281,6 +282,24 @@ TEST(CableRobotBounds, MaslowWorkspaceIsCertified) {
 
 std::filesystem::path job_file(const std::string& name) {
   return std::filesystem::path(PKM_SOURCE_DIR) / "tests" / "data" / name;
+}
+
+// The joint-rate bound the LinuxCNC export's axis limits stand on bounds the lines by their
+// geometry (a line's rate is at most 1 mm per mm wherever it reaches), also where the tensions
+// refuse a cell's middle: the whole envelope is covered (where the tensions first refused a
+// cell's middle its bound was infinite, and the export shrank the envelope to 36.3 %; 90.2 % now,
+// by the rate rule alone).
+TEST(CableRobotBounds, JointRatesAreBoundedByTheGeometryWhereTheTensionsRefuse) {
+  const machine::Machine m = test::load_example("hangprinter-v4.toml");
+  bounds::JointRateOptions options;
+  options.max_cells = 4000;
+  const bounds::JointRateBound bound =
+      bounds::bound_joint_rates(m, bounds::work_envelope(m).box, options);
+  EXPECT_TRUE(bound.proven);
+  EXPECT_EQ(bound.uncovered, 0.0);
+  // Each entry: |d line / d x| <= 1, plus what the cells' curvature allows (4000 cells: coarse).
+  EXPECT_LE(bound.slope.leftCols(3).maxCoeff(), 2.0);
+  EXPECT_GE(bound.slope.leftCols(3).maxCoeff(), 0.99);
 }
 
 TEST(CableRobotBounds, HangprinterSquareAtZ100IsProven) {

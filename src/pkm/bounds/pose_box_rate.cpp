@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 
 #include "pkm/bounds/inverse_hessian.hpp"
+#include "pkm/kinematics/cable_tensions.hpp"
 
 namespace pkm::bounds {
 
@@ -36,7 +38,8 @@ class CellBounder {
  public:
   CellBounder(const machine::Machine& machine, double angle_scale_mm)
       : machine_(machine),
-        model_(machine.kinematics()),
+        geometry_(kinematics::joint_geometry(machine.kinematics())),
+        model_(*geometry_),
         axes_(model_.dof().axes()),
         scale_(angle_scale_mm),
         joints_(model_.joint_count()) {}
@@ -124,6 +127,8 @@ class CellBounder {
 
  private:
   const machine::Machine& machine_;
+  // The joints' rates by the geometry alone: whether the machine takes a pose is `reached`.
+  std::unique_ptr<kinematics::Kinematics> geometry_;
   const kinematics::Kinematics& model_;
   std::vector<int> axes_;
   double scale_;

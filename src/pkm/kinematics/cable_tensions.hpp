@@ -50,4 +50,10 @@ class CableTensions {
   virtual std::unique_ptr<Kinematics> geometry_only() const = 0;
 };
 
+// The model whose inverse gives a machine's joints wherever its geometry reaches: a cable robot's
+// geometry alone (its tensions may refuse the pose: they are bounded apart, as the workspace's
+// and the joint-rate bound's own margins), any other model a copy of itself. What bounds the
+// joints over a cell asks, so that a cell is said to be limited by what limits it.
+std::unique_ptr<Kinematics> joint_geometry(const Kinematics& model);
+
 }  // namespace pkm::kinematics

@@ -1,5 +1,7 @@
 #include "pkm/kinematics/kinematics.hpp"
 
+#include "pkm/kinematics/cable_tensions.hpp"
+
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <algorithm>
@@ -719,6 +721,11 @@ Status numerical_jacobian(const Kinematics& model, const geometry::Pose& pose,
     d_joints_d_pose.col(axis) = (plus - minus) / (2.0 * step);
   }
   return Status::success();
+}
+
+std::unique_ptr<Kinematics> joint_geometry(const Kinematics& model) {
+  if (const CableTensions* cables = model.cable_tensions()) return cables->geometry_only();
+  return model.clone();
 }
 
 }  // namespace pkm::kinematics

@@ -72,20 +72,16 @@ class EnvelopeConstraint final : public PoseConstraint {
 // Infinite H (the ball reaches a singularity or leaves the model's reach) bounds nothing.
 class JointLimitConstraint final : public PoseConstraint {
  public:
-  // A cable robot's joints are bounded where its tensions refuse the cell's middle too (the
-  // tensions are ReachConstraint's): its geometry alone gives them, so that a cell is said to be
-  // limited by what limits it.
+  // The joints by the geometry alone (kinematics::joint_geometry): a cable robot's tensions are
+  // ReachConstraint's.
   explicit JointLimitConstraint(const machine::Machine& machine)
-      : machine_(machine), scale_(bounds::pose_angle_scale_mm(machine.kinematics())) {
-    if (const kinematics::CableTensions* cables = machine.kinematics().cable_tensions()) {
-      geometry_only_ = cables->geometry_only();
-    }
-  }
+      : machine_(machine),
+        scale_(bounds::pose_angle_scale_mm(machine.kinematics())),
+        geometry_(kinematics::joint_geometry(machine.kinematics())) {}
   int count() const override { return 2 * machine_.kinematics().joint_count(); }
   void bound(const PoseCell& cell, std::span<Margin> margins, std::uint64_t) const override {
     std::fill(margins.begin(), margins.end(), Margin{});
-    const kinematics::Kinematics& model =
-        geometry_only_ != nullptr ? *geometry_only_ : machine_.kinematics();
+    const kinematics::Kinematics& model = *geometry_;
     // Pass-through joints are PassThroughConstraint's.
     for (int joint = 0; joint < model.joint_count(); ++joint) {
       if (model.passthrough_axis(joint) < 0) continue;
@@ -119,7 +115,7 @@ class JointLimitConstraint final : public PoseConstraint {
  private:
   const machine::Machine& machine_;
   double scale_;
-  std::unique_ptr<kinematics::Kinematics> geometry_only_;
+  std::unique_ptr<kinematics::Kinematics> geometry_;
   mutable kinematics::JointVector joints_;
   mutable kinematics::JointJacobian jacobian_;
 };
