@@ -50,6 +50,7 @@ struct ReadingsCommandOptions {
   std::string output;
   std::string params;
   bool absolute = false;
+  bool motor_degrees = false;
   bool json = false;
 };
 
@@ -345,11 +346,30 @@ void run_readings(const ReadingsCommandOptions& options) {
   calibration::ReadingsFitOptions fit_options;
   fit_options.fit.parameters = split_names(options.params);
   fit_options.relative_to_home = !options.absolute;
+  const calibration::ReadingUnit unit = options.motor_degrees
+                                            ? calibration::ReadingUnit::motor_degrees
+                                            : calibration::ReadingUnit::joint;
+  // Motor positions count from line position 0, the origin, whatever the machine's home.
+  geometry::Pose zeroed_at = machine.home();
+  if (options.motor_degrees) {
+    if (options.absolute) {
+      throw CommandError(
+          "--motor-degrees: motor positions count from the origin; --absolute is "
+          "for the joints' own values");
+    }
+    try {
+      calibration::require_spools(machine);
+    } catch (const calibration::FitError& error) {
+      throw CommandError((options.machine.empty() ? std::string("the machine") : options.machine) +
+                         ": " + error.what());
+    }
+    zeroed_at.position_mm.setZero();
+  }
   calibration::ReadingsFitReport report;
   try {
     const std::vector<calibration::JointReadings> samples =
-        calibration::read_readings_csv(options.data, machine);
-    report = calibration::fit_readings(machine.kinematics(), machine.home(), samples, fit_options);
+        calibration::read_readings_csv(options.data, machine, unit);
+    report = calibration::fit_readings(machine.kinematics(), zeroed_at, samples, fit_options);
   } catch (const calibration::MeasurementFileError& error) {
     throw CommandError(error.what());
   } catch (const calibration::SampleFitError& error) {
@@ -538,6 +558,10 @@ void register_readings_command(CLI::App& calibrate) {
                       "Comma-separated parameter names to fit, '*' wildcards (default: all)");
   command->add_flag("--absolute", readings->absolute,
                     "The readings are the joints' values, not counted from home");
+  command->add_flag("--motor-degrees", readings->motor_degrees,
+                    "The readings are a cable robot's motor positions (deg) counted from the "
+                    "origin, as Hangprinter's encoders give them: turned into line lengths through "
+                    "the machine file's spools");
   command->add_flag("--json", readings->json, "Print the report as JSON");
   command->callback([readings] { run_readings(*readings); });
 }
