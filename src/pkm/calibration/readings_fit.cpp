@@ -62,7 +62,7 @@ std::vector<int> read_header(const std::vector<CsvField>& header, int line_numbe
 
 // The line length from the origin (mm) that cable `cable`'s motor at `degrees` from the origin
 // gives (RRF's motor position with 360 steps a turn, as Hangprinter's script reads its encoders);
-// none where the spool would be wound past its core.
+// none where that pays out more line than the spool holds.
 std::optional<double> line_from_motor_degrees(const kinematics::CableRobotKinematics& robot,
                                               int cable, double degrees) {
   const int steps_per_rev = robot.geometry().cables[cable].spool->full_steps_per_rev;
@@ -101,9 +101,10 @@ JointReadings read_row(const std::vector<CsvField>& fields, const std::vector<in
     const std::optional<double> line_mm = line_from_motor_degrees(robot, joint, value);
     if (!line_mm) {
       fail_at(source_name, line_number, fields[c].column,
-              "motor position " + field + " deg winds more line onto spool " +
+              "motor position " + field + " deg pays out more line than spool " +
                   std::to_string(joint + 1) +
-                  " than the machine file's spool_radius and spool_buildup allow (past its core)");
+                  " holds with the machine file's spool_radius and spool_buildup (its wound "
+                  "radius would shrink to 0)");
     }
     sample.values[joint] = *line_mm;
   }

@@ -240,7 +240,7 @@ class CableRobotKinematics final : public Kinematics,
   // without a spool or where the spool would unwind past its core.
   std::optional<double> motor_full_steps(int cable, double joint_mm) const;
   // Its inverse, in closed form: the joint (mm) whose motor position is `full_steps`; none
-  // without a spool or for a position no line length gives (wound past the spool's core).
+  // without a spool or for a position no line length gives (more line paid out than it holds).
   std::optional<double> joint_from_motor_full_steps(int cable, double full_steps) const;
   // Full steps per mm of line at line position 0 (RRF's steps per mm over the microstepping).
   std::optional<double> full_steps_per_mm(int cable) const;
