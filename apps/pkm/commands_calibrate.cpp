@@ -269,16 +269,22 @@ void run_fit(const FitCommandOptions& options) {
   }
 }
 
-void print_readings_text(const calibration::ReadingsFitReport& readings, bool relative,
-                         const std::string& output) {
+// What the readings were: "counted from home", "absolute" or "motor degrees from the origin".
+const char* readings_kind(const ReadingsCommandOptions& options) {
+  if (options.motor_degrees) return "motor degrees from the origin";
+  return options.absolute ? "absolute" : "counted from home";
+}
+
+void print_readings_text(const calibration::ReadingsFitReport& readings, const char* kind,
+                         bool relative, const std::string& output) {
   const calibration::FitReport& report = readings.fit;
   std::printf(
       "%d samples of %d readings (%s), %d pose coordinates each solved for; residual (per "
       "reading, mm): RMS %.6f max %.6f before, RMS %.6f max %.6f after (largest at line %d); "
       "noise of a reading by the residuals %.6f mm\n",
-      readings.samples, readings.readings_per_sample, relative ? "counted from home" : "absolute",
-      readings.pose_coordinates, report.rms_before_mm, report.max_before_mm, report.rms_after_mm,
-      report.max_after_mm, report.max_after_line, readings.noise_mm);
+      readings.samples, readings.readings_per_sample, kind, readings.pose_coordinates,
+      report.rms_before_mm, report.max_before_mm, report.rms_after_mm, report.max_after_mm,
+      report.max_after_line, readings.noise_mm);
   std::printf("%-24s %16s %16s %12s %12s\n", "parameter", "nominal", "fitted", "change", "std dev");
   for (const calibration::ParameterEstimate& p : report.parameters) {
     if (p.free) {
@@ -380,7 +386,8 @@ void run_readings(const ReadingsCommandOptions& options) {
   try {
     write_machine(options.machine, machine, machine.kinematics(), options.output);
   } catch (const machine::MachineFileError& error) {
-    if (!options.json) print_readings_text(report, fit_options.relative_to_home, "");
+    if (!options.json)
+      print_readings_text(report, readings_kind(options), fit_options.relative_to_home, "");
     throw CommandError(
         "the fitted geometry does not make a usable machine, so nothing was written (as it "
         "would have read: " +
@@ -390,7 +397,8 @@ void run_readings(const ReadingsCommandOptions& options) {
     std::cout << readings_json(report, fit_options.relative_to_home, options.output).dump(2)
               << "\n";
   } else {
-    print_readings_text(report, fit_options.relative_to_home, options.output);
+    print_readings_text(report, readings_kind(options), fit_options.relative_to_home,
+                        options.output);
   }
 }
 

@@ -71,7 +71,7 @@ add_test(NAME cli.calibrate_readings_motor_degrees
                  --motor-degrees --params "cable*.anchor.*"
                  -o ${CLI_OUT}/hangprinter-degrees-fitted.toml)
 set_tests_properties(cli.calibrate_readings_motor_degrees PROPERTIES
-  PASS_REGULAR_EXPRESSION "30 samples of 4 readings.*RMS 0\\.0[0-9]+ max 0\\.[0-9]+ after.*noise of a reading by the residuals 0\\.0[3-7][0-9]* mm.*cable4\\.anchor\\.z +2299\\.830000 +233[0-9]\\.[0-9]+ .*wrote")
+  PASS_REGULAR_EXPRESSION "30 samples of 4 readings \\(motor degrees from the origin\\).*RMS 0\\.0[0-9]+ max 0\\.[0-9]+ after.*noise of a reading by the residuals 0\\.0[3-7][0-9]* mm.*cable4\\.anchor\\.z +2299\\.830000 +233[0-9]\\.[0-9]+ .*wrote")
 pkm_cli_refuses(calibrate_readings_motor_degrees_without_spools
                 "maslow4\\.toml: motor degrees need the spools that turn them into line lengths, and cable 1 \\(joint tl\\) has none: add spool_radius \\(mm, M666 R\\)"
                 NO_FILE ${CLI_OUT}/readings-never.toml
