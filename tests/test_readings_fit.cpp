@@ -11,6 +11,7 @@
 #include "pkm/calibration/fit_report.hpp"
 #include "pkm/calibration/measurements.hpp"
 #include "pkm/calibration/readings_fit.hpp"
+#include "pkm/kinematics/cable_robot.hpp"
 #include "pkm/kinematics/cable_tensions.hpp"
 #include "pkm/kinematics/kinematics.hpp"
 #include "test_support.hpp"
@@ -90,38 +91,20 @@ const calibration::ParameterEstimate& estimate(const calibration::ReadingsFitRep
   throw std::runtime_error("no parameter " + name);
 }
 
-TEST(ReadingsFit, RecoversHangprinterAnchorsWithinTheirDeviations) {
-  machine::Machine machine = test::load_example("hangprinter-v4.toml");
-  const Synthetic hidden =
-      read_hidden(machine.kinematics(), machine.home(), kHangprinterShift, {-600.0, -600.0, 0.0},
-                  {600.0, 600.0, 1200.0}, 30, 0.05, 31u);
-  calibration::ReadingsFitOptions options;
-  options.fit.parameters = {"cable*.anchor.*"};
-  const calibration::ReadingsFitReport report =
-      calibration::fit_readings(machine.kinematics(), machine.home(), hidden.samples, options);
-
-  // What lengths cannot see is held where Hangprinter holds it: D above the origin, A at x = 0.
-  std::vector<std::string> held = report.fit.held_rigid_motion;
-  std::sort(held.begin(), held.end());
-  EXPECT_EQ(held,
-            (std::vector<std::string>{"cable1.anchor.x", "cable4.anchor.x", "cable4.anchor.y"}));
-  EXPECT_EQ(report.samples, 30);
-  EXPECT_TRUE(report.fit.poorly_determined.empty());
-  // One reading per sample is more than its pose needs: 30 of the 120 residuals are free, so
-  // their RMS is the noise times sqrt(21 / 120) (21: 30 less the 9 anchors fitted).
-  EXPECT_GT(report.fit.rms_before_mm, 1.0);
-  EXPECT_NEAR(report.fit.rms_after_mm, 0.05 * std::sqrt(21.0 / 120.0), 0.01);
-  EXPECT_NEAR(report.noise_mm, 0.05, 0.015);
-
-  const std::vector<kinematics::Parameter> fitted = machine.kinematics().parameters();
+// Every free anchor coordinate of the fit within 3 of its standard deviations of `truth`, every
+// held one untouched; prints the anchors' errors before and after.
+void expect_anchors_recovered(const calibration::ReadingsFitReport& report,
+                              const kinematics::Kinematics& kinematics,
+                              const std::vector<double>& truth) {
+  const std::vector<kinematics::Parameter> fitted = kinematics.parameters();
   double worst_before = 0.0, worst_after = 0.0, sum_before = 0.0, sum_after = 0.0;
   int compared = 0;
   double largest_deviation = 0.0;
   for (std::size_t i = 0; i < fitted.size(); ++i) {
     if (fitted[i].name.find(".anchor.") == std::string::npos) continue;
     const calibration::ParameterEstimate& e = estimate(report, fitted[i].name);
-    const double before = e.nominal - hidden.truth[i];
-    const double after = fitted[i].value - hidden.truth[i];
+    const double before = e.nominal - truth[i];
+    const double after = fitted[i].value - truth[i];
     EXPECT_DOUBLE_EQ(e.fitted, fitted[i].value);
     if (e.free) {
       EXPECT_GT(e.standard_deviation, 0.0) << e.name;
@@ -145,11 +128,151 @@ TEST(ReadingsFit, RecoversHangprinterAnchorsWithinTheirDeviations) {
   EXPECT_NEAR(worst_before, 35.0, 1e-9);
   EXPECT_LT(worst_after, 3.0 * largest_deviation);
   EXPECT_LT(largest_deviation, 2.0);  // 30 samples at 0.05 mm: 1.4 mm at worst
+}
+
+TEST(ReadingsFit, RecoversHangprinterAnchorsWithinTheirDeviations) {
+  machine::Machine machine = test::load_example("hangprinter-v4.toml");
+  const Synthetic hidden =
+      read_hidden(machine.kinematics(), machine.home(), kHangprinterShift, {-600.0, -600.0, 0.0},
+                  {600.0, 600.0, 1200.0}, 30, 0.05, 31u);
+  calibration::ReadingsFitOptions options;
+  options.fit.parameters = {"cable*.anchor.*"};
+  const calibration::ReadingsFitReport report =
+      calibration::fit_readings(machine.kinematics(), machine.home(), hidden.samples, options);
+
+  // What lengths cannot see is held where Hangprinter holds it: D above the origin, A at x = 0.
+  std::vector<std::string> held = report.fit.held_rigid_motion;
+  std::sort(held.begin(), held.end());
+  EXPECT_EQ(held,
+            (std::vector<std::string>{"cable1.anchor.x", "cable4.anchor.x", "cable4.anchor.y"}));
+  EXPECT_EQ(report.samples, 30);
+  EXPECT_TRUE(report.fit.poorly_determined.empty());
+  // One reading per sample is more than its pose needs: 30 of the 120 residuals are free, so
+  // their RMS is the noise times sqrt(21 / 120) (21: 30 less the 9 anchors fitted).
+  EXPECT_GT(report.fit.rms_before_mm, 1.0);
+  EXPECT_NEAR(report.fit.rms_after_mm, 0.05 * std::sqrt(21.0 / 120.0), 0.01);
+  EXPECT_NEAR(report.noise_mm, 0.05, 0.015);
+
+  expect_anchors_recovered(report, machine.kinematics(), hidden.truth);
   // Each sample's pose is found where the hidden machine was.
   ASSERT_EQ(report.poses.size(), hidden.poses.size());
   for (std::size_t k = 0; k < report.poses.size(); ++k) {
     EXPECT_LT((report.poses[k].position_mm - hidden.poses[k].position_mm).norm(), 2.0) << k;
   }
+}
+
+// Hangprinter v4's spools (hangprinter-v4.toml: M666 R U, Q, H255 L20, O1).
+constexpr double kSpoolRadius[4] = {75.546, 75.659, 76.128, 75.192};
+constexpr int kAdvantage[4] = {2, 2, 2, 4};
+constexpr double kBuildup = 0.128181;
+
+// Cable `cable`'s motor position (deg from the origin) for `paid_out_mm` of line since the
+// origin, as Hangprinter's auto-calibration script models its encoders (k2 = -U O Q, k0 =
+// 2 (H / L) U 360 / (2 pi k2), deg = k0 (sqrt(r^2 + k2 p) - r)), written apart from
+// cable_robot_spool.cpp.
+double hangprinter_degrees(int cable, double paid_out_mm) {
+  const double k2 = -kAdvantage[cable] * kBuildup;
+  const double degrees_times_radius = 255.0 / 20.0 * kAdvantage[cable] * 360.0 / (2.0 * M_PI);
+  const double k0 = 2.0 * degrees_times_radius / k2;
+  const double r = kSpoolRadius[cable];
+  return k0 * (std::sqrt(r * r + k2 * paid_out_mm) - r);
+}
+
+// The spool's inverse turns every motor position back into its joint, over the joints' range,
+// and agrees with Hangprinter's own degrees.
+TEST(ReadingsFit, SpoolInverseRoundTripsOverTheJointRange) {
+  const machine::Machine machine = test::load_example("hangprinter-v4.toml");
+  const auto& robot = dynamic_cast<const kinematics::CableRobotKinematics&>(machine.kinematics());
+  double worst_round_trip = 0.0, worst_degrees = 0.0;
+  for (int cable = 0; cable < 4; ++cable) {
+    const double at_origin = robot.geometry().cables[cable].anchor_mm.norm();
+    EXPECT_NEAR(*robot.joint_from_motor_full_steps(cable, 0.0), at_origin, 1e-12);
+    for (double joint = 100.0; joint <= 3500.0; joint += 0.7) {
+      const std::optional<double> steps = robot.motor_full_steps(cable, joint);
+      ASSERT_TRUE(steps.has_value()) << joint;
+      const std::optional<double> back = robot.joint_from_motor_full_steps(cable, *steps);
+      ASSERT_TRUE(back.has_value()) << joint;
+      worst_round_trip = std::max(worst_round_trip, std::abs(*back - joint));
+      const double degrees = *steps * 360.0 / 25.0;  // M666 J25
+      worst_degrees = std::max(worst_degrees,
+                               std::abs(degrees - hangprinter_degrees(cable, joint - at_origin)));
+    }
+  }
+  std::printf("spool inverse: round trip worst %.3g mm; degrees against Hangprinter's %.3g deg\n",
+              worst_round_trip, worst_degrees);
+  EXPECT_LT(worst_round_trip, 1e-9);
+  EXPECT_LT(worst_degrees, 1e-8);
+  // 75.546^2 / (2 x 0.128181) = 22261.9 mm paid out empties spool A: no line length beyond.
+  const double emptied =
+      *robot.motor_full_steps(0, robot.geometry().cables[0].anchor_mm.norm() + 22261.0);
+  EXPECT_TRUE(robot.joint_from_motor_full_steps(0, emptied).has_value());
+  EXPECT_FALSE(robot.joint_from_motor_full_steps(0, emptied * 1.01).has_value());
+}
+
+// Hangprinter's encoder data: motor degrees from the origin, read at poses nobody measured, turn
+// into the line lengths they came from and fit the same anchors.
+TEST(ReadingsFit, MotorDegreesRecoverHangprinterAnchorsWithinTheirDeviations) {
+  machine::Machine machine = test::load_example("hangprinter-v4.toml");
+  ASSERT_TRUE(machine.home().position_mm.isZero());  // readings from home are from the origin
+  const Synthetic hidden =
+      read_hidden(machine.kinematics(), machine.home(), kHangprinterShift, {-600.0, -600.0, 0.0},
+                  {600.0, 600.0, 1200.0}, 30, 0.05, 31u);
+  std::string text = "j_A,j_B,j_C,j_D\n";
+  for (const JointReadings& sample : hidden.samples) {
+    for (int cable = 0; cable < 4; ++cable) {
+      char field[40];
+      std::snprintf(field, sizeof field, "%.17g%s",
+                    hangprinter_degrees(cable, sample.values[cable]), cable < 3 ? "," : "\n");
+      text += field;
+    }
+  }
+  const std::vector<JointReadings> read = calibration::parse_readings_csv(
+      text, "deg.csv", machine, calibration::ReadingUnit::motor_degrees);
+  ASSERT_EQ(read.size(), hidden.samples.size());
+  for (std::size_t k = 0; k < read.size(); ++k) {
+    EXPECT_LT((read[k].values - hidden.samples[k].values).cwiseAbs().maxCoeff(), 1e-9) << k;
+  }
+  EXPECT_GT(std::abs(calibration::parse_readings_csv(text, "deg.csv", machine)[0].values[0] -
+                     read[0].values[0]),
+            100.0);  // the same numbers as millimetres are far off
+  calibration::ReadingsFitOptions options;
+  options.fit.parameters = {"cable*.anchor.*"};
+  const calibration::ReadingsFitReport report =
+      calibration::fit_readings(machine.kinematics(), machine.home(), read, options);
+  EXPECT_NEAR(report.noise_mm, 0.05, 0.015);
+  expect_anchors_recovered(report, machine.kinematics(), hidden.truth);
+}
+
+TEST(ReadingsFit, MotorDegreesNeedSpoolsAndNumbers) {
+  const machine::Machine maslow = test::load_example("maslow4.toml");
+  try {
+    calibration::parse_readings_csv("j_tl,j_tr,j_bl,j_br\n1,2,3,4\n", "deg.csv", maslow,
+                                    calibration::ReadingUnit::motor_degrees);
+    FAIL() << "a machine without spools took motor degrees";
+  } catch (const calibration::FitError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("cable 1 (joint tl) has none: add spool_radius (mm, "
+                        "M666 R) to its [[kinematics.cables]]"),
+              std::string::npos)
+        << error.what();
+  }
+  const machine::Machine delta = test::load_example("linear-delta.toml");
+  EXPECT_THROW(calibration::require_spools(delta), calibration::FitError);
+  const machine::Machine hangprinter = test::load_example("hangprinter-v4.toml");
+  const auto refused = [&](const std::string& text, const std::string& message) {
+    try {
+      calibration::parse_readings_csv(text, "deg.csv", hangprinter,
+                                      calibration::ReadingUnit::motor_degrees);
+      FAIL() << "accepted: " << text;
+    } catch (const calibration::MeasurementFileError& error) {
+      EXPECT_EQ(std::string(error.what()), message);
+    }
+  };
+  refused("j_A,j_B,j_C,j_D\n1,2,3,4\n1,2,x3,4\n", "deg.csv:3:5: 'x3' is not a number");
+  // Spool A empties after 22262 mm of line: about 861000 deg of its motor.
+  refused("j_A,j_B,j_C,j_D\n870000,2,3,4\n",
+          "deg.csv:2:1: motor position 870000 deg pays out more line than spool 1 holds with the "
+          "machine file's spool_radius and spool_buildup (its wound radius would shrink to 0)");
 }
 
 // Fitting every parameter (the default) fits the same anchors: each attach point acts exactly as

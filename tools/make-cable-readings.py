@@ -9,6 +9,13 @@ home (the origin) as a Hangprinter's encoders count from power-on (--absolute: t
 themselves), with Gaussian noise of --noise mm on every reading. An independent
 implementation of the cable lengths: |anchor - position|.
 
+--motor-degrees writes what Hangprinter's encoders read instead: each motor's position in degrees
+from the origin, from the (noisy) line length through the spool build-up as Hangprinter's
+auto-calibration script models it (k2 = -U O Q, k0 = 2 (H / L) U 360 / (2 pi k2), degrees =
+k0 (sqrt(r^2 + k2 p) - r) for p mm of line paid out since the origin), with the machine file's
+spool_radius, spool_buildup, mechanical_advantage, lines_per_spool, motor_gear_teeth and
+spool_gear_teeth.
+
   tools/make-cable-readings.py examples/machines/hangprinter-v4.toml \\
       --shift '0,-25,18 30,-22,15 -28,27,-20 0,0,35' > readings.csv
 """
@@ -40,6 +47,28 @@ def barycentric(point, corners):
     return [1.0 - sum(weights)] + weights
 
 
+def spool_key(machine, cable, key, default):
+    """A spool key of the cable, else of [kinematics], else `default`."""
+    return cable.get(key, machine["kinematics"].get(key, default))
+
+
+def motor_degrees(machine, cable, paid_out_mm):
+    """Hangprinter's motor position (deg from the origin) for `paid_out_mm` of line since then."""
+    radius = spool_key(machine, cable, "spool_radius", None)
+    if radius is None:
+        sys.exit("--motor-degrees needs every cable's spool_radius")
+    advantage = spool_key(machine, cable, "mechanical_advantage", 1)
+    k2 = -advantage * spool_key(machine, cable, "lines_per_spool", 1) * \
+        machine["kinematics"].get("spool_buildup", 0.0)
+    gearing = spool_key(machine, cable, "spool_gear_teeth", 1) / \
+        spool_key(machine, cable, "motor_gear_teeth", 1)
+    degrees_times_radius = gearing * advantage * 360.0 / (2.0 * math.pi)
+    if k2 == 0.0:
+        return degrees_times_radius / radius * paid_out_mm
+    k0 = 2.0 * degrees_times_radius / k2
+    return k0 * (math.sqrt(radius * radius + k2 * paid_out_mm) - radius)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("machine")
@@ -52,6 +81,8 @@ def main():
     parser.add_argument("--seed", type=int, default=31)
     parser.add_argument("--absolute", action="store_true",
                         help="write the lengths themselves, not counted from home")
+    parser.add_argument("--motor-degrees", action="store_true",
+                        help="write motor positions (deg from the origin) through the spools")
     args = parser.parse_args()
     with open(args.machine, "rb") as file:
         machine = tomllib.load(file)
@@ -59,6 +90,8 @@ def main():
     names = [joint["name"] for joint in machine["joints"]]
     if len(cables) != 4 or len(names) != 4:
         sys.exit("this script reads four cables in space")
+    if args.motor_degrees and args.absolute:
+        sys.exit("motor degrees count from the origin: no --absolute")
     anchors = [list(cable["anchor"]) for cable in cables]
     for i, text in enumerate(args.shift.split()):
         for k, value in enumerate(text.split(",")):
@@ -75,6 +108,9 @@ def main():
             continue
         readings = [math.dist(anchor, point) - zero[i] + rng.gauss(0.0, args.noise)
                     for i, anchor in enumerate(anchors)]
+        if args.motor_degrees:
+            readings = [motor_degrees(machine, cables[i], value)
+                        for i, value in enumerate(readings)]
         print(",".join(f"{value:.4f}" for value in readings))
         written += 1
 

@@ -50,6 +50,7 @@ struct ReadingsCommandOptions {
   std::string output;
   std::string params;
   bool absolute = false;
+  bool motor_degrees = false;
   bool json = false;
 };
 
@@ -268,16 +269,22 @@ void run_fit(const FitCommandOptions& options) {
   }
 }
 
-void print_readings_text(const calibration::ReadingsFitReport& readings, bool relative,
-                         const std::string& output) {
+// What the readings were: "counted from home", "absolute" or "motor degrees from the origin".
+const char* readings_kind(const ReadingsCommandOptions& options) {
+  if (options.motor_degrees) return "motor degrees from the origin";
+  return options.absolute ? "absolute" : "counted from home";
+}
+
+void print_readings_text(const calibration::ReadingsFitReport& readings, const char* kind,
+                         bool relative, const std::string& output) {
   const calibration::FitReport& report = readings.fit;
   std::printf(
       "%d samples of %d readings (%s), %d pose coordinates each solved for; residual (per "
       "reading, mm): RMS %.6f max %.6f before, RMS %.6f max %.6f after (largest at line %d); "
       "noise of a reading by the residuals %.6f mm\n",
-      readings.samples, readings.readings_per_sample, relative ? "counted from home" : "absolute",
-      readings.pose_coordinates, report.rms_before_mm, report.max_before_mm, report.rms_after_mm,
-      report.max_after_mm, report.max_after_line, readings.noise_mm);
+      readings.samples, readings.readings_per_sample, kind, readings.pose_coordinates,
+      report.rms_before_mm, report.max_before_mm, report.rms_after_mm, report.max_after_mm,
+      report.max_after_line, readings.noise_mm);
   std::printf("%-24s %16s %16s %12s %12s\n", "parameter", "nominal", "fitted", "change", "std dev");
   for (const calibration::ParameterEstimate& p : report.parameters) {
     if (p.free) {
@@ -345,11 +352,30 @@ void run_readings(const ReadingsCommandOptions& options) {
   calibration::ReadingsFitOptions fit_options;
   fit_options.fit.parameters = split_names(options.params);
   fit_options.relative_to_home = !options.absolute;
+  const calibration::ReadingUnit unit = options.motor_degrees
+                                            ? calibration::ReadingUnit::motor_degrees
+                                            : calibration::ReadingUnit::joint;
+  // Motor positions count from line position 0, the origin, whatever the machine's home.
+  geometry::Pose zeroed_at = machine.home();
+  if (options.motor_degrees) {
+    if (options.absolute) {
+      throw CommandError(
+          "--motor-degrees: motor positions count from the origin; --absolute is "
+          "for the joints' own values");
+    }
+    try {
+      calibration::require_spools(machine);
+    } catch (const calibration::FitError& error) {
+      throw CommandError((options.machine.empty() ? std::string("the machine") : options.machine) +
+                         ": " + error.what());
+    }
+    zeroed_at.position_mm.setZero();
+  }
   calibration::ReadingsFitReport report;
   try {
     const std::vector<calibration::JointReadings> samples =
-        calibration::read_readings_csv(options.data, machine);
-    report = calibration::fit_readings(machine.kinematics(), machine.home(), samples, fit_options);
+        calibration::read_readings_csv(options.data, machine, unit);
+    report = calibration::fit_readings(machine.kinematics(), zeroed_at, samples, fit_options);
   } catch (const calibration::MeasurementFileError& error) {
     throw CommandError(error.what());
   } catch (const calibration::SampleFitError& error) {
@@ -360,7 +386,8 @@ void run_readings(const ReadingsCommandOptions& options) {
   try {
     write_machine(options.machine, machine, machine.kinematics(), options.output);
   } catch (const machine::MachineFileError& error) {
-    if (!options.json) print_readings_text(report, fit_options.relative_to_home, "");
+    if (!options.json)
+      print_readings_text(report, readings_kind(options), fit_options.relative_to_home, "");
     throw CommandError(
         "the fitted geometry does not make a usable machine, so nothing was written (as it "
         "would have read: " +
@@ -370,7 +397,8 @@ void run_readings(const ReadingsCommandOptions& options) {
     std::cout << readings_json(report, fit_options.relative_to_home, options.output).dump(2)
               << "\n";
   } else {
-    print_readings_text(report, fit_options.relative_to_home, options.output);
+    print_readings_text(report, readings_kind(options), fit_options.relative_to_home,
+                        options.output);
   }
 }
 
@@ -538,6 +566,10 @@ void register_readings_command(CLI::App& calibrate) {
                       "Comma-separated parameter names to fit, '*' wildcards (default: all)");
   command->add_flag("--absolute", readings->absolute,
                     "The readings are the joints' values, not counted from home");
+  command->add_flag("--motor-degrees", readings->motor_degrees,
+                    "The readings are a cable robot's motor positions (deg) counted from the "
+                    "origin, as Hangprinter's encoders give them: turned into line lengths through "
+                    "the machine file's spools");
   command->add_flag("--json", readings->json, "Print the report as JSON");
   command->callback([readings] { run_readings(*readings); });
 }

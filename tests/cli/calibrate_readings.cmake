@@ -61,3 +61,29 @@ add_test(NAME cli.calibrate_readings_names_a_slipped_reading
                  -o ${CLI_OUT}/hangprinter-slip-fitted.toml)
 set_tests_properties(cli.calibrate_readings_names_a_slipped_reading PROPERTIES
   PASS_REGULAR_EXPRESSION "warning: a reading at line 11 is 4\\.[0-9]+ mm off the fit, [0-9]+ times the others' spread")
+
+# Hangprinter's own auto-calibration data are motor positions in degrees from the origin (its
+# encoders, M569.3): the same hidden machine read that way (tools/make-cable-readings.py
+# --motor-degrees, same --shift), turned into line lengths through hangprinter-v4.toml's spools,
+# fits the same anchors.
+add_test(NAME cli.calibrate_readings_motor_degrees
+         COMMAND ${PKM} calibrate readings -m ${HANGPRINTER} ${CLI_DATA}/hangprinter-motor-degrees.csv
+                 --motor-degrees --params "cable*.anchor.*"
+                 -o ${CLI_OUT}/hangprinter-degrees-fitted.toml)
+set_tests_properties(cli.calibrate_readings_motor_degrees PROPERTIES
+  PASS_REGULAR_EXPRESSION "30 samples of 4 readings \\(motor degrees from the origin\\).*RMS 0\\.0[0-9]+ max 0\\.[0-9]+ after.*noise of a reading by the residuals 0\\.0[3-7][0-9]* mm.*cable4\\.anchor\\.z +2299\\.830000 +233[0-9]\\.[0-9]+ .*wrote")
+pkm_cli_refuses(calibrate_readings_motor_degrees_without_spools
+                "maslow4\\.toml: motor degrees need the spools that turn them into line lengths, and cable 1 \\(joint tl\\) has none: add spool_radius \\(mm, M666 R\\)"
+                NO_FILE ${CLI_OUT}/readings-never.toml
+                calibrate readings -m ${MACHINES}/maslow4.toml ${CLI_DATA}/hangprinter-motor-degrees.csv
+                --motor-degrees -o ${CLI_OUT}/readings-never.toml)
+pkm_cli_refuses(calibrate_readings_motor_degrees_bad_number
+                "hangprinter-motor-degrees-bad\\.csv:4:11: '1860\\.05O4' is not a number"
+                NO_FILE ${CLI_OUT}/readings-never.toml
+                calibrate readings -m ${HANGPRINTER} ${CLI_DATA}/hangprinter-motor-degrees-bad.csv
+                --motor-degrees -o ${CLI_OUT}/readings-never.toml)
+pkm_cli_refuses(calibrate_readings_motor_degrees_not_absolute
+                "motor-degrees: motor positions count from the origin. --absolute is for the joints' own values"
+                NO_FILE ${CLI_OUT}/readings-never.toml
+                calibrate readings -m ${HANGPRINTER} ${CLI_DATA}/hangprinter-motor-degrees.csv
+                --motor-degrees --absolute -o ${CLI_OUT}/readings-never.toml)

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "pkm/calibration/measurements.hpp"
+#include "pkm/kinematics/cable_robot.hpp"
 #include "pkm/kinematics/cable_tensions.hpp"
 
 namespace pkm::calibration {
@@ -59,9 +60,22 @@ std::vector<int> read_header(const std::vector<CsvField>& header, int line_numbe
   return joint_of_column;
 }
 
+// The line length from the origin (mm) that cable `cable`'s motor at `degrees` from the origin
+// gives (RRF's motor position with 360 steps a turn, as Hangprinter's script reads its encoders);
+// none where that pays out more line than the spool holds.
+std::optional<double> line_from_motor_degrees(const kinematics::CableRobotKinematics& robot,
+                                              int cable, double degrees) {
+  const int steps_per_rev = robot.geometry().cables[cable].spool->full_steps_per_rev;
+  const std::optional<double> joint =
+      robot.joint_from_motor_full_steps(cable, degrees * steps_per_rev / 360.0);
+  const std::optional<double> at_origin = robot.joint_from_motor_full_steps(cable, 0.0);
+  if (!joint || !at_origin) return std::nullopt;
+  return *joint - *at_origin;
+}
+
 JointReadings read_row(const std::vector<CsvField>& fields, const std::vector<int>& joint_of_column,
                        int line_number, const std::string& source_name,
-                       const machine::Machine& machine) {
+                       const machine::Machine& machine, ReadingUnit unit) {
   JointReadings sample;
   sample.values.resize(static_cast<int>(machine.joints().size()));
   sample.line = line_number;
@@ -79,7 +93,20 @@ JointReadings read_row(const std::vector<CsvField>& fields, const std::vector<in
       fail_at(source_name, line_number, fields[c].column,
               "'" + field + "' is beyond any machine (at most 1e6 mm or deg in size)");
     }
-    sample.values[joint] = machine.joints()[joint].from_interface(value);
+    if (unit == ReadingUnit::joint) {
+      sample.values[joint] = machine.joints()[joint].from_interface(value);
+      continue;
+    }
+    const auto& robot = dynamic_cast<const kinematics::CableRobotKinematics&>(machine.kinematics());
+    const std::optional<double> line_mm = line_from_motor_degrees(robot, joint, value);
+    if (!line_mm) {
+      fail_at(source_name, line_number, fields[c].column,
+              "motor position " + field + " deg pays out more line than spool " +
+                  std::to_string(joint + 1) +
+                  " holds with the machine file's spool_radius and spool_buildup (its wound "
+                  "radius would shrink to 0)");
+    }
+    sample.values[joint] = *line_mm;
   }
   return sample;
 }
@@ -368,9 +395,28 @@ UnseenParameters unseen_by_readings(const kinematics::Kinematics& kinematics,
 
 }  // namespace
 
+void require_spools(const machine::Machine& machine) {
+  const auto* robot = dynamic_cast<const kinematics::CableRobotKinematics*>(&machine.kinematics());
+  if (robot == nullptr) {
+    throw FitError("motor degrees are a cable robot's spool positions; a " +
+                   std::string(machine.kinematics().type()) +
+                   " has none: give its joints' own values");
+  }
+  for (int cable = 0; cable < robot->joint_count(); ++cable) {
+    if (robot->geometry().cables[cable].spool) continue;
+    throw FitError(
+        "motor degrees need the spools that turn them into line lengths, and cable " +
+        std::to_string(cable + 1) + " (joint " + machine.joints()[cable].name +
+        ") has none: add spool_radius (mm, M666 R) to its [[kinematics.cables]] or to "
+        "[kinematics], with mechanical_advantage, lines_per_spool, motor_gear_teeth, "
+        "spool_gear_teeth (M666 U O L H) and spool_buildup (mm, M666 Q) as the machine has them");
+  }
+}
+
 std::vector<JointReadings> parse_readings_csv(const std::string& text,
                                               const std::string& source_name,
-                                              const machine::Machine& machine) {
+                                              const machine::Machine& machine, ReadingUnit unit) {
+  if (unit == ReadingUnit::motor_degrees) require_spools(machine);
   std::istringstream in(text);
   std::string line;
   int line_number = 0;
@@ -394,15 +440,15 @@ std::vector<JointReadings> parse_readings_csv(const std::string& text,
               "has " + std::to_string(fields.size()) + " fields; the header has " +
                   std::to_string(header.size()));
     }
-    samples.push_back(read_row(fields, joint_of_column, line_number, source_name, machine));
+    samples.push_back(read_row(fields, joint_of_column, line_number, source_name, machine, unit));
   }
   if (samples.empty()) fail_at(source_name, line_number, 1, "no samples after the header");
   return samples;
 }
 
 std::vector<JointReadings> read_readings_csv(const std::filesystem::path& path,
-                                             const machine::Machine& machine) {
-  return parse_readings_csv(read_text_file(path), path.string(), machine);
+                                             const machine::Machine& machine, ReadingUnit unit) {
+  return parse_readings_csv(read_text_file(path), path.string(), machine, unit);
 }
 
 int fewest_samples(int readings_per_sample, int pose_coordinates, int parameters) {

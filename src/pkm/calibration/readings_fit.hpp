@@ -26,15 +26,28 @@ struct JointReadings {
   int line = 0;  // source line, for reports
 };
 
-// Reads a CSV with a header row naming every joint `j_` + its name (mm, deg for rotary joints),
-// each once, in any order; columns `t` and `line` are ignored. Errors as file:line:column
-// (MeasurementFileError): an unknown or repeated column, a missing joint, a value that is not a
-// finite number of at most 1e6 in size, a row with too many or too few fields, no rows.
+// What a file's numbers are: the joints' own values (mm, deg for rotary joints), or a cable
+// robot's motor positions (deg of the motor shaft) counted from line position 0, the origin, as
+// Hangprinter's encoders give them (M569.3; its auto-calibration script's motor_pos_samp). Motor
+// degrees become line lengths counted from the origin through the machine file's spools
+// (CableRobotKinematics::joint_from_motor_full_steps: RRF's build-up model, inverted exactly).
+enum class ReadingUnit { joint, motor_degrees };
+
+// Throws FitError naming the keys to add unless every joint of `machine` is a cable on a spool.
+void require_spools(const machine::Machine& machine);
+
+// Reads a CSV with a header row naming every joint `j_` + its name, each once, in any order;
+// columns `t` and `line` are ignored. Errors as file:line:column (MeasurementFileError): an
+// unknown or repeated column, a missing joint, a value that is not a finite number of at most 1e6
+// in size, a motor position no line length gives, a row with too many or too few fields, no rows.
+// With motor_degrees, FitError (require_spools) for a machine without spools.
 std::vector<JointReadings> parse_readings_csv(const std::string& text,
                                               const std::string& source_name,
-                                              const machine::Machine& machine);
+                                              const machine::Machine& machine,
+                                              ReadingUnit unit = ReadingUnit::joint);
 std::vector<JointReadings> read_readings_csv(const std::filesystem::path& path,
-                                             const machine::Machine& machine);
+                                             const machine::Machine& machine,
+                                             ReadingUnit unit = ReadingUnit::joint);
 
 // A sample no pose fits with the machine file's geometry, at its source line.
 class SampleFitError : public FitError {

@@ -239,6 +239,9 @@ class CableRobotKinematics final : public Kinematics,
   // step) from line position 0, as RRF's spool model turns it (cable_robot_spool.cpp); none
   // without a spool or where the spool would unwind past its core.
   std::optional<double> motor_full_steps(int cable, double joint_mm) const;
+  // Its inverse, in closed form: the joint (mm) whose motor position is `full_steps`; none
+  // without a spool or for a position no line length gives (more line paid out than it holds).
+  std::optional<double> joint_from_motor_full_steps(int cable, double full_steps) const;
   // Full steps per mm of line at line position 0 (RRF's steps per mm over the microstepping).
   std::optional<double> full_steps_per_mm(int cable) const;
   // Flex compensation: the forces RRF plans for the tool at `tool_mm` (N, per cable; M666 F1's

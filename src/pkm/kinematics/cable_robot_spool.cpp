@@ -157,6 +157,24 @@ std::optional<double> CableRobotKinematics::motor_full_steps(int cable, double j
   return k0 * (std::sqrt(square) - spool.radius_mm);
 }
 
+std::optional<double> CableRobotKinematics::joint_from_motor_full_steps(int cable,
+                                                                        double full_steps) const {
+  const std::optional<double> per_mm = full_steps_per_mm(cable);
+  if (!per_mm || !std::isfinite(full_steps)) return std::nullopt;
+  const RobotCable& c = geometry_.cables[cable];
+  const CableSpool& spool = *c.spool;
+  const double at_origin = c.offset_mm + (c.anchor_mm - c.attach_mm).norm();
+  const double k2 =
+      -double(spool.mechanical_advantage) * spool.lines_per_spool * geometry_.spool_buildup_mm;
+  if (k2 == 0.0) return at_origin + full_steps / *per_mm;
+  // steps = k0 (sqrt(r^2 + k2 p) - r) gives sqrt(r^2 + k2 p) = r + t with t = steps / k0, so
+  // p = t (2 r + t) / k2, without the cancellation of (r + t)^2 - r^2. r + t below 0 is no root.
+  const double k0 = 2.0 * *per_mm * spool.radius_mm / k2;
+  const double t = full_steps / k0;
+  if (!(spool.radius_mm + t > 0.0)) return std::nullopt;
+  return at_origin + t * (2.0 * spool.radius_mm + t) / k2;
+}
+
 void read_cable_robot_drive(const ModelConfig& config, CableRobotGeometry& g) {
   const auto cables = config.table_list("cables");
   for (std::size_t i = 0; i < cables.size() && i < g.cables.size(); ++i) {
