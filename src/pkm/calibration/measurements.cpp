@@ -48,13 +48,23 @@ std::string read_text_file(const std::filesystem::path& path) {
   }
 }
 
-namespace {
-
-[[noreturn]] void fail_at(const std::string& source_name, int line, int column,
-                          const std::string& message) {
+void fail_at(const std::string& source_name, int line, int column, const std::string& message) {
   throw MeasurementFileError(source_name + ":" + std::to_string(line) + ":" +
                              std::to_string(column) + ": " + message);
 }
+
+std::string csv_header_line(std::istream& in, const std::string& source_name, int& line_number,
+                            const std::string& expected) {
+  std::string line;
+  line_number = 0;
+  while (std::getline(in, line)) {  // blank lines before the header are skipped
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") != std::string::npos) return line;
+  }
+  fail_at(source_name, 1, 1, "empty file: expected a header row " + expected);
+}
+
+namespace {
 
 // What the header row says each column holds: a joint, a pose coordinate, or neither (t, line).
 struct MeasurementColumns {
@@ -151,15 +161,8 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
                                                 const std::string& source_name,
                                                 const machine::Machine& machine) {
   std::istringstream in(text);
-  std::string line;
   int line_number = 0;
-  while (std::getline(in, line)) {  // blank lines before the header are skipped
-    ++line_number;
-    if (line.find_first_not_of(" \t\r") != std::string::npos) break;
-  }
-  if (line_number == 0 || line.find_first_not_of(" \t\r") == std::string::npos) {
-    fail_at(source_name, 1, 1, "empty file: expected a header row such as j_left,j_right,x,y");
-  }
+  std::string line = csv_header_line(in, source_name, line_number, "such as j_left,j_right,x,y");
   const std::vector<CsvField> header = split_csv_line(line);
   const MeasurementColumns columns = read_header(header, line_number, source_name, machine);
 

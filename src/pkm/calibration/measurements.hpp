@@ -3,6 +3,7 @@
 
 #include <array>
 #include <filesystem>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,13 @@ struct CsvField {
   int column = 1;
 };
 std::vector<CsvField> split_csv_line(const std::string& line);
+// Throws MeasurementFileError "source:line:column: message".
+[[noreturn]] void fail_at(const std::string& source_name, int line, int column,
+                          const std::string& message);
+// A CSV's header row: its first line that is not blank, `line_number` its number (1-based);
+// MeasurementFileError "source:1:1: empty file: expected a header row <expected>" without one.
+std::string csv_header_line(std::istream& in, const std::string& source_name, int& line_number,
+                            const std::string& expected);
 // The whole of `text` as a number (from_chars: no blanks, no '+'); false otherwise.
 bool csv_number(const std::string& text, double& value);
 // A measurement file's text; MeasurementFileError "path:0:0: cannot open the file".

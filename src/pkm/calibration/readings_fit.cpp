@@ -24,12 +24,6 @@ constexpr double kLargestValue = 1e6;
 constexpr double kPoseConverged = 1e-15;
 constexpr int kPoseIterations = 60;
 
-[[noreturn]] void fail_at(const std::string& source_name, int line, int column,
-                          const std::string& message) {
-  throw MeasurementFileError(source_name + ":" + std::to_string(line) + ":" +
-                             std::to_string(column) + ": " + message);
-}
-
 // The joint each header column names (-1: t or line, ignored), every joint once.
 std::vector<int> read_header(const std::vector<CsvField>& header, int line_number,
                              const std::string& source_name, const machine::Machine& machine) {
@@ -418,16 +412,9 @@ std::vector<JointReadings> parse_readings_csv(const std::string& text,
                                               const machine::Machine& machine, ReadingUnit unit) {
   if (unit == ReadingUnit::motor_degrees) require_spools(machine);
   std::istringstream in(text);
-  std::string line;
   int line_number = 0;
-  while (std::getline(in, line)) {  // blank lines before the header are skipped
-    ++line_number;
-    if (line.find_first_not_of(" \t\r") != std::string::npos) break;
-  }
-  if (line_number == 0 || line.find_first_not_of(" \t\r") == std::string::npos) {
-    fail_at(source_name, 1, 1,
-            "empty file: expected a header row naming every joint, such as j_A,j_B,j_C,j_D");
-  }
+  std::string line =
+      csv_header_line(in, source_name, line_number, "naming every joint, such as j_A,j_B,j_C,j_D");
   const std::vector<CsvField> header = split_csv_line(line);
   const std::vector<int> joint_of_column = read_header(header, line_number, source_name, machine);
   std::vector<JointReadings> samples;
