@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -83,7 +84,7 @@ TEST(CableRobotPulley, SpatialLengthByHand) {
   EXPECT_NEAR(jacobian(0, 2), 5.0 / 13.0, 1e-12);
   // The tie point on the swivel axis or within the pulley: refused, and said why.
   EXPECT_EQ(model.inverse(pose_at(0.0, 0.0, 1500.0), joints).code,
-            kinematics::StatusCode::singular);
+            kinematics::StatusCode::unreachable);
   const kinematics::Status within = model.inverse(pose_at(12.0, 0.0, 2000.0), joints);
   EXPECT_EQ(within.code, kinematics::StatusCode::unreachable);
   EXPECT_NE(model.why_refused(pose_at(12.0, 0.0, 2000.0), within).find("within its pulley_radius"),
@@ -250,6 +251,45 @@ TEST(CableRobotPulley, MachineFileErrorsAtTheirKey) {
                "bad.toml:8:kinematics.cables[1].pulley_radius: must be a length of 0 or more");
   expect_error("pulley_radius = 5.0\npulley_axis = [0.0, 0.0, 0.0]\n",
                "bad.toml:9:kinematics.cables[1].pulley_axis: must be a non-zero direction");
+}
+
+}  // namespace
+}  // namespace pkm
+
+namespace pkm {
+namespace {
+
+TEST(CableRobotPulley, ClearanceBracketsTheRefusedPoses) {
+  // Near the first pulley (its axis z through (-800, -800, 2000), radius 18.85): a cell whose
+  // margin is proven positive holds no refused pose; a refused pose's cell is not proven.
+  const CableRobotKinematics model = ceiling_robot();
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> near(-60.0, 60.0), unit(-1.0, 1.0);
+  int proven = 0, refused = 0;
+  for (int cell = 0; cell < 400; ++cell) {
+    const geometry::Pose centre =
+        pose_at(-800.0 + near(rng), -800.0 + near(rng), 2000.0 + near(rng));
+    const double radius = 5.0;
+    std::array<double, 2> margins[6];
+    model.reach_over_cell(centre.as_vector(), radius, radius, 100.0, margins);
+    JointVector joints;
+    for (int sample = 0; sample < 20; ++sample) {
+      geometry::Pose p = centre;
+      p.position_mm +=
+          radius * unit(rng) * Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized();
+      const bool ok = model.inverse(p, joints).ok();
+      if (margins[0][0] > 0.0) {
+        EXPECT_TRUE(ok) << p.position_mm.transpose();
+      }
+      if (!ok && model.inverse(p, joints).joint == 0) {
+        ++refused;
+        EXPECT_LE(margins[0][0], 0.0);
+      }
+    }
+    if (margins[0][0] > 0.0) ++proven;
+  }
+  EXPECT_GT(proven, 50);
+  EXPECT_GT(refused, 20);
 }
 
 }  // namespace

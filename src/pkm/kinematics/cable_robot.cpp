@@ -194,7 +194,7 @@ std::string CableRobotKinematics::why_refused(const geometry::Pose& pose,
   if (cable.pulley_radius_mm > 0.0) {
     PulleyPath path;
     pulley_path(cable, pivot, path);
-    if (status.code == StatusCode::singular) {
+    if (path.axis_distance_mm < kShortestRobotCable_mm) {
       return which + "'s tie point is on its pulley's swivel axis (" + mm(path.axis_distance_mm) +
              " from it): the pulley has no plane to turn to";
     }

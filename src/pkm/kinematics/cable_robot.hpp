@@ -79,8 +79,8 @@ struct PulleyPath {
   double along_axis_mm = 0.0;     // (tie - anchor) . axis: > 0 back towards the winch
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();
 };
-// Success, or `singular` where the tie point is on the swivel axis (the pulley has no plane),
-// `unreachable` where it is on or within the pulley (no tangent).
+// Success, or `unreachable` where the tie point is on the swivel axis (the pulley has no plane
+// to turn to) or on or within the pulley (no tangent): one clearance, the nearer of the two.
 Status pulley_path(const RobotCable& cable, const Eigen::Vector3d& tie_mm, PulleyPath& path);
 
 struct CableRobotGeometry {

@@ -254,9 +254,11 @@ void CableRobotKinematics::reach_over_cell(const geometry::Vector6d& centre,
     double clearance = 0.0;  // 1-Lipschitz in the tool's position, either way
     PulleyPath path;
     if (cable.pulley_radius_mm > 0.0) {
-      // Its tie point's distance from the pulley's rim (the circle its centre swivels on, less r).
-      clearance =
-          pulley_path(cable, axis, path).ok() ? path.rim_distance_mm - cable.pulley_radius_mm : 0.0;
+      // The nearer of its tie point's distance from the pulley's rim (from the circle its centre
+      // swivels on, less r) and from the swivel axis (where the pulley has no plane).
+      pulley_path(cable, axis, path);
+      clearance = std::min(path.rim_distance_mm - cable.pulley_radius_mm,
+                           path.axis_distance_mm - kShortestRobotCable_mm);
       const double span = shortest_span(cable, axis, r);
       margins[static_cast<std::size_t>(i)] = {clearance - r, clearance + r};
       directions_bounded = directions_bounded && span > 0.0;
@@ -289,7 +291,9 @@ ReachMargin CableRobotKinematics::reach_margin(int index) const {
               false, Status::failure(StatusCode::unreachable, index)};
     }
     if (geometry_.cables[static_cast<std::size_t>(index)].pulley_radius_mm > 0.0) {
-      return {cable + "'s clearance of its pulley (its tie point's distance from the pulley's rim)",
+      return {cable +
+                  "'s clearance of its pulley (its tie point's distance from the pulley's rim "
+                  "or from its swivel axis, the nearer)",
               false, Status::failure(StatusCode::unreachable, index)};
     }
     return {cable + "'s length (clear of its anchor)", false,

@@ -4,6 +4,7 @@
 // axis towards B and the pulley's centre M = A + r e, the cable wraps from A by theta and leaves
 // at the tangent point towards B: B - M = R(theta) (-r, -s) in (e, w) coordinates, s the straight
 // span. The length r theta + s has gradient u = sin(theta) e - cos(theta) w, the span's direction.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -19,13 +20,12 @@ Status pulley_path(const RobotCable& cable, const Eigen::Vector3d& tie_mm, Pulle
   path.along_axis_mm = d.dot(w);
   const Eigen::Vector3d across = d - path.along_axis_mm * w;
   path.axis_distance_mm = across.norm();
-  if (!(path.axis_distance_mm >= kShortestRobotCable_mm)) {
-    return Status::failure(StatusCode::singular);
-  }
-  const Eigen::Vector3d e = across / path.axis_distance_mm;
   const double x = path.axis_distance_mm - r, y = path.along_axis_mm;
   path.rim_distance_mm = std::hypot(x, y);
-  if (!(path.rim_distance_mm > r)) return Status::failure(StatusCode::unreachable);
+  if (!(path.axis_distance_mm >= kShortestRobotCable_mm) || !(path.rim_distance_mm > r)) {
+    return Status::failure(StatusCode::unreachable);
+  }
+  const Eigen::Vector3d e = across / path.axis_distance_mm;
   path.span_mm = std::sqrt((path.rim_distance_mm - r) * (path.rim_distance_mm + r));
   // atan2(y, x) - atan2(-s, -r) lies in (-pi / 2, 2 pi); below 0 only where x < -r, which the
   // axis distance >= 0 excludes but for rounding.
