@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -258,6 +259,22 @@ TEST(CableRobotPulley, MachineFileErrorsAtTheirKey) {
 
 namespace pkm {
 namespace {
+
+TEST(CableRobotPulley, ASpoolCountsTheLineFromItsLengthOverThePulleyAtTheOrigin) {
+  CableRobotGeometry g;
+  g.cables = {cable({0.0, 0.0, 2000.0}, 10.0, {0.0, 0.0, 1.0}), cable({1000.0, 0.0, 2000.0}),
+              cable({0.0, 1000.0, 2000.0}), cable({0.0, 0.0, -1000.0})};
+  g.cables[0].attach_mm = {21.6, 28.8, 2000.0};  // at the origin, the hand case's tie point
+  g.cables[0].spool = kinematics::CableSpool{};
+  g.cables[0].spool->radius_mm = 10.0;
+  const CableRobotKinematics model(g);
+  const std::optional<double> at_origin = model.motor_full_steps(0, kHandLength_mm);
+  ASSERT_TRUE(at_origin);
+  EXPECT_NEAR(*at_origin, 0.0, 1e-9);
+  // 1 mm more line: 200 full steps per turn of a 10 mm spool.
+  EXPECT_NEAR(*model.motor_full_steps(0, kHandLength_mm + 1.0), 200.0 / (20.0 * std::numbers::pi),
+              1e-9);
+}
 
 TEST(CableRobotPulley, ClearanceBracketsTheRefusedPoses) {
   // Near the first pulley (its axis z through (-800, -800, 2000), radius 18.85): a cell whose
