@@ -276,6 +276,28 @@ TEST(CableRobotPulley, ASpoolCountsTheLineFromItsLengthOverThePulleyAtTheOrigin)
               1e-9);
 }
 
+TEST(CableRobotPulley, SketchDrawsThePulleyFacingTheTiePointAndTheSpan) {
+  CableRobotGeometry g;
+  g.cables = {cable({0.0, 0.0, 2000.0}, 10.0, {0.0, 0.0, 1.0}), cable({1000.0, 0.0, 2000.0}),
+              cable({0.0, 1000.0, 2000.0}), cable({0.0, 0.0, -1000.0})};
+  const CableRobotKinematics model(g);
+  JointVector joints;
+  std::vector<kinematics::SketchLine> lines;
+  model.moving_parts(pose_at(21.6, 28.8, 2000.0), joints, lines);
+  // The pulley's circle (its centre 10 mm from the anchor towards the tie point), then the span.
+  const Eigen::Vector3d centre(6.0, 8.0, 2000.0);
+  std::size_t span = 0;
+  while (span < lines.size() && (lines[span].to - lines[span].from).norm() < 5.0) {
+    EXPECT_NEAR((lines[span].from - centre).norm(), 10.0, 1e-9);
+    ++span;
+  }
+  ASSERT_GT(span, 8u);
+  ASSERT_LT(span, lines.size());
+  EXPECT_NEAR((lines[span].to - lines[span].from).norm(), 24.0, 1e-9);
+  EXPECT_NEAR((lines[span].from - centre).norm(), 10.0, 1e-9);
+  EXPECT_NEAR((lines[span].to - Eigen::Vector3d(21.6, 28.8, 2000.0)).norm(), 0.0, 1e-9);
+}
+
 TEST(CableRobotPulley, ClearanceBracketsTheRefusedPoses) {
   // Near the first pulley (its axis z through (-800, -800, 2000), radius 18.85): a cell whose
   // margin is proven positive holds no refused pose; a refused pose's cell is not proven.

@@ -586,7 +586,22 @@ void CableRobotKinematics::moving_parts(const geometry::Pose& pose, const JointV
   for (int i = 0; i < cable_count(); ++i) {
     Eigen::Vector3d tie;
     if (!tie_point(i, tool, tie)) continue;
-    out.push_back({SketchPart::link, geometry_.cables[i].anchor_mm, tie});
+    const RobotCable& cable = geometry_.cables[i];
+    PulleyPath path;
+    if (cable.pulley_radius_mm > 0.0 && pulley_path(cable, tie, path).ok()) {
+      // The pulley turned to face the tie point, and the span from where the cable leaves it.
+      const Eigen::Vector3d w = cable.pulley_axis.normalized();
+      const double sine = std::sin(path.wrap_rad);
+      const bool has_plane = std::abs(sine) > 1e-12;
+      if (has_plane) {
+        const Eigen::Vector3d e = (path.direction + std::cos(path.wrap_rad) * w) / sine;
+        sketch_circle(out, SketchPart::link, cable.anchor_mm + cable.pulley_radius_mm * e,
+                      cable.pulley_radius_mm, e, w);
+      }
+      out.push_back({SketchPart::link, tie - path.span_mm * path.direction, tie});
+    } else {
+      out.push_back({SketchPart::link, cable.anchor_mm, tie});
+    }
     const Eigen::Vector3d pivot = tool + geometry_.cables[i].attach_mm;
     if ((tie - pivot).norm() > 0.0) out.push_back({SketchPart::platform, pivot, tie});
     if ((pivot - tool).norm() > 0.0) out.push_back({SketchPart::platform, tool, pivot});
