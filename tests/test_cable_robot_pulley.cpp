@@ -10,6 +10,7 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -245,6 +246,23 @@ void expect_error(const std::string& first_cable, const std::string& wanted) {
   }
 }
 
+TEST(CableRobotPulley, NoPulleysWithFlexCompensation) {
+  CableRobotGeometry g;
+  g.cables = {cable({0.0, 0.0, 2000.0}, 10.0, {0.0, 0.0, 1.0}), cable({1000.0, 0.0, 2000.0}),
+              cable({0.0, 1000.0, 2000.0}), cable({0.0, 0.0, -1000.0})};
+  g.flex_compensation = true;
+  g.tension_limited = true;
+  g.tension_max_N = 70.0;
+  g.effector_mass_kg = 1.0;
+  try {
+    const CableRobotKinematics model(g);
+    ADD_FAILURE() << "flex compensation over a pulley";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("flex_compensation: not with pulleys", 0), 0u)
+        << error.what();
+  }
+}
+
 TEST(CableRobotPulley, MachineFileErrorsAtTheirKey) {
   expect_error("pulley_radius = 18.85\n",
                "bad.toml:8:kinematics.cables[1].pulley_radius: needs pulley_axis");
@@ -252,6 +270,8 @@ TEST(CableRobotPulley, MachineFileErrorsAtTheirKey) {
                "bad.toml:8:kinematics.cables[1].pulley_radius: must be a length of 0 or more");
   expect_error("pulley_radius = 5.0\npulley_axis = [0.0, 0.0, 0.0]\n",
                "bad.toml:9:kinematics.cables[1].pulley_axis: must be a non-zero direction");
+  expect_error("pulley_radius = 5.0\npulley_axis = [0.0, 0.0, 1.0]\nswivel_arm = 20.0\n",
+               "bad.toml:8:kinematics.cables[1].pulley_radius: not with a swivel_arm");
 }
 
 }  // namespace

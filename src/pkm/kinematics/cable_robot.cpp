@@ -484,6 +484,11 @@ RobotCable read_cable(const ModelConfig& config) {
                 "needs pulley_axis = [x, y, z], the direction the cable arrives from (from the "
                 "anchor towards the winch)");
   }
+  if (cable.pulley_radius_mm > 0.0 && cable.swivel_arm_mm > 0.0) {
+    config.fail("pulley_radius",
+                "not with a swivel_arm (the arm points at the anchor, not at the pulley's "
+                "tangent point)");
+  }
   return cable;
 }
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 #include "pkm/kinematics/cable_robot.hpp"
 
@@ -53,8 +54,9 @@ void validate_cable_robot_pulleys(const CableRobotGeometry& g) {
     }
     if (g.flex_compensation) {
       throw std::invalid_argument(
-          "pulley_radius: not with flex_compensation (RepRapFirmware's forces take straight "
-          "lines from point anchors)");
+          "flex_compensation: not with pulleys (RepRapFirmware's forces take straight lines from "
+          "point anchors; a cable has pulley_radius " +
+          formatted_number("%.3f", cable.pulley_radius_mm) + " mm)");
     }
   }
 }
