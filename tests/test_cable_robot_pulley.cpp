@@ -140,6 +140,31 @@ TEST(CableRobotPulley, InverseForwardRoundTripAndJacobian) {
               worst_jacobian);
 }
 
+TEST(CableRobotPulley, PlanarRouterOverPulleysRoundTrips) {
+  // A four-belt router on a 2,400 x 1,200 mm sheet, each belt over a 12 mm pulley at a corner,
+  // fed along the frame's top and bottom edges.
+  CableRobotGeometry g;
+  g.planar = true;
+  g.cables = {cable({0.0, 1200.0, 0.0}, 12.0, {-1.0, 0.0, 0.0}),
+              cable({2400.0, 1200.0, 0.0}, 12.0, {1.0, 0.0, 0.0}),
+              cable({2400.0, 0.0, 0.0}, 12.0, {1.0, 0.0, 0.0}),
+              cable({0.0, 0.0, 0.0}, 12.0, {-1.0, 0.0, 0.0})};
+  const CableRobotKinematics model(g);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> x(200.0, 2200.0), y(200.0, 1000.0);
+  double worst = 0.0;
+  for (int sample = 0; sample < 300; ++sample) {
+    const geometry::Pose pose = pose_at(x(rng), y(rng), 0.0);
+    JointVector joints;
+    ASSERT_TRUE(model.inverse(pose, joints).ok());
+    geometry::Pose found = pose_at(1200.0, 600.0, 0.0);
+    ASSERT_TRUE(model.forward(joints, found).ok());
+    worst = std::max(worst, (found.position_mm - pose.position_mm).norm());
+  }
+  EXPECT_LT(worst, 1e-9);
+  std::printf("planar pulley round trip worst %.3g mm\n", worst);
+}
+
 TEST(CableRobotPulley, HessianBoundHoldsOverRandomBalls) {
   const CableRobotKinematics model = ceiling_robot();
   std::mt19937_64 rng(7);
