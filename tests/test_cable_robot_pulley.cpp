@@ -255,6 +255,9 @@ TEST(CableRobotPulley, MachineFileKeysRoundTripAndCalibrationSeesTheRadius) {
   changed.set_parameters(values);
   EXPECT_EQ(changed.geometry().cables[0].pulley_radius_mm, 20.0);
   EXPECT_EQ(changed.geometry().cables[1].anchor_mm, model.geometry().cables[1].anchor_mm);
+  values[7] = 0.0;
+  EXPECT_THROW(changed.set_parameters(values), std::invalid_argument);
+  EXPECT_EQ(changed.geometry().cables[0].pulley_radius_mm, 20.0);
   const auto form = model.firmware_form();
   ASSERT_TRUE(form);
   ASSERT_FALSE(form->losses.empty());

@@ -451,6 +451,11 @@ void CableRobotKinematics::set_parameters(std::span<const double> values) {
     cable.attach_mm = {v[3], v[4], v[5]};
     cable.offset_mm = v[6];
     const bool pulley = cable.pulley_radius_mm > 0.0;
+    // A pulley's radius stays above 0, so that the parameters keep their layout.
+    if (pulley && !(v[7] > 0.0)) {
+      throw std::invalid_argument("pulley_radius: must stay above 0 mm, got " +
+                                  formatted_number("%.6g", v[7]));
+    }
     if (pulley) cable.pulley_radius_mm = v[7];
     v += pulley ? 8 : 7;
   }

@@ -230,13 +230,15 @@ class CableRobotKinematics final : public Kinematics,
 
   // Derivative bounds and reach (cable_robot_bounds.cpp; docs/kinematics.md, "Cable robot").
   const DerivativeBounds* derivative_bounds() const override { return this; }
-  // Each cable's Hessian (I - u u^T) / l, a swivel arm's dominated by it (its own length l).
+  // Each cable's Hessian (I - u u^T) / l, a swivel arm's dominated by it (its own length l), a
+  // pulley's by it with its span for l while the wrap stays within half a turn.
   std::optional<HessianBounds> own_hessian_bounds(const geometry::Vector6d& centre,
                                                   double radius_mm, double angle_scale_mm,
                                                   const Chord& chord) const override;
   // Per cable its clearance (mm): the straight cable's length, a swivel arm's plan distance to
-  // its anchor less the arm; then, with tension_limits, the wrench-feasibility margin (N): the
-  // largest m for which tensions within [min + m, max - m] hold the effector at rest.
+  // its anchor less the arm, a pulley's the nearer of the rim and the swivel axis; then, with
+  // tension_limits, the wrench-feasibility margin (N): the largest m for which tensions within [min
+  // + m, max - m] hold the effector at rest.
   int reach_count() const override { return cable_count() + (geometry_.tension_limited ? 1 : 0); }
   void reach_over_cell(const geometry::Vector6d& centre, double scaled_radius,
                        double position_radius_mm, double angle_scale_mm,
