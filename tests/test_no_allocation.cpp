@@ -13,6 +13,7 @@
 
 #include "pkm/gcode/interpreter.hpp"
 #include "pkm/io/sample_files.hpp"
+#include "pkm/kinematics/cable_robot.hpp"
 #include "pkm/kinematics/cable_tensions.hpp"
 #include "pkm/kinematics/lanes.hpp"
 #include "pkm/linuxcnc/kins_adapter.hpp"
@@ -251,6 +252,39 @@ TEST(NoAllocationOfPlan, CableForcePolytopeAllocatesNothing) {
   }
   EXPECT_EQ(allocations.load() - before, 0);
   EXPECT_GT(held, 50);
+}
+
+// A cable robot whose cables run over swivelling pulleys: IK, Jacobian and FK allocate nothing.
+TEST(NoAllocationOfPulleys, CableRobotOverPulleysAllocatesNothing) {
+  kinematics::CableRobotGeometry g;
+  const double corner[4][2] = {{-800.0, -800.0}, {800.0, -800.0}, {800.0, 800.0}, {-800.0, 800.0}};
+  for (const auto& xy : corner) {
+    kinematics::RobotCable cable;
+    cable.anchor_mm = {xy[0], xy[1], 2000.0};
+    cable.pulley_radius_mm = 18.85;
+    cable.pulley_axis = {xy[0], xy[1], 0.0};
+    g.cables.push_back(cable);
+  }
+  g.cables.push_back(g.cables.front());
+  g.cables.back().anchor_mm = {0.0, 0.0, -200.0};
+  g.cables.back().pulley_axis = {0.0, 1.0, 0.0};
+  const kinematics::CableRobotKinematics model(g);
+  kinematics::JointVector joints;
+  kinematics::JointJacobian jacobian;
+  int round_trips = 0;
+  const long before = allocations.load();
+  for (int k = 0; k < 100; ++k) {
+    geometry::Pose pose;
+    pose.position_mm = {4.0 * k - 200.0, 150.0 - 3.0 * k, 200.0 + 10.0 * k};
+    if (!model.inverse(pose, joints).ok() || !model.jacobian(pose, jacobian).ok()) continue;
+    geometry::Pose found;
+    found.position_mm = {0.0, 0.0, 800.0};
+    if (model.forward(joints, found).ok() && (found.position_mm - pose.position_mm).norm() < 1e-9) {
+      ++round_trips;
+    }
+  }
+  EXPECT_EQ(allocations.load() - before, 0);
+  EXPECT_EQ(round_trips, 100);
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, NoAllocation, ::testing::ValuesIn(test::example_machine_files()),

@@ -85,6 +85,7 @@ void validate_cable_robot_geometry(const CableRobotGeometry& g) {
   }
   validate_cable_robot_load(g);
   validate_cable_robot_drive(g);
+  validate_cable_robot_pulleys(g);
   if (g.cables_follow_z && !g.planar) {
     throw std::invalid_argument(
         "cables_follow_z: only a planar robot's tie points can ride on its tool's z");
@@ -122,6 +123,14 @@ Status CableRobotKinematics::lengths(const Eigen::Vector3d& tool_mm, CableVector
   for (int i = 0; i < n; ++i) {
     Eigen::Vector3d tie;
     if (!tie_point(i, tool_mm, tie)) return Status::failure(StatusCode::unreachable, i);
+    if (geometry_.cables[i].pulley_radius_mm > 0.0) {
+      PulleyPath path;
+      const Status over = pulley_path(geometry_.cables[i], tie, path);
+      if (!over.ok()) return Status::failure(over.code, i);
+      length_mm[i] = path.length_mm;
+      if (d_length != nullptr) d_length->row(i) = path.direction.transpose();
+      continue;
+    }
     const Eigen::Vector3d along = geometry_.cables[i].anchor_mm - tie;
     const double length = along.norm();
     if (!(length >= kShortestRobotCable_mm)) return Status::failure(StatusCode::singular, i);
@@ -182,6 +191,16 @@ std::string CableRobotKinematics::why_refused(const geometry::Pose& pose,
   const RobotCable& cable = geometry_.cables[status.joint];
   const Eigen::Vector3d pivot = tool_point(pose) + cable.attach_mm;
   const std::string which = "cable " + std::to_string(status.joint + 1);
+  if (cable.pulley_radius_mm > 0.0) {
+    PulleyPath path;
+    pulley_path(cable, pivot, path);
+    if (path.axis_distance_mm < kShortestRobotCable_mm) {
+      return which + "'s tie point is on its pulley's swivel axis (" + mm(path.axis_distance_mm) +
+             " from it): the pulley has no plane to turn to";
+    }
+    return which + "'s tie point is " + mm(path.rim_distance_mm) +
+           " from its pulley's centre, within its pulley_radius " + mm(cable.pulley_radius_mm);
+  }
   if (status.code == StatusCode::singular) {
     return which + " would have no length: its tie point on the effector is at its anchor";
   }
@@ -407,22 +426,38 @@ std::vector<Parameter> CableRobotKinematics::parameters() const {
                       cable.offset_mm,
                       "mm",
                       {"a cable's zero", BuiltTolerance::machine_size}});
+    // A cable's effective radius on a catalogue pulley moves with its thickness and seating.
+    if (cable.pulley_radius_mm > 0.0) {
+      result.push_back({prefix + "pulley_radius",
+                        cable.pulley_radius_mm,
+                        "mm",
+                        {"a pulley's radius", BuiltTolerance::own_value, 0.2}});
+    }
   }
   return result;
 }
 
 void CableRobotKinematics::set_parameters(std::span<const double> values) {
-  constexpr std::size_t kPerCable = 7;
-  if (values.size() != kPerCable * geometry_.cables.size()) {
-    throw std::invalid_argument(
-        "cable_robot takes " + std::to_string(kPerCable * geometry_.cables.size()) + " parameters");
+  // Seven per cable, and its pulley's radius where it has one (parameters()).
+  std::size_t count = 0;
+  for (const RobotCable& cable : geometry_.cables) count += cable.pulley_radius_mm > 0.0 ? 8 : 7;
+  if (values.size() != count) {
+    throw std::invalid_argument("cable_robot takes " + std::to_string(count) + " parameters");
   }
   CableRobotGeometry geometry = geometry_;
-  for (std::size_t i = 0; i < geometry.cables.size(); ++i) {
-    const double* v = values.data() + kPerCable * i;
-    geometry.cables[i].anchor_mm = {v[0], v[1], v[2]};
-    geometry.cables[i].attach_mm = {v[3], v[4], v[5]};
-    geometry.cables[i].offset_mm = v[6];
+  const double* v = values.data();
+  for (RobotCable& cable : geometry.cables) {
+    cable.anchor_mm = {v[0], v[1], v[2]};
+    cable.attach_mm = {v[3], v[4], v[5]};
+    cable.offset_mm = v[6];
+    const bool pulley = cable.pulley_radius_mm > 0.0;
+    // A pulley's radius stays above 0, so that the parameters keep their layout.
+    if (pulley && !(v[7] > 0.0)) {
+      throw std::invalid_argument("pulley_radius: must stay above 0 mm, got " +
+                                  formatted_number("%.6g", v[7]));
+    }
+    if (pulley) cable.pulley_radius_mm = v[7];
+    v += pulley ? 8 : 7;
   }
   validate_cable_robot_geometry(geometry);
   geometry_ = std::move(geometry);
@@ -430,27 +465,42 @@ void CableRobotKinematics::set_parameters(std::span<const double> values) {
 
 namespace {
 
-// A pulley the cable wraps changes its length with the cable's direction: not modelled yet.
-void refuse_pulley(const ModelConfig& config) {
-  if (!config.has("pulley_radius")) return;
-  config.fail("pulley_radius",
-              "not yet: cable_robot takes each cable straight from its anchor; give `anchor` "
-              "where the cable leaves its pulley (a pulley's wrap is not modelled yet)");
-}
-
 RobotCable read_cable(const ModelConfig& config) {
-  refuse_pulley(config);
   RobotCable cable;
   cable.anchor_mm = config.length_vector3("anchor");
   if (config.has("attach")) cable.attach_mm = config.length_vector3("attach");
   cable.offset_mm = config.length_or("offset", 0.0);
   cable.swivel_arm_mm = config.length_or("swivel_arm", 0.0);
   if (!(cable.swivel_arm_mm >= 0.0)) config.fail("swivel_arm", "must be a length of 0 or more");
+  cable.pulley_radius_mm = config.length_or("pulley_radius", 0.0);
+  if (!(cable.pulley_radius_mm >= 0.0)) {
+    config.fail("pulley_radius", "must be a length of 0 or more (mm)");
+  }
+  if (config.has("pulley_axis")) {
+    const std::vector<double> axis = config.number_list("pulley_axis");
+    if (axis.size() != 3) config.fail("pulley_axis", "needs 3 numbers [x, y, z] (a direction)");
+    cable.pulley_axis = {axis[0], axis[1], axis[2]};
+    if (!(cable.pulley_axis.norm() > 0.0)) {
+      config.fail("pulley_axis",
+                  "must be a non-zero direction (from the anchor towards the winch)");
+    }
+  } else if (cable.pulley_radius_mm > 0.0) {
+    config.fail("pulley_radius",
+                "needs pulley_axis = [x, y, z], the direction the cable arrives from (from the "
+                "anchor towards the winch)");
+  }
+  if (cable.pulley_radius_mm > 0.0 && cable.swivel_arm_mm > 0.0) {
+    config.fail("pulley_radius",
+                "not with a swivel_arm (the arm points at the anchor, not at the pulley's "
+                "tangent point)");
+  }
   return cable;
 }
 
 CableRobotGeometry read_geometry(const ModelConfig& config) {
-  refuse_pulley(config);
+  if (config.has("pulley_radius")) {
+    config.fail("pulley_radius", "is per cable: give it in each [[kinematics.cables]]");
+  }
   CableRobotGeometry g;
   g.planar = config.boolean_or("planar", false);
   g.cables_follow_z = config.boolean_or("cables_follow_z", false);
@@ -523,6 +573,10 @@ void CableRobotKinematics::write_config(ModelConfigWriter& out) const {
     entry.length_vector3("attach", cable.attach_mm);
     if (cable.offset_mm != 0.0) entry.length("offset", cable.offset_mm);
     if (cable.swivel_arm_mm != 0.0) entry.length("swivel_arm", cable.swivel_arm_mm);
+    if (cable.pulley_radius_mm != 0.0) {
+      entry.length("pulley_radius", cable.pulley_radius_mm);
+      entry.vector3("pulley_axis", cable.pulley_axis);
+    }
     write_cable_drive(g, cable, entry);
   }
 }
@@ -542,7 +596,22 @@ void CableRobotKinematics::moving_parts(const geometry::Pose& pose, const JointV
   for (int i = 0; i < cable_count(); ++i) {
     Eigen::Vector3d tie;
     if (!tie_point(i, tool, tie)) continue;
-    out.push_back({SketchPart::link, geometry_.cables[i].anchor_mm, tie});
+    const RobotCable& cable = geometry_.cables[i];
+    PulleyPath path;
+    if (cable.pulley_radius_mm > 0.0 && pulley_path(cable, tie, path).ok()) {
+      // The pulley turned to face the tie point, and the span from where the cable leaves it.
+      const Eigen::Vector3d w = cable.pulley_axis.normalized();
+      const double sine = std::sin(path.wrap_rad);
+      const bool has_plane = std::abs(sine) > 1e-12;
+      if (has_plane) {
+        const Eigen::Vector3d e = (path.direction + std::cos(path.wrap_rad) * w) / sine;
+        sketch_circle(out, SketchPart::link, cable.anchor_mm + cable.pulley_radius_mm * e,
+                      cable.pulley_radius_mm, e, w);
+      }
+      out.push_back({SketchPart::link, tie - path.span_mm * path.direction, tie});
+    } else {
+      out.push_back({SketchPart::link, cable.anchor_mm, tie});
+    }
     const Eigen::Vector3d pivot = tool + geometry_.cables[i].attach_mm;
     if ((tie - pivot).norm() > 0.0) out.push_back({SketchPart::platform, pivot, tie});
     if ((pivot - tool).norm() > 0.0) out.push_back({SketchPart::platform, tool, pivot});

@@ -2,12 +2,12 @@
 // around the bed and one on the ceiling), Maslow 4 (planar, four belts on swivelling arms to the
 // corners of a frame), Klipper's winch. The effector translates with its orientation held fixed,
 // as these machines' firmwares take it (in reality the cables hold it only approximately). One
-// joint per cable: its straight length from the anchor to the point where it is tied on the
-// effector, plus an offset. With more cables than coordinates, forward kinematics is a
-// least-squares fit over all cables, and joints that fit no pose (a slack or mismeasured cable) are
-// refused with the misfit (docs/kinematics.md, "Cable robot"). Its derivative bounds and reach
-// over a cell, the wrench-feasibility margin among them, are cable_robot_bounds.cpp's
-// (docs/cable-machines.md, "The wrench-feasible workspace").
+// joint per cable: its length from the anchor to the point where it is tied on the effector
+// (straight, or over a swivelling pulley: cable_robot_pulley.cpp), plus an offset. With more cables
+// than coordinates, forward kinematics is a least-squares fit over all cables, and joints that fit
+// no pose (a slack or mismeasured cable) are refused with the misfit (docs/kinematics.md, "Cable
+// robot"). Its derivative bounds and reach over a cell, the wrench-feasibility margin among them,
+// are cable_robot_bounds.cpp's (docs/cable-machines.md, "The wrench-feasible workspace").
 #pragma once
 
 #include <Eigen/Core>
@@ -59,7 +59,29 @@ struct RobotCable {
   std::optional<CableSpool> spool;
   // Flex compensation: the line from its spool to the anchor (M666 Y), which stretches too.
   double guy_wire_mm = 0.0;
+  // A swivelling pulley (cable_robot_pulley.cpp; docs/kinematics.md, "Cable robot: pulleys"):
+  // the cable arrives along `pulley_axis` (a direction from `anchor` towards where it comes from,
+  // its length ignored) and first touches the pulley at `anchor`; the pulley turns about that
+  // axis to face the tie point and the cable wraps it before its straight span. 0: no pulley.
+  double pulley_radius_mm = 0.0;
+  Eigen::Vector3d pulley_axis = Eigen::Vector3d::Zero();
 };
+
+// A cable over its pulley at one pose (cable_robot_pulley.cpp). The length is wrap_mm + span_mm;
+// its gradient in the tie point is `direction`, the span's unit vector from the pulley to the tie
+// point (the tangent point moves along it).
+struct PulleyPath {
+  double length_mm = 0.0;
+  double span_mm = 0.0;           // the straight span from the tangent point to the tie point
+  double wrap_rad = 0.0;          // the angle the cable turns on the pulley, in [0, 2 pi)
+  double rim_distance_mm = 0.0;   // from the tie point to the pulley's centre
+  double axis_distance_mm = 0.0;  // from the tie point to the swivel axis
+  double along_axis_mm = 0.0;     // (tie - anchor) . axis: > 0 back towards the winch
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+};
+// Success, or `unreachable` where the tie point is on the swivel axis (the pulley has no plane
+// to turn to) or on or within the pulley (no tangent): one clearance, the nearer of the two.
+Status pulley_path(const RobotCable& cable, const Eigen::Vector3d& tie_mm, PulleyPath& path);
 
 struct CableRobotGeometry {
   std::vector<RobotCable> cables;
@@ -208,13 +230,15 @@ class CableRobotKinematics final : public Kinematics,
 
   // Derivative bounds and reach (cable_robot_bounds.cpp; docs/kinematics.md, "Cable robot").
   const DerivativeBounds* derivative_bounds() const override { return this; }
-  // Each cable's Hessian (I - u u^T) / l, a swivel arm's dominated by it (its own length l).
+  // Each cable's Hessian (I - u u^T) / l, a swivel arm's dominated by it (its own length l), a
+  // pulley's by it with its span for l while the wrap stays within half a turn.
   std::optional<HessianBounds> own_hessian_bounds(const geometry::Vector6d& centre,
                                                   double radius_mm, double angle_scale_mm,
                                                   const Chord& chord) const override;
   // Per cable its clearance (mm): the straight cable's length, a swivel arm's plan distance to
-  // its anchor less the arm; then, with tension_limits, the wrench-feasibility margin (N): the
-  // largest m for which tensions within [min + m, max - m] hold the effector at rest.
+  // its anchor less the arm, a pulley's the nearer of the rim and the swivel axis; then, with
+  // tension_limits, the wrench-feasibility margin (N): the largest m for which tensions within [min
+  // + m, max - m] hold the effector at rest.
   int reach_count() const override { return cable_count() + (geometry_.tension_limited ? 1 : 0); }
   void reach_over_cell(const geometry::Vector6d& centre, double scaled_radius,
                        double position_radius_mm, double angle_scale_mm,
@@ -297,6 +321,8 @@ void validate_cable_robot_load(const CableRobotGeometry& geometry);
 // The spools and flex compensation (cable_robot_spool.cpp): throws std::invalid_argument ("key:
 // message") for a bad value.
 void validate_cable_robot_drive(const CableRobotGeometry& geometry);
+// The pulleys: throws std::invalid_argument ("key: message").
+void validate_cable_robot_pulleys(const CableRobotGeometry& geometry);
 // Their machine-file keys: spool keys in [kinematics] hold for every cable that does not give its
 // own; spool_buildup, flex_compensation and line_stiffness only there, guy_wire_length per cable.
 void read_cable_robot_drive(const ModelConfig& kinematics, CableRobotGeometry& geometry);

@@ -129,6 +129,23 @@ std::array<double, 2> wrench_over_cell(const CableRobotKinematics& model,
   return wrench;
 }
 
+// A cable over its pulley (cable_robot_pulley.cpp), its tie point within `radius_mm` of `tie`:
+// the shortest span over the ball, or 0 where no bound holds. The distance from the tie point to
+// the pulley's centre is its distance from the circle the centre swivels on, 1-Lipschitz; so are
+// the axis distance and the height along the axis. Where the wrap stays within [0, pi] (the tie
+// point beyond the plane through the anchor normal to the axis, or 2 r or more from the axis) the
+// Hessian is (m m^T) / s + (sin(theta) / rho) n n^T with 0 <= sin(theta) / rho <= 1 / s
+// (rho = r (1 - cos theta) + s sin theta >= s sin theta): between 0 and (I - u u^T) / s.
+double shortest_span(const RobotCable& cable, const Eigen::Vector3d& tie, double radius_mm) {
+  PulleyPath path;
+  if (!pulley_path(cable, tie, path).ok()) return 0.0;
+  const double r = cable.pulley_radius_mm, nearest = path.rim_distance_mm - radius_mm;
+  const bool within_half_turn =
+      path.along_axis_mm + radius_mm <= 0.0 || path.axis_distance_mm - radius_mm >= 2.0 * r;
+  if (!within_half_turn || !(nearest > r) || !(path.axis_distance_mm > radius_mm)) return 0.0;
+  return std::sqrt((nearest - r) * (nearest + r));
+}
+
 }  // namespace
 
 // A straight cable of length l from its tie point to its anchor: Hessian (I - u u^T) / l, u its
@@ -155,6 +172,20 @@ std::optional<HessianBounds> CableRobotKinematics::own_hessian_bounds(
     const bool arm_clear = cable.swivel_arm_mm == 0.0 || plan - radius_mm > cable.swivel_arm_mm;
     if (!arm_clear || !tie_point(i, tool, tie)) {
       bounds.add(INFINITY, INFINITY);
+      continue;
+    }
+    if (cable.pulley_radius_mm > 0.0) {
+      // Over a pulley: the same bound with the span for the length (shortest_span()).
+      PulleyPath path;
+      const double span = shortest_span(cable, tie, radius_mm);
+      if (!(span > 0.0) || !pulley_path(cable, tie, path).ok()) {
+        bounds.add(INFINITY, INFINITY);
+        continue;
+      }
+      const double v_norm = v.norm();
+      const double sine_at_centre = v_norm > 0.0 ? v.cross(path.direction).norm() / v_norm : 0.0;
+      const double sine = std::min(1.0, sine_at_centre + radius_mm / span);
+      bounds.add(1.0 / span, v_norm * v_norm * sine * sine / span);
       continue;
     }
     const Eigen::Vector3d along = cable.anchor_mm - tie;
@@ -221,6 +252,19 @@ void CableRobotKinematics::reach_over_cell(const geometry::Vector6d& centre,
     const RobotCable& cable = geometry_.cables[i];
     const Eigen::Vector3d axis = tool + cable.attach_mm;
     double clearance = 0.0;  // 1-Lipschitz in the tool's position, either way
+    PulleyPath path;
+    if (cable.pulley_radius_mm > 0.0) {
+      // The nearer of its tie point's distance from the pulley's rim (from the circle its centre
+      // swivels on, less r) and from the swivel axis (where the pulley has no plane).
+      pulley_path(cable, axis, path);
+      clearance = std::min(path.rim_distance_mm - cable.pulley_radius_mm,
+                           path.axis_distance_mm - kShortestRobotCable_mm);
+      const double span = shortest_span(cable, axis, r);
+      margins[static_cast<std::size_t>(i)] = {clearance - r, clearance + r};
+      directions_bounded = directions_bounded && span > 0.0;
+      delta[i] = span > 0.0 ? r / span : INFINITY;
+      continue;
+    }
     if (cable.swivel_arm_mm > 0.0) {
       clearance = (cable.anchor_mm - axis).head<2>().norm() - cable.swivel_arm_mm;
     } else {
@@ -244,6 +288,12 @@ ReachMargin CableRobotKinematics::reach_margin(int index) const {
     const std::string cable = "cable " + std::to_string(index + 1);
     if (geometry_.cables[static_cast<std::size_t>(index)].swivel_arm_mm > 0.0) {
       return {cable + "'s clearance of its anchor (its arm's plan distance to it less the arm)",
+              false, Status::failure(StatusCode::unreachable, index)};
+    }
+    if (geometry_.cables[static_cast<std::size_t>(index)].pulley_radius_mm > 0.0) {
+      return {cable +
+                  "'s clearance of its pulley (its tie point's distance from the pulley's rim "
+                  "or from its swivel axis, the nearer)",
               false, Status::failure(StatusCode::unreachable, index)};
     }
     return {cable + "'s length (clear of its anchor)", false,

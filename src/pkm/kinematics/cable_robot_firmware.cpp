@@ -27,6 +27,14 @@ std::optional<FirmwareForm> CableRobotKinematics::firmware_form() const {
                   "at its anchor (Maslow 4), not at a point fixed on the effector",
                   arm));
   }
+  double pulley = 0.0;
+  for (const RobotCable& cable : g.cables) pulley = std::max(pulley, cable.pulley_radius_mm);
+  if (pulley != 0.0) {
+    result.losses.push_back(
+        loss_text("pulley_radius %.3f mm: each cable wraps a swivelling pulley before its straight "
+                  "span, where the firmware takes it straight from a point anchor",
+                  pulley));
+  }
   if (g.cables_follow_z) {
     result.losses.push_back(
         "cables_follow_z: the tie points ride on the tool's z (Maslow 4's arms on its spindle), "

@@ -144,8 +144,14 @@ std::optional<double> CableRobotKinematics::motor_full_steps(int cable, double j
   const RobotCable& c = geometry_.cables[cable];
   const CableSpool& spool = *c.spool;
   // The line position: the joint less its value with the tool at x 0 y 0 z 0 and the line
-  // unstretched (RRF's distancesOrigin).
-  const double line_position = joint_mm - c.offset_mm - (c.anchor_mm - c.attach_mm).norm();
+  // unstretched (RRF's distancesOrigin; over a pulley, its wrap and span there).
+  double at_origin = (c.anchor_mm - c.attach_mm).norm();
+  PulleyPath path;
+  if (c.pulley_radius_mm > 0.0) {
+    if (!pulley_path(c, c.attach_mm, path).ok()) return std::nullopt;
+    at_origin = path.length_mm;
+  }
+  const double line_position = joint_mm - c.offset_mm - at_origin;
   // Each strand pays out line_position, the spool U O times that; its radius r grows as
   // r^2 - U O Q line_position (the wound cross-section), the motor turning with it.
   const double wound = double(spool.mechanical_advantage) * spool.lines_per_spool;
