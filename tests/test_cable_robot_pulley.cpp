@@ -322,6 +322,13 @@ TEST(CableRobotPulley, ASpoolCountsTheLineFromItsLengthOverThePulleyAtTheOrigin)
   // 1 mm more line: 200 full steps per turn of a 10 mm spool.
   EXPECT_NEAR(*model.motor_full_steps(0, kHandLength_mm + 1.0), 200.0 / (20.0 * std::numbers::pi),
               1e-9);
+  // Hangprinter's motor degrees become lines by the inverse, from the same origin over the
+  // pulley (it once counted from the straight distance, 36 mm: 7.66 mm off here).
+  EXPECT_NEAR(*model.joint_from_motor_full_steps(0, 0.0), kHandLength_mm, 1e-9);
+  for (const double joint : {kHandLength_mm - 20.0, kHandLength_mm + 350.0}) {
+    EXPECT_NEAR(*model.joint_from_motor_full_steps(0, *model.motor_full_steps(0, joint)), joint,
+                1e-9);
+  }
 }
 
 TEST(CableRobotPulley, SketchDrawsThePulleyFacingTheTiePointAndTheSpan) {

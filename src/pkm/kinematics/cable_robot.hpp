@@ -268,6 +268,10 @@ class CableRobotKinematics final : public Kinematics,
   std::optional<double> joint_from_motor_full_steps(int cable, double full_steps) const;
   // Full steps per mm of line at line position 0 (RRF's steps per mm over the microstepping).
   std::optional<double> full_steps_per_mm(int cable) const;
+  // The joint at line position 0: with the tool at x 0 y 0 z 0 and the line unstretched (RRF's
+  // distancesOrigin; over a pulley, its wrap and span there), plus the offset; none where the
+  // pulley cannot reach the tie point there.
+  std::optional<double> joint_at_line_origin_mm(int cable) const;
   // Flex compensation: the forces RRF plans for the tool at `tool_mm` (N, per cable; M666 F1's
   // least squares of the weight within tension_limits) and each cable's stretch under them (mm).
   void planned_forces(const Eigen::Vector3d& tool_mm, CableVector& force_N) const;

@@ -141,17 +141,11 @@ std::optional<double> CableRobotKinematics::full_steps_per_mm(int cable) const {
 std::optional<double> CableRobotKinematics::motor_full_steps(int cable, double joint_mm) const {
   const std::optional<double> per_mm = full_steps_per_mm(cable);
   if (!per_mm) return std::nullopt;
+  const std::optional<double> at_origin = joint_at_line_origin_mm(cable);
+  if (!at_origin) return std::nullopt;
   const RobotCable& c = geometry_.cables[cable];
   const CableSpool& spool = *c.spool;
-  // The line position: the joint less its value with the tool at x 0 y 0 z 0 and the line
-  // unstretched (RRF's distancesOrigin; over a pulley, its wrap and span there).
-  double at_origin = (c.anchor_mm - c.attach_mm).norm();
-  PulleyPath path;
-  if (c.pulley_radius_mm > 0.0) {
-    if (!pulley_path(c, c.attach_mm, path).ok()) return std::nullopt;
-    at_origin = path.length_mm;
-  }
-  const double line_position = joint_mm - c.offset_mm - at_origin;
+  const double line_position = joint_mm - *at_origin;
   // Each strand pays out line_position, the spool U O times that; its radius r grows as
   // r^2 - U O Q line_position (the wound cross-section), the motor turning with it.
   const double wound = double(spool.mechanical_advantage) * spool.lines_per_spool;
@@ -163,13 +157,22 @@ std::optional<double> CableRobotKinematics::motor_full_steps(int cable, double j
   return k0 * (std::sqrt(square) - spool.radius_mm);
 }
 
+std::optional<double> CableRobotKinematics::joint_at_line_origin_mm(int cable) const {
+  const RobotCable& c = geometry_.cables[cable];
+  if (c.pulley_radius_mm == 0.0) return c.offset_mm + (c.anchor_mm - c.attach_mm).norm();
+  PulleyPath path;
+  if (!pulley_path(c, c.attach_mm, path).ok()) return std::nullopt;
+  return c.offset_mm + path.length_mm;
+}
+
 std::optional<double> CableRobotKinematics::joint_from_motor_full_steps(int cable,
                                                                         double full_steps) const {
   const std::optional<double> per_mm = full_steps_per_mm(cable);
   if (!per_mm || !std::isfinite(full_steps)) return std::nullopt;
-  const RobotCable& c = geometry_.cables[cable];
-  const CableSpool& spool = *c.spool;
-  const double at_origin = c.offset_mm + (c.anchor_mm - c.attach_mm).norm();
+  const std::optional<double> origin = joint_at_line_origin_mm(cable);
+  if (!origin) return std::nullopt;
+  const double at_origin = *origin;
+  const CableSpool& spool = *geometry_.cables[cable].spool;
   const double k2 =
       -double(spool.mechanical_advantage) * spool.lines_per_spool * geometry_.spool_buildup_mm;
   if (k2 == 0.0) return at_origin + full_steps / *per_mm;
