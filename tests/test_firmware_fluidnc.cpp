@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "firmware_reference/fluidnc.hpp"
+#include "firmware_reference/maslow.hpp"
 #include "pkm/firmware/fluidnc.hpp"
 #include "pkm/firmware/target.hpp"
 #include "test_support.hpp"
@@ -368,8 +369,8 @@ TEST(firmware_fluidnc_import, OtherKinematicsRefusedAtItsLine) {
     FAIL() << "accepted";
   } catch (const firmware::FirmwareFileError& error) {
     EXPECT_STREQ(error.what(),
-                 "config.yaml:3: kinematics: CoreXY: pkmkit imports FluidNC's WallPlotter and "
-                 "parallel_delta only");
+                 "config.yaml:3: kinematics: CoreXY: pkmkit imports FluidNC's WallPlotter, "
+                 "parallel_delta and Maslow's MaslowKinematics only");
   }
 }
 
@@ -402,6 +403,53 @@ TEST(firmware_fluidnc_import, UsersFileWithOtherSections) {
   const kinematics::JointVector home = joints_at(machine, machine.home());
   EXPECT_NEAR(home[0], 500.0, 1e-9);
   EXPECT_NEAR(home[1], 500.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace pkm
+
+namespace pkm {
+namespace {
+
+// Maslow 4's belts: the lengths its firmware computes from the exported keys (the reference) are
+// pkmkit's joints over maslow4.toml's workspace, Maslow's x y counted from the frame's centre.
+TEST(firmware_fluidnc_maslow, FirmwareBeltsAreThePkmkitJointsOverTheWorkspace) {
+  const machine::Machine m = test::load_example("maslow4.toml");
+  const std::string text = export_text(fluidnc_machine(m, false));
+  const test::maslow_reference::Frame frame = test::maslow_reference::read_frame(text);
+  EXPECT_NEAR(frame.centre_x, 1461.9, 1e-3);
+  EXPECT_NEAR(frame.centre_y, 1033.073, 1e-3);
+  EXPECT_DOUBLE_EQ(frame.z[0], 100.0);
+  EXPECT_DOUBLE_EQ(frame.arm_length + frame.belt_end_extension, 153.4);
+  double worst = 0.0;
+  int poses = 0;
+  for (const geometry::Pose& pose : firmware::workspace_samples(m, 15)) {
+    const kinematics::JointVector joints = joints_at(m, pose);
+    const Eigen::Vector3d& p = pose.position_mm;
+    const std::array<double, 4> belts =
+        test::maslow_reference::belts(frame, p.x() - frame.centre_x, p.y() - frame.centre_y, p.z());
+    for (int k = 0; k < 4; ++k) worst = std::max(worst, std::abs(belts[k] - joints[k]));
+    EXPECT_NEAR(joints[4], p.z(), 1e-12);
+    ++poses;
+  }
+  EXPECT_GT(poses, 100);
+  EXPECT_LT(worst, 1e-3);
+  std::printf("maslow4: worst |reference belt - pkmkit joint| %.3g mm over %d poses\n", worst,
+              poses);
+}
+
+TEST(firmware_fluidnc_maslow, ImportThenExportGivesTheSameText) {
+  const std::string text = export_text(fluidnc_machine(test::load_example("maslow4.toml"), false));
+  const machine::ImportedMachine imported = firmware::read_fluidnc(text, "maslow.yaml");
+  const machine::Machine back =
+      machine::parse_machine(machine::machine_file_text(imported, "back.toml"), "back.toml");
+  EXPECT_EQ(export_text(fluidnc_machine(back, false)).substr(text.find('\n')),
+            text.substr(text.find('\n')));
+}
+
+TEST(firmware_fluidnc_maslow, HangprinterRefused) {
+  EXPECT_THROW(fluidnc_machine(test::load_example("hangprinter-v4.toml"), false),
+               firmware::ExportRefused);
 }
 
 }  // namespace
