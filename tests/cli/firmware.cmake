@@ -207,3 +207,11 @@ pkm_firmware_export(fluidnc_exports_maslow4 ${FW_OUT}/maslow4.yaml
 pkm_firmware_refuses(fluidnc_refuses_a_hangprinter
   "fluidnc has kinematics for .* cable robot on swivel arms \\(Maslow 4\\). this machine's model is cable_robot \\(a cable robot\\)"
   export fluidnc -m ${MACHINES}/hangprinter-v4.toml)
+# A user's maslow.yaml (Maslow_4's FluidNC/data/maslow.yaml's keys and values): read, what is not
+# kinematics named; a corner's key missing names its line.
+add_test(NAME cli.firmware_fluidnc_imports_a_maslow_yaml
+         COMMAND ${PKM} import fluidnc ${FW_DATA}/maslow-users.yaml -o ${FW_OUT}/maslow-users.toml)
+set_tests_properties(cli.firmware_fluidnc_imports_a_maslow_yaml PROPERTIES PASS_REGULAR_EXPRESSION
+  "machine file of Maslow S3 Board")
+pkm_firmware_bad_import(fluidnc_import_maslow_missing_brz fluidnc maslow-no-brz.yaml
+  "maslow-no-brz\\.yaml:9: brZ: missing in MaslowKinematics:")

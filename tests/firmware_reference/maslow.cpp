@@ -54,4 +54,31 @@ std::array<double, 4> belts(const Frame& frame, double x, double y, double z) {
   return lengths;
 }
 
+std::array<double, 4> belts_float(const Frame& frame, double x, double y, double z) {
+  std::array<float, 4> fx{}, fy{};
+  for (int k = 0; k < 4; ++k) {
+    fx[k] = static_cast<float>(frame.x[k]);
+    fy[k] = static_cast<float>(frame.y[k]);
+  }
+  const float a = (fy[1] - fy[2]) / (fx[1] - fx[2]);
+  const float b = (fy[3] - fy[0]) / (fx[3] - fx[0]);
+  const float centre_x = (fy[3] - b * fx[3] + a * fx[1] - fy[1]) / (a - b);
+  const float centre_y = a * (centre_x - fx[1]) + fy[1];
+  // Maslow's x y are from its own (float) centre: the router's place in the frame is the same.
+  const float px = static_cast<float>(x + frame.centre_x) - centre_x;
+  const float py = static_cast<float>(y + frame.centre_y) - centre_y;
+  const float pz = static_cast<float>(z);
+  const float extension =
+      static_cast<float>(frame.belt_end_extension) + static_cast<float>(frame.arm_length);
+  std::array<double, 4> lengths{};
+  for (int k = 0; k < 4; ++k) {
+    const float dx = fx[k] - (px + centre_x);
+    const float dy = fy[k] - (py + centre_y);
+    const float dz = 0.0f - (pz + static_cast<float>(frame.z[k]));
+    const float plan = std::sqrt(dx * dx + dy * dy) - extension;
+    lengths[k] = std::sqrt(plan * plan + dz * dz);
+  }
+  return lengths;
+}
+
 }  // namespace pkm::test::maslow_reference

@@ -18,5 +18,8 @@ struct Frame {
 Frame read_frame(const std::string& yaml);
 // Belt lengths (mm) for the router at Maslow's x y z (from the centre).
 std::array<double, 4> belts(const Frame& frame, double x, double y, double z);
+// The same in single precision throughout, as the firmware computes them (its keys, centre and
+// router position are floats): what the firmware's own rounding adds.
+std::array<double, 4> belts_float(const Frame& frame, double x, double y, double z);
 
 }  // namespace pkm::test::maslow_reference

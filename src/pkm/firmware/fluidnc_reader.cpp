@@ -293,6 +293,15 @@ machine::ImportedMachine read_maslow(const Document& doc, const Node& maslow) {
       "home = Maslow's origin, the crossing of the frame's diagonals; joint reading = the belt's "
       "length (mm)");
   imported.home = std::vector<double>{centre.x(), centre.y(), 0.0};
+  std::string unread;
+  for (const int index : maslow.children) {
+    const std::string& key = doc.nodes[index].key;
+    if (key.size() != 3 && key != "beltEndExtension" && key != "armLength") {
+      unread += (unread.empty() ? "" : ", ") + key;
+    }
+  }
+  for (const std::string& key : ignored_sections(doc)) unread += (unread.empty() ? "" : ", ") + key;
+  if (!unread.empty()) imported.notes.push_back("not imported (not these kinematics): " + unread);
   return imported;
 }
 
