@@ -1,7 +1,9 @@
-// FluidNC's config.yaml for a two-cable wall plotter or a rotary delta (docs/firmware-fluidnc.md).
-// FluidNC's WallPlotter (bdring/FluidNC, FluidNC/src/Kinematics/WallPlotter.cpp): the cords'
-// lengths are their distances from the anchors; a motor position is the cord's length less its
-// length at the frame's origin (the pen's place at power-on), the left motor's sign reversed.
+// FluidNC's config.yaml for a two-cable wall plotter or a rotary delta, and Maslow 4's maslow.yaml
+// (its FluidNC fork's MaslowKinematics) for a cable robot on swivel arms
+// (docs/firmware-fluidnc.md). FluidNC's WallPlotter (bdring/FluidNC,
+// FluidNC/src/Kinematics/WallPlotter.cpp): the cords' lengths are their distances from the anchors;
+// a motor position is the cord's length less its length at the frame's origin (the pen's place at
+// power-on), the left motor's sign reversed.
 #include "pkm/firmware/fluidnc.hpp"
 
 #include <algorithm>

@@ -1,4 +1,5 @@
-// FluidNC's config.yaml -> the machine it describes (docs/firmware-fluidnc.md). FluidNC reads a
+// FluidNC's config.yaml (and Maslow 4's maslow.yaml) -> the machine it describes
+// (docs/firmware-fluidnc.md). FluidNC reads a
 // subset of YAML (bdring/FluidNC, FluidNC/src/Configuration/Tokenizer.cpp): "key: value" lines
 // nested by spaces, whole-line '#' comments, values to the end of the line (quotes optional),
 // keys matched without regard to case. This reader takes the same subset.

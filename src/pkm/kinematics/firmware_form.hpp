@@ -1,9 +1,9 @@
 // A model's geometry in the forms that controllers with their own kinematics implement (FluidNC,
 // Klipper, RepRapFirmware, grblHAL, Marlin; docs/firmware.md): a two-cable wall plotter, a
-// linear delta, a rotary delta, a cable robot (N straight cables to a translating effector). A
-// model answers `Kinematics::firmware_form()` with its nearest geometry in one form and what that
-// form leaves out; `make_form_kinematics` builds the pkmkit model of a form back (an import, an
-// approximation).
+// linear delta, a rotary delta, a cable robot (N straight cables to a translating effector, or
+// Maslow 4's belts on swivel arms). A model answers `Kinematics::firmware_form()` with its
+// nearest geometry in one form and what that form leaves out; `make_form_kinematics` builds the
+// pkmkit model of a form back (an import, an approximation).
 #pragma once
 
 #include <Eigen/Core>
