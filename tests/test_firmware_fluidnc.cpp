@@ -456,6 +456,41 @@ TEST(firmware_fluidnc_maslow, ImportThenExportGivesTheSameText) {
             text.substr(text.find('\n')));
 }
 
+// The form is maslow4.toml exactly: no losses, and its model gives the machine's joints.
+TEST(firmware_fluidnc_maslow, FormIsExactForMaslow4) {
+  const machine::Machine m = test::load_example("maslow4.toml");
+  const std::optional<kinematics::FirmwareForm> form = m.kinematics().firmware_form();
+  ASSERT_TRUE(form);
+  EXPECT_TRUE(form->losses.empty());
+  EXPECT_STREQ(kinematics::form_name(form->geometry), "cable robot on swivel arms");
+  const auto model = kinematics::make_form_kinematics(form->geometry, form->passthrough);
+  const geometry::Pose pose = geometry::Pose::from_vector(
+      (geometry::Vector6d() << 500.0, 1600.0, -12.0, 0.0, 0.0, 0.0).finished());
+  kinematics::JointVector from_form(model->joint_count());
+  ASSERT_TRUE(model->inverse(pose, from_form).ok());
+  const kinematics::JointVector joints = joints_at(m, pose);
+  for (Eigen::Index k = 0; k < joints.size(); ++k) EXPECT_NEAR(from_form[k], joints[k], 1e-9);
+  // By hand, the tl belt: corner (-27.6, 2064.9), its tie point 100 mm up at z -12.
+  const double plan = std::hypot(-27.6 - 500.0, 2064.9 - 1600.0) - 153.4;
+  EXPECT_NEAR(joints[0], std::hypot(plan, 100.0 - 12.0), 1e-9);
+}
+
+TEST(firmware_fluidnc_maslow, ArmsOfDifferentLengthsRefused) {
+  const machine::Machine m =
+      test::load_example_changed("maslow4.toml", "attach = [0.0, 0.0, 56.0]\nswivel_arm = 153.4",
+                                 "attach = [0.0, 0.0, 56.0]\nswivel_arm = 150.0");
+  try {
+    (void)export_text(fluidnc_machine(m, false));
+    FAIL() << "exported";
+  } catch (const firmware::ExportRefused& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("one armLength for all four belts; cable 1's swivel_arm is 150.000 mm, "
+                        "cable 0's 153.400 mm"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(firmware_fluidnc_maslow, HangprinterRefused) {
   EXPECT_THROW(fluidnc_machine(test::load_example("hangprinter-v4.toml"), false),
                firmware::ExportRefused);
