@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "firmware_reference/fluidnc.hpp"
+#include "firmware_reference/maslow.hpp"
 #include "pkm/firmware/fluidnc.hpp"
 #include "pkm/firmware/target.hpp"
 #include "test_support.hpp"
@@ -172,7 +173,9 @@ TEST_P(firmware_fluidnc_refused, NamesTheFormsItHas) {
     (void)fluidnc_machine(machine, true);
     FAIL() << "not refused";
   } catch (const firmware::ExportRefused& error) {
-    EXPECT_NE(std::string(error.what()).find("two-cable wall plotter or a rotary delta"),
+    EXPECT_NE(std::string(error.what())
+                  .find("a two-cable wall plotter, a rotary delta or a cable robot on swivel arms "
+                        "(Maslow 4)"),
               std::string::npos)
         << error.what();
   }
@@ -181,7 +184,7 @@ TEST_P(firmware_fluidnc_refused, NamesTheFormsItHas) {
 INSTANTIATE_TEST_SUITE_P(Examples, firmware_fluidnc_refused,
                          ::testing::Values("linear-delta.toml", "hexapod-bit.toml",
                                            "matrix-mill.toml", "triaglide.toml",
-                                           "mach3-formula.toml"),
+                                           "mach3-formula.toml", "hangprinter-v4.toml"),
                          [](const auto& param_info) { return test::test_name(param_info.param); });
 
 TEST(firmware_fluidnc_rotary_delta, RefusedWithFluidncsRanges) {
@@ -368,8 +371,8 @@ TEST(firmware_fluidnc_import, OtherKinematicsRefusedAtItsLine) {
     FAIL() << "accepted";
   } catch (const firmware::FirmwareFileError& error) {
     EXPECT_STREQ(error.what(),
-                 "config.yaml:3: kinematics: CoreXY: pkmkit imports FluidNC's WallPlotter and "
-                 "parallel_delta only");
+                 "config.yaml:3: kinematics: CoreXY: pkmkit imports FluidNC's WallPlotter, "
+                 "parallel_delta and Maslow's MaslowKinematics only");
   }
 }
 
@@ -402,6 +405,92 @@ TEST(firmware_fluidnc_import, UsersFileWithOtherSections) {
   const kinematics::JointVector home = joints_at(machine, machine.home());
   EXPECT_NEAR(home[0], 500.0, 1e-9);
   EXPECT_NEAR(home[1], 500.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace pkm
+
+namespace pkm {
+namespace {
+
+// Maslow 4's belts: the lengths its firmware computes from the exported keys (the reference) are
+// pkmkit's joints over maslow4.toml's workspace, Maslow's x y counted from the frame's centre.
+TEST(firmware_fluidnc_maslow, FirmwareBeltsAreThePkmkitJointsOverTheWorkspace) {
+  const machine::Machine m = test::load_example("maslow4.toml");
+  const std::string text = export_text(fluidnc_machine(m, false));
+  const test::maslow_reference::Frame frame = test::maslow_reference::read_frame(text);
+  EXPECT_NEAR(frame.centre_x, 1461.9, 1e-3);
+  EXPECT_NEAR(frame.centre_y, 1033.073, 1e-3);
+  EXPECT_DOUBLE_EQ(frame.z[0], 100.0);
+  EXPECT_DOUBLE_EQ(frame.arm_length + frame.belt_end_extension, 153.4);
+  double worst = 0.0, worst_float = 0.0;
+  int poses = 0;
+  for (const geometry::Pose& pose : firmware::workspace_samples(m, 15)) {
+    const kinematics::JointVector joints = joints_at(m, pose);
+    const Eigen::Vector3d& p = pose.position_mm;
+    const std::array<double, 4> belts =
+        test::maslow_reference::belts(frame, p.x() - frame.centre_x, p.y() - frame.centre_y, p.z());
+    const std::array<double, 4> in_float = test::maslow_reference::belts_float(
+        frame, p.x() - frame.centre_x, p.y() - frame.centre_y, p.z());
+    for (int k = 0; k < 4; ++k) {
+      worst = std::max(worst, std::abs(belts[k] - joints[k]));
+      worst_float = std::max(worst_float, std::abs(in_float[k] - joints[k]));
+    }
+    EXPECT_NEAR(joints[4], p.z(), 1e-12);
+    ++poses;
+  }
+  EXPECT_GT(poses, 100);
+  EXPECT_LT(worst, 1e-3);
+  // The firmware's floats: a few ulp of a 3 m belt (2.4e-4 mm each).
+  EXPECT_LT(worst_float, 5e-3);
+  std::printf(
+      "maslow4: worst |reference belt - pkmkit joint| %.3g mm (in the firmware's floats %.3g mm) "
+      "over %d poses\n",
+      worst, worst_float, poses);
+}
+
+TEST(firmware_fluidnc_maslow, ImportThenExportGivesTheSameText) {
+  const std::string text = export_text(fluidnc_machine(test::load_example("maslow4.toml"), false));
+  const machine::ImportedMachine imported = firmware::read_fluidnc(text, "maslow.yaml");
+  const machine::Machine back =
+      machine::parse_machine(machine::machine_file_text(imported, "back.toml"), "back.toml");
+  EXPECT_EQ(export_text(fluidnc_machine(back, false)).substr(text.find('\n')),
+            text.substr(text.find('\n')));
+}
+
+// The form is maslow4.toml exactly: no losses, and its model gives the machine's joints.
+TEST(firmware_fluidnc_maslow, FormIsExactForMaslow4) {
+  const machine::Machine m = test::load_example("maslow4.toml");
+  const std::optional<kinematics::FirmwareForm> form = m.kinematics().firmware_form();
+  ASSERT_TRUE(form);
+  EXPECT_TRUE(form->losses.empty());
+  EXPECT_STREQ(kinematics::form_name(form->geometry), "cable robot on swivel arms");
+  const auto model = kinematics::make_form_kinematics(form->geometry, form->passthrough);
+  const geometry::Pose pose = geometry::Pose::from_vector(
+      (geometry::Vector6d() << 500.0, 1600.0, -12.0, 0.0, 0.0, 0.0).finished());
+  kinematics::JointVector from_form(model->joint_count());
+  ASSERT_TRUE(model->inverse(pose, from_form).ok());
+  const kinematics::JointVector joints = joints_at(m, pose);
+  for (Eigen::Index k = 0; k < joints.size(); ++k) EXPECT_NEAR(from_form[k], joints[k], 1e-9);
+  // By hand, the tl belt: corner (-27.6, 2064.9), its tie point 100 mm up at z -12.
+  const double plan = std::hypot(-27.6 - 500.0, 2064.9 - 1600.0) - 153.4;
+  EXPECT_NEAR(joints[0], std::hypot(plan, 100.0 - 12.0), 1e-9);
+}
+
+TEST(firmware_fluidnc_maslow, ArmsOfDifferentLengthsRefused) {
+  const machine::Machine m =
+      test::load_example_changed("maslow4.toml", "attach = [0.0, 0.0, 56.0]\nswivel_arm = 153.4",
+                                 "attach = [0.0, 0.0, 56.0]\nswivel_arm = 150.0");
+  try {
+    (void)export_text(fluidnc_machine(m, false));
+    FAIL() << "exported";
+  } catch (const firmware::ExportRefused& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("one armLength for all four belts; cable 1's swivel_arm is 150.000 mm, "
+                        "cable 0's 153.400 mm"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace

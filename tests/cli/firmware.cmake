@@ -58,6 +58,7 @@ function(pkm_firmware_round_trip name target machine)
 endfunction()
 pkm_firmware_round_trip(fluidnc_maslow fluidnc maslow.toml)
 pkm_firmware_round_trip(fluidnc_hektor fluidnc hektor.toml)
+pkm_firmware_round_trip(fluidnc_maslow4 fluidnc maslow4.toml)
 pkm_firmware_round_trip(klipper_linear_delta klipper linear-delta.toml)
 pkm_firmware_round_trip(rrf_linear_delta rrf linear-delta.toml "^. drive [XYZ] = ")
 pkm_firmware_round_trip(rrf_rotary_delta rrf linuxcnc-rdelta.toml "^. drive [XYZ] = ")
@@ -78,7 +79,7 @@ function(pkm_firmware_refuses name message)
                    ${PKM} ${ARGN} -o ${FW_OUT}/${name}.out)
 endfunction()
 pkm_firmware_refuses(fluidnc_refuses_a_linear_delta
-  "fluidnc has kinematics for a two-cable wall plotter or a rotary delta. this machine's model is glide \\(a linear delta\\)"
+  "fluidnc has kinematics for a two-cable wall plotter, a rotary delta or a cable robot on swivel arms \\(Maslow 4\\). this machine's model is glide \\(a linear delta\\)"
   export fluidnc -m ${MACHINES}/linear-delta.toml)
 pkm_firmware_refuses(klipper_refuses_a_wall_plotter
   "klipper has kinematics for a linear delta, a rotary delta or a cable robot. this machine's model is cable_plotter \\(a two-cable wall plotter\\)"
@@ -198,3 +199,19 @@ add_test(NAME cli.firmware_delta_measurements_reproducible
                  ${CMAKE_CURRENT_SOURCE_DIR}/data/delta-measurements.csv ${FW_OUT})
 set_tests_properties(cli.firmware_delta_measurements_reproducible PROPERTIES
                      PASS_REGULAR_EXPRESSION "the same measurements")
+
+# Maslow 4's belts: MaslowKinematics' keys as its firmware reads them; a Hangprinter is refused.
+pkm_firmware_export(fluidnc_exports_maslow4 ${FW_OUT}/maslow4.yaml
+  "cable robot on swivel arms, exact.*MaslowKinematics:\n    tlX: -27\\.600000\n    tlY: 2064\\.900000\n    tlZ: 100\\.000000\n.*brZ: 78\\.000000\n    beltEndExtension: 30\\.000000\n    armLength: 123\\.400000"
+  export fluidnc -m ${MACHINES}/maslow4.toml)
+pkm_firmware_refuses(fluidnc_refuses_a_hangprinter
+  "fluidnc has kinematics for .* cable robot on swivel arms \\(Maslow 4\\). this machine's model is cable_robot \\(a cable robot\\)"
+  export fluidnc -m ${MACHINES}/hangprinter-v4.toml)
+# A user's maslow.yaml (Maslow_4's FluidNC/data/maslow.yaml's keys and values): read, what is not
+# kinematics named; a corner's key missing names its line.
+add_test(NAME cli.firmware_fluidnc_imports_a_maslow_yaml
+         COMMAND ${PKM} import fluidnc ${FW_DATA}/maslow-users.yaml -o ${FW_OUT}/maslow-users.toml)
+set_tests_properties(cli.firmware_fluidnc_imports_a_maslow_yaml PROPERTIES PASS_REGULAR_EXPRESSION
+  "machine file of Maslow S3 Board")
+pkm_firmware_bad_import(fluidnc_import_maslow_missing_brz fluidnc maslow-no-brz.yaml
+  "maslow-no-brz\\.yaml:9: brZ: missing in MaslowKinematics:")

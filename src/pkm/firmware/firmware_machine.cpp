@@ -10,11 +10,18 @@
 namespace pkm::firmware {
 namespace {
 
+bool is_cable_robot(FormKind kind) {
+  return kind == FormKind::cable_robot || kind == FormKind::swivel_arm_cable_robot;
+}
+
 struct KindOf {
   FormKind operator()(const kinematics::WallPlotterForm&) const { return FormKind::wall_plotter; }
   FormKind operator()(const kinematics::LinearDeltaForm&) const { return FormKind::linear_delta; }
   FormKind operator()(const kinematics::RotaryDeltaForm&) const { return FormKind::rotary_delta; }
-  FormKind operator()(const kinematics::CableRobotForm&) const { return FormKind::cable_robot; }
+  FormKind operator()(const kinematics::CableRobotForm& form) const {
+    return kinematics::has_swivel_arms(form) ? FormKind::swivel_arm_cable_robot
+                                             : FormKind::cable_robot;
+  }
 };
 
 std::string accepted_names(const std::vector<FormKind>& accepted) {
@@ -31,7 +38,7 @@ std::string refusal(const machine::Machine& machine, const kinematics::FirmwareF
   std::string text = machine.source() + ": " + target + "'s " + form_name(form.geometry) +
                      " kinematics cannot hold this machine exactly:";
   for (const std::string& loss : form.losses) text += "\n  - " + loss;
-  if (form_kind(form.geometry) == FormKind::cable_robot) {
+  if (is_cable_robot(form_kind(form.geometry))) {
     // A swivel arm's error grows towards the frame's edges and with z; fixed tie points fitted
     // over the sheet would spread it everywhere. Not offered: the joint-space output is exact.
     return text +
@@ -41,6 +48,24 @@ std::string refusal(const machine::Machine& machine, const kinematics::FirmwareF
   text += "\n--approximate writes the nearest " + std::string(form_name(form.geometry)) +
           " it can hold, fitted over the workspace, and states the worst tool error that costs";
   return text;
+}
+
+// What a straight-cable firmware (a Hangprinter's, a winch's) would lose of Maslow 4's belts.
+std::vector<std::string> swivel_arm_losses(const kinematics::CableRobotForm& form) {
+  std::vector<std::string> losses;
+  const double arm = *std::max_element(form.swivel_arms_mm.begin(), form.swivel_arms_mm.end());
+  if (arm != 0.0) {
+    losses.push_back(kinematics::loss_text(
+        "swivel_arm %.3f mm: each cable is tied at the end of an arm that turns to point at its "
+        "anchor (Maslow 4), not at a point fixed on the effector",
+        arm));
+  }
+  if (form.cables_follow_z) {
+    losses.push_back(
+        "cables_follow_z: the tie points ride on the tool's z (Maslow 4's arms on its spindle), "
+        "so a cable's length changes with z");
+  }
+  return losses;
 }
 
 // The parameters of each form's model that a fit may move: those the firmware has, less the
@@ -55,6 +80,7 @@ bool fitted_parameter(FormKind kind, const std::string& name) {
              name.find(".strut") != std::string::npos;
     case FormKind::rotary_delta:
     case FormKind::cable_robot:  // not approximated (firmware_machine refuses first)
+    case FormKind::swivel_arm_cable_robot:
       break;
   }
   return false;
@@ -317,6 +343,8 @@ const char* form_kind_name(FormKind kind) {
       return "rotary delta";
     case FormKind::cable_robot:
       return "cable robot";
+    case FormKind::swivel_arm_cable_robot:
+      return "cable robot on swivel arms (Maslow 4)";
   }
   return "?";
 }
@@ -324,7 +352,20 @@ const char* form_kind_name(FormKind kind) {
 FirmwareMachine firmware_machine(const machine::Machine& machine,
                                  const std::vector<FormKind>& accepted, const std::string& target,
                                  bool approximate_if_needed) {
-  const std::optional<kinematics::FirmwareForm> form = machine.kinematics().firmware_form();
+  std::optional<kinematics::FirmwareForm> form = machine.kinematics().firmware_form();
+  const auto accepts = [&](FormKind kind) {
+    return std::find(accepted.begin(), accepted.end(), kind) != accepted.end();
+  };
+  if (form && form_kind(form->geometry) == FormKind::swivel_arm_cable_robot &&
+      !accepts(FormKind::swivel_arm_cable_robot) && accepts(FormKind::cable_robot)) {
+    // A straight-cable firmware holds the belts less their arms: refused with what it would lose.
+    kinematics::CableRobotForm straight = std::get<kinematics::CableRobotForm>(form->geometry);
+    form->losses = swivel_arm_losses(straight);
+    straight.swivel_arms_mm.clear();
+    straight.cables_follow_z = false;
+    form->geometry = straight;
+    throw ExportRefused(refusal(machine, *form, target));
+  }
   if (!form ||
       std::find(accepted.begin(), accepted.end(), form_kind(form->geometry)) == accepted.end()) {
     throw ExportRefused(machine.source() + ": " + target + " has kinematics for " +
@@ -333,7 +374,7 @@ FirmwareMachine firmware_machine(const machine::Machine& machine,
                         (form ? std::string(" (a ") + form_name(form->geometry) + ")" : ""));
   }
   if (form->losses.empty()) return FirmwareMachine{machine, *form, std::nullopt, nullptr};
-  if (!approximate_if_needed || form_kind(form->geometry) == FormKind::cable_robot)
+  if (!approximate_if_needed || is_cable_robot(form_kind(form->geometry)))
     throw ExportRefused(refusal(machine, *form, target));
   return approximate(machine, *form, target);
 }

@@ -14,7 +14,15 @@
 
 namespace pkm::firmware {
 
-enum class FormKind { wall_plotter, linear_delta, rotary_delta, cable_robot };
+// swivel_arm_cable_robot: a CableRobotForm with Maslow 4's swivel arms or riding tie points
+// (kinematics::has_swivel_arms), which a Hangprinter's or a winch's firmware cannot hold.
+enum class FormKind {
+  wall_plotter,
+  linear_delta,
+  rotary_delta,
+  cable_robot,
+  swivel_arm_cable_robot
+};
 FormKind form_kind(const kinematics::FormGeometry& geometry);
 const char* form_kind_name(FormKind kind);  // "two-cable wall plotter"
 

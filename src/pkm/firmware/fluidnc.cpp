@@ -1,7 +1,9 @@
-// FluidNC's config.yaml for a two-cable wall plotter or a rotary delta (docs/firmware-fluidnc.md).
-// FluidNC's WallPlotter (bdring/FluidNC, FluidNC/src/Kinematics/WallPlotter.cpp): the cords'
-// lengths are their distances from the anchors; a motor position is the cord's length less its
-// length at the frame's origin (the pen's place at power-on), the left motor's sign reversed.
+// FluidNC's config.yaml for a two-cable wall plotter or a rotary delta, and Maslow 4's maslow.yaml
+// (its FluidNC fork's MaslowKinematics) for a cable robot on swivel arms
+// (docs/firmware-fluidnc.md). FluidNC's WallPlotter (bdring/FluidNC,
+// FluidNC/src/Kinematics/WallPlotter.cpp): the cords' lengths are their distances from the anchors;
+// a motor position is the cord's length less its length at the frame's origin (the pen's place at
+// power-on), the left motor's sign reversed.
 #include "pkm/firmware/fluidnc.hpp"
 
 #include <algorithm>
@@ -49,6 +51,8 @@ struct AxisText {
   const machine::JointSpec* joint;
   double cord_offset_mm;  // reading less the cord length (0 for z)
   std::string source;     // the machine file, for refusals
+  // Maslow's belts: its own motor code drives them (null_motor), and it checks no travel.
+  bool maslow_belt = false;
 };
 
 // FluidNC's ranges for an axis's settings (Machine/Axis.cpp, handler.item): a value outside is
@@ -88,12 +92,15 @@ std::string axis_section(const AxisText& axis, const char* unit = "mm") {
   text += "    acceleration_mm_per_sec2: " + fixed(joint.max_acceleration, 3) + "\n";
   text += std::string(unit) == "deg"
               ? "    # FluidNC checks only up_degrees - 1; the machine file's limits (deg):\n"
-              : "    # FluidNC's WallPlotter checks no travel; the machine file's limits (mm, a "
-                "cord's length for a cord):\n";
+              : "    # FluidNC's " +
+                    std::string(axis.maslow_belt ? "MaslowKinematics" : "WallPlotter") +
+                    " checks no travel; the machine file's limits (mm, a cord's length for a "
+                    "cord):\n";
   text += "    # pkmkit limits: " + fixed(joint.min - axis.cord_offset_mm) + " .. " +
           fixed(joint.max - axis.cord_offset_mm) + " " + unit + "\n";
   text += "    max_travel_mm: " + fixed(joint.max - joint.min, 3) + "\n";
   text += "    soft_limits: false\n";
+  if (axis.maslow_belt) return text + "    motor0:\n      null_motor:\n";
   text += "    motor0:\n";
   text += "      # FILL IN your board's pins (gpio.N): NO_PIN drives nothing\n";
   text += "      standard_stepper:\n";
@@ -284,7 +291,100 @@ std::string kinematics_section(const kinematics::WallPlotterForm& form, const Ei
   return text;
 }
 
+// Maslow 4's fork of FluidNC (MaslowCNC/Maslow_4, FluidNC/src/Kinematics/MaslowKinematics.cpp)
+// computes belt = sqrt((|corner - router| in plan - (beltEndExtension + armLength))^2 +
+// (z + cornerZ)^2), the corners tl, tr, bl, br its axes a b c d, and counts x y from the frame's
+// centre (the diagonals' crossing); z passes through to axis z.
+void check_maslow(const FirmwareMachine& machine, const kinematics::CableRobotForm& form) {
+  const std::string start =
+      machine.machine.source() + ": fluidnc's MaslowKinematics cannot hold this machine: ";
+  if (form.anchors_mm.size() != 4 || !form.planar || !form.cables_follow_z) {
+    throw ExportRefused(start +
+                        "it takes four belts in a plane, tl tr bl br, their tie points riding on "
+                        "the router's z (planar = true, cables_follow_z = true)");
+  }
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (form.swivel_arms_mm[k] != form.swivel_arms_mm[0]) {
+      throw ExportRefused(start + "one armLength for all four belts; cable " + std::to_string(k) +
+                          "'s swivel_arm is " + fixed(form.swivel_arms_mm[k], 3) +
+                          " mm, cable 0's " + fixed(form.swivel_arms_mm[0], 3) + " mm");
+    }
+    if (form.cable_offsets_mm[k] != 0.0) {
+      throw ExportRefused(start + "its axis position is the belt's length; cable " +
+                          std::to_string(k) + " has offset " + fixed(form.cable_offsets_mm[k], 3) +
+                          " mm");
+    }
+  }
+  const Eigen::Vector2d centre = maslow_centre(form.anchors_mm);
+  if (!std::isfinite(centre.x()) || !std::isfinite(centre.y())) {
+    throw ExportRefused(start +
+                        "its origin is where the diagonals tl-br and tr-bl cross; these "
+                        "do not cross");
+  }
+  if (machine.form.passthrough.axes() != std::vector<int>{2}) {
+    throw ExportRefused(start + "it passes z alone through (passthrough = [\"z\"])");
+  }
+}
+
+// Maslow's beltEndExtension, its default: the rest of the swivel arm is written as armLength
+// (Maslow subtracts only their sum).
+constexpr double kMaslowBeltEndExtensionMm = 30.0;
+
+ExportedFile write_maslow(const FirmwareMachine& machine, const ExportContext& context,
+                          const kinematics::CableRobotForm& form) {
+  check_maslow(machine, form);
+  const machine::Machine& m = machine.machine;
+  ExportedFile file;
+  file.text += header_comment(machine, context, "# ");
+  file.text +=
+      "# Maslow 4's FluidNC (MaslowCNC/Maslow_4) reads this from maslow.yaml. pkmkit writes "
+      "name:, kinematics: and axes: below; the rest (board, Maslow_ settings, z motors) is "
+      "yours.\n";
+  file.text += name_line(m);
+  const Eigen::Vector2d centre = maslow_centre(form.anchors_mm);
+  file.text += "# Maslow's x y count from the diagonals' crossing, the machine file's x " +
+               fixed(centre.x(), 3) + " y " + fixed(centre.y(), 3) +
+               " mm; its z is the machine file's.\n";
+  file.text += "kinematics:\n  MaslowKinematics:\n";
+  const char* corners[] = {"tl", "tr", "bl", "br"};
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d& corner = form.anchors_mm[k];
+    // The router's z less the folded anchor's is the tie point's height above its corner.
+    file.text += std::string("    ") + corners[k] + "X: " + fixed(corner.x()) + "\n";
+    file.text += std::string("    ") + corners[k] + "Y: " + fixed(corner.y()) + "\n";
+    file.text += std::string("    ") + corners[k] + "Z: " + fixed(-corner.z()) + "\n";
+  }
+  file.text += "    beltEndExtension: " + fixed(kMaslowBeltEndExtensionMm) + "\n";
+  file.text += "    armLength: " + fixed(form.swivel_arms_mm[0] - kMaslowBeltEndExtensionMm) + "\n";
+  file.text += "axes:\n";
+  const char letters[] = {'a', 'b', 'c', 'd'};
+  for (int k = 0; k < 4; ++k) {
+    const std::string what = std::string("    # the ") + corners[k] + " belt, pkmkit joint '" +
+                             m.joint_names()[k] + "': its reading = Maslow's " + letters[k] +
+                             " position (mm)\n";
+    file.text += axis_section({letters[k], what, &m.joints()[k], 0.0, m.source(), true});
+  }
+  const std::string what = "    # the router's z, pkmkit joint '" + m.joint_names()[4] + "' (mm)\n";
+  file.text += axis_section({'z', what, &m.joints()[4], 0.0, m.source()});
+  for (const std::string& unchecked : machine.form.unchecked) {
+    file.warnings.push_back("Maslow's firmware does not check: " + unchecked);
+  }
+  file.warnings.push_back(
+      "merge these sections into your maslow.yaml; the z motors' section is yours");
+  return file;
+}
+
 }  // namespace
+
+Eigen::Vector2d maslow_centre(const std::vector<Eigen::Vector3d>& corners_mm) {
+  // bl + s (tr - bl) = tl + t (br - tl), solved for s.
+  const Eigen::Vector2d bl = corners_mm[2].head<2>(), tr = corners_mm[1].head<2>();
+  const Eigen::Vector2d tl = corners_mm[0].head<2>(), br = corners_mm[3].head<2>();
+  const Eigen::Vector2d u = tr - bl, v = br - tl, w = tl - bl;
+  const double cross = u.x() * v.y() - u.y() * v.x();
+  const double s = (w.x() * v.y() - w.y() * v.x()) / cross;
+  return bl + s * u;
+}
 
 std::string fluidnc_startup_line(double home_x_mm, double home_y_mm, const double* home_z_mm) {
   // G10 L2 P1 puts G54's origin at the given machine position: work = machine - origin, so the
@@ -295,13 +395,17 @@ std::string fluidnc_startup_line(double home_x_mm, double home_y_mm, const doubl
 }
 
 ExportedFile write_fluidnc(const FirmwareMachine& machine, const ExportContext& context) {
+  if (const auto* belts = std::get_if<kinematics::CableRobotForm>(&machine.form.geometry)) {
+    return write_maslow(machine, context, *belts);
+  }
   if (const auto* delta = std::get_if<kinematics::RotaryDeltaForm>(&machine.form.geometry)) {
     return write_rotary_delta(machine, context, *delta);
   }
   const auto* form = std::get_if<kinematics::WallPlotterForm>(&machine.form.geometry);
   if (!form) {
     throw ExportRefused(machine.machine.source() +
-                        ": fluidnc has kinematics for a two-cable wall plotter or a rotary delta");
+                        ": fluidnc has kinematics for a two-cable wall plotter, a rotary delta or "
+                        "Maslow 4's belts");
   }
   check_wall_plotter(machine, *form);
   const machine::Machine& m = machine.machine;
@@ -363,7 +467,7 @@ ExportedFile write_fluidnc(const FirmwareMachine& machine, const ExportContext& 
 Target fluidnc_target() {
   return Target{"fluidnc",
                 "config.yaml",
-                {FormKind::wall_plotter, FormKind::rotary_delta},
+                {FormKind::wall_plotter, FormKind::rotary_delta, FormKind::swivel_arm_cable_robot},
                 write_fluidnc,
                 read_fluidnc};
 }

@@ -1,4 +1,5 @@
-// FluidNC's config.yaml -> the machine it describes (docs/firmware-fluidnc.md). FluidNC reads a
+// FluidNC's config.yaml (and Maslow 4's maslow.yaml) -> the machine it describes
+// (docs/firmware-fluidnc.md). FluidNC reads a
 // subset of YAML (bdring/FluidNC, FluidNC/src/Configuration/Tokenizer.cpp): "key: value" lines
 // nested by spaces, whole-line '#' comments, values to the end of the line (quotes optional),
 // keys matched without regard to case. This reader takes the same subset.
@@ -244,6 +245,67 @@ machine::ImportedMachine read_parallel_delta(const Document& doc, const Node& de
   return imported;
 }
 
+// Maslow's MaslowKinematics: four belts tl tr bl br on axes a b c d, one swivel arm of
+// beltEndExtension + armLength, the tie points at the router's z less each corner's Z.
+machine::ImportedMachine read_maslow(const Document& doc, const Node& maslow) {
+  const Node& root = doc.nodes[0];
+  const Node& axes = doc.require(root, "axes");
+  machine::ImportedMachine imported;
+  imported.source = doc.source;
+  imported.origin = "Imported by `pkm import fluidnc " + doc.source + "` from MaslowKinematics";
+  const Node* name = doc.child(root, "name");
+  imported.name = name && !name->value.empty() ? name->value : "Maslow 4 (" + doc.source + ")";
+  kinematics::CableRobotForm form;
+  form.planar = true;
+  form.cables_follow_z = true;
+  const double arm = doc.number(doc.require(maslow, "beltEndExtension")) +
+                     doc.number(doc.require(maslow, "armLength"));
+  const char* corners[] = {"tl", "tr", "bl", "br"};
+  for (const char* corner : corners) {
+    const std::string c(corner);
+    form.anchors_mm.emplace_back(doc.number(doc.require(maslow, c + "X")),
+                                 doc.number(doc.require(maslow, c + "Y")),
+                                 -doc.number(doc.require(maslow, c + "Z")));
+    form.cable_offsets_mm.push_back(0.0);
+    form.swivel_arms_mm.push_back(arm);
+  }
+  const Eigen::Vector2d centre = maslow_centre(form.anchors_mm);
+  const std::unique_ptr<kinematics::Kinematics> model = kinematics::make_form_kinematics(
+      form, kinematics::PassThroughAxes({2}, geometry::Dof::planar_xy()));
+  imported.kinematics_section = machine::kinematics_toml(*model, machine::LengthUnit::mm);
+  const char letters[][2] = {"a", "b", "c", "d"};
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d& a = form.anchors_mm[k];
+    const double plan = (a.head<2>() - centre).norm() - arm;
+    imported.joints.push_back(
+        read_axis(doc, axes, letters[k], corners[k], std::hypot(plan, a.z()), imported.notes));
+  }
+  imported.joints.push_back(read_axis(doc, axes, "z", "z", 0.0, imported.notes));
+  double feed = INFINITY, acceleration = INFINITY;
+  for (int k = 0; k < 4; ++k) {
+    feed = std::min(feed, imported.joints[k].max_velocity * 60.0);
+    acceleration = std::min(acceleration, imported.joints[k].max_acceleration);
+  }
+  imported.max_feed_per_min = feed;
+  imported.max_acceleration = acceleration;
+  imported.notes.push_back(
+      "[cartesian] max_feed and max_acceleration: the belts' (FluidNC limits the motors only)");
+  imported.notes.push_back(
+      "home = Maslow's origin, the crossing of the frame's diagonals; joint reading = the belt's "
+      "length (mm)");
+  imported.home = std::vector<double>{centre.x(), centre.y(), 0.0};
+  std::string unread;
+  for (const int index : maslow.children) {
+    const std::string& key = doc.nodes[index].key;
+    if (key.size() != 3 && key != "beltEndExtension" && key != "armLength") {
+      unread += (unread.empty() ? "" : ", ") + key;
+    }
+  }
+  for (const std::string& key : ignored_sections(doc)) unread += (unread.empty() ? "" : ", ") + key;
+  if (!unread.empty()) imported.notes.push_back("not imported (not these kinematics): " + unread);
+  return imported;
+}
+
 }  // namespace
 
 machine::ImportedMachine read_fluidnc(std::string_view text, const std::string& source) {
@@ -253,12 +315,17 @@ machine::ImportedMachine read_fluidnc(std::string_view text, const std::string& 
   if (const Node* delta = doc.child(kinematics, "parallel_delta")) {
     return read_parallel_delta(doc, *delta);
   }
+  if (const Node* maslow = doc.child(kinematics, "MaslowKinematics")) {
+    return read_maslow(doc, *maslow);
+  }
   const Node* wall = doc.child(kinematics, "WallPlotter");
   if (!wall) {
     const std::string found =
         kinematics.children.empty() ? std::string("none") : doc.nodes[kinematics.children[0]].key;
     doc.fail(kinematics.line, "kinematics",
-             found + ": pkmkit imports FluidNC's WallPlotter and parallel_delta only");
+             found +
+                 ": pkmkit imports FluidNC's WallPlotter, parallel_delta and Maslow's "
+                 "MaslowKinematics only");
   }
   for (const char* key : {"left_axis", "right_axis"}) {
     const Node* axis = doc.child(*wall, key);

@@ -1,4 +1,5 @@
 #include "pkm/kinematics/firmware_form.hpp"
+#include <algorithm>
 
 #include <cstdio>
 #include <stdexcept>
@@ -15,7 +16,9 @@ struct FormName {
   const char* operator()(const WallPlotterForm&) const { return "two-cable wall plotter"; }
   const char* operator()(const LinearDeltaForm&) const { return "linear delta"; }
   const char* operator()(const RotaryDeltaForm&) const { return "rotary delta"; }
-  const char* operator()(const CableRobotForm&) const { return "cable robot"; }
+  const char* operator()(const CableRobotForm& form) const {
+    return has_swivel_arms(form) ? "cable robot on swivel arms" : "cable robot";
+  }
 };
 
 // Each form as the pkmkit model that computes it.
@@ -56,11 +59,16 @@ struct FormModel {
       throw std::invalid_argument("cable robot form: one cable offset per anchor");
     }
     CableRobotGeometry geometry;
+    if (!form.swivel_arms_mm.empty() && form.swivel_arms_mm.size() != form.anchors_mm.size()) {
+      throw std::invalid_argument("cable robot form: one swivel arm per anchor");
+    }
     geometry.planar = form.planar;
+    geometry.cables_follow_z = form.cables_follow_z;
     for (std::size_t i = 0; i < form.anchors_mm.size(); ++i) {
       RobotCable cable;
       cable.anchor_mm = form.anchors_mm[i];
       cable.offset_mm = form.cable_offsets_mm[i];
+      if (!form.swivel_arms_mm.empty()) cable.swivel_arm_mm = form.swivel_arms_mm[i];
       geometry.cables.push_back(cable);
     }
     return std::make_unique<CableRobotKinematics>(std::move(geometry), passthrough);
@@ -68,6 +76,11 @@ struct FormModel {
 };
 
 }  // namespace
+
+bool has_swivel_arms(const CableRobotForm& form) {
+  return form.cables_follow_z || std::any_of(form.swivel_arms_mm.begin(), form.swivel_arms_mm.end(),
+                                             [](double arm) { return arm != 0.0; });
+}
 
 std::string loss_text(const char* format, double value) {
   char text[256];

@@ -1,9 +1,9 @@
 // A model's geometry in the forms that controllers with their own kinematics implement (FluidNC,
 // Klipper, RepRapFirmware, grblHAL, Marlin; docs/firmware.md): a two-cable wall plotter, a
-// linear delta, a rotary delta, a cable robot (N straight cables to a translating effector). A
-// model answers `Kinematics::firmware_form()` with its nearest geometry in one form and what that
-// form leaves out; `make_form_kinematics` builds the pkmkit model of a form back (an import, an
-// approximation).
+// linear delta, a rotary delta, a cable robot (N straight cables to a translating effector, or
+// Maslow 4's belts on swivel arms). A model answers `Kinematics::firmware_form()` with its
+// nearest geometry in one form and what that form leaves out; `make_form_kinematics` builds the
+// pkmkit model of a form back (an import, an approximation).
 #pragma once
 
 #include <Eigen/Core>
@@ -55,10 +55,14 @@ struct RotaryDeltaForm {
 // point folded in (the anchor less the tie point's offset from the tool), so that
 //   reading = |anchor - tool| + offset
 // (mm, machine frame). Planar: the tool moves in x y at z = 0 (N >= 3); else x y z (N >= 4).
+// Maslow 4 (planar, tie points riding on the tool's z, each belt on an arm of its own that turns
+// to point at its anchor): reading = sqrt((|anchor - tool| in plan - arm)^2 + dz^2) + offset.
 struct CableRobotForm {
   std::vector<Eigen::Vector3d> anchors_mm;
   std::vector<double> cable_offsets_mm;  // one per anchor
+  std::vector<double> swivel_arms_mm;    // one per anchor (0: tied at the point); may be empty
   bool planar = false;
+  bool cables_follow_z = false;  // planar only: the tie points at the tool's z, not z = 0
   // The joints are unstretched lengths (RepRapFirmware's flex compensation, M666 F1): a firmware
   // whose lines do not stretch moves other joints.
   bool flex_compensation = false;
@@ -67,7 +71,11 @@ struct CableRobotForm {
 using FormGeometry =
     std::variant<WallPlotterForm, LinearDeltaForm, RotaryDeltaForm, CableRobotForm>;
 
-// "two-cable wall plotter", "linear delta", "rotary delta", "cable robot".
+// Maslow 4's shape: a cable robot with swivel arms or tie points riding on z.
+bool has_swivel_arms(const CableRobotForm& form);
+
+// "two-cable wall plotter", "linear delta", "rotary delta", "cable robot", "cable robot on swivel
+// arms".
 const char* form_name(const FormGeometry& geometry);
 
 struct FirmwareForm {
