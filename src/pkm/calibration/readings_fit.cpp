@@ -9,8 +9,8 @@
 #include <sstream>
 
 #include "pkm/calibration/measurements.hpp"
-#include "pkm/kinematics/cable_robot.hpp"
 #include "pkm/kinematics/cable_tensions.hpp"
+#include "pkm/kinematics/line_spools.hpp"
 
 namespace pkm::calibration {
 
@@ -57,12 +57,12 @@ std::vector<int> read_header(const std::vector<CsvField>& header, int line_numbe
 // The line length from the origin (mm) that cable `cable`'s motor at `degrees` from the origin
 // gives (RRF's motor position with 360 steps a turn, as Hangprinter's script reads its encoders);
 // none where that pays out more line than the spool holds.
-std::optional<double> line_from_motor_degrees(const kinematics::CableRobotKinematics& robot,
-                                              int cable, double degrees) {
-  const int steps_per_rev = robot.geometry().cables[cable].spool->full_steps_per_rev;
+std::optional<double> line_from_motor_degrees(const kinematics::LineSpools& spools, int cable,
+                                              double degrees) {
+  const int steps_per_rev = spools.full_steps_per_rev(cable);
   const std::optional<double> joint =
-      robot.joint_from_motor_full_steps(cable, degrees * steps_per_rev / 360.0);
-  const std::optional<double> at_origin = robot.joint_from_motor_full_steps(cable, 0.0);
+      spools.joint_from_motor_full_steps(cable, degrees * steps_per_rev / 360.0);
+  const std::optional<double> at_origin = spools.joint_from_motor_full_steps(cable, 0.0);
   if (!joint || !at_origin) return std::nullopt;
   return *joint - *at_origin;
 }
@@ -91,8 +91,9 @@ JointReadings read_row(const std::vector<CsvField>& fields, const std::vector<in
       sample.values[joint] = machine.joints()[joint].from_interface(value);
       continue;
     }
-    const auto& robot = dynamic_cast<const kinematics::CableRobotKinematics&>(machine.kinematics());
-    const std::optional<double> line_mm = line_from_motor_degrees(robot, joint, value);
+    // require_spools() has seen a spool on every joint.
+    const std::optional<double> line_mm =
+        line_from_motor_degrees(*machine.kinematics().line_spools(), joint, value);
     if (!line_mm) {
       fail_at(source_name, line_number, fields[c].column,
               "motor position " + field + " deg pays out more line than spool " +
@@ -390,14 +391,14 @@ UnseenParameters unseen_by_readings(const kinematics::Kinematics& kinematics,
 }  // namespace
 
 void require_spools(const machine::Machine& machine) {
-  const auto* robot = dynamic_cast<const kinematics::CableRobotKinematics*>(&machine.kinematics());
-  if (robot == nullptr) {
+  const kinematics::LineSpools* spools = machine.kinematics().line_spools();
+  if (spools == nullptr && machine.kinematics().cable_tensions() == nullptr) {
     throw FitError("motor degrees are a cable robot's spool positions; a " +
                    std::string(machine.kinematics().type()) +
                    " has none: give its joints' own values");
   }
-  for (int cable = 0; cable < robot->joint_count(); ++cable) {
-    if (robot->geometry().cables[cable].spool) continue;
+  for (int cable = 0; cable < machine.kinematics().joint_count(); ++cable) {
+    if (spools != nullptr && spools->has_spool(cable)) continue;
     throw FitError(
         "motor degrees need the spools that turn them into line lengths, and cable " +
         std::to_string(cable + 1) + " (joint " + machine.joints()[cable].name +

@@ -20,6 +20,7 @@
 #include "pkm/kinematics/derivative_bounds.hpp"
 #include "pkm/kinematics/firmware_form.hpp"
 #include "pkm/kinematics/kinematics.hpp"
+#include "pkm/kinematics/line_spools.hpp"
 #include "pkm/kinematics/mechanism_sketch.hpp"
 #include "pkm/kinematics/model_config.hpp"
 #include "pkm/kinematics/passthrough.hpp"
@@ -144,7 +145,8 @@ struct CableFit {
 class CableRobotKinematics final : public Kinematics,
                                    public MechanismSketch,
                                    public CableTensions,
-                                   public DerivativeBounds {
+                                   public DerivativeBounds,
+                                   public LineSpools {
  public:
   // Throws std::invalid_argument ("key: message", key a machine-file key) for a bad geometry.
   explicit CableRobotKinematics(CableRobotGeometry geometry, PassThroughAxes passthrough = {});
@@ -262,10 +264,18 @@ class CableRobotKinematics final : public Kinematics,
   // The motor position of cable `cable` for joint `joint_mm` in full steps (one microstep per
   // step) from line position 0, as RRF's spool model turns it (cable_robot_spool.cpp); none
   // without a spool or where the spool would unwind past its core.
-  std::optional<double> motor_full_steps(int cable, double joint_mm) const;
+  std::optional<double> motor_full_steps(int cable, double joint_mm) const override;
   // Its inverse, in closed form: the joint (mm) whose motor position is `full_steps`; none
   // without a spool or for a position no line length gives (more line paid out than it holds).
-  std::optional<double> joint_from_motor_full_steps(int cable, double full_steps) const;
+  std::optional<double> joint_from_motor_full_steps(int cable, double full_steps) const override;
+  // The spools as the rest of pkm asks them (line_spools.hpp): this model where a cable has one.
+  const LineSpools* line_spools() const override;
+  bool has_spool(int joint) const override {
+    return joint < cable_count() && geometry_.cables[joint].spool.has_value();
+  }
+  int full_steps_per_rev(int joint) const override {
+    return has_spool(joint) ? geometry_.cables[joint].spool->full_steps_per_rev : 0;
+  }
   // Full steps per mm of line at line position 0 (RRF's steps per mm over the microstepping).
   std::optional<double> full_steps_per_mm(int cable) const;
   // The joint at line position 0: with the tool at x 0 y 0 z 0 and the line unstretched (RRF's

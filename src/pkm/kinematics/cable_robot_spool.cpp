@@ -157,6 +157,13 @@ std::optional<double> CableRobotKinematics::motor_full_steps(int cable, double j
   return k0 * (std::sqrt(square) - spool.radius_mm);
 }
 
+const LineSpools* CableRobotKinematics::line_spools() const {
+  for (int cable = 0; cable < cable_count(); ++cable) {
+    if (has_spool(cable)) return this;
+  }
+  return nullptr;
+}
+
 std::optional<double> CableRobotKinematics::joint_at_line_origin_mm(int cable) const {
   const RobotCable& c = geometry_.cables[cable];
   if (c.pulley_radius_mm == 0.0) return c.offset_mm + (c.anchor_mm - c.attach_mm).norm();

@@ -24,6 +24,7 @@ class ModelConfigWriter;  // model_config_writer.hpp
 class MechanismSketch;    // mechanism_sketch.hpp
 class HangingCables;      // hanging_cables.hpp
 class CableTensions;      // cable_tensions.hpp
+class LineSpools;         // line_spools.hpp
 struct LegLimitSettings;  // leg_limits.hpp
 // The proofs' capabilities (issue 28, the proofs' part).
 class DerivativeBounds;    // derivative_bounds.hpp
@@ -227,6 +228,8 @@ class Kinematics {
   // The tensions of an effector held by more cables than it has coordinates (their distribution
   // among the cables is chosen, not given by the geometry); none for any other machine.
   virtual const CableTensions* cable_tensions() const { return nullptr; }
+  // Motor positions of joints that are lines on spools; none where no joint is.
+  virtual const LineSpools* line_spools() const { return nullptr; }
   // The joint-angle and interference limits the machine file sets; none where it sets none, or
   // the model has no legs.
   virtual const LegLimitSettings* leg_limit_settings() const { return nullptr; }
