@@ -9,6 +9,23 @@
 
 namespace pkm::calibration {
 
+void for_each_csv_row(
+    std::istream& in, const std::string& source_name, int& line_number, std::size_t fields_per_row,
+    const std::function<void(const std::vector<CsvField>& fields, int line_number)>& row) {
+  std::string line;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const std::vector<CsvField> fields = split_csv_line(line);
+    if (fields.size() != fields_per_row) {
+      fail_at(source_name, line_number, 1,
+              "has " + std::to_string(fields.size()) + " fields; the header has " +
+                  std::to_string(fields_per_row));
+    }
+    row(fields, line_number);
+  }
+}
+
 namespace {
 
 // Largest value a measurement may hold, mm or deg (the message says 1e6): far beyond any
@@ -162,22 +179,16 @@ std::vector<Measurement> parse_measurements_csv(const std::string& text,
                                                 const machine::Machine& machine) {
   std::istringstream in(text);
   int line_number = 0;
-  std::string line = csv_header_line(in, source_name, line_number, "such as j_left,j_right,x,y");
+  const std::string line =
+      csv_header_line(in, source_name, line_number, "such as j_left,j_right,x,y");
   const std::vector<CsvField> header = split_csv_line(line);
   const MeasurementColumns columns = read_header(header, line_number, source_name, machine);
 
   std::vector<Measurement> measurements;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const std::vector<CsvField> fields = split_csv_line(line);
-    if (fields.size() != header.size()) {
-      fail_at(source_name, line_number, 1,
-              "has " + std::to_string(fields.size()) + " fields; the header has " +
-                  std::to_string(header.size()));
-    }
-    measurements.push_back(read_row(fields, columns, line_number, source_name, machine));
-  }
+  for_each_csv_row(in, source_name, line_number, header.size(),
+                   [&](const std::vector<CsvField>& fields, int at) {
+                     measurements.push_back(read_row(fields, columns, at, source_name, machine));
+                   });
   if (measurements.empty())
     fail_at(source_name, line_number, 1, "no measurements after the header");
   return measurements;

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <istream>
 #include <string>
 #include <vector>
@@ -38,6 +39,12 @@ std::vector<CsvField> split_csv_line(const std::string& line);
 // MeasurementFileError "source:1:1: empty file: expected a header row <expected>" without one.
 std::string csv_header_line(std::istream& in, const std::string& source_name, int& line_number,
                             const std::string& expected);
+// Each row after the header that is not blank, split, with its line number (`line_number`
+// counts on from the header's); MeasurementFileError at a row whose fields are not
+// `fields_per_row`.
+void for_each_csv_row(
+    std::istream& in, const std::string& source_name, int& line_number, std::size_t fields_per_row,
+    const std::function<void(const std::vector<CsvField>& fields, int line_number)>& row);
 // The whole of `text` as a number (from_chars: no blanks, no '+'); false otherwise.
 bool csv_number(const std::string& text, double& value);
 // A measurement file's text; MeasurementFileError "path:0:0: cannot open the file".

@@ -414,22 +414,16 @@ std::vector<JointReadings> parse_readings_csv(const std::string& text,
   if (unit == ReadingUnit::motor_degrees) require_spools(machine);
   std::istringstream in(text);
   int line_number = 0;
-  std::string line =
+  const std::string line =
       csv_header_line(in, source_name, line_number, "naming every joint, such as j_A,j_B,j_C,j_D");
   const std::vector<CsvField> header = split_csv_line(line);
   const std::vector<int> joint_of_column = read_header(header, line_number, source_name, machine);
   std::vector<JointReadings> samples;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const std::vector<CsvField> fields = split_csv_line(line);
-    if (fields.size() != header.size()) {
-      fail_at(source_name, line_number, 1,
-              "has " + std::to_string(fields.size()) + " fields; the header has " +
-                  std::to_string(header.size()));
-    }
-    samples.push_back(read_row(fields, joint_of_column, line_number, source_name, machine, unit));
-  }
+  for_each_csv_row(
+      in, source_name, line_number, header.size(),
+      [&](const std::vector<CsvField>& fields, int at) {
+        samples.push_back(read_row(fields, joint_of_column, at, source_name, machine, unit));
+      });
   if (samples.empty()) fail_at(source_name, line_number, 1, "no samples after the header");
   return samples;
 }
