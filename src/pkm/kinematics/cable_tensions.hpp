@@ -1,10 +1,12 @@
 // What the rest of pkm asks of a machine whose effector is held by more cables than it has
 // coordinates (a cable_robot): how many cables, their limits and preferred tension, and the
 // tensions that hold the effector at a pose while it accelerates. Kinematics::cable_tensions()
-// gives it; pkm ik and check list the tensions, the planner limits acceleration by them, the
-// workspace and the certified check bound the poses they hold, the pages draw them, whatever the
-// model (docs/cable-machines.md, "N cables"). The two-cable plotter, whose tensions follow from
-// its geometry alone, answers hanging_cables.hpp instead.
+// gives it; pkm ik, fk and check list the tensions, the pages draw them, the planner limits
+// acceleration by its force polytope, and the workspace's joints, the joint-rate bound and the
+// calibration from readings take the geometry alone, whatever the model (docs/cable-machines.md,
+// "N cables"). The poses the tensions hold are bounded over a cell by the model's reach margins
+// (derivative_bounds.hpp). The two-cable plotter, whose tensions follow from its geometry alone,
+// answers hanging_cables.hpp instead.
 #pragma once
 
 #include <Eigen/Core>
