@@ -51,6 +51,25 @@ void unlist_temporary(int slot) {
   if (slot >= 0) slot_states[slot].store(kFree);
 }
 
+// Holds back the signals that end a program while alive (its SIGINT/SIGTERM handler would
+// otherwise remove a tree that has just become the output, or a signal end it with the output
+// renamed aside); pending ones arrive on destruction.
+class HeldSignals {
+ public:
+  HeldSignals() {
+    sigset_t ending;
+    sigemptyset(&ending);
+    for (const int number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&ending, number);
+    ::pthread_sigmask(SIG_BLOCK, &ending, &previous_);
+  }
+  ~HeldSignals() { ::pthread_sigmask(SIG_SETMASK, &previous_, nullptr); }
+  HeldSignals(const HeldSignals&) = delete;
+  HeldSignals& operator=(const HeldSignals&) = delete;
+
+ private:
+  sigset_t previous_{};
+};
+
 std::function<void(const StaleTemporary&)>& stale_reporter() {
   static std::function<void(const StaleTemporary&)> report;
   return report;
@@ -147,11 +166,17 @@ void remove_open_temporaries() noexcept {
 TemporaryTree::TemporaryTree(std::filesystem::path root) : root_(std::move(root)) {
   std::error_code error;
   std::filesystem::remove_all(root_, error);
-  if (!std::filesystem::create_directory(root_, error)) {
+  bool made = false;
+  {
+    // A signal between making it and listing it would leave it: held until it is listed.
+    const HeldSignals held;
+    made = std::filesystem::create_directory(root_, error);
+    if (made) slots_.push_back(list_temporary(root_.string(), kArmedDirectory));
+  }
+  if (!made) {
     throw std::runtime_error("cannot create the directory " + root_.string() + ": " +
                              error.message());
   }
-  slots_.push_back(list_temporary(root_.string(), kArmedDirectory));
 }
 
 TemporaryTree::~TemporaryTree() {
@@ -181,25 +206,6 @@ void TemporaryTree::commit_to(const std::filesystem::path& target) {
 }
 
 namespace {
-
-// Holds back the signals that end a program while alive (its SIGINT/SIGTERM handler would
-// otherwise remove a tree that has just become the output, or a signal end it with the output
-// renamed aside); pending ones arrive on destruction.
-class HeldSignals {
- public:
-  HeldSignals() {
-    sigset_t ending;
-    sigemptyset(&ending);
-    for (const int number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&ending, number);
-    ::pthread_sigmask(SIG_BLOCK, &ending, &previous_);
-  }
-  ~HeldSignals() { ::pthread_sigmask(SIG_SETMASK, &previous_, nullptr); }
-  HeldSignals(const HeldSignals&) = delete;
-  HeldSignals& operator=(const HeldSignals&) = delete;
-
- private:
-  sigset_t previous_{};
-};
 
 // File systems that cannot swap two names (or kernels before 3.15) say so with these.
 bool cannot_exchange(int error) {
@@ -303,9 +309,15 @@ AtomicFileWriter::AtomicFileWriter(std::filesystem::path path) : path_(std::move
   temporary_ =
       (directory_of(path_) / (temporary_prefix(path_) + std::to_string(::getpid()) + "-XXXXXX"))
           .string();
-  const int descriptor = ::mkstemp(temporary_.data());
+  int descriptor = -1;
+  {
+    // A signal between creating the temporary and listing it would leave it (and a staging
+    // directory holding it): held until it is listed.
+    const HeldSignals held;
+    descriptor = ::mkstemp(temporary_.data());
+    if (descriptor >= 0) slot_ = list_temporary(temporary_);
+  }
   if (descriptor < 0) fail("creating a temporary file in " + directory_of(path_).string(), errno);
-  slot_ = list_temporary(temporary_);
   // mkstemp creates 0600; an output file should have the usual permissions.
   const mode_t mask = ::umask(0);
   ::umask(mask);

@@ -406,6 +406,8 @@ namespace {
 
 // Writes `file` under `directory`, making the directories its name has; each made is added to
 // `tree` when there is one (a staging directory), so that a signal removes it with its files.
+// Each is listed before it is made: a signal between the two would leave the tree non-empty, and
+// so in place.
 void write_config_file(const std::filesystem::path& directory, const ConfigFile& file,
                        files::TemporaryTree* tree) {
   const std::filesystem::path path = directory / file.name;
@@ -414,14 +416,14 @@ void write_config_file(const std::filesystem::path& directory, const ConfigFile&
        parent != directory && !std::filesystem::exists(parent); parent = parent.parent_path()) {
     made.push_back(parent);
   }
-  std::error_code error;
-  std::filesystem::create_directories(path.parent_path(), error);
-  if (error) fail("create the directory", path.parent_path(), error);
   if (tree) {
     for (auto it = made.rbegin(); it != made.rend(); ++it) tree->add_directory(*it);
   }
-  files::write_file_atomically(path, file.text);
+  std::error_code error;
+  std::filesystem::create_directories(path.parent_path(), error);
+  if (error) fail("create the directory", path.parent_path(), error);
   if (tree) tree->add_file(path);
+  files::write_file_atomically(path, file.text);
 }
 
 std::filesystem::path staging_path(const std::filesystem::path& target) {
@@ -469,9 +471,9 @@ void carry_over(const std::filesystem::path& old_root, const std::filesystem::pa
       if (fs::exists(there) && !fs::is_directory(there))
         refuse_replacing(old_root, name, "is a directory where the configuration writes a file");
       if (!fs::exists(there)) {
+        tree.add_directory(target);  // listed first, as write_config_file's
         if (!fs::create_directory(target, entry.path(), error) && error)
           fail("create the directory", target, error);
-        tree.add_directory(target);
       }
       carry_over(old_root, entry.path(), target, relative / entry.path().filename(), tree, kept);
       continue;
@@ -490,8 +492,8 @@ void carry_over(const std::filesystem::path& old_root, const std::filesystem::pa
           " files the export does not write (is it a LinuxCNC configuration?); give another "
           "directory");
     }
+    tree.add_file(target);  // listed first, as write_config_file's
     carry_file(entry, target);
-    tree.add_file(target);
     if (own) kept.others.push_back(name);
   }
 }
